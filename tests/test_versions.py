@@ -1,0 +1,71 @@
+from __future__ import annotations
+
+import pytest
+
+from tests.paths import SEED_XRDF
+from xrdf_tools.errors import ConversionError
+from xrdf_tools.versions import to_1_0, to_2_0, to_version
+from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+
+
+def test_seed_to_2_0_drops_placeholder_and_renames_collision() -> None:
+    x = load_xrdf(SEED_XRDF)
+    y, diags = to_2_0(x)
+    assert y.format_version == "2.0"
+    text = dump_xrdf(y)
+    assert "\nworld_collision:\n" in text and "\ncollision:" not in text
+    assert y.geometry is not None
+    assert y.geometry["ur10e_collision_spheres"].spheres["tool0"] == ()
+    assert [d.rule for d in diags] == ["dropped-placeholder-sphere"]
+    assert diags[0].line == 103  # points at the radius in the seed file
+    assert "tool0" in diags[0].message
+
+
+def test_to_1_0_flattens_clones_and_round_trips() -> None:
+    text = """format: xrdf
+format_version: 2.0
+cspace: {joint_names: [a], acceleration_limits: [1.0], jerk_limits: [2.0]}
+world_collision: {geometry: all}
+self_collision: {geometry: all}
+geometry:
+  all:
+    clone: [arm]
+    spheres:
+      hand: [{center: [0, 0, 0], radius: 0.05}]
+  arm:
+    spheres:
+      hand: [{center: [0, 0, 1], radius: 0.1}]
+      link: [{center: [0, 0, 0], radius: 0.1}]
+"""
+    x = parse_xrdf(text)
+    y, diags = to_1_0(x)
+    assert y.format_version == "1.0"
+    assert y.geometry is not None
+    assert all(not g.clone for g in y.geometry.values())
+    assert [s.radius for s in y.geometry["all"].spheres["hand"]] == [0.05, 0.1]
+    assert "flattened-clone" in [d.rule for d in diags]
+    z, _ = to_2_0(y)
+    assert z.self_collision_spheres() == x.self_collision_spheres()
+
+
+def test_remove_mimic_cannot_go_to_1_0() -> None:
+    x = parse_xrdf(
+        "format: xrdf\nformat_version: 2.0\nmodifiers:\n  - remove_mimic_attributes:\n"
+        "      joint_name: f2\n      position_limits: [0, 0.04]\n      velocity_limits: 0.2\n"
+    )
+    with pytest.raises(ConversionError, match="remove_mimic_attributes"):
+        to_version(x, "1.0")
+
+
+def test_different_groups_warned_on_1_0() -> None:
+    x = parse_xrdf(
+        "format: xrdf\nformat_version: 2.0\nworld_collision: {geometry: a}\n"
+        "self_collision: {geometry: b}\ngeometry: {a: {spheres: {}}, b: {spheres: {}}}\n"
+    )
+    _, diags = to_1_0(x)
+    assert "different-collision-groups" in [d.rule for d in diags]
+
+
+def test_same_version_is_identity() -> None:
+    x = load_xrdf(SEED_XRDF)
+    assert to_version(x, "1.0") == (x, [])

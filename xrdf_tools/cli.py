@@ -1,0 +1,65 @@
+"""The ``xrdf`` command line: a thin Typer app over the library.
+
+Each subcommand lives in ``xrdf_tools.commands.<name>``; this module wires them together,
+turns library exceptions into one-line errors with exit code 2, and handles ``--version``.
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import Annotated
+
+import typer
+
+from . import __version__
+from .commands import convert, diff, lint, report, viz
+from .errors import XrdfToolsError
+
+app = typer.Typer(
+    name="xrdf",
+    help=(
+        "Tools for XRDF robot descriptions (cuMotion / cuRobo / MoveIt).\n\n"
+        "Typical flow: convert a URDF + SRDF or cuRobo config to XRDF, lint it, report on its "
+        "self-collision mask, look at the spheres.\n\n"
+        "Exit codes: 0 success, 1 findings (lint errors, differences), 2 usage or input error."
+    ),
+    no_args_is_help=True,
+    add_completion=True,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"xrdf-tools {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option("--version", callback=_version, is_eager=True, help="Show the version."),
+    ] = False,
+) -> None:
+    """Tools for XRDF robot descriptions."""
+
+
+app.command("convert", help="URDF/xacro + MoveIt SRDF or cuRobo config → XRDF.")(convert.command)
+app.command("lint", help="Check XRDF files against the spec (and a URDF).")(lint.command)
+app.command("diff", help="Semantic difference between two XRDF files.")(diff.command)
+app.command("report", help="Self-collision report over sampled configurations.")(report.command)
+app.command("viz", help="Sphere visualizations to rerun (.rrd), MCAP or PNG.")(viz.command)
+
+
+def main() -> None:
+    """Console entry point: library errors become one line on stderr and exit code 2."""
+    try:
+        app()
+    except XrdfToolsError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        sys.exit(2)
+    except KeyboardInterrupt:
+        typer.echo("interrupted", err=True)
+        sys.exit(130)

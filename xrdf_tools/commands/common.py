@@ -1,0 +1,81 @@
+"""Helpers shared by the CLI commands: error exits, diagnostic output, safe writes."""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Sequence
+from enum import Enum
+from pathlib import Path
+from typing import NoReturn
+
+import typer
+
+from ..diagnostics import (
+    Diagnostic,
+    Severity,
+    render_github,
+    render_json,
+    render_text,
+)
+from ..errors import XrdfToolsError
+
+
+class OutputFormat(str, Enum):
+    text = "text"
+    json = "json"
+    github = "github"
+    sarif = "sarif"
+
+
+EXIT_OK = 0
+EXIT_FINDINGS = 1
+EXIT_USAGE = 2
+
+
+def fail(message: str | XrdfToolsError, code: int = EXIT_USAGE) -> NoReturn:
+    """Print a one-line error to stderr and exit (2 by default: usage/input error)."""
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(code)
+
+
+def not_implemented(name: str) -> NoReturn:
+    typer.echo(f"error: 'xrdf {name}' is not implemented yet", err=True)
+    raise typer.Exit(EXIT_USAGE)
+
+
+def render_diagnostics(diagnostics: Sequence[Diagnostic], fmt: OutputFormat) -> str:
+    if fmt is OutputFormat.json:
+        return render_json(diagnostics)
+    if fmt is OutputFormat.github:
+        return render_github(diagnostics)
+    if fmt is OutputFormat.sarif:
+        from ..diagnostics import render_sarif
+
+        return render_sarif(diagnostics)
+    return render_text(diagnostics)
+
+
+def has_failures(diagnostics: Sequence[Diagnostic], *, strict: bool) -> bool:
+    worst = {Severity.ERROR} | ({Severity.WARNING} if strict else set())
+    return any(d.severity in worst for d in diagnostics)
+
+
+def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
+    try:
+        return Path(a).resolve() == Path(b).resolve() or (
+            Path(a).exists() and Path(b).exists() and os.path.samefile(a, b)
+        )
+    except OSError:
+        return False
+
+
+def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
+    """Exit with an error when ``output`` names one of the inputs (nothing is ever lost)."""
+    for src in inputs:
+        if src is not None and same_file(output, src):
+            fail(f"{output}: refusing to overwrite an input file; choose another -o path")
+
+
+def stdout_is_terminal() -> bool:
+    return sys.stdout.isatty()

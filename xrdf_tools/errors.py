@@ -1,0 +1,74 @@
+"""Exception tree: failures are exceptions, findings are diagnostics.
+
+Every exception message is one line that names the file and position when known and, where
+it helps, lists what would have been valid.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+
+class XrdfToolsError(Exception):
+    """Root of every error raised by xrdf-tools.
+
+    ``path``, ``line`` and ``col`` (1-based) locate the problem when known; ``str(err)`` is a
+    one-line message prefixed with ``path:line:col:``.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str | None = None,
+        line: int | None = None,
+        col: int | None = None,
+    ) -> None:
+        super().__init__(message)
+        self.message = message
+        self.path = path
+        self.line = line
+        self.col = col
+
+    def location(self) -> str:
+        parts = [p for p in (self.path, self.line, self.col) if p is not None]
+        return ":".join(str(p) for p in parts)
+
+    def __str__(self) -> str:
+        loc = self.location()
+        return f"{loc}: {self.message}" if loc else self.message
+
+
+class YamlError(XrdfToolsError):
+    """The file is not valid YAML, or it repeats a key."""
+
+
+class SchemaError(XrdfToolsError):
+    """The YAML is well formed but does not describe a valid XRDF (or source config)."""
+
+
+class GeometryGroupError(SchemaError):
+    """A geometry group clone is cyclic or names a group that does not exist."""
+
+
+class UrdfError(XrdfToolsError):
+    """A URDF (or xacro) cannot be read, or does not match what the XRDF refers to."""
+
+
+class SourceError(XrdfToolsError):
+    """An input for conversion (SRDF, cuRobo config, joint limits) cannot be used."""
+
+
+class ConversionError(XrdfToolsError):
+    """A model cannot be expressed in the requested XRDF version or output format."""
+
+
+class MissingDependencyError(XrdfToolsError):
+    """An optional dependency is not installed; the message says which extra provides it."""
+
+
+def did_you_mean(name: str, choices: Iterable[str]) -> str:
+    """Return ``"; did you mean 'x'?"`` for the closest choice, or ``""`` when none is close."""
+    matches = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
+    return f"; did you mean '{matches[0]}'?" if matches else ""

@@ -1,0 +1,147 @@
+"""Conversions between XRDF 1.0 and 2.0, reporting what could not be carried over.
+
+Follows the converter notes of the 2.0 reference (``shared/spec/xrdf-2.0.md`` §11).
+"""
+
+from __future__ import annotations
+
+from .diagnostics import Diagnostic, Severity
+from .errors import ConversionError
+from .frozen import FrozenMap
+from .model import GeometryGroup, RemoveMimicAttributes, Sphere, Xrdf, clone_order, resolve_group
+
+
+def _diag(x: Xrdf, rule: str, severity: Severity, message: str, key_path: str) -> Diagnostic:
+    line, col = x.source.position(key_path)
+    return Diagnostic(x.source.path, line, col, rule, severity, message, key_path)
+
+
+def to_version(x: Xrdf, version: str) -> tuple[Xrdf, list[Diagnostic]]:
+    """Convert ``x`` to ``version`` ("1.0" or "2.0"); same version returns it unchanged."""
+    if version == x.format_version:
+        return x, []
+    if version == "2.0":
+        return to_2_0(x)
+    if version == "1.0":
+        return to_1_0(x)
+    raise ConversionError(f"unsupported format_version '{version}'; supported: 1.0, 2.0")
+
+
+def to_2_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
+    """1.0 → 2.0: ``collision`` becomes ``world_collision``; spheres with radius ≤ 0 (cuRobo
+    placeholders) and spheres whose buffered radius is ≤ 0 are dropped and reported."""
+    diags: list[Diagnostic] = []
+    geometry = x.geometry
+    if geometry is not None:
+        world_buf = x.world_collision.buffer_distance if x.world_collision else FrozenMap()
+        self_buf = x.self_collision.buffer_distance if x.self_collision else FrozenMap()
+        groups = {}
+        for gname, group in geometry.items():
+            frames: dict[str, tuple[Sphere, ...]] = {}
+            for frame, spheres in group.spheres.items():
+                kept = []
+                for i, s in enumerate(spheres):
+                    kp = f"geometry.{gname}.spheres.{frame}[{i}].radius"
+                    buffers = [world_buf.get(frame, 0.0), self_buf.get(frame, 0.0)]
+                    if s.radius <= 0:
+                        diags.append(
+                            _diag(
+                                x,
+                                "dropped-placeholder-sphere",
+                                Severity.WARNING,
+                                f"sphere {i} on '{frame}' has radius {s.radius} (a 1.0 "
+                                "placeholder); 2.0 requires radius > 0, so it was dropped",
+                                kp,
+                            )
+                        )
+                    elif any(s.radius + b <= 0 for b in buffers):
+                        diags.append(
+                            _diag(
+                                x,
+                                "dropped-placeholder-sphere",
+                                Severity.WARNING,
+                                f"sphere {i} on '{frame}' has radius {s.radius} but a "
+                                "buffered radius ≤ 0; 2.0 rejects it, so it was dropped",
+                                kp,
+                            )
+                        )
+                    else:
+                        kept.append(s)
+                frames[frame] = tuple(kept)
+            groups[gname] = GeometryGroup(FrozenMap(frames), group.clone)
+        geometry = FrozenMap(groups)
+    return x.replace(format_version="2.0", geometry=geometry), diags
+
+
+def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
+    """2.0 → 1.0: clones flattened, ``world_collision`` becomes ``collision``.
+
+    Raises :class:`ConversionError` for ``remove_mimic_attributes`` (1.0 cannot express it).
+    Warns when world and self collision use different groups (cuRobo rejects that in 1.0) and
+    when ``tool_frames``/``default_joint_positions`` are absent (cuRobo requires them).
+    """
+    diags: list[Diagnostic] = []
+    for i, m in enumerate(x.modifiers):
+        if isinstance(m, RemoveMimicAttributes):
+            line, col = x.source.position(f"modifiers[{i}]")
+            raise ConversionError(
+                f"modifier remove_mimic_attributes (joint '{m.joint_name}') has no XRDF 1.0 "
+                "equivalent; edit the URDF instead or keep format_version 2.0",
+                path=x.source.path or None,
+                line=line,
+                col=col,
+            )
+    geometry = x.geometry
+    if geometry is not None and any(g.clone for g in geometry.values()):
+        flat = {}
+        for gname, group in geometry.items():
+            if group.clone:
+                diags.append(
+                    _diag(
+                        x,
+                        "flattened-clone",
+                        Severity.INFO,
+                        f"geometry group '{gname}' clones {', '.join(group.clone)}: flattened "
+                        f"(order: {', '.join(clone_order(geometry, gname))})",
+                        f"geometry.{gname}.clone",
+                    )
+                )
+            flat[gname] = GeometryGroup(resolve_group(geometry, gname), ())
+        geometry = FrozenMap(flat)
+    if (
+        x.world_collision is not None
+        and x.self_collision is not None
+        and x.world_collision.geometry != x.self_collision.geometry
+    ):
+        diags.append(
+            _diag(
+                x,
+                "different-collision-groups",
+                Severity.WARNING,
+                f"world collision uses '{x.world_collision.geometry}' and self collision "
+                f"'{x.self_collision.geometry}'; XRDF 1.0 consumers (cuRobo, Isaac Sim) need one "
+                "group for both",
+                "self_collision.geometry",
+            )
+        )
+    if x.tool_frames is None:
+        diags.append(
+            _diag(
+                x,
+                "missing-for-curobo",
+                Severity.INFO,
+                "no tool_frames: cuRobo's 1.0 loader requires them",
+                "",
+            )
+        )
+    if x.default_joint_positions is None:
+        diags.append(
+            _diag(
+                x,
+                "missing-for-curobo",
+                Severity.INFO,
+                "no default_joint_positions: cuRobo's 1.0 loader requires them",
+                "",
+            )
+        )
+    return x.replace(format_version="1.0", geometry=geometry), diags
