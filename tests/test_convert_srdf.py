@@ -1,0 +1,333 @@
+"""URDF + MoveIt SRDF → XRDF on the real robots of example-robot-data."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tests.robots import robots_dir
+from xrdf_tools.convert import ConvertOptions, convert_files
+from xrdf_tools.errors import SourceError
+from xrdf_tools.sources import RobotTree
+from xrdf_tools.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
+from xrdf_tools.urdf_source import load_urdf
+from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+
+#: SRDF (below robots/) -> (URDF below robots/, planning group or None for the default choice).
+#: Every SRDF in example-robot-data that has a URDF beside it (cassie ships only SDF files).
+SRDF_ROBOTS: dict[str, tuple[str, str | None]] = {
+    "a1_description/srdf/a1.srdf": ("a1_description/urdf/a1.urdf", None),
+    "alex_description/srdf/alex_nub_hands.srdf": (
+        "alex_description/urdf/alex_nub_hands.urdf",
+        None,
+    ),
+    "alex_description/srdf/alex_psyonic_hands.srdf": (
+        "alex_description/urdf/alex_psyonic_hands.urdf",
+        None,
+    ),
+    "alex_description/srdf/alex_sake_hands.srdf": (
+        "alex_description/urdf/alex_sake_hands.urdf",
+        None,
+    ),
+    "alexander_description/srdf/alexander.srdf": (
+        "alexander_description/urdf/alexander_v1.lowerBodyOnly.urdf",
+        None,
+    ),
+    "anymal_b_simple_description/srdf/anymal-kinova.srdf": (
+        "anymal_b_simple_description/robots/anymal-kinova.urdf",
+        None,
+    ),
+    "anymal_b_simple_description/srdf/anymal.srdf": (
+        "anymal_b_simple_description/robots/anymal.urdf",
+        None,
+    ),
+    "anymal_c_simple_description/srdf/anymal.srdf": (
+        "anymal_c_simple_description/urdf/anymal.urdf",
+        None,
+    ),
+    "b1_description/srdf/b1-z1.srdf": ("b1_description/urdf/b1-z1.urdf", None),
+    "b1_description/srdf/b1.srdf": ("b1_description/urdf/b1.urdf", None),
+    "baxter_description/srdf/baxter_manipulation.srdf": (
+        "baxter_description/urdf/baxter.urdf",
+        None,
+    ),
+    "bolt_description/srdf/bolt.srdf": ("bolt_description/robots/bolt.urdf", None),
+    "borinot_description/srdf/borinot_flying_arm_2.srdf": (
+        "borinot_description/urdf/borinot_flying_arm_2.urdf",
+        None,
+    ),
+    "centauro_description/srdf/centauro.srdf": ("centauro_description/urdf/centauro.urdf", None),
+    "finger_edu_description/srdf/finger_edu.srdf": (
+        "finger_edu_description/robots/finger_edu.urdf",
+        None,
+    ),
+    "go1_description/srdf/go1.srdf": ("go1_description/urdf/go1.urdf", None),
+    "go2_description/srdf/go2.srdf": ("go2_description/urdf/go2.urdf", None),
+    "hextilt_description/srdf/hextilt_flying_arm_5.srdf": (
+        "hextilt_description/urdf/hextilt_flying_arm_5.urdf",
+        None,
+    ),
+    "hyq_description/srdf/hyq.srdf": ("hyq_description/robots/hyq_no_sensors.urdf", None),
+    "icub_description/srdf/icub.srdf": ("icub_description/robots/icub.urdf", None),
+    "kinova_description/srdf/kinova.srdf": ("kinova_description/robots/kinova.urdf", None),
+    "panda_description/srdf/panda.srdf": ("panda_description/urdf/panda.urdf", "arm"),
+    "pr2_description/srdf/pr2.srdf": ("pr2_description/urdf/pr2.urdf", "right_arm"),
+    "pr2_description/srdf/pr2_manipulation.srdf": ("pr2_description/urdf/pr2.urdf", "left_arm"),
+    "romeo_description/srdf/romeo.srdf": ("romeo_description/urdf/romeo.urdf", None),
+    "romeo_description/srdf/romeo_moveit.srdf": ("romeo_description/urdf/romeo.urdf", None),
+    "romeo_description/srdf/romeo_small.srdf": ("romeo_description/urdf/romeo_small.urdf", None),
+    "simple_humanoid_description/srdf/simple_humanoid.srdf": (
+        "simple_humanoid_description/urdf/simple_humanoid.urdf",
+        None,
+    ),
+    "simple_humanoid_description/srdf/simple_humanoid_classical.srdf": (
+        "simple_humanoid_description/urdf/simple_humanoid_classical.urdf",
+        None,
+    ),
+    "solo_description/srdf/solo.srdf": ("solo_description/robots/solo12.urdf", None),
+    "talos_data/srdf/talos.srdf": ("talos_data/robots/talos_full_v2.urdf", "r_arm"),
+    "ur_description/srdf/ur3_gripper.srdf": ("ur_description/urdf/ur3_gripper.urdf", None),
+    "ur_description/srdf/ur5.srdf": ("ur_description/urdf/ur5_robot.urdf", None),
+    "ur_description/srdf/ur5_gripper.srdf": ("ur_description/urdf/ur5_gripper.urdf", None),
+    "ur_description/srdf/ur5_joint_limited_robot.srdf": (
+        "ur_description/urdf/ur5_joint_limited_robot.urdf",
+        None,
+    ),
+    "xarm_description/srdf/xarm7.srdf": ("xarm_description/urdf/xarm7.urdf", None),
+    "z1_description/srdf/z1.srdf": ("z1_description/urdf/z1.urdf", None),
+}
+
+
+def _robots() -> Path:
+    root = robots_dir()
+    if root is None:
+        pytest.skip("example-robot-data is not installed")
+    return root
+
+
+def _pair(srdf: str) -> tuple[Path, Path, str | None]:
+    root = _robots()
+    urdf, group = SRDF_ROBOTS[srdf]
+    if not (root / srdf).is_file() or not (root / urdf).is_file():
+        pytest.skip(f"{srdf} / {urdf} not in this example-robot-data version")
+    return root / urdf, root / srdf, group
+
+
+def test_every_srdf_is_paired() -> None:
+    """The table covers every SRDF shipped with a URDF (a new one makes this test fail)."""
+    root = _robots()
+    shipped = {str(p.relative_to(root)) for p in root.glob("*/srdf/*.srdf")}
+    without_urdf = {s for s in shipped if not any((root / s).parent.parent.rglob("*.urdf"))}
+    assert shipped - without_urdf <= set(SRDF_ROBOTS)
+
+
+def _lint_errors(xrdf_text: str, urdf_path: Path) -> list[str]:
+    try:
+        from xrdf_tools.lint import lint  # type: ignore[attr-defined]
+    except ImportError:
+        pytest.skip("xrdf_tools.lint is not available")
+    urdf = load_urdf(urdf_path)
+    result = lint(parse_xrdf(xrdf_text, "<converted>"), urdf=urdf)
+    diags = getattr(result, "diagnostics", result)
+    return [f"{d.rule}: {d.message}" for d in diags if d.severity.value == "error"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("srdf", sorted(SRDF_ROBOTS))
+def test_example_robot_data_srdf_converts_and_lints(srdf: str) -> None:
+    urdf, srdf_path, group = _pair(srdf)
+    x, diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
+    assert x.cspace is not None and x.cspace.joint_names, "empty c-space"
+    assert x.tool_frames
+    text = dump_xrdf(x)
+    assert parse_xrdf(text) == x  # canonical and loss-free
+    x1, _, _ = convert_files(
+        urdf, ConvertOptions(srdf=srdf_path, group=group, format_version="1.0")
+    )
+    assert x1.format_version == "1.0"
+    assert _lint_errors(text, urdf) == []
+    assert _lint_errors(dump_xrdf(x1), urdf) == []
+
+
+def _srdf_pairs(srdf_path: Path) -> set[frozenset[str]]:
+    s = load_srdf(srdf_path)
+    return {frozenset((a, b)) for a, b, _, _ in s.disable_collisions if a != b}
+
+
+def test_panda_against_srdf() -> None:
+    urdf, srdf, _ = _pair("panda_description/srdf/panda.srdf")
+    x, diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf))
+    rules = {d.rule for d in diags}
+    assert "convert-chosen-group" in rules  # 'arm' was chosen, not given
+    assert x.cspace is not None
+    assert x.cspace.joint_names == tuple(f"panda_joint{i}" for i in range(1, 8))
+    assert x.tool_frames == ("panda_hand_tcp",)  # end_effector parent_link
+    # group_state 'default' belongs to arm_and_hand: arm joints + the finger as auxiliary joint
+    assert dict(x.default_joint_positions or {}) == {
+        "panda_joint1": 0.0,
+        "panda_joint2": -0.785398,
+        "panda_joint3": 0.0,
+        "panda_joint4": -2.35619,
+        "panda_joint5": 0.0,
+        "panda_joint6": 1.5707,
+        "panda_joint7": 0.785398,
+        "panda_finger_joint1": 0.001,
+    }
+    assert x.self_collision is not None
+    assert x.self_collision.ignore_pairs() == _srdf_pairs(srdf)
+    assert len(_srdf_pairs(srdf)) == 35
+    # limits were not in the inputs: defaults, reported
+    assert x.cspace.acceleration_limits == (10.0,) * 7
+    assert {"convert-default-acceleration", "convert-default-jerk", "convert-no-spheres"} <= rules
+
+
+def test_ur5_against_srdf() -> None:
+    urdf, srdf, _ = _pair("ur_description/srdf/ur5.srdf")
+    x, diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf))
+    assert x.cspace is not None
+    assert x.cspace.joint_names == (
+        "shoulder_pan_joint",
+        "shoulder_lift_joint",
+        "elbow_joint",
+        "wrist_1_joint",
+        "wrist_2_joint",
+        "wrist_3_joint",
+    )
+    # the ur5 SRDF has no group, state or end effector: all three are guessed and reported
+    rules = {d.rule for d in diags}
+    assert {"convert-chosen-group", "convert-chosen-tool-frame", "convert-default-positions"} <= (
+        rules
+    )
+    assert x.tool_frames == ("wrist_3_link",)
+    assert dict(x.default_joint_positions or {}) == dict.fromkeys(x.cspace.joint_names, 0.0)
+    assert x.self_collision is not None
+    assert x.self_collision.ignore_pairs() == _srdf_pairs(srdf)
+    # given on the command line instead: taken, and no longer reported as guessed
+    x2, diags2, _ = convert_files(
+        urdf, ConvertOptions(srdf=srdf, tool_frames=("tool0",), acceleration=5.0, jerk=100.0)
+    )
+    assert x2.tool_frames == ("tool0",)
+    assert x2.cspace is not None and x2.cspace.acceleration_limits == (5.0,) * 6
+    warned = {d.rule for d in diags2 if d.severity.value == "warning"}
+    assert "convert-chosen-tool-frame" not in warned
+    assert "convert-default-acceleration" not in warned
+
+
+# --- group expansion on a small synthetic tree -------------------------------------------------
+
+TREE_URDF = """<robot name="t">
+  <link name="base"/><link name="a"/><link name="b"/><link name="c"/><link name="tip"/>
+  <link name="z_side"/><link name="a_side"/><link name="m"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="a"/><child link="b"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="jfix" type="fixed"><parent link="b"/><child link="c"/></joint>
+  <joint name="j3" type="prismatic"><parent link="c"/><child link="tip"/>
+    <limit lower="0.5" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="zz" type="revolute"><parent link="base"/><child link="z_side"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="aa" type="continuous"><parent link="base"/><child link="a_side"/></joint>
+  <joint name="mim" type="revolute"><parent link="a_side"/><child link="m"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="aa"/></joint>
+</robot>
+"""
+
+
+@pytest.fixture
+def tree(tmp_path: Path) -> RobotTree:
+    from xrdf_tools.urdf_source import parse_urdf_string
+
+    return RobotTree.from_urdf(parse_urdf_string(TREE_URDF, str(tmp_path / "t.urdf")))
+
+
+def test_dfs_order_siblings_alphabetical(tree: RobotTree) -> None:
+    assert tree.dfs_joints() == ["aa", "mim", "j1", "j2", "jfix", "j3", "zz"]
+
+
+def test_group_expansion(tree: RobotTree) -> None:
+    s = parse_srdf(
+        """<robot name="t">
+        <group name="chain"><chain base_link="a" tip_link="tip"/></group>
+        <group name="mixed"><joint name="zz"/><link name="m"/><group name="chain"/></group>
+        <group name="links"><link name="a"/><link name="base"/></group>
+        <passive_joint name="zz"/>
+        </robot>"""
+    )
+    # the chain stops at base 'a': j1 (a's own parent joint) is not included
+    assert group_joints(s, "chain", tree) == ["j2", "jfix", "j3"]
+    assert cspace_of(s, "chain", tree) == ["j2", "j3"]  # minus fixed
+    # joint + link (its parent joint) + subgroup, in DFS order; minus mimic and passive
+    assert group_joints(s, "mixed", tree) == ["mim", "j2", "jfix", "j3", "zz"]
+    assert cspace_of(s, "mixed", tree) == ["j2", "j3"]
+    assert group_joints(s, "links", tree) == ["j1"]  # the root link has no parent joint
+
+
+def test_group_errors(tree: RobotTree) -> None:
+    s = parse_srdf(
+        """<robot name="t"><group name="g"><chain base_link="tip" tip_link="a"/></group>
+        <group name="typo"><joint name="j22"/></group>
+        <group name="loop1"><group name="loop2"/></group>
+        <group name="loop2"><group name="loop1"/></group></robot>"""
+    )
+    with pytest.raises(SourceError, match="not an ancestor"):
+        group_joints(s, "g", tree)
+    with pytest.raises(SourceError, match="did you mean 'j2'"):
+        group_joints(s, "typo", tree)
+    with pytest.raises(SourceError, match="include each other"):
+        group_joints(s, "loop1", tree)
+    with pytest.raises(SourceError, match="no group 'nope'"):
+        group_joints(s, "nope", tree)
+
+
+def test_srdf_mapping_details(tree: RobotTree, tmp_path: Path) -> None:
+    srdf = tmp_path / "t.srdf"
+    srdf.write_text(
+        """<robot name="t">
+        <virtual_joint name="world" type="fixed" parent_frame="world" child_link="base"/>
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="other"><joint name="zz"/></group>
+        <group_state name="first" group="arm"><joint name="j1" value="0.1"/></group_state>
+        <group_state name="home" group="arm"><joint name="j1" value="0.2"/>
+          <joint name="j3" value="5"/><joint name="mim" value="0.3"/>
+          <joint name="nope" value="1"/></group_state>
+        <end_effector name="ee" parent_link="c" group="hand" parent_group="arm"/>
+        <disable_collisions link1="a" link2="b" reason="Adjacent"/>
+        <disable_collisions link1="b" link2="a" reason="Never"/>
+        <disable_collisions link1="a" link2="tpi" reason="Never"/>
+        <disable_default_collisions link="m"/>
+        <link_sphere_approximation link="a">
+          <sphere center="0 0 0.1" radius="0.05"/><sphere center="0 0 0" radius="0"/>
+        </link_sphere_approximation>
+        <link_sphere_approximation link="b"><sphere center="0 0 0" radius="0"/>
+        </link_sphere_approximation>
+        </robot>"""
+    )
+    from xrdf_tools.convert import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf))
+    by_rule = {d.rule: d for d in diags}
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "j3")
+    assert x.tool_frames == ("c", "tip")  # end effector parent link first, then chain tip
+    defaults = dict(x.default_joint_positions or {})
+    assert defaults["j1"] == 0.2  # the state named 'home' wins over the first one
+    assert defaults["j3"] == 1.0  # 5 is outside [0.5, 1]: clamped and reported
+    assert "mim" not in defaults  # mimic joints never written
+    assert defaults["j2"] == 0.0  # missing → 0, reported
+    assert {
+        "convert-clamped-default",
+        "convert-default-positions",
+        "convert-unknown-joint",
+        "convert-virtual-joint",
+    } <= set(by_rule)
+    unknown = by_rule["convert-unknown-link"]
+    assert "did you mean 'tip'" in unknown.message and unknown.line == 12
+    assert x.self_collision is not None
+    pairs = x.self_collision.ignore_pairs()
+    assert frozenset(("a", "b")) in pairs
+    assert {frozenset(("m", link)) for link in tree.links if link != "m"} <= pairs
+    assert x.geometry is not None
+    spheres = x.resolved_spheres(x.self_collision.geometry)
+    assert list(spheres) == ["a"]  # zero radii dropped; all-zero 'b' has no spheres
+    assert len(spheres["a"]) == 1

@@ -1,0 +1,473 @@
+"""MoveIt SRDF: parse it, expand planning groups the way MoveIt does, map it onto a Draft.
+
+Group expansion (MoveIt ``RobotModel``, see ``shared/spec/sources.md`` §2): a ``chain`` walks up
+from ``tip_link`` adding each parent joint and stops at ``base_link`` (whose own parent joint is
+not included); a ``joint`` is itself; a ``link`` contributes its parent joint; a subgroup
+contributes all of its joints. Joints are ordered depth-first in URDF tree order (siblings by
+name). The c-space is the group's joints minus fixed, mimic and passive joints.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import Severity
+from ..errors import SourceError, did_you_mean
+from ..model import Sphere
+from . import Draft, Reporter, RobotTree, known_frame
+
+__all__ = [
+    "EndEffector",
+    "GroupState",
+    "Srdf",
+    "SrdfGroup",
+    "choose_group",
+    "cspace_of",
+    "group_joints",
+    "load_srdf",
+    "parse_srdf",
+    "read_srdf",
+]
+
+PREFERRED_STATES = ("home", "ready", "default")
+
+
+@dataclass(frozen=True)
+class SrdfGroup:
+    name: str
+    links: tuple[str, ...] = ()
+    joints: tuple[str, ...] = ()
+    chains: tuple[tuple[str, str], ...] = ()
+    subgroups: tuple[str, ...] = ()
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class GroupState:
+    name: str
+    group: str | None
+    values: tuple[tuple[str, float], ...]
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class EndEffector:
+    name: str
+    parent_link: str
+    group: str | None
+    parent_group: str | None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Srdf:
+    path: str
+    robot_name: str
+    groups: dict[str, SrdfGroup] = field(default_factory=dict)
+    group_states: tuple[GroupState, ...] = ()
+    end_effectors: tuple[EndEffector, ...] = ()
+    virtual_joints: tuple[tuple[str, str, int | None], ...] = ()  # name, type, line
+    passive_joints: tuple[str, ...] = ()
+    disable_collisions: tuple[tuple[str, str, str, int | None], ...] = ()  # l1, l2, reason, line
+    disable_default: tuple[tuple[str, int | None], ...] = ()
+    enable_collisions: tuple[tuple[str, str, int | None], ...] = ()
+    spheres: tuple[tuple[str, tuple[Sphere, ...], int | None], ...] = ()
+
+
+def load_srdf(path: str | os.PathLike[str]) -> Srdf:
+    """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used."""
+    p = os.fspath(path)
+    try:
+        data = Path(p).read_bytes()
+    except OSError as e:
+        raise SourceError(f"cannot read SRDF: {e.strerror or e}", path=p) from None
+    return parse_srdf(data, p)
+
+
+def parse_srdf(data: bytes | str, path: str = "<srdf>") -> Srdf:
+    from lxml import etree
+
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, remove_comments=True)
+    try:
+        root = etree.fromstring(raw, parser)
+    except etree.XMLSyntaxError as e:
+        line = e.position[0] if e.position else None
+        msg = (e.msg or "not well-formed").splitlines()[0]
+        raise SourceError(f"malformed SRDF XML: {msg}", path=path, line=line) from None
+    if root is None or root.tag != "robot":
+        raise SourceError("the root element of an SRDF must be <robot>", path=path, line=1)
+
+    def req(el: Any, attr: str) -> str:
+        v = el.get(attr)
+        if not v:
+            raise SourceError(
+                f"<{el.tag}> needs a '{attr}' attribute", path=path, line=el.sourceline
+            )
+        return str(v)
+
+    def num(el: Any, attr: str) -> float:
+        raw_v = req(el, attr)
+        try:
+            return float(raw_v.split()[0])
+        except (ValueError, IndexError):
+            raise SourceError(
+                f"<{el.tag}> {attr}='{raw_v}' is not a number", path=path, line=el.sourceline
+            ) from None
+
+    groups: dict[str, SrdfGroup] = {}
+    states: list[GroupState] = []
+    ees: list[EndEffector] = []
+    vjs: list[tuple[str, str, int | None]] = []
+    passive: list[str] = []
+    disabled: list[tuple[str, str, str, int | None]] = []
+    disable_default: list[tuple[str, int | None]] = []
+    enabled: list[tuple[str, str, int | None]] = []
+    spheres: list[tuple[str, tuple[Sphere, ...], int | None]] = []
+    for el in root:
+        if not isinstance(el.tag, str):
+            continue
+        tag = el.tag
+        if tag == "group":
+            name = req(el, "name")
+            links, joints, chains, subs = [], [], [], []
+            for c in el:
+                if c.tag == "link":
+                    links.append(req(c, "name"))
+                elif c.tag == "joint":
+                    joints.append(req(c, "name"))
+                elif c.tag == "chain":
+                    chains.append((req(c, "base_link"), req(c, "tip_link")))
+                elif c.tag == "group":
+                    subs.append(req(c, "name"))
+            if name in groups:
+                raise SourceError(
+                    f"group '{name}' is defined twice (first on line {groups[name].line})",
+                    path=path,
+                    line=el.sourceline,
+                )
+            groups[name] = SrdfGroup(
+                name, tuple(links), tuple(joints), tuple(chains), tuple(subs), el.sourceline
+            )
+        elif tag == "group_state":
+            values = tuple((req(j, "name"), num(j, "value")) for j in el if j.tag == "joint")
+            states.append(GroupState(req(el, "name"), el.get("group"), values, el.sourceline))
+        elif tag == "end_effector":
+            ees.append(
+                EndEffector(
+                    req(el, "name"),
+                    req(el, "parent_link"),
+                    el.get("group"),
+                    el.get("parent_group"),
+                    el.sourceline,
+                )
+            )
+        elif tag == "virtual_joint":
+            vjs.append((req(el, "name"), el.get("type") or "", el.sourceline))
+        elif tag == "passive_joint":
+            passive.append(req(el, "name"))
+        elif tag == "disable_collisions":
+            disabled.append(
+                (req(el, "link1"), req(el, "link2"), el.get("reason") or "", el.sourceline)
+            )
+        elif tag == "disable_default_collisions":
+            disable_default.append((req(el, "link"), el.sourceline))
+        elif tag == "enable_collisions":
+            enabled.append((req(el, "link1"), req(el, "link2"), el.sourceline))
+        elif tag == "link_sphere_approximation":
+            ss = []
+            for s in el:
+                if s.tag != "sphere":
+                    continue
+                c = req(s, "center").split()
+                try:
+                    center = (float(c[0]), float(c[1]), float(c[2]))
+                except (ValueError, IndexError):
+                    raise SourceError(
+                        f"sphere center '{' '.join(c)}' must be three numbers",
+                        path=path,
+                        line=s.sourceline,
+                    ) from None
+                ss.append(Sphere(center, num(s, "radius")))
+            spheres.append((req(el, "link"), tuple(ss), el.sourceline))
+    return Srdf(
+        path=path,
+        robot_name=root.get("name") or "",
+        groups=groups,
+        group_states=tuple(states),
+        end_effectors=tuple(ees),
+        virtual_joints=tuple(vjs),
+        passive_joints=tuple(passive),
+        disable_collisions=tuple(disabled),
+        disable_default=tuple(disable_default),
+        enable_collisions=tuple(enabled),
+        spheres=tuple(spheres),
+    )
+
+
+def _group(srdf: Srdf, name: str) -> SrdfGroup:
+    if name not in srdf.groups:
+        raise SourceError(
+            f"no group '{name}' in the SRDF{did_you_mean(name, srdf.groups)} "
+            f"(groups: {', '.join(srdf.groups) or 'none'})",
+            path=srdf.path,
+        )
+    return srdf.groups[name]
+
+
+def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
+    """All joints of group ``name`` (fixed ones included) in MoveIt's order.
+
+    Raises :class:`SourceError` for names that are not in the URDF, a chain whose base is not
+    an ancestor of its tip, or subgroups that include each other.
+    """
+    found: set[str] = set()
+
+    def fail(msg: str, g: SrdfGroup) -> SourceError:
+        return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
+
+    def visit(gname: str, stack: tuple[str, ...]) -> None:
+        if gname in stack:
+            raise SourceError(
+                f"groups include each other: {' -> '.join((*stack, gname))}", path=srdf.path
+            )
+        g = _group(srdf, gname)
+        for j in g.joints:
+            if j not in tree.joints:
+                raise fail(f"unknown joint '{j}'{did_you_mean(j, tree.joints)}", g)
+            found.add(j)
+        for link in g.links:
+            if link not in tree.links:
+                raise fail(f"unknown link '{link}'{did_you_mean(link, tree.links)}", g)
+            if link in tree.parent_joint:
+                found.add(tree.parent_joint[link])
+        for base, tip in g.chains:
+            for link in (base, tip):
+                if link not in tree.links:
+                    raise fail(
+                        f"chain link '{link}' is not in the URDF{did_you_mean(link, tree.links)}",
+                        g,
+                    )
+            cur = tip
+            while cur != base:
+                if cur not in tree.parent_joint:
+                    raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'", g)
+                jn = tree.parent_joint[cur]
+                found.add(jn)
+                cur = tree.joints[jn].parent
+        for sub in g.subgroups:
+            visit(sub, (*stack, gname))
+
+    visit(name, ())
+    return [j for j in tree.dfs_joints() if j in found]
+
+
+def cspace_of(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
+    """C-space of group ``name``: its joints minus fixed, mimic and passive joints."""
+    passive = set(srdf.passive_joints)
+    return [j for j in group_joints(srdf, name, tree) if tree.is_actuated(j) and j not in passive]
+
+
+def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
+    """The default planning group and why it was chosen (``None`` when the SRDF has none).
+
+    Candidates in order: the (parent) group of each end effector, then chain groups, then every
+    group, larger c-spaces first; the first with at least one c-space joint wins.
+    """
+    seen: list[str] = []
+    for ee in srdf.end_effectors:
+        for g in (ee.parent_group, ee.group):
+            if g and g in srdf.groups and g not in seen:
+                seen.append(g)
+                break
+    sizes: dict[str, int] = {}
+    for g in srdf.groups:
+        try:
+            sizes[g] = len(cspace_of(srdf, g, tree))
+        except SourceError:
+            sizes[g] = 0
+    chain_groups = sorted(
+        (g for g, grp in srdf.groups.items() if grp.chains), key=lambda g: -sizes[g]
+    )
+    others = sorted(srdf.groups, key=lambda g: -sizes[g])
+    for why, cands in (
+        ("the group of the first end effector", seen),
+        ("the largest chain group", chain_groups),
+        ("the largest group", others),
+    ):
+        for g in cands:
+            if sizes.get(g, 0) > 0:
+                return g, why
+    return None, "the SRDF has no group with movable joints"
+
+
+def choose_state(
+    srdf: Srdf, group: str | None, cspace: list[str], requested: str | None
+) -> tuple[GroupState | None, str]:
+    """The group state giving default positions, and why it was chosen."""
+    if requested is not None:
+        for s in srdf.group_states:
+            if s.name == requested and (group is None or s.group in (group, None)):
+                return s, "requested"
+        for s in srdf.group_states:
+            if s.name == requested:
+                return s, "requested"
+        names = [s.name for s in srdf.group_states]
+        raise SourceError(
+            f"no group_state '{requested}'{did_you_mean(requested, names)} "
+            f"(states: {', '.join(names) or 'none'})",
+            path=srdf.path,
+        )
+    own = [s for s in srdf.group_states if group is not None and s.group == group]
+    covering = [
+        s for s in srdf.group_states if s not in own and set(cspace) <= {n for n, _ in s.values}
+    ]
+    for cands, why in ((own, f"of group '{group}'"), (covering, "covering the c-space")):
+        for pref in PREFERRED_STATES:
+            for s in cands:
+                if s.name == pref:
+                    return s, f"the state named '{pref}' {why}"
+        if cands:
+            return cands[0], f"the first state {why}"
+    return None, ""
+
+
+def read_srdf(
+    srdf: Srdf,
+    tree: RobotTree,
+    *,
+    group: str | None = None,
+    state: str | None = None,
+    draft: Draft | None = None,
+) -> Draft:
+    """Map an SRDF onto a :class:`Draft` (see ``shared/spec/sources.md`` §2)."""
+    d = draft or Draft()
+    rep = Reporter(srdf.path)
+    if group is None:
+        group, why = choose_group(srdf, tree)
+        if group is not None:
+            others = [g for g in srdf.groups if g != group]
+            line = srdf.groups[group].line
+            rep.report(
+                "convert-chosen-group",
+                f"planning group '{group}' chosen as {why}"
+                + (f" (others: {', '.join(others)}); use --group" if others else ""),
+                line=line,
+            )
+    else:
+        _group(srdf, group)
+    d.group = group
+    d.passive_joints |= set(srdf.passive_joints)
+    if group is not None:
+        d.cspace = cspace_of(srdf, group, tree)
+
+    # default positions
+    chosen, why = choose_state(srdf, group, d.cspace or [], state)
+    if chosen is not None:
+        if why != "requested":
+            rep.report(
+                "convert-chosen-state",
+                f"default positions from group_state '{chosen.name}' ({why})",
+                line=chosen.line,
+            )
+        for jname, value in chosen.values:
+            j = tree.joints.get(jname)
+            if j is None:
+                rep.report(
+                    "convert-unknown-joint",
+                    f"group_state '{chosen.name}' sets '{jname}', which is not a joint of the "
+                    f"URDF{did_you_mean(jname, tree.joints)}; dropped",
+                    line=chosen.line,
+                )
+            elif not j.is_actuated or jname in srdf.passive_joints:
+                kind = "a mimic" if j.is_mimic else ("passive" if j.is_movable else j.type)
+                rep.report(
+                    "convert-dropped-joint-value",
+                    f"group_state '{chosen.name}' sets '{jname}', which is {kind} joint; "
+                    "XRDF default positions hold only actuated joints; dropped",
+                    severity=Severity.INFO,
+                    line=chosen.line,
+                )
+            else:
+                d.defaults[jname] = value
+
+    # tool frames: end effectors attached to the group, then chain tips
+    if group is not None:
+        members = _subgroups(srdf, group)
+        frames: list[str] = []
+        for ee in srdf.end_effectors:
+            owner = ee.parent_group or ee.group
+            if owner in members and known_frame(
+                ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", line=ee.line
+            ):
+                frames.append(ee.parent_link)
+        for gname in members:
+            for _, tip in srdf.groups[gname].chains:
+                frames.append(tip)
+        d.tool_frames = list(dict.fromkeys(frames))
+
+    # self-collision mask
+    for l1, l2, _reason, line in srdf.disable_collisions:
+        ok1 = known_frame(l1, tree.links, rep, "", "disable_collisions link1", line=line)
+        ok2 = known_frame(l2, tree.links, rep, "", "disable_collisions link2", line=line)
+        if ok1 and ok2:
+            d.add_ignore(l1, l2)
+    for link, line in srdf.disable_default:
+        if known_frame(link, tree.links, rep, "", "disable_default_collisions", line=line):
+            for other in tree.links:
+                d.add_ignore(link, other)
+    for l1, l2, line in srdf.enable_collisions:
+        rep.report(
+            "convert-dropped-key",
+            f"enable_collisions {l1}/{l2} re-enables a pair; XRDF has no override, so the pair "
+            "is checked unless disabled above",
+            severity=Severity.INFO,
+            line=line,
+        )
+        if l2 in d.ignore.get(l1, []):
+            d.ignore[l1].remove(l2)
+        if l1 in d.ignore.get(l2, []):
+            d.ignore[l2].remove(l1)
+    for name, vtype, line in srdf.virtual_joints:
+        rep.report(
+            "convert-virtual-joint",
+            f"virtual_joint '{name}' ({vtype}) is not represented: XRDF is relative to the "
+            "URDF root",
+            severity=Severity.INFO,
+            line=line,
+        )
+
+    # spheres
+    if srdf.spheres:
+        spheres: dict[str, list[Sphere]] = {}
+        for link, ss, line in srdf.spheres:
+            if not known_frame(link, tree.links, rep, "", "link_sphere_approximation", line=line):
+                continue
+            kept = [s for s in ss if s.radius > 0]
+            if len(kept) < len(ss) and kept:
+                rep.report(
+                    "convert-placeholder-spheres",
+                    f"{len(ss) - len(kept)} sphere(s) of radius ≤ 0 on '{link}' dropped",
+                    severity=Severity.INFO,
+                    line=line,
+                )
+            if kept:
+                spheres.setdefault(link, []).extend(kept)
+        d.spheres = spheres
+    d.diagnostics.extend(rep.diagnostics)
+    return d
+
+
+def _subgroups(srdf: Srdf, name: str) -> list[str]:
+    out: list[str] = []
+    stack = [name]
+    while stack:
+        g = stack.pop()
+        if g in out or g not in srdf.groups:
+            continue
+        out.append(g)
+        stack.extend(reversed(srdf.groups[g].subgroups))
+    return out

@@ -1,0 +1,138 @@
+"""Expand xacro files with the ``xacro`` package, without a ROS installation.
+
+``$(find pkg)`` is resolved through :class:`~xrdf_tools.packages.PackageResolver`
+(``--package-path NAME=DIR``, then directories holding a ``package.xml`` of that name near the
+input, then a directory named like the package); ``$(arg x)`` takes the ``<xacro:arg>`` default
+or ``--xacro-arg x:=v``. An unresolved package is a :class:`SourceError` naming it and the
+directories searched.
+
+**Security:** xacro evaluates Python expressions (``${...}``) and reads any file it is told to
+include. Treat a xacro file like code: only expand files you trust.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ..errors import SourceError, XrdfToolsError
+from ..packages import PackageResolver
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+__all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg"]
+
+_LOCK = threading.Lock()
+
+
+def is_xacro(path: str | os.PathLike[str]) -> bool:
+    """A ``.xacro`` file (``robot.xacro``, ``robot.urdf.xacro``) or a URDF that uses xacro."""
+    p = Path(path)
+    if p.suffix == ".xacro":
+        return True
+    try:
+        head = p.read_bytes()[:4096]
+    except OSError:
+        return False
+    return b"xmlns:xacro" in head and b"<xacro:" in p.read_bytes()
+
+
+def parse_xacro_arg(spec: str) -> tuple[str, str]:
+    """``name:=value`` from the command line."""
+    name, sep, value = spec.partition(":=")
+    if not sep or not name:
+        raise SourceError(f"--xacro-arg expects NAME:=VALUE, got '{spec}'")
+    return name, value
+
+
+@contextmanager
+def _patched_find(resolver: PackageResolver) -> Iterator[None]:
+    """Make xacro's ``$(find pkg)`` use ``resolver`` (xacro keeps global state: serialise)."""
+    from xacro import substitution_args as sa
+
+    def find(pkg: str) -> str:
+        return str(resolver.find(pkg))
+
+    with _LOCK:
+        old_find = sa._eval_find
+        old_dict = sa._eval_dict.get("find")
+        sa._eval_find = find
+        sa._eval_dict["find"] = find
+        try:
+            yield
+        finally:
+            sa._eval_find = old_find
+            sa._eval_dict["find"] = old_dict
+
+
+def expand_xacro(
+    path: str | os.PathLike[str],
+    args: Mapping[str, str] | None = None,
+    package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+) -> str:
+    """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason."""
+    import xacro
+
+    p = Path(path)
+    if not p.is_file():
+        raise SourceError("xacro file not found", path=str(p))
+    resolver = PackageResolver(p, dict(package_paths or {}))
+    mappings = {str(k): str(v) for k, v in (args or {}).items()}
+    try:
+        with _patched_find(resolver):
+            xacro.all_includes = []
+            doc = xacro.process_file(str(p), mappings=mappings)
+            text: str = doc.toprettyxml(indent="  ")
+    except XrdfToolsError as e:
+        raise SourceError(e.message, path=str(p)) from None
+    except Exception as e:  # xacro raises XacroException, ArgException, NameError, OSError…
+        raise SourceError(_xacro_message(e), path=str(p)) from None
+    finally:
+        try:
+            xacro.filestack = None
+            xacro.macrostack = None
+        except AttributeError:  # pragma: no cover - older xacro
+            pass
+    return text
+
+
+def _xacro_message(e: BaseException) -> str:
+    name = type(e).__name__
+    if name == "ArgException":
+        return f"xacro argument {e} is not set; pass --xacro-arg {e}:=VALUE"
+    # Unwrap nested exceptions (xacro wraps the real cause in XacroException.exc)
+    inner: Any = getattr(e, "exc", None)
+    if isinstance(inner, XrdfToolsError):
+        return inner.message
+    msg = " ".join(str(e).split()) or name
+    if inner is not None:
+        msg = f"{msg} {' '.join(str(inner).split())}".strip()
+    return f"xacro failed: {msg}"
+
+
+def load_robot(
+    path: str | os.PathLike[str],
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+) -> tuple[yourdfpy.URDF, str | None]:
+    """Load a URDF or expand and load a xacro file (meshes are never loaded).
+
+    Returns the URDF and, for xacro input, the expanded URDF text (else ``None``).
+    """
+    from ..urdf_source import load_urdf, parse_urdf_string
+
+    pkg = {k: str(v) for k, v in (package_paths or {}).items()}
+    if is_xacro(path):
+        text = expand_xacro(path, xacro_args, package_paths)
+        return parse_urdf_string(text, os.fspath(path), package_paths=pkg), text
+    if xacro_args:
+        raise SourceError(
+            "--xacro-arg given but the robot file is not a xacro file", path=str(path)
+        )
+    return load_urdf(path, package_paths=pkg), None
