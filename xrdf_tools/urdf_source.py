@@ -1,0 +1,419 @@
+"""Read a URDF through yourdfpy, without meshes, with errors that name the file and line.
+
+The XML is parsed strictly by lxml first (entities are not resolved, no network), then checked
+for what yourdfpy would crash on or silently get wrong: missing names, unknown joint types,
+duplicate links or joints, joints that refer to unknown links, numbers that do not parse. Only
+then is the tree handed to yourdfpy. Every failure is a :class:`UrdfError` whose one-line
+message starts with ``path:line:`` when the line is known.
+
+:class:`JointInfo`, :func:`joints_of` and :func:`links_of` give a plain, typed view of a loaded
+URDF for the kinematics, the linter and the converter. yourdfpy is imported lazily so that
+commands which never read a URDF start fast.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import weakref
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from .errors import UrdfError, XrdfToolsError, did_you_mean
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+FloatArray = npt.NDArray[np.float64]
+
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+MOVABLE_TYPES = ("revolute", "continuous", "prismatic")
+XACRO_NS = "http://www.ros.org/wiki/xacro"
+
+__all__ = [
+    "JOINT_TYPES",
+    "MOVABLE_TYPES",
+    "JointInfo",
+    "joints_of",
+    "links_of",
+    "load_urdf",
+    "make_filename_handler",
+    "parse_urdf_string",
+    "source_line",
+    "urdf_path",
+]
+
+
+# --------------------------------------------------------------------------------------------
+# Joint view
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class JointInfo:
+    """One URDF joint as plain values.
+
+    ``origin`` is the (4, 4) read-only transform from the parent link to the joint frame (which
+    is also the child link frame at joint value 0). ``axis`` is the axis as written (default
+    ``(1, 0, 0)``, not normalised). ``lower``/``upper``/``velocity`` are ``None`` when the URDF
+    does not give them. A mimic follower has ``mimic_joint`` set and moves as
+    ``mimic_multiplier * q[mimic_joint] + mimic_offset``. ``line`` is the line of the
+    ``<joint>`` element when known.
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: FloatArray
+    axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    lower: float | None = None
+    upper: float | None = None
+    velocity: float | None = None
+    mimic_joint: str | None = None
+    mimic_multiplier: float = 1.0
+    mimic_offset: float = 0.0
+    line: int | None = None
+
+    def __post_init__(self) -> None:
+        origin = np.array(self.origin, dtype=np.float64, copy=True)
+        if origin.shape != (4, 4):
+            raise ValueError(f"joint '{self.name}': origin must be 4x4, got {origin.shape}")
+        origin.flags.writeable = False
+        object.__setattr__(self, "origin", origin)
+
+    @property
+    def is_movable(self) -> bool:
+        """Revolute, continuous or prismatic (floating and planar joints are not modelled)."""
+        return self.type in MOVABLE_TYPES
+
+    @property
+    def is_mimic(self) -> bool:
+        return self.mimic_joint is not None
+
+    @property
+    def is_actuated(self) -> bool:
+        """Movable and not a mimic follower: a coordinate of the configuration."""
+        return self.is_movable and not self.is_mimic
+
+    def replace(self, **changes: Any) -> JointInfo:
+        return replace(self, **changes)
+
+    def _key(self) -> tuple[Any, ...]:
+        return (
+            self.name,
+            self.type,
+            self.parent,
+            self.child,
+            self.origin.tobytes(),
+            self.axis,
+            self.lower,
+            self.upper,
+            self.velocity,
+            self.mimic_joint,
+            self.mimic_multiplier,
+            self.mimic_offset,
+        )
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, JointInfo):
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash((self.name, self.type, self.parent, self.child))
+
+
+def links_of(urdf: yourdfpy.URDF) -> list[str]:
+    """Link names in document order."""
+    return [str(link.name) for link in urdf.robot.links]
+
+
+def joints_of(urdf: yourdfpy.URDF) -> dict[str, JointInfo]:
+    """Every ``<joint>`` of the robot as :class:`JointInfo`, keyed by name, in document order."""
+    out: dict[str, JointInfo] = {}
+    for j in urdf.robot.joints:
+        name = str(j.name)
+        origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=np.float64)
+        axis_arr = (
+            np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=np.float64)
+        )
+        limit = j.limit
+        mimic = j.mimic
+        out[name] = JointInfo(
+            name=name,
+            type=str(j.type),
+            parent=str(j.parent),
+            child=str(j.child),
+            origin=origin,
+            axis=(float(axis_arr[0]), float(axis_arr[1]), float(axis_arr[2])),
+            lower=_opt_float(limit.lower) if limit is not None else None,
+            upper=_opt_float(limit.upper) if limit is not None else None,
+            velocity=_opt_float(limit.velocity) if limit is not None else None,
+            mimic_joint=str(mimic.joint) if mimic is not None else None,
+            mimic_multiplier=(
+                1.0 if mimic is None or mimic.multiplier is None else float(mimic.multiplier)
+            ),
+            mimic_offset=0.0 if mimic is None or mimic.offset is None else float(mimic.offset),
+            line=source_line(urdf, "joint", name),
+        )
+    return out
+
+
+def _opt_float(v: Any) -> float | None:
+    return None if v is None else float(v)
+
+
+# --------------------------------------------------------------------------------------------
+# Where a loaded URDF came from (kept beside the yourdfpy object, which is not hashable)
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Source:
+    path: str
+    link_lines: Mapping[str, int]
+    joint_lines: Mapping[str, int]
+
+
+_SOURCES: dict[int, _Source] = {}
+
+
+def _remember(urdf: Any, source: _Source) -> None:
+    key = id(urdf)
+    _SOURCES[key] = source
+    weakref.finalize(urdf, _SOURCES.pop, key, None)
+
+
+def urdf_path(urdf: yourdfpy.URDF) -> str:
+    """The path a URDF was loaded from by this module, or ``"<urdf>"``."""
+    src = _SOURCES.get(id(urdf))
+    return src.path if src is not None else "<urdf>"
+
+
+def source_line(urdf: yourdfpy.URDF, kind: Literal["link", "joint"], name: str) -> int | None:
+    """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""
+    src = _SOURCES.get(id(urdf))
+    if src is None:
+        return None
+    return (src.link_lines if kind == "link" else src.joint_lines).get(name)
+
+
+# --------------------------------------------------------------------------------------------
+# Loading
+# --------------------------------------------------------------------------------------------
+def load_urdf(
+    path: str | os.PathLike[str],
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+) -> yourdfpy.URDF:
+    """Load a URDF file without loading any mesh.
+
+    ``package_paths`` (``{"pkg": "/dir"}``) resolves ``package://pkg/...`` mesh URIs for
+    whoever loads meshes later (see :func:`make_filename_handler`); meshes are never read here.
+    ``build_scene_graph`` builds yourdfpy's scene graph (needed only for yourdfpy's own
+    ``get_transform``; :mod:`xrdf_tools.kinematics` does not need it).
+
+    Raises :class:`UrdfError` (one line, with the path, and the line when known).
+    """
+    p = os.fspath(path)
+    try:
+        data = Path(p).read_bytes()
+    except FileNotFoundError:
+        raise UrdfError("URDF file not found", path=p) from None
+    except IsADirectoryError:
+        raise UrdfError("expected a URDF file, got a directory", path=p) from None
+    except OSError as e:
+        raise UrdfError(f"cannot read URDF: {e.strerror or e}", path=p) from None
+    return _parse_bytes(data, p, package_paths=package_paths, build_scene_graph=build_scene_graph)
+
+
+_ENCODING_DECL = re.compile(r"^(\s*<\?xml[^>]*?)\s+encoding\s*=\s*(['\"])[^'\"]*\2", re.I)
+
+
+def parse_urdf_string(
+    text: str,
+    path: str = "<string>",
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+) -> yourdfpy.URDF:
+    """Parse URDF text (e.g. expanded xacro output); ``path`` is used in messages and to
+    resolve relative mesh paths. See :func:`load_urdf`."""
+    text = _ENCODING_DECL.sub(r"\1", text, count=1)
+    return _parse_bytes(
+        text.encode("utf-8"),
+        path,
+        package_paths=package_paths,
+        build_scene_graph=build_scene_graph,
+    )
+
+
+def make_filename_handler(
+    path: str | os.PathLike[str] | None,
+    package_paths: Mapping[str, str] | None = None,
+) -> Callable[[str], str]:
+    """A yourdfpy ``filename_handler``: ``package://``, ``file://`` and relative mesh URIs.
+
+    Packages come from ``package_paths`` first, then from ``package.xml`` files near ``path``
+    (:class:`xrdf_tools.packages.PackageResolver`). An unresolvable URI is returned unchanged
+    (yourdfpy then reports the missing mesh when it tries to load it).
+    """
+    from .packages import PackageResolver
+
+    start = Path(os.fspath(path)) if path is not None else Path.cwd()
+    if not start.exists():
+        start = Path.cwd()
+    resolver = PackageResolver(start, dict(package_paths or {}))
+
+    def handler(fname: str) -> str:
+        try:
+            return str(resolver.resolve_uri(fname))
+        except XrdfToolsError:
+            return fname
+
+    return handler
+
+
+def _parse_bytes(
+    data: bytes,
+    path: str,
+    *,
+    package_paths: Mapping[str, str] | None,
+    build_scene_graph: bool,
+) -> yourdfpy.URDF:
+    from lxml import etree
+
+    parser = etree.XMLParser(
+        remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=True
+    )
+    try:
+        root = etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as e:
+        line, col = e.position if e.position else (e.lineno, None)
+        msg = (e.msg or str(e) or "not well-formed").splitlines()[0]
+        msg = re.sub(r",? line \d+, column \d+\s*$", "", msg)
+        raise UrdfError(f"malformed XML: {msg}", path=path, line=line, col=col) from None
+    if root is None:
+        raise UrdfError("the file is empty", path=path, line=1)
+
+    etree.strip_tags(root, etree.Comment)
+    link_lines, joint_lines = _check_tree(root, path)
+    etree.cleanup_namespaces(root)
+
+    import yourdfpy
+
+    try:
+        robot = yourdfpy.URDF._parse_robot(xml_element=root)
+        urdf = yourdfpy.URDF(
+            robot=robot,
+            build_scene_graph=build_scene_graph,
+            build_collision_scene_graph=False,
+            load_meshes=False,
+            load_collision_meshes=False,
+            filename_handler=make_filename_handler(path, package_paths),
+            mesh_dir=os.path.dirname(path),
+        )
+    except Exception as e:  # yourdfpy raises bare KeyError/ValueError/AttributeError
+        detail = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise UrdfError(f"yourdfpy cannot read this URDF: {detail}", path=path) from None
+    _remember(urdf, _Source(path, link_lines, joint_lines))
+    return urdf
+
+
+def _check_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int]]:
+    """Check what yourdfpy needs; return the line of every link and joint."""
+    from lxml import etree
+
+    def fail(msg: str, el: Any) -> UrdfError:
+        return UrdfError(msg, path=path, line=getattr(el, "sourceline", None))
+
+    tag = etree.QName(root).localname if isinstance(root.tag, str) else str(root.tag)
+    if tag != "robot":
+        raise fail(f"the root element must be <robot>, not <{tag}>", root)
+    for el in root.iter():
+        if isinstance(el.tag, str) and etree.QName(el).namespace == XACRO_NS:
+            raise fail(
+                f"<xacro:{etree.QName(el).localname}> found: this is a xacro file; expand it "
+                "first (xrdf convert reads .xacro files)",
+                el,
+            )
+    if not root.get("name"):
+        raise fail("<robot> has no 'name' attribute", root)
+
+    link_lines: dict[str, int] = {}
+    for el in root.findall("link"):
+        name = el.get("name")
+        if not name:
+            raise fail("<link> has no 'name' attribute", el)
+        if name in link_lines:
+            raise fail(f"link '{name}' is defined twice (first on line {link_lines[name]})", el)
+        link_lines[name] = el.sourceline or 0
+
+    joint_lines: dict[str, int] = {}
+    for el in root.findall("joint"):
+        name = el.get("name")
+        if not name:
+            raise fail("<joint> has no 'name' attribute", el)
+        if name in joint_lines:
+            raise fail(f"joint '{name}' is defined twice (first on line {joint_lines[name]})", el)
+        joint_lines[name] = el.sourceline or 0
+        jtype = el.get("type")
+        if jtype not in JOINT_TYPES:
+            what = f"type '{jtype}'" if jtype else "no 'type'"
+            raise fail(
+                f"joint '{name}' has {what}; valid: {', '.join(JOINT_TYPES)}"
+                + (did_you_mean(jtype, JOINT_TYPES) if jtype else ""),
+                el,
+            )
+        for role in ("parent", "child"):
+            sub = el.find(role)
+            link = sub.get("link") if sub is not None else None
+            if not link:
+                raise fail(f"joint '{name}' has no <{role} link='...'/>", el)
+            if link not in link_lines:
+                raise fail(
+                    f"joint '{name}' refers to unknown {role} link '{link}'"
+                    + did_you_mean(link, link_lines),
+                    sub,
+                )
+        _check_numbers(el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail)
+        _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
+        _check_numbers(
+            el.find("limit"),
+            ("lower", "upper", "velocity", "effort"),
+            1,
+            f"joint '{name}' <limit>",
+            fail,
+        )
+        mimic = el.find("mimic")
+        if mimic is not None:
+            if not mimic.get("joint"):
+                raise fail(f"joint '{name}' <mimic> has no 'joint' attribute", mimic)
+            _check_numbers(mimic, ("multiplier", "offset"), 1, f"joint '{name}' <mimic>", fail)
+    return link_lines, joint_lines
+
+
+def _check_numbers(
+    el: Any,
+    attrs: tuple[str, ...],
+    count: int,
+    what: str,
+    fail: Callable[[str, Any], UrdfError],
+) -> None:
+    if el is None:
+        return
+    for attr in attrs:
+        raw = el.get(attr)
+        if raw is None:
+            continue
+        parts = raw.split()
+        try:
+            [float(x) for x in parts]
+        except ValueError:
+            raise fail(f"{what} {attr}='{raw}' is not a number list", el) from None
+        if len(parts) != count:
+            n = "a number" if count == 1 else f"{count} numbers"
+            raise fail(f"{what} {attr}='{raw}' must be {n}", el)
