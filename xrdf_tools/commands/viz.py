@@ -1,10 +1,186 @@
-"""`xrdf viz` (not implemented yet)."""
+"""`xrdf viz`: draw the sphere model to rerun (.rrd or a spawned viewer), MCAP or PNG."""
 
 from __future__ import annotations
 
-from .common import not_implemented
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from enum import Enum
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from ..errors import XrdfToolsError
+from .common import OutputFormat, fail, render_diagnostics, same_file
+
+if TYPE_CHECKING:
+    from ..viz import Target
+
+#: Show a progress bar from this many samples on (when stderr is a terminal).
+PROGRESS_FROM = 200
 
 
-def command() -> None:
-    """Not implemented yet: exits with code 2."""
-    not_implemented("viz")
+class MeshChoice(str, Enum):
+    visual = "visual"
+    collision = "collision"
+    none = "none"
+
+
+def command(
+    xrdf_file: Annotated[
+        Path, typer.Argument(metavar="ROBOT.xrdf", help="XRDF file.", show_default=False)
+    ],
+    urdf: Annotated[Path, typer.Option("--urdf", help="URDF of the robot.", show_default=False)],
+    rrd: Annotated[
+        Path | None, typer.Option("--rrd", help="Write a rerun recording (.rrd).")
+    ] = None,
+    mcap: Annotated[
+        Path | None, typer.Option("--mcap", help="Write an MCAP file for Foxglove.")
+    ] = None,
+    spawn: Annotated[bool, typer.Option("--spawn", help="Stream to a new rerun viewer.")] = False,
+    png: Annotated[
+        Path | None,
+        typer.Option("--png", help="Write a static PNG of the default pose (matplotlib)."),
+    ] = None,
+    samples: Annotated[
+        int,
+        typer.Option("--samples", "-n", min=0, help="Random c-space configurations to add."),
+    ] = 0,
+    configs: Annotated[
+        Path | None,
+        typer.Option(
+            "--configs",
+            help="Configurations file (.npy, .csv/.txt with optional joint-name header, "
+            ".json/.yaml list), one per row.",
+        ),
+    ] = None,
+    colliding_only: Annotated[
+        bool,
+        typer.Option("--colliding-only", help="Keep only configurations in self-collision."),
+    ] = False,
+    meshes: Annotated[
+        MeshChoice, typer.Option("--meshes", help="URDF geometry drawn with the spheres.")
+    ] = MeshChoice.visual,
+    group: Annotated[
+        str | None,
+        typer.Option("--group", help="Geometry group to draw (default: the self-collision one)."),
+    ] = None,
+    buffered: Annotated[
+        bool,
+        typer.Option("--buffered", help="Also draw the self-collision buffered radii."),
+    ] = False,
+    seed: Annotated[int, typer.Option("--seed", help="Seed of --samples.")] = 0,
+    package_path: Annotated[
+        list[str] | None,
+        typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
+    ] = None,
+    fmt: Annotated[
+        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
+    ] = OutputFormat.text,
+) -> None:
+    """Draw the collision spheres on the robot: default pose, sampled configurations,
+    self-collisions in red.
+
+    Exactly one of --rrd, --mcap, --spawn, --png. Step 0 is the default pose, then one step
+    per configuration from --samples or --configs. rerun and MCAP need the viz extra:
+    pip install "xrdf-tools[viz]".
+    """
+    targets: list[tuple[Target, Path | None]] = []
+    if rrd is not None:
+        targets.append(("rrd", rrd))
+    if mcap is not None:
+        targets.append(("mcap", mcap))
+    if spawn:
+        targets.append(("spawn", None))
+    if png is not None:
+        targets.append(("png", png))
+    if len(targets) != 1:
+        fail("choose exactly one output: --rrd OUT.rrd, --mcap OUT.mcap, --spawn or --png OUT.png")
+    target, out = targets[0]
+    if samples and configs is not None:
+        fail("--samples and --configs cannot be combined; choose one")
+    if out is not None:
+        for src in (xrdf_file, urdf, configs):
+            if src is not None and same_file(out, src):
+                fail(f"{out}: refusing to overwrite an input file; choose another output path")
+        if out.is_dir():
+            fail(f"{out}: is a directory; give a file name")
+
+    try:
+        from ..kinematics import build_kinematic_model
+        from ..packages import parse_package_path
+        from ..urdf_source import load_urdf
+        from ..viz import (
+            build_scene,
+            load_configurations,
+            render,
+            require,
+            sample_configurations,
+        )
+        from ..xrdf_io import load_xrdf
+
+        # Check the optional back-end first: no point computing a scene it cannot draw.
+        if target in ("rrd", "spawn"):
+            require("rerun", "rerun-sdk")
+        elif target == "mcap":
+            require("mcap", "mcap")
+        pkgs = dict(parse_package_path(p) for p in package_path or ())
+        x = load_xrdf(xrdf_file)
+        u = load_urdf(urdf, package_paths=pkgs)
+        kin, kdiags = build_kinematic_model(u, x)
+        if configs is not None:
+            Q = load_configurations(configs, kin, x)
+        elif samples:
+            Q = sample_configurations(kin, x, samples, seed)
+        else:
+            Q = None
+        n = 0 if Q is None else len(Q)
+        with _progress(n + 1, "checking self-collision") as tick:
+            scene = build_scene(
+                u,
+                x,
+                Q,
+                kinematic_model=kin,
+                group=group,
+                meshes=meshes.value,  # type: ignore[arg-type]
+                colliding_only=colliding_only,
+                urdf_path=urdf,
+                package_paths=pkgs,
+                progress=tick,
+            )
+        diags = [*kdiags, *scene.diagnostics]
+        if diags:
+            typer.echo(render_diagnostics(sorted(set(diags)), fmt), nl=False, err=True)
+        with _progress(len(scene.samples), f"writing {target}") as tick:
+            render(scene, target, out, buffered=buffered, progress=tick)
+    except XrdfToolsError as e:
+        fail(e)
+    except OSError as e:
+        fail(f"{out}: cannot write: {e.strerror or e}")
+
+    hit = sum(1 for s in scene.samples if s.contacts)
+    where = "rerun viewer" if out is None else str(out)
+    typer.echo(
+        f"{where}: {len(scene.links)} links, {scene.n_spheres} spheres (group '{scene.group}'), "
+        f"{len(scene.samples)} sample(s), {hit} in self-collision",
+        err=True,
+    )
+
+
+@contextmanager
+def _progress(total: int, label: str) -> Iterator[Callable[[int, int], None] | None]:
+    """A progress callback drawing a bar on a terminal for many samples, else None."""
+    import sys
+
+    if total < PROGRESS_FROM or not sys.stderr.isatty():
+        yield None
+        return
+    with typer.progressbar(length=total, label=label, file=sys.stderr) as bar:
+        done = 0
+
+        def tick(k: int, _total: int) -> None:
+            nonlocal done
+            bar.update(k - done)
+            done = k
+
+        yield tick

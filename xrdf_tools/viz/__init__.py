@@ -1,0 +1,159 @@
+"""Sphere-model visualizations: a pure :class:`Scene` and small back-ends that draw it.
+
+The one interface: :func:`render` ``(scene, target, path, ...)`` where ``target`` is
+
+* ``"rrd"``   — a rerun recording file (``rerun-sdk``, the ``viz`` extra);
+* ``"spawn"`` — stream to a newly spawned rerun viewer (``rerun-sdk``);
+* ``"mcap"``  — an MCAP file with Foxglove ``SceneUpdate``/``FrameTransform`` messages
+  (``mcap``, the ``viz`` extra);
+* ``"png"``   — a static matplotlib picture of the default pose (core dependency only).
+
+Back-end modules are imported only when used, so neither rerun nor mcap is needed to import
+:mod:`xrdf_tools` or to build a scene. Files are written atomically: to a temporary file in the
+target directory, renamed over the target when complete.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import os
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Literal, Protocol
+
+from ..errors import MissingDependencyError, XrdfToolsError
+from .configs import load_configurations, sample_configurations
+from .scene import (
+    COLLISION_RGBA,
+    LinkScene,
+    Progress,
+    Sample,
+    Scene,
+    SpherePair,
+    build_scene,
+    choose_group,
+    link_color,
+    sphere_counts,
+)
+
+Target = Literal["rrd", "spawn", "mcap", "png"]
+TARGETS: tuple[Target, ...] = ("rrd", "spawn", "mcap", "png")
+
+#: target -> (module, function); each function is a :class:`Backend`.
+_BACKENDS: dict[str, tuple[str, str]] = {
+    "rrd": ("xrdf_tools.viz.rerun_backend", "write_rrd"),
+    "spawn": ("xrdf_tools.viz.rerun_backend", "spawn"),
+    "mcap": ("xrdf_tools.viz.mcap_backend", "write_mcap"),
+    "png": ("xrdf_tools.viz.png", "write_png"),
+}
+
+VIZ_EXTRA_HINT = 'pip install "xrdf-tools[viz]"'
+
+
+class Backend(Protocol):
+    """What every back-end provides: draw ``scene`` into ``path`` (None for ``spawn``)."""
+
+    def __call__(
+        self,
+        scene: Scene,
+        path: Path | None,
+        *,
+        buffered: bool = False,
+        progress: Progress | None = None,
+    ) -> None: ...
+
+
+class VizError(XrdfToolsError):
+    """A visualization cannot be written (e.g. the output directory does not exist)."""
+
+
+def backend(target: Target) -> Backend:
+    """The back-end function for ``target`` (imports its module now)."""
+    if target not in _BACKENDS:
+        raise VizError(f"unknown visualization target '{target}' (valid: {', '.join(TARGETS)})")
+    module, name = _BACKENDS[target]
+    fn: Backend = getattr(importlib.import_module(module), name)
+    return fn
+
+
+def render(
+    scene: Scene,
+    target: Target,
+    path: str | os.PathLike[str] | None = None,
+    *,
+    buffered: bool = False,
+    progress: Progress | None = None,
+) -> None:
+    """Draw ``scene`` with the ``target`` back-end into ``path``.
+
+    ``buffered`` also draws each sphere's self-collision buffered radius (rerun, MCAP).
+    Raises :class:`MissingDependencyError` when the back-end's package is not installed and
+    :class:`VizError` for an unusable output path.
+    """
+    if target != "spawn" and path is None:
+        raise VizError(f"target '{target}' needs an output path")
+    backend(target)(
+        scene, None if path is None else Path(path), buffered=buffered, progress=progress
+    )
+
+
+def require(module: str, package: str) -> None:
+    """Import check for an optional dependency: a one-line :class:`MissingDependencyError`."""
+    try:
+        importlib.import_module(module)
+    except ImportError:
+        raise MissingDependencyError(
+            f"{package} is not installed; install the visualization extra: {VIZ_EXTRA_HINT}"
+        ) from None
+
+
+@contextlib.contextmanager
+def atomic_path(path: Path) -> Iterator[Path]:
+    """A temporary path next to ``path``; renamed to ``path`` when the block succeeds."""
+    directory = path.parent if str(path.parent) else Path(".")
+    if not directory.is_dir():
+        raise VizError(f"output directory does not exist: {directory}", path=str(path))
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+    os.close(fd)
+    tmp_path = Path(tmp)
+    try:
+        yield tmp_path
+        os.chmod(tmp_path, 0o666 & ~_umask())  # mkstemp makes 0600; give a normal file mode
+        os.replace(tmp_path, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp_path.unlink()
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+__all__ = [
+    "COLLISION_RGBA",
+    "TARGETS",
+    "VIZ_EXTRA_HINT",
+    "Backend",
+    "LinkScene",
+    "Progress",
+    "Sample",
+    "Scene",
+    "SpherePair",
+    "Target",
+    "VizError",
+    "atomic_path",
+    "backend",
+    "build_scene",
+    "choose_group",
+    "link_color",
+    "load_configurations",
+    "render",
+    "require",
+    "sample_configurations",
+    "sphere_counts",
+]

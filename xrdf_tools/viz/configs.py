@@ -1,0 +1,221 @@
+"""Configurations to visualize: sampled in c-space, or read from a file.
+
+Both return full actuated configurations [B, n] (:attr:`KinematicModel.actuated_joints`
+order); joints outside the c-space stay at their default
+(:func:`xrdf_tools.kinematics.full_configuration`).
+
+Configuration files (``--configs FILE``), one configuration per row:
+
+* ``.npy``: a [B, k] (or [k]) array;
+* ``.json`` / ``.yaml`` / ``.yml``: a list of rows, each a list of numbers or a mapping
+  ``{joint_name: value}`` (joints left out keep their default);
+* anything else: text, numbers separated by commas or whitespace, ``#`` comments, and an
+  optional header row of joint names.
+
+Rows without names have k = the c-space size (c-space order) or k = the number of actuated
+joints (actuated order).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ..errors import SourceError, XrdfToolsError
+from ..model import Xrdf
+
+if TYPE_CHECKING:
+    from ..kinematics import KinematicModel
+
+FloatArray = npt.NDArray[np.float64]
+
+MAX_SAMPLES = 100_000
+
+
+def cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> tuple[str, ...]:
+    """The sampled joints: the XRDF c-space, else every actuated joint."""
+    if xrdf.cspace is not None and xrdf.cspace.joint_names:
+        return xrdf.cspace.joint_names
+    return kin.actuated_joints
+
+
+def sample_configurations(
+    kin: KinematicModel, xrdf: Xrdf, n: int, seed: int | None = 0
+) -> FloatArray:
+    """``n`` configurations [n, n_actuated] drawn uniformly within the c-space joint limits."""
+    from ..kinematics import full_configuration
+    from ..sampling import sample_uniform
+
+    if n < 0 or n > MAX_SAMPLES:
+        raise SourceError(f"--samples must be between 0 and {MAX_SAMPLES}, got {n}")
+    names = cspace_joints(kin, xrdf)
+    idx = [kin.actuated_index(j) for j in names]
+    qc = sample_uniform(kin.lower[idx], kin.upper[idx], n, seed)
+    return full_configuration(kin, names, qc, xrdf.default_joint_positions).reshape(
+        n, kin.n_actuated
+    )
+
+
+def load_configurations(
+    path: str | os.PathLike[str], kin: KinematicModel, xrdf: Xrdf
+) -> FloatArray:
+    """Configurations [B, n_actuated] from a file (formats in the module docstring).
+
+    Raises :class:`SourceError` naming the file (and line) for anything unreadable.
+    """
+    p = Path(path)
+    spath = os.fspath(path)
+    try:
+        if p.suffix.lower() == ".npy":
+            try:
+                arr = np.load(p, allow_pickle=False)
+            except ValueError as e:
+                raise SourceError(f"not a numeric .npy array: {e}", path=spath) from None
+            rows: list[Any] = np.atleast_2d(np.asarray(arr, dtype=np.float64)).tolist()
+            return _assemble(rows, None, kin, xrdf, spath)
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SourceError("configurations file not found", path=spath) from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise SourceError(f"cannot read configurations: {e}", path=spath) from None
+    if p.suffix.lower() in (".json", ".yaml", ".yml"):
+        data = _load_structured(text, p.suffix.lower(), spath)
+        if isinstance(data, Mapping) and "configurations" in data:
+            data = data["configurations"]
+        if not isinstance(data, list):
+            raise SourceError(
+                "expected a list of configurations (lists of numbers or {joint: value} maps)",
+                path=spath,
+            )
+        return _assemble(data, None, kin, xrdf, spath)
+    header, rows, lines = _parse_text(text, spath)
+    return _assemble(rows, header, kin, xrdf, spath, lines)
+
+
+def _load_structured(text: str, suffix: str, spath: str) -> Any:
+    if suffix == ".json":
+        try:
+            return json.loads(text)
+        except json.JSONDecodeError as e:
+            raise SourceError(f"invalid JSON: {e.msg}", path=spath, line=e.lineno) from None
+    import yaml
+
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        line = mark.line + 1 if mark is not None else None
+        msg = str(getattr(e, "problem", None) or e).splitlines()[0]
+        raise SourceError(f"invalid YAML: {msg}", path=spath, line=line) from None
+
+
+_SPLIT = re.compile(r"[,\s;]+")
+
+
+def _parse_text(text: str, spath: str) -> tuple[list[str] | None, list[list[float]], list[int]]:
+    header: list[str] | None = None
+    rows: list[list[float]] = []
+    lines: list[int] = []
+    for lineno, raw in enumerate(text.splitlines(), 1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        tokens = [t for t in _SPLIT.split(line) if t]
+        try:
+            rows.append([float(t) for t in tokens])
+            lines.append(lineno)
+        except ValueError:
+            if header is None and not rows:
+                header = tokens
+                continue
+            bad = next(t for t in tokens if not _is_float(t))
+            raise SourceError(f"'{bad}' is not a number", path=spath, line=lineno) from None
+    return header, rows, lines
+
+
+def _is_float(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def _assemble(
+    rows: Sequence[Any],
+    header: Sequence[str] | None,
+    kin: KinematicModel,
+    xrdf: Xrdf,
+    spath: str,
+    lines: Sequence[int] | None = None,
+) -> FloatArray:
+    from ..kinematics import default_configuration
+
+    if len(rows) > MAX_SAMPLES:
+        raise SourceError(f"too many configurations ({len(rows)} > {MAX_SAMPLES})", path=spath)
+    q0 = default_configuration(kin, xrdf.default_joint_positions)
+    cspace = cspace_joints(kin, xrdf)
+    out = np.repeat(q0[None, :], len(rows), axis=0)
+
+    def line_of(k: int) -> int | None:
+        return lines[k] if lines is not None and k < len(lines) else None
+
+    def columns(names: Sequence[str], k: int) -> list[int]:
+        try:
+            return [kin.actuated_index(str(n)) for n in names]
+        except XrdfToolsError as e:
+            raise SourceError(e.message, path=spath, line=line_of(k)) from None
+
+    header_idx = columns(header, 0) if header is not None else None
+    for k, row in enumerate(rows):
+        if isinstance(row, Mapping):
+            idx = columns(list(row), k)
+            values: list[Any] = list(row.values())
+        elif isinstance(row, (list, tuple)):
+            values = list(row)
+            if header_idx is not None:
+                idx = header_idx
+            elif len(values) == len(cspace):
+                idx = columns(cspace, k)
+            elif len(values) == kin.n_actuated:
+                idx = list(range(kin.n_actuated))
+            else:
+                raise SourceError(
+                    f"configuration {k} has {len(values)} values; expected {len(cspace)} "
+                    f"(c-space: {', '.join(cspace)}) or {kin.n_actuated} (all actuated joints)",
+                    path=spath,
+                    line=line_of(k),
+                )
+        else:
+            raise SourceError(
+                f"configuration {k} must be a list of numbers or a {{joint: value}} map",
+                path=spath,
+                line=line_of(k),
+            )
+        if len(values) != len(idx):
+            raise SourceError(
+                f"configuration {k} has {len(values)} values for {len(idx)} named joints",
+                path=spath,
+                line=line_of(k),
+            )
+        try:
+            vals = np.array([float(v) for v in values], dtype=np.float64)
+        except (TypeError, ValueError):
+            raise SourceError(
+                f"configuration {k} holds a value that is not a number",
+                path=spath,
+                line=line_of(k),
+            ) from None
+        if not np.all(np.isfinite(vals)):
+            raise SourceError(
+                f"configuration {k} holds a non-finite value", path=spath, line=line_of(k)
+            )
+        out[k, idx] = vals
+    return out

@@ -1,0 +1,248 @@
+"""MCAP back-end: a :class:`~xrdf_tools.viz.scene.Scene` as Foxglove messages.
+
+Encoding: JSON messages with JSON Schemas (schema encoding ``jsonschema``, message encoding
+``json``). Foxglove opens such files without any setup, and writing them needs nothing beyond
+the ``mcap`` package (no compiled protobuf schemas); the chunks are zstd-compressed, which
+takes most of the size overhead of JSON away.
+
+Channels (schemas registered under their Foxglove names)::
+
+    /tf               foxglove.FrameTransform  one per non-root frame and sample: parent -> child
+    /xrdf/spheres     foxglove.SceneUpdate     one per sample: an entity per link, SpherePrimitive
+                                               (size = diameter) in the link frame, red if colliding
+    /xrdf/buffered    foxglove.SceneUpdate     once (optional): self-collision buffered radii
+    /xrdf/meshes      foxglove.SceneUpdate     once (when meshes are drawn): TriangleListPrimitive
+    /xrdf/collisions  foxglove.Log             one per sample: its colliding sphere pairs
+
+Sample ``k`` (0 = default pose) is logged at ``T0 + k * DT`` (1 s + k * 100 ms); entities are
+frame-locked with an unlimited lifetime, so the links' spheres and meshes follow ``/tf``.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import atomic_path, require
+from .foxglove_schemas import LOG_INFO, LOG_WARNING, schema_bytes
+from .meshes import Rgba
+from .scene import Progress, Scene
+
+T0_NS = 1_000_000_000
+DT_NS = 100_000_000
+
+TOPIC_TF = "/tf"
+TOPIC_SPHERES = "/xrdf/spheres"
+TOPIC_BUFFERED = "/xrdf/buffered"
+TOPIC_MESHES = "/xrdf/meshes"
+TOPIC_COLLISIONS = "/xrdf/collisions"
+
+_IDENTITY_POSE = {
+    "position": {"x": 0.0, "y": 0.0, "z": 0.0},
+    "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
+}
+_FOREVER = {"sec": 0, "nsec": 0}
+
+
+def log_time(step: int) -> int:
+    """Log time (ns) of sample ``step``."""
+    return T0_NS + step * DT_NS
+
+
+def _stamp(ns: int) -> dict[str, int]:
+    return {"sec": ns // 1_000_000_000, "nsec": ns % 1_000_000_000}
+
+
+def _color(c: Rgba) -> dict[str, float]:
+    return {"r": float(c[0]), "g": float(c[1]), "b": float(c[2]), "a": float(c[3])}
+
+
+def _vec(v: Any) -> dict[str, float]:
+    return {"x": float(v[0]), "y": float(v[1]), "z": float(v[2])}
+
+
+def quaternion_xyzw(R: Any) -> tuple[float, float, float, float]:
+    """Unit quaternion (x, y, z, w) of a rotation matrix [3, 3] (Shepperd's method)."""
+    m = np.asarray(R, dtype=np.float64)
+    tr = m[0, 0] + m[1, 1] + m[2, 2]
+    if tr > 0:
+        s = 2.0 * np.sqrt(tr + 1.0)
+        w, x = 0.25 * s, (m[2, 1] - m[1, 2]) / s
+        y, z = (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s
+    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
+        w, x = (m[2, 1] - m[1, 2]) / s, 0.25 * s
+        y, z = (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s
+    elif m[1, 1] > m[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
+        w, x = (m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s
+        y, z = 0.25 * s, (m[1, 2] + m[2, 1]) / s
+    else:
+        s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
+        w, x = (m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s
+        y, z = (m[1, 2] + m[2, 1]) / s, 0.25 * s
+    q = np.array([x, y, z, w])
+    q /= np.linalg.norm(q)
+    if q[3] < 0:
+        q = -q
+    return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
+
+
+def _json(obj: Any) -> bytes:
+    return json.dumps(obj, separators=(",", ":"), allow_nan=False).encode("utf-8")
+
+
+def _entity(scene: Scene, link: str, ns: int, kind: str, **prims: Any) -> dict[str, Any]:
+    return {
+        "timestamp": _stamp(ns),
+        "frame_id": link,
+        "id": f"{kind}/{link}",
+        "lifetime": _FOREVER,
+        "frame_locked": True,
+        "metadata": [{"key": "group", "value": scene.group}, {"key": "link", "value": link}],
+        **prims,
+    }
+
+
+def _spheres(centers: Any, radii: Any, colors: list[Rgba] | Rgba) -> list[dict[str, Any]]:
+    out = []
+    for k, (c, r) in enumerate(zip(centers, radii, strict=True)):
+        d = 2.0 * float(r)
+        col = colors[k] if isinstance(colors, list) else colors
+        out.append(
+            {
+                "pose": {"position": _vec(c), "orientation": _IDENTITY_POSE["orientation"]},
+                "size": {"x": d, "y": d, "z": d},
+                "color": _color(col),
+            }
+        )
+    return out
+
+
+def write_mcap(
+    scene: Scene,
+    path: Path | None,
+    *,
+    buffered: bool = False,
+    progress: Progress | None = None,
+) -> None:
+    """Write ``scene`` to the MCAP file ``path`` (atomically)."""
+    require("mcap", "mcap")
+    from mcap.writer import CompressionType, Writer
+
+    assert path is not None
+    with atomic_path(path) as tmp, open(tmp, "wb") as stream:
+        writer = Writer(stream, compression=CompressionType.ZSTD)
+        writer.start(profile="", library="xrdf-tools")
+        schema_ids = {
+            name: writer.register_schema(name, "jsonschema", schema_bytes(name))
+            for name in ("foxglove.FrameTransform", "foxglove.SceneUpdate", "foxglove.Log")
+        }
+
+        def channel(topic: str, schema: str) -> int:
+            meta = {"robot": scene.robot_name, "group": scene.group}
+            return int(writer.register_channel(topic, "json", schema_ids[schema], meta))
+
+        ch_tf = channel(TOPIC_TF, "foxglove.FrameTransform")
+        ch_spheres = channel(TOPIC_SPHERES, "foxglove.SceneUpdate")
+        ch_log = channel(TOPIC_COLLISIONS, "foxglove.Log")
+        seq: dict[int, int] = {}
+
+        def add(ch: int, ns: int, message: Any) -> None:
+            seq[ch] = seq.get(ch, -1) + 1
+            writer.add_message(
+                ch, log_time=ns, data=_json(message), publish_time=ns, sequence=seq[ch]
+            )
+
+        t0 = log_time(0)
+        if any(link.meshes for link in scene.links):
+            ch_meshes = channel(TOPIC_MESHES, "foxglove.SceneUpdate")
+            add(ch_meshes, t0, {"deletions": [], "entities": _mesh_entities(scene, t0)})
+        if buffered:
+            ch_buf = channel(TOPIC_BUFFERED, "foxglove.SceneUpdate")
+            entities = [
+                _entity(
+                    scene,
+                    link.name,
+                    t0,
+                    "buffered",
+                    spheres=_spheres(link.centers, link.buffered_radii, (*link.color[:3], 0.25)),
+                )
+                for link in scene.links
+                if link.n_spheres
+            ]
+            add(ch_buf, t0, {"deletions": [], "entities": entities})
+
+        total = len(scene.samples)
+        for step, sample in enumerate(scene.samples):
+            ns = log_time(step)
+            for f in range(1, len(scene.frame_names)):
+                T = scene.relative_pose(step, f)
+                x, y, z, w = quaternion_xyzw(T[:3, :3])
+                add(
+                    ch_tf,
+                    ns,
+                    {
+                        "timestamp": _stamp(ns),
+                        "parent_frame_id": scene.frame_names[scene.parent[f]],
+                        "child_frame_id": scene.frame_names[f],
+                        "translation": _vec(T[:3, 3]),
+                        "rotation": {"x": x, "y": y, "z": z, "w": w},
+                    },
+                )
+            colors = scene.colors(step)
+            entities = [
+                _entity(
+                    scene,
+                    link.name,
+                    ns,
+                    "spheres",
+                    spheres=_spheres(link.centers, link.radii, colors[link.name]),
+                )
+                for link in scene.links
+                if link.n_spheres
+            ]
+            add(ch_spheres, ns, {"deletions": [], "entities": entities})
+            pairs = sample.describe_contacts()
+            text = f"step {step}: {sample.label}: " + (
+                "; ".join(pairs) if pairs else "no self-collision"
+            )
+            add(
+                ch_log,
+                ns,
+                {
+                    "timestamp": _stamp(ns),
+                    "level": LOG_WARNING if pairs else LOG_INFO,
+                    "message": text,
+                    "name": "xrdf viz",
+                    "file": "",
+                    "line": 0,
+                },
+            )
+            if progress is not None:
+                progress(step + 1, total)
+        writer.finish()  # type: ignore[no-untyped-call]
+
+
+def _mesh_entities(scene: Scene, ns: int) -> list[dict[str, Any]]:
+    entities = []
+    for link in scene.links:
+        if not link.meshes:
+            continue
+        triangles = []
+        for part in link.meshes:
+            pts = np.round(np.asarray(part.vertices, dtype=np.float64), 6).tolist()
+            triangles.append(
+                {
+                    "pose": _IDENTITY_POSE,
+                    "points": [{"x": p[0], "y": p[1], "z": p[2]} for p in pts],
+                    "color": _color(part.color),
+                    "colors": [],
+                    "indices": np.asarray(part.faces, dtype=np.int64).ravel().tolist(),
+                }
+            )
+        entities.append(_entity(scene, link.name, ns, "mesh", triangles=triangles))
+    return entities

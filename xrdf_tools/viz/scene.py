@@ -1,0 +1,476 @@
+"""The pure, back-end independent picture of a sphere model: what every back-end draws.
+
+:func:`build_scene` evaluates everything once (forward kinematics of every sample, the
+self-collision contacts, the link meshes) so that the rerun, MCAP and PNG writers only
+translate a :class:`Scene` into their format.
+
+* Per link (:class:`LinkScene`): its spheres in the link frame (true radii and self-collision
+  buffered radii), one colour, its meshes.
+* Per sample (:class:`Sample`): the actuated joint values, the pose of every frame (in
+  :attr:`Scene.poses`), and the colliding sphere pairs found with the XRDF's self-collision
+  semantics (:mod:`xrdf_tools.collision`). Sample 0 is always the default pose.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import numpy.typing as npt
+
+from ..diagnostics import Diagnostic, Severity
+from ..errors import GeometryGroupError
+from ..model import Xrdf
+from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+    from ..collision import Contact
+    from ..kinematics import KinematicModel
+
+FloatArray = npt.NDArray[np.float64]
+Progress = Callable[[int, int], None]
+
+#: Colour of spheres in self-collision (and reserved: no link gets it).
+COLLISION_RGBA: Rgba = (0.95, 0.05, 0.05, 1.0)
+
+# Distinct, colour-blind friendly hues without pure red (red marks collisions).
+_PALETTE: tuple[tuple[int, int, int], ...] = (
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (148, 103, 189),
+    (23, 190, 207),
+    (188, 189, 34),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (174, 199, 232),
+    (255, 187, 120),
+    (152, 223, 138),
+    (197, 176, 213),
+    (158, 218, 229),
+    (219, 219, 141),
+    (196, 156, 148),
+    (247, 182, 210),
+    (57, 59, 121),
+    (99, 121, 57),
+    (140, 109, 49),
+)
+
+
+def link_color(index: int) -> Rgba:
+    """Colour of the ``index``-th link with spheres (cycles through 20 hues)."""
+    r, g, b = _PALETTE[index % len(_PALETTE)]
+    return (r / 255.0, g / 255.0, b / 255.0, 1.0)
+
+
+@dataclass(frozen=True, eq=False)
+class LinkScene:
+    """One frame of the robot as drawn.
+
+    ``centers`` [S, 3] and ``radii`` [S] are the drawable spheres of the chosen group in the
+    link frame; ``buffered_radii`` [S] add the frame's self-collision buffer; ``sphere_ids``
+    [S] are their indices in the frame's resolved sphere list of the XRDF (they differ only
+    when placeholder spheres with radius <= 0 were skipped).
+    """
+
+    name: str
+    frame_index: int
+    color: Rgba
+    centers: FloatArray
+    radii: FloatArray
+    buffered_radii: FloatArray
+    sphere_ids: tuple[int, ...]
+    meshes: tuple[MeshPart, ...] = ()
+
+    @property
+    def n_spheres(self) -> int:
+        return len(self.sphere_ids)
+
+
+@dataclass(frozen=True)
+class SpherePair:
+    """Two spheres in self-collision; ``clearance`` < 0 is the penetration depth (m)."""
+
+    frame_a: str
+    sphere_a: int
+    frame_b: str
+    sphere_b: int
+    clearance: float
+
+    def describe(self) -> str:
+        return (
+            f"{self.frame_a}[{self.sphere_a}] <-> {self.frame_b}[{self.sphere_b}] "
+            f"(clearance {self.clearance * 1000:.1f} mm)"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Sample:
+    """One step of the ``sample`` timeline.
+
+    ``step`` is its position on the timeline (0: default pose); ``source`` is the row of the
+    input configurations it came from (-1 for the default pose); ``q`` [n] the actuated joint
+    values; ``contacts`` every sphere pair in self-collision (worst first);
+    ``frame_contacts`` one :class:`~xrdf_tools.collision.Contact` per colliding frame pair.
+    """
+
+    step: int
+    source: int
+    q: FloatArray
+    contacts: tuple[SpherePair, ...] = ()
+    frame_contacts: tuple[Contact, ...] = ()
+
+    @property
+    def label(self) -> str:
+        return "default pose" if self.source < 0 else f"configuration {self.source}"
+
+    def colliding_pairs(self) -> list[tuple[str, str]]:
+        """The colliding frame pairs, worst first."""
+        return [(c.frame_a, c.frame_b) for c in self.frame_contacts]
+
+    def describe_contacts(self) -> list[str]:
+        """One line per colliding frame pair: worst sphere pair, clearance, count."""
+        return [
+            f"{c.frame_a}[{c.sphere_a}] <-> {c.frame_b}[{c.sphere_b}] "
+            f"(clearance {c.clearance * 1000:.1f} mm, {c.n_sphere_pairs} sphere pair(s))"
+            for c in self.frame_contacts
+        ]
+
+    def colliding_spheres(self) -> dict[str, set[int]]:
+        """``{frame: {sphere index in the XRDF list}}`` of spheres in a colliding pair."""
+        out: dict[str, set[int]] = {}
+        for c in self.contacts:
+            out.setdefault(c.frame_a, set()).add(c.sphere_a)
+            out.setdefault(c.frame_b, set()).add(c.sphere_b)
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Everything a back-end draws. ``poses`` [N, F, 4, 4]: frame-to-base transforms of
+    every frame (``frame_names`` order) for each of the N samples."""
+
+    robot_name: str
+    group: str
+    frame_names: tuple[str, ...]
+    parent: tuple[int, ...]
+    joint_names: tuple[str, ...]
+    links: tuple[LinkScene, ...]
+    samples: tuple[Sample, ...]
+    poses: FloatArray
+    mesh_kind: MeshKind = "none"
+    collisions_shown: bool = True
+    diagnostics: tuple[Diagnostic, ...] = field(default=())
+
+    @property
+    def base_frame(self) -> str:
+        return self.frame_names[0]
+
+    @property
+    def n_spheres(self) -> int:
+        return sum(link.n_spheres for link in self.links)
+
+    def sphere_counts(self) -> dict[str, int]:
+        return {link.name: link.n_spheres for link in self.links}
+
+    def link(self, name: str) -> LinkScene:
+        for link in self.links:
+            if link.name == name:
+                return link
+        raise KeyError(name)
+
+    def relative_pose(self, step: int, frame: int) -> FloatArray:
+        """Transform [4, 4] of ``frame`` in its parent frame at sample ``step``."""
+        p = self.parent[frame]
+        T = self.poses[step, frame]
+        if p < 0:
+            return np.array(T)
+        return np.asarray(np.linalg.inv(self.poses[step, p]) @ T)
+
+    def colors(self, step: int) -> dict[str, list[Rgba]]:
+        """Colour of every drawn sphere per link at sample ``step`` (red when colliding)."""
+        hit = self.samples[step].colliding_spheres() if self.collisions_shown else {}
+        out: dict[str, list[Rgba]] = {}
+        for link in self.links:
+            ids = hit.get(link.name, set())
+            out[link.name] = [COLLISION_RGBA if i in ids else link.color for i in link.sphere_ids]
+        return out
+
+
+def choose_group(xrdf: Xrdf, group: str | None = None) -> str:
+    """The geometry group to draw: ``group``, else the self-collision group, else the world
+    collision group, else the only group. Raises :class:`GeometryGroupError` listing the
+    defined groups when there is no sensible choice."""
+    defined = list(xrdf.geometry or {})
+    if group is not None:
+        if group not in defined:
+            from ..errors import did_you_mean
+
+            raise GeometryGroupError(
+                f"geometry group '{group}' is not defined (defined: {', '.join(defined) or 'none'})"
+                + did_you_mean(group, defined),
+                path=xrdf.source.path or None,
+            )
+        return group
+    if xrdf.self_collision is not None:
+        return xrdf.self_collision.geometry
+    if xrdf.world_collision is not None:
+        return xrdf.world_collision.geometry
+    if len(defined) == 1:
+        return defined[0]
+    raise GeometryGroupError(
+        "no collision section names a geometry group; choose one with --group "
+        f"(defined: {', '.join(defined) or 'none'})",
+        path=xrdf.source.path or None,
+    )
+
+
+def build_scene(
+    urdf: yourdfpy.URDF,
+    xrdf: Xrdf,
+    configurations: npt.ArrayLike | None = None,
+    *,
+    kinematic_model: KinematicModel | None = None,
+    group: str | None = None,
+    meshes: MeshKind = "visual",
+    colliding_only: bool = False,
+    urdf_path: str | os.PathLike[str] | None = None,
+    package_paths: Mapping[str, str] | None = None,
+    progress: Progress | None = None,
+) -> Scene:
+    """Evaluate the sphere model of ``xrdf`` on ``urdf`` for drawing.
+
+    ``configurations`` [B, n] are full actuated configurations (see
+    :func:`xrdf_tools.kinematics.full_configuration`); the scene always starts with the
+    default pose. ``colliding_only`` keeps, after the default pose, only configurations with
+    a self-collision. ``meshes`` chooses the URDF elements drawn with each link.
+    ``progress(done, total)`` is called while contacts are computed.
+
+    Spheres on a frame the kinematic tree lacks are left out with a warning (the self-collision
+    group's by :func:`xrdf_tools.collision.build_sphere_set`). Raises
+    :class:`GeometryGroupError` for an unknown group.
+    """
+    from ..kinematics import build_kinematic_model, default_configuration, fk
+
+    diags: list[Diagnostic] = []
+    if kinematic_model is None:
+        kin, kdiags = build_kinematic_model(urdf, xrdf)
+        diags.extend(kdiags)
+    else:
+        kin = kinematic_model
+    chosen = choose_group(xrdf, group)
+    spheres = xrdf.resolved_spheres(chosen)
+    xpath = xrdf.source.path or "<xrdf>"
+
+    q0 = default_configuration(kin, xrdf.default_joint_positions)
+    if configurations is None:
+        Q = q0[None, :]
+    else:
+        qc = np.asarray(configurations, dtype=np.float64)
+        if qc.ndim != 2 or qc.shape[1] != kin.n_actuated:
+            raise ValueError(
+                f"configurations must have shape [B, {kin.n_actuated}], got {list(qc.shape)}"
+            )
+        Q = np.vstack([q0[None, :], qc])
+
+    self_group = xrdf.self_collision.geometry if xrdf.self_collision is not None else None
+    shown = self_group is not None and self_group == chosen
+    found = (
+        _contacts(kin, xrdf, Q, progress, diags) if self_group is not None else [((), ())] * len(Q)
+    )
+    if self_group is not None and not shown:
+        diags.append(
+            Diagnostic(
+                xpath,
+                None,
+                None,
+                "viz-collisions-not-drawn",
+                Severity.INFO,
+                f"drawing group '{chosen}', but self-collision uses '{self_group}': colliding "
+                "pairs are logged, spheres are not coloured",
+            )
+        )
+
+    keep = [0] + [k for k in range(1, len(Q)) if not colliding_only or found[k][0]]
+    samples = tuple(
+        Sample(step, k - 1, np.array(Q[k]), found[k][0], found[k][1]) for step, k in enumerate(keep)
+    )
+    poses = np.ascontiguousarray(fk(kin, Q[keep]))
+
+    links: list[LinkScene] = []
+    skipped = 0
+    for frame, frame_spheres in spheres.items():
+        if not kin.has_frame(frame):
+            if chosen != self_group:  # the collision module reports the self-collision group
+                diags.append(_unknown_frame(xrdf, kin, chosen, frame))
+            continue
+        fi = kin.frame_index(frame)
+        ids = tuple(i for i, s in enumerate(frame_spheres) if s.radius >= 0)
+        skipped += len(frame_spheres) - len(ids)
+        buffer = 0.0
+        if xrdf.self_collision is not None:
+            buffer = float(xrdf.self_collision.buffer_distance.get(frame, 0.0))
+        centers = np.array([frame_spheres[i].center for i in ids], dtype=np.float64).reshape(-1, 3)
+        radii = np.array([frame_spheres[i].radius for i in ids], dtype=np.float64)
+        links.append(
+            LinkScene(frame, fi, link_color(len(links)), centers, radii, radii + buffer, ids)
+        )
+    if skipped:
+        diags.append(
+            Diagnostic(
+                xpath,
+                None,
+                None,
+                "viz-placeholder-spheres",
+                Severity.INFO,
+                f"{skipped} placeholder sphere(s) with negative radius in group '{chosen}' "
+                "not drawn",
+            )
+        )
+
+    # Meshes: every URDF link kept in the tree, whether or not it has spheres.
+    mesh_map, mdiags = load_link_meshes(
+        urdf, kin.frame_names, meshes, urdf_path=urdf_path, package_paths=package_paths
+    )
+    diags.extend(mdiags)
+    by_name = {link.name: link for link in links}
+    for name, parts in mesh_map.items():
+        if name in by_name:
+            old = by_name[name]
+            by_name[name] = LinkScene(
+                old.name,
+                old.frame_index,
+                old.color,
+                old.centers,
+                old.radii,
+                old.buffered_radii,
+                old.sphere_ids,
+                parts,
+            )
+        else:
+            empty = np.zeros((0, 3))
+            by_name[name] = LinkScene(
+                name,
+                kin.frame_index(name),
+                link_color(len(by_name)),
+                empty,
+                empty[:, 0],
+                empty[:, 0],
+                (),
+                parts,
+            )
+    ordered = tuple(sorted(by_name.values(), key=lambda link: link.frame_index))
+
+    return Scene(
+        robot_name=str(getattr(getattr(urdf, "robot", None), "name", "") or "robot"),
+        group=chosen,
+        frame_names=kin.frame_names,
+        parent=tuple(int(p) for p in kin.parent),
+        joint_names=kin.actuated_joints,
+        links=ordered,
+        samples=samples,
+        poses=poses,
+        mesh_kind=meshes,
+        collisions_shown=shown,
+        diagnostics=tuple(sorted(diags)),
+    )
+
+
+def _contacts(
+    kin: KinematicModel,
+    xrdf: Xrdf,
+    Q: FloatArray,
+    progress: Progress | None,
+    diags: list[Diagnostic],
+    chunk: int = 256,
+) -> list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]]:
+    """Per configuration of ``Q`` [B, n]: every colliding sphere pair, and the colliding
+    frame pairs (worst sphere pair first), by :mod:`xrdf_tools.collision`."""
+    from ..collision import (
+        build_sphere_set,
+        contacts,
+        pair_clearance,
+        pair_hits,
+        sphere_world_centers,
+    )
+
+    spheres, sdiags = build_sphere_set(kin, xrdf)
+    diags.extend(sdiags)
+    out: list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]] = []
+    total = len(Q)
+    if spheres.n_pairs == 0:
+        if progress is not None:
+            progress(total, total)
+        return [((), ())] * total
+    label_frame = [spheres.frame_names[f] for f in spheres.frame_of_sphere.tolist()]
+    label_index = spheres.sphere_index.tolist()
+    for start in range(0, total, chunk):
+        centers = sphere_world_centers(kin, spheres, Q[start : start + chunk])
+        hits = pair_hits(spheres, centers)
+        for b in range(centers.shape[0]):
+            idx = np.flatnonzero(hits[b])
+            if idx.size == 0:
+                out.append(((), ()))
+                continue
+            clr = pair_clearance(spheres, centers[b])
+            pairs = []
+            for p in idx.tolist():
+                i, j = int(spheres.pair_i[p]), int(spheres.pair_j[p])
+                pairs.append(
+                    SpherePair(
+                        label_frame[i],
+                        label_index[i],
+                        label_frame[j],
+                        label_index[j],
+                        float(clr[p]),
+                    )
+                )
+            pairs.sort(key=lambda sp: sp.clearance)
+            out.append((tuple(pairs), tuple(contacts(spheres, centers[b]))))
+        if progress is not None:
+            progress(min(start + chunk, total), total)
+    return out
+
+
+def _unknown_frame(xrdf: Xrdf, kin: KinematicModel, group: str, frame: str) -> Diagnostic:
+    from ..errors import did_you_mean
+
+    kp = f"geometry.{group}.spheres.{frame}"
+    line, col = xrdf.source.position(kp + "#key")
+    return Diagnostic(
+        xrdf.source.path or "<xrdf>",
+        line,
+        col,
+        "viz-frame-unknown",
+        Severity.WARNING,
+        f"spheres on '{frame}' not drawn: not a frame of the robot"
+        + did_you_mean(frame, kin.frame_names),
+        kp,
+    )
+
+
+def sphere_counts(xrdf: Xrdf, group: str) -> dict[str, int]:
+    """Drawable spheres (radius >= 0, not placeholders) per frame of ``group``."""
+    return {
+        frame: sum(1 for s in spheres if s.radius >= 0)
+        for frame, spheres in xrdf.resolved_spheres(group).items()
+    }
+
+
+__all__: Sequence[str] = (
+    "COLLISION_RGBA",
+    "LinkScene",
+    "Sample",
+    "Scene",
+    "SpherePair",
+    "build_scene",
+    "choose_group",
+    "link_color",
+    "sphere_counts",
+)
