@@ -1,10 +1,65 @@
-"""`xrdf diff` (not implemented yet)."""
+"""`xrdf diff`: semantic difference between two XRDF files."""
 
 from __future__ import annotations
 
-from .common import not_implemented
+import math
+from enum import Enum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..diff import DEFAULT_TOLERANCE, diff_files
+from ..diff_render import render_json, render_text
+from ..errors import XrdfToolsError
+from .common import EXIT_FINDINGS, EXIT_OK, fail
 
 
-def command() -> None:
-    """Not implemented yet: exits with code 2."""
-    not_implemented("diff")
+class DiffFormat(str, Enum):
+    text = "text"
+    json = "json"
+
+
+def command(
+    a: Annotated[Path, typer.Argument(metavar="A.xrdf", help="The 'before' XRDF file.")],
+    b: Annotated[Path, typer.Argument(metavar="B.xrdf", help="The 'after' XRDF file.")],
+    fmt: Annotated[
+        DiffFormat,
+        typer.Option(
+            "--format",
+            "-f",
+            help="text: changes grouped by section; json: stable schema (docs/diff.md).",
+        ),
+    ] = DiffFormat.text,
+    tolerance: Annotated[
+        float,
+        typer.Option(
+            "--tolerance",
+            help="Numbers within this absolute distance are equal (metres, radians, limits).",
+        ),
+    ] = DEFAULT_TOLERANCE,
+) -> None:
+    """Semantic difference between two XRDF files (1.0 or 2.0, in any combination).
+
+    Mapping order is ignored; spheres are compared per frame as multisets within the tolerance
+    (clones resolved, radius ≤ 0 placeholders left out); ignore pairs as a symmetric set;
+    'collision' (1.0) and 'world_collision' (2.0) as one section; c-space and tool-frame order
+    matter. Changes are grouped by section with counts.
+
+    \b
+    Examples:
+      xrdf diff old.xrdf new.xrdf
+      xrdf diff robot_1_0.xrdf robot_2_0.xrdf --format json
+      xrdf diff a.xrdf b.xrdf --tolerance 1e-6
+
+    Exit codes: 0 identical, 1 different, 2 usage or input error.
+    """
+    if not (math.isfinite(tolerance) and tolerance >= 0):
+        fail(f"--tolerance must be a finite number >= 0, not {tolerance}")
+    try:
+        result = diff_files(a, b, tolerance)
+    except XrdfToolsError as exc:
+        fail(exc)
+    out = render_json(result) if fmt is DiffFormat.json else render_text(result)
+    typer.echo(out, nl=False)
+    raise typer.Exit(EXIT_OK if result.is_equal else EXIT_FINDINGS)
