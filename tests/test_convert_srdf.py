@@ -137,7 +137,7 @@ def _lint_errors(xrdf_text: str, urdf_path: Path) -> list[str]:
 @pytest.mark.parametrize("srdf", sorted(SRDF_ROBOTS))
 def test_example_robot_data_srdf_converts_and_lints(srdf: str) -> None:
     urdf, srdf_path, group = _pair(srdf)
-    x, diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
+    x, _diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
     assert x.cspace is not None and x.cspace.joint_names, "empty c-space"
     assert x.tool_frames
     text = dump_xrdf(x)

@@ -51,6 +51,14 @@ app.command("lint", help="Check XRDF files against the spec (and a URDF).")(lint
 app.command("diff", help="Semantic difference between two XRDF files.")(diff.command)
 app.command("report", help="Self-collision report over sampled configurations.")(report.command)
 app.command("viz", help="Sphere visualizations to rerun (.rrd), MCAP or PNG.")(viz.command)
+from .commands import spheres  # noqa: E402
+
+app.command("spheres", help="Fit collision spheres to link meshes; coverage metrics.")(
+    spheres.command
+)
+from .commands import export  # noqa: E402
+
+app.add_typer(export.app, name="export", help="XRDF → cuRobo robot YAML or MoveIt SRDF.")
 
 
 def main() -> None:

@@ -107,7 +107,6 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
         layout = detect_layout(data)
     except SourceError as e:
         raise SourceError(e.message, path=doc.path, line=1) from None
-    d.geometry_name = f"{Path(doc.path).stem}_collision_spheres"
     if layout == "lula":
         _read_lula(data, tree, d, rep)
     else:

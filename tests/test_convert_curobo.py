@@ -1,0 +1,197 @@
+"""cuRobo robot YAML → XRDF: cuRobo's real 2.0-layout configs and our classic-layout fixtures."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tests.paths import FIXTURES, UR10E_URDF, shared_file
+from xrdf_tools.convert import ConvertOptions, convert_files
+from xrdf_tools.diagnostics import Diagnostic
+from xrdf_tools.diff import diff_xrdf
+from xrdf_tools.errors import SourceError
+from xrdf_tools.model import AddFrame
+from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+
+CLASSIC = FIXTURES / "curobo_classic"
+
+
+def _rules(diags: list[Diagnostic]) -> dict[str, list[Diagnostic]]:
+    out: dict[str, list[Diagnostic]] = {}
+    for d in diags:
+        out.setdefault(d.rule, []).append(d)
+    return out
+
+
+def test_curobo_ur10e_matches_curobos_own_xrdf_except_explained_differences() -> None:
+    yml = shared_file("reference", "curobo-2.0", "ur10e.yml")
+    urdf = shared_file("reference", "curobo-2.0", "ur10e.urdf")
+    reference = load_xrdf(shared_file("reference", "curobo-2.0", "ur10e.xrdf"))
+    x, diags, _ = convert_files(urdf, ConvertOptions(curobo=yml, format_version="1.0"))
+    rules = _rules(diags)
+
+    # the real typo in cuRobo's ur10e.yml: reported with a suggestion and its position
+    (typo,) = rules["convert-unknown-link"]
+    assert "'forarm_link'" in typo.message and "did you mean 'forearm_link'" in typo.message
+    assert typo.path == str(yml) and typo.line == 129
+    # the tool0 placeholder sphere (radius -0.01) is reported, not emitted
+    assert any("tool0" in d.message for d in rules["convert-placeholder-spheres"])
+    # camera_mount has spheres but is not a collision link: cuRobo never used them
+    assert any("camera_mount" in d.message for d in rules["convert-unused-spheres"])
+    dropped = " ".join(d.message for d in rules["convert-dropped-key"])
+    for key in ("dynamics", "cspace_distance_weight", "null_space_weight", "position_limit_clip"):
+        assert key in dropped
+
+    result = diff_xrdf(reference, x)
+    found = {(c.section, c.kind, c.subject) for c in result.changes}
+    frames = ("shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link")
+    frames += ("wrist_2_link", "wrist_3_link", "tool0")
+    explained = {
+        # ur10e.xrdf sets the base to base_link, which is already the URDF root: a no-op that
+        # the converter does not write
+        ("modifiers", "base-frame-changed", "set_base_frame"),
+        # ur10e.xrdf has world buffers of 0.01; ur10e.yml says collision_sphere_buffer: 0.0
+        *(("world_collision", "buffer-removed", f) for f in frames),
+        # ur10e.xrdf has a tool0 self buffer of 0.05; ur10e.yml has `tool0: 0.0 # 0.05`
+        ("self_collision", "buffer-removed", "tool0"),
+        # the xrdf fixed the typo by hand; from the yml the misspelt pair is reported and dropped
+        ("self_collision", "ignore-pair-removed", "forearm_link <-> wrist_1_link"),
+        # the yml masks camera_mount (a URDF link) against tool0 and wrist_3_link; the xrdf not
+        ("self_collision", "ignore-pair-added", "camera_mount <-> tool0"),
+        ("self_collision", "ignore-pair-added", "camera_mount <-> wrist_3_link"),
+    }
+    assert found == explained, sorted(found ^ explained)
+    # every other section is equal: c-space, limits, defaults, tool frames, effective spheres
+    assert {c.section for c in result.changes} == {"modifiers", "world_collision", "self_collision"}
+    # 2.0 output carries the same content
+    x2, _, _ = convert_files(urdf, ConvertOptions(curobo=yml))
+    assert x2.format_version == "2.0"
+    assert diff_xrdf(x, x2).changes == tuple(
+        c for c in diff_xrdf(x, x2).changes if c.section == "format"
+    )
+
+
+def test_curobo_franka_placeholders_reported_not_emitted() -> None:
+    yml = shared_file("reference", "curobo-2.0", "franka.yml")
+    urdf = shared_file("reference", "curobo-2.0", "franka_panda.urdf")
+    for version in ("2.0", "1.0"):
+        x, diags, _ = convert_files(urdf, ConvertOptions(curobo=yml, format_version=version))
+        rules = _rules(diags)
+        (placeholder,) = [
+            d for d in rules["convert-placeholder-spheres"] if "attached_object" in d.message
+        ]
+        assert "4 placeholder sphere(s)" in placeholder.message
+        assert placeholder.line is not None
+        # the attached_object frame is added (extra_links), but gets no spheres at all
+        added = [m for m in x.modifiers if isinstance(m, AddFrame)]
+        assert [(m.frame_name, m.parent_frame_name, m.joint_name) for m in added] == [
+            ("attached_object", "panda_hand", "attach_joint")
+        ]
+        spheres = x.world_collision_spheres()
+        assert "attached_object" not in spheres
+        assert all(s.radius > 0 for ss in spheres.values() for s in ss)
+        assert len(spheres["panda_hand"]) == 18
+        # lock_joints: fingers leave the c-space, their values become default positions
+        assert x.cspace is not None
+        assert x.cspace.joint_names == tuple(f"panda_joint{i}" for i in range(1, 8))
+        assert x.cspace.acceleration_limits == (15.0,) * 7
+        assert x.cspace.jerk_limits == (500.0,) * 7
+        defaults = dict(x.default_joint_positions or {})
+        assert defaults["panda_finger_joint1"] == 0.04
+        assert defaults["panda_joint4"] == -2.5
+        assert x.tool_frames == ("panda_hand",)
+        assert x.self_collision is not None
+        assert frozenset(("panda_link7", "attached_object")) in x.self_collision.ignore_pairs()
+        assert x.self_collision.buffer_distance["panda_link0"] == 0.1
+        assert "panda_link2" not in x.self_collision.buffer_distance  # zero buffers not written
+        assert parse_xrdf(dump_xrdf(x)) == x
+
+
+def test_classic_layout_separate_spheres_file() -> None:
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=CLASSIC / "ur10e_classic.yml"))
+    rules = _rules(diags)
+    assert x.format_version == "2.0"
+    assert x.tool_frames == ("tool0", "flange")  # ee_link first, then link_names, deduplicated
+    assert x.cspace is not None
+    assert x.cspace.acceleration_limits == (12.0,) * 6  # scalar broadcast
+    assert x.cspace.jerk_limits == (500.0, 500.0, 500.0, 400.0, 400.0, 400.0)  # per joint
+    assert dict(x.default_joint_positions or {}) == {  # retract_config mapped by name
+        "shoulder_pan_joint": 0.0,
+        "shoulder_lift_joint": -2.2,
+        "elbow_joint": 1.9,
+        "wrist_1_joint": -1.383,
+        "wrist_2_joint": -1.57,
+        "wrist_3_joint": 0.0,
+    }
+    (frame,) = x.added_frames()
+    assert frame.frame_name == "gripper_center" and frame.parent_frame_name == "tool0"
+    assert frame.position == (0.0, 0.0, 0.15)
+    assert frame.orientation.as_wxyz() == pytest.approx((0.7071068, 0, 0, 0.7071068), abs=1e-6)
+    spheres = x.world_collision_spheres()
+    # spheres come from spheres/ur10e.yml; base_link is not a collision link → dropped, reported
+    assert "base_link" not in spheres and len(spheres["upper_arm_link"]) == 3
+    assert "camera_mount" in spheres
+    (unused,) = rules["convert-unused-spheres"]
+    assert unused.path.endswith("spheres/ur10e.yml") and unused.line == 33
+    assert x.world_collision is not None
+    assert dict(x.world_collision.buffer_distance) == {
+        "shoulder_link": 0.01,
+        "upper_arm_link": 0.01,
+        "forearm_link": 0.01,
+        "wrist_1_link": 0.005,
+        "wrist_2_link": 0.005,
+    }
+    assert x.self_collision is not None
+    assert dict(x.self_collision.buffer_distance) == {"shoulder_link": 0.07}
+    # gripper_center is an added frame: valid in the ignore list
+    assert frozenset(("wrist_3_link", "gripper_center")) in x.self_collision.ignore_pairs()
+    dropped = " ".join(d.message for d in rules["convert-dropped-key"])
+    assert "null_space_weight" in dropped and "position_limit_clip" in dropped
+    assert "usd" not in dropped and "mesh_link_names" not in dropped  # ignored silently
+    assert "convert-default-acceleration" not in rules
+
+
+def test_classic_layout_inline_locks_and_typos() -> None:
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=CLASSIC / "ur10e_inline.yml"))
+    rules = _rules(diags)
+    assert x.cspace is not None
+    # wrist_3_joint is locked: out of the c-space, its lock value is its default position
+    assert "wrist_3_joint" not in x.cspace.joint_names
+    assert x.cspace.acceleration_limits == (10.0, 11.0, 12.0, 13.0, 14.0)
+    assert dict(x.default_joint_positions or {})["wrist_3_joint"] == 0.5
+    assert dict(x.default_joint_positions or {})["shoulder_pan_joint"] == 0.1
+    # no max_jerk: the default, reported
+    assert x.cspace.jerk_limits == (1000.0,) * 5
+    assert "convert-default-jerk" in rules
+    # scalar buffer → per frame; placeholder dropped; typo reported with a suggestion
+    assert x.world_collision is not None
+    assert dict(x.world_collision.buffer_distance) == dict.fromkeys(
+        ("upper_arm_link", "forearm_link", "wrist_3_link"), 0.005
+    )
+    assert "tool0" not in x.world_collision_spheres()
+    (typo,) = rules["convert-unknown-link"]
+    assert "did you mean 'forearm_link'" in typo.message and typo.line == 24
+    assert "velocity_scale" in rules["convert-dropped-key"][0].message
+
+
+def test_lula_robot_description() -> None:
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=CLASSIC / "ur10e_lula.yaml"))
+    assert x.cspace is not None and len(x.cspace.joint_names) == 6
+    assert x.cspace.jerk_limits == (10000.0,) * 6
+    assert dict(x.default_joint_positions or {})["shoulder_lift_joint"] == -1.57
+    assert len(x.world_collision_spheres()["forearm_link"]) == 2
+    assert "convert-chosen-tool-frame" in _rules(diags)
+
+
+def test_not_a_curobo_config(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.yml"
+    bad.write_text("robot_cfg: {dynamics: {}}\n")
+    with pytest.raises(SourceError, match="not a cuRobo robot configuration"):
+        convert_files(UR10E_URDF, ConvertOptions(curobo=bad))
+    bad.write_text(
+        "robot_cfg:\n  kinematics:\n    cspace:\n      joint_names: [elbow_joint]\n"
+        "      max_acceleration: [1.0, 2.0]\n"
+    )
+    with pytest.raises(SourceError, match=r"bad.yml:5:.*2 values for 1 joints"):
+        convert_files(UR10E_URDF, ConvertOptions(curobo=bad))
