@@ -81,7 +81,7 @@ class SphereSet:
     Frame pairs (``K``), ``frame_pair_a < frame_pair_b`` (indices into ``frame_names``), in
     lexicographic order: every pair of sphere frames that is checked, i.e. not masked, plus
     the masked ones when built with ``include_masked=True`` (``frame_pair_masked`` [K] says
-    which). ``frame_pair_adjacent`` is filled by the report; here it is all False.
+    which); :meth:`select_frame_pairs` narrows them.
 
     Sphere pairs (``P``): ``pair_i < pair_j`` sphere indices on different frames, grouped by
     frame pair: ``pair_frame_pair`` [P] is the frame-pair index of each, so per-frame-pair
@@ -171,6 +171,33 @@ class SphereSet:
     def sphere_label(self, s: int) -> str:
         """``frame[k]``: the sphere's frame and position in that frame's list."""
         return f"{self.frame_names[self.frame_of_sphere[s]]}[{self.sphere_index[s]}]"
+
+    def select_frame_pairs(self, keep: npt.ArrayLike) -> SphereSet:
+        """A copy that keeps only the frame pairs where ``keep`` [K] is True (same spheres)."""
+        k = np.asarray(keep, dtype=np.bool_)
+        if k.shape != (self.n_frame_pairs,):
+            raise ValueError(f"keep must be [{self.n_frame_pairs}], got {list(k.shape)}")
+        sel = k[self.pair_frame_pair]
+        new_index = np.cumsum(k) - 1
+        counts = np.diff(self.pair_start)[k]
+        return SphereSet(
+            frame_names=self.frame_names,
+            frame_kin_index=self.frame_kin_index,
+            frame_of_sphere=self.frame_of_sphere,
+            kin_frame=self.kin_frame,
+            sphere_index=self.sphere_index,
+            local_centers=self.local_centers,
+            radii=self.radii,
+            self_radii=self.self_radii,
+            frame_pair_a=self.frame_pair_a[k],
+            frame_pair_b=self.frame_pair_b[k],
+            frame_pair_masked=self.frame_pair_masked[k],
+            pair_i=self.pair_i[sel],
+            pair_j=self.pair_j[sel],
+            pair_frame_pair=new_index[self.pair_frame_pair[sel]],
+            pair_start=np.concatenate([[0], np.cumsum(counts)]),
+            n_placeholders=self.n_placeholders,
+        )
 
     def frame_pair_names(self) -> Iterator[tuple[str, str]]:
         for a, b in zip(self.frame_pair_a.tolist(), self.frame_pair_b.tolist(), strict=True):
@@ -308,20 +335,24 @@ def _centers_batch_last(
     out = np.empty((rows, 3, B))
     if Fs == 0:
         return out
-    R, t = fk_batch_last(kin, q2, spheres.frame_kin_index)  # [Fs,3,3,B], [Fs,3,B]
-    for f in range(Fs):
+    if kin.n_frames <= 2 * Fs:
+        # all frames: no gather copy, little extra work
+        R, t = fk_batch_last(kin, q2)
+        fidx = spheres.frame_kin_index.tolist()
+    else:
+        R, t = fk_batch_last(kin, q2, spheres.frame_kin_index)
+        fidx = list(range(Fs))
+    for f, kf in enumerate(fidx):
         sl = spheres.spheres_of(f)
-        pts = spheres.local_centers[sl]
+        # out[s, i, b] = sum_k pts[s, k] * R[kf, i, k, b] + t[kf, i, b], as one GEMM
+        Rk = np.ascontiguousarray(R[kf].transpose(1, 0, 2)).reshape(3, 3 * B)
+        dst = out[sl].reshape(sl.stop - sl.start, 3 * B)
+        np.matmul(spheres.local_centers[sl], Rk, out=dst)
+        out[sl] += t[kf]
         if extra is not None:
-            pts = np.vstack([pts, extra[f : f + 1]])
-        # out[s, i, b] = sum_k pts[s, k] * R[f, i, k, b] + t[f, i, b]
-        res = np.tensordot(pts, R[f], axes=([1], [1]))  # [m, 3, B]
-        res += t[f]
-        if extra is not None:
-            out[sl] = res[:-1]
-            out[S + f] = res[-1]
-        else:
-            out[sl] = res
+            row = out[S + f].reshape(1, 3 * B)
+            np.matmul(extra[f : f + 1], Rk, out=row)
+            out[S + f] += t[kf]
     return out
 
 
@@ -470,7 +501,9 @@ class ChunkResult:
     clearance_bound: FloatArray
 
 
-def count_chunk(kin: KinematicModel, spheres: SphereSet, q_full: npt.ArrayLike) -> ChunkResult:
+def count_chunk(
+    kin: KinematicModel, spheres: SphereSet, q_full: npt.ArrayLike, *, margin: float = 0.0
+) -> ChunkResult:
     """Exact per-frame-pair collision flags for configurations ``q_full`` [B, n].
 
     Every frame pair of ``spheres`` is evaluated for every configuration (no early exit);
@@ -482,6 +515,9 @@ def count_chunk(kin: KinematicModel, spheres: SphereSet, q_full: npt.ArrayLike) 
        reach the other frame's bounding sphere touches none of its spheres;
     3. the remaining (sphere, configuration) rows are tested against every sphere of the
        other frame with ``d² < (sr_a + sr_b)²``.
+
+    Culling only skips what is more than ``margin`` metres apart, so every clearance below
+    ``margin`` is computed exactly (a larger margin costs time, buys exact minima).
 
     Chunk ``q_full`` yourself (a few thousand rows) to bound memory.
     """
@@ -498,20 +534,21 @@ def count_chunk(kin: KinematicModel, spheres: SphereSet, q_full: npt.ArrayLike) 
     X, Y, Z = C[:, 0, :], C[:, 1, :], C[:, 2, :]  # [S + Fs, B], rows contiguous
     sr = spheres.self_radii
     br = spheres._bound_radius
+    m = max(float(margin), 0.0)
     fa, fb = spheres.frame_pair_a, spheres.frame_pair_b
     # Level 1 for all frame pairs at once: [K, B]
     ba, bb = S + fa, S + fb
     d1 = np.square(X[ba] - X[bb])
     d1 += np.square(Y[ba] - Y[bb])
     d1 += np.square(Z[ba] - Z[bb])
-    rsum1 = (br[fa] + br[fb])[:, None]
-    cand1 = d1 < rsum1 * rsum1
+    reach1 = (br[fa] + br[fb])[:, None]
+    cand1 = d1 < np.square(reach1 + m)
     for k in range(K):
         a, b = int(fa[k]), int(fb[k])
         ck = cand1[k]
         cols = np.flatnonzero(ck)
         if len(cols) < B:
-            gap = np.sqrt(d1[k][~ck]) - rsum1[k, 0]
+            gap = np.sqrt(d1[k][~ck]) - reach1[k, 0]
             bound[k] = float(gap.min())
         if len(cols) == 0:
             continue
@@ -529,11 +566,11 @@ def count_chunk(kin: KinematicModel, spheres: SphereSet, q_full: npt.ArrayLike) 
         d2 = np.square(Xa - bxyz[0])
         d2 += np.square(Ya - bxyz[1])
         d2 += np.square(Za - bxyz[2])
-        r2 = (sr[sa] + br[b])[:, None]
-        cand2 = d2 < r2 * r2
+        reach2 = (sr[sa] + br[b])[:, None]
+        cand2 = d2 < np.square(reach2 + m)
         rows, cc = np.nonzero(cand2)  # sphere (local to sa) and column (into cols)
         if len(rows) < cand2.size:
-            gap2 = np.sqrt(d2[~cand2]) - np.broadcast_to(r2, d2.shape)[~cand2]
+            gap2 = np.sqrt(d2[~cand2]) - np.broadcast_to(reach2, d2.shape)[~cand2]
             bound[k] = min(bound[k], float(gap2.min()))
         if len(rows) == 0:
             continue

@@ -1,0 +1,770 @@
+"""Self-collision report: sample the c-space, count collisions per frame pair, judge the mask.
+
+:func:`self_collision_report` answers "is my sphere model and mask right?" pair by pair. It
+samples configurations (or takes given ones, e.g. a recorded trajectory), counts for every
+pair of frames with spheres how often it collides (:func:`xrdf_tools.collision.count_chunk`,
+exact, chunked so memory stays bounded), classifies each pair the way the MoveIt Setup
+Assistant does and recommends what the ``ignore`` mask should say. Findings come back as
+:class:`~xrdf_tools.diagnostics.Diagnostic` objects; rendering lives in
+:mod:`xrdf_tools.report_render`.
+
+Classification, first match wins (MoveIt Setup Assistant order):
+
+``adjacent``  the frames are joined by a joint once frames without spheres are collapsed;
+``default``   the pair collides at the default configuration;
+``always``    it collides in more than 95 % of the configurations;
+``never``     it never collides in the ``N`` configurations: with independent uniform samples
+              the collision rate is below ``1 − 0.05^(1/N)`` (≈ 3/N) with 95 % confidence;
+``sometimes`` anything else.
+
+Masked adjacent pairs are not sampled (their verdict does not depend on it).
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from .collision import (
+    Contact,
+    SphereSet,
+    build_sphere_set,
+    contacts,
+    count_chunk,
+    pair_clearance,
+    sphere_world_centers,
+)
+from .diagnostics import Diagnostic, Severity, sort_key
+from .errors import XrdfToolsError, did_you_mean
+from .frozen import FrozenMap
+from .kinematics import (
+    KinematicModel,
+    build_kinematic_model,
+    default_configuration,
+    full_configuration,
+)
+from .model import SelfCollisionSection, Xrdf
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+FloatArray = npt.NDArray[np.float64]
+Sampler = Literal["uniform", "halton"]
+Classification = Literal["adjacent", "default", "always", "never", "sometimes"]
+Recommendation = Literal["ignore", "may-ignore", "check"]
+
+__all__ = [
+    "ALWAYS_RATE",
+    "RULES",
+    "ConfigsError",
+    "CoverageSummary",
+    "MaskChange",
+    "PairStat",
+    "Report",
+    "TrajectoryHit",
+    "adjacent_frame_pairs",
+    "load_configs",
+    "never_upper_bound",
+    "recommended_xrdf",
+    "self_collision_report",
+]
+
+#: A pair colliding in more than this fraction of configurations is "always" colliding.
+ALWAYS_RATE = 0.95
+DEFAULT_CHUNK = 8192
+
+#: Report rule ids: (id, short description, severity).
+RULES: tuple[tuple[str, str, Severity], ...] = (
+    (
+        "report-always-colliding",
+        "an unmasked frame pair collides in more than 95 % of configurations",
+        Severity.ERROR,
+    ),
+    (
+        "report-default-colliding",
+        "an unmasked frame pair collides at the default configuration",
+        Severity.ERROR,
+    ),
+    (
+        "report-mask-hides-collision",
+        "a masked frame pair that is not adjacent collides sometimes",
+        Severity.WARNING,
+    ),
+    (
+        "report-unknown-mask-frame",
+        "self_collision.ignore names a frame the robot does not have",
+        Severity.WARNING,
+    ),
+    (
+        "report-trajectory-collision",
+        "a given configuration (--configs) is in self-collision",
+        Severity.ERROR,
+    ),
+)
+_SEVERITY = {r[0]: r[2] for r in RULES}
+
+
+class ConfigsError(XrdfToolsError):
+    """A ``--configs`` file cannot be read or does not fit the c-space."""
+
+
+def never_upper_bound(n: int, confidence: float = 0.95) -> float:
+    """Upper bound of the collision rate after ``n`` samples without a hit (exact binomial).
+
+    ``1 − (1 − confidence)^(1/n)``; about ``3/n`` for 95 %. ``1.0`` for ``n == 0``.
+    """
+    if n <= 0:
+        return 1.0
+    return -math.expm1(math.log(1.0 - confidence) / n)
+
+
+# ------------------------------------------------------------------------------------------
+# Result types
+# ------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PairStat:
+    """Statistics and verdict for one pair of frames that carry spheres.
+
+    ``hits``/``rate`` are None when the pair was not sampled (masked and adjacent).
+    ``min_clearance`` is the smallest clearance seen (negative: deepest penetration); when
+    ``min_clearance_is_bound`` it is only a lower bound (culling skipped the closest
+    configurations, all of them farther apart than this). ``rate_upper_95`` is the 95 %
+    upper bound of the collision rate when ``hits == 0``.
+    """
+
+    frame_a: str
+    frame_b: str
+    spheres_a: int
+    spheres_b: int
+    masked: bool
+    adjacent: bool
+    sampled: bool
+    hits: int | None
+    rate: float | None
+    rate_upper_95: float | None
+    min_clearance: float | None
+    min_clearance_is_bound: bool
+    default_clearance: float
+    classification: Classification
+    recommendation: Recommendation
+    note: str
+
+    @property
+    def colliding_at_default(self) -> bool:
+        return self.default_clearance < 0
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "frame_a": self.frame_a,
+            "frame_b": self.frame_b,
+            "spheres_a": self.spheres_a,
+            "spheres_b": self.spheres_b,
+            "masked": self.masked,
+            "adjacent": self.adjacent,
+            "sampled": self.sampled,
+            "hits": self.hits,
+            "rate": self.rate,
+            "rate_upper_95": self.rate_upper_95,
+            "min_clearance": _finite(self.min_clearance),
+            "min_clearance_is_bound": self.min_clearance_is_bound,
+            "default_clearance": self.default_clearance,
+            "classification": self.classification,
+            "recommendation": self.recommendation,
+            "note": self.note,
+        }
+
+
+@dataclass(frozen=True)
+class TrajectoryHit:
+    """A given configuration (row ``index`` of ``--configs``) in self-collision."""
+
+    index: int
+    contacts: tuple[Contact, ...]
+
+
+@dataclass(frozen=True)
+class MaskChange:
+    """How the recommended ``ignore`` differs from the current one (pairs as (a, b))."""
+
+    added: tuple[tuple[str, str], ...] = ()
+    removed: tuple[tuple[str, str], ...] = ()
+    dropped_unknown: tuple[str, ...] = ()
+
+    @property
+    def empty(self) -> bool:
+        return not (self.added or self.removed or self.dropped_unknown)
+
+
+@dataclass(frozen=True)
+class CoverageSummary:
+    """Optional sphere-coverage metrics (from ``xrdf_tools.spheres``): per frame and overall,
+    each ``{metric: value}`` (e.g. ``coverage``, ``surface_coverage``, ``protrusion_max``)."""
+
+    per_frame: Mapping[str, Mapping[str, float]]
+    overall: Mapping[str, float] = field(default_factory=dict)
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class Report:
+    """Everything ``xrdf report`` shows. See :func:`self_collision_report`."""
+
+    xrdf_path: str
+    urdf_path: str
+    source: Literal["sampled", "configs"]
+    samples: int
+    sampler: Sampler | None
+    seed: int | None
+    cspace_joints: tuple[str, ...]
+    frames: tuple[str, ...]
+    sphere_counts: Mapping[str, int]
+    placeholders: int
+    pairs: tuple[PairStat, ...]
+    default_configuration: Mapping[str, float]
+    default_contacts: tuple[Contact, ...]
+    trajectory: tuple[TrajectoryHit, ...] | None
+    recommended_ignore: Mapping[str, tuple[str, ...]]
+    mask_change: MaskChange
+    diagnostics: tuple[Diagnostic, ...]
+    elapsed_s: float
+    coverage: CoverageSummary | None = None
+    _pair_index: dict[tuple[str, str], int] = field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def default_ok(self) -> bool:
+        """No unmasked pair collides at the default configuration."""
+        return not self.default_contacts
+
+    @property
+    def configs_per_s(self) -> float:
+        return self.samples / self.elapsed_s if self.elapsed_s > 0 else float("inf")
+
+    def pair(self, a: str, b: str) -> PairStat:
+        """The statistics of frame pair ``a``/``b`` (either order); KeyError if absent."""
+        if not self._pair_index:
+            for i, p in enumerate(self.pairs):
+                self._pair_index[(p.frame_a, p.frame_b)] = i
+                self._pair_index[(p.frame_b, p.frame_a)] = i
+        return self.pairs[self._pair_index[(a, b)]]
+
+
+def _finite(x: float | None) -> float | None:
+    return None if x is None or not math.isfinite(x) else x
+
+
+# ------------------------------------------------------------------------------------------
+# Adjacency (MoveIt Setup Assistant)
+# ------------------------------------------------------------------------------------------
+def adjacent_frame_pairs(
+    kin: KinematicModel, geometry_frames: Sequence[str]
+) -> frozenset[frozenset[str]]:
+    """Pairs of ``geometry_frames`` joined by a joint once frames without geometry collapse.
+
+    Two geometry frames are adjacent when the kinematic tree path between them passes only
+    through frames without geometry (none at all: parent and child), the rule of the MoveIt
+    Setup Assistant (siblings under a geometry-less frame are adjacent too).
+    """
+    geo = {kin.frame_index(f) for f in geometry_frames}
+    nbrs: dict[int, list[int]] = {i: [] for i in range(kin.n_frames)}
+    for i in range(1, kin.n_frames):
+        p = int(kin.parent[i])
+        nbrs[i].append(p)
+        nbrs[p].append(i)
+    out: set[frozenset[str]] = set()
+    for g in geo:
+        seen = {g}
+        stack = list(nbrs[g])
+        while stack:
+            v = stack.pop()
+            if v in seen:
+                continue
+            seen.add(v)
+            if v in geo:
+                out.add(frozenset((kin.frame_names[g], kin.frame_names[v])))
+            else:
+                stack.extend(nbrs[v])
+    return frozenset(out)
+
+
+# ------------------------------------------------------------------------------------------
+# Configurations from a file
+# ------------------------------------------------------------------------------------------
+def load_configs(path: str | Path, cspace_joints: Sequence[str]) -> FloatArray:
+    """Joint vectors [N, n_c] from ``.npy`` or ``.csv``, in c-space order.
+
+    A CSV may start with a header row of joint names; its columns are then matched by name
+    (and may come in any order). Raises :class:`ConfigsError`.
+    """
+    p = Path(path)
+    names = list(cspace_joints)
+    try:
+        if p.suffix.lower() == ".npy":
+            arr = np.load(p, allow_pickle=False)
+        elif p.suffix.lower() in (".csv", ".txt"):
+            arr = _read_csv(p, names)
+        else:
+            raise ConfigsError("configurations must be a .npy or .csv file", path=str(p))
+    except FileNotFoundError:
+        raise ConfigsError("file not found", path=str(p)) from None
+    except (OSError, ValueError) as e:
+        raise ConfigsError(f"cannot read configurations: {e}", path=str(p)) from None
+    arr = np.asarray(arr)
+    if arr.ndim == 1 and len(names) == 1:
+        arr = arr[:, None]
+    if arr.ndim != 2 or arr.shape[1] != len(names):
+        raise ConfigsError(
+            f"expected an array [N, {len(names)}] (c-space: {', '.join(names)}), got "
+            f"{list(arr.shape)}",
+            path=str(p),
+        )
+    if not np.issubdtype(arr.dtype, np.number):
+        raise ConfigsError(f"expected numbers, got dtype {arr.dtype}", path=str(p))
+    out = arr.astype(np.float64)
+    if not np.all(np.isfinite(out)):
+        bad = int(np.flatnonzero(~np.isfinite(out).all(axis=1))[0])
+        raise ConfigsError(f"row {bad} holds a non-finite value", path=str(p))
+    return out
+
+
+def _read_csv(p: Path, names: list[str]) -> FloatArray:
+    lines = [ln.strip() for ln in p.read_text(encoding="utf-8").splitlines()]
+    lines = [ln for ln in lines if ln and not ln.startswith("#")]
+    if not lines:
+        return np.zeros((0, len(names)))
+    first = [c.strip() for c in lines[0].split(",")]
+    order: list[int] | None = None
+    try:
+        [float(c) for c in first]
+    except ValueError:
+        missing = [n for n in names if n not in first]
+        if missing:
+            raise ValueError(
+                f"header lacks c-space joint(s) {', '.join(missing)}"
+                + did_you_mean(missing[0], first)
+            ) from None
+        order = [first.index(n) for n in names]
+        lines = lines[1:]
+    rows = []
+    for i, ln in enumerate(lines):
+        try:
+            vals = [float(c) for c in ln.split(",")]
+        except ValueError:
+            raise ValueError(f"line {i + 1 + (order is not None)}: not a number row") from None
+        rows.append([vals[j] for j in order] if order is not None else vals)
+    if len({len(r) for r in rows}) > 1:
+        raise ValueError("rows have different lengths")
+    return np.array(rows, dtype=np.float64).reshape(len(rows), -1)
+
+
+# ------------------------------------------------------------------------------------------
+# The report
+# ------------------------------------------------------------------------------------------
+ProgressFn = Callable[[int, int], None]
+
+
+def self_collision_report(
+    urdf: yourdfpy.URDF,
+    xrdf: Xrdf,
+    *,
+    samples: int = 100_000,
+    seed: int | None = 0,
+    sampler: Sampler = "uniform",
+    configs: npt.ArrayLike | None = None,
+    chunk: int = DEFAULT_CHUNK,
+    progress: ProgressFn | None = None,
+    urdf_path: str | None = None,
+    coverage: bool = False,
+    clearance_margin: float = 0.01,
+) -> Report:
+    """Sample (or take) configurations and build the self-collision :class:`Report`.
+
+    ``configs`` [N, n_c] (c-space order) replaces sampling: the report then also lists which
+    configurations collide and by which pairs (unmasked pairs only). Otherwise ``samples``
+    configurations are drawn from the c-space limits with ``sampler`` (``uniform``: independent
+    samples, for which the "never" bound holds; ``halton``: scrambled low-discrepancy points,
+    better coverage, the bound is indicative only). Joints outside the c-space stay at their
+    defaults. ``progress(done, total)`` is called after each chunk. ``coverage`` asks
+    :mod:`xrdf_tools.spheres` for coverage metrics when it provides them. Minimum clearances
+    below ``clearance_margin`` metres are exact; larger ones are reported as lower bounds.
+    """
+    from .sampling import iter_samples
+    from .urdf_source import urdf_path as _urdf_path
+
+    t0 = time.perf_counter()
+    upath = urdf_path or _urdf_path(urdf)
+    kin, kin_diags = build_kinematic_model(urdf, xrdf, path=upath)
+    spheres_all, sdiags = build_sphere_set(kin, xrdf, include_masked=True)
+    diags: list[Diagnostic] = [*kin_diags, *sdiags]
+    cspace = _cspace_joints(kin, xrdf)
+    defaults = xrdf.default_joint_positions
+    q_default = default_configuration(kin, defaults)
+
+    adjacent = adjacent_frame_pairs(kin, spheres_all.frame_names)
+    pair_names = list(spheres_all.frame_pair_names())
+    adj = np.array([frozenset(p) in adjacent for p in pair_names], dtype=np.bool_)
+    masked = spheres_all.frame_pair_masked
+    sampled = ~(masked & adj)
+    work = spheres_all.select_frame_pairs(sampled)
+    K = spheres_all.n_frame_pairs
+    work_index = np.flatnonzero(sampled)
+
+    hits = np.zeros(work.n_frame_pairs, dtype=np.int64)
+    min_clear = np.full(work.n_frame_pairs, np.inf)
+    bound = np.full(work.n_frame_pairs, np.inf)
+    trajectory: list[TrajectoryHit] | None = None
+
+    idx = np.array([kin.actuated_index(n) for n in cspace], dtype=np.intp)
+    base = np.repeat(q_default[None, :], chunk, axis=0)
+
+    def run(q_c: FloatArray, offset: int) -> None:
+        q = (
+            base[: len(q_c)].copy()
+            if len(q_c) <= chunk
+            else full_configuration(kin, cspace, q_c, defaults)
+        )
+        q[:, idx] = q_c
+        res = count_chunk(kin, work, q, margin=clearance_margin)
+        hits[:] += res.hits.sum(axis=1)
+        np.minimum(min_clear, res.min_clearance, out=min_clear)
+        np.minimum(bound, res.clearance_bound, out=bound)
+        if trajectory is not None:
+            unmasked_rows = ~work.frame_pair_masked
+            bad = np.flatnonzero(res.hits[unmasked_rows].any(axis=0))
+            if len(bad):
+                checked = work.select_frame_pairs(unmasked_rows)
+                centers = sphere_world_centers(kin, checked, q[bad])
+                for b, c in zip(bad.tolist(), centers, strict=True):
+                    trajectory.append(TrajectoryHit(offset + b, tuple(contacts(checked, c))))
+
+    if configs is not None:
+        qc = np.asarray(configs, dtype=np.float64)
+        if qc.ndim != 2 or qc.shape[1] != len(cspace):
+            raise ConfigsError(
+                f"configurations must be [N, {len(cspace)}] in c-space order "
+                f"({', '.join(cspace)}), got {list(qc.shape)}"
+            )
+        n_total = qc.shape[0]
+        trajectory = []
+        for start in range(0, n_total, chunk):
+            run(qc[start : start + chunk], start)
+            if progress is not None:
+                progress(min(start + chunk, n_total), n_total)
+        source: Literal["sampled", "configs"] = "configs"
+    else:
+        if samples < 1:
+            raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
+        n_total = samples
+        lo, hi = kin.lower[idx], kin.upper[idx]
+        done = 0
+        for q_c in iter_samples(lo, hi, samples, method=sampler, seed=seed, chunk=chunk):
+            run(q_c, done)
+            done += len(q_c)
+            if progress is not None:
+                progress(done, n_total)
+        source = "sampled"
+
+    # --- the default configuration: clearance of every frame pair ----------------------------
+    c_def = sphere_world_centers(kin, spheres_all, q_default)
+    def_clear = np.full(K, np.inf)
+    if spheres_all.n_pairs:
+        clr = pair_clearance(spheres_all, c_def)
+        def_clear = np.minimum.reduceat(clr, spheres_all.pair_start[:-1])
+    def_contacts = [c for c in contacts(spheres_all, c_def) if not c.masked]
+
+    # --- per-pair verdicts -------------------------------------------------------------------
+    counts = spheres_all.sphere_counts()
+    ub = never_upper_bound(n_total)
+    stats: list[PairStat] = []
+    w_of = {int(k): i for i, k in enumerate(work_index)}
+    for k, (a, b) in enumerate(pair_names):
+        w = w_of.get(k)
+        h = int(hits[w]) if w is not None else None
+        rate = (h / n_total if n_total else 0.0) if h is not None else None
+        mc: float | None = None
+        is_bound = False
+        if w is not None:
+            exact = min_clear[w] <= bound[w]
+            mc = float(min_clear[w] if exact else bound[w])
+            is_bound = not exact
+        cls, rec, note = _verdict(
+            bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source
+        )
+        stats.append(
+            PairStat(
+                frame_a=a,
+                frame_b=b,
+                spheres_a=counts[a],
+                spheres_b=counts[b],
+                masked=bool(masked[k]),
+                adjacent=bool(adj[k]),
+                sampled=w is not None,
+                hits=h,
+                rate=rate,
+                rate_upper_95=ub if h == 0 else None,
+                min_clearance=_finite(mc),
+                min_clearance_is_bound=is_bound,
+                default_clearance=float(def_clear[k]),
+                classification=cls,
+                recommendation=rec,
+                note=note,
+            )
+        )
+
+    diags.extend(_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
+    rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
+    cov = _coverage(upath, xrdf) if coverage else None
+    return Report(
+        xrdf_path=xrdf.source.path,
+        urdf_path=upath,
+        source=source,
+        samples=n_total,
+        sampler=sampler if source == "sampled" else None,
+        seed=seed if source == "sampled" else None,
+        cspace_joints=tuple(cspace),
+        frames=spheres_all.frame_names,
+        sphere_counts=FrozenMap(counts),
+        placeholders=spheres_all.n_placeholders,
+        pairs=tuple(stats),
+        default_configuration=FrozenMap(
+            (j, float(v)) for j, v in zip(kin.actuated_joints, q_default, strict=True)
+        ),
+        default_contacts=tuple(def_contacts),
+        trajectory=tuple(trajectory) if trajectory is not None else None,
+        recommended_ignore=rec_ignore,
+        mask_change=change,
+        diagnostics=tuple(sorted(diags, key=sort_key)),
+        elapsed_s=time.perf_counter() - t0,
+        coverage=cov,
+    )
+
+
+def _cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> list[str]:
+    if xrdf.cspace is None or not xrdf.cspace.joint_names:
+        return list(kin.actuated_joints)
+    return list(xrdf.cspace.joint_names)
+
+
+def _verdict(
+    adjacent: bool,
+    default_clearance: float,
+    hits: int | None,
+    rate: float | None,
+    n: int,
+    ub: float,
+    masked: bool,
+    source: str,
+) -> tuple[Classification, Recommendation, str]:
+    what = "samples" if source == "sampled" else "given configurations"
+    if adjacent:
+        return "adjacent", "ignore", "adjacent frames: ignore"
+    if default_clearance < 0:
+        return "default", "ignore", "collides at the default configuration: ignore"
+    assert hits is not None and rate is not None
+    if rate > ALWAYS_RATE:
+        return "always", "ignore", f"collides in {rate:.1%} of {what}: ignore"
+    if hits == 0:
+        return (
+            "never",
+            "may-ignore",
+            f"may ignore: never seen in {n} {what} (rate < {ub:.2g} at 95 % confidence)",
+        )
+    if masked:
+        return "sometimes", "check", f"collides in {rate:.3%} of {what}: remove from ignore"
+    return "sometimes", "check", f"collides in {rate:.3%} of {what}: keep checking"
+
+
+def _diag(xrdf: Xrdf, rule: str, message: str, key_path: str) -> Diagnostic:
+    line, col = xrdf.source.position(key_path)
+    return Diagnostic(xrdf.source.path, line, col, rule, _SEVERITY[rule], message, key_path)
+
+
+def _ignore_key_path(sc: SelfCollisionSection | None, a: str, b: str) -> str:
+    if sc is None:
+        return "self_collision"
+    for x, y in ((a, b), (b, a)):
+        others = sc.ignore.get(x, ())
+        if y in others:
+            return f"self_collision.ignore.{x}[{others.index(y)}]"
+    return "self_collision.ignore"
+
+
+def _findings(
+    xrdf: Xrdf,
+    kin: KinematicModel,
+    stats: Sequence[PairStat],
+    def_contacts: Sequence[Contact],
+    trajectory: Sequence[TrajectoryHit] | None,
+    n: int,
+) -> list[Diagnostic]:
+    out: list[Diagnostic] = []
+    sc = xrdf.self_collision
+    for p in stats:
+        pair = f"'{p.frame_a}' and '{p.frame_b}'"
+        if not p.masked and p.rate is not None and p.rate > ALWAYS_RATE:
+            out.append(
+                _diag(
+                    xrdf,
+                    "report-always-colliding",
+                    f"{pair} collide in {p.rate:.1%} of {n} configurations but are not in "
+                    "self_collision.ignore: a planner will find no valid configuration",
+                    "self_collision.ignore" if sc is not None else "self_collision",
+                )
+            )
+        if p.masked and p.classification == "sometimes":
+            out.append(
+                _diag(
+                    xrdf,
+                    "report-mask-hides-collision",
+                    f"{pair} are ignored but are not adjacent and collide in {p.hits} of {n} "
+                    f"configurations ({p.rate:.3%}): the mask hides real collisions",
+                    _ignore_key_path(sc, p.frame_a, p.frame_b),
+                )
+            )
+    for c in def_contacts:
+        out.append(
+            _diag(
+                xrdf,
+                "report-default-colliding",
+                f"'{c.frame_a}' and '{c.frame_b}' collide at the default configuration "
+                f"(clearance {c.clearance * 1000:.1f} mm, spheres {c.sphere_a} and "
+                f"{c.sphere_b}) but are not in self_collision.ignore",
+                "default_joint_positions",
+            )
+        )
+    if sc is not None:
+        for a, others in sc.ignore.items():
+            for i, name in enumerate((a, *others)):
+                if kin.has_frame(name):
+                    continue
+                kp = f"self_collision.ignore.{a}" + ("#key" if i == 0 else f"[{i - 1}]")
+                out.append(
+                    _diag(
+                        xrdf,
+                        "report-unknown-mask-frame",
+                        f"self_collision.ignore names unknown frame '{name}'"
+                        + did_you_mean(name, kin.frame_names)
+                        + "; the entry masks nothing",
+                        kp,
+                    )
+                )
+    for hit in trajectory or ():
+        worst = hit.contacts[0] if hit.contacts else None
+        detail = (
+            f"'{worst.frame_a}' and '{worst.frame_b}' (clearance {worst.clearance * 1000:.1f} mm)"
+            if worst
+            else "?"
+        )
+        more = f" and {len(hit.contacts) - 1} more pair(s)" if len(hit.contacts) > 1 else ""
+        out.append(
+            Diagnostic(
+                xrdf.source.path,
+                None,
+                None,
+                "report-trajectory-collision",
+                Severity.ERROR,
+                f"configuration {hit.index} is in self-collision: {detail}{more}",
+                f"configs[{hit.index}]",
+            )
+        )
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# Recommended mask
+# ------------------------------------------------------------------------------------------
+def _recommended_ignore(
+    xrdf: Xrdf, kin: KinematicModel, spheres: SphereSet, stats: Sequence[PairStat]
+) -> tuple[FrozenMap[str, tuple[str, ...]], MaskChange]:
+    """Ignore map: pairs classified adjacent/default/always/never, plus existing entries
+    between known frames that involve a frame without spheres (the report cannot judge
+    them); entries naming unknown frames are dropped."""
+    sc = xrdf.self_collision
+    current = sc.ignore_pairs() if sc is not None else frozenset()
+    sphere_frames = set(spheres.frame_names)
+    want: set[frozenset[str]] = {
+        frozenset((p.frame_a, p.frame_b)) for p in stats if p.recommendation != "check"
+    }
+    unknown: set[str] = set()
+    for pair in current:
+        names = tuple(pair)
+        if not all(kin.has_frame(n) for n in names):
+            unknown.update(n for n in names if not kin.has_frame(n))
+            continue
+        if not all(n in sphere_frames for n in names):
+            want.add(pair)
+    if sc is not None:  # self-entries and names in lone keys
+        unknown.update(n for a, o in sc.ignore.items() for n in (a, *o) if not kin.has_frame(n))
+    order = {f: i for i, f in enumerate(kin.frame_names)}
+
+    def ordered(pair: frozenset[str]) -> tuple[str, str]:
+        a, b = sorted(pair, key=lambda f: order[f])
+        return a, b
+
+    mapping: dict[str, list[str]] = {}
+    for a, b in sorted((ordered(p) for p in want), key=lambda ab: (order[ab[0]], order[ab[1]])):
+        mapping.setdefault(a, []).append(b)
+    known_current = {p for p in current if all(kin.has_frame(n) for n in p)}
+    added = sorted((ordered(p) for p in want - known_current), key=lambda ab: ab)
+    removed = sorted((ordered(p) for p in known_current - want), key=lambda ab: ab)
+    change = MaskChange(tuple(added), tuple(removed), tuple(sorted(unknown)))
+    return FrozenMap((a, tuple(bs)) for a, bs in mapping.items()), change
+
+
+def recommended_xrdf(xrdf: Xrdf, report: Report) -> Xrdf:
+    """``xrdf`` with ``self_collision.ignore`` replaced by the report's recommendation."""
+    sc = xrdf.self_collision
+    if sc is None:
+        raise XrdfToolsError("the XRDF has no self_collision section to write a mask into")
+    return xrdf.replace(
+        self_collision=SelfCollisionSection(
+            geometry=sc.geometry,
+            buffer_distance=sc.buffer_distance,
+            ignore=FrozenMap(report.recommended_ignore),
+        )
+    )
+
+
+# ------------------------------------------------------------------------------------------
+# Optional coverage hook (xrdf_tools.spheres)
+# ------------------------------------------------------------------------------------------
+def _coverage(urdf_path: str, xrdf: Xrdf) -> CoverageSummary | None:
+    """Coverage metrics from ``xrdf_tools.spheres.coverage_for_xrdf`` when it exists.
+
+    The function is looked up lazily so the report works without the sphere tools. It must
+    return a mapping ``frame -> {metric: value}`` (or a :class:`CoverageSummary`).
+    """
+    try:
+        mod = importlib.import_module("xrdf_tools.spheres")
+    except ImportError:
+        return CoverageSummary({}, note="xrdf_tools.spheres is not available")
+    fn = getattr(mod, "coverage_for_xrdf", None)
+    if fn is None:
+        return CoverageSummary({}, note="xrdf_tools.spheres provides no coverage_for_xrdf yet")
+    result = fn(urdf_path, xrdf)
+    if isinstance(result, CoverageSummary):
+        return result
+    data = result.to_dict() if hasattr(result, "to_dict") else dict(result)
+    links = data.get("links", data)
+    per_frame = {str(f): _numbers(m) for f, m in dict(links).items() if isinstance(m, Mapping)}
+    overall = _numbers(data.get("overall", {}))
+    unmeasured = data.get("unmeasured") or ()
+    note = f"not measured (no geometry): {', '.join(unmeasured)}" if unmeasured else ""
+    return CoverageSummary(per_frame, overall, note)
+
+
+def _numbers(m: Any) -> dict[str, float]:
+    if not isinstance(m, Mapping):
+        return {}
+    return {
+        str(k): float(v)
+        for k, v in m.items()
+        if isinstance(v, (int, float)) and not isinstance(v, bool)
+    }
