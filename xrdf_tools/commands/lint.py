@@ -1,4 +1,4 @@
-"""`xrdf lint` — minimal until the lint issue lands: checks that each file loads as an XRDF."""
+"""`xrdf lint`: check XRDF files against the spec, a URDF, and cuRobo's loader."""
 
 from __future__ import annotations
 
@@ -7,30 +7,76 @@ from typing import Annotated
 
 import typer
 
-from ..diagnostics import Diagnostic, Severity
-from ..errors import XrdfToolsError
-from .common import EXIT_FINDINGS, OutputFormat, has_failures, render_diagnostics
+from .common import EXIT_FINDINGS, OutputFormat, fail, has_failures
+
+
+def _split(values: list[str] | None) -> list[str]:
+    return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
 
 
 def command(
     files: Annotated[list[Path], typer.Argument(help="XRDF files to check.", show_default=False)],
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            "--urdf",
+            help="URDF the files describe: enables frame, joint, limit and collision checks.",
+        ),
+    ] = None,
     output_format: Annotated[
         OutputFormat, typer.Option("--format", "-f", help="Output format.")
     ] = OutputFormat.text,
+    select: Annotated[
+        list[str] | None,
+        typer.Option("--select", help="Only these rules (ids or prefixes like 'curobo-')."),
+    ] = None,
+    ignore: Annotated[
+        list[str] | None,
+        typer.Option("--ignore", help="Skip these rules (ids or prefixes like 'curobo-')."),
+    ] = None,
+    strict: Annotated[
+        bool, typer.Option("--strict", help="Exit 1 on warnings too, not only errors.")
+    ] = False,
+    config: Annotated[
+        Path | None,
+        typer.Option(
+            "--config",
+            help="Configuration file (.xrdf-lint.yaml or pyproject.toml). Default: the first "
+            ".xrdf-lint.yaml or [tool.xrdf.lint] from the current directory upwards.",
+        ),
+    ] = None,
 ) -> None:
-    """Check XRDF files and report problems as path:line:col: severity rule message."""
-    from ..xrdf_io import load_xrdf
+    """Check XRDF files; report problems as path:line:col: severity rule-id message.
 
-    diagnostics: list[Diagnostic] = []
-    for f in files:
-        try:
-            load_xrdf(f)
-        except XrdfToolsError as exc:
-            diagnostics.append(
-                Diagnostic(str(f), exc.line, exc.col, "load-error", Severity.ERROR, exc.message)
-            )
-    text = render_diagnostics(diagnostics, output_format)
+    Exit codes: 0 clean, 1 errors (or warnings with --strict), 2 usage or input error.
+    """
+    from ..diagnostics import render_github, render_json, render_sarif, render_text
+    from ..errors import XrdfToolsError
+    from ..lint import RULES, lint
+    from ..lint.config import discover_config, load_config
+
+    try:
+        cfg = load_config(config) if config is not None else discover_config()
+        diagnostics = lint(
+            files, urdf=urdf, config=cfg, select=_split(select), ignore=_split(ignore)
+        )
+    except XrdfToolsError as exc:
+        fail(exc)
+    if output_format is OutputFormat.json:
+        text = render_json(diagnostics, files=[str(f) for f in files])
+    elif output_format is OutputFormat.github:
+        text = render_github(diagnostics)
+    elif output_format is OutputFormat.sarif:
+        from .. import __version__
+
+        text = render_sarif(
+            diagnostics,
+            [(r.id, r.summary, r.severity) for r in RULES],
+            version=__version__,
+        )
+    else:
+        text = render_text(diagnostics)
     if text:
         typer.echo(text, nl=False)
-    if has_failures(diagnostics, strict=False):
+    if has_failures(diagnostics, strict=strict):
         raise typer.Exit(EXIT_FINDINGS)

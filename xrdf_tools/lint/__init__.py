@@ -1,0 +1,213 @@
+"""The XRDF linter: rules as modules, results as diagnostics.
+
+:func:`lint` checks files, :func:`lint_text` one document held in memory. Both return sorted
+:class:`~xrdf_tools.diagnostics.Diagnostic` lists and never print. A rule that crashes becomes
+an ``internal-error`` diagnostic instead of stopping the run. Without a URDF no URDF library is
+imported.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import Diagnostic, Severity, sort_key
+from ..errors import XrdfToolsError, YamlError, did_you_mean
+from ..yaml_io import read_text
+from .config import LintConfig
+from .context import LintContext, Rule
+from .rules import (
+    add_frame,
+    buffered_radius,
+    clone_cycle,
+    cspace_joint,
+    curobo_different_groups,
+    curobo_dropped,
+    curobo_integer,
+    curobo_joint_type,
+    curobo_quoted_version,
+    default_position,
+    duplicate_key,
+    format_key,
+    format_version,
+    limits_length,
+    limits_value,
+    repeated_cspace_joint,
+    required_key,
+    sphere_center,
+    sphere_radius,
+    unconfirmed_syntax,
+    undefined_frame,
+    undefined_group,
+    unknown_frame,
+    unknown_key,
+    urdf_modifiers,
+    version_key,
+    wrong_type,
+    yaml_syntax,
+)
+
+__all__ = ["RULES", "LintConfig", "Rule", "lint", "lint_text", "rule_by_id", "select_rules"]
+
+#: Every rule, in documentation order: spec rules, URDF-bound rules, cuRobo compatibility.
+RULES: tuple[Rule, ...] = (
+    yaml_syntax.RULE,
+    duplicate_key.RULE,
+    format_key.RULE,
+    format_version.RULE,
+    required_key.RULE,
+    wrong_type.RULE,
+    unknown_key.RULE,
+    version_key.RULE,
+    undefined_group.RULE,
+    clone_cycle.RULE,
+    sphere_center.RULE,
+    sphere_radius.RULE,
+    buffered_radius.RULE,
+    limits_length.RULE,
+    limits_value.RULE,
+    repeated_cspace_joint.RULE,
+    add_frame.RULE,
+    undefined_frame.RULE,
+    unconfirmed_syntax.RULE,
+    urdf_modifiers.RULE,
+    unknown_frame.RULE,
+    cspace_joint.RULE,
+    default_position.RULE,
+    curobo_dropped.RULE,
+    curobo_different_groups.RULE,
+    curobo_joint_type.RULE,
+    curobo_integer.RULE,
+    curobo_quoted_version.RULE,
+)
+
+#: Reported when a rule raises: a bug in the linter, never in the input.
+INTERNAL_ERROR = "internal-error"
+
+
+def rule_by_id(rule_id: str) -> Rule:
+    for r in RULES:
+        if r.id == rule_id:
+            return r
+    raise XrdfToolsError(f"unknown rule '{rule_id}'" + did_you_mean(rule_id, [r.id for r in RULES]))
+
+
+def _matches(rule_id: str, patterns: Iterable[str]) -> bool:
+    """A pattern is a rule id or an id prefix ending in '-' (``curobo-``)."""
+    return any(rule_id == p or (p.endswith("-") and rule_id.startswith(p)) for p in patterns)
+
+
+def select_rules(
+    select: Sequence[str] = (), ignore: Sequence[str] = (), rules: Sequence[Rule] = RULES
+) -> tuple[Rule, ...]:
+    """Rules kept by ``--select`` (none given: all) minus ``--ignore``; unknown ids raise."""
+    ids = [r.id for r in rules]
+    for p in (*select, *ignore):
+        if not any(_matches(i, [p]) for i in ids):
+            raise XrdfToolsError(f"unknown rule '{p}'" + did_you_mean(p, ids))
+    return tuple(
+        r for r in rules if (not select or _matches(r.id, select)) and not _matches(r.id, ignore)
+    )
+
+
+UrdfLoader = Callable[[], tuple[Any, str]]
+
+
+def _run(ctx: LintContext, rules: Sequence[Rule], config: LintConfig) -> list[Diagnostic]:
+    out: list[Diagnostic] = []
+    parsed = ctx.doc is not None
+    for rule in rules:
+        severity = config.severity(rule.id, rule.severity)
+        if severity is None:
+            continue
+        if rule.needs_urdf and not ctx.has_urdf:
+            continue
+        if not parsed and rule is not yaml_syntax.RULE:
+            continue
+        try:
+            problems = list(rule.check(ctx))
+        except XrdfToolsError:
+            raise  # URDF load failures are usage errors, reported by the caller
+        except Exception as exc:  # a rule bug must not stop the run
+            out.append(
+                Diagnostic(
+                    ctx.path,
+                    None,
+                    None,
+                    INTERNAL_ERROR,
+                    Severity.ERROR,
+                    f"rule {rule.id} crashed ({type(exc).__name__}: {exc}); please report it",
+                )
+            )
+            continue
+        for p in problems:
+            sev = p.severity if p.severity is not None else rule.severity
+            if config.overrides(rule.id):
+                sev = severity
+            out.append(Diagnostic(ctx.path, p.line, p.col, rule.id, sev, p.message, p.key_path))
+    return sorted(out, key=sort_key)
+
+
+def lint_text(
+    text: str,
+    path: str = "<string>",
+    *,
+    urdf: str | os.PathLike[str] | None = None,
+    config: LintConfig | None = None,
+    rules: Sequence[Rule] = RULES,
+) -> list[Diagnostic]:
+    """Lint one XRDF document given as text (``path`` is used in the diagnostics).
+
+    Raises :class:`XrdfToolsError` only when ``urdf`` cannot be read or is not a valid robot.
+    """
+    loader = _urdf_loader(urdf, {}) if urdf is not None else None
+    return _run(
+        LintContext(text, path, urdf_loader=loader, options=(config or LintConfig()).options),
+        rules,
+        config or LintConfig(),
+    )
+
+
+def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Any]) -> UrdfLoader:
+    upath = os.fspath(urdf)
+
+    def load() -> tuple[Any, str]:
+        if upath not in cache:
+            from ..urdf_source import load_urdf
+
+            cache[upath] = load_urdf(upath)
+        return cache[upath], upath
+
+    return load
+
+
+def lint(
+    paths: Iterable[str | os.PathLike[str]],
+    *,
+    urdf: str | os.PathLike[str] | None = None,
+    config: LintConfig | None = None,
+    select: Sequence[str] = (),
+    ignore: Sequence[str] = (),
+) -> list[Diagnostic]:
+    """Lint XRDF files. ``urdf`` applies to every file; otherwise the config's ``urdf`` map
+    picks one per file (or none).
+
+    A file that cannot be read as UTF-8 text raises :class:`YamlError`; an unreadable or
+    invalid URDF raises :class:`UrdfError` (both: usage/input errors, exit code 2).
+    """
+    cfg = config or LintConfig()
+    rules = select_rules(select, ignore)
+    cache: dict[str, Any] = {}
+    out: list[Diagnostic] = []
+    for p in paths:
+        text = read_text(p)
+        u = urdf if urdf is not None else cfg.urdf_for(Path(p))
+        loader = _urdf_loader(u, cache) if u is not None else None
+        ctx = LintContext(text, os.fspath(p), urdf_loader=loader, options=cfg.options)
+        out.extend(_run(ctx, rules, cfg))
+    return sorted(out, key=sort_key)
+
+
+__all__ += ["INTERNAL_ERROR", "YamlError"]

@@ -1,0 +1,194 @@
+"""Lint configuration: ``.xrdf-lint.yaml`` or ``[tool.xrdf.lint]`` in ``pyproject.toml``.
+
+::
+
+    rules:                      # rule id (or prefix ending in '-') -> level
+      curobo-: off              # error | warning | info | off
+      unknown-key: error
+    urdf:                       # glob (relative to the config file) -> URDF for those files
+      "robots/ur10e/*.xrdf": robots/ur10e/ur10e.urdf
+
+The shipped ``default.yaml`` holds the defaults; a user file is merged over it. Discovery looks
+for ``.xrdf-lint.yaml`` and then a ``pyproject.toml`` with ``[tool.xrdf.lint]``, from the current
+directory up to the file system root (the first hit wins).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import os
+import sys
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import Severity
+from ..errors import XrdfToolsError, did_you_mean
+from ..yaml_io import load_plain, parse_yaml, to_python
+
+CONFIG_NAME = ".xrdf-lint.yaml"
+LEVELS = ("error", "warning", "info", "off")
+
+
+class ConfigError(XrdfToolsError):
+    """The lint configuration cannot be used."""
+
+
+@dataclass(frozen=True)
+class LintConfig:
+    """Severity overrides per rule (None = off), URDF globs, per-rule options."""
+
+    levels: Mapping[str, Severity | None] = field(default_factory=dict)
+    urdf_map: tuple[tuple[str, str], ...] = ()
+    options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    base_dir: str = "."
+    source: str | None = None
+
+    def _level(self, rule: str) -> tuple[bool, Severity | None]:
+        if rule in self.levels:
+            return True, self.levels[rule]
+        best: tuple[int, Severity | None] | None = None
+        for pat, lvl in self.levels.items():
+            if pat.endswith("-") and rule.startswith(pat) and (best is None or len(pat) > best[0]):
+                best = (len(pat), lvl)
+        return (True, best[1]) if best is not None else (False, None)
+
+    def overrides(self, rule: str) -> bool:
+        return self._level(rule)[0]
+
+    def severity(self, rule: str, default: Severity) -> Severity | None:
+        """The configured level of ``rule`` (None when turned off), else ``default``."""
+        found, lvl = self._level(rule)
+        return lvl if found else default
+
+    def urdf_for(self, xrdf: Path) -> str | None:
+        """The URDF mapped to ``xrdf`` by the first matching glob, or None."""
+        base = Path(self.base_dir).resolve()
+        target = xrdf.resolve()
+        try:
+            rel = target.relative_to(base).as_posix()
+        except ValueError:
+            rel = None
+        for pattern, urdf in self.urdf_map:
+            if (rel is not None and fnmatch.fnmatch(rel, pattern)) or fnmatch.fnmatch(
+                xrdf.as_posix(), pattern
+            ):
+                return str(base / urdf)
+        return None
+
+
+def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
+    from . import RULES  # the registry; imported late to avoid a cycle
+
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        raise ConfigError("the lint configuration must be a mapping", path=source)
+    unknown = set(data) - {"rules", "urdf", "options", "extends"}
+    if unknown:
+        key = sorted(unknown)[0]
+        raise ConfigError(
+            f"unknown configuration key '{key}'"
+            + did_you_mean(key, ["rules", "urdf", "options", "extends"]),
+            path=source,
+        )
+    ids = [r.id for r in RULES]
+    levels: dict[str, Severity | None] = {}
+    rules = data.get("rules") or {}
+    if not isinstance(rules, dict):
+        raise ConfigError("'rules' must map rule ids to levels", path=source)
+    for rid, lvl in rules.items():
+        rid = str(rid)
+        if not (rid in ids or (rid.endswith("-") and any(i.startswith(rid) for i in ids))):
+            raise ConfigError(f"unknown rule '{rid}'" + did_you_mean(rid, ids), path=source)
+        if isinstance(lvl, dict):
+            lvl = lvl.get("level", "off" if lvl.get("enabled") is False else None)
+        if lvl is False:
+            lvl = "off"
+        if lvl not in LEVELS:
+            raise ConfigError(
+                f"rule '{rid}': level must be one of {', '.join(LEVELS)}, not {lvl!r}",
+                path=source,
+            )
+        levels[rid] = None if lvl == "off" else Severity(lvl)
+    urdf = data.get("urdf") or {}
+    if not isinstance(urdf, dict):
+        raise ConfigError("'urdf' must map XRDF path globs to URDF paths", path=source)
+    options = data.get("options") or {}
+    if not isinstance(options, dict) or not all(isinstance(v, dict) for v in options.values()):
+        raise ConfigError("'options' must map rule ids to mappings", path=source)
+    return LintConfig(
+        levels,
+        tuple((str(k), str(v)) for k, v in urdf.items()),
+        {str(k): dict(v) for k, v in options.items()},
+        base_dir,
+        source,
+    )
+
+
+def _merge(base: LintConfig, over: LintConfig) -> LintConfig:
+    options = {k: dict(v) for k, v in base.options.items()}
+    for k, v in over.options.items():
+        options.setdefault(k, {}).update(v)
+    return LintConfig(
+        {**base.levels, **over.levels},
+        over.urdf_map + base.urdf_map,
+        options,
+        over.base_dir,
+        over.source,
+    )
+
+
+def default_config() -> LintConfig:
+    """The shipped ``default.yaml``."""
+    text = resources.files(__package__).joinpath("default.yaml").read_text(encoding="utf-8")
+    return _parse(to_python(parse_yaml(text, "default.yaml").root), "default.yaml", ".")
+
+
+def load_config(path: str | os.PathLike[str]) -> LintConfig:
+    """Read a ``.xrdf-lint.yaml`` or a ``pyproject.toml`` (its ``[tool.xrdf.lint]`` table)."""
+    p = Path(path)
+    if p.name == "pyproject.toml":
+        table = _pyproject_table(p)
+        data: Any = table if table is not None else {}
+    else:
+        try:
+            data = load_plain(p)
+        except XrdfToolsError as exc:
+            raise ConfigError(exc.message, path=str(p), line=exc.line, col=exc.col) from None
+    return _merge(default_config(), _parse(data, str(p), str(p.parent)))
+
+
+def _pyproject_table(p: Path) -> dict[str, Any] | None:
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover - Python 3.10
+        try:
+            import tomli as tomllib
+        except ImportError:
+            return None
+    try:
+        with p.open("rb") as fh:
+            doc = tomllib.load(fh)
+    except OSError as exc:
+        raise ConfigError(f"cannot read: {exc.strerror}", path=str(p)) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"invalid TOML: {exc}", path=str(p)) from None
+    table = doc.get("tool", {}).get("xrdf", {}).get("lint")
+    return table if isinstance(table, dict) else None
+
+
+def discover_config(start: str | os.PathLike[str] = ".") -> LintConfig:
+    """The first ``.xrdf-lint.yaml`` or ``[tool.xrdf.lint]`` from ``start`` upwards, merged
+    over the defaults; the defaults alone when there is none."""
+    d = Path(start).resolve()
+    for folder in (d, *d.parents):
+        cand = folder / CONFIG_NAME
+        if cand.is_file():
+            return load_config(cand)
+        py = folder / "pyproject.toml"
+        if py.is_file() and _pyproject_table(py) is not None:
+            return load_config(py)
+    return default_config()

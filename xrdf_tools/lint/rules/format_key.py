@@ -1,0 +1,33 @@
+"""The document is not an XRDF: it is empty, not a mapping, or lacks ``format: xrdf``.
+
+Every XRDF file (1.0 and 2.0) starts with ``format: xrdf`` and ``format_version``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from ...diagnostics import Severity
+from ...xrdf_io import describe
+from ...yaml_io import YScalar
+from ..context import LintContext, Problem, Rule
+
+
+def check(ctx: LintContext) -> Iterator[Problem]:
+    if ctx.doc is None:
+        return
+    root = ctx.root
+    if root is None:
+        yield Problem(1, 1, "the file is empty; an XRDF needs 'format: xrdf' and 'format_version'")
+        return
+    if ctx.top is None:
+        yield ctx.problem(root, f"the top level must be a mapping, not {describe(root)}")
+        return
+    fmt = ctx.get("format")
+    if not ctx.has("format"):
+        yield ctx.problem(ctx.top, "missing required key 'format' (expected 'format: xrdf')")
+    elif not (isinstance(fmt, YScalar) and fmt.value == "xrdf"):
+        yield ctx.problem(fmt, f"'format' must be 'xrdf', not {describe(fmt)}", "format")
+
+
+RULE = Rule("format-key", Severity.ERROR, check, __doc__ or "")

@@ -1,0 +1,27 @@
+"""A joint appears more than once in ``cspace.joint_names``.
+
+Each c-space coordinate is one joint; a repeated name makes the c-space vector ambiguous.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from ...diagnostics import Severity
+from ..context import LintContext, Problem, Rule
+
+
+def check(ctx: LintContext) -> Iterator[Problem]:
+    first: dict[str, int] = {}
+    for i, (n, node) in enumerate(ctx.cspace_joint_nodes()):
+        if n in first:
+            yield ctx.problem(
+                node,
+                f"joint '{n}' is already c-space coordinate {first[n]}; each joint may appear once",
+                f"cspace.joint_names[{i}]",
+            )
+        else:
+            first[n] = i
+
+
+RULE = Rule("repeated-cspace-joint", Severity.ERROR, check, __doc__ or "")
