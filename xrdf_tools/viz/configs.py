@@ -95,8 +95,8 @@ def load_configurations(
                 path=spath,
             )
         return _assemble(data, None, kin, xrdf, spath)
-    header, rows, lines = _parse_text(text, spath)
-    return _assemble(rows, header, kin, xrdf, spath, lines)
+    header, header_line, rows, lines = _parse_text(text, spath)
+    return _assemble(rows, header, kin, xrdf, spath, lines, header_line)
 
 
 def _load_structured(text: str, suffix: str, spath: str) -> Any:
@@ -119,8 +119,11 @@ def _load_structured(text: str, suffix: str, spath: str) -> Any:
 _SPLIT = re.compile(r"[,\s;]+")
 
 
-def _parse_text(text: str, spath: str) -> tuple[list[str] | None, list[list[float]], list[int]]:
+def _parse_text(
+    text: str, spath: str
+) -> tuple[list[str] | None, int | None, list[list[float]], list[int]]:
     header: list[str] | None = None
+    header_line: int | None = None
     rows: list[list[float]] = []
     lines: list[int] = []
     for lineno, raw in enumerate(text.splitlines(), 1):
@@ -133,11 +136,11 @@ def _parse_text(text: str, spath: str) -> tuple[list[str] | None, list[list[floa
             lines.append(lineno)
         except ValueError:
             if header is None and not rows:
-                header = tokens
+                header, header_line = tokens, lineno
                 continue
             bad = next(t for t in tokens if not _is_float(t))
             raise SourceError(f"'{bad}' is not a number", path=spath, line=lineno) from None
-    return header, rows, lines
+    return header, header_line, rows, lines
 
 
 def _is_float(token: str) -> bool:
@@ -155,6 +158,7 @@ def _assemble(
     xrdf: Xrdf,
     spath: str,
     lines: Sequence[int] | None = None,
+    header_line: int | None = None,
 ) -> FloatArray:
     from ..kinematics import default_configuration
 
@@ -167,23 +171,23 @@ def _assemble(
     def line_of(k: int) -> int | None:
         return lines[k] if lines is not None and k < len(lines) else None
 
-    def columns(names: Sequence[str], k: int) -> list[int]:
+    def columns(names: Sequence[str], line: int | None) -> list[int]:
         try:
             return [kin.actuated_index(str(n)) for n in names]
         except XrdfToolsError as e:
-            raise SourceError(e.message, path=spath, line=line_of(k)) from None
+            raise SourceError(e.message, path=spath, line=line) from None
 
-    header_idx = columns(header, 0) if header is not None else None
+    header_idx = columns(header, header_line) if header is not None else None
     for k, row in enumerate(rows):
         if isinstance(row, Mapping):
-            idx = columns(list(row), k)
+            idx = columns(list(row), line_of(k))
             values: list[Any] = list(row.values())
         elif isinstance(row, (list, tuple)):
             values = list(row)
             if header_idx is not None:
                 idx = header_idx
             elif len(values) == len(cspace):
-                idx = columns(cspace, k)
+                idx = columns(cspace, line_of(k))
             elif len(values) == kin.n_actuated:
                 idx = list(range(kin.n_actuated))
             else:
