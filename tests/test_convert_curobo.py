@@ -48,9 +48,6 @@ def test_curobo_ur10e_matches_curobos_own_xrdf_except_explained_differences() ->
     frames = ("shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link")
     frames += ("wrist_2_link", "wrist_3_link", "tool0")
     explained = {
-        # ur10e.xrdf sets the base to base_link, which is already the URDF root: a no-op that
-        # the converter does not write
-        ("modifiers", "base-frame-changed", "set_base_frame"),
         # ur10e.xrdf has world buffers of 0.01; ur10e.yml says collision_sphere_buffer: 0.0
         *(("world_collision", "buffer-removed", f) for f in frames),
         # ur10e.xrdf has a tool0 self buffer of 0.05; ur10e.yml has `tool0: 0.0 # 0.05`
@@ -63,7 +60,7 @@ def test_curobo_ur10e_matches_curobos_own_xrdf_except_explained_differences() ->
     }
     assert found == explained, sorted(found ^ explained)
     # every other section is equal: c-space, limits, defaults, tool frames, effective spheres
-    assert {c.section for c in result.changes} == {"modifiers", "world_collision", "self_collision"}
+    assert {c.section for c in result.changes} == {"world_collision", "self_collision"}
     # 2.0 output carries the same content
     x2, _, _ = convert_files(urdf, ConvertOptions(curobo=yml))
     assert x2.format_version == "2.0"

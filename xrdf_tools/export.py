@@ -133,7 +133,9 @@ def to_curobo(
     kin["collision_spheres"] = spheres
     wbuf = dict(x.world_collision.buffer_distance) if x.world_collision else {}
     kin["collision_sphere_buffer"] = (
-        {f: wbuf.get(f, 0.0) for f in spheres} if any(wbuf.values()) else 0.0
+        {f: wbuf.get(f, 0.0) for f in [*spheres, *(k for k in wbuf if k not in spheres)]}
+        if any(wbuf.values())
+        else 0.0
     )
     ignore: dict[str, list[str]] = {}
     if x.self_collision is not None:

@@ -113,9 +113,9 @@ def command(
     ] = OutputFormat.text,
 ) -> None:
     """Convert a URDF/xacro plus an SRDF or cuRobo config to XRDF; report every guess."""
-    from ..convert import ConvertOptions, convert_files
+    from ..convert import ConvertOptions, convert
     from ..packages import parse_package_path
-    from ..sources.xacro_source import parse_xacro_arg
+    from ..sources.xacro_source import load_robot, parse_xacro_arg
     from ..xrdf_io import dump_xrdf
 
     if format_version not in ("1.0", "2.0"):
@@ -139,11 +139,12 @@ def command(
             jerk=jerk,
             format_version=format_version,
         )
-        x, diags, urdf = convert_files(robot, options, xacro_args=xargs, package_paths=pkgs)
+        urdf, urdf_text = load_robot(robot, xacro_args=xargs, package_paths=pkgs)
+        x, diags = convert(urdf, options)
         if fit_spheres:
             x, more = _fit(x, robot, urdf, pkgs, xargs)
             diags = [d for d in diags if d.rule != "convert-no-spheres"] + more
-        lint_diags = [] if no_lint else _lint(x, urdf)
+        lint_diags = [] if no_lint else _lint(x, robot, urdf_text)
     except XrdfToolsError as e:
         fail(e)
     text = dump_xrdf(x)
@@ -210,21 +211,20 @@ def _render_diff(result: Any) -> str:
         return "\n".join(lines) + "\n"
 
 
-def _lint(x: Xrdf, urdf: Any) -> list[Diagnostic]:
-    """Lint the result against the URDF when the linter is available."""
-    try:
-        from .. import lint as lint_mod  # type: ignore[attr-defined]
-    except ImportError:
-        return []
-    from ..xrdf_io import dump_xrdf, parse_xrdf
+def _lint(x: Xrdf, robot: Path, urdf_text: str | None) -> list[Diagnostic]:
+    """Lint the result against the URDF (the expanded one for xacro input)."""
+    import tempfile
 
-    reparsed = parse_xrdf(dump_xrdf(x), "<converted>")
-    fn = getattr(lint_mod, "lint", None)
-    if fn is None:
-        return []
-    result = fn(reparsed, urdf=urdf)
-    out = list(getattr(result, "diagnostics", result))
-    return [d for d in out if isinstance(d, Diagnostic)]
+    from ..lint import lint_text
+    from ..xrdf_io import dump_xrdf
+
+    text = dump_xrdf(x)
+    if urdf_text is None:
+        return lint_text(text, "<converted>", urdf=robot)
+    with tempfile.TemporaryDirectory(prefix="xrdf-convert-") as tmp:
+        expanded = Path(tmp) / (robot.name.removesuffix(".xacro") + ".urdf")
+        expanded.write_text(urdf_text, encoding="utf-8")
+        return lint_text(text, "<converted>", urdf=expanded)
 
 
 def _fit(

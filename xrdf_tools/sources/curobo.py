@@ -204,7 +204,7 @@ def _read_kinematics(
 
     base = kin.get("base_link")
     base_ok = base is not None and known_frame(str(base), frames, rep, kp("base_link"), "base_link")
-    if base_ok and str(base) != tree.root:
+    if base_ok:  # written even when it is the URDF root, as cuRobo's own XRDFs do
         d.modifiers.insert(0, SetBaseFrame(str(base)))
 
     # tool frames
