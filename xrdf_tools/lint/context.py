@@ -440,5 +440,6 @@ class Rule:
 
     @property
     def summary(self) -> str:
-        """First line of the documentation."""
-        return self.doc.strip().splitlines()[0].strip() if self.doc.strip() else self.id
+        """First paragraph of the documentation, on one line."""
+        para = self.doc.strip().split("\n\n")[0]
+        return " ".join(para.split()) or self.id
