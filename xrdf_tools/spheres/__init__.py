@@ -323,3 +323,60 @@ def merge_spheres(
                         )
                     )
     return out, diags
+
+
+RULE_ADJACENT = "spheres-adjacent-ignored"
+
+
+def ignore_adjacent(
+    xrdf: Xrdf,
+    urdf_path: str | os.PathLike[str],
+    *,
+    package_paths: Mapping[str, str] | None = None,
+) -> tuple[Xrdf, list[Diagnostic]]:
+    """Add each pair of *adjacent* sphere frames to the self-collision ignore mask.
+
+    Two frames with spheres are adjacent when one is the nearest ancestor with spheres of the
+    other (frames without spheres in between, such as fixed flange frames, are skipped). This
+    is MoveIt's "adjacent links" rule: their spheres overlap at the joint by construction.
+    Used for a freshly drafted XRDF; a mask written by a user is left to the user.
+    """
+    from ..sources.xacro_source import load_robot
+    from ..urdf_source import joints_of
+
+    if xrdf.self_collision is None:
+        return xrdf, []
+    spheres = xrdf.self_collision_spheres()
+    with_spheres = {f for f, s in spheres.items() if s}
+    urdf, _ = load_robot(urdf_path, package_paths=dict(package_paths or {}))
+    parent = {j.child: j.parent for j in joints_of(urdf).values()}
+    ignore = {k: list(v) for k, v in xrdf.self_collision.ignore.items()}
+    added = 0
+    for frame in spheres:
+        if frame not in with_spheres:
+            continue
+        up = parent.get(frame)
+        while up is not None and up not in with_spheres:
+            up = parent.get(up)
+        if up is None or xrdf.self_collision.is_ignored(up, frame):
+            continue
+        ignore.setdefault(up, []).append(frame)
+        added += 1
+    if not added:
+        return xrdf, []
+    section = SelfCollisionSection(
+        xrdf.self_collision.geometry,
+        xrdf.self_collision.buffer_distance,
+        FrozenMap((k, tuple(v)) for k, v in ignore.items()),
+    )
+    diag = Diagnostic(
+        xrdf.source.path or os.fspath(urdf_path),
+        None,
+        None,
+        RULE_ADJACENT,
+        Severity.INFO,
+        f"{added} pair(s) of adjacent links added to self_collision.ignore (their spheres "
+        "meet at the joint)",
+        "self_collision.ignore",
+    )
+    return xrdf.replace(self_collision=section), [diag]

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -282,7 +283,9 @@ def load_link_geometry(
     from ..urdf_source import parse_urdf_string
 
     src = read_urdf_text(urdf_path, package_paths)
-    parse_urdf_string(src.text, src.path, package_paths=package_paths)  # validates, with lines
+    # validate (errors with lines); yourdfpy knows no <capsule>, which reads like a cylinder
+    checked = re.sub(r"<capsule\b", "<cylinder", src.text)
+    parse_urdf_string(checked, src.path, package_paths=package_paths)
     parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=True)
     root = etree.fromstring(src.text.encode("utf-8"), parser)
     link_elems = {e.get("name"): e for e in root.iter("link") if e.get("name")}
