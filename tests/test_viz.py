@@ -159,6 +159,54 @@ def test_collision_meshes_are_loaded_in_the_link_frame(scene: Scene) -> None:
     assert np.abs(v).max() < 0.4
 
 
+def test_unresolvable_meshes_are_warnings_and_package_path_fixes_them(
+    panda: tuple[Any, Xrdf], panda_urdf: Path, tmp_path: Path
+) -> None:
+    xrdf = panda[1]
+    moved = tmp_path / "panda.urdf"  # away from its package: package:// URIs cannot resolve
+    moved.write_bytes(panda_urdf.read_bytes())
+    urdf = load_urdf(moved)
+    lost = build_scene(urdf, xrdf, meshes="collision", urdf_path=moved)
+    warned = {d.message.split("'")[1] for d in lost.diagnostics if d.rule == "mesh-not-loaded"}
+    fingers = {"panda_leftfinger", "panda_rightfinger"}  # collision boxes: need no file
+    assert warned == {link.name for link in lost.links} - fingers
+    assert "--package-path example-robot-data=DIR" in lost.diagnostics[0].message
+    assert {link.name for link in lost.links if link.meshes} == fingers
+    assert lost.n_spheres == 61
+    share = panda_urdf.parents[3]  # .../share/example-robot-data
+    found = build_scene(
+        urdf,
+        xrdf,
+        meshes="collision",
+        urdf_path=moved,
+        package_paths={"example-robot-data": str(share)},
+    )
+    assert not [d for d in found.diagnostics if d.rule == "mesh-not-loaded"]
+    assert all(link.meshes for link in found.links)
+
+
+def test_another_group_is_drawn_without_collision_colours(
+    panda: tuple[Any, Xrdf], panda_urdf: Path
+) -> None:
+    from xrdf_tools.frozen import FrozenMap
+    from xrdf_tools.model import GeometryGroup, Sphere
+
+    urdf, xrdf = panda
+    coarse = GeometryGroup(FrozenMap({"panda_hand": (Sphere((0.0, 0.0, 0.05), 0.1),)}))
+    assert xrdf.geometry is not None
+    two = xrdf.replace(geometry=FrozenMap({**xrdf.geometry, "coarse": coarse}))
+    # folded onto itself: the self-collision group collides
+    q = np.zeros((1, 8))
+    kin, _ = build_kinematic_model(urdf, two)
+    q[0, kin.actuated_index("panda_joint2")] = 1.7
+    q[0, kin.actuated_index("panda_joint4")] = -3.0
+    s = build_scene(urdf, two, q, group="coarse", meshes="none", urdf_path=panda_urdf)
+    assert s.sphere_counts() == {"panda_hand": 1}
+    assert s.samples[1].contacts and not s.collisions_shown
+    assert all(c != RED for cs in s.colors(1).values() for c in cs)
+    assert [d.rule for d in s.diagnostics] == ["viz-collisions-not-drawn"]
+
+
 # ------------------------------------------------------------------------------------------
 # rerun
 # ------------------------------------------------------------------------------------------

@@ -142,15 +142,15 @@ def command(
                 Q,
                 kinematic_model=kin,
                 group=group,
-                meshes=meshes.value,  # type: ignore[arg-type]
+                meshes="none" if target == "png" else meshes.value,  # type: ignore[arg-type]
                 colliding_only=colliding_only,
                 urdf_path=urdf,
                 package_paths=pkgs,
                 progress=tick,
             )
-        diags = [*kdiags, *scene.diagnostics]
-        if diags:
-            typer.echo(render_diagnostics(sorted(set(diags)), fmt), nl=False, err=True)
+        unique = {(d.rule, d.message): d for d in [*kdiags, *scene.diagnostics]}
+        if unique:
+            typer.echo(render_diagnostics(sorted(unique.values()), fmt), nl=False, err=True)
         with _progress(len(scene.samples), f"writing {target}") as tick:
             render(scene, target, out, buffered=buffered, progress=tick)
     except XrdfToolsError as e:

@@ -44,6 +44,7 @@ def write_png(
     fig = Figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
     ax: Any = fig.add_subplot(projection="3d")
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.96)
     poses = scene.poses[0]
     colors = scene.colors(0)
     lo = np.full(3, np.inf)
@@ -89,13 +90,13 @@ def write_png(
         title += f" ({n_hit} colliding pair(s) in red)"
     ax.set_title(title, fontsize=9)
     if handles:
-        ax.legend(
+        fig.legend(
             handles=handles,
             loc="upper left",
-            fontsize=6,
+            bbox_to_anchor=(0.01, 0.94),
+            fontsize=7,
             frameon=False,
-            ncol=1,
-            bbox_to_anchor=(-0.12, 1.0),
+            handletextpad=0.2,
         )
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=dpi)
