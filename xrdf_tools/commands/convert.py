@@ -230,17 +230,22 @@ def _lint(x: Xrdf, robot: Path, urdf_text: str | None) -> list[Diagnostic]:
 def _fit(
     x: Xrdf, robot: Path, urdf: Any, pkgs: dict[str, str], xargs: dict[str, str]
 ) -> tuple[Xrdf, list[Diagnostic]]:
-    """Fill the spheres with the sphere fitter (lazy; exit 2 when it is unavailable)."""
+    """Fit spheres to the links that have none (lazy import; exit 2 when unavailable)."""
     try:
-        from .. import spheres as sph
+        from ..spheres import fit_link_spheres
     except ImportError:
         fail("--fit-spheres: sphere fitting is not available in this installation")
-    fn = getattr(sph, "fit_robot_spheres", None) or getattr(sph, "fit_urdf_spheres", None)
-    if fn is None:
-        fail("--fit-spheres: sphere fitting is not available yet in this version of xrdf-tools")
+    if xargs:
+        fail("--fit-spheres does not support --xacro-arg yet; expand the xacro to a URDF first")
     from ..convert import with_spheres
+    from ..sources import RobotTree
 
-    result = fn(os.fspath(robot), package_paths=pkgs)
-    spheres = getattr(result, "spheres", result)
-    diags = list(getattr(result, "diagnostics", []))
-    return with_spheres(x, dict(spheres)), diags
+    have = dict(x.world_collision_spheres())
+    links = None
+    if have:
+        links = [link for link in RobotTree.from_urdf(urdf).links if link not in have]
+    fitted, diags = fit_link_spheres(os.fspath(robot), links=links, package_paths=pkgs)
+    merged: dict[str, Any] = {k: list(v) for k, v in have.items()}
+    for link, spheres in fitted.items():
+        merged.setdefault(link, []).extend(spheres)
+    return with_spheres(x, merged), list(diags)
