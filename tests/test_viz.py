@@ -289,6 +289,21 @@ def test_rrd_passes_rerun_rrd_verify(scene: Scene, tmp_path: Path) -> None:
     assert bad.returncode != 0
 
 
+def test_spawn_streams_the_same_recording(
+    scene: Scene, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    rr = pytest.importorskip("rerun")
+    sink = tmp_path / "spawned.rrd"
+
+    def fake_spawn(self: Any, **_: Any) -> None:  # no viewer in tests: divert to a file
+        self.save(str(sink))
+
+    monkeypatch.setattr(rr.RecordingStream, "spawn", fake_spawn)
+    render(scene, "spawn")
+    cols = _rrd_columns(sink)
+    assert sorted(cols[("/robot/panda_hand", False)]["sample"]) == list(range(len(scene.samples)))
+
+
 def _rgba8(packed: int) -> list[int]:
     """rerun stores colours as one 0xRRGGBBAA integer."""
     return [(packed >> 24) & 255, (packed >> 16) & 255, (packed >> 8) & 255, packed & 255]
@@ -561,6 +576,13 @@ def test_cli_missing_viz_extra_says_how_to_install(
     assert r.exit_code == 2
     assert 'pip install "xrdf-tools[viz]"' in r.output
     assert len(r.output.strip().splitlines()) == 1
+
+
+def test_docs_show_a_small_png_made_by_the_tool() -> None:
+    image = FIXTURES.parent / "docs" / "images" / "panda_spheres.png"
+    data = image.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) < 200_000
+    assert "images/panda_spheres.png" in (FIXTURES.parent / "docs" / "viz.md").read_text()
 
 
 def test_core_imports_no_visualization_backend() -> None:

@@ -57,6 +57,13 @@ def sample_configurations(
         raise SourceError(f"--samples must be between 0 and {MAX_SAMPLES}, got {n}")
     names = cspace_joints(kin, xrdf)
     idx = [kin.actuated_index(j) for j in names]
+    for j, k in zip(names, idx, strict=True):
+        if not kin.lower[k] <= kin.upper[k]:
+            raise SourceError(
+                f"joint '{j}' cannot be sampled: lower limit {kin.lower[k]} > upper limit "
+                f"{kin.upper[k]}",
+                path=kin.source_path,
+            )
     qc = sample_uniform(kin.lower[idx], kin.upper[idx], n, seed)
     return full_configuration(kin, names, qc, xrdf.default_joint_positions).reshape(
         n, kin.n_actuated

@@ -80,8 +80,11 @@ def spawn(
     rr = _rerun()
     rec = rr.RecordingStream("xrdf_tools")
     rec.spawn()
-    _log_scene(rr, rec, scene, buffered=buffered, progress=progress)
-    rec.flush()
+    try:
+        _log_scene(rr, rec, scene, buffered=buffered, progress=progress)
+        rec.flush()
+    finally:
+        rec.disconnect()  # everything is sent before the command exits
 
 
 def _log_scene(
