@@ -51,7 +51,7 @@ def link_seed(seed: int, link: str) -> list[int]:
     return [int(seed) & 0xFFFFFFFF, zlib.crc32(link.encode("utf-8"))]
 
 
-def _check_counts(per_link: int | None, count: int | None, density: float | None) -> None:
+def _check_counts(per_link: int | Mapping[str, int] | None, count: int | None, density: float | None) -> None:
     given = [
         n
         for n, v in (("per_link", per_link), ("count", count), ("density", density))
@@ -59,7 +59,10 @@ def _check_counts(per_link: int | None, count: int | None, density: float | None
     ]
     if len(given) > 1:
         raise XrdfToolsError(f"give at most one of count, per-link and density (got {given})")
-    if per_link is not None and not 1 <= per_link <= MAX_PER_LINK:
+    for n in per_link.values() if isinstance(per_link, Mapping) else [per_link]:
+        if n is not None and not 0 <= n <= MAX_PER_LINK:
+            raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {n}")
+    if isinstance(per_link, int) and per_link < 1:
         raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {per_link}")
     if count is not None and count < 1:
         raise XrdfToolsError(f"count must be at least 1, got {count}")
@@ -93,7 +96,7 @@ def fit_link_spheres(
     urdf_path: str | os.PathLike[str],
     *,
     links: Sequence[str] | None = None,
-    per_link: int | None = None,
+    per_link: int | Mapping[str, int] | None = None,
     count: int | None = None,
     density: float | None = None,
     seed: int = 0,
@@ -105,7 +108,7 @@ def fit_link_spheres(
 
     How many spheres per link, at most one of:
 
-    * ``per_link`` -- that many for each link;
+    * ``per_link`` -- that many for each link (or ``{link: n}``; links not in it get none);
     * ``count`` -- that many in total (at least one per link), handed out one by one to the
       link whose covered volume grows most;
     * ``density`` -- ``ceil(density * volume in litres)`` per link (1 to 64);
@@ -127,7 +130,9 @@ def fit_link_spheres(
             progress(name, i, len(geoms))
         tau = max_protrusion.get(name) if isinstance(max_protrusion, Mapping) else max_protrusion
         fitters[name] = SphereFitter(g.solid, seed=link_seed(seed, name), max_protrusion=tau)
-    if per_link is not None:
+    if isinstance(per_link, Mapping):
+        ks = {n: int(per_link.get(n, 0)) for n in fitters}
+    elif per_link is not None:
         ks = dict.fromkeys(fitters, per_link)
     elif density is not None:
         ks = {
@@ -148,7 +153,7 @@ def fit_link_spheres(
             curve = f.greedy(AUTO_MAX_PER_LINK)[1]
             reach = [k + 1 for k, c in enumerate(curve) if c >= AUTO_COVERAGE_TARGET]
             ks[n] = reach[0] if reach else AUTO_MAX_PER_LINK
-    fitted = {n: fitters[n].fit(ks[n]) for n in fitters}
+    fitted = {n: fitters[n].fit(ks[n]) for n in fitters if ks[n] > 0}
     return fitted, diags
 
 
