@@ -51,7 +51,9 @@ def link_seed(seed: int, link: str) -> list[int]:
     return [int(seed) & 0xFFFFFFFF, zlib.crc32(link.encode("utf-8"))]
 
 
-def _check_counts(per_link: int | Mapping[str, int] | None, count: int | None, density: float | None) -> None:
+def _check_counts(
+    per_link: int | Mapping[str, int] | None, count: int | None, density: float | None
+) -> None:
     given = [
         n
         for n, v in (("per_link", per_link), ("count", count), ("density", density))
@@ -124,6 +126,10 @@ def fit_link_spheres(
 
     _check_counts(per_link, count, density)
     geoms, diags = load_link_geometry(urdf_path, links=links, package_paths=package_paths)
+    if count is not None and count < len(geoms):
+        raise XrdfToolsError(
+            f"count {count} is less than the number of links to fit ({len(geoms)})"
+        )
     fitters: dict[str, SphereFitter] = {}
     for i, (name, g) in enumerate(geoms.items()):
         if progress is not None:
