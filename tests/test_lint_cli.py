@@ -1,0 +1,170 @@
+"""`xrdf lint` end to end: formats, exit codes, selection, configuration, real files."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.paths import FIXTURES, SEED_XRDF, UR10E_URDF, UR10E_XRDF, shared_file, shared_xrdfs
+from tests.robots import robot_urdf
+from xrdf_tools.cli import app
+from xrdf_tools.lint import lint, lint_text
+
+runner = CliRunner()
+BAD = FIXTURES / "lint" / "sphere-radius" / "fail.xrdf"  # one error at 35:19
+WARN = FIXTURES / "lint" / "curobo-integer" / "fail.xrdf"  # one warning at 18:21
+
+
+def test_text_output_and_exit_1_on_error() -> None:
+    r = runner.invoke(app, ["lint", str(BAD)])
+    assert r.exit_code == 1
+    assert r.output.startswith(f"{BAD}:35:19: error sphere-radius ")
+
+
+def test_warnings_pass_unless_strict() -> None:
+    assert runner.invoke(app, ["lint", str(WARN)]).exit_code == 0
+    r = runner.invoke(app, ["lint", "--strict", str(WARN)])
+    assert r.exit_code == 1 and ":18:21: warning curobo-integer " in r.output
+
+
+def test_json_schema() -> None:
+    r = runner.invoke(app, ["lint", "-f", "json", str(BAD), str(UR10E_XRDF)])
+    doc = json.loads(r.output)
+    assert doc["version"] == 1 and doc["files"] == [str(BAD), str(UR10E_XRDF)]
+    assert doc["summary"] == {"error": 1, "warning": 0, "info": 0}
+    (d,) = doc["diagnostics"]
+    assert d == {
+        "path": str(BAD),
+        "line": 35,
+        "col": 19,
+        "rule": "sphere-radius",
+        "severity": "error",
+        "message": d["message"],
+        "key_path": "geometry.arm_spheres.spheres.upper_arm_link[0].radius",
+    }
+
+
+def test_github_and_sarif() -> None:
+    r = runner.invoke(app, ["lint", "-f", "github", str(BAD)])
+    assert r.output.startswith(f"::error file={BAD},line=35,col=19,title=sphere-radius::")
+    r = runner.invoke(app, ["lint", "-f", "sarif", str(BAD)])
+    log = json.loads(r.output)
+    assert log["version"] == "2.1.0"
+    run = log["runs"][0]
+    rules = {x["id"]: x for x in run["tool"]["driver"]["rules"]}
+    assert "radius" in rules["sphere-radius"]["shortDescription"]["text"]
+    (res,) = run["results"]
+    assert res["ruleId"] == "sphere-radius" and res["level"] == "error"
+    assert run["tool"]["driver"]["rules"][res["ruleIndex"]]["id"] == "sphere-radius"
+    assert res["locations"][0]["physicalLocation"]["region"] == {"startLine": 35, "startColumn": 19}
+
+
+def test_select_and_ignore() -> None:
+    assert runner.invoke(app, ["lint", "--ignore", "sphere-radius", str(BAD)]).exit_code == 0
+    r = runner.invoke(app, ["lint", "--select", "curobo-", "--strict", str(BAD)])
+    assert r.exit_code == 0 and r.output == ""
+    r = runner.invoke(app, ["lint", "--select", "sphere-radiu", str(BAD)])
+    assert r.exit_code == 2 and "did you mean 'sphere-radius'" in r.output
+
+
+def test_usage_errors_exit_2(tmp_path: Path) -> None:
+    assert runner.invoke(app, ["lint", str(tmp_path / "missing.xrdf")]).exit_code == 2
+    r = runner.invoke(app, ["lint", str(UR10E_XRDF), "--urdf", str(tmp_path / "no.urdf")])
+    assert r.exit_code == 2 and "Traceback" not in r.output
+
+
+def test_syntax_errors_and_duplicates_are_findings_not_crashes(tmp_path: Path) -> None:
+    f = tmp_path / "x.xrdf"
+    f.write_text("format: xrdf\nformat: xrdf\nformat_version: 2.0\ncspace: [\n")
+    r = runner.invoke(app, ["lint", str(f)])
+    assert r.exit_code == 1 and "yaml-syntax" in r.output and "Traceback" not in r.output
+    f.write_text("format: xrdf\nformat: xrdf\nformat_version: 2.0\n")
+    assert f"{f}:2:1: error duplicate-key" in runner.invoke(app, ["lint", str(f)]).output
+
+
+def test_config_changes_levels_and_maps_urdf(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "robot").mkdir()
+    x = tmp_path / "robot" / "arm.xrdf"
+    x.write_text(
+        (FIXTURES / "lint" / "unknown-frame" / "fail.xrdf").read_text().split("# urdf")[0]
+        + (FIXTURES / "lint" / "unknown-frame" / "fail.xrdf").read_text().split("\n", 1)[1]
+    )
+    (tmp_path / "robot" / "arm.urdf").write_text(UR10E_URDF.read_text())
+    monkeypatch.chdir(tmp_path)
+    # no config: only the info-level hint, exit 0
+    r = runner.invoke(app, ["lint", "robot/arm.xrdf"])
+    assert r.exit_code == 0 and "info undefined-frame" in r.output
+    (tmp_path / ".xrdf-lint.yaml").write_text(
+        'rules:\n  undefined-frame: error\nurdf:\n  "robot/*.xrdf": robot/arm.urdf\n'
+    )
+    r = runner.invoke(app, ["lint", "robot/arm.xrdf"])
+    assert r.exit_code == 1 and "error unknown-frame" in r.output
+    assert "did you mean 'forearm_link'" in r.output and "undefined-frame" not in r.output
+    (tmp_path / ".xrdf-lint.yaml").unlink()
+    (tmp_path / "pyproject.toml").write_text(
+        '[tool.xrdf.lint]\nrules = { "undefined-frame" = "error", "curobo-" = "off" }\n'
+    )
+    r = runner.invoke(app, ["lint", "robot/arm.xrdf"])
+    assert r.exit_code == 1 and "error undefined-frame" in r.output
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("rules:\n  no-such-rule: off\n")
+    r = runner.invoke(app, ["lint", "--config", str(bad), "robot/arm.xrdf"])
+    assert r.exit_code == 2 and "unknown rule 'no-such-rule'" in r.output
+
+
+def test_bundled_and_shared_examples_have_no_errors() -> None:
+    files = [UR10E_XRDF, SEED_XRDF, FIXTURES / "panda" / "panda.xrdf", *shared_xrdfs()]
+    errors = [d for d in lint(files) if d.severity.value == "error"]
+    assert errors == []
+
+
+def test_seed_and_ur10e_against_the_urdf() -> None:
+    diags = lint([UR10E_XRDF, SEED_XRDF], urdf=UR10E_URDF)
+    assert [d for d in diags if d.severity.value == "error"] == []
+    # the seed's tool0 placeholder sphere is flagged, and every frame it names exists
+    assert any(d.rule == "sphere-radius" and d.path == str(SEED_XRDF) for d in diags)
+    assert not any(d.rule == "unknown-frame" for d in diags)
+
+
+def test_shared_reference_against_its_urdf() -> None:
+    x = shared_file("reference", "curobo-2.0", "ur10e.xrdf")
+    u = shared_file("reference", "curobo-2.0", "ur10e.urdf")
+    assert [d for d in lint([x], urdf=u) if d.severity.value == "error"] == []
+
+
+def test_panda_against_example_robot_data() -> None:
+    diags = lint([FIXTURES / "panda" / "panda.xrdf"], urdf=robot_urdf("panda"))
+    assert [d for d in diags if d.severity.value == "error"] == []
+
+
+def test_a_crashing_rule_becomes_an_internal_error() -> None:
+    from xrdf_tools.diagnostics import Severity
+    from xrdf_tools.lint.context import Rule
+
+    def boom(ctx: object) -> object:
+        raise RuntimeError("bug")
+
+    out = lint_text(UR10E_XRDF.read_text(), rules=(Rule("boom", Severity.INFO, boom, "x"),))  # type: ignore[arg-type]
+    assert [(d.rule, d.severity.value) for d in out] == [("internal-error", "error")]
+
+
+def test_lint_without_urdf_imports_no_heavy_library() -> None:
+    code = (
+        "import sys\n"
+        "from xrdf_tools.cli import app\n"
+        "from typer.testing import CliRunner\n"
+        f"r = CliRunner().invoke(app, ['lint', {str(SEED_XRDF)!r}])\n"
+        "assert r.exit_code == 0, r.output\n"
+        "heavy = [m for m in ('trimesh', 'yourdfpy', 'rerun', 'mcap', 'matplotlib', 'lxml')"
+        " if m in sys.modules]\n"
+        "print(','.join(heavy))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "", f"imported: {out.stdout}"
