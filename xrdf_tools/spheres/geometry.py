@@ -369,8 +369,3 @@ def load_link_geometry(
             continue
         out[name] = LinkGeometry(name, solid[0], solid[1], source, len(parts), line)
     return out, diags
-
-
-def solid_scale(solid: trimesh.Trimesh) -> float:
-    """A characteristic length of a solid: the cube root of its volume (metres)."""
-    return float(math.copysign(abs(float(solid.volume)) ** (1.0 / 3.0), 1.0))
