@@ -12,7 +12,7 @@ from typing import Annotated
 import typer
 
 from . import __version__
-from .commands import convert, diff, lint, report, viz
+from .commands import convert, diff, export, lint, report, spheres, viz
 from .errors import XrdfToolsError
 
 app = typer.Typer(
@@ -46,18 +46,20 @@ def _root(
     """Tools for XRDF robot descriptions."""
 
 
-app.command("convert", help="URDF/xacro + MoveIt SRDF or cuRobo config → XRDF.")(convert.command)
-app.command("lint", help="Check XRDF files against the spec (and a URDF).")(lint.command)
-app.command("diff", help="Semantic difference between two XRDF files.")(diff.command)
-app.command("report", help="Self-collision report over sampled configurations.")(report.command)
-app.command("viz", help="Sphere visualizations to rerun (.rrd), MCAP or PNG.")(viz.command)
-from .commands import spheres  # noqa: E402
-
-app.command("spheres", help="Fit collision spheres to link meshes; coverage metrics.")(
+# short_help is the one-line summary in `xrdf --help`; each command's docstring (with examples)
+# is its full `xrdf COMMAND --help`.
+app.command("convert", short_help="URDF/xacro + MoveIt SRDF or cuRobo config → XRDF.")(
+    convert.command
+)
+app.command("lint", short_help="Check XRDF files against the spec (and a URDF).")(lint.command)
+app.command("diff", short_help="Semantic difference between two XRDF files.")(diff.command)
+app.command("report", short_help="Self-collision report over sampled configurations.")(
+    report.command
+)
+app.command("viz", short_help="Sphere visualizations to rerun (.rrd), MCAP or PNG.")(viz.command)
+app.command("spheres", short_help="Fit collision spheres to link meshes; coverage metrics.")(
     spheres.command
 )
-from .commands import export  # noqa: E402
-
 app.add_typer(export.app, name="export", help="XRDF → cuRobo robot YAML or MoveIt SRDF.")
 
 
