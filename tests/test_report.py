@@ -15,9 +15,7 @@ from tests.robots import robot_urdf
 from tests.test_collision import THREE_LINK, THREE_LINK_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.report import (
-    ConfigsError,
     adjacent_frame_pairs,
-    load_configs,
     never_upper_bound,
     recommended_xrdf,
     self_collision_report,
@@ -150,19 +148,28 @@ def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None
     assert 0 < len(expect) < 300
 
 
-def test_load_configs_npy_and_csv(tmp_path: Path) -> None:
-    q = np.array([[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]])
+def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
+    from xrdf_tools.configs import load_cspace_configurations
+    from xrdf_tools.errors import SourceError
+    from xrdf_tools.kinematics import build_kinematic_model
+
+    urdf, xrdf = load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF)
+    kin, _ = build_kinematic_model(urdf, xrdf)
+    names = list(xrdf.cspace.joint_names) if xrdf.cspace else []
+    q = np.array([[0.1, 0.2, 0.03], [0.4, 0.5, 0.06]])
     np.save(tmp_path / "q.npy", q)
-    np.testing.assert_array_equal(load_configs(tmp_path / "q.npy", ["a", "b", "c"]), q)
-    (tmp_path / "q.csv").write_text("c,a,b\n0.3,0.1,0.2\n0.6,0.4,0.5\n")
-    np.testing.assert_array_equal(load_configs(tmp_path / "q.csv", ["a", "b", "c"]), q)
-    (tmp_path / "plain.csv").write_text("0.1,0.2,0.3\n")
-    np.testing.assert_array_equal(load_configs(tmp_path / "plain.csv", ["a", "b", "c"]), q[:1])
-    with pytest.raises(ConfigsError, match=r"\[N, 2\]"):
-        load_configs(tmp_path / "q.npy", ["a", "b"])
-    (tmp_path / "bad.csv").write_text("a,x,c\n1,2,3\n")
-    with pytest.raises(ConfigsError, match="header lacks"):
-        load_configs(tmp_path / "bad.csv", ["a", "b", "c"])
+    np.testing.assert_array_equal(load_cspace_configurations(tmp_path / "q.npy", kin, xrdf), q)
+    header = [names[2], names[0], names[1]]
+    (tmp_path / "q.csv").write_text(
+        ",".join(header) + "\n" + "\n".join(",".join(str(v) for v in r[[2, 0, 1]]) for r in q)
+    )
+    np.testing.assert_array_equal(load_cspace_configurations(tmp_path / "q.csv", kin, xrdf), q)
+    (tmp_path / "short.csv").write_text("0.1,0.2\n")
+    with pytest.raises(SourceError, match="has 2 values"):
+        load_cspace_configurations(tmp_path / "short.csv", kin, xrdf)
+    (tmp_path / "bad.csv").write_text(f"{names[0]},nope,{names[2]}\n1,2,3\n")
+    with pytest.raises(SourceError, match="nope"):
+        load_cspace_configurations(tmp_path / "bad.csv", kin, xrdf)
 
 
 def test_renderers_agree_on_content() -> None:

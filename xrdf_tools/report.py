@@ -27,7 +27,6 @@ import math
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -71,7 +70,6 @@ __all__ = [
     "Report",
     "TrajectoryHit",
     "adjacent_frame_pairs",
-    "load_configs",
     "never_upper_bound",
     "recommended_xrdf",
     "self_collision_report",
@@ -292,76 +290,6 @@ def adjacent_frame_pairs(
             else:
                 stack.extend(nbrs[v])
     return frozenset(out)
-
-
-# ------------------------------------------------------------------------------------------
-# Configurations from a file
-# ------------------------------------------------------------------------------------------
-def load_configs(path: str | Path, cspace_joints: Sequence[str]) -> FloatArray:
-    """Joint vectors [N, n_c] from ``.npy`` or ``.csv``, in c-space order.
-
-    A CSV may start with a header row of joint names; its columns are then matched by name
-    (and may come in any order). Raises :class:`ConfigsError`.
-    """
-    p = Path(path)
-    names = list(cspace_joints)
-    try:
-        if p.suffix.lower() == ".npy":
-            arr = np.load(p, allow_pickle=False)
-        elif p.suffix.lower() in (".csv", ".txt"):
-            arr = _read_csv(p, names)
-        else:
-            raise ConfigsError("configurations must be a .npy or .csv file", path=str(p))
-    except FileNotFoundError:
-        raise ConfigsError("file not found", path=str(p)) from None
-    except (OSError, ValueError) as e:
-        raise ConfigsError(f"cannot read configurations: {e}", path=str(p)) from None
-    arr = np.asarray(arr)
-    if arr.ndim == 1 and len(names) == 1:
-        arr = arr[:, None]
-    if arr.ndim != 2 or arr.shape[1] != len(names):
-        raise ConfigsError(
-            f"expected an array [N, {len(names)}] (c-space: {', '.join(names)}), got "
-            f"{list(arr.shape)}",
-            path=str(p),
-        )
-    if not np.issubdtype(arr.dtype, np.number):
-        raise ConfigsError(f"expected numbers, got dtype {arr.dtype}", path=str(p))
-    out = arr.astype(np.float64)
-    if not np.all(np.isfinite(out)):
-        bad = int(np.flatnonzero(~np.isfinite(out).all(axis=1))[0])
-        raise ConfigsError(f"row {bad} holds a non-finite value", path=str(p))
-    return out
-
-
-def _read_csv(p: Path, names: list[str]) -> FloatArray:
-    lines = [ln.strip() for ln in p.read_text(encoding="utf-8").splitlines()]
-    lines = [ln for ln in lines if ln and not ln.startswith("#")]
-    if not lines:
-        return np.zeros((0, len(names)))
-    first = [c.strip() for c in lines[0].split(",")]
-    order: list[int] | None = None
-    try:
-        [float(c) for c in first]
-    except ValueError:
-        missing = [n for n in names if n not in first]
-        if missing:
-            raise ValueError(
-                f"header lacks c-space joint(s) {', '.join(missing)}"
-                + did_you_mean(missing[0], first)
-            ) from None
-        order = [first.index(n) for n in names]
-        lines = lines[1:]
-    rows = []
-    for i, ln in enumerate(lines):
-        try:
-            vals = [float(c) for c in ln.split(",")]
-        except ValueError:
-            raise ValueError(f"line {i + 1 + (order is not None)}: not a number row") from None
-        rows.append([vals[j] for j in order] if order is not None else vals)
-    if len({len(r) for r in rows}) > 1:
-        raise ValueError("rows have different lengths")
-    return np.array(rows, dtype=np.float64).reshape(len(rows), -1)
 
 
 # ------------------------------------------------------------------------------------------

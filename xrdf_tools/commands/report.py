@@ -109,7 +109,7 @@ def command(
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
-    from ..report import load_configs, recommended_xrdf, self_collision_report
+    from ..report import recommended_xrdf, self_collision_report
     from ..report_render import (
         render_html,
         render_json,
@@ -130,15 +130,11 @@ def command(
         u = load_urdf(urdf)
         q_c = None
         if configs is not None:
+            from ..configs import load_cspace_configurations
             from ..kinematics import build_kinematic_model
 
             kin, _ = build_kinematic_model(u, x, path=str(urdf))
-            names = (
-                list(x.cspace.joint_names)
-                if x.cspace is not None and x.cspace.joint_names
-                else list(kin.actuated_joints)
-            )
-            q_c = load_configs(configs, names)
+            q_c = load_cspace_configurations(configs, kin, x)
         interactive = (
             output_format is not ReportFormat.json
             and sys.stderr.isatty()

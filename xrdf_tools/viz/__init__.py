@@ -23,8 +23,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Literal, Protocol
 
+from ..configs import load_configurations, sample_configurations
 from ..errors import MissingDependencyError, XrdfToolsError
-from .configs import load_configurations, sample_configurations
 from .scene import (
     COLLISION_RGBA,
     LinkScene,

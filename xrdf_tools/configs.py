@@ -1,4 +1,4 @@
-"""Configurations to visualize: sampled in c-space, or read from a file.
+"""Configurations for `xrdf viz` and `xrdf report`: sampled in c-space, or read from a file.
 
 Both return full actuated configurations [B, n] (:attr:`KinematicModel.actuated_joints`
 order); joints outside the c-space stay at their default
@@ -28,15 +28,28 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from ..errors import SourceError, XrdfToolsError
-from ..model import Xrdf
+from .errors import SourceError, XrdfToolsError
+from .model import Xrdf
 
 if TYPE_CHECKING:
-    from ..kinematics import KinematicModel
+    from .kinematics import KinematicModel
 
 FloatArray = npt.NDArray[np.float64]
 
 MAX_SAMPLES = 100_000
+
+
+def load_cspace_configurations(
+    path: str | os.PathLike[str], kin: KinematicModel, xrdf: Xrdf
+) -> FloatArray:
+    """Configurations [B, n_c] in c-space order (:func:`cspace_joints`) from a file.
+
+    Same formats as :func:`load_configurations`, no row cap; values given for joints outside
+    the c-space are not kept (those joints stay at their defaults).
+    """
+    q = load_configurations(path, kin, xrdf, max_rows=None)
+    idx = [kin.actuated_index(j) for j in cspace_joints(kin, xrdf)]
+    return np.ascontiguousarray(q[:, idx])
 
 
 def cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> tuple[str, ...]:
@@ -50,8 +63,8 @@ def sample_configurations(
     kin: KinematicModel, xrdf: Xrdf, n: int, seed: int | None = 0
 ) -> FloatArray:
     """``n`` configurations [n, n_actuated] drawn uniformly within the c-space joint limits."""
-    from ..kinematics import full_configuration
-    from ..sampling import sample_uniform
+    from .kinematics import full_configuration
+    from .sampling import sample_uniform
 
     if n < 0 or n > MAX_SAMPLES:
         raise SourceError(f"--samples must be between 0 and {MAX_SAMPLES}, got {n}")
@@ -71,11 +84,16 @@ def sample_configurations(
 
 
 def load_configurations(
-    path: str | os.PathLike[str], kin: KinematicModel, xrdf: Xrdf
+    path: str | os.PathLike[str],
+    kin: KinematicModel,
+    xrdf: Xrdf,
+    *,
+    max_rows: int | None = MAX_SAMPLES,
 ) -> FloatArray:
     """Configurations [B, n_actuated] from a file (formats in the module docstring).
 
-    Raises :class:`SourceError` naming the file (and line) for anything unreadable.
+    ``max_rows`` caps the number of rows (None: no cap). Raises :class:`SourceError` naming the
+    file (and line) for anything unreadable.
     """
     p = Path(path)
     spath = os.fspath(path)
@@ -86,7 +104,7 @@ def load_configurations(
             except ValueError as e:
                 raise SourceError(f"not a numeric .npy array: {e}", path=spath) from None
             rows: list[Any] = np.atleast_2d(np.asarray(arr, dtype=np.float64)).tolist()
-            return _assemble(rows, None, kin, xrdf, spath)
+            return _assemble(rows, None, kin, xrdf, spath, max_rows=max_rows)
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise SourceError("configurations file not found", path=spath) from None
@@ -101,9 +119,9 @@ def load_configurations(
                 "expected a list of configurations (lists of numbers or {joint: value} maps)",
                 path=spath,
             )
-        return _assemble(data, None, kin, xrdf, spath)
+        return _assemble(data, None, kin, xrdf, spath, max_rows=max_rows)
     header, header_line, rows, lines = _parse_text(text, spath)
-    return _assemble(rows, header, kin, xrdf, spath, lines, header_line)
+    return _assemble(rows, header, kin, xrdf, spath, lines, header_line, max_rows=max_rows)
 
 
 def _load_structured(text: str, suffix: str, spath: str) -> Any:
@@ -166,11 +184,13 @@ def _assemble(
     spath: str,
     lines: Sequence[int] | None = None,
     header_line: int | None = None,
+    *,
+    max_rows: int | None = MAX_SAMPLES,
 ) -> FloatArray:
-    from ..kinematics import default_configuration
+    from .kinematics import default_configuration
 
-    if len(rows) > MAX_SAMPLES:
-        raise SourceError(f"too many configurations ({len(rows)} > {MAX_SAMPLES})", path=spath)
+    if max_rows is not None and len(rows) > max_rows:
+        raise SourceError(f"too many configurations ({len(rows)} > {max_rows})", path=spath)
     q0 = default_configuration(kin, xrdf.default_joint_positions)
     cspace = cspace_joints(kin, xrdf)
     out = np.repeat(q0[None, :], len(rows), axis=0)
