@@ -144,7 +144,11 @@ def command(
         if fit_spheres:
             x, more = _fit(x, robot, urdf, pkgs, xargs)
             diags = [d for d in diags if d.rule != "convert-no-spheres"] + more
-        lint_diags = [] if no_lint else _lint(x, robot, urdf_text)
+        lint_diags = (
+            []
+            if no_lint
+            else _lint(x, robot, urdf_text, str(output) if output is not None else "<stdout>")
+        )
     except XrdfToolsError as e:
         fail(e)
     text = dump_xrdf(x)
@@ -200,19 +204,16 @@ def _check(output: Path, x: Xrdf) -> None:
 
 
 def _render_diff(result: Any) -> str:
-    try:
-        from .. import diff_render  # type: ignore[attr-defined]
+    from ..diff_render import render_text
 
-        text = diff_render.render_text(result)
-        return str(text)
-    except (ImportError, AttributeError, TypeError):
-        lines = [f"--- {result.a.path}", "+++ (converted)"]
-        lines += [f"{c.section}: {c.message}" for c in result.changes]
-        return "\n".join(lines) + "\n"
+    return render_text(result)
 
 
-def _lint(x: Xrdf, robot: Path, urdf_text: str | None) -> list[Diagnostic]:
-    """Lint the result against the URDF (the expanded one for xacro input)."""
+def _lint(x: Xrdf, robot: Path, urdf_text: str | None, label: str) -> list[Diagnostic]:
+    """Lint the result against the URDF (the expanded one for xacro input).
+
+    ``label`` names the output in the diagnostics (the -o path, or ``<stdout>``).
+    """
     import tempfile
 
     from ..lint import lint_text
@@ -220,11 +221,11 @@ def _lint(x: Xrdf, robot: Path, urdf_text: str | None) -> list[Diagnostic]:
 
     text = dump_xrdf(x)
     if urdf_text is None:
-        return lint_text(text, "<converted>", urdf=robot)
+        return lint_text(text, label, urdf=robot)
     with tempfile.TemporaryDirectory(prefix="xrdf-convert-") as tmp:
         expanded = Path(tmp) / (robot.name.removesuffix(".xacro") + ".urdf")
         expanded.write_text(urdf_text, encoding="utf-8")
-        return lint_text(text, "<converted>", urdf=expanded)
+        return lint_text(text, label, urdf=expanded)
 
 
 def _fit(
