@@ -1,0 +1,91 @@
+"""``sphere-outside-geometry`` on real robots and when link geometry cannot be loaded."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.paths import FIXTURES
+from tests.robots import robot_urdf
+from xrdf_tools.diagnostics import Diagnostic
+from xrdf_tools.lint import lint_text
+from xrdf_tools.lint.rules import sphere_outside_geometry as rule
+
+PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
+UR10E = FIXTURES / "ur10e"
+ARM_URDF = FIXTURES / "lint" / "sphere-outside-geometry" / "arm.urdf"
+LINK3_SPHERE = "      panda_link3:\n        - center: [0.0, 0.0, -0.06]\n"
+
+
+def _run(text: str, urdf: Path, path: str = "robot.xrdf") -> list[Diagnostic]:
+    return lint_text(text, path, urdf=urdf, rules=(rule.RULE,))
+
+
+def test_real_panda_spheres_pass_and_a_sphere_moved_half_a_metre_is_flagged() -> None:
+    urdf = robot_urdf("panda")
+    text = PANDA_XRDF.read_text()
+    assert _run(text, urdf) == []
+    assert LINK3_SPHERE in text
+    moved = text.replace(LINK3_SPHERE, LINK3_SPHERE.replace("[0.0, 0.0,", "[0.5, 0.0,"))
+    (d,) = _run(moved, urdf)
+    line = text[: text.index(LINK3_SPHERE)].count("\n") + 2
+    assert (d.rule, d.severity.value, d.line, d.col) == (rule.RULE_ID, "warning", line, 19)
+    assert "sphere 0 of link 'panda_link3'" in d.message and " mm outside" in d.message
+    assert d.key_path == "geometry.panda_spheres.spheres.panda_link3[0].center"
+
+
+def test_ur10e_without_meshes_is_skipped_with_one_info() -> None:
+    diags = _run((UR10E / "ur10e.xrdf").read_text(), UR10E / "ur10e.urdf")
+    assert [d.severity.value for d in diags] == ["info"]
+    assert "not checked" in diags[0].message and "mesh file not found" in diags[0].message
+
+
+def test_a_partly_loadable_link_is_skipped_not_checked_against_the_parts_that_loaded(
+    tmp_path: Path,
+) -> None:
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="a">'
+        '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>'
+        '<collision><origin xyz="1 0 0"/><geometry><mesh filename="gone.stl"/></geometry>'
+        "</collision></link></robot>"
+    )
+    text = (
+        "format: xrdf\nformat_version: 2.0\nworld_collision:\n  geometry: g\ngeometry:\n"
+        "  g:\n    spheres:\n      a:\n        - center: [1.0, 0.0, 0.0]\n          radius: 0.05\n"
+    )
+    (d,) = _run(text, urdf)
+    assert (d.severity.value, d.line, d.col) == ("info", 8, 7)
+    assert "gone.stl" in d.message
+
+
+def test_a_failing_geometry_loader_never_crashes_the_rule(monkeypatch: pytest.MonkeyPatch) -> None:
+    import xrdf_tools.spheres.geometry as geometry
+
+    def boom(*args: object, **kwargs: object) -> object:
+        raise RuntimeError("no trimesh today")
+
+    monkeypatch.setattr(rule, "_CACHE", {})
+    monkeypatch.setattr(geometry, "load_link_geometry", boom)
+    (d,) = _run((FIXTURES / "lint" / "sphere-outside-geometry" / "fail.xrdf").read_text(), ARM_URDF)
+    assert d.severity.value == "info" and "no trimesh today" in d.message
+
+
+def test_box_distance_and_threshold() -> None:
+    box = rule.Box((0.0, 0.0, 0.0), (0.4, 0.1, 0.1))
+    assert box.distance((0.2, 0.05, 0.05)) == 0.0
+    assert box.distance((0.7, 0.5, 0.1)) == pytest.approx(0.5)
+    assert box.threshold == pytest.approx(0.1)
+    assert rule.Box((0.0, 0.0, 0.0), (0.01, 0.01, 0.01)).threshold == rule.MIN_GAP
+
+
+def test_the_rule_module_imports_no_mesh_library() -> None:
+    code = (
+        "import sys\nimport xrdf_tools.lint.rules.sphere_outside_geometry\n"
+        "print([m for m in ('trimesh', 'yourdfpy', 'lxml') if m in sys.modules])\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"

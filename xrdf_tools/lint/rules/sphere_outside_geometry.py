@@ -1,0 +1,224 @@
+"""With ``--urdf``: a collision sphere lies far outside its link's collision geometry.
+
+A sphere stands in for part of its link, so it should touch the link's collision geometry. A
+sphere far away from it is usually written in the wrong frame, has a sign or unit error in its
+``center``, or was left over from another robot; the planner then avoids empty space and does
+not see the link itself.
+
+Every sphere of every group a collision section uses (``collision``/``world_collision`` and
+``self_collision``, clones resolved) is checked when its frame is a URDF link with
+``<collision>`` elements. The link's collision geometry (meshes with ``scale``, boxes,
+cylinders, spheres, capsules, each with its ``<origin>``; ``package://`` URIs found by
+searching the URDF's directory and its ancestors) is loaded once per link and reduced to its
+axis-aligned bounding box in the link frame. The sphere is reported when
+
+    gap = distance(center, box) - radius  >  max(20 mm, 0.25 x the box's largest extent)
+
+where ``distance(center, box)`` is the distance from the sphere's center to the nearest point
+of the box (0 inside it), i.e. when the sphere does not even come near the box: spheres that
+overlap the box, poke out of it, or leave a gap of up to a quarter of the link's size (at
+least 20 mm) pass. The box is a generous envelope, so the rule finds misplaced spheres, not
+loose fits (the hand-tuned Franka spheres all overlap their boxes). The message names the link,
+the sphere index and group, and the gap in mm, and points at the sphere's ``center``.
+
+Spheres whose ``center`` is not 3 finite numbers or whose ``radius`` is not positive are left
+to ``sphere-center`` and ``sphere-radius``; frames that are not links (``add_frame`` frames) or
+links without collision geometry are not checked.
+
+When a link's collision geometry cannot be loaded in full (a mesh file is missing or
+unreadable, trimesh is not installed, an unsupported element), that link's spheres are skipped
+and **one info** finding per file lists the skipped links with the first reason, so a clean
+result is never mistaken for a check that did not run. (A level configured for this rule also
+applies to that finding.)
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+
+from ...diagnostics import Severity
+from ...yaml_io import YSeq
+from ..context import LintContext, Problem, Rule, SphereRef, finite_number
+
+RULE_ID = "sphere-outside-geometry"
+
+#: A sphere may leave this much room to its link's box (metres) before it is reported ...
+MIN_GAP = 0.02
+#: ... or this fraction of the box's largest extent, whichever is larger.
+RELATIVE_GAP = 0.25
+
+
+@dataclass(frozen=True)
+class Box:
+    """Axis-aligned bounds of a link's collision geometry in the link frame (metres)."""
+
+    lo: tuple[float, float, float]
+    hi: tuple[float, float, float]
+
+    @property
+    def largest_extent(self) -> float:
+        return max(h - lo for lo, h in zip(self.lo, self.hi, strict=True))
+
+    def distance(self, p: Sequence[float]) -> float:
+        """Euclidean distance from ``p`` to the box (0 inside)."""
+        return math.sqrt(
+            sum(max(lo - x, 0.0, x - h) ** 2 for x, lo, h in zip(p, self.lo, self.hi, strict=True))
+        )
+
+    @property
+    def threshold(self) -> float:
+        return max(MIN_GAP, RELATIVE_GAP * self.largest_extent)
+
+
+#: Per URDF file (path, mtime, size): link -> its box, or why its geometry could not be loaded.
+_CACHE: dict[tuple[str, int, int], dict[str, Box | str]] = {}
+_CACHE_SIZE = 8
+
+
+def _cache_for(path: str) -> dict[str, Box | str]:
+    try:
+        st = os.stat(path)
+        key = (os.path.realpath(path), st.st_mtime_ns, st.st_size)
+    except OSError:
+        key = (os.path.realpath(path), -1, -1)
+    if key not in _CACHE:
+        while len(_CACHE) >= _CACHE_SIZE:
+            del _CACHE[next(iter(_CACHE))]
+        _CACHE[key] = {}
+    return _CACHE[key]
+
+
+def _first_line(text: str, limit: int = 160) -> str:
+    line = text.strip().splitlines()[0] if text.strip() else text
+    return line if len(line) <= limit else line[: limit - 3] + "..."
+
+
+def _reason(link: str, messages: list[str]) -> str:
+    """Why ``link`` was not loaded, from the geometry loader's messages about it."""
+    prefix = f"link '{link}' collision: "
+    for m in messages:
+        if m.startswith(prefix):
+            return _first_line(m[len(prefix) :].removesuffix("; this part is ignored"))
+        if m.startswith(f"link '{link}'"):
+            return _first_line(m)
+    return f"link '{link}': collision geometry not loaded"
+
+
+def _load_boxes(path: str, expected: dict[str, int]) -> dict[str, Box | str]:
+    """Boxes of the links in ``expected`` (link -> number of its ``<collision>`` elements).
+
+    A link whose geometry is not loaded in full gets the reason instead; nothing raises.
+    """
+    try:
+        from ...spheres.geometry import load_link_geometry
+
+        geoms, diags = load_link_geometry(path, links=list(expected))
+    except Exception as exc:  # an unreadable URDF, a missing trimesh: skip, do not crash
+        why = _first_line(str(exc) or type(exc).__name__)
+        return dict.fromkeys(expected, why)
+    out: dict[str, Box | str] = {}
+    for link, count in expected.items():
+        g = geoms.get(link)
+        if g is None or g.source != "collision" or g.parts < count:
+            out[link] = _reason(link, [d.message for d in diags])
+            continue
+        try:
+            b = [[float(v) for v in row] for row in g.solid.bounds]
+        except Exception as exc:
+            out[link] = f"link '{link}': no bounds ({type(exc).__name__})"
+            continue
+        if not all(math.isfinite(v) for row in b for v in row):
+            out[link] = f"link '{link}': collision geometry has no finite bounds"
+            continue
+        out[link] = Box((b[0][0], b[0][1], b[0][2]), (b[1][0], b[1][1], b[1][2]))
+    return out
+
+
+def _used_spheres(ctx: LintContext) -> list[SphereRef]:
+    """Spheres of every group a collision section uses (clones resolved), each once."""
+    seen: set[tuple[str, str, int]] = set()
+    out: list[SphereRef] = []
+    for _, section in ctx.collision_sections():
+        g = ctx.group_name(section)
+        if g is None or g not in ctx.groups:
+            continue
+        spheres = ctx.resolved_spheres(g)
+        if spheres is None:  # broken clones (other rules say so): the group's own spheres
+            spheres = list(ctx.iter_spheres(g))
+        for s in spheres:
+            k = (s.group, s.frame, s.index)
+            if k not in seen:
+                seen.add(k)
+                out.append(s)
+    return out
+
+
+def _center(s: SphereRef) -> tuple[float, float, float] | None:
+    c = s.field("center")
+    if not isinstance(c, YSeq) or len(c) != 3:
+        return None
+    xyz = [finite_number(v) for v in c.items]
+    if any(v is None for v in xyz):
+        return None
+    x, y, z = (float(v) for v in xyz if v is not None)
+    return x, y, z
+
+
+def check(ctx: LintContext) -> Iterator[Problem]:
+    st = ctx.urdf
+    if st is None:
+        return
+    link_map = getattr(st.urdf, "link_map", None) or {}
+    todo: list[tuple[SphereRef, tuple[float, float, float], float]] = []
+    expected: dict[str, int] = {}
+    for s in _used_spheres(ctx):
+        link = link_map.get(s.frame)
+        collisions = getattr(link, "collisions", None) if link is not None else None
+        if not collisions:
+            continue
+        center, radius = _center(s), finite_number(s.field("radius"))
+        if center is None or radius is None or radius <= 0.0:
+            continue
+        todo.append((s, center, radius))
+        expected[s.frame] = len(collisions)
+    if not todo:
+        return
+    cache = _cache_for(st.path)
+    missing = {k: v for k, v in expected.items() if k not in cache}
+    if missing:
+        cache.update(_load_boxes(st.path, missing))
+    urdf_name = os.path.basename(st.path)
+    skipped: dict[str, SphereRef] = {}
+    for s, center, radius in todo:
+        box = cache.get(s.frame)
+        if not isinstance(box, Box):
+            skipped.setdefault(s.frame, s)
+            continue
+        gap = box.distance(center) - radius
+        if gap > box.threshold:
+            yield ctx.problem(
+                s.field("center"),
+                f"sphere {s.index} of link '{s.frame}' (group '{s.group}') is {gap * 1000:.0f} "
+                f"mm outside the bounds of the link's collision geometry in {urdf_name} "
+                f"(allowed: {box.threshold * 1000:.0f} mm); check its center and frame",
+                s.key_path + ".center",
+            )
+    if skipped:
+        first = next(iter(skipped.values()))
+        why = cache.get(first.frame)
+        names = ", ".join(list(skipped)[:3]) + (
+            f" and {len(skipped) - 3} more" if len(skipped) > 3 else ""
+        )
+        yield ctx.problem(
+            first.frame_key,
+            f"spheres of {len(skipped)} link(s) not checked: their collision geometry in "
+            f"{urdf_name} could not be loaded ({names}; first: {why})",
+            f"geometry.{first.group}.spheres.{first.frame}",
+            Severity.INFO,
+        )
+
+
+RULE = Rule(RULE_ID, Severity.WARNING, check, __doc__ or "", needs_urdf=True)
