@@ -583,3 +583,26 @@ def test_negative_tolerance_is_rejected_by_the_library() -> None:
     x = parse_xrdf(BASE)
     with pytest.raises(ValueError, match="tolerance"):
         diff_xrdf(x, x, -1.0)
+
+
+def test_set_base_frame_on_the_urdf_root_is_no_change() -> None:
+    from tests.paths import UR10E_URDF
+    from xrdf_tools.urdf_source import load_urdf, root_link
+
+    root = root_link(load_urdf(UR10E_URDF))
+    assert root == "base_link"
+    with_base = parse_xrdf(
+        "format: xrdf\nformat_version: 2.0\nmodifiers:\n  - set_base_frame: base_link\n"
+    )
+    without = parse_xrdf("format: xrdf\nformat_version: 2.0\n")
+    unaware = diff_xrdf(with_base, without)
+    assert [c.kind for c in unaware.changes] == ["base-frame-changed"]
+    aware = diff_xrdf(with_base, without, root_frame=root)
+    assert aware.is_equal
+    assert [n.kind for n in aware.notes] == ["base-frame-is-root"]
+    moved = parse_xrdf(
+        "format: xrdf\nformat_version: 2.0\nmodifiers:\n  - set_base_frame: shoulder_link\n"
+    )
+    assert [c.kind for c in diff_xrdf(without, moved, root_frame=root).changes] == [
+        "base-frame-changed"
+    ]

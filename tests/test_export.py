@@ -205,3 +205,26 @@ joint_limits:
         "convert-default-acceleration",
         "convert-default-jerk",
     } <= rules
+
+
+@pytest.mark.slow
+def test_round_trip_panda_without_set_base_frame(tmp_path: Path) -> None:
+    """The Panda fixture has no set_base_frame; cuRobo always names a base_link, which comes
+    back as set_base_frame on the URDF root: a no-op that diff, told the root, ignores. cuRobo
+    configs do not name geometry groups, so the group name is the only other change."""
+    from tests.robots import robot_urdf
+    from xrdf_tools.urdf_source import root_link
+
+    urdf_path = robot_urdf("panda")
+    urdf = load_urdf(urdf_path)
+    original = load_xrdf(PANDA_XRDF)
+    text, diags = to_curobo(original, RobotTree.from_urdf(urdf), layout="2.0", urdf_path=urdf_path)
+    assert diags == []
+    cfg = tmp_path / "panda.yml"
+    cfg.write_text(text)
+    back, _, _ = convert_files(urdf_path, ConvertOptions(curobo=cfg))
+    result = diff_xrdf(original, back, root_frame=root_link(urdf))
+    assert result.major_changes == (), [c.message for c in result.major_changes]
+    assert {c.kind for c in result.minor_changes} <= {"group-renamed"}, [
+        c.message for c in result.minor_changes
+    ]

@@ -238,13 +238,24 @@ def diff_files(
     path_a: str | os.PathLike[str],
     path_b: str | os.PathLike[str],
     tolerance: float = DEFAULT_TOLERANCE,
+    *,
+    root_frame: str | None = None,
 ) -> XrdfDiff:
     """Load two XRDF files and diff them. Load errors raise :class:`XrdfToolsError`."""
-    return diff_xrdf(load_xrdf(path_a), load_xrdf(path_b), tolerance)
+    return diff_xrdf(load_xrdf(path_a), load_xrdf(path_b), tolerance, root_frame=root_frame)
 
 
-def diff_xrdf(a: Xrdf, b: Xrdf, tolerance: float = DEFAULT_TOLERANCE) -> XrdfDiff:
+def diff_xrdf(
+    a: Xrdf,
+    b: Xrdf,
+    tolerance: float = DEFAULT_TOLERANCE,
+    *,
+    root_frame: str | None = None,
+) -> XrdfDiff:
     """Semantic difference from ``a`` to ``b`` (see the module docstring for the rules).
+
+    ``root_frame`` is the URDF's root link when known: ``set_base_frame`` on it is a no-op, so
+    a file that has it and one that does not are equal (a note says so).
 
     Raises :class:`ValueError` for a negative or non-finite ``tolerance`` and
     :class:`~xrdf_tools.errors.GeometryGroupError` when a collision section's group (or a clone)
@@ -252,7 +263,7 @@ def diff_xrdf(a: Xrdf, b: Xrdf, tolerance: float = DEFAULT_TOLERANCE) -> XrdfDif
     """
     if not (math.isfinite(tolerance) and tolerance >= 0):
         raise ValueError(f"tolerance must be a finite number ≥ 0, not {tolerance!r}")
-    d = _Differ(a, b, tolerance)
+    d = _Differ(a, b, tolerance, root_frame)
     d.run()
     order = {s: i for i, s in enumerate(SECTION_ORDER)}
     changes = sorted(d.changes, key=lambda c: order[c.section])  # stable within a section
@@ -482,10 +493,11 @@ _SCOPE_LABEL = {"world": "world", "self": "self", "world+self": "world and self"
 
 
 class _Differ:
-    def __init__(self, a: Xrdf, b: Xrdf, tol: float) -> None:
+    def __init__(self, a: Xrdf, b: Xrdf, tol: float, root_frame: str | None = None) -> None:
         self.a = a
         self.b = b
         self.tol = tol
+        self.root_frame = root_frame
         self.changes: list[Change] = []
         self.notes: list[Change] = []
 
@@ -544,9 +556,18 @@ class _Differ:
         ka, kb = self._keyed(self.a.modifiers), self._keyed(self.b.modifiers)
         base_a = [m.frame for m in self.a.modifiers if isinstance(m, SetBaseFrame)]
         base_b = [m.frame for m in self.b.modifiers if isinstance(m, SetBaseFrame)]
-        if base_a != base_b:
-            ea = base_a[-1] if base_a else None
-            eb = base_b[-1] if base_b else None
+        ea = base_a[-1] if base_a and base_a[-1] != self.root_frame else None
+        eb = base_b[-1] if base_b and base_b[-1] != self.root_frame else None
+        if base_a != base_b and ea is None and eb is None:
+            self.note(
+                sec,
+                "base-frame-is-root",
+                f"set_base_frame {_names(base_a)} -> {_names(base_b)}: "
+                f"'{self.root_frame}' is the URDF root, so this changes nothing",
+                subject="set_base_frame",
+                key_path="modifiers",
+            )
+        elif base_a != base_b:
             self.add(
                 sec,
                 "base-frame-changed",

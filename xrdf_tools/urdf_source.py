@@ -132,6 +132,18 @@ def links_of(urdf: yourdfpy.URDF) -> list[str]:
     return [str(link.name) for link in urdf.robot.links]
 
 
+def root_link(urdf: yourdfpy.URDF) -> str:
+    """The one link that is no joint's child; :class:`UrdfError` when there is not exactly one."""
+    children = {str(j.child) for j in urdf.robot.joints}
+    roots = [link for link in links_of(urdf) if link not in children]
+    if len(roots) != 1:
+        raise UrdfError(
+            f"the URDF must form one tree; root links: {', '.join(roots) or 'none'}",
+            path=urdf_path(urdf),
+        )
+    return roots[0]
+
+
 def joints_of(urdf: yourdfpy.URDF) -> dict[str, JointInfo]:
     """Every ``<joint>`` of the robot as :class:`JointInfo`, keyed by name, in document order."""
     out: dict[str, JointInfo] = {}

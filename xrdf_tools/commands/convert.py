@@ -168,7 +168,9 @@ def command(
 
     if check:
         assert output is not None
-        _check(output, x)
+        from ..urdf_source import root_link
+
+        _check(output, x, root_link(urdf))
         return
     if output is None:
         typer.echo(text, nl=False)
@@ -181,7 +183,7 @@ def command(
         fail(f"{output}: cannot write: {e.strerror or e}")
 
 
-def _check(output: Path, x: Xrdf) -> None:
+def _check(output: Path, x: Xrdf, root_frame: str) -> None:
     from ..diff import diff_xrdf
     from ..xrdf_io import load_xrdf
 
@@ -191,7 +193,7 @@ def _check(output: Path, x: Xrdf) -> None:
         existing = load_xrdf(output)
     except XrdfToolsError as e:
         fail(e, EXIT_FINDINGS)
-    result = diff_xrdf(existing, x)
+    result = diff_xrdf(existing, x, root_frame=root_frame)
     if result.is_equal:
         typer.echo(f"{output}: up to date", err=True)
         return

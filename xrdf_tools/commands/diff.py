@@ -38,6 +38,13 @@ def command(
             help="Numbers within this absolute distance are equal (metres, radians, limits).",
         ),
     ] = DEFAULT_TOLERANCE,
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            "--urdf",
+            help="The robot's URDF: set_base_frame on its root link then counts as no change.",
+        ),
+    ] = None,
 ) -> None:
     """Semantic difference between two XRDF files (1.0 or 2.0, in any combination).
 
@@ -51,13 +58,19 @@ def command(
       xrdf diff old.xrdf new.xrdf
       xrdf diff robot_1_0.xrdf robot_2_0.xrdf --format json
       xrdf diff a.xrdf b.xrdf --tolerance 1e-6
+      xrdf diff a.xrdf b.xrdf --urdf robot.urdf
 
     Exit codes: 0 identical, 1 different, 2 usage or input error.
     """
     if not (math.isfinite(tolerance) and tolerance >= 0):
         fail(f"--tolerance must be a finite number >= 0, not {tolerance}")
     try:
-        result = diff_files(a, b, tolerance)
+        root = None
+        if urdf is not None:
+            from ..urdf_source import load_urdf, root_link
+
+            root = root_link(load_urdf(urdf))
+        result = diff_files(a, b, tolerance, root_frame=root)
     except XrdfToolsError as exc:
         fail(exc)
     out = render_json(result) if fmt is DiffFormat.json else render_text(result)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import UrdfError, did_you_mean
+from ..errors import did_you_mean
 from ..model import Modifier, Sphere
 
 if TYPE_CHECKING:
@@ -39,18 +39,13 @@ class RobotTree:
 
     @classmethod
     def from_urdf(cls, urdf: yourdfpy.URDF) -> RobotTree:
-        from ..urdf_source import joints_of, links_of, urdf_path
+        from ..urdf_source import joints_of, links_of, root_link, urdf_path
 
         joints = joints_of(urdf)
         links = tuple(links_of(urdf))
         parent_joint = {j.child: j.name for j in joints.values()}
-        roots = [link for link in links if link not in parent_joint]
+        root = root_link(urdf)
         path = urdf_path(urdf)
-        if len(roots) != 1:
-            raise UrdfError(
-                f"the URDF must form one tree; root links: {', '.join(roots) or 'none'}",
-                path=path,
-            )
         children: dict[str, list[str]] = {}
         for j in joints.values():
             children.setdefault(j.parent, []).append(j.name)
@@ -59,7 +54,7 @@ class RobotTree:
             path=path,
             links=links,
             joints=joints,
-            root=roots[0],
+            root=root,
             parent_joint=parent_joint,
             child_joints={k: tuple(sorted(v)) for k, v in children.items()},
         )
