@@ -18,7 +18,7 @@ from typing import Any, TypeGuard
 from ..diagnostics import Severity
 from ..errors import SourceError, did_you_mean
 from ..model import AddFrame, Orientation, SetBaseFrame, Sphere
-from ..yaml_io import load_yaml, node_positions, to_python
+from ..yaml_io import YamlDocument, node_positions, parse_yaml, read_text, to_python
 from . import Draft, Reporter, RobotTree, known_frame
 
 __all__ = ["detect_layout", "read_curobo"]
@@ -93,6 +93,23 @@ def _kinematics(data: Mapping[str, Any]) -> Mapping[str, Any] | None:
     return None
 
 
+def _load(path: str | os.PathLike[str]) -> tuple[YamlDocument, Reporter]:
+    """Parse a cuRobo YAML file. A repeated key is a warning, not an error: cuRobo loads its
+    configs with PyYAML, which keeps the last value (its own ``franka.yml`` repeats
+    ``usd_flip_joints``), so the last value is used here too."""
+    doc = parse_yaml(read_text(path), str(path))
+    rep = Reporter(doc.path, node_positions(doc.root))
+    for dup in doc.duplicates:
+        rep.report(
+            "convert-duplicate-key",
+            f"key '{dup.key_path}' appears more than once (first on line {dup.first_line}); "
+            "cuRobo's YAML loader keeps the last value, and so does this conversion",
+            dup.key_path,
+            line=dup.line,
+        )
+    return doc, rep
+
+
 def _is_num(v: Any) -> TypeGuard[float]:
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
@@ -100,8 +117,7 @@ def _is_num(v: Any) -> TypeGuard[float]:
 def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | None = None) -> Draft:
     """Map a cuRobo (or Lula) robot YAML onto a :class:`Draft`."""
     d = draft or Draft()
-    doc = load_yaml(path)
-    rep = Reporter(doc.path, node_positions(doc.root))
+    doc, rep = _load(path)
     data = to_python(doc.root)
     try:
         layout = detect_layout(data)
@@ -335,8 +351,7 @@ def _read_kinematics(
     sprefix = kp("collision_spheres")
     if isinstance(spheres_value, str):
         sphere_file = _find_spheres_file(spheres_value, config_path, rep, kp("collision_spheres"))
-        sdoc = load_yaml(sphere_file)
-        srep = Reporter(sdoc.path, node_positions(sdoc.root))
+        sdoc, srep = _load(sphere_file)
         sdata = to_python(sdoc.root)
         if not isinstance(sdata, Mapping) or not isinstance(
             sdata.get("collision_spheres"), Mapping
@@ -444,9 +459,16 @@ def _read_sphere_map(
     allowed: set[str] | None,
 ) -> dict[str, list[Sphere]]:
     out: dict[str, list[Sphere]] = {}
+    # cuRobo looks spheres up only for collision_link_names, so a sphere file shared between
+    # robots (cuRobo's iiwa.yml uses spheres/iiwa_allegro.yml) may name links of another robot:
+    # those are neither unknown-link mistakes nor lost spheres; one info note covers them.
+    foreign: list[str] = []
     for link, items in raw.items():
         link = str(link)
         w = f"{prefix}.{link}"
+        if allowed is not None and link not in allowed and link not in frames:
+            foreign.append(link)
+            continue
         if not known_frame(link, frames, rep, w, "collision spheres"):
             continue
         if allowed is not None and link not in allowed:
@@ -460,6 +482,18 @@ def _read_sphere_map(
         spheres = _spheres(items, rep, w)
         if spheres:
             out.setdefault(link, []).extend(spheres)
+    if foreign:
+        shown = ", ".join(foreign[:5]) + (
+            f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
+        )
+        rep.report(
+            "convert-unused-spheres",
+            f"spheres on {len(foreign)} link(s) that are neither in the URDF nor in "
+            f"collision_link_names ({shown}) are ignored: cuRobo never reads them (a sphere "
+            "file shared with another robot?)",
+            f"{prefix}.{foreign[0]}",
+            severity=Severity.INFO,
+        )
     return out
 
 
