@@ -322,7 +322,8 @@ class LintContext:
             if isinstance(spheres, YMap):
                 for k, _ in spheres.pairs:
                     if (n := name(k)) is not None:
-                        yield n, k, f"geometry.{gname}.spheres.{n}", f"sphere frame of '{gname}'"
+                        kp = f"geometry.{gname}.spheres.{n}"
+                        yield n, k, kp, f"group '{gname}': sphere frame"
         for key, section in self.collision_sections():
             buf = section.get("buffer_distance")
             if isinstance(buf, YMap):

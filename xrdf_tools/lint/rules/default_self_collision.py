@@ -5,6 +5,12 @@ free of self-collision when ``self_collision`` is given. The check uses the self
 group's spheres with ``self_collision.buffer_distance`` added and the ``ignore`` mask applied,
 and names every colliding frame pair with its worst penetration. Fix the positions, the
 spheres, or (for adjacent links) add the pair to ``ignore``.
+
+A warning, not an error: cuMotion does not reject such a file. Its shipped
+``gantry2d_anisotropic`` robot and its valid test robots ``simple_mimic`` (a link and its mimic
+twin on one spot at the default) and ``thirty_link_arm_with_aux_cspace`` (auxiliary defaults
+that fold the arm onto itself) load although their defaults collide.
+Use ``--strict`` or configure the rule as ``error`` to enforce the spec's wording.
 """
 
 from __future__ import annotations
@@ -40,4 +46,4 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         )
 
 
-RULE = Rule("default-self-collision", Severity.ERROR, check, __doc__ or "", needs_urdf=True)
+RULE = Rule("default-self-collision", Severity.WARNING, check, __doc__ or "", needs_urdf=True)
