@@ -63,6 +63,8 @@ def test_rtb_xacro_converts_with_package_paths(name: str, tmp_path: Path) -> Non
     x = parse_xrdf((tmp_path / "out.xrdf").read_text())
     assert x.cspace is not None and list(x.cspace.joint_names) == cspace
     assert "convert-no-spheres" in result.output  # reported loudly on stderr
+    # ... once, instead of a mesh-without-spheres line for every link
+    assert "mesh-without-spheres" not in result.output
 
 
 def test_unresolved_package_names_it_and_the_search(tmp_path: Path) -> None:
