@@ -593,3 +593,24 @@ def test_core_imports_no_visualization_backend() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_cli_wrong_urdf_is_an_error_not_an_empty_picture(tmp_path: Path) -> None:
+    """The Panda spheres on the UR10e URDF: no sphere frame exists, so nothing could be drawn."""
+    from tests.paths import UR10E_URDF
+
+    out = tmp_path / "x.png"
+    r = runner.invoke(
+        app,
+        [
+            "viz",
+            str(FIXTURES / "panda" / "panda.xrdf"),
+            "--urdf",
+            str(UR10E_URDF),
+            "--png",
+            str(out),
+        ],
+    )
+    assert r.exit_code == 2
+    assert "is this the URDF the XRDF was written for?" in r.output
+    assert not out.exists()

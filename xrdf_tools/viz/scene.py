@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import GeometryGroupError
+from ..errors import GeometryGroupError, SourceError
 from ..model import Xrdf
 from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
 
@@ -267,6 +267,15 @@ def build_scene(
     chosen = choose_group(xrdf, group)
     spheres = xrdf.resolved_spheres(chosen)
     xpath = xrdf.source.path or "<xrdf>"
+    if spheres and not any(frame in kin.frame_names for frame in spheres):
+        upath = urdf_path if urdf_path is not None else kin.source_path
+        raise SourceError(
+            f"none of the {len(spheres)} sphere frames of group '{chosen}' "
+            f"({', '.join(list(spheres)[:3])}{', …' if len(spheres) > 3 else ''}) is a frame of "
+            f"{os.fspath(upath) if upath else 'the URDF'}: is this the URDF the XRDF was written "
+            "for?",
+            path=xpath,
+        )
 
     q0 = default_configuration(kin, xrdf.default_joint_positions)
     if configurations is None:
