@@ -42,11 +42,6 @@ class Diagnostic:
     message: str = field(compare=False)
     key_path: str = field(default="", compare=False)
 
-    def with_severity(self, severity: Severity) -> Diagnostic:
-        return Diagnostic(
-            self.path, self.line, self.col, self.rule, severity, self.message, self.key_path
-        )
-
     def location(self) -> str:
         parts: list[str] = [self.path or "<input>"]
         if self.line is not None:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
-from typing import Any, Generic, TypeVar
+from typing import Generic, TypeVar
 
 K = TypeVar("K")
 V = TypeVar("V")
@@ -46,13 +46,7 @@ class FrozenMap(Mapping[K, V], Generic[K, V]):
     def __repr__(self) -> str:
         return f"FrozenMap({self._data!r})"
 
-    def replace(self, **_: Any) -> FrozenMap[K, V]:  # pragma: no cover - convenience only
-        return self
-
     def set(self, key: K, value: V) -> FrozenMap[K, V]:
         data = dict(self._data)
         data[key] = value
         return FrozenMap(data)
-
-    def without(self, key: K) -> FrozenMap[K, V]:
-        return FrozenMap((k, v) for k, v in self._data.items() if k != key)

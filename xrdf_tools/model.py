@@ -217,13 +217,6 @@ class Xrdf:
             return FrozenMap()
         return self.resolved_spheres(self.world_collision.geometry)
 
-    def iter_all_spheres(self) -> Iterator[tuple[str, str, int, Sphere]]:
-        """``(group, frame, index, sphere)`` for every sphere written in the file."""
-        for gname, group in (self.geometry or FrozenMap()).items():
-            for frame, spheres in group.spheres.items():
-                for i, s in enumerate(spheres):
-                    yield gname, frame, i, s
-
 
 def clone_order(geometry: Mapping[str, GeometryGroup], group: str) -> list[str]:
     """Groups whose spheres make up ``group``: itself first, then clones breadth-first.

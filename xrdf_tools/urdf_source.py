@@ -231,15 +231,21 @@ def load_urdf(
     Raises :class:`UrdfError` (one line, with the path, and the line when known).
     """
     p = os.fspath(path)
+    data = read_urdf_bytes(p)
+    return _parse_bytes(data, p, package_paths=package_paths, build_scene_graph=build_scene_graph)
+
+
+def read_urdf_bytes(path: str | os.PathLike[str]) -> bytes:
+    """The bytes of a URDF file; a missing or unreadable file is a one-line :class:`UrdfError`."""
+    p = os.fspath(path)
     try:
-        data = Path(p).read_bytes()
+        return Path(p).read_bytes()
     except FileNotFoundError:
         raise UrdfError("URDF file not found", path=p) from None
     except IsADirectoryError:
         raise UrdfError("expected a URDF file, got a directory", path=p) from None
     except OSError as e:
         raise UrdfError(f"cannot read URDF: {e.strerror or e}", path=p) from None
-    return _parse_bytes(data, p, package_paths=package_paths, build_scene_graph=build_scene_graph)
 
 
 _ENCODING_DECL = re.compile(r"^(\s*<\?xml[^>]*?)\s+encoding\s*=\s*(['\"])[^'\"]*\2", re.I)

@@ -144,17 +144,14 @@ def command(
         if fit_spheres:
             x, more = _fit(x, robot, urdf, pkgs, xargs)
             diags = [d for d in diags if d.rule != "convert-no-spheres"] + more
-        lint_diags = (
-            []
-            if no_lint
-            else _lint(x, robot, urdf_text, str(output) if output is not None else "<stdout>")
-        )
+        text = dump_xrdf(x)
+        label = str(output) if output is not None else "<stdout>"
+        lint_diags = [] if no_lint else _lint(text, robot, urdf_text, label)
     except XrdfToolsError as e:
         fail(e)
     if any(d.rule == "convert-no-spheres" for d in diags):
         # One loud "no spheres at all" says it; a per-link lint line for every link is noise.
         lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
-    text = dump_xrdf(x)
     all_diags = [*diags, *lint_diags]
     if all_diags:
         typer.echo(render_diagnostics(all_diags, fmt), nl=False, err=True)
@@ -214,17 +211,15 @@ def _render_diff(result: Any) -> str:
     return render_text(result)
 
 
-def _lint(x: Xrdf, robot: Path, urdf_text: str | None, label: str) -> list[Diagnostic]:
-    """Lint the result against the URDF (the expanded one for xacro input).
+def _lint(text: str, robot: Path, urdf_text: str | None, label: str) -> list[Diagnostic]:
+    """Lint the written XRDF ``text`` against the URDF (the expanded one for xacro input).
 
     ``label`` names the output in the diagnostics (the -o path, or ``<stdout>``).
     """
     import tempfile
 
     from ..lint import lint_text
-    from ..xrdf_io import dump_xrdf
 
-    text = dump_xrdf(x)
     if urdf_text is None:
         return lint_text(text, label, urdf=robot)
     with tempfile.TemporaryDirectory(prefix="xrdf-convert-") as tmp:

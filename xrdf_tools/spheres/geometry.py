@@ -75,18 +75,12 @@ def read_urdf_text(
 ) -> UrdfText:
     """Text of a URDF; a xacro file is expanded (``$(find pkg)`` via ``package_paths``)."""
     from ..sources.xacro_source import expand_xacro, is_xacro
+    from ..urdf_source import read_urdf_bytes
 
     p = os.fspath(path)
     if Path(p).is_file() and is_xacro(p):
         return UrdfText(p, expand_xacro(p, None, package_paths))
-    try:
-        return UrdfText(p, Path(p).read_text(encoding="utf-8", errors="replace"))
-    except FileNotFoundError:
-        raise UrdfError("URDF file not found", path=p) from None
-    except IsADirectoryError:
-        raise UrdfError("expected a URDF file, got a directory", path=p) from None
-    except OSError as e:
-        raise UrdfError(f"cannot read URDF: {e.strerror or e}", path=p) from None
+    return UrdfText(p, read_urdf_bytes(p).decode("utf-8", errors="replace"))
 
 
 def _floats(text: str | None, n: int, default: Sequence[float]) -> list[float]:
