@@ -11,7 +11,7 @@ from xrdf_tools.convert import ConvertOptions, convert_files
 from xrdf_tools.diagnostics import Diagnostic
 from xrdf_tools.diff import diff_xrdf
 from xrdf_tools.errors import SourceError
-from xrdf_tools.model import AddFrame
+from xrdf_tools.model import AddFrame, Sphere
 from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
 
 CLASSIC = FIXTURES / "curobo_classic"
@@ -35,8 +35,8 @@ def test_curobo_ur10e_matches_curobos_own_xrdf_except_explained_differences() ->
     (typo,) = rules["convert-unknown-link"]
     assert "'forarm_link'" in typo.message and "did you mean 'forearm_link'" in typo.message
     assert typo.path == str(yml) and typo.line == 129
-    # the tool0 placeholder sphere (radius -0.01) is reported, not emitted
-    assert any("tool0" in d.message for d in rules["convert-placeholder-spheres"])
+    # the tool0 sphere of radius -0.01 is part of the robot (a real sphere once buffered)
+    assert [s.radius for s in x.world_collision_spheres()["tool0"]] == [-0.01]
     # camera_mount has spheres but is not a collision link: cuRobo never used them
     assert any("camera_mount" in d.message for d in rules["convert-unused-spheres"])
     dropped = " ".join(d.message for d in rules["convert-dropped-key"])
@@ -61,33 +61,39 @@ def test_curobo_ur10e_matches_curobos_own_xrdf_except_explained_differences() ->
     assert found == explained, sorted(found ^ explained)
     # every other section is equal: c-space, limits, defaults, tool frames, effective spheres
     assert {c.section for c in result.changes} == {"world_collision", "self_collision"}
-    # 2.0 output carries the same content
-    x2, _, _ = convert_files(urdf, ConvertOptions(curobo=yml))
+    # 1.0 is the default; 2.0 carries the same content except the sphere 2.0 cannot express,
+    # which is reported
+    assert convert_files(urdf, ConvertOptions(curobo=yml))[0] == x
+    x2, diags2, _ = convert_files(urdf, ConvertOptions(curobo=yml, format_version="2.0"))
     assert x2.format_version == "2.0"
-    assert diff_xrdf(x, x2).changes == tuple(
-        c for c in diff_xrdf(x, x2).changes if c.section == "format"
-    )
+    assert "tool0" not in x2.world_collision_spheres()
+    (dropped,) = _rules(diags2)["dropped-nonpositive-sphere"]
+    assert "'tool0'" in dropped.message and "-0.01" in dropped.message
+    assert {c.section for c in diff_xrdf(x, x2).changes} == {"format", "geometry"}
 
 
-def test_curobo_franka_placeholders_reported_not_emitted() -> None:
+def test_curobo_franka_attached_object_slots_kept_in_1_0_reported_in_2_0() -> None:
     yml = shared_file("reference", "curobo-2.0", "franka.yml")
     urdf = shared_file("reference", "curobo-2.0", "franka_panda.urdf")
     for version in ("2.0", "1.0"):
         x, diags, _ = convert_files(urdf, ConvertOptions(curobo=yml, format_version=version))
         rules = _rules(diags)
-        (placeholder,) = [
-            d for d in rules["convert-placeholder-spheres"] if "attached_object" in d.message
-        ]
-        assert "4 placeholder sphere(s)" in placeholder.message
-        assert placeholder.line is not None
+        spheres = x.world_collision_spheres()
+        if version == "1.0":
+            # extra_collision_spheres: {attached_object: 4} -> four radius -10 slots at the
+            # link origin, as cuMotion's own franka_curobo.xrdf carries them
+            assert spheres["attached_object"] == (Sphere((0.0, 0.0, 0.0), -10.0),) * 4
+            assert "dropped-nonpositive-sphere" not in rules
+        else:
+            assert "attached_object" not in spheres
+            slots = rules["dropped-nonpositive-sphere"]
+            assert len(slots) == 4 and all("attached-object slot" in d.message for d in slots)
         # the attached_object frame is added (extra_links), but gets no spheres at all
         added = [m for m in x.modifiers if isinstance(m, AddFrame)]
         assert [(m.frame_name, m.parent_frame_name, m.joint_name) for m in added] == [
             ("attached_object", "panda_hand", "attach_joint")
         ]
-        spheres = x.world_collision_spheres()
-        assert "attached_object" not in spheres
-        assert all(s.radius > 0 for ss in spheres.values() for s in ss)
+        assert all(s.radius > 0 for f, ss in spheres.items() if f != "attached_object" for s in ss)
         assert len(spheres["panda_hand"]) == 18
         # lock_joints: fingers leave the c-space, their values become default positions
         assert x.cspace is not None
@@ -108,7 +114,7 @@ def test_curobo_franka_placeholders_reported_not_emitted() -> None:
 def test_classic_layout_separate_spheres_file() -> None:
     x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=CLASSIC / "ur10e_classic.yml"))
     rules = _rules(diags)
-    assert x.format_version == "2.0"
+    assert x.format_version == "1.0"  # the version every reader loads
     assert x.tool_frames == ("tool0", "flange")  # ee_link first, then link_names, deduplicated
     assert x.cspace is not None
     assert x.cspace.acceleration_limits == (12.0,) * 6  # scalar broadcast
@@ -161,12 +167,13 @@ def test_classic_layout_inline_locks_and_typos() -> None:
     # no max_jerk: the default, reported
     assert x.cspace.jerk_limits == (1000.0,) * 5
     assert "convert-default-jerk" in rules
-    # scalar buffer → per frame; placeholder dropped; typo reported with a suggestion
+    # scalar buffer → per sphere frame; the small negative radius is kept as written (cuRobo
+    # makes it a real sphere once buffered); typo reported with a suggestion
     assert x.world_collision is not None
     assert dict(x.world_collision.buffer_distance) == dict.fromkeys(
-        ("upper_arm_link", "forearm_link", "wrist_3_link"), 0.005
+        ("upper_arm_link", "forearm_link", "wrist_3_link", "tool0"), 0.005
     )
-    assert "tool0" not in x.world_collision_spheres()
+    assert [s.radius for s in x.world_collision_spheres()["tool0"]] == [-0.01]
     (typo,) = rules["convert-unknown-link"]
     assert "did you mean 'forearm_link'" in typo.message and typo.line == 24
     assert "velocity_scale" in rules["convert-dropped-key"][0].message

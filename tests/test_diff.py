@@ -83,7 +83,7 @@ def write(tmp_path: Path, name: str, text: str) -> Path:
 
 
 @pytest.mark.parametrize("source", ["seed", "shared"])
-def test_ur10e_against_its_2_0_conversion_reports_only_the_version(
+def test_ur10e_against_its_2_0_conversion_reports_the_version_and_the_lost_sphere(
     tmp_path: Path, source: str
 ) -> None:
     path = SEED_XRDF if source == "seed" else shared_file("reference", "curobo-2.0", "ur10e.xrdf")
@@ -94,15 +94,16 @@ def test_ur10e_against_its_2_0_conversion_reports_only_the_version(
     result = runner.invoke(app, ["diff", str(path), str(out), "--format", "json"])
     assert result.exit_code == 1, result.output
     doc = json.loads(result.output)
-    assert doc["summary"]["changes"] == 1
-    (section,) = doc["sections"]
-    assert section["section"] == "format"
-    (change,) = section["changes"]
+    assert doc["summary"]["changes"] == 2
+    sections = {s["section"]: s["changes"] for s in doc["sections"]}
+    (change,) = sections["format"]
     assert (change["kind"], change["before"], change["after"]) == ("version-changed", "1.0", "2.0")
-    # The converter dropped the radius -0.01 placeholder on tool0: a note, not a difference.
-    assert [(n["kind"], n["subject"], n["before"], n["after"]) for n in doc["notes"]] == [
-        ("placeholder-spheres", "tool0", 1, 0)
-    ]
+    # 2.0 cannot express tool0's radius -0.01 sphere, which 1.0 readers make real once
+    # buffered: losing it is a real difference, in both collision scopes
+    assert {(c["kind"], c["subject"]) for c in sections["geometry"]} == {
+        ("spheres-changed", "tool0")
+    }
+    assert doc["notes"] == []
 
 
 def test_identical_files_exit_0(tmp_path: Path) -> None:
@@ -256,16 +257,21 @@ def test_a_far_jump_is_removed_and_added_not_moved() -> None:
     assert (result.moved, result.removed, result.added) == ((), tuple(start), tuple(far))
 
 
-def test_placeholder_spheres_are_not_effective_geometry() -> None:
-    with_placeholder = BASE.replace(
-        "      link2:\n",
-        "      tcp:\n        - {center: [0.0, 0.0, 0.0], radius: -0.01}\n      link2:\n",
-    )
-    d = diff_text(BASE, with_placeholder)
+def test_attached_object_slots_are_notes_small_negative_radii_are_spheres() -> None:
+    def with_sphere(radius: float) -> str:
+        return BASE.replace(
+            "      link2:\n",
+            f"      tcp:\n        - {{center: [0.0, 0.0, 0.0], radius: {radius}}}\n      link2:\n",
+        )
+
+    d = diff_text(BASE, with_sphere(-10.0))
     assert d.is_equal
     assert [(n.kind, n.subject, n.before, n.after) for n in d.notes] == [
         ("placeholder-spheres", "tcp", 0, 1)
     ]
+    d = diff_text(BASE, with_sphere(-0.01))
+    assert not d.is_equal and d.notes == ()
+    assert {(c.kind, c.subject) for c in d.changes} == {("spheres-changed", "tcp")}
 
 
 def test_world_and_self_differences_are_scoped() -> None:

@@ -39,7 +39,9 @@ def test_round_trip_xrdf_export_convert(layout: str, source: Path, tmp_path: Pat
     assert diags == []
     cfg = tmp_path / "robot.yml"
     cfg.write_text(text)
-    back, _, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    back, _, _ = convert_files(
+        UR10E_URDF, ConvertOptions(curobo=cfg, format_version=original.format_version)
+    )
     result = diff_xrdf(original, back)
     assert result.is_equal, [c.message for c in result.changes]
 
@@ -222,7 +224,7 @@ def test_round_trip_panda_without_set_base_frame(tmp_path: Path) -> None:
     assert diags == []
     cfg = tmp_path / "panda.yml"
     cfg.write_text(text)
-    back, _, _ = convert_files(urdf_path, ConvertOptions(curobo=cfg))
+    back, _, _ = convert_files(urdf_path, ConvertOptions(curobo=cfg, format_version="2.0"))
     result = diff_xrdf(original, back, root_frame=root_link(urdf))
     assert result.major_changes == (), [c.message for c in result.major_changes]
     assert {c.kind for c in result.minor_changes} <= {"group-renamed"}, [

@@ -16,24 +16,29 @@ from xrdf_tools.cli import app
 from xrdf_tools.lint import lint, lint_text
 
 runner = CliRunner()
-BAD = FIXTURES / "lint" / "sphere-radius" / "fail.xrdf"  # one error at 35:19
-WARN = FIXTURES / "lint" / "curobo-integer" / "fail.xrdf"  # one warning at 18:21
+BAD = FIXTURES / "lint" / "sphere-radius" / "fail.xrdf"  # 2.0: one error at 35:19
+WARN = FIXTURES / "lint" / "curobo-integer" / "fail.xrdf"  # one warning at 16:20
 
 
 def test_text_output_and_exit_1_on_error() -> None:
     r = runner.invoke(app, ["lint", str(BAD)])
     assert r.exit_code == 1
-    assert r.output.startswith(f"{BAD}:35:19: error sphere-radius ")
+    # sorted by position: the 2.0 reader warning on format_version, then the error
+    first, second = r.output.splitlines()
+    assert first.startswith(f"{BAD}:2:17: warning curobo-format-version XRDF 2.0: cuRobo and ")
+    assert second.startswith(f"{BAD}:35:19: error sphere-radius ")
 
 
 def test_warnings_pass_unless_strict() -> None:
     assert runner.invoke(app, ["lint", str(WARN)]).exit_code == 0
     r = runner.invoke(app, ["lint", "--strict", str(WARN)])
-    assert r.exit_code == 1 and ":18:21: warning curobo-integer " in r.output
+    assert r.exit_code == 1 and ":16:20: warning curobo-integer " in r.output
 
 
 def test_json_schema() -> None:
-    r = runner.invoke(app, ["lint", "-f", "json", str(BAD), str(UR10E_XRDF)])
+    r = runner.invoke(
+        app, ["lint", "-f", "json", "--target", "cumotion", str(BAD), str(UR10E_XRDF)]
+    )
     doc = json.loads(r.output)
     assert doc["version"] == 1 and doc["files"] == [str(BAD), str(UR10E_XRDF)]
     assert doc["summary"] == {"error": 1, "warning": 0, "info": 0}
@@ -50,9 +55,9 @@ def test_json_schema() -> None:
 
 
 def test_github_and_sarif() -> None:
-    r = runner.invoke(app, ["lint", "-f", "github", str(BAD)])
+    r = runner.invoke(app, ["lint", "-f", "github", "--target", "isaac-sim", str(BAD)])
     assert r.output.startswith(f"::error file={BAD},line=35,col=19,title=sphere-radius::")
-    r = runner.invoke(app, ["lint", "-f", "sarif", str(BAD)])
+    r = runner.invoke(app, ["lint", "-f", "sarif", "--target", "cumotion", str(BAD)])
     log = json.loads(r.output)
     assert log["version"] == "2.1.0"
     run = log["runs"][0]
@@ -67,6 +72,10 @@ def test_github_and_sarif() -> None:
 def test_select_and_ignore() -> None:
     assert runner.invoke(app, ["lint", "--ignore", "sphere-radius", str(BAD)]).exit_code == 0
     r = runner.invoke(app, ["lint", "--select", "curobo-", "--strict", str(BAD)])
+    assert r.exit_code == 1 and r.output.count("\n") == 1 and "curobo-format-version" in r.output
+    r = runner.invoke(
+        app, ["lint", "--select", "curobo-", "--strict", "--target", "cumotion", str(BAD)]
+    )
     assert r.exit_code == 0 and r.output == ""
     r = runner.invoke(app, ["lint", "--select", "sphere-radiu", str(BAD)])
     assert r.exit_code == 2 and "did you mean 'sphere-radius'" in r.output

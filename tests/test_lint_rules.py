@@ -3,7 +3,7 @@
 A fixture is ``fixtures/lint/<rule-id>/{pass,fail}*.xrdf``. Failing fixtures end with
 ``# expect: LINE:COL SEVERITY`` lines: exactly those findings of that rule must be reported.
 Passing fixtures must produce no finding of their rule. ``# urdf: PATH`` (relative to the
-fixture) lints against that URDF.
+fixture) lints against that URDF; ``# target: READER`` lints for that reader.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from xrdf_tools.lint.docs import render_rules_md
 LINT_FIXTURES = FIXTURES / "lint"
 EXPECT = re.compile(r"^# expect: (\d+):(\d+) (error|warning|info)$", re.M)
 URDF = re.compile(r"^# urdf: (.+)$", re.M)
+TARGET = re.compile(r"^# target: (.+)$", re.M)
 
 
 def _fixtures() -> list[Path]:
@@ -59,9 +60,10 @@ def test_fixture(path: Path) -> None:
     text = path.read_text()
     m = URDF.search(text)
     urdf = (path.parent / m.group(1)).resolve() if m else None
+    t = TARGET.search(text)
     found = sorted(
         (d.line, d.col, d.severity.value)
-        for d in lint_text(text, str(path), urdf=urdf)
+        for d in lint_text(text, str(path), urdf=urdf, target=t.group(1) if t else None)
         if d.rule == rule
     )
     expected = sorted((int(a), int(b), s) for a, b, s in EXPECT.findall(text))

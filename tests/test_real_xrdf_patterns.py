@@ -8,11 +8,14 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from typer.testing import CliRunner
 
 from xrdf_tools import versions
-from xrdf_tools.errors import UrdfError
+from xrdf_tools.cli import app
 from xrdf_tools.lint import lint_text
 from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+
+runner = CliRunner()
 
 HEADER = "format: xrdf\nformat_version: 2.0\n\n"
 
@@ -161,11 +164,17 @@ def test_isaac_ros_1_0_placeholders_lint_clean_round_trip_and_convert(tmp_path: 
         ('<mimic joint="j8"/>', "joint 'j1' mimics 'j8', which is not a joint"),
     ],
 )
-def test_invalid_mimic_in_urdf_is_an_input_error(tmp_path: Path, mimic: str, message: str) -> None:
+def test_invalid_mimic_in_urdf_is_a_finding(tmp_path: Path, mimic: str, message: str) -> None:
     # cuMotion's telescope_invalid_self_mimic / _mimic_parent URDFs with the valid telescope.xrdf:
-    # the URDF, not the XRDF, is wrong, so lint stops with an input error (exit 2) naming it.
+    # no reader loads the XRDF with that URDF, so it is a finding of the XRDF under test
+    # (urdf-invalid, exit 1) naming the URDF's problem; URDF-bound checks are skipped.
     urdf = _chain_urdf(tmp_path, 2, mimic=mimic)
     text = HEADER + "cspace:\n  joint_names: [j0]\n  acceleration_limits: [1.0]\n"
     text += "  jerk_limits: [10.0]\n"
-    with pytest.raises(UrdfError, match=message):
-        lint_text(text, "robot.xrdf", urdf=urdf)
+    found = [d for d in lint_text(text, "robot.xrdf", urdf=urdf) if d.severity.value == "error"]
+    assert [d.rule for d in found] == ["urdf-invalid"]
+    assert message in found[0].message and str(urdf) in found[0].message
+    xrdf = tmp_path / "robot.xrdf"
+    xrdf.write_text(text)
+    r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf)])
+    assert r.exit_code == 1 and "urdf-invalid" in r.output and "Traceback" not in r.output

@@ -15,8 +15,8 @@ def test_seed_to_2_0_drops_placeholder_and_renames_collision() -> None:
     text = dump_xrdf(y)
     assert "\nworld_collision:\n" in text and "\ncollision:" not in text
     assert y.geometry is not None
-    assert y.geometry["ur10e_collision_spheres"].spheres["tool0"] == ()
-    assert [d.rule for d in diags] == ["dropped-placeholder-sphere"]
+    assert "tool0" not in y.geometry["ur10e_collision_spheres"].spheres
+    assert [d.rule for d in diags] == ["dropped-nonpositive-sphere"]
     assert diags[0].line == 103  # points at the radius in the seed file
     assert "tool0" in diags[0].message
 

@@ -23,10 +23,12 @@ from .model import (
     CSpace,
     GeometryGroup,
     SelfCollisionSection,
+    SetBaseFrame,
     Xrdf,
 )
 from .sources import Draft, Reporter, RobotTree
-from .versions import to_version
+from .targets import Target, dropping_readers, parse_target
+from .versions import needs_version_2, to_version
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -55,8 +57,11 @@ class ConvertOptions:
     tool_frames: tuple[str, ...] = ()
     acceleration: float | None = None
     jerk: float | None = None
-    format_version: str = "2.0"
+    #: XRDF version to write; None chooses: the version every reader (or the target) loads.
+    format_version: str | None = None
     geometry_name: str | None = None
+    #: The program that will read the file (``curobo``, ``cumotion``, ``isaac-sim``).
+    target: str | None = None
 
 
 def convert_files(
@@ -79,10 +84,11 @@ def convert(
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Build an XRDF from a loaded URDF and the source files named in ``options``."""
     tree = urdf if isinstance(urdf, RobotTree) else RobotTree.from_urdf(urdf)
-    if options.format_version not in ("1.0", "2.0"):
+    if options.format_version not in (None, "1.0", "2.0"):
         raise SourceError(
             f"unsupported format version '{options.format_version}'; choose 1.0 or 2.0"
         )
+    parse_target(options.target)  # an unknown target fails before any file is read
     if options.srdf is not None and options.curobo is not None:
         raise SourceError("give either an SRDF or a cuRobo config, not both")
     draft = Draft()
@@ -113,6 +119,7 @@ def complete(
     """Fill what the sources did not say (each fill reported) and build the model."""
     rep = Reporter(tree.path)
     diags = list(draft.diagnostics)
+    tree = _based_tree(tree, draft, rep)
 
     # --- c-space
     if draft.cspace is None:
@@ -224,7 +231,9 @@ def complete(
     self_c = SelfCollisionSection(name, FrozenMap(draft.self_buffer), FrozenMap(ignore))
 
     x = Xrdf(
-        format_version="2.0",
+        # 1.0 holds everything the sources can say (negative radii included); converting to
+        # 2.0 below reports what 2.0 cannot express.
+        format_version="1.0",
         cspace=CSpace(tuple(cspace), tuple(accel), tuple(jerk)),
         modifiers=tuple(draft.modifiers),
         default_joint_positions=FrozenMap(defaults),
@@ -233,8 +242,88 @@ def complete(
         self_collision=self_c,
         geometry=geometry,
     )
-    x, vdiags = to_version(x, options.format_version)
+    _check_reachable(x, tree, rep)
+    version, why = choose_version(x, options.format_version, parse_target(options.target))
+    if why:
+        rep.report("convert-version", why)
+    x, vdiags = to_version(x, version)
     return x, [*diags, *rep.diagnostics, *vdiags]
+
+
+def choose_version(x: Xrdf, requested: str | None, target: Target | None) -> tuple[str, str]:
+    """The XRDF version to write and, when it is 2.0, which readers will not load it.
+
+    1.0 is what every reader loads. 2.0 is written when asked for, or when the robot needs
+    what only 2.0 expresses; a target that cannot load that version is an error.
+    """
+    needs = needs_version_2(x)
+    if requested is None:
+        requested = "2.0" if needs else (target.versions[0] if target else "1.0")
+    if requested == "1.0" and needs:
+        raise SourceError(f"XRDF 1.0 cannot express this robot: {needs[0]}; write 2.0")
+    if target is not None and requested not in target.versions:
+        reason = f" (the robot needs it: {needs[0]})" if needs else ""
+        raise SourceError(
+            f"XRDF {requested}{reason} is not loaded as written by {target.label} "
+            f"(target '{target.id}' reads {', '.join(target.versions)})"
+        )
+    dropping = [] if target is not None else dropping_readers(requested)
+    if not dropping:
+        return requested, ""
+    reason = f" because {needs[0]}" if needs else ""
+    return requested, (
+        f"writing XRDF {requested}{reason}: {' and '.join(t.label for t in dropping)} read only "
+        "1.0 and would load this file with NO collision spheres (pass --target to say who "
+        "reads it)"
+    )
+
+
+def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
+    """The tree walked from the base the sources chose (``set_base_frame``), else the root.
+
+    A URDF with disconnected parts (cuRobo ships some) is usable when a base is chosen; the
+    links it cannot reach are reported.
+    """
+    base = next((m.frame for m in draft.modifiers if isinstance(m, SetBaseFrame)), None)
+    if base is None or base not in tree.links:
+        if len(tree.roots) > 1:
+            raise SourceError(
+                f"the URDF is not one tree: {len(tree.roots)} links have no parent joint "
+                f"({', '.join(tree.roots[:5])}); a cuRobo config's base_link chooses the part "
+                "to use",
+                path=tree.path,
+            )
+        return tree
+    based = tree.with_root(base)
+    reach = {base, *based.descendants(base)}
+    lost = [link for link in tree.links if link not in reach]
+    if len(tree.roots) > 1 and lost:
+        shown = ", ".join(lost[:8]) + (f" and {len(lost) - 8} more" if len(lost) > 8 else "")
+        rep.report(
+            "convert-unreachable-links",
+            f"the URDF is not one tree: {len(lost)} link(s) cannot be reached from the base "
+            f"'{base}' and are not part of the robot ({shown})",
+        )
+    return based
+
+
+def _check_reachable(x: Xrdf, tree: RobotTree, rep: Reporter) -> None:
+    """Every frame and joint the XRDF uses must hang below the base; raise naming those that
+    do not (inputs that do not belong to this URDF, or a base that cuts them off)."""
+    reach = {tree.root, *tree.descendants(tree.root)}
+    reach |= {m.frame_name for m in x.added_frames()}
+    used = list(x.tool_frames or ())
+    used += list(x.world_collision_spheres())
+    if x.self_collision is not None:
+        used += [f for a, bs in x.self_collision.ignore.items() for f in (a, *bs)]
+    used += [tree.joints[j].child for j in (x.cspace.joint_names if x.cspace else ())]
+    lost = sorted({f for f in used if f not in reach})
+    if lost:
+        raise SourceError(
+            f"frames used by the XRDF cannot be reached from the base '{tree.root}': "
+            f"{', '.join(lost[:8])}",
+            path=tree.path,
+        )
 
 
 def with_spheres(x: Xrdf, spheres: dict[str, Sequence[object]]) -> Xrdf:

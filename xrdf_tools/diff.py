@@ -10,9 +10,10 @@
 * spheres are compared per frame as multisets within ``tolerance`` (maximum matching), and what
   is left over is reported as radius changes (same centre), moves (same radius, centre moved by
   at most that radius) or additions and removals;
-* spheres with radius ≤ 0 are *not effective geometry*: cuRobo skips them (1.0 placeholders) and
-  2.0 forbids them, so they are left out of the comparison and only mentioned in ``notes`` when
-  the two files carry different placeholders;
+* attached-object slots (radius ≤ −1, cuRobo's ``extra_collision_spheres``) are *not geometry*
+  until an object is attached, so they are left out of the sphere comparison and mentioned in
+  ``notes`` when the two files carry a different number; a small negative radius (the seed
+  UR10e's ``tool0``: −0.01) is a real sphere once buffered and is compared like any other;
 * ignore pairs are a symmetric set (``a: [b]`` is the same pair as ``b: [a]``);
 * buffers are compared per frame, a missing buffer being 0.0;
 * c-space joint order and tool-frame order matter (the first tool frame is the end effector);
@@ -437,8 +438,9 @@ def _candidates(
 
 
 def _effective(spheres: Sequence[Sphere]) -> tuple[tuple[Sphere, ...], int]:
-    """Spheres with radius > 0, and how many placeholders (radius ≤ 0) were left out."""
-    kept = tuple(s for s in spheres if s.radius > 0)
+    """Spheres that are geometry, and how many attached-object slots (radius ≤ −1) were left
+    out."""
+    kept = tuple(s for s in spheres if s.radius > -1)
     return kept, len(spheres) - len(kept)
 
 
@@ -1055,9 +1057,9 @@ class _Differ:
                 self.note(
                     "geometry",
                     "placeholder-spheres",
-                    f"{frame} ({label}): {_plural(pa, 'placeholder sphere')} (radius ≤ 0) in A, "
-                    f"{pb} in B; placeholders are not effective geometry (cuRobo skips them, 2.0 "
-                    "forbids them) and are not compared",
+                    f"{frame} ({label}): {_plural(pa, 'attached-object slot')} (radius ≤ −1) in "
+                    f"A, {pb} in B; slots are not geometry until cuRobo attaches an object "
+                    "(2.0 cannot express them) and are not compared as spheres",
                     subject=frame,
                     key_path=kp,
                     scope=scope,

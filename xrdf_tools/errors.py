@@ -56,6 +56,10 @@ class UrdfError(XrdfToolsError):
     """A URDF (or xacro) cannot be read, or does not match what the XRDF refers to."""
 
 
+class UrdfReadError(UrdfError):
+    """The URDF file cannot be read at all (missing, a directory, no permission)."""
+
+
 class SourceError(XrdfToolsError):
     """An input for conversion (SRDF, cuRobo config, joint limits) cannot be used."""
 

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import numpy.typing as npt
 
-from .errors import UrdfError, XrdfToolsError, did_you_mean
+from .errors import UrdfError, UrdfReadError, XrdfToolsError, did_you_mean
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -241,11 +241,11 @@ def read_urdf_bytes(path: str | os.PathLike[str]) -> bytes:
     try:
         return Path(p).read_bytes()
     except FileNotFoundError:
-        raise UrdfError("URDF file not found", path=p) from None
+        raise UrdfReadError("URDF file not found", path=p) from None
     except IsADirectoryError:
-        raise UrdfError("expected a URDF file, got a directory", path=p) from None
+        raise UrdfReadError("expected a URDF file, got a directory", path=p) from None
     except OSError as e:
-        raise UrdfError(f"cannot read URDF: {e.strerror or e}", path=p) from None
+        raise UrdfReadError(f"cannot read URDF: {e.strerror or e}", path=p) from None
 
 
 _ENCODING_DECL = re.compile(r"^(\s*<\?xml[^>]*?)\s+encoding\s*=\s*(['\"])[^'\"]*\2", re.I)

@@ -16,6 +16,26 @@ def _diag(x: Xrdf, rule: str, severity: Severity, message: str, key_path: str) -
     return Diagnostic(x.source.path, line, col, rule, severity, message, key_path)
 
 
+def needs_version_2(x: Xrdf) -> list[str]:
+    """Why ``x`` cannot be written as XRDF 1.0 without changing the robot (empty: it can)."""
+    why = []
+    if (
+        x.world_collision is not None
+        and x.self_collision is not None
+        and x.world_collision.geometry != x.self_collision.geometry
+    ):
+        why.append(
+            f"world and self collision use different geometry groups "
+            f"('{x.world_collision.geometry}', '{x.self_collision.geometry}')"
+        )
+    why += [
+        f"remove_mimic_attributes ('{m.joint_name}') has no 1.0 form"
+        for m in x.modifiers
+        if isinstance(m, RemoveMimicAttributes)
+    ]
+    return why
+
+
 def to_version(x: Xrdf, version: str) -> tuple[Xrdf, list[Diagnostic]]:
     """Convert ``x`` to ``version`` ("1.0" or "2.0"); same version returns it unchanged."""
     if version == x.format_version:
@@ -27,9 +47,32 @@ def to_version(x: Xrdf, version: str) -> tuple[Xrdf, list[Diagnostic]]:
     raise ConversionError(f"unsupported format_version '{version}'; supported: 1.0, 2.0")
 
 
+def _not_in_2_0(s: Sphere, frame: str, i: int, buffers: list[float]) -> str:
+    """Why sphere ``i`` of ``frame`` cannot be written in 2.0 ("" when it can)."""
+    if s.radius <= -1:
+        return (
+            f"sphere {i} on '{frame}' (radius {s.radius:g}) is a cuRobo attached-object slot; "
+            "XRDF 2.0 requires radius > 0 and cannot express it, so it was dropped (write 1.0 "
+            "to keep it)"
+        )
+    if s.radius <= 0:
+        return (
+            f"sphere {i} on '{frame}' has radius {s.radius:g}; 1.0 readers turn it into a real "
+            "sphere once buffered, but XRDF 2.0 requires radius > 0, so it was dropped (write "
+            "1.0 to keep it)"
+        )
+    if any(s.radius + b <= 0 for b in buffers):
+        return (
+            f"sphere {i} on '{frame}' has radius {s.radius:g} but a buffered radius ≤ 0; 2.0 "
+            "rejects it, so it was dropped"
+        )
+    return ""
+
+
 def to_2_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
-    """1.0 → 2.0: ``collision`` becomes ``world_collision``; spheres with radius ≤ 0 (cuRobo
-    placeholders) and spheres whose buffered radius is ≤ 0 are dropped and reported."""
+    """1.0 → 2.0: ``collision`` becomes ``world_collision``; spheres 2.0 cannot express
+    (radius ≤ 0: cuRobo's attached-object slots and small negative radii; buffered radius
+    ≤ 0) are dropped and reported."""
     diags: list[Diagnostic] = []
     geometry = x.geometry
     if geometry is not None:
@@ -43,31 +86,15 @@ def to_2_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
                 for i, s in enumerate(spheres):
                     kp = f"geometry.{gname}.spheres.{frame}[{i}].radius"
                     buffers = [world_buf.get(frame, 0.0), self_buf.get(frame, 0.0)]
-                    if s.radius <= 0:
+                    why = _not_in_2_0(s, frame, i, buffers)
+                    if why:
                         diags.append(
-                            _diag(
-                                x,
-                                "dropped-placeholder-sphere",
-                                Severity.WARNING,
-                                f"sphere {i} on '{frame}' has radius {s.radius} (a 1.0 "
-                                "placeholder); 2.0 requires radius > 0, so it was dropped",
-                                kp,
-                            )
-                        )
-                    elif any(s.radius + b <= 0 for b in buffers):
-                        diags.append(
-                            _diag(
-                                x,
-                                "dropped-placeholder-sphere",
-                                Severity.WARNING,
-                                f"sphere {i} on '{frame}' has radius {s.radius} but a "
-                                "buffered radius ≤ 0; 2.0 rejects it, so it was dropped",
-                                kp,
-                            )
+                            _diag(x, "dropped-nonpositive-sphere", Severity.WARNING, why, kp)
                         )
                     else:
                         kept.append(s)
-                frames[frame] = tuple(kept)
+                if kept or not spheres:  # a frame whose every sphere was dropped goes too
+                    frames[frame] = tuple(kept)
             groups[gname] = GeometryGroup(FrozenMap(frames), group.clone)
         geometry = FrozenMap(groups)
     return x.replace(format_version="2.0", geometry=geometry), diags

@@ -83,8 +83,24 @@ def command(
         typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
     ] = None,
     format_version: Annotated[
-        str, typer.Option("--format-version", help="XRDF version to write: 2.0 or 1.0.")
-    ] = "2.0",
+        str | None,
+        typer.Option(
+            "--format-version",
+            help="XRDF version to write: 1.0 or 2.0. Default: 1.0, the version every reader "
+            "loads (2.0 only when the robot needs it; the message says which readers drop it).",
+            show_default=False,
+        ),
+    ] = None,
+    target: Annotated[
+        str | None,
+        typer.Option(
+            "--target",
+            help="The program that will load the XRDF: curobo (cuRobo, Isaac ROS cuMotion; "
+            "1.0 only), cumotion (cuMotion library) or isaac-sim (Robot Description Editor). "
+            "Chooses the version and lints the result for that reader.",
+            show_default=False,
+        ),
+    ] = None,
     output: Annotated[
         Path | None,
         typer.Option("-o", "--output", help="Write here (atomically) instead of stdout."),
@@ -118,7 +134,7 @@ def command(
     from ..sources.xacro_source import load_robot, parse_xacro_arg
     from ..xrdf_io import dump_xrdf
 
-    if format_version not in ("1.0", "2.0"):
+    if format_version not in (None, "1.0", "2.0"):
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
     if check and output is None:
         fail("--check needs -o FILE (the file to compare with)")
@@ -138,6 +154,7 @@ def command(
             acceleration=acceleration,
             jerk=jerk,
             format_version=format_version,
+            target=target,
         )
         urdf, urdf_text = load_robot(robot, xacro_args=xargs, package_paths=pkgs)
         x, diags = convert(urdf, options)
@@ -146,7 +163,7 @@ def command(
             diags = [d for d in diags if d.rule != "convert-no-spheres"] + more
         text = dump_xrdf(x)
         label = str(output) if output is not None else "<stdout>"
-        lint_diags = [] if no_lint else _lint(text, robot, urdf_text, label)
+        lint_diags = [] if no_lint else _lint(text, robot, urdf_text, label, target)
     except XrdfToolsError as e:
         fail(e)
     if any(d.rule == "convert-no-spheres" for d in diags):
@@ -211,7 +228,9 @@ def _render_diff(result: Any) -> str:
     return render_text(result)
 
 
-def _lint(text: str, robot: Path, urdf_text: str | None, label: str) -> list[Diagnostic]:
+def _lint(
+    text: str, robot: Path, urdf_text: str | None, label: str, target: str | None
+) -> list[Diagnostic]:
     """Lint the written XRDF ``text`` against the URDF (the expanded one for xacro input).
 
     ``label`` names the output in the diagnostics (the -o path, or ``<stdout>``).
@@ -221,11 +240,11 @@ def _lint(text: str, robot: Path, urdf_text: str | None, label: str) -> list[Dia
     from ..lint import lint_text
 
     if urdf_text is None:
-        return lint_text(text, label, urdf=robot)
+        return lint_text(text, label, urdf=robot, target=target)
     with tempfile.TemporaryDirectory(prefix="xrdf-convert-") as tmp:
         expanded = Path(tmp) / (robot.name.removesuffix(".xacro") + ".urdf")
         expanded.write_text(urdf_text, encoding="utf-8")
-        return lint_text(text, label, urdf=expanded)
+        return lint_text(text, label, urdf=expanded, target=target)
 
 
 def _fit(

@@ -34,6 +34,16 @@ def command(
         list[str] | None,
         typer.Option("--ignore", help="Skip these rules (ids or prefixes like 'curobo-')."),
     ] = None,
+    target: Annotated[
+        str | None,
+        typer.Option(
+            "--target",
+            help="The program that will load the files: curobo (cuRobo, Isaac ROS cuMotion), "
+            "cumotion (cuMotion library) or isaac-sim. That reader's silent failures become "
+            "errors; other readers' checks are off. Default: the configuration's 'target'.",
+            show_default=False,
+        ),
+    ] = None,
     strict: Annotated[
         bool, typer.Option("--strict", help="Exit 1 on warnings too, not only errors.")
     ] = False,
@@ -58,7 +68,12 @@ def command(
     try:
         cfg = load_config(config) if config is not None else discover_config()
         diagnostics = lint(
-            files, urdf=urdf, config=cfg, select=_split(select), ignore=_split(ignore)
+            files,
+            urdf=urdf,
+            config=cfg,
+            select=_split(select),
+            ignore=_split(ignore),
+            target=target,
         )
     except XrdfToolsError as exc:
         fail(exc)

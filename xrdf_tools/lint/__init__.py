@@ -23,10 +23,13 @@ from .rules import (
     buffered_radius,
     clone_cycle,
     cspace_joint,
+    curobo_default_order,
     curobo_different_groups,
     curobo_dropped,
+    curobo_format_version,
     curobo_integer,
     curobo_joint_type,
+    curobo_missing_key,
     curobo_quoted_version,
     default_position,
     default_self_collision,
@@ -46,6 +49,7 @@ from .rules import (
     undefined_group,
     unknown_frame,
     unknown_key,
+    urdf_invalid,
     urdf_modifiers,
     version_key,
     wrong_type,
@@ -75,6 +79,7 @@ RULES: tuple[Rule, ...] = (
     add_frame.RULE,
     undefined_frame.RULE,
     unconfirmed_syntax.RULE,
+    urdf_invalid.RULE,
     urdf_modifiers.RULE,
     unknown_frame.RULE,
     cspace_joint.RULE,
@@ -82,8 +87,11 @@ RULES: tuple[Rule, ...] = (
     default_self_collision.RULE,
     mesh_without_spheres.RULE,
     sphere_outside_geometry.RULE,
+    curobo_format_version.RULE,
+    curobo_missing_key.RULE,
     curobo_dropped.RULE,
     curobo_different_groups.RULE,
+    curobo_default_order.RULE,
     curobo_joint_type.RULE,
     curobo_integer.RULE,
     curobo_quoted_version.RULE,
@@ -121,11 +129,19 @@ def select_rules(
 UrdfLoader = Callable[[], tuple[Any, str]]
 
 
+def _level(rule: Rule, config: LintConfig, target: str | None) -> tuple[Severity | None, bool]:
+    """The severity ``rule`` runs at (None: off) and whether it replaces each finding's own:
+    the user's configuration first, then the target, then the rule's default."""
+    if config.overrides(rule.id):
+        return config.severity(rule.id, rule.severity), True
+    return rule.level(target), rule.reader is not None and target is not None
+
+
 def _run(ctx: LintContext, rules: Sequence[Rule], config: LintConfig) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     parsed = ctx.doc is not None
     for rule in rules:
-        severity = config.severity(rule.id, rule.severity)
+        severity, forced = _level(rule, config, ctx.target)
         if severity is None:
             continue
         if rule.needs_urdf and not ctx.has_urdf:
@@ -149,9 +165,7 @@ def _run(ctx: LintContext, rules: Sequence[Rule], config: LintConfig) -> list[Di
             )
             continue
         for p in problems:
-            sev = p.severity if p.severity is not None else rule.severity
-            if config.overrides(rule.id):
-                sev = severity
+            sev = severity if forced or p.severity is None else p.severity
             out.append(Diagnostic(ctx.path, p.line, p.col, rule.id, sev, p.message, p.key_path))
     return sorted(out, key=sort_key)
 
@@ -163,17 +177,30 @@ def lint_text(
     urdf: str | os.PathLike[str] | None = None,
     config: LintConfig | None = None,
     rules: Sequence[Rule] = RULES,
+    target: str | None = None,
 ) -> list[Diagnostic]:
     """Lint one XRDF document given as text (``path`` is used in the diagnostics).
 
-    Raises :class:`XrdfToolsError` only when ``urdf`` cannot be read or is not a valid robot.
+    ``target`` (default: the configuration's) names the reader the file is for. Raises
+    :class:`XrdfToolsError` only when ``urdf`` cannot be read at all or the target is unknown;
+    a URDF that is not a valid robot is an ``urdf-invalid`` finding.
     """
+    cfg = config or LintConfig()
     loader = _urdf_loader(urdf, {}) if urdf is not None else None
     return _run(
-        LintContext(text, path, urdf_loader=loader, options=(config or LintConfig()).options),
+        LintContext(
+            text, path, urdf_loader=loader, options=cfg.options, target=_target(target, cfg)
+        ),
         rules,
-        config or LintConfig(),
+        cfg,
     )
+
+
+def _target(target: str | None, config: LintConfig) -> str | None:
+    from ..targets import parse_target
+
+    chosen = parse_target(target if target is not None else config.target)
+    return chosen.id if chosen is not None else None
 
 
 def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Any]) -> UrdfLoader:
@@ -196,22 +223,26 @@ def lint(
     config: LintConfig | None = None,
     select: Sequence[str] = (),
     ignore: Sequence[str] = (),
+    target: str | None = None,
 ) -> list[Diagnostic]:
     """Lint XRDF files. ``urdf`` applies to every file; otherwise the config's ``urdf`` map
-    picks one per file (or none).
+    picks one per file (or none). ``target`` (default: the configuration's) names the reader.
 
     A file that cannot be read as UTF-8 text raises :class:`YamlError`; an unreadable or
     invalid URDF raises :class:`UrdfError` (both: usage/input errors, exit code 2).
     """
     cfg = config or LintConfig()
     rules = select_rules(select, ignore)
+    chosen = _target(target, cfg)
     cache: dict[str, Any] = {}
     out: list[Diagnostic] = []
     for p in paths:
         text = read_text(p)
         u = urdf if urdf is not None else cfg.urdf_for(Path(p))
         loader = _urdf_loader(u, cache) if u is not None else None
-        ctx = LintContext(text, os.fspath(p), urdf_loader=loader, options=cfg.options)
+        ctx = LintContext(
+            text, os.fspath(p), urdf_loader=loader, options=cfg.options, target=chosen
+        )
         out.extend(_run(ctx, rules, cfg))
     return sorted(out, key=sort_key)
 

@@ -2,6 +2,7 @@
 
 ::
 
+    target: curobo              # the reader the files are for: curobo | cumotion | isaac-sim
     rules:                      # rule id (or prefix ending in '-') -> level
       curobo-: off              # error | warning | info | off
       unknown-key: error
@@ -45,6 +46,8 @@ class LintConfig:
     options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     base_dir: str = "."
     source: str | None = None
+    #: The reader the files are for (a target id), or None.
+    target: str | None = None
 
     def _level(self, rule: str) -> tuple[bool, Severity | None]:
         if rule in self.levels:
@@ -86,14 +89,21 @@ def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
         data = {}
     if not isinstance(data, dict):
         raise ConfigError("the lint configuration must be a mapping", path=source)
-    unknown = set(data) - {"rules", "urdf", "options", "extends"}
+    keys = ["rules", "urdf", "options", "extends", "target"]
+    unknown = {str(k) for k in data} - set(keys)
     if unknown:
         key = sorted(unknown)[0]
         raise ConfigError(
-            f"unknown configuration key '{key}'"
-            + did_you_mean(key, ["rules", "urdf", "options", "extends"]),
-            path=source,
+            f"unknown configuration key '{key}'" + did_you_mean(key, keys), path=source
         )
+    target = data.get("target")
+    if target is not None:
+        from ..targets import parse_target
+
+        try:
+            target = getattr(parse_target(str(target)), "id", None)
+        except XrdfToolsError as exc:
+            raise ConfigError(f"target: {exc.message}", path=source) from None
     ids = [r.id for r in RULES]
     levels: dict[str, Severity | None] = {}
     rules = data.get("rules") or {}
@@ -125,6 +135,7 @@ def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
         {str(k): dict(v) for k, v in options.items()},
         base_dir,
         source,
+        target,
     )
 
 
@@ -138,6 +149,7 @@ def _merge(base: LintConfig, over: LintConfig) -> LintConfig:
         options,
         over.base_dir,
         over.source,
+        over.target if over.target is not None else base.target,
     )
 
 

@@ -117,11 +117,17 @@ class LintContext:
         *,
         urdf_loader: Callable[[], Any] | None = None,
         options: Mapping[str, Mapping[str, Any]] | None = None,
+        target: str | None = None,
     ) -> None:
         self.text = text
         self.path = path
         self.options: Mapping[str, Mapping[str, Any]] = options or {}
+        #: The reader the file is meant for (``curobo``, ``cumotion``, ``isaac-sim``) or None.
+        self.target = target
         self._urdf_loader = urdf_loader
+        #: Why the ``--urdf`` robot is not a valid robot (it parsed, but no reader would load
+        #: it: a mimic loop, several roots, ...): reported as a finding, not a usage error.
+        self.urdf_error: XrdfToolsError | None = None
         self.syntax_error: YamlError | None = None
         self.doc: YamlDocument | None = None
         try:
@@ -401,13 +407,22 @@ class LintContext:
 
     @cached_property
     def urdf(self) -> UrdfState | None:
-        """The URDF state, or None without ``--urdf``. URDF load errors propagate (exit 2)."""
+        """The URDF state, or None without ``--urdf`` or when the URDF is not a valid robot
+        (then :attr:`urdf_error` says why). A URDF that cannot be read at all propagates
+        (exit 2)."""
         if self._urdf_loader is None:
             return None
+        from ..errors import UrdfReadError
         from ..kinematics import build_kinematic_model
         from ..urdf_source import joints_of, links_of
 
-        robot, upath = self._urdf_loader()
+        try:
+            robot, upath = self._urdf_loader()
+        except UrdfReadError:
+            raise
+        except XrdfToolsError as exc:
+            self.urdf_error = exc
+            return None
         links = tuple(links_of(robot))
         joints = joints_of(robot)
         mods = self.modifiers_model
@@ -417,10 +432,10 @@ class LintContext:
         try:
             state.kin, _ = build_kinematic_model(robot, mods, path=upath)
         except XrdfToolsError as exc:
-            if exc.path == self.path:
-                state.modifier_error = exc
-            else:
-                raise
+            if exc.path != self.path:
+                self.urdf_error = exc
+                return None
+            state.modifier_error = exc
         return state
 
     @property
@@ -438,6 +453,16 @@ class Rule:
     check: Callable[[LintContext], Iterator[Problem]]
     doc: str
     needs_urdf: bool = False
+    #: The reader whose silent failure this rule predicts (a target id), or None for rules
+    #: about the spec itself. Under that target the rule is an error; under another target
+    #: it is off; without a target it runs at ``severity``.
+    reader: str | None = None
+
+    def level(self, target: str | None) -> Severity | None:
+        """Default severity of this rule when linting for ``target`` (None: off)."""
+        if self.reader is None or target is None:
+            return self.severity
+        return Severity.ERROR if target == self.reader else None
 
     @property
     def summary(self) -> str:

@@ -36,16 +36,23 @@ class RobotTree:
     root: str
     parent_joint: Mapping[str, str]  # child link -> joint
     child_joints: Mapping[str, tuple[str, ...]]  # link -> joints, sorted by joint name
+    #: Every link without a parent joint (one for a proper URDF; cuRobo ships URDFs with
+    #: disconnected parts, usable once a base frame is chosen). ``root`` is the first.
+    roots: tuple[str, ...] = ()
 
     @classmethod
     def from_urdf(cls, urdf: yourdfpy.URDF) -> RobotTree:
-        from ..urdf_source import joints_of, links_of, root_link, urdf_path
+        from ..errors import UrdfError
+        from ..urdf_source import joints_of, links_of, urdf_path
 
         joints = joints_of(urdf)
         links = tuple(links_of(urdf))
         parent_joint = {j.child: j.name for j in joints.values()}
-        root = root_link(urdf)
         path = urdf_path(urdf)
+        roots = tuple(link for link in links if link not in parent_joint)
+        if not roots:
+            raise UrdfError("the joints form a cycle: every link has a parent joint", path=path)
+        root = roots[0]
         children: dict[str, list[str]] = {}
         for j in joints.values():
             children.setdefault(j.parent, []).append(j.name)
@@ -57,6 +64,20 @@ class RobotTree:
             root=root,
             parent_joint=parent_joint,
             child_joints={k: tuple(sorted(v)) for k, v in children.items()},
+            roots=roots,
+        )
+
+    def with_root(self, base: str) -> RobotTree:
+        """The same tree walked from ``base`` (a link chosen as the robot's base)."""
+        return RobotTree(
+            self.name,
+            self.path,
+            self.links,
+            self.joints,
+            base,
+            self.parent_joint,
+            self.child_joints,
+            self.roots,
         )
 
     def dfs_joints(self) -> list[str]:

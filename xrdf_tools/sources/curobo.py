@@ -1,10 +1,12 @@
 """cuRobo robot configuration YAML → Draft: classic layout, 2.0 layout, Lula/Isaac Sim YAML.
 
-See ``shared/spec/sources.md`` §1 for the mapping. Every key without an XRDF equivalent is
+See docs/convert.md for the mapping. Every key without an XRDF equivalent is
 reported (``convert-dropped-key``) except visualisation/USD keys, which are ignored silently.
 Unknown link names (cuRobo ignores them silently; its own ``ur10e.yml`` has ``forarm_link``)
-are reported with a suggestion and dropped. Placeholder spheres (radius ≤ 0, and the
-``extra_collision_spheres`` attached-object slots) are reported and not emitted.
+are reported with a suggestion and dropped. Spheres are kept as written, negative radii included
+(cuRobo turns a small negative radius into a real sphere once buffered), and the
+``extra_collision_spheres`` attached-object slots become radius −10 spheres at the link origin,
+as cuMotion's own ``franka_curobo.xrdf`` carries them (docs/format.md, "Who reads an XRDF").
 """
 
 from __future__ import annotations
@@ -312,6 +314,14 @@ def _read_kinematics(
             )
             continue
         cspace.append(n)
+    if names and not cspace and not any(n in tree.joints for n in names):
+        raise SourceError(
+            f"none of the {len(names)} c-space joints ({', '.join(names[:4])}"
+            f"{', ...' if len(names) > 4 else ''}) is a joint of {Path(tree.path).name}: "
+            "the config and the URDF describe different robots",
+            path=rep.path,
+            line=rep.position(kp("cspace", "joint_names"))[0],
+        )
     d.cspace = cspace
     for n in cspace:
         if n in acc_map:
@@ -382,16 +392,7 @@ def _read_kinematics(
                 known_frame(
                     str(c), frames, rep, kp("collision_link_names") + f"[{i}]", "collision link"
                 )
-    extra_spheres = kin.get("extra_collision_spheres") or {}
-    if isinstance(extra_spheres, Mapping):
-        for link, n in extra_spheres.items():
-            rep.report(
-                "convert-placeholder-spheres",
-                f"extra_collision_spheres reserves {n} placeholder sphere(s) on '{link}' for "
-                "attached objects (cuRobo gives them a negative radius); XRDF has no "
-                "equivalent, so they are not emitted",
-                kp("extra_collision_spheres", link),
-            )
+    _read_slots(kin.get("extra_collision_spheres"), frames, d, rep, kp("extra_collision_spheres"))
 
     # buffers
     sphere_frames = list((d.spheres or {}).keys())
@@ -435,6 +436,38 @@ def _read_kinematics(
         for i, b in enumerate(others or []):
             if known_frame(str(b), frames, rep, f"{w}[{i}]", f"ignored with '{a}'"):
                 d.add_ignore(str(a), str(b))
+
+
+#: Radius cuRobo gives the spheres of ``extra_collision_spheres`` (attached-object slots).
+SLOT_RADIUS = -10.0
+
+
+def _read_slots(value: Any, frames: list[str], d: Draft, rep: Reporter, where: str) -> None:
+    """``extra_collision_spheres: {link: n}`` → n spheres of radius −10 at the link origin.
+
+    This is how cuRobo builds them and how cuMotion's own ``franka_curobo.xrdf`` (1.0) keeps
+    them; XRDF 2.0 cannot express them (the version converter reports that).
+    """
+    if value is None:
+        return
+    if not isinstance(value, Mapping):
+        raise SourceError(
+            "extra_collision_spheres must map links to a number of spheres",
+            path=rep.path,
+            line=rep.position(where)[0],
+        )
+    for link, n in value.items():
+        w = f"{where}.{link}"
+        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 0):
+            raise SourceError(
+                f"extra_collision_spheres.{link} must be a whole number of spheres, not {n!r}",
+                path=rep.path,
+                line=rep.position(w)[0],
+            )
+        if n and known_frame(str(link), frames, rep, w, "extra_collision_spheres link"):
+            slots = [Sphere((0.0, 0.0, 0.0), SLOT_RADIUS)] * n
+            d.spheres = d.spheres if d.spheres is not None else {}
+            d.spheres.setdefault(str(link), []).extend(slots)
 
 
 def _find_spheres_file(value: str, config_path: Path, rep: Reporter, where: str) -> Path:
@@ -515,14 +548,6 @@ def _spheres(items: Any, rep: Reporter, where: str) -> list[Sphere]:
                 path=rep.path,
                 line=rep.position(w)[0],
             )
-        if r <= 0:
-            rep.report(
-                "convert-placeholder-spheres",
-                f"sphere {i} on '{where.rsplit('.', 1)[-1]}' has radius {r} (a cuRobo "
-                "placeholder); not emitted",
-                f"{w}.radius",
-            )
-            continue
         out.append(Sphere((float(c[0]), float(c[1]), float(c[2])), float(r)))
     return out
 

@@ -30,4 +30,4 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         )
 
 
-RULE = Rule("curobo-different-groups", Severity.WARNING, check, __doc__ or "")
+RULE = Rule("curobo-different-groups", Severity.WARNING, check, __doc__ or "", reader="curobo")

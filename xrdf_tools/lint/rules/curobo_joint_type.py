@@ -34,4 +34,4 @@ def check(ctx: LintContext) -> Iterator[Problem]:
             )
 
 
-RULE = Rule("curobo-joint-type", Severity.WARNING, check, __doc__ or "")
+RULE = Rule("curobo-joint-type", Severity.WARNING, check, __doc__ or "", reader="curobo")

@@ -24,4 +24,4 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         )
 
 
-RULE = Rule("curobo-quoted-version", Severity.WARNING, check, __doc__ or "")
+RULE = Rule("curobo-quoted-version", Severity.WARNING, check, __doc__ or "", reader="curobo")

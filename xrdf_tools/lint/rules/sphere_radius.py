@@ -1,9 +1,10 @@
 """A sphere radius is not positive.
 
-XRDF 2.0 requires ``radius > 0`` in every group (referenced or not). In XRDF 1.0 files, cuRobo
-uses negative radii as placeholders for disabled spheres (e.g. ``attached_object``) and skips
-them; those are reported as warnings in 1.0 files, and a zero radius too. ``xrdf convert --to
-2.0`` drops them.
+XRDF 2.0 requires ``radius > 0`` in every group (referenced or not). XRDF 1.0 keeps such
+spheres, and they mean something there (an informational note, not a problem): radius ≤ −1 is a
+cuRobo attached-object slot (``extra_collision_spheres``; cuMotion's own ``franka_curobo.xrdf``
+has four), and a radius in (−1, 0] becomes a real sphere once buffered (cuRobo makes it at least
+1 mm). Converting such a file to 2.0 drops them and says so.
 """
 
 from __future__ import annotations
@@ -24,12 +25,16 @@ def check(ctx: LintContext) -> Iterator[Problem]:
             continue
         where = f"sphere {s.index} on '{s.frame}' (group '{s.group}')"
         if ctx.version == "1.0":
+            meaning = (
+                "an attached-object slot (cuRobo fills it when an object is attached)"
+                if r <= -1
+                else "a sphere that 1.0 readers make real once buffered"
+            )
             yield ctx.problem(
                 rnode,
-                f"{where} has radius {r:g}: a disabled placeholder that cuRobo skips; XRDF 2.0 "
-                "rejects it",
+                f"{where} has radius {r:g}: {meaning}; XRDF 2.0 cannot express it",
                 s.key_path + ".radius",
-                Severity.WARNING,
+                Severity.INFO,
             )
         else:
             yield ctx.problem(
