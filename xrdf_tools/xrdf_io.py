@@ -655,6 +655,8 @@ def dump_xrdf(x: Xrdf) -> str:
         if s.ignore:
             lines.append("  ignore:")
             lines += [f"    {format_str(k)}: {_flow(v)}" for k, v in s.ignore.items()]
+        else:
+            lines.append("  ignore: {}")  # cuRobo's loader raises when the key is missing
         section(lines)
 
     if x.geometry is not None:

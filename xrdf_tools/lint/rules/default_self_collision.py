@@ -26,6 +26,8 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     kin, model = ctx.kin, ctx.model
     if kin is None or model is None or model.self_collision is None:
         return
+    if ctx.clone_closure(model.self_collision.geometry) is None:
+        return  # an undefined or cyclic group: undefined-group / clone-cycle report it
     from ...collision import colliding_frame_pairs
     from ...kinematics import default_configuration
 

@@ -1,0 +1,191 @@
+"""cuRobo configs → XRDF → cuRobo's loader gives back the same robot; lint --target curobo agrees
+with what cuRobo's loader does.
+
+The model of cuRobo's loader (tests/curobo_loader.py) is written from the reader facts in
+docs/format.md, rule by rule; these tests never run cuRobo itself.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from tests.curobo_loader import from_config, from_xrdf, loads_as_written
+from tests.paths import FIXTURES, SEED_XRDF, SHARED, UR10E_URDF, UR10E_XRDF
+from xrdf_tools.cli import app
+from xrdf_tools.convert import ConvertOptions, convert_files
+from xrdf_tools.lint import lint_text
+from xrdf_tools.xrdf_io import dump_xrdf
+
+runner = CliRunner()
+CLASSIC = FIXTURES / "curobo_classic"
+REFERENCE = SHARED / "reference" / "curobo-2.0"
+
+#: (config, URDF): our classic-layout fixtures and cuRobo's own configs (when shared/ is there).
+CONFIGS = [
+    (CLASSIC / "ur10e_classic.yml", UR10E_URDF),
+    (CLASSIC / "ur10e_inline.yml", UR10E_URDF),
+    (CLASSIC / "ur10e_real_patterns.yml", UR10E_URDF),
+    (REFERENCE / "ur10e.yml", REFERENCE / "ur10e.urdf"),
+    (REFERENCE / "franka.yml", REFERENCE / "franka_panda.urdf"),
+]
+
+
+def _pair(config: Path, urdf: Path) -> tuple[Path, Path]:
+    if not config.exists() or not urdf.exists():
+        pytest.skip(f"{config} not available")
+    return config, urdf
+
+
+@pytest.mark.parametrize(("config", "urdf"), CONFIGS, ids=lambda p: p.name)
+def test_curobo_loads_the_converted_config_as_the_same_robot(config: Path, urdf: Path) -> None:
+    config, urdf = _pair(config, urdf)
+    x, _, _ = convert_files(urdf, ConvertOptions(curobo=config))  # default options
+    text = dump_xrdf(x)
+    assert x.format_version == "1.0"
+    expected = from_config(config, urdf)
+    loaded = from_xrdf(text, urdf)
+    # field by field, so a failure names what cuRobo would get wrong; a value the config does
+    # not give (None) is a reported fallback of the converter
+    for field in expected.__dataclass_fields__:
+        if getattr(expected, field) is not None:
+            assert getattr(loaded, field) == getattr(expected, field), field
+    assert loads_as_written(text, urdf)
+    errors = [
+        d
+        for d in lint_text(text, "out.xrdf", urdf=urdf, target="curobo")
+        if d.severity.value == "error"
+    ]
+    assert errors == []
+
+
+def test_the_attached_object_slots_survive_for_curobo() -> None:
+    config, urdf = _pair(REFERENCE / "franka.yml", REFERENCE / "franka_panda.urdf")
+    x, _, _ = convert_files(urdf, ConvertOptions(curobo=config))
+    loaded = from_xrdf(dump_xrdf(x), urdf)
+    assert loaded.spheres["attached_object"] == (((0.0, 0.0, 0.0), -10.0),) * 4
+
+
+def test_a_2_0_file_loads_in_curobo_with_no_collision_and_lint_says_so(tmp_path: Path) -> None:
+    x, diags, _ = convert_files(
+        UR10E_URDF, ConvertOptions(curobo=CLASSIC / "ur10e_classic.yml", format_version="2.0")
+    )
+    text = dump_xrdf(x)
+    assert from_xrdf(text, UR10E_URDF).spheres == {}  # what cuRobo builds: no spheres at all
+    (version_note,) = [d for d in diags if d.rule == "convert-version"]
+    assert "cuRobo and Isaac ROS cuMotion" in version_note.message
+    out = tmp_path / "ur10e.xrdf"
+    out.write_text(text)
+    plain = runner.invoke(app, ["lint", str(out)])
+    assert plain.exit_code == 0 and plain.output.count("curobo-format-version") == 1
+    assert "warning curobo-format-version" in plain.output
+    curobo = runner.invoke(app, ["lint", "--target", "curobo", str(out)])
+    assert curobo.exit_code == 1 and "error curobo-format-version" in curobo.output
+    for reader in ("cumotion", "isaac-sim"):
+        r = runner.invoke(app, ["lint", "--target", reader, str(out)])
+        assert r.exit_code == 0 and "curobo-" not in r.output, reader
+
+
+def test_convert_for_curobo_refuses_2_0(tmp_path: Path) -> None:
+    r = runner.invoke(
+        app,
+        [
+            "convert",
+            str(UR10E_URDF),
+            "--curobo",
+            str(CLASSIC / "ur10e_classic.yml"),
+            "--target",
+            "curobo",
+            "--format-version",
+            "2.0",
+            "-o",
+            str(tmp_path / "x.xrdf"),
+        ],
+    )
+    assert r.exit_code == 2 and "reads 1.0" in r.output and not (tmp_path / "x.xrdf").exists()
+    r = runner.invoke(app, ["convert", str(UR10E_URDF), "--target", "cuRobo2"])
+    assert r.exit_code == 2 and "unknown target" in r.output
+
+
+def _mutations(text: str) -> dict[str, str]:
+    """Variants of a cuRobo-loadable 1.0 file, each something cuRobo raises on or silently
+    changes (or, for the last ones, accepts)."""
+    data = yaml.safe_load(text)
+    out: dict[str, str] = {}
+
+    def variant(name: str, change: object) -> None:
+        d = yaml.safe_load(text)
+        change(d)  # type: ignore[operator]
+        out[name] = yaml.safe_dump(d, sort_keys=False)
+
+    variant("no tool_frames", lambda d: d.pop("tool_frames"))
+    variant("no ignore", lambda d: d["self_collision"].pop("ignore"))
+    variant("no self_collision", lambda d: d.pop("self_collision"))
+    variant("no defaults", lambda d: d.pop("default_joint_positions"))
+    variant("2.0", lambda d: d.update(format_version=2.0, world_collision=d.pop("collision")))
+    variant("integer scalar buffer", lambda d: d["collision"].update(buffer_distance=0))
+    variant("reordered c-space", lambda d: _reorder(d))
+    variant("other self group", lambda d: d["self_collision"].update(geometry="other"))
+    # accepted by cuRobo: integers in per-frame buffers and lists, a float scalar buffer
+    variant(
+        "integer per-frame buffer",
+        lambda d: d["collision"].update(buffer_distance={"shoulder_link": 0}),
+    )
+    variant("float scalar buffer", lambda d: d["collision"].update(buffer_distance=0.01))
+    variant(
+        "integer limits",
+        lambda d: d["cspace"].update(acceleration_limits=[12] * len(d["cspace"]["joint_names"])),
+    )
+    assert data  # the source itself loads
+    return out
+
+
+def _reorder(d: dict[str, object]) -> None:
+    cs = d["cspace"]
+    assert isinstance(cs, dict)
+    cs["joint_names"] = [*cs["joint_names"][1:], cs["joint_names"][0]]
+
+
+@pytest.mark.parametrize(
+    "source", [SEED_XRDF, CLASSIC / "ur10e_classic.yml"], ids=["seed", "converted"]
+)
+def test_lint_target_curobo_errors_exactly_when_curobo_cannot_load_as_written(
+    source: Path,
+) -> None:
+    if source.suffix == ".xrdf":
+        text = source.read_text()
+    else:
+        text = dump_xrdf(convert_files(UR10E_URDF, ConvertOptions(curobo=source))[0])
+    corpus = {"as is": text, **_mutations(text)}
+    verdicts = {}
+    for name, variant in corpus.items():
+        diags = lint_text(variant, f"{name}.xrdf", urdf=UR10E_URDF, target="curobo")
+        curobo_errors = [
+            d for d in diags if d.severity.value == "error" and d.rule.startswith("curobo-")
+        ]
+        verdicts[name] = (loads_as_written(variant, UR10E_URDF), not curobo_errors)
+    assert all(loads == clean for loads, clean in verdicts.values()), verdicts
+    # the corpus has both kinds
+    assert {v[0] for v in verdicts.values()} == {True, False}
+
+
+def test_every_shipped_xrdf_lints_for_curobo_as_curobo_loads_it() -> None:
+    files = [SEED_XRDF, UR10E_XRDF, FIXTURES / "panda" / "panda.xrdf"]
+    files += sorted(REFERENCE.glob("*.xrdf")) if REFERENCE.exists() else []
+    for f in files:
+        text = f.read_text()
+        urdf = f.with_name("ur10e.urdf") if f.parent == REFERENCE else UR10E_URDF
+        if "panda" in f.name:
+            urdf = None
+        errors = [
+            d.rule
+            for d in lint_text(text, str(f), urdf=urdf, target="curobo")
+            if d.severity.value == "error" and d.rule.startswith("curobo-")
+        ]
+        if urdf is not None:
+            assert (errors == []) == loads_as_written(text, urdf), (f, errors)
+        else:  # the Panda fixture is 2.0: cuRobo loads it without collision
+            assert errors == ["curobo-format-version"], (f, errors)
