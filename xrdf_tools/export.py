@@ -1,5 +1,7 @@
 """XRDF → other formats: a cuRobo robot YAML and MoveIt SRDF ``disable_collisions``.
 
+The SRDF side lives in :mod:`xrdf_tools.export_srdf` (``to_srdf`` is re-exported here).
+
 Pure: functions return text and diagnostics. ``to_curobo`` writes what cuRobo's loader accepts:
 every number a float (``0.0``, never ``0``: cuRobo broadcasts Python floats only), ``FIXED``
 joint types in upper case, lists in c-space order looked up *by joint name* (cuRobo's own XRDF
@@ -14,7 +16,8 @@ from pathlib import Path
 from typing import Any
 
 from .diagnostics import Diagnostic, Severity
-from .errors import ConversionError, SourceError
+from .errors import ConversionError
+from .export_srdf import to_srdf
 from .model import Xrdf
 from .sources import RobotTree
 from .xrdf_io import format_float, format_str
@@ -198,51 +201,6 @@ def to_curobo(
         *_emit(kin, 2),
     ]
     return "\n".join(lines) + "\n", diags
-
-
-def to_srdf(x: Xrdf, robot_name: str, existing: str | bytes | None = None) -> str:
-    """MoveIt SRDF with a ``disable_collisions`` (reason ``User``) per ignore pair.
-
-    With ``existing`` (SRDF text), new pairs are appended to it and everything else is kept;
-    pairs already disabled there (in either order, any reason) are not repeated.
-    """
-    from lxml import etree
-
-    pairs: list[tuple[str, str]] = []
-    seen: set[frozenset[str]] = set()
-    if x.self_collision is not None:
-        for a, bs in x.self_collision.ignore.items():
-            for b in bs:
-                key = frozenset((a, b))
-                if a != b and key not in seen:
-                    seen.add(key)
-                    pairs.append((a, b))
-    if existing is None:
-        root = etree.Element("robot", name=robot_name)
-        root.text = "\n  "
-    else:
-        raw = existing.encode("utf-8") if isinstance(existing, str) else existing
-        parser = etree.XMLParser(resolve_entities=False, no_network=True)
-        try:
-            root = etree.fromstring(raw, parser)
-        except etree.XMLSyntaxError as e:
-            raise SourceError(f"malformed SRDF XML: {e.msg}") from None
-        if root.tag != "robot":
-            raise SourceError("the root element of an SRDF must be <robot>")
-        for el in root.iter("disable_collisions"):
-            seen_pair = frozenset((el.get("link1") or "", el.get("link2") or ""))
-            pairs = [p for p in pairs if frozenset(p) != seen_pair]
-    tail = None
-    if len(root):
-        tail = root[-1].tail
-        root[-1].tail = "\n  "
-    for i, (a, b) in enumerate(pairs):
-        el = etree.SubElement(root, "disable_collisions", link1=a, link2=b, reason="User")
-        el.tail = "\n  " if i < len(pairs) - 1 else (tail or "\n")
-    if not pairs and len(root):
-        root[-1].tail = tail or "\n"
-    text: str = etree.tostring(root, encoding="unicode")
-    return '<?xml version="1.0" encoding="UTF-8"?>\n' + text + "\n"
 
 
 def pairs_of(x: Xrdf) -> Sequence[frozenset[str]]:

@@ -1,33 +1,67 @@
-"""``xrdf export curobo|srdf``: XRDF → cuRobo robot YAML, XRDF ignore pairs → MoveIt SRDF."""
+"""``xrdf export curobo|srdf``: XRDF → cuRobo robot YAML; XRDF ignore pairs synced into a MoveIt
+SRDF."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ..errors import XrdfToolsError
 from .common import OutputFormat, fail, refuse_input_overwrite, render_diagnostics
 
+if TYPE_CHECKING:
+    from ..sources import RobotTree
+
 app = typer.Typer(
-    help="Export an XRDF to a cuRobo robot YAML or to MoveIt SRDF disable_collisions.",
+    help="Export an XRDF to a cuRobo robot YAML or sync its ignore pairs into a MoveIt SRDF.",
     no_args_is_help=True,
     rich_markup_mode=None,
 )
 
 
-def _write(text: str, output: Path | None, inputs: list[Path | None]) -> None:
+def _write(data: str | bytes, output: Path | None, inputs: list[Path | None]) -> None:
     if output is None:
-        typer.echo(text, nl=False)
+        typer.echo(data, nl=False)
         return
     refuse_input_overwrite(output, inputs)
     from ..yaml_io import write_atomic
 
     try:
-        write_atomic(output, text)
+        write_atomic(output, data)
     except OSError as e:
         fail(f"{output}: cannot write: {e.strerror or e}")
+
+
+def _load_tree(
+    urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None
+) -> RobotTree:
+    """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
+    from ..packages import parse_package_path
+    from ..sources import RobotTree
+    from ..sources.xacro_source import load_robot, parse_xacro_arg
+
+    pkgs = dict(parse_package_path(p) for p in package_path or [])
+    xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])
+    robot, _ = load_robot(urdf, xacro_args=xargs, package_paths=pkgs)
+    return RobotTree.from_urdf(robot)
+
+
+PackagePathOption = Annotated[
+    list[str] | None,
+    typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
+]
+XacroArgOption = Annotated[
+    list[str] | None,
+    typer.Option("--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+]
+OutputOption = Annotated[
+    Path | None, typer.Option("-o", "--output", help="Write here instead of stdout.")
+]
+FormatOption = Annotated[
+    OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
+]
 
 
 @app.command("curobo")
@@ -40,36 +74,21 @@ def curobo(
         str,
         typer.Option("--layout", help="cuRobo config layout: 2.0 (tool_frames) or classic."),
     ] = "2.0",
-    package_path: Annotated[
-        list[str] | None,
-        typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
-    ] = None,
-    xacro_arg: Annotated[
-        list[str] | None,
-        typer.Option("--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    ] = None,
-    output: Annotated[
-        Path | None, typer.Option("-o", "--output", help="Write here instead of stdout.")
-    ] = None,
-    fmt: Annotated[
-        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
-    ] = OutputFormat.text,
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
+    output: OutputOption = None,
+    fmt: FormatOption = OutputFormat.text,
 ) -> None:
     """Write a cuRobo robot YAML (floats, FIXED, lists in c-space order by joint name)."""
     from ..export import CUROBO_LAYOUTS, to_curobo
-    from ..packages import parse_package_path
-    from ..sources import RobotTree
-    from ..sources.xacro_source import load_robot, parse_xacro_arg
     from ..xrdf_io import load_xrdf
 
     if layout not in CUROBO_LAYOUTS:
         fail(f"--layout must be one of {', '.join(CUROBO_LAYOUTS)}, not '{layout}'")
     try:
-        pkgs = dict(parse_package_path(p) for p in package_path or [])
-        xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])
         x = load_xrdf(xrdf)
-        robot, _ = load_robot(urdf, xacro_args=xargs, package_paths=pkgs)
-        text, diags = to_curobo(x, RobotTree.from_urdf(robot), layout=layout, urdf_path=urdf)
+        tree = _load_tree(urdf, package_path, xacro_arg)
+        text, diags = to_curobo(x, tree, layout=layout, urdf_path=urdf)
     except XrdfToolsError as e:
         fail(e)
     if diags:
@@ -82,25 +101,64 @@ def srdf(
     xrdf: Annotated[Path, typer.Argument(help="The XRDF file.", show_default=False)],
     merge: Annotated[
         Path | None,
-        typer.Option("--merge", help="Existing SRDF to add the pairs to (everything kept)."),
+        typer.Option(
+            "--merge",
+            help="Existing SRDF to sync: its disable_collisions become the XRDF's ignore pairs "
+            "(pairs no longer ignored are removed); everything else is kept.",
+        ),
+    ] = None,
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            "--urdf", help="The robot's URDF (or xacro): gives <robot name> and checks link names."
+        ),
+    ] = None,
+    report: Annotated[
+        Path | None,
+        typer.Option(
+            "--report",
+            help="'xrdf report --format json' output: reasons (Adjacent/Default/Always/Never) "
+            "of added pairs; default User.",
+        ),
     ] = None,
     robot_name: Annotated[
-        str | None, typer.Option("--robot-name", help="<robot name> of a new SRDF.")
+        str | None,
+        typer.Option("--robot-name", help="<robot name> of a new SRDF without --urdf."),
     ] = None,
-    output: Annotated[
-        Path | None, typer.Option("-o", "--output", help="Write here instead of stdout.")
-    ] = None,
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
+    output: OutputOption = None,
+    fmt: FormatOption = OutputFormat.text,
 ) -> None:
-    """Write self-collision ignore pairs as SRDF disable_collisions (reason "User")."""
-    from ..export import to_srdf
+    """Sync the XRDF's ignore pairs into a MoveIt SRDF's disable_collisions."""
+    from ..export_srdf import load_report_reasons, sync_srdf
     from ..xrdf_io import load_xrdf
 
+    inputs = [xrdf, merge, report, urdf]
+    if output is not None:
+        refuse_input_overwrite(output, inputs)
     try:
         x = load_xrdf(xrdf)
-        existing = merge.read_bytes() if merge is not None else None
-        text = to_srdf(x, robot_name or xrdf.stem.split(".")[0], existing)
-    except OSError as e:
-        fail(f"{merge}: cannot read: {e.strerror or e}")
+        tree = _load_tree(urdf, package_path, xacro_arg) if urdf is not None else None
+        reasons = load_report_reasons(report) if report is not None else None
+        existing = _read_srdf(merge) if merge is not None else None
+        result = sync_srdf(
+            x,
+            existing,
+            urdf=tree,
+            robot_name=robot_name if tree is not None else robot_name or xrdf.stem.split(".")[0],
+            reasons=reasons,
+            srdf_path=str(merge or output or "<srdf>"),
+        )
     except XrdfToolsError as e:
         fail(e)
-    _write(text, output, [xrdf])
+    if result.diagnostics:
+        typer.echo(render_diagnostics(result.diagnostics, fmt), nl=False, err=True)
+    _write(result.data, output, inputs)
+
+
+def _read_srdf(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except OSError as e:
+        fail(f"{path}: cannot read: {e.strerror or e}")
