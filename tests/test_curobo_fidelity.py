@@ -189,3 +189,65 @@ def test_every_shipped_xrdf_lints_for_curobo_as_curobo_loads_it() -> None:
             assert (errors == []) == loads_as_written(text, urdf), (f, errors)
         else:  # the Panda fixture is 2.0: cuRobo loads it without collision
             assert errors == ["curobo-format-version"], (f, errors)
+
+
+def test_export_curobo_writes_a_urdf_path_curobo_finds_and_checks_the_urdf(
+    tmp_path: Path,
+) -> None:
+    out = tmp_path / "ur10e.yml"
+    r = runner.invoke(
+        app, ["export", "curobo", str(SEED_XRDF), "--urdf", str(UR10E_URDF), "-o", str(out)]
+    )
+    assert r.exit_code == 0, r.output
+    kin = yaml.safe_load(out.read_text())["robot_cfg"]["kinematics"]
+    # cuRobo joins a relative urdf_path to its own asset directory: ours is absolute
+    assert Path(kin["urdf_path"]).is_absolute() and Path(kin["urdf_path"]) == UR10E_URDF
+    assert Path(kin["asset_root_path"]) == UR10E_URDF.parent
+    # an XRDF of another robot is an error, not a config with no joints
+    panda = FIXTURES / "panda" / "panda.xrdf"
+    r = runner.invoke(app, ["export", "curobo", str(panda), "--urdf", str(UR10E_URDF)])
+    assert r.exit_code == 2 and "different robots" in r.output and "Traceback" not in r.output
+
+
+def test_convert_refuses_inputs_that_do_not_belong_together() -> None:
+    franka = REFERENCE / "franka.yml"
+    if not franka.exists():
+        pytest.skip("shared reference configs not available")
+    r = runner.invoke(app, ["convert", str(UR10E_URDF), "--curobo", str(franka)])
+    assert r.exit_code == 2 and "different robots" in r.output
+    assert "joint_names: []" not in r.output
+
+
+def test_export_xrdf_rewrites_a_2_0_file_for_curobo(tmp_path: Path) -> None:
+    out = tmp_path / "for_curobo.xrdf"
+    r = runner.invoke(
+        app, ["export", "xrdf", str(UR10E_XRDF), "--target", "curobo", "-o", str(out)]
+    )
+    assert r.exit_code == 0, r.output
+    text = out.read_text()
+    assert loads_as_written(text, UR10E_URDF)
+    assert from_xrdf(text, UR10E_URDF).spheres  # collision is back
+    r = runner.invoke(app, ["export", "xrdf", str(out), "-o", str(out)])
+    assert r.exit_code == 2  # never overwrites its input
+
+
+def test_disconnected_urdf_converts_from_the_chosen_base(tmp_path: Path) -> None:
+    # like cuRobo's tri_ur10e.urdf: parts that the chosen base_link does not reach
+    text = UR10E_URDF.read_text()
+    extra = (
+        '<link name="second_base"/><link name="second_arm"/>'
+        '<joint name="second_joint" type="revolute"><parent link="second_base"/>'
+        '<child link="second_arm"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    urdf = tmp_path / "ur10e_parts.urdf"
+    urdf.write_text(text[: text.rindex("</robot>")] + extra)
+    x, diags, _ = convert_files(urdf, ConvertOptions(curobo=CLASSIC / "ur10e_classic.yml"))
+    (note,) = [d for d in diags if d.rule == "convert-unreachable-links"]
+    assert "second_base" in note.message and "second_arm" in note.message
+    assert x.cspace is not None and "second_joint" not in x.cspace.joint_names
+    # without a base to choose the part, the URDF is refused with a clear message
+    srdf = tmp_path / "empty.srdf"
+    srdf.write_text('<robot name="ur10e"/>')
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 2 and "not one tree" in r.output

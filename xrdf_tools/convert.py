@@ -27,8 +27,8 @@ from .model import (
     Xrdf,
 )
 from .sources import Draft, Reporter, RobotTree
-from .targets import Target, dropping_readers, parse_target
-from .versions import needs_version_2, to_version
+from .targets import choose_version, parse_target
+from .versions import to_version
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -242,40 +242,12 @@ def complete(
         self_collision=self_c,
         geometry=geometry,
     )
-    _check_reachable(x, tree, rep)
+    _check_reachable(x, tree)
     version, why = choose_version(x, options.format_version, parse_target(options.target))
     if why:
         rep.report("convert-version", why)
     x, vdiags = to_version(x, version)
     return x, [*diags, *rep.diagnostics, *vdiags]
-
-
-def choose_version(x: Xrdf, requested: str | None, target: Target | None) -> tuple[str, str]:
-    """The XRDF version to write and, when it is 2.0, which readers will not load it.
-
-    1.0 is what every reader loads. 2.0 is written when asked for, or when the robot needs
-    what only 2.0 expresses; a target that cannot load that version is an error.
-    """
-    needs = needs_version_2(x)
-    if requested is None:
-        requested = "2.0" if needs else (target.versions[0] if target else "1.0")
-    if requested == "1.0" and needs:
-        raise SourceError(f"XRDF 1.0 cannot express this robot: {needs[0]}; write 2.0")
-    if target is not None and requested not in target.versions:
-        reason = f" (the robot needs it: {needs[0]})" if needs else ""
-        raise SourceError(
-            f"XRDF {requested}{reason} is not loaded as written by {target.label} "
-            f"(target '{target.id}' reads {', '.join(target.versions)})"
-        )
-    dropping = [] if target is not None else dropping_readers(requested)
-    if not dropping:
-        return requested, ""
-    reason = f" because {needs[0]}" if needs else ""
-    return requested, (
-        f"writing XRDF {requested}{reason}: {' and '.join(t.label for t in dropping)} read only "
-        "1.0 and would load this file with NO collision spheres (pass --target to say who "
-        "reads it)"
-    )
 
 
 def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
@@ -307,9 +279,21 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
     return based
 
 
-def _check_reachable(x: Xrdf, tree: RobotTree, rep: Reporter) -> None:
-    """Every frame and joint the XRDF uses must hang below the base; raise naming those that
-    do not (inputs that do not belong to this URDF, or a base that cuts them off)."""
+def check_belongs(x: Xrdf, tree: RobotTree) -> None:
+    """Raise :class:`SourceError` unless every joint and frame ``x`` uses is in the URDF below
+    its base: inputs that describe another robot, or a base that cuts parts off."""
+    if x.cspace is not None:
+        unknown = [j for j in x.cspace.joint_names if j not in tree.joints]
+        if unknown:
+            raise SourceError(
+                f"c-space joints {', '.join(unknown[:6])} are not joints of "
+                f"{Path(tree.path).name}: the XRDF and the URDF describe different robots",
+                path=x.source.path or None,
+            )
+    _check_reachable(x, tree)
+
+
+def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
     reach = {tree.root, *tree.descendants(tree.root)}
     reach |= {m.frame_name for m in x.added_frames()}
     used = list(x.tool_frames or ())

@@ -22,7 +22,7 @@ from .model import Xrdf
 from .sources import RobotTree
 from .xrdf_io import format_float, format_str
 
-__all__ = ["CUROBO_LAYOUTS", "to_curobo", "to_srdf"]
+__all__ = ["CUROBO_LAYOUTS", "for_target", "to_curobo", "to_srdf"]
 
 CUROBO_LAYOUTS = ("2.0", "classic")
 
@@ -67,6 +67,21 @@ def _inline(v: Any) -> str:
     return _scalar(v)
 
 
+def for_target(
+    x: Xrdf, target: str | None, format_version: str | None = None
+) -> tuple[Xrdf, list[Diagnostic]]:
+    """``x`` rewritten in the XRDF version ``target`` loads (or ``format_version``), with a
+    diagnostic for everything the version change could not carry over."""
+    from .targets import choose_version, parse_target
+    from .versions import to_version
+
+    version, why = choose_version(x, format_version, parse_target(target))
+    out, diags = to_version(x, version)
+    if why:
+        diags.append(Diagnostic(x.source.path, None, None, "export-version", Severity.WARNING, why))
+    return out, diags
+
+
 def to_curobo(
     x: Xrdf,
     tree: RobotTree,
@@ -97,13 +112,18 @@ def to_curobo(
             raise ConversionError(
                 "remove_mimic_attributes has no cuRobo equivalent; edit the URDF instead"
             )
+    from .convert import check_belongs
+
+    base = x.base_frame()
+    check_belongs(x, tree.with_root(base) if base in tree.links else tree)
     kin: dict[str, Any] = {}
     if layout == "2.0":
         kin["format_version"] = 2.0
-    upath = Path(urdf_path) if urdf_path is not None else Path(tree.path)
-    kin["urdf_path"] = upath.name
-    kin["asset_root_path"] = str(upath.parent) if upath.parent != Path() else "."
-    kin["base_link"] = x.base_frame() or tree.root
+    # cuRobo joins a relative urdf_path to its own asset directory: absolute paths are found
+    upath = (Path(urdf_path) if urdf_path is not None else Path(tree.path)).resolve()
+    kin["urdf_path"] = str(upath)
+    kin["asset_root_path"] = str(upath.parent)
+    kin["base_link"] = base or tree.root
 
     tools = list(x.tool_frames or [])
     if not tools:

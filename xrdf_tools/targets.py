@@ -17,12 +17,17 @@ target         reader                                          versions    on an
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from .errors import XrdfToolsError, did_you_mean
+from .errors import ConversionError, XrdfToolsError, did_you_mean
+
+if TYPE_CHECKING:
+    from .model import Xrdf
 
 __all__ = [
     "TARGETS",
     "Target",
+    "choose_version",
     "dropping_readers",
     "parse_target",
 ]
@@ -65,3 +70,33 @@ def parse_target(value: str | None) -> Target | None:
 def dropping_readers(version: str) -> list[Target]:
     """Readers that do not load a file of ``version`` as written."""
     return [t for t in TARGETS.values() if version not in t.versions]
+
+
+def choose_version(x: Xrdf, requested: str | None, target: Target | None) -> tuple[str, str]:
+    """The XRDF version to write and, when it is 2.0, which readers will not load it.
+
+    1.0 is what every reader loads. 2.0 is written when asked for, or when the robot needs
+    what only 2.0 expresses; a target that cannot load that version is an error.
+    """
+    from .versions import needs_version_2
+
+    needs = needs_version_2(x)
+    if requested is None:
+        requested = "2.0" if needs else (target.versions[0] if target else "1.0")
+    if requested == "1.0" and needs:
+        raise ConversionError(f"XRDF 1.0 cannot express this robot: {needs[0]}; write 2.0")
+    if target is not None and requested not in target.versions:
+        reason = f" (the robot needs it: {needs[0]})" if needs else ""
+        raise ConversionError(
+            f"XRDF {requested}{reason} is not loaded as written by {target.label} "
+            f"(target '{target.id}' reads {', '.join(target.versions)})"
+        )
+    dropping = [] if target is not None else dropping_readers(requested)
+    if not dropping:
+        return requested, ""
+    reason = f" because {needs[0]}" if needs else ""
+    return requested, (
+        f"writing XRDF {requested}{reason}: {' and '.join(t.label for t in dropping)} read only "
+        "1.0 and would load this file with NO collision spheres (pass --target to say who "
+        "reads it)"
+    )

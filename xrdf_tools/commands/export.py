@@ -1,5 +1,5 @@
-"""``xrdf export curobo|srdf``: XRDF → cuRobo robot YAML; XRDF ignore pairs synced into a MoveIt
-SRDF."""
+"""``xrdf export curobo|srdf|xrdf``: XRDF → cuRobo robot YAML; XRDF ignore pairs synced into a
+MoveIt SRDF; an XRDF rewritten for the reader that will load it."""
 
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ if TYPE_CHECKING:
     from ..sources import RobotTree
 
 app = typer.Typer(
-    help="Export an XRDF to a cuRobo robot YAML or sync its ignore pairs into a MoveIt SRDF.",
+    help="Export an XRDF to a cuRobo robot YAML, sync its ignore pairs into a MoveIt SRDF, or "
+    "rewrite it for a reader (--target).",
     no_args_is_help=True,
     rich_markup_mode=None,
 )
@@ -162,3 +163,49 @@ def _read_srdf(path: Path) -> bytes:
         return path.read_bytes()
     except OSError as e:
         fail(f"{path}: cannot read: {e.strerror or e}")
+
+
+@app.command("xrdf")
+def xrdf_for_target(
+    xrdf: Annotated[Path, typer.Argument(help="The XRDF file.", show_default=False)],
+    target: Annotated[
+        str | None,
+        typer.Option(
+            "--target",
+            help="The program that will load it: curobo (cuRobo, Isaac ROS cuMotion: 1.0 "
+            "only), cumotion or isaac-sim. Chooses the version.",
+            show_default=False,
+        ),
+    ] = None,
+    format_version: Annotated[
+        str | None,
+        typer.Option(
+            "--format-version",
+            help="XRDF version to write (default: what the target loads).",
+            show_default=False,
+        ),
+    ] = None,
+    output: Annotated[
+        Path | None, typer.Option("-o", "--output", help="Write here instead of stdout.")
+    ] = None,
+    fmt: Annotated[
+        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
+    ] = OutputFormat.text,
+) -> None:
+    """Rewrite an XRDF for the reader that will load it (e.g. a 2.0 file as 1.0 for cuRobo).
+
+    Everything the version change cannot carry over is reported; the input is never
+    overwritten.
+    """
+    from ..export import for_target
+    from ..xrdf_io import dump_xrdf, load_xrdf
+
+    if output is not None:
+        refuse_input_overwrite(output, [xrdf])
+    try:
+        x, diags = for_target(load_xrdf(xrdf), target, format_version)
+    except XrdfToolsError as e:
+        fail(e)
+    if diags:
+        typer.echo(render_diagnostics(diags, fmt), nl=False, err=True)
+    _write(dump_xrdf(x), output, [xrdf])
