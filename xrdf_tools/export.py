@@ -18,7 +18,7 @@ from typing import Any
 from .diagnostics import Diagnostic, Severity
 from .errors import ConversionError
 from .export_srdf import to_srdf
-from .model import Xrdf
+from .model import RemoveMimicAttributes, Xrdf
 from .sources import RobotTree
 from .xrdf_io import format_float, format_str
 
@@ -82,6 +82,25 @@ def for_target(
     return out, diags
 
 
+def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
+    """Raise :class:`ConversionError` / :class:`SourceError` when ``x`` cannot become a cuRobo
+    config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot."""
+    from .convert import check_belongs
+
+    if layout not in CUROBO_LAYOUTS:
+        raise ConversionError(
+            f"unknown cuRobo layout '{layout}'; choose {', '.join(CUROBO_LAYOUTS)}"
+        )
+    if x.cspace is None:
+        raise ConversionError("the XRDF has no cspace; cuRobo needs one")
+    if any(isinstance(m, RemoveMimicAttributes) for m in x.modifiers):
+        raise ConversionError(
+            "remove_mimic_attributes has no cuRobo equivalent; edit the URDF instead"
+        )
+    base = x.base_frame()
+    check_belongs(x, tree.with_root(base) if base in tree.links else tree)
+
+
 def to_curobo(
     x: Xrdf,
     tree: RobotTree,
@@ -95,27 +114,15 @@ def to_curobo(
     (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). Joints that have a default
     position but are not in the c-space become ``lock_joints``.
     """
-    if layout not in CUROBO_LAYOUTS:
-        raise ConversionError(
-            f"unknown cuRobo layout '{layout}'; choose {', '.join(CUROBO_LAYOUTS)}"
-        )
-    if x.cspace is None:
-        raise ConversionError("the XRDF has no cspace; cuRobo needs one")
+    _check_exportable(x, tree, layout)
+    assert x.cspace is not None
     diags: list[Diagnostic] = []
     path = x.source.path
 
     def note(rule: str, msg: str, sev: Severity = Severity.WARNING) -> None:
         diags.append(Diagnostic(path, None, None, rule, sev, msg, ""))
 
-    for m in x.modifiers:
-        if type(m).__name__ == "RemoveMimicAttributes":
-            raise ConversionError(
-                "remove_mimic_attributes has no cuRobo equivalent; edit the URDF instead"
-            )
-    from .convert import check_belongs
-
     base = x.base_frame()
-    check_belongs(x, tree.with_root(base) if base in tree.links else tree)
     kin: dict[str, Any] = {}
     if layout == "2.0":
         kin["format_version"] = 2.0
