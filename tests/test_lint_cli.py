@@ -171,9 +171,16 @@ def test_lint_without_urdf_imports_no_heavy_library() -> None:
         "from typer.testing import CliRunner\n"
         f"r = CliRunner().invoke(app, ['lint', {str(SEED_XRDF)!r}])\n"
         "assert r.exit_code == 0, r.output\n"
-        "heavy = [m for m in ('trimesh', 'yourdfpy', 'rerun', 'mcap', 'matplotlib', 'lxml')"
-        " if m in sys.modules]\n"
+        "heavy = [m for m in ('trimesh', 'yourdfpy', 'rerun', 'mcap', 'matplotlib', 'lxml',"
+        " 'numpy', 'xrdf_tools.diff') if m in sys.modules]\n"
         "print(','.join(heavy))\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "", f"imported: {out.stdout}"
+
+
+def test_the_cli_repeats_the_diff_tolerance_it_does_not_import() -> None:
+    from xrdf_tools.commands.diff import DEFAULT_TOLERANCE as cli_default
+    from xrdf_tools.diff import DEFAULT_TOLERANCE
+
+    assert cli_default == DEFAULT_TOLERANCE
