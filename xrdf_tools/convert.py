@@ -3,7 +3,7 @@
 :func:`convert` is pure: it reads the given files, returns the :class:`~xrdf_tools.model.Xrdf`
 and a list of diagnostics — one for every value that was not taken from the inputs (default
 limits, chosen group/state/tool frame, dropped keys, unknown names, missing spheres). Mapping
-rules: ``shared/spec/sources.md``; behaviour: ``docs/convert.md``.
+rules and behaviour: ``docs/convert.md``; the readers: ``docs/format.md``.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Conversions between XRDF 1.0 and 2.0, reporting what could not be carried over.
 
-Follows the converter notes of the 2.0 reference (``shared/spec/xrdf-2.0.md`` §11).
+What each version can express and what is reported: docs/format.md ("Version conversion").
 """
 
 from __future__ import annotations

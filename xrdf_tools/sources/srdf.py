@@ -1,6 +1,6 @@
 """MoveIt SRDF: parse it, expand planning groups the way MoveIt does, map it onto a Draft.
 
-Group expansion (MoveIt ``RobotModel``, see ``shared/spec/sources.md`` §2): a ``chain`` walks up
+Group expansion (MoveIt ``RobotModel``, see docs/convert.md, "Sources"): a ``chain`` walks up
 from ``tip_link`` adding each parent joint and stops at ``base_link`` (whose own parent joint is
 not included); a ``joint`` is itself; a ``link`` contributes its parent joint; a subgroup
 contributes all of its joints. Joints are ordered depth-first in URDF tree order (siblings by
@@ -343,7 +343,7 @@ def read_srdf(
     state: str | None = None,
     draft: Draft | None = None,
 ) -> Draft:
-    """Map an SRDF onto a :class:`Draft` (see ``shared/spec/sources.md`` §2)."""
+    """Map an SRDF onto a :class:`Draft` (mapping: docs/convert.md, "Sources")."""
     d = draft or Draft()
     rep = Reporter(srdf.path)
     if group is None:
