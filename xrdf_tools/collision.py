@@ -1,6 +1,6 @@
 """Self-collision of sphere models: active pairs as index arrays, batched distances, counting.
 
-Semantics (docs/report.md, "Collision semantics"): spheres ``a`` and ``b`` on *different* frames are in
+Semantics (docs/report.md): spheres ``a`` and ``b`` on *different* frames are in
 self-collision when ``‖c_a − c_b‖ < (r_a + s_a) + (r_b + s_b)``, where ``s`` is the frame's
 ``self_collision.buffer_distance`` (default 0). Pairs on the same frame are never checked; a
 pair whose frames are in ``self_collision.ignore`` (either direction) is masked. A sphere with a
