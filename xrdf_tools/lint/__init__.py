@@ -189,7 +189,7 @@ def lint_text(
     loader = _urdf_loader(urdf, {}) if urdf is not None else None
     return _run(
         LintContext(
-            text, path, urdf_loader=loader, options=cfg.options, target=_target(target, cfg)
+            text, path, urdf_loader=loader, target=_target(target, cfg)
         ),
         rules,
         cfg,
@@ -241,7 +241,7 @@ def lint(
         u = urdf if urdf is not None else cfg.urdf_for(Path(p))
         loader = _urdf_loader(u, cache) if u is not None else None
         ctx = LintContext(
-            text, os.fspath(p), urdf_loader=loader, options=cfg.options, target=chosen
+            text, os.fspath(p), urdf_loader=loader, target=chosen
         )
         out.extend(_run(ctx, rules, cfg))
     return sorted(out, key=sort_key)

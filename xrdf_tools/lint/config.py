@@ -39,11 +39,10 @@ class ConfigError(XrdfToolsError):
 
 @dataclass(frozen=True)
 class LintConfig:
-    """Severity overrides per rule (None = off), URDF globs, per-rule options."""
+    """Severity overrides per rule (None = off), URDF globs, the target reader."""
 
     levels: Mapping[str, Severity | None] = field(default_factory=dict)
     urdf_map: tuple[tuple[str, str], ...] = ()
-    options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     base_dir: str = "."
     source: str | None = None
     #: The reader the files are for (a target id), or None.
@@ -89,7 +88,7 @@ def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
         data = {}
     if not isinstance(data, dict):
         raise ConfigError("the lint configuration must be a mapping", path=source)
-    keys = ["rules", "urdf", "options", "extends", "target"]
+    keys = ["rules", "urdf", "target"]
     unknown = {str(k) for k in data} - set(keys)
     if unknown:
         key = sorted(unknown)[0]
@@ -126,13 +125,9 @@ def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
     urdf = data.get("urdf") or {}
     if not isinstance(urdf, dict):
         raise ConfigError("'urdf' must map XRDF path globs to URDF paths", path=source)
-    options = data.get("options") or {}
-    if not isinstance(options, dict) or not all(isinstance(v, dict) for v in options.values()):
-        raise ConfigError("'options' must map rule ids to mappings", path=source)
     return LintConfig(
         levels,
         tuple((str(k), str(v)) for k, v in urdf.items()),
-        {str(k): dict(v) for k, v in options.items()},
         base_dir,
         source,
         target,
@@ -140,13 +135,9 @@ def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
 
 
 def _merge(base: LintConfig, over: LintConfig) -> LintConfig:
-    options = {k: dict(v) for k, v in base.options.items()}
-    for k, v in over.options.items():
-        options.setdefault(k, {}).update(v)
     return LintConfig(
         {**base.levels, **over.levels},
         over.urdf_map + base.urdf_map,
-        options,
         over.base_dir,
         over.source,
         over.target if over.target is not None else base.target,

@@ -116,12 +116,10 @@ class LintContext:
         path: str,
         *,
         urdf_loader: Callable[[], Any] | None = None,
-        options: Mapping[str, Mapping[str, Any]] | None = None,
         target: str | None = None,
     ) -> None:
         self.text = text
         self.path = path
-        self.options: Mapping[str, Mapping[str, Any]] = options or {}
         #: The reader the file is meant for (``curobo``, ``cumotion``, ``isaac-sim``) or None.
         self.target = target
         self._urdf_loader = urdf_loader
@@ -170,9 +168,6 @@ class LintContext:
         if node is None and self.root is not None:
             line, col = self.root.line, self.root.col
         return Problem(line, col, message, key_path, severity)
-
-    def option(self, rule: str, key: str, default: Any) -> Any:
-        return self.options.get(rule, {}).get(key, default)
 
     # --- sections ---------------------------------------------------------------------------
     def world_key(self) -> str:
