@@ -163,12 +163,24 @@ def lint_text(
     urdf: str | os.PathLike[str] | None = None,
     config: LintConfig | None = None,
     rules: Sequence[Rule] = RULES,
+    urdf_model: Any = None,
 ) -> list[Diagnostic]:
     """Lint one XRDF document given as text (``path`` is used in the diagnostics).
+
+    ``urdf_model`` is a URDF already loaded by :mod:`xrdf_tools.urdf_source` (e.g. an
+    expanded xacro): it is used as it is instead of reading ``urdf``.
 
     Raises :class:`XrdfToolsError` only when ``urdf`` cannot be read or is not a valid robot.
     """
     loader = _urdf_loader(urdf, {}) if urdf is not None else None
+    if urdf_model is not None:
+        from ..urdf_source import urdf_path
+
+        model = urdf_model
+
+        def loader() -> tuple[Any, str]:
+            return model, urdf_path(model)
+
     return _run(
         LintContext(text, path, urdf_loader=loader, options=(config or LintConfig()).options),
         rules,

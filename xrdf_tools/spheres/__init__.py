@@ -29,7 +29,7 @@ from ..model import CollisionSection, GeometryGroup, SelfCollisionSection, Spher
 from .metrics import SphereMetrics, sphere_metrics
 
 if TYPE_CHECKING:
-    from .geometry import LinkGeometry
+    from .geometry import GeometryChoice, LinkGeometry
 
 __all__ = [
     "CoverageSummary",
@@ -105,6 +105,8 @@ def fit_link_spheres(
     package_paths: Mapping[str, str] | None = None,
     max_protrusion: float | Mapping[str, float] | None = None,
     progress: Any = None,
+    source: GeometryChoice = "auto",
+    urdf_text: str | None = None,
 ) -> tuple[dict[str, tuple[Sphere, ...]], list[Diagnostic]]:
     """Fit spheres to every link with geometry (or to ``links``) of a URDF or xacro file.
 
@@ -117,7 +119,9 @@ def fit_link_spheres(
     * none -- per link, the fewest spheres (up to 16) whose greedy cover reaches 90 %.
 
     ``max_protrusion`` (metres, one value or per link) bounds how far each sphere may reach
-    outside its link; by default 6 % of the cube root of the link's volume. The same inputs
+    outside its link; by default 6 % of the cube root of the link's volume. ``source`` and
+    ``urdf_text`` choose the geometry and the URDF text as in
+    :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs
     and ``seed`` give the same spheres. ``progress(link, i, n)`` is called before each link.
     Returns ``({link: spheres}, diagnostics)`` in URDF link order.
     """
@@ -125,7 +129,9 @@ def fit_link_spheres(
     from .geometry import load_link_geometry
 
     _check_counts(per_link, count, density)
-    geoms, diags = load_link_geometry(urdf_path, links=links, package_paths=package_paths)
+    geoms, diags = load_link_geometry(
+        urdf_path, links=links, package_paths=package_paths, source=source, urdf_text=urdf_text
+    )
     if count is not None and count < len(geoms):
         raise XrdfToolsError(
             f"count {count} is less than the number of links to fit ({len(geoms)})"
