@@ -20,7 +20,6 @@ from xrdf_tools.cli import app
 from xrdf_tools.convert import ConvertOptions
 from xrdf_tools.lint import lint_text
 from xrdf_tools.report import self_collision_report
-from xrdf_tools.sources.xacro_source import expand_xacro
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.urdf_source import load_urdf
 from xrdf_tools.xrdf_io import load_xrdf
@@ -49,16 +48,18 @@ BOXES = """<robot name="boxes">
 """
 
 
-def _check_with_report_and_lint(xrdf: Path, urdf: Path, samples: int = 3000) -> None:
+def _check_with_report_and_lint(
+    xrdf: Path, urdf: Path, samples: int = 3000, extra: tuple[str, ...] = ()
+) -> None:
     """`xrdf report` and `xrdf lint` on the written XRDF: exit 0 and no error."""
     rep = runner.invoke(
-        app, ["report", str(xrdf), "--urdf", str(urdf), "-n", str(samples), "-f", "json"]
+        app, ["report", str(xrdf), "--urdf", str(urdf), "-n", str(samples), "-f", "json", *extra]
     )
     assert rep.exit_code == 0, rep.output
     data = json.loads(rep.stdout)
     assert [d for d in data["diagnostics"] if d["severity"] == "error"] == []
     assert data["default_ok"]
-    lint = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf), "-f", "json"])
+    lint = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf), "-f", "json", *extra])
     assert lint.exit_code == 0, lint.output
     found = json.loads(lint.stdout)["diagnostics"]
     assert [d for d in found if d["severity"] == "error"] == []
@@ -262,11 +263,9 @@ def test_xacro_only_robot_with_xacro_arg(tmp_path: Path) -> None:
     assert x.world_collision_spheres() and all(
         f.startswith("px150/") for f in x.world_collision_spheres()
     )
-    expanded = tmp_path / "px150.urdf"
-    expanded.write_text(
-        expand_xacro(robot, {"robot_name": "px150"}, {"trossen_descriptions": str(pkg)})
-    )
-    _check_with_report_and_lint(out, expanded)
+    # report and lint read the xacro with the same arguments (no expanded copy needed)
+    extra = ("--xacro-arg", "robot_name:=px150", "--package-path", f"trossen_descriptions={pkg}")
+    _check_with_report_and_lint(out, robot, extra=extra)
 
 
 @pytest.mark.slow
@@ -311,3 +310,47 @@ def test_cli_usage_errors_are_one_line_exit_2(boxes: Path) -> None:
         r = runner.invoke(app, ["convert", str(boxes), *args])
         assert r.exit_code == 2, r.output
         assert match in r.output and "Traceback" not in r.output
+
+
+XACRO = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="prefix" default="a_"/>
+  <link name="$(arg prefix)base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry>
+  </collision></link>
+  <link name="$(arg prefix)tip"><collision><origin xyz="0 0 0.1"/><geometry>
+  <box size="0.04 0.04 0.2"/></geometry></collision></link>
+  <joint name="$(arg prefix)j" type="revolute"><parent link="$(arg prefix)base"/>
+    <child link="$(arg prefix)tip"/><origin xyz="0 0 0.05"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"""
+
+
+def test_every_command_reads_a_xacro_with_its_arguments(tmp_path: Path) -> None:
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(XACRO)
+    out = tmp_path / "r.xrdf"
+    args = ["--xacro-arg", "prefix:=z_"]
+    r = runner.invoke(
+        app, ["convert", str(robot), *args, "--fit-spheres", "-n", "200", "-o", str(out)]
+    )
+    assert r.exit_code == 0, r.output
+    _check_with_report_and_lint(out, robot, samples=200, extra=tuple(args))
+    # without the argument the frames do not exist: lint says so (the xacro default is a_)
+    plain = runner.invoke(app, ["lint", str(out), "--urdf", str(robot)])
+    assert plain.exit_code == 1 and "z_tip" in plain.output
+    d = runner.invoke(app, ["diff", str(out), str(out), "--urdf", str(robot), *args])
+    assert d.exit_code == 0, d.output
+    png = tmp_path / "r.png"
+    v = runner.invoke(app, ["viz", str(out), "--urdf", str(robot), *args, "--png", str(png)])
+    assert v.exit_code == 0, v.output
+    assert png.stat().st_size > 0
+    expanded = tmp_path / "r.urdf"
+    e = runner.invoke(app, ["expand", str(robot), *args, "-o", str(expanded)])
+    assert e.exit_code == 0, e.output
+    assert 'link name="z_tip"' in expanded.read_text()
+    assert load_urdf(expanded).link_map.keys() == {"z_base", "z_tip"}
+    again = runner.invoke(app, ["lint", str(out), "--urdf", str(expanded)])
+    assert again.exit_code == 0, again.output
+    sph = runner.invoke(app, ["spheres", str(robot), *args, "--per-link", "1"])
+    assert sph.exit_code == 0, sph.output
+    assert "z_tip:" in sph.stdout
+    not_xacro = runner.invoke(app, ["expand", str(expanded)])
+    assert not_xacro.exit_code == 2 and "not a xacro file" in not_xacro.output

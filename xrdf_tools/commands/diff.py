@@ -12,7 +12,14 @@ import typer
 from ..diff import DEFAULT_TOLERANCE, diff_files
 from ..diff_render import render_json, render_text
 from ..errors import XrdfToolsError
-from .common import EXIT_FINDINGS, EXIT_OK, fail
+from .common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    PackagePathOption,
+    XacroArgOption,
+    fail,
+    load_robot_option,
+)
 
 
 class DiffFormat(str, Enum):
@@ -42,9 +49,12 @@ def command(
         Path | None,
         typer.Option(
             "--urdf",
-            help="The robot's URDF: set_base_frame on its root link then counts as no change.",
+            help="The robot's URDF (or xacro): set_base_frame on its root link then counts as "
+            "no change.",
         ),
     ] = None,
+    xacro_arg: XacroArgOption = None,
+    package_path: PackagePathOption = None,
 ) -> None:
     """Semantic difference between two XRDF files (1.0 or 2.0, in any combination).
 
@@ -67,9 +77,9 @@ def command(
     try:
         root = None
         if urdf is not None:
-            from ..urdf_source import load_urdf, root_link
+            from ..urdf_source import root_link
 
-            root = root_link(load_urdf(urdf))
+            root = root_link(load_robot_option(urdf, xacro_arg, package_path))
         result = diff_files(a, b, tolerance, root_frame=root)
     except XrdfToolsError as exc:
         fail(exc)

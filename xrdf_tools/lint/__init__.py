@@ -174,18 +174,21 @@ def lint_text(
     """
     loader = _urdf_loader(urdf, {}) if urdf is not None else None
     if urdf_model is not None:
-        from ..urdf_source import urdf_path
-
-        model = urdf_model
-
-        def loader() -> tuple[Any, str]:
-            return model, urdf_path(model)
-
+        loader = _model_loader(urdf_model)
     return _run(
         LintContext(text, path, urdf_loader=loader, options=(config or LintConfig()).options),
         rules,
         config or LintConfig(),
     )
+
+
+def _model_loader(model: Any) -> UrdfLoader:
+    from ..urdf_source import urdf_path
+
+    def load() -> tuple[Any, str]:
+        return model, urdf_path(model)
+
+    return load
 
 
 def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Any]) -> UrdfLoader:
@@ -208,9 +211,11 @@ def lint(
     config: LintConfig | None = None,
     select: Sequence[str] = (),
     ignore: Sequence[str] = (),
+    urdf_model: Any = None,
 ) -> list[Diagnostic]:
     """Lint XRDF files. ``urdf`` applies to every file; otherwise the config's ``urdf`` map
-    picks one per file (or none).
+    picks one per file (or none). ``urdf_model`` (a URDF already loaded, e.g. an expanded
+    xacro) applies to every file and replaces ``urdf``.
 
     A file that cannot be read as UTF-8 text raises :class:`YamlError`; an unreadable or
     invalid URDF raises :class:`UrdfError` (both: usage/input errors, exit code 2).
@@ -223,6 +228,8 @@ def lint(
         text = read_text(p)
         u = urdf if urdf is not None else cfg.urdf_for(Path(p))
         loader = _urdf_loader(u, cache) if u is not None else None
+        if urdf_model is not None:
+            loader = _model_loader(urdf_model)
         ctx = LintContext(text, os.fspath(p), urdf_loader=loader, options=cfg.options)
         out.extend(_run(ctx, rules, cfg))
     return sorted(out, key=sort_key)

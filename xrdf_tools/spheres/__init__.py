@@ -350,13 +350,15 @@ def ignore_adjacent(
     urdf_path: str | os.PathLike[str],
     *,
     package_paths: Mapping[str, str] | None = None,
+    urdf: Any = None,
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Add each pair of *adjacent* sphere frames to the self-collision ignore mask.
 
     Two frames with spheres are adjacent when one is the nearest ancestor with spheres of the
     other (frames without spheres in between, such as fixed flange frames, are skipped). This
     is MoveIt's "adjacent links" rule: their spheres overlap at the joint by construction.
-    Used for a freshly drafted XRDF; a mask written by a user is left to the user.
+    Used for a freshly drafted XRDF; a mask written by a user is left to the user. ``urdf``
+    is the robot already loaded (an expanded xacro); otherwise ``urdf_path`` is read.
     """
     from ..sources.xacro_source import load_robot
     from ..urdf_source import joints_of
@@ -365,7 +367,8 @@ def ignore_adjacent(
         return xrdf, []
     spheres = xrdf.self_collision_spheres()
     with_spheres = {f for f, s in spheres.items() if s}
-    urdf, _ = load_robot(urdf_path, package_paths=dict(package_paths or {}))
+    if urdf is None:
+        urdf, _ = load_robot(urdf_path, package_paths=dict(package_paths or {}))
     parent = {j.child: j.parent for j in joints_of(urdf).values()}
     ignore = {k: list(v) for k, v in xrdf.self_collision.ignore.items()}
     added = 0
