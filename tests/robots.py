@@ -28,6 +28,7 @@ ROBOTS: dict[str, str] = {
     "baxter": "baxter_description/urdf/baxter.urdf",  # prismatic grippers with mimics
     "romeo": "romeo_description/urdf/romeo.urdf",  # 44 mimic joints, multiplier -1
     "talos": "talos_data/robots/talos_full_v2.urdf",  # gripper mimics, multiplier -1
+    "anymal": "anymal_b_simple_description/robots/anymal.urdf",  # legged; SRDF in `<a />` style
 }
 
 

@@ -104,6 +104,26 @@ BROKEN_URDF = {
 }
 
 
+#: SRDFs with groups that name joints/links/subgroups the URDF lacks: converting with them is an
+#: error naming every broken group and its unknown names (never a silently skipped group).
+BROKEN_SRDF = {
+    "alexander_description/srdf/alexander.srdf": "group 'right_arm' \\(line 22\\): unknown joints "
+    "'RIGHT_SHOULDER_Y'",
+    "baxter_description/srdf/baxter_manipulation.srdf": "unknown joints 'baxter/head_pan'.*"
+    "did you mean 'head_pan'",
+    "borinot_description/srdf/borinot_flying_arm_2.srdf": "group 'end_effector' .* unknown "
+    "chain link 'base'",
+    "hextilt_description/srdf/hextilt_flying_arm_5.srdf": "unknown chain link 'base'",
+    "hyq_description/srdf/hyq.srdf": "7 SRDF group.*group 'all_legs' .* unknown subgroups 'lf'",
+    "icub_description/srdf/icub.srdf": "chain base 'chest' is not an ancestor of tip 'l_sole'",
+    "simple_humanoid_description/srdf/simple_humanoid.srdf": "unknown chain link 'r_foot'",
+    "simple_humanoid_description/srdf/simple_humanoid_classical.srdf": "unknown chain link "
+    "'r_foot'",
+    "solo_description/srdf/solo.srdf": "unknown subgroups 'lf', 'rf'",
+    "z1_description/srdf/z1.srdf": "group 'end_effector' \\(line 4\\): unknown chain link 'base'",
+}
+
+
 def _robots() -> Path:
     root = robots_dir()
     if root is None:
@@ -138,6 +158,10 @@ def _lint_errors(xrdf_text: str, urdf_path: Path) -> list[str]:
 @pytest.mark.parametrize("srdf", sorted(SRDF_ROBOTS))
 def test_example_robot_data_srdf_converts_and_lints(srdf: str) -> None:
     urdf, srdf_path, group = _pair(srdf)
+    if srdf in BROKEN_SRDF:
+        with pytest.raises(SourceError, match=BROKEN_SRDF[srdf]):
+            convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
+        return
     x, _diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
     assert x.cspace is not None and x.cspace.joint_names, "empty c-space"
     assert x.tool_frames
@@ -337,3 +361,109 @@ def test_srdf_mapping_details(tree: RobotTree, tmp_path: Path) -> None:
     spheres = x.resolved_spheres(x.self_collision.geometry)
     assert list(spheres) == ["a"]  # zero radii dropped; all-zero 'b' has no spheres
     assert len(spheres["a"]) == 1
+
+
+# --- broken groups, virtual joints, several groups, the default choice -------------------------
+
+
+def _write(tmp_path: Path, text: str, name: str = "t.srdf") -> Path:
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def test_broken_group_is_an_error_even_when_another_is_chosen(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="typo"><joint name="j22"/><joint name="j33"/><link name="nope"/></group>
+        <group name="sub"><group name="missing"/></group>
+        </robot>""",
+    )
+    from xrdf_tools.sources.srdf import read_srdf
+
+    with pytest.raises(SourceError) as err:
+        read_srdf(load_srdf(srdf), tree, group="arm")
+    msg = str(err.value)
+    assert "2 SRDF group(s) do not match the URDF" in msg
+    assert "group 'typo' (line 3): unknown joints 'j22', 'j33'" in msg
+    assert "unknown link 'nope'" in msg and "group 'sub'" in msg and "'missing'" in msg
+    assert "\n" not in msg
+
+
+def test_virtual_joint_in_a_group_is_known(tree: RobotTree) -> None:
+    s = parse_srdf(
+        """<robot name="t">
+        <virtual_joint name="world_joint" type="planar" parent_frame="odom" child_link="base"/>
+        <group name="base"><joint name="world_joint"/></group>
+        <group name="body"><group name="base"/><chain base_link="base" tip_link="tip"/></group>
+        </robot>"""
+    )
+    assert cspace_of(s, "base", tree) == []
+    assert cspace_of(s, "body", tree) == ["j1", "j2", "j3"]
+
+
+def test_several_groups_are_one_cspace_in_the_given_order(tree: RobotTree, tmp_path: Path) -> None:
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><chain base_link="base" tip_link="z_side"/></group>
+        <group_state name="home" group="arm"><joint name="j1" value="0.2"/></group_state>
+        <group_state name="home" group="side"><joint name="zz" value="0.3"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert import convert
+
+    x, _ = convert(tree, ConvertOptions(srdf=srdf, groups=("side", "arm")))
+    assert x.cspace is not None and x.cspace.joint_names == ("zz", "j1", "j2", "j3")
+    assert x.tool_frames == ("z_side", "tip")
+    assert x.default_joint_positions["zz"] == 0.3 and x.default_joint_positions["j1"] == 0.2
+
+
+def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:
+    from xrdf_tools.convert import convert
+
+    x, diags = convert(tree, ConvertOptions(joints=("j3", "j1")))
+    assert x.cspace is not None and x.cspace.joint_names == ("j3", "j1")  # the given order
+    assert x.tool_frames == ("tip",)
+    assert "convert-chosen-group" not in {d.rule for d in diags}
+    x, _ = convert(tree, ConvertOptions(chains=(("base", "c"), ("base", "z_side"))))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "zz")
+    assert x.tool_frames == ("c", "z_side")
+    for options, match in (
+        (ConvertOptions(joints=("j9",)), "--joints: 'j9' is not a joint"),
+        (ConvertOptions(joints=("jfix",)), "'jfix' is a fixed joint"),
+        (ConvertOptions(joints=("mim",)), "'mim' is a mimic joint"),
+        (ConvertOptions(chains=(("tip", "a"),)), "'tip' is not an ancestor of 'a'"),
+        (ConvertOptions(chains=(("base", "tpi"),)), "did you mean 'tip'"),
+        (ConvertOptions(joints=("j1",), chains=(("base", "c"),)), "not both"),
+        (ConvertOptions(joints=("j1",), groups=("arm",)), "--group or --joints/--chain"),
+    ):
+        with pytest.raises(SourceError, match=match):
+            convert(tree, options)
+
+
+@pytest.mark.parametrize(
+    ("srdf", "chosen", "why"),
+    [
+        (
+            "pr2_description/srdf/pr2.srdf",
+            "right_arm_and_torso",
+            "carrying end effector 'right_eef'",
+        ),
+        ("talos_data/srdf/talos.srdf", "r_arm", "most actuated joints (7)"),
+        ("panda_description/srdf/panda.srdf", "arm", "carrying end effector 'end_effector'"),
+    ],
+)
+def test_default_group_prefers_arms_with_the_most_joints(srdf: str, chosen: str, why: str) -> None:
+    """Not PR2's one-joint gripper, not Talos's leg (its only end effectors are its feet)."""
+    urdf, srdf_path, _ = _pair(srdf)
+    x, diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf_path))
+    msg = next(d.message for d in diags if d.rule == "convert-chosen-group")
+    assert msg.startswith(f"planning group '{chosen}' chosen: ") and why in msg
+    assert "others (actuated joints): " in msg and "use --group" in msg
+    assert x.cspace is not None and len(x.cspace.joint_names) >= 7

@@ -33,9 +33,8 @@ SRDFS = {
     "panda": "panda_description/srdf/panda.srdf",
     "ur5": "ur_description/srdf/ur5.srdf",
     "xarm7": "xarm_description/srdf/xarm7.srdf",
-    "baxter": "baxter_description/srdf/baxter_manipulation.srdf",  # <a /> style, a few <a/>
+    "anymal": "anymal_b_simple_description/srdf/anymal.srdf",  # <a /> style
     "pr2": "pr2_description/srdf/pr2.srdf",  # 1163 pairs, both empty-tag styles
-    "z1": "z1_description/srdf/z1.srdf",
 }
 #: The documented mapping of report classifications to SRDF reasons (docs/convert.md).
 REASON_OF_CLASS = {
@@ -190,7 +189,7 @@ def test_panda_report_mask_synced_back(tmp_path: Path) -> None:
 # ------------------------------------------------------------------------------------------
 # Round trip and formatting
 # ------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("name", ["panda", "ur5", "xarm7", "baxter", "pr2"])
+@pytest.mark.parametrize("name", ["panda", "ur5", "xarm7", "anymal", "pr2"])
 def test_unchanged_robot_round_trips_byte_identical(name: str, tmp_path: Path) -> None:
     urdf, srdf = robot_urdf(name), _srdf(name)
     xrdf = tmp_path / f"{name}.xrdf"
@@ -333,20 +332,24 @@ def test_disable_default_collisions_is_kept_and_overridden_per_pair(tmp_path: Pa
 # <robot name>
 # ------------------------------------------------------------------------------------------
 def test_robot_name_is_the_urdf_name(tmp_path: Path) -> None:
-    urdf, srdf = robot_urdf("z1"), _srdf("z1")
-    assert b'<robot name="z1">' in srdf.read_bytes()  # the URDF says z1_description
+    # example-robot-data's z1.srdf says 'z1' where its URDF says 'z1_description' (and has
+    # broken groups): the same mismatch, on the Panda
+    urdf, panda_srdf = robot_urdf("panda"), _srdf("panda")
+    srdf = tmp_path / "z1.srdf.in"
+    srdf.write_bytes(panda_srdf.read_bytes().replace(b'<robot name="panda">', b'<robot name="z1">'))
+    assert b'<robot name="z1">' in srdf.read_bytes()  # the URDF says panda
     xrdf = tmp_path / "z1.xrdf"
     xrdf.write_text(dump_xrdf(_convert(urdf, srdf)))
     out = tmp_path / "z1.srdf"
     code, _, err = _export(str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(out))
     assert code == 0
-    assert "warning export-srdf-robot-name" in err and "'z1_description'" in err
+    assert "warning export-srdf-robot-name" in err and "'panda'" in err
     assert out.read_bytes() == srdf.read_bytes().replace(
-        b'<robot name="z1">', b'<robot name="z1_description">'
+        b'<robot name="z1">', b'<robot name="panda">'
     )
     # a new SRDF takes the URDF's name; without --urdf the fallback is said in a note
     code, stdout, err = _export(str(xrdf), "--urdf", str(urdf))
-    assert code == 0 and parse_srdf(stdout).robot_name == "z1_description"
+    assert code == 0 and parse_srdf(stdout).robot_name == "panda"
     assert "export-srdf-robot-name" not in err
     code, stdout, err = _export(str(xrdf))
     assert code == 0 and parse_srdf(stdout).robot_name == "z1"  # the file stem

@@ -12,7 +12,7 @@ from typing import Annotated
 import typer
 
 from . import __version__
-from .commands import convert, diff, export, lint, report, spheres, viz
+from .commands import convert, diff, expand, export, lint, report, spheres, viz
 from .errors import XrdfToolsError
 
 app = typer.Typer(
@@ -59,6 +59,9 @@ app.command("report", short_help="Self-collision report over sampled configurati
 app.command("viz", short_help="Sphere visualizations to rerun (.rrd), MCAP or PNG.")(viz.command)
 app.command("spheres", short_help="Fit collision spheres to link meshes; coverage metrics.")(
     spheres.command
+)
+app.command("expand", short_help="xacro → URDF, without ROS (as every command reads it).")(
+    expand.command
 )
 app.add_typer(export.app, name="export", help="XRDF → cuRobo robot YAML or MoveIt SRDF.")
 

@@ -62,6 +62,19 @@ class ConvertOptions:
     geometry_name: str | None = None
     #: The program that will read the file (``curobo``, ``cumotion``, ``isaac-sim``).
     target: str | None = None
+    #: Several SRDF planning groups: the c-space is their union, in this order (``--group``
+    #: repeated); ``group`` is the single-group form.
+    groups: tuple[str, ...] = ()
+    #: The c-space without an SRDF group: these actuated joints (``--joints``) ...
+    joints: tuple[str, ...] = ()
+    #: ... or the actuated joints of these ``(base_link, tip_link)`` chains (``--chain``).
+    chains: tuple[tuple[str, str], ...] = ()
+
+    def planning_groups(self) -> tuple[str, ...]:
+        """``groups``, or ``(group,)``, or nothing."""
+        if self.group is not None and self.group not in self.groups:
+            return (self.group, *self.groups)
+        return self.groups
 
 
 def convert_files(
@@ -92,19 +105,27 @@ def convert(
     if options.srdf is not None and options.curobo is not None:
         raise SourceError("give either an SRDF or a cuRobo config, not both")
     draft = Draft()
+    given = _cspace_choice(tree, options, draft)
     if options.curobo is not None:
         from .sources.curobo import read_curobo
 
+        if given:
+            raise SourceError("--joints/--chain choose the c-space; a cuRobo config has its own")
         read_curobo(options.curobo, tree, draft)
-        if options.group is not None or options.state is not None:
+        if options.planning_groups() or options.state is not None:
             raise SourceError("--group and --state apply to an SRDF, not to a cuRobo config")
     elif options.srdf is not None:
         from .sources.srdf import load_srdf, read_srdf
 
         read_srdf(
-            load_srdf(options.srdf), tree, group=options.group, state=options.state, draft=draft
+            load_srdf(options.srdf),
+            tree,
+            group=options.planning_groups(),
+            state=options.state,
+            draft=draft,
+            choose=not given,
         )
-    elif options.group is not None or options.state is not None:
+    elif options.planning_groups() or options.state is not None:
         raise SourceError("--group and --state need --srdf")
     if options.joint_limits is not None:
         from .sources.moveit_limits import read_joint_limits
@@ -308,6 +329,17 @@ def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
             f"{', '.join(lost[:8])}",
             path=tree.path,
         )
+
+
+def _cspace_choice(tree: RobotTree, options: ConvertOptions, draft: Draft) -> bool:
+    """Apply ``--joints``/``--chain`` to ``draft``; whether one was given."""
+    if not options.joints and not options.chains:
+        return False
+    if options.planning_groups():
+        raise SourceError("give either --group or --joints/--chain, not both")
+    from .sources.cspace import apply_cspace_choice
+
+    return apply_cspace_choice(tree, draft, joints=options.joints, chains=options.chains)
 
 
 def with_spheres(x: Xrdf, spheres: dict[str, Sequence[object]]) -> Xrdf:

@@ -17,7 +17,7 @@ import os
 import re
 import weakref
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -187,6 +187,8 @@ class _Source:
     path: str
     link_lines: Mapping[str, int]
     joint_lines: Mapping[str, int]
+    text: str = ""
+    package_paths: Mapping[str, str] = field(default_factory=dict)
 
 
 _SOURCES: dict[int, _Source] = {}
@@ -202,6 +204,18 @@ def urdf_path(urdf: yourdfpy.URDF) -> str:
     """The path a URDF was loaded from by this module, or ``"<urdf>"``."""
     src = _SOURCES.get(id(urdf))
     return src.path if src is not None else "<urdf>"
+
+
+def urdf_text(urdf: yourdfpy.URDF) -> str | None:
+    """The text a URDF was parsed from by this module (an expanded xacro: the expansion)."""
+    src = _SOURCES.get(id(urdf))
+    return src.text if src is not None else None
+
+
+def urdf_package_paths(urdf: yourdfpy.URDF) -> dict[str, str]:
+    """The ``package_paths`` a URDF was loaded with (``{}`` when unknown)."""
+    src = _SOURCES.get(id(urdf))
+    return dict(src.package_paths) if src is not None else {}
 
 
 def source_line(urdf: yourdfpy.URDF, kind: Literal["link", "joint"], name: str) -> int | None:
@@ -337,7 +351,8 @@ def _parse_bytes(
     except Exception as e:  # yourdfpy raises bare KeyError/ValueError/AttributeError
         detail = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise UrdfError(f"yourdfpy cannot read this URDF: {detail}", path=path) from None
-    _remember(urdf, _Source(path, link_lines, joint_lines))
+    text = data.decode("utf-8", errors="replace")
+    _remember(urdf, _Source(path, link_lines, joint_lines, text, dict(package_paths or {})))
     return urdf
 
 

@@ -7,7 +7,7 @@ import sys
 from collections.abc import Sequence
 from enum import Enum
 from pathlib import Path
-from typing import NoReturn
+from typing import TYPE_CHECKING, Annotated, Any, NoReturn
 
 import typer
 
@@ -19,6 +19,9 @@ from ..diagnostics import (
     render_text,
 )
 from ..errors import XrdfToolsError
+
+if TYPE_CHECKING:
+    import yourdfpy
 
 
 class OutputFormat(str, Enum):
@@ -79,3 +82,40 @@ def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) ->
 
 def stdout_is_terminal() -> bool:
     return sys.stdout.isatty()
+
+
+#: ``--xacro-arg`` / ``--package-path`` of every command reading a robot (same as ``convert``).
+XacroArgOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--xacro-arg", help="xacro argument NAME:=VALUE when the robot is a xacro (repeatable)."
+    ),
+]
+PackagePathOption = Annotated[
+    list[str] | None,
+    typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
+]
+
+
+def pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
+    """``--package-path``/``--xacro-arg`` values as a mapping (the last one wins)."""
+    return dict(parse(v) for v in values or [])
+
+
+def load_robot_option(
+    path: Path, xacro_arg: list[str] | None, package_path: list[str] | None
+) -> yourdfpy.URDF:
+    """The robot of ``--urdf``: a URDF, or a xacro expanded with ``--xacro-arg`` and
+    ``--package-path`` like ``xrdf convert`` does (one loader for every command).
+
+    Raises :class:`XrdfToolsError` (the caller exits 2).
+    """
+    from ..packages import parse_package_path
+    from ..sources.xacro_source import load_robot, parse_xacro_arg
+
+    urdf, _ = load_robot(
+        path,
+        xacro_args=pairs(xacro_arg, parse_xacro_arg),
+        package_paths=pairs(package_path, parse_package_path),
+    )
+    return urdf

@@ -6,13 +6,16 @@ a fallback, or ``--check`` found a difference; 2 usage or input error.
 
 from __future__ import annotations
 
-import os
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from enum import Enum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from ..diagnostics import Diagnostic, Severity
+from ..diagnostics import Severity
 from ..errors import XrdfToolsError
 from .common import (
     EXIT_FINDINGS,
@@ -24,7 +27,14 @@ from .common import (
 )
 
 if TYPE_CHECKING:
+    from ..assistant import Progress
     from ..model import Xrdf
+
+
+class GeometryFrom(str, Enum):
+    collision = "collision"
+    visual = "visual"
+    auto = "auto"
 
 
 def _pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
@@ -56,7 +66,12 @@ def command(
         typer.Option("--curobo", help="cuRobo robot YAML (classic or 2.0 layout) or Lula YAML."),
     ] = None,
     group: Annotated[
-        str | None, typer.Option("--group", help="SRDF planning group (default: see docs).")
+        list[str] | None,
+        typer.Option(
+            "--group",
+            help="SRDF planning group (repeatable: the c-space is the union, in the given "
+            "order; default: see docs).",
+        ),
     ] = None,
     state: Annotated[
         str | None, typer.Option("--state", help="SRDF group_state for default positions.")
@@ -121,6 +136,53 @@ def command(
         bool,
         typer.Option("--fit-spheres", help="Fit spheres to the link meshes when none are given."),
     ] = False,
+    samples: Annotated[
+        int,
+        typer.Option(
+            "--samples",
+            "-n",
+            min=1,
+            help="With --fit-spheres: configurations sampled for the self-collision mask "
+            "(as `xrdf report --samples`).",
+        ),
+    ] = 100_000,
+    seed: Annotated[
+        int, typer.Option("--seed", help="With --fit-spheres: seed of the fit and the sampler.")
+    ] = 0,
+    geometry_from: Annotated[
+        GeometryFrom,
+        typer.Option(
+            "--from",
+            help="With --fit-spheres: fit to collision geometry (links with visual geometry "
+            "only get no spheres), visual geometry, or auto (collision, else visual).",
+        ),
+    ] = GeometryFrom.collision,
+    per_link: Annotated[
+        int | None,
+        typer.Option(
+            "--per-link",
+            min=1,
+            max=64,
+            help="With --fit-spheres: spheres per link (default: the fewest, up to 16, that "
+            "cover 90 % of the link).",
+        ),
+    ] = None,
+    joints: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--joints",
+            help="C-space without an SRDF group: these actuated joints in this order "
+            "(comma-separated or repeated).",
+        ),
+    ] = None,
+    chain: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--chain",
+            help="C-space without an SRDF group: the actuated joints from BASE_LINK to "
+            "TIP_LINK (BASE:TIP, repeatable for several arms).",
+        ),
+    ] = None,
     no_lint: Annotated[
         bool, typer.Option("--no-lint", help="Skip linting the result against the URDF.")
     ] = False,
@@ -128,11 +190,16 @@ def command(
         OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
     ] = OutputFormat.text,
 ) -> None:
-    """Convert a URDF/xacro plus an SRDF or cuRobo config to XRDF; report every guess."""
-    from ..convert import ConvertOptions, convert
+    """Convert a URDF/xacro plus an SRDF or cuRobo config to XRDF; report every guess.
+
+    With --fit-spheres: fit spheres to the links' collision geometry and compute the
+    self-collision mask like `xrdf report --write-mask`, so the result is planning-ready.
+    """
+    from ..assistant import FitOptions, MaskOptions, convert_robot
+    from ..convert import ConvertOptions
     from ..packages import parse_package_path
-    from ..sources.xacro_source import load_robot, parse_xacro_arg
-    from ..xrdf_io import dump_xrdf
+    from ..sources.cspace import parse_chain
+    from ..sources.xacro_source import parse_xacro_arg
 
     if format_version not in (None, "1.0", "2.0"):
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
@@ -148,27 +215,37 @@ def command(
             srdf=srdf,
             joint_limits=joint_limits,
             curobo=curobo,
-            group=group,
             state=state,
             tool_frames=tuple(tool_frame or ()),
             acceleration=acceleration,
             jerk=jerk,
             format_version=format_version,
             target=target,
+            groups=tuple(group or ()),
+            joints=tuple(_split(joints)),
+            chains=tuple(parse_chain(c) for c in _split(chain)),
         )
-        urdf, urdf_text = load_robot(robot, xacro_args=xargs, package_paths=pkgs)
-        x, diags = convert(urdf, options)
+        fit = None
         if fit_spheres:
-            x, more = _fit(x, robot, urdf, pkgs, xargs)
-            diags = [d for d in diags if d.rule != "convert-no-spheres"] + more
-        text = dump_xrdf(x)
+            fit = FitOptions(source=geometry_from.value, seed=seed, per_link=per_link)
+        mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
         label = str(output) if output is not None else "<stdout>"
-        lint_diags = [] if no_lint else _lint(text, robot, urdf_text, label, target)
+        with _progress(fit_spheres) as progress:
+            result = convert_robot(
+                robot,
+                options,
+                xacro_args=xargs,
+                package_paths=pkgs,
+                fit=fit,
+                mask=mask,
+                lint=not no_lint,
+                label=label,
+                progress=progress,
+            )
     except XrdfToolsError as e:
         fail(e)
-    if any(d.rule == "convert-no-spheres" for d in diags):
-        # One loud "no spheres at all" says it; a per-link lint line for every link is noise.
-        lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
+    x, text, urdf = result.xrdf, result.text, result.urdf
+    diags, lint_diags = list(result.diagnostics), list(result.lint)
     all_diags = [*diags, *lint_diags]
     if all_diags:
         typer.echo(render_diagnostics(all_diags, fmt), nl=False, err=True)
@@ -228,44 +305,36 @@ def _render_diff(result: Any) -> str:
     return render_text(result)
 
 
-def _lint(
-    text: str, robot: Path, urdf_text: str | None, label: str, target: str | None
-) -> list[Diagnostic]:
-    """Lint the written XRDF ``text`` against the URDF (the expanded one for xacro input).
-
-    ``label`` names the output in the diagnostics (the -o path, or ``<stdout>``).
-    """
-    import tempfile
-
-    from ..lint import lint_text
-
-    if urdf_text is None:
-        return lint_text(text, label, urdf=robot, target=target)
-    with tempfile.TemporaryDirectory(prefix="xrdf-convert-") as tmp:
-        expanded = Path(tmp) / (robot.name.removesuffix(".xacro") + ".urdf")
-        expanded.write_text(urdf_text, encoding="utf-8")
-        return lint_text(text, label, urdf=expanded, target=target)
+def _split(values: list[str] | None) -> list[str]:
+    """Comma-separated and repeated values, in order."""
+    return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
 
 
-def _fit(
-    x: Xrdf, robot: Path, urdf: Any, pkgs: dict[str, str], xargs: dict[str, str]
-) -> tuple[Xrdf, list[Diagnostic]]:
-    """Fit spheres to the links that have none (lazy import; exit 2 when unavailable)."""
-    try:
-        from ..spheres import fit_link_spheres
-    except ImportError:
-        fail("--fit-spheres: sphere fitting is not available in this installation")
-    if xargs:
-        fail("--fit-spheres does not support --xacro-arg yet; expand the xacro to a URDF first")
-    from ..convert import with_spheres
-    from ..sources import RobotTree
+@contextmanager
+def _progress(enabled: bool) -> Iterator[Progress | None]:
+    """A rich progress bar on stderr for fitting and sampling (a terminal only)."""
+    if not enabled or not sys.stderr.isatty():
+        yield None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, TextColumn, TimeRemainingColumn
+    from rich.progress import Progress as Bar
 
-    have = dict(x.world_collision_spheres())
-    links = None
-    if have:
-        links = [link for link in RobotTree.from_urdf(urdf).links if link not in have]
-    fitted, diags = fit_link_spheres(os.fspath(robot), links=links, package_paths=pkgs)
-    merged: dict[str, Any] = {k: list(v) for k, v in have.items()}
-    for link, spheres in fitted.items():
-        merged.setdefault(link, []).extend(spheres)
-    return with_spheres(x, merged), list(diags)
+    bar = Bar(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed:,}/{task.total:,}"),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    )
+    tasks: dict[str, Any] = {}
+
+    def update(stage: str, done: int, total: int) -> None:
+        if stage not in tasks:
+            label = "fitting spheres (links)" if stage == "fitting" else "sampling the mask"
+            tasks[stage] = bar.add_task(label, total=total)
+        bar.update(tasks[stage], completed=done)
+
+    with bar:
+        yield update

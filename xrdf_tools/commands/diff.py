@@ -10,7 +10,14 @@ from typing import Annotated
 import typer
 
 from ..errors import XrdfToolsError
-from .common import EXIT_FINDINGS, EXIT_OK, fail
+from .common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    PackagePathOption,
+    XacroArgOption,
+    fail,
+    load_robot_option,
+)
 
 #: ``xrdf_tools.diff.DEFAULT_TOLERANCE``, repeated so that importing the CLI (every ``xrdf lint``
 #: start) does not import the diff engine; a test keeps the two equal.
@@ -44,9 +51,12 @@ def command(
         Path | None,
         typer.Option(
             "--urdf",
-            help="The robot's URDF: set_base_frame on its root link then counts as no change.",
+            help="The robot's URDF (or xacro): set_base_frame on its root link then counts as "
+            "no change.",
         ),
     ] = None,
+    xacro_arg: XacroArgOption = None,
+    package_path: PackagePathOption = None,
 ) -> None:
     """Semantic difference between two XRDF files (1.0 or 2.0, in any combination).
 
@@ -69,9 +79,9 @@ def command(
     try:
         root = None
         if urdf is not None:
-            from ..urdf_source import load_urdf, root_link
+            from ..urdf_source import root_link
 
-            root = root_link(load_urdf(urdf))
+            root = root_link(load_robot_option(urdf, xacro_arg, package_path))
         from ..diff import diff_files
 
         result = diff_files(a, b, tolerance, root_frame=root)

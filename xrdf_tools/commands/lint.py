@@ -7,7 +7,15 @@ from typing import Annotated
 
 import typer
 
-from .common import EXIT_FINDINGS, OutputFormat, fail, has_failures
+from .common import (
+    EXIT_FINDINGS,
+    OutputFormat,
+    PackagePathOption,
+    XacroArgOption,
+    fail,
+    has_failures,
+    load_robot_option,
+)
 
 
 def _split(values: list[str] | None) -> list[str]:
@@ -20,9 +28,12 @@ def command(
         Path | None,
         typer.Option(
             "--urdf",
-            help="URDF the files describe: enables frame, joint, limit and collision checks.",
+            help="URDF (or xacro) the files describe: enables frame, joint, limit and "
+            "collision checks.",
         ),
     ] = None,
+    xacro_arg: XacroArgOption = None,
+    package_path: PackagePathOption = None,
     output_format: Annotated[
         OutputFormat, typer.Option("--format", "-f", help="Output format.")
     ] = OutputFormat.text,
@@ -67,6 +78,11 @@ def command(
 
     try:
         cfg = load_config(config) if config is not None else discover_config()
+        model = None
+        if urdf is not None:
+            model = load_robot_option(urdf, xacro_arg, package_path)
+        elif xacro_arg or package_path:
+            fail("--xacro-arg and --package-path apply to --urdf; give --urdf")
         diagnostics = lint(
             files,
             urdf=urdf,
@@ -74,6 +90,7 @@ def command(
             select=_split(select),
             ignore=_split(ignore),
             target=target,
+            urdf_model=model,
         )
     except XrdfToolsError as exc:
         fail(exc)

@@ -15,7 +15,15 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import XrdfToolsError
-from .common import EXIT_FINDINGS, fail, has_failures, refuse_input_overwrite
+from .common import (
+    EXIT_FINDINGS,
+    PackagePathOption,
+    XacroArgOption,
+    fail,
+    has_failures,
+    load_robot_option,
+    refuse_input_overwrite,
+)
 
 if TYPE_CHECKING:
     from ..report import ProgressFn
@@ -60,7 +68,9 @@ def _progress_bar(total_label: str) -> tuple[ProgressFn, object]:
 
 def command(
     xrdf_file: Annotated[Path, typer.Argument(help="The XRDF to check.", show_default=False)],
-    urdf: Annotated[Path, typer.Option("--urdf", help="The robot's URDF.", show_default=False)],
+    urdf: Annotated[
+        Path, typer.Option("--urdf", help="The robot's URDF (or xacro).", show_default=False)
+    ],
     samples: Annotated[
         int, typer.Option("--samples", "-n", min=1, help="Configurations to sample.")
     ] = 100_000,
@@ -106,6 +116,8 @@ def command(
         bool, typer.Option("--coverage", help="Add sphere coverage metrics (reads meshes).")
     ] = False,
     strict: Annotated[bool, typer.Option("--strict", help="Warnings also exit 1.")] = False,
+    xacro_arg: XacroArgOption = None,
+    package_path: PackagePathOption = None,
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
@@ -117,7 +129,6 @@ def command(
         render_text,
         write_heatmap,
     )
-    from ..urdf_source import load_urdf
     from ..xrdf_io import dump_xrdf, load_xrdf
     from ..yaml_io import write_atomic
 
@@ -127,7 +138,7 @@ def command(
             refuse_input_overwrite(out_path, inputs)
     try:
         x = load_xrdf(xrdf_file)
-        u = load_urdf(urdf)
+        u = load_robot_option(urdf, xacro_arg, package_path)
         q_c = None
         if configs is not None:
             from ..configs import load_cspace_configurations

@@ -13,7 +13,10 @@ from ..errors import XrdfToolsError
 from .common import (
     EXIT_FINDINGS,
     OutputFormat,
+    PackagePathOption,
+    XacroArgOption,
     fail,
+    load_robot_option,
     refuse_input_overwrite,
     render_diagnostics,
 )
@@ -87,10 +90,8 @@ def command(
         Path | None,
         typer.Option("-o", "--output", help="Write the XRDF here (atomically) instead of stdout."),
     ] = None,
-    package_path: Annotated[
-        list[str] | None,
-        typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
-    ] = None,
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
     fmt: Annotated[
         OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
     ] = OutputFormat.text,
@@ -104,6 +105,7 @@ def command(
     from ..packages import parse_package_path
     from ..spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
     from ..spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
+    from ..urdf_source import urdf_text
     from ..xrdf_io import dump_xrdf, load_xrdf
     from ..yaml_io import write_atomic
 
@@ -121,12 +123,14 @@ def command(
     diags: list[Diagnostic] = []
     try:
         pkgs = dict(parse_package_path(p) for p in (package_path or []))
+        model = load_robot_option(robot, xacro_arg, package_path)
+        text = urdf_text(model)
         if xrdf is not None:
             base = load_xrdf(xrdf)
         else:
-            from ..convert import ConvertOptions, convert_files
+            from ..convert import ConvertOptions, convert
 
-            base, cdiags, _ = convert_files(robot, ConvertOptions(), package_paths=pkgs)
+            base, cdiags = convert(model, ConvertOptions())
             diags += [d for d in cdiags if d.rule != "convert-no-spheres"]
         fitted, fdiags = fit_link_spheres(
             robot,
@@ -138,6 +142,7 @@ def command(
             package_paths=pkgs,
             max_protrusion=max_protrusion,
             progress=progress,
+            urdf_text=text,
         )
         if progress is not None:
             typer.echo("\r\x1b[K", nl=False, err=True)
@@ -145,9 +150,9 @@ def command(
         merged, mdiags = merge_spheres(base, fitted)
         diags += mdiags
         if xrdf is None:
-            merged, adiags = ignore_adjacent(merged, robot, package_paths=pkgs)
+            merged, adiags = ignore_adjacent(merged, robot, package_paths=pkgs, urdf=model)
             diags += adiags
-        geoms, _ = load_link_geometry(robot, links=list(fitted), package_paths=pkgs)
+        geoms, _ = load_link_geometry(robot, links=list(fitted), package_paths=pkgs, urdf_text=text)
         per, overall = measure_links(geoms, fitted, samples=10_000, seed=seed)
     except XrdfToolsError as e:
         fail(e)

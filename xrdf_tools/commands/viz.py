@@ -11,7 +11,15 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import XrdfToolsError
-from .common import OutputFormat, fail, render_diagnostics, same_file
+from .common import (
+    OutputFormat,
+    PackagePathOption,
+    XacroArgOption,
+    fail,
+    load_robot_option,
+    render_diagnostics,
+    same_file,
+)
 
 if TYPE_CHECKING:
     from ..viz import Target
@@ -30,7 +38,9 @@ def command(
     xrdf_file: Annotated[
         Path, typer.Argument(metavar="ROBOT.xrdf", help="XRDF file.", show_default=False)
     ],
-    urdf: Annotated[Path, typer.Option("--urdf", help="URDF of the robot.", show_default=False)],
+    urdf: Annotated[
+        Path, typer.Option("--urdf", help="URDF (or xacro) of the robot.", show_default=False)
+    ],
     rrd: Annotated[
         Path | None, typer.Option("--rrd", help="Write a rerun recording (.rrd).")
     ] = None,
@@ -70,10 +80,8 @@ def command(
         typer.Option("--buffered", help="Also draw the self-collision buffered radii."),
     ] = False,
     seed: Annotated[int, typer.Option("--seed", help="Seed of --samples.")] = 0,
-    package_path: Annotated[
-        list[str] | None,
-        typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
-    ] = None,
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
     fmt: Annotated[
         OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
     ] = OutputFormat.text,
@@ -109,7 +117,6 @@ def command(
     try:
         from ..kinematics import build_kinematic_model
         from ..packages import parse_package_path
-        from ..urdf_source import load_urdf
         from ..viz import (
             build_scene,
             load_configurations,
@@ -126,7 +133,7 @@ def command(
             require("mcap", "mcap")
         pkgs = dict(parse_package_path(p) for p in package_path or ())
         x = load_xrdf(xrdf_file)
-        u = load_urdf(urdf, package_paths=pkgs)
+        u = load_robot_option(urdf, xacro_arg, package_path)
         kin, kdiags = build_kinematic_model(u, x)
         if configs is not None:
             Q = load_configurations(configs, kin, x)

@@ -178,19 +178,23 @@ def lint_text(
     config: LintConfig | None = None,
     rules: Sequence[Rule] = RULES,
     target: str | None = None,
+    urdf_model: Any = None,
 ) -> list[Diagnostic]:
     """Lint one XRDF document given as text (``path`` is used in the diagnostics).
 
-    ``target`` (default: the configuration's) names the reader the file is for. Raises
-    :class:`XrdfToolsError` only when ``urdf`` cannot be read at all or the target is unknown;
-    a URDF that is not a valid robot is an ``urdf-invalid`` finding.
+    ``target`` (default: the configuration's) names the reader the file is for.
+    ``urdf_model`` is a URDF already loaded by :mod:`xrdf_tools.urdf_source` (e.g. an
+    expanded xacro): it is used as it is instead of reading ``urdf``.
+
+    Raises :class:`XrdfToolsError` only when ``urdf`` cannot be read at all or the target is
+    unknown; a URDF that is not a valid robot is an ``urdf-invalid`` finding.
     """
     cfg = config or LintConfig()
     loader = _urdf_loader(urdf, {}) if urdf is not None else None
+    if urdf_model is not None:
+        loader = _model_loader(urdf_model)
     return _run(
-        LintContext(
-            text, path, urdf_loader=loader, target=_target(target, cfg)
-        ),
+        LintContext(text, path, urdf_loader=loader, target=_target(target, cfg)),
         rules,
         cfg,
     )
@@ -201,6 +205,15 @@ def _target(target: str | None, config: LintConfig) -> str | None:
 
     chosen = parse_target(target if target is not None else config.target)
     return chosen.id if chosen is not None else None
+
+
+def _model_loader(model: Any) -> UrdfLoader:
+    from ..urdf_source import urdf_path
+
+    def load() -> tuple[Any, str]:
+        return model, urdf_path(model)
+
+    return load
 
 
 def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Any]) -> UrdfLoader:
@@ -224,12 +237,16 @@ def lint(
     select: Sequence[str] = (),
     ignore: Sequence[str] = (),
     target: str | None = None,
+    urdf_model: Any = None,
 ) -> list[Diagnostic]:
     """Lint XRDF files. ``urdf`` applies to every file; otherwise the config's ``urdf`` map
-    picks one per file (or none). ``target`` (default: the configuration's) names the reader.
+    picks one per file (or none). ``urdf_model`` (a URDF already loaded, e.g. an expanded
+    xacro) applies to every file and replaces ``urdf``. ``target`` (default: the
+    configuration's) names the reader.
 
-    A file that cannot be read as UTF-8 text raises :class:`YamlError`; an unreadable or
-    invalid URDF raises :class:`UrdfError` (both: usage/input errors, exit code 2).
+    A file that cannot be read as UTF-8 text raises :class:`YamlError`, an unreadable URDF
+    :class:`UrdfError` (both: usage/input errors, exit code 2); a URDF that is read but is not a
+    valid robot is an ``urdf-invalid`` finding.
     """
     cfg = config or LintConfig()
     rules = select_rules(select, ignore)
@@ -240,9 +257,9 @@ def lint(
         text = read_text(p)
         u = urdf if urdf is not None else cfg.urdf_for(Path(p))
         loader = _urdf_loader(u, cache) if u is not None else None
-        ctx = LintContext(
-            text, os.fspath(p), urdf_loader=loader, target=chosen
-        )
+        if urdf_model is not None:
+            loader = _model_loader(urdf_model)
+        ctx = LintContext(text, os.fspath(p), urdf_loader=loader, target=chosen)
         out.extend(_run(ctx, rules, cfg))
     return sorted(out, key=sort_key)
 

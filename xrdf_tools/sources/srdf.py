@@ -10,6 +10,7 @@ name). The c-space is the group's joints minus fixed, mimic and passive joints.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -218,16 +219,68 @@ def _group(srdf: Srdf, name: str) -> SrdfGroup:
     return srdf.groups[name]
 
 
+def _virtual_joints(srdf: Srdf) -> set[str]:
+    return {name for name, _type, _line in srdf.virtual_joints}
+
+
+def _own_problems(srdf: Srdf, g: SrdfGroup, tree: RobotTree) -> list[str]:
+    """What is wrong with the elements of group ``g`` itself (subgroups not followed)."""
+    virtual = _virtual_joints(srdf)
+    joints = [j for j in g.joints if j not in tree.joints and j not in virtual]
+    links = [n for n in g.links if n not in tree.links]
+    chain_links = [n for c in g.chains for n in c if n not in tree.links]
+    subs = [s for s in g.subgroups if s not in srdf.groups]
+    out = []
+    for what, names, pool in (
+        ("joint", joints, tree.joints),
+        ("link", links, tree.links),
+        ("chain link", chain_links, tree.links),
+        ("subgroup", subs, srdf.groups),
+    ):
+        if names:
+            out.append(_unknown(what, names, pool))
+    for base, tip in g.chains:
+        if base in tree.links and tip in tree.links and base not in (tip, *tree.ancestors(tip)):
+            out.append(f"chain base '{base}' is not an ancestor of tip '{tip}'")
+    return out
+
+
+def _unknown(what: str, names: list[str], pool: Iterable[str]) -> str:
+    shown = ", ".join(f"'{n}'" for n in names[:6])
+    more = f" and {len(names) - 6} more" if len(names) > 6 else ""
+    plural = "s" if len(names) > 1 else ""
+    hint = did_you_mean(names[0], pool).removeprefix("; ").removesuffix("?")
+    hint = f" ({hint} for '{names[0]}'?)" if hint else ""
+    return f"unknown {what}{plural} {shown}{more}{hint}"
+
+
+def check_groups(srdf: Srdf, tree: RobotTree) -> None:
+    """Raise :class:`SourceError` when any group names joints, links or subgroups that do
+    not exist (virtual joints are known), or has a chain whose base is not above its tip.
+
+    Every broken group is named with its unknown names, whether or not it is the group
+    being converted: a broken group is a broken SRDF, never silently skipped.
+    """
+    broken = [(g, _own_problems(srdf, g, tree)) for g in srdf.groups.values()]
+    broken = [(g, p) for g, p in broken if p]
+    if not broken:
+        return
+    parts = [f"group '{g.name}' (line {g.line}): {'; '.join(p)}" for g, p in broken]
+    raise SourceError(
+        f"{len(broken)} SRDF group(s) do not match the URDF: " + " | ".join(parts),
+        path=srdf.path,
+        line=broken[0][0].line,
+    )
+
+
 def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     """All joints of group ``name`` (fixed ones included) in MoveIt's order.
 
-    Raises :class:`SourceError` for names that are not in the URDF, a chain whose base is not
-    an ancestor of its tip, or subgroups that include each other.
+    Virtual joints (``<virtual_joint>``) are not URDF joints and contribute nothing. Raises
+    :class:`SourceError` for names that are not in the URDF, a chain whose base is not an
+    ancestor of its tip, or subgroups that include each other.
     """
     found: set[str] = set()
-
-    def fail(msg: str, g: SrdfGroup) -> SourceError:
-        return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
 
     def visit(gname: str, stack: tuple[str, ...]) -> None:
         if gname in stack:
@@ -235,26 +288,14 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
                 f"groups include each other: {' -> '.join((*stack, gname))}", path=srdf.path
             )
         g = _group(srdf, gname)
-        for j in g.joints:
-            if j not in tree.joints:
-                raise fail(f"unknown joint '{j}'{did_you_mean(j, tree.joints)}", g)
-            found.add(j)
-        for link in g.links:
-            if link not in tree.links:
-                raise fail(f"unknown link '{link}'{did_you_mean(link, tree.links)}", g)
-            if link in tree.parent_joint:
-                found.add(tree.parent_joint[link])
+        problems = _own_problems(srdf, g, tree)
+        if problems:
+            raise SourceError(f"group '{g.name}': {problems[0]}", path=srdf.path, line=g.line)
+        found.update(j for j in g.joints if j in tree.joints)
+        found.update(tree.parent_joint[n] for n in g.links if n in tree.parent_joint)
         for base, tip in g.chains:
-            for link in (base, tip):
-                if link not in tree.links:
-                    raise fail(
-                        f"chain link '{link}' is not in the URDF{did_you_mean(link, tree.links)}",
-                        g,
-                    )
             cur = tip
             while cur != base:
-                if cur not in tree.parent_joint:
-                    raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'", g)
                 jn = tree.parent_joint[cur]
                 found.add(jn)
                 cur = tree.joints[jn].parent
@@ -271,37 +312,78 @@ def cspace_of(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     return [j for j in group_joints(srdf, name, tree) if tree.is_actuated(j) and j not in passive]
 
 
+def _path_joints(tree: RobotTree, link: str) -> set[str]:
+    """Joints between the root and ``link``."""
+    return {tree.parent_joint[n] for n in (link, *tree.ancestors(link)) if n in tree.parent_joint}
+
+
+def _is_gripper(srdf: Srdf, ee: EndEffector, tree: RobotTree) -> bool:
+    """``ee.group`` is the end effector itself (MoveIt's meaning): none of its joints moves
+    the parent link. Many SRDFs instead name the arm there (Panda, Talos): not a gripper."""
+    if ee.group is None or ee.group not in srdf.groups or ee.parent_link not in tree.links:
+        return False
+    return not set(group_joints(srdf, ee.group, tree)) & _path_joints(tree, ee.parent_link)
+
+
+def _carries(srdf: Srdf, g: str, ee: EndEffector, tree: RobotTree, gripper: bool) -> bool:
+    """Group ``g`` carries end effector ``ee``: named as its parent group, named as its
+    group (not a gripper), or it holds the last joint moving the parent link and not the
+    gripper's joints."""
+    if ee.parent_group is not None:
+        return ee.parent_group == g
+    if ee.group == g:
+        return not gripper
+    last = _nearest_actuated(tree, ee.parent_link)
+    if last is None:
+        return False
+    joints = set(group_joints(srdf, g, tree))
+    own = set(group_joints(srdf, ee.group, tree)) if gripper and ee.group else set()
+    return last in joints and not joints & own
+
+
+def _nearest_actuated(tree: RobotTree, link: str) -> str | None:
+    """The first actuated joint above ``link`` (the one that moves it last)."""
+    for n in (link, *tree.ancestors(link)):
+        jn = tree.parent_joint.get(n)
+        if jn is not None and tree.is_actuated(jn):
+            return jn
+    return None
+
+
 def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     """The default planning group and why it was chosen (``None`` when the SRDF has none).
 
-    Candidates in order: the (parent) group of each end effector, then chain groups, then every
-    group, larger c-spaces first; the first with at least one c-space joint wins.
+    Candidates are the groups without subgroups that are not an end effector's gripper (all
+    groups when none of those has a movable joint); the one with the most actuated joints
+    wins, ties going to the group carrying the earliest end effector, then SRDF order.
     """
-    seen: list[str] = []
-    for ee in srdf.end_effectors:
-        for g in (ee.parent_group, ee.group):
-            if g and g in srdf.groups and g not in seen:
-                seen.append(g)
-                break
-    sizes: dict[str, int] = {}
-    for g in srdf.groups:
-        try:
-            sizes[g] = len(cspace_of(srdf, g, tree))
-        except SourceError:
-            sizes[g] = 0
-    chain_groups = sorted(
-        (g for g, grp in srdf.groups.items() if grp.chains), key=lambda g: -sizes[g]
-    )
-    others = sorted(srdf.groups, key=lambda g: -sizes[g])
-    for why, cands in (
-        ("the group of the first end effector", seen),
-        ("the largest chain group", chain_groups),
-        ("the largest group", others),
-    ):
-        for g in cands:
-            if sizes.get(g, 0) > 0:
-                return g, why
-    return None, "the SRDF has no group with movable joints"
+    order = list(srdf.groups)
+    sizes = {g: len(cspace_of(srdf, g, tree)) for g in order}
+    grippers = {ee.name: _is_gripper(srdf, ee, tree) for ee in srdf.end_effectors}
+    excluded = {ee.group for ee in srdf.end_effectors if grippers[ee.name]}
+    plain = [g for g in order if not srdf.groups[g].subgroups and g not in excluded]
+    cands = [g for g in plain if sizes[g] > 0] or [g for g in order if sizes[g] > 0]
+    if not cands:
+        return None, "the SRDF has no group with movable joints"
+
+    def ee_rank(g: str) -> tuple[int, str]:
+        for i, ee in enumerate(srdf.end_effectors):
+            if _carries(srdf, g, ee, tree, grippers[ee.name]):
+                return i, ee.name
+        return len(srdf.end_effectors), ""
+
+    best = min(cands, key=lambda g: (-sizes[g], ee_rank(g)[0], order.index(g)))
+    kind = "group without subgroups" if best in plain else "group"
+    why = f"the {kind} with the most actuated joints ({sizes[best]})"
+    ee_name = ee_rank(best)[1]
+    if ee_name:
+        why += f", carrying end effector '{ee_name}'"
+    return best, why
+
+
+def group_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
+    """Actuated joints per group (for messages listing the alternatives)."""
+    return {g: len(cspace_of(srdf, g, tree)) for g in srdf.groups}
 
 
 def choose_state(
@@ -339,75 +421,33 @@ def read_srdf(
     srdf: Srdf,
     tree: RobotTree,
     *,
-    group: str | None = None,
+    group: str | Sequence[str] | None = None,
     state: str | None = None,
     draft: Draft | None = None,
+    choose: bool = True,
 ) -> Draft:
-    """Map an SRDF onto a :class:`Draft` (mapping: docs/convert.md, "Sources")."""
+    """Map an SRDF onto a :class:`Draft` (mapping: docs/convert.md, "Sources").
+
+    ``group`` is one group or several (their union, in the given order: a dual-arm c-space);
+    none chooses one (see :func:`choose_group`) unless ``choose`` is false (the c-space is
+    given otherwise). Every group is checked first (:func:`check_groups`).
+    """
     d = draft or Draft()
     rep = Reporter(srdf.path)
-    if group is None:
-        group, why = choose_group(srdf, tree)
-        if group is not None:
-            others = [g for g in srdf.groups if g != group]
-            line = srdf.groups[group].line
-            rep.report(
-                "convert-chosen-group",
-                f"planning group '{group}' chosen as {why}"
-                + (f" (others: {', '.join(others)}); use --group" if others else ""),
-                line=line,
-            )
-    else:
-        _group(srdf, group)
-    d.group = group
+    check_groups(srdf, tree)
+    groups = [group] if isinstance(group, str) else list(dict.fromkeys(group or ()))
+    for g in groups:
+        _group(srdf, g)
+    if not groups and choose:
+        groups = _choose(srdf, tree, rep)
+    d.group = "+".join(groups) or None
     d.passive_joints |= set(srdf.passive_joints)
-    if group is not None:
-        d.cspace = cspace_of(srdf, group, tree)
-
-    # default positions
-    chosen, why = choose_state(srdf, group, d.cspace or [], state)
-    if chosen is not None:
-        if why != "requested":
-            rep.report(
-                "convert-chosen-state",
-                f"default positions from group_state '{chosen.name}' ({why})",
-                line=chosen.line,
-            )
-        for jname, value in chosen.values:
-            j = tree.joints.get(jname)
-            if j is None:
-                rep.report(
-                    "convert-unknown-joint",
-                    f"group_state '{chosen.name}' sets '{jname}', which is not a joint of the "
-                    f"URDF{did_you_mean(jname, tree.joints)}; dropped",
-                    line=chosen.line,
-                )
-            elif not j.is_actuated or jname in srdf.passive_joints:
-                kind = "a mimic" if j.is_mimic else ("passive" if j.is_movable else j.type)
-                rep.report(
-                    "convert-dropped-joint-value",
-                    f"group_state '{chosen.name}' sets '{jname}', which is {kind} joint; "
-                    "XRDF default positions hold only actuated joints; dropped",
-                    severity=Severity.INFO,
-                    line=chosen.line,
-                )
-            else:
-                d.defaults[jname] = value
-
-    # tool frames: end effectors attached to the group, then chain tips
-    if group is not None:
-        members = _subgroups(srdf, group)
-        frames: list[str] = []
-        for ee in srdf.end_effectors:
-            owner = ee.parent_group or ee.group
-            if owner in members and known_frame(
-                ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", line=ee.line
-            ):
-                frames.append(ee.parent_link)
-        for gname in members:
-            for _, tip in srdf.groups[gname].chains:
-                frames.append(tip)
-        d.tool_frames = list(dict.fromkeys(frames))
+    if groups:
+        cspace = [j for g in groups for j in cspace_of(srdf, g, tree)]
+        d.cspace = list(dict.fromkeys(cspace))
+    _defaults(srdf, tree, groups, state, d, rep)
+    if groups:
+        d.tool_frames = _tool_frames(srdf, tree, groups, rep)
 
     # self-collision mask
     for l1, l2, _reason, line in srdf.disable_collisions:
@@ -459,6 +499,91 @@ def read_srdf(
         d.spheres = spheres
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
+    group, why = choose_group(srdf, tree)
+    if group is None:
+        return []
+    sizes = group_sizes(srdf, tree)
+    others = [f"{g} ({sizes[g]})" for g in srdf.groups if g != group]
+    rep.report(
+        "convert-chosen-group",
+        f"planning group '{group}' chosen: {why}"
+        + (f"; others (actuated joints): {', '.join(others)}" if others else "")
+        + "; use --group (repeatable for several groups)",
+        line=srdf.groups[group].line,
+    )
+    return [group]
+
+
+def _defaults(
+    srdf: Srdf,
+    tree: RobotTree,
+    groups: list[str],
+    state: str | None,
+    d: Draft,
+    rep: Reporter,
+) -> None:
+    """Default positions from one group_state per group (the first group wins a conflict)."""
+    chosen: list[GroupState] = []
+    targets: list[str | None] = [*groups] or [None]
+    for g in targets:
+        cspace = cspace_of(srdf, g, tree) if g is not None else (d.cspace or [])
+        st, why = choose_state(srdf, g, cspace, state)
+        if st is None or st in chosen:
+            continue
+        chosen.append(st)
+        if why != "requested":
+            rep.report(
+                "convert-chosen-state",
+                f"default positions from group_state '{st.name}' ({why})",
+                line=st.line,
+            )
+    for st in chosen:
+        for jname, value in st.values:
+            if _state_value_ok(srdf, tree, st, jname, rep) and jname not in d.defaults:
+                d.defaults[jname] = value
+
+
+def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep: Reporter) -> bool:
+    j = tree.joints.get(jname)
+    if j is None:
+        rep.report(
+            "convert-unknown-joint",
+            f"group_state '{st.name}' sets '{jname}', which is not a joint of the "
+            f"URDF{did_you_mean(jname, tree.joints)}; dropped",
+            line=st.line,
+        )
+        return False
+    if not j.is_actuated or jname in srdf.passive_joints:
+        kind = "a mimic" if j.is_mimic else ("passive" if j.is_movable else j.type)
+        rep.report(
+            "convert-dropped-joint-value",
+            f"group_state '{st.name}' sets '{jname}', which is {kind} joint; "
+            "XRDF default positions hold only actuated joints; dropped",
+            severity=Severity.INFO,
+            line=st.line,
+        )
+        return False
+    return True
+
+
+def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) -> list[str]:
+    """Per group in order: end effectors attached to it (or its subgroups), then chain tips."""
+    frames: list[str] = []
+    for group in groups:
+        members = _subgroups(srdf, group)
+        for ee in srdf.end_effectors:
+            owner = ee.parent_group or ee.group
+            if owner in members and known_frame(
+                ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", line=ee.line
+            ):
+                frames.append(ee.parent_link)
+        for gname in members:
+            for _, tip in srdf.groups[gname].chains:
+                frames.append(tip)
+    return list(dict.fromkeys(frames))
 
 
 def _subgroups(srdf: Srdf, name: str) -> list[str]:

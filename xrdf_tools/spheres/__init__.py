@@ -29,7 +29,7 @@ from ..model import CollisionSection, GeometryGroup, SelfCollisionSection, Spher
 from .metrics import SphereMetrics, sphere_metrics
 
 if TYPE_CHECKING:
-    from .geometry import LinkGeometry
+    from .geometry import GeometryChoice, LinkGeometry
 
 __all__ = [
     "CoverageSummary",
@@ -105,6 +105,8 @@ def fit_link_spheres(
     package_paths: Mapping[str, str] | None = None,
     max_protrusion: float | Mapping[str, float] | None = None,
     progress: Any = None,
+    source: GeometryChoice = "auto",
+    urdf_text: str | None = None,
 ) -> tuple[dict[str, tuple[Sphere, ...]], list[Diagnostic]]:
     """Fit spheres to every link with geometry (or to ``links``) of a URDF or xacro file.
 
@@ -117,7 +119,9 @@ def fit_link_spheres(
     * none -- per link, the fewest spheres (up to 16) whose greedy cover reaches 90 %.
 
     ``max_protrusion`` (metres, one value or per link) bounds how far each sphere may reach
-    outside its link; by default 6 % of the cube root of the link's volume. The same inputs
+    outside its link; by default 6 % of the cube root of the link's volume. ``source`` and
+    ``urdf_text`` choose the geometry and the URDF text as in
+    :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs
     and ``seed`` give the same spheres. ``progress(link, i, n)`` is called before each link.
     Returns ``({link: spheres}, diagnostics)`` in URDF link order.
     """
@@ -125,7 +129,9 @@ def fit_link_spheres(
     from .geometry import load_link_geometry
 
     _check_counts(per_link, count, density)
-    geoms, diags = load_link_geometry(urdf_path, links=links, package_paths=package_paths)
+    geoms, diags = load_link_geometry(
+        urdf_path, links=links, package_paths=package_paths, source=source, urdf_text=urdf_text
+    )
     if count is not None and count < len(geoms):
         raise XrdfToolsError(
             f"count {count} is less than the number of links to fit ({len(geoms)})"
@@ -344,13 +350,15 @@ def ignore_adjacent(
     urdf_path: str | os.PathLike[str],
     *,
     package_paths: Mapping[str, str] | None = None,
+    urdf: Any = None,
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Add each pair of *adjacent* sphere frames to the self-collision ignore mask.
 
     Two frames with spheres are adjacent when one is the nearest ancestor with spheres of the
     other (frames without spheres in between, such as fixed flange frames, are skipped). This
     is MoveIt's "adjacent links" rule: their spheres overlap at the joint by construction.
-    Used for a freshly drafted XRDF; a mask written by a user is left to the user.
+    Used for a freshly drafted XRDF; a mask written by a user is left to the user. ``urdf``
+    is the robot already loaded (an expanded xacro); otherwise ``urdf_path`` is read.
     """
     from ..sources.xacro_source import load_robot
     from ..urdf_source import joints_of
@@ -359,7 +367,8 @@ def ignore_adjacent(
         return xrdf, []
     spheres = xrdf.self_collision_spheres()
     with_spheres = {f for f, s in spheres.items() if s}
-    urdf, _ = load_robot(urdf_path, package_paths=dict(package_paths or {}))
+    if urdf is None:
+        urdf, _ = load_robot(urdf_path, package_paths=dict(package_paths or {}))
     parent = {j.child: j.parent for j in joints_of(urdf).values()}
     ignore = {k: list(v) for k, v in xrdf.self_collision.ignore.items()}
     added = 0

@@ -31,6 +31,9 @@ if TYPE_CHECKING:
     import trimesh
 
 GeometrySource = Literal["collision", "visual"]
+#: Which elements a solid is made of: only collision, only visual, or collision with visual as
+#: the fallback for links without collision elements.
+GeometryChoice = Literal["collision", "visual", "auto"]
 SolidKind = Literal["mesh", "union", "convex_hull"]
 
 RULE_VISUAL_FALLBACK = "spheres-visual-fallback"
@@ -259,13 +262,33 @@ def _solidify(
     return hull, "convex_hull"
 
 
+_WHAT = {"auto": "collision or visual", "collision": "collision", "visual": "visual"}
+
+
+def _elements(elem: Any, choice: GeometryChoice) -> tuple[GeometrySource, list[Any]]:
+    """The geometry elements of one ``<link>`` for ``choice``, and which kind they are."""
+    if choice == "visual":
+        return "visual", list(elem.findall("visual"))
+    elements = list(elem.findall("collision"))
+    if elements or choice == "collision":
+        return "collision", elements
+    return "visual", list(elem.findall("visual"))
+
+
 def load_link_geometry(
     urdf_path: str | os.PathLike[str],
     *,
     links: Sequence[str] | None = None,
     package_paths: Mapping[str, str] | None = None,
+    source: GeometryChoice = "auto",
+    urdf_text: str | None = None,
 ) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
     """Solids of the URDF's links (all links with geometry, or only ``links``).
+
+    ``source``: ``collision`` uses only ``<collision>`` elements (a link without them gets no
+    solid), ``visual`` only ``<visual>`` elements, ``auto`` collision with visual as the
+    fallback (reported). ``urdf_text`` is the URDF already read (an expanded xacro, with its
+    ``--xacro-arg``); ``urdf_path`` then only locates relative meshes and names messages.
 
     Returns ``({link: LinkGeometry}, diagnostics)`` in URDF link order. Raises
     :class:`UrdfError` for an unreadable URDF or a requested link that does not exist.
@@ -276,7 +299,10 @@ def load_link_geometry(
     from ..packages import PackageResolver
     from ..urdf_source import parse_urdf_string
 
-    src = read_urdf_text(urdf_path, package_paths)
+    if urdf_text is not None:
+        src = UrdfText(os.fspath(urdf_path), urdf_text)
+    else:
+        src = read_urdf_text(urdf_path, package_paths)
     # validate (errors with lines); yourdfpy knows no <capsule>, which reads like a cylinder
     checked = re.sub(r"<capsule\b", "<cylinder", src.text)
     parse_urdf_string(checked, src.path, package_paths=package_paths)
@@ -297,14 +323,11 @@ def load_link_geometry(
     urdf_dir = Path(src.path).resolve().parent
     out: dict[str, LinkGeometry] = {}
     diags: list[Diagnostic] = []
+    source_choice = source
     for name in wanted:
         elem = link_elems[name]
         line = elem.sourceline
-        source: GeometrySource = "collision"
-        elements = list(elem.findall("collision"))
-        if not elements:
-            elements = list(elem.findall("visual"))
-            source = "visual"
+        source, elements = _elements(elem, source_choice)
         if not elements:
             if links is not None:
                 diags.append(
@@ -314,7 +337,7 @@ def load_link_geometry(
                         None,
                         RULE_NO_GEOMETRY,
                         Severity.WARNING,
-                        f"link '{name}' has no collision or visual geometry; no spheres fitted",
+                        f"link '{name}' has no {_WHAT[source_choice]} geometry; no spheres fitted",
                     )
                 )
             continue
@@ -346,7 +369,7 @@ def load_link_geometry(
             parts.append(mesh)
         if not parts:
             continue
-        if source == "visual":
+        if source == "visual" and source_choice == "auto":
             diags.append(
                 Diagnostic(
                     src.path,

@@ -38,6 +38,7 @@ import math
 import os
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from ...diagnostics import Severity
 from ...yaml_io import YSeq
@@ -74,16 +75,19 @@ class Box:
 
 
 #: Per URDF file (path, mtime, size): link -> its box, or why its geometry could not be loaded.
-_CACHE: dict[tuple[str, int, int], dict[str, Box | str]] = {}
+_CACHE: dict[tuple[str, int, int, int], dict[str, Box | str]] = {}
 _CACHE_SIZE = 8
 
 
-def _cache_for(path: str) -> dict[str, Box | str]:
+def _cache_for(path: str, urdf: Any = None) -> dict[str, Box | str]:
+    from ...urdf_source import urdf_text
+
+    text = urdf_text(urdf) if urdf is not None else None
     try:
         st = os.stat(path)
-        key = (os.path.realpath(path), st.st_mtime_ns, st.st_size)
+        key = (os.path.realpath(path), st.st_mtime_ns, st.st_size, hash(text))
     except OSError:
-        key = (os.path.realpath(path), -1, -1)
+        key = (os.path.realpath(path), -1, -1, hash(text))
     if key not in _CACHE:
         while len(_CACHE) >= _CACHE_SIZE:
             del _CACHE[next(iter(_CACHE))]
@@ -107,15 +111,23 @@ def _reason(link: str, messages: list[str]) -> str:
     return f"link '{link}': collision geometry not loaded"
 
 
-def _load_boxes(path: str, expected: dict[str, int]) -> dict[str, Box | str]:
+def _load_boxes(path: str, expected: dict[str, int], urdf: Any) -> dict[str, Box | str]:
     """Boxes of the links in ``expected`` (link -> number of its ``<collision>`` elements).
 
-    A link whose geometry is not loaded in full gets the reason instead; nothing raises.
+    The geometry is read from the text ``urdf`` was parsed from (an expanded xacro keeps its
+    arguments) with its package paths. A link whose geometry is not loaded in full gets the
+    reason instead; nothing raises.
     """
     try:
         from ...spheres.geometry import load_link_geometry
+        from ...urdf_source import urdf_package_paths, urdf_text
 
-        geoms, diags = load_link_geometry(path, links=list(expected))
+        geoms, diags = load_link_geometry(
+            path,
+            links=list(expected),
+            package_paths=urdf_package_paths(urdf),
+            urdf_text=urdf_text(urdf),
+        )
     except Exception as exc:  # an unreadable URDF, a missing trimesh: skip, do not crash
         why = _first_line(str(exc) or type(exc).__name__)
         return dict.fromkeys(expected, why)
@@ -186,10 +198,10 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         expected[s.frame] = len(collisions)
     if not todo:
         return
-    cache = _cache_for(st.path)
+    cache = _cache_for(st.path, st.urdf)
     missing = {k: v for k, v in expected.items() if k not in cache}
     if missing:
-        cache.update(_load_boxes(st.path, missing))
+        cache.update(_load_boxes(st.path, missing, st.urdf))
     urdf_name = os.path.basename(st.path)
     skipped: dict[str, SphereRef] = {}
     for s, center, radius in todo:
