@@ -2,7 +2,7 @@
 
 :func:`self_collision_report` answers "is my sphere model and mask right?" pair by pair. It
 samples configurations (or takes given ones, e.g. a recorded trajectory), counts for every
-pair of frames with spheres how often it collides (:func:`xrdf_tools.collision.count_chunk`,
+pair of frames with spheres how often it collides (:class:`xrdf_tools.engine.CountEngine`,
 exact, chunked so memory stays bounded), classifies each pair the way the MoveIt Setup
 Assistant does and recommends what the ``ignore`` mask should say. Findings come back as
 :class:`~xrdf_tools.diagnostics.Diagnostic` objects; rendering lives in
@@ -37,18 +37,17 @@ from .collision import (
     SphereSet,
     build_sphere_set,
     contacts,
-    count_chunk,
     pair_clearance,
     sphere_world_centers,
 )
 from .diagnostics import Diagnostic, Severity, sort_key
+from .engine import CountEngine, EngineTotals, count_sampled
 from .errors import XrdfToolsError, did_you_mean
 from .frozen import FrozenMap
 from .kinematics import (
     KinematicModel,
     build_kinematic_model,
     default_configuration,
-    full_configuration,
 )
 from .model import SelfCollisionSection, Xrdf
 
@@ -311,6 +310,7 @@ def self_collision_report(
     urdf_path: str | None = None,
     coverage: bool = False,
     clearance_margin: float = 0.01,
+    jobs: int = 1,
 ) -> Report:
     """Sample (or take) configurations and build the self-collision :class:`Report`.
 
@@ -322,8 +322,10 @@ def self_collision_report(
     defaults. ``progress(done, total)`` is called after each chunk. ``coverage`` asks
     :mod:`xrdf_tools.spheres` for coverage metrics when it provides them. Minimum clearances
     below ``clearance_margin`` metres are exact; larger ones are reported as lower bounds.
+    ``jobs`` worker processes share a large sample (same result for any ``jobs``; given
+    ``configs`` are always checked in this process).
     """
-    from .sampling import iter_samples
+    from .sampling import fresh_seed
     from .urdf_source import urdf_path as _urdf_path
 
     t0 = time.perf_counter()
@@ -344,34 +346,9 @@ def self_collision_report(
     K = spheres_all.n_frame_pairs
     work_index = np.flatnonzero(sampled)
 
-    hits = np.zeros(work.n_frame_pairs, dtype=np.int64)
-    min_clear = np.full(work.n_frame_pairs, np.inf)
-    bound = np.full(work.n_frame_pairs, np.inf)
-    trajectory: list[TrajectoryHit] | None = None
-
     idx = np.array([kin.actuated_index(n) for n in cspace], dtype=np.intp)
-    base = np.repeat(q_default[None, :], chunk, axis=0)
-
-    def run(q_c: FloatArray, offset: int) -> None:
-        q = (
-            base[: len(q_c)].copy()
-            if len(q_c) <= chunk
-            else full_configuration(kin, cspace, q_c, defaults)
-        )
-        q[:, idx] = q_c
-        res = count_chunk(kin, work, q, margin=clearance_margin)
-        hits[:] += res.hits.sum(axis=1)
-        np.minimum(min_clear, res.min_clearance, out=min_clear)
-        np.minimum(bound, res.clearance_bound, out=bound)
-        if trajectory is not None:
-            unmasked_rows = ~work.frame_pair_masked
-            bad = np.flatnonzero(res.hits[unmasked_rows].any(axis=0))
-            if len(bad):
-                checked = work.select_frame_pairs(unmasked_rows)
-                centers = sphere_world_centers(kin, checked, q[bad])
-                for b, c in zip(bad.tolist(), centers, strict=True):
-                    trajectory.append(TrajectoryHit(offset + b, tuple(contacts(checked, c))))
-
+    engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
+    trajectory: list[TrajectoryHit] | None = None
     if configs is not None:
         qc = np.asarray(configs, dtype=np.float64)
         if qc.ndim != 2 or qc.shape[1] != len(cspace):
@@ -380,24 +357,25 @@ def self_collision_report(
                 f"({', '.join(cspace)}), got {list(qc.shape)}"
             )
         n_total = qc.shape[0]
-        trajectory = []
-        for start in range(0, n_total, chunk):
-            run(qc[start : start + chunk], start)
-            if progress is not None:
-                progress(min(start + chunk, n_total), n_total)
+        totals, trajectory = _count_configs(engine, qc, chunk, progress)
         source: Literal["sampled", "configs"] = "configs"
     else:
         if samples < 1:
             raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
         n_total = samples
-        lo, hi = kin.lower[idx], kin.upper[idx]
-        done = 0
-        for q_c in iter_samples(lo, hi, samples, method=sampler, seed=seed, chunk=chunk):
-            run(q_c, done)
-            done += len(q_c)
-            if progress is not None:
-                progress(done, n_total)
+        totals = count_sampled(
+            engine,
+            kin.lower[idx],
+            kin.upper[idx],
+            samples,
+            method=sampler,
+            seed=fresh_seed() if seed is None else seed,
+            chunk=chunk,
+            jobs=jobs,
+            progress=progress,
+        )
         source = "sampled"
+    hits, min_clear, bound = totals.hits, totals.min_clearance, totals.clearance_bound
 
     # --- the default configuration: clearance of every frame pair ----------------------------
     c_def = sphere_world_centers(kin, spheres_all, q_default)
@@ -472,6 +450,31 @@ def self_collision_report(
         elapsed_s=time.perf_counter() - t0,
         coverage=cov,
     )
+
+
+def _count_configs(
+    engine: CountEngine, qc: FloatArray, chunk: int, progress: ProgressFn | None
+) -> tuple[EngineTotals, list[TrajectoryHit]]:
+    """Count given c-space configurations and list those where an unmasked pair collides."""
+    work = engine.spheres
+    unmasked = ~work.frame_pair_masked
+    checked = work.select_frame_pairs(unmasked)
+    totals = EngineTotals.empty(engine.K)
+    trajectory: list[TrajectoryHit] = []
+    n_total = qc.shape[0]
+    for start in range(0, n_total, chunk):
+        q_c = qc[start : start + chunk]
+        hits = engine.count(q_c, totals)
+        bad = np.flatnonzero(hits[unmasked].any(axis=0))
+        if len(bad):
+            q = np.repeat(engine.q_base[None, :], len(bad), axis=0)
+            q[:, engine.varying] = q_c[bad]
+            centers = sphere_world_centers(engine.kin, checked, q)
+            for b, c in zip(bad.tolist(), centers, strict=True):
+                trajectory.append(TrajectoryHit(start + b, tuple(contacts(checked, c))))
+        if progress is not None:
+            progress(min(start + chunk, n_total), n_total)
+    return totals, trajectory
 
 
 def _cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> list[str]:

@@ -1,0 +1,788 @@
+"""The counting engine behind ``xrdf report``: exact per-frame-pair collision counts, fast.
+
+:class:`CountEngine` answers, for a chunk of configurations, which frame pairs of a
+:class:`~xrdf_tools.collision.SphereSet` collide (exactly, as the float64 brute force
+``‖c_a − c_b‖ < r_a + r_b`` does) and keeps exact minimum clearances. It is built once per
+report; only the c-space joints (``varying``) change between configurations, every other joint
+stays at the base configuration. How it gets its speed (see ``docs/report.md``):
+
+1. **Moving bodies.** Frames joined by joints that do not vary (fixed joints, joints outside
+   the c-space held at their defaults) are folded into one rigid *body*; sphere centres are
+   stored in their body's frame. Forward kinematics runs over bodies only, in float32.
+2. **Constant pairs.** Two frames on the same body never move relative to each other: the
+   pair is decided once, exactly, at the base configuration.
+3. **Body pairs.** Frame pairs between the same two bodies share one relative transform. The
+   spheres of body B are moved into the frame of body A with one GEMM, and every sphere pair's
+   ``d² − (r_a + r_b)²`` comes out of one more GEMM (the expanded distance
+   ``|p|² + |q|² − 2 p·q − r_a² − 2 r_a r_b − r_b²`` with the rank-one radius term folded in),
+   in blocks small enough for the CPU cache.
+4. **Culling.** Body pairs that are usually far apart first test one bounding sphere per body;
+   only configurations within reach (plus the exact-clearance margin) are evaluated.
+5. **Exactness.** float32 values carry an error bounded by ``delta`` (a bound derived from
+   the robot's size and float32 precision); a frame pair whose smallest ``d² − (r_a + r_b)²``
+   lies within ``± delta`` of zero is re-decided in float64 with the plain formula, and so are
+   the few configurations that may hold a frame pair's minimum clearance (when it is below the
+   margin). Counts therefore equal the float64 brute force, clearances are float64-exact.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
+from multiprocessing import get_context
+
+import numpy as np
+import numpy.typing as npt
+
+from .collision import SphereSet, sphere_world_centers
+from .kinematics import JointType, KinematicModel, fk
+from .sampling import Method, sample_rows
+
+F32 = npt.NDArray[np.float32]
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+BoolArray = npt.NDArray[np.bool_]
+
+__all__ = ["MIN_SAMPLES_PER_JOB", "CountEngine", "EngineTotals", "count_sampled", "default_jobs"]
+
+_EPS32 = float(np.finfo(np.float32).eps)
+_ROOT, _ROT, _PRISM = 0, 1, 2
+_MOVABLE = (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC)
+#: float32 elements of one distance block (E = [m_a, m_b, n]): sized for a 512 KB L2 cache.
+_BLOCK_ELEMENTS = 1 << 15
+#: A body pair is culled when fewer than this fraction of pilot configurations is within reach.
+_CULL_FRACTION = 0.5
+_PILOT = 512
+_ANGLE_MAX = 2 * np.pi
+
+
+# ------------------------------------------------------------------------------------------
+# Bodies: rigid groups of frames, float32 forward kinematics
+# ------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class _Bodies:
+    """Moving bodies in topological order (body 0 is the root frame).
+
+    Body ``j > 0`` moves by one varying joint: ``T_j = T_parent · C_j · J(θ_j)`` with
+    ``θ_j = mult_j · q[col_j] + off_j``. The constants are stored like
+    :class:`~xrdf_tools.kinematics._FkPlan`'s: ``[A | A·K | A·aaᵀ − A | t]`` (revolute) or
+    ``[A | t | A·a]`` (prismatic), transposed for the stacked matmul.
+    """
+
+    parent: tuple[int, ...]
+    kind: tuple[int, ...]
+    consts_t: tuple[F32, ...]
+    consts_root: tuple[F32, ...]
+    col: IntArray  # [nb] column of the varying values (-1 for the root)
+    mult: FloatArray
+    off: FloatArray
+    lever: float  # upper bound on the distance of any sphere centre from the origin (m)
+
+    @property
+    def n(self) -> int:
+        return len(self.parent)
+
+
+def _skew(a: FloatArray) -> FloatArray:
+    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+
+def _body_consts(kind: int, C: FloatArray, axis: FloatArray) -> FloatArray:
+    A, t = C[:3, :3], C[:3, 3:4]
+    if kind == _ROT:
+        K = _skew(axis)
+        return np.hstack([A, A @ K, A @ np.outer(axis, axis) - A, t])
+    return np.hstack([A, t, (A @ axis)[:, None]])
+
+
+def _body_roots(kin: KinematicModel, varying: IntArray) -> tuple[list[int], IntArray]:
+    """Kinematic frames that start a body, and the body of every kinematic frame."""
+    var = set(varying.tolist())
+    roots = [0]
+    body_of = np.zeros(kin.n_frames, dtype=np.intp)
+    for f in range(1, kin.n_frames):
+        moving = int(kin.joint_type[f]) in _MOVABLE and int(kin.q_index[f]) in var
+        if moving:
+            body_of[f] = len(roots)
+            roots.append(f)
+        else:
+            body_of[f] = body_of[int(kin.parent[f])]
+    return roots, body_of
+
+
+def _build_bodies(
+    kin: KinematicModel,
+    varying: IntArray,
+    T: FloatArray,
+    roots: list[int],
+    body_of: IntArray,
+    max_local: float,
+) -> _Bodies:
+    col_of = {int(c): i for i, c in enumerate(varying.tolist())}
+    parent, kind, consts = [-1], [_ROOT], [np.zeros((3, 4))]
+    cols, mult, off = [-1], [1.0], [0.0]
+    lever = max_local
+    for f in roots[1:]:
+        pf = int(kin.parent[f])
+        pb = int(body_of[pf])
+        C = np.linalg.inv(T[roots[pb]]) @ T[pf] @ kin.origin[f]
+        k = _PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else _ROT
+        parent.append(pb)
+        kind.append(k)
+        consts.append(_body_consts(k, C, kin.axis[f]))
+        cols.append(col_of[int(kin.q_index[f])])
+        mult.append(float(kin.mimic_multiplier[f]))
+        off.append(float(kin.mimic_offset[f]))
+        lever += float(np.linalg.norm(C[:3, 3]))
+        if k == _PRISM:
+            q = int(kin.q_index[f])
+            lim = max(abs(kin.lower[q]), abs(kin.upper[q]))
+            lever += abs(mult[-1]) * lim + abs(off[-1])
+    return _Bodies(
+        parent=tuple(parent),
+        kind=tuple(kind),
+        consts_t=tuple(np.ascontiguousarray(c.T, dtype=np.float32) for c in consts),
+        consts_root=tuple(np.ascontiguousarray(c[:, :, None], dtype=np.float32) for c in consts),
+        col=np.array(cols, dtype=np.intp),
+        mult=np.array(mult),
+        off=np.array(off),
+        lever=lever,
+    )
+
+
+def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
+    """float32 rotations [nb, 3, 3, B] and translations [nb, 3, B] of every body."""
+    B = q_var.shape[0]
+    nb = bodies.n
+    R = np.empty((nb, 3, 3, B), dtype=np.float32)
+    t = np.empty((nb, 3, B), dtype=np.float32)
+    R[0] = np.eye(3, dtype=np.float32)[:, :, None]
+    t[0] = 0.0
+    if nb == 1:
+        return R, t
+    v64 = q_var.T[bodies.col[1:]] * bodies.mult[1:, None] + bodies.off[1:, None]
+    # angles beyond ±2π are reduced in float64 first, so float32 rounds them by < 4e-7 rad
+    wide = (np.array(bodies.kind[1:]) == _ROT) & (np.abs(v64).max(axis=1) > _ANGLE_MAX)
+    if wide.any():
+        v64[wide] = np.remainder(v64[wide] + np.pi, 2 * np.pi) - np.pi
+    vals = v64.astype(np.float32)
+    sin = np.sin(vals)
+    omc = np.cos(vals)
+    np.subtract(np.float32(1.0), omc, out=omc)
+    tmp = np.empty((3, 3, B), dtype=np.float32)
+    for f in range(1, nb):
+        p = bodies.parent[f]
+        X = bodies.consts_root[f] if p == 0 else np.matmul(bodies.consts_t[f], R[p])
+        Rf, tf = R[f], t[f]
+        if bodies.kind[f] == _ROT:
+            np.multiply(X[:, 3:6], sin[f - 1], out=Rf)
+            Rf += X[:, 0:3]
+            np.multiply(X[:, 6:9], omc[f - 1], out=tmp)
+            Rf += tmp
+            tcol = 9
+        else:
+            Rf[...] = X[:, 0:3]
+            tcol = 3
+        np.add(t[p], X[:, tcol], out=tf)
+        if bodies.kind[f] == _PRISM:
+            tf += vals[f - 1] * X[:, 4]
+    return R, t
+
+
+# ------------------------------------------------------------------------------------------
+# Body pairs
+# ------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class _BodyPair:
+    """Frame pairs between body ``a`` (spheres kept in its frame) and body ``b``.
+
+    ``p_aug`` [m_a, 6] = ``[−2p, 1, |p|² − r², −2r]`` per sphere of ``a``; ``q_aug`` [m_b, 4] =
+    ``[q, 1]`` per sphere of ``b``; with ``Q = [q', |q'|² − r_b², 1, r_b]`` (``q'`` the centres
+    of ``b`` in the frame of ``a``), ``p_aug @ Q = d² − (r_a + r_b)²`` for every sphere pair.
+    ``blocks``: (frame pair, rows, columns) of each frame pair in that matrix.
+    """
+
+    a: int
+    b: int
+    p_aug: F32
+    q_aug: F32
+    r_b: F32  # [m_b, 1]
+    r2_b: F32  # [m_b, 1]
+    blocks: tuple[tuple[int, slice, slice], ...]
+    p32: F32  # [m_a, 3] centres of a's spheres
+    rsum: F32  # [m_a, m_b] radius sums
+    delta: float
+    cull: bool
+    bound_a: FloatArray  # [4]: centre (frame of a), radius
+    bound_b: FloatArray
+
+
+def _bounding(p: FloatArray, r: FloatArray) -> FloatArray:
+    c = ((p - r[:, None]).min(axis=0) + (p + r[:, None]).max(axis=0)) / 2
+    rad = float(np.max(np.linalg.norm(p - c, axis=1) + r))
+    return np.array([*c, rad])
+
+
+def _position_error(bodies: _Bodies) -> float:
+    """Bound (m) on the float32 error of a sphere centre in another body's frame.
+
+    Each body step rounds every rotation entry a few times (a 3-term dot product and the
+    Rodrigues combination, ≤ 4 eps relative), the joint angle is rounded once (≤ eps/2 · 2π,
+    angles being reduced to ±2π) and translations carry those rotation errors times the lever
+    arm (``bodies.lever`` bounds every centre's distance from the origin). A relative transform
+    combines two such chains: ``8 eps (n + 2) lever`` covers it with room to spare (the tests
+    check that the observed error stays far below).
+    """
+    return 8.0 * _EPS32 * (bodies.n + 2) * max(bodies.lever, 1e-3)
+
+
+def _delta(p_a: FloatArray, r_max: float, err: float) -> float:
+    """Bound on |float32 − exact| of ``d² − R²`` wherever that value is near zero.
+
+    Near zero ``d ≤ R + err``: a position error ``err`` moves ``d²`` by at most
+    ``2 (R + err) err``; the GEMM's own rounding is bounded by a few float32 ulps of the
+    largest term, ``(2|p| + R)²``. Doubled for safety.
+    """
+    pmax = float(np.max(np.linalg.norm(p_a, axis=1))) if len(p_a) else 0.0
+    return 2.0 * (2.0 * (r_max + err) * err + 16.0 * _EPS32 * (2.0 * pmax + r_max + err) ** 2)
+
+
+# ------------------------------------------------------------------------------------------
+# Running totals
+# ------------------------------------------------------------------------------------------
+@dataclass
+class EngineTotals:
+    """Per frame pair (``K``): collision counts, exact minimum clearance and its bound.
+
+    ``min_clearance`` is the smallest clearance evaluated exactly (float64); every
+    configuration not evaluated exactly has a clearance of at least ``clearance_bound``, so
+    the true minimum is ``min_clearance`` when ``min_clearance <= clearance_bound``.
+    ``rechecked`` counts (frame pair, configuration) decisions redone in float64.
+    """
+
+    hits: npt.NDArray[np.int64]
+    min_clearance: FloatArray
+    clearance_bound: FloatArray
+    configurations: int = 0
+    rechecked: int = 0
+
+    @classmethod
+    def empty(cls, K: int) -> EngineTotals:
+        return cls(np.zeros(K, dtype=np.int64), np.full(K, np.inf), np.full(K, np.inf))
+
+    def merge(self, other: EngineTotals) -> None:
+        """Add ``other`` (another share of the configurations) into these totals."""
+        self.hits += other.hits
+        np.minimum(self.min_clearance, other.min_clearance, out=self.min_clearance)
+        np.minimum(self.clearance_bound, other.clearance_bound, out=self.clearance_bound)
+        self.configurations += other.configurations
+        self.rechecked += other.rechecked
+
+
+@dataclass
+class _Chunk:
+    """Scratch of one chunk: float32 minima of ``d² − R²`` [K, B] and clearance bounds."""
+
+    emin: F32
+    bound: FloatArray
+    R: F32 = field(repr=False)
+    t: F32 = field(repr=False)
+
+
+# ------------------------------------------------------------------------------------------
+# The engine
+# ------------------------------------------------------------------------------------------
+class CountEngine:
+    """Exact per-frame-pair collision counting for configurations that vary ``varying``.
+
+    ``spheres``: the frame pairs to count (e.g. a :meth:`SphereSet.select_frame_pairs`
+    selection). ``varying``: indices into the actuated joints that change (the c-space);
+    every other joint stays at ``q_base`` [n]. ``margin``: minimum clearances below it are
+    exact (float64), larger ones may come back as lower bounds.
+    """
+
+    def __init__(
+        self,
+        kin: KinematicModel,
+        spheres: SphereSet,
+        varying: npt.ArrayLike,
+        q_base: npt.ArrayLike,
+        *,
+        margin: float = 0.0,
+    ) -> None:
+        self.kin = kin
+        self.spheres = spheres
+        self.varying = np.asarray(varying, dtype=np.intp)
+        self.q_base = np.asarray(q_base, dtype=np.float64).copy()
+        self.margin = max(float(margin), 0.0)
+        self.K = spheres.n_frame_pairs
+        T = fk(kin, self.q_base)  # [F, 4, 4]
+        roots, body_of = _body_roots(kin, self.varying)
+        self.sphere_body, self.local = self._local_centers(T, roots, body_of)
+        max_local = float(np.max(np.linalg.norm(self.local, axis=1))) if len(self.local) else 0.0
+        self.bodies = _build_bodies(kin, self.varying, T, roots, body_of, max_local)
+        self.err = _position_error(self.bodies)
+        self.const_k, self.const_hit, self.const_clear = self._constant_pairs()
+        self.pairs = self._body_pairs()
+        self.delta_k, self.rlo_k, self.rhi_k = self._pair_constants()
+
+    # --- construction --------------------------------------------------------------------
+    def _local_centers(
+        self, T: FloatArray, roots: list[int], body_of: IntArray
+    ) -> tuple[IntArray, FloatArray]:
+        s = self.spheres
+        kf = s.kin_frame
+        body = body_of[kf]
+        inv = {int(b): np.linalg.inv(T[roots[int(b)]]) for b in np.unique(body)}
+        local = np.empty((s.n_spheres, 3))
+        for i in range(s.n_spheres):
+            M = inv[int(body[i])] @ T[int(kf[i])]
+            local[i] = M[:3, :3] @ s.local_centers[i] + M[:3, 3]
+        return body, local
+
+    def _frame_body(self, f: int) -> int:
+        sl = self.spheres.spheres_of(f)
+        return int(self.sphere_body[sl.start])
+
+    def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
+        s = self.spheres
+        ks = [
+            k
+            for k in range(self.K)
+            if self._frame_body(int(s.frame_pair_a[k])) == self._frame_body(int(s.frame_pair_b[k]))
+        ]
+        karr = np.array(ks, dtype=np.intp)
+        if not ks:
+            return karr, np.zeros(0, dtype=np.bool_), np.zeros(0)
+        hit, clr = self._exact(karr, np.zeros(len(ks), dtype=np.intp), self.q_base[None, :])
+        return karr, hit, clr
+
+    def _body_pairs(self) -> list[_BodyPair]:
+        s = self.spheres
+        groups: dict[tuple[int, int], list[int]] = {}
+        const = set(self.const_k.tolist())
+        for k in range(self.K):
+            if k in const:
+                continue
+            ba = self._frame_body(int(s.frame_pair_a[k]))
+            bb = self._frame_body(int(s.frame_pair_b[k]))
+            groups.setdefault((min(ba, bb), max(ba, bb)), []).append(k)
+        pairs = [self._make_pair(key, ks) for key, ks in groups.items()]
+        return self._choose_culling(pairs)
+
+    def _make_pair(self, key: tuple[int, int], ks: list[int]) -> _BodyPair:
+        s = self.spheres
+        side: dict[int, list[int]] = {key[0]: [], key[1]: []}
+        for k in ks:
+            for f in (int(s.frame_pair_a[k]), int(s.frame_pair_b[k])):
+                lst = side[self._frame_body(f)]
+                if f not in lst:
+                    lst.append(f)
+
+        ia, wa = _side_rows(s, side[key[0]])
+        ib, wb = _side_rows(s, side[key[1]])
+        a, b = key
+        if len(ib) > len(ia):  # the side with more spheres stays put (fewer to transform)
+            ia, ib, wa, wb, a, b = ib, ia, wb, wa, b, a
+        blocks = []
+        for k in ks:
+            fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
+            if fa not in wa:
+                fa, fb = fb, fa
+            blocks.append((k, wa[fa], wb[fb]))
+        p, ra = self.local[ia], s.self_radii[ia]
+        q, rb = self.local[ib], s.self_radii[ib]
+        p_aug = np.hstack(
+            [
+                -2.0 * p,
+                np.ones((len(p), 1)),
+                (np.sum(p * p, axis=1) - ra * ra)[:, None],
+                -2.0 * ra[:, None],
+            ]
+        )
+        r_max = float(ra.max() + rb.max())
+        return _BodyPair(
+            a=a,
+            b=b,
+            p_aug=p_aug.astype(np.float32),
+            q_aug=np.hstack([q, np.ones((len(q), 1))]).astype(np.float32),
+            r_b=rb[:, None].astype(np.float32),
+            r2_b=(rb * rb)[:, None].astype(np.float32),
+            blocks=tuple(blocks),
+            p32=p.astype(np.float32),
+            rsum=(ra[:, None] + rb[None, :]).astype(np.float32),
+            delta=_delta(p, r_max, self.err),
+            cull=False,
+            bound_a=_bounding(p, ra),
+            bound_b=_bounding(q, rb),
+        )
+
+    def _choose_culling(self, pairs: list[_BodyPair]) -> list[_BodyPair]:
+        """Cull the body pairs that a fixed pilot sample finds mostly out of reach."""
+        if not pairs or len(self.varying) == 0:
+            return pairs
+        lo = self.kin.lower[self.varying]
+        hi = self.kin.upper[self.varying]
+        q = np.random.default_rng(12345).uniform(lo, hi, size=(_PILOT, len(self.varying)))
+        R, t = _body_fk(self.bodies, q)
+        out = []
+        for bp in pairs:
+            gap = self._gap(bp, R, t)
+            near = float(np.mean(gap <= self.margin + 4 * self.err))
+            out.append(_replace_cull(bp, near < _CULL_FRACTION))
+        return out
+
+    def _pair_constants(self) -> tuple[FloatArray, FloatArray, FloatArray]:
+        s = self.spheres
+        delta = np.zeros(self.K)
+        rlo = np.zeros(self.K)
+        rhi = np.zeros(self.K)
+        for bp in self.pairs:
+            for k, _, _ in bp.blocks:
+                lo, hi = int(s.pair_start[k]), int(s.pair_start[k + 1])
+                rs = s.self_radii[s.pair_i[lo:hi]] + s.self_radii[s.pair_j[lo:hi]]
+                delta[k] = bp.delta
+                rlo[k], rhi[k] = float(rs.min()), float(rs.max())
+        return delta, rlo, rhi
+
+    # --- per chunk -----------------------------------------------------------------------
+    def _gap(self, bp: _BodyPair, R: F32, t: F32) -> F32:
+        """float32 distance between the two bodies' bounding spheres minus their radii [B]."""
+        wa = _apply(R[bp.a], t[bp.a], bp.bound_a[:3])
+        wb = _apply(R[bp.b], t[bp.b], bp.bound_b[:3])
+        wa -= wb
+        d: F32 = np.sqrt(np.einsum("ib,ib->b", wa, wa))
+        d -= np.float32(bp.bound_a[3] + bp.bound_b[3])
+        return d
+
+    def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
+        """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
+
+        When ``totals`` is given, the chunk's counts and clearances are added to it.
+        """
+        q = np.asarray(q_var, dtype=np.float64)
+        if q.ndim != 2 or q.shape[1] != len(self.varying):
+            raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
+        B = q.shape[0]
+        R, t = _body_fk(self.bodies, q)
+        ch = _Chunk(np.full((self.K, B), np.inf, dtype=np.float32), np.full(self.K, np.inf), R, t)
+        for bp in self.pairs:
+            self._run_pair(bp, ch)
+        hits = ch.emin < (-self.delta_k)[:, None].astype(np.float32)
+        best = np.full(self.K, np.inf)
+        bound, n_exact = self._finish(q, ch, hits, best)
+        if len(self.const_k):
+            hits[self.const_k] = self.const_hit[:, None]
+            best[self.const_k] = self.const_clear
+        if totals is not None:
+            totals.hits += hits.sum(axis=1)
+            np.minimum(totals.min_clearance, best, out=totals.min_clearance)
+            np.minimum(totals.clearance_bound, bound, out=totals.clearance_bound)
+            totals.configurations += B
+            totals.rechecked += n_exact
+        return hits
+
+    def _run_pair(self, bp: _BodyPair, ch: _Chunk) -> None:
+        R, t = ch.R, ch.t
+        B = R.shape[-1]
+        sel: IntArray | None = None
+        if bp.cull:
+            gap = self._gap(bp, R, t)
+            near = gap <= np.float32(self.margin + 4 * self.err)
+            sel = np.flatnonzero(near)
+            if len(sel) < B:
+                low = float(gap[~near].min()) - 4 * self.err
+                for k, _, _ in bp.blocks:
+                    ch.bound[k] = min(ch.bound[k], low)
+            if len(sel) == 0:
+                return
+            if len(sel) == B:
+                sel = None
+        Ra, ta, Rb, tb = R[bp.a], t[bp.a], R[bp.b], t[bp.b]
+        if sel is not None:
+            Ra, ta, Rb, tb = (np.take(x, sel, axis=-1) for x in (Ra, ta, Rb, tb))
+        Trel = _relative(Ra, ta, Rb, tb)  # [3, 4, n]
+        n = Trel.shape[-1]
+        m_a, m_b = bp.p_aug.shape[0], bp.q_aug.shape[0]
+        step = max(16, _BLOCK_ELEMENTS // (m_a * m_b))
+        buf = np.empty((6, m_b, min(step, n)), dtype=np.float32)
+        buf[4] = 1.0
+        buf[5] = bp.r_b
+        E = np.empty((m_a, m_b * min(step, n)), dtype=np.float32)
+        for s0 in range(0, n, step):
+            s1 = min(n, s0 + step)
+            w = s1 - s0
+            Q = buf if w == buf.shape[-1] else buf[:, :, :w].copy()
+            np.matmul(bp.q_aug, Trel[:, :, s0:s1], out=Q[:3])
+            np.einsum("kjn,kjn->jn", Q[:3], Q[:3], out=Q[3])
+            Q[3] -= bp.r2_b
+            Ew = E if w == buf.shape[-1] else np.empty((m_a, m_b * w), dtype=np.float32)
+            np.matmul(bp.p_aug, Q.reshape(6, m_b * w), out=Ew)
+            E3 = Ew.reshape(m_a, m_b, w)
+            cols = slice(s0, s1) if sel is None else sel[s0:s1]
+            for k, rows, cs in bp.blocks:
+                ch.emin[k, cols] = E3[rows, cs].min(axis=(0, 1))
+
+    def _finish(
+        self, q: FloatArray, ch: _Chunk, hits: BoolArray, best: FloatArray
+    ) -> tuple[FloatArray, int]:
+        """Re-decide near-boundary entries and minimum-clearance candidates in float64.
+
+        Updates ``hits`` and ``best`` (exact minimum clearances); returns the clearance lower
+        bound of every configuration not evaluated exactly and how many entries were redone.
+        """
+        delta = self.delta_k[:, None].astype(np.float32)
+        unsure = np.abs(ch.emin) <= delta
+        emin_min = ch.emin.min(axis=1).astype(np.float64)
+        hi = _clearance_hi(emin_min + self.delta_k, self.rlo_k, self.rhi_k)
+        thr = np.minimum(self.margin, hi)
+        e_star = _energy_at(thr, self.rlo_k, self.rhi_k) + self.delta_k
+        cand = ch.emin <= e_star[:, None].astype(np.float32)
+        has_cand: BoolArray = np.asarray(cand.any(axis=1))
+        lo_all = _clearance_lo(emin_min - self.delta_k, self.rlo_k, self.rhi_k)
+        bound = np.where(has_cand, thr, lo_all)
+        np.minimum(bound, ch.bound, out=bound)
+        if has_cand.any():
+            cand, thr2 = self._refine(ch, cand, has_cand)
+            np.minimum(bound, thr2, out=bound)
+        ks, bs = np.nonzero(unsure | cand)
+        if len(ks):
+            qf = np.repeat(self.q_base[None, :], len(np.unique(bs)), axis=0)
+            ub, inv = np.unique(bs, return_inverse=True)
+            qf[:, self.varying] = q[ub]
+            hit, clr = self._exact(ks, inv, qf)
+            hits[ks, bs] = hit
+            np.minimum.at(best, ks, clr)
+        return bound, len(ks)
+
+    def _refine(
+        self, ch: _Chunk, cand: BoolArray, has_cand: BoolArray
+    ) -> tuple[BoolArray, FloatArray]:
+        """Narrow minimum-clearance candidates with float32 clearances (error ≤ ``tau``).
+
+        ``d² − R²`` ranks configurations only roughly when a frame pair's radii differ, so the
+        candidates' clearances are computed directly; only those that can be within ``tau``
+        of the smallest go on to float64. Returns the kept candidates and, per frame pair, a
+        lower bound on the clearance of the dropped ones.
+        """
+        kept = np.zeros_like(cand)
+        thr2 = np.full(self.K, np.inf)
+        tau = 2.0 * self.err + 8.0 * _EPS32 * self.bodies.lever
+        for bp in self.pairs:
+            ks = [k for k, _, _ in bp.blocks if has_cand[k]]
+            if not ks:
+                continue
+            cols = np.flatnonzero(cand[ks].any(axis=0))
+            clr = self._direct(bp, ch, cols)
+            for k, rows, cs in bp.blocks:
+                if not has_cand[k]:
+                    continue
+                ck = np.where(cand[k, cols], clr[rows, cs].min(axis=(0, 1)), np.inf)
+                lim = min(self.margin, float(ck.min()) + tau)
+                kept[k, cols[ck - tau <= lim]] = True
+                thr2[k] = lim
+        return kept, thr2
+
+    def _direct(self, bp: _BodyPair, ch: _Chunk, cols: IntArray) -> F32:
+        """float32 clearances [m_a, m_b, n] of every sphere pair at configurations ``cols``."""
+        Ra, ta, Rb, tb = (
+            np.take(x, cols, axis=-1) for x in (ch.R[bp.a], ch.t[bp.a], ch.R[bp.b], ch.t[bp.b])
+        )
+        qp = np.matmul(bp.q_aug, _relative(Ra, ta, Rb, tb))  # [3, m_b, n]
+        diff = qp[:, None, :, :] - bp.p32.T[:, :, None, None]
+        d: F32 = np.sqrt(np.einsum("kijn,kijn->ijn", diff, diff))
+        d -= bp.rsum[:, :, None]
+        return d
+
+    def _exact(
+        self, ks: IntArray, rows: IntArray, q_full: FloatArray
+    ) -> tuple[BoolArray, FloatArray]:
+        """float64 verdicts and clearances of frame pairs ``ks`` at ``q_full[rows]``."""
+        s = self.spheres
+        c = sphere_world_centers(self.kin, s, q_full)  # [U, S, 3]
+        hit = np.zeros(len(ks), dtype=np.bool_)
+        clr = np.zeros(len(ks))
+        order = np.argsort(ks, kind="stable")
+        uk, starts = np.unique(ks[order], return_index=True)
+        ends = np.append(starts[1:], len(order))
+        for k, s0, s1 in zip(uk.tolist(), starts.tolist(), ends.tolist(), strict=True):
+            ent = order[s0:s1]
+            lo, hi = int(s.pair_start[k]), int(s.pair_start[k + 1])
+            pi, pj = s.pair_i[lo:hi], s.pair_j[lo:hi]
+            cc = c[rows[ent]]
+            diff = cc[:, pi] - cc[:, pj]
+            d2 = np.einsum("bpk,bpk->bp", diff, diff)
+            rs = s.self_radii[pi] + s.self_radii[pj]
+            hit[ent] = (d2 < rs * rs).any(axis=1)
+            clr[ent] = (np.sqrt(d2) - rs).min(axis=1)
+        return hit, clr
+
+
+def _side_rows(s: SphereSet, frames: list[int]) -> tuple[IntArray, dict[int, slice]]:
+    """Sphere indices of ``frames`` (in frame order) and each frame's slice of them."""
+    idx: list[int] = []
+    where: dict[int, slice] = {}
+    for f in sorted(frames):
+        sl = s.spheres_of(f)
+        where[f] = slice(len(idx), len(idx) + sl.stop - sl.start)
+        idx.extend(range(sl.start, sl.stop))
+    return np.array(idx, dtype=np.intp), where
+
+
+def _replace_cull(bp: _BodyPair, cull: bool) -> _BodyPair:
+    return replace(bp, cull=cull)
+
+
+def _apply(R: F32, t: F32, c: FloatArray) -> F32:
+    """``R @ c + t`` for a constant point ``c``: [3, B]."""
+    out: F32 = np.einsum("ikb,k->ib", R, c.astype(np.float32)) + t
+    return out
+
+
+def _relative(Ra: F32, ta: F32, Rb: F32, tb: F32) -> F32:
+    """``[Ra^T Rb | Ra^T (tb − ta)]`` per configuration: [3, 4, n]."""
+    TB = np.empty((3, 4, Rb.shape[-1]), dtype=np.float32)
+    TB[:, :3] = Rb
+    np.subtract(tb, ta, out=TB[:, 3])
+    out: F32 = np.einsum("lkn,lmn->kmn", Ra, TB)
+    return out
+
+
+def _energy_at(c: FloatArray, rlo: FloatArray, rhi: FloatArray) -> FloatArray:
+    """Largest ``e`` with ``_clearance_lo(e) <= c`` (the inverse of that monotone bound)."""
+    with np.errstate(invalid="ignore"):
+        neg = np.where(c >= -rlo, (c + rlo) ** 2 - rlo**2, -(c**2))
+        e = np.where(c >= 0, (c + rhi) ** 2 - rhi**2, np.where(c < -rhi, -np.inf, neg))
+    return np.where(np.isfinite(c), e, np.inf)
+
+
+def _clearance_lo(e: FloatArray, rlo: FloatArray, rhi: FloatArray) -> FloatArray:
+    """Lower bound of ``d − R`` given ``d² − R² >= e`` and ``R`` in [rlo, rhi]."""
+    with np.errstate(invalid="ignore"):
+        pos = np.sqrt(np.maximum(e + rhi**2, 0.0)) - rhi
+        neg = np.where(e <= -(rlo**2), -np.sqrt(np.maximum(-e, 0.0)), np.sqrt(e + rlo**2) - rlo)
+    out = np.where(e >= 0, pos, np.maximum(neg, -rhi))
+    return np.where(np.isfinite(e), out, np.inf)
+
+
+def _clearance_hi(e: FloatArray, rlo: FloatArray, rhi: FloatArray) -> FloatArray:
+    """Upper bound of ``d − R`` given ``d² − R² <= e`` for one pair, ``R`` in [rlo, rhi]."""
+    with np.errstate(invalid="ignore"):
+        pos = np.sqrt(np.maximum(e + rlo**2, 0.0)) - rlo
+        neg = np.sqrt(np.maximum(e + rhi**2, 0.0)) - rhi
+    out = np.where(e >= 0, pos, neg)
+    return np.where(np.isfinite(e), out, np.inf)
+
+
+# ------------------------------------------------------------------------------------------
+# Sampling driver, one process or several
+# ------------------------------------------------------------------------------------------
+#: Below this many samples per worker, starting a worker process costs more than it saves.
+MIN_SAMPLES_PER_JOB = 250_000
+_BLAS_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
+ProgressFn = Callable[[int, int], None]
+_WORKER: dict[str, CountEngine] = {}
+
+
+def default_jobs() -> int:
+    """The CPU cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def count_sampled(
+    engine: CountEngine,
+    lower: npt.ArrayLike,
+    upper: npt.ArrayLike,
+    n: int,
+    *,
+    method: Method,
+    seed: int,
+    chunk: int,
+    jobs: int = 1,
+    progress: ProgressFn | None = None,
+) -> EngineTotals:
+    """Count ``n`` samples of the stream ``sample_rows(lower, upper, …, method, seed)``.
+
+    The sample is cut into chunks of ``chunk`` rows; with ``jobs > 1`` the chunks go to worker
+    processes (each pinned to one BLAS thread). Totals are sums and minima over chunks, so the
+    result is identical for any ``jobs``. Fewer workers are started when the sample is small
+    (at least :data:`MIN_SAMPLES_PER_JOB` samples each).
+    """
+    starts = list(range(0, n, chunk))
+    tasks = [(s0, min(chunk, n - s0)) for s0 in starts]
+    workers = max(1, min(jobs, n // MIN_SAMPLES_PER_JOB, len(tasks)))
+    totals = EngineTotals.empty(engine.K)
+    lo, hi = np.asarray(lower, dtype=np.float64), np.asarray(upper, dtype=np.float64)
+    done = 0
+    if workers == 1:
+        parts: Iterator[EngineTotals] = (
+            _count_rows(engine, lo, hi, s0, m, method, seed) for s0, m in tasks
+        )
+        for part in parts:
+            totals.merge(part)
+            done += part.configurations
+            if progress is not None:
+                progress(done, n)
+        return totals
+    with (
+        _one_blas_thread(),
+        ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=get_context("spawn"),
+            initializer=_worker_init,
+            initargs=(engine,),
+        ) as pool,
+    ):
+        futures = [pool.submit(_worker_rows, lo, hi, s0, m, method, seed) for s0, m in tasks]
+        for fut in as_completed(futures):
+            part = fut.result()
+            totals.merge(part)
+            done += part.configurations
+            if progress is not None:
+                progress(done, n)
+    return totals
+
+
+def _count_rows(
+    engine: CountEngine,
+    lo: FloatArray,
+    hi: FloatArray,
+    start: int,
+    m: int,
+    method: Method,
+    seed: int,
+) -> EngineTotals:
+    totals = EngineTotals.empty(engine.K)
+    engine.count(sample_rows(lo, hi, start, m, method=method, seed=seed), totals)
+    return totals
+
+
+def _worker_init(engine: CountEngine) -> None:
+    _WORKER["engine"] = engine
+
+
+def _worker_rows(
+    lo: FloatArray, hi: FloatArray, start: int, m: int, method: Method, seed: int
+) -> EngineTotals:
+    return _count_rows(_WORKER["engine"], lo, hi, start, m, method, seed)
+
+
+@contextmanager
+def _one_blas_thread() -> Iterator[None]:
+    """Worker processes inherit this environment: one BLAS/OpenMP thread each."""
+    saved = {v: os.environ.get(v) for v in _BLAS_VARS}
+    os.environ.update(dict.fromkeys(_BLAS_VARS, "1"))
+    try:
+        yield
+    finally:
+        for v, old in saved.items():
+            if old is None:
+                os.environ.pop(v, None)
+            else:
+                os.environ[v] = old
