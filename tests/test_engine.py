@@ -209,3 +209,26 @@ def test_chunks_and_jobs_give_identical_totals() -> None:
     np.testing.assert_array_equal(one.min_clearance, two.min_clearance)
     np.testing.assert_array_equal(one.clearance_bound, two.clearance_bound)
     assert two.configurations == n
+
+
+def test_grid_far_cells_are_really_beyond_the_margin() -> None:
+    """Dense check of the cell grids: no configuration in a far cell comes within the margin."""
+    kin, xrdf = panda()
+    assert xrdf.cspace is not None
+    cspace = [kin.actuated_index(j) for j in xrdf.cspace.joint_names]
+    eng, spheres, q0 = engine_for(kin, xrdf, True, cspace, margin=0.01)
+    grids = [bp for bp in eng.pairs if bp.grid is not None]
+    assert len(grids) >= 4
+    hand = next(bp for bp in grids if int(bp.relevant.sum()) == 351)  # link5 / hand body
+    assert hand.grid is not None and 0.5 < hand.grid.far_fraction < 1.0
+    qv = fixed_configs(kin, 20000, seed=4)[:, cspace]
+    q = np.repeat(q0[None, :], len(qv), axis=0)
+    q[:, cspace] = qv
+    for bp in grids:
+        assert bp.grid is not None
+        far = ~bp.grid.near(qv)
+        assert far.mean() > 0.2
+        ks = [k for k, _, _ in bp.blocks]
+        sub = spheres.select_frame_pairs(np.isin(np.arange(spheres.n_frame_pairs), ks))
+        clr = pair_clearance(sub, sphere_world_centers(kin, sub, q[far]))
+        assert clr.min() > 0.01

@@ -38,6 +38,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .collision import SphereSet, sphere_world_centers
+from .engine_grid import PairGrid, build_pair_grid
 from .kinematics import JointType, KinematicModel, fk
 from .sampling import Method, sample_rows
 
@@ -56,6 +57,12 @@ _BLOCK_ELEMENTS = 1 << 15
 #: A body pair is culled when fewer than this fraction of pilot configurations is within reach.
 _CULL_FRACTION = 0.5
 _PILOT = 512
+_CULL_SLACK = 1e-6
+#: Body pairs with one or two revolute joints between them and at least this many counted
+#: sphere pairs get a cell grid (see :mod:`xrdf_tools.engine_grid`).
+_GRID_MIN_PAIRS = 16
+_GRID_MAX_JOINTS = 2
+_GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 _ANGLE_MAX = 2 * np.pi
 
 
@@ -66,16 +73,19 @@ _ANGLE_MAX = 2 * np.pi
 class _Bodies:
     """Moving bodies in topological order (body 0 is the root frame).
 
-    Body ``j > 0`` moves by one varying joint: ``T_j = T_parent · C_j · J(θ_j)`` with
-    ``θ_j = mult_j · q[col_j] + off_j``. The constants are stored like
-    :class:`~xrdf_tools.kinematics._FkPlan`'s: ``[A | A·K | A·aaᵀ − A | t]`` (revolute) or
-    ``[A | t | A·a]`` (prismatic), transposed for the stacked matmul.
+    Each body's frame is turned so that its joint axis is ``z`` (``G`` [nb, 3, 3] maps body
+    coordinates to the joint frame's). Body ``j > 0`` then moves as
+    ``T_j = T_parent · C_j · Z(θ_j)`` with ``Z`` a rotation about (or a translation along)
+    ``z`` by ``θ_j = mult_j · q[col_j] + off_j``: per configuration one small matmul with the
+    constant ``C_j`` and a 2-column rotation. ``consts`` [nb, 4, 4] holds ``C_j`` (float64).
     """
 
     parent: tuple[int, ...]
     kind: tuple[int, ...]
-    consts_t: tuple[F32, ...]
-    consts_root: tuple[F32, ...]
+    consts: FloatArray
+    consts_t: tuple[F32, ...]  # (4, 3): [A | t] of C_j transposed, for the stacked matmul
+    consts_root: tuple[F32, ...]  # (3, 4, 1): the product when the parent is the root
+    G: FloatArray
     col: IntArray  # [nb] column of the varying values (-1 for the root)
     mult: FloatArray
     off: FloatArray
@@ -86,16 +96,13 @@ class _Bodies:
         return len(self.parent)
 
 
-def _skew(a: FloatArray) -> FloatArray:
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-
-
-def _body_consts(kind: int, C: FloatArray, axis: FloatArray) -> FloatArray:
-    A, t = C[:3, :3], C[:3, 3:4]
-    if kind == _ROT:
-        K = _skew(axis)
-        return np.hstack([A, A @ K, A @ np.outer(axis, axis) - A, t])
-    return np.hstack([A, t, (A @ axis)[:, None]])
+def _z_to(axis: FloatArray) -> FloatArray:
+    """A rotation whose third column is the unit vector ``axis``."""
+    a = axis / np.linalg.norm(axis)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, a)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(a, x), a])
 
 
 def _body_roots(kin: KinematicModel, varying: IntArray) -> tuple[list[int], IntArray]:
@@ -121,36 +128,50 @@ def _build_bodies(
     body_of: IntArray,
     max_local: float,
 ) -> _Bodies:
+    """``T`` [F, 4, 4]: kinematic frames at the base configuration."""
     col_of = {int(c): i for i, c in enumerate(varying.tolist())}
-    parent, kind, consts = [-1], [_ROOT], [np.zeros((3, 4))]
+    G = [np.eye(3)] + [_z_to(kin.axis[f]) for f in roots[1:]]
+    parent, kind, consts = [-1], [_ROOT], [np.eye(4)]
     cols, mult, off = [-1], [1.0], [0.0]
     lever = max_local
-    for f in roots[1:]:
+    for j, f in enumerate(roots[1:], start=1):
         pf = int(kin.parent[f])
         pb = int(body_of[pf])
         C = np.linalg.inv(T[roots[pb]]) @ T[pf] @ kin.origin[f]
-        k = _PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else _ROT
+        C[:3, 3] = G[pb].T @ C[:3, 3]
+        C[:3, :3] = G[pb].T @ C[:3, :3] @ G[j]
         parent.append(pb)
-        kind.append(k)
-        consts.append(_body_consts(k, C, kin.axis[f]))
+        kind.append(_PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else _ROT)
+        consts.append(C)
         cols.append(col_of[int(kin.q_index[f])])
         mult.append(float(kin.mimic_multiplier[f]))
         off.append(float(kin.mimic_offset[f]))
         lever += float(np.linalg.norm(C[:3, 3]))
-        if k == _PRISM:
+        if kind[-1] == _PRISM:
             q = int(kin.q_index[f])
-            lim = max(abs(kin.lower[q]), abs(kin.upper[q]))
-            lever += abs(mult[-1]) * lim + abs(off[-1])
+            lever += abs(mult[-1]) * max(abs(kin.lower[q]), abs(kin.upper[q])) + abs(off[-1])
     return _Bodies(
         parent=tuple(parent),
         kind=tuple(kind),
-        consts_t=tuple(np.ascontiguousarray(c.T, dtype=np.float32) for c in consts),
-        consts_root=tuple(np.ascontiguousarray(c[:, :, None], dtype=np.float32) for c in consts),
+        consts=np.array(consts),
+        consts_t=tuple(np.ascontiguousarray(c[:3, :].T, dtype=np.float32) for c in consts),
+        consts_root=tuple(np.ascontiguousarray(c[:3, :, None], dtype=np.float32) for c in consts),
+        G=np.array(G),
         col=np.array(cols, dtype=np.intp),
         mult=np.array(mult),
         off=np.array(off),
         lever=lever,
     )
+
+
+def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
+    """float32 joint values [nb − 1, B]; angles beyond ±2π are first reduced in float64."""
+    v64 = q_var.T[bodies.col[1:]] * bodies.mult[1:, None] + bodies.off[1:, None]
+    wide = (np.array(bodies.kind[1:]) == _ROT) & (np.abs(v64).max(axis=1) > _ANGLE_MAX)
+    if wide.any():
+        v64[wide] = np.remainder(v64[wide] + np.pi, 2 * np.pi) - np.pi
+    out: F32 = v64.astype(np.float32)
+    return out
 
 
 def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
@@ -163,32 +184,28 @@ def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
     t[0] = 0.0
     if nb == 1:
         return R, t
-    v64 = q_var.T[bodies.col[1:]] * bodies.mult[1:, None] + bodies.off[1:, None]
-    # angles beyond ±2π are reduced in float64 first, so float32 rounds them by < 4e-7 rad
-    wide = (np.array(bodies.kind[1:]) == _ROT) & (np.abs(v64).max(axis=1) > _ANGLE_MAX)
-    if wide.any():
-        v64[wide] = np.remainder(v64[wide] + np.pi, 2 * np.pi) - np.pi
-    vals = v64.astype(np.float32)
-    sin = np.sin(vals)
-    omc = np.cos(vals)
-    np.subtract(np.float32(1.0), omc, out=omc)
-    tmp = np.empty((3, 3, B), dtype=np.float32)
+    vals = _joint_values(bodies, q_var)
+    sin, cos = np.sin(vals), np.cos(vals)
+    X = np.empty((3, 4, B), dtype=np.float32)
+    tmp = np.empty((3, B), dtype=np.float32)
     for f in range(1, nb):
         p = bodies.parent[f]
-        X = bodies.consts_root[f] if p == 0 else np.matmul(bodies.consts_t[f], R[p])
+        Y = bodies.consts_root[f] if p == 0 else np.matmul(bodies.consts_t[f], R[p], out=X)
         Rf, tf = R[f], t[f]
-        if bodies.kind[f] == _ROT:
-            np.multiply(X[:, 3:6], sin[f - 1], out=Rf)
-            Rf += X[:, 0:3]
-            np.multiply(X[:, 6:9], omc[f - 1], out=tmp)
-            Rf += tmp
-            tcol = 9
-        else:
-            Rf[...] = X[:, 0:3]
-            tcol = 3
-        np.add(t[p], X[:, tcol], out=tf)
-        if bodies.kind[f] == _PRISM:
-            tf += vals[f - 1] * X[:, 4]
+        np.add(t[p], Y[:, 3], out=tf)
+        if bodies.kind[f] == _ROT:  # columns x, y turn by θ about z
+            c, s = cos[f - 1], sin[f - 1]
+            np.multiply(Y[:, 0], c, out=Rf[:, 0])
+            np.multiply(Y[:, 1], s, out=tmp)
+            Rf[:, 0] += tmp
+            np.multiply(Y[:, 1], c, out=Rf[:, 1])
+            np.multiply(Y[:, 0], s, out=tmp)
+            Rf[:, 1] -= tmp
+            Rf[:, 2] = Y[:, 2]
+        else:  # slides along z
+            Rf[...] = Y[:, 0:3]
+            np.multiply(Y[:, 2], vals[f - 1], out=tmp)
+            tf += tmp
     return R, t
 
 
@@ -207,6 +224,8 @@ class _BodyPair:
 
     a: int
     b: int
+    ia: IntArray  # sphere indices of a's side
+    ib: IntArray
     p_aug: F32
     q_aug: F32
     r_b: F32  # [m_b, 1]
@@ -215,9 +234,9 @@ class _BodyPair:
     p32: F32  # [m_a, 3] centres of a's spheres
     rsum: F32  # [m_a, m_b] radius sums
     delta: float
-    cull: bool
-    bound_a: FloatArray  # [4]: centre (frame of a), radius
-    bound_b: FloatArray
+    relevant: BoolArray  # [m_a, m_b]: sphere pairs of a counted frame pair
+    cull: bool = False
+    grid: PairGrid | None = None
 
 
 def _bounding(p: FloatArray, r: FloatArray) -> FloatArray:
@@ -284,12 +303,15 @@ class EngineTotals:
 
 @dataclass
 class _Chunk:
-    """Scratch of one chunk: float32 minima of ``d² − R²`` [K, B] and clearance bounds."""
+    """One chunk: float32 minima of ``d² − R²`` [K, B], clearance bounds [K], body poses, the
+    configurations and the culled pairs' bounding-sphere gaps."""
 
     emin: F32
     bound: FloatArray
     R: F32 = field(repr=False)
     t: F32 = field(repr=False)
+    q: FloatArray = field(repr=False)
+    gaps: F32 | None = field(repr=False)
 
 
 # ------------------------------------------------------------------------------------------
@@ -325,6 +347,7 @@ class CountEngine:
         max_local = float(np.max(np.linalg.norm(self.local, axis=1))) if len(self.local) else 0.0
         self.bodies = _build_bodies(kin, self.varying, T, roots, body_of, max_local)
         self.err = _position_error(self.bodies)
+        self.body_bound = self._body_bounds()
         self.const_k, self.const_hit, self.const_clear = self._constant_pairs()
         self.pairs = self._body_pairs()
         self.delta_k, self.rlo_k, self.rhi_k = self._pair_constants()
@@ -337,11 +360,24 @@ class CountEngine:
         kf = s.kin_frame
         body = body_of[kf]
         inv = {int(b): np.linalg.inv(T[roots[int(b)]]) for b in np.unique(body)}
+        G = [np.eye(3)] + [_z_to(self.kin.axis[f]) for f in roots[1:]]
+        for b, M in inv.items():  # into the z-aligned body frame
+            M[:3, :] = G[b].T @ M[:3, :]
         local = np.empty((s.n_spheres, 3))
         for i in range(s.n_spheres):
             M = inv[int(body[i])] @ T[int(kf[i])]
             local[i] = M[:3, :3] @ s.local_centers[i] + M[:3, 3]
         return body, local
+
+    def _body_bounds(self) -> FloatArray:
+        """Bounding sphere [nb, 4] (centre in the body frame, radius) of each body's spheres."""
+        out = np.zeros((self.bodies.n, 4))
+        sr = self.spheres.self_radii
+        for b in np.unique(self.sphere_body).tolist():
+            mine = self.sphere_body == b
+            out[b] = _bounding(self.local[mine], sr[mine])
+        out[:, 3] += _CULL_SLACK
+        return out
 
     def _frame_body(self, f: int) -> int:
         sl = self.spheres.spheres_of(f)
@@ -407,6 +443,8 @@ class CountEngine:
         return _BodyPair(
             a=a,
             b=b,
+            ia=ia,
+            ib=ib,
             p_aug=p_aug.astype(np.float32),
             q_aug=np.hstack([q, np.ones((len(q), 1))]).astype(np.float32),
             r_b=rb[:, None].astype(np.float32),
@@ -415,25 +453,59 @@ class CountEngine:
             p32=p.astype(np.float32),
             rsum=(ra[:, None] + rb[None, :]).astype(np.float32),
             delta=_delta(p, r_max, self.err),
-            cull=False,
-            bound_a=_bounding(p, ra),
-            bound_b=_bounding(q, rb),
+            relevant=_relevant(len(ia), len(ib), blocks),
         )
 
     def _choose_culling(self, pairs: list[_BodyPair]) -> list[_BodyPair]:
-        """Cull the body pairs that a fixed pilot sample finds mostly out of reach."""
+        """Give body pairs a cell grid (one or two joints between them) or, when a fixed pilot
+        sample finds them mostly out of reach, a bounding-sphere cull."""
         if not pairs or len(self.varying) == 0:
             return pairs
         lo = self.kin.lower[self.varying]
         hi = self.kin.upper[self.varying]
         q = np.random.default_rng(12345).uniform(lo, hi, size=(_PILOT, len(self.varying)))
         R, t = _body_fk(self.bodies, q)
+        W = self._world_bounds(R, t)
         out = []
         for bp in pairs:
-            gap = self._gap(bp, R, t)
+            grid = self._grid_for(bp)
+            if grid is not None and grid.far_fraction >= _GRID_MIN_FAR:
+                out.append(replace(bp, grid=grid))
+                continue
+            gap = self._gaps(W, [bp])[0]
             near = float(np.mean(gap <= self.margin + 4 * self.err))
-            out.append(_replace_cull(bp, near < _CULL_FRACTION))
+            out.append(replace(bp, cull=near < _CULL_FRACTION))
         return out
+
+    def _grid_for(self, bp: _BodyPair) -> PairGrid | None:
+        path = _path_joints(self.bodies, bp.a, bp.b)
+        if path is None or int(bp.relevant.sum()) < _GRID_MIN_PAIRS:
+            return None
+        anc, joints = path
+        p, q = self._pair_points(bp)
+        rsum, relevant = bp.rsum.astype(np.float64), bp.relevant
+        if anc != bp.a:
+            p, q, rsum, relevant = q, p, rsum.T, relevant.T
+        b = self.bodies
+        cols = [int(b.col[j]) for j in joints]
+        vcols = self.varying[cols]
+        return build_pair_grid(
+            [b.consts[j] for j in joints],
+            cols,
+            [float(b.mult[j]) for j in joints],
+            [float(b.off[j]) for j in joints],
+            self.kin.lower[vcols].tolist(),
+            self.kin.upper[vcols].tolist(),
+            p,
+            q,
+            rsum,
+            relevant,
+            self.margin,
+        )
+
+    def _pair_points(self, bp: _BodyPair) -> tuple[FloatArray, FloatArray]:
+        """float64 sphere centres of both sides of ``bp`` in their own body frames."""
+        return self.local[bp.ia], self.local[bp.ib]
 
     def _pair_constants(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         s = self.spheres
@@ -449,14 +521,20 @@ class CountEngine:
         return delta, rlo, rhi
 
     # --- per chunk -----------------------------------------------------------------------
-    def _gap(self, bp: _BodyPair, R: F32, t: F32) -> F32:
-        """float32 distance between the two bodies' bounding spheres minus their radii [B]."""
-        wa = _apply(R[bp.a], t[bp.a], bp.bound_a[:3])
-        wb = _apply(R[bp.b], t[bp.b], bp.bound_b[:3])
-        wa -= wb
-        d: F32 = np.sqrt(np.einsum("ib,ib->b", wa, wa))
-        d -= np.float32(bp.bound_a[3] + bp.bound_b[3])
-        return d
+    def _world_bounds(self, R: F32, t: F32) -> F32:
+        """World centres [nb, 3, B] of every body's bounding sphere."""
+        W: F32 = np.einsum("fikb,fk->fib", R, self.body_bound[:, :3].astype(np.float32))
+        W += t
+        return W
+
+    def _gaps(self, W: F32, pairs: list[_BodyPair]) -> F32:
+        """float32 distance between the bounding spheres of each pair's bodies [P, B]."""
+        ia = [bp.a for bp in pairs]
+        ib = [bp.b for bp in pairs]
+        D = W[ia] - W[ib]
+        gap: F32 = np.sqrt(np.einsum("pib,pib->pb", D, D))
+        gap -= (self.body_bound[ia, 3] + self.body_bound[ib, 3]).astype(np.float32)[:, None]
+        return gap
 
     def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
         """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
@@ -468,9 +546,16 @@ class CountEngine:
             raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
         B = q.shape[0]
         R, t = _body_fk(self.bodies, q)
-        ch = _Chunk(np.full((self.K, B), np.inf, dtype=np.float32), np.full(self.K, np.inf), R, t)
+        culled = [bp for bp in self.pairs if bp.cull]
+        gaps = self._gaps(self._world_bounds(R, t), culled) if culled else None
+        emin = np.full((self.K, B), np.inf, dtype=np.float32)
+        ch = _Chunk(emin, np.full(self.K, np.inf), R, t, q, gaps)
+        row = 0
         for bp in self.pairs:
-            self._run_pair(bp, ch)
+            sel = self._select(bp, ch, row)
+            row += bp.cull
+            if sel is None or len(sel):
+                self._evaluate(bp, ch, sel)
         hits = ch.emin < (-self.delta_k)[:, None].astype(np.float32)
         best = np.full(self.K, np.inf)
         bound, n_exact = self._finish(q, ch, hits, best)
@@ -485,22 +570,31 @@ class CountEngine:
             totals.rechecked += n_exact
         return hits
 
-    def _run_pair(self, bp: _BodyPair, ch: _Chunk) -> None:
-        R, t = ch.R, ch.t
-        B = R.shape[-1]
-        sel: IntArray | None = None
-        if bp.cull:
-            gap = self._gap(bp, R, t)
+    def _select(self, bp: _BodyPair, ch: _Chunk, row: int) -> IntArray | None:
+        """Configurations of the chunk to evaluate for ``bp`` (None: all of them).
+
+        The skipped ones are farther apart than the margin; their clearance lower bound goes
+        into the chunk's bounds.
+        """
+        if bp.grid is not None:
+            near = bp.grid.near(ch.q)
+            low = bp.grid.far_bound
+        elif bp.cull and ch.gaps is not None:
+            gap = ch.gaps[row]
             near = gap <= np.float32(self.margin + 4 * self.err)
-            sel = np.flatnonzero(near)
-            if len(sel) < B:
-                low = float(gap[~near].min()) - 4 * self.err
-                for k, _, _ in bp.blocks:
-                    ch.bound[k] = min(ch.bound[k], low)
-            if len(sel) == 0:
-                return
-            if len(sel) == B:
-                sel = None
+            low = float(gap[~near].min()) - 4 * self.err if not near.all() else np.inf
+        else:
+            return None
+        sel = np.flatnonzero(near)
+        if len(sel) == len(near):
+            return None
+        for k, _, _ in bp.blocks:
+            ch.bound[k] = min(ch.bound[k], low)
+        return sel
+
+    def _evaluate(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None) -> None:
+        """float32 minima of ``d² − R²`` per frame pair for the selected configurations."""
+        R, t = ch.R, ch.t
         Ra, ta, Rb, tb = R[bp.a], t[bp.a], R[bp.b], t[bp.b]
         if sel is not None:
             Ra, ta, Rb, tb = (np.take(x, sel, axis=-1) for x in (Ra, ta, Rb, tb))
@@ -621,6 +715,27 @@ class CountEngine:
         return hit, clr
 
 
+def _relevant(m_a: int, m_b: int, blocks: list[tuple[int, slice, slice]]) -> BoolArray:
+    out = np.zeros((m_a, m_b), dtype=np.bool_)
+    for _, rows, cols in blocks:
+        out[rows, cols] = True
+    return out
+
+
+def _path_joints(bodies: _Bodies, a: int, b: int) -> tuple[int, list[int]] | None:
+    """(ancestor, bodies whose revolute joints lie between a and b, outer first) when one body
+    is an ancestor of the other at most two joints away; None otherwise."""
+    for anc, desc in ((a, b), (b, a)):
+        joints = [desc]
+        while len(joints) <= _GRID_MAX_JOINTS and bodies.parent[joints[0]] >= 0:
+            if bodies.parent[joints[0]] == anc:
+                if all(bodies.kind[j] == _ROT for j in joints):
+                    return anc, joints
+                return None
+            joints.insert(0, bodies.parent[joints[0]])
+    return None
+
+
 def _side_rows(s: SphereSet, frames: list[int]) -> tuple[IntArray, dict[int, slice]]:
     """Sphere indices of ``frames`` (in frame order) and each frame's slice of them."""
     idx: list[int] = []
@@ -634,12 +749,6 @@ def _side_rows(s: SphereSet, frames: list[int]) -> tuple[IntArray, dict[int, sli
 
 def _replace_cull(bp: _BodyPair, cull: bool) -> _BodyPair:
     return replace(bp, cull=cull)
-
-
-def _apply(R: F32, t: F32, c: FloatArray) -> F32:
-    """``R @ c + t`` for a constant point ``c``: [3, B]."""
-    out: F32 = np.einsum("ikb,k->ib", R, c.astype(np.float32)) + t
-    return out
 
 
 def _relative(Ra: F32, ta: F32, Rb: F32, tb: F32) -> F32:
