@@ -292,6 +292,15 @@ class EngineTotals:
     def empty(cls, K: int) -> EngineTotals:
         return cls(np.zeros(K, dtype=np.int64), np.full(K, np.inf), np.full(K, np.inf))
 
+    def clearance(self) -> tuple[FloatArray, BoolArray]:
+        """Per frame pair: the minimum clearance and whether it is only a lower bound.
+
+        Exact (float64) whenever the true minimum is below the margin; these values do not
+        depend on how the configurations were split into chunks or workers.
+        """
+        exact = self.min_clearance <= self.clearance_bound
+        return np.where(exact, self.min_clearance, self.clearance_bound), ~exact
+
     def merge(self, other: EngineTotals) -> None:
         """Add ``other`` (another share of the configurations) into these totals."""
         self.hits += other.hits
@@ -303,15 +312,19 @@ class EngineTotals:
 
 @dataclass
 class _Chunk:
-    """One chunk: float32 minima of ``d² − R²`` [K, B], clearance bounds [K], body poses, the
-    configurations and the culled pairs' bounding-sphere gaps."""
+    """One chunk: verdicts [K, B], clearance bounds [K], body poses, the configurations, the
+    culled pairs' bounding-sphere gaps, and the (frame pair, configuration) entries queued
+    for the float64 recheck."""
 
-    emin: F32
+    hits: BoolArray
     bound: FloatArray
     R: F32 = field(repr=False)
     t: F32 = field(repr=False)
     q: FloatArray = field(repr=False)
     gaps: F32 | None = field(repr=False)
+    prev: FloatArray = field(repr=False)  # [K] exact minimum clearances of earlier chunks
+    re_k: list[IntArray] = field(default_factory=list, repr=False)
+    re_b: list[IntArray] = field(default_factory=list, repr=False)
 
 
 # ------------------------------------------------------------------------------------------
@@ -548,24 +561,25 @@ class CountEngine:
         R, t = _body_fk(self.bodies, q)
         culled = [bp for bp in self.pairs if bp.cull]
         gaps = self._gaps(self._world_bounds(R, t), culled) if culled else None
-        emin = np.full((self.K, B), np.inf, dtype=np.float32)
-        ch = _Chunk(emin, np.full(self.K, np.inf), R, t, q, gaps)
+        hits = np.zeros((self.K, B), dtype=np.bool_)
+        # the best clearance so far only narrows the candidates (it never changes a result)
+        prev = totals.min_clearance if totals is not None else np.full(self.K, np.inf)
+        ch = _Chunk(hits, np.full(self.K, np.inf), R, t, q, gaps, prev)
         row = 0
         for bp in self.pairs:
             sel = self._select(bp, ch, row)
             row += bp.cull
             if sel is None or len(sel):
-                self._evaluate(bp, ch, sel)
-        hits = ch.emin < (-self.delta_k)[:, None].astype(np.float32)
+                self._classify(bp, ch, sel, self._evaluate(bp, ch, sel))
         best = np.full(self.K, np.inf)
-        bound, n_exact = self._finish(q, ch, hits, best)
+        n_exact = self._recheck(ch, best)
         if len(self.const_k):
             hits[self.const_k] = self.const_hit[:, None]
             best[self.const_k] = self.const_clear
         if totals is not None:
             totals.hits += hits.sum(axis=1)
             np.minimum(totals.min_clearance, best, out=totals.min_clearance)
-            np.minimum(totals.clearance_bound, bound, out=totals.clearance_bound)
+            np.minimum(totals.clearance_bound, ch.bound, out=totals.clearance_bound)
             totals.configurations += B
             totals.rechecked += n_exact
         return hits
@@ -592,14 +606,16 @@ class CountEngine:
             ch.bound[k] = min(ch.bound[k], low)
         return sel
 
-    def _evaluate(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None) -> None:
-        """float32 minima of ``d² − R²`` per frame pair for the selected configurations."""
+    def _evaluate(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None) -> F32:
+        """float32 minima of ``d² − R²`` [blocks, n] per frame pair of ``bp`` for the selected
+        configurations (all when ``sel`` is None)."""
         R, t = ch.R, ch.t
         Ra, ta, Rb, tb = R[bp.a], t[bp.a], R[bp.b], t[bp.b]
         if sel is not None:
             Ra, ta, Rb, tb = (np.take(x, sel, axis=-1) for x in (Ra, ta, Rb, tb))
         Trel = _relative(Ra, ta, Rb, tb)  # [3, 4, n]
         n = Trel.shape[-1]
+        out = np.empty((len(bp.blocks), n), dtype=np.float32)
         m_a, m_b = bp.p_aug.shape[0], bp.q_aug.shape[0]
         step = max(16, _BLOCK_ELEMENTS // (m_a * m_b))
         buf = np.empty((6, m_b, min(step, n)), dtype=np.float32)
@@ -616,69 +632,80 @@ class CountEngine:
             Ew = E if w == buf.shape[-1] else np.empty((m_a, m_b * w), dtype=np.float32)
             np.matmul(bp.p_aug, Q.reshape(6, m_b * w), out=Ew)
             E3 = Ew.reshape(m_a, m_b, w)
-            cols = slice(s0, s1) if sel is None else sel[s0:s1]
-            for k, rows, cs in bp.blocks:
-                ch.emin[k, cols] = E3[rows, cs].min(axis=(0, 1))
+            for i, (_, rows, cs) in enumerate(bp.blocks):
+                np.min(E3[rows, cs], axis=(0, 1), out=out[i, s0:s1])
+        return out
 
-    def _finish(
-        self, q: FloatArray, ch: _Chunk, hits: BoolArray, best: FloatArray
-    ) -> tuple[FloatArray, int]:
-        """Re-decide near-boundary entries and minimum-clearance candidates in float64.
+    def _classify(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None, em: F32) -> None:
+        """Verdicts from the float32 minima ``em`` [blocks, n]; queue the float64 rechecks.
 
-        Updates ``hits`` and ``best`` (exact minimum clearances); returns the clearance lower
-        bound of every configuration not evaluated exactly and how many entries were redone.
+        Entries within ``± delta`` of zero are unsure. For the minimum clearance, every
+        configuration whose clearance may lie below ``min(margin, an upper bound of the
+        chunk's smallest)`` is a candidate; candidates are narrowed in float32
+        (:meth:`_refine`). Everything not rechecked has a clearance of at least the bound
+        recorded for its frame pair.
         """
-        delta = self.delta_k[:, None].astype(np.float32)
-        unsure = np.abs(ch.emin) <= delta
-        emin_min = ch.emin.min(axis=1).astype(np.float64)
-        hi = _clearance_hi(emin_min + self.delta_k, self.rlo_k, self.rhi_k)
-        thr = np.minimum(self.margin, hi)
-        e_star = _energy_at(thr, self.rlo_k, self.rhi_k) + self.delta_k
-        cand = ch.emin <= e_star[:, None].astype(np.float32)
-        has_cand: BoolArray = np.asarray(cand.any(axis=1))
-        lo_all = _clearance_lo(emin_min - self.delta_k, self.rlo_k, self.rhi_k)
-        bound = np.where(has_cand, thr, lo_all)
-        np.minimum(bound, ch.bound, out=bound)
+        ks = np.array([k for k, _, _ in bp.blocks], dtype=np.intp)
+        d = np.float32(bp.delta)
+        cols = np.arange(em.shape[1]) if sel is None else sel
+        hit = em < -d
+        for i, k in enumerate(ks.tolist()):
+            ch.hits[k, cols] = hit[i]
+        e_min = em.min(axis=1).astype(np.float64)
+        rlo, rhi = self.rlo_k[ks], self.rhi_k[ks]
+        thr = np.minimum(self.margin, _clearance_hi(e_min + bp.delta, rlo, rhi))
+        np.minimum(thr, ch.prev[ks], out=thr)
+        e_star = (_energy_at(thr, rlo, rhi) + bp.delta).astype(np.float32)
+        cand = em <= e_star[:, None]
+        has_cand = cand.any(axis=1)
+        low = np.where(has_cand, thr, _clearance_lo(e_min - bp.delta, rlo, rhi))
+        np.minimum(ch.bound[ks], low, out=low)
+        ch.bound[ks] = low
+        unsure = np.abs(em) <= d
         if has_cand.any():
-            cand, thr2 = self._refine(ch, cand, has_cand)
-            np.minimum(bound, thr2, out=bound)
-        ks, bs = np.nonzero(unsure | cand)
-        if len(ks):
-            qf = np.repeat(self.q_base[None, :], len(np.unique(bs)), axis=0)
-            ub, inv = np.unique(bs, return_inverse=True)
-            qf[:, self.varying] = q[ub]
-            hit, clr = self._exact(ks, inv, qf)
-            hits[ks, bs] = hit
-            np.minimum.at(best, ks, clr)
-        return bound, len(ks)
+            cand = self._refine(bp, ch, cols, cand, ks)
+        bi, bj = np.nonzero(unsure | cand)
+        if len(bi):
+            ch.re_k.append(ks[bi])
+            ch.re_b.append(cols[bj])
 
     def _refine(
-        self, ch: _Chunk, cand: BoolArray, has_cand: BoolArray
-    ) -> tuple[BoolArray, FloatArray]:
+        self, bp: _BodyPair, ch: _Chunk, cols: IntArray, cand: BoolArray, ks: IntArray
+    ) -> BoolArray:
         """Narrow minimum-clearance candidates with float32 clearances (error ≤ ``tau``).
 
         ``d² − R²`` ranks configurations only roughly when a frame pair's radii differ, so the
         candidates' clearances are computed directly; only those that can be within ``tau``
-        of the smallest go on to float64. Returns the kept candidates and, per frame pair, a
-        lower bound on the clearance of the dropped ones.
+        of the smallest are kept for float64. The dropped ones' clearances exceed the limit
+        recorded in the frame pair's bound.
         """
-        kept = np.zeros_like(cand)
-        thr2 = np.full(self.K, np.inf)
         tau = 2.0 * self.err + 8.0 * _EPS32 * self.bodies.lever
-        for bp in self.pairs:
-            ks = [k for k, _, _ in bp.blocks if has_cand[k]]
-            if not ks:
+        idx = np.flatnonzero(cand.any(axis=0))
+        clr = self._direct(bp, ch, cols[idx])
+        kept = np.zeros_like(cand)
+        for i, (k, rows, cs) in enumerate(bp.blocks):
+            ci = cand[i, idx]
+            if not ci.any():
                 continue
-            cols = np.flatnonzero(cand[ks].any(axis=0))
-            clr = self._direct(bp, ch, cols)
-            for k, rows, cs in bp.blocks:
-                if not has_cand[k]:
-                    continue
-                ck = np.where(cand[k, cols], clr[rows, cs].min(axis=(0, 1)), np.inf)
-                lim = min(self.margin, float(ck.min()) + tau)
-                kept[k, cols[ck - tau <= lim]] = True
-                thr2[k] = lim
-        return kept, thr2
+            ck = np.where(ci, clr[rows, cs].min(axis=(0, 1)), np.inf)
+            lim = min(self.margin, float(ch.prev[k]), float(ck.min()) + tau)
+            kept[i, idx[ck - tau <= lim]] = True
+            ch.bound[k] = min(ch.bound[k], lim)
+        return kept
+
+    def _recheck(self, ch: _Chunk, best: FloatArray) -> int:
+        """Decide the queued entries in float64: exact verdicts into ``ch.hits``, exact
+        clearances into ``best``. Returns how many entries were redone."""
+        if not ch.re_k:
+            return 0
+        ks, bs = np.concatenate(ch.re_k), np.concatenate(ch.re_b)
+        ub, inv = np.unique(bs, return_inverse=True)
+        qf = np.repeat(self.q_base[None, :], len(ub), axis=0)
+        qf[:, self.varying] = ch.q[ub]
+        hit, clr = self._exact(ks, inv, qf)
+        ch.hits[ks, bs] = hit
+        np.minimum.at(best, ks, clr)
+        return len(ks)
 
     def _direct(self, bp: _BodyPair, ch: _Chunk, cols: IntArray) -> F32:
         """float32 clearances [m_a, m_b, n] of every sphere pair at configurations ``cols``."""

@@ -375,7 +375,8 @@ def self_collision_report(
             progress=progress,
         )
         source = "sampled"
-    hits, min_clear, bound = totals.hits, totals.min_clearance, totals.clearance_bound
+    hits = totals.hits
+    min_clear, is_bound_w = totals.clearance()
 
     # --- the default configuration: clearance of every frame pair ----------------------------
     c_def = sphere_world_centers(kin, spheres_all, q_default)
@@ -397,9 +398,8 @@ def self_collision_report(
         mc: float | None = None
         is_bound = False
         if w is not None:
-            exact = min_clear[w] <= bound[w]
-            mc = float(min_clear[w] if exact else bound[w])
-            is_bound = not exact
+            mc = float(min_clear[w])
+            is_bound = bool(is_bound_w[w])
         cls, rec, note = _verdict(
             bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source
         )
