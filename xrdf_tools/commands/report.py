@@ -105,10 +105,22 @@ def command(
     coverage: Annotated[
         bool, typer.Option("--coverage", help="Add sphere coverage metrics (reads meshes).")
     ] = False,
+    jobs: Annotated[
+        int | None,
+        typer.Option(
+            "--jobs",
+            "-j",
+            min=1,
+            help="Worker processes for sampling [default: all cores]. Same result for any "
+            "value; samples below 250,000 per worker run in fewer processes.",
+            show_default=False,
+        ),
+    ] = None,
     strict: Annotated[bool, typer.Option("--strict", help="Warnings also exit 1.")] = False,
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
+    from ..engine import default_jobs
     from ..report import recommended_xrdf, self_collision_report
     from ..report_render import (
         render_html,
@@ -156,6 +168,7 @@ def command(
                 urdf_path=str(urdf),
                 coverage=coverage,
                 clearance_margin=clearance_margin,
+                jobs=default_jobs() if jobs is None else jobs,
             )
         finally:
             if bar is not None:
