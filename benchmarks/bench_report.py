@@ -45,7 +45,7 @@ REPO = Path(__file__).resolve().parent.parent
 XRDF = REPO / "fixtures" / "panda" / "panda.xrdf"
 REL = Path("cmeel.prefix", "share", "example-robot-data", "robots")
 PANDA = Path("panda_description", "urdf", "panda.urdf")
-CHUNK = 8192
+CHUNK = 65536
 MARGIN = 0.01
 TARGET = 1_000_000
 

@@ -27,6 +27,7 @@ stays at the base configuration. How it gets its speed (see ``docs/report.md``):
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -64,6 +65,7 @@ _GRID_MIN_PAIRS = 16
 _GRID_MAX_JOINTS = 2
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 _ANGLE_MAX = 2 * np.pi
+_FK_BLOCK = 4096  # configurations per forward-kinematics block (cache-sized)
 
 
 # ------------------------------------------------------------------------------------------
@@ -94,6 +96,11 @@ class _Bodies:
     @property
     def n(self) -> int:
         return len(self.parent)
+
+    @property
+    def plain(self) -> bool:
+        """No mimic factors: joint values are the configuration values themselves."""
+        return bool(np.all(self.mult == 1.0) and np.all(self.off == 0.0))
 
 
 def _z_to(axis: FloatArray) -> FloatArray:
@@ -166,8 +173,13 @@ def _build_bodies(
 
 def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
     """float32 joint values [nb − 1, B]; angles beyond ±2π are first reduced in float64."""
-    v64 = q_var.T[bodies.col[1:]] * bodies.mult[1:, None] + bodies.off[1:, None]
-    wide = (np.array(bodies.kind[1:]) == _ROT) & (np.abs(v64).max(axis=1) > _ANGLE_MAX)
+    v64 = np.ascontiguousarray(q_var.T[bodies.col[1:]])
+    if not bodies.plain:
+        v64 *= bodies.mult[1:, None]
+        v64 += bodies.off[1:, None]
+    wide = (np.array(bodies.kind[1:]) == _ROT) & (
+        (v64.max(axis=1) > _ANGLE_MAX) | (v64.min(axis=1) < -_ANGLE_MAX)
+    )
     if wide.any():
         v64[wide] = np.remainder(v64[wide] + np.pi, 2 * np.pi) - np.pi
     out: F32 = v64.astype(np.float32)
@@ -175,20 +187,29 @@ def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
 
 
 def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
-    """float32 rotations [nb, 3, 3, B] and translations [nb, 3, B] of every body."""
+    """float32 rotations [nb, 3, 3, B] and translations [nb, 3, B] of every body.
+
+    Computed in cache-sized column blocks written straight into the results.
+    """
     B = q_var.shape[0]
-    nb = bodies.n
-    R = np.empty((nb, 3, 3, B), dtype=np.float32)
-    t = np.empty((nb, 3, B), dtype=np.float32)
+    R = np.empty((bodies.n, 3, 3, B), dtype=np.float32)
+    t = np.empty((bodies.n, 3, B), dtype=np.float32)
     R[0] = np.eye(3, dtype=np.float32)[:, :, None]
     t[0] = 0.0
-    if nb == 1:
-        return R, t
+    if bodies.n > 1:
+        for s0 in range(0, B, _FK_BLOCK):
+            sl = slice(s0, min(B, s0 + _FK_BLOCK))
+            _body_fk_block(bodies, q_var[sl], R[..., sl], t[..., sl])
+    return R, t
+
+
+def _body_fk_block(bodies: _Bodies, q_var: FloatArray, R: F32, t: F32) -> None:
     vals = _joint_values(bodies, q_var)
     sin, cos = np.sin(vals), np.cos(vals)
-    X = np.empty((3, 4, B), dtype=np.float32)
-    tmp = np.empty((3, B), dtype=np.float32)
-    for f in range(1, nb):
+    n = q_var.shape[0]
+    X = np.empty((3, 4, n), dtype=np.float32)
+    tmp = np.empty((3, n), dtype=np.float32)
+    for f in range(1, bodies.n):
         p = bodies.parent[f]
         Y = bodies.consts_root[f] if p == 0 else np.matmul(bodies.consts_t[f], R[p], out=X)
         Rf, tf = R[f], t[f]
@@ -206,7 +227,6 @@ def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
             Rf[...] = Y[:, 0:3]
             np.multiply(Y[:, 2], vals[f - 1], out=tmp)
             tf += tmp
-    return R, t
 
 
 # ------------------------------------------------------------------------------------------
@@ -478,15 +498,14 @@ class CountEngine:
         hi = self.kin.upper[self.varying]
         q = np.random.default_rng(12345).uniform(lo, hi, size=(_PILOT, len(self.varying)))
         R, t = _body_fk(self.bodies, q)
-        W = self._world_bounds(R, t)
         out = []
         for bp in pairs:
             grid = self._grid_for(bp)
             if grid is not None and grid.far_fraction >= _GRID_MIN_FAR:
                 out.append(replace(bp, grid=grid))
                 continue
-            gap = self._gaps(W, [bp])[0]
-            near = float(np.mean(gap <= self.margin + 4 * self.err))
+            g2 = self._gaps2(R, t, [bp])[0]
+            near = float(np.mean(g2 <= self._cull_reach(bp) ** 2))
             out.append(replace(bp, cull=near < _CULL_FRACTION))
         return out
 
@@ -534,20 +553,28 @@ class CountEngine:
         return delta, rlo, rhi
 
     # --- per chunk -----------------------------------------------------------------------
-    def _world_bounds(self, R: F32, t: F32) -> F32:
-        """World centres [nb, 3, B] of every body's bounding sphere."""
-        W: F32 = np.einsum("fikb,fk->fib", R, self.body_bound[:, :3].astype(np.float32))
-        W += t
-        return W
-
-    def _gaps(self, W: F32, pairs: list[_BodyPair]) -> F32:
-        """float32 distance between the bounding spheres of each pair's bodies [P, B]."""
+    def _gaps2(self, R: F32, t: F32, pairs: list[_BodyPair]) -> F32:
+        """float32 squared distance between the bounding-sphere centres of each pair's bodies
+        [P, B], in cache-sized column blocks."""
         ia = [bp.a for bp in pairs]
         ib = [bp.b for bp in pairs]
-        D = W[ia] - W[ib]
-        gap: F32 = np.sqrt(np.einsum("pib,pib->pb", D, D))
-        gap -= (self.body_bound[ia, 3] + self.body_bound[ib, 3]).astype(np.float32)[:, None]
-        return gap
+        c = self.body_bound[:, :3].astype(np.float32)
+        B = R.shape[-1]
+        out = np.empty((len(pairs), B), dtype=np.float32)
+        for s0 in range(0, B, _FK_BLOCK):
+            sl = slice(s0, min(B, s0 + _FK_BLOCK))
+            W = np.einsum("fikb,fk->fib", R[..., sl], c)
+            W += t[..., sl]
+            D = W[ia] - W[ib]
+            np.einsum("pib,pib->pb", D, D, out=out[:, sl])
+        return out
+
+    def _cull_reach(self, bp: _BodyPair) -> float:
+        """Bounding-sphere centre distance beyond which ``bp`` is farther apart than the
+        margin, float32 error included."""
+        return float(self.body_bound[bp.a, 3] + self.body_bound[bp.b, 3]) + self.margin + (
+            4 * self.err
+        )
 
     def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
         """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
@@ -560,7 +587,7 @@ class CountEngine:
         B = q.shape[0]
         R, t = _body_fk(self.bodies, q)
         culled = [bp for bp in self.pairs if bp.cull]
-        gaps = self._gaps(self._world_bounds(R, t), culled) if culled else None
+        gaps = self._gaps2(R, t, culled) if culled else None
         hits = np.zeros((self.K, B), dtype=np.bool_)
         # the best clearance so far only narrows the candidates (it never changes a result)
         prev = totals.min_clearance if totals is not None else np.full(self.K, np.inf)
@@ -594,9 +621,11 @@ class CountEngine:
             near = bp.grid.near(ch.q)
             low = bp.grid.far_bound
         elif bp.cull and ch.gaps is not None:
-            gap = ch.gaps[row]
-            near = gap <= np.float32(self.margin + 4 * self.err)
-            low = float(gap[~near].min()) - 4 * self.err if not near.all() else np.inf
+            g2 = ch.gaps[row]
+            reach = self._cull_reach(bp)
+            near = g2 <= np.float32(reach**2)
+            far_min = float(np.min(g2, where=~near, initial=np.inf))
+            low = math.sqrt(far_min) - reach + self.margin
         else:
             return None
         sel = np.flatnonzero(near)

@@ -56,12 +56,16 @@ class PairGrid:
         cell = np.zeros(B, dtype=np.intp)
         inside = np.ones(B, dtype=np.bool_)
         for j, n in enumerate(self.shape):
-            theta = q_var[:, self.cols[j]] * self.mult[j] + self.off[j]
-            i = np.floor((theta - self.lo[j]) / self.h[j])
-            inside &= (i >= 0) & (i < n)
+            x = q_var[:, self.cols[j]] * (self.mult[j] / self.h[j])
+            x += (self.off[j] - self.lo[j]) / self.h[j]  # the cell coordinate
+            inside &= x >= 0
+            inside &= x < n
+            np.clip(x, 0, n - 1, out=x)
             cell *= n
-            cell += np.clip(i, 0, n - 1).astype(np.intp)
-        out: BoolArray = ~self.far[cell] | ~inside
+            cell += x.astype(np.intp)  # truncation is floor here: x >= 0
+        out: BoolArray = self.far[cell]
+        np.logical_not(out, out=out)
+        out |= ~inside
         return out
 
     @property

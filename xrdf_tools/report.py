@@ -76,7 +76,7 @@ __all__ = [
 
 #: A pair colliding in more than this fraction of configurations is "always" colliding.
 ALWAYS_RATE = 0.95
-DEFAULT_CHUNK = 8192
+DEFAULT_CHUNK = 65536
 
 #: Report rule ids: (id, short description, severity).
 RULES: tuple[tuple[str, str, Severity], ...] = (
