@@ -572,8 +572,10 @@ class CountEngine:
     def _cull_reach(self, bp: _BodyPair) -> float:
         """Bounding-sphere centre distance beyond which ``bp`` is farther apart than the
         margin, float32 error included."""
-        return float(self.body_bound[bp.a, 3] + self.body_bound[bp.b, 3]) + self.margin + (
-            4 * self.err
+        return (
+            float(self.body_bound[bp.a, 3] + self.body_bound[bp.b, 3])
+            + self.margin
+            + (4 * self.err)
         )
 
     def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
