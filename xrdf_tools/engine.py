@@ -61,7 +61,7 @@ _PILOT = 512
 _CULL_SLACK = 1e-6
 #: Body pairs with one or two revolute joints between them and at least this many counted
 #: sphere pairs get a cell grid (see :mod:`xrdf_tools.engine_grid`).
-_GRID_MIN_PAIRS = 16
+_GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 _ANGLE_MAX = 2 * np.pi
@@ -563,10 +563,18 @@ class CountEngine:
         out = np.empty((len(pairs), B), dtype=np.float32)
         for s0 in range(0, B, _FK_BLOCK):
             sl = slice(s0, min(B, s0 + _FK_BLOCK))
-            W = np.einsum("fikb,fk->fib", R[..., sl], c)
-            W += t[..., sl]
-            D = W[ia] - W[ib]
-            np.einsum("pib,pib->pb", D, D, out=out[:, sl])
+            Rs = R[..., sl]
+            W = t[..., sl] + Rs[:, :, 0] * c[:, 0, None, None]  # [nb, 3, n]
+            W += Rs[:, :, 1] * c[:, 1, None, None]
+            W += Rs[:, :, 2] * c[:, 2, None, None]
+            g = out[:, sl]
+            for i in range(3):
+                D = W[ia, i] - W[ib, i]
+                if i == 0:
+                    np.multiply(D, D, out=g)
+                else:
+                    D *= D
+                    g += D
         return out
 
     def _cull_reach(self, bp: _BodyPair) -> float:

@@ -30,6 +30,9 @@ CELLS_2D = 1 << 16
 CELLS_1D = 1 << 13
 #: Absolute slack (m) for float64 rounding in the cell decisions.
 _SLACK = 1e-9
+#: Tolerance (in cells) for a joint value on the box edge: a point that far outside the last
+#: cell moves its spheres by far less than the slack.
+_EDGE = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,13 +56,15 @@ class PairGrid:
     def near(self, q_var: FloatArray) -> BoolArray:
         """Configurations [B] that are not in a far cell (outside the box counts as near)."""
         B = q_var.shape[0]
+        if self.all_far and self._inside(q_var):
+            return np.zeros(B, dtype=np.bool_)
         cell = np.zeros(B, dtype=np.intp)
         inside = np.ones(B, dtype=np.bool_)
         for j, n in enumerate(self.shape):
             x = q_var[:, self.cols[j]] * (self.mult[j] / self.h[j])
             x += (self.off[j] - self.lo[j]) / self.h[j]  # the cell coordinate
-            inside &= x >= 0
-            inside &= x < n
+            inside &= x >= -_EDGE
+            inside &= x <= n + _EDGE
             np.clip(x, 0, n - 1, out=x)
             cell *= n
             cell += x.astype(np.intp)  # truncation is floor here: x >= 0
@@ -71,6 +76,20 @@ class PairGrid:
     @property
     def far_fraction(self) -> float:
         return float(np.mean(self.far))
+
+    @property
+    def all_far(self) -> bool:
+        return bool(self.far.all())
+
+    def _inside(self, q_var: FloatArray) -> bool:
+        """Every configuration lies in the grid's box (checked on the column extremes)."""
+        for j, n in enumerate(self.shape):
+            col = q_var[:, self.cols[j]]
+            ends = np.array([col.min(), col.max()]) * self.mult[j] + self.off[j]
+            x = (ends - self.lo[j]) / self.h[j]
+            if x.min() < -_EDGE or x.max() > n + _EDGE:
+                return False
+        return True
 
 
 def _rot_z(theta: FloatArray) -> FloatArray:
@@ -124,7 +143,7 @@ def build_pair_grid(
         levers.insert(0, np.linalg.norm(consts[1][:2, 3]) + np.linalg.norm(x_desc, axis=1))
     shape = _cell_counts(spans, [float(lv.max()) if len(lv) else 0.0 for lv in levers])
     h = np.array([max(sp / n, 1e-12) for sp, n in zip(spans, shape, strict=True)])
-    ev = _CellTest(consts, lo, x_desc, p_anc, rsum + margin + _SLACK, relevant, levers)
+    ev = _CellTest(consts, lo, x_desc, p_anc, rsum + margin + _SLACK, relevant, levers, [np.inf])
     far = ev.far([np.arange(shape[0])], h) if len(shape) == 1 else _far_2d(ev, shape, h)
     return PairGrid(
         cols=np.array(cols, dtype=np.intp),
@@ -134,7 +153,7 @@ def build_pair_grid(
         h=h,
         shape=tuple(shape),
         far=far,
-        far_bound=margin,
+        far_bound=ev.low[0] + margin,  # reach held the margin: add it back
     )
 
 
@@ -171,6 +190,7 @@ class _CellTest:
     reach: FloatArray  # [m_a, m_b]
     relevant: BoolArray
     levers: list[FloatArray]  # per joint [m_b]
+    low: list[float]  # [1]: over far cells, smallest (distance − radius sum − motion) seen
 
     def far(self, idx: list[IntArray], h: FloatArray) -> BoolArray:
         """``idx``: cell indices per joint (outer first), all of one length L."""
@@ -179,13 +199,18 @@ class _CellTest:
         thr2 = np.square(np.maximum(thr, 0.0)) * np.sign(thr)
         p2 = np.sum(self.p_anc**2, axis=1)
         out = np.empty(len(idx[0]), dtype=np.bool_)
+        margin2 = np.where(self.relevant, self.reach + motion[None, :], np.inf).T
         step = max(1, (1 << 20) // max(1, self.x_desc.shape[0] * self.p_anc.shape[0]))
         for s0 in range(0, len(out), step):
             sl = slice(s0, s0 + step)
             theta = [self.lo[j] + (idx[j][sl] + 0.5) * h[j] for j in range(len(idx))]
             pts = self._points(theta)  # [L, m_b, 3]
             d2 = np.sum(pts**2, axis=2)[:, :, None] + p2[None, None, :] - 2.0 * (pts @ self.p_anc.T)
-            out[sl] = (d2 > thr2[None]).all(axis=(1, 2))
+            far = (d2 > thr2[None]).all(axis=(1, 2))
+            out[sl] = far
+            if far.any():  # the smallest centre distance minus reach, over far cells
+                gap = np.sqrt(np.maximum(d2[far], 0.0)) - margin2[None]
+                self.low[0] = min(self.low[0], float(gap.min()))
         return out
 
     def _points(self, theta: list[FloatArray]) -> FloatArray:
