@@ -65,7 +65,7 @@ _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 _ANGLE_MAX = 2 * np.pi
-_FK_BLOCK = 4096  # configurations per forward-kinematics block (cache-sized)
+_FK_BLOCK = 8192  # configurations per forward-kinematics block (cache-sized)
 
 
 # ------------------------------------------------------------------------------------------
@@ -85,7 +85,7 @@ class _Bodies:
     parent: tuple[int, ...]
     kind: tuple[int, ...]
     consts: FloatArray
-    consts_t: tuple[F32, ...]  # (4, 3): [A | t] of C_j transposed, for the stacked matmul
+    consts_t: tuple[F32, ...]  # (4, 4): C_j transposed, for the stacked matmul
     consts_root: tuple[F32, ...]  # (3, 4, 1): the product when the parent is the root
     G: FloatArray
     col: IntArray  # [nb] column of the varying values (-1 for the root)
@@ -161,7 +161,7 @@ def _build_bodies(
         parent=tuple(parent),
         kind=tuple(kind),
         consts=np.array(consts),
-        consts_t=tuple(np.ascontiguousarray(c[:3, :].T, dtype=np.float32) for c in consts),
+        consts_t=tuple(np.ascontiguousarray(c.T, dtype=np.float32) for c in consts),
         consts_root=tuple(np.ascontiguousarray(c[:3, :, None], dtype=np.float32) for c in consts),
         G=np.array(G),
         col=np.array(cols, dtype=np.intp),
@@ -189,44 +189,43 @@ def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
 def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
     """float32 rotations [nb, 3, 3, B] and translations [nb, 3, B] of every body.
 
-    Computed in cache-sized column blocks written straight into the results.
+    Both are views of one array [nb, 3, 4, B] (``[R | t]`` per body), computed in cache-sized
+    column blocks written straight into it.
     """
     B = q_var.shape[0]
-    R = np.empty((bodies.n, 3, 3, B), dtype=np.float32)
-    t = np.empty((bodies.n, 3, B), dtype=np.float32)
-    R[0] = np.eye(3, dtype=np.float32)[:, :, None]
-    t[0] = 0.0
+    T = np.empty((bodies.n, 3, 4, B), dtype=np.float32)
+    T[0] = np.eye(3, 4, dtype=np.float32)[:, :, None]
     if bodies.n > 1:
         for s0 in range(0, B, _FK_BLOCK):
             sl = slice(s0, min(B, s0 + _FK_BLOCK))
-            _body_fk_block(bodies, q_var[sl], R[..., sl], t[..., sl])
-    return R, t
+            _body_fk_block(bodies, q_var[sl], T[..., sl])
+    return T[:, :, :3], T[:, :, 3]
 
 
-def _body_fk_block(bodies: _Bodies, q_var: FloatArray, R: F32, t: F32) -> None:
+def _body_fk_block(bodies: _Bodies, q_var: FloatArray, T: F32) -> None:
+    """``T_f = T_parent · C_f · Z(θ_f)``: one matmul with ``C_f``, then Z on columns x, y."""
     vals = _joint_values(bodies, q_var)
     sin, cos = np.sin(vals), np.cos(vals)
-    n = q_var.shape[0]
-    X = np.empty((3, 4, n), dtype=np.float32)
-    tmp = np.empty((3, n), dtype=np.float32)
+    tmp = np.empty((2, 3, q_var.shape[0]), dtype=np.float32)
     for f in range(1, bodies.n):
         p = bodies.parent[f]
-        Y = bodies.consts_root[f] if p == 0 else np.matmul(bodies.consts_t[f], R[p], out=X)
-        Rf, tf = R[f], t[f]
-        np.add(t[p], Y[:, 3], out=tf)
-        if bodies.kind[f] == _ROT:  # columns x, y turn by θ about z
+        Y = T[f]
+        if p == 0:
+            Y[...] = bodies.consts_root[f]
+        else:
+            np.matmul(bodies.consts_t[f], T[p], out=Y)
+        if bodies.kind[f] == _ROT:  # x' = x cos + y sin, y' = y cos − x sin
             c, s = cos[f - 1], sin[f - 1]
-            np.multiply(Y[:, 0], c, out=Rf[:, 0])
-            np.multiply(Y[:, 1], s, out=tmp)
-            Rf[:, 0] += tmp
-            np.multiply(Y[:, 1], c, out=Rf[:, 1])
-            np.multiply(Y[:, 0], s, out=tmp)
-            Rf[:, 1] -= tmp
-            Rf[:, 2] = Y[:, 2]
+            x, y = Y[:, 0], Y[:, 1]
+            np.multiply(x, s, out=tmp[0])
+            np.multiply(y, s, out=tmp[1])
+            x *= c
+            x += tmp[1]
+            y *= c
+            y -= tmp[0]
         else:  # slides along z
-            Rf[...] = Y[:, 0:3]
-            np.multiply(Y[:, 2], vals[f - 1], out=tmp)
-            tf += tmp
+            np.multiply(Y[:, 2], vals[f - 1], out=tmp[0])
+            Y[:, 3] += tmp[0]
 
 
 # ------------------------------------------------------------------------------------------
