@@ -855,7 +855,7 @@ def _clearance_hi(e: FloatArray, rlo: FloatArray, rhi: FloatArray) -> FloatArray
 # Sampling driver, one process or several
 # ------------------------------------------------------------------------------------------
 #: Below this many samples per worker, starting a worker process costs more than it saves.
-MIN_SAMPLES_PER_JOB = 250_000
+MIN_SAMPLES_PER_JOB = 1_000_000
 _BLAS_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 ProgressFn = Callable[[int, int], None]
 _WORKER: dict[str, CountEngine] = {}

@@ -112,7 +112,7 @@ def command(
             "-j",
             min=1,
             help="Worker processes for sampling [default: all cores]. Same result for any "
-            "value; samples below 250,000 per worker run in fewer processes.",
+            "value; samples below 1,000,000 per worker run in fewer processes.",
             show_default=False,
         ),
     ] = None,
