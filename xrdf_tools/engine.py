@@ -721,11 +721,11 @@ class CountEngine:
         idx = np.flatnonzero(cand.any(axis=0))
         clr = self._direct(bp, ch, cols[idx])
         kept = np.zeros_like(cand)
-        for i, (k, rows, cs) in enumerate(bp.blocks):
+        for i, (k, _, _) in enumerate(bp.blocks):
             ci = cand[i, idx]
             if not ci.any():
                 continue
-            ck = np.where(ci, clr[rows, cs].min(axis=(0, 1)), np.inf)
+            ck = np.where(ci, clr[i], np.inf)
             lim = min(self.margin, float(ch.prev[k]), float(ck.min()) + tau)
             kept[i, idx[ck - tau <= lim]] = True
             ch.bound[k] = min(ch.bound[k], lim)
@@ -746,15 +746,22 @@ class CountEngine:
         return len(ks)
 
     def _direct(self, bp: _BodyPair, ch: _Chunk, cols: IntArray) -> F32:
-        """float32 clearances [m_a, m_b, n] of every sphere pair at configurations ``cols``."""
-        Ra, ta, Rb, tb = (
-            np.take(x, cols, axis=-1) for x in (ch.R[bp.a], ch.t[bp.a], ch.R[bp.b], ch.t[bp.b])
-        )
-        qp = np.matmul(bp.q_aug, _relative(Ra, ta, Rb, tb))  # [3, m_b, n]
-        diff = qp[:, None, :, :] - bp.p32.T[:, :, None, None]
-        d: F32 = np.sqrt(np.einsum("kijn,kijn->ijn", diff, diff))
-        d -= bp.rsum[:, :, None]
-        return d
+        """float32 clearance [blocks, n] of each frame pair of ``bp`` at configurations
+        ``cols`` (every sphere pair computed directly, in cache-sized column blocks)."""
+        out = np.empty((len(bp.blocks), len(cols)), dtype=np.float32)
+        step = max(1, _BLOCK_ELEMENTS // bp.rsum.size)
+        for s0 in range(0, len(cols), step):
+            c = cols[s0 : s0 + step]
+            Ra, ta, Rb, tb = (
+                np.take(x, c, axis=-1) for x in (ch.R[bp.a], ch.t[bp.a], ch.R[bp.b], ch.t[bp.b])
+            )
+            qp = np.matmul(bp.q_aug, _relative(Ra, ta, Rb, tb))  # [3, m_b, w]
+            diff = qp[:, None, :, :] - bp.p32.T[:, :, None, None]
+            d = np.sqrt(np.einsum("kijn,kijn->ijn", diff, diff))
+            d -= bp.rsum[:, :, None]
+            for i, (_, rows, cs) in enumerate(bp.blocks):
+                np.min(d[rows, cs], axis=(0, 1), out=out[i, s0 : s0 + len(c)])
+        return out
 
     def _exact(
         self, ks: IntArray, rows: IntArray, q_full: FloatArray
@@ -768,15 +775,17 @@ class CountEngine:
         uk, starts = np.unique(ks[order], return_index=True)
         ends = np.append(starts[1:], len(order))
         for k, s0, s1 in zip(uk.tolist(), starts.tolist(), ends.tolist(), strict=True):
-            ent = order[s0:s1]
             lo, hi = int(s.pair_start[k]), int(s.pair_start[k + 1])
             pi, pj = s.pair_i[lo:hi], s.pair_j[lo:hi]
-            cc = c[rows[ent]]
-            diff = cc[:, pi] - cc[:, pj]
-            d2 = np.einsum("bpk,bpk->bp", diff, diff)
             rs = s.self_radii[pi] + s.self_radii[pj]
-            hit[ent] = (d2 < rs * rs).any(axis=1)
-            clr[ent] = (np.sqrt(d2) - rs).min(axis=1)
+            step = max(1, _BLOCK_ELEMENTS // (hi - lo))
+            for e0 in range(s0, s1, step):  # bounded memory
+                ent = order[e0 : min(s1, e0 + step)]
+                cc = c[rows[ent]]
+                diff = cc[:, pi] - cc[:, pj]
+                d2 = np.einsum("bpk,bpk->bp", diff, diff)
+                hit[ent] = (d2 < rs * rs).any(axis=1)
+                clr[ent] = (np.sqrt(d2) - rs).min(axis=1)
         return hit, clr
 
 
