@@ -173,10 +173,14 @@ def _build_bodies(
 
 def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
     """float32 joint values [nb − 1, B]; angles beyond ±2π are first reduced in float64."""
+    if bodies.plain:
+        v32: F32 = np.ascontiguousarray(q_var.astype(np.float32).T[bodies.col[1:]])
+        ext = np.maximum(v32.max(axis=1), -v32.min(axis=1))
+        if not np.any((np.array(bodies.kind[1:]) == _ROT) & (ext > _ANGLE_MAX)):
+            return v32
     v64 = np.ascontiguousarray(q_var.T[bodies.col[1:]])
-    if not bodies.plain:
-        v64 *= bodies.mult[1:, None]
-        v64 += bodies.off[1:, None]
+    v64 *= bodies.mult[1:, None]
+    v64 += bodies.off[1:, None]
     wide = (np.array(bodies.kind[1:]) == _ROT) & (
         (v64.max(axis=1) > _ANGLE_MAX) | (v64.min(axis=1) < -_ANGLE_MAX)
     )
@@ -187,11 +191,15 @@ def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
 
 
 def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
-    """float32 rotations [nb, 3, 3, B] and translations [nb, 3, B] of every body.
+    """float32 rotations [nb, 3, 3, B] and translations [nb, 3, B] of every body (views of
+    :func:`_body_poses`)."""
+    T = _body_poses(bodies, q_var)
+    return T[:, :, :3], T[:, :, 3]
 
-    Both are views of one array [nb, 3, 4, B] (``[R | t]`` per body), computed in cache-sized
-    column blocks written straight into it.
-    """
+
+def _body_poses(bodies: _Bodies, q_var: FloatArray) -> F32:
+    """float32 poses [nb, 3, 4, B] (``[R | t]`` per body), computed in cache-sized column
+    blocks written straight into the result."""
     B = q_var.shape[0]
     T = np.empty((bodies.n, 3, 4, B), dtype=np.float32)
     T[0] = np.eye(3, 4, dtype=np.float32)[:, :, None]
@@ -199,7 +207,7 @@ def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
         for s0 in range(0, B, _FK_BLOCK):
             sl = slice(s0, min(B, s0 + _FK_BLOCK))
             _body_fk_block(bodies, q_var[sl], T[..., sl])
-    return T[:, :, :3], T[:, :, 3]
+    return T
 
 
 def _body_fk_block(bodies: _Bodies, q_var: FloatArray, T: F32) -> None:
@@ -337,8 +345,7 @@ class _Chunk:
 
     hits: BoolArray
     bound: FloatArray
-    R: F32 = field(repr=False)
-    t: F32 = field(repr=False)
+    T: F32 = field(repr=False)  # [nb, 3, 4, B] body poses [R | t]
     q: FloatArray = field(repr=False)
     gaps: F32 | None = field(repr=False)
     prev: FloatArray = field(repr=False)  # [K] exact minimum clearances of earlier chunks
@@ -594,13 +601,13 @@ class CountEngine:
         if q.ndim != 2 or q.shape[1] != len(self.varying):
             raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
         B = q.shape[0]
-        R, t = _body_fk(self.bodies, q)
+        T = _body_poses(self.bodies, q)
         culled = [bp for bp in self.pairs if bp.cull]
-        gaps = self._gaps2(R, t, culled) if culled else None
+        gaps = self._gaps2(T[:, :, :3], T[:, :, 3], culled) if culled else None
         hits = np.zeros((self.K, B), dtype=np.bool_)
         # the best clearance so far only narrows the candidates (it never changes a result)
         prev = totals.min_clearance if totals is not None else np.full(self.K, np.inf)
-        ch = _Chunk(hits, np.full(self.K, np.inf), R, t, q, gaps, prev)
+        ch = _Chunk(hits, np.full(self.K, np.inf), T, q, gaps, prev)
         row = 0
         for bp in self.pairs:
             sel = self._select(bp, ch, row)
@@ -647,11 +654,7 @@ class CountEngine:
     def _evaluate(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None) -> F32:
         """float32 minima of ``d² − R²`` [blocks, n] per frame pair of ``bp`` for the selected
         configurations (all when ``sel`` is None)."""
-        R, t = ch.R, ch.t
-        Ra, ta, Rb, tb = R[bp.a], t[bp.a], R[bp.b], t[bp.b]
-        if sel is not None:
-            Ra, ta, Rb, tb = (np.take(x, sel, axis=-1) for x in (Ra, ta, Rb, tb))
-        Trel = _relative(Ra, ta, Rb, tb)  # [3, 4, n]
+        Trel = self._pair_transform(bp, ch, sel)  # [3, 4, n]
         n = Trel.shape[-1]
         out = np.empty((len(bp.blocks), n), dtype=np.float32)
         m_a, m_b = bp.p_aug.shape[0], bp.q_aug.shape[0]
@@ -673,6 +676,13 @@ class CountEngine:
             for i, (_, rows, cs) in enumerate(bp.blocks):
                 np.min(E3[rows, cs], axis=(0, 1), out=out[i, s0:s1])
         return out
+
+    def _pair_transform(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None) -> F32:
+        """``T_a⁻¹ T_b`` [3, 4, n] at the selected configurations (all when None)."""
+        Ta, Tb = ch.T[bp.a], ch.T[bp.b]
+        if sel is not None:
+            Ta, Tb = np.take(Ta, sel, axis=-1), np.take(Tb, sel, axis=-1)
+        return _relative(Ta[:, :3], Ta[:, 3], Tb[:, :3], Tb[:, 3])
 
     def _classify(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None, em: F32) -> None:
         """Verdicts from the float32 minima ``em`` [blocks, n]; queue the float64 rechecks.
@@ -752,10 +762,7 @@ class CountEngine:
         step = max(1, _BLOCK_ELEMENTS // bp.rsum.size)
         for s0 in range(0, len(cols), step):
             c = cols[s0 : s0 + step]
-            Ra, ta, Rb, tb = (
-                np.take(x, c, axis=-1) for x in (ch.R[bp.a], ch.t[bp.a], ch.R[bp.b], ch.t[bp.b])
-            )
-            qp = np.matmul(bp.q_aug, _relative(Ra, ta, Rb, tb))  # [3, m_b, w]
+            qp = np.matmul(bp.q_aug, self._pair_transform(bp, ch, c))  # [3, m_b, w]
             diff = qp[:, None, :, :] - bp.p32.T[:, :, None, None]
             d = np.sqrt(np.einsum("kijn,kijn->ijn", diff, diff))
             d -= bp.rsum[:, :, None]
