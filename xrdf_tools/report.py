@@ -26,12 +26,13 @@ import importlib
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import numpy.typing as npt
 
+from .certify import Verdict, certify_pair
 from .collision import (
     Contact,
     SphereSet,
@@ -62,6 +63,7 @@ Recommendation = Literal["ignore", "may-ignore", "check"]
 __all__ = [
     "ALWAYS_RATE",
     "RULES",
+    "CertifyOptions",
     "ConfigsError",
     "CoverageSummary",
     "MaskChange",
@@ -109,6 +111,17 @@ RULES: tuple[tuple[str, str, Severity], ...] = (
 _SEVERITY = {r[0]: r[2] for r in RULES}
 
 
+@dataclass(frozen=True)
+class CertifyOptions:
+    """``--certify``: decide every "never" pair over its whole joint box (see
+    :mod:`xrdf_tools.certify`) within ``budget_s`` seconds in all. ``mask_policy``
+    ``"proven"`` recommends ignoring a never-colliding pair only when it is proven;
+    ``"sampled"`` keeps the sampled recommendation."""
+
+    budget_s: float = 60.0
+    mask_policy: Literal["proven", "sampled"] = "sampled"
+
+
 class ConfigsError(XrdfToolsError):
     """A ``--configs`` file cannot be read or does not fit the c-space."""
 
@@ -153,6 +166,9 @@ class PairStat:
     classification: Classification
     recommendation: Recommendation
     note: str
+    certificate: Verdict | None = None
+    witness: Mapping[str, float] | None = None
+    certify_s: float | None = None
 
     @property
     def colliding_at_default(self) -> bool:
@@ -176,6 +192,10 @@ class PairStat:
             "classification": self.classification,
             "recommendation": self.recommendation,
             "note": self.note,
+            "certified": None if self.certificate is None else self.certificate == "proven",
+            "certificate": self.certificate,
+            "witness": dict(self.witness) if self.witness is not None else None,
+            "certify_s": self.certify_s,
         }
 
 
@@ -311,6 +331,7 @@ def self_collision_report(
     coverage: bool = False,
     clearance_margin: float = 0.01,
     jobs: int = 1,
+    certify: CertifyOptions | None = None,
 ) -> Report:
     """Sample (or take) configurations and build the self-collision :class:`Report`.
 
@@ -323,7 +344,8 @@ def self_collision_report(
     :mod:`xrdf_tools.spheres` for coverage metrics when it provides them. Minimum clearances
     below ``clearance_margin`` metres are exact; larger ones are reported as lower bounds.
     ``jobs`` worker processes share a large sample (same result for any ``jobs``; given
-    ``configs`` are always checked in this process).
+    ``configs`` are always checked in this process). ``certify`` decides the "never" pairs
+    over their whole joint box: proven, or "sometimes" with a witness configuration.
     """
     from .sampling import fresh_seed
     from .urdf_source import urdf_path as _urdf_path
@@ -424,6 +446,8 @@ def self_collision_report(
             )
         )
 
+    if certify is not None:
+        stats = _certify(engine, stats, w_of, cspace, certify)
     diags.extend(_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
     rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
     cov = _coverage(upath, xrdf) if coverage else None
@@ -475,6 +499,60 @@ def _count_configs(
         if progress is not None:
             progress(min(start + chunk, n_total), n_total)
     return totals, trajectory
+
+
+def _certify(
+    engine: CountEngine,
+    stats: list[PairStat],
+    w_of: Mapping[int, int],
+    cspace: Sequence[str],
+    opts: CertifyOptions,
+) -> list[PairStat]:
+    """Certify the "never" pairs, sharing the time budget evenly among those still to do."""
+    todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
+    deadline = time.perf_counter() + opts.budget_s
+    out = list(stats)
+    for n_left, i in zip(range(len(todo), 0, -1), todo, strict=True):
+        budget = max(0.0, deadline - time.perf_counter()) / n_left
+        cert = certify_pair(engine, w_of[i], budget)
+        path = [cspace[j] for j in cert.joints]
+        out[i] = _certified(stats[i], cert.verdict, cert.witness, cert.seconds, cspace, path, opts)
+    return out
+
+
+def _certified(
+    p: PairStat,
+    verdict: Verdict,
+    witness: FloatArray | None,
+    seconds: float,
+    cspace: Sequence[str],
+    path: Sequence[str],
+    opts: CertifyOptions,
+) -> PairStat:
+    """The pair's statistics with the verdict of ``--certify`` (``path``: its joints)."""
+    took = f"{seconds:.2f} s"
+    if verdict == "witness" and witness is not None:
+        values = {j: float(v) for j, v in zip(cspace, witness, strict=True)}
+        what = "remove from ignore" if p.masked else "keep checking"
+        at = ", ".join(f"{j}={values[j]:.4f}" for j in path)
+        note = f"collides at {at} (others at default; found by --certify in {took}): {what}"
+        return replace(
+            p,
+            classification="sometimes",
+            recommendation="check",
+            note=note,
+            certificate="witness",
+            witness=values,
+            certify_s=seconds,
+        )
+    if verdict == "proven":
+        note = f"proven never to collide over the whole joint box ({took}): ignore"
+        return replace(
+            p, recommendation="ignore", note=note, certificate="proven", certify_s=seconds
+        )
+    rec: Recommendation = "check" if opts.mask_policy == "proven" else p.recommendation
+    note = f"{p.note}; not proven within the --certify budget ({took})"
+    return replace(p, recommendation=rec, note=note, certificate="undecided", certify_s=seconds)
 
 
 def _cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> list[str]:
@@ -550,12 +628,17 @@ def _findings(
                 )
             )
         if p.masked and p.classification == "sometimes":
+            seen = (
+                "collide at a configuration that --certify found (sampling missed it)"
+                if p.certificate == "witness"
+                else f"collide in {p.hits} of {n} configurations ({p.rate:.3%})"
+            )
             out.append(
                 _diag(
                     xrdf,
                     "report-mask-hides-collision",
-                    f"{pair} are ignored but are not adjacent and collide in {p.hits} of {n} "
-                    f"configurations ({p.rate:.3%}): the mask hides real collisions",
+                    f"{pair} are ignored but are not adjacent and {seen}: the mask hides real "
+                    "collisions",
                     _ignore_key_path(sc, p.frame_a, p.frame_b),
                 )
             )
