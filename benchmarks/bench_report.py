@@ -1,17 +1,22 @@
-"""Throughput of the self-collision counting behind ``xrdf report``, on one CPU thread.
+"""Throughput of ``xrdf report``'s counting, one CPU thread, against the old engine in the same run.
 
-Prints ONE JSON line:
+Prints ONE JSON line. The work is the report's default: every unmasked frame pair and every
+masked pair that is not adjacent, exact counts, minimum clearances exact below 1 cm, uniform
+samples. For the Panda (example-robot-data URDF, ``fixtures/panda/panda.xrdf``: cuRobo's 61
+spheres) and for the same model with every sphere split in 2 and in 4 (122, 244 spheres):
 
-* ``configs_per_s``: end to end (uniform sampling + FK + sphere transform + pair tests +
-  accumulation), every unmasked frame pair counted, no early exit: the issue's target metric;
-* ``report_configs_per_s``: the full :func:`self_collision_report` with its defaults (also
-  counts masked non-adjacent pairs and keeps minimum clearances exact below 1 cm);
-* ``naive_configs_per_s``: yourdfpy FK per configuration + the same sphere-pair test in a
-  Python loop, on a smaller sample; ``speedup`` = ours / naive;
-* ``peak_rss_mb`` of the process and the sizes involved.
+* ``configs_per_s``: :class:`xrdf_tools.engine.CountEngine` through ``count_sampled``
+  (sampling included, one process): the issue's metric;
+* ``baseline_configs_per_s``: the old engine (``collision.count_chunk``, float64 with
+  bounding-sphere culling, what ``xrdf report`` ran before) on the same work, same process;
+  ``ratio`` = ours / baseline (absolute rates are noisy on a shared machine, ratios less so);
+* ``report_configs_per_s``: the whole ``self_collision_report`` (setup included).
 
-Usage: ``python benchmarks/bench_report.py [--samples N] [--naive N]`` (needs the
-``example-robot-data`` package for the Panda URDF; the XRDF is ``fixtures/panda/panda.xrdf``).
+Also ``jobs2_speedup`` (``count_sampled`` with 2 worker processes vs 1) and, with
+``--memory``, the peak RSS of ``xrdf report -n 10000000 -j 1`` in a child process.
+
+Usage: ``python benchmarks/bench_report.py [--samples N] [--baseline N] [--jobs-samples N]
+[--memory]`` (needs the ``example-robot-data`` package for the Panda URDF).
 """
 
 from __future__ import annotations
@@ -24,18 +29,26 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUME
 import argparse  # noqa: E402
 import importlib.metadata  # noqa: E402
 import json  # noqa: E402
-import math  # noqa: E402
 import resource  # noqa: E402
+import subprocess  # noqa: E402
 import sys  # noqa: E402
 import sysconfig  # noqa: E402
+import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
+import yaml  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
+XRDF = REPO / "fixtures" / "panda" / "panda.xrdf"
 REL = Path("cmeel.prefix", "share", "example-robot-data", "robots")
 PANDA = Path("panda_description", "urdf", "panda.urdf")
+CHUNK = 65536  # the report's default chunk
+OLD_CHUNK = 8192  # the chunk the old report used
+MARGIN = 0.01
+TARGET = 1_000_000
 
 
 def panda_urdf() -> Path:
@@ -52,112 +65,185 @@ def panda_urdf() -> Path:
     sys.exit("bench_report: example-robot-data is not installed (pip install example-robot-data)")
 
 
-def ours(urdf_path: Path, n: int, chunk: int) -> tuple[float, int, int]:
-    from xrdf_tools.collision import build_sphere_set, count_chunk
-    from xrdf_tools.kinematics import build_kinematic_model, full_configuration
-    from xrdf_tools.sampling import iter_samples
+def split_spheres(text: str, k: int) -> str:
+    """The XRDF with every sphere replaced by ``k`` smaller ones around it (k = 1, 2 or 4)."""
+    if k == 1:
+        return text
+    doc = yaml.safe_load(text)
+    offsets = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0)][:k]
+    for group in doc["geometry"].values():
+        for frame, spheres in group["spheres"].items():
+            new = []
+            for s in spheres:
+                r = float(s["radius"])
+                if r < 0:
+                    new.append(s)
+                    continue
+                for o in offsets:
+                    c = [float(x) + 0.4 * r * d for x, d in zip(s["center"], o, strict=True)]
+                    new.append({"center": c, "radius": 0.7 * r})
+            group["spheres"][frame] = new
+    return yaml.safe_dump(doc, sort_keys=False)
+
+
+def setup(urdf_path: Path, text: str) -> dict[str, Any]:
+    from xrdf_tools.collision import build_sphere_set
+    from xrdf_tools.engine import CountEngine
+    from xrdf_tools.kinematics import build_kinematic_model, default_configuration
+    from xrdf_tools.report import adjacent_frame_pairs
     from xrdf_tools.urdf_source import load_urdf
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf_io import parse_xrdf
 
-    xrdf = load_xrdf(REPO / "fixtures" / "panda" / "panda.xrdf")
-    kin, _ = build_kinematic_model(load_urdf(urdf_path), xrdf)
-    spheres, _ = build_sphere_set(kin, xrdf)  # unmasked frame pairs only
-    assert xrdf.cspace is not None
-    names = list(xrdf.cspace.joint_names)
-    idx = [kin.actuated_index(j) for j in names]
-    lo, hi = kin.lower[idx], kin.upper[idx]
-    hits = np.zeros(spheres.n_frame_pairs, dtype=np.int64)
-    t0 = time.perf_counter()
-    for q_c in iter_samples(lo, hi, n, method="uniform", seed=0, chunk=chunk):
-        q = full_configuration(kin, names, q_c, xrdf.default_joint_positions)
-        hits += count_chunk(kin, spheres, q).hits.sum(axis=1)
-    dt = time.perf_counter() - t0
-    return n / dt, spheres.n_spheres, spheres.n_pairs
-
-
-def report_mode(urdf_path: Path, n: int) -> float:
-    from xrdf_tools.report import self_collision_report
-    from xrdf_tools.urdf_source import load_urdf
-    from xrdf_tools.xrdf_io import load_xrdf
-
-    xrdf = load_xrdf(REPO / "fixtures" / "panda" / "panda.xrdf")
+    xrdf = parse_xrdf(text, "bench.xrdf")
     urdf = load_urdf(urdf_path)
+    kin, _ = build_kinematic_model(urdf, xrdf)
+    spheres, _ = build_sphere_set(kin, xrdf, include_masked=True)
+    adjacent = adjacent_frame_pairs(kin, spheres.frame_names)
+    adj = np.array([frozenset(p) in adjacent for p in spheres.frame_pair_names()])
+    work = spheres.select_frame_pairs(~(spheres.frame_pair_masked & adj))  # the report's work
+    assert xrdf.cspace is not None
+    idx = np.array([kin.actuated_index(j) for j in xrdf.cspace.joint_names])
+    q0 = default_configuration(kin, xrdf.default_joint_positions)
+    engine = CountEngine(kin, work, idx, q0, margin=MARGIN)
+    return {
+        "xrdf": xrdf,
+        "urdf": urdf,
+        "kin": kin,
+        "work": work,
+        "idx": idx,
+        "q0": q0,
+        "engine": engine,
+    }
+
+
+def ours(case: dict[str, Any], n: int, jobs: int = 1) -> tuple[float, Any]:
+    from xrdf_tools.engine import count_sampled
+
+    kin, idx = case["kin"], case["idx"]
     t0 = time.perf_counter()
-    r = self_collision_report(urdf, xrdf, samples=n, seed=0)
-    return n / (time.perf_counter() - t0) if r.samples else 0.0
+    totals = count_sampled(
+        case["engine"],
+        kin.lower[idx],
+        kin.upper[idx],
+        n,
+        method="uniform",
+        seed=0,
+        chunk=CHUNK,
+        jobs=jobs,
+    )
+    return n / (time.perf_counter() - t0), totals
 
 
-def naive(urdf_path: Path, n: int) -> float:
-    """yourdfpy FK per configuration + a Python double loop over the unmasked sphere pairs."""
-    import yourdfpy
+def baseline(case: dict[str, Any], n: int) -> tuple[float, Any]:
+    """The old engine, as the report ran it: float64 FK, culling, exact minima below 1 cm."""
+    from xrdf_tools.collision import count_chunk
+    from xrdf_tools.sampling import iter_samples
 
-    from xrdf_tools.xrdf_io import load_xrdf
-
-    xrdf = load_xrdf(REPO / "fixtures" / "panda" / "panda.xrdf")
-    sc = xrdf.self_collision
-    assert sc is not None and xrdf.cspace is not None
-    robot = yourdfpy.URDF.load(str(urdf_path), load_meshes=False, build_collision_scene_graph=False)
-    spheres = [
-        (frame, s.center, s.radius + sc.buffer_distance.get(frame, 0.0))
-        for frame, sph in xrdf.self_collision_spheres().items()
-        for s in sph
-        if s.radius >= 0
-    ]
-    pairs = [
-        (i, j)
-        for i in range(len(spheres))
-        for j in range(i + 1, len(spheres))
-        if spheres[i][0] != spheres[j][0] and not sc.is_ignored(spheres[i][0], spheres[j][0])
-    ]
-    names = list(xrdf.cspace.joint_names)
-    joints = robot.joint_map
-    lo = np.array([joints[j].limit.lower for j in names])
-    hi = np.array([joints[j].limit.upper for j in names])
-    rng = np.random.default_rng(0)
-    frames = sorted({s[0] for s in spheres})
+    kin, idx, q0, work = case["kin"], case["idx"], case["q0"], case["work"]
+    hits = np.zeros(work.n_frame_pairs, dtype=np.int64)
     t0 = time.perf_counter()
-    for _ in range(n):
-        q = rng.uniform(lo, hi)
-        robot.update_cfg(dict(zip(names, q, strict=True)))
-        poses = {f: robot.get_transform(f) for f in frames}
-        world = [poses[f][:3, :3] @ np.asarray(c) + poses[f][:3, 3] for f, c, _ in spheres]
-        hit: set[tuple[str, str]] = set()
-        for i, j in pairs:
-            if math.dist(world[i], world[j]) < spheres[i][2] + spheres[j][2]:
-                hit.add((spheres[i][0], spheres[j][0]))
+    for q_c in iter_samples(
+        kin.lower[idx], kin.upper[idx], n, method="uniform", seed=0, chunk=OLD_CHUNK
+    ):
+        q = np.repeat(q0[None, :], len(q_c), axis=0)
+        q[:, idx] = q_c
+        hits += count_chunk(kin, work, q, margin=MARGIN).hits.sum(axis=1)
+    return n / (time.perf_counter() - t0), hits
+
+
+def report_rate(case: dict[str, Any], n: int) -> float:
+    from xrdf_tools.report import self_collision_report
+
+    t0 = time.perf_counter()
+    self_collision_report(case["urdf"], case["xrdf"], samples=n, seed=0, jobs=1)
     return n / (time.perf_counter() - t0)
+
+
+def measure(urdf: Path, text: str, n: int, n_base: int, rounds: int) -> dict[str, Any]:
+    """Interleaved rounds of the old engine and ours; the best round of each counts (the
+    machine is shared: the best round is the one least disturbed by other jobs)."""
+    case = setup(urdf, text)
+    ours(case, min(n, 2 * CHUNK))  # warm-up
+    base_rates, rates = [], []
+    for _ in range(rounds):
+        rate_b, base_hits = baseline(case, n_base)
+        base_rates.append(rate_b)
+        rates.append(ours(case, n)[0])
+    _, check = ours(case, n_base)
+    assert np.array_equal(check.hits, base_hits), "engine counts differ from the old engine"
+    work = case["work"]
+    return {
+        "spheres": int(work.n_spheres),
+        "sphere_pairs": int(work.n_pairs),
+        "frame_pairs": int(work.n_frame_pairs),
+        "configs_per_s": round(max(rates)),
+        "baseline_configs_per_s": round(max(base_rates)),
+        "ratio": round(max(rates) / max(base_rates), 2),
+        "median_ratio": round(float(np.median(np.array(rates) / np.array(base_rates))), 2),
+        "report_configs_per_s": round(report_rate(case, n)),
+        "counts_equal_baseline": True,
+    }
+
+
+def memory_10m(urdf: Path) -> float:
+    """Peak RSS (MB) of ``xrdf report -n 10,000,000 -j 1`` run as a child process."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "r.json"
+        cmd = [
+            sys.executable,
+            "-m",
+            "xrdf_tools",
+            "report",
+            str(XRDF),
+            "--urdf",
+            str(urdf),
+            "-n",
+            "10000000",
+            "-j",
+            "1",
+            "-f",
+            "json",
+            "-o",
+            str(out),
+        ]
+        subprocess.run(cmd, check=True, cwd=REPO, capture_output=True)
+    return resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--samples", type=int, default=1_000_000, help="samples for our run")
-    ap.add_argument("--report-samples", type=int, default=200_000)
-    ap.add_argument("--naive", type=int, default=300, help="samples for the naive baseline")
-    ap.add_argument("--chunk", type=int, default=8192)
+    ap.add_argument("--samples", type=int, default=1_000_000, help="samples for our engine")
+    ap.add_argument("--baseline", type=int, default=100_000, help="samples for the old engine")
+    ap.add_argument("--jobs-samples", type=int, default=2_000_000, help="0: skip --jobs 2")
+    ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (best counts)")
+    ap.add_argument("--memory", action="store_true", help="also run 10M samples in a child")
     args = ap.parse_args()
     urdf = panda_urdf()
-    ours(urdf, min(args.samples, 20_000), args.chunk)  # warm-up (imports, caches)
-    rate, n_spheres, n_pairs = ours(urdf, args.samples, args.chunk)
-    rep = report_mode(urdf, args.report_samples)
-    base = naive(urdf, args.naive)
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-    target = 300_000
-    out = {
-        "robot": "panda (example-robot-data) + fixtures/panda/panda.xrdf",
+    text = XRDF.read_text()
+    cases = [
+        measure(urdf, split_spheres(text, k), args.samples // k, args.baseline // k, args.rounds)
+        for k in (1, 2, 4)
+    ]
+    out: dict[str, Any] = {
+        "robot": "panda (example-robot-data) + fixtures/panda/panda.xrdf, spheres split 1/2/4",
+        "work": "unmasked + masked non-adjacent frame pairs, exact counts, exact minima < 1 cm",
         "threads": 1,
-        "spheres": n_spheres,
-        "unmasked_sphere_pairs": n_pairs,
-        "samples": args.samples,
-        "configs_per_s": round(rate),
-        "report_configs_per_s": round(rep),
-        "naive_samples": args.naive,
-        "naive_configs_per_s": round(base, 1),
-        "speedup": round(rate / base, 1),
-        "target_configs_per_s": target,
-        "target_met": rate >= target,
-        "peak_rss_mb": round(peak, 1),
         "cpu_count": os.cpu_count(),
+        "load_average": round(os.getloadavg()[0], 2),
+        "cases": cases,
+        "target_configs_per_s": TARGET,
+        "target_met": cases[0]["configs_per_s"] >= TARGET,
     }
+    if args.jobs_samples:
+        case = setup(urdf, text)
+        one, t1 = ours(case, args.jobs_samples, jobs=1)
+        two, t2 = ours(case, args.jobs_samples, jobs=2)
+        assert np.array_equal(t1.hits, t2.hits), "--jobs 2 changed the counts"
+        out["jobs2_samples"] = args.jobs_samples
+        out["jobs2_speedup"] = round(two / one, 2)
+    out["peak_rss_mb"] = round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1)
+    if args.memory:
+        out["peak_rss_mb_10m_samples"] = round(memory_10m(urdf), 1)
     print(json.dumps(out))
 
 

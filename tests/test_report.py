@@ -257,3 +257,22 @@ def test_halton_and_uniform_agree_roughly() -> None:
     for pu, ph in zip(u.pairs, h.pairs, strict=True):
         if pu.rate is not None and ph.rate is not None:
             assert math.isclose(pu.rate, ph.rate, abs_tol=0.05)
+
+
+def test_jobs_give_the_same_report(monkeypatch: pytest.MonkeyPatch) -> None:
+    import xrdf_tools.engine as engine
+
+    monkeypatch.setattr(engine, "MIN_SAMPLES_PER_JOB", 1000)  # two workers on a small sample
+    _, one = three_link_report(samples=6000, seed=2, chunk=1000)
+    _, two = three_link_report(samples=6000, seed=2, chunk=1000, jobs=2)
+    d1, d2 = report_to_dict(one), report_to_dict(two)
+    for d in (d1, d2):
+        d.pop("elapsed_s", None)
+        d.pop("configs_per_s", None)
+    assert d1 == d2
+    # the CLI takes --jobs
+    res = runner.invoke(
+        app,
+        ["report", str(PANDA_XRDF), "--urdf", str(robot_urdf("panda")), "-n", "3000", "-j", "2"],
+    )
+    assert res.exit_code == 0, res.output

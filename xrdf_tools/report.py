@@ -2,7 +2,7 @@
 
 :func:`self_collision_report` answers "is my sphere model and mask right?" pair by pair. It
 samples configurations (or takes given ones, e.g. a recorded trajectory), counts for every
-pair of frames with spheres how often it collides (:func:`xrdf_tools.collision.count_chunk`,
+pair of frames with spheres how often it collides (:class:`xrdf_tools.engine.CountEngine`,
 exact, chunked so memory stays bounded), classifies each pair the way the MoveIt Setup
 Assistant does and recommends what the ``ignore`` mask should say. Findings come back as
 :class:`~xrdf_tools.diagnostics.Diagnostic` objects; rendering lives in
@@ -26,29 +26,29 @@ import importlib
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import numpy.typing as npt
 
+from .certify import Verdict, certify_pair
 from .collision import (
     Contact,
     SphereSet,
     build_sphere_set,
     contacts,
-    count_chunk,
     pair_clearance,
     sphere_world_centers,
 )
 from .diagnostics import Diagnostic, Severity, sort_key
+from .engine import CountEngine, EngineTotals, count_sampled
 from .errors import XrdfToolsError, did_you_mean
 from .frozen import FrozenMap
 from .kinematics import (
     KinematicModel,
     build_kinematic_model,
     default_configuration,
-    full_configuration,
 )
 from .model import SelfCollisionSection, Xrdf
 
@@ -63,6 +63,7 @@ Recommendation = Literal["ignore", "may-ignore", "check"]
 __all__ = [
     "ALWAYS_RATE",
     "RULES",
+    "CertifyOptions",
     "ConfigsError",
     "CoverageSummary",
     "MaskChange",
@@ -77,7 +78,7 @@ __all__ = [
 
 #: A pair colliding in more than this fraction of configurations is "always" colliding.
 ALWAYS_RATE = 0.95
-DEFAULT_CHUNK = 8192
+DEFAULT_CHUNK = 65536
 
 #: Report rule ids: (id, short description, severity).
 RULES: tuple[tuple[str, str, Severity], ...] = (
@@ -108,6 +109,17 @@ RULES: tuple[tuple[str, str, Severity], ...] = (
     ),
 )
 _SEVERITY = {r[0]: r[2] for r in RULES}
+
+
+@dataclass(frozen=True)
+class CertifyOptions:
+    """``--certify``: decide every "never" pair over its whole joint box (see
+    :mod:`xrdf_tools.certify`) within ``budget_s`` seconds in all. ``mask_policy``
+    ``"proven"`` recommends ignoring a never-colliding pair only when it is proven;
+    ``"sampled"`` keeps the sampled recommendation."""
+
+    budget_s: float = 60.0
+    mask_policy: Literal["proven", "sampled"] = "sampled"
 
 
 class ConfigsError(XrdfToolsError):
@@ -154,6 +166,9 @@ class PairStat:
     classification: Classification
     recommendation: Recommendation
     note: str
+    certificate: Verdict | None = None
+    witness: Mapping[str, float] | None = None
+    certify_s: float | None = None
 
     @property
     def colliding_at_default(self) -> bool:
@@ -177,6 +192,10 @@ class PairStat:
             "classification": self.classification,
             "recommendation": self.recommendation,
             "note": self.note,
+            "certified": None if self.certificate is None else self.certificate == "proven",
+            "certificate": self.certificate,
+            "witness": dict(self.witness) if self.witness is not None else None,
+            "certify_s": self.certify_s,
         }
 
 
@@ -311,6 +330,8 @@ def self_collision_report(
     urdf_path: str | None = None,
     coverage: bool = False,
     clearance_margin: float = 0.01,
+    jobs: int = 1,
+    certify: CertifyOptions | None = None,
 ) -> Report:
     """Sample (or take) configurations and build the self-collision :class:`Report`.
 
@@ -322,8 +343,11 @@ def self_collision_report(
     defaults. ``progress(done, total)`` is called after each chunk. ``coverage`` asks
     :mod:`xrdf_tools.spheres` for coverage metrics when it provides them. Minimum clearances
     below ``clearance_margin`` metres are exact; larger ones are reported as lower bounds.
+    ``jobs`` worker processes share a large sample (same result for any ``jobs``; given
+    ``configs`` are always checked in this process). ``certify`` decides the "never" pairs
+    over their whole joint box: proven, or "sometimes" with a witness configuration.
     """
-    from .sampling import iter_samples
+    from .sampling import fresh_seed
     from .urdf_source import urdf_path as _urdf_path
 
     t0 = time.perf_counter()
@@ -344,34 +368,9 @@ def self_collision_report(
     K = spheres_all.n_frame_pairs
     work_index = np.flatnonzero(sampled)
 
-    hits = np.zeros(work.n_frame_pairs, dtype=np.int64)
-    min_clear = np.full(work.n_frame_pairs, np.inf)
-    bound = np.full(work.n_frame_pairs, np.inf)
-    trajectory: list[TrajectoryHit] | None = None
-
     idx = np.array([kin.actuated_index(n) for n in cspace], dtype=np.intp)
-    base = np.repeat(q_default[None, :], chunk, axis=0)
-
-    def run(q_c: FloatArray, offset: int) -> None:
-        q = (
-            base[: len(q_c)].copy()
-            if len(q_c) <= chunk
-            else full_configuration(kin, cspace, q_c, defaults)
-        )
-        q[:, idx] = q_c
-        res = count_chunk(kin, work, q, margin=clearance_margin)
-        hits[:] += res.hits.sum(axis=1)
-        np.minimum(min_clear, res.min_clearance, out=min_clear)
-        np.minimum(bound, res.clearance_bound, out=bound)
-        if trajectory is not None:
-            unmasked_rows = ~work.frame_pair_masked
-            bad = np.flatnonzero(res.hits[unmasked_rows].any(axis=0))
-            if len(bad):
-                checked = work.select_frame_pairs(unmasked_rows)
-                centers = sphere_world_centers(kin, checked, q[bad])
-                for b, c in zip(bad.tolist(), centers, strict=True):
-                    trajectory.append(TrajectoryHit(offset + b, tuple(contacts(checked, c))))
-
+    engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
+    trajectory: list[TrajectoryHit] | None = None
     if configs is not None:
         qc = np.asarray(configs, dtype=np.float64)
         if qc.ndim != 2 or qc.shape[1] != len(cspace):
@@ -380,24 +379,26 @@ def self_collision_report(
                 f"({', '.join(cspace)}), got {list(qc.shape)}"
             )
         n_total = qc.shape[0]
-        trajectory = []
-        for start in range(0, n_total, chunk):
-            run(qc[start : start + chunk], start)
-            if progress is not None:
-                progress(min(start + chunk, n_total), n_total)
+        totals, trajectory = _count_configs(engine, qc, chunk, progress)
         source: Literal["sampled", "configs"] = "configs"
     else:
         if samples < 1:
             raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
         n_total = samples
-        lo, hi = kin.lower[idx], kin.upper[idx]
-        done = 0
-        for q_c in iter_samples(lo, hi, samples, method=sampler, seed=seed, chunk=chunk):
-            run(q_c, done)
-            done += len(q_c)
-            if progress is not None:
-                progress(done, n_total)
+        totals = count_sampled(
+            engine,
+            kin.lower[idx],
+            kin.upper[idx],
+            samples,
+            method=sampler,
+            seed=fresh_seed() if seed is None else seed,
+            chunk=chunk,
+            jobs=jobs,
+            progress=progress,
+        )
         source = "sampled"
+    hits = totals.hits
+    min_clear, is_bound_w = totals.clearance()
 
     # --- the default configuration: clearance of every frame pair ----------------------------
     c_def = sphere_world_centers(kin, spheres_all, q_default)
@@ -419,9 +420,8 @@ def self_collision_report(
         mc: float | None = None
         is_bound = False
         if w is not None:
-            exact = min_clear[w] <= bound[w]
-            mc = float(min_clear[w] if exact else bound[w])
-            is_bound = not exact
+            mc = float(min_clear[w])
+            is_bound = bool(is_bound_w[w])
         cls, rec, note = _verdict(
             bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source
         )
@@ -446,6 +446,8 @@ def self_collision_report(
             )
         )
 
+    if certify is not None:
+        stats = _certify(engine, stats, w_of, cspace, certify)
     diags.extend(_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
     rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
     cov = _coverage(upath, xrdf) if coverage else None
@@ -472,6 +474,85 @@ def self_collision_report(
         elapsed_s=time.perf_counter() - t0,
         coverage=cov,
     )
+
+
+def _count_configs(
+    engine: CountEngine, qc: FloatArray, chunk: int, progress: ProgressFn | None
+) -> tuple[EngineTotals, list[TrajectoryHit]]:
+    """Count given c-space configurations and list those where an unmasked pair collides."""
+    work = engine.spheres
+    unmasked = ~work.frame_pair_masked
+    checked = work.select_frame_pairs(unmasked)
+    totals = EngineTotals.empty(engine.K)
+    trajectory: list[TrajectoryHit] = []
+    n_total = qc.shape[0]
+    for start in range(0, n_total, chunk):
+        q_c = qc[start : start + chunk]
+        hits = engine.count(q_c, totals)
+        bad = np.flatnonzero(hits[unmasked].any(axis=0))
+        if len(bad):
+            q = np.repeat(engine.q_base[None, :], len(bad), axis=0)
+            q[:, engine.varying] = q_c[bad]
+            centers = sphere_world_centers(engine.kin, checked, q)
+            for b, c in zip(bad.tolist(), centers, strict=True):
+                trajectory.append(TrajectoryHit(start + b, tuple(contacts(checked, c))))
+        if progress is not None:
+            progress(min(start + chunk, n_total), n_total)
+    return totals, trajectory
+
+
+def _certify(
+    engine: CountEngine,
+    stats: list[PairStat],
+    w_of: Mapping[int, int],
+    cspace: Sequence[str],
+    opts: CertifyOptions,
+) -> list[PairStat]:
+    """Certify the "never" pairs, sharing the time budget evenly among those still to do."""
+    todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
+    deadline = time.perf_counter() + opts.budget_s
+    out = list(stats)
+    for n_left, i in zip(range(len(todo), 0, -1), todo, strict=True):
+        budget = max(0.0, deadline - time.perf_counter()) / n_left
+        cert = certify_pair(engine, w_of[i], budget)
+        path = [cspace[j] for j in cert.joints]
+        out[i] = _certified(stats[i], cert.verdict, cert.witness, cert.seconds, cspace, path, opts)
+    return out
+
+
+def _certified(
+    p: PairStat,
+    verdict: Verdict,
+    witness: FloatArray | None,
+    seconds: float,
+    cspace: Sequence[str],
+    path: Sequence[str],
+    opts: CertifyOptions,
+) -> PairStat:
+    """The pair's statistics with the verdict of ``--certify`` (``path``: its joints)."""
+    took = f"{seconds:.2f} s"
+    if verdict == "witness" and witness is not None:
+        values = {j: float(v) for j, v in zip(cspace, witness, strict=True)}
+        what = "remove from ignore" if p.masked else "keep checking"
+        at = ", ".join(f"{j}={values[j]:.4f}" for j in path)
+        note = f"collides at {at} (others at default; found by --certify in {took}): {what}"
+        return replace(
+            p,
+            classification="sometimes",
+            recommendation="check",
+            note=note,
+            certificate="witness",
+            witness=values,
+            certify_s=seconds,
+        )
+    if verdict == "proven":
+        note = f"proven never to collide over the whole joint box ({took}): ignore"
+        return replace(
+            p, recommendation="ignore", note=note, certificate="proven", certify_s=seconds
+        )
+    rec: Recommendation = "check" if opts.mask_policy == "proven" else p.recommendation
+    note = f"{p.note}; not proven within the --certify budget ({took})"
+    return replace(p, recommendation=rec, note=note, certificate="undecided", certify_s=seconds)
 
 
 def _cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> list[str]:
@@ -547,12 +628,17 @@ def _findings(
                 )
             )
         if p.masked and p.classification == "sometimes":
+            seen = (
+                "collide at a configuration that --certify found (sampling missed it)"
+                if p.certificate == "witness"
+                else f"collide in {p.hits} of {n} configurations ({p.rate:.3%})"
+            )
             out.append(
                 _diag(
                     xrdf,
                     "report-mask-hides-collision",
-                    f"{pair} are ignored but are not adjacent and collide in {p.hits} of {n} "
-                    f"configurations ({p.rate:.3%}): the mask hides real collisions",
+                    f"{pair} are ignored but are not adjacent and {seen}: the mask hides real "
+                    "collisions",
                     _ignore_key_path(sc, p.frame_a, p.frame_b),
                 )
             )

@@ -25,9 +25,11 @@ Method = Literal["halton", "uniform"]
 
 __all__ = [
     "first_primes",
+    "fresh_seed",
     "halton",
     "iter_samples",
     "sample_halton",
+    "sample_rows",
     "sample_uniform",
 ]
 
@@ -184,6 +186,40 @@ def sample_halton(
     """
     lo, hi = _bounds(lower, upper)
     return _scale(halton(n, lo.shape[0], skip, seed=seed, scramble=scramble), lo, hi)
+
+
+def sample_rows(
+    lower: npt.ArrayLike,
+    upper: npt.ArrayLike,
+    start: int,
+    m: int,
+    *,
+    method: Method = "halton",
+    seed: int = 0,
+) -> FloatArray:
+    """Rows ``start … start+m-1`` [m, d] of the stream that :func:`iter_samples` yields.
+
+    Any part of a large sample can be drawn on its own (e.g. by a worker process), bit for bit
+    equal to the same rows of the chunked stream: ``uniform`` jumps the PCG64 generator ahead
+    by ``start · d`` draws (one 64-bit draw per value), ``halton`` starts at index ``start``.
+    ``seed`` must be an integer here (draw one first for a fresh stream).
+    """
+    lo, hi = _bounds(lower, upper)
+    if start < 0 or m < 0:
+        raise ValueError(f"start and m must be >= 0, got start={start}, m={m}")
+    d = lo.shape[0]
+    if method == "halton":
+        return _scale(halton(m, d, start, seed=seed), lo, hi)
+    if method != "uniform":
+        raise ValueError(f"method must be 'halton' or 'uniform', not {method!r}")
+    bits = np.random.PCG64(seed)
+    bits.advance(start * d)
+    return _scale(np.random.Generator(bits).random((m, d)), lo, hi)
+
+
+def fresh_seed() -> int:
+    """A random integer seed (for a stream that is random but must be shared)."""
+    return _fresh_seed()
 
 
 def iter_samples(

@@ -36,6 +36,11 @@ class ReportFormat(str, Enum):
     html = "html"
 
 
+class MaskPolicy(str, Enum):
+    proven = "proven"
+    sampled = "sampled"
+
+
 class SamplerChoice(str, Enum):
     uniform = "uniform"
     halton = "halton"
@@ -115,13 +120,47 @@ def command(
     coverage: Annotated[
         bool, typer.Option("--coverage", help="Add sphere coverage metrics (reads meshes).")
     ] = False,
+    jobs: Annotated[
+        int | None,
+        typer.Option(
+            "--jobs",
+            "-j",
+            min=1,
+            help="Worker processes for sampling [default: all cores]. Same result for any "
+            "value; samples below 1,000,000 per worker run in fewer processes.",
+            show_default=False,
+        ),
+    ] = None,
+    certify: Annotated[
+        bool,
+        typer.Option(
+            "--certify",
+            help="Decide every pair that sampling calls 'never' over its whole joint box: a "
+            "proof, or a colliding witness configuration (then 'sometimes').",
+        ),
+    ] = False,
+    certify_budget: Annotated[
+        float,
+        typer.Option(
+            "--certify-budget", min=0.0, help="Seconds for --certify in all; then 'undecided'."
+        ),
+    ] = 60.0,
+    mask_policy: Annotated[
+        MaskPolicy,
+        typer.Option(
+            "--mask-policy",
+            help="proven: ignore a never-colliding pair only when --certify proved it "
+            "(implies --certify); sampled: also when sampling never saw it collide.",
+        ),
+    ] = MaskPolicy.sampled,
     strict: Annotated[bool, typer.Option("--strict", help="Warnings also exit 1.")] = False,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
-    from ..report import recommended_xrdf, self_collision_report
+    from ..engine import default_jobs
+    from ..report import CertifyOptions, recommended_xrdf, self_collision_report
     from ..report_render import (
         render_html,
         render_json,
@@ -167,6 +206,12 @@ def command(
                 urdf_path=str(urdf),
                 coverage=coverage,
                 clearance_margin=clearance_margin,
+                jobs=default_jobs() if jobs is None else jobs,
+                certify=(
+                    CertifyOptions(certify_budget, mask_policy.value)
+                    if certify or mask_policy is MaskPolicy.proven
+                    else None
+                ),
             )
         finally:
             if bar is not None:

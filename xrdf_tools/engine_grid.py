@@ -1,0 +1,225 @@
+"""Cell grids for body pairs whose relative pose depends on one or two joints.
+
+The relative pose of two bodies depends only on the joints on the tree path between them.
+When that is one or two revolute joints, the pair's joint box is cut into cells once, and each
+cell is decided in float64 with a rigorous bound on how far a sphere centre can move inside
+it: a sphere of the outer body turning by at most ``h/2`` about an axis at distance ``ρ``
+moves by at most ``ρ·h/2`` (chord ≤ arc), and the moves of two joints add up. A cell whose
+every sphere pair stays farther apart than the exact-clearance margin is *far*: its
+configurations need no evaluation at all (they cannot collide, and their clearances are not
+needed exactly). Configurations in the other cells are evaluated as usual, so the grid changes
+no verdict and no exact value; it only skips work.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+BoolArray = npt.NDArray[np.bool_]
+
+__all__ = ["PairGrid", "build_pair_grid"]
+
+#: Cells of a two-joint grid and of a one-joint grid.
+CELLS_2D = 1 << 16
+CELLS_1D = 1 << 13
+#: Absolute slack (m) for float64 rounding in the cell decisions.
+_SLACK = 1e-9
+#: Tolerance (in cells) for a joint value on the box edge: a point that far outside the last
+#: cell moves its spheres by far less than the slack.
+_EDGE = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class PairGrid:
+    """Per cell of the joint box of one body pair: far (True) or to be evaluated.
+
+    ``cols``, ``mult``, ``off``: the varying columns driving the path joints (outer first) and
+    their mimic factors; ``lo``, ``h``, ``shape``: each joint's first cell edge, cell width
+    and cell count. ``far_bound``: lower bound of every sphere clearance in a far cell.
+    """
+
+    cols: IntArray
+    mult: FloatArray
+    off: FloatArray
+    lo: FloatArray
+    h: FloatArray
+    shape: tuple[int, ...]
+    far: BoolArray
+    far_bound: float
+
+    def near(self, q_var: FloatArray) -> BoolArray:
+        """Configurations [B] that are not in a far cell (outside the box counts as near)."""
+        B = q_var.shape[0]
+        if self.all_far and self._inside(q_var):
+            return np.zeros(B, dtype=np.bool_)
+        cell = np.zeros(B, dtype=np.intp)
+        inside = np.ones(B, dtype=np.bool_)
+        for j, n in enumerate(self.shape):
+            x = q_var[:, self.cols[j]] * (self.mult[j] / self.h[j])
+            x += (self.off[j] - self.lo[j]) / self.h[j]  # the cell coordinate
+            inside &= x >= -_EDGE
+            inside &= x <= n + _EDGE
+            np.clip(x, 0, n - 1, out=x)
+            cell *= n
+            cell += x.astype(np.intp)  # truncation is floor here: x >= 0
+        out: BoolArray = self.far[cell]
+        np.logical_not(out, out=out)
+        out |= ~inside
+        return out
+
+    @property
+    def far_fraction(self) -> float:
+        return float(np.mean(self.far))
+
+    @property
+    def all_far(self) -> bool:
+        return bool(self.far.all())
+
+    def _inside(self, q_var: FloatArray) -> bool:
+        """Every configuration lies in the grid's box (checked on the column extremes)."""
+        for j, n in enumerate(self.shape):
+            col = q_var[:, self.cols[j]]
+            ends = np.array([col.min(), col.max()]) * self.mult[j] + self.off[j]
+            x = (ends - self.lo[j]) / self.h[j]
+            if x.min() < -_EDGE or x.max() > n + _EDGE:
+                return False
+        return True
+
+
+def _rot_z(theta: FloatArray) -> FloatArray:
+    """Rotations about z [n, 3, 3]."""
+    c, s = np.cos(theta), np.sin(theta)
+    out = np.zeros((len(theta), 3, 3))
+    out[:, 0, 0], out[:, 0, 1], out[:, 1, 0], out[:, 1, 1] = c, -s, s, c
+    out[:, 2, 2] = 1.0
+    return out
+
+
+def _cell_counts(spans: list[float], levers: list[float]) -> list[int]:
+    """Cells per joint: proportional to span × lever (equal motion per joint), capped."""
+    if len(spans) == 1:
+        return [CELLS_1D]
+    w = [max(s * r, 1e-9) for s, r in zip(spans, levers, strict=True)]
+    scale = math.sqrt(CELLS_2D / (w[0] * w[1]))
+    n0 = min(CELLS_2D, max(1, round(w[0] * scale)))
+    return [n0, max(1, CELLS_2D // n0)]
+
+
+def build_pair_grid(
+    consts: list[FloatArray],
+    cols: list[int],
+    mult: list[float],
+    off: list[float],
+    q_lo: list[float],
+    q_hi: list[float],
+    p_anc: FloatArray,
+    x_desc: FloatArray,
+    rsum: FloatArray,
+    relevant: BoolArray,
+    margin: float,
+) -> PairGrid:
+    """Grid for the path joints (outer first) between an ancestor and a descendant body.
+
+    ``consts`` [j](4, 4): each path joint's constant transform from the previous body
+    (z-aligned frames, the joint turning about z); ``p_anc`` [m_a, 3]: sphere centres of the
+    ancestor body, ``x_desc`` [m_b, 3]: those of the descendant in its own frame; ``rsum``
+    [m_a, m_b]: radius sums; ``relevant`` [m_a, m_b]: the sphere pairs that are counted.
+    Two-joint grids are decided coarse first (4 × 4 fine cells each); only the coarse cells
+    that are not far are split.
+    """
+    th = [
+        sorted((m * lo + o, m * hi + o)) for m, o, lo, hi in zip(mult, off, q_lo, q_hi, strict=True)
+    ]
+    lo = np.array([a for a, _ in th])
+    spans = [b - a for a, b in th]
+    levers = [np.linalg.norm(x_desc[:, :2], axis=1)]  # distance from the innermost axis
+    if len(consts) == 2:  # the outer axis: |xy of the inner joint's offset| + |x|
+        levers.insert(0, np.linalg.norm(consts[1][:2, 3]) + np.linalg.norm(x_desc, axis=1))
+    shape = _cell_counts(spans, [float(lv.max()) if len(lv) else 0.0 for lv in levers])
+    h = np.array([max(sp / n, 1e-12) for sp, n in zip(spans, shape, strict=True)])
+    ev = _CellTest(consts, lo, x_desc, p_anc, rsum + margin + _SLACK, relevant, levers, [np.inf])
+    far = ev.far([np.arange(shape[0])], h) if len(shape) == 1 else _far_2d(ev, shape, h)
+    return PairGrid(
+        cols=np.array(cols, dtype=np.intp),
+        mult=np.array(mult),
+        off=np.array(off),
+        lo=lo,
+        h=h,
+        shape=tuple(shape),
+        far=far,
+        far_bound=ev.low[0] + margin,  # reach held the margin: add it back
+    )
+
+
+_SPLIT = 4
+
+
+def _far_2d(ev: _CellTest, shape: list[int], h: FloatArray) -> BoolArray:
+    """Far flags of a two-joint grid: coarse cells first, then the fine cells of the rest."""
+    n0, n1 = shape
+    c0, c1 = -(-n0 // _SPLIT), -(-n1 // _SPLIT)
+    i0, i1 = np.divmod(np.arange(c0 * c1), c1)
+    coarse = ev.far([i0, i1], h * _SPLIT)
+    far = np.zeros((c0 * _SPLIT, c1 * _SPLIT), dtype=np.bool_)
+    far.reshape(c0, _SPLIT, c1, _SPLIT)[:] = coarse.reshape(c0, 1, c1, 1)
+    todo = np.flatnonzero(~coarse)
+    if len(todo):
+        sub0, sub1 = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
+        f0 = ((todo // c1)[:, None] * _SPLIT + sub0[None, :]).ravel()
+        f1 = ((todo % c1)[:, None] * _SPLIT + sub1[None, :]).ravel()
+        far[f0, f1] = ev.far([f0, f1], h)
+    out: BoolArray = np.ascontiguousarray(far[:n0, :n1]).ravel()
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class _CellTest:
+    """Decides lists of cells: far when every relevant pair's centre distance exceeds its
+    radius sum plus margin (``reach``) plus the cell's motion bound."""
+
+    consts: list[FloatArray]
+    lo: FloatArray
+    x_desc: FloatArray
+    p_anc: FloatArray
+    reach: FloatArray  # [m_a, m_b]
+    relevant: BoolArray
+    levers: list[FloatArray]  # per joint [m_b]
+    low: list[float]  # [1]: over far cells, smallest (distance − radius sum − motion) seen
+
+    def far(self, idx: list[IntArray], h: FloatArray) -> BoolArray:
+        """``idx``: cell indices per joint (outer first), all of one length L."""
+        motion = sum(lv * hj / 2 for lv, hj in zip(self.levers, h.tolist(), strict=True))
+        thr = np.where(self.relevant, self.reach + motion[None, :], -np.inf).T  # [m_b, m_a]
+        thr2 = np.square(np.maximum(thr, 0.0)) * np.sign(thr)
+        p2 = np.sum(self.p_anc**2, axis=1)
+        out = np.empty(len(idx[0]), dtype=np.bool_)
+        margin2 = np.where(self.relevant, self.reach + motion[None, :], np.inf).T
+        step = max(1, (1 << 20) // max(1, self.x_desc.shape[0] * self.p_anc.shape[0]))
+        for s0 in range(0, len(out), step):
+            sl = slice(s0, s0 + step)
+            theta = [self.lo[j] + (idx[j][sl] + 0.5) * h[j] for j in range(len(idx))]
+            pts = self._points(theta)  # [L, m_b, 3]
+            d2 = np.sum(pts**2, axis=2)[:, :, None] + p2[None, None, :] - 2.0 * (pts @ self.p_anc.T)
+            far = (d2 > thr2[None]).all(axis=(1, 2))
+            out[sl] = far
+            if far.any():  # the smallest centre distance minus reach, over far cells
+                gap = np.sqrt(np.maximum(d2[far], 0.0)) - margin2[None]
+                self.low[0] = min(self.low[0], float(gap.min()))
+        return out
+
+    def _points(self, theta: list[FloatArray]) -> FloatArray:
+        """Descendant sphere centres in the ancestor frame at joint values ``theta``."""
+        C = self.consts[-1]
+        rt = _rot_z(theta[-1]).transpose(0, 2, 1) @ C[:3, :3].T  # [L, 3, 3]: (C·Z)ᵀ
+        pts: FloatArray = np.matmul(self.x_desc[None], rt) + C[:3, 3]
+        if len(theta) == 2:
+            C = self.consts[0]
+            rt = _rot_z(theta[0]).transpose(0, 2, 1) @ C[:3, :3].T
+            pts = np.matmul(pts, rt) + C[:3, 3]
+        return pts
