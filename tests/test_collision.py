@@ -57,6 +57,7 @@ geometry:
       finger:
         - {center: [0.03, 0.0, 0.0], radius: 0.03}
         - {center: [0.0, 0.0, 0.0], radius: -0.01}
+        - {center: [0.0, 0.0, 0.0], radius: -10.0}
       tool:
         - {center: [0.0, 0.0, 0.0], radius: 0.045}
       ghost_link:
@@ -181,16 +182,19 @@ def test_chunking_does_not_change_counts() -> None:
 def test_sphere_set_structure() -> None:
     kin, xrdf = three_link()
     spheres, diags = build_sphere_set(kin, xrdf)
-    # placeholder dropped, ghost_link reported
+    # the attached-object slot (-10) dropped, the small negative radius kept as a 1 mm sphere
+    # (cuRobo clamps a buffered radius in (-1, 0] to 1 mm), ghost_link reported
     assert spheres.n_placeholders == 1
     assert spheres.sphere_counts() == {
         "base_link": 1,
         "link1": 2,
         "link2": 2,
         "link3": 1,
-        "finger": 1,
+        "finger": 2,
         "tool": 1,
     }
+    finger = spheres.spheres_of(spheres.frame_names.index("finger"))
+    np.testing.assert_allclose(spheres.self_radii[finger], [0.03, 0.001])
     assert [d.rule for d in diags] == ["sphere-frame-unknown"]
     assert "ghost_link" in diags[0].message and diags[0].line is not None
     # buffers go into the self-collision radii only

@@ -4,8 +4,9 @@ Semantics (docs/report.md): spheres ``a`` and ``b`` on *different* frames are in
 self-collision when ``‖c_a − c_b‖ < (r_a + s_a) + (r_b + s_b)``, where ``s`` is the frame's
 ``self_collision.buffer_distance`` (default 0). Pairs on the same frame are never checked; a
 pair whose frames are in ``self_collision.ignore`` (either direction) is masked. A sphere with a
-negative raw radius is a cuRobo placeholder and takes part in no check. Mimic, continuous and
-prismatic joints are handled by :mod:`xrdf_tools.kinematics`.
+raw radius ≤ −1 is an attached-object slot and takes part in no check; a small negative raw
+radius becomes a real sphere once buffered (at least 1 mm, as cuRobo builds it). Mimic,
+continuous and prismatic joints are handled by :mod:`xrdf_tools.kinematics`.
 
 Layers:
 
@@ -204,13 +205,30 @@ class SphereSet:
             yield self.frame_names[a], self.frame_names[b]
 
 
+#: cuRobo clamps a buffered radius in (−1, 0] to this (1 mm): the sphere stays a real one.
+MIN_BUFFERED_RADIUS = 0.001
+
+
+def self_radius(radius: float, buffer: float) -> float | None:
+    """The self-collision radius of a sphere with raw ``radius`` and its frame's ``buffer``,
+    or None for an attached-object slot (raw radius ≤ −1, cuRobo's ``extra_collision_spheres``)
+    or a sphere buffered out of existence (buffered radius ≤ −1)."""
+    if radius <= -1.0:
+        return None
+    buffered = radius + buffer
+    if buffered > 0.0:
+        return buffered
+    return MIN_BUFFERED_RADIUS if buffered > -1.0 else None
+
+
 def build_sphere_set(
     kin: KinematicModel, xrdf: Xrdf, *, include_masked: bool = False
 ) -> tuple[SphereSet, list[Diagnostic]]:
     """Flatten the self-collision spheres of ``xrdf`` for ``kin``.
 
-    Uses the clone-resolved ``self_collision.geometry`` group. Placeholder spheres (negative
-    raw radius) are dropped (counted in ``n_placeholders``). Spheres on a frame that the
+    Uses the clone-resolved ``self_collision.geometry`` group. Attached-object slots (raw radius
+    ≤ −1) are dropped (counted in ``n_placeholders``); a small negative raw radius is a real
+    sphere once buffered, as cuRobo builds it (:func:`self_radius`). Spheres on a frame that the
     kinematic model does not have are dropped with a ``sphere-frame-unknown`` warning located
     at the frame's key in the geometry group. Without a ``self_collision`` section the set is
     empty.
@@ -246,10 +264,11 @@ def build_sphere_set(
         k = kin.frame_index(frame)
         buf = float(sc.buffer_distance.get(frame, 0.0)) if sc is not None else 0.0
         for i, s in enumerate(sph):
-            if s.radius < 0:
+            r_self = self_radius(s.radius, buf)
+            if r_self is None:
                 n_placeholders += 1
                 continue
-            per_frame.setdefault(k, []).append((i, s.center, s.radius, s.radius + buf))
+            per_frame.setdefault(k, []).append((i, s.center, s.radius, r_self))
     kin_frames = sorted(per_frame)
     names = tuple(kin.frame_names[k] for k in kin_frames)
     fos: list[int] = []
