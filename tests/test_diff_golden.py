@@ -604,6 +604,41 @@ def panda_cases() -> dict[str, Callable[[], Case]]:
                 without_cspace(edit(panda(), ("  panda_joint7: 0.8\n", "  panda_joint7: 0.7\n")))
             ),
         ),
+        # A list that names an entry twice reports each listing (lint flags such files).
+        "panda-repeated-names": vs(
+            lambda: edit(
+                panda(),
+                (
+                    "tool_frames: [panda_hand]",
+                    "tool_frames: [panda_hand, panda_link8, panda_link8]",
+                ),
+                (
+                    "    - panda_joint7\n",
+                    "    - panda_joint7\n    - panda_joint7\n"
+                    "    - panda_joint8\n    - panda_joint8\n",
+                ),
+                ("15.0, 15.0, 15.0]", "15.0, 15.0, 15.0, 1.0, 2.0, 3.0]"),
+                ("500.0, 500.0, 500.0]", "500.0, 500.0, 500.0, 1.0, 2.0, 3.0]"),
+            )
+        ),
+        "panda-repeated-names-reverse": lambda: Case(
+            panda_side(
+                edit(
+                    panda(),
+                    (
+                        "tool_frames: [panda_hand]",
+                        "tool_frames: [panda_hand, panda_link8, panda_link8]",
+                    ),
+                    (
+                        "    - panda_joint7\n",
+                        "    - panda_joint7\n    - panda_joint8\n    - panda_joint8\n",
+                    ),
+                    ("15.0, 15.0, 15.0]", "15.0, 15.0, 15.0, 2.0, 3.0]"),
+                    ("500.0, 500.0, 500.0]", "500.0, 500.0, 500.0, 2.0, 3.0]"),
+                )
+            ),
+            Side(a.label, panda()),
+        ),
         "panda-everything": lambda: Case(
             Side("panda-modifiers.xrdf", with_modifiers(panda())), panda_side(everything())
         ),
