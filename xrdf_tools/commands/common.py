@@ -47,15 +47,24 @@ def not_implemented(name: str) -> NoReturn:
     raise typer.Exit(EXIT_USAGE)
 
 
-def render_diagnostics(diagnostics: Sequence[Diagnostic], fmt: OutputFormat) -> str:
+def render_diagnostics(
+    diagnostics: Sequence[Diagnostic],
+    fmt: OutputFormat,
+    *,
+    files: Sequence[str] | None = None,
+    rules: Sequence[tuple[str, str, Severity]] = (),
+) -> str:
+    """The one renderer dispatch of every command. ``files`` (JSON) lists the inputs checked;
+    ``rules`` (SARIF) are listed even without results."""
     if fmt is OutputFormat.json:
-        return render_json(diagnostics)
+        return render_json(diagnostics, **({"files": list(files)} if files is not None else {}))
     if fmt is OutputFormat.github:
         return render_github(diagnostics)
     if fmt is OutputFormat.sarif:
+        from .. import __version__
         from ..diagnostics import render_sarif
 
-        return render_sarif(diagnostics)
+        return render_sarif(diagnostics, rules, version=__version__)
     return render_text(diagnostics)
 
 

@@ -15,6 +15,7 @@ from .common import (
     fail,
     has_failures,
     load_robot_option,
+    render_diagnostics,
 )
 
 
@@ -71,7 +72,6 @@ def command(
 
     Exit codes: 0 clean, 1 errors (or warnings with --strict), 2 usage or input error.
     """
-    from ..diagnostics import render_github, render_json, render_sarif, render_text
     from ..errors import XrdfToolsError
     from ..lint import RULES, lint
     from ..lint.config import discover_config, load_config
@@ -94,20 +94,12 @@ def command(
         )
     except XrdfToolsError as exc:
         fail(exc)
-    if output_format is OutputFormat.json:
-        text = render_json(diagnostics, files=[str(f) for f in files])
-    elif output_format is OutputFormat.github:
-        text = render_github(diagnostics)
-    elif output_format is OutputFormat.sarif:
-        from .. import __version__
-
-        text = render_sarif(
-            diagnostics,
-            [(r.id, r.summary, r.severity) for r in RULES],
-            version=__version__,
-        )
-    else:
-        text = render_text(diagnostics)
+    text = render_diagnostics(
+        diagnostics,
+        output_format,
+        files=[str(f) for f in files],
+        rules=[(r.id, r.summary, r.severity) for r in RULES],
+    )
     if text:
         typer.echo(text, nl=False)
     if has_failures(diagnostics, strict=strict):

@@ -1,4 +1,5 @@
-"""Generate ``docs/rules.md`` from the rule docstrings: ``python -m xrdf_tools.lint.docs``."""
+"""Generate ``docs/rules.md`` from the rule docstrings and the registry of every other
+diagnostic id: ``python -m xrdf_tools.lint.docs``."""
 
 from __future__ import annotations
 
@@ -37,7 +38,30 @@ def render_rules_md() -> str:
         out.append(inspect.cleandoc(r.doc))
         out.append("")
         out.append(f"Fixtures: `fixtures/lint/{r.id}/`.")
+    out += _other_diagnostics()
     return "\n".join(out) + "\n"
+
+
+def _other_diagnostics() -> list[str]:
+    """The ids that other commands emit (report findings, conversion notes, ...)."""
+    from ..rule_registry import all_rules
+
+    out = [
+        "",
+        "# Diagnostics of the other commands",
+        "",
+        "`xrdf convert`, `export`, `report`, `spheres` and `viz` report with the same diagnostic",
+        "format (`path:line:col: severity id message`, and JSON, GitHub, SARIF). Their ids:",
+        "",
+        "| id | default | emitted by | summary |",
+        "|---|---|---|---|",
+    ]
+    for info in all_rules().values():
+        if info.producer != "lint":
+            out.append(
+                f"| `{info.id}` | {info.severity.value} | {info.producer} | {info.summary} |"
+            )
+    return out
 
 
 if __name__ == "__main__":
