@@ -130,18 +130,15 @@ def render_sarif(
     information_uri: str = "",
 ) -> str:
     """SARIF 2.1.0 log with one run. ``rules`` is ``(id, short description, default severity)``
-    for rules to list even without results; every emitted id is described from the registry
-    (:mod:`xrdf_tools.rule_registry`)."""
-    from .rule_registry import rule_info
-
+    (the CLI passes the registry's, :mod:`xrdf_tools.rule_registry`); an emitted id missing from
+    it is described by its id and the finding's severity."""
     level = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
     rule_ids = [r[0] for r in rules]
     descr = {r[0]: (r[1], r[2]) for r in rules}
     for d in diagnostics:
         if d.rule not in rule_ids:
             rule_ids.append(d.rule)
-            info = rule_info(d.rule)
-            descr[d.rule] = (info.summary, info.severity) if info else (d.rule, d.severity)
+            descr[d.rule] = (d.rule, d.severity)
     driver: dict[str, Any] = {
         "name": tool_name,
         "version": version,

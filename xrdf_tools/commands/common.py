@@ -63,8 +63,15 @@ def render_diagnostics(
     if fmt is OutputFormat.sarif:
         from .. import __version__
         from ..diagnostics import render_sarif
+        from ..rule_registry import rule_info
 
-        return render_sarif(diagnostics, rules, version=__version__)
+        listed = {r[0] for r in rules}
+        described = list(rules)
+        for rid in dict.fromkeys(d.rule for d in diagnostics):
+            info = rule_info(rid)
+            if rid not in listed and info is not None:
+                described.append((rid, info.summary, info.severity))
+        return render_sarif(diagnostics, described, version=__version__)
     return render_text(diagnostics)
 
 
