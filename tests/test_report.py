@@ -276,3 +276,50 @@ def test_jobs_give_the_same_report(monkeypatch: pytest.MonkeyPatch) -> None:
         ["report", str(PANDA_XRDF), "--urdf", str(robot_urdf("panda")), "-n", "3000", "-j", "2"],
     )
     assert res.exit_code == 0, res.output
+
+
+def test_joints_on_path_counts_the_joints_that_move_a_pair() -> None:
+    from xrdf_tools.kinematics import build_kinematic_model
+
+    urdf = load_urdf(THREE_LINK)
+    kin, _ = build_kinematic_model(urdf, parse_xrdf(THREE_LINK_XRDF, "t.xrdf"))
+    # base_link -> joint1 -> link1 -> joint2 -> link2 -> joint3 -> link3 -> tool (fixed)
+    assert kin.joints_on_path("base_link", "link1") == ("joint1",)
+    assert kin.joints_on_path("link1", "tool") == ("joint2", "joint3")
+    assert kin.joints_on_path("link3", "tool") == ()
+    # the finger mimics joint1: it moves with joint1 (its master), not on its own
+    assert "joint1" in kin.joints_on_path("base_link", "finger")
+    _, r = three_link_report(samples=500)
+    by_pair = {frozenset((p.frame_a, p.frame_b)): p.joints_on_path for p in r.pairs}
+    assert by_pair[frozenset(("link1", "tool"))] == 2
+    assert report_to_dict(r)["pairs"][0]["joints_on_path"] >= 0
+
+
+def test_report_views_filter_what_is_shown_but_not_the_json(tmp_path: Path) -> None:
+    from xrdf_tools.report_render import ReportView
+
+    _, r = three_link_report(samples=2000)
+    full = render_text(r)
+    assert any(line.startswith("frame A") and " joints " in line for line in full.splitlines())
+    rated = [p for p in r.pairs if p.rate]
+    threshold = max(p.rate for p in rated)  # type: ignore[type-var]
+    only_top = render_text(r, ReportView(min_rate=threshold))
+    assert "below --min-rate not shown" in only_top
+    kept = [p for p in r.pairs if p.rate is not None and p.rate >= threshold]
+    assert len(kept) >= 1 and f"({len(r.pairs) - len(kept)} pair(s)" in only_top
+    findings = render_text(r, ReportView(only="findings"))
+    assert "frame A" not in findings and "findings" in findings
+    pairs = render_text(r, ReportView(only="pairs"))
+    assert "frame A" in pairs and "findings:" not in pairs
+    assert len(report_to_dict(r)["pairs"]) == len(r.pairs)  # JSON keeps everything
+
+
+def test_moveit_default_pose_is_zero_within_limits_else_mid_range() -> None:
+    from xrdf_tools.kinematics import build_kinematic_model, moveit_default_configuration
+
+    kin, _ = build_kinematic_model(load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF, "t.xrdf"))
+    q = dict(zip(kin.actuated_joints, moveit_default_configuration(kin), strict=True))
+    # joint3 is prismatic with limits [0.05, 0.4]: zero is outside, so mid-range
+    assert q["joint1"] == 0.0 and q["joint3"] == pytest.approx(0.225)
+    _, r = three_link_report(samples=200, moveit=True)
+    assert r.default_configuration["joint3"] == pytest.approx(0.225)

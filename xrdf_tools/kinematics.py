@@ -193,6 +193,26 @@ class KinematicModel:
     def has_frame(self, name: str) -> bool:
         return name in self._frame_idx
 
+    def joints_on_path(self, frame_a: str, frame_b: str) -> tuple[str, ...]:
+        """The actuated joints whose values change the pose of ``frame_b`` relative to
+        ``frame_a`` (the joints between each frame and their common ancestor; a mimic joint
+        counts as its master)."""
+        a, b = self.frame_index(frame_a), self.frame_index(frame_b)
+        up_a = self._chain_up(a)
+        up_b = self._chain_up(b)
+        common = set(up_a) & set(up_b)
+        moving = [f for f in (*up_a, *up_b) if f not in common]
+        found = {int(self.q_index[f]) for f in moving if int(self.q_index[f]) >= 0}
+        return tuple(self.actuated_joints[i] for i in sorted(found))
+
+    def _chain_up(self, frame: int) -> list[int]:
+        """``frame`` and its ancestors up to the base (each visited once)."""
+        out: list[int] = []
+        while frame >= 0 and frame not in out:
+            out.append(frame)
+            frame = int(self.parent[frame])
+        return out
+
     def frame_index(self, name: str) -> int:
         """Index of frame ``name``; :class:`UrdfError` with a suggestion when unknown."""
         try:
@@ -886,6 +906,16 @@ def default_configuration(
         if k is not None:
             q[k] = float(value)
     return q
+
+
+def moveit_default_configuration(model: KinematicModel) -> FloatArray:
+    """The default state as MoveIt's Setup Assistant computes it: each joint at 0 when 0 is
+    within its limits, else the middle of its limits."""
+    zero_ok = (model.lower <= 0.0) & (model.upper >= 0.0)
+    mid = np.where(
+        np.isfinite(model.lower) & np.isfinite(model.upper), (model.lower + model.upper) / 2, 0.0
+    )
+    return np.where(zero_ok, 0.0, mid)
 
 
 def full_configuration(

@@ -49,6 +49,7 @@ from .kinematics import (
     KinematicModel,
     build_kinematic_model,
     default_configuration,
+    moveit_default_configuration,
 )
 from .model import SelfCollisionSection, Xrdf
 
@@ -169,6 +170,9 @@ class PairStat:
     certificate: Verdict | None = None
     witness: Mapping[str, float] | None = None
     certify_s: float | None = None
+    #: Actuated joints whose values move the two frames relative to each other: 0 means the
+    #: pair's verdict holds for every configuration, 1-2 are decided on a grid.
+    joints_on_path: int = 0
 
     @property
     def colliding_at_default(self) -> bool:
@@ -196,6 +200,7 @@ class PairStat:
             "certificate": self.certificate,
             "witness": dict(self.witness) if self.witness is not None else None,
             "certify_s": self.certify_s,
+            "joints_on_path": self.joints_on_path,
         }
 
 
@@ -332,6 +337,7 @@ def self_collision_report(
     clearance_margin: float = 0.01,
     jobs: int = 1,
     certify: CertifyOptions | None = None,
+    moveit: bool = False,
 ) -> Report:
     """Sample (or take) configurations and build the self-collision :class:`Report`.
 
@@ -343,6 +349,8 @@ def self_collision_report(
     defaults. ``progress(done, total)`` is called after each chunk. ``coverage`` asks
     :mod:`xrdf_tools.spheres` for coverage metrics when it provides them. Minimum clearances
     below ``clearance_margin`` metres are exact; larger ones are reported as lower bounds.
+    ``moveit`` takes the default configuration as MoveIt's Setup Assistant does (each joint at 0
+    when within its limits, else mid-range) instead of the XRDF's, to compare like with like.
     ``jobs`` worker processes share a large sample (same result for any ``jobs``; given
     ``configs`` are always checked in this process). ``certify`` decides the "never" pairs
     over their whole joint box: proven, or "sometimes" with a witness configuration.
@@ -357,7 +365,11 @@ def self_collision_report(
     diags: list[Diagnostic] = [*kin_diags, *sdiags]
     cspace = _cspace_joints(kin, xrdf)
     defaults = xrdf.default_joint_positions
-    q_default = default_configuration(kin, defaults)
+    if moveit:  # like MoveIt's Setup Assistant: 0 when within the limits, else mid-range
+        q_default = moveit_default_configuration(kin)
+        defaults = FrozenMap(zip(kin.actuated_joints, map(float, q_default), strict=True))
+    else:
+        q_default = default_configuration(kin, defaults)
 
     adjacent = adjacent_frame_pairs(kin, spheres_all.frame_names)
     pair_names = list(spheres_all.frame_pair_names())
@@ -443,6 +455,7 @@ def self_collision_report(
                 classification=cls,
                 recommendation=rec,
                 note=note,
+                joints_on_path=len(kin.joints_on_path(a, b)),
             )
         )
 

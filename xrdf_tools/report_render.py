@@ -11,6 +11,7 @@ import io
 import json
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +22,7 @@ from .yaml_io import write_atomic
 
 __all__ = [
     "SCHEMA_VERSION",
+    "ReportView",
     "render_html",
     "render_json",
     "render_markdown",
@@ -116,13 +118,42 @@ def render_json(r: Report) -> str:
 # ------------------------------------------------------------------------------------------
 # Shared pieces
 # ------------------------------------------------------------------------------------------
-_HEADER = ("frame A", "frame B", "mask", "class", "hits", "rate (95% UB)", "min clr mm", "advice")
+_HEADER = (
+    "frame A",
+    "frame B",
+    "joints",
+    "mask",
+    "class",
+    "hits",
+    "rate (95% UB)",
+    "min clr mm",
+    "advice",
+)
+
+
+@dataclass(frozen=True)
+class ReportView:
+    """What the text, Markdown and HTML renderings show (JSON always holds everything).
+
+    ``only``: ``"all"``, ``"pairs"`` (the table) or ``"findings"``; ``min_rate``: table rows
+    whose collision rate is at least this (pairs that were not sampled are left out when it is
+    above 0), so that a PR2-size report shows the pairs that matter.
+    """
+
+    only: str = "all"
+    min_rate: float = 0.0
+
+    def rows(self, r: Report) -> list[PairStat]:
+        if self.min_rate <= 0.0:
+            return list(r.pairs)
+        return [p for p in r.pairs if p.rate is not None and p.rate >= self.min_rate]
 
 
 def _row(p: PairStat) -> tuple[str, ...]:
     return (
         p.frame_a,
         p.frame_b,
+        str(p.joints_on_path),
         "ignored" if p.masked else "checked",
         p.classification,
         "-" if p.hits is None else str(p.hits),
@@ -210,14 +241,13 @@ def _coverage_lines(r: Report) -> list[str]:
 # ------------------------------------------------------------------------------------------
 # Text / Markdown / HTML
 # ------------------------------------------------------------------------------------------
-def render_text(r: Report) -> str:
+def render_text(r: Report, view: ReportView = ReportView()) -> str:
     lines = _summary_lines(r)
     lines.append("")
-    lines.append("spheres per frame: " + ", ".join(f"{f} {n}" for f, n in r.sphere_counts.items()))
-    lines.append("")
-    if r.pairs:
-        lines += _table([_HEADER, *(_row(p) for p in r.pairs)])
-        lines.append("")
+    if view.only != "findings":
+        lines += _pair_table_lines(r, view)
+    if view.only == "pairs":
+        return "\n".join(lines) + "\n"
     lines += _trajectory_lines(r, _TEXT_TRAJECTORY_LIMIT)
     lines += _mask_lines(r)
     lines += _coverage_lines(r)
@@ -232,11 +262,23 @@ def render_text(r: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _pair_table_lines(r: Report, view: ReportView) -> list[str]:
+    lines = ["spheres per frame: " + ", ".join(f"{f} {n}" for f, n in r.sphere_counts.items())]
+    lines.append("")
+    rows = view.rows(r)
+    if rows:
+        lines += _table([_HEADER, *(_row(p) for p in rows)])
+        lines.append("")
+    if len(rows) < len(r.pairs):
+        lines += [f"({len(r.pairs) - len(rows)} pair(s) below --min-rate not shown)", ""]
+    return lines
+
+
 def _md_cell(s: str) -> str:
     return s.replace("|", "\\|")
 
 
-def render_markdown(r: Report) -> str:
+def render_markdown(r: Report, view: ReportView = ReportView()) -> str:
     out = ["# Self-collision report", ""]
     out += [f"- {_md_cell(s)}" for s in _summary_lines(r)]
     out += ["", "## Spheres per frame", "", "| frame | spheres |", "|---|---:|"]
@@ -244,7 +286,7 @@ def render_markdown(r: Report) -> str:
     out += ["", "## Frame pairs", ""]
     out.append("| " + " | ".join(_HEADER) + " |")
     out.append("|" + "---|" * len(_HEADER))
-    out += ["| " + " | ".join(_md_cell(c) for c in _row(p)) + " |" for p in r.pairs]
+    out += ["| " + " | ".join(_md_cell(c) for c in _row(p)) + " |" for p in view.rows(r)]
     traj = _trajectory_lines(r, None)
     if traj:
         out += ["", "## Trajectory check", "", *(f"    {t}" for t in traj)]
@@ -272,7 +314,7 @@ _CLASS_COLOUR = {
 }
 
 
-def render_html(r: Report) -> str:
+def render_html(r: Report, view: ReportView = ReportView()) -> str:
     e = html.escape
     out = [
         "<!DOCTYPE html>",
@@ -288,7 +330,7 @@ def render_html(r: Report) -> str:
         *(f"<th>{e(h)}</th>" for h in _HEADER),
         "</tr>",
     ]
-    for p in r.pairs:
+    for p in view.rows(r):
         colour = _CLASS_COLOUR.get(p.classification, "#ffffff")
         out.append(
             f'<tr style="background:{colour}">' + "".join(f"<td>{e(c)}</td>" for c in _row(p))

@@ -41,6 +41,12 @@ class MaskPolicy(str, Enum):
     sampled = "sampled"
 
 
+class ReportPart(str, Enum):
+    all = "all"
+    pairs = "pairs"
+    findings = "findings"
+
+
 class SamplerChoice(str, Enum):
     uniform = "uniform"
     halton = "halton"
@@ -153,6 +159,29 @@ def command(
             "(implies --certify); sampled: also when sampling never saw it collide.",
         ),
     ] = MaskPolicy.sampled,
+    moveit: Annotated[
+        bool,
+        typer.Option(
+            "--moveit",
+            help="Judge the default pose as MoveIt's Setup Assistant does (each joint at 0 when "
+            "within its limits, else mid-range) instead of the XRDF's defaults, to compare with "
+            "an SRDF's disable_collisions like with like.",
+        ),
+    ] = False,
+    only: Annotated[
+        ReportPart,
+        typer.Option("--only", help="Text/Markdown/HTML: show only the pair table or findings."),
+    ] = ReportPart.all,
+    min_rate: Annotated[
+        float,
+        typer.Option(
+            "--min-rate",
+            min=0.0,
+            max=1.0,
+            help="Text/Markdown/HTML: list only pairs colliding in at least this fraction of "
+            "configurations (e.g. 0.001); JSON keeps every pair.",
+        ),
+    ] = 0.0,
     strict: Annotated[bool, typer.Option("--strict", help="Warnings also exit 1.")] = False,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
@@ -162,6 +191,7 @@ def command(
     from ..engine import default_jobs
     from ..report import CertifyOptions, recommended_xrdf, self_collision_report
     from ..report_render import (
+        ReportView,
         render_html,
         render_json,
         render_markdown,
@@ -212,17 +242,21 @@ def command(
                     if certify or mask_policy is MaskPolicy.proven
                     else None
                 ),
+                moveit=moveit,
             )
         finally:
             if bar is not None:
                 bar.stop()  # type: ignore[attr-defined]
-        renderer = {
-            ReportFormat.text: render_text,
-            ReportFormat.json: render_json,
-            ReportFormat.markdown: render_markdown,
-            ReportFormat.html: render_html,
-        }[output_format]
-        text = renderer(report)
+        view = ReportView(only.value, min_rate)
+        if output_format is ReportFormat.json:
+            text = render_json(report)
+        else:
+            renderer = {
+                ReportFormat.text: render_text,
+                ReportFormat.markdown: render_markdown,
+                ReportFormat.html: render_html,
+            }[output_format]
+            text = renderer(report, view)
         if write_mask is not None:
             new = recommended_xrdf(x, report)
             write_atomic(write_mask, dump_xrdf(new))
