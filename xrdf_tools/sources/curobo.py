@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeGuard
 
@@ -149,6 +150,33 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
     return d
 
 
+@dataclass
+class _Kin:
+    """One ``kinematics`` mapping being read: where it is, what it says, where it goes."""
+
+    data: Mapping[str, Any]
+    tree: RobotTree
+    d: Draft
+    rep: Reporter
+    prefix: str
+    config_path: Path
+    frames: list[str]
+
+    def kp(self, *parts: object) -> str:
+        return ".".join([self.prefix, *(str(p) for p in parts)])
+
+    def fail(self, message: str, *parts: object) -> SourceError:
+        """A :class:`SourceError` located at ``kinematics.<parts>``."""
+        return SourceError(message, path=self.rep.path, line=self.rep.position(self.kp(*parts))[0])
+
+    def mapping(self, key: str) -> Mapping[str, Any]:
+        """``kinematics.<key>`` as a mapping (absent or null: empty)."""
+        value = self.data.get(key) or {}
+        if not isinstance(value, Mapping):
+            raise self.fail(f"{key} must be a mapping", key)
+        return value
+
+
 def _read_kinematics(
     kin: Mapping[str, Any],
     layout: str,
@@ -158,57 +186,54 @@ def _read_kinematics(
     prefix: str,
     config_path: Path,
 ) -> None:
-    def kp(*parts: object) -> str:
-        return ".".join([prefix, *(str(p) for p in parts)])
-
+    k = _Kin(kin, tree, d, rep, prefix, config_path, list(tree.links))
     for key in kin:
         if key not in SILENT_KEYS and key not in HANDLED_KEYS and not str(key).startswith("usd"):
-            rep.report(
-                "convert-dropped-key",
-                f"'{key}' has no XRDF equivalent; dropped",
-                kp(key),
-            )
+            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", k.kp(key))
+    _read_extra_links(k)  # first: they add frames the rest may refer to
+    _read_base_and_tools(k)
+    _read_cspace(k)
+    _read_sphere_source(k)
+    _read_slots(
+        kin.get("extra_collision_spheres"), k.frames, d, rep, k.kp("extra_collision_spheres")
+    )
+    _read_buffers(k)
+    _read_ignore(k)
 
-    # extra links first: they add frames that the rest may refer to
-    frames = list(tree.links)
-    extra = kin.get("extra_links") or {}
-    if not isinstance(extra, Mapping):
-        raise SourceError(
-            "extra_links must be a mapping", path=rep.path, line=rep.position(kp("extra_links"))[0]
-        )
-    for name, spec in extra.items():
-        w = kp("extra_links", name)
+
+def _read_extra_links(k: _Kin) -> None:
+    for name, spec in k.mapping("extra_links").items():
+        w = k.kp("extra_links", name)
         if not isinstance(spec, Mapping):
-            raise SourceError(
-                f"extra_links.{name} must be a mapping", path=rep.path, line=rep.position(w)[0]
-            )
+            raise k.fail(f"extra_links.{name} must be a mapping", "extra_links", name)
         parent = str(spec.get("parent_link_name", ""))
         link = str(spec.get("link_name") or name)
-        if not known_frame(parent, frames, rep, f"{w}.parent_link_name", "extra link parent"):
+        if not known_frame(parent, k.frames, k.rep, f"{w}.parent_link_name", "extra link parent"):
             continue
         ft = spec.get("fixed_transform") or [0, 0, 0, 1, 0, 0, 0]
         if not (isinstance(ft, list) and len(ft) == 7 and all(_is_num(v) for v in ft)):
-            raise SourceError(
+            raise k.fail(
                 f"extra_links.{name}.fixed_transform must be [x, y, z, qw, qx, qy, qz]",
-                path=rep.path,
-                line=rep.position(f"{w}.fixed_transform")[0],
+                "extra_links",
+                name,
+                "fixed_transform",
             )
         jt = str(spec.get("joint_type", "FIXED"))
         if jt.upper() != "FIXED":
-            rep.report(
+            k.rep.report(
                 "convert-dropped-key",
                 f"extra link '{name}' has joint_type '{jt}'; XRDF add_frame is always FIXED",
                 f"{w}.joint_type",
             )
-        if link in frames:
-            rep.report(
+        if link in k.frames:
+            k.rep.report(
                 "convert-duplicate-frame",
                 f"extra link '{link}' already exists in the URDF; not added",
                 w,
             )
             continue
         x, y, z, qw, qx, qy, qz = (float(v) for v in ft)
-        d.modifiers.append(
+        k.d.modifiers.append(
             AddFrame(
                 frame_name=link,
                 parent_frame_name=parent,
@@ -218,149 +243,140 @@ def _read_kinematics(
                 joint_type="FIXED",
             )
         )
-        frames.append(link)
+        k.frames.append(link)
 
-    base = kin.get("base_link")
-    base_ok = base is not None and known_frame(str(base), frames, rep, kp("base_link"), "base_link")
-    if base_ok:  # written even when it is the URDF root, as cuRobo's own XRDFs do
-        d.modifiers.insert(0, SetBaseFrame(str(base)))
 
-    # tool frames
+def _read_base_and_tools(k: _Kin) -> None:
+    base = k.data.get("base_link")
+    if base is not None and known_frame(str(base), k.frames, k.rep, k.kp("base_link"), "base_link"):
+        k.d.modifiers.insert(0, SetBaseFrame(str(base)))  # also the root: cuRobo's XRDFs do
     tools: list[tuple[str, str]] = []
-    if "tool_frames" in kin and kin["tool_frames"] is not None:
-        tf = kin["tool_frames"]
+    if k.data.get("tool_frames") is not None:
+        tf = k.data["tool_frames"]
         tf = tf if isinstance(tf, list) else [tf]
-        tools += [(str(t), kp("tool_frames", f"[{i}]")) for i, t in enumerate(tf)]
-    if kin.get("ee_link"):
-        tools.insert(0, (str(kin["ee_link"]), kp("ee_link")))
-    for i, t in enumerate(kin.get("link_names") or []):
-        tools.append((str(t), kp("link_names") + f"[{i}]"))
+        tools += [(str(t), k.kp("tool_frames", f"[{i}]")) for i, t in enumerate(tf)]
+    if k.data.get("ee_link"):
+        tools.insert(0, (str(k.data["ee_link"]), k.kp("ee_link")))
+    for i, t in enumerate(k.data.get("link_names") or []):
+        tools.append((str(t), k.kp("link_names") + f"[{i}]"))
     for t, where in tools:
-        if known_frame(t, frames, rep, where, "tool frame") and t not in d.tool_frames:
-            d.tool_frames.append(t)
+        if known_frame(t, k.frames, k.rep, where, "tool frame") and t not in k.d.tool_frames:
+            k.d.tool_frames.append(t)
 
-    # c-space
-    cs = kin.get("cspace") or {}
-    if not isinstance(cs, Mapping):
-        raise SourceError(
-            "cspace must be a mapping", path=rep.path, line=rep.position(kp("cspace"))[0]
-        )
+
+def _per_joint(k: _Kin, names: list[str], value: Any, key: str) -> dict[str, float]:
+    """A scalar (broadcast) or one value per c-space joint, by joint name."""
+    if value is None:
+        return {}
+    if _is_num(value):
+        return {n: float(value) for n in names}
+    if isinstance(value, list) and all(_is_num(v) for v in value):
+        if len(value) != len(names):
+            raise k.fail(
+                f"cspace.{key} has {len(value)} values for {len(names)} joints", "cspace", key
+            )
+        return {n: float(v) for n, v in zip(names, value, strict=True)}
+    raise k.fail(f"cspace.{key} must be a number or a list of numbers", "cspace", key)
+
+
+def _read_cspace(k: _Kin) -> None:
+    cs = k.mapping("cspace")
     for key in cs:
         if key not in CSPACE_KEYS:
-            rep.report(
+            k.rep.report(
                 "convert-dropped-key",
                 f"cspace.{key} has no XRDF equivalent; dropped",
-                kp("cspace", key),
+                k.kp("cspace", key),
             )
     names = [str(n) for n in (cs.get("joint_names") or [])]
-    locks = kin.get("lock_joints") or {}
-    if not isinstance(locks, Mapping):
-        raise SourceError(
-            "lock_joints must be a mapping", path=rep.path, line=rep.position(kp("lock_joints"))[0]
-        )
+    locks = k.mapping("lock_joints")
     default_key = "default_joint_position" if "default_joint_position" in cs else "retract_config"
     defaults = cs.get(default_key)
-    accel = cs.get("max_acceleration")
-    jerk = cs.get("max_jerk")
-
-    def per_joint(value: Any, key: str) -> dict[str, float]:
-        if value is None:
-            return {}
-        if _is_num(value):
-            return {n: float(value) for n in names}
-        if isinstance(value, list) and all(_is_num(v) for v in value):
-            if len(value) != len(names):
-                raise SourceError(
-                    f"cspace.{key} has {len(value)} values for {len(names)} joints",
-                    path=rep.path,
-                    line=rep.position(kp("cspace", key))[0],
-                )
-            return {n: float(v) for n, v in zip(names, value, strict=True)}
-        raise SourceError(
-            f"cspace.{key} must be a number or a list of numbers",
-            path=rep.path,
-            line=rep.position(kp("cspace", key))[0],
-        )
-
-    acc_map = per_joint(accel, "max_acceleration")
-    jerk_map = per_joint(jerk, "max_jerk")
-    def_map = per_joint(defaults, default_key) if isinstance(defaults, list) else {}
     if defaults is not None and not isinstance(defaults, list):
-        raise SourceError(
-            f"cspace.{default_key} must be a list",
-            path=rep.path,
-            line=rep.position(kp("cspace", default_key))[0],
-        )
+        raise k.fail(f"cspace.{default_key} must be a list", "cspace", default_key)
+    acc_map = _per_joint(k, names, cs.get("max_acceleration"), "max_acceleration")
+    jerk_map = _per_joint(k, names, cs.get("max_jerk"), "max_jerk")
+    def_map = _per_joint(k, names, defaults, default_key)
+    cspace = _cspace_joints(k, names, locks)
+    k.d.cspace = cspace
+    for n in cspace:
+        for source, target in (
+            (acc_map, k.d.acceleration),
+            (jerk_map, k.d.jerk),
+            (def_map, k.d.defaults),
+        ):
+            if n in source:
+                target[n] = source[n]
+    _read_locks(k, locks)
 
+
+def _cspace_joints(k: _Kin, names: list[str], locks: Mapping[str, Any]) -> list[str]:
+    """The actuated, unlocked c-space joints; the others reported. Raises when none of the
+    names is a URDF joint: the config and the URDF describe different robots."""
+    if names and not any(n in k.tree.joints for n in names):
+        raise k.fail(
+            f"none of the {len(names)} c-space joints ({', '.join(names[:4])}"
+            f"{', ...' if len(names) > 4 else ''}) is a joint of {Path(k.tree.path).name}: "
+            "the config and the URDF describe different robots",
+            "cspace",
+            "joint_names",
+        )
     cspace: list[str] = []
     for i, n in enumerate(names):
-        where = kp("cspace", "joint_names") + f"[{i}]"
-        j = tree.joints.get(n)
+        where = k.kp("cspace", "joint_names") + f"[{i}]"
+        j = k.tree.joints.get(n)
         if j is None:
-            rep.report(
+            k.rep.report(
                 "convert-unknown-joint",
-                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, tree.joints)}; dropped",
+                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, k.tree.joints)}; dropped",
                 where,
             )
+        elif n in locks:
             continue
-        if n in locks:
-            continue
-        if not j.is_actuated:
-            rep.report(
+        elif not j.is_actuated:
+            k.rep.report(
                 "convert-dropped-joint",
                 f"c-space joint '{n}' is {'a mimic' if j.is_mimic else j.type} joint; "
                 "XRDF c-space holds only actuated joints; dropped",
                 where,
             )
-            continue
-        cspace.append(n)
-    if names and not cspace and not any(n in tree.joints for n in names):
-        raise SourceError(
-            f"none of the {len(names)} c-space joints ({', '.join(names[:4])}"
-            f"{', ...' if len(names) > 4 else ''}) is a joint of {Path(tree.path).name}: "
-            "the config and the URDF describe different robots",
-            path=rep.path,
-            line=rep.position(kp("cspace", "joint_names"))[0],
-        )
-    d.cspace = cspace
-    for n in cspace:
-        if n in acc_map:
-            d.acceleration[n] = acc_map[n]
-        if n in jerk_map:
-            d.jerk[n] = jerk_map[n]
-        if n in def_map:
-            d.defaults[n] = def_map[n]
+        else:
+            cspace.append(n)
+    return cspace
+
+
+def _read_locks(k: _Kin, locks: Mapping[str, Any]) -> None:
     for n, v in locks.items():
-        where = kp("lock_joints", n)
-        j = tree.joints.get(str(n))
+        where = k.kp("lock_joints", n)
+        j = k.tree.joints.get(str(n))
         if j is None:
-            rep.report(
+            k.rep.report(
                 "convert-unknown-joint",
-                f"locked joint '{n}' is not in the URDF{did_you_mean(str(n), tree.joints)}; "
+                f"locked joint '{n}' is not in the URDF{did_you_mean(str(n), k.tree.joints)}; "
                 "dropped",
                 where,
             )
         elif not _is_num(v):
-            raise SourceError(
-                f"lock_joints.{n} must be a number", path=rep.path, line=rep.position(where)[0]
-            )
+            raise k.fail(f"lock_joints.{n} must be a number", "lock_joints", n)
         elif j.is_actuated:
-            d.defaults[str(n)] = float(v)
+            k.d.defaults[str(n)] = float(v)
         else:
-            rep.report(
+            k.rep.report(
                 "convert-dropped-joint-value",
                 f"locked joint '{n}' is not actuated; its value is not written",
                 where,
                 severity=Severity.INFO,
             )
 
-    # spheres
-    spheres_value = kin.get("collision_spheres")
-    raw_spheres: Mapping[str, Any] | None = None
-    srep = rep
-    sprefix = kp("collision_spheres")
-    if isinstance(spheres_value, str):
-        sphere_file = _find_spheres_file(spheres_value, config_path, rep, kp("collision_spheres"))
+
+def _read_sphere_source(k: _Kin) -> None:
+    """``collision_spheres``: inline, or a file beside the config; restricted to
+    ``collision_link_names`` as cuRobo does."""
+    value = k.data.get("collision_spheres")
+    raw: Mapping[str, Any] | None = None
+    srep, sprefix = k.rep, k.kp("collision_spheres")
+    if isinstance(value, str):
+        sphere_file = _find_spheres_file(value, k.config_path, k.rep, sprefix)
         sdoc, srep = _load(sphere_file)
         sdata = to_python(sdoc.root)
         if not isinstance(sdata, Mapping) or not isinstance(
@@ -371,71 +387,56 @@ def _read_kinematics(
                 path=sdoc.path,
                 line=1,
             )
-        raw_spheres = sdata["collision_spheres"]
-        sprefix = "collision_spheres"
-    elif isinstance(spheres_value, Mapping):
-        raw_spheres = spheres_value
-    elif spheres_value is not None:
-        raise SourceError(
+        raw, sprefix = sdata["collision_spheres"], "collision_spheres"
+    elif isinstance(value, Mapping):
+        raw = value
+    elif value is not None:
+        raise k.fail(
             "collision_spheres must be a file path or a mapping of link → spheres",
-            path=rep.path,
-            line=rep.position(kp("collision_spheres"))[0],
+            "collision_spheres",
         )
-    coll_links = kin.get("collision_link_names")
+    coll_links = k.data.get("collision_link_names")
     allowed = None if coll_links is None else {str(c) for c in coll_links}
-    if raw_spheres is not None:
-        d.spheres = _read_sphere_map(raw_spheres, frames, srep, sprefix, allowed)
-        if srep is not rep:
-            d.diagnostics.extend(srep.diagnostics)
-        for i, c in enumerate(coll_links or []):
-            if str(c) not in frames:
-                known_frame(
-                    str(c), frames, rep, kp("collision_link_names") + f"[{i}]", "collision link"
-                )
-    _read_slots(kin.get("extra_collision_spheres"), frames, d, rep, kp("extra_collision_spheres"))
+    if raw is None:
+        return
+    k.d.spheres = _read_sphere_map(raw, k.frames, srep, sprefix, allowed)
+    if srep is not k.rep:
+        k.d.diagnostics.extend(srep.diagnostics)
+    for i, c in enumerate(coll_links or []):
+        if str(c) not in k.frames:
+            where = k.kp("collision_link_names") + f"[{i}]"
+            known_frame(str(c), k.frames, k.rep, where, "collision link")
 
-    # buffers
-    sphere_frames = list((d.spheres or {}).keys())
-    buf = kin.get("collision_sphere_buffer")
-    if _is_num(buf):
-        if float(buf) != 0.0:
-            d.world_buffer.update({f: float(buf) for f in sphere_frames})
-    elif isinstance(buf, Mapping):
-        for f, v in buf.items():
-            w = kp("collision_sphere_buffer", f)
-            ok = known_frame(str(f), frames, rep, w, "collision_sphere_buffer")
-            if ok and _is_num(v) and float(v) != 0.0:
-                d.world_buffer[str(f)] = float(v)
-    elif buf is not None:
-        raise SourceError(
-            "collision_sphere_buffer must be a number or a mapping",
-            path=rep.path,
-            line=rep.position(kp("collision_sphere_buffer"))[0],
-        )
-    sbuf = kin.get("self_collision_buffer") or {}
-    if isinstance(sbuf, Mapping):
-        for f, v in sbuf.items():
-            w = kp("self_collision_buffer", f)
-            ok = known_frame(str(f), frames, rep, w, "self_collision_buffer")
-            if ok and _is_num(v) and float(v) != 0.0:
-                d.self_buffer[str(f)] = float(v)
-    elif _is_num(sbuf) and float(sbuf) != 0.0:
-        d.self_buffer.update({f: float(sbuf) for f in sphere_frames})
 
-    ign = kin.get("self_collision_ignore") or {}
-    if not isinstance(ign, Mapping):
-        raise SourceError(
-            "self_collision_ignore must be a mapping of link → [links]",
-            path=rep.path,
-            line=rep.position(kp("self_collision_ignore"))[0],
-        )
-    for a, others in ign.items():
-        w = kp("self_collision_ignore", a)
-        if not known_frame(str(a), frames, rep, w, "self_collision_ignore key"):
+def _read_buffers(k: _Kin) -> None:
+    """``collision_sphere_buffer`` (scalar: every sphere frame) and ``self_collision_buffer``;
+    zero buffers are not written."""
+    sphere_frames = list((k.d.spheres or {}).keys())
+    for key, target in (
+        ("collision_sphere_buffer", k.d.world_buffer),
+        ("self_collision_buffer", k.d.self_buffer),
+    ):
+        buf = k.data.get(key)
+        if _is_num(buf):
+            if float(buf) != 0.0:
+                target.update({f: float(buf) for f in sphere_frames})
+        elif isinstance(buf, Mapping):
+            for f, v in buf.items():
+                ok = known_frame(str(f), k.frames, k.rep, k.kp(key, f), key)
+                if ok and _is_num(v) and float(v) != 0.0:
+                    target[str(f)] = float(v)
+        elif buf is not None:
+            raise k.fail(f"{key} must be a number or a mapping", key)
+
+
+def _read_ignore(k: _Kin) -> None:
+    for a, others in k.mapping("self_collision_ignore").items():
+        w = k.kp("self_collision_ignore", a)
+        if not known_frame(str(a), k.frames, k.rep, w, "self_collision_ignore key"):
             continue
         for i, b in enumerate(others or []):
-            if known_frame(str(b), frames, rep, f"{w}[{i}]", f"ignored with '{a}'"):
-                d.add_ignore(str(a), str(b))
+            if known_frame(str(b), k.frames, k.rep, f"{w}[{i}]", f"ignored with '{a}'"):
+                k.d.add_ignore(str(a), str(b))
 
 
 #: Radius cuRobo gives the spheres of ``extra_collision_spheres`` (attached-object slots).
