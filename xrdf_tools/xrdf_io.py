@@ -40,6 +40,7 @@ from .yaml_io import (
     YNode,
     YScalar,
     YSeq,
+    describe_node,
     load_yaml,
     node_positions,
     parse_yaml,
@@ -61,6 +62,11 @@ TOP_LEVEL_ORDER = (
     "self_collision",
     "geometry",
 )
+
+
+#: Largest length or coordinate accepted in an XRDF, in metres (sphere centres and radii,
+#: buffer distances, added frame positions): far beyond any robot, far below overflow.
+MAX_LENGTH = 1e6
 
 
 class _Reader:
@@ -116,6 +122,17 @@ class _Reader:
             return float(node.value)
         raise self.fail(node, f"{what} must be a number, not {describe(node)}")
 
+    def length(self, node: YNode | None, what: str) -> float:
+        """A number that is a length or coordinate in metres: finite and within
+        ±:data:`MAX_LENGTH` (beyond that, squared distances overflow)."""
+        v = self.number(node, what)
+        if math.isnan(v) or abs(v) > MAX_LENGTH:
+            raise self.fail(
+                node,
+                f"{what} is {v:g}; lengths must be finite and within ±{MAX_LENGTH:g} m",
+            )
+        return v
+
     def numbers(
         self, node: YNode | None, what: str, length: int | None = None
     ) -> tuple[float, ...]:
@@ -145,22 +162,9 @@ class _Reader:
 
 
 def describe(node: YNode | None) -> str:
-    """Human name of a node's type: 'a mapping', 'a list', 'the number 0.1', 'null' …"""
-    if node is None:
-        return "missing"
-    if isinstance(node, YMap):
-        return "a mapping"
-    if isinstance(node, YSeq):
-        return "a list"
-    assert isinstance(node, YScalar)
-    v = node.value
-    if v is None:
-        return "null"
-    if isinstance(v, bool):
-        return f"the boolean {str(v).lower()}"
-    if isinstance(v, (int, float)):
-        return f"the number {v}"
-    return f"the string '{v}'"
+    """Human name of a node's type: 'a mapping', 'a list', 'the number 0.1', 'null' …
+    (strings escaped and shortened: see :func:`xrdf_tools.yaml_io.describe_node`)."""
+    return describe_node(node)
 
 
 def version_string(node: YNode | None) -> str | None:
@@ -258,7 +262,12 @@ def xrdf_from_document(doc: YamlDocument) -> Xrdf:
 
 
 def _read_vec3(r: _Reader, node: YNode | None, what: str) -> Vec3:
-    x, y, z = r.numbers(node, what, 3)
+    """A position in metres (see :meth:`_Reader.length`)."""
+    seq = r.sequence(node, what, nullable=False)
+    assert seq is not None
+    if len(seq) != 3:
+        raise r.fail(seq, f"{what} must have exactly 3 numbers, found {len(seq)}")
+    x, y, z = (r.length(item, f"{what}[{i}]") for i, item in enumerate(seq))
     return (x, y, z)
 
 
@@ -391,7 +400,7 @@ def _read_spheres(r: _Reader, node: YNode, what: str) -> tuple[Sphere, ...]:
         m = r.mapping(item, w, nullable=False)
         assert m is not None
         center = _read_vec3(r, _required(r, m, "center", f"sphere {w}"), f"{w}.center")
-        radius = r.number(_required(r, m, "radius", f"sphere {w}"), f"{w}.radius")
+        radius = r.length(_required(r, m, "radius", f"sphere {w}"), f"{w}.radius")
         out.append(Sphere(center, radius))
     return tuple(out)
 
@@ -432,7 +441,7 @@ def _read_buffers(
 ) -> FrozenMap[str, float]:
     if isinstance(node, YScalar) and node.value is not None:
         # cuRobo accepts a single number for every frame: expand it over the group's frames.
-        value = r.number(node, what)
+        value = r.length(node, what)
         frames: Sequence[str] = ()
         if geometry and group in geometry:
             try:
@@ -440,7 +449,7 @@ def _read_buffers(
             except SchemaError:
                 frames = []
         return FrozenMap((f, value) for f in frames)
-    return r.frame_map(node, what, r.number)
+    return r.frame_map(node, what, r.length)
 
 
 def _read_world(

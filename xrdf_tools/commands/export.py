@@ -93,11 +93,12 @@ def srdf(
 ) -> None:
     """Write self-collision ignore pairs as SRDF disable_collisions (reason "User")."""
     from ..export import to_srdf
+    from ..fileio import read_input_bytes
     from ..xrdf_io import load_xrdf
 
     try:
         x = load_xrdf(xrdf)
-        existing = merge.read_bytes() if merge is not None else None
+        existing = None if merge is None else read_input_bytes(merge, what="SRDF file")
         text = to_srdf(x, robot_name or xrdf.stem.split(".")[0], existing)
     except OSError as e:
         fail(f"{merge}: cannot read: {e.strerror or e}")
