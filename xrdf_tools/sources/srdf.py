@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 from ..diagnostics import Severity
 from ..errors import SourceError, did_you_mean
+from ..fileio import read_input_bytes
+from ..graph import reachable
 from ..model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 
@@ -80,11 +81,7 @@ class Srdf:
 def load_srdf(path: str | os.PathLike[str]) -> Srdf:
     """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used."""
     p = os.fspath(path)
-    try:
-        data = Path(p).read_bytes()
-    except OSError as e:
-        raise SourceError(f"cannot read SRDF: {e.strerror or e}", path=p) from None
-    return parse_srdf(data, p)
+    return parse_srdf(read_input_bytes(p, what="SRDF file", error=SourceError), p)
 
 
 def parse_srdf(data: bytes | str, path: str = "<srdf>") -> Srdf:
@@ -229,11 +226,7 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     def fail(msg: str, g: SrdfGroup) -> SourceError:
         return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
 
-    def visit(gname: str, stack: tuple[str, ...]) -> None:
-        if gname in stack:
-            raise SourceError(
-                f"groups include each other: {' -> '.join((*stack, gname))}", path=srdf.path
-            )
+    def visit(gname: str) -> None:
         g = _group(srdf, gname)
         for j in g.joints:
             if j not in tree.joints:
@@ -251,17 +244,21 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
                         f"chain link '{link}' is not in the URDF{did_you_mean(link, tree.links)}",
                         g,
                     )
-            cur = tip
-            while cur != base:
-                if cur not in tree.parent_joint:
-                    raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'", g)
-                jn = tree.parent_joint[cur]
-                found.add(jn)
-                cur = tree.joints[jn].parent
-        for sub in g.subgroups:
-            visit(sub, (*stack, gname))
+            chain = tree.chain_joints(base, tip)
+            if chain is None:
+                raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'", g)
+            found.update(chain)
 
-    visit(name, ())
+    # subgroups: each visited once, without recursion (1,000s of nested groups are fine)
+    members, cycle = reachable(name, lambda gname: _group(srdf, gname).subgroups)
+    if cycle is not None:
+        raise SourceError(
+            f"groups include each other: {' -> '.join(cycle)}",
+            path=srdf.path,
+            line=srdf.groups[cycle[0]].line,
+        )
+    for gname in members:
+        visit(gname)
     return [j for j in tree.dfs_joints() if j in found]
 
 

@@ -1,0 +1,65 @@
+"""Cycle-safe graph walks without recursion: every walk over names that a file links together
+(URDF parent links, SRDF subgroups, geometry clones, mimic chains) goes through here or keeps
+its own visited set, so a cycle or a very deep chain in the input is an error, never a hang or
+a ``RecursionError``."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Hashable, Iterable, Iterator
+from typing import TypeVar
+
+__all__ = ["find_cycle", "reachable"]
+
+T = TypeVar("T", bound=Hashable)
+_OPEN, _DONE = 1, 2
+
+
+def _dfs(
+    start: T, children: Callable[[T], Iterable[T]], state: dict[T, int], order: list[T]
+) -> list[T] | None:
+    """Depth-first from ``start`` (skipping nodes already in ``state``); appends nodes to
+    ``order`` in preorder; returns the first cycle as a closed path ``[a, b, a]`` or None."""
+    if start in state:
+        return None
+    state[start] = _OPEN
+    order.append(start)
+    path: list[T] = [start]
+    stack: list[Iterator[T]] = [iter(children(start))]
+    while stack:
+        nxt = next(stack[-1], None)
+        if nxt is None:
+            stack.pop()
+            state[path.pop()] = _DONE
+            continue
+        seen = state.get(nxt)
+        if seen == _OPEN:
+            return [*path[path.index(nxt) :], nxt]
+        if seen == _DONE:
+            continue
+        state[nxt] = _OPEN
+        order.append(nxt)
+        path.append(nxt)
+        stack.append(iter(children(nxt)))
+    return None
+
+
+def reachable(start: T, children: Callable[[T], Iterable[T]]) -> tuple[list[T], list[T] | None]:
+    """Every node reachable from ``start`` (``start`` first, depth-first preorder, each once)
+    and the first cycle met as a closed path ``[a, b, a]`` (None when there is none).
+
+    ``children`` may raise (e.g. for an unknown name); ``None`` is not a valid node.
+    """
+    order: list[T] = []
+    cycle = _dfs(start, children, {}, order)
+    return order, cycle
+
+
+def find_cycle(nodes: Iterable[T], children: Callable[[T], Iterable[T]]) -> list[T] | None:
+    """The first cycle reachable from any of ``nodes`` as a closed path, or None."""
+    state: dict[T, int] = {}
+    order: list[T] = []
+    for n in nodes:
+        cycle = _dfs(n, children, state, order)
+        if cycle is not None:
+            return cycle
+    return None
