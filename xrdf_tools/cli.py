@@ -6,6 +6,7 @@ turns library exceptions into one-line errors with exit code 2, and handles ``--
 
 from __future__ import annotations
 
+import signal
 import sys
 from typing import Annotated
 
@@ -63,8 +64,16 @@ app.command("spheres", short_help="Fit collision spheres to link meshes; coverag
 app.add_typer(export.app, name="export", help="XRDF → cuRobo robot YAML or MoveIt SRDF.")
 
 
+def _terminate(signum: int, _frame: object) -> None:
+    """SIGTERM/SIGHUP: unwind like an interrupt, so ``finally`` blocks remove temporary files."""
+    raise SystemExit(128 + signum)
+
+
 def main() -> None:
     """Console entry point: library errors become one line on stderr and exit code 2."""
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), _terminate)
     try:
         app()
     except XrdfToolsError as exc:

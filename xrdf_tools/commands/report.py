@@ -15,7 +15,13 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import XrdfToolsError
-from .common import EXIT_FINDINGS, fail, has_failures, refuse_input_overwrite
+from .common import (
+    EXIT_FINDINGS,
+    fail,
+    has_failures,
+    refuse_input_overwrite,
+    refuse_output_clash,
+)
 
 if TYPE_CHECKING:
     from ..report import ProgressFn
@@ -64,7 +70,7 @@ def command(
     samples: Annotated[
         int, typer.Option("--samples", "-n", min=1, help="Configurations to sample.")
     ] = 100_000,
-    seed: Annotated[int, typer.Option("--seed", help="Random seed of the sampler.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Random seed of the sampler.")] = 0,
     sampler: Annotated[
         SamplerChoice,
         typer.Option(
@@ -122,6 +128,7 @@ def command(
     from ..yaml_io import write_atomic
 
     inputs = [xrdf_file, urdf, configs]
+    refuse_output_clash({"--output": output, "--plot": plot, "--write-mask": write_mask})
     for out_path in (output, plot, write_mask):
         if out_path is not None:
             refuse_input_overwrite(out_path, inputs)

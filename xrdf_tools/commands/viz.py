@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import XrdfToolsError
-from .common import OutputFormat, fail, render_diagnostics, same_file
+from .common import OutputFormat, fail, refuse_input_overwrite, render_diagnostics
 
 if TYPE_CHECKING:
     from ..viz import Target
@@ -69,7 +69,7 @@ def command(
         bool,
         typer.Option("--buffered", help="Also draw the self-collision buffered radii."),
     ] = False,
-    seed: Annotated[int, typer.Option("--seed", help="Seed of --samples.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of --samples.")] = 0,
     package_path: Annotated[
         list[str] | None,
         typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
@@ -100,11 +100,7 @@ def command(
     if samples and configs is not None:
         fail("--samples and --configs cannot be combined; choose one")
     if out is not None:
-        for src in (xrdf_file, urdf, configs):
-            if src is not None and same_file(out, src):
-                fail(f"{out}: refusing to overwrite an input file; choose another output path")
-        if out.is_dir():
-            fail(f"{out}: is a directory; give a file name")
+        refuse_input_overwrite(out, [xrdf_file, urdf, configs])
 
     try:
         from ..kinematics import build_kinematic_model
