@@ -5,7 +5,8 @@ Reading (:func:`read_input_bytes`, :func:`read_input_text`, :func:`check_input_f
 * only a regular file is read: a directory, FIFO, device or socket is refused before a byte is
   read (reading ``/dev/zero`` or a FIFO would never end); ``-`` means standard input only where
   the caller allows it (``allow_stdin``);
-* at most :func:`max_input_bytes` bytes (16 MiB; ``XRDF_TOOLS_MAX_INPUT_MB`` changes it);
+* at most :func:`max_input_bytes` bytes (16 MiB; ``XRDF_TOOLS_MAX_INPUT_MB`` changes it; mesh
+  files 16 times that, tables of configurations 4 times);
 * text must be UTF-8: a bad byte is reported with its line and column.
 
 Writing (:func:`write_atomic`, :func:`atomic_output`): the data goes to a temporary file in the
@@ -37,6 +38,7 @@ __all__ = [
     "check_input_file",
     "check_output_path",
     "max_input_bytes",
+    "mesh_bytes_limit",
     "read_input_bytes",
     "read_input_text",
     "write_atomic",
@@ -65,6 +67,11 @@ def max_input_bytes() -> int:
     if not (math.isfinite(mb) and mb > 0):
         raise InputError(f"{ENV_MAX_INPUT}={raw!r} must be a positive number of MiB")
     return max(1, int(mb * (1 << 20)))
+
+
+def mesh_bytes_limit() -> int:
+    """The size limit of a mesh file: 16 times :func:`max_input_bytes` (256 MiB by default)."""
+    return 16 * max_input_bytes()
 
 
 def _kind(mode: int) -> str:
