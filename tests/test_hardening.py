@@ -701,3 +701,46 @@ def test_math_is_still_finite_for_in_range_values(tmp_path: Path) -> None:
 
     x = load_xrdf(UR10E_XRDF)
     assert all(math.isfinite(s.radius) for ss in x.world_collision_spheres().values() for s in ss)
+
+
+def _clone_chain(n: int, cycle: bool) -> str:
+    lines = ["format: xrdf", "format_version: 2.0", "geometry:"]
+    for i in range(n):
+        last = i == n - 1
+        clone = "[g0]" if last and cycle else f"[g{i + 1}]"
+        spheres = "    spheres: {a: [{center: [0, 0, 0], radius: 0.1}]}"
+        lines += [f"  g{i}:", spheres if last and not cycle else f"    clone: {clone}"]
+    lines += ["world_collision:", "  geometry: g0"]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("cycle", [False, True])
+def test_long_clone_chains_lint_in_linear_time(cycle: bool) -> None:
+    from xrdf_tools.lint import lint_text
+
+    start = time.monotonic()
+    diags = lint_text(_clone_chain(3000, cycle), "clones.xrdf")
+    assert time.monotonic() - start < 15
+    assert (sum(d.rule == "clone-cycle" for d in diags) == 3000) is cycle
+
+
+def test_clone_cycle_message_is_one_short_line() -> None:
+    from xrdf_tools.xrdf_io import parse_xrdf
+
+    x = parse_xrdf(_clone_chain(3000, True), "clones.xrdf")
+    with pytest.raises(
+        SchemaError,
+        match=r"clone each other: g0 -> .* \(2993 more\) -> g2997 -> g2998 -> g2999 -> g0",
+    ):
+        x.world_collision_spheres()
+
+
+def test_nodes_on_cycles() -> None:
+    from xrdf_tools.graph import nodes_on_cycles, show_path
+
+    edges = {"a": ["b"], "b": ["c", "a"], "c": ["c"], "d": ["a"], "e": []}
+    assert nodes_on_cycles(edges, edges.__getitem__) == {"a", "b", "c"}
+    chain = {i: [i + 1] for i in range(100_000)}
+    chain[100_000] = [0]
+    assert len(nodes_on_cycles(chain, chain.__getitem__)) == 100_001
+    assert show_path(range(20)) == "0 -> 1 -> 2 -> 3 -> ... (12 more) -> 16 -> 17 -> 18 -> 19"

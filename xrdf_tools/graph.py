@@ -5,13 +5,21 @@ a ``RecursionError``."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable, Iterable, Iterator
+from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
 from typing import TypeVar
 
-__all__ = ["find_cycle", "reachable"]
+__all__ = ["find_cycle", "nodes_on_cycles", "reachable", "show_path"]
 
 T = TypeVar("T", bound=Hashable)
 _OPEN, _DONE = 1, 2
+
+
+def show_path(path: Sequence[object], limit: int = 8) -> str:
+    """``a -> b -> c`` for a message, the middle left out of a long path (one short line)."""
+    names = [str(p) for p in path]
+    if len(names) > limit:
+        names = [*names[: limit // 2], f"... ({len(names) - limit} more)", *names[-limit // 2 :]]
+    return " -> ".join(names)
 
 
 def _dfs(
@@ -63,3 +71,52 @@ def find_cycle(nodes: Iterable[T], children: Callable[[T], Iterable[T]]) -> list
         if cycle is not None:
             return cycle
     return None
+
+
+def nodes_on_cycles(nodes: Iterable[T], children: Callable[[T], Iterable[T]]) -> set[T]:
+    """Every node that lies on a cycle (a node that reaches itself), in linear time.
+
+    Tarjan's strongly connected components, iteratively: a component of two or more nodes, or
+    one node that is its own child, is cyclic.
+    """
+    index: dict[T, int] = {}
+    low: dict[T, int] = {}
+    on_stack: set[T] = set()
+    stack: list[T] = []
+    out: set[T] = set()
+    for root in nodes:
+        if root in index:
+            continue
+        work: list[tuple[T, Iterator[T]]] = [(root, iter(children(root)))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, it = work[-1]
+            child = next(it, None)
+            if child is not None:
+                if child not in index:
+                    index[child] = low[child] = len(index)
+                    stack.append(child)
+                    on_stack.add(child)
+                    work.append((child, iter(children(child))))
+                elif child in on_stack:
+                    low[node] = min(low[node], index[child])
+                    if child == node:
+                        out.add(node)
+                continue
+            work.pop()
+            if work:
+                parent = work[-1][0]
+                low[parent] = min(low[parent], low[node])
+            if low[node] == index[node]:
+                component: list[T] = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    component.append(member)
+                    if member == node:
+                        break
+                if len(component) > 1:
+                    out.update(component)
+    return out

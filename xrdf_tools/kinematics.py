@@ -31,6 +31,7 @@ import numpy.typing as npt
 from .diagnostics import Diagnostic, Severity
 from .errors import UrdfError, did_you_mean
 from .frozen import FrozenMap
+from .graph import show_path
 from .model import AddFrame, RemoveMimicAttributes, SetBaseFrame, Xrdf
 from .urdf_source import JointInfo, joints_of, links_of, urdf_path
 
@@ -604,7 +605,7 @@ def _resolve_mimic(
         assert target is not None
         if target in seen:
             names = [c.name for c in chain]
-            loop = " -> ".join([*names[names.index(target) :], target])
+            loop = show_path([*names[names.index(target) :], target])
             raise uerr(f"mimic joints form a loop: {loop}", j.line)
         if target not in joints:
             if target in removed_by:

@@ -428,7 +428,7 @@ def _check_is_tree(
     fail: Callable[[str, Any], UrdfError],
 ) -> None:
     """Each link is the child of at most one joint, and parent links never loop back."""
-    from .graph import find_cycle
+    from .graph import find_cycle, show_path
 
     parent_of: dict[str, tuple[str, str]] = {}  # child link -> (joint, parent link)
     element: dict[str, Any] = {}
@@ -448,8 +448,8 @@ def _check_is_tree(
     if cycle is not None:
         joints = [parent_of[link][0] for link in cycle[:-1]]
         raise fail(
-            f"the joints form a cycle ({' -> '.join(reversed(cycle))}, through joints "
-            f"{', '.join(repr(j) for j in reversed(joints))}); a URDF must be a tree",
+            f"the joints form a cycle ({show_path(list(reversed(cycle)))}, through joints "
+            f"{show_path(list(reversed(joints)))}); a URDF must be a tree",
             element[joints[-1]],
         )
 

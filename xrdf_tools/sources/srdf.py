@@ -16,7 +16,7 @@ from typing import Any
 from ..diagnostics import Severity
 from ..errors import SourceError, did_you_mean
 from ..fileio import read_input_bytes
-from ..graph import reachable
+from ..graph import reachable, show_path
 from ..model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 
@@ -253,7 +253,7 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     members, cycle = reachable(name, lambda gname: _group(srdf, gname).subgroups)
     if cycle is not None:
         raise SourceError(
-            f"groups include each other: {' -> '.join(cycle)}",
+            f"groups include each other: {show_path(cycle)}",
             path=srdf.path,
             line=srdf.groups[cycle[0]].line,
         )
