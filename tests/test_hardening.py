@@ -744,3 +744,22 @@ def test_nodes_on_cycles() -> None:
     chain[100_000] = [0]
     assert len(nodes_on_cycles(chain, chain.__getitem__)) == 100_001
     assert show_path(range(20)) == "0 -> 1 -> 2 -> 3 -> ... (12 more) -> 16 -> 17 -> 18 -> 19"
+
+
+def test_choosing_among_thousands_of_nested_groups_is_linear() -> None:
+    from xrdf_tools.sources.srdf import choose_group, parse_srdf
+
+    srdf = parse_srdf(_nested_groups(5000), "deep.srdf")
+    start = time.monotonic()
+    group, _ = choose_group(srdf, _tree())
+    assert group is not None and time.monotonic() - start < 5
+    looped = parse_srdf(_nested_groups(50, close_cycle=True), "loop.srdf")
+    assert choose_group(looped, _tree()) == (None, "the SRDF has no group with movable joints")
+
+
+def test_postorder_puts_children_first() -> None:
+    from xrdf_tools.graph import postorder
+
+    edges = {"a": ["b", "c"], "b": [], "c": ["b"], "d": ["d"]}
+    order = postorder(edges, edges.__getitem__)
+    assert order.index("b") < order.index("c") < order.index("a") and "d" in order

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
 from typing import TypeVar
 
-__all__ = ["find_cycle", "nodes_on_cycles", "reachable", "show_path"]
+__all__ = ["find_cycle", "nodes_on_cycles", "postorder", "reachable", "show_path"]
 
 T = TypeVar("T", bound=Hashable)
 _OPEN, _DONE = 1, 2
@@ -23,12 +23,18 @@ def show_path(path: Sequence[object], limit: int = 8) -> str:
 
 
 def _dfs(
-    start: T, children: Callable[[T], Iterable[T]], state: dict[T, int], order: list[T]
+    start: T,
+    children: Callable[[T], Iterable[T]],
+    state: dict[T, int],
+    order: list[T],
+    post: list[T] | None = None,
 ) -> list[T] | None:
     """Depth-first from ``start`` (skipping nodes already in ``state``); appends nodes to
-    ``order`` in preorder; returns the first cycle as a closed path ``[a, b, a]`` or None."""
+    ``order`` in preorder (and to ``post`` in postorder, walking on past cycles); returns the
+    first cycle as a closed path ``[a, b, a]`` or None."""
     if start in state:
         return None
+    cycle: list[T] | None = None
     state[start] = _OPEN
     order.append(start)
     path: list[T] = [start]
@@ -37,18 +43,35 @@ def _dfs(
         nxt = next(stack[-1], None)
         if nxt is None:
             stack.pop()
-            state[path.pop()] = _DONE
+            done = path.pop()
+            state[done] = _DONE
+            if post is not None:
+                post.append(done)
             continue
         seen = state.get(nxt)
         if seen == _OPEN:
-            return [*path[path.index(nxt) :], nxt]
+            cycle = cycle or [*path[path.index(nxt) :], nxt]
+            if post is None:
+                return cycle
+            continue
         if seen == _DONE:
             continue
         state[nxt] = _OPEN
         order.append(nxt)
         path.append(nxt)
         stack.append(iter(children(nxt)))
-    return None
+    return cycle
+
+
+def postorder(nodes: Iterable[T], children: Callable[[T], Iterable[T]]) -> list[T]:
+    """Every node reachable from ``nodes``, each once, children before parents (an edge that
+    closes a cycle is skipped, so use :func:`nodes_on_cycles` to know which nodes are cyclic)."""
+    state: dict[T, int] = {}
+    order: list[T] = []
+    post: list[T] = []
+    for n in nodes:
+        _dfs(n, children, state, order, post)
+    return post
 
 
 def reachable(start: T, children: Callable[[T], Iterable[T]]) -> tuple[list[T], list[T] | None]:

@@ -16,7 +16,7 @@ from typing import Any
 from ..diagnostics import Severity
 from ..errors import SourceError, did_you_mean
 from ..fileio import read_input_bytes
-from ..graph import reachable, show_path
+from ..graph import nodes_on_cycles, postorder, reachable, show_path
 from ..model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 
@@ -215,40 +215,42 @@ def _group(srdf: Srdf, name: str) -> SrdfGroup:
     return srdf.groups[name]
 
 
+def _own_joints(srdf: Srdf, gname: str, tree: RobotTree) -> set[str]:
+    """Joints that group ``gname`` names itself (joints, links, chains; not its subgroups)."""
+    g = _group(srdf, gname)
+    found: set[str] = set()
+
+    def fail(msg: str) -> SourceError:
+        return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
+
+    for j in g.joints:
+        if j not in tree.joints:
+            raise fail(f"unknown joint '{j}'{did_you_mean(j, tree.joints)}")
+        found.add(j)
+    for link in g.links:
+        if link not in tree.links:
+            raise fail(f"unknown link '{link}'{did_you_mean(link, tree.links)}")
+        if link in tree.parent_joint:
+            found.add(tree.parent_joint[link])
+    for base, tip in g.chains:
+        for link in (base, tip):
+            if link not in tree.links:
+                raise fail(
+                    f"chain link '{link}' is not in the URDF{did_you_mean(link, tree.links)}"
+                )
+        chain = tree.chain_joints(base, tip)
+        if chain is None:
+            raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'")
+        found.update(chain)
+    return found
+
+
 def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     """All joints of group ``name`` (fixed ones included) in MoveIt's order.
 
     Raises :class:`SourceError` for names that are not in the URDF, a chain whose base is not
     an ancestor of its tip, or subgroups that include each other.
     """
-    found: set[str] = set()
-
-    def fail(msg: str, g: SrdfGroup) -> SourceError:
-        return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
-
-    def visit(gname: str) -> None:
-        g = _group(srdf, gname)
-        for j in g.joints:
-            if j not in tree.joints:
-                raise fail(f"unknown joint '{j}'{did_you_mean(j, tree.joints)}", g)
-            found.add(j)
-        for link in g.links:
-            if link not in tree.links:
-                raise fail(f"unknown link '{link}'{did_you_mean(link, tree.links)}", g)
-            if link in tree.parent_joint:
-                found.add(tree.parent_joint[link])
-        for base, tip in g.chains:
-            for link in (base, tip):
-                if link not in tree.links:
-                    raise fail(
-                        f"chain link '{link}' is not in the URDF{did_you_mean(link, tree.links)}",
-                        g,
-                    )
-            chain = tree.chain_joints(base, tip)
-            if chain is None:
-                raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'", g)
-            found.update(chain)
-
     # subgroups: each visited once, without recursion (1,000s of nested groups are fine)
     members, cycle = reachable(name, lambda gname: _group(srdf, gname).subgroups)
     if cycle is not None:
@@ -257,9 +259,39 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
             path=srdf.path,
             line=srdf.groups[cycle[0]].line,
         )
+    found: set[str] = set()
     for gname in members:
-        visit(gname)
+        found |= _own_joints(srdf, gname, tree)
     return [j for j in tree.dfs_joints() if j in found]
+
+
+def _cspace_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
+    """``len(cspace_of(g))`` of every group, 0 when it does not resolve, in one pass over the
+    groups (children first), so thousands of nested groups stay linear."""
+    groups = srdf.groups
+
+    def subs(g: str) -> list[str]:
+        return list(groups[g].subgroups) if g in groups else []
+
+    cyclic = nodes_on_cycles(groups, subs)
+    joints: dict[str, frozenset[str] | None] = {}
+    for g in postorder(groups, subs):
+        if g not in groups or g in cyclic:
+            joints[g] = None
+            continue
+        try:
+            own = frozenset(_own_joints(srdf, g, tree))
+        except SourceError:
+            own = None
+        parts = [joints.get(s) for s in groups[g].subgroups]
+        known = [p for p in parts if p is not None]
+        joints[g] = None if own is None or len(known) < len(parts) else own.union(*known)
+    passive = set(srdf.passive_joints)
+    return {
+        g: 0 if js is None else sum(1 for j in js if tree.is_actuated(j) and j not in passive)
+        for g, js in joints.items()
+        if g in groups
+    }
 
 
 def cspace_of(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
@@ -280,12 +312,7 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
             if g and g in srdf.groups and g not in seen:
                 seen.append(g)
                 break
-    sizes: dict[str, int] = {}
-    for g in srdf.groups:
-        try:
-            sizes[g] = len(cspace_of(srdf, g, tree))
-        except SourceError:
-            sizes[g] = 0
+    sizes = _cspace_sizes(srdf, tree)
     chain_groups = sorted(
         (g for g, grp in srdf.groups.items() if grp.chains), key=lambda g: -sizes[g]
     )
@@ -460,11 +487,13 @@ def read_srdf(
 
 def _subgroups(srdf: Srdf, name: str) -> list[str]:
     out: list[str] = []
+    seen: set[str] = set()
     stack = [name]
     while stack:
         g = stack.pop()
-        if g in out or g not in srdf.groups:
+        if g in seen or g not in srdf.groups:
             continue
+        seen.add(g)
         out.append(g)
         stack.extend(reversed(srdf.groups[g].subgroups))
     return out
