@@ -266,7 +266,9 @@ def test_a_loop_of_joints_is_refused_with_its_path(tmp_path: Path) -> None:
         '<child link="a"/></joint>\n  <joint name="j1"',
         '<child link="c"/></joint>\n  <joint name="j1"',
     ).replace('<link name="b"/>', '<link name="b"/><link name="c"/>')
-    with pytest.raises(UrdfError, match=r"the joints form a cycle \(.*'j2', 'j1'|'j1', 'j2'"):
+    with pytest.raises(
+        UrdfError, match=r"the joints form a cycle \(b -> a -> b, through joints j2 -> j1\)"
+    ):
         parse_urdf_string(text, "loop.urdf")
     self_loop = CYCLE_URDF.replace(
         '<parent link="b"/><child link="a"/>', '<parent link="b"/><child link="b"/>'
@@ -508,7 +510,7 @@ def test_negative_seed_is_a_usage_error(tmp_path: Path, command: str) -> None:
     ("old", "new", "message"),
     [
         ("center: [0.0, 0.0, 0.0]", "center: [1e308, 1e308, 0.0]", "center[0] is 1e+308"),
-        ("center: [0.0, 0.0, 0.0]", "center: [.inf, 0.0, 0.0]", "center[0] is inf"),
+        ("center: [0.0, 0.0, 0.0]", "center: [.inf, 0.0, 0.0]", "center[0] must be a finite"),
         ("radius: 0.05", "radius: 1e308", "radius is 1e+308"),
     ],
 )
@@ -521,7 +523,7 @@ def test_huge_sphere_values_are_errors_not_overflows(
         ["report", str(x), "--urdf", str(UR10E_URDF), "-n", "10"],
     ):
         code, out = _cli(*args)
-        assert code == 2 and message in out and "within ±1e+06 m" in out, out
+        assert code == 2 and message in out and out.count("\n") == 1, out
 
 
 @pytest.mark.parametrize(
@@ -763,3 +765,22 @@ def test_postorder_puts_children_first() -> None:
     edges = {"a": ["b", "c"], "b": [], "c": ["b"], "d": ["d"]}
     order = postorder(edges, edges.__getitem__)
     assert order.index("b") < order.index("c") < order.index("a") and "d" in order
+
+
+# Crashes found by benchmarks/fuzz_cli.py (seed 0), kept as regression tests.
+def test_fuzz_case_5907_repeated_cspace_joint_in_viz(tmp_path: Path) -> None:
+    x = _replace(MIMIC_XRDF, tmp_path / "m.xrdf", "    - joint2\n", "    - joint2\n    - joint2\n")
+    code, out = _cli(
+        "viz", str(x), "--urdf", str(MIMIC_URDF), "--png", str(tmp_path / "o.png"), "-n", "2"
+    )
+    assert code == 2 and "joint 'joint2' is listed twice" in out and f"{x}:" in out
+
+
+def test_fuzz_case_9969_nan_default_position_in_viz_mcap(tmp_path: Path) -> None:
+    pytest.importorskip("mcap")
+    x = _replace(UR10E_XRDF, tmp_path / "n.xrdf", "elbow_joint: 1.9", "elbow_joint: .nan")
+    code, out = _cli(
+        "viz", str(x), "--urdf", str(UR10E_URDF), "--mcap", str(tmp_path / "o.mcap"), "-n", "2"
+    )
+    assert code == 2 and "must be a finite number, not nan" in out
+    assert not (tmp_path / "o.mcap").exists()

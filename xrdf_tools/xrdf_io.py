@@ -114,19 +114,23 @@ class _Reader:
         raise self.fail(node, f"{what} must be a non-empty string, not {describe(node)}")
 
     def number(self, node: YNode | None, what: str) -> float:
+        """A finite number (NaN and infinities reach no consumer: they poison FK and JSON)."""
         if (
             isinstance(node, YScalar)
             and isinstance(node.value, (int, float))
             and not isinstance(node.value, bool)
         ):
-            return float(node.value)
+            v = float(node.value)
+            if not math.isfinite(v):
+                raise self.fail(node, f"{what} must be a finite number, not {v}")
+            return v
         raise self.fail(node, f"{what} must be a number, not {describe(node)}")
 
     def length(self, node: YNode | None, what: str) -> float:
         """A number that is a length or coordinate in metres: finite and within
         ±:data:`MAX_LENGTH` (beyond that, squared distances overflow)."""
         v = self.number(node, what)
-        if math.isnan(v) or abs(v) > MAX_LENGTH:
+        if abs(v) > MAX_LENGTH:
             raise self.fail(
                 node,
                 f"{what} is {v:g}; lengths must be finite and within ±{MAX_LENGTH:g} m",
@@ -378,6 +382,7 @@ def _read_cspace(r: _Reader, node: YNode | None) -> CSpace:
         else m.get("joint_names"),
         "cspace.joint_names",
     )
+    _no_repeats(r, m.get("joint_names"), names)
 
     def limits(key: str) -> tuple[float, ...]:
         n = m.get(key)
@@ -388,6 +393,16 @@ def _read_cspace(r: _Reader, node: YNode | None) -> CSpace:
         return r.numbers(n, f"cspace.{key}")
 
     return CSpace(names, limits("acceleration_limits"), limits("jerk_limits"))
+
+
+def _no_repeats(r: _Reader, node: YNode | None, names: tuple[str, ...]) -> None:
+    """A c-space names each joint once (a repeat makes the configuration vector ambiguous)."""
+    seen: set[str] = set()
+    for i, n in enumerate(names):
+        if n in seen:
+            item = node.items[i] if isinstance(node, YSeq) else node
+            raise r.fail(item, f"cspace.joint_names[{i}]: joint '{n}' is listed twice")
+        seen.add(n)
 
 
 def _read_spheres(r: _Reader, node: YNode, what: str) -> tuple[Sphere, ...]:
