@@ -48,7 +48,7 @@ def _deadline(seconds: int) -> Iterator[None]:
 
 
 @pytest.mark.slow
-@pytest.mark.filterwarnings("ignore::RuntimeWarning")
+@pytest.mark.filterwarnings("ignore::RuntimeWarning", "ignore::UserWarning")
 @pytest.mark.parametrize("chunk", range(CHUNKS))
 def test_cli_survives_mutated_inputs(chunk: int, tmp_path: Path) -> None:
     failures = []
