@@ -6,6 +6,7 @@ turns library exceptions into one-line errors with exit code 2, and handles ``--
 
 from __future__ import annotations
 
+import signal
 import sys
 from typing import Annotated
 
@@ -66,8 +67,16 @@ app.command("expand", short_help="xacro → URDF, without ROS (as every command 
 app.add_typer(export.app, name="export", help="XRDF → cuRobo robot YAML or MoveIt SRDF.")
 
 
+def _terminate(signum: int, _frame: object) -> None:
+    """SIGTERM/SIGHUP: unwind like an interrupt, so ``finally`` blocks remove temporary files."""
+    raise SystemExit(128 + signum)
+
+
 def main() -> None:
     """Console entry point: library errors become one line on stderr and exit code 2."""
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), _terminate)
     try:
         app()
     except XrdfToolsError as exc:

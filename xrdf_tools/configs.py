@@ -29,7 +29,9 @@ import numpy as np
 import numpy.typing as npt
 
 from .errors import SourceError, XrdfToolsError
+from .fileio import max_input_bytes, read_input_bytes, read_input_text
 from .model import Xrdf
+from .yaml_io import parse_yaml, to_python
 
 if TYPE_CHECKING:
     from .kinematics import KinematicModel
@@ -97,19 +99,11 @@ def load_configurations(
     """
     p = Path(path)
     spath = os.fspath(path)
-    try:
-        if p.suffix.lower() == ".npy":
-            try:
-                arr = np.load(p, allow_pickle=False)
-            except ValueError as e:
-                raise SourceError(f"not a numeric .npy array: {e}", path=spath) from None
-            rows: list[Any] = np.atleast_2d(np.asarray(arr, dtype=np.float64)).tolist()
-            return _assemble(rows, None, kin, xrdf, spath, max_rows=max_rows)
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise SourceError("configurations file not found", path=spath) from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise SourceError(f"cannot read configurations: {e}", path=spath) from None
+    limit = 4 * max_input_bytes()  # tables of many configurations are larger than robot files
+    if p.suffix.lower() == ".npy":
+        raw = read_input_bytes(p, what="configurations file", error=SourceError, max_bytes=limit)
+        return _assemble(_npy_rows(raw, spath), None, kin, xrdf, spath, max_rows=max_rows)
+    text = read_input_text(p, what="configurations file", error=SourceError, max_bytes=limit)
     if p.suffix.lower() in (".json", ".yaml", ".yml"):
         data = _load_structured(text, p.suffix.lower(), spath)
         if isinstance(data, Mapping) and "configurations" in data:
@@ -124,21 +118,38 @@ def load_configurations(
     return _assemble(rows, header, kin, xrdf, spath, lines, header_line, max_rows=max_rows)
 
 
+def _npy_rows(data: bytes, spath: str) -> list[Any]:
+    """Rows of a ``.npy`` array (no pickles; a damaged file is a :class:`SourceError`)."""
+    import io
+
+    try:
+        arr = np.atleast_2d(np.asarray(np.load(io.BytesIO(data), allow_pickle=False), float))
+    except (ValueError, TypeError, OSError, EOFError) as e:
+        detail = " ".join(str(e).split()) or type(e).__name__
+        raise SourceError(f"not a numeric .npy array: {detail}", path=spath) from None
+    if arr.ndim != 2:
+        raise SourceError(
+            f"a .npy array of configurations must be [B, k] or [k], not {list(arr.shape)}",
+            path=spath,
+        )
+    rows: list[Any] = arr.tolist()
+    return rows
+
+
 def _load_structured(text: str, suffix: str, spath: str) -> Any:
     if suffix == ".json":
         try:
             return json.loads(text)
         except json.JSONDecodeError as e:
-            raise SourceError(f"invalid JSON: {e.msg}", path=spath, line=e.lineno) from None
-    import yaml
-
+            raise SourceError(
+                f"invalid JSON: {e.msg}", path=spath, line=e.lineno, col=e.colno
+            ) from None
+        except RecursionError:
+            raise SourceError("invalid JSON: nested too deeply", path=spath) from None
     try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        line = mark.line + 1 if mark is not None else None
-        msg = str(getattr(e, "problem", None) or e).splitlines()[0]
-        raise SourceError(f"invalid YAML: {msg}", path=spath, line=line) from None
+        return to_python(parse_yaml(text, spath).root)
+    except XrdfToolsError as e:
+        raise SourceError(e.message, path=spath, line=e.line, col=e.col) from None
 
 
 _SPLIT = re.compile(r"[,\s;]+")

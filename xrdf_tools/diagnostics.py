@@ -6,6 +6,7 @@ return strings; only the CLI prints them.
 
 from __future__ import annotations
 
+import functools
 import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -25,13 +26,15 @@ class Severity(str, Enum):
         return {"error": 2, "warning": 1, "info": 0}[self.value]
 
 
-@dataclass(frozen=True, order=True)
+@functools.total_ordering
+@dataclass(frozen=True)
 class Diagnostic:
     """A finding about an input file.
 
-    Sorts by file, line, column, rule. ``line``/``col`` are 1-based and ``None`` when the
-    finding has no position (e.g. a value that was not in the input at all). ``key_path`` is
-    the dotted path of the YAML node (``self_collision.ignore.panda_link1``).
+    Sorts by file, line, column, rule, message (:func:`sort_key`; no position sorts first).
+    ``line``/``col`` are 1-based and ``None`` when the finding has no position (e.g. a value
+    that was not in the input at all). ``key_path`` is the dotted path of the YAML node
+    (``self_collision.ignore.panda_link1``).
     """
 
     path: str
@@ -41,6 +44,11 @@ class Diagnostic:
     severity: Severity = field(compare=False)
     message: str = field(compare=False)
     key_path: str = field(default="", compare=False)
+
+    def __lt__(self, other: object) -> bool:
+        if not isinstance(other, Diagnostic):
+            return NotImplemented
+        return sort_key(self) < sort_key(other)
 
     def location(self) -> str:
         parts: list[str] = [self.path or "<input>"]

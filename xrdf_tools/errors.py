@@ -68,6 +68,29 @@ class ConversionError(XrdfToolsError):
     """A model cannot be expressed in the requested XRDF version or output format."""
 
 
+class InputError(XrdfToolsError):
+    """An input file cannot be read: missing, not a regular file, too large, not UTF-8."""
+
+
+class OutputError(XrdfToolsError, OSError):
+    """An output cannot be written. Also an :class:`OSError` (``errno``, ``strerror`` and
+    ``filename`` set, ``filename`` being the path the user asked for, never a temporary file),
+    so callers that catch ``OSError`` around a write keep working."""
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str | None = None,
+        errno: int | None = None,
+        strerror: str | None = None,
+    ) -> None:
+        super().__init__(message, path=path)
+        self.errno = errno
+        self.strerror = strerror or message
+        self.filename = path
+
+
 class MissingDependencyError(XrdfToolsError):
     """An optional dependency is not installed; the message says which extra provides it."""
 

@@ -31,6 +31,7 @@ import numpy.typing as npt
 from .diagnostics import Diagnostic, Severity
 from .errors import UrdfError, did_you_mean
 from .frozen import FrozenMap
+from .graph import show_path
 from .model import AddFrame, RemoveMimicAttributes, SetBaseFrame, Xrdf
 from .urdf_source import JointInfo, joints_of, links_of, urdf_path
 
@@ -494,6 +495,7 @@ def _build(
         if j.is_movable and not j.is_mimic:
             actuated.append(j.name)
     q_of = {n: k for k, n in enumerate(actuated)}
+    mimic_memo: dict[str, MimicLink] = {}
 
     parent = np.full(F, -1, dtype=np.intp)
     jtype = np.zeros(F, dtype=np.int8)
@@ -526,7 +528,9 @@ def _build(
         if not j.is_mimic:
             q_index[i] = q_of[j.name]
             continue
-        master, m, o, held_reason = _resolve_mimic(j, joints, urdf_joints, joint_removed_by, uerr)
+        master, m, o, held_reason = _resolve_mimic(
+            j, joints, urdf_joints, joint_removed_by, uerr, mimic_memo
+        )
         mult[i], off[i] = m, o
         if master is None:
             mult[i] = 0.0
@@ -591,39 +595,62 @@ def _subtree(base: str, joints: Mapping[str, JointInfo]) -> set[str]:
     return keep
 
 
+MimicLink = tuple[str | None, float, float, str]
+
+
 def _resolve_mimic(
     j: JointInfo,
     joints: Mapping[str, JointInfo],
     urdf_joints: Mapping[str, JointInfo],
     removed_by: Mapping[str, str],
     uerr: Any,
-) -> tuple[str | None, float, float, str]:
-    """Follow a mimic chain: ``(actuated master or None, multiplier, offset, why held)``."""
-    chain = [j.name]
-    m, o = 1.0, 0.0
+    memo: dict[str, MimicLink] | None = None,
+) -> MimicLink:
+    """Follow a mimic chain: ``(actuated master or None, multiplier, offset, why held)``.
+
+    Every joint of the chain is resolved once and kept in ``memo`` (shared by the calls of one
+    model build), so long chains cost linear time; a loop is a :class:`UrdfError`.
+    """
+    memo = {} if memo is None else memo
+    chain: list[JointInfo] = []  # mimic joints, each following the next
+    seen: set[str] = set()
     cur = j
-    while cur.mimic_joint is not None:
-        # q_j = m * q_cur + o  and  q_cur = cur.mult * q_master + cur.off
-        o = m * cur.mimic_offset + o
-        m = m * cur.mimic_multiplier
+    while True:
+        if cur.name in memo:
+            result = memo[cur.name]
+            break
+        chain.append(cur)
+        seen.add(cur.name)
         target = cur.mimic_joint
-        if target in chain:
-            loop = " -> ".join([*chain[chain.index(target) :], target])
+        assert target is not None
+        if target in seen:
+            names = [c.name for c in chain]
+            loop = show_path([*names[names.index(target) :], target])
             raise uerr(f"mimic joints form a loop: {loop}", j.line)
         if target not in joints:
             if target in removed_by:
                 why = f"it mimics '{target}', removed by set_base_frame '{removed_by[target]}'"
-                return None, m, o, why
+                result = (None, 1.0, 0.0, why)
+                break
             raise uerr(
                 f"joint '{cur.name}' mimics '{target}', which is not a joint"
                 + did_you_mean(target, urdf_joints),
                 cur.line,
             )
-        chain.append(target)
-        cur = joints[target]
-        if not cur.is_movable:
-            return None, m, o, f"it mimics '{target}', a {cur.type} joint"
-    return cur.name, m, o, ""
+        nxt = joints[target]
+        if not nxt.is_movable:
+            result = (None, 1.0, 0.0, f"it mimics '{target}', a {nxt.type} joint")
+            break
+        if nxt.mimic_joint is None:
+            result = (nxt.name, 1.0, 0.0, "")
+            break
+        cur = nxt
+    # q_c = c.mult * q_next + c.offset, folded from the end of the chain back to j
+    for c in reversed(chain):
+        master, m, o, why = result
+        result = (master, c.mimic_multiplier * m, c.mimic_multiplier * o + c.mimic_offset, why)
+        memo[c.name] = result
+    return result
 
 
 def _pose_matrix(position: Sequence[float], wxyz: tuple[float, float, float, float]) -> FloatArray:

@@ -15,6 +15,7 @@ from typing import Literal
 
 from .errors import GeometryGroupError
 from .frozen import FrozenMap
+from .graph import show_path
 
 SUPPORTED_VERSIONS = ("1.0", "2.0")
 Vec3 = tuple[float, float, float]
@@ -264,7 +265,7 @@ def _check_acyclic(geometry: Mapping[str, GeometryGroup], start: str) -> None:
             continue  # reported by clone_order with a better message
         if state.get(child) == 1:
             cycle = [*path[path.index(child) :], child]
-            raise GeometryGroupError(f"geometry groups clone each other: {' -> '.join(cycle)}")
+            raise GeometryGroupError(f"geometry groups clone each other: {show_path(cycle)}")
         if child not in state:
             state[child] = 1
             path.append(child)

@@ -17,7 +17,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from urllib.parse import unquote
 
-from .errors import SourceError
+from .errors import SourceError, XrdfToolsError
+from .fileio import read_input_bytes
 
 _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 
@@ -25,8 +26,8 @@ _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 def package_name(package_xml: Path) -> str | None:
     """The ``<name>`` of a ``package.xml`` (None if unreadable)."""
     try:
-        m = _NAME_RE.search(package_xml.read_bytes())
-    except OSError:
+        m = _NAME_RE.search(read_input_bytes(package_xml, what="package.xml"))
+    except XrdfToolsError:
         return None
     return m.group(1).decode("utf-8", "replace") if m else None
 

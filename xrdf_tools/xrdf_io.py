@@ -40,6 +40,7 @@ from .yaml_io import (
     YNode,
     YScalar,
     YSeq,
+    describe_node,
     load_yaml,
     node_positions,
     parse_yaml,
@@ -61,6 +62,11 @@ TOP_LEVEL_ORDER = (
     "self_collision",
     "geometry",
 )
+
+
+#: Largest length or coordinate accepted in an XRDF, in metres (sphere centres and radii,
+#: buffer distances, added frame positions): far beyond any robot, far below overflow.
+MAX_LENGTH = 1e6
 
 
 class _Reader:
@@ -108,13 +114,28 @@ class _Reader:
         raise self.fail(node, f"{what} must be a non-empty string, not {describe(node)}")
 
     def number(self, node: YNode | None, what: str) -> float:
+        """A finite number (NaN and infinities reach no consumer: they poison FK and JSON)."""
         if (
             isinstance(node, YScalar)
             and isinstance(node.value, (int, float))
             and not isinstance(node.value, bool)
         ):
-            return float(node.value)
+            v = float(node.value)
+            if not math.isfinite(v):
+                raise self.fail(node, f"{what} must be a finite number, not {v}")
+            return v
         raise self.fail(node, f"{what} must be a number, not {describe(node)}")
+
+    def length(self, node: YNode | None, what: str) -> float:
+        """A number that is a length or coordinate in metres: finite and within
+        ±:data:`MAX_LENGTH` (beyond that, squared distances overflow)."""
+        v = self.number(node, what)
+        if abs(v) > MAX_LENGTH:
+            raise self.fail(
+                node,
+                f"{what} is {v:g}; lengths must be finite and within ±{MAX_LENGTH:g} m",
+            )
+        return v
 
     def numbers(
         self, node: YNode | None, what: str, length: int | None = None
@@ -145,22 +166,9 @@ class _Reader:
 
 
 def describe(node: YNode | None) -> str:
-    """Human name of a node's type: 'a mapping', 'a list', 'the number 0.1', 'null' …"""
-    if node is None:
-        return "missing"
-    if isinstance(node, YMap):
-        return "a mapping"
-    if isinstance(node, YSeq):
-        return "a list"
-    assert isinstance(node, YScalar)
-    v = node.value
-    if v is None:
-        return "null"
-    if isinstance(v, bool):
-        return f"the boolean {str(v).lower()}"
-    if isinstance(v, (int, float)):
-        return f"the number {v}"
-    return f"the string '{v}'"
+    """Human name of a node's type: 'a mapping', 'a list', 'the number 0.1', 'null' …
+    (strings escaped and shortened: see :func:`xrdf_tools.yaml_io.describe_node`)."""
+    return describe_node(node)
 
 
 def version_string(node: YNode | None) -> str | None:
@@ -258,7 +266,12 @@ def xrdf_from_document(doc: YamlDocument) -> Xrdf:
 
 
 def _read_vec3(r: _Reader, node: YNode | None, what: str) -> Vec3:
-    x, y, z = r.numbers(node, what, 3)
+    """A position in metres (see :meth:`_Reader.length`)."""
+    seq = r.sequence(node, what, nullable=False)
+    assert seq is not None
+    if len(seq) != 3:
+        raise r.fail(seq, f"{what} must have exactly 3 numbers, found {len(seq)}")
+    x, y, z = (r.length(item, f"{what}[{i}]") for i, item in enumerate(seq))
     return (x, y, z)
 
 
@@ -369,6 +382,7 @@ def _read_cspace(r: _Reader, node: YNode | None) -> CSpace:
         else m.get("joint_names"),
         "cspace.joint_names",
     )
+    _no_repeats(r, m.get("joint_names"), names)
 
     def limits(key: str) -> tuple[float, ...]:
         n = m.get(key)
@@ -381,6 +395,16 @@ def _read_cspace(r: _Reader, node: YNode | None) -> CSpace:
     return CSpace(names, limits("acceleration_limits"), limits("jerk_limits"))
 
 
+def _no_repeats(r: _Reader, node: YNode | None, names: tuple[str, ...]) -> None:
+    """A c-space names each joint once (a repeat makes the configuration vector ambiguous)."""
+    seen: set[str] = set()
+    for i, n in enumerate(names):
+        if n in seen:
+            item = node.items[i] if isinstance(node, YSeq) else node
+            raise r.fail(item, f"cspace.joint_names[{i}]: joint '{n}' is listed twice")
+        seen.add(n)
+
+
 def _read_spheres(r: _Reader, node: YNode, what: str) -> tuple[Sphere, ...]:
     seq = r.sequence(node, what)
     if seq is None:
@@ -391,7 +415,7 @@ def _read_spheres(r: _Reader, node: YNode, what: str) -> tuple[Sphere, ...]:
         m = r.mapping(item, w, nullable=False)
         assert m is not None
         center = _read_vec3(r, _required(r, m, "center", f"sphere {w}"), f"{w}.center")
-        radius = r.number(_required(r, m, "radius", f"sphere {w}"), f"{w}.radius")
+        radius = r.length(_required(r, m, "radius", f"sphere {w}"), f"{w}.radius")
         out.append(Sphere(center, radius))
     return tuple(out)
 
@@ -432,7 +456,7 @@ def _read_buffers(
 ) -> FrozenMap[str, float]:
     if isinstance(node, YScalar) and node.value is not None:
         # cuRobo accepts a single number for every frame: expand it over the group's frames.
-        value = r.number(node, what)
+        value = r.length(node, what)
         frames: Sequence[str] = ()
         if geometry and group in geometry:
             try:
@@ -440,7 +464,7 @@ def _read_buffers(
             except SchemaError:
                 frames = []
         return FrozenMap((f, value) for f in frames)
-    return r.frame_map(node, what, r.number)
+    return r.frame_map(node, what, r.length)
 
 
 def _read_world(

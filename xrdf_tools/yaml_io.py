@@ -6,6 +6,14 @@ small tree of :class:`YScalar`, :class:`YSeq` and :class:`YMap` that keeps a 1-b
 column for every node. Repeated mapping keys are recorded (PyYAML silently keeps the last one);
 :func:`load_yaml` turns them into an error naming both lines, :func:`parse_yaml` returns them so
 a linter can report them as findings.
+
+Hostile input is bounded the way XML parsers bound entity expansion: a control character is an
+error at its line and column; nesting deeper than :data:`MAX_DEPTH` is an error (never a
+``RecursionError``); aliases are counted (at most :data:`MAX_ALIASES`) and the document as
+expanded may hold at most :data:`MAX_EXPANDED_NODES` nodes more than it has distinct nodes
+times :data:`MAX_AMPLIFICATION`, so a kilobyte of nested anchors ("billion laughs") fails at
+once; an alias inside its own anchor and a mapping used as a key are errors. Files are read
+through :mod:`xrdf_tools.fileio` (regular files only, size limit).
 """
 
 from __future__ import annotations
@@ -15,12 +23,13 @@ import os
 import re
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import yaml
 
 from .errors import YamlError
+from .fileio import read_input_text
+from .fileio import write_atomic as write_atomic
 
 Scalar = str | int | float | bool | None
 
@@ -104,6 +113,32 @@ def key_of(node: YNode) -> Any:
     return to_python(node)
 
 
+def shown_text(text: str, limit: int = 60) -> str:
+    """A value from a file, safe for a one-line message: control characters (newlines
+    included) escaped, long values cut to ``limit`` characters."""
+    out = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text[: limit + 1])
+    return out if len(out) <= limit and len(text) <= limit else out[: limit - 3] + "..."
+
+
+def describe_node(node: YNode | None) -> str:
+    """Human name of a node's type: 'a mapping', 'a list', 'the number 0.1', 'null' …"""
+    if node is None:
+        return "missing"
+    if isinstance(node, YMap):
+        return "a mapping"
+    if isinstance(node, YSeq):
+        return "a list"
+    assert isinstance(node, YScalar)
+    v = node.value
+    if v is None:
+        return "null"
+    if isinstance(v, bool):
+        return f"the boolean {str(v).lower()}"
+    if isinstance(v, (int, float)):
+        return f"the number {shown_text(str(v))}"
+    return f"the string '{shown_text(v)}'"
+
+
 def to_python(node: YNode | None) -> Any:
     """Plain Python data (dicts, lists, scalars) for a node tree."""
     if node is None:
@@ -157,6 +192,20 @@ for _tag, _regexp, _first in (
     _Resolver12.add_implicit_resolver(_tag, _regexp, _first)
 
 
+#: Deepest nesting of sequences and mappings accepted (real XRDF and cuRobo files nest < 10).
+MAX_DEPTH = 100
+#: Most alias uses (``*name``) in one document.
+MAX_ALIASES = 10_000
+#: The expanded document may hold ``MAX_EXPANDED_NODES + MAX_AMPLIFICATION * distinct`` nodes.
+MAX_EXPANDED_NODES = 100_000
+MAX_AMPLIFICATION = 10
+
+# What YAML allows in a stream (PyYAML's Reader.NON_PRINTABLE, which raises without a position).
+_NON_PRINTABLE = re.compile(
+    "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]"
+)
+
+
 class _Composer12(
     yaml.reader.Reader,
     yaml.scanner.Scanner,
@@ -164,12 +213,96 @@ class _Composer12(
     yaml.composer.Composer,
     _Resolver12,
 ):
-    def __init__(self, stream: str) -> None:
+    def __init__(self, stream: str, path: str) -> None:
         yaml.reader.Reader.__init__(self, stream)
         yaml.scanner.Scanner.__init__(self)
         yaml.parser.Parser.__init__(self)
         yaml.composer.Composer.__init__(self)
         _Resolver12.__init__(self)
+        self._path = path
+        self._depth = 0
+        self._aliases = 0
+
+    def compose_node(self, parent: yaml.Node | None, index: Any) -> yaml.Node:
+        """PyYAML's recursive composer, with the nesting depth and alias uses bounded."""
+        event = self.peek_event()  # type: ignore[no-untyped-call]
+        if isinstance(event, yaml.AliasEvent):
+            self._aliases += 1
+            if self._aliases > MAX_ALIASES:
+                raise _error_at(self._path, event.start_mark, f"more than {MAX_ALIASES} aliases")
+        self._depth += 1
+        try:
+            if self._depth > MAX_DEPTH:
+                raise _error_at(
+                    self._path, event.start_mark, f"nesting deeper than {MAX_DEPTH} levels"
+                )
+            node: yaml.Node | None = super().compose_node(parent, index)
+            assert node is not None
+            return node
+        finally:
+            self._depth -= 1
+
+
+def _error_at(path: str, mark: Any, problem: str) -> YamlError:
+    line = mark.line + 1 if mark is not None else None
+    col = mark.column + 1 if mark is not None else None
+    return YamlError(f"{problem}; refusing this document", path=path, line=line, col=col)
+
+
+def _check_printable(text: str, path: str) -> None:
+    m = _NON_PRINTABLE.search(text)
+    if m is None:
+        return
+    start = m.start()
+    line = text.count("\n", 0, start) + 1
+    col = start - (text.rfind("\n", 0, start) + 1) + 1
+    code = ord(m.group())
+    raise YamlError(
+        f"control character U+{code:04X} is not allowed in YAML (write it as an escape such "
+        f'as "\\x{code:02x}" inside double quotes)'
+        if code < 0x100
+        else f"character U+{code:04X} is not allowed in YAML",
+        path=path,
+        line=line,
+        col=col,
+    )
+
+
+def _children(node: yaml.Node) -> list[yaml.Node]:
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    if isinstance(node, yaml.MappingNode):
+        return [n for pair in node.value for n in pair]
+    return []
+
+
+def _check_expansion(root: yaml.Node, path: str) -> None:
+    """Bound what aliases expand to: the node count of the document as a tree, computed once
+    per distinct node (so a "billion laughs" document is refused after a few hundred steps);
+    an alias inside its own anchor is an error."""
+    sizes: dict[int, int] = {}
+    open_nodes: set[int] = set()
+    stack: list[tuple[yaml.Node, bool]] = [(root, False)]
+    limit = MAX_EXPANDED_NODES
+    while stack:
+        node, closing = stack.pop()
+        key = id(node)
+        if closing:
+            open_nodes.discard(key)
+            sizes[key] = 1 + sum(sizes[id(c)] for c in _children(node))
+            allowed = limit + MAX_AMPLIFICATION * len(sizes)
+            if sizes[key] > allowed:
+                raise _error_at(
+                    path, node.start_mark, f"aliases expand this document beyond {allowed:,} nodes"
+                )
+            continue
+        if key in sizes:
+            continue
+        if key in open_nodes:
+            raise _error_at(path, node.start_mark, "an alias refers to a node that contains it")
+        open_nodes.add(key)
+        stack.append((node, True))
+        stack.extend((c, False) for c in _children(node))
 
 
 def _scalar_value(node: yaml.ScalarNode, path: str) -> Scalar:
@@ -220,8 +353,13 @@ def _convert(
     node: yaml.Node, path: str, key_path: str, dups: list[DuplicateKey], depth: int = 0
 ) -> YNode:
     line, col = node.start_mark.line + 1, node.start_mark.column + 1
-    if depth > 200:
-        raise YamlError("document nests too deeply", path=path, line=line, col=col)
+    if depth > MAX_DEPTH:
+        raise YamlError(
+            f"nesting deeper than {MAX_DEPTH} levels (aliases included); refusing this document",
+            path=path,
+            line=line,
+            col=col,
+        )
     if isinstance(node, yaml.ScalarNode):
         return YScalar(line, col, _scalar_value(node, path), quoted=node.style in ("'", '"'))
     if isinstance(node, yaml.SequenceNode):
@@ -234,11 +372,15 @@ def _convert(
         seen: dict[Any, YNode] = {}
         for knode, vnode in node.value:
             k = _convert(knode, path, key_path, dups, depth + 1)
-            kv = key_of(k)
-            try:
-                hash(kv)
-            except TypeError:
-                kv = repr(kv)
+            if not isinstance(k, YScalar):
+                kind = "mapping" if isinstance(k, YMap) else "list"
+                raise YamlError(
+                    f"a {kind} is used as a mapping key; keys must be names or numbers",
+                    path=path,
+                    line=k.line,
+                    col=k.col,
+                )
+            kv = k.value
             child_path = f"{key_path}.{kv}" if key_path else str(kv)
             if kv in seen:
                 first = seen[kv]
@@ -253,11 +395,15 @@ def _convert(
 def parse_yaml(text: str, path: str = "<string>") -> YamlDocument:
     """Parse one YAML document, keeping positions and recording duplicate keys.
 
-    Raises :class:`YamlError` (with line and column) on a syntax error or a second document.
+    Raises :class:`YamlError` (with line and column) on a syntax error, a second document, or
+    a document beyond the bounds in the module docstring.
     """
-    loader = _Composer12(text)
+    _check_printable(text, path)
+    loader = _Composer12(text, path)
     try:
         node = loader.get_single_node()
+        if node is not None:
+            _check_expansion(node, path)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         problem = exc.problem or exc.context or "invalid YAML"
@@ -269,7 +415,7 @@ def parse_yaml(text: str, path: str = "<string>") -> YamlDocument:
             col=mark.column + 1 if mark else None,
         ) from None
     except yaml.YAMLError as exc:
-        raise YamlError(f"YAML error: {exc}", path=path) from None
+        raise YamlError(f"YAML error: {' '.join(str(exc).split())}", path=path) from None
     finally:
         loader.dispose()
     if node is None:
@@ -292,18 +438,9 @@ def raise_on_duplicates(doc: YamlDocument) -> None:
 
 
 def read_text(path: str | os.PathLike[str]) -> str:
-    """Read a UTF-8 file; a missing or unreadable file becomes a one-line :class:`YamlError`."""
-    p = Path(path)
-    try:
-        return p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise YamlError("file not found", path=str(path)) from None
-    except IsADirectoryError:
-        raise YamlError("is a directory, expected a file", path=str(path)) from None
-    except UnicodeDecodeError as exc:
-        raise YamlError(f"not UTF-8 text ({exc.reason})", path=str(path)) from None
-    except OSError as exc:
-        raise YamlError(f"cannot read file: {exc.strerror}", path=str(path)) from None
+    """Read a UTF-8 file through :func:`xrdf_tools.fileio.read_input_text`; a missing,
+    unreadable, non-regular, oversized or non-UTF-8 file is a one-line :class:`YamlError`."""
+    return read_input_text(path, what="file", error=YamlError)
 
 
 def load_yaml(path: str | os.PathLike[str]) -> YamlDocument:
@@ -316,30 +453,6 @@ def load_yaml(path: str | os.PathLike[str]) -> YamlDocument:
 def load_plain(path: str | os.PathLike[str]) -> Any:
     """Plain Python data of a YAML file (YAML 1.2 scalars, duplicate keys rejected)."""
     return to_python(load_yaml(path).root)
-
-
-def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same directory + rename."""
-    import tempfile
-
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    raw = data.encode("utf-8") if isinstance(data, str) else data
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(raw)
-            fh.flush()
-            os.fsync(fh.fileno())
-        if target.exists():
-            os.chmod(tmp, target.stat().st_mode & 0o777)
-        else:
-            os.chmod(tmp, 0o644)
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def node_positions(root: YNode | None) -> dict[str, tuple[int, int]]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from enum import Enum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, NoReturn
@@ -90,10 +90,30 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
 
 
 def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
-    """Exit with an error when ``output`` names one of the inputs (nothing is ever lost)."""
+    """Exit with an error when ``output`` names one of the inputs (nothing is ever lost), or
+    cannot be an output at all (a directory, device, FIFO or socket; symlinks are fine)."""
+    from ..fileio import check_output_path
+
     for src in inputs:
         if src is not None and same_file(output, src):
             fail(f"{output}: refusing to overwrite an input file; choose another -o path")
+    try:
+        check_output_path(output)
+    except XrdfToolsError as e:
+        fail(e)
+
+
+def refuse_output_clash(outputs: Mapping[str, Path | None]) -> None:
+    """Exit with an error when two output options (``{"--plot": path, ...}``) name the same
+    file: one would silently replace the other."""
+    seen: list[tuple[str, Path]] = []
+    for option, path in outputs.items():
+        if path is None:
+            continue
+        for other, earlier in seen:
+            if same_file(path, earlier):
+                fail(f"{path}: given for both {other} and {option}; choose different paths")
+        seen.append((option, path))
 
 
 def stdout_is_terminal() -> bool:

@@ -159,10 +159,12 @@ def srdf(
 
 
 def _read_srdf(path: Path) -> bytes:
+    from ..fileio import read_input_bytes
+
     try:
-        return path.read_bytes()
-    except OSError as e:
-        fail(f"{path}: cannot read: {e.strerror or e}")
+        return read_input_bytes(path, what="SRDF file")
+    except XrdfToolsError as e:
+        fail(e)
 
 
 @app.command("xrdf")

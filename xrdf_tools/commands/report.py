@@ -23,6 +23,7 @@ from .common import (
     has_failures,
     load_robot_option,
     refuse_input_overwrite,
+    refuse_output_clash,
 )
 
 if TYPE_CHECKING:
@@ -85,7 +86,7 @@ def command(
     samples: Annotated[
         int, typer.Option("--samples", "-n", min=1, help="Configurations to sample.")
     ] = 100_000,
-    seed: Annotated[int, typer.Option("--seed", help="Random seed of the sampler.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Random seed of the sampler.")] = 0,
     sampler: Annotated[
         SamplerChoice,
         typer.Option(
@@ -202,6 +203,7 @@ def command(
     from ..yaml_io import write_atomic
 
     inputs = [xrdf_file, urdf, configs]
+    refuse_output_clash({"--output": output, "--plot": plot, "--write-mask": write_mask})
     for out_path in (output, plot, write_mask):
         if out_path is not None:
             refuse_input_overwrite(out_path, inputs)

@@ -85,7 +85,9 @@ def command(
             "(default: 6 % of the cube root of the link volume).",
         ),
     ] = None,
-    seed: Annotated[int, typer.Option("--seed", help="Random seed (same seed, same spheres).")] = 0,
+    seed: Annotated[
+        int, typer.Option("--seed", min=0, help="Random seed (same seed, same spheres).")
+    ] = 0,
     output: Annotated[
         Path | None,
         typer.Option("-o", "--output", help="Write the XRDF here (atomically) instead of stdout."),

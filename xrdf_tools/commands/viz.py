@@ -17,8 +17,8 @@ from .common import (
     XacroArgOption,
     fail,
     load_robot_option,
+    refuse_input_overwrite,
     render_diagnostics,
-    same_file,
 )
 
 if TYPE_CHECKING:
@@ -79,7 +79,7 @@ def command(
         bool,
         typer.Option("--buffered", help="Also draw the self-collision buffered radii."),
     ] = False,
-    seed: Annotated[int, typer.Option("--seed", help="Seed of --samples.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of --samples.")] = 0,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
     fmt: Annotated[
@@ -108,11 +108,7 @@ def command(
     if samples and configs is not None:
         fail("--samples and --configs cannot be combined; choose one")
     if out is not None:
-        for src in (xrdf_file, urdf, configs):
-            if src is not None and same_file(out, src):
-                fail(f"{out}: refusing to overwrite an input file; choose another output path")
-        if out.is_dir():
-            fail(f"{out}: is a directory; give a file name")
+        refuse_input_overwrite(out, [xrdf_file, urdf, configs])
 
     try:
         from ..kinematics import build_kinematic_model

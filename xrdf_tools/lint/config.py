@@ -27,10 +27,27 @@ from typing import Any
 
 from ..diagnostics import Severity
 from ..errors import XrdfToolsError, did_you_mean
-from ..yaml_io import load_plain, parse_yaml, to_python
+from ..fileio import read_input_text
+from ..shape import ANY, BOOL, NAME, check_shape, map_of, one_of
+from ..yaml_io import load_yaml, parse_yaml, to_python
 
 CONFIG_NAME = ".xrdf-lint.yaml"
 LEVELS = ("error", "warning", "info", "off")
+_LEVEL = one_of(NAME, BOOL, what="a level (error, warning, info or off)")
+#: The structure of a ``.xrdf-lint.yaml`` (names and levels are checked by ``_parse``).
+CONFIG_SHAPE = map_of(
+    None,
+    fields={
+        "rules": map_of(
+            one_of(_LEVEL, map_of(None, fields={"level": _LEVEL, "enabled": BOOL}), what="")
+        ),
+        "urdf": map_of(NAME, what="a mapping of XRDF path globs to URDF paths"),
+        "options": map_of(map_of(ANY), what="a mapping of rule ids to mappings"),
+        "extends": ANY,
+    },
+    nullable=True,
+    what="a mapping",
+)
 
 
 class ConfigError(XrdfToolsError):
@@ -158,9 +175,11 @@ def load_config(path: str | os.PathLike[str]) -> LintConfig:
         data: Any = table if table is not None else {}
     else:
         try:
-            data = load_plain(p)
+            doc = load_yaml(p)
         except XrdfToolsError as exc:
             raise ConfigError(exc.message, path=str(p), line=exc.line, col=exc.col) from None
+        check_shape(doc.root, CONFIG_SHAPE, path=str(p), error=ConfigError)
+        data = to_python(doc.root)
     return _merge(default_config(), _parse(data, str(p), str(p.parent)))
 
 
@@ -172,13 +191,11 @@ def _pyproject_table(p: Path) -> dict[str, Any] | None:
             import tomli as tomllib
         except ImportError:
             return None
+    text = read_input_text(p, what="pyproject.toml", error=ConfigError)
     try:
-        with p.open("rb") as fh:
-            doc = tomllib.load(fh)
-    except OSError as exc:
-        raise ConfigError(f"cannot read: {exc.strerror}", path=str(p)) from None
+        doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"invalid TOML: {exc}", path=str(p)) from None
+        raise ConfigError(f"invalid TOML: {' '.join(str(exc).split())}", path=str(p)) from None
     table = doc.get("tool", {}).get("xrdf", {}).get("lint")
     return table if isinstance(table, dict) else None
 

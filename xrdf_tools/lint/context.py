@@ -9,6 +9,7 @@ reports those). Heavy URDF machinery is imported only when a URDF is given.
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -219,9 +220,9 @@ class LintContext:
             return None
         order: list[str] = []
         seen = {group}
-        queue = [group]
+        queue = deque([group])
         while queue:
-            g = queue.pop(0)
+            g = queue.popleft()
             order.append(g)
             for child, _ in self.clones_of(g):
                 if child not in self.groups:
@@ -235,29 +236,19 @@ class LintContext:
 
     @cached_property
     def cyclic_groups(self) -> set[str]:
-        """Groups that lie on a clone cycle."""
+        """Groups that lie on a clone cycle (linear time: many groups must not hang lint)."""
+        from ..graph import nodes_on_cycles
+
         graph = {g: [c for c, _ in self.clones_of(g) if c in self.groups] for g in self.groups}
-        on_cycle: set[str] = set()
-        for start in graph:
-            # does start reach itself?
-            stack = list(graph[start])
-            seen: set[str] = set()
-            while stack:
-                g = stack.pop()
-                if g == start:
-                    on_cycle.add(start)
-                    break
-                if g in seen:
-                    continue
-                seen.add(g)
-                stack.extend(graph[g])
-        return on_cycle
+        return nodes_on_cycles(graph, graph.__getitem__)
 
     def iter_spheres(self, group: str | None = None) -> Iterator[SphereRef]:
         """Every sphere written in the file (or in one group, clones not followed)."""
-        for gname, gnode in self.groups.items():
-            if group is not None and gname != group:
-                continue
+        if group is None:
+            selected = list(self.groups.items())
+        else:
+            selected = [(group, self.groups[group])] if group in self.groups else []
+        for gname, gnode in selected:
             spheres = gnode.get("spheres") if isinstance(gnode, YMap) else None
             if not isinstance(spheres, YMap):
                 continue

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import did_you_mean
+from ..errors import UrdfError, did_you_mean
 from ..model import Modifier, Sphere
 
 if TYPE_CHECKING:
@@ -81,11 +81,18 @@ class RobotTree:
         )
 
     def dfs_joints(self) -> list[str]:
-        """Every joint, depth-first from the root, siblings ordered by joint name (MoveIt)."""
+        """Every joint, depth-first from the root, siblings ordered by joint name (MoveIt).
+
+        Each joint is visited once, so a tree built by hand with a cycle cannot hang it (a
+        URDF with a cycle is refused when it is loaded)."""
         out: list[str] = []
+        seen: set[str] = set()
         stack = list(reversed(self.child_joints.get(self.root, ())))
         while stack:
             jn = stack.pop()
+            if jn in seen:
+                continue
+            seen.add(jn)
             out.append(jn)
             stack.extend(reversed(self.child_joints.get(self.joints[jn].child, ())))
         return out
@@ -101,22 +108,45 @@ class RobotTree:
         return [j for j in self.dfs_joints() if self.joints[j].is_actuated]
 
     def ancestors(self, link: str) -> list[str]:
-        """Links from ``link``'s parent up to the root."""
-        out = []
+        """Links from ``link``'s parent up to the root; :class:`UrdfError` on a cycle."""
+        out: list[str] = []
+        seen = {link}
         while link in self.parent_joint:
             link = self.joints[self.parent_joint[link]].parent
+            if link in seen:
+                raise UrdfError(
+                    f"the joints form a cycle through link '{link}'; a URDF must be a tree",
+                    path=self.path,
+                )
+            seen.add(link)
             out.append(link)
         return out
 
-    def descendants(self, link: str) -> list[str]:
+    def chain_joints(self, base: str, tip: str) -> list[str] | None:
+        """Joints from ``tip`` up to ``base`` (tip's parent joint first), or None when
+        ``base`` is not ``tip`` or one of its ancestors."""
         out: list[str] = []
+        cur = tip
+        for up in self.ancestors(tip):
+            if cur == base:
+                break
+            out.append(self.parent_joint[cur])
+            cur = up
+        return out if cur == base else None
+
+    def descendants(self, link: str) -> list[str]:
+        """Links below ``link``, each once."""
+        out: list[str] = []
+        seen = {link}
         stack = [link]
         while stack:
             cur = stack.pop()
             for jn in self.child_joints.get(cur, ()):
                 child = self.joints[jn].child
-                out.append(child)
-                stack.append(child)
+                if child not in seen:
+                    seen.add(child)
+                    out.append(child)
+                    stack.append(child)
         return out
 
 

@@ -21,8 +21,10 @@ from typing import Any, TypeGuard
 from ..diagnostics import Severity
 from ..errors import SourceError, did_you_mean
 from ..model import AddFrame, Orientation, SetBaseFrame, Sphere
+from ..shape import check_shape
 from ..yaml_io import YamlDocument, node_positions, parse_yaml, read_text, to_python
 from . import Draft, Reporter, RobotTree, known_frame
+from .curobo_shape import CUROBO_FILE
 
 __all__ = ["detect_layout", "read_curobo"]
 
@@ -121,6 +123,7 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
     """Map a cuRobo (or Lula) robot YAML onto a :class:`Draft`."""
     d = draft or Draft()
     doc, rep = _load(path)
+    check_shape(doc.root, CUROBO_FILE, path=doc.path, error=SourceError)
     data = to_python(doc.root)
     try:
         layout = detect_layout(data)

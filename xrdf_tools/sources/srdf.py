@@ -12,11 +12,12 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 from ..diagnostics import Severity
 from ..errors import SourceError, did_you_mean
+from ..fileio import read_input_bytes
+from ..graph import nodes_on_cycles, postorder, reachable, show_path
 from ..model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 
@@ -81,11 +82,7 @@ class Srdf:
 def load_srdf(path: str | os.PathLike[str]) -> Srdf:
     """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used."""
     p = os.fspath(path)
-    try:
-        data = Path(p).read_bytes()
-    except OSError as e:
-        raise SourceError(f"cannot read SRDF: {e.strerror or e}", path=p) from None
-    return parse_srdf(data, p)
+    return parse_srdf(read_input_bytes(p, what="SRDF file", error=SourceError), p)
 
 
 def parse_srdf(data: bytes | str, path: str = "<srdf>") -> Srdf:
@@ -273,6 +270,39 @@ def check_groups(srdf: Srdf, tree: RobotTree) -> None:
     )
 
 
+def _own_joints(srdf: Srdf, gname: str, tree: RobotTree) -> set[str]:
+    """Joints that group ``gname`` names itself (joints, links, chains; not its subgroups)."""
+    g = _group(srdf, gname)
+    found: set[str] = set()
+
+    def fail(msg: str) -> SourceError:
+        return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
+
+    virtual = _virtual_joints(srdf)
+    for j in g.joints:
+        if j in virtual:
+            continue  # a virtual joint is not a URDF joint: it contributes nothing
+        if j not in tree.joints:
+            raise fail(f"unknown joint '{j}'{did_you_mean(j, tree.joints)}")
+        found.add(j)
+    for link in g.links:
+        if link not in tree.links:
+            raise fail(f"unknown link '{link}'{did_you_mean(link, tree.links)}")
+        if link in tree.parent_joint:
+            found.add(tree.parent_joint[link])
+    for base, tip in g.chains:
+        for link in (base, tip):
+            if link not in tree.links:
+                raise fail(
+                    f"chain link '{link}' is not in the URDF{did_you_mean(link, tree.links)}"
+                )
+        chain = tree.chain_joints(base, tip)
+        if chain is None:
+            raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'")
+        found.update(chain)
+    return found
+
+
 def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     """All joints of group ``name`` (fixed ones included) in MoveIt's order.
 
@@ -280,30 +310,47 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     :class:`SourceError` for names that are not in the URDF, a chain whose base is not an
     ancestor of its tip, or subgroups that include each other.
     """
+    # subgroups: each visited once, without recursion (1,000s of nested groups are fine)
+    members, cycle = reachable(name, lambda gname: _group(srdf, gname).subgroups)
+    if cycle is not None:
+        raise SourceError(
+            f"groups include each other: {show_path(cycle)}",
+            path=srdf.path,
+            line=srdf.groups[cycle[0]].line,
+        )
     found: set[str] = set()
-
-    def visit(gname: str, stack: tuple[str, ...]) -> None:
-        if gname in stack:
-            raise SourceError(
-                f"groups include each other: {' -> '.join((*stack, gname))}", path=srdf.path
-            )
-        g = _group(srdf, gname)
-        problems = _own_problems(srdf, g, tree)
-        if problems:
-            raise SourceError(f"group '{g.name}': {problems[0]}", path=srdf.path, line=g.line)
-        found.update(j for j in g.joints if j in tree.joints)
-        found.update(tree.parent_joint[n] for n in g.links if n in tree.parent_joint)
-        for base, tip in g.chains:
-            cur = tip
-            while cur != base:
-                jn = tree.parent_joint[cur]
-                found.add(jn)
-                cur = tree.joints[jn].parent
-        for sub in g.subgroups:
-            visit(sub, (*stack, gname))
-
-    visit(name, ())
+    for gname in members:
+        found |= _own_joints(srdf, gname, tree)
     return [j for j in tree.dfs_joints() if j in found]
+
+
+def _cspace_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
+    """``len(cspace_of(g))`` of every group, 0 when it does not resolve, in one pass over the
+    groups (children first), so thousands of nested groups stay linear."""
+    groups = srdf.groups
+
+    def subs(g: str) -> list[str]:
+        return list(groups[g].subgroups) if g in groups else []
+
+    cyclic = nodes_on_cycles(groups, subs)
+    joints: dict[str, frozenset[str] | None] = {}
+    for g in postorder(groups, subs):
+        if g not in groups or g in cyclic:
+            joints[g] = None
+            continue
+        try:
+            own = frozenset(_own_joints(srdf, g, tree))
+        except SourceError:
+            own = None
+        parts = [joints.get(s) for s in groups[g].subgroups]
+        known = [p for p in parts if p is not None]
+        joints[g] = None if own is None or len(known) < len(parts) else own.union(*known)
+    passive = set(srdf.passive_joints)
+    return {
+        g: 0 if js is None else sum(1 for j in js if tree.is_actuated(j) and j not in passive)
+        for g, js in joints.items()
+        if g in groups
+    }
 
 
 def cspace_of(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
@@ -358,7 +405,7 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     wins, ties going to the group carrying the earliest end effector, then SRDF order.
     """
     order = list(srdf.groups)
-    sizes = {g: len(cspace_of(srdf, g, tree)) for g in order}
+    sizes = _cspace_sizes(srdf, tree)
     grippers = {ee.name: _is_gripper(srdf, ee, tree) for ee in srdf.end_effectors}
     excluded = {ee.group for ee in srdf.end_effectors if grippers[ee.name]}
     plain = [g for g in order if not srdf.groups[g].subgroups and g not in excluded]
@@ -383,7 +430,7 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
 
 def group_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
     """Actuated joints per group (for messages listing the alternatives)."""
-    return {g: len(cspace_of(srdf, g, tree)) for g in srdf.groups}
+    return _cspace_sizes(srdf, tree)
 
 
 def choose_state(
@@ -588,11 +635,13 @@ def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) 
 
 def _subgroups(srdf: Srdf, name: str) -> list[str]:
     out: list[str] = []
+    seen: set[str] = set()
     stack = [name]
     while stack:
         g = stack.pop()
-        if g in out or g not in srdf.groups:
+        if g in seen or g not in srdf.groups:
             continue
+        seen.add(g)
         out.append(g)
         stack.extend(reversed(srdf.groups[g].subgroups))
     return out

@@ -7,7 +7,9 @@ or ``--xacro-arg x:=v``. An unresolved package is a :class:`SourceError` naming 
 directories searched.
 
 **Security:** xacro evaluates Python expressions (``${...}``) and reads any file it is told to
-include. Treat a xacro file like code: only expand files you trust.
+include. Treat a xacro file like code: only expand files you trust. The top-level file is
+checked like every input (a regular file within the size limit); files it includes are opened
+by xacro itself.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import SourceError, XrdfToolsError
+from ..fileio import check_input_file, read_input_bytes
 from ..packages import PackageResolver
 
 if TYPE_CHECKING:
@@ -36,10 +39,10 @@ def is_xacro(path: str | os.PathLike[str]) -> bool:
     if p.suffix == ".xacro":
         return True
     try:
-        head = p.read_bytes()[:4096]
-    except OSError:
-        return False
-    return b"xmlns:xacro" in head and b"<xacro:" in p.read_bytes()
+        data = read_input_bytes(p, what="robot file", error=SourceError)
+    except XrdfToolsError:
+        return False  # not readable: the URDF reader says why
+    return b"xmlns:xacro" in data[:4096] and b"<xacro:" in data
 
 
 def parse_xacro_arg(spec: str) -> tuple[str, str]:
@@ -79,8 +82,7 @@ def expand_xacro(
     import xacro
 
     p = Path(path)
-    if not p.is_file():
-        raise SourceError("xacro file not found", path=str(p))
+    check_input_file(p, what="xacro file", error=SourceError)
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
     try:

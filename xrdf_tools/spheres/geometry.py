@@ -26,6 +26,7 @@ import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
 from ..errors import UrdfError, XrdfToolsError
+from ..fileio import check_input_file, mesh_bytes_limit
 
 if TYPE_CHECKING:
     import trimesh
@@ -170,7 +171,10 @@ def _geometry_part(
             if not path.is_file():
                 return None, f"{uri}: mesh file not found ({path})"
             try:
+                check_input_file(path, what="mesh file", max_bytes=mesh_bytes_limit())
                 mesh = _load_mesh_file(path)
+            except XrdfToolsError as e:
+                return None, f"{uri}: {e.message}"
             except Exception as e:  # trimesh raises many exception types for bad files
                 detail = str(e).splitlines()[0] if str(e) else type(e).__name__
                 return None, f"{uri}: cannot read mesh ({detail})"

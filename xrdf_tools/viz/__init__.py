@@ -18,13 +18,13 @@ from __future__ import annotations
 import contextlib
 import importlib
 import os
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Literal, Protocol
 
 from ..configs import load_configurations, sample_configurations
 from ..errors import MissingDependencyError, XrdfToolsError
+from ..fileio import atomic_output
 from .scene import (
     COLLISION_RGBA,
     LinkScene,
@@ -111,27 +111,10 @@ def require(module: str, package: str) -> None:
 
 @contextlib.contextmanager
 def atomic_path(path: Path) -> Iterator[Path]:
-    """A temporary path next to ``path``; renamed to ``path`` when the block succeeds."""
-    directory = path.parent if str(path.parent) else Path(".")
-    if not directory.is_dir():
-        raise VizError(f"output directory does not exist: {directory}", path=str(path))
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    os.close(fd)
-    tmp_path = Path(tmp)
-    try:
-        yield tmp_path
-        os.chmod(tmp_path, 0o666 & ~_umask())  # mkstemp makes 0600; give a normal file mode
-        os.replace(tmp_path, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp_path.unlink()
-        raise
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
+    """A temporary path next to ``path``; renamed to ``path`` when the block succeeds, removed
+    in any case (:func:`xrdf_tools.fileio.atomic_output`; the directory must exist)."""
+    with atomic_output(path, create_parents=False) as tmp:
+        yield tmp
 
 
 __all__ = [

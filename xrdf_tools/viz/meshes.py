@@ -22,6 +22,7 @@ import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
 from ..errors import XrdfToolsError
+from ..fileio import check_input_file, mesh_bytes_limit
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -146,6 +147,10 @@ def _element_parts(
             raise _MeshError(e.message) from None
         if not Path(path).is_file():
             raise _MeshError(f"'{uri}' resolves to {path}, which does not exist")
+        try:
+            check_input_file(path, what="mesh file", max_bytes=mesh_bytes_limit())
+        except XrdfToolsError as e:
+            raise _MeshError(e.message) from None
         try:
             loaded: Any = trimesh.load(str(path), force="scene")
             parts = loaded.dump(concatenate=False)
