@@ -451,10 +451,12 @@ def test_bad_urdf_limits_are_input_errors(tmp_path: Path, old: str, new: str, me
     for args in (
         ["report", str(UR10E_XRDF), "--urdf", str(urdf), "-n", "10"],
         ["viz", str(UR10E_XRDF), "--urdf", str(urdf), "--png", str(tmp_path / "o.png")],
-        ["lint", str(UR10E_XRDF), "--urdf", str(urdf)],
     ):
         code, out = _cli(*args)
         assert code == 2 and message in out and f"{urdf}:" in out, (args, out)
+    # lint checks the XRDF against the URDF: no reader loads it with this one, a finding
+    code, out = _cli("lint", str(UR10E_XRDF), "--urdf", str(urdf))
+    assert code == 1 and "urdf-invalid" in out and message in out and f"{urdf}:" in out, out
 
 
 def test_mimic_offset_inf(tmp_path: Path) -> None:

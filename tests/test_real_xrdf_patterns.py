@@ -178,3 +178,17 @@ def test_invalid_mimic_in_urdf_is_a_finding(tmp_path: Path, mimic: str, message:
     xrdf.write_text(text)
     r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf)])
     assert r.exit_code == 1 and "urdf-invalid" in r.output and "Traceback" not in r.output
+
+
+def test_lint_urdf_with_inverted_limits_is_an_urdf_invalid_finding(tmp_path: Path) -> None:
+    from tests.paths import FIXTURES
+
+    urdf = tmp_path / "inverted.urdf"
+    text = (FIXTURES / "urdf" / "three_link_mimic.urdf").read_text()
+    urdf.write_text(text.replace('lower="-2.0" upper="2.0"', 'lower="2.0" upper="-2.0"'))
+    xrdf = FIXTURES / "lint" / "urdf-invalid" / "pass.xrdf"
+    r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf)])
+    assert r.exit_code == 1 and "error urdf-invalid" in r.output
+    assert "lower=2.0 is above upper=-2.0" in r.output and "Traceback" not in r.output
+    r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(tmp_path / "missing.urdf")])
+    assert r.exit_code == 2 and "not found" in r.output

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -17,6 +17,21 @@ from .common import (
     load_robot_option,
     render_diagnostics,
 )
+
+
+def _robot_or_why_not(
+    urdf: Path, xacro_arg: list[str] | None, package_path: list[str] | None
+) -> Any:
+    """The ``--urdf`` robot, or the :class:`UrdfError` that says why it is not a valid robot
+    (lint reports that as ``urdf-invalid``, exit 1); a file that cannot be read raises."""
+    from ..errors import UrdfError, UrdfReadError
+
+    try:
+        return load_robot_option(urdf, xacro_arg, package_path)
+    except UrdfReadError:
+        raise
+    except UrdfError as exc:
+        return exc
 
 
 def _split(values: list[str] | None) -> list[str]:
@@ -80,7 +95,7 @@ def command(
         cfg = load_config(config) if config is not None else discover_config()
         model = None
         if urdf is not None:
-            model = load_robot_option(urdf, xacro_arg, package_path)
+            model = _robot_or_why_not(urdf, xacro_arg, package_path)
         elif xacro_arg or package_path:
             fail("--xacro-arg and --package-path apply to --urdf; give --urdf")
         diagnostics = lint(

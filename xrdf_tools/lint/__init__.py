@@ -184,7 +184,8 @@ def lint_text(
 
     ``target`` (default: the configuration's) names the reader the file is for.
     ``urdf_model`` is a URDF already loaded by :mod:`xrdf_tools.urdf_source` (e.g. an
-    expanded xacro): it is used as it is instead of reading ``urdf``.
+    expanded xacro), used as it is instead of reading ``urdf``, or the :class:`UrdfError` its
+    loading raised.
 
     Raises :class:`XrdfToolsError` only when ``urdf`` cannot be read at all or the target is
     unknown; a URDF that is not a valid robot is an ``urdf-invalid`` finding.
@@ -208,9 +209,13 @@ def _target(target: str | None, config: LintConfig) -> str | None:
 
 
 def _model_loader(model: Any) -> UrdfLoader:
+    """A loader of an already loaded URDF, or of the :class:`UrdfError` its loading raised
+    (reported as ``urdf-invalid``)."""
     from ..urdf_source import urdf_path
 
     def load() -> tuple[Any, str]:
+        if isinstance(model, XrdfToolsError):
+            raise model
         return model, urdf_path(model)
 
     return load
