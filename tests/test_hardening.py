@@ -786,3 +786,24 @@ def test_fuzz_case_9969_nan_default_position_in_viz_mcap(tmp_path: Path) -> None
     )
     assert code == 2 and "must be a finite number, not nan" in out
     assert not (tmp_path / "o.mcap").exists()
+
+
+def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(tmp_path: Path) -> None:
+    import shutil
+
+    from tests.paths import FIXTURES
+
+    cfg_dir = tmp_path / "cfg"
+    shutil.copytree(FIXTURES / "curobo_classic", cfg_dir)
+    spheres = cfg_dir / "spheres" / "ur10e.yml"
+    before = spheres.read_bytes()
+    code, out = _cli(
+        "convert",
+        str(UR10E_URDF),
+        "--curobo",
+        str(cfg_dir / "ur10e_classic.yml"),
+        "-o",
+        str(spheres),
+    )
+    assert code == 2 and "refusing to overwrite an input file" in out
+    assert spheres.read_bytes() == before

@@ -205,7 +205,11 @@ def command(
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
     if check and output is None:
         fail("--check needs -o FILE (the file to compare with)")
-    inputs = [robot, srdf, joint_limits, curobo]
+    inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
+    if curobo is not None:
+        from ..sources.curobo import referenced_files
+
+        inputs += referenced_files(curobo)  # the spheres file the config reads
     if output is not None and not check:
         refuse_input_overwrite(output, inputs)
     try:

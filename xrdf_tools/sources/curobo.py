@@ -19,14 +19,14 @@ from pathlib import Path
 from typing import Any, TypeGuard
 
 from ..diagnostics import Severity
-from ..errors import SourceError, did_you_mean
+from ..errors import SourceError, XrdfToolsError, did_you_mean
 from ..model import AddFrame, Orientation, SetBaseFrame, Sphere
 from ..shape import check_shape
 from ..yaml_io import YamlDocument, node_positions, parse_yaml, read_text, to_python
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_shape import CUROBO_FILE
 
-__all__ = ["detect_layout", "read_curobo"]
+__all__ = ["detect_layout", "read_curobo", "referenced_files"]
 
 SILENT_KEYS = {
     "mesh_link_names",
@@ -472,6 +472,23 @@ def _read_slots(value: Any, frames: list[str], d: Draft, rep: Reporter, where: s
             slots = [Sphere((0.0, 0.0, 0.0), SLOT_RADIUS)] * n
             d.spheres = d.spheres if d.spheres is not None else {}
             d.spheres.setdefault(str(link), []).extend(slots)
+
+
+def referenced_files(path: str | os.PathLike[str]) -> list[Path]:
+    """Files a cuRobo config reads besides itself (its ``collision_spheres`` file), so that no
+    output overwrites them. Unreadable or odd configs name none (reading them reports why)."""
+    try:
+        doc, rep = _load(path)
+        kin = _kinematics(to_python(doc.root) or {})
+    except (XrdfToolsError, AttributeError, TypeError):
+        return []
+    value = kin.get("collision_spheres") if kin is not None else None
+    if not isinstance(value, str):
+        return []
+    try:
+        return [_find_spheres_file(value, Path(doc.path), rep, "collision_spheres")]
+    except SourceError:
+        return []
 
 
 def _find_spheres_file(value: str, config_path: Path, rep: Reporter, where: str) -> Path:
