@@ -188,10 +188,11 @@ def _geometry_part(
     return None, "empty <geometry>"
 
 
-def _is_volume(mesh: trimesh.Trimesh) -> bool:
+def is_volume(mesh: trimesh.Trimesh) -> bool:
+    """True when ``mesh`` encloses a positive volume (watertight, consistently wound)."""
     try:
         return bool(mesh.is_volume) and float(mesh.volume) > 0.0
-    except Exception:
+    except Exception:  # trimesh's volume checks raise assorted errors on degenerate meshes
         return False
 
 
@@ -207,14 +208,14 @@ def _solidify(
     closed: list[trimesh.Trimesh] = []
     hulled = 0
     for part in parts:
-        if _is_volume(part):
+        if is_volume(part):
             closed.append(part)
             continue
         try:
             hull = part.convex_hull
-        except Exception:
+        except Exception:  # qhull fails on flat or degenerate parts: they enclose nothing
             continue
-        if _is_volume(hull):
+        if is_volume(hull):
             closed.append(hull)
             hulled += 1
     if not closed:
@@ -246,9 +247,9 @@ def _solidify(
         return closed[0], ("convex_hull" if hulled else "mesh")
     try:
         union = trimesh.boolean.union(closed, engine="manifold")
-        if _is_volume(union):
+        if is_volume(union):
             return union, "union"
-    except Exception:
+    except Exception:  # the boolean engine may be missing or fail: fall back to the hull below
         pass
     combined: Any = trimesh.util.concatenate(closed)
     hull = combined.convex_hull

@@ -66,11 +66,10 @@ def sphere_arrays(spheres: Sequence[Sphere]) -> tuple[FloatArray, FloatArray]:
 
 def as_solid(mesh: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str]:
     """The mesh if it encloses a volume, else its convex hull."""
-    try:
-        if mesh.is_volume and float(mesh.volume) > 0.0:
-            return mesh, "mesh"
-    except Exception:
-        pass
+    from .geometry import is_volume
+
+    if is_volume(mesh):
+        return mesh, "mesh"
     return mesh.convex_hull, "convex_hull"
 
 

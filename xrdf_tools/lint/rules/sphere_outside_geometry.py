@@ -139,7 +139,7 @@ def _load_boxes(path: str, expected: dict[str, int], urdf: Any) -> dict[str, Box
             continue
         try:
             b = [[float(v) for v in row] for row in g.solid.bounds]
-        except Exception as exc:
+        except Exception as exc:  # trimesh computes bounds lazily; degenerate meshes raise
             out[link] = f"link '{link}': no bounds ({type(exc).__name__})"
             continue
         if not all(math.isfinite(v) for row in b for v in row):
