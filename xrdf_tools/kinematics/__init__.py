@@ -21,7 +21,7 @@ Modules
 * :mod:`.build` -- building it from a URDF; :mod:`.modifiers` (``add_frame``,
   ``set_base_frame``, ``remove_mimic_attributes``) and :mod:`.mimic` (mimic chains) are its
   steps;
-* :mod:`.plan` and :mod:`.fk` -- the per-frame FK constants and batched FK;
+* :mod:`.plan` and :mod:`.batch_fk` -- the per-frame FK constants and batched FK;
 * :mod:`.configurations` -- default, MoveIt default and c-space-expanded configurations.
 
 Everything is importable from ``xrdf_tools.kinematics``.
@@ -34,9 +34,9 @@ from .base import FloatArray as FloatArray
 from .base import FrameSelection as FrameSelection
 from .base import IntArray as IntArray
 from .base import JointType
+from .batch_fk import fk, fk_batch_last, fk_rt
 from .build import build_kinematic_model
 from .configurations import default_configuration, full_configuration, moveit_default_configuration
-from .fk import fk, fk_batch_last, fk_rt
 from .mimic import MimicLink as MimicLink
 from .mimic import resolve_mimic
 from .model import KinematicModel

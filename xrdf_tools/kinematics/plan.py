@@ -3,7 +3,7 @@
 A frame's pose is its parent's pose times the joint origin times the joint motion. The plan
 folds the origin and the joint axis into one constant matrix per frame, so that FK is one
 stacked matmul per frame plus elementwise terms in ``sin θ``, ``1 − cos θ`` or the prismatic
-displacement (see :func:`xrdf_tools.kinematics.fk.fk_batch_last`).
+displacement (see :func:`xrdf_tools.kinematics.fk_batch_last`).
 """
 
 from __future__ import annotations
