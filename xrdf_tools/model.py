@@ -7,7 +7,6 @@ Positions of the source file live in ``Xrdf.source`` (excluded from equality).
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
@@ -16,6 +15,7 @@ from typing import Literal
 from .errors import GeometryGroupError
 from .frozen import FrozenMap
 from .graph import show_path
+from .rotations import quat_from_rpy, unit_quat
 
 SUPPORTED_VERSIONS = ("1.0", "2.0")
 Vec3 = tuple[float, float, float]
@@ -55,19 +55,9 @@ class Orientation:
         """Unit quaternion ``(w, x, y, z)`` for any form."""
         if self.form in ("w_xyz", "quaternion"):
             w, x, y, z = self.values
-        else:
-            r, p, yaw = self.values
-            cr, sr = math.cos(r / 2), math.sin(r / 2)
-            cp, sp = math.cos(p / 2), math.sin(p / 2)
-            cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
-            w = cr * cp * cy + sr * sp * sy
-            x = sr * cp * cy - cr * sp * sy
-            y = cr * sp * cy + sr * cp * sy
-            z = cr * cp * sy - sr * sp * cy
-        n = math.sqrt(w * w + x * x + y * y + z * z)
-        if n == 0.0:
-            return (1.0, 0.0, 0.0, 0.0)
-        return (w / n, x / n, y / n, z / n)
+            return unit_quat(w, x, y, z)
+        r, p, yaw = self.values
+        return unit_quat(*quat_from_rpy(r, p, yaw))
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,6 @@ a warning. Meshes are read with trimesh; nothing here touches ROS.
 
 from __future__ import annotations
 
-import math
 import os
 import re
 from collections.abc import Mapping, Sequence
@@ -27,6 +26,7 @@ import numpy as np
 from ..diagnostics import Diagnostic, Severity
 from ..errors import UrdfError, XrdfToolsError
 from ..fileio import check_input_file, mesh_bytes_limit
+from ..rotations import matrix_from_rpy
 
 if TYPE_CHECKING:
     import trimesh
@@ -105,20 +105,7 @@ def _origin_matrix(elem: Any) -> np.ndarray[Any, np.dtype[np.float64]]:
         return m
     x, y, z = _floats(origin.get("xyz"), 3, (0.0, 0.0, 0.0))
     r, p, w = _floats(origin.get("rpy"), 3, (0.0, 0.0, 0.0))
-    cr, sr, cp, sp, cw, sw = (
-        math.cos(r),
-        math.sin(r),
-        math.cos(p),
-        math.sin(p),
-        math.cos(w),
-        math.sin(w),
-    )
-    # URDF: R = Rz(yaw) @ Ry(pitch) @ Rx(roll)
-    m[:3, :3] = [
-        [cw * cp, cw * sp * sr - sw * cr, cw * sp * cr + sw * sr],
-        [sw * cp, sw * sp * sr + cw * cr, sw * sp * cr - cw * sr],
-        [-sp, cp * sr, cp * cr],
-    ]
+    m[:3, :3] = matrix_from_rpy(r, p, w)
     m[:3, 3] = (x, y, z)
     return m
 

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ..rotations import quat_xyzw_from_matrix
 from . import atomic_path, require
 from .foxglove_schemas import LOG_INFO, LOG_WARNING, schema_bytes
 from .meshes import Rgba
@@ -62,33 +63,6 @@ def _color(c: Rgba) -> dict[str, float]:
 
 def _vec(v: Any) -> dict[str, float]:
     return {"x": float(v[0]), "y": float(v[1]), "z": float(v[2])}
-
-
-def quaternion_xyzw(R: Any) -> tuple[float, float, float, float]:
-    """Unit quaternion (x, y, z, w) of a rotation matrix [3, 3] (Shepperd's method)."""
-    m = np.asarray(R, dtype=np.float64)
-    tr = m[0, 0] + m[1, 1] + m[2, 2]
-    if tr > 0:
-        s = 2.0 * np.sqrt(tr + 1.0)
-        w, x = 0.25 * s, (m[2, 1] - m[1, 2]) / s
-        y, z = (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s
-    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
-        w, x = (m[2, 1] - m[1, 2]) / s, 0.25 * s
-        y, z = (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s
-    elif m[1, 1] > m[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
-        w, x = (m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s
-        y, z = 0.25 * s, (m[1, 2] + m[2, 1]) / s
-    else:
-        s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
-        w, x = (m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s
-        y, z = (m[1, 2] + m[2, 1]) / s, 0.25 * s
-    q = np.array([x, y, z, w])
-    q /= np.linalg.norm(q)
-    if q[3] < 0:
-        q = -q
-    return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
 
 
 def _json(obj: Any) -> bytes:
@@ -181,7 +155,7 @@ def write_mcap(
             ns = log_time(step)
             for f in range(1, len(scene.frame_names)):
                 T = scene.relative_pose(step, f)
-                x, y, z, w = quaternion_xyzw(T[:3, :3])
+                x, y, z, w = quat_xyzw_from_matrix(T[:3, :3])
                 add(
                     ch_tf,
                     ns,

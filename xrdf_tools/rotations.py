@@ -1,0 +1,135 @@
+"""Rotation conversions, one formula each, for every module that turns an orientation into
+another form.
+
+Conventions (the URDF and XRDF ones):
+
+* quaternions are ``(w, x, y, z)`` unless a name says ``xyzw`` (the ROS/Foxglove order);
+* roll-pitch-yaw angles are radians about fixed axes, ``R = Rz(yaw) · Ry(pitch) · Rx(roll)``;
+* a rotation matrix is row-major and maps child-frame coordinates to parent-frame ones.
+
+The scalar conversions use :mod:`math` only and return nested tuples, so importing this module
+does not import numpy (the XRDF model and the linter use it at start-up); the conversions on
+arrays import numpy when first called.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    FloatArray = npt.NDArray[np.float64]
+
+__all__ = [
+    "Matrix3",
+    "Quat",
+    "axis_angle_matrix",
+    "matrix_from_quat",
+    "matrix_from_rpy",
+    "quat_from_rpy",
+    "quat_xyzw_from_matrix",
+    "skew",
+    "unit_quat",
+]
+
+Quat = tuple[float, float, float, float]
+Row = tuple[float, float, float]
+Matrix3 = tuple[Row, Row, Row]
+
+_IDENTITY_QUAT: Quat = (1.0, 0.0, 0.0, 0.0)
+
+
+def unit_quat(w: float, x: float, y: float, z: float) -> Quat:
+    """``(w, x, y, z)`` scaled to unit length; the zero quaternion becomes the identity."""
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    if n == 0.0:
+        return _IDENTITY_QUAT
+    return (w / n, x / n, y / n, z / n)
+
+
+def quat_from_rpy(roll: float, pitch: float, yaw: float) -> Quat:
+    """Quaternion ``(w, x, y, z)`` of roll-pitch-yaw angles (unit up to rounding)."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (
+        cr * cp * cy + sr * sp * sy,
+        sr * cp * cy - cr * sp * sy,
+        cr * sp * cy + sr * cp * sy,
+        cr * cp * sy - sr * sp * cy,
+    )
+
+
+def matrix_from_quat(wxyz: Quat) -> Matrix3:
+    """Rotation matrix of a unit quaternion ``(w, x, y, z)``."""
+    w, x, y, z = wxyz
+    return (
+        (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)),
+        (2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)),
+        (2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)),
+    )
+
+
+def matrix_from_rpy(roll: float, pitch: float, yaw: float) -> Matrix3:
+    """Rotation matrix of roll-pitch-yaw angles, ``Rz(yaw) · Ry(pitch) · Rx(roll)`` expanded
+    (the direct product, not through a quaternion: it is what a URDF ``rpy`` means)."""
+    cr, sr = math.cos(roll), math.sin(roll)
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    cw, sw = math.cos(yaw), math.sin(yaw)
+    return (
+        (cw * cp, cw * sp * sr - sw * cr, cw * sp * cr + sw * sr),
+        (sw * cp, sw * sp * sr + cw * cr, sw * sp * cr - cw * sr),
+        (-sp, cp * sr, cp * cr),
+    )
+
+
+def quat_xyzw_from_matrix(rotation: Any) -> Quat:
+    """Unit quaternion ``(x, y, z, w)`` of a rotation matrix [3, 3] (Shepperd's method: the
+    largest of ``w, x, y, z`` is computed first, so no division by a small number), with
+    ``w >= 0``."""
+    import numpy as np
+
+    m = np.asarray(rotation, dtype=np.float64)
+    tr = m[0, 0] + m[1, 1] + m[2, 2]
+    if tr > 0:
+        s = 2.0 * np.sqrt(tr + 1.0)
+        w, x = 0.25 * s, (m[2, 1] - m[1, 2]) / s
+        y, z = (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s
+    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
+        w, x = (m[2, 1] - m[1, 2]) / s, 0.25 * s
+        y, z = (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s
+    elif m[1, 1] > m[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
+        w, x = (m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s
+        y, z = 0.25 * s, (m[1, 2] + m[2, 1]) / s
+    else:
+        s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
+        w, x = (m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s
+        y, z = (m[1, 2] + m[2, 1]) / s, 0.25 * s
+    q = np.array([x, y, z, w])
+    q /= np.linalg.norm(q)
+    if q[3] < 0:
+        q = -q
+    return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
+
+
+def skew(axis: FloatArray) -> FloatArray:
+    """Cross-product matrix ``K`` of a 3-vector ``a`` (``K @ v == a × v``)."""
+    import numpy as np
+
+    a = axis
+    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+
+def axis_angle_matrix(axis: FloatArray, angle: float) -> FloatArray:
+    """Rotation by ``angle`` radians about the unit ``axis`` (Rodrigues:
+    ``I + sin θ · K + (1 − cos θ) · K²``)."""
+    import numpy as np
+
+    K = skew(axis)
+    out: FloatArray = np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * (K @ K)
+    return out
