@@ -17,6 +17,7 @@ from .common import (
     detail,
     fail,
     has_failures,
+    is_stdio,
     load_robot_option,
     refuse_two_stdin,
     render_diagnostics,
@@ -125,7 +126,7 @@ def command(
     text = render_diagnostics(
         diagnostics,
         output_format,
-        files=[str(f) for f in files],
+        files=["<stdin>" if is_stdio(f) else str(f) for f in files],
         rules=[(r.id, r.summary, r.severity) for r in RULES],
     )
     if text:
