@@ -6,9 +6,6 @@ a fallback, or ``--check`` found a difference; 2 usage or input error.
 
 from __future__ import annotations
 
-import sys
-from collections.abc import Iterator
-from contextlib import contextmanager
 from enum import Enum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
@@ -20,15 +17,26 @@ from ..errors import XrdfToolsError
 from .common import (
     EXIT_FINDINGS,
     OutputFormat,
+    QuietOption,
+    VerboseOption,
+    echo_diagnostics,
     fail,
     has_failures,
+    is_stdio,
+    note,
+    progress_bar,
     refuse_input_overwrite,
-    render_diagnostics,
+    timed,
+    write_output,
 )
 
 if TYPE_CHECKING:
     from ..assistant import Progress
     from ..model import Xrdf
+    from .common import ProgressUpdate
+
+#: Progress bar label of each stage of :func:`xrdf_tools.assistant.convert_robot`.
+_STAGES = {"fitting": "fitting spheres (links)", "sampling": "sampling the mask"}
 
 
 class GeometryFrom(str, Enum):
@@ -118,7 +126,9 @@ def command(
     ] = None,
     output: Annotated[
         Path | None,
-        typer.Option("-o", "--output", help="Write here (atomically) instead of stdout."),
+        typer.Option(
+            "-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."
+        ),
     ] = None,
     check: Annotated[
         bool,
@@ -189,6 +199,8 @@ def command(
     fmt: Annotated[
         OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
     ] = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Convert a URDF/xacro plus an SRDF or cuRobo config to XRDF; report every guess.
 
@@ -203,7 +215,7 @@ def command(
 
     if format_version not in (None, "1.0", "2.0"):
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
-    if check and output is None:
+    if check and (output is None or is_stdio(output)):
         fail("--check needs -o FILE (the file to compare with)")
     inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
     if curobo is not None:
@@ -233,8 +245,8 @@ def command(
         if fit_spheres:
             fit = FitOptions(source=geometry_from.value, seed=seed, per_link=per_link)
         mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
-        label = str(output) if output is not None else "<stdout>"
-        with _progress(fit_spheres) as progress:
+        label = "<stdout>" if output is None or is_stdio(output) else str(output)
+        with progress_bar(fit_spheres) as bar, timed("convert"):
             result = convert_robot(
                 robot,
                 options,
@@ -244,15 +256,13 @@ def command(
                 mask=mask,
                 lint=not no_lint,
                 label=label,
-                progress=progress,
+                progress=_staged(bar),
             )
     except XrdfToolsError as e:
         fail(e)
     x, text, urdf = result.xrdf, result.text, result.urdf
     diags, lint_diags = list(result.diagnostics), list(result.lint)
-    all_diags = [*diags, *lint_diags]
-    if all_diags:
-        typer.echo(render_diagnostics(all_diags, fmt), nl=False, err=True)
+    echo_diagnostics([*diags, *lint_diags], fmt)
     errors = [d for d in lint_diags if d.severity is Severity.ERROR]
     if errors:
         fail(
@@ -270,15 +280,7 @@ def command(
 
         _check(output, x, root_link(urdf))
         return
-    if output is None:
-        typer.echo(text, nl=False)
-        return
-    from ..yaml_io import write_atomic
-
-    try:
-        write_atomic(output, text)
-    except OSError as e:
-        fail(f"{output}: cannot write: {e.strerror or e}")
+    write_output(text, output)
 
 
 def _check(output: Path, x: Xrdf, root_frame: str) -> None:
@@ -293,7 +295,7 @@ def _check(output: Path, x: Xrdf, root_frame: str) -> None:
         fail(e, EXIT_FINDINGS)
     result = diff_xrdf(existing, x, root_frame=root_frame)
     if result.is_equal:
-        typer.echo(f"{output}: up to date", err=True)
+        note(f"{output}: up to date")
         return
     typer.echo(_render_diff(result), nl=False)
     fail(
@@ -314,31 +316,8 @@ def _split(values: list[str] | None) -> list[str]:
     return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
 
 
-@contextmanager
-def _progress(enabled: bool) -> Iterator[Progress | None]:
-    """A rich progress bar on stderr for fitting and sampling (a terminal only)."""
-    if not enabled or not sys.stderr.isatty():
-        yield None
-        return
-    from rich.console import Console
-    from rich.progress import BarColumn, TextColumn, TimeRemainingColumn
-    from rich.progress import Progress as Bar
-
-    bar = Bar(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed:,}/{task.total:,}"),
-        TimeRemainingColumn(),
-        console=Console(stderr=True),
-        transient=True,
-    )
-    tasks: dict[str, Any] = {}
-
-    def update(stage: str, done: int, total: int) -> None:
-        if stage not in tasks:
-            label = "fitting spheres (links)" if stage == "fitting" else "sampling the mask"
-            tasks[stage] = bar.add_task(label, total=total)
-        bar.update(tasks[stage], completed=done)
-
-    with bar:
-        yield update
+def _staged(bar: ProgressUpdate | None) -> Progress | None:
+    """The assistant's ``progress(stage, done, total)`` drawn on the common bar."""
+    if bar is None:
+        return None
+    return lambda stage, done, total: bar(_STAGES.get(stage, stage), done, total)

@@ -14,9 +14,13 @@ from .common import (
     EXIT_FINDINGS,
     EXIT_OK,
     PackagePathOption,
+    QuietOption,
+    VerboseOption,
     XacroArgOption,
     fail,
     load_robot_option,
+    load_xrdf_input,
+    refuse_two_stdin,
 )
 
 #: ``xrdf_tools.diff.DEFAULT_TOLERANCE``, repeated so that importing the CLI (every ``xrdf lint``
@@ -30,8 +34,12 @@ class DiffFormat(str, Enum):
 
 
 def command(
-    a: Annotated[Path, typer.Argument(metavar="A.xrdf", help="The 'before' XRDF file.")],
-    b: Annotated[Path, typer.Argument(metavar="B.xrdf", help="The 'after' XRDF file.")],
+    a: Annotated[
+        Path, typer.Argument(metavar="A.xrdf", help="The 'before' XRDF file ('-': stdin).")
+    ],
+    b: Annotated[
+        Path, typer.Argument(metavar="B.xrdf", help="The 'after' XRDF file ('-': stdin).")
+    ],
     fmt: Annotated[
         DiffFormat,
         typer.Option(
@@ -57,6 +65,8 @@ def command(
     ] = None,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Semantic difference between two XRDF files (1.0 or 2.0, in any combination).
 
@@ -71,20 +81,22 @@ def command(
       xrdf diff robot_1_0.xrdf robot_2_0.xrdf --format json
       xrdf diff a.xrdf b.xrdf --tolerance 1e-6
       xrdf diff a.xrdf b.xrdf --urdf robot.urdf
+      xrdf convert robot.urdf --srdf robot.srdf | xrdf diff robot.xrdf -
 
     Exit codes: 0 identical, 1 different, 2 usage or input error.
     """
     if not (math.isfinite(tolerance) and tolerance >= 0):
         fail(f"--tolerance must be a finite number >= 0, not {tolerance}")
+    refuse_two_stdin({"A.xrdf": [a], "B.xrdf": [b]})
     try:
         root = None
         if urdf is not None:
             from ..urdf_source import root_link
 
             root = root_link(load_robot_option(urdf, xacro_arg, package_path))
-        from ..diff import diff_files
+        from ..diff import diff_xrdf
 
-        result = diff_files(a, b, tolerance, root_frame=root)
+        result = diff_xrdf(load_xrdf_input(a), load_xrdf_input(b), tolerance, root_frame=root)
     except XrdfToolsError as exc:
         fail(exc)
     from ..diff_render import render_json, render_text

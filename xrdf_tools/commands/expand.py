@@ -11,7 +11,16 @@ from typing import Annotated
 import typer
 
 from ..errors import XrdfToolsError
-from .common import PackagePathOption, XacroArgOption, fail, refuse_input_overwrite
+from .common import (
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    fail,
+    refuse_input_overwrite,
+    timed,
+    write_output,
+)
 
 
 def command(
@@ -27,8 +36,12 @@ def command(
     package_path: PackagePathOption = None,
     output: Annotated[
         Path | None,
-        typer.Option("-o", "--output", help="Write the URDF here (atomically); default stdout."),
+        typer.Option(
+            "-o", "--output", help="Write the URDF here (atomically); default or '-': stdout."
+        ),
     ] = None,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Expand a xacro file without ROS and write the URDF (checked: it must load).
 
@@ -45,20 +58,13 @@ def command(
     from ..urdf_source import urdf_text
     from .common import load_robot_option
 
-    if output is not None and str(output) != "-":
+    if output is not None:
         refuse_input_overwrite(output, [robot])
     if robot.is_file() and not is_xacro(robot):
         fail(f"{robot}: not a xacro file (nothing to expand)")
     try:
-        text = urdf_text(load_robot_option(robot, xacro_arg, package_path)) or ""
+        with timed("expand"):
+            text = urdf_text(load_robot_option(robot, xacro_arg, package_path)) or ""
     except XrdfToolsError as e:
         fail(e)
-    if output is None or str(output) == "-":
-        typer.echo(text, nl=False)
-        return
-    from ..yaml_io import write_atomic
-
-    try:
-        write_atomic(output, text)
-    except OSError as e:
-        fail(f"{output}: cannot write: {e.strerror or e}")
+    write_output(text, output)

@@ -9,7 +9,19 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import XrdfToolsError
-from .common import OutputFormat, fail, refuse_input_overwrite, render_diagnostics
+from .common import (
+    OutputFormat,
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    echo_diagnostics,
+    fail,
+    load_xrdf_input,
+    refuse_input_overwrite,
+    refuse_two_stdin,
+    write_output,
+)
 
 if TYPE_CHECKING:
     from ..sources import RobotTree
@@ -20,19 +32,6 @@ app = typer.Typer(
     no_args_is_help=True,
     rich_markup_mode=None,
 )
-
-
-def _write(data: str | bytes, output: Path | None, inputs: list[Path | None]) -> None:
-    if output is None:
-        typer.echo(data, nl=False)
-        return
-    refuse_input_overwrite(output, inputs)
-    from ..yaml_io import write_atomic
-
-    try:
-        write_atomic(output, data)
-    except OSError as e:
-        fail(f"{output}: cannot write: {e.strerror or e}")
 
 
 def _load_tree(
@@ -49,16 +48,12 @@ def _load_tree(
     return RobotTree.from_urdf(robot)
 
 
-PackagePathOption = Annotated[
-    list[str] | None,
-    typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
-]
-XacroArgOption = Annotated[
-    list[str] | None,
-    typer.Option("--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-]
 OutputOption = Annotated[
-    Path | None, typer.Option("-o", "--output", help="Write here instead of stdout.")
+    Path | None,
+    typer.Option("-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."),
+]
+XrdfArgument = Annotated[
+    Path, typer.Argument(help="The XRDF file ('-': stdin).", show_default=False)
 ]
 FormatOption = Annotated[
     OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
@@ -67,7 +62,7 @@ FormatOption = Annotated[
 
 @app.command("curobo")
 def curobo(
-    xrdf: Annotated[Path, typer.Argument(help="The XRDF file.", show_default=False)],
+    xrdf: XrdfArgument,
     urdf: Annotated[
         Path, typer.Option("--urdf", help="The robot's URDF (or xacro).", show_default=False)
     ],
@@ -79,27 +74,29 @@ def curobo(
     xacro_arg: XacroArgOption = None,
     output: OutputOption = None,
     fmt: FormatOption = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Write a cuRobo robot YAML (floats, FIXED, lists in c-space order by joint name)."""
     from ..export import CUROBO_LAYOUTS, to_curobo
-    from ..xrdf_io import load_xrdf
 
     if layout not in CUROBO_LAYOUTS:
         fail(f"--layout must be one of {', '.join(CUROBO_LAYOUTS)}, not '{layout}'")
+    if output is not None:
+        refuse_input_overwrite(output, [xrdf, urdf])
     try:
-        x = load_xrdf(xrdf)
+        x = load_xrdf_input(xrdf)
         tree = _load_tree(urdf, package_path, xacro_arg)
         text, diags = to_curobo(x, tree, layout=layout, urdf_path=urdf)
     except XrdfToolsError as e:
         fail(e)
-    if diags:
-        typer.echo(render_diagnostics(diags, fmt), nl=False, err=True)
-    _write(text, output, [xrdf, urdf])
+    echo_diagnostics(diags, fmt)
+    write_output(text, output)
 
 
 @app.command("srdf")
 def srdf(
-    xrdf: Annotated[Path, typer.Argument(help="The XRDF file.", show_default=False)],
+    xrdf: XrdfArgument,
     merge: Annotated[
         Path | None,
         typer.Option(
@@ -130,16 +127,18 @@ def srdf(
     xacro_arg: XacroArgOption = None,
     output: OutputOption = None,
     fmt: FormatOption = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Sync the XRDF's ignore pairs into a MoveIt SRDF's disable_collisions."""
     from ..export_srdf import load_report_reasons, sync_srdf
-    from ..xrdf_io import load_xrdf
 
     inputs = [xrdf, merge, report, urdf]
+    refuse_two_stdin({"XRDF": [xrdf], "--merge": [merge]})
     if output is not None:
         refuse_input_overwrite(output, inputs)
     try:
-        x = load_xrdf(xrdf)
+        x = load_xrdf_input(xrdf)
         tree = _load_tree(urdf, package_path, xacro_arg) if urdf is not None else None
         reasons = load_report_reasons(report) if report is not None else None
         existing = _read_srdf(merge) if merge is not None else None
@@ -147,29 +146,33 @@ def srdf(
             x,
             existing,
             urdf=tree,
-            robot_name=robot_name if tree is not None else robot_name or xrdf.stem.split(".")[0],
+            robot_name=robot_name if tree is not None else robot_name or _stem(xrdf),
             reasons=reasons,
             srdf_path=str(merge or output or "<srdf>"),
         )
     except XrdfToolsError as e:
         fail(e)
-    if result.diagnostics:
-        typer.echo(render_diagnostics(result.diagnostics, fmt), nl=False, err=True)
-    _write(result.data, output, inputs)
+    echo_diagnostics(result.diagnostics, fmt)
+    write_output(result.data, output)
+
+
+def _stem(xrdf: Path) -> str:
+    """The default robot name: the XRDF's file name up to its first dot."""
+    return "robot" if str(xrdf) == "-" else xrdf.stem.split(".")[0]
 
 
 def _read_srdf(path: Path) -> bytes:
     from ..fileio import read_input_bytes
 
     try:
-        return read_input_bytes(path, what="SRDF file")
+        return read_input_bytes(path, what="SRDF file", allow_stdin=True)
     except XrdfToolsError as e:
         fail(e)
 
 
 @app.command("xrdf")
 def xrdf_for_target(
-    xrdf: Annotated[Path, typer.Argument(help="The XRDF file.", show_default=False)],
+    xrdf: XrdfArgument,
     target: Annotated[
         str | None,
         typer.Option(
@@ -187,12 +190,10 @@ def xrdf_for_target(
             show_default=False,
         ),
     ] = None,
-    output: Annotated[
-        Path | None, typer.Option("-o", "--output", help="Write here instead of stdout.")
-    ] = None,
-    fmt: Annotated[
-        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
-    ] = OutputFormat.text,
+    output: OutputOption = None,
+    fmt: FormatOption = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Rewrite an XRDF for the reader that will load it (e.g. a 2.0 file as 1.0 for cuRobo).
 
@@ -200,14 +201,13 @@ def xrdf_for_target(
     overwritten.
     """
     from ..export import for_target
-    from ..xrdf_io import dump_xrdf, load_xrdf
+    from ..xrdf_io import dump_xrdf
 
     if output is not None:
         refuse_input_overwrite(output, [xrdf])
     try:
-        x, diags = for_target(load_xrdf(xrdf), target, format_version)
+        x, diags = for_target(load_xrdf_input(xrdf), target, format_version)
     except XrdfToolsError as e:
         fail(e)
-    if diags:
-        typer.echo(render_diagnostics(diags, fmt), nl=False, err=True)
-    _write(dump_xrdf(x), output, [xrdf])
+    echo_diagnostics(diags, fmt)
+    write_output(dump_xrdf(x), output)

@@ -11,11 +11,17 @@ from .common import (
     EXIT_FINDINGS,
     OutputFormat,
     PackagePathOption,
+    QuietOption,
+    VerboseOption,
     XacroArgOption,
+    detail,
     fail,
     has_failures,
+    is_stdio,
     load_robot_option,
+    refuse_two_stdin,
     render_diagnostics,
+    timed,
 )
 
 
@@ -39,7 +45,10 @@ def _split(values: list[str] | None) -> list[str]:
 
 
 def command(
-    files: Annotated[list[Path], typer.Argument(help="XRDF files to check.", show_default=False)],
+    files: Annotated[
+        list[Path],
+        typer.Argument(help="XRDF files to check ('-': stdin).", show_default=False),
+    ],
     urdf: Annotated[
         Path | None,
         typer.Option(
@@ -82,6 +91,8 @@ def command(
             ".xrdf-lint.yaml or [tool.xrdf.lint] from the current directory upwards.",
         ),
     ] = None,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Check XRDF files; report problems as path:line:col: severity rule-id message.
 
@@ -91,28 +102,31 @@ def command(
     from ..lint import RULES, lint
     from ..lint.config import discover_config, load_config
 
+    refuse_two_stdin({"FILES": files})
     try:
         cfg = load_config(config) if config is not None else discover_config()
+        detail(f"configuration: {cfg.source or 'none (defaults)'}")
         model = None
         if urdf is not None:
             model = _robot_or_why_not(urdf, xacro_arg, package_path)
         elif xacro_arg or package_path:
             fail("--xacro-arg and --package-path apply to --urdf; give --urdf")
-        diagnostics = lint(
-            files,
-            urdf=urdf,
-            config=cfg,
-            select=_split(select),
-            ignore=_split(ignore),
-            target=target,
-            urdf_model=model,
-        )
+        with timed("lint"):
+            diagnostics = lint(
+                files,
+                urdf=urdf,
+                config=cfg,
+                select=_split(select),
+                ignore=_split(ignore),
+                target=target,
+                urdf_model=model,
+            )
     except XrdfToolsError as exc:
         fail(exc)
     text = render_diagnostics(
         diagnostics,
         output_format,
-        files=[str(f) for f in files],
+        files=["<stdin>" if is_stdio(f) else str(f) for f in files],
         rules=[(r.id, r.summary, r.severity) for r in RULES],
     )
     if text:

@@ -7,10 +7,9 @@ warning (mask hides collisions, unknown mask frame); 2 usage or input error.
 
 from __future__ import annotations
 
-import sys
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
 import typer
 
@@ -18,16 +17,23 @@ from ..errors import XrdfToolsError
 from .common import (
     EXIT_FINDINGS,
     PackagePathOption,
+    QuietOption,
+    VerboseOption,
     XacroArgOption,
+    detail,
     fail,
     has_failures,
+    is_stdio,
     load_robot_option,
+    load_xrdf_input,
+    note,
+    one_bar,
+    progress_bar,
     refuse_input_overwrite,
     refuse_output_clash,
+    timed,
+    write_output,
 )
-
-if TYPE_CHECKING:
-    from ..report import ProgressFn
 
 
 class ReportFormat(str, Enum):
@@ -53,33 +59,10 @@ class SamplerChoice(str, Enum):
     halton = "halton"
 
 
-def _progress_bar(total_label: str) -> tuple[ProgressFn, object]:
-    """A rich progress bar on stderr; returns the callback and the bar (to stop it)."""
-    from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
-
-    bar = Progress(
-        TextColumn(total_label),
-        BarColumn(),
-        TextColumn("{task.completed:,}/{task.total:,}"),
-        TimeRemainingColumn(),
-        console=Console(stderr=True),
-        transient=True,
-    )
-    task = None
-
-    def update(done: int, total: int) -> None:
-        nonlocal task
-        if task is None:
-            bar.start()
-            task = bar.add_task("", total=total)
-        bar.update(task, completed=done)
-
-    return update, bar
-
-
 def command(
-    xrdf_file: Annotated[Path, typer.Argument(help="The XRDF to check.", show_default=False)],
+    xrdf_file: Annotated[
+        Path, typer.Argument(help="The XRDF to check ('-': stdin).", show_default=False)
+    ],
     urdf: Annotated[
         Path, typer.Option("--urdf", help="The robot's URDF (or xacro).", show_default=False)
     ],
@@ -107,14 +90,20 @@ def command(
         ReportFormat, typer.Option("--format", "-f", help="Output format.")
     ] = ReportFormat.text,
     output: Annotated[
-        Path | None, typer.Option("--output", "-o", help="Write the report here (atomically).")
+        Path | None,
+        typer.Option(
+            "--output", "-o", help="Write the report here (atomically; '-': stdout, the default)."
+        ),
     ] = None,
     plot: Annotated[
         Path | None, typer.Option("--plot", help="Write a collision-matrix heatmap PNG.")
     ] = None,
     write_mask: Annotated[
         Path | None,
-        typer.Option("--write-mask", help="Write the XRDF with the recommended ignore list."),
+        typer.Option(
+            "--write-mask",
+            help="Write the XRDF with the recommended ignore list ('-': stdout, with -o FILE).",
+        ),
     ] = None,
     clearance_margin: Annotated[
         float,
@@ -186,6 +175,8 @@ def command(
     strict: Annotated[bool, typer.Option("--strict", help="Warnings also exit 1.")] = False,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
@@ -199,16 +190,20 @@ def command(
         render_text,
         write_heatmap,
     )
-    from ..xrdf_io import dump_xrdf, load_xrdf
-    from ..yaml_io import write_atomic
+    from ..xrdf_io import dump_xrdf
 
     inputs = [xrdf_file, urdf, configs]
-    refuse_output_clash({"--output": output, "--plot": plot, "--write-mask": write_mask})
+    if is_stdio(plot):
+        fail("--plot needs a file name (a PNG is not written to stdout)")
+    stdout = Path("-")
+    refuse_output_clash({"--output": output or stdout, "--plot": plot, "--write-mask": write_mask})
+    if is_stdio(output):
+        output = None  # '-o -': standard output, as without -o
     for out_path in (output, plot, write_mask):
         if out_path is not None:
             refuse_input_overwrite(out_path, inputs)
     try:
-        x = load_xrdf(xrdf_file)
+        x = load_xrdf_input(xrdf_file)
         u = load_robot_option(urdf, xacro_arg, package_path)
         q_c = None
         if configs is not None:
@@ -217,16 +212,13 @@ def command(
 
             kin, _ = build_kinematic_model(u, x, path=str(urdf))
             q_c = load_cspace_configurations(configs, kin, x)
-        interactive = (
-            output_format is not ReportFormat.json
-            and sys.stderr.isatty()
-            and (output is not None or sys.stdout.isatty())
+        n_jobs = default_jobs() if jobs is None else jobs
+        label = "sampling" if configs is None else "checking"
+        detail(
+            f"{label} {samples if q_c is None else len(q_c):,} configuration(s) "
+            f"({sampler.value} sampler, seed {seed}, {n_jobs} job(s))"
         )
-        progress = None
-        bar = None
-        if interactive:
-            progress, bar = _progress_bar("sampling" if configs is None else "checking")
-        try:
+        with progress_bar() as bar, timed(label):
             report = self_collision_report(
                 u,
                 x,
@@ -234,11 +226,11 @@ def command(
                 seed=seed,
                 sampler=sampler.value,
                 configs=q_c,
-                progress=progress,
+                progress=one_bar(bar, label),
                 urdf_path=str(urdf),
                 coverage=coverage,
                 clearance_margin=clearance_margin,
-                jobs=default_jobs() if jobs is None else jobs,
+                jobs=n_jobs,
                 certify=(
                     CertifyOptions(certify_budget, mask_policy.value)
                     if certify or mask_policy is MaskPolicy.proven
@@ -246,9 +238,6 @@ def command(
                 ),
                 moveit=moveit,
             )
-        finally:
-            if bar is not None:
-                bar.stop()  # type: ignore[attr-defined]
         view = ReportView(only.value, min_rate)
         if output_format is ReportFormat.json:
             text = render_json(report)
@@ -261,20 +250,14 @@ def command(
             text = renderer(report, view)
         if write_mask is not None:
             new = recommended_xrdf(x, report)
-            write_atomic(write_mask, dump_xrdf(new))
+            write_output(dump_xrdf(new), write_mask)
         if plot is not None:
             write_heatmap(report, plot)
     except XrdfToolsError as exc:
         fail(exc)
     except OSError as exc:
         fail(f"{exc.filename or ''}: {exc.strerror or exc}")
-    if output is not None:
-        try:
-            write_atomic(output, text)
-        except OSError as exc:
-            fail(f"{output}: cannot write: {exc.strerror or exc}")
-    else:
-        typer.echo(text, nl=False)
+    write_output(text, output)
     if output_format is not ReportFormat.json:
         notes = []
         if output is not None:
@@ -284,11 +267,12 @@ def command(
         if write_mask is not None:
             ch = report.mask_change
             notes.append(
-                f"XRDF with the recommended ignore list written to {write_mask} "
+                "XRDF with the recommended ignore list written to "
+                f"{'stdout' if is_stdio(write_mask) else write_mask} "
                 f"({len(ch.added)} pair(s) added, {len(ch.removed)} removed, "
                 f"{len(ch.dropped_unknown)} unknown frame(s) dropped)"
             )
         for n in notes:
-            typer.echo(n, err=True)
+            note(n)
     if has_failures(report.diagnostics, strict=strict):
         raise typer.Exit(EXIT_FINDINGS)

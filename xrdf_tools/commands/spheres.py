@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -14,15 +13,26 @@ from .common import (
     EXIT_FINDINGS,
     OutputFormat,
     PackagePathOption,
+    QuietOption,
+    VerboseOption,
     XacroArgOption,
+    echo_diagnostics,
     fail,
+    is_stdio,
     load_robot_option,
+    load_xrdf_input,
+    note,
+    progress_bar,
     refuse_input_overwrite,
-    render_diagnostics,
+    timed,
+    write_output,
 )
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from ..spheres import SphereMetrics
+    from .common import ProgressUpdate
 
 
 def _split_links(values: list[str] | None) -> list[str] | None:
@@ -60,7 +70,8 @@ def command(
         Path | None,
         typer.Option(
             "--xrdf",
-            help="Existing XRDF to merge into (only the fitted links' spheres are replaced).",
+            help="Existing XRDF to merge into (only the fitted links' spheres are replaced; "
+            "'-': stdin).",
         ),
     ] = None,
     links: Annotated[
@@ -90,26 +101,32 @@ def command(
     ] = 0,
     output: Annotated[
         Path | None,
-        typer.Option("-o", "--output", help="Write the XRDF here (atomically) instead of stdout."),
+        typer.Option(
+            "-o",
+            "--output",
+            help="Write the XRDF here (atomically) instead of stdout ('-': stdout).",
+        ),
     ] = None,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
     fmt: Annotated[
         OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
     ] = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Fit collision spheres to each link's collision geometry (visual as a fallback).
 
     Without --xrdf the rest of the XRDF (c-space, defaults) is drafted as `xrdf convert`
     would, and adjacent links are added to the self-collision ignore mask. The metrics table
-    goes to stdout with -o, else to stderr. Exit 1 when a link's geometry could not be read.
+    goes to stdout with -o FILE, else to stderr (not with -q). Exit 1 when a link's geometry
+    could not be read.
     """
     from ..packages import parse_package_path
     from ..spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
     from ..spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
     from ..urdf_source import urdf_text
-    from ..xrdf_io import dump_xrdf, load_xrdf
-    from ..yaml_io import write_atomic
+    from ..xrdf_io import dump_xrdf
 
     chosen = [
         n
@@ -121,33 +138,31 @@ def command(
     if output is not None:
         refuse_input_overwrite(output, [robot, xrdf])
     link_list = _split_links(links)
-    progress = _progress if sys.stderr.isatty() else None
     diags: list[Diagnostic] = []
     try:
         pkgs = dict(parse_package_path(p) for p in (package_path or []))
         model = load_robot_option(robot, xacro_arg, package_path)
         text = urdf_text(model)
         if xrdf is not None:
-            base = load_xrdf(xrdf)
+            base = load_xrdf_input(xrdf)
         else:
             from ..convert import ConvertOptions, convert
 
             base, cdiags = convert(model, ConvertOptions())
             diags += [d for d in cdiags if d.rule != "convert-no-spheres"]
-        fitted, fdiags = fit_link_spheres(
-            robot,
-            links=link_list,
-            per_link=per_link,
-            count=count,
-            density=density,
-            seed=seed,
-            package_paths=pkgs,
-            max_protrusion=max_protrusion,
-            progress=progress,
-            urdf_text=text,
-        )
-        if progress is not None:
-            typer.echo("\r\x1b[K", nl=False, err=True)
+        with progress_bar() as bar, timed("fitting"):
+            fitted, fdiags = fit_link_spheres(
+                robot,
+                links=link_list,
+                per_link=per_link,
+                count=count,
+                density=density,
+                seed=seed,
+                package_paths=pkgs,
+                max_protrusion=max_protrusion,
+                progress=None if bar is None else _per_link(bar),
+                urdf_text=text,
+            )
         diags += fdiags
         merged, mdiags = merge_spheres(base, fitted)
         diags += mdiags
@@ -155,21 +170,17 @@ def command(
             merged, adiags = ignore_adjacent(merged, robot, package_paths=pkgs, urdf=model)
             diags += adiags
         geoms, _ = load_link_geometry(robot, links=list(fitted), package_paths=pkgs, urdf_text=text)
-        per, overall = measure_links(geoms, fitted, samples=10_000, seed=seed)
+        with timed("measuring"):
+            per, overall = measure_links(geoms, fitted, samples=10_000, seed=seed)
     except XrdfToolsError as e:
         fail(e)
     text = dump_xrdf(merged)
-    if diags:
-        typer.echo(render_diagnostics(diags, fmt), nl=False, err=True)
+    echo_diagnostics(diags, fmt)
     table = metrics_table(per, overall)
-    if output is None:
-        typer.echo(text, nl=False)
-        typer.echo(table, nl=False, err=True)
+    write_output(text, output)
+    if output is None or is_stdio(output):
+        note(table.rstrip("\n"))
     else:
-        try:
-            write_atomic(output, text)
-        except OSError as e:
-            fail(f"{output}: cannot write: {e.strerror or e}")
         typer.echo(table, nl=False)
     if not fitted:
         fail("no link with readable geometry: no spheres fitted", EXIT_FINDINGS)
@@ -177,5 +188,6 @@ def command(
         raise typer.Exit(EXIT_FINDINGS)
 
 
-def _progress(link: str, i: int, n: int) -> None:
-    typer.echo(f"\r\x1b[Kpreparing {link} ({i + 1}/{n})…", nl=False, err=True)
+def _per_link(bar: ProgressUpdate) -> Callable[[str, int, int], None]:
+    """``progress(link, i, n)`` of :func:`fit_link_spheres` drawn on the common bar."""
+    return lambda _link, i, n: bar("fitting spheres (links)", i, n)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
 from enum import Enum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -14,11 +12,20 @@ from ..errors import XrdfToolsError
 from .common import (
     OutputFormat,
     PackagePathOption,
+    QuietOption,
+    VerboseOption,
     XacroArgOption,
+    detail,
+    echo_diagnostics,
     fail,
+    is_stdio,
     load_robot_option,
+    load_xrdf_input,
+    note,
+    one_bar,
+    progress_bar,
     refuse_input_overwrite,
-    render_diagnostics,
+    timed,
 )
 
 if TYPE_CHECKING:
@@ -26,6 +33,11 @@ if TYPE_CHECKING:
 
 #: Show a progress bar from this many samples on (when stderr is a terminal).
 PROGRESS_FROM = 200
+
+
+class LegendChoice(str, Enum):
+    auto = "auto"
+    off = "off"
 
 
 class MeshChoice(str, Enum):
@@ -36,7 +48,8 @@ class MeshChoice(str, Enum):
 
 def command(
     xrdf_file: Annotated[
-        Path, typer.Argument(metavar="ROBOT.xrdf", help="XRDF file.", show_default=False)
+        Path,
+        typer.Argument(metavar="ROBOT.xrdf", help="XRDF file ('-': stdin).", show_default=False),
     ],
     urdf: Annotated[
         Path, typer.Option("--urdf", help="URDF (or xacro) of the robot.", show_default=False)
@@ -82,9 +95,26 @@ def command(
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of --samples.")] = 0,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
+    view: Annotated[
+        str,
+        typer.Option(
+            "--view",
+            help="--png camera: iso, front, side, top, or ELEV,AZIM in degrees (e.g. 30,-60).",
+        ),
+    ] = "iso",
+    legend: Annotated[
+        LegendChoice,
+        typer.Option(
+            "--legend",
+            help="--png legend of the links: auto (in small columns below the picture from "
+            "21 links on) or off.",
+        ),
+    ] = LegendChoice.auto,
     fmt: Annotated[
         OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
     ] = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
 ) -> None:
     """Draw the collision spheres on the robot: default pose, sampled configurations,
     self-collisions in red.
@@ -107,8 +137,16 @@ def command(
     target, out = targets[0]
     if samples and configs is not None:
         fail("--samples and --configs cannot be combined; choose one")
+    if is_stdio(out):
+        fail(f"--{target} needs a file name (not written to stdout)")
     if out is not None:
         refuse_input_overwrite(out, [xrdf_file, urdf, configs])
+    from ..viz.png import parse_view
+
+    try:
+        camera = parse_view(view)
+    except XrdfToolsError as e:
+        fail(e)
 
     try:
         from ..kinematics import build_kinematic_model
@@ -120,7 +158,6 @@ def command(
             require,
             sample_configurations,
         )
-        from ..xrdf_io import load_xrdf
 
         # Check the optional back-end first: no point computing a scene it cannot draw.
         if target in ("rrd", "spawn"):
@@ -128,7 +165,7 @@ def command(
         elif target == "mcap":
             require("mcap", "mcap")
         pkgs = dict(parse_package_path(p) for p in package_path or ())
-        x = load_xrdf(xrdf_file)
+        x = load_xrdf_input(xrdf_file)
         u = load_robot_option(urdf, xacro_arg, package_path)
         kin, kdiags = build_kinematic_model(u, x)
         if configs is not None:
@@ -138,7 +175,9 @@ def command(
         else:
             Q = None
         n = 0 if Q is None else len(Q)
-        with _progress(n + 1, "checking self-collision") as tick:
+        detail(f"checking {n + 1} configuration(s) for self-collision (the default pose first)")
+        label = "checking self-collision"
+        with progress_bar(n + 1 >= PROGRESS_FROM) as bar, timed(label):
             scene = build_scene(
                 u,
                 x,
@@ -149,13 +188,18 @@ def command(
                 colliding_only=colliding_only,
                 urdf_path=urdf,
                 package_paths=pkgs,
-                progress=tick,
+                progress=one_bar(bar, label),
             )
         unique = {(d.rule, d.message): d for d in [*kdiags, *scene.diagnostics]}
-        if unique:
-            typer.echo(render_diagnostics(sorted(unique.values()), fmt), nl=False, err=True)
-        with _progress(len(scene.samples), f"writing {target}") as tick:
-            render(scene, target, out, buffered=buffered, progress=tick)
+        echo_diagnostics(sorted(unique.values()), fmt)
+        label = f"writing {target}"
+        with progress_bar(len(scene.samples) >= PROGRESS_FROM) as bar, timed(label):
+            if target == "png":
+                from ..viz.png import write_png
+
+                write_png(scene, out, buffered=buffered, view=camera, legend=legend.value)
+            else:
+                render(scene, target, out, buffered=buffered, progress=one_bar(bar, label))
     except XrdfToolsError as e:
         fail(e)
     except OSError as e:
@@ -163,27 +207,11 @@ def command(
 
     hit = sum(1 for s in scene.samples if s.contacts)
     where = "rerun viewer" if out is None else str(out)
-    typer.echo(
+    note(
         f"{where}: {len(scene.links)} links, {scene.n_spheres} spheres (group '{scene.group}'), "
-        f"{len(scene.samples)} sample(s), {hit} in self-collision",
-        err=True,
+        f"{len(scene.samples)} sample(s), {hit} in self-collision"
     )
-
-
-@contextmanager
-def _progress(total: int, label: str) -> Iterator[Callable[[int, int], None] | None]:
-    """A progress callback drawing a bar on a terminal for many samples, else None."""
-    import sys
-
-    if total < PROGRESS_FROM or not sys.stderr.isatty():
-        yield None
-        return
-    with typer.progressbar(length=total, label=label, file=sys.stderr) as bar:
-        done = 0
-
-        def tick(k: int, _total: int) -> None:
-            nonlocal done
-            bar.update(k - done)
-            done = k
-
-        yield tick
+    detail(
+        f"frame pairs: {scene.frame_pairs_checked} checked, {scene.frame_pairs_ignored} "
+        f"ignored; {len(scene.samples[0].frame_contacts)} colliding at the default pose"
+    )

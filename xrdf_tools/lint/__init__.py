@@ -15,6 +15,7 @@ from typing import Any
 
 from ..diagnostics import Diagnostic, Severity, sort_key
 from ..errors import XrdfToolsError, YamlError, did_you_mean
+from ..fileio import STDIN
 from ..yaml_io import read_text
 from .config import LintConfig
 from .context import LintContext, Rule
@@ -247,7 +248,8 @@ def lint(
     """Lint XRDF files. ``urdf`` applies to every file; otherwise the config's ``urdf`` map
     picks one per file (or none). ``urdf_model`` (a URDF already loaded, e.g. an expanded
     xacro) applies to every file and replaces ``urdf``. ``target`` (default: the
-    configuration's) names the reader.
+    configuration's) names the reader. A path ``-`` reads standard input (named ``<stdin>`` in
+    the diagnostics; the configuration's ``urdf`` map does not apply to it).
 
     A file that cannot be read as UTF-8 text raises :class:`YamlError`, an unreadable URDF
     :class:`UrdfError` (both: usage/input errors, exit code 2); a URDF that is read but is not a
@@ -259,14 +261,22 @@ def lint(
     cache: dict[str, Any] = {}
     out: list[Diagnostic] = []
     for p in paths:
-        text = read_text(p)
-        u = urdf if urdf is not None else cfg.urdf_for(Path(p))
+        stdin = os.fspath(p) == STDIN
+        text = _read_stdin() if stdin else read_text(p)
+        u = urdf if urdf is not None or stdin else cfg.urdf_for(Path(p))
         loader = _urdf_loader(u, cache) if u is not None else None
         if urdf_model is not None:
             loader = _model_loader(urdf_model)
-        ctx = LintContext(text, os.fspath(p), urdf_loader=loader, target=chosen)
+        label = "<stdin>" if stdin else os.fspath(p)
+        ctx = LintContext(text, label, urdf_loader=loader, target=chosen)
         out.extend(_run(ctx, rules, cfg))
     return sorted(out, key=sort_key)
+
+
+def _read_stdin() -> str:
+    from ..fileio import read_input_text
+
+    return read_input_text(STDIN, what="file", error=YamlError, allow_stdin=True)
 
 
 __all__ += ["INTERNAL_ERROR", "YamlError"]

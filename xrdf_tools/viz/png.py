@@ -2,18 +2,74 @@
 
 Headless (the Agg canvas, no pyplot state, no display needed) and needs only matplotlib, a
 core dependency. Spheres are drawn with their true radii, one colour per link (red when the
-default pose is in self-collision), on equal axes, with a legend of the links.
+default pose is in self-collision), on equal axes, from a chosen camera (:func:`parse_view`),
+with a legend of the links that fits large robots (:data:`LEGEND_COLUMNS_FROM`) and a title
+that counts the frame pairs (:func:`png_title`).
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from ..errors import XrdfToolsError
 from . import atomic_path
 from .scene import Progress, Scene
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+#: Named cameras: (elevation, azimuth) in degrees, matplotlib's convention (azimuth 0 looks
+#: from +x, 90 from +y). ``iso`` is the three-quarter view drawn by default.
+VIEWS: dict[str, tuple[float, float]] = {
+    "iso": (18.0, -55.0),
+    "front": (0.0, 0.0),
+    "side": (0.0, 90.0),
+    "top": (90.0, -90.0),
+}
+#: ``auto``: a legend of the links (in columns below the picture from
+#: :data:`LEGEND_COLUMNS_FROM` links on); ``off``: none.
+Legend = Literal["auto", "off"]
+LEGEND_COLUMNS_FROM = 21
+
+
+def parse_view(text: str) -> tuple[float, float]:
+    """``iso``, ``front``, ``side``, ``top`` or ``ELEV,AZIM`` (degrees) → (elevation, azimuth).
+
+    Raises :class:`XrdfToolsError` naming the valid forms."""
+    key = text.strip().lower()
+    if key in VIEWS:
+        return VIEWS[key]
+    parts = key.split(",")
+    try:
+        elev, azim = (float(p) for p in parts) if len(parts) == 2 else (math.nan, math.nan)
+    except ValueError:
+        elev = azim = math.nan
+    if not (math.isfinite(elev) and math.isfinite(azim)):
+        raise XrdfToolsError(
+            f"--view '{text}': expected {', '.join(VIEWS)} or ELEV,AZIM in degrees (e.g. 30,-60)"
+        )
+    return elev, azim
+
+
+def png_title(scene: Scene) -> str:
+    """Robot, spheres, group; then the frame pairs self-collision checks and ignores, and how
+    many of them collide at the drawn pose (the default pose)."""
+    first = f"{scene.robot_name}: {scene.n_spheres} spheres, group '{scene.group}'"
+    checked, ignored = scene.frame_pairs_checked, scene.frame_pairs_ignored
+    if checked + ignored == 0:
+        return first + "\nno frame pairs checked for self-collision"
+    hit = len(scene.samples[0].frame_contacts)
+    second = (
+        f"frame pairs: {checked} checked, {ignored} ignored; {hit} colliding at the default pose"
+    )
+    if hit and scene.collisions_shown:
+        second += " (red)"
+    return f"{first}\n{second}"
+
 
 _U = np.linspace(0.0, 2.0 * np.pi, 18)
 _V = np.linspace(0.0, np.pi, 10)
@@ -24,27 +80,25 @@ _UNIT = (
 )
 
 
-def write_png(
+def draw_png(
     scene: Scene,
-    path: Path | None,
     *,
     buffered: bool = False,
-    progress: Progress | None = None,
     size_px: int = 640,
-    elevation: float = 18.0,
-    azimuth: float = -55.0,
-) -> None:
-    """Write a ``size_px`` square PNG of sample 0 (the default pose) to ``path``."""
+    view: tuple[float, float] = VIEWS["iso"],
+    legend: Legend = "auto",
+) -> Figure:
+    """The figure of sample 0 (the default pose): ``size_px`` square, taller when a legend of
+    many links is placed below the picture."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
-    assert path is not None
     dpi = 100
     fig = Figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
     ax: Any = fig.add_subplot(projection="3d")
-    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.96)
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.94)
     poses = scene.poses[0]
     colors = scene.colors(0)
     lo = np.full(3, np.inf)
@@ -79,26 +133,74 @@ def write_png(
         ax.set_ylim(mid[1] - half, mid[1] + half)
         ax.set_zlim(mid[2] - half, mid[2] + half)
         ax.set_box_aspect((1.0, 1.0, 1.0))
-    ax.view_init(elev=elevation, azim=azimuth)
+    ax.view_init(elev=view[0], azim=view[1])
     ax.set_xlabel("x (m)", fontsize=7)
     ax.set_ylabel("y (m)", fontsize=7)
     ax.set_zlabel("z (m)", fontsize=7)
     ax.tick_params(labelsize=6)
-    n_hit = len(scene.samples[0].contacts)
-    title = f"{scene.robot_name}: {scene.n_spheres} spheres, group '{scene.group}'"
-    if n_hit:
-        title += f" ({n_hit} colliding pair(s) in red)"
-    ax.set_title(title, fontsize=9)
-    if handles:
-        fig.legend(
+    ax.set_title(png_title(scene), fontsize=8)
+    if handles and legend != "off":
+        if len(handles) < LEGEND_COLUMNS_FROM:
+            fig.legend(
+                handles=handles,
+                loc="upper left",
+                bbox_to_anchor=(0.01, 0.92),
+                fontsize=7,
+                frameon=False,
+                handletextpad=0.2,
+            )
+        else:
+            _legend_below(fig, ax, handles, size_px)
+    return fig
+
+
+def _legend_below(fig: Any, ax: Any, handles: list[Any], size_px: int) -> None:
+    """Many links: a legend in columns, small font, below the picture; the figure grows so
+    that the picture keeps its size and the legend stays inside the image."""
+    dpi = fig.dpi
+    renderer = fig.canvas.get_renderer()
+    # The most columns (up to 6) whose measured width fits the picture's width.
+    ncol = min(6, len(handles))
+    while True:
+        leg = fig.legend(
             handles=handles,
-            loc="upper left",
-            bbox_to_anchor=(0.01, 0.94),
-            fontsize=7,
+            loc="upper center",
+            ncol=ncol,
+            fontsize=5,
             frameon=False,
             handletextpad=0.2,
+            columnspacing=0.8,
+            labelspacing=0.25,
+            borderaxespad=0.0,
         )
+        box = leg.get_window_extent(renderer)
+        if box.width <= size_px - 8 or ncol == 1:
+            break
+        leg.remove()
+        ncol -= 1
+    pad = 8.0
+    legend_h = float(box.height) + 2 * pad
+    height = size_px + legend_h
+    fig.set_size_inches(size_px / dpi, height / dpi)
+    # The picture keeps its square in the top size_px pixels; the legend hangs below it.
+    ax.set_position([0.0, legend_h / height, 1.0, size_px / height * 0.92])
+    leg.set_bbox_to_anchor((0.5, (legend_h - pad) / height), transform=fig.transFigure)
+
+
+def write_png(
+    scene: Scene,
+    path: Path | None,
+    *,
+    buffered: bool = False,
+    progress: Progress | None = None,
+    size_px: int = 640,
+    view: tuple[float, float] = VIEWS["iso"],
+    legend: Legend = "auto",
+) -> None:
+    """Write the picture of :func:`draw_png` to ``path`` (atomically)."""
+    assert path is not None
+    fig = draw_png(scene, buffered=buffered, size_px=size_px, view=view, legend=legend)
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=dpi)
+        fig.savefig(tmp, format="png", dpi=fig.dpi)
     if progress is not None:
         progress(1, 1)

@@ -167,6 +167,10 @@ class Scene:
     mesh_kind: MeshKind = "none"
     collisions_shown: bool = True
     diagnostics: tuple[Diagnostic, ...] = field(default=())
+    #: Frame pairs with spheres on both sides that self-collision checks / its mask ignores
+    #: (0 and 0 without a ``self_collision`` section).
+    frame_pairs_checked: int = 0
+    frame_pairs_ignored: int = 0
 
     @property
     def base_frame(self) -> str:
@@ -290,9 +294,10 @@ def build_scene(
 
     self_group = xrdf.self_collision.geometry if xrdf.self_collision is not None else None
     shown = self_group is not None and self_group == chosen
-    found = (
-        _contacts(kin, xrdf, Q, progress, diags) if self_group is not None else [((), ())] * len(Q)
-    )
+    found: list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]] = [((), ())] * len(Q)
+    checked = ignored = 0
+    if self_group is not None:
+        found, checked, ignored = _contacts(kin, xrdf, Q, progress, diags)
     if self_group is not None and not shown:
         diags.append(
             Diagnostic(
@@ -388,6 +393,8 @@ def build_scene(
         mesh_kind=meshes,
         collisions_shown=shown,
         diagnostics=tuple(sorted(diags)),
+        frame_pairs_checked=checked,
+        frame_pairs_ignored=ignored,
     )
 
 
@@ -398,9 +405,10 @@ def _contacts(
     progress: Progress | None,
     diags: list[Diagnostic],
     chunk: int = 256,
-) -> list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]]:
+) -> tuple[list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]], int, int]:
     """Per configuration of ``Q`` [B, n]: every colliding sphere pair, and the colliding
-    frame pairs (worst sphere pair first), by :mod:`xrdf_tools.collision`."""
+    frame pairs (worst sphere pair first), by :mod:`xrdf_tools.collision`; and the numbers
+    of frame pairs checked and ignored by the mask."""
     from ..collision import (
         build_sphere_set,
         contacts,
@@ -409,14 +417,16 @@ def _contacts(
         sphere_world_centers,
     )
 
-    spheres, sdiags = build_sphere_set(kin, xrdf)
+    every, sdiags = build_sphere_set(kin, xrdf, include_masked=True)
     diags.extend(sdiags)
+    spheres = every.select_frame_pairs(~every.frame_pair_masked)
+    checked, ignored = spheres.n_frame_pairs, every.n_frame_pairs - spheres.n_frame_pairs
     out: list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]] = []
     total = len(Q)
     if spheres.n_pairs == 0:
         if progress is not None:
             progress(total, total)
-        return [((), ())] * total
+        return [((), ())] * total, checked, ignored
     label_frame = [spheres.frame_names[f] for f in spheres.frame_of_sphere.tolist()]
     label_index = spheres.sphere_index.tolist()
     for start in range(0, total, chunk):
@@ -444,7 +454,7 @@ def _contacts(
             out.append((tuple(pairs), tuple(contacts(spheres, centers[b]))))
         if progress is not None:
             progress(min(start + chunk, total), total)
-    return out
+    return out, checked, ignored
 
 
 def _unknown_frame(xrdf: Xrdf, kin: KinematicModel, group: str, frame: str) -> Diagnostic:
