@@ -128,8 +128,7 @@ def _travel(engine: CountEngine, j: int) -> float:
 def _problem(engine: CountEngine, k: int) -> _Problem:
     s = engine.spheres
     fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
-    body_a = int(engine.sphere_body[s.spheres_of(fa).start])
-    body_b = int(engine.sphere_body[s.spheres_of(fb).start])
+    body_a, body_b = int(engine.frame_body[fa]), int(engine.frame_body[fb])
     chains = _path(engine, body_a, body_b)
     cols = sorted({int(engine.bodies.col[j]) for ch in chains for j in ch})
     where = {c: i for i, c in enumerate(cols)}

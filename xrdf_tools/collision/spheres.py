@@ -340,5 +340,3 @@ def _group_holding(xrdf: Xrdf, frame: str) -> str:
         if frame in geometry[g].spheres:
             return g
     return sc.geometry
-
-

@@ -37,7 +37,7 @@ from .bodies import (
 )
 from .bounds import _clearance_hi, _clearance_lo, _energy_at
 from .culling import _body_bounds, _Culler
-from .pairs import _body_pairs, _BodyPair, _direct, _evaluate, _pair_constants
+from .pairs import _body_pairs, _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
@@ -140,24 +140,19 @@ class CountEngine:
         self.culler = _Culler(
             kin, self.varying, self.bodies, self.local, self.body_bound, self.margin, self.err
         )
+        self.frame_body = _frame_bodies(spheres, self.sphere_body)
         self.const_k, self.const_hit, self.const_clear = self._constant_pairs()
         pairs = _body_pairs(
-            spheres, self.sphere_body, self.local, self.err, set(self.const_k.tolist())
+            spheres, self.frame_body, self.local, self.err, set(self.const_k.tolist())
         )
         self.pairs = self.culler.choose(pairs)
         self.delta_k, self.rlo_k, self.rhi_k = _pair_constants(spheres, self.pairs)
 
-    def _frame_body(self, f: int) -> int:
-        return int(self.sphere_body[self.spheres.spheres_of(f).start])
-
     def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
         """Frame pairs on one body: decided once, exactly, at the base configuration."""
         s = self.spheres
-        ks = [
-            k
-            for k in range(self.K)
-            if self._frame_body(int(s.frame_pair_a[k])) == self._frame_body(int(s.frame_pair_b[k]))
-        ]
+        fb = self.frame_body
+        ks = [k for k in range(self.K) if fb[s.frame_pair_a[k]] == fb[s.frame_pair_b[k]]]
         karr = np.array(ks, dtype=np.intp)
         if not ks:
             return karr, np.zeros(0, dtype=np.bool_), np.zeros(0)

@@ -56,22 +56,29 @@ class _BodyPair:
     grid: PairGrid | None = None
 
 
+def _frame_bodies(spheres: SphereSet, sphere_body: IntArray) -> IntArray:
+    """The body of every sphere frame [Fs] (a frame's spheres all sit on one body)."""
+    starts = [spheres.spheres_of(f).start for f in range(len(spheres.frame_names))]
+    return sphere_body[np.array(starts, dtype=np.intp)]
+
+
 def _body_pairs(
     spheres: SphereSet,
-    sphere_body: IntArray,
+    frame_body: IntArray,
     local: FloatArray,
     err: float,
     skip: set[int],
 ) -> list[_BodyPair]:
     """The frame pairs of ``spheres`` (except those in ``skip``) grouped by their two bodies.
 
-    ``sphere_body`` [S] and ``local`` [S, 3]: each sphere's body and centre in it; ``err``:
-    the float32 position error bound (:func:`~.bodies._position_error`).
+    ``frame_body`` [Fs]: each frame's body (:func:`_frame_bodies`); ``local`` [S, 3]: each
+    sphere's centre in its body frame; ``err``: the float32 position error bound
+    (:func:`~.bodies._position_error`).
     """
     s = spheres
 
     def body_of(f: int) -> int:
-        return int(sphere_body[s.spheres_of(f).start])
+        return int(frame_body[f])
 
     groups: dict[tuple[int, int], list[int]] = {}
     for k in range(s.n_frame_pairs):
