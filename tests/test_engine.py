@@ -197,7 +197,7 @@ def test_chunks_and_jobs_give_identical_totals() -> None:
     np.testing.assert_array_equal(one.hits, ref.hits)
     for a, b in zip(one.clearance(), ref.clearance(), strict=True):
         np.testing.assert_array_equal(a, b)
-    import xrdf_tools.engine as engine_mod
+    import xrdf_tools.engine.jobs as engine_mod  # where count_sampled reads the threshold
 
     old = engine_mod.MIN_SAMPLES_PER_JOB
     engine_mod.MIN_SAMPLES_PER_JOB = 1000  # force two worker processes on a small sample

@@ -260,7 +260,7 @@ def test_halton_and_uniform_agree_roughly() -> None:
 
 
 def test_jobs_give_the_same_report(monkeypatch: pytest.MonkeyPatch) -> None:
-    import xrdf_tools.engine as engine
+    import xrdf_tools.engine.jobs as engine  # where count_sampled reads the threshold
 
     monkeypatch.setattr(engine, "MIN_SAMPLES_PER_JOB", 1000)  # two workers on a small sample
     _, one = three_link_report(samples=6000, seed=2, chunk=1000)

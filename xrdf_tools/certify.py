@@ -33,8 +33,9 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
-from .collision import sphere_world_centers
+from .collision import sphere_world_centers, squared_distances, touching
 from .engine import CountEngine
+from .engine.bodies import _PRISM
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
@@ -42,7 +43,6 @@ IntArray = npt.NDArray[np.intp]
 __all__ = ["Certificate", "Verdict", "certify_pair"]
 
 Verdict = Literal["proven", "witness", "undecided"]
-_ROT, _PRISM = 1, 2
 #: Boxes evaluated together (one batched float64 forward kinematics).
 _BATCH = 64
 #: Slack (m) for float64 rounding: a proof needs a lower bound above it.
@@ -128,8 +128,7 @@ def _travel(engine: CountEngine, j: int) -> float:
 def _problem(engine: CountEngine, k: int) -> _Problem:
     s = engine.spheres
     fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
-    body_a = int(engine.sphere_body[s.spheres_of(fa).start])
-    body_b = int(engine.sphere_body[s.spheres_of(fb).start])
+    body_a, body_b = int(engine.frame_body[fa]), int(engine.frame_body[fb])
     chains = _path(engine, body_a, body_b)
     cols = sorted({int(engine.bodies.col[j]) for ch in chains for j in ch})
     where = {c: i for i, c in enumerate(cols)}
@@ -147,7 +146,7 @@ def _problem(engine: CountEngine, k: int) -> _Problem:
         hi=engine.kin.upper[v].copy(),
         pi=pi,
         pj=pj,
-        rs=s.self_radii[pi] + s.self_radii[pj],
+        rs=s.pair_radius_sum[lo:hi],
         coef=coef,
         weight=coef.max(axis=0) if len(coef) else np.zeros(len(cols)),
     )
@@ -201,9 +200,8 @@ def _evaluate(
     q[:, engine.varying] = base
     q[:, engine.varying[pb.cols]] = centre
     c = sphere_world_centers(engine.kin, engine.spheres, q)  # [n, S, 3]
-    diff = c[:, pb.pi] - c[:, pb.pj]
-    d2 = np.einsum("npk,npk->np", diff, diff)
-    hit = (d2 < pb.rs * pb.rs).any(axis=1)
+    d2 = squared_distances(c, pb.pi, pb.pj)
+    hit = touching(d2, pb.rs).any(axis=1)  # the counts' test: a witness is a counted hit
     motion = half @ pb.coef.T  # [n, S]
     lb = (np.sqrt(d2) - pb.rs - motion[:, pb.pi] - motion[:, pb.pj]).min(axis=1)
     first = int(np.argmax(hit)) if hit.any() else -1

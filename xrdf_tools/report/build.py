@@ -1,0 +1,335 @@
+"""Building the self-collision report: count, classify, certify, recommend.
+
+:func:`self_collision_report` samples configurations (or takes given ones, e.g. a recorded
+trajectory), counts for every pair of frames with spheres how often it collides
+(:class:`xrdf_tools.engine.CountEngine`, exact, chunked so memory stays bounded), classifies
+each pair (:mod:`.verdicts`), optionally certifies the "never" pairs (:mod:`xrdf_tools.certify`)
+and recommends the ``ignore`` mask (:mod:`.mask`). Masked adjacent pairs are not sampled
+(their verdict does not depend on it).
+"""
+
+from __future__ import annotations
+
+import importlib
+import time
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from ..certify import certify_pair
+from ..collision import (
+    Contact,
+    SphereSet,
+    build_sphere_set,
+    contacts,
+    pair_clearance,
+    sphere_world_centers,
+)
+from ..diagnostics import Diagnostic, sort_key
+from ..engine import CountEngine, EngineTotals, ProgressFn, count_sampled
+from ..errors import XrdfToolsError
+from ..frozen import FrozenMap
+from ..kinematics import (
+    KinematicModel,
+    build_kinematic_model,
+    default_configuration,
+    moveit_default_configuration,
+)
+from ..model import Xrdf
+from .mask import _recommended_ignore
+from .results import (
+    CertifyOptions,
+    ConfigsError,
+    CoverageSummary,
+    PairStat,
+    Report,
+    Sampler,
+    TrajectoryHit,
+    _finite,
+)
+from .verdicts import _certified, _findings, _verdict, adjacent_frame_pairs, never_upper_bound
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+FloatArray = npt.NDArray[np.float64]
+
+__all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
+
+#: Configurations per chunk: the engine's working set stays in a few MB.
+DEFAULT_CHUNK = 65536
+
+
+def self_collision_report(
+    urdf: yourdfpy.URDF,
+    xrdf: Xrdf,
+    *,
+    samples: int = 100_000,
+    seed: int | None = 0,
+    sampler: Sampler = "uniform",
+    configs: npt.ArrayLike | None = None,
+    chunk: int = DEFAULT_CHUNK,
+    progress: ProgressFn | None = None,
+    urdf_path: str | None = None,
+    coverage: bool = False,
+    clearance_margin: float = 0.01,
+    jobs: int = 1,
+    certify: CertifyOptions | None = None,
+    moveit: bool = False,
+) -> Report:
+    """Sample (or take) configurations and build the self-collision :class:`Report`.
+
+    ``configs`` [N, n_c] (c-space order) replaces sampling: the report then also lists which
+    configurations collide and by which pairs (unmasked pairs only). Otherwise ``samples``
+    configurations are drawn from the c-space limits with ``sampler`` (``uniform``: independent
+    samples, for which the "never" bound holds; ``halton``: scrambled low-discrepancy points,
+    better coverage, the bound is indicative only). Joints outside the c-space stay at their
+    defaults. ``progress(done, total)`` is called after each chunk. ``coverage`` asks
+    :mod:`xrdf_tools.spheres` for coverage metrics when it provides them. Minimum clearances
+    below ``clearance_margin`` metres are exact; larger ones are reported as lower bounds.
+    ``moveit`` takes the default configuration as MoveIt's Setup Assistant does (each joint at 0
+    when within its limits, else mid-range) instead of the XRDF's, to compare like with like.
+    ``jobs`` worker processes share a large sample (same result for any ``jobs``; given
+    ``configs`` are always checked in this process). ``certify`` decides the "never" pairs
+    over their whole joint box: proven, or "sometimes" with a witness configuration.
+    """
+    from ..sampling import fresh_seed
+    from ..urdf_source import urdf_path as _urdf_path
+
+    t0 = time.perf_counter()
+    upath = urdf_path or _urdf_path(urdf)
+    kin, kin_diags = build_kinematic_model(urdf, xrdf, path=upath)
+    spheres_all, sdiags = build_sphere_set(kin, xrdf, include_masked=True)
+    diags: list[Diagnostic] = [*kin_diags, *sdiags]
+    cspace = _cspace_joints(kin, xrdf)
+    if moveit:  # like MoveIt's Setup Assistant: 0 when within the limits, else mid-range
+        q_default = moveit_default_configuration(kin)
+    else:
+        q_default = default_configuration(kin, xrdf.default_joint_positions)
+
+    adjacent = adjacent_frame_pairs(kin, spheres_all.frame_names)
+    adj = np.array(
+        [frozenset(p) in adjacent for p in spheres_all.frame_pair_names()], dtype=np.bool_
+    )
+    sampled = ~(spheres_all.frame_pair_masked & adj)  # masked adjacent pairs need no samples
+    work = spheres_all.select_frame_pairs(sampled)
+    work_index = np.flatnonzero(sampled)
+
+    idx = np.array([kin.actuated_index(n) for n in cspace], dtype=np.intp)
+    engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
+    trajectory: list[TrajectoryHit] | None = None
+    if configs is not None:
+        qc = np.asarray(configs, dtype=np.float64)
+        if qc.ndim != 2 or qc.shape[1] != len(cspace):
+            raise ConfigsError(
+                f"configurations must be [N, {len(cspace)}] in c-space order "
+                f"({', '.join(cspace)}), got {list(qc.shape)}"
+            )
+        n_total = qc.shape[0]
+        totals, trajectory = _count_configs(engine, qc, chunk, progress)
+        source: Literal["sampled", "configs"] = "configs"
+    else:
+        if samples < 1:
+            raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
+        n_total = samples
+        totals = count_sampled(
+            engine,
+            kin.lower[idx],
+            kin.upper[idx],
+            samples,
+            method=sampler,
+            seed=fresh_seed() if seed is None else seed,
+            chunk=chunk,
+            jobs=jobs,
+            progress=progress,
+        )
+        source = "sampled"
+    def_clear, def_contacts = _default_clearances(kin, spheres_all, q_default)
+    stats = _pair_stats(kin, spheres_all, adj, work_index, totals, def_clear, n_total, source)
+    w_of = {int(k): i for i, k in enumerate(work_index)}
+    if certify is not None:
+        stats = _certify(engine, stats, w_of, cspace, certify)
+    diags.extend(_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
+    rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
+    cov = _coverage(upath, xrdf) if coverage else None
+    return Report(
+        xrdf_path=xrdf.source.path,
+        urdf_path=upath,
+        source=source,
+        samples=n_total,
+        sampler=sampler if source == "sampled" else None,
+        seed=seed if source == "sampled" else None,
+        cspace_joints=tuple(cspace),
+        frames=spheres_all.frame_names,
+        sphere_counts=FrozenMap(spheres_all.sphere_counts()),
+        placeholders=spheres_all.n_placeholders,
+        pairs=tuple(stats),
+        default_configuration=FrozenMap(
+            (j, float(v)) for j, v in zip(kin.actuated_joints, q_default, strict=True)
+        ),
+        default_contacts=tuple(def_contacts),
+        trajectory=tuple(trajectory) if trajectory is not None else None,
+        recommended_ignore=rec_ignore,
+        mask_change=change,
+        diagnostics=tuple(sorted(diags, key=sort_key)),
+        elapsed_s=time.perf_counter() - t0,
+        coverage=cov,
+    )
+
+
+def _default_clearances(
+    kin: KinematicModel, spheres: SphereSet, q_default: FloatArray
+) -> tuple[FloatArray, list[Contact]]:
+    """At the default configuration: the clearance [K] of every frame pair (masked ones too)
+    and the colliding unmasked pairs, worst first."""
+    c_def = sphere_world_centers(kin, spheres, q_default)
+    def_clear = np.full(spheres.n_frame_pairs, np.inf)
+    if spheres.n_pairs:
+        clr = pair_clearance(spheres, c_def)
+        def_clear = np.minimum.reduceat(clr, spheres.pair_start[:-1])
+    return def_clear, [c for c in contacts(spheres, c_def) if not c.masked]
+
+
+def _pair_stats(
+    kin: KinematicModel,
+    spheres: SphereSet,
+    adj: npt.NDArray[np.bool_],
+    work_index: npt.NDArray[np.intp],
+    totals: EngineTotals,
+    def_clear: FloatArray,
+    n_total: int,
+    source: str,
+) -> list[PairStat]:
+    """One :class:`PairStat` per frame pair of ``spheres``; ``work_index`` [W] lists the
+    sampled frame pairs, whose counts and clearances are ``totals`` [W]."""
+    hits = totals.hits
+    min_clear, is_bound_w = totals.clearance()
+    masked = spheres.frame_pair_masked
+    counts = spheres.sphere_counts()
+    ub = never_upper_bound(n_total)
+    stats: list[PairStat] = []
+    w_of = {int(k): i for i, k in enumerate(work_index)}
+    for k, (a, b) in enumerate(spheres.frame_pair_names()):
+        w = w_of.get(k)
+        h = int(hits[w]) if w is not None else None
+        rate = (h / n_total if n_total else 0.0) if h is not None else None
+        mc: float | None = None
+        is_bound = False
+        if w is not None:
+            mc = float(min_clear[w])
+            is_bound = bool(is_bound_w[w])
+        cls, rec, note = _verdict(
+            bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source
+        )
+        stats.append(
+            PairStat(
+                frame_a=a,
+                frame_b=b,
+                spheres_a=counts[a],
+                spheres_b=counts[b],
+                masked=bool(masked[k]),
+                adjacent=bool(adj[k]),
+                sampled=w is not None,
+                hits=h,
+                rate=rate,
+                rate_upper_95=ub if h == 0 else None,
+                min_clearance=_finite(mc),
+                min_clearance_is_bound=is_bound,
+                default_clearance=float(def_clear[k]),
+                classification=cls,
+                recommendation=rec,
+                note=note,
+                joints_on_path=len(kin.joints_on_path(a, b)),
+            )
+        )
+    return stats
+
+
+def _count_configs(
+    engine: CountEngine, qc: FloatArray, chunk: int, progress: ProgressFn | None
+) -> tuple[EngineTotals, list[TrajectoryHit]]:
+    """Count given c-space configurations and list those where an unmasked pair collides."""
+    work = engine.spheres
+    unmasked = ~work.frame_pair_masked
+    checked = work.select_frame_pairs(unmasked)
+    totals = EngineTotals.empty(engine.K)
+    trajectory: list[TrajectoryHit] = []
+    n_total = qc.shape[0]
+    for start in range(0, n_total, chunk):
+        q_c = qc[start : start + chunk]
+        hits = engine.count(q_c, totals)
+        bad = np.flatnonzero(hits[unmasked].any(axis=0))
+        if len(bad):
+            q = np.repeat(engine.q_base[None, :], len(bad), axis=0)
+            q[:, engine.varying] = q_c[bad]
+            centers = sphere_world_centers(engine.kin, checked, q)
+            for b, c in zip(bad.tolist(), centers, strict=True):
+                trajectory.append(TrajectoryHit(start + b, tuple(contacts(checked, c))))
+        if progress is not None:
+            progress(min(start + chunk, n_total), n_total)
+    return totals, trajectory
+
+
+def _certify(
+    engine: CountEngine,
+    stats: list[PairStat],
+    w_of: Mapping[int, int],
+    cspace: Sequence[str],
+    opts: CertifyOptions,
+) -> list[PairStat]:
+    """Certify the "never" pairs, sharing the time budget evenly among those still to do."""
+    todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
+    deadline = time.perf_counter() + opts.budget_s
+    out = list(stats)
+    for n_left, i in zip(range(len(todo), 0, -1), todo, strict=True):
+        budget = max(0.0, deadline - time.perf_counter()) / n_left
+        cert = certify_pair(engine, w_of[i], budget)
+        path = [cspace[j] for j in cert.joints]
+        out[i] = _certified(stats[i], cert.verdict, cert.witness, cert.seconds, cspace, path, opts)
+    return out
+
+
+def _cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> list[str]:
+    if xrdf.cspace is None or not xrdf.cspace.joint_names:
+        return list(kin.actuated_joints)
+    return list(xrdf.cspace.joint_names)
+
+
+# ------------------------------------------------------------------------------------------
+# Optional coverage hook (xrdf_tools.spheres)
+# ------------------------------------------------------------------------------------------
+def _coverage(urdf_path: str, xrdf: Xrdf) -> CoverageSummary | None:
+    """Coverage metrics from ``xrdf_tools.spheres.coverage_for_xrdf`` when it exists.
+
+    The function is looked up lazily so the report works without the sphere tools. It must
+    return a mapping ``frame -> {metric: value}`` (or a :class:`CoverageSummary`).
+    """
+    try:
+        mod = importlib.import_module("xrdf_tools.spheres")
+    except ImportError:
+        return CoverageSummary({}, note="xrdf_tools.spheres is not available")
+    fn = getattr(mod, "coverage_for_xrdf", None)
+    if fn is None:
+        return CoverageSummary({}, note="xrdf_tools.spheres provides no coverage_for_xrdf yet")
+    result = fn(urdf_path, xrdf)
+    if isinstance(result, CoverageSummary):
+        return result
+    data = result.to_dict() if hasattr(result, "to_dict") else dict(result)
+    links = data.get("links", data)
+    per_frame = {str(f): _numbers(m) for f, m in dict(links).items() if isinstance(m, Mapping)}
+    overall = _numbers(data.get("overall", {}))
+    unmeasured = data.get("unmeasured") or ()
+    note = f"not measured (no geometry): {', '.join(unmeasured)}" if unmeasured else ""
+    return CoverageSummary(per_frame, overall, note)
+
+
+def _numbers(m: Any) -> dict[str, float]:
+    if not isinstance(m, Mapping):
+        return {}
+    return {
+        str(k): float(v)
+        for k, v in m.items()
+        if isinstance(v, (int, float)) and not isinstance(v, bool)
+    }

@@ -1,0 +1,277 @@
+"""Verdicts and findings: how a frame pair is classified and what the report flags.
+
+Classification, first match wins (MoveIt Setup Assistant order, :func:`_verdict`):
+
+``adjacent``  the frames are joined by a joint once frames without spheres are collapsed
+              (:func:`adjacent_frame_pairs`);
+``default``   the pair collides at the default configuration;
+``always``    it collides in more than :data:`ALWAYS_RATE` of the configurations;
+``never``     it never collides in the ``N`` configurations: with independent uniform samples
+              the collision rate is below :func:`never_upper_bound` (≈ 3/N) with 95 %
+              confidence;
+``sometimes`` anything else.
+
+``--certify`` may then turn a "never" into proven or, with a witness, into "sometimes"
+(:func:`_certified`). :func:`_findings` turns the statistics into diagnostics with the rule ids
+of :data:`RULES`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+
+import numpy as np
+import numpy.typing as npt
+
+from ..certify import Verdict
+from ..collision import Contact
+from ..diagnostics import Diagnostic, Severity
+from ..errors import did_you_mean
+from ..kinematics import KinematicModel
+from ..model import SelfCollisionSection, Xrdf
+from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit
+
+FloatArray = npt.NDArray[np.float64]
+
+__all__ = ["ALWAYS_RATE", "RULES", "adjacent_frame_pairs", "never_upper_bound"]
+
+#: A pair colliding in more than this fraction of configurations is "always" colliding.
+ALWAYS_RATE = 0.95
+
+#: Report rule ids: (id, short description, severity).
+RULES: tuple[tuple[str, str, Severity], ...] = (
+    (
+        "report-always-colliding",
+        "an unmasked frame pair collides in more than 95 % of configurations",
+        Severity.ERROR,
+    ),
+    (
+        "report-default-colliding",
+        "an unmasked frame pair collides at the default configuration",
+        Severity.ERROR,
+    ),
+    (
+        "report-mask-hides-collision",
+        "a masked frame pair that is not adjacent collides sometimes",
+        Severity.WARNING,
+    ),
+    (
+        "report-unknown-mask-frame",
+        "self_collision.ignore names a frame the robot does not have",
+        Severity.WARNING,
+    ),
+    (
+        "report-trajectory-collision",
+        "a given configuration (--configs) is in self-collision",
+        Severity.ERROR,
+    ),
+)
+_SEVERITY = {r[0]: r[2] for r in RULES}
+
+
+def never_upper_bound(n: int, confidence: float = 0.95) -> float:
+    """Upper bound of the collision rate after ``n`` samples without a hit (exact binomial).
+
+    ``1 − (1 − confidence)^(1/n)``; about ``3/n`` for 95 %. ``1.0`` for ``n == 0``.
+    """
+    if n <= 0:
+        return 1.0
+    return -math.expm1(math.log(1.0 - confidence) / n)
+
+
+def adjacent_frame_pairs(
+    kin: KinematicModel, geometry_frames: Sequence[str]
+) -> frozenset[frozenset[str]]:
+    """Pairs of ``geometry_frames`` joined by a joint once frames without geometry collapse.
+
+    Two geometry frames are adjacent when the kinematic tree path between them passes only
+    through frames without geometry (none at all: parent and child), the rule of the MoveIt
+    Setup Assistant (siblings under a geometry-less frame are adjacent too).
+    """
+    geo = {kin.frame_index(f) for f in geometry_frames}
+    nbrs: dict[int, list[int]] = {i: [] for i in range(kin.n_frames)}
+    for i in range(1, kin.n_frames):
+        p = int(kin.parent[i])
+        nbrs[i].append(p)
+        nbrs[p].append(i)
+    out: set[frozenset[str]] = set()
+    for g in geo:
+        seen = {g}
+        stack = list(nbrs[g])
+        while stack:
+            v = stack.pop()
+            if v in seen:
+                continue
+            seen.add(v)
+            if v in geo:
+                out.add(frozenset((kin.frame_names[g], kin.frame_names[v])))
+            else:
+                stack.extend(nbrs[v])
+    return frozenset(out)
+
+
+def _certified(
+    p: PairStat,
+    verdict: Verdict,
+    witness: FloatArray | None,
+    seconds: float,
+    cspace: Sequence[str],
+    path: Sequence[str],
+    opts: CertifyOptions,
+) -> PairStat:
+    """The pair's statistics with the verdict of ``--certify`` (``path``: its joints)."""
+    took = f"{seconds:.2f} s"
+    if verdict == "witness" and witness is not None:
+        values = {j: float(v) for j, v in zip(cspace, witness, strict=True)}
+        what = "remove from ignore" if p.masked else "keep checking"
+        at = ", ".join(f"{j}={values[j]:.4f}" for j in path)
+        note = f"collides at {at} (others at default; found by --certify in {took}): {what}"
+        return replace(
+            p,
+            classification="sometimes",
+            recommendation="check",
+            note=note,
+            certificate="witness",
+            witness=values,
+            certify_s=seconds,
+        )
+    if verdict == "proven":
+        note = f"proven never to collide over the whole joint box ({took}): ignore"
+        return replace(
+            p, recommendation="ignore", note=note, certificate="proven", certify_s=seconds
+        )
+    rec: Recommendation = "check" if opts.mask_policy == "proven" else p.recommendation
+    note = f"{p.note}; not proven within the --certify budget ({took})"
+    return replace(p, recommendation=rec, note=note, certificate="undecided", certify_s=seconds)
+
+
+def _verdict(
+    adjacent: bool,
+    default_clearance: float,
+    hits: int | None,
+    rate: float | None,
+    n: int,
+    ub: float,
+    masked: bool,
+    source: str,
+) -> tuple[Classification, Recommendation, str]:
+    what = "samples" if source == "sampled" else "given configurations"
+    if adjacent:
+        return "adjacent", "ignore", "adjacent frames: ignore"
+    if default_clearance < 0:
+        return "default", "ignore", "collides at the default configuration: ignore"
+    assert hits is not None and rate is not None
+    if rate > ALWAYS_RATE:
+        return "always", "ignore", f"collides in {rate:.1%} of {what}: ignore"
+    if hits == 0:
+        return (
+            "never",
+            "may-ignore",
+            f"may ignore: never seen in {n} {what} (rate < {ub:.2g} at 95 % confidence)",
+        )
+    if masked:
+        return "sometimes", "check", f"collides in {rate:.3%} of {what}: remove from ignore"
+    return "sometimes", "check", f"collides in {rate:.3%} of {what}: keep checking"
+
+
+def _diag(xrdf: Xrdf, rule: str, message: str, key_path: str) -> Diagnostic:
+    line, col = xrdf.source.position(key_path)
+    return Diagnostic(xrdf.source.path, line, col, rule, _SEVERITY[rule], message, key_path)
+
+
+def _ignore_key_path(sc: SelfCollisionSection | None, a: str, b: str) -> str:
+    if sc is None:
+        return "self_collision"
+    for x, y in ((a, b), (b, a)):
+        others = sc.ignore.get(x, ())
+        if y in others:
+            return f"self_collision.ignore.{x}[{others.index(y)}]"
+    return "self_collision.ignore"
+
+
+def _findings(
+    xrdf: Xrdf,
+    kin: KinematicModel,
+    stats: Sequence[PairStat],
+    def_contacts: Sequence[Contact],
+    trajectory: Sequence[TrajectoryHit] | None,
+    n: int,
+) -> list[Diagnostic]:
+    out: list[Diagnostic] = []
+    sc = xrdf.self_collision
+    for p in stats:
+        pair = f"'{p.frame_a}' and '{p.frame_b}'"
+        if not p.masked and p.rate is not None and p.rate > ALWAYS_RATE:
+            out.append(
+                _diag(
+                    xrdf,
+                    "report-always-colliding",
+                    f"{pair} collide in {p.rate:.1%} of {n} configurations but are not in "
+                    "self_collision.ignore: a planner will find no valid configuration",
+                    "self_collision.ignore" if sc is not None else "self_collision",
+                )
+            )
+        if p.masked and p.classification == "sometimes":
+            seen = (
+                "collide at a configuration that --certify found (sampling missed it)"
+                if p.certificate == "witness"
+                else f"collide in {p.hits} of {n} configurations ({p.rate:.3%})"
+            )
+            out.append(
+                _diag(
+                    xrdf,
+                    "report-mask-hides-collision",
+                    f"{pair} are ignored but are not adjacent and {seen}: the mask hides real "
+                    "collisions",
+                    _ignore_key_path(sc, p.frame_a, p.frame_b),
+                )
+            )
+    for c in def_contacts:
+        out.append(
+            _diag(
+                xrdf,
+                "report-default-colliding",
+                f"'{c.frame_a}' and '{c.frame_b}' collide at the default configuration "
+                f"(clearance {c.clearance * 1000:.1f} mm, spheres {c.sphere_a} and "
+                f"{c.sphere_b}) but are not in self_collision.ignore",
+                "default_joint_positions",
+            )
+        )
+    if sc is not None:
+        for a, others in sc.ignore.items():
+            for i, name in enumerate((a, *others)):
+                if kin.has_frame(name):
+                    continue
+                kp = f"self_collision.ignore.{a}" + ("#key" if i == 0 else f"[{i - 1}]")
+                out.append(
+                    _diag(
+                        xrdf,
+                        "report-unknown-mask-frame",
+                        f"self_collision.ignore names unknown frame '{name}'"
+                        + did_you_mean(name, kin.frame_names)
+                        + "; the entry masks nothing",
+                        kp,
+                    )
+                )
+    for hit in trajectory or ():
+        worst = hit.contacts[0] if hit.contacts else None
+        detail = (
+            f"'{worst.frame_a}' and '{worst.frame_b}' (clearance {worst.clearance * 1000:.1f} mm)"
+            if worst
+            else "?"
+        )
+        more = f" and {len(hit.contacts) - 1} more pair(s)" if len(hit.contacts) > 1 else ""
+        out.append(
+            Diagnostic(
+                xrdf.source.path,
+                None,
+                None,
+                "report-trajectory-collision",
+                Severity.ERROR,
+                f"configuration {hit.index} is in self-collision: {detail}{more}",
+                f"configs[{hit.index}]",
+            )
+        )
+    return out
