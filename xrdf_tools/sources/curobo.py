@@ -11,12 +11,11 @@ as cuMotion's own ``franka_curobo.xrdf`` carries them (docs/format.md, "Who read
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeGuard
+from typing import Any
 
 from ..diagnostics import Severity
 from ..errors import SourceError, XrdfToolsError, did_you_mean
@@ -24,7 +23,9 @@ from ..model import AddFrame, Orientation, SetBaseFrame, Sphere
 from ..shape import check_shape
 from ..yaml_io import YamlDocument, node_positions, parse_yaml, read_text, to_python
 from . import Draft, Reporter, RobotTree, known_frame
+from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
+from .curobo_spheres import find_spheres_file, is_num, read_sphere_map
 
 __all__ = ["detect_layout", "read_curobo", "referenced_files"]
 
@@ -115,10 +116,6 @@ def _load(path: str | os.PathLike[str]) -> tuple[YamlDocument, Reporter]:
     return doc, rep
 
 
-def _is_num(v: Any) -> TypeGuard[float]:
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-
-
 def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | None = None) -> Draft:
     """Map a cuRobo (or Lula) robot YAML onto a :class:`Draft`."""
     d = draft or Draft()
@@ -130,7 +127,7 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
     except SourceError as e:
         raise SourceError(e.message, path=doc.path, line=1) from None
     if layout == "lula":
-        _read_lula(data, tree, d, rep)
+        read_lula(data, tree, d, rep)
     else:
         if "robot_cfg" in data:
             prefix = "robot_cfg.kinematics"
@@ -214,7 +211,7 @@ def _read_extra_links(k: _Kin) -> None:
         if not known_frame(parent, k.frames, k.rep, f"{w}.parent_link_name", "extra link parent"):
             continue
         ft = spec.get("fixed_transform") or [0, 0, 0, 1, 0, 0, 0]
-        if not (isinstance(ft, list) and len(ft) == 7 and all(_is_num(v) for v in ft)):
+        if not (isinstance(ft, list) and len(ft) == 7 and all(is_num(v) for v in ft)):
             raise k.fail(
                 f"extra_links.{name}.fixed_transform must be [x, y, z, qw, qx, qy, qz]",
                 "extra_links",
@@ -271,9 +268,9 @@ def _per_joint(k: _Kin, names: list[str], value: Any, key: str) -> dict[str, flo
     """A scalar (broadcast) or one value per c-space joint, by joint name."""
     if value is None:
         return {}
-    if _is_num(value):
+    if is_num(value):
         return {n: float(value) for n in names}
-    if isinstance(value, list) and all(_is_num(v) for v in value):
+    if isinstance(value, list) and all(is_num(v) for v in value):
         if len(value) != len(names):
             raise k.fail(
                 f"cspace.{key} has {len(value)} values for {len(names)} joints", "cspace", key
@@ -359,7 +356,7 @@ def _read_locks(k: _Kin, locks: Mapping[str, Any]) -> None:
                 "dropped",
                 where,
             )
-        elif not _is_num(v):
+        elif not is_num(v):
             raise k.fail(f"lock_joints.{n} must be a number", "lock_joints", n)
         elif j.is_actuated:
             k.d.defaults[str(n)] = float(v)
@@ -379,7 +376,7 @@ def _read_sphere_source(k: _Kin) -> None:
     raw: Mapping[str, Any] | None = None
     srep, sprefix = k.rep, k.kp("collision_spheres")
     if isinstance(value, str):
-        sphere_file = _find_spheres_file(value, k.config_path, k.rep, sprefix)
+        sphere_file = find_spheres_file(value, k.config_path, k.rep, sprefix)
         sdoc, srep = _load(sphere_file)
         sdata = to_python(sdoc.root)
         if not isinstance(sdata, Mapping) or not isinstance(
@@ -402,7 +399,7 @@ def _read_sphere_source(k: _Kin) -> None:
     allowed = None if coll_links is None else {str(c) for c in coll_links}
     if raw is None:
         return
-    k.d.spheres = _read_sphere_map(raw, k.frames, srep, sprefix, allowed)
+    k.d.spheres = read_sphere_map(raw, k.frames, srep, sprefix, allowed)
     if srep is not k.rep:
         k.d.diagnostics.extend(srep.diagnostics)
     for i, c in enumerate(coll_links or []):
@@ -420,13 +417,13 @@ def _read_buffers(k: _Kin) -> None:
         ("self_collision_buffer", k.d.self_buffer),
     ):
         buf = k.data.get(key)
-        if _is_num(buf):
+        if is_num(buf):
             if float(buf) != 0.0:
                 target.update({f: float(buf) for f in sphere_frames})
         elif isinstance(buf, Mapping):
             for f, v in buf.items():
                 ok = known_frame(str(f), k.frames, k.rep, k.kp(key, f), key)
-                if ok and _is_num(v) and float(v) != 0.0:
+                if ok and is_num(v) and float(v) != 0.0:
                     target[str(f)] = float(v)
         elif buf is not None:
             raise k.fail(f"{key} must be a number or a mapping", key)
@@ -486,163 +483,6 @@ def referenced_files(path: str | os.PathLike[str]) -> list[Path]:
     if not isinstance(value, str):
         return []
     try:
-        return [_find_spheres_file(value, Path(doc.path), rep, "collision_spheres")]
+        return [find_spheres_file(value, Path(doc.path), rep, "collision_spheres")]
     except SourceError:
         return []
-
-
-def _find_spheres_file(value: str, config_path: Path, rep: Reporter, where: str) -> Path:
-    base = config_path.parent
-    candidates = [base / value, base.parent / value, base / "spheres" / Path(value).name]
-    for c in candidates:
-        if c.is_file():
-            return c
-    raise SourceError(
-        f"collision_spheres file '{value}' not found (looked in "
-        f"{', '.join(str(c.parent) for c in candidates)})",
-        path=rep.path,
-        line=rep.position(where)[0],
-    )
-
-
-def _read_sphere_map(
-    raw: Mapping[str, Any],
-    frames: list[str],
-    rep: Reporter,
-    prefix: str,
-    allowed: set[str] | None,
-) -> dict[str, list[Sphere]]:
-    out: dict[str, list[Sphere]] = {}
-    # cuRobo looks spheres up only for collision_link_names, so a sphere file shared between
-    # robots (cuRobo's iiwa.yml uses spheres/iiwa_allegro.yml) may name links of another robot:
-    # those are neither unknown-link mistakes nor lost spheres; one info note covers them.
-    foreign: list[str] = []
-    for link, items in raw.items():
-        link = str(link)
-        w = f"{prefix}.{link}"
-        if allowed is not None and link not in allowed and link not in frames:
-            foreign.append(link)
-            continue
-        if not known_frame(link, frames, rep, w, "collision spheres"):
-            continue
-        if allowed is not None and link not in allowed:
-            rep.report(
-                "convert-unused-spheres",
-                f"spheres on '{link}' are not used by cuRobo ('{link}' is not in "
-                "collision_link_names); dropped",
-                w,
-            )
-            continue
-        spheres = _spheres(items, rep, w)
-        if spheres:
-            out.setdefault(link, []).extend(spheres)
-    if foreign:
-        shown = ", ".join(foreign[:5]) + (
-            f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
-        )
-        rep.report(
-            "convert-unused-spheres",
-            f"spheres on {len(foreign)} link(s) that are neither in the URDF nor in "
-            f"collision_link_names ({shown}) are ignored: cuRobo never reads them (a sphere "
-            "file shared with another robot?)",
-            f"{prefix}.{foreign[0]}",
-            severity=Severity.INFO,
-        )
-    return out
-
-
-def _spheres(items: Any, rep: Reporter, where: str) -> list[Sphere]:
-    if items is None:
-        return []
-    if not isinstance(items, list):
-        raise SourceError(
-            "spheres of a link must be a list", path=rep.path, line=rep.position(where)[0]
-        )
-    out = []
-    for i, s in enumerate(items):
-        w = f"{where}[{i}]"
-        c = s.get("center") if isinstance(s, Mapping) else None
-        r = s.get("radius") if isinstance(s, Mapping) else None
-        if not (isinstance(c, list) and len(c) == 3 and all(_is_num(v) for v in c) and _is_num(r)):
-            raise SourceError(
-                "a sphere needs center: [x, y, z] and a numeric radius",
-                path=rep.path,
-                line=rep.position(w)[0],
-            )
-        out.append(Sphere((float(c[0]), float(c[1]), float(c[2])), float(r)))
-    return out
-
-
-LULA_HANDLED = {
-    "cspace",
-    "default_q",
-    "acceleration_limits",
-    "jerk_limits",
-    "collision_spheres",
-    "root_link",
-    "cspace_to_urdf_rules",
-    "api_version",
-}
-
-
-def _read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter) -> None:
-    for key in data:
-        if key not in LULA_HANDLED:
-            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", key)
-    frames = list(tree.links)
-    root = data.get("root_link")
-    root_ok = bool(root) and known_frame(str(root), frames, rep, "root_link", "root_link")
-    if root_ok and str(root) != tree.root:
-        d.modifiers.append(SetBaseFrame(str(root)))
-    names = [str(n) for n in data.get("cspace") or []]
-    cspace = []
-    for i, n in enumerate(names):
-        if n not in tree.joints:
-            rep.report(
-                "convert-unknown-joint",
-                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, tree.joints)}; dropped",
-                f"cspace[{i}]",
-            )
-        else:
-            cspace.append(n)
-    d.cspace = cspace
-    for key, target in (
-        ("default_q", d.defaults),
-        ("acceleration_limits", d.acceleration),
-        ("jerk_limits", d.jerk),
-    ):
-        vals = data.get(key)
-        if vals is None:
-            continue
-        if not (isinstance(vals, list) and len(vals) == len(names) and all(map(_is_num, vals))):
-            raise SourceError(
-                f"{key} must be a list of {len(names)} numbers (one per cspace joint)",
-                path=rep.path,
-                line=rep.position(key)[0],
-            )
-        for n, v in zip(names, vals, strict=True):
-            if n in cspace:
-                target[n] = float(v)
-    for i, rule in enumerate(data.get("cspace_to_urdf_rules") or []):
-        if isinstance(rule, Mapping) and rule.get("rule") == "fixed" and _is_num(rule.get("value")):
-            n = str(rule.get("name"))
-            if tree.is_actuated(n):
-                d.defaults[n] = float(rule["value"])
-            else:
-                rep.report(
-                    "convert-unknown-joint",
-                    f"cspace_to_urdf_rules fixes '{n}', which is not an actuated URDF joint"
-                    f"{did_you_mean(n, tree.joints)}; dropped",
-                    f"cspace_to_urdf_rules[{i}]",
-                )
-    spheres = data.get("collision_spheres")
-    if isinstance(spheres, list):
-        out: dict[str, list[Sphere]] = {}
-        for i, entry in enumerate(spheres):
-            if not isinstance(entry, Mapping):
-                continue
-            for link, items in entry.items():
-                w = f"collision_spheres[{i}].{link}"
-                if known_frame(str(link), frames, rep, w, "collision spheres"):
-                    out.setdefault(str(link), []).extend(_spheres(items, rep, w))
-        d.spheres = {k: v for k, v in out.items() if v}

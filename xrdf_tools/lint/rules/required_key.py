@@ -28,6 +28,9 @@ GEOMETRY_ONLY_KEYS = {
     "self_collision",
 }
 
+#: Missing keys that another rule reports in its own words: (key path of the mapping, key).
+OWNED_ELSEWHERE = {("", "format"), ("", "format_version")}
+
 
 def check(ctx: LintContext) -> Iterator[Problem]:
     top = ctx.top
@@ -48,7 +51,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
                 "missing required key 'cspace' (joint_names, acceleration_limits, jerk_limits)",
             )
     for ev in walk(top):
-        if ev.kind == "missing":
+        if ev.kind == "missing" and (ev.key_path, ev.key) not in OWNED_ELSEWHERE:
             yield ctx.problem(ev.node, ev.message, ev.key_path)
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
+from ...xrdf_shape import DOCUMENT, GROUP, MODIFIERS, exists_in
 from ...yaml_io import YMap
 from ..context import LintContext, Problem, Rule
 
@@ -29,22 +30,20 @@ def check(ctx: LintContext) -> Iterator[Problem]:
             "both 'collision' and 'world_collision' are present; XRDF "
             f"{v} uses '{ctx.world_key()}' only",
         )
-    elif v == "2.0" and "collision" in top:
+    elif "collision" in top and not exists_in(DOCUMENT, "collision", v):
         yield ctx.problem(
             top.key_node("collision"),
             "'collision' is the XRDF 1.0 spelling; format_version 2.0 requires 'world_collision'",
             "collision",
         )
-    elif v == "1.0" and "world_collision" in top:
+    elif "world_collision" in top and not exists_in(DOCUMENT, "world_collision", v):
         yield ctx.problem(
             top.key_node("world_collision"),
             "'world_collision' is XRDF 2.0; format_version 1.0 spells it 'collision'",
             "world_collision",
         )
-    if v != "1.0":
-        return
     for gname, gnode in ctx.groups.items():
-        if isinstance(gnode, YMap) and "clone" in gnode:
+        if isinstance(gnode, YMap) and "clone" in gnode and not exists_in(GROUP, "clone", v):
             yield ctx.problem(
                 gnode.key_node("clone"),
                 f"geometry group '{gname}' uses 'clone', which XRDF 1.0 does not have; list the "
@@ -52,10 +51,11 @@ def check(ctx: LintContext) -> Iterator[Problem]:
                 f"geometry.{gname}.clone",
             )
     for i, kind, knode, _ in ctx.modifier_items:
-        if kind == "remove_mimic_attributes":
+        sub = MODIFIERS.get(kind)
+        if sub is not None and sub.versions and v not in sub.versions:
             yield ctx.problem(
                 knode,
-                "modifier 'remove_mimic_attributes' is XRDF 2.0 only",
+                f"modifier '{kind}' is XRDF {' and '.join(sub.versions)} only",
                 f"modifiers[{i}]",
             )
 
