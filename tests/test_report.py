@@ -323,3 +323,17 @@ def test_moveit_default_pose_is_zero_within_limits_else_mid_range() -> None:
     assert q["joint1"] == 0.0 and q["joint3"] == pytest.approx(0.225)
     _, r = three_link_report(samples=200, moveit=True)
     assert r.default_configuration["joint3"] == pytest.approx(0.225)
+
+
+@pytest.mark.slow
+def test_coverage_comes_from_the_sphere_tools_with_their_diagnostics() -> None:
+    from xrdf_tools.spheres import CoverageSummary
+
+    _, r = three_link_report(samples=200, coverage=True)
+    assert isinstance(r.coverage, CoverageSummary)  # one class, no bridge
+    per = r.coverage.per_frame
+    assert set(per) >= {"base_link", "link1", "link2", "link3"}
+    assert all(0.0 <= m["coverage"] <= 1.0 for m in per.values())
+    doc = report_to_dict(r)["coverage"]
+    assert doc["per_frame"] == per and "coverage" in doc["overall"]
+    assert "sphere coverage:" in render_text(r)

@@ -102,8 +102,8 @@ def report_to_dict(r: Report) -> dict[str, Any]:
             None
             if r.coverage is None
             else {
-                "per_frame": {f: dict(m) for f, m in r.coverage.per_frame.items()},
-                "overall": dict(r.coverage.overall),
+                "per_frame": r.coverage.per_frame,
+                "overall": r.coverage.overall_numbers,
                 "note": r.coverage.note,
             }
         ),
@@ -231,8 +231,9 @@ def _coverage_lines(r: Report) -> list[str]:
     out = ["sphere coverage:"]
     for f, m in r.coverage.per_frame.items():
         out.append(f"  {f}: " + ", ".join(f"{k} {v:.3g}" for k, v in m.items()))
-    if r.coverage.overall:
-        out.append("  overall: " + ", ".join(f"{k} {v:.3g}" for k, v in r.coverage.overall.items()))
+    overall = r.coverage.overall_numbers
+    if overall:
+        out.append("  overall: " + ", ".join(f"{k} {v:.3g}" for k, v in overall.items()))
     if r.coverage.note:
         out.append(f"  ({r.coverage.note})")
     return out

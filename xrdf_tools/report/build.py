@@ -10,10 +10,9 @@ and recommends the ``ignore`` mask (:mod:`.mask`). Masked adjacent pairs are not
 
 from __future__ import annotations
 
-import importlib
 import time
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -42,7 +41,6 @@ from .mask import _recommended_ignore
 from .results import (
     CertifyOptions,
     ConfigsError,
-    CoverageSummary,
     PairStat,
     Report,
     Sampler,
@@ -153,7 +151,12 @@ def self_collision_report(
         stats = _certify(engine, stats, w_of, cspace, certify)
     diags.extend(_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
     rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
-    cov = _coverage(upath, xrdf) if coverage else None
+    cov = None
+    if coverage:
+        from ..spheres import coverage_for_xrdf
+
+        cov = coverage_for_xrdf(upath, xrdf)
+        diags.extend(cov.diagnostics)  # meshes that could not be measured, and why
     return Report(
         xrdf_path=xrdf.source.path,
         urdf_path=upath,
@@ -295,41 +298,3 @@ def _cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> list[str]:
     if xrdf.cspace is None or not xrdf.cspace.joint_names:
         return list(kin.actuated_joints)
     return list(xrdf.cspace.joint_names)
-
-
-# ------------------------------------------------------------------------------------------
-# Optional coverage hook (xrdf_tools.spheres)
-# ------------------------------------------------------------------------------------------
-def _coverage(urdf_path: str, xrdf: Xrdf) -> CoverageSummary | None:
-    """Coverage metrics from ``xrdf_tools.spheres.coverage_for_xrdf`` when it exists.
-
-    The function is looked up lazily so the report works without the sphere tools. It must
-    return a mapping ``frame -> {metric: value}`` (or a :class:`CoverageSummary`).
-    """
-    try:
-        mod = importlib.import_module("xrdf_tools.spheres")
-    except ImportError:
-        return CoverageSummary({}, note="xrdf_tools.spheres is not available")
-    fn = getattr(mod, "coverage_for_xrdf", None)
-    if fn is None:
-        return CoverageSummary({}, note="xrdf_tools.spheres provides no coverage_for_xrdf yet")
-    result = fn(urdf_path, xrdf)
-    if isinstance(result, CoverageSummary):
-        return result
-    data = result.to_dict() if hasattr(result, "to_dict") else dict(result)
-    links = data.get("links", data)
-    per_frame = {str(f): _numbers(m) for f, m in dict(links).items() if isinstance(m, Mapping)}
-    overall = _numbers(data.get("overall", {}))
-    unmeasured = data.get("unmeasured") or ()
-    note = f"not measured (no geometry): {', '.join(unmeasured)}" if unmeasured else ""
-    return CoverageSummary(per_frame, overall, note)
-
-
-def _numbers(m: Any) -> dict[str, float]:
-    if not isinstance(m, Mapping):
-        return {}
-    return {
-        str(k): float(v)
-        for k, v in m.items()
-        if isinstance(v, (int, float)) and not isinstance(v, bool)
-    }

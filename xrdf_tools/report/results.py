@@ -9,12 +9,15 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from ..certify import Verdict
 from ..collision import Contact
 from ..diagnostics import Diagnostic
 from ..errors import XrdfToolsError
+
+if TYPE_CHECKING:
+    from ..spheres import CoverageSummary
 
 Sampler = Literal["uniform", "halton"]
 Classification = Literal["adjacent", "default", "always", "never", "sometimes"]
@@ -24,7 +27,6 @@ __all__ = [
     "CertifyOptions",
     "Classification",
     "ConfigsError",
-    "CoverageSummary",
     "MaskChange",
     "PairStat",
     "Recommendation",
@@ -132,16 +134,6 @@ class MaskChange:
     @property
     def empty(self) -> bool:
         return not (self.added or self.removed or self.dropped_unknown)
-
-
-@dataclass(frozen=True)
-class CoverageSummary:
-    """Optional sphere-coverage metrics (from ``xrdf_tools.spheres``): per frame and overall,
-    each ``{metric: value}`` (e.g. ``coverage``, ``surface_coverage``, ``protrusion_max``)."""
-
-    per_frame: Mapping[str, Mapping[str, float]]
-    overall: Mapping[str, float] = field(default_factory=dict)
-    note: str = ""
 
 
 @dataclass(frozen=True)

@@ -195,6 +195,29 @@ class CoverageSummary:
             "unmeasured": list(self.unmeasured),
         }
 
+    @property
+    def per_frame(self) -> dict[str, dict[str, float]]:
+        """The numeric metrics of each measured link (what ``xrdf report --coverage`` shows)."""
+        return {k: _numbers(v.to_dict()) for k, v in self.links.items()}
+
+    @property
+    def overall_numbers(self) -> dict[str, float]:
+        return _numbers(self.overall.to_dict()) if self.links else {}
+
+    @property
+    def note(self) -> str:
+        return (
+            f"not measured (no geometry): {', '.join(self.unmeasured)}" if self.unmeasured else ""
+        )
+
+
+def _numbers(m: Mapping[str, Any]) -> dict[str, float]:
+    return {
+        str(k): float(v)
+        for k, v in m.items()
+        if isinstance(v, (int, float)) and not isinstance(v, bool)
+    }
+
 
 def _default_group(xrdf: Xrdf) -> str | None:
     if xrdf.world_collision is not None:
