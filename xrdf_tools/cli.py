@@ -64,7 +64,11 @@ app.command("spheres", short_help="Fit collision spheres to link meshes; coverag
 app.command("expand", short_help="xacro → URDF, without ROS (as every command reads it).")(
     expand.command
 )
-app.add_typer(export.app, name="export", help="XRDF → cuRobo robot YAML or MoveIt SRDF.")
+app.add_typer(
+    export.app,
+    name="export",
+    help="XRDF → cuRobo robot YAML, a MoveIt SRDF sync, or an XRDF for a reader (--target).",
+)
 
 
 def _terminate(signum: int, _frame: object) -> None:
