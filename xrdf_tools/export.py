@@ -82,6 +82,15 @@ def for_target(
     return out, diags
 
 
+def _located(x: Xrdf, key_path: str, message: str) -> ConversionError:
+    """A :class:`ConversionError` at ``key_path`` of ``x`` (the document's start when the key
+    is absent), so that the one-line error names the XRDF file and its line."""
+    line, col = x.source.position(key_path) if key_path else (None, None)
+    return ConversionError(
+        message, path=x.source.path or None, line=line or (1 if x.source.path else None), col=col
+    )
+
+
 def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
     """Raise :class:`ConversionError` / :class:`SourceError` when ``x`` cannot become a cuRobo
     config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot."""
@@ -92,11 +101,14 @@ def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
             f"unknown cuRobo layout '{layout}'; choose {', '.join(CUROBO_LAYOUTS)}"
         )
     if x.cspace is None:
-        raise ConversionError("the XRDF has no cspace; cuRobo needs one")
-    if any(isinstance(m, RemoveMimicAttributes) for m in x.modifiers):
-        raise ConversionError(
-            "remove_mimic_attributes has no cuRobo equivalent; edit the URDF instead"
-        )
+        raise _located(x, "", "the XRDF has no cspace; cuRobo needs one")
+    for i, m in enumerate(x.modifiers):
+        if isinstance(m, RemoveMimicAttributes):
+            raise _located(
+                x,
+                f"modifiers[{i}]",
+                "remove_mimic_attributes has no cuRobo equivalent; edit the URDF instead",
+            )
     base = x.base_frame()
     check_belongs(x, tree.with_root(base) if base in tree.links else tree)
 
@@ -134,7 +146,9 @@ def to_curobo(
 
     tools = list(x.tool_frames or [])
     if not tools:
-        raise ConversionError("the XRDF has no tool_frames; cuRobo needs an end effector")
+        raise _located(
+            x, "tool_frames", "the XRDF has no tool_frames; cuRobo needs an end effector"
+        )
     if layout == "2.0":
         kin["tool_frames"] = tools
     else:
@@ -210,7 +224,7 @@ def to_curobo(
     acc = list(cs.acceleration_limits)
     jerk = list(cs.jerk_limits)
     if len(acc) != len(cs.joint_names) or len(jerk) != len(cs.joint_names):
-        raise ConversionError("cspace limits do not match the number of c-space joints")
+        raise _located(x, "cspace", "cspace limits do not match the number of c-space joints")
     fill_a = max(acc, default=10.0)
     fill_j = max(jerk, default=1000.0)
     cspace: dict[str, Any] = {"joint_names": names}
