@@ -110,8 +110,9 @@ def convert_robot(
     from .xrdf_io import dump_xrdf
 
     pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
-    urdf, _ = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
-    x, diags = convert(urdf, options)
+    loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
+    urdf = loaded.urdf
+    x, diags = convert(loaded, options)
     fitted: dict[str, int] = {}
     if fit is not None:
         x, fitted, more = fit_missing_spheres(x, urdf, fit, progress=progress)

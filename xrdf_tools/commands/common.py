@@ -394,9 +394,8 @@ def load_robot_option(
     from ..packages import parse_package_path
     from ..sources.xacro_source import load_robot, parse_xacro_arg
 
-    urdf, _ = load_robot(
+    return load_robot(
         path,
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
         package_paths=pairs(package_path, parse_package_path),
-    )
-    return urdf
+    ).urdf

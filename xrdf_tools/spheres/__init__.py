@@ -368,7 +368,7 @@ def ignore_adjacent(
     spheres = xrdf.self_collision_spheres()
     with_spheres = {f for f, s in spheres.items() if s}
     if urdf is None:
-        urdf, _ = load_robot(urdf_path, package_paths=dict(package_paths or {}))
+        urdf = load_robot(urdf_path, package_paths=dict(package_paths or {}))
     parent = {j.child: j.parent for j in joints_of(urdf).values()}
     ignore = {k: list(v) for k, v in xrdf.self_collision.ignore.items()}
     added = 0
