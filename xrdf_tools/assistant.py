@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 from .convert import ConvertOptions, convert, with_spheres
 from .diagnostics import Diagnostic, Severity
 from .frozen import FrozenMap
+from .robot import Robot, as_robot
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -88,7 +89,7 @@ class ConvertResult:
 
 
 def convert_robot(
-    robot: str | os.PathLike[str],
+    robot: str | os.PathLike[str] | Robot,
     options: ConvertOptions,
     *,
     xacro_args: Mapping[str, str] | None = None,
@@ -99,7 +100,8 @@ def convert_robot(
     label: str = "<xrdf>",
     progress: Progress | None = None,
 ) -> ConvertResult:
-    """Load ``robot``, convert it and, with ``fit``, fit spheres and compute the mask.
+    """Load ``robot`` (or take it loaded), convert it and, with ``fit``, fit spheres and
+    compute the mask.
 
     ``mask`` defaults to :class:`MaskOptions` when ``fit`` is given (a fitted sphere model
     needs its own mask); pass it without ``fit`` to recompute the mask of the inputs' spheres.
@@ -110,40 +112,46 @@ def convert_robot(
     from .xrdf_io import dump_xrdf
 
     pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
-    loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
-    urdf = loaded.urdf
+    if isinstance(robot, Robot):
+        loaded = robot
+    else:
+        loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
     x, diags = convert(loaded, options)
     fitted: dict[str, int] = {}
     if fit is not None:
-        x, fitted, more = fit_missing_spheres(x, urdf, fit, progress=progress)
+        x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
         if fitted:
             diags = [d for d in diags if d.rule != "convert-no-spheres"]
         diags = [*diags, *more]
         mask = mask or MaskOptions()
     report = None
     if mask is not None and x.self_collision_spheres():
-        x, report = compute_mask(x, urdf, mask, progress=progress)
+        x, report = compute_mask(x, loaded, mask, progress=progress)
         diags.append(mask_summary(report, x, mask))
     text = dump_xrdf(x)
     lint_diags: list[Diagnostic] = []
     if lint:
         from .lint import lint_text
 
-        lint_diags = lint_text(text, label, urdf_model=urdf, target=options.target)
+        lint_diags = lint_text(text, label, urdf_model=loaded, target=options.target)
         if any(d.rule == "convert-no-spheres" for d in diags):
             # one loud "no spheres at all" says it; a line per link is noise
             lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
-    return ConvertResult(x, text, urdf, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report)
+    return ConvertResult(
+        x, text, loaded.urdf, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
+    )
 
 
 # ------------------------------------------------------------------------------------------
 # Spheres
 # ------------------------------------------------------------------------------------------
-def geometry_links(urdf: yourdfpy.URDF, source: GeometryChoice) -> tuple[list[str], list[str]]:
+def geometry_links(
+    urdf: Robot | yourdfpy.URDF, source: GeometryChoice
+) -> tuple[list[str], list[str]]:
     """Links with geometry of kind ``source``, and links that have only visual geometry."""
     usable: list[str] = []
     visual_only: list[str] = []
-    for name, link in urdf.link_map.items():
+    for name, link in as_robot(urdf).urdf.link_map.items():
         has_col, has_vis = bool(link.collisions), bool(link.visuals)
         if has_vis and not has_col:
             visual_only.append(name)
@@ -155,7 +163,7 @@ def geometry_links(urdf: yourdfpy.URDF, source: GeometryChoice) -> tuple[list[st
 
 def fit_missing_spheres(
     x: Xrdf,
-    urdf: yourdfpy.URDF,
+    urdf: Robot | yourdfpy.URDF,
     fit: FitOptions,
     *,
     progress: Progress | None = None,
@@ -227,7 +235,7 @@ def fit_summary(
 # ------------------------------------------------------------------------------------------
 def compute_mask(
     x: Xrdf,
-    urdf: yourdfpy.URDF,
+    urdf: Robot | yourdfpy.URDF,
     mask: MaskOptions,
     *,
     progress: Progress | None = None,
