@@ -171,7 +171,6 @@ def fit_missing_spheres(
     """Fit spheres to the links of ``urdf`` that have geometry of kind ``fit.source`` and no
     spheres in ``x`` yet; returns the XRDF, the spheres per fitted link and diagnostics."""
     from .errors import MissingDependencyError
-    from .urdf_source import urdf_package_paths, urdf_path, urdf_text
 
     try:
         from .spheres import fit_link_spheres
@@ -187,22 +186,21 @@ def fit_missing_spheres(
         if progress is not None:
             progress("fitting", i, n)
 
+    robot = as_robot(urdf)
     fitted, diags = fit_link_spheres(
-        urdf_path(urdf),
+        robot,
         links=todo,
         per_link=fit.per_link,
         seed=fit.seed,
-        package_paths=urdf_package_paths(urdf),
         max_protrusion=fit.max_protrusion,
         progress=step,
         source=fit.source,
-        urdf_text=urdf_text(urdf),
     )
     merged: dict[str, Sequence[Sphere]] = {**have}
     for link, spheres in fitted.items():
         merged[link] = [*merged.get(link, ()), *spheres]
     counts = {k: len(v) for k, v in fitted.items()}
-    summary = fit_summary(urdf_path(urdf), counts, fit.source, visual_only, len(have))
+    summary = fit_summary(robot.path, counts, fit.source, visual_only, len(have))
     return with_spheres(x, dict(merged)), counts, [*diags, summary]
 
 
