@@ -294,8 +294,10 @@ def load_link_geometry(
     from ..packages import PackageResolver
     from ..urdf_source import parse_urdf_string
 
+    checked_already = False
     if isinstance(urdf_path, Robot):
         robot = urdf_path
+        checked_already = urdf_text is None and robot.text is not None
         package_paths = robot.package_paths if package_paths is None else package_paths
         urdf_text = robot.text if urdf_text is None else urdf_text
         urdf_path = robot.path
@@ -305,7 +307,8 @@ def load_link_geometry(
         src = read_urdf_text(urdf_path, package_paths)
     # validate (errors with lines); yourdfpy knows no <capsule>, which reads like a cylinder
     checked = re.sub(r"<capsule\b", "<cylinder", src.text)
-    parse_urdf_string(checked, src.path, package_paths=package_paths)
+    if not (checked_already and checked == src.text):  # a loaded Robot's text was checked
+        parse_urdf_string(checked, src.path, package_paths=package_paths)
     parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=True)
     root = etree.fromstring(src.text.encode("utf-8"), parser)
     link_elems = {e.get("name"): e for e in root.iter("link") if e.get("name")}
