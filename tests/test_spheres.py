@@ -341,3 +341,14 @@ def test_cli_refuses_to_overwrite_its_input_and_bad_options(tmp_path: Path) -> N
     assert res.exit_code == 2 and "only one of" in res.output
     res = runner.invoke(app, ["spheres", str(tmp_path / "none.urdf")])
     assert res.exit_code == 2 and "not found" in res.output
+
+
+def test_a_loaded_robot_fits_like_its_file(tmp_path: Path) -> None:
+    from xrdf_tools.sources.xacro_source import load_robot
+
+    path = tmp_path / "prims.urdf"  # yourdfpy itself knows no <capsule>
+    path.write_text(PRIMITIVES_URDF.replace("<capsule", "<cylinder"))
+    robot = load_robot(path)
+    by_robot, d1 = fit_link_spheres(robot, per_link=2, seed=3)
+    by_path, d2 = fit_link_spheres(path, per_link=2, seed=3)
+    assert by_robot == by_path and d1 == d2

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 from .convert import ConvertOptions, convert, with_spheres
 from .diagnostics import Diagnostic, Severity
 from .frozen import FrozenMap
+from .robot import Robot, as_robot
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -88,7 +89,7 @@ class ConvertResult:
 
 
 def convert_robot(
-    robot: str | os.PathLike[str],
+    robot: str | os.PathLike[str] | Robot,
     options: ConvertOptions,
     *,
     xacro_args: Mapping[str, str] | None = None,
@@ -99,7 +100,8 @@ def convert_robot(
     label: str = "<xrdf>",
     progress: Progress | None = None,
 ) -> ConvertResult:
-    """Load ``robot``, convert it and, with ``fit``, fit spheres and compute the mask.
+    """Load ``robot`` (or take it loaded), convert it and, with ``fit``, fit spheres and
+    compute the mask.
 
     ``mask`` defaults to :class:`MaskOptions` when ``fit`` is given (a fitted sphere model
     needs its own mask); pass it without ``fit`` to recompute the mask of the inputs' spheres.
@@ -110,39 +112,46 @@ def convert_robot(
     from .xrdf_io import dump_xrdf
 
     pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
-    urdf, _ = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
-    x, diags = convert(urdf, options)
+    if isinstance(robot, Robot):
+        loaded = robot
+    else:
+        loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
+    x, diags = convert(loaded, options)
     fitted: dict[str, int] = {}
     if fit is not None:
-        x, fitted, more = fit_missing_spheres(x, urdf, fit, progress=progress)
+        x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
         if fitted:
             diags = [d for d in diags if d.rule != "convert-no-spheres"]
         diags = [*diags, *more]
         mask = mask or MaskOptions()
     report = None
     if mask is not None and x.self_collision_spheres():
-        x, report = compute_mask(x, urdf, mask, progress=progress)
+        x, report = compute_mask(x, loaded, mask, progress=progress)
         diags.append(mask_summary(report, x, mask))
     text = dump_xrdf(x)
     lint_diags: list[Diagnostic] = []
     if lint:
         from .lint import lint_text
 
-        lint_diags = lint_text(text, label, urdf_model=urdf, target=options.target)
+        lint_diags = lint_text(text, label, urdf_model=loaded, target=options.target)
         if any(d.rule == "convert-no-spheres" for d in diags):
             # one loud "no spheres at all" says it; a line per link is noise
             lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
-    return ConvertResult(x, text, urdf, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report)
+    return ConvertResult(
+        x, text, loaded.urdf, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
+    )
 
 
 # ------------------------------------------------------------------------------------------
 # Spheres
 # ------------------------------------------------------------------------------------------
-def geometry_links(urdf: yourdfpy.URDF, source: GeometryChoice) -> tuple[list[str], list[str]]:
+def geometry_links(
+    urdf: Robot | yourdfpy.URDF, source: GeometryChoice
+) -> tuple[list[str], list[str]]:
     """Links with geometry of kind ``source``, and links that have only visual geometry."""
     usable: list[str] = []
     visual_only: list[str] = []
-    for name, link in urdf.link_map.items():
+    for name, link in as_robot(urdf).urdf.link_map.items():
         has_col, has_vis = bool(link.collisions), bool(link.visuals)
         if has_vis and not has_col:
             visual_only.append(name)
@@ -154,7 +163,7 @@ def geometry_links(urdf: yourdfpy.URDF, source: GeometryChoice) -> tuple[list[st
 
 def fit_missing_spheres(
     x: Xrdf,
-    urdf: yourdfpy.URDF,
+    urdf: Robot | yourdfpy.URDF,
     fit: FitOptions,
     *,
     progress: Progress | None = None,
@@ -162,7 +171,6 @@ def fit_missing_spheres(
     """Fit spheres to the links of ``urdf`` that have geometry of kind ``fit.source`` and no
     spheres in ``x`` yet; returns the XRDF, the spheres per fitted link and diagnostics."""
     from .errors import MissingDependencyError
-    from .urdf_source import urdf_package_paths, urdf_path, urdf_text
 
     try:
         from .spheres import fit_link_spheres
@@ -178,22 +186,21 @@ def fit_missing_spheres(
         if progress is not None:
             progress("fitting", i, n)
 
+    robot = as_robot(urdf)
     fitted, diags = fit_link_spheres(
-        urdf_path(urdf),
+        robot,
         links=todo,
         per_link=fit.per_link,
         seed=fit.seed,
-        package_paths=urdf_package_paths(urdf),
         max_protrusion=fit.max_protrusion,
         progress=step,
         source=fit.source,
-        urdf_text=urdf_text(urdf),
     )
     merged: dict[str, Sequence[Sphere]] = {**have}
     for link, spheres in fitted.items():
         merged[link] = [*merged.get(link, ()), *spheres]
     counts = {k: len(v) for k, v in fitted.items()}
-    summary = fit_summary(urdf_path(urdf), counts, fit.source, visual_only, len(have))
+    summary = fit_summary(robot.path, counts, fit.source, visual_only, len(have))
     return with_spheres(x, dict(merged)), counts, [*diags, summary]
 
 
@@ -226,7 +233,7 @@ def fit_summary(
 # ------------------------------------------------------------------------------------------
 def compute_mask(
     x: Xrdf,
-    urdf: yourdfpy.URDF,
+    urdf: Robot | yourdfpy.URDF,
     mask: MaskOptions,
     *,
     progress: Progress | None = None,

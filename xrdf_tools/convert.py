@@ -33,6 +33,8 @@ from .versions import to_version
 if TYPE_CHECKING:
     import yourdfpy
 
+    from .robot import Robot
+
 __all__ = [
     "DEFAULT_ACCELERATION",
     "DEFAULT_JERK",
@@ -87,15 +89,15 @@ def convert_files(
     """Load ``robot`` (URDF or xacro) and :func:`convert`; also returns the loaded URDF."""
     from .sources.xacro_source import load_robot
 
-    urdf, _ = load_robot(robot, xacro_args=xacro_args, package_paths=package_paths)
-    x, diags = convert(urdf, options)
-    return x, diags, urdf
+    loaded = load_robot(robot, xacro_args=xacro_args, package_paths=package_paths)
+    x, diags = convert(loaded, options)
+    return x, diags, loaded.urdf
 
 
 def convert(
-    urdf: yourdfpy.URDF | RobotTree, options: ConvertOptions
+    urdf: Robot | yourdfpy.URDF | RobotTree, options: ConvertOptions
 ) -> tuple[Xrdf, list[Diagnostic]]:
-    """Build an XRDF from a loaded URDF and the source files named in ``options``."""
+    """Build an XRDF from a loaded robot and the source files named in ``options``."""
     tree = urdf if isinstance(urdf, RobotTree) else RobotTree.from_urdf(urdf)
     if options.format_version not in (None, "1.0", "2.0"):
         raise SourceError(

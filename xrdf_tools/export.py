@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .diagnostics import Diagnostic, Severity
 from .errors import ConversionError
@@ -21,6 +21,9 @@ from .export_srdf import to_srdf
 from .model import RemoveMimicAttributes, Xrdf
 from .sources import RobotTree
 from .xrdf_io import format_float, format_str
+
+if TYPE_CHECKING:
+    from .robot import Robot
 
 __all__ = ["CUROBO_LAYOUTS", "for_target", "to_curobo", "to_srdf"]
 
@@ -115,7 +118,7 @@ def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
 
 def to_curobo(
     x: Xrdf,
-    tree: RobotTree,
+    tree: RobotTree | Robot,
     *,
     layout: str = "2.0",
     urdf_path: str | os.PathLike[str] | None = None,
@@ -124,8 +127,11 @@ def to_curobo(
 
     ``layout`` is ``"2.0"`` (``tool_frames``, ``default_joint_position``) or ``"classic"``
     (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). Joints that have a default
-    position but are not in the c-space become ``lock_joints``.
+    position but are not in the c-space become ``lock_joints``. ``tree`` is the URDF's
+    :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.Robot`.
     """
+    if not isinstance(tree, RobotTree):
+        tree = tree.tree
     _check_exportable(x, tree, layout)
     assert x.cspace is not None
     diags: list[Diagnostic] = []

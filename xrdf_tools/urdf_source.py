@@ -16,9 +16,8 @@ from __future__ import annotations
 import math
 import os
 import re
-import weakref
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -30,6 +29,8 @@ from .errors import UrdfError, UrdfReadError, XrdfToolsError, did_you_mean
 if TYPE_CHECKING:
     import yourdfpy
 
+    from .robot import Robot
+
 FloatArray = npt.NDArray[np.float64]
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -40,11 +41,14 @@ __all__ = [
     "JOINT_TYPES",
     "MOVABLE_TYPES",
     "JointInfo",
+    "joint_info",
     "joints_of",
     "links_of",
     "load_urdf",
     "make_filename_handler",
+    "parse_robot",
     "parse_urdf_string",
+    "read_robot",
     "source_line",
     "urdf_path",
 ]
@@ -128,52 +132,51 @@ class JointInfo:
         return hash((self.name, self.type, self.parent, self.child))
 
 
-def links_of(urdf: yourdfpy.URDF) -> list[str]:
+def links_of(urdf: Robot | yourdfpy.URDF) -> list[str]:
     """Link names in document order."""
-    return [str(link.name) for link in urdf.robot.links]
+    from .robot import as_robot
+
+    return list(as_robot(urdf).links)
 
 
-def root_link(urdf: yourdfpy.URDF) -> str:
+def root_link(urdf: Robot | yourdfpy.URDF) -> str:
     """The one link that is no joint's child; :class:`UrdfError` when there is not exactly one."""
-    children = {str(j.child) for j in urdf.robot.joints}
-    roots = [link for link in links_of(urdf) if link not in children]
-    if len(roots) != 1:
-        raise UrdfError(
-            f"the URDF must form one tree; root links: {', '.join(roots) or 'none'}",
-            path=urdf_path(urdf),
-        )
-    return roots[0]
+    from .robot import as_robot
+
+    return as_robot(urdf).root_link()
 
 
-def joints_of(urdf: yourdfpy.URDF) -> dict[str, JointInfo]:
+def joints_of(urdf: Robot | yourdfpy.URDF) -> dict[str, JointInfo]:
     """Every ``<joint>`` of the robot as :class:`JointInfo`, keyed by name, in document order."""
-    out: dict[str, JointInfo] = {}
-    for j in urdf.robot.joints:
-        name = str(j.name)
-        origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=np.float64)
-        axis_arr = (
-            np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=np.float64)
-        )
-        limit = j.limit
-        mimic = j.mimic
-        out[name] = JointInfo(
-            name=name,
-            type=str(j.type),
-            parent=str(j.parent),
-            child=str(j.child),
-            origin=origin,
-            axis=(float(axis_arr[0]), float(axis_arr[1]), float(axis_arr[2])),
-            lower=_opt_float(limit.lower) if limit is not None else None,
-            upper=_opt_float(limit.upper) if limit is not None else None,
-            velocity=_opt_float(limit.velocity) if limit is not None else None,
-            mimic_joint=str(mimic.joint) if mimic is not None else None,
-            mimic_multiplier=(
-                1.0 if mimic is None or mimic.multiplier is None else float(mimic.multiplier)
-            ),
-            mimic_offset=0.0 if mimic is None or mimic.offset is None else float(mimic.offset),
-            line=source_line(urdf, "joint", name),
-        )
-    return out
+    from .robot import as_robot
+
+    return dict(as_robot(urdf).joints)
+
+
+def joint_info(j: Any, line: int | None) -> JointInfo:
+    """One yourdfpy joint as :class:`JointInfo` (``line``: of its ``<joint>`` element)."""
+    name = str(j.name)
+    origin = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=np.float64)
+    axis_arr = np.array([1.0, 0.0, 0.0]) if j.axis is None else np.asarray(j.axis, dtype=np.float64)
+    limit = j.limit
+    mimic = j.mimic
+    return JointInfo(
+        name=name,
+        type=str(j.type),
+        parent=str(j.parent),
+        child=str(j.child),
+        origin=origin,
+        axis=(float(axis_arr[0]), float(axis_arr[1]), float(axis_arr[2])),
+        lower=_opt_float(limit.lower) if limit is not None else None,
+        upper=_opt_float(limit.upper) if limit is not None else None,
+        velocity=_opt_float(limit.velocity) if limit is not None else None,
+        mimic_joint=str(mimic.joint) if mimic is not None else None,
+        mimic_multiplier=(
+            1.0 if mimic is None or mimic.multiplier is None else float(mimic.multiplier)
+        ),
+        mimic_offset=0.0 if mimic is None or mimic.offset is None else float(mimic.offset),
+        line=line,
+    )
 
 
 def _opt_float(v: Any) -> float | None:
@@ -181,50 +184,36 @@ def _opt_float(v: Any) -> float | None:
 
 
 # --------------------------------------------------------------------------------------------
-# Where a loaded URDF came from (kept beside the yourdfpy object, which is not hashable)
+# Where a loaded URDF came from (fields of its :class:`~xrdf_tools.robot.Robot`)
 # --------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _Source:
-    path: str
-    link_lines: Mapping[str, int]
-    joint_lines: Mapping[str, int]
-    text: str = ""
-    package_paths: Mapping[str, str] = field(default_factory=dict)
-
-
-_SOURCES: dict[int, _Source] = {}
-
-
-def _remember(urdf: Any, source: _Source) -> None:
-    key = id(urdf)
-    _SOURCES[key] = source
-    weakref.finalize(urdf, _SOURCES.pop, key, None)
-
-
-def urdf_path(urdf: yourdfpy.URDF) -> str:
+def urdf_path(urdf: Robot | yourdfpy.URDF) -> str:
     """The path a URDF was loaded from by this module, or ``"<urdf>"``."""
-    src = _SOURCES.get(id(urdf))
-    return src.path if src is not None else "<urdf>"
+    from .robot import as_robot
+
+    return as_robot(urdf).path
 
 
-def urdf_text(urdf: yourdfpy.URDF) -> str | None:
+def urdf_text(urdf: Robot | yourdfpy.URDF) -> str | None:
     """The text a URDF was parsed from by this module (an expanded xacro: the expansion)."""
-    src = _SOURCES.get(id(urdf))
-    return src.text if src is not None else None
+    from .robot import as_robot
+
+    return as_robot(urdf).text
 
 
-def urdf_package_paths(urdf: yourdfpy.URDF) -> dict[str, str]:
+def urdf_package_paths(urdf: Robot | yourdfpy.URDF) -> dict[str, str]:
     """The ``package_paths`` a URDF was loaded with (``{}`` when unknown)."""
-    src = _SOURCES.get(id(urdf))
-    return dict(src.package_paths) if src is not None else {}
+    from .robot import as_robot
+
+    return dict(as_robot(urdf).package_paths)
 
 
-def source_line(urdf: yourdfpy.URDF, kind: Literal["link", "joint"], name: str) -> int | None:
+def source_line(
+    urdf: Robot | yourdfpy.URDF, kind: Literal["link", "joint"], name: str
+) -> int | None:
     """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""
-    src = _SOURCES.get(id(urdf))
-    if src is None:
-        return None
-    return (src.link_lines if kind == "link" else src.joint_lines).get(name)
+    from .robot import as_robot
+
+    return as_robot(urdf).source_line(kind, name)
 
 
 # --------------------------------------------------------------------------------------------
@@ -236,7 +225,19 @@ def load_urdf(
     package_paths: Mapping[str, str] | None = None,
     build_scene_graph: bool = False,
 ) -> yourdfpy.URDF:
-    """Load a URDF file without loading any mesh.
+    """Load a URDF file without loading any mesh: the yourdfpy object of :func:`read_robot`
+    (which carries its :class:`~xrdf_tools.robot.Robot`, see :func:`xrdf_tools.robot.as_robot`).
+    """
+    return read_robot(path, package_paths=package_paths, build_scene_graph=build_scene_graph).urdf
+
+
+def read_robot(
+    path: str | os.PathLike[str],
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+) -> Robot:
+    """Load a URDF file without loading any mesh, as a :class:`~xrdf_tools.robot.Robot`.
 
     ``package_paths`` (``{"pkg": "/dir"}``) resolves ``package://pkg/...`` mesh URIs for
     whoever loads meshes later (see :func:`make_filename_handler`); meshes are never read here.
@@ -271,12 +272,28 @@ def parse_urdf_string(
 ) -> yourdfpy.URDF:
     """Parse URDF text (e.g. expanded xacro output); ``path`` is used in messages and to
     resolve relative mesh paths. See :func:`load_urdf`."""
+    return parse_robot(
+        text, path, package_paths=package_paths, build_scene_graph=build_scene_graph
+    ).urdf
+
+
+def parse_robot(
+    text: str,
+    path: str = "<string>",
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+    expanded: bool = False,
+) -> Robot:
+    """:func:`parse_urdf_string` as a :class:`~xrdf_tools.robot.Robot` (``expanded``: the
+    text is the expansion of the xacro file ``path``)."""
     text = _ENCODING_DECL.sub(r"\1", text, count=1)
     return _parse_bytes(
         text.encode("utf-8"),
         path,
         package_paths=package_paths,
         build_scene_graph=build_scene_graph,
+        expanded=expanded,
     )
 
 
@@ -312,8 +329,12 @@ def _parse_bytes(
     *,
     package_paths: Mapping[str, str] | None,
     build_scene_graph: bool,
-) -> yourdfpy.URDF:
+    expanded: bool = False,
+) -> Robot:
     from lxml import etree
+
+    from .frozen import FrozenMap
+    from .robot import Robot, attach
 
     parser = etree.XMLParser(
         remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=True
@@ -348,9 +369,17 @@ def _parse_bytes(
     except Exception as e:  # yourdfpy raises bare KeyError/ValueError/AttributeError
         detail = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise UrdfError(f"yourdfpy cannot read this URDF: {detail}", path=path) from None
-    text = data.decode("utf-8", errors="replace")
-    _remember(urdf, _Source(path, link_lines, joint_lines, text, dict(package_paths or {})))
-    return urdf
+    robot = Robot(
+        urdf,
+        path,
+        data.decode("utf-8", errors="replace"),
+        expanded,
+        FrozenMap(link_lines),
+        FrozenMap(joint_lines),
+        FrozenMap(package_paths or {}),
+    )
+    attach(robot)
+    return robot
 
 
 def _check_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int]]:

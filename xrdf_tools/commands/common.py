@@ -24,9 +24,8 @@ from ..diagnostics import (
 from ..errors import XrdfToolsError
 
 if TYPE_CHECKING:
-    import yourdfpy
-
     from ..model import Xrdf
+    from ..robot import Robot
 
 
 class OutputFormat(str, Enum):
@@ -385,7 +384,7 @@ def pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
 
 def load_robot_option(
     path: Path, xacro_arg: list[str] | None, package_path: list[str] | None
-) -> yourdfpy.URDF:
+) -> Robot:
     """The robot of ``--urdf``: a URDF, or a xacro expanded with ``--xacro-arg`` and
     ``--package-path`` like ``xrdf convert`` does (one loader for every command).
 
@@ -394,9 +393,8 @@ def load_robot_option(
     from ..packages import parse_package_path
     from ..sources.xacro_source import load_robot, parse_xacro_arg
 
-    urdf, _ = load_robot(
+    return load_robot(
         path,
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
         package_paths=pairs(package_path, parse_package_path),
     )
-    return urdf

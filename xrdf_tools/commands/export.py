@@ -39,13 +39,11 @@ def _load_tree(
 ) -> RobotTree:
     """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
     from ..packages import parse_package_path
-    from ..sources import RobotTree
     from ..sources.xacro_source import load_robot, parse_xacro_arg
 
     pkgs = dict(parse_package_path(p) for p in package_path or [])
     xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])
-    robot, _ = load_robot(urdf, xacro_args=xargs, package_paths=pkgs)
-    return RobotTree.from_urdf(robot)
+    return load_robot(urdf, xacro_args=xargs, package_paths=pkgs).tree
 
 
 OutputOption = Annotated[

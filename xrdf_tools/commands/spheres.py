@@ -125,7 +125,6 @@ def command(
     from ..packages import parse_package_path
     from ..spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
     from ..spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
-    from ..urdf_source import urdf_text
     from ..xrdf_io import dump_xrdf
 
     chosen = [
@@ -142,7 +141,6 @@ def command(
     try:
         pkgs = dict(parse_package_path(p) for p in (package_path or []))
         model = load_robot_option(robot, xacro_arg, package_path)
-        text = urdf_text(model)
         if xrdf is not None:
             base = load_xrdf_input(xrdf)
         else:
@@ -152,7 +150,7 @@ def command(
             diags += [d for d in cdiags if d.rule != "convert-no-spheres"]
         with progress_bar() as bar, timed("fitting"):
             fitted, fdiags = fit_link_spheres(
-                robot,
+                model,
                 links=link_list,
                 per_link=per_link,
                 count=count,
@@ -161,15 +159,14 @@ def command(
                 package_paths=pkgs,
                 max_protrusion=max_protrusion,
                 progress=None if bar is None else _per_link(bar),
-                urdf_text=text,
             )
         diags += fdiags
         merged, mdiags = merge_spheres(base, fitted)
         diags += mdiags
         if xrdf is None:
-            merged, adiags = ignore_adjacent(merged, robot, package_paths=pkgs, urdf=model)
+            merged, adiags = ignore_adjacent(merged, model)
             diags += adiags
-        geoms, _ = load_link_geometry(robot, links=list(fitted), package_paths=pkgs, urdf_text=text)
+        geoms, _ = load_link_geometry(model, links=list(fitted))
         with timed("measuring"):
             per, overall = measure_links(geoms, fitted, samples=10_000, seed=seed)
     except XrdfToolsError as e:

@@ -20,7 +20,8 @@ from ..errors import UrdfError, did_you_mean
 from ..frozen import FrozenMap
 from ..graph import reachable
 from ..model import Xrdf
-from ..urdf_source import JointInfo, joints_of, links_of, urdf_path
+from ..robot import Robot, as_robot
+from ..urdf_source import JointInfo
 from .base import BoolArray, FloatArray, IntArray, JointType
 from .mimic import MimicLink, resolve_mimic
 from .model import KinematicModel
@@ -32,7 +33,7 @@ if TYPE_CHECKING:
 
 
 def build_kinematic_model(
-    urdf: yourdfpy.URDF,
+    urdf: Robot | yourdfpy.URDF,
     xrdf: Xrdf | None = None,
     *,
     path: str | None = None,
@@ -49,11 +50,15 @@ def build_kinematic_model(
     :class:`UrdfError` when the URDF is not a tree, a mimic refers to a missing joint or loops,
     or a modifier cannot be applied (located in the XRDF when it has a source position).
     """
-    upath = path or urdf_path(urdf)
+    return as_robot(urdf).kinematic_model(xrdf, path=path)
+
+
+def build_model(
+    robot: Robot, xrdf: Xrdf | None, upath: str
+) -> tuple[KinematicModel, list[Diagnostic]]:
+    """:func:`build_kinematic_model` without the cache of :meth:`Robot.kinematic_model`."""
     diags: list[Diagnostic] = []
-    links = links_of(urdf)
-    joints = joints_of(urdf)
-    return _build(upath, links, joints, xrdf, diags), diags
+    return _build(upath, list(robot.links), dict(robot.joints), xrdf, diags), diags
 
 
 @dataclass(frozen=True)

@@ -184,9 +184,9 @@ def lint_text(
     """Lint one XRDF document given as text (``path`` is used in the diagnostics).
 
     ``target`` (default: the configuration's) names the reader the file is for.
-    ``urdf_model`` is a URDF already loaded by :mod:`xrdf_tools.urdf_source` (e.g. an
-    expanded xacro), used as it is instead of reading ``urdf``, or the :class:`UrdfError` its
-    loading raised.
+    ``urdf_model`` is a :class:`~xrdf_tools.robot.Robot` (or its yourdfpy object) already
+    loaded by :mod:`xrdf_tools.urdf_source` (e.g. an expanded xacro), used as it is instead
+    of reading ``urdf``, or the :class:`UrdfError` its loading raised.
 
     Raises :class:`XrdfToolsError` only when ``urdf`` cannot be read at all or the target is
     unknown; a URDF that is not a valid robot is an ``urdf-invalid`` finding.
@@ -227,9 +227,9 @@ def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Any]) -> UrdfLoa
 
     def load() -> tuple[Any, str]:
         if upath not in cache:
-            from ..urdf_source import load_urdf
+            from ..urdf_source import read_robot
 
-            cache[upath] = load_urdf(upath)
+            cache[upath] = read_robot(upath)
         return cache[upath], upath
 
     return load

@@ -399,24 +399,22 @@ class LintContext:
         if self._urdf_loader is None:
             return None
         from ..errors import UrdfReadError
-        from ..kinematics import build_kinematic_model
-        from ..urdf_source import joints_of, links_of
+        from ..robot import as_robot
 
         try:
-            robot, upath = self._urdf_loader()
+            loaded, upath = self._urdf_loader()
         except UrdfReadError:
             raise
         except XrdfToolsError as exc:
             self.urdf_error = exc
             return None
-        links = tuple(links_of(robot))
-        joints = joints_of(robot)
+        robot = as_robot(loaded)
         mods = self.modifiers_model
-        state = UrdfState(upath, robot, None, None, links, joints)
+        state = UrdfState(upath, robot.urdf, None, None, robot.links, dict(robot.joints))
         if mods is None:
             return state
         try:
-            state.kin, _ = build_kinematic_model(robot, mods, path=upath)
+            state.kin, _ = robot.kinematic_model(mods, path=upath)
         except XrdfToolsError as exc:
             if exc.path != self.path:
                 self.urdf_error = exc

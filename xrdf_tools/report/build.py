@@ -52,6 +52,8 @@ from .verdicts import _certified, _findings, _verdict, adjacent_frame_pairs, nev
 if TYPE_CHECKING:
     import yourdfpy
 
+    from ..robot import Robot
+
 FloatArray = npt.NDArray[np.float64]
 
 __all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
@@ -61,7 +63,7 @@ DEFAULT_CHUNK = 65536
 
 
 def self_collision_report(
-    urdf: yourdfpy.URDF,
+    urdf: Robot | yourdfpy.URDF,
     xrdf: Xrdf,
     *,
     samples: int = 100_000,

@@ -20,6 +20,7 @@ from ..model import Modifier, Sphere
 if TYPE_CHECKING:
     import yourdfpy
 
+    from ..robot import Robot
     from ..urdf_source import JointInfo
 
 __all__ = ["Draft", "Reporter", "RobotTree"]
@@ -41,14 +42,20 @@ class RobotTree:
     roots: tuple[str, ...] = ()
 
     @classmethod
-    def from_urdf(cls, urdf: yourdfpy.URDF) -> RobotTree:
-        from ..errors import UrdfError
-        from ..urdf_source import joints_of, links_of, urdf_path
+    def from_urdf(cls, urdf: Robot | yourdfpy.URDF) -> RobotTree:
+        """The tree of a loaded robot (built once per :class:`~xrdf_tools.robot.Robot`)."""
+        from ..robot import as_robot
 
-        joints = joints_of(urdf)
-        links = tuple(links_of(urdf))
+        return as_robot(urdf).tree
+
+    @classmethod
+    def from_robot(cls, robot: Robot) -> RobotTree:
+        from ..errors import UrdfError
+
+        joints = dict(robot.joints)
+        links = robot.links
         parent_joint = {j.child: j.name for j in joints.values()}
-        path = urdf_path(urdf)
+        path = robot.path
         roots = tuple(link for link in links if link not in parent_joint)
         if not roots:
             raise UrdfError("the joints form a cycle: every link has a parent joint", path=path)
@@ -57,7 +64,7 @@ class RobotTree:
         for j in joints.values():
             children.setdefault(j.parent, []).append(j.name)
         return cls(
-            name=str(urdf.robot.name),
+            name=robot.name,
             path=path,
             links=links,
             joints=joints,

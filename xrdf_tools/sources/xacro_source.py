@@ -26,7 +26,7 @@ from ..fileio import check_input_file, read_input_bytes
 from ..packages import PackageResolver
 
 if TYPE_CHECKING:
-    import yourdfpy
+    from ..robot import Robot
 
 __all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg"]
 
@@ -122,19 +122,18 @@ def load_robot(
     *,
     xacro_args: Mapping[str, str] | None = None,
     package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
-) -> tuple[yourdfpy.URDF, str | None]:
-    """Load a URDF or expand and load a xacro file (meshes are never loaded).
-
-    Returns the URDF and, for xacro input, the expanded URDF text (else ``None``).
+) -> Robot:
+    """Load a URDF or expand and load a xacro file (meshes are never loaded): the one loader
+    of a robot file. For xacro input :attr:`Robot.xacro_text` is the expanded URDF text.
     """
-    from ..urdf_source import load_urdf, parse_urdf_string
+    from ..urdf_source import parse_robot, read_robot
 
     pkg = {k: str(v) for k, v in (package_paths or {}).items()}
     if is_xacro(path):
         text = expand_xacro(path, xacro_args, package_paths)
-        return parse_urdf_string(text, os.fspath(path), package_paths=pkg), text
+        return parse_robot(text, os.fspath(path), package_paths=pkg, expanded=True)
     if xacro_args:
         raise SourceError(
             "--xacro-arg given but the robot file is not a xacro file", path=str(path)
         )
-    return load_urdf(path, package_paths=pkg), None
+    return read_robot(path, package_paths=pkg)

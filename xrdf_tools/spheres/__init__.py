@@ -26,6 +26,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..errors import XrdfToolsError
 from ..frozen import FrozenMap
 from ..model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
+from ..robot import Robot
 from .metrics import SphereMetrics, sphere_metrics
 
 if TYPE_CHECKING:
@@ -95,7 +96,7 @@ def _allocate(
 
 
 def fit_link_spheres(
-    urdf_path: str | os.PathLike[str],
+    urdf_path: str | os.PathLike[str] | Robot,
     *,
     links: Sequence[str] | None = None,
     per_link: int | Mapping[str, int] | None = None,
@@ -123,6 +124,8 @@ def fit_link_spheres(
     ``urdf_text`` choose the geometry and the URDF text as in
     :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs
     and ``seed`` give the same spheres. ``progress(link, i, n)`` is called before each link.
+    ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.Robot` (see
+    :func:`~xrdf_tools.spheres.geometry.load_link_geometry`).
     Returns ``({link: spheres}, diagnostics)`` in URDF link order.
     """
     from .fit import SphereFitter
@@ -370,7 +373,7 @@ RULE_ADJACENT = "spheres-adjacent-ignored"
 
 def ignore_adjacent(
     xrdf: Xrdf,
-    urdf_path: str | os.PathLike[str],
+    urdf_path: str | os.PathLike[str] | Robot,
     *,
     package_paths: Mapping[str, str] | None = None,
     urdf: Any = None,
@@ -381,17 +384,21 @@ def ignore_adjacent(
     other (frames without spheres in between, such as fixed flange frames, are skipped). This
     is MoveIt's "adjacent links" rule: their spheres overlap at the joint by construction.
     Used for a freshly drafted XRDF; a mask written by a user is left to the user. ``urdf``
-    is the robot already loaded (an expanded xacro); otherwise ``urdf_path`` is read.
+    is the robot already loaded (an expanded xacro); otherwise ``urdf_path`` is read (or is
+    the loaded :class:`~xrdf_tools.robot.Robot`).
     """
     from ..sources.xacro_source import load_robot
     from ..urdf_source import joints_of
 
+    if isinstance(urdf_path, Robot):
+        urdf = urdf_path if urdf is None else urdf
+        urdf_path = urdf_path.path
     if xrdf.self_collision is None:
         return xrdf, []
     spheres = xrdf.self_collision_spheres()
     with_spheres = {f for f, s in spheres.items() if s}
     if urdf is None:
-        urdf, _ = load_robot(urdf_path, package_paths=dict(package_paths or {}))
+        urdf = load_robot(urdf_path, package_paths=dict(package_paths or {}))
     parent = {j.child: j.parent for j in joints_of(urdf).values()}
     ignore = {k: list(v) for k, v in xrdf.self_collision.ignore.items()}
     added = 0

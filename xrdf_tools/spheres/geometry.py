@@ -26,6 +26,7 @@ import numpy as np
 from ..diagnostics import Diagnostic, Severity
 from ..errors import UrdfError, XrdfToolsError
 from ..fileio import check_input_file, mesh_bytes_limit
+from ..robot import Robot
 from ..rotations import matrix_from_rpy
 
 if TYPE_CHECKING:
@@ -268,7 +269,7 @@ def _elements(elem: Any, choice: GeometryChoice) -> tuple[GeometrySource, list[A
 
 
 def load_link_geometry(
-    urdf_path: str | os.PathLike[str],
+    urdf_path: str | os.PathLike[str] | Robot,
     *,
     links: Sequence[str] | None = None,
     package_paths: Mapping[str, str] | None = None,
@@ -281,6 +282,8 @@ def load_link_geometry(
     solid), ``visual`` only ``<visual>`` elements, ``auto`` collision with visual as the
     fallback (reported). ``urdf_text`` is the URDF already read (an expanded xacro, with its
     ``--xacro-arg``); ``urdf_path`` then only locates relative meshes and names messages.
+    ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.Robot`: its path, text and
+    ``package_paths`` are used (unless given).
 
     Returns ``({link: LinkGeometry}, diagnostics)`` in URDF link order. Raises
     :class:`UrdfError` for an unreadable URDF or a requested link that does not exist.
@@ -291,13 +294,21 @@ def load_link_geometry(
     from ..packages import PackageResolver
     from ..urdf_source import parse_urdf_string
 
+    checked_already = False
+    if isinstance(urdf_path, Robot):
+        robot = urdf_path
+        checked_already = urdf_text is None and robot.text is not None
+        package_paths = robot.package_paths if package_paths is None else package_paths
+        urdf_text = robot.text if urdf_text is None else urdf_text
+        urdf_path = robot.path
     if urdf_text is not None:
         src = UrdfText(os.fspath(urdf_path), urdf_text)
     else:
         src = read_urdf_text(urdf_path, package_paths)
     # validate (errors with lines); yourdfpy knows no <capsule>, which reads like a cylinder
     checked = re.sub(r"<capsule\b", "<cylinder", src.text)
-    parse_urdf_string(checked, src.path, package_paths=package_paths)
+    if not (checked_already and checked == src.text):  # a loaded Robot's text was checked
+        parse_urdf_string(checked, src.path, package_paths=package_paths)
     parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=True)
     root = etree.fromstring(src.text.encode("utf-8"), parser)
     link_elems = {e.get("name"): e for e in root.iter("link") if e.get("name")}

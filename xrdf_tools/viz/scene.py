@@ -31,6 +31,7 @@ if TYPE_CHECKING:
 
     from ..collision import Contact
     from ..kinematics import KinematicModel
+    from ..robot import Robot
 
 FloatArray = npt.NDArray[np.float64]
 Progress = Callable[[int, int], None]
@@ -236,7 +237,7 @@ def choose_group(xrdf: Xrdf, group: str | None = None) -> str:
 
 
 def build_scene(
-    urdf: yourdfpy.URDF,
+    urdf: Robot | yourdfpy.URDF,
     xrdf: Xrdf,
     configurations: npt.ArrayLike | None = None,
     *,
@@ -261,10 +262,12 @@ def build_scene(
     :class:`GeometryGroupError` for an unknown group.
     """
     from ..kinematics import build_kinematic_model, default_configuration, fk
+    from ..robot import as_robot
 
+    robot = as_robot(urdf)
     diags: list[Diagnostic] = []
     if kinematic_model is None:
-        kin, kdiags = build_kinematic_model(urdf, xrdf)
+        kin, kdiags = build_kinematic_model(robot, xrdf)
         diags.extend(kdiags)
     else:
         kin = kinematic_model
@@ -350,7 +353,7 @@ def build_scene(
 
     # Meshes: every URDF link kept in the tree, whether or not it has spheres.
     mesh_map, mdiags = load_link_meshes(
-        urdf, kin.frame_names, meshes, urdf_path=urdf_path, package_paths=package_paths
+        robot.urdf, kin.frame_names, meshes, urdf_path=urdf_path, package_paths=package_paths
     )
     diags.extend(mdiags)
     by_name = {link.name: link for link in links}
@@ -382,7 +385,7 @@ def build_scene(
     ordered = tuple(sorted(by_name.values(), key=lambda link: link.frame_index))
 
     return Scene(
-        robot_name=str(getattr(getattr(urdf, "robot", None), "name", "") or "robot"),
+        robot_name=str(getattr(robot.urdf.robot, "name", "") or "robot"),
         group=chosen,
         frame_names=kin.frame_names,
         parent=tuple(int(p) for p in kin.parent),

@@ -1,0 +1,60 @@
+"""The frozen Robot value: built once by the loader, views cached, accepted by entry points."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from tests.paths import UR10E_URDF, UR10E_XRDF
+from xrdf_tools.export import to_curobo
+from xrdf_tools.kinematics import build_kinematic_model
+from xrdf_tools.lint import lint_text
+from xrdf_tools.robot import Robot, as_robot
+from xrdf_tools.sources import RobotTree
+from xrdf_tools.sources.xacro_source import load_robot
+from xrdf_tools.urdf_source import joints_of, load_urdf, source_line, urdf_path, urdf_text
+from xrdf_tools.xrdf_io import load_xrdf
+
+
+def test_loader_builds_one_frozen_robot() -> None:
+    robot = load_robot(UR10E_URDF)
+    assert isinstance(robot, Robot)
+    assert robot.path == str(UR10E_URDF)
+    assert robot.text == UR10E_URDF.read_text(encoding="utf-8")
+    assert robot.xacro_text is None
+    assert robot.links[0] == robot.root_link()
+    joint = next(iter(robot.joints.values()))
+    assert joint.line == robot.joint_lines[joint.name] == robot.source_line("joint", joint.name)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        robot.path = "elsewhere"  # type: ignore[misc]
+    assert robot.tree is robot.tree
+    assert RobotTree.from_urdf(robot) is robot.tree
+
+
+def test_bare_yourdfpy_object_keeps_its_provenance() -> None:
+    urdf = load_urdf(UR10E_URDF)
+    robot = as_robot(urdf)
+    assert robot.urdf is urdf and as_robot(urdf) is robot
+    assert urdf_path(urdf) == str(UR10E_URDF)
+    assert urdf_text(urdf) == robot.text
+    name = next(iter(robot.joints))
+    assert source_line(urdf, "joint", name) == robot.joint_lines[name]
+    assert joints_of(urdf) == dict(robot.joints)
+
+
+def test_kinematic_model_built_once_per_modifiers() -> None:
+    robot = load_robot(UR10E_URDF)
+    x = load_xrdf(UR10E_XRDF)
+    kin, _ = robot.kinematic_model(x)
+    assert build_kinematic_model(robot.urdf, x)[0] is kin
+
+
+def test_entry_points_take_the_robot() -> None:
+    robot = load_robot(UR10E_URDF)
+    x = load_xrdf(UR10E_XRDF)
+    assert to_curobo(x, robot) == to_curobo(x, robot.tree)
+    text = UR10E_XRDF.read_text(encoding="utf-8")
+    assert lint_text(text, "u.xrdf", urdf_model=robot) == lint_text(
+        text, "u.xrdf", urdf_model=robot.urdf
+    )
