@@ -19,6 +19,7 @@ from xrdf_tools.assistant import FitOptions, MaskOptions, convert_robot
 from xrdf_tools.cli import app
 from xrdf_tools.convert import ConvertOptions
 from xrdf_tools.lint import lint_text
+from xrdf_tools.model import Xrdf
 from xrdf_tools.report import self_collision_report
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.urdf_source import load_urdf
@@ -187,30 +188,24 @@ def _srdf(name: str) -> Path:
     return root / name
 
 
+#: The one command, small enough for CI: three spheres a link, 3,000 samples for the mask.
+FAST_FIT = ("--fit-spheres", "--per-link", "3", "-n", "3000")
+
+
+def _one_command(out: Path, *args: str) -> tuple[Xrdf, str]:
+    """Run ``xrdf convert ARGS --fit-spheres … -o OUT``; the XRDF written and the output."""
+    r = runner.invoke(app, ["convert", *args, *FAST_FIT, "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    return load_xrdf(out), r.output
+
+
 @pytest.mark.slow
 def test_panda_from_srdf(tmp_path: Path) -> None:
     urdf = robot_urdf("panda")
     srdf = _srdf("panda_description/srdf/panda.srdf")
     out = tmp_path / "panda.xrdf"
-    r = runner.invoke(
-        app,
-        [
-            "convert",
-            str(urdf),
-            "--srdf",
-            str(srdf),
-            "--fit-spheres",
-            "--per-link",
-            "3",
-            "-n",
-            "3000",
-            "-o",
-            str(out),
-        ],
-    )
-    assert r.exit_code == 0, r.output
-    assert "planning group 'arm' chosen" in r.output
-    x = load_xrdf(out)
+    x, output = _one_command(out, str(urdf), "--srdf", str(srdf))
+    assert "planning group 'arm' chosen" in output
     assert len(x.world_collision_spheres()) == 11  # every link with collision geometry
     _check_with_report_and_lint(out, urdf)
 
@@ -230,8 +225,8 @@ def test_xacro_only_robot_with_xacro_arg(tmp_path: Path) -> None:
     pkg = _rtb_xacro()
     robot = pkg / "urdf" / "px150.urdf.xacro"
     out = tmp_path / "px150.xrdf"
-    args = [
-        "convert",
+    x, _ = _one_command(
+        out,
         str(robot),
         "--package-path",
         f"trossen_descriptions={pkg}",
@@ -239,17 +234,7 @@ def test_xacro_only_robot_with_xacro_arg(tmp_path: Path) -> None:
         "robot_name:=px150",
         "--chain",
         "px150/base_link:px150/ee_arm_link",
-        "--fit-spheres",
-        "--per-link",
-        "3",
-        "-n",
-        "3000",
-        "-o",
-        str(out),
-    ]
-    r = runner.invoke(app, args)
-    assert r.exit_code == 0, r.output
-    x = load_xrdf(out)
+    )
     assert x.cspace is not None
     assert list(x.cspace.joint_names) == [
         "waist",
@@ -274,21 +259,9 @@ def test_pr2_mobile_manipulator_two_arms(tmp_path: Path) -> None:
     urdf = robot_urdf("pr2")
     srdf = _srdf("pr2_description/srdf/pr2.srdf")
     out = tmp_path / "pr2.xrdf"
-    args = ["convert", str(urdf), "--srdf", str(srdf), "--group", "left_arm"]
-    args += [
-        "--group",
-        "right_arm",
-        "--fit-spheres",
-        "--per-link",
-        "3",
-        "-n",
-        "3000",
-        "-o",
-        str(out),
-    ]
-    r = runner.invoke(app, args)
-    assert r.exit_code == 0, r.output
-    x = load_xrdf(out)
+    x, output = _one_command(
+        out, str(urdf), "--srdf", str(srdf), "--group", "left_arm", "--group", "right_arm"
+    )
     assert x.cspace is not None
     names = list(x.cspace.joint_names)
     assert len(names) == 14 and names[0].startswith("l_") and names[-1].startswith("r_")
@@ -297,7 +270,7 @@ def test_pr2_mobile_manipulator_two_arms(tmp_path: Path) -> None:
     model = load_urdf(urdf)
     visual_only = [n for n, link in model.link_map.items() if link.visuals and not link.collisions]
     assert visual_only and not set(visual_only) & set(spheres)
-    assert "with visual geometry only get none" in r.output
+    assert "with visual geometry only get none" in output
     _check_with_report_and_lint(out, urdf)
 
 
