@@ -127,17 +127,7 @@ def test_geometry_source_choice(boxes: Path) -> None:
 
 def test_fit_uses_the_expanded_xacro_with_its_arguments(tmp_path: Path) -> None:
     robot = tmp_path / "r.urdf.xacro"
-    robot.write_text(
-        """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
-        <xacro:arg name="prefix" default="a_"/>
-        <link name="$(arg prefix)base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry>
-        </collision></link>
-        <link name="$(arg prefix)tip"><collision><origin xyz="0 0 0.1"/><geometry>
-        <box size="0.04 0.04 0.2"/></geometry></collision></link>
-        <joint name="$(arg prefix)j" type="revolute"><parent link="$(arg prefix)base"/>
-          <child link="$(arg prefix)tip"/><origin xyz="0 0 0.05"/>
-          <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"""
-    )
+    robot.write_text(XACRO)  # the small two-link xacro defined below
     result = convert_robot(
         robot,
         ConvertOptions(),
