@@ -11,7 +11,9 @@ import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
+from pathlib import Path, PurePath
 from typing import Any
+from urllib.parse import quote
 
 
 class Severity(str, Enum):
@@ -129,6 +131,18 @@ def render_github(diagnostics: Sequence[Diagnostic]) -> str:
     return "".join(out)
 
 
+def artifact_uri(path: str) -> str | None:
+    """``path`` as a SARIF artifact URI: a relative path percent-encoded (code scanning
+    resolves it against the checkout), an absolute one as a ``file://`` URI, and ``None`` for
+    a stream or other pseudo-path (``<stdin>``), which has no artifact."""
+    if not path or (path.startswith("<") and path.endswith(">")):
+        return None
+    p = PurePath(path)
+    if p.is_absolute():
+        return Path(path).as_uri()
+    return quote(p.as_posix(), safe="/")
+
+
 def render_sarif(
     diagnostics: Sequence[Diagnostic],
     rules: Sequence[tuple[str, str, Severity]] = (),
@@ -170,18 +184,19 @@ def render_sarif(
             region["startLine"] = d.line
             if d.col is not None:
                 region["startColumn"] = d.col
-        location: dict[str, Any] = {"artifactLocation": {"uri": d.path}}
-        if region:
-            location["region"] = region
-        results.append(
-            {
-                "ruleId": d.rule,
-                "ruleIndex": rule_ids.index(d.rule),
-                "level": level[d.severity],
-                "message": {"text": d.message},
-                "locations": [{"physicalLocation": location}],
-            }
-        )
+        result: dict[str, Any] = {
+            "ruleId": d.rule,
+            "ruleIndex": rule_ids.index(d.rule),
+            "level": level[d.severity],
+            "message": {"text": d.message},
+        }
+        uri = artifact_uri(d.path)
+        if uri is not None:
+            location: dict[str, Any] = {"artifactLocation": {"uri": uri}}
+            if region:
+                location["region"] = region
+            result["locations"] = [{"physicalLocation": location}]
+        results.append(result)
     log = {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",

@@ -9,13 +9,14 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ..errors import XrdfToolsError
 from .common import (
     EXIT_FINDINGS,
+    OutputFormat,
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -31,9 +32,14 @@ from .common import (
     progress_bar,
     refuse_input_overwrite,
     refuse_output_clash,
+    render_diagnostics,
     timed,
     write_output,
 )
+
+if TYPE_CHECKING:
+    from ..report import Report
+    from ..report_render import ReportView
 
 
 class ReportFormat(str, Enum):
@@ -41,6 +47,12 @@ class ReportFormat(str, Enum):
     json = "json"
     markdown = "markdown"
     html = "html"
+    github = "github"
+    sarif = "sarif"
+
+
+#: Formats read by programs: no notes on stderr about what was written.
+_MACHINE_FORMATS = (ReportFormat.json, ReportFormat.github, ReportFormat.sarif)
 
 
 class MaskPolicy(str, Enum):
@@ -87,7 +99,13 @@ def command(
         ),
     ] = None,
     output_format: Annotated[
-        ReportFormat, typer.Option("--format", "-f", help="Output format.")
+        ReportFormat,
+        typer.Option(
+            "--format",
+            "-f",
+            help="Output format: the full report (text, json, markdown, html) or only its "
+            "findings as GitHub annotations or a SARIF 2.1.0 log (code scanning).",
+        ),
     ] = ReportFormat.text,
     output: Annotated[
         Path | None,
@@ -182,14 +200,7 @@ def command(
     ignore mask treats it and what to do about it."""
     from ..engine import default_jobs
     from ..report import CertifyOptions, recommended_xrdf, self_collision_report
-    from ..report_render import (
-        ReportView,
-        render_html,
-        render_json,
-        render_markdown,
-        render_text,
-        write_heatmap,
-    )
+    from ..report_render import ReportView, write_heatmap
     from ..xrdf_io import dump_xrdf
 
     inputs = [xrdf_file, urdf, configs]
@@ -238,16 +249,7 @@ def command(
                 ),
                 moveit=moveit,
             )
-        view = ReportView(only.value, min_rate)
-        if output_format is ReportFormat.json:
-            text = render_json(report)
-        else:
-            renderer = {
-                ReportFormat.text: render_text,
-                ReportFormat.markdown: render_markdown,
-                ReportFormat.html: render_html,
-            }[output_format]
-            text = renderer(report, view)
+        text = _render(report, output_format, ReportView(only.value, min_rate))
         if write_mask is not None:
             new = recommended_xrdf(x, report)
             write_output(dump_xrdf(new), write_mask)
@@ -258,7 +260,7 @@ def command(
     except OSError as exc:
         fail(f"{exc.filename or ''}: {exc.strerror or exc}")
     write_output(text, output)
-    if output_format is not ReportFormat.json:
+    if output_format not in _MACHINE_FORMATS:
         notes = []
         if output is not None:
             notes.append(f"report written to {output}")
@@ -276,3 +278,23 @@ def command(
             note(n)
     if has_failures(report.diagnostics, strict=strict):
         raise typer.Exit(EXIT_FINDINGS)
+
+
+def _render(report: Report, fmt: ReportFormat, view: ReportView) -> str:
+    """The report in ``fmt``: whole (text, JSON, Markdown, HTML) or its findings through the
+    one diagnostics renderer (GitHub annotations, SARIF listing every report rule)."""
+    from ..report import RULES
+    from ..report_render import render_html, render_json, render_markdown, render_text
+
+    if fmt in (ReportFormat.github, ReportFormat.sarif):
+        return render_diagnostics(
+            report.diagnostics, OutputFormat(fmt.value), files=None, rules=RULES
+        )
+    if fmt is ReportFormat.json:
+        return render_json(report)
+    renderer = {
+        ReportFormat.text: render_text,
+        ReportFormat.markdown: render_markdown,
+        ReportFormat.html: render_html,
+    }[fmt]
+    return renderer(report, view)
