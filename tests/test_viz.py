@@ -614,3 +614,47 @@ def test_cli_wrong_urdf_is_an_error_not_an_empty_picture(tmp_path: Path) -> None
     assert r.exit_code == 2
     assert "is this the URDF the XRDF was written for?" in r.output
     assert not out.exists()
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_FSIZE and SIGXFSZ as on Linux")
+@pytest.mark.parametrize("target", ["--rrd", "--mcap"])
+def test_a_full_disk_is_one_clean_error_and_leaves_nothing(tmp_path: Path, target: str) -> None:
+    """The file-size limit makes every write past 4 KiB fail like a full disk (EFBIG), for our
+    writer and for any library writing on its own: one line naming the output, exit 2, no hang,
+    no temporary file left."""
+    pytest.importorskip("rerun" if target == "--rrd" else "mcap")
+    demo = FIXTURES / "demo_arm"
+    xrdf = tmp_path / "demo.xrdf"
+    made = runner.invoke(
+        app,
+        [
+            "convert",
+            str(demo / "demo_arm.urdf"),
+            "--srdf",
+            str(demo / "demo_arm.srdf"),
+            "-o",
+            str(xrdf),
+        ],
+    )
+    assert made.exit_code == 0, made.output
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    out = out_dir / ("demo.rrd" if target == "--rrd" else "demo.mcap")
+    script = (
+        "import resource, signal, sys\n"
+        "signal.signal(signal.SIGXFSZ, signal.SIG_IGN)\n"
+        "resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))\n"
+        "from xrdf_tools.cli import main\n"
+        "sys.argv = ['xrdf', *sys.argv[1:]]\n"
+        "main()\n"
+    )
+    args = ["viz", str(xrdf), "--urdf", str(demo / "demo_arm.urdf"), "-n", "20", target, str(out)]
+    env = {**__import__("os").environ, "PYTHONPATH": str(FIXTURES.parent)}
+    res = subprocess.run(
+        [sys.executable, "-c", script, *args], capture_output=True, text=True, env=env, timeout=120
+    )
+    assert res.returncode == 2, res.stderr
+    assert "Traceback" not in res.stderr
+    (line,) = [x for x in res.stderr.splitlines() if x.startswith("error:")]
+    assert line.startswith(f"error: {out}: cannot write") and ".tmp" not in line
+    assert list(out_dir.iterdir()) == []

@@ -56,17 +56,22 @@ def write_rrd(
     buffered: bool = False,
     progress: Progress | None = None,
 ) -> None:
-    """Write ``scene`` to the rerun file ``path`` (atomically)."""
+    """Write ``scene`` to the rerun file ``path`` (atomically).
+
+    The recording is encoded into memory (a rerun binary stream) and written by our own
+    atomic writer: a full disk or a refused path is then an ordinary ``OSError`` naming
+    ``path``, never rerun's background file sink failing (or waiting) on its own."""
     rr = _rerun()
     assert path is not None
+    rec = rr.RecordingStream("xrdf_tools", recording_id=f"xrdf-{scene.robot_name}")
+    stream = rec.binary_stream()
+    try:
+        _log_scene(rr, rec, scene, buffered=buffered, progress=progress)
+        data = stream.read()
+    finally:
+        rec.disconnect()
     with atomic_path(path) as tmp:
-        rec = rr.RecordingStream("xrdf_tools", recording_id=f"xrdf-{scene.robot_name}")
-        rec.save(str(tmp))
-        try:
-            _log_scene(rr, rec, scene, buffered=buffered, progress=progress)
-            rec.flush()
-        finally:
-            rec.disconnect()
+        tmp.write_bytes(data or b"")
 
 
 def spawn(
