@@ -612,7 +612,8 @@ def test_cli_wrong_urdf_is_an_error_not_an_empty_picture(tmp_path: Path) -> None
         ],
     )
     assert r.exit_code == 2
-    assert "is this the URDF the XRDF was written for?" in r.output
+    assert "ur10e.urdf does not match this XRDF: c-space joint 'panda_joint1'" in r.output
+    assert r.output.startswith(f"error: {FIXTURES / 'panda' / 'panda.xrdf'}:")
     assert not out.exists()
 
 

@@ -28,10 +28,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from .binding import cspace_indices
 from .errors import SourceError, XrdfToolsError
 from .fileio import max_input_bytes, read_input_bytes, read_input_text
 from .model import Xrdf
-from .yaml_io import parse_yaml, to_python
+from .yaml_io import YMap, YSeq, parse_yaml, to_python
 
 if TYPE_CHECKING:
     from .kinematics import KinematicModel
@@ -44,21 +45,15 @@ MAX_SAMPLES = 100_000
 def load_cspace_configurations(
     path: str | os.PathLike[str], kin: KinematicModel, xrdf: Xrdf
 ) -> FloatArray:
-    """Configurations [B, n_c] in c-space order (:func:`cspace_joints`) from a file.
+    """Configurations [B, n_c] in c-space order (:func:`~xrdf_tools.binding.cspace_joints`)
+    from a file.
 
     Same formats as :func:`load_configurations`, no row cap; values given for joints outside
     the c-space are not kept (those joints stay at their defaults).
     """
     q = load_configurations(path, kin, xrdf, max_rows=None)
-    idx = [kin.actuated_index(j) for j in cspace_joints(kin, xrdf)]
+    _, idx = cspace_indices(kin, xrdf)
     return np.ascontiguousarray(q[:, idx])
-
-
-def cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> tuple[str, ...]:
-    """The sampled joints: the XRDF c-space, else every actuated joint."""
-    if xrdf.cspace is not None and xrdf.cspace.joint_names:
-        return xrdf.cspace.joint_names
-    return kin.actuated_joints
 
 
 def sample_configurations(
@@ -70,8 +65,7 @@ def sample_configurations(
 
     if n < 0 or n > MAX_SAMPLES:
         raise SourceError(f"--samples must be between 0 and {MAX_SAMPLES}, got {n}")
-    names = cspace_joints(kin, xrdf)
-    idx = [kin.actuated_index(j) for j in names]
+    names, idx = cspace_indices(kin, xrdf)
     for j, k in zip(names, idx, strict=True):
         if not kin.lower[k] <= kin.upper[k]:
             raise SourceError(
@@ -105,15 +99,14 @@ def load_configurations(
         return _assemble(_npy_rows(raw, spath), None, kin, xrdf, spath, max_rows=max_rows)
     text = read_input_text(p, what="configurations file", error=SourceError, max_bytes=limit)
     if p.suffix.lower() in (".json", ".yaml", ".yml"):
-        data = _load_structured(text, p.suffix.lower(), spath)
-        if isinstance(data, Mapping) and "configurations" in data:
-            data = data["configurations"]
+        data, rows_line, row_lines = _load_structured(text, p.suffix.lower(), spath)
         if not isinstance(data, list):
             raise SourceError(
                 "expected a list of configurations (lists of numbers or {joint: value} maps)",
                 path=spath,
+                line=rows_line,
             )
-        return _assemble(data, None, kin, xrdf, spath, max_rows=max_rows)
+        return _assemble(data, None, kin, xrdf, spath, row_lines, max_rows=max_rows)
     header, header_line, rows, lines = _parse_text(text, spath)
     return _assemble(rows, header, kin, xrdf, spath, lines, header_line, max_rows=max_rows)
 
@@ -136,20 +129,30 @@ def _npy_rows(data: bytes, spath: str) -> list[Any]:
     return rows
 
 
-def _load_structured(text: str, suffix: str, spath: str) -> Any:
+def _load_structured(text: str, suffix: str, spath: str) -> tuple[Any, int | None, list[int]]:
+    """The configurations of a JSON or YAML file (the list itself, or the ``configurations``
+    entry of a mapping), the line of that list and the line of each row (YAML only: JSON
+    keeps no positions)."""
     if suffix == ".json":
         try:
-            return json.loads(text)
+            data = json.loads(text)
         except json.JSONDecodeError as e:
             raise SourceError(
                 f"invalid JSON: {e.msg}", path=spath, line=e.lineno, col=e.colno
             ) from None
         except RecursionError:
             raise SourceError("invalid JSON: nested too deeply", path=spath) from None
+        if isinstance(data, Mapping) and "configurations" in data:
+            data = data["configurations"]
+        return data, None, []
     try:
-        return to_python(parse_yaml(text, spath).root)
+        node = parse_yaml(text, spath).root
     except XrdfToolsError as e:
         raise SourceError(e.message, path=spath, line=e.line, col=e.col) from None
+    if isinstance(node, YMap) and node.get("configurations") is not None:
+        node = node.get("configurations")
+    rows = node.items if isinstance(node, YSeq) else ()
+    return to_python(node), (node.line if node is not None else None), [r.line for r in rows]
 
 
 _SPLIT = re.compile(r"[,\s;]+")
@@ -203,7 +206,7 @@ def _assemble(
     if max_rows is not None and len(rows) > max_rows:
         raise SourceError(f"too many configurations ({len(rows)} > {max_rows})", path=spath)
     q0 = default_configuration(kin, xrdf.default_joint_positions)
-    cspace = cspace_joints(kin, xrdf)
+    cspace, _ = cspace_indices(kin, xrdf)
     out = np.repeat(q0[None, :], len(rows), axis=0)
 
     def line_of(k: int) -> int | None:

@@ -302,29 +302,11 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
     return based
 
 
-def check_belongs(x: Xrdf, tree: RobotTree) -> None:
-    """Raise :class:`SourceError` unless every joint and frame ``x`` uses is in the URDF below
-    its base: inputs that describe another robot, or a base that cuts parts off."""
-    if x.cspace is not None:
-        unknown = [j for j in x.cspace.joint_names if j not in tree.joints]
-        if unknown:
-            raise SourceError(
-                f"c-space joints {', '.join(unknown[:6])} are not joints of "
-                f"{Path(tree.path).name}: the XRDF and the URDF describe different robots",
-                path=x.source.path or None,
-            )
-    _check_reachable(x, tree)
-
-
 def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
-    reach = {tree.root, *tree.descendants(tree.root)}
-    reach |= {m.frame_name for m in x.added_frames()}
-    used = list(x.tool_frames or ())
-    used += list(x.world_collision_spheres())
-    if x.self_collision is not None:
-        used += [f for a, bs in x.self_collision.ignore.items() for f in (a, *bs)]
-    used += [tree.joints[j].child for j in (x.cspace.joint_names if x.cspace else ())]
-    lost = sorted({f for f in used if f not in reach})
+    """The sources name only frames below the chosen base (else :class:`SourceError`)."""
+    from .binding import unreachable_frames
+
+    lost = sorted({f for f, _ in unreachable_frames(x, tree)})
     if lost:
         raise SourceError(
             f"frames used by the XRDF cannot be reached from the base '{tree.root}': "

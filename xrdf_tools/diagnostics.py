@@ -15,6 +15,8 @@ from pathlib import Path, PurePath
 from typing import Any
 from urllib.parse import quote
 
+from .errors import one_line
+
 
 class Severity(str, Enum):
     """How bad a finding is. Ordered: error > warning > info."""
@@ -86,7 +88,7 @@ def count_by_severity(diagnostics: Iterable[Diagnostic]) -> dict[str, int]:
 def render_text(diagnostics: Sequence[Diagnostic]) -> str:
     """``path:line:col: severity rule-id message`` one per line."""
     return "".join(
-        f"{d.location()}: {d.severity.value} {d.rule} {d.message}\n"
+        one_line(f"{d.location()}: {d.severity.value} {d.rule} {d.message}") + "\n"
         for d in sorted(diagnostics, key=sort_key)
     )
 

@@ -37,7 +37,17 @@ class XrdfToolsError(Exception):
 
     def __str__(self) -> str:
         loc = self.location()
-        return f"{loc}: {self.message}" if loc else self.message
+        return one_line(f"{loc}: {self.message}" if loc else self.message)
+
+
+def one_line(text: str) -> str:
+    """``text`` safe to print as one line: every character that does not print (newlines,
+    tabs, other control characters, invisible format characters such as a byte-order mark)
+    shown as its escape (``\\n``, ``\\ufeff``). Values quoted from hostile files cannot
+    break the one-line format or hide in it."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 class YamlError(XrdfToolsError):
@@ -99,3 +109,10 @@ def did_you_mean(name: str, choices: Iterable[str]) -> str:
     """Return ``"; did you mean 'x'?"`` for the closest choice, or ``""`` when none is close."""
     matches = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
     return f"; did you mean '{matches[0]}'?" if matches else ""
+
+
+def shown_text(text: str, limit: int = 60) -> str:
+    """A value from a file, safe for a one-line message: characters that do not print
+    (newlines included) escaped, long values cut to ``limit`` characters."""
+    out = one_line(text[: limit + 1])
+    return out if len(out) <= limit and len(text) <= limit else out[: limit - 3] + "..."

@@ -88,16 +88,13 @@ def for_target(
 def _located(x: Xrdf, key_path: str, message: str) -> ConversionError:
     """A :class:`ConversionError` at ``key_path`` of ``x`` (the document's start when the key
     is absent), so that the one-line error names the XRDF file and its line."""
-    line, col = x.source.position(key_path) if key_path else (None, None)
-    return ConversionError(
-        message, path=x.source.path or None, line=line or (1 if x.source.path else None), col=col
-    )
+    return ConversionError(message, **x.source.locate(key_path))
 
 
 def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
     """Raise :class:`ConversionError` / :class:`SourceError` when ``x`` cannot become a cuRobo
     config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot."""
-    from .convert import check_belongs
+    from .binding import check_belongs
 
     if layout not in CUROBO_LAYOUTS:
         raise ConversionError(

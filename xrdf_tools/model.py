@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Literal, TypedDict
 
 from .errors import GeometryGroupError
 from .frozen import FrozenMap
@@ -153,6 +153,24 @@ class SourceMap:
             cut = max(kp.rfind("."), kp.rfind("["))
             kp = kp[:cut] if cut > 0 else ""
         return (None, None)
+
+    def locate(self, key_path: str) -> Location:
+        """``path``/``line``/``col`` keywords of an error at ``key_path`` (its nearest recorded
+        ancestor; the document's first line when nothing is recorded)."""
+        line, col = self.position(key_path) if key_path else (None, None)
+        return {
+            "path": self.path or None,
+            "line": line or (1 if self.path else None),
+            "col": col,
+        }
+
+
+class Location(TypedDict):
+    """Where an error points: the keywords of :class:`~xrdf_tools.errors.XrdfToolsError`."""
+
+    path: str | None
+    line: int | None
+    col: int | None
 
 
 @dataclass(frozen=True)

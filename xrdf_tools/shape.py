@@ -16,8 +16,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Literal
 
-from .errors import XrdfToolsError
-from .yaml_io import YMap, YNode, YScalar, YSeq, describe_node, shown_text
+from .errors import XrdfToolsError, shown_text
+from .yaml_io import YMap, YNode, YScalar, YSeq, describe_node
 
 __all__ = [
     "ANY",

@@ -13,7 +13,6 @@ commands which never read a URDF start fast.
 
 from __future__ import annotations
 
-import math
 import os
 import re
 from collections.abc import Callable, Mapping
@@ -24,7 +23,8 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import numpy.typing as npt
 
-from .errors import UrdfError, UrdfReadError, XrdfToolsError, did_you_mean
+from .errors import UrdfError, UrdfReadError, XrdfToolsError
+from .urdf_check import JOINT_TYPES, check_urdf_tree
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -33,9 +33,7 @@ if TYPE_CHECKING:
 
 FloatArray = npt.NDArray[np.float64]
 
-JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 MOVABLE_TYPES = ("revolute", "continuous", "prismatic")
-XACRO_NS = "http://www.ros.org/wiki/xacro"
 
 __all__ = [
     "JOINT_TYPES",
@@ -350,7 +348,7 @@ def _parse_bytes(
         raise UrdfError("the file is empty", path=path, line=1)
 
     etree.strip_tags(root, etree.Comment)
-    link_lines, joint_lines = _check_tree(root, path)
+    link_lines, joint_lines = check_urdf_tree(root, path)
     etree.cleanup_namespaces(root)
 
     import yourdfpy
@@ -380,184 +378,3 @@ def _parse_bytes(
     )
     attach(robot)
     return robot
-
-
-def _check_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int]]:
-    """Check what yourdfpy needs; return the line of every link and joint."""
-    from lxml import etree
-
-    def fail(msg: str, el: Any) -> UrdfError:
-        return UrdfError(msg, path=path, line=getattr(el, "sourceline", None))
-
-    tag = etree.QName(root).localname if isinstance(root.tag, str) else str(root.tag)
-    if tag != "robot":
-        raise fail(f"the root element must be <robot>, not <{tag}>", root)
-    for el in root.iter():
-        if isinstance(el.tag, str) and etree.QName(el).namespace == XACRO_NS:
-            raise fail(
-                f"<xacro:{etree.QName(el).localname}> found: this is a xacro file; expand it "
-                "first (xrdf convert reads .xacro files)",
-                el,
-            )
-    if not root.get("name"):
-        raise fail("<robot> has no 'name' attribute", root)
-
-    link_lines: dict[str, int] = {}
-    for el in root.findall("link"):
-        name = el.get("name")
-        if not name:
-            raise fail("<link> has no 'name' attribute", el)
-        if name in link_lines:
-            raise fail(f"link '{name}' is defined twice (first on line {link_lines[name]})", el)
-        link_lines[name] = el.sourceline or 0
-
-    for el in root.findall("link"):
-        _check_geometry(el, fail)
-
-    joint_lines: dict[str, int] = {}
-    edges: list[tuple[str, str, str, Any]] = []  # joint, parent, child, element
-    for el in root.findall("joint"):
-        name = el.get("name")
-        if not name:
-            raise fail("<joint> has no 'name' attribute", el)
-        if name in joint_lines:
-            raise fail(f"joint '{name}' is defined twice (first on line {joint_lines[name]})", el)
-        joint_lines[name] = el.sourceline or 0
-        jtype = el.get("type")
-        if jtype not in JOINT_TYPES:
-            what = f"type '{jtype}'" if jtype else "no 'type'"
-            raise fail(
-                f"joint '{name}' has {what}; valid: {', '.join(JOINT_TYPES)}"
-                + (did_you_mean(jtype, JOINT_TYPES) if jtype else ""),
-                el,
-            )
-        for role in ("parent", "child"):
-            sub = el.find(role)
-            link = sub.get("link") if sub is not None else None
-            if not link:
-                raise fail(f"joint '{name}' has no <{role} link='...'/>", el)
-            if link not in link_lines:
-                raise fail(
-                    f"joint '{name}' refers to unknown {role} link '{link}'"
-                    + did_you_mean(link, link_lines),
-                    sub,
-                )
-        edges.append((name, el.find("parent").get("link"), el.find("child").get("link"), el))
-        _check_numbers(el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail)
-        _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
-        _check_limit(el, name, jtype, fail)
-        mimic = el.find("mimic")
-        if mimic is not None:
-            if not mimic.get("joint"):
-                raise fail(f"joint '{name}' <mimic> has no 'joint' attribute", mimic)
-            _check_numbers(mimic, ("multiplier", "offset"), 1, f"joint '{name}' <mimic>", fail)
-    _check_is_tree(edges, joint_lines, fail)
-    return link_lines, joint_lines
-
-
-def _check_limit(el: Any, name: str, jtype: str, fail: Callable[[str, Any], UrdfError]) -> None:
-    """Limit numbers are finite; a revolute or prismatic joint has ``lower <= upper``."""
-    limit = el.find("limit")
-    what = f"joint '{name}' <limit>"
-    _check_numbers(limit, ("lower", "upper", "velocity", "effort"), 1, what, fail)
-    if limit is None or jtype not in ("revolute", "prismatic"):
-        return
-    lower, upper = limit.get("lower"), limit.get("upper")
-    if lower is not None and upper is not None and float(lower) > float(upper):
-        raise fail(f"{what} lower={lower.strip()} is above upper={upper.strip()}", limit)
-
-
-def _check_is_tree(
-    edges: list[tuple[str, str, str, Any]],
-    joint_lines: Mapping[str, int],
-    fail: Callable[[str, Any], UrdfError],
-) -> None:
-    """Each link is the child of at most one joint, and parent links never loop back."""
-    from .graph import find_cycle, show_path
-
-    parent_of: dict[str, tuple[str, str]] = {}  # child link -> (joint, parent link)
-    element: dict[str, Any] = {}
-    for joint, parent, child, el in edges:
-        element[joint] = el
-        if parent == child:
-            raise fail(f"joint '{joint}' has link '{child}' as both parent and child", el)
-        if child in parent_of:
-            first = parent_of[child][0]
-            raise fail(
-                f"link '{child}' is the child of two joints, '{first}' (line "
-                f"{joint_lines.get(first)}) and '{joint}'; a URDF must be a tree",
-                el,
-            )
-        parent_of[child] = (joint, parent)
-    cycle = find_cycle(parent_of, lambda link: [parent_of[link][1]] if link in parent_of else [])
-    if cycle is not None:
-        joints = [parent_of[link][0] for link in cycle[:-1]]
-        raise fail(
-            f"the joints form a cycle ({show_path(list(reversed(cycle)))}, through joints "
-            f"{show_path(list(reversed(joints)))}); a URDF must be a tree",
-            element[joints[-1]],
-        )
-
-
-#: Numbers each geometry needs: element -> ((attribute, count, required), ...).
-_GEOMETRY: dict[str, tuple[tuple[str, tuple[int, ...], bool], ...]] = {
-    "box": (("size", (3,), True),),
-    "cylinder": (("radius", (1,), True), ("length", (1,), True)),
-    "capsule": (("radius", (1,), True), ("length", (1,), True)),
-    "sphere": (("radius", (1,), True),),
-    "mesh": (("scale", (3, 1), False),),
-}
-
-
-def _check_geometry(link: Any, fail: Callable[[str, Any], UrdfError]) -> None:
-    """Visual and collision shapes have the numbers their type needs (finite, not negative)."""
-    name = link.get("name")
-    for kind in ("visual", "collision"):
-        for item in link.findall(kind):
-            _check_numbers(item.find("origin"), ("xyz", "rpy"), 3, f"link '{name}' <{kind}>", fail)
-            geometry = item.find("geometry")
-            for shape in () if geometry is None else geometry:
-                for attr, counts, required in _GEOMETRY.get(shape.tag, ()):
-                    what = f"link '{name}' <{kind}> <{shape.tag}>"
-                    raw = shape.get(attr)
-                    if raw is None:
-                        if required:
-                            raise fail(f"{what} has no '{attr}' attribute", shape)
-                        continue
-                    _check_numbers(shape, (attr,), counts, what, fail)
-                    if shape.tag != "mesh" and any(float(x) < 0 for x in raw.split()):
-                        raise fail(f"{what} {attr}='{raw}' must not be negative", shape)
-
-
-def _check_numbers(
-    el: Any,
-    attrs: tuple[str, ...],
-    count: int | tuple[int, ...],
-    what: str,
-    fail: Callable[[str, Any], UrdfError],
-) -> None:
-    """Each attribute present holds ``count`` finite numbers (one of the counts of a tuple)."""
-    if el is None:
-        return
-    counts = (count,) if isinstance(count, int) else count
-    for attr in attrs:
-        raw = el.get(attr)
-        if raw is None:
-            continue
-        parts = raw.split()
-        shown = _shown(raw)
-        try:
-            values = [float(x) for x in parts]
-        except ValueError:
-            raise fail(f"{what} {attr}='{shown}' is not a number list", el) from None
-        if len(parts) not in counts:
-            n = " or ".join("a number" if c == 1 else f"{c} numbers" for c in counts)
-            raise fail(f"{what} {attr}='{shown}' must be {n}", el)
-        if not all(math.isfinite(v) for v in values):
-            raise fail(f"{what} {attr}='{shown}' must be finite", el)
-
-
-def _shown(raw: str, limit: int = 60) -> str:
-    """An attribute value for a one-line message: whitespace folded, long values cut."""
-    text = " ".join(raw.split())
-    return text if len(text) <= limit else text[: limit - 3] + "..."

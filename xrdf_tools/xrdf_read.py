@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Mapping, Sequence
 
-from .errors import SchemaError
+from .errors import GeometryGroupError, SchemaError
 from .frozen import FrozenMap
 from .model import (
     SUPPORTED_VERSIONS,
@@ -31,6 +31,7 @@ from .model import (
     Sphere,
     Vec3,
     Xrdf,
+    clone_order,
     resolve_group,
 )
 from .xrdf_nodes import NodeReader, describe, is_null
@@ -119,8 +120,12 @@ def _read_header(r: NodeReader, root: YNode | None) -> tuple[YMap, str]:
     return root, version
 
 
-def xrdf_from_document(doc: YamlDocument) -> Xrdf:
-    """The model of a parsed YAML document; :class:`SchemaError` at the first problem."""
+def xrdf_from_document(doc: YamlDocument, *, check_groups: bool = True) -> Xrdf:
+    """The model of a parsed YAML document; :class:`SchemaError` at the first problem.
+
+    ``check_groups``: the geometry groups the collision sections name, and the groups they
+    clone, must be defined and clone no cycle (lint turns it off: it reports those as
+    findings and still wants the model)."""
     r = NodeReader(doc.path)
     root, version = _read_header(r, doc.root)
     modifiers = _read_modifiers(r, root.get("modifiers"))
@@ -142,6 +147,9 @@ def xrdf_from_document(doc: YamlDocument) -> Xrdf:
     self_c = (
         _read_self(r, root.get("self_collision"), geometry) if "self_collision" in root else None
     )
+    if check_groups:
+        for key in (wkey, "self_collision"):
+            _check_group_defined(r, root.get(key), key, geometry or {})
     extra = FrozenMap((str(k), to_python(v)) for k, v in root.items() if k not in TOP_LEVEL_ORDER)
     return Xrdf(
         format_version=version,
@@ -340,6 +348,25 @@ def _group_name(r: NodeReader, m: YMap, shape: Shape, what: str) -> str:
     if isinstance(g, YSeq) and len(g) == 1:
         return r.string(g.items[0], f"{what}.geometry[0]")
     return r.string(g, f"{what}.geometry")
+
+
+def _check_group_defined(
+    r: NodeReader, section: YNode | None, key: str, geometry: Mapping[str, GeometryGroup]
+) -> None:
+    """The group ``key.geometry`` names resolves (defined, clones defined, no clone cycle);
+    else a :class:`SchemaError` at that name."""
+    if not isinstance(section, YMap):
+        return
+    node = section.get("geometry")
+    if isinstance(node, YSeq) and len(node) == 1:
+        node = node.items[0]
+    if not isinstance(node, YScalar):
+        return
+    group = str(node.value)
+    try:
+        clone_order(geometry, group)
+    except GeometryGroupError as e:
+        raise r.fail(node, f"{key}.geometry: {e.message}") from None
 
 
 def _read_buffers(

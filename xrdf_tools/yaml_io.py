@@ -27,7 +27,7 @@ from typing import Any
 
 import yaml
 
-from .errors import YamlError
+from .errors import YamlError, shown_text
 from .fileio import read_input_text
 from .fileio import write_atomic as write_atomic
 
@@ -111,13 +111,6 @@ def key_of(node: YNode) -> Any:
     if isinstance(node, YScalar):
         return node.value
     return to_python(node)
-
-
-def shown_text(text: str, limit: int = 60) -> str:
-    """A value from a file, safe for a one-line message: control characters (newlines
-    included) escaped, long values cut to ``limit`` characters."""
-    out = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text[: limit + 1])
-    return out if len(out) <= limit and len(text) <= limit else out[: limit - 3] + "..."
 
 
 def describe_node(node: YNode | None) -> str:

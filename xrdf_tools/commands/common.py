@@ -21,7 +21,7 @@ from ..diagnostics import (
     render_json,
     render_text,
 )
-from ..errors import XrdfToolsError
+from ..errors import XrdfToolsError, one_line
 
 if TYPE_CHECKING:
     from ..model import Xrdf
@@ -42,7 +42,7 @@ EXIT_USAGE = 2
 
 def fail(message: str | XrdfToolsError, code: int = EXIT_USAGE) -> NoReturn:
     """Print a one-line error to stderr and exit (2 by default: usage/input error)."""
-    typer.echo(f"error: {message}", err=True)
+    typer.echo(f"error: {one_line(str(message))}", err=True)
     raise typer.Exit(code)
 
 

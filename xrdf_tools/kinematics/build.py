@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -58,7 +58,8 @@ def build_model(
 ) -> tuple[KinematicModel, list[Diagnostic]]:
     """:func:`build_kinematic_model` without the cache of :meth:`Robot.kinematic_model`."""
     diags: list[Diagnostic] = []
-    return _build(upath, list(robot.links), dict(robot.joints), xrdf, diags), diags
+    report = _Report(upath, diags, robot.link_lines)
+    return _build(report, list(robot.links), dict(robot.joints), xrdf), diags
 
 
 @dataclass(frozen=True)
@@ -67,6 +68,7 @@ class _Report:
 
     path: str
     diags: list[Diagnostic]
+    link_lines: Mapping[str, int] = field(default_factory=dict)
 
     def error(self, msg: str, line: int | None = None) -> UrdfError:
         return UrdfError(msg, path=self.path, line=line)
@@ -76,13 +78,12 @@ class _Report:
 
 
 def _build(
-    upath: str,
+    report: _Report,
     links: list[str],
     urdf_joints: dict[str, JointInfo],
     xrdf: Xrdf | None,
-    diags: list[Diagnostic],
 ) -> KinematicModel:
-    report = _Report(upath, diags)
+    upath = report.path
     _check_tree(links, urdf_joints, report)
     edit = Edit.of_urdf(upath.replace("\\", "/").rsplit("/", 1)[-1], links, urdf_joints)
     apply_modifiers(edit, xrdf, upath)
@@ -151,7 +152,8 @@ def _topological_order(
         shown = ", ".join(f"'{r}'" for r in roots[:5]) + (", ..." if len(roots) > 5 else "")
         raise report.error(
             f"{len(roots)} links have no parent joint ({shown}); a URDF must be a single tree "
-            "(or choose a base with set_base_frame)"
+            "(or choose a base with set_base_frame)",
+            report.link_lines.get(roots[1]),
         )
     # one parent joint per frame and a root without one: no cycle is reachable from the root
     order = reachable(roots[0], lambda f: children.get(f, ()))[0]

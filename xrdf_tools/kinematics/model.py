@@ -151,17 +151,22 @@ class KinematicModel:
             return self._joint_idx[name]
         except KeyError:
             pass
-        j = self.joints.get(name)
-        why: str
-        if j is not None and j.is_mimic and j.is_movable:
-            why = f"is a mimic joint (it follows '{j.mimic_joint}'), not a coordinate"
-        elif j is not None:
-            why = f"is a {j.type} joint, which has no coordinate"
-        elif name in self.pruned_joints:
-            why = f"was removed by set_base_frame '{self.base_frame}'"
-        else:
-            why = "is not a joint of the robot" + did_you_mean(name, self.actuated_joints)
+        why = self.not_actuated_reason(name)
         raise UrdfError(f"joint '{name}' {why}", path=self.source_path)
+
+    def not_actuated_reason(self, name: str) -> str:
+        """Why ``name`` is no coordinate of ``q`` ("is a mimic joint (…)", "is not a joint of
+        the robot; did you mean …?"); empty for an actuated joint."""
+        if name in self._joint_idx:
+            return ""
+        j = self.joints.get(name)
+        if j is not None and j.is_mimic and j.is_movable:
+            return f"is a mimic joint (it follows '{j.mimic_joint}'), not a coordinate"
+        if j is not None:
+            return f"is a {j.type} joint, which has no coordinate"
+        if name in self.pruned_joints:
+            return f"was removed by set_base_frame '{self.base_frame}'"
+        return "is not a joint of the robot" + did_you_mean(name, self.actuated_joints)
 
     def frame_indices(self, frames: FrameSelection) -> IntArray:
         """Indices for ``frames`` (names or indices; None = all) as an int array [F']."""

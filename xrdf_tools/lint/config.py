@@ -28,8 +28,8 @@ from typing import Any
 from ..diagnostics import Severity
 from ..errors import XrdfToolsError, did_you_mean
 from ..fileio import read_input_text
-from ..shape import ANY, BOOL, NAME, check_shape, map_of, one_of
-from ..yaml_io import load_yaml, parse_yaml, to_python
+from ..shape import BOOL, NAME, check_shape, map_of, one_of
+from ..yaml_io import load_yaml, node_positions, parse_yaml, to_python
 
 CONFIG_NAME = ".xrdf-lint.yaml"
 LEVELS = ("error", "warning", "info", "off")
@@ -42,8 +42,7 @@ CONFIG_SHAPE = map_of(
             one_of(_LEVEL, map_of(None, fields={"level": _LEVEL, "enabled": BOOL}), what="")
         ),
         "urdf": map_of(NAME, what="a mapping of XRDF path globs to URDF paths"),
-        "options": map_of(map_of(ANY), what="a mapping of rule ids to mappings"),
-        "extends": ANY,
+        "target": NAME,
     },
     nullable=True,
     what="a mapping",
@@ -98,19 +97,36 @@ class LintConfig:
         return None
 
 
-def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
+#: ``key_path -> (line, col)`` of a configuration file (empty for ``pyproject.toml``).
+Positions = Mapping[str, tuple[int, int]]
+
+
+def _error(message: str, source: str, positions: Positions, *key_paths: str) -> ConfigError:
+    """A :class:`ConfigError` at the first of ``key_paths`` the file has a position for."""
+    for kp in key_paths:
+        if kp in positions:
+            line, col = positions[kp]
+            return ConfigError(message, path=source, line=line, col=col)
+    return ConfigError(message, path=source)
+
+
+def _parse(data: Any, source: str, base_dir: str, positions: Positions | None = None) -> LintConfig:
     from . import RULES  # the registry; imported late to avoid a cycle
 
+    pos: Positions = positions or {}
     if data is None:
         data = {}
     if not isinstance(data, dict):
-        raise ConfigError("the lint configuration must be a mapping", path=source)
+        raise _error("the lint configuration must be a mapping", source, pos, "")
     keys = ["rules", "urdf", "target"]
-    unknown = {str(k) for k in data} - set(keys)
+    unknown = sorted({str(k) for k in data} - set(keys))
     if unknown:
-        key = sorted(unknown)[0]
-        raise ConfigError(
-            f"unknown configuration key '{key}'" + did_you_mean(key, keys), path=source
+        key = unknown[0]
+        raise _error(
+            f"unknown configuration key {key!r}" + did_you_mean(key, keys),
+            source,
+            pos,
+            f"{key}#key",
         )
     target = data.get("target")
     if target is not None:
@@ -119,36 +135,47 @@ def _parse(data: Any, source: str, base_dir: str) -> LintConfig:
         try:
             target = getattr(parse_target(str(target)), "id", None)
         except XrdfToolsError as exc:
-            raise ConfigError(f"target: {exc.message}", path=source) from None
-    ids = [r.id for r in RULES]
-    levels: dict[str, Severity | None] = {}
-    rules = data.get("rules") or {}
+            raise _error(f"target: {exc.message}", source, pos, "target") from None
+    return LintConfig(
+        _levels(data.get("rules") or {}, [r.id for r in RULES], source, pos),
+        _urdf_map(data.get("urdf") or {}, source, pos),
+        base_dir,
+        source,
+        target,
+    )
+
+
+def _levels(rules: Any, ids: list[str], source: str, pos: Positions) -> dict[str, Severity | None]:
+    """``rules:`` as rule id (or prefix) -> level (None = off)."""
     if not isinstance(rules, dict):
-        raise ConfigError("'rules' must map rule ids to levels", path=source)
+        raise _error("'rules' must map rule ids to levels", source, pos, "rules")
+    levels: dict[str, Severity | None] = {}
     for rid, lvl in rules.items():
         rid = str(rid)
         if not (rid in ids or (rid.endswith("-") and any(i.startswith(rid) for i in ids))):
-            raise ConfigError(f"unknown rule '{rid}'" + did_you_mean(rid, ids), path=source)
+            raise _error(
+                f"unknown rule {rid!r}" + did_you_mean(rid, ids), source, pos, f"rules.{rid}#key"
+            )
         if isinstance(lvl, dict):
             lvl = lvl.get("level", "off" if lvl.get("enabled") is False else None)
         if lvl is False:
             lvl = "off"
         if lvl not in LEVELS:
-            raise ConfigError(
-                f"rule '{rid}': level must be one of {', '.join(LEVELS)}, not {lvl!r}",
-                path=source,
+            raise _error(
+                f"rule {rid!r}: level must be one of {', '.join(LEVELS)}, not {lvl!r}",
+                source,
+                pos,
+                f"rules.{rid}.level",
+                f"rules.{rid}",
             )
         levels[rid] = None if lvl == "off" else Severity(lvl)
-    urdf = data.get("urdf") or {}
+    return levels
+
+
+def _urdf_map(urdf: Any, source: str, pos: Positions) -> tuple[tuple[str, str], ...]:
     if not isinstance(urdf, dict):
-        raise ConfigError("'urdf' must map XRDF path globs to URDF paths", path=source)
-    return LintConfig(
-        levels,
-        tuple((str(k), str(v)) for k, v in urdf.items()),
-        base_dir,
-        source,
-        target,
-    )
+        raise _error("'urdf' must map XRDF path globs to URDF paths", source, pos, "urdf")
+    return tuple((str(k), str(v)) for k, v in urdf.items())
 
 
 def _merge(base: LintConfig, over: LintConfig) -> LintConfig:
@@ -180,6 +207,9 @@ def load_config(path: str | os.PathLike[str]) -> LintConfig:
             raise ConfigError(exc.message, path=str(p), line=exc.line, col=exc.col) from None
         check_shape(doc.root, CONFIG_SHAPE, path=str(p), error=ConfigError)
         data = to_python(doc.root)
+        return _merge(
+            default_config(), _parse(data, str(p), str(p.parent), node_positions(doc.root))
+        )
     return _merge(default_config(), _parse(data, str(p), str(p.parent)))
 
 

@@ -361,7 +361,7 @@ class LintContext:
         if self.doc is None:
             return None
         try:
-            return xrdf_from_document(self.doc)
+            return xrdf_from_document(self.doc, check_groups=False)
         except XrdfToolsError:
             return None
 
@@ -383,7 +383,7 @@ class LintContext:
         pairs += [(k, v) for k, v in top.pairs if key_of(k) == "modifiers"]
         doc = YamlDocument(self.path, YMap(top.line, top.col, tuple(pairs)), ())
         try:
-            return xrdf_from_document(doc)
+            return xrdf_from_document(doc, check_groups=False)
         except XrdfToolsError:
             return None
 

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
+from ..binding import cspace_indices
 from ..certify import certify_pair
 from ..collision import (
     Contact,
@@ -103,7 +104,7 @@ def self_collision_report(
     kin, kin_diags = build_kinematic_model(urdf, xrdf, path=upath)
     spheres_all, sdiags = build_sphere_set(kin, xrdf, include_masked=True)
     diags: list[Diagnostic] = [*kin_diags, *sdiags]
-    cspace = _cspace_joints(kin, xrdf)
+    cspace, idx = cspace_indices(kin, xrdf)
     if moveit:  # like MoveIt's Setup Assistant: 0 when within the limits, else mid-range
         q_default = moveit_default_configuration(kin)
     else:
@@ -117,7 +118,6 @@ def self_collision_report(
     work = spheres_all.select_frame_pairs(sampled)
     work_index = np.flatnonzero(sampled)
 
-    idx = np.array([kin.actuated_index(n) for n in cspace], dtype=np.intp)
     engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
     trajectory: list[TrajectoryHit] | None = None
     if configs is not None:
@@ -294,9 +294,3 @@ def _certify(
         path = [cspace[j] for j in cert.joints]
         out[i] = _certified(stats[i], cert.verdict, cert.witness, cert.seconds, cspace, path, opts)
     return out
-
-
-def _cspace_joints(kin: KinematicModel, xrdf: Xrdf) -> list[str]:
-    if xrdf.cspace is None or not xrdf.cspace.joint_names:
-        return list(kin.actuated_joints)
-    return list(xrdf.cspace.joint_names)

@@ -15,11 +15,13 @@ by xacro itself.
 from __future__ import annotations
 
 import os
+import re
 import threading
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+from xml.parsers.expat import ExpatError
 
 from ..errors import SourceError, XrdfToolsError
 from ..fileio import check_input_file, read_input_bytes
@@ -93,7 +95,7 @@ def expand_xacro(
     except XrdfToolsError as e:
         raise SourceError(e.message, path=str(p)) from None
     except Exception as e:  # xacro raises XacroException, ArgException, NameError, OSError…
-        raise SourceError(_xacro_message(e), path=str(p)) from None
+        raise _xacro_error(e, str(p), getattr(xacro, "filestack", None)) from None
     finally:
         try:
             xacro.filestack = None
@@ -101,6 +103,25 @@ def expand_xacro(
         except AttributeError:  # pragma: no cover - older xacro
             pass
     return text
+
+
+_EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
+
+
+def _xacro_error(e: BaseException, top: str, filestack: Any) -> SourceError:
+    """One located error for a failed expansion: an XML syntax error (expat) at its line and
+    column in the file xacro was reading (the top file or an include), anything else at the
+    file being processed."""
+    stack = [str(f) for f in filestack or () if f]
+    where = stack[-1] if stack else top
+    inner: Any = getattr(e, "exc", None) or e
+    line, offset = getattr(inner, "lineno", None), getattr(inner, "offset", None)
+    if isinstance(inner, ExpatError) and isinstance(line, int) and isinstance(offset, int):
+        what = _EXPAT_WHERE.sub("", " ".join(str(inner).split()))
+        return SourceError(
+            f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
+        )
+    return SourceError(_xacro_message(e), path=where)
 
 
 def _xacro_message(e: BaseException) -> str:

@@ -1,0 +1,192 @@
+"""Input errors point at the file and position that is wrong (issue 13): a name the XRDF takes
+from the URDF is the XRDF's mistake, so the error is located in the XRDF and names the URDF."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from tests.paths import UR10E_URDF, UR10E_XRDF
+from xrdf_tools.cli import app
+from xrdf_tools.errors import XrdfToolsError
+
+runner = CliRunner()
+
+
+def _error(*args: str) -> str:
+    """The one error line of ``xrdf ARGS`` (exit 2, no traceback)."""
+    r = runner.invoke(app, list(args))
+    out = r.output
+    if isinstance(r.exception, XrdfToolsError):  # cli.main prints these as one line
+        out += f"error: {r.exception}\n"
+    elif r.exception is not None and not isinstance(r.exception, SystemExit):
+        raise AssertionError(f"traceback: {r.exception!r}")
+    lines = [x for x in out.splitlines() if x.startswith("error:")]
+    assert len(lines) == 1, out
+    return lines[0]
+
+
+def _line_of(path: Path, text: str) -> int:
+    return next(i for i, x in enumerate(path.read_text().splitlines(), 1) if text in x)
+
+
+def _renamed_cspace_joint(tmp_path: Path) -> Path:
+    x = tmp_path / "robot.xrdf"
+    x.write_text(UR10E_XRDF.read_text().replace("- elbow_joint", "- elbow", 1))
+    return x
+
+
+def test_report_blames_the_xrdf_for_a_cspace_joint_the_urdf_lacks(tmp_path: Path) -> None:
+    x = _renamed_cspace_joint(tmp_path)
+    line = _line_of(x, "- elbow")
+    err = _error("report", str(x), "--urdf", str(UR10E_URDF), "-n", "10")
+    assert re.match(rf"^error: {re.escape(str(x))}:{line}:\d+: ur10e.urdf does not match", err)
+    assert "c-space joint 'elbow' is not a joint of the robot; did you mean 'elbow_joint'?" in err
+
+
+def test_viz_and_export_blame_the_xrdf_too(tmp_path: Path) -> None:
+    x = _renamed_cspace_joint(tmp_path)
+    line = _line_of(x, "- elbow")
+    viz = _error("viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "v.png"))
+    export = _error(
+        "export", "curobo", str(x), "--urdf", str(UR10E_URDF), "-o", str(tmp_path / "c.yml")
+    )
+    for err in (viz, export):
+        assert err.startswith(f"error: {x}:{line}:"), err
+        assert "ur10e.urdf does not match this XRDF" in err and "'elbow'" in err
+    assert not (tmp_path / "v.png").exists() and not (tmp_path / "c.yml").exists()
+
+
+def test_a_mimic_joint_in_the_cspace_says_why(tmp_path: Path) -> None:
+    from tests.test_collision import THREE_LINK
+
+    x = tmp_path / "mimic.xrdf"
+    x.write_text(
+        "format: xrdf\nformat_version: 2.0\ncspace:\n  joint_names: [joint1, finger_joint]\n"
+        "  acceleration_limits: [1, 1]\n  jerk_limits: [1, 1]\n"
+        "world_collision:\n  geometry: g\n"
+        "geometry:\n  g:\n    spheres:\n      link1: [{center: [0, 0, 0], radius: 0.1}]\n"
+    )
+    r = runner.invoke(app, ["viz", str(x), "--urdf", str(THREE_LINK), "--png", str(tmp_path / "p")])
+    assert r.exit_code == 2
+    assert f"{x}:4:" in r.output and "'finger_joint' is a mimic joint" in r.output
+
+
+def test_an_undefined_geometry_group_is_located_when_the_xrdf_is_read(tmp_path: Path) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text.replace("geometry: ur10e_collision_spheres", "geometry: ur10e_spheres", 1))
+    line = _line_of(x, "geometry: ur10e_spheres")
+    for args in (
+        ("diff", str(x), str(UR10E_XRDF)),
+        ("report", str(x), "--urdf", str(UR10E_URDF), "-n", "10"),
+    ):
+        err = _error(*args)
+        where = f"error: {x}:{line}:13: world_collision.geometry: "
+        assert err.startswith(where + "geometry group"), err
+        assert "'ur10e_spheres' is not defined (defined: ur10e_collision_spheres)" in err
+
+
+def test_a_clone_of_a_missing_group_is_located(tmp_path: Path) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text().replace(
+        "  ur10e_collision_spheres:\n", "  ur10e_collision_spheres:\n    clone: [gone]\n", 1
+    )
+    x.write_text(text)
+    err = _error("diff", str(x), str(UR10E_XRDF))
+    assert re.match(rf"^error: {re.escape(str(x))}:\d+:\d+: world_collision.geometry: ", err), err
+    assert "clones 'gone', which is not defined" in err
+
+
+def test_lint_still_reports_an_undefined_group_as_a_finding(tmp_path: Path) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text.replace("geometry: ur10e_collision_spheres", "geometry: ur10e_spheres", 1))
+    r = runner.invoke(app, ["lint", str(x), "--urdf", str(UR10E_URDF)])
+    assert r.exit_code == 1 and "ur10e_spheres" in r.output and "error:" not in r.output
+
+
+def test_lint_config_errors_point_at_the_key(tmp_path: Path) -> None:
+    cfg = tmp_path / ".xrdf-lint.yaml"
+    cases = {
+        "rules:\n  curobo-: off\noptions:\n  x: 1\n": ":3:1: unknown configuration key 'options'",
+        "rules:\n  sphere-radiu: off\n": ":2:3: unknown rule 'sphere-radiu'",
+        "rules:\n  curobo-: {level: bad}\n": ":2:20: rule 'curobo-': level must be one of",
+        "rules:\n  curobo-: in\n": ":2:12: rule 'curobo-': level must be one of",
+    }
+    for text, where in cases.items():
+        cfg.write_text(text)
+        err = _error("lint", str(UR10E_XRDF), "--config", str(cfg))
+        assert err.startswith(f"error: {cfg}{where.split(' ', 1)[0]} "), err
+        assert where.split(" ", 1)[1] in err
+
+
+def test_configuration_file_errors_point_at_the_row(tmp_path: Path) -> None:
+    configs = tmp_path / "configs.yaml"
+    configs.write_text("configurations:\n  - [0, 0, 0, 0, 0, 0]\n  - [0, 0, x, 0, 0, 0]\n")
+    err = _error("report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(configs))
+    assert err.startswith(f"error: {configs}:3:") and "configuration 1" in err, err
+    configs.write_text("configurations:\n  a: 1\n")
+    err = _error("report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(configs))
+    assert err.startswith(f"error: {configs}:2:") and "expected a list" in err, err
+
+
+def test_xacro_syntax_errors_point_into_the_file_that_has_them(tmp_path: Path) -> None:
+    top = tmp_path / "top.urdf.xacro"
+    inc = tmp_path / "inc.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="inc.xacro"/>\n  <link name="a"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="b"><\n</robot>\n'
+    )
+    err = _error("expand", str(top))
+    assert err.startswith(f"error: {inc}:3:19: xacro failed: not valid XML: not well-formed"), err
+    top.write_text(top.read_text().replace('<link name="a"/>', '<link name="a">'))
+    err = _error("expand", str(top))
+    assert err.startswith(f"error: {top}:5:3: xacro failed: not valid XML: mismatched tag"), err
+
+
+def _urdf_with(tmp_path: Path, old: str, new: str) -> Path:
+    text = UR10E_URDF.read_text()
+    assert old in text
+    out = tmp_path / "robot.urdf"
+    out.write_text(text.replace(old, new, 1))
+    return out
+
+
+def test_urdf_numbers_yourdfpy_parses_are_checked_with_their_line(tmp_path: Path) -> None:
+    text = UR10E_URDF.read_text()
+    mass = next(x for x in text.splitlines() if "<mass value=" in x).strip()
+    u = _urdf_with(tmp_path, mass, '<mass value="heavy"/>')
+    line = _line_of(u, 'mass value="heavy"')
+    err = _error("convert", str(u), "-o", str(tmp_path / "out.xrdf"))
+    assert err == (
+        f"error: {u}:{line}: link 'base_link_inertia' <inertial> <mass> value='heavy' is not a "
+        "number"
+    ), err
+
+
+def test_an_unknown_geometry_is_located_and_invisible_characters_are_escaped(
+    tmp_path: Path,
+) -> None:
+    text = UR10E_URDF.read_text()
+    geometry = next(x for x in text.splitlines() if "<mesh filename=" in x).strip()
+    u = _urdf_with(tmp_path, geometry, '<spher\ufeffe radius="0.1"/>')
+    line = _line_of(u, "<spher")
+    err = _error("convert", str(u), "-o", str(tmp_path / "out.xrdf"))
+    assert err.startswith(f"error: {u}:{line}: link 'base_link_inertia' <visual> <geometry> ")
+    assert "holds <spher\\ufeffe>; a URDF geometry is one of <box>" in err and "\ufeff" not in err
+
+
+def test_a_second_root_link_is_located(tmp_path: Path) -> None:
+    u = _urdf_with(tmp_path, '<parent link="base_link"/>', '<parent link="floating"/>')
+    u.write_text(u.read_text().replace("</robot>", '  <link name="floating"/>\n</robot>'))
+    x = tmp_path / "robot.xrdf"
+    x.write_text(re.sub(r"modifiers:\n(  - .*\n)+", "", UR10E_XRDF.read_text()))
+    err = _error("report", str(x), "--urdf", str(u), "-n", "10")
+    assert re.match(rf"^error: {re.escape(str(u))}:\d+: 2 links have no parent joint", err), err
