@@ -3,7 +3,8 @@
 A :class:`Robot` is built once by the loader (:func:`xrdf_tools.urdf_source.load_urdf`,
 :func:`xrdf_tools.sources.xacro_source.load_robot`) and carries the path, the URDF text it was
 parsed from (an expanded xacro: the expansion), the line of every ``<link>`` and ``<joint>``,
-the ``package_paths`` it was loaded with and the yourdfpy object. The plain views — the joints
+the ``package_paths`` it was loaded with, which geometry elements are capsules and the yourdfpy
+object. The plain views — the joints
 as :class:`~xrdf_tools.urdf_source.JointInfo`, the link names, the
 :class:`~xrdf_tools.sources.RobotTree` and the
 :class:`~xrdf_tools.kinematics.KinematicModel` for an XRDF's modifiers — are computed on first
@@ -52,6 +53,10 @@ class Robot:
     link_lines: Mapping[str, int] = field(default_factory=FrozenMap)
     joint_lines: Mapping[str, int] = field(default_factory=FrozenMap)
     package_paths: Mapping[str, str] = field(default_factory=FrozenMap)
+    #: ``(link, "collision" | "visual", index)`` of the elements whose geometry is a
+    #: ``<capsule>`` (not standard URDF): yourdfpy holds them as cylinders of the same radius
+    #: and length (see :func:`xrdf_tools.link_geometry.capsules_as_cylinders`).
+    capsules: frozenset[tuple[str, str, int]] = frozenset()
     _models: dict[Any, tuple[KinematicModel, tuple[Diagnostic, ...]]] = field(
         default_factory=dict, repr=False
     )

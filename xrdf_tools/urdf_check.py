@@ -17,8 +17,10 @@ __all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 XACRO_NS = "http://www.ros.org/wiki/xacro"
-#: The geometry elements yourdfpy reads (it refuses any other, ``<capsule>`` included).
-URDF_GEOMETRIES = ("box", "cylinder", "sphere", "mesh")
+#: The geometry elements the loader reads: yourdfpy's four, and ``<capsule>`` (not standard
+#: URDF; handed to yourdfpy as a cylinder, see
+#: :func:`xrdf_tools.link_geometry.capsules_as_cylinders`).
+URDF_GEOMETRIES = ("box", "cylinder", "sphere", "mesh", "capsule")
 #: Numbers yourdfpy parses besides origins, axes, limits, mimic and geometry:
 #: (element, child path, attributes, count).
 _OTHER_NUMBERS: tuple[tuple[str, str, tuple[str, ...], int], ...] = (
@@ -163,6 +165,7 @@ def _check_is_tree(
 _GEOMETRY: dict[str, tuple[tuple[str, tuple[int, ...], bool], ...]] = {
     "box": (("size", (3,), True),),
     "cylinder": (("radius", (1,), True), ("length", (1,), True)),
+    "capsule": (("radius", (1,), True), ("length", (1,), True)),
     "sphere": (("radius", (1,), True),),
     "mesh": (("scale", (3, 1), False),),
 }

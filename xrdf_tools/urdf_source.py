@@ -198,13 +198,6 @@ def urdf_text(urdf: Robot | yourdfpy.URDF) -> str | None:
     return as_robot(urdf).text
 
 
-def urdf_package_paths(urdf: Robot | yourdfpy.URDF) -> dict[str, str]:
-    """The ``package_paths`` a URDF was loaded with (``{}`` when unknown)."""
-    from .robot import as_robot
-
-    return dict(as_robot(urdf).package_paths)
-
-
 def source_line(
     urdf: Robot | yourdfpy.URDF, kind: Literal["link", "joint"], name: str
 ) -> int | None:
@@ -332,6 +325,7 @@ def _parse_bytes(
     from lxml import etree
 
     from .frozen import FrozenMap
+    from .link_geometry import capsules_as_cylinders
     from .robot import Robot, attach
 
     parser = etree.XMLParser(
@@ -350,6 +344,7 @@ def _parse_bytes(
     etree.strip_tags(root, etree.Comment)
     link_lines, joint_lines = check_urdf_tree(root, path)
     etree.cleanup_namespaces(root)
+    capsules = capsules_as_cylinders(root)  # yourdfpy knows no <capsule>
 
     import yourdfpy
 
@@ -375,6 +370,7 @@ def _parse_bytes(
         FrozenMap(link_lines),
         FrozenMap(joint_lines),
         FrozenMap(package_paths or {}),
+        capsules,
     )
     attach(robot)
     return robot

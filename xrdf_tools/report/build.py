@@ -155,9 +155,10 @@ def self_collision_report(
     rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
     cov = None
     if coverage:
+        from ..robot import as_robot
         from ..spheres import coverage_for_xrdf
 
-        cov = coverage_for_xrdf(upath, xrdf)
+        cov = coverage_for_xrdf(as_robot(urdf), xrdf)  # the loaded robot: no second parse
         diags.extend(cov.diagnostics)  # meshes that could not be measured, and why
     return Report(
         xrdf_path=xrdf.source.path,

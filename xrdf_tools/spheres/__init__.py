@@ -30,7 +30,8 @@ from ..robot import Robot
 from .metrics import SphereMetrics, sphere_metrics
 
 if TYPE_CHECKING:
-    from .geometry import GeometryChoice, LinkGeometry
+    from ..link_geometry import GeometryChoice
+    from .geometry import LinkGeometry
 
 __all__ = [
     "CoverageSummary",
@@ -107,7 +108,6 @@ def fit_link_spheres(
     max_protrusion: float | Mapping[str, float] | None = None,
     progress: Any = None,
     source: GeometryChoice = "auto",
-    urdf_text: str | None = None,
 ) -> tuple[dict[str, tuple[Sphere, ...]], list[Diagnostic]]:
     """Fit spheres to every link with geometry (or to ``links``) of a URDF or xacro file.
 
@@ -120,11 +120,11 @@ def fit_link_spheres(
     * none -- per link, the fewest spheres (up to 16) whose greedy cover reaches 90 %.
 
     ``max_protrusion`` (metres, one value or per link) bounds how far each sphere may reach
-    outside its link; by default 6 % of the cube root of the link's volume. ``source`` and
-    ``urdf_text`` choose the geometry and the URDF text as in
-    :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs
+    outside its link; by default 6 % of the cube root of the link's volume. ``source`` chooses
+    the geometry as in :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs
     and ``seed`` give the same spheres. ``progress(link, i, n)`` is called before each link.
-    ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.Robot` (see
+    ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.Robot`, whose geometry is then
+    read without parsing the URDF again (see
     :func:`~xrdf_tools.spheres.geometry.load_link_geometry`).
     Returns ``({link: spheres}, diagnostics)`` in URDF link order.
     """
@@ -133,7 +133,7 @@ def fit_link_spheres(
 
     _check_counts(per_link, count, density)
     geoms, diags = load_link_geometry(
-        urdf_path, links=links, package_paths=package_paths, source=source, urdf_text=urdf_text
+        urdf_path, links=links, package_paths=package_paths, source=source
     )
     if count is not None and count < len(geoms):
         raise XrdfToolsError(
@@ -283,7 +283,7 @@ def pooled(
 
 
 def coverage_for_xrdf(
-    urdf_path: str | os.PathLike[str],
+    urdf_path: str | os.PathLike[str] | Robot,
     xrdf: Xrdf,
     *,
     package_paths: Mapping[str, str] | None = None,
@@ -295,7 +295,7 @@ def coverage_for_xrdf(
 
     ``group`` defaults to the world-collision group (else the self-collision group, else the
     first group); clones are resolved. Every link with geometry is measured (a link without
-    spheres has coverage 0).
+    spheres has coverage 0). ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.Robot`.
     """
     from .geometry import load_link_geometry
 

@@ -353,7 +353,7 @@ def build_scene(
 
     # Meshes: every URDF link kept in the tree, whether or not it has spheres.
     mesh_map, mdiags = load_link_meshes(
-        robot.urdf, kin.frame_names, meshes, urdf_path=urdf_path, package_paths=package_paths
+        robot, kin.frame_names, meshes, urdf_path=urdf_path, package_paths=package_paths
     )
     diags.extend(mdiags)
     by_name = {link.name: link for link in links}

@@ -111,23 +111,18 @@ def _reason(link: str, messages: list[str]) -> str:
     return f"link '{link}': collision geometry not loaded"
 
 
-def _load_boxes(path: str, expected: dict[str, int], urdf: Any) -> dict[str, Box | str]:
+def _load_boxes(expected: dict[str, int], urdf: Any) -> dict[str, Box | str]:
     """Boxes of the links in ``expected`` (link -> number of its ``<collision>`` elements).
 
-    The geometry is read from the text ``urdf`` was parsed from (an expanded xacro keeps its
-    arguments) with its package paths. A link whose geometry is not loaded in full gets the
-    reason instead; nothing raises.
+    The geometry is read from the loaded robot (an expanded xacro keeps its arguments) with
+    its package paths. A link whose geometry is not loaded in full gets the reason instead;
+    nothing raises.
     """
     try:
+        from ...robot import as_robot
         from ...spheres.geometry import load_link_geometry
-        from ...urdf_source import urdf_package_paths, urdf_text
 
-        geoms, diags = load_link_geometry(
-            path,
-            links=list(expected),
-            package_paths=urdf_package_paths(urdf),
-            urdf_text=urdf_text(urdf),
-        )
+        geoms, diags = load_link_geometry(as_robot(urdf), links=list(expected))
     except Exception as exc:  # an unreadable URDF, a missing trimesh: skip, do not crash
         why = _first_line(str(exc) or type(exc).__name__)
         return dict.fromkeys(expected, why)
@@ -201,7 +196,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     cache = _cache_for(st.path, st.urdf)
     missing = {k: v for k, v in expected.items() if k not in cache}
     if missing:
-        cache.update(_load_boxes(st.path, missing, st.urdf))
+        cache.update(_load_boxes(missing, st.urdf))
     urdf_name = os.path.basename(st.path)
     skipped: dict[str, SphereRef] = {}
     for s, center, radius in todo:
