@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 import trimesh
 from typer.testing import CliRunner
@@ -352,3 +353,19 @@ def test_a_loaded_robot_fits_like_its_file(tmp_path: Path) -> None:
     by_robot, d1 = fit_link_spheres(robot, per_link=2, seed=3)
     by_path, d2 = fit_link_spheres(path, per_link=2, seed=3)
     assert by_robot == by_path and d1 == d2
+
+
+def test_outside_distance_in_chunks_equals_one_query(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Far points are queried in chunks (memory grows with points x faces); the distances
+    are those of one whole query and of the exact distance to a sphere."""
+    from xrdf_tools.spheres import metrics
+
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
+    rng = np.random.default_rng(0)
+    pts = rng.normal(size=(500, 3))
+    whole = metrics.outside_distance(ball, pts)
+    monkeypatch.setattr(metrics, "_CLOSEST_BUDGET", 10 * len(ball.faces))
+    chunked = metrics.outside_distance(ball, pts)
+    assert np.array_equal(whole, chunked)
+    exact = np.maximum(np.linalg.norm(pts, axis=1) - 0.1, 0.0)
+    assert np.allclose(chunked, exact, atol=2e-3)

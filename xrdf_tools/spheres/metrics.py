@@ -168,11 +168,19 @@ def outside_distance(solid: trimesh.Trimesh, points: FloatArray) -> FloatArray:
     out = np.zeros(len(points))
     if len(points) == 0:
         return out
-    outside = ~contains(solid, points)
-    if outside.any():
-        _, dist, _ = closest(solid, points[outside])
-        out[outside] = np.asarray(dist, dtype=np.float64)
+    outside = np.flatnonzero(~contains(solid, points))
+    # trimesh compares each point with every face near it: a point far from a small mesh has
+    # them all as candidates, so memory grows with points x faces. Chunks keep it bounded.
+    step = max(16, _CLOSEST_BUDGET // max(1, len(solid.faces)))
+    for start in range(0, len(outside), step):
+        idx = outside[start : start + step]
+        _, dist, _ = closest(solid, points[idx])
+        out[idx] = np.asarray(dist, dtype=np.float64)
     return out
+
+
+#: Point-face pairs one closest-point query may compare (about 72 bytes each).
+_CLOSEST_BUDGET = 2_000_000
 
 
 def weighted_quantile(values: FloatArray, weights: FloatArray, q: float) -> float:
