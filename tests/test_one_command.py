@@ -100,7 +100,7 @@ def test_convert_robot_fits_masks_and_lints_clean(boxes: Path) -> None:
     assert result.report is not None and result.report.samples == 500
     assert result.lint_errors == []
     # the mask is a fixed point: the same report on the result recommends no change
-    again = self_collision_report(result.urdf, x, samples=500, seed=0)
+    again = self_collision_report(result.robot, x, samples=500, seed=0)
     assert again.mask_change.empty
 
 

@@ -34,9 +34,9 @@ from .robot import Robot, as_robot
 if TYPE_CHECKING:
     import yourdfpy
 
+    from .link_geometry import GeometryChoice
     from .model import Sphere, Xrdf
     from .report import Report, Sampler
-    from .spheres.geometry import GeometryChoice
 
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
 
@@ -70,14 +70,15 @@ class MaskOptions:
 class ConvertResult:
     """What :func:`convert_robot` made.
 
-    ``diagnostics`` are the conversion's (every guess, the fitting and mask summaries);
-    ``lint`` the findings of linting ``text`` against ``urdf``; ``fitted`` the number of
-    spheres per fitted link; ``report`` the self-collision report the mask came from.
+    ``robot`` is the loaded robot the XRDF was made for; ``diagnostics`` are the
+    conversion's (every guess, the fitting and mask summaries); ``lint`` the findings of
+    linting ``text`` against ``robot``; ``fitted`` the number of spheres per fitted link;
+    ``report`` the self-collision report the mask came from.
     """
 
     xrdf: Xrdf
     text: str
-    urdf: yourdfpy.URDF
+    robot: Robot
     diagnostics: tuple[Diagnostic, ...]
     lint: tuple[Diagnostic, ...] = ()
     fitted: FrozenMap[str, int] = field(default_factory=FrozenMap)
@@ -138,7 +139,7 @@ def convert_robot(
             # one loud "no spheres at all" says it; a line per link is noise
             lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
     return ConvertResult(
-        x, text, loaded.urdf, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
+        x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
     )
 
 

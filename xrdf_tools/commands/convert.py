@@ -260,7 +260,7 @@ def command(
             )
     except XrdfToolsError as e:
         fail(e)
-    x, text, urdf = result.xrdf, result.text, result.urdf
+    x, text = result.xrdf, result.text
     diags, lint_diags = list(result.diagnostics), list(result.lint)
     echo_diagnostics([*diags, *lint_diags], fmt)
     errors = [d for d in lint_diags if d.severity is Severity.ERROR]
@@ -276,9 +276,7 @@ def command(
 
     if check:
         assert output is not None
-        from ..urdf_source import root_link
-
-        _check(output, x, root_link(urdf))
+        _check(output, x, result.robot.root_link())
         return
     write_output(text, output)
 
