@@ -190,3 +190,21 @@ def test_a_second_root_link_is_located(tmp_path: Path) -> None:
     x.write_text(re.sub(r"modifiers:\n(  - .*\n)+", "", UR10E_XRDF.read_text()))
     err = _error("report", str(x), "--urdf", str(u), "-n", "10")
     assert re.match(rf"^error: {re.escape(str(u))}:\d+: 2 links have no parent joint", err), err
+
+
+def test_a_bad_byte_in_a_xacro_file_is_located(tmp_path: Path) -> None:
+    x = tmp_path / "bad.urdf.xacro"
+    x.write_bytes(b'<robot name="r">\n <link name="\xff"/>\n</robot>\n')
+    assert _error("expand", str(x)) == (
+        f"error: {x}:2:14: xacro file is not UTF-8 text (byte 0xff: invalid start byte)"
+    )
+
+
+def test_write_mask_without_a_self_collision_section_names_the_xrdf(tmp_path: Path) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text[: text.index("self_collision:")] + text[text.index("geometry:\n") :])
+    err = _error(
+        "report", str(x), "--urdf", str(UR10E_URDF), "-n", "10", "--write-mask", str(tmp_path / "m")
+    )
+    assert err.startswith(f"error: {x}:1: the XRDF has no self_collision section"), err

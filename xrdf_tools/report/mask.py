@@ -63,7 +63,10 @@ def recommended_xrdf(xrdf: Xrdf, report: Report) -> Xrdf:
     """``xrdf`` with ``self_collision.ignore`` replaced by the report's recommendation."""
     sc = xrdf.self_collision
     if sc is None:
-        raise XrdfToolsError("the XRDF has no self_collision section to write a mask into")
+        raise XrdfToolsError(
+            "the XRDF has no self_collision section to write a mask into",
+            **xrdf.source.locate(""),
+        )
     return xrdf.replace(
         self_collision=SelfCollisionSection(
             geometry=sc.geometry,

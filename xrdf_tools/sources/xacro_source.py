@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 
 from ..errors import SourceError, XrdfToolsError
-from ..fileio import check_input_file, read_input_bytes
+from ..fileio import read_input_bytes, read_input_text
 from ..packages import PackageResolver
 
 if TYPE_CHECKING:
@@ -84,7 +84,8 @@ def expand_xacro(
     import xacro
 
     p = Path(path)
-    check_input_file(p, what="xacro file", error=SourceError)
+    # read and decoded here once so that a bad byte is located (xacro reads the file again)
+    read_input_text(p, what="xacro file", error=SourceError)
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
     try:
