@@ -6,6 +6,7 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 from typer.testing import CliRunner
@@ -151,6 +152,38 @@ def test_shared_reference_against_its_urdf() -> None:
 def test_panda_against_example_robot_data() -> None:
     diags = lint([FIXTURES / "panda" / "panda.xrdf"], urdf=robot_urdf("panda"))
     assert [d for d in diags if d.severity.value == "error"] == []
+
+
+def test_lint_with_urdf_reads_and_parses_the_urdf_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 15: ``xrdf lint FILE --urdf URDF`` reads the URDF file once and parses and
+    validates it once, whatever its rules look at (joints, frames, collision geometry)."""
+    import xrdf_tools.fileio as fileio
+    import xrdf_tools.urdf_source as urdf_source
+    from xrdf_tools.lint.rules import sphere_outside_geometry
+
+    urdf = robot_urdf("panda")
+    reads: list[str] = []
+    parses: list[str] = []
+    read_capped, parse_bytes = fileio._read_capped, urdf_source._parse_bytes
+
+    def counting_read(fh: Any, path: str, *args: Any) -> bytes:
+        reads.append(path)
+        return read_capped(fh, path, *args)
+
+    def counting_parse(data: bytes, path: str, **kwargs: Any) -> Any:
+        parses.append(path)
+        return parse_bytes(data, path, **kwargs)
+
+    monkeypatch.setattr(fileio, "_read_capped", counting_read)
+    monkeypatch.setattr(urdf_source, "_parse_bytes", counting_parse)
+    # no boxes kept from an earlier test: the collision geometry is loaded in this run
+    monkeypatch.setattr(sphere_outside_geometry, "_CACHE", {})
+    xrdf = FIXTURES / "panda" / "panda.xrdf"
+    r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf), "--target", "cumotion"])
+    assert r.exit_code == 0, r.output
+    assert sphere_outside_geometry._CACHE, "the collision geometry was not looked at"
+    assert parses == [str(urdf)]
+    assert [p for p in reads if p == str(urdf)] == [str(urdf)]
 
 
 def test_a_crashing_rule_becomes_an_internal_error() -> None:
