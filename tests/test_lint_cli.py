@@ -197,19 +197,52 @@ def test_a_crashing_rule_becomes_an_internal_error() -> None:
     assert [(d.rule, d.severity.value) for d in out] == [("internal-error", "error")]
 
 
-def test_lint_without_urdf_imports_no_heavy_library() -> None:
-    code = (
-        "import sys\n"
+#: Never imported by ``xrdf lint FILE`` (no ``--urdf``): URDF, mesh and plotting libraries, and
+#: the XRDF model with its strict reader and writer (lint reads the YAML tree; issue 13).
+HEAVY = (
+    "trimesh",
+    "yourdfpy",
+    "rerun",
+    "mcap",
+    "matplotlib",
+    "lxml",
+    "numpy",
+    "xrdf_tools.diff",
+    "xrdf_tools.model",
+    "xrdf_tools.xrdf_read",
+    "xrdf_tools.xrdf_write",
+)
+#: Not imported either by the console entry point, which runs ``xrdf lint`` without typer.
+TYPER_AND_WRITERS = ("typer", "pydantic", "rich", "tempfile", "difflib", "json", "zipfile")
+
+_RUNS = {
+    "typer-app": (
         "from xrdf_tools.cli import app\n"
         "from typer.testing import CliRunner\n"
         f"r = CliRunner().invoke(app, ['lint', {str(SEED_XRDF)!r}])\n"
         "assert r.exit_code == 0, r.output\n"
-        "heavy = [m for m in ('trimesh', 'yourdfpy', 'rerun', 'mcap', 'matplotlib', 'lxml',"
-        " 'numpy', 'xrdf_tools.diff') if m in sys.modules]\n"
-        "print(','.join(heavy))\n"
+    ),
+    "entry-point": (
+        "from xrdf_tools.cli import main\n"
+        f"sys.argv = ['xrdf', 'lint', {str(SEED_XRDF)!r}]\n"
+        "try:\n"
+        "    main()\n"
+        "except SystemExit as e:\n"
+        "    assert e.code == 0, e.code\n"
+    ),
+}
+
+
+@pytest.mark.parametrize("run", sorted(_RUNS))
+def test_lint_without_urdf_imports_no_heavy_library(run: str) -> None:
+    banned = HEAVY + (TYPER_AND_WRITERS if run == "entry-point" else ())
+    code = (
+        "import sys\n"
+        + _RUNS[run]
+        + f"print(','.join(m for m in {banned!r} if m in sys.modules), file=sys.stderr)\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "", f"imported: {out.stdout}"
+    assert out.stderr.strip() == "", f"imported: {out.stderr}"
 
 
 def test_the_cli_repeats_the_diff_tolerance_it_does_not_import() -> None:

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from ..diagnostics import Severity
 from ..errors import XrdfToolsError, YamlError
-from ..model import SUPPORTED_VERSIONS
+from ..xrdf_shape import SUPPORTED_VERSIONS, version_string
 from ..yaml_io import YamlDocument, YMap, YNode, YScalar, YSeq, key_of, parse_yaml
 
 if TYPE_CHECKING:
@@ -141,8 +141,6 @@ class LintContext:
     @cached_property
     def version(self) -> str | None:
         """``"1.0"`` or ``"2.0"`` when ``format_version`` names a supported version, else None."""
-        from ..xrdf_io import version_string
-
         v = version_string(self.get("format_version"))
         return v if v in SUPPORTED_VERSIONS else None
 
