@@ -6,6 +6,7 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 from typer.testing import CliRunner
@@ -153,6 +154,38 @@ def test_panda_against_example_robot_data() -> None:
     assert [d for d in diags if d.severity.value == "error"] == []
 
 
+def test_lint_with_urdf_reads_and_parses_the_urdf_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 15: ``xrdf lint FILE --urdf URDF`` reads the URDF file once and parses and
+    validates it once, whatever its rules look at (joints, frames, collision geometry)."""
+    import xrdf_tools.fileio as fileio
+    import xrdf_tools.urdf_source as urdf_source
+    from xrdf_tools.lint.rules import sphere_outside_geometry
+
+    urdf = robot_urdf("panda")
+    reads: list[str] = []
+    parses: list[str] = []
+    read_capped, parse_bytes = fileio._read_capped, urdf_source._parse_bytes
+
+    def counting_read(fh: Any, path: str, *args: Any) -> bytes:
+        reads.append(path)
+        return read_capped(fh, path, *args)
+
+    def counting_parse(data: bytes, path: str, **kwargs: Any) -> Any:
+        parses.append(path)
+        return parse_bytes(data, path, **kwargs)
+
+    monkeypatch.setattr(fileio, "_read_capped", counting_read)
+    monkeypatch.setattr(urdf_source, "_parse_bytes", counting_parse)
+    # no boxes kept from an earlier test: the collision geometry is loaded in this run
+    monkeypatch.setattr(sphere_outside_geometry, "_CACHE", {})
+    xrdf = FIXTURES / "panda" / "panda.xrdf"
+    r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf), "--target", "cumotion"])
+    assert r.exit_code == 0, r.output
+    assert sphere_outside_geometry._CACHE, "the collision geometry was not looked at"
+    assert parses == [str(urdf)]
+    assert [p for p in reads if p == str(urdf)] == [str(urdf)]
+
+
 def test_a_crashing_rule_becomes_an_internal_error() -> None:
     from xrdf_tools.diagnostics import Severity
     from xrdf_tools.lint.context import Rule
@@ -164,19 +197,52 @@ def test_a_crashing_rule_becomes_an_internal_error() -> None:
     assert [(d.rule, d.severity.value) for d in out] == [("internal-error", "error")]
 
 
-def test_lint_without_urdf_imports_no_heavy_library() -> None:
-    code = (
-        "import sys\n"
+#: Never imported by ``xrdf lint FILE`` (no ``--urdf``): URDF, mesh and plotting libraries, and
+#: the XRDF model with its strict reader and writer (lint reads the YAML tree; issue 13).
+HEAVY = (
+    "trimesh",
+    "yourdfpy",
+    "rerun",
+    "mcap",
+    "matplotlib",
+    "lxml",
+    "numpy",
+    "xrdf_tools.diff",
+    "xrdf_tools.model",
+    "xrdf_tools.xrdf_read",
+    "xrdf_tools.xrdf_write",
+)
+#: Not imported either by the console entry point, which runs ``xrdf lint`` without typer.
+TYPER_AND_WRITERS = ("typer", "pydantic", "rich", "tempfile", "difflib", "json", "zipfile")
+
+_RUNS = {
+    "typer-app": (
         "from xrdf_tools.cli import app\n"
         "from typer.testing import CliRunner\n"
         f"r = CliRunner().invoke(app, ['lint', {str(SEED_XRDF)!r}])\n"
         "assert r.exit_code == 0, r.output\n"
-        "heavy = [m for m in ('trimesh', 'yourdfpy', 'rerun', 'mcap', 'matplotlib', 'lxml',"
-        " 'numpy', 'xrdf_tools.diff') if m in sys.modules]\n"
-        "print(','.join(heavy))\n"
+    ),
+    "entry-point": (
+        "from xrdf_tools.cli import main\n"
+        f"sys.argv = ['xrdf', 'lint', {str(SEED_XRDF)!r}]\n"
+        "try:\n"
+        "    main()\n"
+        "except SystemExit as e:\n"
+        "    assert e.code == 0, e.code\n"
+    ),
+}
+
+
+@pytest.mark.parametrize("run", sorted(_RUNS))
+def test_lint_without_urdf_imports_no_heavy_library(run: str) -> None:
+    banned = HEAVY + (TYPER_AND_WRITERS if run == "entry-point" else ())
+    code = (
+        "import sys\n"
+        + _RUNS[run]
+        + f"print(','.join(m for m in {banned!r} if m in sys.modules), file=sys.stderr)\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "", f"imported: {out.stdout}"
+    assert out.stderr.strip() == "", f"imported: {out.stderr}"
 
 
 def test_the_cli_repeats_the_diff_tolerance_it_does_not_import() -> None:

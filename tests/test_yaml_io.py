@@ -120,3 +120,15 @@ def test_write_atomic_replaces_and_keeps_no_temp(tmp_path: Path) -> None:
     write_atomic(p, "new\n")
     assert p.read_text() == "new\n"
     assert [f.name for f in tmp_path.iterdir()] == ["out.xrdf"]
+
+
+def test_the_characters_refused_are_those_pyyaml_refuses() -> None:
+    """``_NON_PRINTABLE`` matches exactly what PyYAML's ``Reader.NON_PRINTABLE`` matches (the
+    characters a YAML stream may not hold), though written as the short list of them, which
+    compiles far faster than PyYAML's negated class of the allowed ones."""
+    import yaml
+
+    from xrdf_tools.yaml_io import _NON_PRINTABLE
+
+    every = "".join(map(chr, range(0x110000)))
+    assert _NON_PRINTABLE.findall(every) == yaml.reader.Reader.NON_PRINTABLE.findall(every)

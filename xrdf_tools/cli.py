@@ -1,74 +1,29 @@
-"""The ``xrdf`` command line: a thin Typer app over the library.
+"""The ``xrdf`` command line: the console entry point :func:`main`.
 
-Each subcommand lives in ``xrdf_tools.commands.<name>``; this module wires them together,
-turns library exceptions into one-line errors with exit code 2, and handles ``--version``.
+The commands are a Typer app (:mod:`xrdf_tools.commands.app`, also importable as
+``xrdf_tools.cli.app``), imported only when it is needed: ``xrdf lint`` with the arguments
+a user or the pre-commit hook normally gives runs without typer
+(:mod:`xrdf_tools.commands.lint_core`), because typer's start-up alone takes longer than
+yamllint takes to lint a file. Everything else, ``xrdf lint --help`` and lint's usage errors
+included, is typer's.
 """
 
 from __future__ import annotations
 
+import errno
+import os
 import signal
 import sys
-from typing import Annotated
-
-import typer
-
-from . import __version__
-from .commands import convert, diff, expand, export, lint, report, spheres, viz
-from .errors import XrdfToolsError
-
-app = typer.Typer(
-    name="xrdf",
-    help=(
-        "Tools for XRDF robot descriptions (cuMotion / cuRobo / MoveIt).\n\n"
-        "Typical flow: convert a URDF + SRDF or cuRobo config to XRDF, lint it, report on its "
-        "self-collision mask, look at the spheres.\n\n"
-        "Exit codes: 0 success, 1 findings (lint errors, differences), 2 usage or input error."
-    ),
-    no_args_is_help=True,
-    add_completion=True,
-    pretty_exceptions_enable=False,
-    rich_markup_mode=None,
-)
+from typing import Any
 
 
-def _version(value: bool) -> None:
-    if value:
-        typer.echo(f"xrdf-tools {__version__}")
-        raise typer.Exit()
+def __getattr__(name: str) -> Any:
+    """``app``: the Typer app, imported on first use."""
+    if name == "app":
+        from .commands.app import app
 
-
-@app.callback()
-def _root(
-    version: Annotated[
-        bool,
-        typer.Option("--version", callback=_version, is_eager=True, help="Show the version."),
-    ] = False,
-) -> None:
-    """Tools for XRDF robot descriptions."""
-
-
-# short_help is the one-line summary in `xrdf --help`; each command's docstring (with examples)
-# is its full `xrdf COMMAND --help`.
-app.command("convert", short_help="URDF/xacro + MoveIt SRDF or cuRobo config → XRDF.")(
-    convert.command
-)
-app.command("lint", short_help="Check XRDF files against the spec (and a URDF).")(lint.command)
-app.command("diff", short_help="Semantic difference between two XRDF files.")(diff.command)
-app.command("report", short_help="Self-collision report over sampled configurations.")(
-    report.command
-)
-app.command("viz", short_help="Sphere visualizations to rerun (.rrd), MCAP or PNG.")(viz.command)
-app.command("spheres", short_help="Fit collision spheres to link meshes; coverage metrics.")(
-    spheres.command
-)
-app.command("expand", short_help="xacro → URDF, without ROS (as every command reads it).")(
-    expand.command
-)
-app.add_typer(
-    export.app,
-    name="export",
-    help="XRDF → cuRobo robot YAML, a MoveIt SRDF sync, or an XRDF for a reader (--target).",
-)
+        return app
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _terminate(signum: int, _frame: object) -> None:
@@ -78,14 +33,43 @@ def _terminate(signum: int, _frame: object) -> None:
 
 def main() -> None:
     """Console entry point: library errors become one line on stderr and exit code 2."""
+    from .commands.core import echo
+    from .errors import XrdfToolsError
+
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), _terminate)
     try:
+        code = _fast(sys.argv[1:])
+        if code is not None:
+            sys.exit(code)
+        from .commands.app import app
+
         app()
     except XrdfToolsError as exc:
-        typer.echo(f"error: {exc}", err=True)
+        echo(f"error: {exc}", err=True)
         sys.exit(2)
     except KeyboardInterrupt:
-        typer.echo("interrupted", err=True)
+        echo("interrupted", err=True)
         sys.exit(130)
+
+
+def _fast(argv: list[str]) -> int | None:
+    """``xrdf lint`` without typer (:func:`~xrdf_tools.commands.lint_core.fast_main`), or
+    None when typer runs the command line. An interrupt ends the run with exit code 130 and
+    a closed standard output quietly with 1, as typer ends a command."""
+    if argv[:1] != ["lint"]:
+        return None
+    from .commands.lint_core import fast_main
+
+    try:
+        return fast_main(argv)
+    except KeyboardInterrupt:
+        return 130
+    except OSError as exc:
+        if exc.errno != errno.EPIPE:
+            raise
+        # nothing more reaches the reader; Python's own flush at exit must not complain
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1

@@ -7,7 +7,6 @@ return strings; only the CLI prints them.
 from __future__ import annotations
 
 import functools
-import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
@@ -108,6 +107,8 @@ def render_json(diagnostics: Sequence[Diagnostic], **extra: Any) -> str:
         "summary": count_by_severity(ordered),
     }
     doc.update(extra)
+    import json  # here: text output, the usual one, does without it
+
     return json.dumps(doc, indent=2, sort_keys=False) + "\n"
 
 
@@ -204,4 +205,6 @@ def render_sarif(
         "version": "2.1.0",
         "runs": [{"tool": {"driver": driver}, "results": results}],
     }
+    import json
+
     return json.dumps(log, indent=2) + "\n"

@@ -6,7 +6,6 @@ it helps, lists what would have been valid.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable
 
 
@@ -107,6 +106,8 @@ class MissingDependencyError(XrdfToolsError):
 
 def did_you_mean(name: str, choices: Iterable[str]) -> str:
     """Return ``"; did you mean 'x'?"`` for the closest choice, or ``""`` when none is close."""
+    import difflib  # here: a message that needs it is rare, every command imports this module
+
     matches = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
     return f"; did you mean '{matches[0]}'?" if matches else ""
 

@@ -24,7 +24,6 @@ import math
 import os
 import stat
 import sys
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import BinaryIO
@@ -278,6 +277,8 @@ def atomic_output(path: str | os.PathLike[str], *, create_parents: bool = True) 
             raise _write_error(e, user) from None
     elif not directory.is_dir():
         raise OutputError(f"output directory does not exist: {directory}", path=user)
+    import tempfile  # here: only writers need it (xrdf lint starts without it)
+
     try:
         fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
         os.close(fd)

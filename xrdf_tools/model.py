@@ -17,7 +17,6 @@ from .frozen import FrozenMap
 from .graph import show_path
 from .rotations import quat_from_rpy, unit_quat
 
-SUPPORTED_VERSIONS = ("1.0", "2.0")
 Vec3 = tuple[float, float, float]
 
 

@@ -4,8 +4,8 @@ A :class:`Robot` is built once by the loader (:func:`xrdf_tools.urdf_source.load
 :func:`xrdf_tools.sources.xacro_source.load_robot`) and carries the path, the URDF text it was
 parsed from (an expanded xacro: the expansion), the line of every ``<link>`` and ``<joint>``,
 the ``package_paths`` it was loaded with, which geometry elements are capsules and the yourdfpy
-object. The plain views — the joints
-as :class:`~xrdf_tools.urdf_source.JointInfo`, the link names, the
+object. The plain views — the joints as :class:`~xrdf_tools.urdf_source.JointInfo`, the link
+names (and which have collision geometry), the
 :class:`~xrdf_tools.sources.RobotTree` and the
 :class:`~xrdf_tools.kinematics.KinematicModel` for an XRDF's modifiers — are computed on first
 use and kept.
@@ -75,6 +75,15 @@ class Robot:
     def links(self) -> tuple[str, ...]:
         """Link names in document order."""
         return tuple(str(link.name) for link in self.urdf.robot.links)
+
+    @cached_property
+    def collision_counts(self) -> Mapping[str, int]:
+        """The number of ``<collision>`` elements of each link that has any, in link order."""
+        return FrozenMap(
+            (str(link.name), len(link.collisions))
+            for link in self.urdf.robot.links
+            if link.collisions
+        )
 
     @cached_property
     def joints(self) -> Mapping[str, JointInfo]:

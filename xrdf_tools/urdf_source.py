@@ -227,18 +227,21 @@ def read_robot(
     *,
     package_paths: Mapping[str, str] | None = None,
     build_scene_graph: bool = False,
+    data: bytes | None = None,
 ) -> Robot:
     """Load a URDF file without loading any mesh, as a :class:`~xrdf_tools.robot.Robot`.
 
     ``package_paths`` (``{"pkg": "/dir"}``) resolves ``package://pkg/...`` mesh URIs for
     whoever loads meshes later (see :func:`make_filename_handler`); meshes are never read here.
     ``build_scene_graph`` builds yourdfpy's scene graph (needed only for yourdfpy's own
-    ``get_transform``; :mod:`xrdf_tools.kinematics` does not need it).
+    ``get_transform``; :mod:`xrdf_tools.kinematics` does not need it). ``data``: the file's
+    bytes when the caller has already read them (:func:`read_urdf_bytes`): not read again.
 
     Raises :class:`UrdfError` (one line, with the path, and the line when known).
     """
     p = os.fspath(path)
-    data = read_urdf_bytes(p)
+    if data is None:
+        data = read_urdf_bytes(p)
     return _parse_bytes(data, p, package_paths=package_paths, build_scene_graph=build_scene_graph)
 
 

@@ -17,10 +17,9 @@ from .xrdf_read import (
     TOP_LEVEL_ORDER,
     load_xrdf,
     parse_xrdf,
-    version_string,
     xrdf_from_document,
 )
-from .xrdf_shape import MAX_LENGTH
+from .xrdf_shape import MAX_LENGTH, version_string
 from .xrdf_write import dump_xrdf, format_float, format_str
 
 __all__ = [

@@ -16,7 +16,6 @@ from collections.abc import Callable, Mapping, Sequence
 from .errors import GeometryGroupError, SchemaError
 from .frozen import FrozenMap
 from .model import (
-    SUPPORTED_VERSIONS,
     AddFrame,
     CollisionSection,
     CSpace,
@@ -47,8 +46,10 @@ from .xrdf_shape import (
     REMOVE_MIMIC,
     SELF,
     SPHERE,
+    SUPPORTED_VERSIONS,
     WORLD,
     Shape,
+    version_string,
 )
 from .yaml_io import (
     YamlDocument,
@@ -65,18 +66,6 @@ from .yaml_io import (
 
 #: The top-level keys in the order of the spec (and of the canonical writer).
 TOP_LEVEL_ORDER = tuple(DOCUMENT.fields)
-
-
-def version_string(node: YNode | None) -> str | None:
-    """Normalise ``format_version`` (``1.0``, ``1``, ``"2.0"``) to ``"1.0"``/``"2.0"``."""
-    if not isinstance(node, YScalar) or isinstance(node.value, bool) or node.value is None:
-        return None
-    v = node.value
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        return str(v)
-    return f"{f:.1f}" if f.is_integer() else str(v)
 
 
 def parse_xrdf(text: str, path: str = "<string>") -> Xrdf:

@@ -12,8 +12,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from .model import SUPPORTED_VERSIONS
-from .xrdf_shape import DOCUMENT, MAX_LENGTH, MODIFIERS, Shape
+from .xrdf_shape import DOCUMENT, MAX_LENGTH, MODIFIERS, SUPPORTED_VERSIONS, Shape
 
 __all__ = ["json_schema", "render"]
 

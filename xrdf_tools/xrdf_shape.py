@@ -30,11 +30,16 @@ __all__ = [
     "DOCUMENT",
     "MAX_LENGTH",
     "MODIFIERS",
+    "SUPPORTED_VERSIONS",
     "Shape",
     "exists_in",
     "is_name",
     "is_number",
+    "version_string",
 ]
+
+#: The XRDF versions there are (``format_version``).
+SUPPORTED_VERSIONS = ("1.0", "2.0")
 
 #: Largest length or coordinate accepted in an XRDF, in metres (sphere centres and radii,
 #: buffer distances, added frame positions): far beyond any robot, far below overflow.
@@ -68,6 +73,18 @@ class Shape:
     metres: bool = False
     versions: tuple[str, ...] = ()
     length_rule: str = "wrong-type"
+
+
+def version_string(node: YNode | None) -> str | None:
+    """Normalise ``format_version`` (``1.0``, ``1``, ``"2.0"``) to ``"1.0"``/``"2.0"``."""
+    if not isinstance(node, YScalar) or isinstance(node.value, bool) or node.value is None:
+        return None
+    v = node.value
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    return f"{f:.1f}" if f.is_integer() else str(v)
 
 
 def exists_in(section: Shape, key: str, version: str) -> bool:

@@ -1,5 +1,8 @@
 """Helpers shared by the CLI commands: error exits, verbosity (``-q``/``-v``), diagnostics
-on stderr, progress bars, ``-`` for standard input and output, safe writes."""
+on stderr, progress bars, ``-`` for standard input and output, safe writes.
+
+What needs no typer lives in :mod:`xrdf_tools.commands.core` and is re-exported here.
+"""
 
 from __future__ import annotations
 
@@ -8,36 +11,33 @@ import sys
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from enum import Enum, IntEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, NoReturn
 
 import typer
 
-from ..diagnostics import (
-    Diagnostic,
-    Severity,
-    render_github,
-    render_json,
-    render_text,
-)
+from ..diagnostics import Diagnostic, Severity
 from ..errors import XrdfToolsError, one_line
+from .core import EXIT_FINDINGS as EXIT_FINDINGS
+from .core import EXIT_OK as EXIT_OK
+from .core import EXIT_USAGE as EXIT_USAGE
+from .core import RUN as _RUN
+from .core import STDIO as STDIO
+from .core import VERBOSITY_KEY as _VERBOSITY
+from .core import OutputFormat as OutputFormat
+from .core import Verbosity as Verbosity
+from .core import detail as detail
+from .core import has_failures as has_failures
+from .core import is_stdio as is_stdio
+from .core import load_robot_option as load_robot_option
+from .core import pairs as pairs
+from .core import render_diagnostics as render_diagnostics
+from .core import timed as timed
+from .core import two_stdin
+from .core import verbosity as verbosity
 
 if TYPE_CHECKING:
     from ..model import Xrdf
-    from ..robot import Robot
-
-
-class OutputFormat(str, Enum):
-    text = "text"
-    json = "json"
-    github = "github"
-    sarif = "sarif"
-
-
-EXIT_OK = 0
-EXIT_FINDINGS = 1
-EXIT_USAGE = 2
 
 
 def fail(message: str | XrdfToolsError, code: int = EXIT_USAGE) -> NoReturn:
@@ -51,52 +51,9 @@ def not_implemented(name: str) -> NoReturn:
     raise typer.Exit(EXIT_USAGE)
 
 
-def render_diagnostics(
-    diagnostics: Sequence[Diagnostic],
-    fmt: OutputFormat,
-    *,
-    files: Sequence[str] | None = None,
-    rules: Sequence[tuple[str, str, Severity]] = (),
-) -> str:
-    """The one renderer dispatch of every command. ``files`` (JSON) lists the inputs checked;
-    ``rules`` (SARIF) are listed even without results."""
-    if fmt is OutputFormat.json:
-        return render_json(diagnostics, **({"files": list(files)} if files is not None else {}))
-    if fmt is OutputFormat.github:
-        return render_github(diagnostics)
-    if fmt is OutputFormat.sarif:
-        from .. import __version__
-        from ..diagnostics import render_sarif
-        from ..rule_registry import rule_info
-
-        listed = {r[0] for r in rules}
-        described = list(rules)
-        for rid in dict.fromkeys(d.rule for d in diagnostics):
-            info = rule_info(rid)
-            if rid not in listed and info is not None:
-                described.append((rid, info.summary, info.severity))
-        return render_sarif(diagnostics, described, version=__version__)
-    return render_text(diagnostics)
-
-
 # --------------------------------------------------------------------------------------------
 # Verbosity: -q/--quiet and -v/--verbose of every command
 # --------------------------------------------------------------------------------------------
-class Verbosity(IntEnum):
-    QUIET = -1
-    NORMAL = 0
-    VERBOSE = 1
-
-
-#: Key of the verbosity in the context's ``meta`` (one dict per ``xrdf`` run, shared by the
-#: group and command contexts).
-_VERBOSITY = "xrdf_tools.verbosity"
-#: The ``meta`` of the running command (bound by the option callbacks, which run on every
-#: invocation, and unbound when its context closes): nothing survives from one run to the next
-#: in one process (tests, ``CliRunner``).
-_RUN: list[dict[str, Any]] = [{}]
-
-
 def _bind(ctx: typer.Context) -> dict[str, Any]:
     meta: dict[str, Any] = ctx.meta
     if _RUN[0] is not meta:
@@ -160,32 +117,10 @@ VerboseOption = Annotated[
 ]
 
 
-def verbosity() -> Verbosity:
-    """The ``-q``/``-v`` level of the running command (normal outside a command)."""
-    level: Verbosity = _RUN[0].get(_VERBOSITY, Verbosity.NORMAL)
-    return level
-
-
 def note(message: str) -> None:
     """A note on stderr (what was written, a summary); dropped with ``-q``."""
     if verbosity() > Verbosity.QUIET:
         typer.echo(message, err=True)
-
-
-def detail(message: str) -> None:
-    """A note on stderr shown only with ``-v``."""
-    if verbosity() >= Verbosity.VERBOSE:
-        typer.echo(message, err=True)
-
-
-@contextmanager
-def timed(label: str) -> Iterator[None]:
-    """With ``-v``: print how long the block took (``label: 1.23 s``)."""
-    start = time.perf_counter()
-    try:
-        yield
-    finally:
-        detail(f"{label}: {time.perf_counter() - start:.2f} s")
 
 
 def shown(diagnostics: Sequence[Diagnostic]) -> list[Diagnostic]:
@@ -260,20 +195,12 @@ def one_bar(bar: ProgressUpdate | None, label: str) -> Callable[[int, int], None
 # --------------------------------------------------------------------------------------------
 # '-': standard input and output
 # --------------------------------------------------------------------------------------------
-STDIO = "-"
-
-
-def is_stdio(path: str | os.PathLike[str] | None) -> bool:
-    return path is not None and os.fspath(path) == STDIO
-
-
 def refuse_two_stdin(inputs: Mapping[str, Sequence[Path | str | None]]) -> None:
     """Exit with an error when ``-`` (standard input) is given for more than one input
     (``{"A.xrdf": [a], "B.xrdf": [b]}``): it can be read once."""
-    counts = {name: sum(1 for p in paths if is_stdio(p)) for name, paths in inputs.items()}
-    if sum(counts.values()) > 1:
-        named = [f"{n} ({k} times)" if k > 1 else n for n, k in counts.items() if k]
-        fail(f"'-' (standard input) can be read only once; it is given for {' and '.join(named)}")
+    why = two_stdin(inputs)
+    if why is not None:
+        fail(why)
 
 
 def load_xrdf_input(path: str | os.PathLike[str]) -> Xrdf:
@@ -310,11 +237,6 @@ def write_output(data: str | bytes, output: Path | None) -> None:
         fail(e)
     except OSError as e:
         fail(f"{output}: cannot write: {e.strerror or e}")
-
-
-def has_failures(diagnostics: Sequence[Diagnostic], *, strict: bool) -> bool:
-    worst = {Severity.ERROR} | ({Severity.WARNING} if strict else set())
-    return any(d.severity in worst for d in diagnostics)
 
 
 def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
@@ -375,26 +297,3 @@ PackagePathOption = Annotated[
     list[str] | None,
     typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
 ]
-
-
-def pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
-    """``--package-path``/``--xacro-arg`` values as a mapping (the last one wins)."""
-    return dict(parse(v) for v in values or [])
-
-
-def load_robot_option(
-    path: Path, xacro_arg: list[str] | None, package_path: list[str] | None
-) -> Robot:
-    """The robot of ``--urdf``: a URDF, or a xacro expanded with ``--xacro-arg`` and
-    ``--package-path`` like ``xrdf convert`` does (one loader for every command).
-
-    Raises :class:`XrdfToolsError` (the caller exits 2).
-    """
-    from ..packages import parse_package_path
-    from ..sources.xacro_source import load_robot, parse_xacro_arg
-
-    return load_robot(
-        path,
-        xacro_args=pairs(xacro_arg, parse_xacro_arg),
-        package_paths=pairs(package_path, parse_package_path),
-    )

@@ -1,47 +1,24 @@
-"""`xrdf lint`: check XRDF files against the spec, a URDF, and cuRobo's loader."""
+"""`xrdf lint`: check XRDF files against the spec, a URDF, and cuRobo's loader.
+
+The options are read here; what the command does is :func:`xrdf_tools.commands.lint_core.run`,
+which the fast start-up path of ``xrdf lint`` runs too (without typer).
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 
 from .common import (
-    EXIT_FINDINGS,
     OutputFormat,
     PackagePathOption,
     QuietOption,
     VerboseOption,
     XacroArgOption,
-    detail,
     fail,
-    has_failures,
-    is_stdio,
-    load_robot_option,
-    refuse_two_stdin,
-    render_diagnostics,
-    timed,
 )
-
-
-def _robot_or_why_not(
-    urdf: Path, xacro_arg: list[str] | None, package_path: list[str] | None
-) -> Any:
-    """The ``--urdf`` robot, or the :class:`UrdfError` that says why it is not a valid robot
-    (lint reports that as ``urdf-invalid``, exit 1); a file that cannot be read raises."""
-    from ..errors import UrdfError, UrdfReadError
-
-    try:
-        return load_robot_option(urdf, xacro_arg, package_path)
-    except UrdfReadError:
-        raise
-    except UrdfError as exc:
-        return exc
-
-
-def _split(values: list[str] | None) -> list[str]:
-    return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
 
 
 def command(
@@ -99,37 +76,16 @@ def command(
     Exit codes: 0 clean, 1 errors (or warnings with --strict), 2 usage or input error.
     """
     from ..errors import XrdfToolsError
-    from ..lint import RULES, lint
-    from ..lint.config import discover_config, load_config
+    from .lint_core import LintArgs, run
 
-    refuse_two_stdin({"FILES": files})
+    args = LintArgs(
+        files, urdf, xacro_arg, package_path, output_format, select, ignore, target, strict, config
+    )
     try:
-        cfg = load_config(config) if config is not None else discover_config()
-        detail(f"configuration: {cfg.source or 'none (defaults)'}")
-        model = None
-        if urdf is not None:
-            model = _robot_or_why_not(urdf, xacro_arg, package_path)
-        elif xacro_arg or package_path:
-            fail("--xacro-arg and --package-path apply to --urdf; give --urdf")
-        with timed("lint"):
-            diagnostics = lint(
-                files,
-                urdf=urdf,
-                config=cfg,
-                select=_split(select),
-                ignore=_split(ignore),
-                target=target,
-                urdf_model=model,
-            )
+        text, code = run(args)
     except XrdfToolsError as exc:
         fail(exc)
-    text = render_diagnostics(
-        diagnostics,
-        output_format,
-        files=["<stdin>" if is_stdio(f) else str(f) for f in files],
-        rules=[(r.id, r.summary, r.severity) for r in RULES],
-    )
     if text:
         typer.echo(text, nl=False)
-    if has_failures(diagnostics, strict=strict):
-        raise typer.Exit(EXIT_FINDINGS)
+    if code:
+        raise typer.Exit(code)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..diagnostics import Diagnostic, Severity, sort_key
 from ..errors import XrdfToolsError, YamlError, did_you_mean
@@ -56,6 +56,9 @@ from .rules import (
     wrong_type,
     yaml_syntax,
 )
+
+if TYPE_CHECKING:
+    from ..robot import Robot
 
 __all__ = ["RULES", "LintConfig", "Rule", "lint", "lint_text", "rule_by_id", "select_rules"]
 
@@ -127,7 +130,9 @@ def select_rules(
     )
 
 
-UrdfLoader = Callable[[], tuple[Any, str]]
+#: Loads the ``--urdf`` robot of a file when a rule first asks for it (see
+#: :attr:`LintContext.robot`).
+UrdfLoader = Callable[[], "Robot"]
 
 
 def _level(rule: Rule, config: LintConfig, target: str | None) -> tuple[Severity | None, bool]:
@@ -210,27 +215,29 @@ def _target(target: str | None, config: LintConfig) -> str | None:
 
 
 def _model_loader(model: Any) -> UrdfLoader:
-    """A loader of an already loaded URDF, or of the :class:`UrdfError` its loading raised
-    (reported as ``urdf-invalid``)."""
-    from ..urdf_source import urdf_path
+    """A loader of an already loaded URDF (a :class:`~xrdf_tools.robot.Robot` or its yourdfpy
+    object), or of the :class:`UrdfError` its loading raised (reported as ``urdf-invalid``)."""
 
-    def load() -> tuple[Any, str]:
+    def load() -> Robot:
         if isinstance(model, XrdfToolsError):
             raise model
-        return model, urdf_path(model)
+        from ..robot import as_robot
+
+        return as_robot(model)
 
     return load
 
 
-def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Any]) -> UrdfLoader:
+def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Robot]) -> UrdfLoader:
+    """A loader of the URDF file ``urdf``, read once for all the files that use it."""
     upath = os.fspath(urdf)
 
-    def load() -> tuple[Any, str]:
+    def load() -> Robot:
         if upath not in cache:
             from ..urdf_source import read_robot
 
             cache[upath] = read_robot(upath)
-        return cache[upath], upath
+        return cache[upath]
 
     return load
 
@@ -258,7 +265,7 @@ def lint(
     cfg = config or LintConfig()
     rules = select_rules(select, ignore)
     chosen = _target(target, cfg)
-    cache: dict[str, Any] = {}
+    cache: dict[str, Robot] = {}
     out: list[Diagnostic] = []
     for p in paths:
         stdin = os.fspath(p) == STDIN

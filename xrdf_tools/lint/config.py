@@ -21,7 +21,6 @@ import os
 import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -190,7 +189,13 @@ def _merge(base: LintConfig, over: LintConfig) -> LintConfig:
 
 def default_config() -> LintConfig:
     """The shipped ``default.yaml``."""
-    text = resources.files(__package__).joinpath("default.yaml").read_text(encoding="utf-8")
+    here = Path(__file__).with_name("default.yaml")
+    if here.is_file():  # installed as files: no importlib.resources (it imports zipfile)
+        text = here.read_text(encoding="utf-8")
+    else:  # pragma: no cover - a zipped install
+        from importlib import resources
+
+        text = resources.files(__package__).joinpath("default.yaml").read_text(encoding="utf-8")
     return _parse(to_python(parse_yaml(text, "default.yaml").root), "default.yaml", ".")
 
 

@@ -1,5 +1,5 @@
 """What a rule sees: the parsed YAML tree with positions, a lenient view of the XRDF sections,
-and (with ``--urdf``) the kinematic model.
+and (with ``--urdf``) the loaded :class:`~xrdf_tools.robot.Robot` with its kinematic model.
 
 Rules never raise on malformed input: every accessor here tolerates wrong types and returns
 ``None`` or nothing for parts that are not shaped as the spec says (the ``wrong-type`` rule
@@ -10,19 +10,20 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..diagnostics import Severity
 from ..errors import XrdfToolsError, YamlError
-from ..model import SUPPORTED_VERSIONS
+from ..xrdf_shape import SUPPORTED_VERSIONS, version_string
 from ..yaml_io import YamlDocument, YMap, YNode, YScalar, YSeq, key_of, parse_yaml
 
 if TYPE_CHECKING:
     from ..kinematics import KinematicModel
     from ..model import Xrdf
+    from ..robot import Robot
 
 #: Section spelled ``collision`` in 1.0 and ``world_collision`` in 2.0.
 WORLD_KEYS = ("collision", "world_collision")
@@ -95,19 +96,6 @@ def pos(node: YNode | None) -> tuple[int | None, int | None]:
     return (node.line, node.col) if node is not None else (None, None)
 
 
-@dataclass
-class UrdfState:
-    """The URDF side of a lint run: loaded robot, model with modifiers applied (or why not)."""
-
-    path: str
-    urdf: Any
-    kin: KinematicModel | None
-    #: Why the modifiers could not be applied (an error located in the XRDF), if so.
-    modifier_error: XrdfToolsError | None = None
-    links: tuple[str, ...] = ()
-    joints: Mapping[str, Any] = field(default_factory=dict)
-
-
 class LintContext:
     """Everything the rules of one file look at."""
 
@@ -116,7 +104,7 @@ class LintContext:
         text: str,
         path: str,
         *,
-        urdf_loader: Callable[[], Any] | None = None,
+        urdf_loader: Callable[[], Robot] | None = None,
         target: str | None = None,
     ) -> None:
         self.text = text
@@ -124,9 +112,9 @@ class LintContext:
         #: The reader the file is meant for (``curobo``, ``cumotion``, ``isaac-sim``) or None.
         self.target = target
         self._urdf_loader = urdf_loader
-        #: Why the ``--urdf`` robot is not a valid robot (it parsed, but no reader would load
-        #: it: a mimic loop, several roots, ...): reported as a finding, not a usage error.
-        self.urdf_error: XrdfToolsError | None = None
+        self._urdf_error: XrdfToolsError | None = None
+        self._modifier_error: XrdfToolsError | None = None
+        self._kin: KinematicModel | None = None
         self.syntax_error: YamlError | None = None
         self.doc: YamlDocument | None = None
         try:
@@ -153,8 +141,6 @@ class LintContext:
     @cached_property
     def version(self) -> str | None:
         """``"1.0"`` or ``"2.0"`` when ``format_version`` names a supported version, else None."""
-        from ..xrdf_io import version_string
-
         v = version_string(self.get("format_version"))
         return v if v in SUPPORTED_VERSIONS else None
 
@@ -387,44 +373,56 @@ class LintContext:
         except XrdfToolsError:
             return None
 
+    # --- the URDF ---------------------------------------------------------------------------
     @property
     def has_urdf(self) -> bool:
         return self._urdf_loader is not None
 
     @cached_property
-    def urdf(self) -> UrdfState | None:
-        """The URDF state, or None without ``--urdf`` or when the URDF is not a valid robot
-        (then :attr:`urdf_error` says why). A URDF that cannot be read at all propagates
-        (exit 2)."""
+    def robot(self) -> Robot | None:
+        """The ``--urdf`` robot, or None without ``--urdf`` or when it is not a valid robot
+        (then :attr:`urdf_error` says why). Loading it applies the file's modifiers
+        (:attr:`kin`, or :attr:`modifier_error`). A URDF that cannot be read at all
+        propagates (exit 2)."""
         if self._urdf_loader is None:
             return None
         from ..errors import UrdfReadError
-        from ..robot import as_robot
 
         try:
-            loaded, upath = self._urdf_loader()
+            robot = self._urdf_loader()
         except UrdfReadError:
             raise
         except XrdfToolsError as exc:
-            self.urdf_error = exc
+            self._urdf_error = exc
             return None
-        robot = as_robot(loaded)
         mods = self.modifiers_model
-        state = UrdfState(upath, robot.urdf, None, None, robot.links, dict(robot.joints))
         if mods is None:
-            return state
+            return robot
         try:
-            state.kin, _ = robot.kinematic_model(mods, path=upath)
+            self._kin, _ = robot.kinematic_model(mods)
         except XrdfToolsError as exc:
             if exc.path != self.path:
-                self.urdf_error = exc
+                self._urdf_error = exc
                 return None
-            state.modifier_error = exc
-        return state
+            self._modifier_error = exc
+        return robot
+
+    @property
+    def urdf_error(self) -> XrdfToolsError | None:
+        """Why the ``--urdf`` robot is not a valid robot (it parsed, but no reader would load
+        it: a mimic loop, several roots, ...): a finding, not a usage error."""
+        return self._urdf_error if self.robot is None else None
+
+    @property
+    def modifier_error(self) -> XrdfToolsError | None:
+        """Why the modifiers could not be applied to :attr:`robot` (an error located in the
+        XRDF), if so."""
+        return self._modifier_error if self.robot is not None else None
 
     @property
     def kin(self) -> KinematicModel | None:
-        return self.urdf.kin if self.urdf is not None else None
+        """:attr:`robot`'s kinematic model with the file's modifiers applied, or None."""
+        return self._kin if self.robot is not None else None
 
 
 @dataclass(frozen=True)

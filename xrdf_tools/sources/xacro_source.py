@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 
-from ..errors import SourceError, XrdfToolsError
+from ..errors import SourceError, UrdfReadError, XrdfToolsError
 from ..fileio import read_input_bytes, read_input_text
 from ..packages import PackageResolver
 
@@ -44,6 +44,11 @@ def is_xacro(path: str | os.PathLike[str]) -> bool:
         data = read_input_bytes(p, what="robot file", error=SourceError)
     except XrdfToolsError:
         return False  # not readable: the URDF reader says why
+    return _uses_xacro(data)
+
+
+def _uses_xacro(data: bytes) -> bool:
+    """The bytes of a robot file declare the xacro namespace and use it."""
     return b"xmlns:xacro" in data[:4096] and b"<xacro:" in data
 
 
@@ -147,15 +152,25 @@ def load_robot(
 ) -> Robot:
     """Load a URDF or expand and load a xacro file (meshes are never loaded): the one loader
     of a robot file. For xacro input :attr:`Robot.xacro_text` is the expanded URDF text.
+    A URDF file is read once: the bytes that tell it is no xacro are the bytes parsed.
     """
-    from ..urdf_source import parse_robot, read_robot
+    from ..urdf_source import parse_robot, read_robot, read_urdf_bytes
 
     pkg = {k: str(v) for k, v in (package_paths or {}).items()}
-    if is_xacro(path):
+    data: bytes | None = None
+    if Path(path).suffix != ".xacro":
+        try:
+            data = read_urdf_bytes(path)
+        except UrdfReadError:
+            if xacro_args:  # a file that cannot be read is no xacro file (as is_xacro says)
+                raise SourceError(_NOT_XACRO, path=str(path)) from None
+            raise
+    if data is None or _uses_xacro(data):
         text = expand_xacro(path, xacro_args, package_paths)
         return parse_robot(text, os.fspath(path), package_paths=pkg, expanded=True)
     if xacro_args:
-        raise SourceError(
-            "--xacro-arg given but the robot file is not a xacro file", path=str(path)
-        )
-    return read_robot(path, package_paths=pkg)
+        raise SourceError(_NOT_XACRO, path=str(path))
+    return read_robot(path, package_paths=pkg, data=data)
+
+
+_NOT_XACRO = "--xacro-arg given but the robot file is not a xacro file"

@@ -8,8 +8,8 @@ from ..context import LintContext
 
 def joint_problem(ctx: LintContext, joint: str, what: str) -> str | None:
     kin = ctx.kin
-    assert kin is not None and ctx.urdf is not None
-    fname = ctx.urdf.path.replace("\\", "/").rsplit("/", 1)[-1]
+    assert kin is not None and ctx.robot is not None
+    fname = ctx.robot.path.replace("\\", "/").rsplit("/", 1)[-1]
     if joint in kin.actuated_joints:
         return None
     if joint in kin.pruned_joints:

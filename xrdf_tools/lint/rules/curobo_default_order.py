@@ -16,13 +16,13 @@ from ..context import LintContext, Problem, Rule, finite_number
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    st = ctx.urdf
+    robot = ctx.robot
     cspace = ctx.cspace_joint_nodes()
-    if st is None or not cspace:
+    if robot is None or not cspace:
         return
     defaults = {n: finite_number(v) or 0.0 for n, _, v in ctx.default_position_nodes()}
     active = [n for n, _ in cspace]
-    urdf_order = [n for n, j in st.joints.items() if j.is_actuated and n in active]
+    urdf_order = [n for n, j in robot.joints.items() if j.is_actuated and n in active]
     if len(urdf_order) != len(active):
         return  # unknown or non-actuated c-space joints: cspace-joint reports them
     loaded = {n: defaults.get(u, 0.0) for n, u in zip(active, urdf_order, strict=True)}

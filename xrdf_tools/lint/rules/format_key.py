@@ -8,8 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...xrdf_io import describe
-from ...yaml_io import YScalar
+from ...yaml_io import YScalar, describe_node
 from ..context import LintContext, Problem, Rule
 
 
@@ -21,13 +20,13 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         yield Problem(1, 1, "the file is empty; an XRDF needs 'format: xrdf' and 'format_version'")
         return
     if ctx.top is None:
-        yield ctx.problem(root, f"the top level must be a mapping, not {describe(root)}")
+        yield ctx.problem(root, f"the top level must be a mapping, not {describe_node(root)}")
         return
     fmt = ctx.get("format")
     if not ctx.has("format"):
         yield ctx.problem(ctx.top, "missing required key 'format' (expected 'format: xrdf')")
     elif not (isinstance(fmt, YScalar) and fmt.value == "xrdf"):
-        yield ctx.problem(fmt, f"'format' must be 'xrdf', not {describe(fmt)}", "format")
+        yield ctx.problem(fmt, f"'format' must be 'xrdf', not {describe_node(fmt)}", "format")
 
 
 RULE = Rule("format-key", Severity.ERROR, check, __doc__ or "")

@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...model import SUPPORTED_VERSIONS
-from ...xrdf_io import describe, version_string
+from ...xrdf_shape import SUPPORTED_VERSIONS, version_string
+from ...yaml_io import describe_node
 from ..context import LintContext, Problem, Rule
 
 
@@ -23,7 +23,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     elif version_string(node) not in SUPPORTED_VERSIONS:
         yield ctx.problem(
             node,
-            f"unsupported format_version {describe(node)}; supported: "
+            f"unsupported format_version {describe_node(node)}; supported: "
             + ", ".join(SUPPORTED_VERSIONS),
             "format_version",
         )

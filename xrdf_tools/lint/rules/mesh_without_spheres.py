@@ -15,8 +15,8 @@ from ..context import LintContext, Problem, Rule
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    st, kin = ctx.urdf, ctx.kin
-    if st is None or kin is None:
+    robot, kin = ctx.robot, ctx.kin
+    if robot is None or kin is None:
         return
     used: set[str] = set()
     sections = ctx.collision_sections()
@@ -28,14 +28,12 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         if frames is None:
             return
         used |= frames
-    link_map = getattr(st.urdf, "link_map", {})
     for frame in kin.frame_names:
-        link = link_map.get(frame)
-        if link is None or not getattr(link, "collisions", None) or frame in used:
+        if frame not in robot.collision_counts or frame in used:
             continue
         yield ctx.problem(
             sections[0][1],
-            f"link '{frame}' has collision geometry in {st.path.rsplit('/', 1)[-1]} but no "
+            f"link '{frame}' has collision geometry in {robot.path.rsplit('/', 1)[-1]} but no "
             "collision spheres; the planner cannot see it",
             sections[0][0],
         )

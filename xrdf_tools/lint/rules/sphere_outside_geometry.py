@@ -38,11 +38,14 @@ import math
 import os
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
 from ...yaml_io import YSeq
 from ..context import LintContext, Problem, Rule, SphereRef, finite_number
+
+if TYPE_CHECKING:
+    from ...robot import Robot
 
 RULE_ID = "sphere-outside-geometry"
 
@@ -79,10 +82,8 @@ _CACHE: dict[tuple[str, int, int, int], dict[str, Box | str]] = {}
 _CACHE_SIZE = 8
 
 
-def _cache_for(path: str, urdf: Any = None) -> dict[str, Box | str]:
-    from ...urdf_source import urdf_text
-
-    text = urdf_text(urdf) if urdf is not None else None
+def _cache_for(robot: Robot) -> dict[str, Box | str]:
+    path, text = robot.path, robot.text
     try:
         st = os.stat(path)
         key = (os.path.realpath(path), st.st_mtime_ns, st.st_size, hash(text))
@@ -111,18 +112,17 @@ def _reason(link: str, messages: list[str]) -> str:
     return f"link '{link}': collision geometry not loaded"
 
 
-def _load_boxes(expected: dict[str, int], urdf: Any) -> dict[str, Box | str]:
+def _load_boxes(robot: Robot, expected: dict[str, int]) -> dict[str, Box | str]:
     """Boxes of the links in ``expected`` (link -> number of its ``<collision>`` elements).
 
     The geometry is read from the loaded robot (an expanded xacro keeps its arguments) with
-    its package paths. A link whose geometry is not loaded in full gets the reason instead;
-    nothing raises.
+    its package paths, and not parsed as a URDF again. A link whose geometry
+    is not loaded in full gets the reason instead; nothing raises.
     """
     try:
-        from ...robot import as_robot
         from ...spheres.geometry import load_link_geometry
 
-        geoms, diags = load_link_geometry(as_robot(urdf), links=list(expected))
+        geoms, diags = load_link_geometry(robot, links=list(expected))
     except Exception as exc:  # an unreadable URDF, a missing trimesh: skip, do not crash
         why = _first_line(str(exc) or type(exc).__name__)
         return dict.fromkeys(expected, why)
@@ -175,29 +175,27 @@ def _center(s: SphereRef) -> tuple[float, float, float] | None:
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    st = ctx.urdf
-    if st is None:
+    robot = ctx.robot
+    if robot is None:
         return
-    link_map = getattr(st.urdf, "link_map", None) or {}
     todo: list[tuple[SphereRef, tuple[float, float, float], float]] = []
     expected: dict[str, int] = {}
     for s in _used_spheres(ctx):
-        link = link_map.get(s.frame)
-        collisions = getattr(link, "collisions", None) if link is not None else None
+        collisions = robot.collision_counts.get(s.frame)
         if not collisions:
             continue
         center, radius = _center(s), finite_number(s.field("radius"))
         if center is None or radius is None or radius <= 0.0:
             continue
         todo.append((s, center, radius))
-        expected[s.frame] = len(collisions)
+        expected[s.frame] = collisions
     if not todo:
         return
-    cache = _cache_for(st.path, st.urdf)
+    cache = _cache_for(robot)
     missing = {k: v for k, v in expected.items() if k not in cache}
     if missing:
-        cache.update(_load_boxes(missing, st.urdf))
-    urdf_name = os.path.basename(st.path)
+        cache.update(_load_boxes(robot, missing))
+    urdf_name = os.path.basename(robot.path)
     skipped: dict[str, SphereRef] = {}
     for s, center, radius in todo:
         box = cache.get(s.frame)

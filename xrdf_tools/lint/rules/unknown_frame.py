@@ -16,11 +16,11 @@ from ..context import LintContext, Problem, Rule
 
 def check(ctx: LintContext) -> Iterator[Problem]:
     kin = ctx.kin
-    if kin is None or ctx.urdf is None:
+    if kin is None or ctx.robot is None:
         return
     frames = set(kin.frame_names)
     pruned = set(kin.pruned_frames)
-    fname = ctx.urdf.path.replace("\\", "/").rsplit("/", 1)[-1]
+    fname = ctx.robot.path.replace("\\", "/").rsplit("/", 1)[-1]
     for frame, node, kp, what in ctx.frame_references():
         if frame in frames:
             continue

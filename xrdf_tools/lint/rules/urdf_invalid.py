@@ -16,9 +16,9 @@ from ..context import LintContext, Problem, Rule
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    if ctx.urdf is not None or ctx.urdf_error is None:
-        return
     err = ctx.urdf_error
+    if err is None:
+        return
     yield ctx.problem(None, f"the URDF is not a valid robot: {err}")
 
 

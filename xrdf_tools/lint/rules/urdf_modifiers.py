@@ -16,10 +16,9 @@ from ..context import LintContext, Problem, Rule
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    st = ctx.urdf
-    if st is None or st.modifier_error is None:
+    err = ctx.modifier_error
+    if err is None:
         return
-    err = st.modifier_error
     yield Problem(err.line, err.col, err.message)
 
 
