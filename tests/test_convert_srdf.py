@@ -9,6 +9,7 @@ import pytest
 from tests.robots import robots_dir
 from xrdf_tools.convert import ConvertOptions, convert_files
 from xrdf_tools.errors import SourceError
+from xrdf_tools.robot import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
 from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
@@ -269,7 +270,7 @@ TREE_URDF = """<robot name="t">
 def tree(tmp_path: Path) -> RobotTree:
     from xrdf_tools.urdf_source import parse_urdf_string
 
-    return RobotTree.from_urdf(parse_urdf_string(TREE_URDF, str(tmp_path / "t.urdf")))
+    return as_robot(parse_urdf_string(TREE_URDF, str(tmp_path / "t.urdf"))).tree
 
 
 def test_dfs_order_siblings_alphabetical(tree: RobotTree) -> None:

@@ -13,6 +13,7 @@ from xrdf_tools.cli import app
 from xrdf_tools.convert import ConvertOptions, convert_files
 from xrdf_tools.diff import diff_xrdf
 from xrdf_tools.export import to_curobo, to_srdf
+from xrdf_tools.robot import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.sources.srdf import parse_srdf
 from xrdf_tools.urdf_source import load_urdf
@@ -23,7 +24,7 @@ PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 
 
 def _tree() -> RobotTree:
-    return RobotTree.from_urdf(load_urdf(UR10E_URDF))
+    return as_robot(load_urdf(UR10E_URDF)).tree
 
 
 @pytest.mark.parametrize("layout", ["2.0", "classic"])
@@ -69,7 +70,7 @@ def test_curobo_yaml_is_what_curobos_loader_accepts() -> None:
 
 def test_added_frames_export_fixed_and_w_first() -> None:
     x = load_xrdf(PANDA_XRDF)
-    tree = RobotTree.from_urdf(load_urdf(_panda_urdf()))
+    tree = as_robot(load_urdf(_panda_urdf())).tree
     text, _ = to_curobo(x, tree)
     kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
     for name, link in (kin["extra_links"] or {}).items():
@@ -223,7 +224,7 @@ def test_round_trip_panda_without_set_base_frame(tmp_path: Path) -> None:
     urdf_path = robot_urdf("panda")
     urdf = load_urdf(urdf_path)
     original = load_xrdf(PANDA_XRDF)
-    text, diags = to_curobo(original, RobotTree.from_urdf(urdf), layout="2.0", urdf_path=urdf_path)
+    text, diags = to_curobo(original, as_robot(urdf).tree, layout="2.0", urdf_path=urdf_path)
     assert diags == []
     cfg = tmp_path / "panda.yml"
     cfg.write_text(text)

@@ -39,6 +39,7 @@ from xrdf_tools.fileio import (
     write_atomic,
 )
 from xrdf_tools.graph import find_cycle, reachable
+from xrdf_tools.robot import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.yaml_io import load_yaml, parse_yaml, to_python
 
@@ -311,7 +312,7 @@ def _nested_groups(n: int, close_cycle: bool = False) -> str:
 def _tree() -> RobotTree:
     from xrdf_tools.urdf_source import load_urdf
 
-    return RobotTree.from_urdf(load_urdf(UR10E_URDF))
+    return as_robot(load_urdf(UR10E_URDF)).tree
 
 
 def test_1200_nested_srdf_subgroups() -> None:

@@ -11,7 +11,6 @@ from xrdf_tools.export import to_curobo
 from xrdf_tools.kinematics import build_kinematic_model
 from xrdf_tools.lint import lint_text
 from xrdf_tools.robot import Robot, as_robot
-from xrdf_tools.sources import RobotTree
 from xrdf_tools.sources.xacro_source import load_robot
 from xrdf_tools.urdf_source import joints_of, load_urdf, source_line, urdf_path, urdf_text
 from xrdf_tools.xrdf_io import load_xrdf
@@ -29,7 +28,6 @@ def test_loader_builds_one_frozen_robot() -> None:
     with pytest.raises(dataclasses.FrozenInstanceError):
         robot.path = "elsewhere"  # type: ignore[misc]
     assert robot.tree is robot.tree
-    assert RobotTree.from_urdf(robot) is robot.tree
 
 
 def test_bare_yourdfpy_object_keeps_its_provenance() -> None:
@@ -46,7 +44,7 @@ def test_bare_yourdfpy_object_keeps_its_provenance() -> None:
 def test_kinematic_model_built_once_per_modifiers() -> None:
     robot = load_robot(UR10E_URDF)
     x = load_xrdf(UR10E_XRDF)
-    kin, _ = robot.kinematic_model(x)
+    kin, _ = build_kinematic_model(robot, x)
     assert build_kinematic_model(robot.urdf, x)[0] is kin
 
 

@@ -26,6 +26,7 @@ from .model import (
     SetBaseFrame,
     Xrdf,
 )
+from .robot import as_robot
 from .sources import Draft, Reporter, RobotTree
 from .targets import choose_version, parse_target
 from .versions import to_version
@@ -98,7 +99,7 @@ def convert(
     urdf: Robot | yourdfpy.URDF | RobotTree, options: ConvertOptions
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Build an XRDF from a loaded robot and the source files named in ``options``."""
-    tree = urdf if isinstance(urdf, RobotTree) else RobotTree.from_urdf(urdf)
+    tree = urdf if isinstance(urdf, RobotTree) else as_robot(urdf).tree
     if options.format_version not in (None, "1.0", "2.0"):
         raise SourceError(
             f"unsupported format version '{options.format_version}'; choose 1.0 or 2.0"

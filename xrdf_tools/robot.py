@@ -24,15 +24,12 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
 from .frozen import FrozenMap
+from .robot_tree import RobotTree
+from .urdf_joints import JointInfo, joint_info
 
 if TYPE_CHECKING:
     import yourdfpy
 
-    from .diagnostics import Diagnostic
-    from .kinematics import KinematicModel
-    from .model import Xrdf
-    from .sources import RobotTree
-    from .urdf_source import JointInfo
 
 __all__ = ["Robot", "as_robot"]
 
@@ -57,9 +54,9 @@ class Robot:
     #: ``<capsule>`` (not standard URDF): yourdfpy holds them as cylinders of the same radius
     #: and length (see :func:`xrdf_tools.link_geometry.capsules_as_cylinders`).
     capsules: frozenset[tuple[str, str, int]] = frozenset()
-    _models: dict[Any, tuple[KinematicModel, tuple[Diagnostic, ...]]] = field(
-        default_factory=dict, repr=False
-    )
+    #: Results other modules derive from the robot and keep with it, by their own keys (the
+    #: kinematic model per XRDF modifiers: :func:`xrdf_tools.kinematics.build_kinematic_model`).
+    derived: dict[Any, Any] = field(default_factory=dict, repr=False, compare=False)
 
     # --- views ---------------------------------------------------------------------------
     @property
@@ -88,8 +85,6 @@ class Robot:
     @cached_property
     def joints(self) -> Mapping[str, JointInfo]:
         """Every ``<joint>`` as :class:`JointInfo`, keyed by name, in document order."""
-        from .urdf_source import joint_info
-
         return FrozenMap(
             (str(j.name), joint_info(j, self.joint_lines.get(str(j.name))))
             for j in self.urdf.robot.joints
@@ -97,10 +92,8 @@ class Robot:
 
     @cached_property
     def tree(self) -> RobotTree:
-        """The URDF as a tree of names (:class:`~xrdf_tools.sources.RobotTree`)."""
-        from .sources import RobotTree
-
-        return RobotTree.from_robot(self)
+        """The URDF as a tree of names (:class:`~xrdf_tools.robot_tree.RobotTree`)."""
+        return RobotTree.from_parts(self.name, self.path, self.links, self.joints)
 
     def source_line(self, kind: Literal["link", "joint"], name: str) -> int | None:
         """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""
@@ -118,26 +111,6 @@ class Robot:
                 path=self.path,
             )
         return roots[0]
-
-    def kinematic_model(
-        self, xrdf: Xrdf | None = None, *, path: str | None = None
-    ) -> tuple[KinematicModel, list[Diagnostic]]:
-        """The :class:`KinematicModel` with ``xrdf``'s modifiers applied, and its warnings
-        (see :func:`xrdf_tools.kinematics.build_kinematic_model`); built once per modifiers."""
-        from .kinematics.build import build_model
-
-        upath = path or self.path
-        key: Any = (upath, xrdf.modifiers if xrdf is not None else None)
-        try:
-            hit = self._models.get(key)
-        except TypeError:  # an unhashable modifier: build without caching
-            key, hit = None, None
-        if hit is not None:
-            return hit[0], list(hit[1])
-        kin, diags = build_model(self, xrdf, upath)
-        if key is not None:
-            self._models[key] = (kin, tuple(diags))
-        return kin, diags
 
 
 def as_robot(urdf: Robot | yourdfpy.URDF) -> Robot:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -50,13 +50,25 @@ def build_kinematic_model(
     :class:`UrdfError` when the URDF is not a tree, a mimic refers to a missing joint or loops,
     or a modifier cannot be applied (located in the XRDF when it has a source position).
     """
-    return as_robot(urdf).kinematic_model(xrdf, path=path)
+    robot = as_robot(urdf)
+    upath = path or robot.path
+    key: Any = ("kinematic_model", upath, xrdf.modifiers if xrdf is not None else None)
+    try:
+        hit = robot.derived.get(key)
+    except TypeError:  # an unhashable modifier: build without caching
+        key, hit = None, None
+    if hit is not None:
+        return hit[0], list(hit[1])
+    kin, diags = build_model(robot, xrdf, upath)
+    if key is not None:
+        robot.derived[key] = (kin, tuple(diags))
+    return kin, diags
 
 
 def build_model(
     robot: Robot, xrdf: Xrdf | None, upath: str
 ) -> tuple[KinematicModel, list[Diagnostic]]:
-    """:func:`build_kinematic_model` without the cache of :meth:`Robot.kinematic_model`."""
+    """:func:`build_kinematic_model` without its cache (kept in :attr:`Robot.derived`)."""
     diags: list[Diagnostic] = []
     report = _Report(upath, diags, robot.link_lines)
     return _build(report, list(robot.links), dict(robot.joints), xrdf), diags

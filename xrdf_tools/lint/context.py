@@ -399,7 +399,9 @@ class LintContext:
         if mods is None:
             return robot
         try:
-            self._kin, _ = robot.kinematic_model(mods)
+            from ..kinematics import build_kinematic_model
+
+            self._kin, _ = build_kinematic_model(robot, mods)
         except XrdfToolsError as exc:
             if exc.path != self.path:
                 self._urdf_error = exc
