@@ -4,11 +4,11 @@ A :class:`Robot` is built once by the loader (:func:`xrdf_tools.urdf_source.load
 :func:`xrdf_tools.sources.xacro_source.load_robot`) and carries the path, the URDF text it was
 parsed from (an expanded xacro: the expansion), the line of every ``<link>`` and ``<joint>``,
 the ``package_paths`` it was loaded with, which geometry elements are capsules and the yourdfpy
-object. The plain views — the joints as :class:`~xrdf_tools.urdf_source.JointInfo`, the link
-names (and which have collision geometry), the
-:class:`~xrdf_tools.sources.RobotTree` and the
-:class:`~xrdf_tools.kinematics.KinematicModel` for an XRDF's modifiers — are computed on first
-use and kept.
+object. The plain views — the joints as :class:`~xrdf_tools.urdf_joints.JointInfo`, the link
+names (and which have collision geometry), the :class:`~xrdf_tools.robot_tree.RobotTree` — are
+computed on first use and kept. Modules above keep what they derive from the robot in
+:attr:`Robot.derived` (the :class:`~xrdf_tools.kinematics.KinematicModel` per XRDF modifiers):
+the robot itself imports only the plain views below it.
 
 Functions that still receive a bare ``yourdfpy.URDF`` call :func:`as_robot`: the loader leaves
 a reference to its :class:`Robot` on the yourdfpy object, so the provenance travels with the
