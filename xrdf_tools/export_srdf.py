@@ -33,7 +33,7 @@ from .diagnostics import Diagnostic, Severity
 from .errors import ConversionError, SourceError
 from .model import Xrdf
 from .sources import RobotTree
-from .srdf_xml import XmlDocument
+from .srdf_xml import XmlDocument, insert_after, last_child, remove_element
 
 __all__ = [
     "REPORT_REASONS",
@@ -349,22 +349,22 @@ class _Plan:
     def apply(self, root: Any) -> None:
         from lxml import etree
 
-        anchor = _last(root, "disable_collisions")
+        anchor = last_child(root, "disable_collisions")
         els = [
             etree.Element("disable_collisions", link1=a, link2=b, reason=r)
             for a, b, r in self.new_disabled
         ]
-        _insert_after(root, anchor, els)
+        insert_after(root, anchor, els)
         enables = [
             etree.Element("enable_collisions", link1=a, link2=b, reason=USER)
             for a, b in self.new_enabled
         ]
-        after = _last(root, "enable_collisions")
+        after = last_child(root, "enable_collisions")
         if after is None:
             after = els[-1] if els else anchor
-        _insert_after(root, after, enables)
+        insert_after(root, after, enables)
         for el in self.drop:
-            _remove(el)
+            remove_element(el)
 
 
 def _plan(
@@ -421,90 +421,3 @@ def _change(el: Any, element: str) -> PairChange:
     return PairChange(
         el.get("link1") or "", el.get("link2") or "", el.get("reason"), el.sourceline, element
     )
-
-
-# ------------------------------------------------------------------------------------------
-# Whitespace-preserving edits of the element tree
-# ------------------------------------------------------------------------------------------
-def _last(root: Any, tag: str) -> Any | None:
-    found = None
-    for el in root.iterchildren(tag):
-        found = el
-    return found
-
-
-def _ws_before(el: Any) -> str:
-    prev = el.getprevious()
-    text = prev.tail if prev is not None else el.getparent().text
-    return str(text or "")
-
-
-def _set_ws_before(parent: Any, prev: Any | None, value: str) -> None:
-    if prev is not None:
-        prev.tail = value
-    else:
-        parent.text = value
-
-
-def _indent(ws: str) -> str | None:
-    """The indentation after the last newline of ``ws``, or None when ``ws`` has none."""
-    return ws.rsplit("\n", 1)[1] if "\n" in ws and not ws.strip() else None
-
-
-def _child_indent(root: Any) -> str:
-    for el in reversed(root):
-        ind = _indent(_ws_before(el))
-        if ind is not None:
-            return ind
-    return "  "
-
-
-def _insert_after(root: Any, anchor: Any | None, new: list[Any]) -> None:
-    """Insert ``new`` after ``anchor`` (else after ``<robot>``'s last child), one per line,
-    indented like the file (a blank line first when the file separates its sections so)."""
-    if not new:
-        return
-    if anchor is None and not len(root):
-        _fill_empty(root, new)
-        return
-    if anchor is None:
-        anchor = root[-1]
-        before = _ws_before(anchor)
-        sep = "\n" + _child_indent(root)
-        first = ("\n" if before.count("\n") >= 2 and not before.strip() else "") + sep
-    else:
-        ind = _indent(_ws_before(anchor))
-        first = sep = "\n" + (ind if ind is not None else _child_indent(root))
-    tail = anchor.tail
-    prev = anchor
-    for i, el in enumerate(new):
-        prev.tail = first if i == 0 else sep
-        prev.addnext(el)
-        prev = el
-    prev.tail = tail
-
-
-def _fill_empty(root: Any, new: list[Any]) -> None:
-    text = root.text or ""
-    keep = text if text.strip() else ""
-    close = text if "\n" in text and not text.strip() else "\n"
-    root.text = keep + "\n  "
-    for i, el in enumerate(new):
-        root.append(el)
-        el.tail = "\n  " if i < len(new) - 1 else close
-
-
-def _remove(el: Any) -> None:
-    """Remove ``el``, keeping the layout: the larger of the blank-line gaps around it and the
-    indentation of what follows (for the last child: what precedes the parent's end tag)."""
-    parent, prev = el.getparent(), el.getprevious()
-    before, after = _ws_before(el), el.tail or ""
-    if el.getnext() is None and not before.strip():  # the end tag of <robot> keeps its place
-        merged = after
-    elif not before.strip() and not after.strip():
-        nl = max(before.count("\n"), after.count("\n"))
-        merged = "\n" * nl + after.rsplit("\n", 1)[-1] if nl else (after or before)
-    else:
-        merged = before + after
-    parent.remove(el)
-    _set_ws_before(parent, prev, merged)

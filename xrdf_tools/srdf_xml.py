@@ -25,7 +25,7 @@ from typing import Any
 
 from .errors import SourceError
 
-__all__ = ["XmlDocument"]
+__all__ = ["XmlDocument", "fill_empty", "insert_after", "last_child", "remove_element"]
 
 _DECL = re.compile(rb"^(\xef\xbb\xbf)?<\?xml[^>]*\?>")
 _OTHER_ENCODING = re.compile(
@@ -222,3 +222,90 @@ class XmlDocument:
         m = _DECL.match(self.raw)
         decl = m.group(0) if m else f'<?xml version="1.0" encoding="{self.encoding}"?>'.encode()
         return decl + b"\n" + self._line_ends(doc) + b"\n"
+
+
+# ------------------------------------------------------------------------------------------
+# Whitespace-preserving edits of the element tree
+# ------------------------------------------------------------------------------------------
+def last_child(root: Any, tag: str) -> Any | None:
+    found = None
+    for el in root.iterchildren(tag):
+        found = el
+    return found
+
+
+def _ws_before(el: Any) -> str:
+    prev = el.getprevious()
+    text = prev.tail if prev is not None else el.getparent().text
+    return str(text or "")
+
+
+def _set_ws_before(parent: Any, prev: Any | None, value: str) -> None:
+    if prev is not None:
+        prev.tail = value
+    else:
+        parent.text = value
+
+
+def _indent(ws: str) -> str | None:
+    """The indentation after the last newline of ``ws``, or None when ``ws`` has none."""
+    return ws.rsplit("\n", 1)[1] if "\n" in ws and not ws.strip() else None
+
+
+def _child_indent(root: Any) -> str:
+    for el in reversed(root):
+        ind = _indent(_ws_before(el))
+        if ind is not None:
+            return ind
+    return "  "
+
+
+def insert_after(root: Any, anchor: Any | None, new: list[Any]) -> None:
+    """Insert ``new`` after ``anchor`` (else after ``<robot>``'s last child), one per line,
+    indented like the file (a blank line first when the file separates its sections so)."""
+    if not new:
+        return
+    if anchor is None and not len(root):
+        fill_empty(root, new)
+        return
+    if anchor is None:
+        anchor = root[-1]
+        before = _ws_before(anchor)
+        sep = "\n" + _child_indent(root)
+        first = ("\n" if before.count("\n") >= 2 and not before.strip() else "") + sep
+    else:
+        ind = _indent(_ws_before(anchor))
+        first = sep = "\n" + (ind if ind is not None else _child_indent(root))
+    tail = anchor.tail
+    prev = anchor
+    for i, el in enumerate(new):
+        prev.tail = first if i == 0 else sep
+        prev.addnext(el)
+        prev = el
+    prev.tail = tail
+
+
+def fill_empty(root: Any, new: list[Any]) -> None:
+    text = root.text or ""
+    keep = text if text.strip() else ""
+    close = text if "\n" in text and not text.strip() else "\n"
+    root.text = keep + "\n  "
+    for i, el in enumerate(new):
+        root.append(el)
+        el.tail = "\n  " if i < len(new) - 1 else close
+
+
+def remove_element(el: Any) -> None:
+    """Remove ``el``, keeping the layout: the larger of the blank-line gaps around it and the
+    indentation of what follows (for the last child: what precedes the parent's end tag)."""
+    parent, prev = el.getparent(), el.getprevious()
+    before, after = _ws_before(el), el.tail or ""
+    if el.getnext() is None and not before.strip():  # the end tag of <robot> keeps its place
+        merged = after
+    elif not before.strip() and not after.strip():
+        nl = max(before.count("\n"), after.count("\n"))
+        merged = "\n" * nl + after.rsplit("\n", 1)[-1] if nl else (after or before)
+    else:
+        merged = before + after
+    parent.remove(el)
+    _set_ws_before(parent, prev, merged)
