@@ -4,13 +4,13 @@ and SARIF logs describe emitted rules from it."""
 from __future__ import annotations
 
 import ast
-import json
 import re
 from pathlib import Path
 
 from typer.testing import CliRunner
 
 from tests.paths import FIXTURES, REPO, UR10E_URDF
+from tests.test_sarif_schema import check_sarif
 from xrdf_tools.cli import app
 from xrdf_tools.rule_registry import all_rules
 
@@ -85,7 +85,7 @@ def test_convert_sarif_describes_its_rules_from_the_registry(tmp_path: Path) -> 
     )
     assert r.exit_code == 0, r.output
     sarif = r.output[r.output.index("{") :]
-    log = json.loads(sarif)
+    log = check_sarif(sarif)  # valid against the OASIS schema
     driver = log["runs"][0]["tool"]["driver"]
     assert driver["name"] == "xrdf"
     rules = {x["id"]: x for x in driver["rules"]}

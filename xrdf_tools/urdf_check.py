@@ -61,30 +61,17 @@ def check_urdf_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int
     if not root.get("name"):
         raise fail("<robot> has no 'name' attribute", root)
 
-    link_lines: dict[str, int] = {}
-    for el in root.findall("link"):
-        name = el.get("name")
-        if not name:
-            raise fail("<link> has no 'name' attribute", el)
-        if name in link_lines:
-            raise fail(f"link '{name}' is defined twice (first on line {link_lines[name]})", el)
-        link_lines[name] = el.sourceline or 0
-
+    link_lines = _named_lines(root, "link", fail)
     for el in root.findall("link"):
         _check_geometry(el, fail)
     for el in root.findall("material"):
         _check_numbers(el.find("color"), ("rgba",), 4, f"material '{el.get('name')}' <color>", fail)
     _check_other_numbers(root, fail)
 
-    joint_lines: dict[str, int] = {}
+    joint_lines = _named_lines(root, "joint", fail)
     edges: list[tuple[str, str, str, Any]] = []  # joint, parent, child, element
     for el in root.findall("joint"):
         name = el.get("name")
-        if not name:
-            raise fail("<joint> has no 'name' attribute", el)
-        if name in joint_lines:
-            raise fail(f"joint '{name}' is defined twice (first on line {joint_lines[name]})", el)
-        joint_lines[name] = el.sourceline or 0
         jtype = el.get("type")
         if jtype not in JOINT_TYPES:
             what = f"type '{jtype}'" if jtype else "no 'type'"
@@ -115,6 +102,19 @@ def check_urdf_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int
             _check_numbers(mimic, ("multiplier", "offset"), 1, f"joint '{name}' <mimic>", fail)
     _check_is_tree(edges, joint_lines, fail)
     return link_lines, joint_lines
+
+
+def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:
+    """The line of every ``<tag>`` child of ``root`` by name; each has a unique name."""
+    lines: dict[str, int] = {}
+    for el in root.findall(tag):
+        name = el.get("name")
+        if not name:
+            raise fail(f"<{tag}> has no 'name' attribute", el)
+        if name in lines:
+            raise fail(f"{tag} '{name}' is defined twice (first on line {lines[name]})", el)
+        lines[name] = el.sourceline or 0
+    return lines
 
 
 def _check_limit(el: Any, name: str, jtype: str, fail: Fail) -> None:
