@@ -9,7 +9,8 @@ Each case copies the seed inputs into a fresh directory, damages one of them (te
 tokens, values, lines, cuts, hostile YAML/XML snippets, bad bytes; file mutations: a directory,
 a FIFO or a link to ``/dev/zero`` in its place) and runs one command on them. :func:`run_case`
 checks what the README promises: exit code 0, 1 or 2, no traceback, no ``internal-error``
-finding, and every input file unchanged.
+finding, an error about the damaged file carries its line (:func:`unlocated_errors`), and every
+input file unchanged.
 """
 
 from __future__ import annotations
@@ -477,4 +478,26 @@ def run_case(case: Case, work: Path, invoke: Invoke = invoke_in_process) -> Outc
     outcome = check(case, code, output, exc, tb)
     if snapshot(work) != before:
         outcome.problems.append("an input file changed")
+    if case.special is None:
+        damaged = str(work / _place(case.kind, case.seed_file))
+        outcome.problems += [f"no location: {e}" for e in unlocated_errors(output, damaged)]
     return outcome
+
+
+#: Errors about a file as a whole, which have no line to give.
+WHOLE_FILE = re.compile(
+    r"not found|does not exist|is empty|larger than the|not a xacro file|no such file|"
+    r"maximum recursion depth|nothing to expand",
+    re.IGNORECASE,
+)
+
+
+def unlocated_errors(output: str, path: str) -> list[str]:
+    """``error:`` lines that blame ``path`` without a line number (and are not about the file
+    as a whole): an input error must say where in the file it is."""
+    prefix = f"error: {path}: "
+    return [
+        line
+        for line in output.splitlines()
+        if line.startswith(prefix) and not WHOLE_FILE.search(line)
+    ]

@@ -208,3 +208,43 @@ def test_write_mask_without_a_self_collision_section_names_the_xrdf(tmp_path: Pa
         "report", str(x), "--urdf", str(UR10E_URDF), "-n", "10", "--write-mask", str(tmp_path / "m")
     )
     assert err.startswith(f"error: {x}:1: the XRDF has no self_collision section"), err
+
+
+def test_xacro_evaluation_errors_point_at_what_they_quote(tmp_path: Path) -> None:
+    """xacro keeps no positions; the name or expression its message quotes is found in the
+    file it was processing."""
+    x = tmp_path / "arm.urdf.xacro"
+    head = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+    cases = {
+        '  <xacro:property name="l" value="a"/>\n  <link name="${l / 2}"/>\n': (
+            "3:15: xacro failed: unsupported operand type(s) for /: 'str' and 'int' when "
+            "evaluating expression 'l / 2'"
+        ),
+        '  <link name="a"/>\n  <xacro:nope/>\n': (
+            "3:3: xacro failed: unknown macro name: xacro:nope"
+        ),
+        '  <xacro:property name="1 2" value="3"/>\n': (
+            "2:19: xacro failed: Property names must be valid python identifiers: 1 2"
+        ),
+    }
+    for body, where in cases.items():
+        x.write_text(head + body + "</robot>\n")
+        assert _error("expand", str(x)) == f"error: {x}:{where}"
+
+
+def test_fuzz_seed3_case583_a_collision_without_geometry(tmp_path: Path) -> None:
+    u = _urdf_with(tmp_path, "</collision>", "</collision>\n    <collision/>")
+    line = _line_of(u, "<collision/>")
+    err = _error("convert", str(u), "-o", str(tmp_path / "out.xrdf"))
+    assert err == f"error: {u}:{line}: link 'base_link_inertia' <collision> has no <geometry>"
+
+
+def test_fuzz_seed3_case860_an_escaped_expression_is_found(tmp_path: Path) -> None:
+    x = tmp_path / "arm.urdf.xacro"
+    x.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="a"><visual><geometry><sphere radius="${&amp; / 2}"/></geometry>'
+        "</visual></link>\n</robot>\n"
+    )
+    err = _error("expand", str(x))
+    assert err.startswith(f"error: {x}:2:52: xacro failed: ") and "'& / 2'" in err, err

@@ -179,7 +179,7 @@ def _check_geometry(link: Any, fail: Fail) -> None:
             _check_numbers(item.find("origin"), ("xyz", "rpy"), 3, f"link '{name}' <{kind}>", fail)
             geometry = item.find("geometry")
             if geometry is None:
-                continue
+                raise fail(f"link '{name}' <{kind}> has no <geometry>", item)
             shapes = [g for g in geometry if isinstance(g.tag, str)]
             if not shapes or shapes[0].tag not in URDF_GEOMETRIES:
                 held = f"<{shapes[0].tag}>" if shapes else "nothing"

@@ -22,6 +22,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
+from xml.sax.saxutils import escape
 
 from ..errors import SourceError, UrdfReadError, XrdfToolsError
 from ..fileio import read_input_bytes, read_input_text
@@ -127,7 +128,41 @@ def _xacro_error(e: BaseException, top: str, filestack: Any) -> SourceError:
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
-    return SourceError(_xacro_message(e), path=where)
+    message = _xacro_message(e)
+    line, col = _find_culprit(where, message)
+    return SourceError(message, path=where, line=line, col=col)
+
+
+#: What xacro's messages name, and the text that names it in the file:
+#: (pattern of the message, template of the source text).
+_CULPRITS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"when evaluating expression '([^']+)'"), "${{{}"),
+    (re.compile(r"unknown macro name: (xacro:\S+)"), "<{}"),
+    (re.compile(r"Property names must be valid python identifiers: (.+)$"), 'name="{}"'),
+    (re.compile(r"Undefined substitution argument (\S+)"), "$(arg {}"),
+    (re.compile(r'Invalid parameter "([^"]+)"'), '{}="'),
+)
+
+
+def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
+    """Where in ``path`` the name or expression a xacro error quotes is first written (xacro
+    itself keeps no positions); ``(None, None)`` when it is not found."""
+    needle = next(
+        (tpl.format(m.group(1)) for pat, tpl in _CULPRITS if (m := pat.search(message))), None
+    )
+    if needle is None:
+        return None, None
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):  # a file that cannot be read again: no position
+        return None, None
+    # xacro works in document order: the first use failed first; the file may write the
+    # quoted text with XML escapes ('&' as '&amp;')
+    at = next((i for n in (needle, escape(needle)) if (i := text.find(n)) >= 0), -1)
+    if at < 0:
+        return None, None
+    line = text.count("\n", 0, at) + 1
+    return line, at - (text.rfind("\n", 0, at) + 1) + 1
 
 
 def _xacro_message(e: BaseException) -> str:
@@ -139,8 +174,9 @@ def _xacro_message(e: BaseException) -> str:
     if isinstance(inner, XrdfToolsError):
         return inner.message
     msg = " ".join(str(e).split()) or name
-    if inner is not None:
-        msg = f"{msg} {' '.join(str(inner).split())}".strip()
+    inner_text = " ".join(str(inner).split()) if inner is not None else ""
+    if inner_text and inner_text not in msg:
+        msg = f"{msg} {inner_text}"
     return f"xacro failed: {msg}"
 
 
