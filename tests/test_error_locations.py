@@ -248,3 +248,12 @@ def test_fuzz_seed3_case860_an_escaped_expression_is_found(tmp_path: Path) -> No
     )
     err = _error("expand", str(x))
     assert err.startswith(f"error: {x}:2:52: xacro failed: ") and "'& / 2'" in err, err
+
+
+def test_fuzz_seed11_case917_an_unterminated_expression_is_found(tmp_path: Path) -> None:
+    x = tmp_path / "arm.urdf.xacro"
+    x.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="${pare"/>\n</robot>\n'
+    )
+    assert _error("expand", str(x)) == f"error: {x}:2:15: xacro failed: invalid expression: ${{pare"

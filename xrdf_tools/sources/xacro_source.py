@@ -141,6 +141,7 @@ _CULPRITS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"Property names must be valid python identifiers: (.+)$"), 'name="{}"'),
     (re.compile(r"Undefined substitution argument (\S+)"), "$(arg {}"),
     (re.compile(r'Invalid parameter "([^"]+)"'), '{}="'),
+    (re.compile(r"invalid expression: (.+)$"), "{}"),
 )
 
 
