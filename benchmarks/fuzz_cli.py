@@ -8,7 +8,8 @@
 Cases come from ``tests/fuzzing.py`` (seeded mutations of the files in ``fixtures/``, every
 command). Each worker process runs cases in-process; the parent kills a worker whose case runs
 longer than ``--timeout`` and counts a hang. Printed at the end: runs per exit code, tracebacks,
-hangs, internal errors, changed inputs, and the failing cases (replay them with ``--case``).
+hangs, internal errors, changed inputs, errors without a location, and the failing cases (replay
+them with ``--case``).
 Exit status 1 when anything failed. See docs/security.md.
 """
 
@@ -186,7 +187,13 @@ def main() -> int:
     print(f"\n{total} runs in {time.monotonic() - t0:.0f} s (seed {a.seed})")
     for code in ("exit 0", "exit 1", "exit 2"):
         print(f"  {code}: {counts[code]}")
-    for label in ("traceback", "hang", "internal-error finding", "an input file changed"):
+    for label in (
+        "traceback",
+        "hang",
+        "internal-error finding",
+        "an input file changed",
+        "no location",
+    ):
         print(f"  {label}: {counts[label]}")
     other = {k: v for k, v in counts.items() if k.startswith(("exit -", "exit code", "harness"))}
     for k, v in sorted(other.items()):
