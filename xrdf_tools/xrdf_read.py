@@ -56,8 +56,8 @@ from .yaml_io import (
     YScalar,
     YSeq,
     load_yaml,
-    node_positions,
     parse_yaml,
+    positions_of,
     raise_on_duplicates,
     to_python,
 )
@@ -153,7 +153,7 @@ def xrdf_from_document(doc: YamlDocument) -> Xrdf:
         self_collision=self_c,
         geometry=geometry,
         extra=extra,
-        source=SourceMap(doc.path, FrozenMap(node_positions(root))),
+        source=SourceMap(doc.path, positions_of(doc)),
     )
 
 

@@ -58,6 +58,10 @@ class NodePositions(Mapping[str, Position]):
         self._full: dict[str, Position] | None = None
         self._indexes: dict[int, dict[str, tuple[YNode, YNode]]] = {}
 
+    def __reduce__(self) -> tuple[object, ...]:
+        # The indexes are keyed by id(): never carried to another process or copy.
+        return (NodePositions, (self._root, self._simple))
+
     def _all(self) -> dict[str, Position]:
         if self._full is None:
             self._full = node_positions(self._root)
