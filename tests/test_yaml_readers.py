@@ -23,7 +23,7 @@ import pytest
 
 from tests.fuzzing import SEEDS, _mutate_text
 from xrdf_tools import yaml_build, yaml_io
-from xrdf_tools.errors import YamlError
+from xrdf_tools.errors import XrdfToolsError, YamlError
 from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
 from xrdf_tools.yaml_io import YMap, YScalar, YSeq, load_yaml, parse_yaml, to_python
 from xrdf_tools.yaml_positions import NodePositions, node_positions, positions_of
@@ -355,3 +355,47 @@ def test_numbers_in_the_model_are_the_same_through_each_reader() -> None:
             models.append(parse_xrdf(text, "u.xrdf"))
     assert models[0] == models[1] == models[2]
     assert models[0].extra["extra_numbers"][2] == math.inf
+
+
+SPHERES = [
+    "{center: [0.1, -2, 3e-1], radius: 0.05}",
+    "{radius: 5, center: [0, 0, 0]}",
+    "{center: [0, 0, 0], radius: 0.05, color: red}",
+    "{center: [0, 0], radius: 0.05}",
+    "{center: [0, 0, 0, 0], radius: 0.05}",
+    "{center: [0, 0, '0'], radius: 0.05}",
+    "{center: [0, 0, true], radius: 0.05}",
+    "{center: [0, 0, .nan], radius: 0.05}",
+    "{center: [0, 0, 2e6], radius: 0.05}",
+    "{center: [0, 0, -1e6], radius: 1000000}",
+    "{center: [0, 0, 0], radius: .inf}",
+    "{center: [0, 0, 0], radius: '0.1'}",
+    "{center: [0, 0, 0], radius: null}",
+    "{center: [0, 0, 0], radius: [1]}",
+    "{center: [0, 0, [1]], radius: 1}",
+    "{center: 1, radius: 1}",
+    "{center: [0, 0, 0]}",
+    "{center: [0, 0, 0], center: [1, 1, 1]}",
+    "[0, 0, 0]",
+    "{}",
+]
+
+
+@pytest.mark.parametrize("sphere", SPHERES, ids=range(len(SPHERES)))
+def test_spheres_read_the_same_from_compact_lists(sphere: str) -> None:
+    """Lists of plain numbers are read from their values (YPlainSeq) by the fast paths of
+    the XRDF reader; the reference reader's YSeq takes the item-by-item checks: the same
+    model or message."""
+    text = (
+        "format: xrdf\nformat_version: 2.0\n"
+        "cspace: {joint_names: [j], acceleration_limits: [1], jerk_limits: [2.5]}\n"
+        f"geometry:\n  g:\n    spheres:\n      l: [{sphere}, {{center: [1, 2, 3], radius: 4}}]\n"
+    )
+    results = []
+    for mode in MODES:
+        with reading(mode):
+            try:
+                results.append(parse_xrdf(text, "s.xrdf"))
+            except XrdfToolsError as e:
+                results.append(f"{type(e).__name__}: {e}")
+    assert results[0] == results[1] == results[2], results
