@@ -62,18 +62,18 @@ class YMap(YNode):
         """The value of the *last* occurrence of ``key`` (PyYAML semantics), or None."""
         found: YNode | None = None
         for k, v in self.pairs:
-            if key_of(k) == key:
+            if (k.value if type(k) is YScalar else key_of(k)) == key:
                 found = v
         return found
 
-    def key_node(self, key: str) -> YNode | None:
+    def key_node(self, key: object) -> YNode | None:
         for k, _ in self.pairs:
-            if key_of(k) == key:
+            if (k.value if type(k) is YScalar else key_of(k)) == key:
                 return k
         return None
 
     def __contains__(self, key: object) -> bool:
-        return any(key_of(k) == key for k, _ in self.pairs)
+        return self.key_node(key) is not None
 
     def items(self) -> list[tuple[Any, YNode]]:
         return [(key_of(k), v) for k, v in self.pairs]
