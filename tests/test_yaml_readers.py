@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+import yaml
 
 from tests.fuzzing import SEEDS, _mutate_text
 from xrdf_tools import yaml_build, yaml_io
@@ -27,6 +28,7 @@ from xrdf_tools.errors import XrdfToolsError, YamlError
 from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
 from xrdf_tools.yaml_io import YMap, YScalar, YSeq, load_yaml, parse_yaml, to_python
 from xrdf_tools.yaml_positions import NodePositions, node_positions, positions_of
+from xrdf_tools.yaml_rules import Resolver12, plain_value, scalar_value
 from xrdf_tools.yaml_tree import YNode, YPlainSeq, new_plain_seq, pack_position
 
 MODES = ("libyaml", "pyyaml", "reference")
@@ -57,14 +59,9 @@ def dump(node: YNode | None) -> Any:
     if node is None:
         return None
     if isinstance(node, YScalar):
-        return (
-            "scalar",
-            node.line,
-            node.col,
-            type(node.value).__name__,
-            repr(node.value),
-            node.quoted,
-        )
+        v = node.value
+        shown = hex(v) if type(v) is int else repr(v)  # repr: ints of at most 4300 digits
+        return ("scalar", node.line, node.col, type(v).__name__, shown, node.quoted)
     if isinstance(node, YSeq):
         return ("seq", node.line, node.col, node.flow, [dump(i) for i in node.items])
     assert isinstance(node, YMap)
@@ -145,6 +142,10 @@ EDGE_CASES = [
     "a: [1, 2\nb: 3\n",
     "a: 'x\n",
     "k: " + "x" * 1100 + ": 1\n",
+    "a: " + "9" * 5000 + "\n",  # more digits than Python converts to an int
+    "a: [1, -" + "9" * 5000 + "]\nb: !!int x\n",
+    "? " + "9" * 5000 + "\n: 1\n",
+    "a: 0x" + "f" * 5000 + "\nb: 1." + "9" * 5000 + "\n",
 ]
 
 
@@ -399,3 +400,28 @@ def test_spheres_read_the_same_from_compact_lists(sphere: str) -> None:
             except XrdfToolsError as e:
                 results.append(f"{type(e).__name__}: {e}")
     assert results[0] == results[1] == results[2], results
+
+
+def test_plain_scalars_resolve_as_the_resolver_and_scalar_value_do() -> None:
+    """``plain_value`` (numbers read without the patterns) against PyYAML's resolver with the
+    YAML 1.2 table, then ``scalar_value``, on random short texts of number-like characters."""
+    resolver = Resolver12()
+
+    def shown(value: object) -> tuple[str, str]:
+        return type(value).__name__, hex(value) if type(value) is int else repr(value)
+
+    rng = random.Random(7)
+    chars = "0123456789.eE+-" * 3 + "xo_ aINFnNtTrue~"
+    texts = ["", "9" * 5000, "-" + "9" * 4301, "9" * 4300, "0x" + "f" * 5000, ".NaN", "Null"]
+    texts += ["".join(rng.choice(chars) for _ in range(rng.randint(1, 7))) for _ in range(20_000)]
+    for text in texts:
+        tag = resolver.resolve(yaml.ScalarNode, text, (True, False))
+        try:
+            expected = shown(scalar_value(tag, text, "p", 1, 1))
+        except YamlError:
+            expected = ("error", "")
+        try:
+            got = shown(plain_value(text))
+        except ValueError:
+            got = ("error", "")
+        assert got == expected, text

@@ -51,7 +51,7 @@ from yaml.events import (
 )
 
 from .errors import YamlError
-from .yaml_rules import MAX_DEPTH, error_at, plain_value, scalar_value
+from .yaml_rules import INT_TAG, MAX_DEPTH, error_at, plain_value, scalar_value
 from .yaml_tree import (
     DuplicateKey,
     YamlDocument,
@@ -179,7 +179,7 @@ class _Builder:
         self.error: YamlError | None = None
         self.dups: list[DuplicateKey] = []
         self.anchors: dict[str, Any] = {}
-        self.keys: dict[str, str] = {}
+        self.keys: dict[tuple[str, bool], tuple[Any]] = {}
         self.simple_keys = True
         self._mark_line = -1
         self._line = 0
@@ -257,18 +257,29 @@ class _Builder:
         line = self._line
         col = mark.column + 1
         value: Any
-        if tag is None or tag == "!":
-            value = plain_value(text) if event.implicit[0] else text
-        else:
-            value = self._tagged(tag, text, line, col)
         quoted = style == "'" or style == '"'
+        if top is not None and top.is_map and not len(top.items) & 1:  # a key
+            if tag is None or tag == "!":
+                value = self._key(text, event.implicit[0], line, col)
+            else:
+                value = self._tagged(tag, text, line, col)
+                self.simple_keys = False
+            top.items.append(new_scalar(line, col, value, quoted))
+            return
+        if tag is not None and tag != "!":
+            value = self._tagged(tag, text, line, col)
+        elif not event.implicit[0]:
+            value = text
+        else:
+            try:
+                value = plain_value(text)
+            except ValueError:  # an int of more digits than Python converts: as scalar_value
+                value = self._tagged(INT_TAG, text, line, col)
         if top is None:
             self.root = new_scalar(line, col, value, quoted)
         elif top.values is not None and not quoted:  # a sequence of plain scalars so far
             top.values.append(value)
             top.positions.append((line << 32) | col)  # type: ignore[union-attr]
-        elif top.is_map and not len(top.items) & 1:
-            top.items.append(new_scalar(line, col, self._key(value), quoted))
         else:
             if top.values is not None:
                 top.unpack()
@@ -339,18 +350,20 @@ class _Builder:
                 self.error = e
             return text
 
-    def _key(self, value: Any) -> Any:
-        """A mapping key: strings shared (one object per distinct key), odd keys noted."""
-        if type(value) is not str:
-            self.simple_keys = False
-            return value
-        known = self.keys.get(value)
-        if known is not None:
-            return known
-        self.keys[value] = value
-        if not value or _ODD_KEY.search(value):
-            self.simple_keys = False
-        return value
+    def _key(self, text: str, plain: bool, line: int, col: int) -> Any:
+        """The value of an untagged mapping key, worked out once per distinct key text (one
+        string object per distinct key); notes keys that make key paths ambiguous."""
+        known = self.keys.get((text, plain))
+        if known is None:
+            try:
+                value = plain_value(text) if plain else text
+            except ValueError:  # as in scalar()
+                self.simple_keys = False
+                return self._tagged(INT_TAG, text, line, col)
+            if type(value) is not str or not value or _ODD_KEY.search(value):
+                self.simple_keys = False
+            known = self.keys[(text, plain)] = (value,)
+        return known[0]
 
     def _find_duplicates(self, frame: _Frame, pairs: tuple[tuple[YNode, YNode], ...]) -> None:
         keys = [k for k, _ in pairs]

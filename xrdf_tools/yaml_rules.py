@@ -39,8 +39,21 @@ _FLOAT_RE = re.compile(
     r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
     r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$"
 )
-# The int and float patterns in one (int first, as the resolver tries them): one match a number.
-_NUMBER_RE = re.compile(rf"(?P<int>{_INT_RE.pattern[4:-2]})$|(?:{_FLOAT_RE.pattern[4:-2]})$")
+# The four patterns in one, in the resolver's order (each only matches text starting with one of
+# its resolver's first characters, so one match replaces the per-character tables).
+_PLAIN_RE = re.compile(
+    "|".join(
+        f"(?P<{name}>{pattern.pattern[4:-2]})$"
+        for name, pattern in (
+            ("null", _NULL_RE),
+            ("bool", _BOOL_RE),
+            ("int", _INT_RE),
+            ("float", _FLOAT_RE),
+        )
+    )
+)
+_DIGITS = frozenset("0123456789.")
+_NUMBER_CHARS = "0123456789.eE+-"
 _NULL_FIRST = frozenset(["~", "n", "N", ""])
 _BOOL_FIRST = frozenset("tTfF")
 _FLOAT_FIRST = frozenset("-+.0123456789")
@@ -68,18 +81,33 @@ def error_at(path: str, mark: Any, problem: str) -> YamlError:
 
 
 def plain_value(text: str) -> Scalar:
-    """The value of an untagged plain scalar (never an error: each pattern only matches text
-    its conversion accepts). Same result as :class:`Resolver12` then :func:`scalar_value`."""
-    first = text[:1]
-    if first in _NULL_FIRST and _NULL_RE.match(text):
+    """The value of an untagged plain scalar: the same as :class:`Resolver12` then
+    :func:`scalar_value`, including its one failure: an integer of more digits than Python
+    converts raises ``ValueError`` (``scalar_value`` words it).
+
+    Text made only of ``0-9 . e E + -`` (numbers, mostly) is read by ``int`` / ``float``
+    without the patterns: over those characters Python's float syntax is exactly the YAML 1.2
+    float pattern, and the int pattern is an optional sign and digits.
+    """
+    if text and not text.strip(_NUMBER_CHARS):
+        if "." in text or "e" in text or "E" in text:
+            try:
+                return float(text)
+            except ValueError:
+                return text
+        digits = text[1:] if text[0] in "+-" else text
+        return int(text) if digits.isdigit() else text
+    m = _PLAIN_RE.match(text)
+    if m is None:
+        return text
+    kind = m.lastgroup
+    if kind == "float":
+        return _float(text)
+    if kind == "int":
+        return _int(text)
+    if kind == "null":
         return None
-    if first in _BOOL_FIRST and _BOOL_RE.match(text):
-        return text.lower() == "true"
-    if first in _FLOAT_FIRST:  # the int and float first characters ("." only for floats)
-        m = _NUMBER_RE.match(text)
-        if m is not None:
-            return _int(text) if m.lastgroup == "int" else _float(text)
-    return text
+    return text.lower() == "true"
 
 
 def _int(text: str) -> int:
@@ -91,7 +119,7 @@ def _int(text: str) -> int:
 
 
 def _float(text: str) -> float:
-    if text[-1] in "0123456789.":  # a plain number (Python reads every such float pattern)
+    if text[-1] in _DIGITS:  # a plain number (Python reads every such float pattern)
         return float(text)
     low = text.lower().lstrip("+")
     if low == ".inf":
