@@ -154,6 +154,22 @@ def test_edge_cases_read_the_same_by_every_reader(text: str) -> None:
     assert_same(text)
 
 
+@pytest.mark.parametrize("mode", ["libyaml", "pyyaml"])
+def test_bytes_read_as_their_text(mode: str) -> None:
+    """load_yaml hands the file's bytes to the reader (libyaml reads them as they are)."""
+    for text in [*EDGE_CASES, "a: 1\n\u2028", "a: [1]\u0085", "a: x\u2029", "\ufeffa: [1, 2]\n"]:
+        with reading(mode):
+            try:
+                expected = ("ok", dump(parse_yaml(text, "f.yaml").root))
+            except YamlError as e:
+                expected = ("error", str(e))
+            try:
+                got = ("ok", dump(parse_yaml(text.encode(), "f.yaml").root))
+            except YamlError as e:
+                got = ("error", str(e))
+        assert got == expected, text
+
+
 def _corpus(n: int, seed: int) -> Iterator[str]:
     """Mutated windows of the YAML fixtures, ``n`` of them."""
     tokens = [

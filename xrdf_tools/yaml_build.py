@@ -78,6 +78,9 @@ CParser: Any = _libyaml_parser()
 #: Whether libyaml is available to :func:`read_document` (tests and benchmarks turn it off).
 HAVE_LIBYAML = CParser is not None
 
+#: Lists of plain scalars longer than this keep their positions' array (no copy to bytes).
+_KEEP_ARRAY = 64
+
 # A key that makes ``a.b`` / ``a[0]`` / ``a#key`` paths ambiguous (see yaml_positions).
 _ODD_KEY = re.compile(r"[.\[\]#]")
 
@@ -102,13 +105,19 @@ class PyParser(yaml.reader.Reader, yaml.scanner.Scanner, yaml.parser.Parser):
 #: Line breaks (libyaml moves the end of a text that does not end with one to a new line,
 #: which moves an empty value read there).
 _BREAKS = ("\n", "\r", "\x85", "\u2028", "\u2029")
+_BREAKS_UTF8 = tuple(b.encode() for b in _BREAKS)
+_BOM_UTF8 = "\ufeff".encode()
 
 
-def libyaml_may_read(text: str) -> bool:
-    """False when ``text`` has a tab, a byte-order mark past the start or no line break at its
-    end, where libyaml and PyYAML read differently (the other differences are found in the
-    events)."""
-    return text.endswith(_BREAKS) and "\t" not in text and text.find("\ufeff", 1) < 0
+def libyaml_may_read(source: str | bytes) -> bool:
+    """False when the document (text, or its UTF-8 bytes) has a tab, a byte-order mark past
+    the start or no line break at its end, where libyaml and PyYAML read differently (the
+    other differences are found in the events)."""
+    if isinstance(source, bytes):
+        ends, tab, bom = source.endswith(_BREAKS_UTF8), b"\t" in source, source.find(_BOM_UTF8, 1)
+    else:
+        ends, tab, bom = source.endswith(_BREAKS), "\t" in source, source.find("\ufeff", 1)
+    return ends and not tab and bom < 0
 
 
 def _flow_risk(text: str) -> bool:
@@ -140,7 +149,8 @@ class _Frame:
     def __init__(self, line: int, col: int, flow: bool, is_map: bool, slot: int) -> None:
         self.items: list[YNode] = []
         self.values: list[Any] | None = None if is_map else []
-        self.positions: list[int] | None = None if is_map else []
+        # packed positions in an array: no int object kept per item while the list is read
+        self.positions: array[int] | None = None if is_map else array("Q")
         self.line = line
         self.col = col
         self.flow = flow
@@ -150,7 +160,7 @@ class _Frame:
     def unpack(self) -> None:
         """Keep the items as nodes from now on (the YScalar nodes a YPlainSeq would make)."""
         assert self.values is not None and self.positions is not None
-        seq = new_plain_seq(0, 0, tuple(self.values), array("Q", self.positions).tobytes(), False)
+        seq = new_plain_seq(0, 0, tuple(self.values), self.positions.tobytes(), False)
         self.items = list(seq.items)
         self.values = self.positions = None
 
@@ -159,7 +169,9 @@ class _Frame:
         items = self.items
         if self.values:
             assert self.positions is not None
-            positions = array("Q", self.positions).tobytes()
+            # bytes are smaller than an array for a short list; a long one keeps its array
+            long = len(self.positions) > _KEEP_ARRAY
+            positions = self.positions if long else self.positions.tobytes()
             return new_plain_seq(self.line, self.col, tuple(self.values), positions, self.flow)
         if not self.is_map:
             return new_seq(self.line, self.col, tuple(items), self.flow)
@@ -397,8 +409,11 @@ class _Builder:
         return key_path
 
 
-def read_document(text: str, path: str, *, libyaml: bool | None = None) -> YamlDocument:
+def read_document(source: str | bytes, path: str, *, libyaml: bool | None = None) -> YamlDocument:
     """Read one document in one pass (libyaml's events when available and safe, else PyYAML's).
+
+    ``source``: the text, or its UTF-8 bytes (already checked: libyaml reads them as they are,
+    so a big file is not held twice while it is read).
 
     Raises :class:`UsesAliases` for a document with an alias, PyYAML's errors for syntax
     errors and :class:`YamlError` for the bounds and bad scalars. ``libyaml``: None uses it
@@ -410,22 +425,22 @@ def read_document(text: str, path: str, *, libyaml: bool | None = None) -> YamlD
     collecting = gc.isenabled()
     gc.disable()
     try:
-        return _read(text, path, use_c)
+        return _read(source, path, use_c)
     finally:
         if collecting:
             gc.enable()
 
 
-def _read(text: str, path: str, use_c: bool) -> YamlDocument:
-    if use_c and libyaml_may_read(text):
-        parser = CParser(text)
+def _read(source: str | bytes, path: str, use_c: bool) -> YamlDocument:
+    if use_c and libyaml_may_read(source):
+        parser = CParser(source)
         try:
             return _Builder(path, True).read(parser.get_event)
         except (Diverges, yaml.YAMLError):
             pass  # read again with PyYAML's parser: its answer (or message) is the reference
         finally:
             parser.dispose()
-    py = PyParser(text)
+    py = PyParser(source if isinstance(source, str) else source.decode("utf-8"))
     try:
         return _Builder(path, False).read(py.get_event)
     finally:

@@ -31,7 +31,7 @@ from typing import Any
 import yaml
 
 from .errors import YamlError
-from .fileio import read_input_text
+from .fileio import decode_utf8, read_input_bytes, read_input_text
 from .fileio import write_atomic as write_atomic
 from .yaml_build import UsesAliases, read_document
 from .yaml_compose import compose_document
@@ -105,18 +105,27 @@ def _check_printable(text: str, path: str) -> None:
     )
 
 
-def parse_yaml(text: str, path: str = "<string>") -> YamlDocument:
+def parse_yaml(text: str | bytes, path: str = "<string>") -> YamlDocument:
     """Parse one YAML document, keeping positions and recording duplicate keys.
+
+    ``text``: the document, or the bytes of a file (UTF-8 is checked as :func:`read_text`
+    checks it; the text is then not kept while the bytes are read).
 
     Raises :class:`YamlError` (with line and column) on a syntax error, a second document, or
     a document beyond the bounds in the module docstring.
     """
-    _check_printable(text, path)
+    source = text
+    _check_printable(
+        decode_utf8(source, path, "file", YamlError) if isinstance(source, bytes) else source,
+        path,
+    )
+    del text  # a big file's text is not kept while libyaml reads its bytes
     try:
         try:
-            return read_document(text, path)
+            return read_document(source, path)
         except UsesAliases:
-            return compose_document(text, path)
+            plain = source if isinstance(source, str) else source.decode("utf-8")
+            return compose_document(plain, path)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         problem = exc.problem or exc.context or "invalid YAML"
@@ -151,7 +160,7 @@ def read_text(path: str | os.PathLike[str]) -> str:
 
 def load_yaml(path: str | os.PathLike[str]) -> YamlDocument:
     """Read and parse a YAML file; duplicate keys are an error naming both lines."""
-    doc = parse_yaml(read_text(path), str(path))
+    doc = parse_yaml(read_input_bytes(path, what="file", error=YamlError), str(path))
     raise_on_duplicates(doc)
     return doc
 

@@ -9,7 +9,8 @@ per-field ``object.__setattr__`` calls (half the cost of a node); the nodes are 
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from array import array
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -224,11 +225,11 @@ class YPlainSeq(YSeq):
 
     __slots__ = ("_positions", "values")
     values: tuple[Scalar, ...]
-    _positions: bytes
+    _positions: bytes | array[int]
 
     @property  # type: ignore[override]
     def items(self) -> tuple[YNode, ...]:
-        positions = memoryview(self._positions).cast("Q")
+        positions = _unsigned(self._positions)
         return tuple(
             new_scalar(p >> _COL_BITS, p & _COL_MASK, v, False)
             for v, p in zip(self.values, positions, strict=True)
@@ -236,7 +237,7 @@ class YPlainSeq(YSeq):
 
     def item(self, index: int) -> YScalar:
         """``items[index]`` without making the other items."""
-        p = memoryview(self._positions).cast("Q")[index]
+        p = _unsigned(self._positions)[index]
         return new_scalar(p >> _COL_BITS, p & _COL_MASK, self.values[index], False)
 
     def __len__(self) -> int:
@@ -266,16 +267,21 @@ _set_plain_values = _setter(YPlainSeq, "values")
 _set_plain_positions = _setter(YPlainSeq, "_positions")
 
 
+def _unsigned(positions: bytes | array[int]) -> Sequence[int]:
+    return positions if isinstance(positions, array) else memoryview(positions).cast("Q")
+
+
 def pack_position(line: int, col: int) -> int:
     """One int for a position, as :func:`new_plain_seq` takes them."""
     return (line << _COL_BITS) | col
 
 
 def new_plain_seq(
-    line: int, col: int, values: tuple[Scalar, ...], positions: bytes, flow: bool
+    line: int, col: int, values: tuple[Scalar, ...], positions: bytes | array[int], flow: bool
 ) -> YPlainSeq:
     """A :class:`YPlainSeq`; ``positions``: the items' :func:`pack_position` as native
-    unsigned 64-bit integers (``array("Q", ...).tobytes()``)."""
+    unsigned 64-bit integers: an ``array("Q")`` (kept, not copied) or its ``tobytes()``
+    (smaller for short lists)."""
     node: YPlainSeq = _new(YPlainSeq)
     _set_seq_line(node, line)
     _set_seq_col(node, col)
