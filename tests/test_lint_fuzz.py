@@ -97,14 +97,17 @@ def mutated(draw: st.DrawFn) -> str:
     return yaml.safe_dump(doc, sort_keys=False)
 
 
-@pytest.mark.slow
-@settings(
-    max_examples=2000,
+#: Every run draws the same examples, however long they take.
+FIXED = settings(
     derandomize=True,
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
     database=None,
 )
+
+
+@pytest.mark.slow
+@settings(FIXED, max_examples=2000)
 @given(mutated())
 def test_lint_never_raises_on_mutated_documents(text: str) -> None:
     diags = lint_text(text, "fuzz.xrdf")
@@ -118,13 +121,7 @@ def test_mutations_do_find_problems() -> None:
     assert any(d.rule == "required-key" for d in lint_text(no_cspace))
 
 
-@settings(
-    max_examples=300,
-    derandomize=True,
-    deadline=None,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
-    database=None,
-)
+@settings(FIXED, max_examples=300)
 @given(mutated())
 def test_the_schema_walk_shortcuts_change_no_finding(text: str) -> None:
     """The schema walk skips items it can tell are fine from their values (lists of plain

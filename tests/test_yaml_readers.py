@@ -22,7 +22,7 @@ from typing import Any
 import pytest
 import yaml
 
-from tests.fuzzing import SEEDS, _mutate_text
+from tests.fuzzing import _YAML_SNIPPETS, SEEDS, _mutate_text
 from xrdf_tools import yaml_build, yaml_io
 from xrdf_tools.errors import XrdfToolsError, YamlError
 from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
@@ -131,9 +131,8 @@ EDGE_CASES = [
     "a: [true, True, on, yes, y, Null, ~, '', \"1\"]\n",
     "a: [1, '2', [3], {b: 4}, 5]\n",
     "- 1\n- - 2\n  - 3\n- x: 4\n",
-    "x: " + "[" * 120 + "]" * 120 + "\n",
-    "x: " + "{a: " * 99 + "1" + "}" * 99 + "\n",
-    "x: " + "[" * 99 + "]" * 99 + "\n",
+    *(f"x: {'[' * n}{']' * n}\n" for n in (99, 100)),  # nesting: the limit is 100 levels
+    *(f"x: {'{a: ' * n}1{'}' * n}\n" for n in (99, 100)),
     "a: &a " + "[" * 60 + "]" * 60 + "\nb: " + "[" * 60 + "*a" + "]" * 60 + "\n",
     "a: [" + ", ".join(["*x"] * 3) + "]\n",
     "",
@@ -146,6 +145,7 @@ EDGE_CASES = [
     "a: [1, -" + "9" * 5000 + "]\nb: !!int x\n",
     "? " + "9" * 5000 + "\n: 1\n",
     "a: 0x" + "f" * 5000 + "\nb: 1." + "9" * 5000 + "\n",
+    *_YAML_SNIPPETS,  # the fuzzer's hostile snippets
 ]
 
 

@@ -168,45 +168,36 @@ def _setter(cls: type, name: str) -> Callable[[object, Any], None]:
     return setter
 
 
-_set_line, _set_col, _set_value, _set_quoted = (
-    _setter(YScalar, f) for f in ("line", "col", "value", "quoted")
+def _filler(
+    cls: type, names: tuple[str, str, str, str], slots_of: type | None = None
+) -> Callable[[Any, Any, Any, Any], Any]:
+    """``cls(*values)`` for the four slots ``names`` (of the class ``slots_of``, default
+    ``cls``): a new node, its slots set directly."""
+    set1, set2, set3, set4 = (_setter(slots_of or cls, name) for name in names)
+
+    def fill(v1: Any, v2: Any, v3: Any, v4: Any) -> Any:
+        node: Any = _new(cls)
+        set1(node, v1)
+        set2(node, v2)
+        set3(node, v3)
+        set4(node, v4)
+        return node
+
+    return fill
+
+
+#: ``YScalar(line, col, value, quoted)``, made faster.
+new_scalar: Callable[[int, int, Scalar, bool], YScalar] = _filler(
+    YScalar, ("line", "col", "value", "quoted")
 )
-_set_seq_line, _set_seq_col, _set_items, _set_seq_flow = (
-    _setter(YSeq, f) for f in ("line", "col", "items", "flow")
+#: ``YSeq(line, col, items, flow)``, made faster.
+new_seq: Callable[[int, int, tuple[YNode, ...], bool], YSeq] = _filler(
+    YSeq, ("line", "col", "items", "flow")
 )
-_set_map_line, _set_map_col, _set_pairs, _set_map_flow = (
-    _setter(YMap, f) for f in ("line", "col", "pairs", "flow")
+#: ``YMap(line, col, pairs, flow)``, made faster.
+new_map: Callable[[int, int, tuple[tuple[YNode, YNode], ...], bool], YMap] = _filler(
+    YMap, ("line", "col", "pairs", "flow")
 )
-
-
-def new_scalar(line: int, col: int, value: Scalar, quoted: bool) -> YScalar:
-    """``YScalar(line, col, value, quoted)``, made faster."""
-    node: YScalar = _new(YScalar)
-    _set_line(node, line)
-    _set_col(node, col)
-    _set_value(node, value)
-    _set_quoted(node, quoted)
-    return node
-
-
-def new_seq(line: int, col: int, items: tuple[YNode, ...], flow: bool) -> YSeq:
-    """``YSeq(line, col, items, flow)``, made faster."""
-    node: YSeq = _new(YSeq)
-    _set_seq_line(node, line)
-    _set_seq_col(node, col)
-    _set_items(node, items)
-    _set_seq_flow(node, flow)
-    return node
-
-
-def new_map(line: int, col: int, pairs: tuple[tuple[YNode, YNode], ...], flow: bool) -> YMap:
-    """``YMap(line, col, pairs, flow)``, made faster."""
-    node: YMap = _new(YMap)
-    _set_map_line(node, line)
-    _set_map_col(node, col)
-    _set_pairs(node, pairs)
-    _set_map_flow(node, flow)
-    return node
 
 
 _COL_BITS = 32
@@ -263,6 +254,7 @@ class YPlainSeq(YSeq):
         return (new_plain_seq, (self.line, self.col, self.values, self._positions, self.flow))
 
 
+_new_plain = _filler(YPlainSeq, ("line", "col", "items", "flow"), YSeq)  # items: a property
 _set_plain_values = _setter(YPlainSeq, "values")
 _set_plain_positions = _setter(YPlainSeq, "_positions")
 
@@ -282,11 +274,7 @@ def new_plain_seq(
     """A :class:`YPlainSeq`; ``positions``: the items' :func:`pack_position` as native
     unsigned 64-bit integers: an ``array("Q")`` (kept, not copied) or its ``tobytes()``
     (smaller for short lists)."""
-    node: YPlainSeq = _new(YPlainSeq)
-    _set_seq_line(node, line)
-    _set_seq_col(node, col)
-    _set_items(node, ())
-    _set_seq_flow(node, flow)
+    node: YPlainSeq = _new_plain(line, col, (), flow)
     _set_plain_values(node, values)
     _set_plain_positions(node, positions)
     return node
