@@ -218,7 +218,7 @@ class YPlainSeq(YSeq):
     values: tuple[Scalar, ...]
     _positions: bytes | array[int]
 
-    @property  # type: ignore[override]
+    @property
     def items(self) -> tuple[YNode, ...]:
         positions = _unsigned(self._positions)
         return tuple(
