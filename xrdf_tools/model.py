@@ -138,10 +138,14 @@ class CSpace:
 
 @dataclass(frozen=True)
 class SourceMap:
-    """Where each part of a model came from: ``key_path → (line, col)`` (1-based)."""
+    """Where each part of a model came from: ``key_path → (line, col)`` (1-based).
+
+    A model read from a file gets a :class:`~xrdf_tools.yaml_positions.NodePositions`: the
+    positions are looked up in the YAML tree when asked for, not listed up front.
+    """
 
     path: str = ""
-    positions: FrozenMap[str, tuple[int, int]] = field(default_factory=FrozenMap)
+    positions: Mapping[str, tuple[int, int]] = field(default_factory=FrozenMap)
 
     def position(self, key_path: str) -> tuple[int | None, int | None]:
         """Position of ``key_path`` or of its nearest recorded ancestor."""

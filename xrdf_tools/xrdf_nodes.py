@@ -10,15 +10,43 @@ the wording of the errors is the reader's.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable
 from typing import TypeVar
 
 from .errors import SchemaError
 from .frozen import FrozenMap
 from .xrdf_shape import MAX_LENGTH, Shape, is_name, is_number
-from .yaml_io import YMap, YNode, YScalar, YSeq, describe_node
+from .yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node
 
 T = TypeVar("T")
+
+#: The bound of :func:`plain_numbers` for a number that only has to be finite.
+FINITE = sys.float_info.max
+
+
+def plain_number(value: object, bound: float) -> float | None:
+    """``value`` as a float when it is a YAML number (not a boolean) within ±``bound``
+    (``FINITE``: any finite number); None when the checks of :class:`NodeReader` must look at
+    it (and word the error)."""
+    if isinstance(value, (int, float)) and type(value) is not bool and -bound <= value <= bound:
+        return float(value)
+    return None
+
+
+def plain_numbers(node: YNode | None, bound: float) -> tuple[float, ...] | None:
+    """The values of a list of plain numbers (a :class:`YPlainSeq`), each within ±``bound``,
+    as floats, without a node per item; None for anything else (the item-by-item checks then
+    read it, with their messages)."""
+    if type(node) is not YPlainSeq:
+        return None
+    out: list[float] = []
+    for v in node.values:
+        f = plain_number(v, bound)
+        if f is None:
+            return None
+        out.append(f)
+    return tuple(out)
 
 
 def describe(node: YNode | None) -> str:
@@ -139,4 +167,7 @@ class NodeReader:
             )
         item = shape.values
         assert item is not None
+        fast = plain_numbers(seq, MAX_LENGTH if item.metres else FINITE)
+        if fast is not None:
+            return fast
         return tuple(self.num(n, item, f"{what}[{i}]") for i, n in enumerate(seq))

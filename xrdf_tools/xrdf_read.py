@@ -33,7 +33,7 @@ from .model import (
     clone_order,
     resolve_group,
 )
-from .xrdf_nodes import NodeReader, describe, is_null
+from .xrdf_nodes import NodeReader, describe, is_null, plain_number, plain_numbers
 from .xrdf_shape import (
     ADD_FRAME,
     BUFFERS,
@@ -41,6 +41,7 @@ from .xrdf_shape import (
     DOCUMENT,
     FIXED_TRANSFORM,
     GROUP,
+    MAX_LENGTH,
     MODIFIERS,
     ORIENTATION,
     REMOVE_MIMIC,
@@ -58,8 +59,8 @@ from .yaml_io import (
     YScalar,
     YSeq,
     load_yaml,
-    node_positions,
     parse_yaml,
+    positions_of,
     raise_on_duplicates,
     to_python,
 )
@@ -150,7 +151,7 @@ def xrdf_from_document(doc: YamlDocument, *, check_groups: bool = True) -> Xrdf:
         self_collision=self_c,
         geometry=geometry,
         extra=extra,
-        source=SourceMap(doc.path, FrozenMap(node_positions(root))),
+        source=SourceMap(doc.path, positions_of(doc)),
     )
 
 
@@ -301,6 +302,10 @@ def _read_spheres(r: NodeReader, node: YNode, what: str) -> tuple[Sphere, ...]:
         return ()
     out = []
     for i, item in enumerate(seq):
+        sphere = _plain_sphere(item)
+        if sphere is not None:
+            out.append(sphere)
+            continue
         w = f"{what}[{i}]"
         m = r.section(item, SPHERE, w)
         assert m is not None
@@ -310,6 +315,30 @@ def _read_spheres(r: NodeReader, node: YNode, what: str) -> tuple[Sphere, ...]:
         radius = r.num(radius_node, SPHERE.fields["radius"], f"{w}.radius")
         out.append(Sphere(center, radius))
     return tuple(out)
+
+
+def _plain_sphere(item: YNode) -> Sphere | None:
+    """``{center: [x, y, z], radius: r}`` of plain numbers within the length bound, read
+    without the per-node checks (and their message strings) of the general path; None for
+    anything else, which the general path reads or refuses with its message."""
+    if type(item) is not YMap or len(item.pairs) != 2:
+        return None
+    (k1, v1), (k2, v2) = item.pairs
+    if not (isinstance(k1, YScalar) and isinstance(k2, YScalar)):
+        return None
+    if k1.value == "center" and k2.value == "radius":
+        center_node, radius_node = v1, v2
+    elif k1.value == "radius" and k2.value == "center":
+        center_node, radius_node = v2, v1
+    else:
+        return None
+    center = plain_numbers(center_node, MAX_LENGTH)
+    if center is None or len(center) != 3 or not isinstance(radius_node, YScalar):
+        return None
+    radius = plain_number(radius_node.value, MAX_LENGTH)
+    if radius is None:
+        return None
+    return Sphere((center[0], center[1], center[2]), radius)
 
 
 def _read_geometry(r: NodeReader, node: YNode | None) -> FrozenMap[str, GeometryGroup]:

@@ -231,19 +231,27 @@ class LintContext:
     def iter_spheres(self, group: str | None = None) -> Iterator[SphereRef]:
         """Every sphere written in the file (or in one group, clones not followed)."""
         if group is None:
-            selected = list(self.groups.items())
+            for refs in self._spheres_by_group.values():
+                yield from refs
         else:
-            selected = [(group, self.groups[group])] if group in self.groups else []
-        for gname, gnode in selected:
+            yield from self._spheres_by_group.get(group, ())
+
+    @cached_property
+    def _spheres_by_group(self) -> dict[str, tuple[SphereRef, ...]]:
+        """The spheres of each group, made once (several rules walk them all)."""
+        out: dict[str, tuple[SphereRef, ...]] = {}
+        for gname, gnode in self.groups.items():
+            refs: list[SphereRef] = []
             spheres = gnode.get("spheres") if isinstance(gnode, YMap) else None
-            if not isinstance(spheres, YMap):
-                continue
-            for fkey, fval in spheres.pairs:
-                frame = name(fkey)
-                if frame is None or not isinstance(fval, YSeq):
-                    continue
-                for i, s in enumerate(fval.items):
-                    yield SphereRef(gname, frame, i, s, fkey)
+            if isinstance(spheres, YMap):
+                for fkey, fval in spheres.pairs:
+                    frame = name(fkey)
+                    if frame is None or not isinstance(fval, YSeq):
+                        continue
+                    spheres_of = enumerate(fval.items)
+                    refs.extend(SphereRef(gname, frame, i, s, fkey) for i, s in spheres_of)
+            out[gname] = tuple(refs)
+        return out
 
     def resolved_spheres(self, group: str) -> list[SphereRef] | None:
         """Spheres of ``group`` with clones merged, or None when the clones do not resolve."""

@@ -14,8 +14,9 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
+from ..xrdf_nodes import FINITE, plain_number
 from ..xrdf_shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
-from ..yaml_io import YMap, YNode, YScalar, YSeq, describe_node, key_of
+from ..yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, key_of
 
 __all__ = ["DOCUMENT", "MODIFIERS", "SchemaEvent", "Shape", "walk"]
 
@@ -101,9 +102,61 @@ def _walk_list(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[Schema
         yield SchemaEvent(
             "type", node, kp, f"{what} must have exactly {shape.length} items, found {len(node)}"
         )
-    if shape.values is not None:
+    if shape.values is not None and not _plain_items_fit(node, shape.values):
         for i, item in enumerate(node.items):
-            yield from walk(item, shape.values, f"{kp}[{i}]")
+            if not _quiet(item, shape.values):
+                yield from walk(item, shape.values, f"{kp}[{i}]")
+
+
+# --- what the walk would not report, known cheaply (a big file is mostly lists of spheres) ---
+def _plain_items_fit(node: YSeq, shape: Shape) -> bool:
+    """Whether every item of a list of plain scalars (:class:`YPlainSeq`) fits ``shape``
+    (a number or a name), known from the values alone; False when unsure."""
+    if type(node) is not YPlainSeq:
+        return False
+    if shape.kind == "num":
+        return all(plain_number(v, FINITE) is not None for v in node.values)
+    if shape.kind == "str":
+        return all(_is_name_value(v) for v in node.values)
+    return False
+
+
+def _is_name_value(v: object) -> bool:
+    return (type(v) is str and v != "") or type(v) is int or type(v) is float
+
+
+def _quiet(node: YNode, shape: Shape) -> bool:
+    """Whether :func:`walk` yields nothing for ``node``: decided for scalars, lists and
+    ``fields`` sections of them (a sphere); False when unsure (the node is then walked)."""
+    kind = shape.kind
+    if type(node) is YScalar:
+        v = node.value
+        if v is None:
+            return shape.nullable
+        if kind == "num":
+            return plain_number(v, FINITE) is not None
+        return kind == "any" or (kind == "str" and _is_name_value(v))
+    if kind == "list" and isinstance(node, YSeq):
+        wrong_length = shape.length is not None and len(node) != shape.length
+        if wrong_length and shape.length_rule == "wrong-type":
+            return False
+        values = shape.values
+        return (
+            values is None
+            or _plain_items_fit(node, values)
+            or (type(node) is not YPlainSeq and all(_quiet(i, values) for i in node.items))
+        )
+    if kind == "fields" and type(node) is YMap and len(node.pairs) <= len(shape.fields):
+        for req in shape.required:
+            if req not in node:
+                return False
+        for k, val in node.pairs:
+            key = k.value if type(k) is YScalar else None
+            sub = shape.fields.get(key) if isinstance(key, str) else None
+            if sub is None or not _quiet(val, sub):
+                return False
+        return True
+    return False
 
 
 def _walk_modifier(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[SchemaEvent]:

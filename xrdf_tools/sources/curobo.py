@@ -21,7 +21,7 @@ from ..diagnostics import Severity
 from ..errors import SourceError, XrdfToolsError, did_you_mean
 from ..model import AddFrame, Orientation, SetBaseFrame, Sphere
 from ..shape import check_shape
-from ..yaml_io import YamlDocument, node_positions, parse_yaml, read_text, to_python
+from ..yaml_io import YamlDocument, parse_yaml, positions_of, read_text, to_python
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
@@ -104,7 +104,7 @@ def _load(path: str | os.PathLike[str]) -> tuple[YamlDocument, Reporter]:
     configs with PyYAML, which keeps the last value (its own ``franka.yml`` repeats
     ``usd_flip_joints``), so the last value is used here too."""
     doc = parse_yaml(read_text(path), str(path))
-    rep = Reporter(doc.path, node_positions(doc.root))
+    rep = Reporter(doc.path, positions_of(doc))
     for dup in doc.duplicates:
         rep.report(
             "convert-duplicate-key",

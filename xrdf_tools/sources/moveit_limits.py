@@ -11,7 +11,7 @@ import os
 
 from ..diagnostics import Severity
 from ..errors import SourceError
-from ..yaml_io import YMap, YScalar, load_yaml, node_positions, to_python
+from ..yaml_io import YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 
 __all__ = ["read_joint_limits"]
@@ -23,7 +23,7 @@ def read_joint_limits(
     """Add the acceleration/jerk limits of a MoveIt joint_limits.yaml to ``draft``."""
     d = draft or Draft()
     doc = load_yaml(path)
-    rep = Reporter(doc.path, node_positions(doc.root))
+    rep = Reporter(doc.path, positions_of(doc))
     root = doc.root
     if not isinstance(root, YMap) or not isinstance(root.get("joint_limits"), YMap):
         raise SourceError(
