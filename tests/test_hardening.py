@@ -807,3 +807,35 @@ def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(tmp_path
     )
     assert code == 2 and "refusing to overwrite an input file" in out
     assert spheres.read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    ("old", "key"),
+    [
+        ("radius: 0.05", "radius"),
+        ("shoulder_lift_joint: -2.2", "default_joint_positions.shoulder_lift_joint"),
+    ],
+)
+def test_an_integer_beyond_float_range_is_an_input_error(
+    tmp_path: Path, old: str, key: str
+) -> None:
+    """YAML integers have no size limit; a 400-digit one is not finite as a float."""
+    text = UR10E_XRDF.read_text()
+    assert old in text
+    x = tmp_path / "big.xrdf"
+    x.write_text(text.replace(old, old.split(":")[0] + ": " + "9" * 400, 1))
+    code, out = _cli("diff", str(x), str(UR10E_XRDF))
+    assert code == 2 and "must be a finite number, not 9999" in out and "..." in out, out
+    code, out = _cli("lint", str(x))
+    assert code == 1 and "internal-error" not in out and "must be a finite number" in out, out
+
+
+def test_a_curobo_sphere_beyond_float_range_is_reported(tmp_path: Path) -> None:
+    from tests.paths import FIXTURES
+
+    cfg = tmp_path / "ur10e.yml"
+    text = (FIXTURES / "curobo_classic" / "ur10e_inline.yml").read_text()
+    assert '"radius": 0.05' in text or "radius: 0.05" in text
+    cfg.write_text(text.replace("0.05", "9" * 400, 1))
+    code, out = _cli("convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(tmp_path / "o"))
+    assert code in (0, 2) and "Traceback" not in out, out

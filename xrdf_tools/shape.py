@@ -11,13 +11,12 @@ number 5``. Readers call it once at their boundary, then read plain data without
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Literal
 
 from .errors import XrdfToolsError, shown_text
-from .yaml_io import YMap, YNode, YScalar, YSeq, describe_node
+from .yaml_io import YMap, YNode, YScalar, YSeq, describe_node, is_finite
 
 __all__ = [
     "ANY",
@@ -121,7 +120,7 @@ def _scalar_ok(kind: Kind, node: YNode) -> bool:
             isinstance(v, (int, float)) and not isinstance(v, bool)
         )
     if kind == "number":
-        return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+        return isinstance(v, (int, float)) and not isinstance(v, bool) and is_finite(v)
     return isinstance(v, bool)
 
 

@@ -9,15 +9,14 @@ the wording of the errors is the reader's.
 
 from __future__ import annotations
 
-import math
 import sys
 from collections.abc import Callable
 from typing import TypeVar
 
-from .errors import SchemaError
+from .errors import SchemaError, shown_text
 from .frozen import FrozenMap
 from .xrdf_shape import MAX_LENGTH, Shape, is_name, is_number
-from .yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node
+from .yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite
 
 T = TypeVar("T")
 
@@ -102,10 +101,10 @@ class NodeReader:
         """A finite number (NaN and infinities reach no consumer: they poison FK and JSON)."""
         if isinstance(node, YScalar) and is_number(node, finite=False):
             assert isinstance(node.value, (int, float))
-            v = float(node.value)
-            if not math.isfinite(v):
-                raise self.fail(node, f"{what} must be a finite number, not {v}")
-            return v
+            if not is_finite(node.value):
+                shown = shown_text(str(node.value))
+                raise self.fail(node, f"{what} must be a finite number, not {shown}")
+            return float(node.value)
         raise self.fail(node, f"{what} must be a number, not {describe(node)}")
 
     def length(self, node: YNode | None, what: str) -> float:

@@ -19,12 +19,11 @@ buffer that is a number or a mapping, a one-key modifier) and facts it does not 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
-from .yaml_io import YNode, YScalar
+from .yaml_io import YNode, YScalar, is_finite
 
 __all__ = [
     "DOCUMENT",
@@ -110,7 +109,7 @@ def is_number(node: YNode | None, *, finite: bool = True) -> bool:
     v = node.value
     if not isinstance(v, (int, float)) or isinstance(v, bool):
         return False
-    return math.isfinite(v) or not finite
+    return not finite or is_finite(v)
 
 
 NUM = Shape("num", nullable=False)

@@ -47,6 +47,7 @@ from .yaml_tree import (
     YScalar,
     YSeq,
     describe_node,
+    is_finite,
     key_of,
     to_python,
 )
@@ -66,6 +67,7 @@ __all__ = [
     "YSeq",
     "YamlDocument",
     "describe_node",
+    "is_finite",
     "key_of",
     "load_plain",
     "load_yaml",

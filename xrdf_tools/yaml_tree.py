@@ -9,6 +9,8 @@ per-field ``object.__setattr__`` calls (half the cost of a node); the nodes are 
 
 from __future__ import annotations
 
+import math
+import sys
 from array import array
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -96,6 +98,14 @@ def key_of(node: YNode) -> Any:
     if isinstance(node, YScalar):
         return node.value
     return to_python(node)
+
+
+def is_finite(v: int | float) -> bool:
+    """A finite float, or an integer a float can hold (YAML integers have no size limit:
+    ``math.isfinite`` of a 400-digit one raises ``OverflowError``)."""
+    if isinstance(v, int):
+        return -sys.float_info.max <= v <= sys.float_info.max
+    return math.isfinite(v)
 
 
 def describe_node(node: YNode | None) -> str:

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from ..diagnostics import Severity
 from ..errors import XrdfToolsError, YamlError
 from ..xrdf_shape import SUPPORTED_VERSIONS, version_string
-from ..yaml_io import YamlDocument, YMap, YNode, YScalar, YSeq, key_of, parse_yaml
+from ..yaml_io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
 
 if TYPE_CHECKING:
     from ..kinematics import KinematicModel
@@ -72,6 +72,8 @@ def number(node: YNode | None) -> float | None:
     if isinstance(node, YScalar) and isinstance(node.value, (int, float)):
         if isinstance(node.value, bool):
             return None
+        if not is_finite(node.value):  # an integer beyond float range: infinite here
+            return math.inf if node.value > 0 else -math.inf
         return float(node.value)
     return None
 

@@ -9,14 +9,14 @@ one rule: ``type`` (``wrong-type``), ``missing`` (``required-key``) and ``unknow
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
+from ..errors import shown_text
 from ..xrdf_nodes import FINITE, plain_number
 from ..xrdf_shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
-from ..yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, key_of
+from ..yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of
 
 __all__ = ["DOCUMENT", "MODIFIERS", "SchemaEvent", "Shape", "walk"]
 
@@ -65,8 +65,9 @@ def _walk_num(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[SchemaE
     if is_number(node):
         return
     v = node.value if isinstance(node, YScalar) else None
-    if isinstance(v, float) and not math.isfinite(v):
-        yield SchemaEvent("type", node, kp, f"{what} must be a finite number, not {v}")
+    if isinstance(v, (int, float)) and not isinstance(v, bool) and not is_finite(v):
+        shown = shown_text(str(v))
+        yield SchemaEvent("type", node, kp, f"{what} must be a finite number, not {shown}")
     else:
         yield SchemaEvent("type", node, kp, f"{what} must be a number, not {describe_node(node)}")
 

@@ -5,7 +5,6 @@ Shared by the cuRobo (:mod:`.curobo`) and Lula (:mod:`.curobo_lula`) readers.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeGuard
@@ -13,6 +12,7 @@ from typing import Any, TypeGuard
 from ..diagnostics import Severity
 from ..errors import SourceError
 from ..model import Sphere
+from ..yaml_io import is_finite
 from . import Reporter, known_frame
 
 __all__ = ["find_spheres_file", "is_num", "read_sphere_map", "spheres_of"]
@@ -20,7 +20,7 @@ __all__ = ["find_spheres_file", "is_num", "read_sphere_map", "spheres_of"]
 
 def is_num(v: Any) -> TypeGuard[float]:
     """A finite number of plain YAML data (booleans are not numbers)."""
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and is_finite(v)
 
 
 def find_spheres_file(value: str, config_path: Path, rep: Reporter, where: str) -> Path:
