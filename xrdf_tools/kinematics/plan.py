@@ -9,15 +9,35 @@ displacement (see :func:`xrdf_tools.kinematics.fk_batch_last`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
+import numpy.typing as npt
 
 from ..rotations import axis_angle_matrix, skew
 from .base import MOVING_TYPES, FloatArray, IntArray, JointType
 
-if TYPE_CHECKING:
-    from .model import KinematicModel
+
+class FrameArrays(Protocol):
+    """The per-frame arrays a plan is made from (a :class:`~.model.KinematicModel` has them)."""
+
+    @property
+    def n_frames(self) -> int: ...
+    @property
+    def parent(self) -> IntArray: ...
+    @property
+    def joint_type(self) -> npt.NDArray[np.int8]: ...
+    @property
+    def origin(self) -> FloatArray: ...
+    @property
+    def axis(self) -> FloatArray: ...
+    @property
+    def q_index(self) -> IntArray: ...
+    @property
+    def mimic_multiplier(self) -> FloatArray: ...
+    @property
+    def mimic_offset(self) -> FloatArray: ...
+
 
 # How the FK loop treats a frame.
 KIND_FIXED, KIND_ROT, KIND_PRISM = 0, 1, 2
@@ -55,7 +75,7 @@ def joint_transform(jt: int, axis: FloatArray, value: float) -> FloatArray:
     return T
 
 
-def make_plan(model: KinematicModel) -> FkPlan:
+def make_plan(model: FrameArrays) -> FkPlan:
     """The :class:`FkPlan` of ``model``.
 
     A movable frame that no coordinate drives (a mimic of a joint held fixed) has its constant
