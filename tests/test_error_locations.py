@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from tests.paths import UR10E_URDF, UR10E_XRDF
@@ -257,3 +258,15 @@ def test_fuzz_seed11_case917_an_unterminated_expression_is_found(tmp_path: Path)
         '  <link name="${pare"/>\n</robot>\n'
     )
     assert _error("expand", str(x)) == f"error: {x}:2:15: xacro failed: invalid expression: ${{pare"
+
+
+def test_an_unreadable_urdf_named_by_the_lint_config_points_at_the_entry(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "robot.xrdf").write_bytes(UR10E_XRDF.read_bytes())
+    cfg = tmp_path / ".xrdf-lint.yaml"
+    cfg.write_text('rules:\n  curobo-: off\nurdf:\n  "*.xrdf": missing.urdf\n')
+    monkeypatch.chdir(tmp_path)
+    err = _error("lint", "robot.xrdf")
+    assert err.startswith(f"error: {cfg}:4:13: the URDF this entry names cannot be read: "), err
+    assert "missing.urdf" in err

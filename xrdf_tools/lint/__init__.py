@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..diagnostics import Diagnostic, Severity, sort_key
-from ..errors import XrdfToolsError, YamlError, did_you_mean
+from ..errors import UrdfReadError, XrdfToolsError, YamlError, did_you_mean
 from ..fileio import STDIN
 from ..yaml_io import read_text
 from .config import LintConfig
@@ -242,6 +242,22 @@ def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Robot]) -> UrdfL
     return load
 
 
+def _named_by(loader: UrdfLoader, where: tuple[str | None, int | None, int | None]) -> UrdfLoader:
+    """``loader`` of a URDF the configuration maps a file to: a URDF that cannot be read is
+    the configuration's mistake, so the error points at the entry that names it."""
+    path, line, col = where
+
+    def load() -> Robot:
+        try:
+            return loader()
+        except UrdfReadError as e:
+            raise UrdfReadError(
+                f"the URDF this entry names cannot be read: {e}", path=path, line=line, col=col
+            ) from None
+
+    return load
+
+
 def lint(
     paths: Iterable[str | os.PathLike[str]],
     *,
@@ -272,6 +288,8 @@ def lint(
         text = _read_stdin() if stdin else read_text(p)
         u = urdf if urdf is not None or stdin else cfg.urdf_for(Path(p))
         loader = _urdf_loader(u, cache) if u is not None else None
+        if loader is not None and urdf is None and not stdin:
+            loader = _named_by(loader, cfg.urdf_where(Path(p)))
         if urdf_model is not None:
             loader = _model_loader(urdf_model)
         label = "<stdin>" if stdin else os.fspath(p)

@@ -62,6 +62,8 @@ class LintConfig:
     source: str | None = None
     #: The reader the files are for (a target id), or None.
     target: str | None = None
+    #: ``(line, col)`` of each ``urdf_map`` value in :attr:`source` (None where unknown).
+    urdf_positions: tuple[tuple[int, int] | None, ...] = ()
 
     def _level(self, rule: str) -> tuple[bool, Severity | None]:
         if rule in self.levels:
@@ -82,17 +84,27 @@ class LintConfig:
 
     def urdf_for(self, xrdf: Path) -> str | None:
         """The URDF mapped to ``xrdf`` by the first matching glob, or None."""
+        i = self._match(xrdf)
+        return None if i is None else str(Path(self.base_dir).resolve() / self.urdf_map[i][1])
+
+    def urdf_where(self, xrdf: Path) -> tuple[str | None, int | None, int | None]:
+        """Where the configuration names the URDF of ``xrdf``: ``(file, line, col)``."""
+        i = self._match(xrdf)
+        pos = self.urdf_positions[i] if i is not None and i < len(self.urdf_positions) else None
+        return (self.source, *pos) if pos is not None else (self.source, None, None)
+
+    def _match(self, xrdf: Path) -> int | None:
+        """Index of the first ``urdf`` glob that matches ``xrdf`` (relative to the config)."""
         base = Path(self.base_dir).resolve()
-        target = xrdf.resolve()
         try:
-            rel = target.relative_to(base).as_posix()
+            rel: str | None = xrdf.resolve().relative_to(base).as_posix()
         except ValueError:
             rel = None
-        for pattern, urdf in self.urdf_map:
+        for i, (pattern, _) in enumerate(self.urdf_map):
             if (rel is not None and fnmatch.fnmatch(rel, pattern)) or fnmatch.fnmatch(
                 xrdf.as_posix(), pattern
             ):
-                return str(base / urdf)
+                return i
         return None
 
 
@@ -135,12 +147,14 @@ def _parse(data: Any, source: str, base_dir: str, positions: Positions | None = 
             target = getattr(parse_target(str(target)), "id", None)
         except XrdfToolsError as exc:
             raise _error(f"target: {exc.message}", source, pos, "target") from None
+    urdf_map = _urdf_map(data.get("urdf") or {}, source, pos)
     return LintConfig(
         _levels(data.get("rules") or {}, [r.id for r in RULES], source, pos),
-        _urdf_map(data.get("urdf") or {}, source, pos),
+        urdf_map,
         base_dir,
         source,
         target,
+        tuple(pos.get(f"urdf.{glob}") for glob, _ in urdf_map),
     )
 
 
@@ -184,6 +198,7 @@ def _merge(base: LintConfig, over: LintConfig) -> LintConfig:
         over.base_dir,
         over.source,
         over.target if over.target is not None else base.target,
+        over.urdf_positions + (None,) * len(base.urdf_map),
     )
 
 
