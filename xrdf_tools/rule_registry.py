@@ -3,7 +3,7 @@ notes of convert, export, kinematics, sphere fitting and viz.
 
 A :class:`RuleInfo` gives the id, its default severity, a one-line summary and the command
 that emits it. ``docs/rules.md`` is generated from this registry (``python -m
-xrdf_tools.lint.docs``) and SARIF logs describe their rules from it; a test checks that every
+xrdf_tools.rules_doc``) and SARIF logs describe their rules from it; a test checks that every
 id the code emits is registered. Lint rules and report findings are registered where they are
 defined (the lint rule modules, :data:`xrdf_tools.report.RULES`); the table below holds the
 others.
