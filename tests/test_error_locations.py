@@ -270,3 +270,59 @@ def test_an_unreadable_urdf_named_by_the_lint_config_points_at_the_entry(
     err = _error("lint", "robot.xrdf")
     assert err.startswith(f"error: {cfg}:4:13: the URDF this entry names cannot be read: "), err
     assert "missing.urdf" in err
+
+
+def _xacro(tmp_path: Path, body: str) -> Path:
+    x = tmp_path / "arm.urdf.xacro"
+    x.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n' + body + "</robot>\n"
+    )
+    return x
+
+
+def test_fuzz_seed0_cases_2198_5167_8858_more_xacro_errors_are_located(tmp_path: Path) -> None:
+    cases = {
+        '  <xacro:property name="" value="1"/>\n': (
+            "2:19: xacro failed: Property names must be valid python identifiers:"
+        ),
+        '  <link name="a"><visual><geometry><sphere radius="${}"/></geometry></visual></link>\n': (
+            "2:52: xacro failed: invalid syntax (<expression>, line 0) when evaluating "
+            "expression ''"
+        ),
+        '  <xacro:macro name="m"><link name="a"/></xacro:macro>\n  <xacro:macro params="x"/>\n': (
+            "3:3: xacro failed: xacro:macro: missing attribute 'name'"
+        ),
+    }
+    for body, where in cases.items():
+        x = _xacro(tmp_path, body)
+        assert _error("expand", str(x)) == f"error: {x}:{where}"
+
+
+def test_fuzz_seed0_cases_4464_7935_8887_joint_limits_without_their_mapping(
+    tmp_path: Path,
+) -> None:
+    from tests.paths import FIXTURES
+
+    limits = tmp_path / "joint_limits.yaml"
+    demo = FIXTURES / "demo_arm"
+    for text, where in (
+        ("joint_limits: 5\n", ":1:15:"),
+        ("# nothing\n", ":1:"),
+        ("a: 1\n", ":1:1:"),
+    ):
+        limits.write_text(text)
+        err = _error(
+            "convert", str(demo / "demo_arm.urdf"), "--joint-limits", str(limits), "-o",
+            str(tmp_path / "o.xrdf"),
+        )  # fmt: skip
+        assert err.startswith(f"error: {limits}{where} a MoveIt joint limits file needs"), err
+
+
+def test_fuzz_seed0_case7652_viz_without_a_collision_section_names_the_xrdf(
+    tmp_path: Path,
+) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text[: text.index("world_collision:")])
+    err = _error("viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "v.png"))
+    assert err.startswith(f"error: {x}:1: no collision section names a geometry group"), err

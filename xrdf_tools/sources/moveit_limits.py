@@ -26,10 +26,13 @@ def read_joint_limits(
     rep = Reporter(doc.path, positions_of(doc))
     root = doc.root
     if not isinstance(root, YMap) or not isinstance(root.get("joint_limits"), YMap):
+        where = root.get("joint_limits") if isinstance(root, YMap) else None
+        where = where if where is not None else root
         raise SourceError(
             "a MoveIt joint limits file needs a top-level 'joint_limits' mapping",
             path=doc.path,
-            line=root.line if root is not None else None,
+            line=where.line if where is not None else 1,
+            col=where.col if where is not None else None,
         )
     limits = root.get("joint_limits")
     assert isinstance(limits, YMap)

@@ -135,35 +135,44 @@ def _xacro_error(e: BaseException, top: str, filestack: Any) -> SourceError:
 
 #: What xacro's messages name, and the text that names it in the file:
 #: (pattern of the message, template of the source text).
-_CULPRITS: tuple[tuple[re.Pattern[str], str], ...] = (
-    (re.compile(r"when evaluating expression '([^']+)'"), "${{{}"),
-    (re.compile(r"unknown macro name: (xacro:\S+)"), "<{}"),
-    (re.compile(r"Property names must be valid python identifiers: (.+)$"), 'name="{}"'),
-    (re.compile(r"Undefined substitution argument (\S+)"), "$(arg {}"),
-    (re.compile(r'Invalid parameter "([^"]+)"'), '{}="'),
-    (re.compile(r"invalid expression: (.+)$"), "{}"),
+_CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
+    (re.compile(r"when evaluating expression '([^']*)'"), ("${{{}}}", "${{{}")),
+    (re.compile(r"unknown macro name: (xacro:\S+)"), ("<{}",)),
+    (re.compile(r"Property names must be valid python identifiers:\s*(.*)$"), ('name="{}"',)),
+    (re.compile(r"Undefined substitution argument (\S+)"), ("$(arg {}",)),
+    (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
+    (re.compile(r"invalid expression: (.+)$"), ("{}",)),
 )
+#: "xacro:macro: missing attribute 'name'": the first ``<xacro:macro>`` tag without it.
+_MISSING_ATTRIBUTE = re.compile(r"^xacro failed: (xacro:\w+): missing attribute '(\w+)'")
 
 
 def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
     """Where in ``path`` the name or expression a xacro error quotes is first written (xacro
     itself keeps no positions); ``(None, None)`` when it is not found."""
-    needle = next(
-        (tpl.format(m.group(1)) for pat, tpl in _CULPRITS if (m := pat.search(message))), None
-    )
-    if needle is None:
-        return None, None
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):  # a file that cannot be read again: no position
         return None, None
     # xacro works in document order: the first use failed first; the file may write the
     # quoted text with XML escapes ('&' as '&amp;')
-    at = next((i for n in (needle, escape(needle)) if (i := text.find(n)) >= 0), -1)
+    at = next((i for n in _needles(message) if (i := text.find(n)) >= 0), -1)
+    if (m := _MISSING_ATTRIBUTE.search(message)) is not None:
+        tags = re.finditer(rf"<{m.group(1)}\b[^>]*>", text)
+        at = next((t.start() for t in tags if f"{m.group(2)}=" not in t.group(0)), -1)
     if at < 0:
         return None, None
     line = text.count("\n", 0, at) + 1
     return line, at - (text.rfind("\n", 0, at) + 1) + 1
+
+
+def _needles(message: str) -> list[str]:
+    """The texts that may write what ``message`` quotes, most specific first."""
+    for pattern, templates in _CULPRITS:
+        if (m := pattern.search(message)) is not None:
+            raw = [t.format(m.group(1)) for t in templates]
+            return [*raw, *(escape(n) for n in raw)]
+    return []
 
 
 def _xacro_message(e: BaseException) -> str:
