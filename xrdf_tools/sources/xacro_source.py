@@ -25,7 +25,7 @@ from xml.parsers.expat import ExpatError
 from xml.sax.saxutils import escape
 
 from ..errors import SourceError, UrdfReadError, XrdfToolsError
-from ..fileio import read_input_bytes, read_input_text
+from ..fileio import decode_utf8, read_input_bytes
 from ..packages import PackageResolver
 
 if TYPE_CHECKING:
@@ -85,13 +85,19 @@ def expand_xacro(
     path: str | os.PathLike[str],
     args: Mapping[str, str] | None = None,
     package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+    *,
+    data: bytes | None = None,
 ) -> str:
-    """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason."""
+    """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
+
+    The file is read through the guarded reader (``data``: its bytes, when the caller has
+    read them already) and decoded, so a bad byte is located; xacro then reads it itself."""
     import xacro
 
     p = Path(path)
-    # read and decoded here once so that a bad byte is located (xacro reads the file again)
-    read_input_text(p, what="xacro file", error=SourceError)
+    if data is None:
+        data = read_input_bytes(p, what="xacro file", error=SourceError)
+    decode_utf8(data, str(p), "xacro file", SourceError)
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
     try:
@@ -212,7 +218,7 @@ def load_robot(
                 raise SourceError(_NOT_XACRO, path=str(path)) from None
             raise
     if data is None or _uses_xacro(data):
-        text = expand_xacro(path, xacro_args, package_paths)
+        text = expand_xacro(path, xacro_args, package_paths, data=data)
         return parse_robot(text, os.fspath(path), package_paths=pkg, expanded=True)
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
