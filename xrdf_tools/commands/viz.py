@@ -149,7 +149,6 @@ def command(
         fail(e)
 
     try:
-        from ..binding import cspace_indices
         from ..kinematics import build_kinematic_model
         from ..packages import parse_package_path
         from ..viz import (
@@ -169,7 +168,6 @@ def command(
         x = load_xrdf_input(xrdf_file)
         u = load_robot_option(urdf, xacro_arg, package_path)
         kin, kdiags = build_kinematic_model(u, x)
-        cspace_indices(kin, x)  # the XRDF's c-space must match the URDF, samples or not
         if configs is not None:
             Q = load_configurations(configs, kin, x)
         elif samples:

@@ -261,6 +261,7 @@ def build_scene(
     group's by :func:`xrdf_tools.collision.build_sphere_set`). Raises
     :class:`GeometryGroupError` for an unknown group.
     """
+    from ..binding import cspace_indices
     from ..kinematics import build_kinematic_model, default_configuration, fk
     from ..robot import as_robot
 
@@ -271,6 +272,7 @@ def build_scene(
         diags.extend(kdiags)
     else:
         kin = kinematic_model
+    cspace_indices(kin, xrdf)  # the XRDF's c-space must match the URDF, samples or not
     chosen = choose_group(xrdf, group)
     spheres = xrdf.resolved_spheres(chosen)
     xpath = xrdf.source.path or "<xrdf>"
