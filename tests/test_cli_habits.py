@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 from tests.paths import UR10E_URDF, UR10E_XRDF
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
-from xrdf_tools.commands import common
+from xrdf_tools.commands import common, core
 
 runner = CliRunner()
 
@@ -104,7 +104,7 @@ def test_quiet_drops_notes_verbose_adds_timings(tmp_path: Path) -> None:
 def test_verbosity_does_not_outlive_its_run() -> None:
     assert _run("convert", "-q", str(UR10E_URDF)).stderr == ""
     assert "warning" in _run("convert", str(UR10E_URDF)).stderr
-    assert common.verbosity() is common.Verbosity.NORMAL
+    assert core.verbosity() is core.Verbosity.NORMAL
 
 
 # ------------------------------------------------------------------------------------------

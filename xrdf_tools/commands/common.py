@@ -1,7 +1,7 @@
 """Helpers shared by the CLI commands: error exits, verbosity (``-q``/``-v``), diagnostics
 on stderr, progress bars, ``-`` for standard input and output, safe writes.
 
-What needs no typer lives in :mod:`xrdf_tools.commands.core` and is re-exported here.
+What needs no typer lives in :mod:`xrdf_tools.commands.core`.
 """
 
 from __future__ import annotations
@@ -18,23 +18,19 @@ import typer
 
 from ..diagnostics import Diagnostic, Severity
 from ..errors import XrdfToolsError, one_line
-from .core import EXIT_FINDINGS as EXIT_FINDINGS
-from .core import EXIT_OK as EXIT_OK
-from .core import EXIT_USAGE as EXIT_USAGE
+from .core import (
+    EXIT_USAGE,
+    STDIO,
+    OutputFormat,
+    Verbosity,
+    detail,
+    is_stdio,
+    render_diagnostics,
+    two_stdin,
+    verbosity,
+)
 from .core import RUN as _RUN
-from .core import STDIO as STDIO
 from .core import VERBOSITY_KEY as _VERBOSITY
-from .core import OutputFormat as OutputFormat
-from .core import Verbosity as Verbosity
-from .core import detail as detail
-from .core import has_failures as has_failures
-from .core import is_stdio as is_stdio
-from .core import load_robot_option as load_robot_option
-from .core import pairs as pairs
-from .core import render_diagnostics as render_diagnostics
-from .core import timed as timed
-from .core import two_stdin
-from .core import verbosity as verbosity
 
 if TYPE_CHECKING:
     from ..model import Xrdf

@@ -15,20 +15,16 @@ import typer
 from ..diagnostics import Severity
 from ..errors import XrdfToolsError
 from .common import (
-    EXIT_FINDINGS,
-    OutputFormat,
     QuietOption,
     VerboseOption,
     echo_diagnostics,
     fail,
-    has_failures,
-    is_stdio,
     note,
     progress_bar,
     refuse_input_overwrite,
-    timed,
     write_output,
 )
+from .core import EXIT_FINDINGS, OutputFormat, has_failures, is_stdio, timed
 
 if TYPE_CHECKING:
     from ..assistant import Progress

@@ -2,8 +2,8 @@
 renderer dispatch, the ``-q``/``-v`` level, ``-`` for standard input, the ``--urdf`` loader,
 and :func:`echo`.
 
-:mod:`xrdf_tools.commands.common` re-exports all of it for the Typer commands; the fast
-start-up path of ``xrdf lint`` (:mod:`xrdf_tools.commands.lint_core`) imports only this
+The Typer commands import it beside :mod:`xrdf_tools.commands.common` (the typer parts); the
+fast start-up path of ``xrdf lint`` (:mod:`xrdf_tools.commands.lint_core`) imports only this
 module, so that it runs without importing typer.
 """
 

@@ -11,17 +11,15 @@ import typer
 
 from ..errors import XrdfToolsError
 from .common import (
-    EXIT_FINDINGS,
-    EXIT_OK,
     PackagePathOption,
     QuietOption,
     VerboseOption,
     XacroArgOption,
     fail,
-    load_robot_option,
     load_xrdf_input,
     refuse_two_stdin,
 )
+from .core import EXIT_FINDINGS, EXIT_OK, load_robot_option
 
 #: ``xrdf_tools.diff.DEFAULT_TOLERANCE``, repeated so that importing the CLI (every ``xrdf lint``
 #: start) does not import the diff engine; a test keeps the two equal.

@@ -18,9 +18,9 @@ from .common import (
     XacroArgOption,
     fail,
     refuse_input_overwrite,
-    timed,
     write_output,
 )
+from .core import timed
 
 
 def command(
@@ -56,7 +56,7 @@ def command(
     """
     from ..sources.xacro_source import is_xacro
     from ..urdf_source import urdf_text
-    from .common import load_robot_option
+    from .core import load_robot_option
 
     if output is not None:
         refuse_input_overwrite(output, [robot])

@@ -10,7 +10,6 @@ import typer
 
 from ..errors import XrdfToolsError
 from .common import (
-    OutputFormat,
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -22,6 +21,7 @@ from .common import (
     refuse_two_stdin,
     write_output,
 )
+from .core import OutputFormat
 
 if TYPE_CHECKING:
     from ..sources import RobotTree

@@ -11,14 +11,8 @@ from typing import Annotated
 
 import typer
 
-from .common import (
-    OutputFormat,
-    PackagePathOption,
-    QuietOption,
-    VerboseOption,
-    XacroArgOption,
-    fail,
-)
+from .common import PackagePathOption, QuietOption, VerboseOption, XacroArgOption, fail
+from .core import OutputFormat
 
 
 def command(

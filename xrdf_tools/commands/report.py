@@ -15,26 +15,28 @@ import typer
 
 from ..errors import XrdfToolsError
 from .common import (
-    EXIT_FINDINGS,
-    OutputFormat,
     PackagePathOption,
     QuietOption,
     VerboseOption,
     XacroArgOption,
-    detail,
     fail,
-    has_failures,
-    is_stdio,
-    load_robot_option,
     load_xrdf_input,
     note,
     one_bar,
     progress_bar,
     refuse_input_overwrite,
     refuse_output_clash,
+    write_output,
+)
+from .core import (
+    EXIT_FINDINGS,
+    OutputFormat,
+    detail,
+    has_failures,
+    is_stdio,
+    load_robot_option,
     render_diagnostics,
     timed,
-    write_output,
 )
 
 if TYPE_CHECKING:

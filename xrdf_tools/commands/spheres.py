@@ -10,23 +10,19 @@ import typer
 from ..diagnostics import Diagnostic
 from ..errors import XrdfToolsError
 from .common import (
-    EXIT_FINDINGS,
-    OutputFormat,
     PackagePathOption,
     QuietOption,
     VerboseOption,
     XacroArgOption,
     echo_diagnostics,
     fail,
-    is_stdio,
-    load_robot_option,
     load_xrdf_input,
     note,
     progress_bar,
     refuse_input_overwrite,
-    timed,
     write_output,
 )
+from .core import EXIT_FINDINGS, OutputFormat, is_stdio, load_robot_option, timed
 
 if TYPE_CHECKING:
     from collections.abc import Callable

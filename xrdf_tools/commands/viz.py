@@ -10,23 +10,19 @@ import typer
 
 from ..errors import XrdfToolsError
 from .common import (
-    OutputFormat,
     PackagePathOption,
     QuietOption,
     VerboseOption,
     XacroArgOption,
-    detail,
     echo_diagnostics,
     fail,
-    is_stdio,
-    load_robot_option,
     load_xrdf_input,
     note,
     one_bar,
     progress_bar,
     refuse_input_overwrite,
-    timed,
 )
+from .core import OutputFormat, detail, is_stdio, load_robot_option, timed
 
 if TYPE_CHECKING:
     from ..viz import Target
