@@ -291,7 +291,7 @@ def _no_repeats(r: NodeReader, node: YNode | None, names: tuple[str, ...]) -> No
     seen: set[str] = set()
     for i, n in enumerate(names):
         if n in seen:
-            item = node.items[i] if isinstance(node, YSeq) else node
+            item = node.item(i) if isinstance(node, YSeq) else node
             raise r.fail(item, f"cspace.joint_names[{i}]: joint '{n}' is listed twice")
         seen.add(n)
 

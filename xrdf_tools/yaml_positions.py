@@ -109,9 +109,9 @@ class NodePositions(Mapping[str, Position]):
         while i < end:
             m = _INDEX.match(key_path, i)
             if m is not None:
-                if not isinstance(node, YSeq) or int(m.group(1)) >= len(node.items):
+                if not isinstance(node, YSeq) or int(m.group(1)) >= len(node):
                     return None
-                node = node.items[int(m.group(1))]
+                node = node.item(int(m.group(1)))
                 i = m.end()
                 continue
             if i > 0:

@@ -49,6 +49,10 @@ class YSeq(YNode):
     def __len__(self) -> int:
         return len(self.items)
 
+    def item(self, index: int) -> YNode:
+        """``items[index]`` (a :class:`YPlainSeq` makes only that node)."""
+        return self.items[index]
+
     def to_python(self) -> list[Any]:
         return [to_python(i) for i in self.items]
 
