@@ -14,8 +14,11 @@
    moved by a shrinking step in 26 directions (radius re-maximised each time) while that
    increases the covered weight.
 
-Everything is driven by one seeded generator: the same solid, count and seed give the same
-spheres.
+Everything is driven by one seeded generator, and every decision compares exact numbers: the
+inside test is exact (:mod:`.inside`), covered weight is a count of covered points of each kind
+times that kind's weight (a BLAS product of 0/1 values is an exact integer whatever its
+summation order or thread count), and distances are computed elementwise, not by a matrix
+product. So the same solid, count and seed give the same spheres in every process.
 """
 
 from __future__ import annotations
@@ -120,16 +123,15 @@ class SphereFitter:
         surf = sample_surface(solid, surface_samples, rng)
         self.points = np.concatenate([vol, surf])
         self.n_volume = len(vol)
-        w_vol = VOLUME_WEIGHT / max(len(vol), 1)
-        w_surf = (1.0 - VOLUME_WEIGHT) / max(len(surf), 1)
-        self.weights = np.concatenate([np.full(len(vol), w_vol), np.full(len(surf), w_surf)])
-        self._p2 = (self.points**2).sum(1)
+        self.w_volume = VOLUME_WEIGHT / max(len(vol), 1)
+        self.w_surface = (1.0 - VOLUME_WEIGHT) / max(len(surf), 1)
         cand = sample_volume(solid, candidates, rng)
         if len(cand) == 0:
             cand = np.asarray(solid.vertices, dtype=np.float64).mean(0, keepdims=True)
         self.cand_c = cand
         self.cand_r = self.max_radius(cand)
         self.cand_cov = self._cover(self.cand_c, self.cand_r)
+        self._cand_cov_f = self.cand_cov.astype(np.float64)
         self.scale = self.volume ** (1.0 / 3.0)
 
     # ----------------------------------------------------------------------------------------
@@ -148,8 +150,21 @@ class SphereFitter:
         return lo
 
     def _cover(self, centers: FloatArray, radii: FloatArray) -> BoolArray:
-        d2 = (centers**2).sum(1)[:, None] + self._p2[None, :] - 2.0 * centers @ self.points.T
+        """``(K, P)``: which sample points each sphere covers (elementwise, no BLAS)."""
+        d2 = np.zeros((len(centers), len(self.points)))
+        for axis in range(3):
+            diff = centers[:, axis, None] - self.points[None, :, axis]
+            d2 += diff * diff
         return np.asarray(d2 <= radii[:, None] ** 2)
+
+    def _gains(self, cover: FloatArray, free: BoolArray) -> FloatArray:
+        """Free weight each row of ``cover`` (0/1 as float) covers: exact counts per kind of
+        point times that kind's weight, so ties and comparisons are the same on every run."""
+        nv = self.n_volume
+        free_f = free.astype(np.float64)
+        volume = cover[:, :nv] @ free_f[:nv]
+        surface = cover[:, nv:] @ free_f[nv:]
+        return np.asarray(volume * self.w_volume + surface * self.w_surface)
 
     # ----------------------------------------------------------------------------------------
     def greedy(self, k: int) -> tuple[list[int], list[float]]:
@@ -158,10 +173,8 @@ class SphereFitter:
         covered = np.zeros(len(self.points), dtype=bool)
         picks: list[int] = []
         curve: list[float] = []
-        cov_f = self.cand_cov.astype(np.float32)
         for _ in range(k):
-            w = np.where(covered, 0.0, self.weights).astype(np.float32)
-            gain = cov_f @ w
+            gain = self._gains(self._cand_cov_f, ~covered)
             if picks:
                 gain[picks] = -1.0
             best = int(np.argmax(gain))
@@ -181,11 +194,10 @@ class SphereFitter:
         for rnd in range(rounds):
             step = self.scale / (6.0 * 2.0**rnd)
             for i in range(k):
-                others = cov.sum(0) - cov[i]
-                free = np.where(others == 0, self.weights, 0.0)
-                current = float(free[cov[i]].sum())
+                free = (cov.sum(0) - cov[i]) == 0
+                current = float(self._gains(cov[i][None, :].astype(np.float64), free)[0])
                 # swap for the best candidate given the others
-                gains = self.cand_cov.astype(np.float32) @ free.astype(np.float32)
+                gains = self._gains(self._cand_cov_f, free)
                 j = int(np.argmax(gains))
                 if gains[j] > current + 1e-9:
                     centers[i], radii[i], cov[i] = self.cand_c[j], self.cand_r[j], self.cand_cov[j]
@@ -195,7 +207,7 @@ class SphereFitter:
                     trial_c = centers[i][None, :] + step * _MOVES
                     trial_r = self.max_radius(trial_c)
                     trial_cov = self._cover(trial_c, trial_r)
-                    tg = trial_cov.astype(np.float32) @ free.astype(np.float32)
+                    tg = self._gains(trial_cov.astype(np.float64), free)
                     t = int(np.argmax(tg))
                     if tg[t] <= current + 1e-9:
                         break

@@ -1,0 +1,107 @@
+"""Same inputs and options, same bytes out: the one command and sphere fitting in separate
+processes with different hash seeds and BLAS/OpenMP thread counts, on real robots."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from tests.robots import robot_urdf
+from xrdf_tools.spheres.inside import points_inside
+
+THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+#: two process environments that differ in everything that must not matter
+SETTINGS = (
+    {"PYTHONHASHSEED": "0", **dict.fromkeys(THREAD_VARS, "1")},
+    {"PYTHONHASHSEED": "4242", **dict.fromkeys(THREAD_VARS, "2")},
+)
+
+
+def _xrdf(args: list[str], env_extra: dict[str, str], out: Path) -> bytes:
+    env = {k: v for k, v in os.environ.items() if k not in THREAD_VARS}
+    env.update(env_extra)
+    cmd = [sys.executable, "-m", "xrdf_tools", *args, "-q", "-o", str(out)]
+    done = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    return out.read_bytes()
+
+
+def _srdf_of(urdf: Path, name: str) -> Path:
+    return urdf.parent.parent / "srdf" / name
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("robot", "srdf"),
+    [("ur5", "ur5.srdf"), ("panda", "panda.srdf"), ("kinova", "kinova.srdf")],
+)
+def test_one_command_is_byte_identical_across_processes(
+    tmp_path: Path, robot: str, srdf: str
+) -> None:
+    urdf = robot_urdf(robot)
+    args = ["convert", str(urdf), "--srdf", str(_srdf_of(urdf, srdf)), "--fit-spheres"]
+    first = _xrdf(args, SETTINGS[0], tmp_path / "a.xrdf")
+    second = _xrdf(args, SETTINGS[1], tmp_path / "b.xrdf")
+    assert b"collision_spheres" in first
+    assert first == second
+
+
+def test_sphere_fit_of_one_link_is_byte_identical_across_processes(tmp_path: Path) -> None:
+    urdf = robot_urdf("ur5")
+    args = ["spheres", str(urdf), "--links", "shoulder_link"]
+    outputs = {_xrdf(args, s, tmp_path / f"{i}.xrdf") for i, s in enumerate(SETTINGS)}
+    assert len(outputs) == 1
+
+
+def _convex_reference(mesh: trimesh.Trimesh, points: np.ndarray) -> np.ndarray:
+    """Inside a convex mesh: behind every face plane (a plain loop over faces)."""
+    inside = np.ones(len(points), dtype=bool)
+    for normal, origin in zip(mesh.face_normals, mesh.triangles[:, 0], strict=True):
+        inside &= (points - origin) @ normal < 0.0
+    return inside
+
+
+def _winding_reference(mesh: trimesh.Trimesh, point: np.ndarray) -> bool:
+    """Inside by the winding number (sum of solid angles), one point at a time."""
+    total = 0.0
+    for tri in mesh.triangles:
+        a, b, c = tri - point
+        la, lb, lc = np.linalg.norm(a), np.linalg.norm(b), np.linalg.norm(c)
+        num = float(np.dot(a, np.cross(b, c)))
+        den = la * lb * lc + np.dot(a, b) * lc + np.dot(b, c) * la + np.dot(c, a) * lb
+        total += 2.0 * float(np.arctan2(num, den))
+    return abs(total / (4.0 * np.pi)) > 0.5
+
+
+def test_inside_matches_the_face_planes_also_when_rays_graze_edges_and_vertices() -> None:
+    mesh = trimesh.creation.icosphere(subdivisions=2)
+    rng = np.random.default_rng(3)
+    random = rng.uniform(-1.1, 1.1, size=(3000, 3))
+    v = mesh.vertices[mesh.vertices[:, 2] > 0.5]
+    edges = mesh.vertices[mesh.edges_unique].mean(1)
+    edges = edges[edges[:, 2] > 0.5]
+    # rays from just below a vertex or an edge midpoint pass exactly through it
+    grazing = np.concatenate([v, edges]) - [0.0, 0.0, 0.05]
+    points = np.concatenate([random, grazing])
+    expected = _convex_reference(mesh, points)
+    assert expected[len(random) :].all()
+    assert np.array_equal(points_inside(mesh, points), expected)
+
+
+def test_inside_matches_the_winding_number_on_a_real_mesh_with_several_shells() -> None:
+    from xrdf_tools.spheres.geometry import load_link_geometry
+
+    geoms, _ = load_link_geometry(robot_urdf("ur5"), links=["forearm_link"])
+    mesh = geoms["forearm_link"].solid
+    rng = np.random.default_rng(0)
+    points = rng.uniform(mesh.bounds[0] - 0.01, mesh.bounds[1] + 0.01, size=(150, 3))
+    expected = np.array([_winding_reference(mesh, p) for p in points])
+    assert 10 < expected.sum() < 140
+    assert np.array_equal(points_inside(mesh, points), expected)
