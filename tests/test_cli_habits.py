@@ -364,7 +364,7 @@ def test_cli_viz_view_and_legend_options(pr2: tuple[Path, Path], tmp_path: Path)
 
 
 def test_parse_view() -> None:
-    from xrdf_tools.errors import XrdfToolsError
+    from xrdf_tools.util.errors import XrdfToolsError
     from xrdf_tools.viz.png import VIEWS, parse_view
 
     assert parse_view("TOP") == VIEWS["top"]

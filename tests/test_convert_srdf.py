@@ -8,10 +8,10 @@ import pytest
 
 from tests.robots import robots_dir
 from xrdf_tools.convert import ConvertOptions, convert_files
-from xrdf_tools.errors import SourceError
 from xrdf_tools.robot import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
+from xrdf_tools.util.errors import SourceError
 from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
 
 #: SRDF (below robots/) -> (URDF below robots/, planning group or None for the default choice).

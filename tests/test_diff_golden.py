@@ -25,7 +25,7 @@ from tests.paths import FIXTURES, REPO, SEED_XRDF, SHARED, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diff import diff_xrdf
 from xrdf_tools.diff_render import render_json, render_text
-from xrdf_tools.errors import XrdfToolsError
+from xrdf_tools.util.errors import XrdfToolsError
 from xrdf_tools.versions import to_version
 from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
 

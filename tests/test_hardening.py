@@ -22,7 +22,9 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diagnostics import Diagnostic, Severity
-from xrdf_tools.errors import (
+from xrdf_tools.robot import as_robot
+from xrdf_tools.sources import RobotTree
+from xrdf_tools.util.errors import (
     InputError,
     OutputError,
     SchemaError,
@@ -31,16 +33,14 @@ from xrdf_tools.errors import (
     XrdfToolsError,
     YamlError,
 )
-from xrdf_tools.fileio import (
+from xrdf_tools.util.fileio import (
     ENV_MAX_INPUT,
     atomic_output,
     read_input_bytes,
     read_input_text,
     write_atomic,
 )
-from xrdf_tools.graph import find_cycle, reachable
-from xrdf_tools.robot import as_robot
-from xrdf_tools.sources import RobotTree
+from xrdf_tools.util.graph import find_cycle, reachable
 from xrdf_tools.yaml_io import load_yaml, parse_yaml, to_python
 
 runner = CliRunner()
@@ -649,7 +649,7 @@ def test_sigterm_removes_the_temporary_file(tmp_path: Path) -> None:
     script = (
         "import os, signal, sys\n"
         "from xrdf_tools.cli import _terminate\n"
-        "from xrdf_tools.fileio import atomic_output\n"
+        "from xrdf_tools.util.fileio import atomic_output\n"
         "signal.signal(signal.SIGTERM, _terminate)\n"
         f"with atomic_output({str(tmp_path / 'out.txt')!r}) as tmp:\n"
         "    tmp.write_text('partial')\n"
@@ -740,7 +740,7 @@ def test_clone_cycle_message_is_one_short_line() -> None:
 
 
 def test_nodes_on_cycles() -> None:
-    from xrdf_tools.graph import nodes_on_cycles, show_path
+    from xrdf_tools.util.graph import nodes_on_cycles, show_path
 
     edges = {"a": ["b"], "b": ["c", "a"], "c": ["c"], "d": ["a"], "e": []}
     assert nodes_on_cycles(edges, edges.__getitem__) == {"a", "b", "c"}
@@ -762,7 +762,7 @@ def test_choosing_among_thousands_of_nested_groups_is_linear() -> None:
 
 
 def test_postorder_puts_children_first() -> None:
-    from xrdf_tools.graph import postorder
+    from xrdf_tools.util.graph import postorder
 
     edges = {"a": ["b", "c"], "b": [], "c": ["b"], "d": ["d"]}
     order = postorder(edges, edges.__getitem__)

@@ -14,7 +14,6 @@ from hypothesis import strategies as st
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.diagnostics import Severity
-from xrdf_tools.errors import UrdfError
 from xrdf_tools.kinematics import (
     JointType,
     KinematicModel,
@@ -26,6 +25,7 @@ from xrdf_tools.kinematics import (
     full_configuration,
 )
 from xrdf_tools.urdf_source import joints_of, links_of, load_urdf, parse_urdf_string
+from xrdf_tools.util.errors import UrdfError
 from xrdf_tools.xrdf_io import parse_xrdf
 
 THREE_LINK = FIXTURES / "urdf" / "three_link_mimic.urdf"

@@ -150,8 +150,8 @@ def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None
 
 def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
     from xrdf_tools.configs import load_cspace_configurations
-    from xrdf_tools.errors import SourceError
     from xrdf_tools.kinematics import build_kinematic_model
+    from xrdf_tools.util.errors import SourceError
 
     urdf, xrdf = load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF)
     kin, _ = build_kinematic_model(urdf, xrdf)

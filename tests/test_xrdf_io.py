@@ -5,8 +5,6 @@ from pathlib import Path
 import pytest
 
 from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file, shared_xrdfs
-from xrdf_tools.errors import GeometryGroupError, SchemaError
-from xrdf_tools.frozen import FrozenMap
 from xrdf_tools.model import (
     AddFrame,
     CollisionSection,
@@ -21,6 +19,8 @@ from xrdf_tools.model import (
     clone_order,
     resolve_group,
 )
+from xrdf_tools.util.errors import GeometryGroupError, SchemaError
+from xrdf_tools.util.frozen import FrozenMap
 from xrdf_tools.xrdf_io import dump_xrdf, format_float, load_xrdf, parse_xrdf
 from xrdf_tools.yaml_io import parse_yaml, to_python
 

@@ -11,8 +11,8 @@ import pytest
 import yaml
 
 from tests.paths import FIXTURES, REPO
-from xrdf_tools.errors import XrdfToolsError
 from xrdf_tools.lint import lint_text
+from xrdf_tools.util.errors import XrdfToolsError
 from xrdf_tools.xrdf_io import TOP_LEVEL_ORDER, parse_xrdf
 from xrdf_tools.xrdf_schema import json_schema, render
 from xrdf_tools.xrdf_shape import DOCUMENT, GROUP, MODIFIERS, SPHERE, exists_in

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from xrdf_tools.errors import SchemaError, YamlError
+from xrdf_tools.util.errors import SchemaError, YamlError
 from xrdf_tools.xrdf_io import parse_xrdf
 from xrdf_tools.yaml_io import YMap, YScalar, YSeq, load_yaml, parse_yaml, write_atomic
 

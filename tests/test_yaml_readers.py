@@ -24,7 +24,7 @@ import yaml
 
 from tests.fuzzing import _YAML_SNIPPETS, SEEDS, _mutate_text
 from xrdf_tools import yaml_build, yaml_io
-from xrdf_tools.errors import XrdfToolsError, YamlError
+from xrdf_tools.util.errors import XrdfToolsError, YamlError
 from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
 from xrdf_tools.yaml_io import YMap, YScalar, YSeq, load_yaml, parse_yaml, to_python
 from xrdf_tools.yaml_positions import NodePositions, node_positions, positions_of

@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING
 
 from .convert import ConvertOptions, convert, with_spheres
 from .diagnostics import Diagnostic, Severity
-from .frozen import FrozenMap
 from .robot import Robot, as_robot
+from .util.frozen import FrozenMap
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -107,7 +107,7 @@ def convert_robot(
     ``mask`` defaults to :class:`MaskOptions` when ``fit`` is given (a fitted sphere model
     needs its own mask); pass it without ``fit`` to recompute the mask of the inputs' spheres.
     ``label`` names the XRDF in lint diagnostics. Raises
-    :class:`~xrdf_tools.errors.XrdfToolsError` for unusable inputs.
+    :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
     """
     from .sources.xacro_source import load_robot
     from .xrdf_io import dump_xrdf
@@ -171,7 +171,7 @@ def fit_missing_spheres(
 ) -> tuple[Xrdf, dict[str, int], list[Diagnostic]]:
     """Fit spheres to the links of ``urdf`` that have geometry of kind ``fit.source`` and no
     spheres in ``x`` yet; returns the XRDF, the spheres per fitted link and diagnostics."""
-    from .errors import MissingDependencyError
+    from .util.errors import MissingDependencyError
 
     try:
         from .spheres import fit_link_spheres

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from .errors import UrdfError
+from .util.errors import UrdfError
 
 if TYPE_CHECKING:
     from .kinematics import KinematicModel

@@ -34,7 +34,7 @@ def _terminate(signum: int, _frame: object) -> None:
 def main() -> None:
     """Console entry point: library errors become one line on stderr and exit code 2."""
     from .commands.core import echo
-    from .errors import XrdfToolsError
+    from .util.errors import XrdfToolsError
 
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):

@@ -15,8 +15,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .diagnostics import Diagnostic, Severity
-from .errors import SourceError, did_you_mean
-from .frozen import FrozenMap
 from .model import (
     AddFrame,
     CollisionSection,
@@ -29,6 +27,8 @@ from .model import (
 from .robot import as_robot
 from .sources import Draft, Reporter, RobotTree
 from .targets import choose_version, parse_target
+from .util.errors import SourceError, did_you_mean
+from .util.frozen import FrozenMap
 from .versions import to_version
 
 if TYPE_CHECKING:

@@ -16,10 +16,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .diagnostics import Diagnostic, Severity
-from .errors import ConversionError
 from .export_srdf import to_srdf
 from .model import RemoveMimicAttributes, Xrdf
 from .sources import RobotTree
+from .util.errors import ConversionError
 from .xrdf_io import format_float, format_str
 
 if TYPE_CHECKING:

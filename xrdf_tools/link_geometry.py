@@ -9,7 +9,7 @@ URDF XML is not parsed again):
   not see the facets;
 * meshes that trimesh reads (STL, OBJ, DAE, PLY, ...), found with
   :class:`~xrdf_tools.packages.PackageResolver` (``package://``, ``file://``, relative to the
-  URDF) and read through :func:`~xrdf_tools.fileio.check_input_file` with the mesh size limit;
+  URDF) and read through :func:`~xrdf_tools.util.fileio.check_input_file` with the mesh size limit;
   ``scale`` applied;
 * each with its element's ``origin`` (the transform into the link frame), the URDF material
   colour of a visual element, and the line of its ``<link>``.
@@ -32,8 +32,8 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import numpy.typing as npt
 
-from .errors import XrdfToolsError
-from .fileio import check_input_file, mesh_bytes_limit
+from .util.errors import XrdfToolsError
+from .util.fileio import check_input_file, mesh_bytes_limit
 
 if TYPE_CHECKING:
     import trimesh

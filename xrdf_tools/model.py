@@ -12,10 +12,10 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Literal, TypedDict
 
-from .errors import GeometryGroupError
-from .frozen import FrozenMap
-from .graph import show_path
-from .rotations import quat_from_rpy, unit_quat
+from .util.errors import GeometryGroupError
+from .util.frozen import FrozenMap
+from .util.graph import show_path
+from .util.rotations import quat_from_rpy, unit_quat
 
 Vec3 = tuple[float, float, float]
 
@@ -169,7 +169,7 @@ class SourceMap:
 
 
 class Location(TypedDict):
-    """Where an error points: the keywords of :class:`~xrdf_tools.errors.XrdfToolsError`."""
+    """Where an error points: the keywords of :class:`~xrdf_tools.util.errors.XrdfToolsError`."""
 
     path: str | None
     line: int | None

@@ -23,9 +23,9 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
-from .frozen import FrozenMap
 from .robot_tree import RobotTree
 from .urdf_joints import JointInfo, joint_info
+from .util.frozen import FrozenMap
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -101,7 +101,7 @@ class Robot:
 
     def root_link(self) -> str:
         """The one link that is no joint's child; :class:`UrdfError` when not exactly one."""
-        from .errors import UrdfError
+        from .util.errors import UrdfError
 
         children = {j.child for j in self.joints.values()}
         roots = [link for link in self.links if link not in children]

@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from .errors import UrdfError
 from .urdf_joints import JointInfo
+from .util.errors import UrdfError
 
 __all__ = ["RobotTree"]
 

@@ -15,7 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Literal
 
-from .errors import XrdfToolsError, shown_text
+from .util.errors import XrdfToolsError, shown_text
 from .yaml_io import YMap, YNode, YScalar, YSeq, describe_node, is_finite
 
 __all__ = [

@@ -11,7 +11,7 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from .errors import UrdfError, did_you_mean, shown_text
+from .util.errors import UrdfError, did_you_mean, shown_text
 
 __all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
 
@@ -135,7 +135,7 @@ def _check_is_tree(
     fail: Fail,
 ) -> None:
     """Each link is the child of at most one joint, and parent links never loop back."""
-    from .graph import find_cycle, show_path
+    from .util.graph import find_cycle, show_path
 
     parent_of: dict[str, tuple[str, str]] = {}  # child link -> (joint, parent link)
     element: dict[str, Any] = {}

@@ -22,9 +22,9 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
-from .errors import UrdfError, UrdfReadError, XrdfToolsError
 from .urdf_check import JOINT_TYPES, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
+from .util.errors import UrdfError, UrdfReadError, XrdfToolsError
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -137,10 +137,10 @@ def read_robot(
 
 
 def read_urdf_bytes(path: str | os.PathLike[str]) -> bytes:
-    """The bytes of a URDF file, read through :func:`xrdf_tools.fileio.read_input_bytes`
+    """The bytes of a URDF file, read through :func:`xrdf_tools.util.fileio.read_input_bytes`
     (regular files only, size limit); any failure is a one-line :class:`UrdfReadError` (the file
     cannot be used at all: a usage error, not a finding about the robot)."""
-    from .fileio import read_input_bytes
+    from .util.fileio import read_input_bytes
 
     return read_input_bytes(path, what="URDF file", error=UrdfReadError)
 
@@ -218,9 +218,9 @@ def _parse_bytes(
 ) -> Robot:
     from lxml import etree
 
-    from .frozen import FrozenMap
     from .link_geometry import capsules_as_cylinders
     from .robot import Robot, attach
+    from .util.frozen import FrozenMap
 
     parser = etree.XMLParser(
         remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=True

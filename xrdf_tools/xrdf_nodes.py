@@ -13,8 +13,8 @@ import sys
 from collections.abc import Callable
 from typing import TypeVar
 
-from .errors import SchemaError, shown_text
-from .frozen import FrozenMap
+from .util.errors import SchemaError, shown_text
+from .util.frozen import FrozenMap
 from .xrdf_shape import MAX_LENGTH, Shape, is_name, is_number
 from .yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite
 

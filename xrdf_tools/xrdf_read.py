@@ -13,8 +13,6 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Mapping, Sequence
 
-from .errors import GeometryGroupError, SchemaError
-from .frozen import FrozenMap
 from .model import (
     AddFrame,
     CollisionSection,
@@ -33,6 +31,8 @@ from .model import (
     clone_order,
     resolve_group,
 )
+from .util.errors import GeometryGroupError, SchemaError
+from .util.frozen import FrozenMap
 from .xrdf_nodes import NodeReader, describe, is_null, plain_number, plain_numbers
 from .xrdf_shape import (
     ADD_FRAME,

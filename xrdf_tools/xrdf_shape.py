@@ -5,8 +5,9 @@ version only.
 Two consumers read this description, each with its own wording:
 
 * the strict reader (:mod:`xrdf_tools.xrdf_read`) takes required keys, nullability, list lengths
-  and the lengths-in-metres bound from it and raises one :class:`~xrdf_tools.errors.SchemaError`
-  at the first departure it meets while building the model;
+  and the lengths-in-metres bound from it and raises one
+  :class:`~xrdf_tools.util.errors.SchemaError` at the first departure it meets while building the
+  model;
 * lint (:func:`xrdf_tools.lint.schema.walk`) reports every departure as a ``wrong-type``,
   ``unknown-key`` or ``required-key`` finding, and ``version-key`` asks :func:`exists_in`.
 

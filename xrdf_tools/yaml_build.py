@@ -50,7 +50,7 @@ from yaml.events import (
     StreamEndEvent,
 )
 
-from .errors import YamlError
+from .util.errors import YamlError
 from .yaml_rules import INT_TAG, MAX_DEPTH, error_at, plain_value, scalar_value
 from .yaml_tree import (
     DuplicateKey,

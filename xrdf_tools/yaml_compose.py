@@ -14,7 +14,7 @@ from typing import Any
 
 import yaml
 
-from .errors import YamlError
+from .util.errors import YamlError
 from .yaml_rules import (
     MAX_ALIASES,
     MAX_AMPLIFICATION,

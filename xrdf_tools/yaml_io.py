@@ -14,7 +14,7 @@ error at its line and column; nesting deeper than :data:`MAX_DEPTH` is an error 
 expanded may hold at most :data:`MAX_EXPANDED_NODES` nodes more than it has distinct nodes
 times :data:`MAX_AMPLIFICATION`, so a kilobyte of nested anchors ("billion laughs") fails at
 once; an alias inside its own anchor and a mapping used as a key are errors. Files are read
-through :mod:`xrdf_tools.fileio` (regular files only, size limit).
+through :mod:`xrdf_tools.util.fileio` (regular files only, size limit).
 
 Two readers give the same trees and messages: the one-pass reader of
 :mod:`xrdf_tools.yaml_build` (libyaml's C parser when PyYAML has it, else PyYAML's parser) reads
@@ -30,9 +30,9 @@ from typing import Any
 
 import yaml
 
-from .errors import YamlError, shown_text
-from .fileio import decode_utf8, read_input_bytes, read_input_text
-from .fileio import write_atomic as write_atomic
+from .util.errors import YamlError, shown_text
+from .util.fileio import decode_utf8, read_input_bytes, read_input_text
+from .util.fileio import write_atomic as write_atomic
 from .yaml_build import UsesAliases, read_document
 from .yaml_compose import compose_document
 from .yaml_positions import NodePositions, node_positions, positions_of
@@ -154,7 +154,7 @@ def raise_on_duplicates(doc: YamlDocument) -> None:
 
 
 def read_text(path: str | os.PathLike[str]) -> str:
-    """Read a UTF-8 file through :func:`xrdf_tools.fileio.read_input_text`; a missing,
+    """Read a UTF-8 file through :func:`xrdf_tools.util.fileio.read_input_text`; a missing,
     unreadable, non-regular, oversized or non-UTF-8 file is a one-line :class:`YamlError`."""
     return read_input_text(path, what="file", error=YamlError)
 

@@ -15,7 +15,7 @@ from typing import Any
 
 import yaml
 
-from .errors import YamlError
+from .util.errors import YamlError
 from .yaml_tree import Scalar
 
 #: Deepest nesting of sequences and mappings accepted (real XRDF and cuRobo files nest < 10).

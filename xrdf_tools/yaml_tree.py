@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .errors import shown_text
+from .util.errors import shown_text
 
 Scalar = str | int | float | bool | None
 

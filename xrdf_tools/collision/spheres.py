@@ -22,9 +22,9 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import did_you_mean
 from ..kinematics import KinematicModel
 from ..model import Xrdf, clone_order
+from ..util.errors import did_you_mean
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Annotated, Any, NoReturn
 import typer
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import XrdfToolsError, one_line
+from ..util.errors import XrdfToolsError, one_line
 from .core import (
     EXIT_USAGE,
     STDIO,
@@ -206,8 +206,8 @@ def load_xrdf_input(path: str | os.PathLike[str]) -> Xrdf:
 
     if not is_stdio(path):
         return load_xrdf(path)
-    from ..errors import YamlError
-    from ..fileio import read_input_text
+    from ..util.errors import YamlError
+    from ..util.fileio import read_input_text
 
     detail("reading the XRDF from standard input")
     text = read_input_text(STDIO, what="XRDF", error=YamlError, allow_stdin=True)
@@ -225,7 +225,7 @@ def write_output(data: str | bytes, output: Path | None) -> None:
         else:
             typer.echo(data, nl=False)
         return
-    from ..fileio import write_atomic
+    from ..util.fileio import write_atomic
 
     try:
         write_atomic(output, data)
@@ -247,7 +247,7 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
 def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
     """Exit with an error when ``output`` names one of the inputs (nothing is ever lost), or
     cannot be an output at all (a directory, device, FIFO or socket; symlinks are fine)."""
-    from ..fileio import check_output_path
+    from ..util.fileio import check_output_path
 
     if is_stdio(output):
         return  # standard output: nothing on disk to lose or refuse

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from ..diagnostics import Severity
-from ..errors import XrdfToolsError
+from ..util.errors import XrdfToolsError
 from .common import (
     QuietOption,
     VerboseOption,

@@ -10,7 +10,7 @@ from typing import Annotated
 
 import typer
 
-from ..errors import XrdfToolsError
+from ..util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,

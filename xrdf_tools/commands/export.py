@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ..errors import XrdfToolsError
+from ..util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -160,7 +160,7 @@ def _stem(xrdf: Path) -> str:
 
 
 def _read_srdf(path: Path) -> bytes:
-    from ..fileio import read_input_bytes
+    from ..util.fileio import read_input_bytes
 
     try:
         return read_input_bytes(path, what="SRDF file", allow_stdin=True)

@@ -69,7 +69,7 @@ def command(
 
     Exit codes: 0 clean, 1 errors (or warnings with --strict), 2 usage or input error.
     """
-    from ..errors import XrdfToolsError
+    from ..util.errors import XrdfToolsError
     from .lint_core import LintArgs, run
 
     args = LintArgs(

@@ -34,8 +34,8 @@ from .core import (
 )
 
 if TYPE_CHECKING:
-    from ..errors import XrdfToolsError
     from ..robot import Robot
+    from ..util.errors import XrdfToolsError
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,7 @@ def _robot_or_why_not(
 ) -> Robot | XrdfToolsError:
     """The ``--urdf`` robot, or the :class:`UrdfError` that says why it is not a valid robot
     (lint reports that as ``urdf-invalid``, exit 1); a file that cannot be read raises."""
-    from ..errors import UrdfError, UrdfReadError
+    from ..util.errors import UrdfError, UrdfReadError
 
     try:
         return load_robot_option(urdf, xacro_arg, package_path)
@@ -77,9 +77,9 @@ def run(args: LintArgs) -> tuple[str, int]:
     """Lint as ``xrdf lint`` does: the findings rendered in the chosen format and the exit
     code (0 clean, 1 errors, or warnings with ``strict``). Raises :class:`XrdfToolsError` for
     a usage or input error (exit 2)."""
-    from ..errors import XrdfToolsError
     from ..lint import RULES, lint
     from ..lint.config import discover_config, load_config
+    from ..util.errors import XrdfToolsError
 
     why = two_stdin({"FILES": args.files})
     if why is not None:
@@ -212,7 +212,7 @@ def fast_main(argv: Sequence[str]) -> int | None:
     args = parse_fast(argv)
     if args is None:
         return None
-    from ..errors import XrdfToolsError
+    from ..util.errors import XrdfToolsError
 
     try:
         text, code = run(args)

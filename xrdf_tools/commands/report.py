@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ..errors import XrdfToolsError
+from ..util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..diagnostics import Diagnostic
-from ..errors import XrdfToolsError
+from ..util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,

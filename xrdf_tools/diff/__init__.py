@@ -105,8 +105,8 @@ def diff_xrdf(
     a file that has it and one that does not are equal (a note says so).
 
     Raises :class:`ValueError` for a negative or non-finite ``tolerance`` and
-    :class:`~xrdf_tools.errors.GeometryGroupError` when a collision section's group (or a clone)
-    is undefined or cyclic, because its effective spheres cannot be known.
+    :class:`~xrdf_tools.util.errors.GeometryGroupError` when a collision section's group (or a
+    clone) is undefined or cyclic, because its effective spheres cannot be known.
     """
     if not (math.isfinite(tolerance) and tolerance >= 0):
         raise ValueError(f"tolerance must be a finite number ≥ 0, not {tolerance!r}")

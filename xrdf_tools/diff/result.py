@@ -12,8 +12,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
-from ..frozen import FrozenMap
 from ..model import Sphere
+from ..util.frozen import FrozenMap
 
 #: Sections in report order. ``world_collision`` is ``collision`` in 1.0 files.
 SECTION_ORDER = (

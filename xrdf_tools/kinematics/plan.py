@@ -14,7 +14,7 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
-from ..rotations import axis_angle_matrix, skew
+from ..util.rotations import axis_angle_matrix, skew
 from .base import MOVING_TYPES, FloatArray, IntArray, JointType
 
 

@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..diagnostics import Diagnostic, Severity, sort_key
-from ..errors import UrdfReadError, XrdfToolsError, YamlError, did_you_mean
-from ..fileio import STDIN
+from ..util.errors import UrdfReadError, XrdfToolsError, YamlError, did_you_mean
+from ..util.fileio import STDIN
 from ..yaml_io import read_text
 from .config import LintConfig
 from .context import LintContext, Rule
@@ -299,7 +299,7 @@ def lint(
 
 
 def _read_stdin() -> str:
-    from ..fileio import read_input_text
+    from ..util.fileio import read_input_text
 
     return read_input_text(STDIN, what="file", error=YamlError, allow_stdin=True)
 

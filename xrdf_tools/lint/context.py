@@ -16,7 +16,7 @@ from functools import cached_property
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Severity
-from ..errors import XrdfToolsError, YamlError
+from ..util.errors import XrdfToolsError, YamlError
 from ..xrdf_shape import SUPPORTED_VERSIONS, version_string
 from ..yaml_io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
 
@@ -225,7 +225,7 @@ class LintContext:
     @cached_property
     def cyclic_groups(self) -> set[str]:
         """Groups that lie on a clone cycle (linear time: many groups must not hang lint)."""
-        from ..graph import nodes_on_cycles
+        from ..util.graph import nodes_on_cycles
 
         graph = {g: [c for c, _ in self.clones_of(g) if c in self.groups] for g in self.groups}
         return nodes_on_cycles(graph, graph.__getitem__)
@@ -396,7 +396,7 @@ class LintContext:
         propagates (exit 2)."""
         if self._urdf_loader is None:
             return None
-        from ..errors import UrdfReadError
+        from ..util.errors import UrdfReadError
 
         try:
             robot = self._urdf_loader()

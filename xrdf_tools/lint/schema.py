@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
-from ..errors import shown_text
+from ..util.errors import shown_text
 from ..xrdf_nodes import FINITE, plain_number
 from ..xrdf_shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
 from ..yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of

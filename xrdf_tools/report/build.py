@@ -29,8 +29,6 @@ from ..collision import (
 )
 from ..diagnostics import Diagnostic, sort_key
 from ..engine import CountEngine, EngineTotals, ProgressFn, count_sampled
-from ..errors import XrdfToolsError
-from ..frozen import FrozenMap
 from ..kinematics import (
     KinematicModel,
     build_kinematic_model,
@@ -38,6 +36,8 @@ from ..kinematics import (
     moveit_default_configuration,
 )
 from ..model import Xrdf
+from ..util.errors import XrdfToolsError
+from ..util.frozen import FrozenMap
 from .mask import _recommended_ignore
 from .results import (
     CertifyOptions,

@@ -12,10 +12,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..collision import SphereSet
-from ..errors import XrdfToolsError
-from ..frozen import FrozenMap
 from ..kinematics import KinematicModel
 from ..model import SelfCollisionSection, Xrdf
+from ..util.errors import XrdfToolsError
+from ..util.frozen import FrozenMap
 from .results import MaskChange, PairStat, Report
 
 __all__ = ["recommended_xrdf"]

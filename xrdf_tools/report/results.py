@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from ..certify import Verdict
 from ..collision import Contact
 from ..diagnostics import Diagnostic
-from ..errors import XrdfToolsError
+from ..util.errors import XrdfToolsError
 
 if TYPE_CHECKING:
     from ..spheres import CoverageSummary

@@ -28,9 +28,9 @@ import numpy.typing as npt
 from ..certify import Verdict
 from ..collision import Contact
 from ..diagnostics import Diagnostic, Severity
-from ..errors import did_you_mean
 from ..kinematics import KinematicModel
 from ..model import SelfCollisionSection, Xrdf
+from ..util.errors import did_you_mean
 from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit
 
 FloatArray = npt.NDArray[np.float64]

@@ -13,9 +13,9 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import did_you_mean
 from ..model import Modifier, Sphere
 from ..robot_tree import RobotTree
+from ..util.errors import did_you_mean
 
 __all__ = ["Draft", "Reporter", "RobotTree"]
 

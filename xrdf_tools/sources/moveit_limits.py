@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 
 from ..diagnostics import Severity
-from ..errors import SourceError
+from ..util.errors import SourceError
 from ..yaml_io import YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 

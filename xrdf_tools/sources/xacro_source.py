@@ -24,9 +24,9 @@ from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 from xml.sax.saxutils import escape
 
-from ..errors import SourceError, UrdfReadError, XrdfToolsError
-from ..fileio import decode_utf8, read_input_bytes
 from ..packages import PackageResolver
+from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
+from ..util.fileio import decode_utf8, read_input_bytes
 
 if TYPE_CHECKING:
     from ..robot import Robot

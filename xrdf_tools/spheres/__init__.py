@@ -23,10 +23,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import XrdfToolsError
-from ..frozen import FrozenMap
 from ..model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
 from ..robot import Robot
+from ..util.errors import XrdfToolsError
+from ..util.frozen import FrozenMap
 from .metrics import SphereMetrics, sphere_metrics
 
 if TYPE_CHECKING:

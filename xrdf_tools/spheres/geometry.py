@@ -21,9 +21,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import UrdfError
 from ..link_geometry import GeometryChoice, GeometrySource, LinkParts
 from ..robot import Robot
+from ..util.errors import UrdfError
 
 if TYPE_CHECKING:
     import trimesh
@@ -162,7 +162,7 @@ def load_link_geometry(
 
     robot = urdf if isinstance(urdf, Robot) else _load(urdf, package_paths)
     if links is not None:
-        from ..errors import did_you_mean
+        from ..util.errors import did_you_mean
 
         for name in links:
             if name not in robot.urdf.link_map:

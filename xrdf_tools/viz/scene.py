@@ -22,8 +22,8 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import GeometryGroupError, SourceError
 from ..model import Xrdf
+from ..util.errors import GeometryGroupError, SourceError
 from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
 
 if TYPE_CHECKING:
@@ -215,7 +215,7 @@ def choose_group(xrdf: Xrdf, group: str | None = None) -> str:
     defined = list(xrdf.geometry or {})
     if group is not None:
         if group not in defined:
-            from ..errors import did_you_mean
+            from ..util.errors import did_you_mean
 
             raise GeometryGroupError(
                 f"geometry group '{group}' is not defined (defined: {', '.join(defined) or 'none'})"
@@ -463,7 +463,7 @@ def _contacts(
 
 
 def _unknown_frame(xrdf: Xrdf, kin: KinematicModel, group: str, frame: str) -> Diagnostic:
-    from ..errors import did_you_mean
+    from ..util.errors import did_you_mean
 
     kp = f"geometry.{group}.spheres.{frame}"
     line, col = xrdf.source.position(kp + "#key")

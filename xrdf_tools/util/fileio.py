@@ -13,7 +13,7 @@ Writing (:func:`write_atomic`, :func:`atomic_output`): the data goes to a tempor
 target's directory, is flushed to disk, then renamed over the target, so a reader never sees a
 partial file. A symlink is kept (the file it points to is replaced); a directory, device, FIFO
 or socket is refused; the temporary file is removed on every exit (errors, ``KeyboardInterrupt``,
-``SystemExit``); every error is an :class:`~xrdf_tools.errors.OutputError` that names the path
+``SystemExit``); every error is an :class:`~xrdf_tools.util.errors.OutputError` that names the path
 the caller asked for, never the temporary file.
 """
 
