@@ -14,7 +14,7 @@ from pathlib import Path, PurePath
 from typing import Any
 from urllib.parse import quote
 
-from .util.errors import one_line
+from ..util.errors import one_line
 
 
 class Severity(str, Enum):
