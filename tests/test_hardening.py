@@ -41,7 +41,7 @@ from xrdf_tools.util.fileio import (
     write_atomic,
 )
 from xrdf_tools.util.graph import find_cycle, reachable
-from xrdf_tools.yaml_io import load_yaml, parse_yaml, to_python
+from xrdf_tools.yaml.io import load_yaml, parse_yaml, to_python
 
 runner = CliRunner()
 posix = pytest.mark.skipif(os.name != "posix", reason="FIFOs and /dev/zero are POSIX")

@@ -32,7 +32,7 @@ from .binding import cspace_indices
 from .model import Xrdf
 from .util.errors import SourceError, XrdfToolsError
 from .util.fileio import max_input_bytes, read_input_bytes, read_input_text
-from .yaml_io import YMap, YSeq, parse_yaml, to_python
+from .yaml.io import YMap, YSeq, parse_yaml, to_python
 
 if TYPE_CHECKING:
     from .kinematics import KinematicModel

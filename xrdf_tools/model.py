@@ -140,7 +140,7 @@ class CSpace:
 class SourceMap:
     """Where each part of a model came from: ``key_path → (line, col)`` (1-based).
 
-    A model read from a file gets a :class:`~xrdf_tools.yaml_positions.NodePositions`: the
+    A model read from a file gets a :class:`~xrdf_tools.yaml.positions.NodePositions`: the
     positions are looked up in the YAML tree when asked for, not listed up front.
     """
 

@@ -18,7 +18,7 @@ from typing import Any
 from . import __version__
 from .collision import Contact
 from .report import PairStat, Report
-from .yaml_io import write_atomic
+from .yaml.io import write_atomic
 
 __all__ = [
     "SCHEMA_VERSION",

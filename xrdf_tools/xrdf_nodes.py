@@ -16,7 +16,7 @@ from typing import TypeVar
 from .util.errors import SchemaError, shown_text
 from .util.frozen import FrozenMap
 from .xrdf_shape import MAX_LENGTH, Shape, is_name, is_number
-from .yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite
+from .yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite
 
 T = TypeVar("T")
 
@@ -50,7 +50,7 @@ def plain_numbers(node: YNode | None, bound: float) -> tuple[float, ...] | None:
 
 def describe(node: YNode | None) -> str:
     """Human name of a node's type: 'a mapping', 'a list', 'the number 0.1', 'null' …
-    (strings escaped and shortened: see :func:`xrdf_tools.yaml_io.describe_node`)."""
+    (strings escaped and shortened: see :func:`xrdf_tools.yaml.io.describe_node`)."""
     return describe_node(node)
 
 

@@ -52,7 +52,7 @@ from .xrdf_shape import (
     Shape,
     version_string,
 )
-from .yaml_io import (
+from .yaml.io import (
     YamlDocument,
     YMap,
     YNode,

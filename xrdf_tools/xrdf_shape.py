@@ -11,7 +11,7 @@ Two consumers read this description, each with its own wording:
 * lint (:func:`xrdf_tools.lint.schema.walk`) reports every departure as a ``wrong-type``,
   ``unknown-key`` or ``required-key`` finding, and ``version-key`` asks :func:`exists_in`.
 
-:mod:`xrdf_tools.shape` is a different tool: a first-error check for *foreign* YAML (cuRobo
+:mod:`xrdf_tools.yaml.shape` is a different tool: a first-error check for *foreign* YAML (cuRobo
 configs, lint configuration). The XRDF needs kinds it does not have (a group reference, a
 buffer that is a number or a mapping, a one-key modifier) and facts it does not record
 (required keys, list lengths, versions), so it has its own small vocabulary here.
@@ -24,7 +24,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
-from .yaml_io import YNode, YScalar, is_finite
+from .yaml.io import YNode, YScalar, is_finite
 
 __all__ = [
     "DOCUMENT",

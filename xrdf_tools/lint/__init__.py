@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 from ..diagnostics import Diagnostic, Severity, sort_key
 from ..util.errors import UrdfReadError, XrdfToolsError, YamlError, did_you_mean
 from ..util.fileio import STDIN
-from ..yaml_io import read_text
+from ..yaml.io import read_text
 from .config import LintConfig
 from .context import LintContext, Rule
 from .rules import (

@@ -25,10 +25,10 @@ from pathlib import Path
 from typing import Any
 
 from ..diagnostics import Severity
-from ..shape import BOOL, NAME, check_shape, map_of, one_of
 from ..util.errors import XrdfToolsError, did_you_mean
 from ..util.fileio import read_input_text
-from ..yaml_io import load_yaml, node_positions, parse_yaml, to_python
+from ..yaml.io import load_yaml, node_positions, parse_yaml, to_python
+from ..yaml.shape import BOOL, NAME, check_shape, map_of, one_of
 
 CONFIG_NAME = ".xrdf-lint.yaml"
 LEVELS = ("error", "warning", "info", "off")

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from ..diagnostics import Severity
 from ..util.errors import XrdfToolsError, YamlError
 from ..xrdf_shape import SUPPORTED_VERSIONS, version_string
-from ..yaml_io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
+from ..yaml.io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
 
 if TYPE_CHECKING:
     from ..kinematics import KinematicModel

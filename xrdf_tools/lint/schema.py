@@ -16,7 +16,7 @@ from typing import Literal
 from ..util.errors import shown_text
 from ..xrdf_nodes import FINITE, plain_number
 from ..xrdf_shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
-from ..yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of
+from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of
 
 __all__ = ["DOCUMENT", "MODIFIERS", "SchemaEvent", "Shape", "walk"]
 

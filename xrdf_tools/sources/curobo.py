@@ -19,9 +19,9 @@ from typing import Any
 
 from ..diagnostics import Severity
 from ..model import AddFrame, Orientation, SetBaseFrame, Sphere
-from ..shape import check_shape
 from ..util.errors import SourceError, XrdfToolsError, did_you_mean
-from ..yaml_io import YamlDocument, parse_yaml, positions_of, read_text, to_python
+from ..yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
+from ..yaml.shape import check_shape
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE

@@ -1,5 +1,5 @@
 """The structure of a cuRobo robot YAML (classic and 2.0 layouts) or a Lula robot description,
-checked once where the file is read (:func:`xrdf_tools.shape.check_shape`).
+checked once where the file is read (:func:`xrdf_tools.yaml.shape.check_shape`).
 
 Only the containers are pinned down here: which keys hold a list of names, a mapping, a list.
 Values (numbers, lengths, link names) are judged by :mod:`xrdf_tools.sources.curobo`, which
@@ -8,7 +8,7 @@ reports them with their own messages; keys not listed are reported there as drop
 
 from __future__ import annotations
 
-from ..shape import ANY, SCALAR, list_of, map_of, one_of
+from ..yaml.shape import ANY, SCALAR, list_of, map_of, one_of
 
 __all__ = ["CUROBO_FILE"]
 

@@ -12,7 +12,7 @@ from typing import Any, TypeGuard
 from ..diagnostics import Severity
 from ..model import Sphere
 from ..util.errors import SourceError
-from ..yaml_io import is_finite
+from ..yaml.io import is_finite
 from . import Reporter, known_frame
 
 __all__ = ["find_spheres_file", "is_num", "read_sphere_map", "spheres_of"]

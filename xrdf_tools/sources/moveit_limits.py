@@ -11,7 +11,7 @@ import os
 
 from ..diagnostics import Severity
 from ..util.errors import SourceError
-from ..yaml_io import YMap, YScalar, load_yaml, positions_of, to_python
+from ..yaml.io import YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 
 __all__ = ["read_joint_limits"]

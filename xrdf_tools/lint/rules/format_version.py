@@ -10,7 +10,7 @@ from collections.abc import Iterator
 
 from ...diagnostics import Severity
 from ...xrdf_shape import SUPPORTED_VERSIONS, version_string
-from ...yaml_io import describe_node
+from ...yaml.io import describe_node
 from ..context import LintContext, Problem, Rule
 
 

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
-from ...yaml_io import YSeq
+from ...yaml.io import YSeq
 from ..context import LintContext, Problem, Rule, SphereRef, finite_number
 
 if TYPE_CHECKING:

@@ -13,7 +13,7 @@ from collections.abc import Iterator
 
 from ...diagnostics import Severity
 from ...util.errors import did_you_mean
-from ...yaml_io import YMap, YSeq
+from ...yaml.io import YMap, YSeq
 from ..context import LintContext, Problem, Rule, name
 
 

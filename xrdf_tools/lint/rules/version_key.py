@@ -15,7 +15,7 @@ from collections.abc import Iterator
 
 from ...diagnostics import Severity
 from ...xrdf_shape import DOCUMENT, GROUP, MODIFIERS, exists_in
-from ...yaml_io import YMap
+from ...yaml.io import YMap
 from ..context import LintContext, Problem, Rule
 
 

@@ -1,9 +1,9 @@
-"""One pass from parser events to the tree: the fast YAML reader of :mod:`xrdf_tools.yaml_io`.
+"""One pass from parser events to the tree: the fast YAML reader of :mod:`xrdf_tools.yaml.io`.
 
 The events come from libyaml's C parser when PyYAML has it (``yaml.__with_libyaml__``), else
 from PyYAML's pure-Python parser. :class:`_Builder` turns them straight into
-:class:`~xrdf_tools.yaml_tree.YNode` objects (no PyYAML node graph, no second walk), applying
-what the reference reader (:mod:`xrdf_tools.yaml_compose`) applies, in the same order, so the
+:class:`~xrdf_tools.yaml.tree.YNode` objects (no PyYAML node graph, no second walk), applying
+what the reference reader (:mod:`xrdf_tools.yaml.compose`) applies, in the same order, so the
 result and every message are the same:
 
 * while reading: the nesting bound (at the node that goes too deep), a repeated anchor, a
@@ -50,9 +50,9 @@ from yaml.events import (
     StreamEndEvent,
 )
 
-from .util.errors import YamlError
-from .yaml_rules import INT_TAG, MAX_DEPTH, error_at, plain_value, scalar_value
-from .yaml_tree import (
+from ..util.errors import YamlError
+from .rules import INT_TAG, MAX_DEPTH, error_at, plain_value, scalar_value
+from .tree import (
     DuplicateKey,
     YamlDocument,
     YNode,

@@ -1,8 +1,8 @@
-"""The tree :mod:`xrdf_tools.yaml_io` builds: :class:`YScalar`, :class:`YSeq` and :class:`YMap`
+"""The tree :mod:`xrdf_tools.yaml.io` builds: :class:`YScalar`, :class:`YSeq` and :class:`YMap`
 nodes, each with the 1-based line and column where it starts, and the helpers that read them.
 
 Nodes are frozen dataclasses with ``__slots__`` (a 16 MiB file holds millions of them). The
-readers in :mod:`xrdf_tools.yaml_build` create them through :func:`new_scalar`,
+readers in :mod:`xrdf_tools.yaml.build` create them through :func:`new_scalar`,
 :func:`new_seq` and :func:`new_map`, which fill the slots without the frozen ``__init__``'s
 per-field ``object.__setattr__`` calls (half the cost of a node); the nodes are the same.
 """
@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .util.errors import shown_text
+from ..util.errors import shown_text
 
 Scalar = str | int | float | bool | None
 
@@ -156,7 +156,7 @@ class YamlDocument:
 
     ``simple_keys``: every mapping key is a distinct, non-empty string without ``.``, ``[``,
     ``]`` or ``#``, so a key path (``a.b[0]``) names one node and
-    :func:`xrdf_tools.yaml_positions.positions_of` can find it without indexing the tree.
+    :func:`xrdf_tools.yaml.positions.positions_of` can find it without indexing the tree.
     """
 
     path: str
@@ -220,7 +220,7 @@ class YPlainSeq(YSeq):
     equal to what a :class:`YSeq` of the same items holds (``==`` and ``hash`` agree).
 
     Readers that only need the values (a list of numbers) read ``values``. Made by the
-    one-pass reader (:mod:`xrdf_tools.yaml_build`) through :func:`new_plain_seq`.
+    one-pass reader (:mod:`xrdf_tools.yaml.build`) through :func:`new_plain_seq`.
     """
 
     __slots__ = ("_positions", "values")

@@ -1,11 +1,11 @@
 """The reference YAML reader: PyYAML's pure-Python composer, bounded, then converted to our tree.
 
-This is how :mod:`xrdf_tools.yaml_io` read every document before the one-pass reader of
-:mod:`xrdf_tools.yaml_build`; it now reads the documents that use aliases (the one-pass reader
+This is how :mod:`xrdf_tools.yaml.io` read every document before the one-pass reader of
+:mod:`xrdf_tools.yaml.build`; it now reads the documents that use aliases (the one-pass reader
 hands them over), and the tests compare both readers on the same inputs. It composes PyYAML's
 node graph (an alias is a second reference to its anchor's node), bounds nesting and alias
 uses while composing, bounds what the aliases expand to, then converts the graph to a tree of
-:class:`~xrdf_tools.yaml_tree.YNode` with duplicate keys recorded.
+:class:`~xrdf_tools.yaml.tree.YNode` with duplicate keys recorded.
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from typing import Any
 
 import yaml
 
-from .util.errors import YamlError
-from .yaml_rules import (
+from ..util.errors import YamlError
+from .rules import (
     MAX_ALIASES,
     MAX_AMPLIFICATION,
     MAX_DEPTH,
@@ -24,7 +24,7 @@ from .yaml_rules import (
     error_at,
     scalar_value,
 )
-from .yaml_tree import DuplicateKey, YamlDocument, YMap, YNode, YScalar, YSeq
+from .tree import DuplicateKey, YamlDocument, YMap, YNode, YScalar, YSeq
 
 
 class _Composer12(

@@ -2,7 +2,7 @@
 
 Every YAML input (XRDF, cuRobo and Lula configs, ``joint_limits.yaml``, lint configuration) is
 read here, into a small tree of :class:`YScalar`, :class:`YSeq` and :class:`YMap` that keeps a
-1-based line and column for every node (:mod:`xrdf_tools.yaml_tree`). Plain scalars follow the
+1-based line and column for every node (:mod:`xrdf_tools.yaml.tree`). Plain scalars follow the
 YAML 1.2 core schema (``on``/``off``/``yes``/``no``/``y``/``n`` stay strings, ``1e3`` is a
 float). Repeated mapping keys are recorded (PyYAML silently keeps the last one):
 :func:`load_yaml` turns them into an error naming both lines, :func:`parse_yaml` returns them
@@ -17,9 +17,9 @@ once; an alias inside its own anchor and a mapping used as a key are errors. Fil
 through :mod:`xrdf_tools.util.fileio` (regular files only, size limit).
 
 Two readers give the same trees and messages: the one-pass reader of
-:mod:`xrdf_tools.yaml_build` (libyaml's C parser when PyYAML has it, else PyYAML's parser) reads
+:mod:`xrdf_tools.yaml.build` (libyaml's C parser when PyYAML has it, else PyYAML's parser) reads
 documents without aliases, about ten times faster than the reference reader of
-:mod:`xrdf_tools.yaml_compose` (PyYAML's composer), which reads the documents with aliases.
+:mod:`xrdf_tools.yaml.compose` (PyYAML's composer), which reads the documents with aliases.
 """
 
 from __future__ import annotations
@@ -30,14 +30,14 @@ from typing import Any
 
 import yaml
 
-from .util.errors import YamlError, shown_text
-from .util.fileio import decode_utf8, read_input_bytes, read_input_text
-from .util.fileio import write_atomic as write_atomic
-from .yaml_build import UsesAliases, read_document
-from .yaml_compose import compose_document
-from .yaml_positions import NodePositions, node_positions, positions_of
-from .yaml_rules import MAX_ALIASES, MAX_AMPLIFICATION, MAX_DEPTH, MAX_EXPANDED_NODES
-from .yaml_tree import (
+from ..util.errors import YamlError, shown_text
+from ..util.fileio import decode_utf8, read_input_bytes, read_input_text
+from ..util.fileio import write_atomic as write_atomic
+from .build import UsesAliases, read_document
+from .compose import compose_document
+from .positions import NodePositions, node_positions, positions_of
+from .rules import MAX_ALIASES, MAX_AMPLIFICATION, MAX_DEPTH, MAX_EXPANDED_NODES
+from .tree import (
     DuplicateKey,
     Scalar,
     YamlDocument,

@@ -1,4 +1,4 @@
-"""What every YAML reader of :mod:`xrdf_tools.yaml_io` applies, whichever parser produced the
+"""What every YAML reader of :mod:`xrdf_tools.yaml.io` applies, whichever parser produced the
 events: the YAML 1.2 core schema for scalars, and the bounds on hostile documents.
 
 Plain scalars are resolved with the YAML 1.2 core schema (``on``/``off``/``yes``/``no``/``y``/
@@ -15,8 +15,8 @@ from typing import Any
 
 import yaml
 
-from .util.errors import YamlError
-from .yaml_tree import Scalar
+from ..util.errors import YamlError
+from .tree import Scalar
 
 #: Deepest nesting of sequences and mappings accepted (real XRDF and cuRobo files nest < 10).
 MAX_DEPTH = 100

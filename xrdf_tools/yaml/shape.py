@@ -15,8 +15,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Literal
 
-from .util.errors import XrdfToolsError, shown_text
-from .yaml_io import YMap, YNode, YScalar, YSeq, describe_node, is_finite
+from ..util.errors import XrdfToolsError, shown_text
+from .io import YMap, YNode, YScalar, YSeq, describe_node, is_finite
 
 __all__ = [
     "ANY",

@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator, Mapping
 
-from .yaml_tree import YamlDocument, YMap, YNode, YScalar, YSeq, key_of
+from .tree import YamlDocument, YMap, YNode, YScalar, YSeq, key_of
 
 Position = tuple[int, int]
 
