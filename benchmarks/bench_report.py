@@ -92,7 +92,7 @@ def setup(urdf_path: Path, text: str) -> dict[str, Any]:
     from xrdf_tools.kinematics import build_kinematic_model, default_configuration
     from xrdf_tools.report import adjacent_frame_pairs
     from xrdf_tools.urdf_source import load_urdf
-    from xrdf_tools.xrdf_io import parse_xrdf
+    from xrdf_tools.xrdf.io import parse_xrdf
 
     xrdf = parse_xrdf(text, "bench.xrdf")
     urdf = load_urdf(urdf_path)

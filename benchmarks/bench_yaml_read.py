@@ -97,7 +97,7 @@ def _rss_mib() -> float:
 def child(reader: str, path: str, what: str) -> dict[str, Any]:
     """Read ``path`` once with ``reader`` in this process (run by the parent per reader)."""
     from xrdf_tools.util.frozen import FrozenMap
-    from xrdf_tools.xrdf_io import load_xrdf, xrdf_from_document
+    from xrdf_tools.xrdf.io import load_xrdf, xrdf_from_document
     from xrdf_tools.yaml import build as yaml_build
     from xrdf_tools.yaml.compose import compose_document
     from xrdf_tools.yaml.io import load_yaml, raise_on_duplicates, read_text

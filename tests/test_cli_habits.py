@@ -282,7 +282,7 @@ def pr2(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     from xrdf_tools.convert import ConvertOptions, convert
     from xrdf_tools.spheres import ignore_adjacent
     from xrdf_tools.urdf_source import load_urdf
-    from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+    from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 
     urdf = robot_urdf("pr2")
     u = load_urdf(urdf)
@@ -302,7 +302,7 @@ def pr2(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
 def _pr2_scene(pr2: tuple[Path, Path]) -> Any:
     from xrdf_tools.urdf_source import load_urdf
     from xrdf_tools.viz import build_scene
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     return build_scene(load_urdf(pr2[0]), load_xrdf(pr2[1]), meshes="none")
 
@@ -312,7 +312,7 @@ def test_pr2_title_counts_the_frame_pairs(pr2: tuple[Path, Path]) -> None:
     from xrdf_tools.kinematics import build_kinematic_model, default_configuration
     from xrdf_tools.urdf_source import load_urdf
     from xrdf_tools.viz.png import png_title
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     u, x = load_urdf(pr2[0]), load_xrdf(pr2[1])
     kin, _ = build_kinematic_model(u, x)

@@ -17,9 +17,9 @@ from xrdf_tools.collision import (
     sphere_world_centers,
 )
 from xrdf_tools.kinematics import KinematicModel, build_kinematic_model, fk
-from xrdf_tools.model import Xrdf
 from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import Xrdf
 
 THREE_LINK = FIXTURES / "urdf" / "three_link_mimic.urdf"
 

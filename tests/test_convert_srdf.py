@@ -12,7 +12,7 @@ from xrdf_tools.robot import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
 from xrdf_tools.util.errors import SourceError
-from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 
 #: SRDF (below robots/) -> (URDF below robots/, planning group or None for the default choice).
 #: Every SRDF in example-robot-data that has a URDF beside it (cassie ships only SDF files).

@@ -18,7 +18,7 @@ from tests.paths import FIXTURES, SEED_XRDF, SHARED, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.convert import ConvertOptions, convert_files
 from xrdf_tools.lint import lint_text
-from xrdf_tools.xrdf_io import dump_xrdf
+from xrdf_tools.xrdf.io import dump_xrdf
 
 runner = CliRunner()
 CLASSIC = FIXTURES / "curobo_classic"

@@ -12,10 +12,10 @@ from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file
 from xrdf_tools.cli import app
 from xrdf_tools.diff import Level, XrdfDiff, compare_spheres, diff_files, diff_xrdf
 from xrdf_tools.diff_render import render_json, render_text
-from xrdf_tools.model import Sphere
 from xrdf_tools.util.errors import XrdfToolsError
-from xrdf_tools.versions import to_version
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import Sphere
+from xrdf_tools.xrdf.versions import to_version
 
 runner = CliRunner()
 

@@ -17,7 +17,7 @@ from xrdf_tools.robot import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.sources.srdf import parse_srdf
 from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 
 runner = CliRunner()
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"

@@ -20,12 +20,12 @@ from xrdf_tools.cli import app
 from xrdf_tools.convert import ConvertOptions, convert_files, with_spheres
 from xrdf_tools.export import to_srdf
 from xrdf_tools.export_srdf import reasons_from_report, sync_srdf
-from xrdf_tools.model import Xrdf
 from xrdf_tools.sources.srdf import Srdf, parse_srdf
 from xrdf_tools.srdf_xml import XmlDocument
 from xrdf_tools.util.errors import SourceError
 from xrdf_tools.util.frozen import FrozenMap
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import Xrdf
 
 runner = CliRunner()
 

@@ -225,7 +225,7 @@ def test_a_collection_as_a_mapping_key_is_an_error(text: str, kind: str) -> None
 def test_values_with_newlines_are_not_echoed_raw(tmp_path: Path) -> None:
     p = tmp_path / "robot.xrdf"
     p.write_text(UR10E_XRDF.read_text().replace("tool_frames: [tool0]", 'tool_frames: "a\\nb"'))
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     with pytest.raises(SchemaError) as e:
         load_xrdf(p)
@@ -379,7 +379,7 @@ def test_a_long_mimic_chain_resolves_in_linear_time() -> None:
 def test_mimic_loop_is_an_error() -> None:
     from xrdf_tools.kinematics import build_kinematic_model
     from xrdf_tools.urdf_source import parse_urdf_string
-    from xrdf_tools.xrdf_io import parse_xrdf
+    from xrdf_tools.xrdf.io import parse_xrdf
 
     urdf = parse_urdf_string(_mimic_chain_urdf(4, loop=True), "loop.urdf")
     x = parse_xrdf("format: xrdf\nformat_version: 2.0\n", "x.xrdf")
@@ -701,7 +701,7 @@ def test_report_errors_name_the_output_not_the_temporary(
 
 def test_math_is_still_finite_for_in_range_values(tmp_path: Path) -> None:
     """The length bound leaves real robots alone: the bundled XRDF loads and lints clean."""
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     x = load_xrdf(UR10E_XRDF)
     assert all(math.isfinite(s.radius) for ss in x.world_collision_spheres().values() for s in ss)
@@ -729,7 +729,7 @@ def test_long_clone_chains_lint_in_linear_time(cycle: bool) -> None:
 
 
 def test_clone_cycle_message_is_one_short_line() -> None:
-    from xrdf_tools.xrdf_io import parse_xrdf
+    from xrdf_tools.xrdf.io import parse_xrdf
 
     with pytest.raises(
         SchemaError,

@@ -26,7 +26,7 @@ from xrdf_tools.kinematics import (
 )
 from xrdf_tools.urdf_source import joints_of, links_of, load_urdf, parse_urdf_string
 from xrdf_tools.util.errors import UrdfError
-from xrdf_tools.xrdf_io import parse_xrdf
+from xrdf_tools.xrdf.io import parse_xrdf
 
 THREE_LINK = FIXTURES / "urdf" / "three_link_mimic.urdf"
 TOL = 1e-9

@@ -208,9 +208,9 @@ HEAVY = (
     "lxml",
     "numpy",
     "xrdf_tools.diff",
-    "xrdf_tools.model",
-    "xrdf_tools.xrdf_read",
-    "xrdf_tools.xrdf_write",
+    "xrdf_tools.xrdf.model",
+    "xrdf_tools.xrdf.read",
+    "xrdf_tools.xrdf.write",
 )
 #: Not imported either by the console entry point, which runs ``xrdf lint`` without typer.
 TYPER_AND_WRITERS = ("typer", "pydantic", "rich", "tempfile", "difflib", "json", "zipfile")

@@ -22,7 +22,7 @@ from xrdf_tools.report import (
 )
 from xrdf_tools.report_render import render_html, render_markdown, render_text, report_to_dict
 from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 
 runner = CliRunner()
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"

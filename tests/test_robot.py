@@ -13,7 +13,7 @@ from xrdf_tools.lint import lint_text
 from xrdf_tools.robot import Robot, as_robot
 from xrdf_tools.sources.xacro_source import load_robot
 from xrdf_tools.urdf_source import joints_of, load_urdf, source_line, urdf_path, urdf_text
-from xrdf_tools.xrdf_io import load_xrdf
+from xrdf_tools.xrdf.io import load_xrdf
 
 
 def test_loader_builds_one_frozen_robot() -> None:

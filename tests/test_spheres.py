@@ -12,12 +12,12 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
 from xrdf_tools.cli import app
-from xrdf_tools.model import Sphere
 from xrdf_tools.spheres import coverage_for_xrdf, fit_link_spheres, sphere_metrics
 from xrdf_tools.spheres.fit import default_max_protrusion
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.util.errors import XrdfToolsError
-from xrdf_tools.xrdf_io import load_xrdf
+from xrdf_tools.xrdf.io import load_xrdf
+from xrdf_tools.xrdf.model import Sphere
 
 ROBOTS = (
     Path(trimesh.__file__).resolve().parents[1] / "cmeel.prefix/share/example-robot-data/robots"

@@ -5,7 +5,10 @@ from pathlib import Path
 import pytest
 
 from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file, shared_xrdfs
-from xrdf_tools.model import (
+from xrdf_tools.util.errors import GeometryGroupError, SchemaError
+from xrdf_tools.util.frozen import FrozenMap
+from xrdf_tools.xrdf.io import dump_xrdf, format_float, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import (
     AddFrame,
     CollisionSection,
     CSpace,
@@ -19,9 +22,6 @@ from xrdf_tools.model import (
     clone_order,
     resolve_group,
 )
-from xrdf_tools.util.errors import GeometryGroupError, SchemaError
-from xrdf_tools.util.frozen import FrozenMap
-from xrdf_tools.xrdf_io import dump_xrdf, format_float, load_xrdf, parse_xrdf
 from xrdf_tools.yaml.io import parse_yaml, to_python
 
 

@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 
 from xrdf_tools.util.errors import SchemaError, YamlError
-from xrdf_tools.xrdf_io import parse_xrdf
+from xrdf_tools.xrdf.io import parse_xrdf
 from xrdf_tools.yaml.io import YMap, YScalar, YSeq, load_yaml, parse_yaml, write_atomic
 
 MINIMAL = """format: xrdf

@@ -24,7 +24,7 @@ import yaml
 
 from tests.fuzzing import _YAML_SNIPPETS, SEEDS, _mutate_text
 from xrdf_tools.util.errors import XrdfToolsError, YamlError
-from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
 from xrdf_tools.yaml import build as yaml_build
 from xrdf_tools.yaml import io as yaml_io
 from xrdf_tools.yaml.io import YMap, YScalar, YSeq, load_yaml, parse_yaml, to_python

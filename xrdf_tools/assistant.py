@@ -35,8 +35,8 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from .link_geometry import GeometryChoice
-    from .model import Sphere, Xrdf
     from .report import Report, Sampler
+    from .xrdf.model import Sphere, Xrdf
 
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
 
@@ -110,7 +110,7 @@ def convert_robot(
     :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
     """
     from .sources.xacro_source import load_robot
-    from .xrdf_io import dump_xrdf
+    from .xrdf.io import dump_xrdf
 
     pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
     if isinstance(robot, Robot):

@@ -18,8 +18,8 @@ from .util.errors import UrdfError
 
 if TYPE_CHECKING:
     from .kinematics import KinematicModel
-    from .model import Xrdf
     from .sources import RobotTree
+    from .xrdf.model import Xrdf
 
 __all__ = ["check_belongs", "cspace_indices", "cspace_joints", "unreachable_frames"]
 

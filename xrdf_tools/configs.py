@@ -29,9 +29,9 @@ import numpy as np
 import numpy.typing as npt
 
 from .binding import cspace_indices
-from .model import Xrdf
 from .util.errors import SourceError, XrdfToolsError
 from .util.fileio import max_input_bytes, read_input_bytes, read_input_text
+from .xrdf.model import Xrdf
 from .yaml.io import YMap, YSeq, parse_yaml, to_python
 
 if TYPE_CHECKING:

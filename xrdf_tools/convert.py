@@ -1,6 +1,6 @@
 """Sources → XRDF: a URDF plus a MoveIt SRDF (+ joint_limits.yaml) or a cuRobo robot YAML.
 
-:func:`convert` is pure: it reads the given files, returns the :class:`~xrdf_tools.model.Xrdf`
+:func:`convert` is pure: it reads the given files, returns the :class:`~xrdf_tools.xrdf.model.Xrdf`
 and a list of diagnostics — one for every value that was not taken from the inputs (default
 limits, chosen group/state/tool frame, dropped keys, unknown names, missing spheres). Mapping
 rules and behaviour: ``docs/convert.md``; the readers: ``docs/format.md``.
@@ -15,7 +15,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .diagnostics import Diagnostic, Severity
-from .model import (
+from .robot import as_robot
+from .sources import Draft, Reporter, RobotTree
+from .util.errors import SourceError, did_you_mean
+from .util.frozen import FrozenMap
+from .xrdf.model import (
     AddFrame,
     CollisionSection,
     CSpace,
@@ -24,12 +28,8 @@ from .model import (
     SetBaseFrame,
     Xrdf,
 )
-from .robot import as_robot
-from .sources import Draft, Reporter, RobotTree
-from .targets import choose_version, parse_target
-from .util.errors import SourceError, did_you_mean
-from .util.frozen import FrozenMap
-from .versions import to_version
+from .xrdf.readers import choose_version, parse_target
+from .xrdf.versions import to_version
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -329,7 +329,7 @@ def _cspace_choice(tree: RobotTree, options: ConvertOptions, draft: Draft) -> bo
 
 def with_spheres(x: Xrdf, spheres: dict[str, Sequence[object]]) -> Xrdf:
     """``x`` with the spheres of its world-collision group replaced (for ``--fit-spheres``)."""
-    from .model import Sphere
+    from .xrdf.model import Sphere
 
     if x.geometry is None or x.world_collision is None:
         return x

@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any
 
 from .diagnostics import Diagnostic, Severity
 from .export_srdf import to_srdf
-from .model import RemoveMimicAttributes, Xrdf
 from .sources import RobotTree
 from .util.errors import ConversionError
-from .xrdf_io import format_float, format_str
+from .xrdf.io import format_float, format_str
+from .xrdf.model import RemoveMimicAttributes, Xrdf
 
 if TYPE_CHECKING:
     from .robot import Robot
@@ -75,8 +75,8 @@ def for_target(
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """``x`` rewritten in the XRDF version ``target`` loads (or ``format_version``), with a
     diagnostic for everything the version change could not carry over."""
-    from .targets import choose_version, parse_target
-    from .versions import to_version
+    from .xrdf.readers import choose_version, parse_target
+    from .xrdf.versions import to_version
 
     version, why = choose_version(x, format_version, parse_target(target))
     out, diags = to_version(x, version)

@@ -30,10 +30,10 @@ from pathlib import Path
 from typing import Any
 
 from .diagnostics import Diagnostic, Severity
-from .model import Xrdf
 from .sources import RobotTree
 from .srdf_xml import XmlDocument, insert_after, last_child, remove_element
 from .util.errors import ConversionError, SourceError
+from .xrdf.model import Xrdf
 
 __all__ = [
     "REPORT_REASONS",

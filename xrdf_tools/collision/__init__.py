@@ -10,7 +10,7 @@ continuous and prismatic joints are handled by :mod:`xrdf_tools.kinematics`.
 
 Modules, bottom up:
 
-* :mod:`.spheres`: :func:`build_sphere_set` turns an :class:`~xrdf_tools.model.Xrdf` plus a
+* :mod:`.spheres`: :func:`build_sphere_set` turns an :class:`~xrdf_tools.xrdf.model.Xrdf` plus a
   :class:`~xrdf_tools.kinematics.KinematicModel` into a :class:`SphereSet` of flat arrays
   (and :func:`~.spheres.bounding_sphere`, the culling bound shared with the engine).
 * :mod:`.distances`: the pair test (:func:`~.distances.touching`), :func:`sphere_world_centers`

@@ -21,7 +21,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..kinematics import KinematicModel, fk_batch_last
-from ..model import Xrdf
+from ..xrdf.model import Xrdf
 from .spheres import SphereSet, build_sphere_set
 
 FloatArray = npt.NDArray[np.float64]

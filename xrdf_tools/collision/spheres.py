@@ -1,6 +1,6 @@
 """Sphere sets: the self-collision spheres of a robot as flat arrays, and how they are built.
 
-:func:`build_sphere_set` turns an :class:`~xrdf_tools.model.Xrdf` plus a
+:func:`build_sphere_set` turns an :class:`~xrdf_tools.xrdf.model.Xrdf` plus a
 :class:`~xrdf_tools.kinematics.KinematicModel` into a :class:`SphereSet`: spheres grouped by
 frame, the frame pairs that are checked (masked ones on request) and every sphere pair of
 them as index arrays. Buffered radii follow cuRobo (:func:`self_radius`). Every consumer
@@ -23,8 +23,8 @@ import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
 from ..kinematics import KinematicModel
-from ..model import Xrdf, clone_order
 from ..util.errors import did_you_mean
+from ..xrdf.model import Xrdf, clone_order
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]

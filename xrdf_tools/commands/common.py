@@ -33,7 +33,7 @@ from .core import RUN as _RUN
 from .core import VERBOSITY_KEY as _VERBOSITY
 
 if TYPE_CHECKING:
-    from ..model import Xrdf
+    from ..xrdf.model import Xrdf
 
 
 def fail(message: str | XrdfToolsError, code: int = EXIT_USAGE) -> NoReturn:
@@ -202,7 +202,7 @@ def refuse_two_stdin(inputs: Mapping[str, Sequence[Path | str | None]]) -> None:
 def load_xrdf_input(path: str | os.PathLike[str]) -> Xrdf:
     """An XRDF input of a command: a file, or standard input for ``-`` (read through the
     guarded reader, named ``<stdin>`` in messages). Raises :class:`XrdfToolsError`."""
-    from ..xrdf_io import load_xrdf, parse_xrdf
+    from ..xrdf.io import load_xrdf, parse_xrdf
 
     if not is_stdio(path):
         return load_xrdf(path)

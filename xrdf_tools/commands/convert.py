@@ -28,7 +28,7 @@ from .core import EXIT_FINDINGS, OutputFormat, has_failures, is_stdio, timed
 
 if TYPE_CHECKING:
     from ..assistant import Progress
-    from ..model import Xrdf
+    from ..xrdf.model import Xrdf
     from .common import ProgressUpdate
 
 #: Progress bar label of each stage of :func:`xrdf_tools.assistant.convert_robot`.
@@ -279,7 +279,7 @@ def command(
 
 def _check(output: Path, x: Xrdf, root_frame: str) -> None:
     from ..diff import diff_xrdf
-    from ..xrdf_io import load_xrdf
+    from ..xrdf.io import load_xrdf
 
     if not output.exists():
         fail(f"{output}: does not exist; run without --check to create it", EXIT_FINDINGS)

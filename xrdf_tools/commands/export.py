@@ -199,7 +199,7 @@ def xrdf_for_target(
     overwritten.
     """
     from ..export import for_target
-    from ..xrdf_io import dump_xrdf
+    from ..xrdf.io import dump_xrdf
 
     if output is not None:
         refuse_input_overwrite(output, [xrdf])

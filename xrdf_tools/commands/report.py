@@ -203,7 +203,7 @@ def command(
     from ..engine import default_jobs
     from ..report import CertifyOptions, recommended_xrdf, self_collision_report
     from ..report_render import ReportView, write_heatmap
-    from ..xrdf_io import dump_xrdf
+    from ..xrdf.io import dump_xrdf
 
     inputs = [xrdf_file, urdf, configs]
     if is_stdio(plot):

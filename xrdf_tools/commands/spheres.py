@@ -121,7 +121,7 @@ def command(
     from ..packages import parse_package_path
     from ..spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
     from ..spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
-    from ..xrdf_io import dump_xrdf
+    from ..xrdf.io import dump_xrdf
 
     chosen = [
         n

@@ -38,8 +38,8 @@ from __future__ import annotations
 import math
 import os
 
-from ..model import Xrdf
-from ..xrdf_io import load_xrdf
+from ..xrdf.io import load_xrdf
+from ..xrdf.model import Xrdf
 from .geometry import diff_geometry
 from .modifiers import diff_modifiers
 from .result import (

@@ -208,7 +208,7 @@ def lint_text(
 
 
 def _target(target: str | None, config: LintConfig) -> str | None:
-    from ..targets import parse_target
+    from ..xrdf.readers import parse_target
 
     chosen = parse_target(target if target is not None else config.target)
     return chosen.id if chosen is not None else None

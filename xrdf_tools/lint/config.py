@@ -141,7 +141,7 @@ def _parse(data: Any, source: str, base_dir: str, positions: Positions | None = 
         )
     target = data.get("target")
     if target is not None:
-        from ..targets import parse_target
+        from ..xrdf.readers import parse_target
 
         try:
             target = getattr(parse_target(str(target)), "id", None)

@@ -17,13 +17,13 @@ from typing import TYPE_CHECKING
 
 from ..diagnostics import Severity
 from ..util.errors import XrdfToolsError, YamlError
-from ..xrdf_shape import SUPPORTED_VERSIONS, version_string
+from ..xrdf.shape import SUPPORTED_VERSIONS, version_string
 from ..yaml.io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
 
 if TYPE_CHECKING:
     from ..kinematics import KinematicModel
-    from ..model import Xrdf
     from ..robot import Robot
+    from ..xrdf.model import Xrdf
 
 #: Section spelled ``collision`` in 1.0 and ``world_collision`` in 2.0.
 WORLD_KEYS = ("collision", "world_collision")
@@ -352,7 +352,7 @@ class LintContext:
     @cached_property
     def model(self) -> Xrdf | None:
         """The strict model when the file reads cleanly (repeated keys tolerated), else None."""
-        from ..xrdf_io import xrdf_from_document
+        from ..xrdf.io import xrdf_from_document
 
         if self.doc is None:
             return None
@@ -367,7 +367,7 @@ class LintContext:
         the modifiers themselves are malformed."""
         if self.model is not None:
             return self.model
-        from ..xrdf_io import xrdf_from_document
+        from ..xrdf.io import xrdf_from_document
 
         top = self.top
         if top is None:

@@ -35,9 +35,9 @@ from ..kinematics import (
     default_configuration,
     moveit_default_configuration,
 )
-from ..model import Xrdf
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
+from ..xrdf.model import Xrdf
 from .mask import _recommended_ignore
 from .results import (
     CertifyOptions,

@@ -29,8 +29,8 @@ from ..certify import Verdict
 from ..collision import Contact
 from ..diagnostics import Diagnostic, Severity
 from ..kinematics import KinematicModel
-from ..model import SelfCollisionSection, Xrdf
 from ..util.errors import did_you_mean
+from ..xrdf.model import SelfCollisionSection, Xrdf
 from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit
 
 FloatArray = npt.NDArray[np.float64]

@@ -13,9 +13,9 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from ..diagnostics import Diagnostic, Severity
-from ..model import Modifier, Sphere
 from ..robot_tree import RobotTree
 from ..util.errors import did_you_mean
+from ..xrdf.model import Modifier, Sphere
 
 __all__ = ["Draft", "Reporter", "RobotTree"]
 

@@ -18,8 +18,8 @@ from pathlib import Path
 from typing import Any
 
 from ..diagnostics import Severity
-from ..model import AddFrame, Orientation, SetBaseFrame, Sphere
 from ..util.errors import SourceError, XrdfToolsError, did_you_mean
+from ..xrdf.model import AddFrame, Orientation, SetBaseFrame, Sphere
 from ..yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
 from ..yaml.shape import check_shape
 from . import Draft, Reporter, RobotTree, known_frame

@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ..model import SetBaseFrame, Sphere
 from ..util.errors import SourceError, did_you_mean
+from ..xrdf.model import SetBaseFrame, Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_spheres import is_num, spheres_of
 

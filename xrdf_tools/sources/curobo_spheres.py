@@ -10,8 +10,8 @@ from pathlib import Path
 from typing import Any, TypeGuard
 
 from ..diagnostics import Severity
-from ..model import Sphere
 from ..util.errors import SourceError
+from ..xrdf.model import Sphere
 from ..yaml.io import is_finite
 from . import Reporter, known_frame
 

@@ -23,10 +23,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
-from ..model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
 from ..robot import Robot
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
+from ..xrdf.model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
 from .metrics import SphereMetrics, sphere_metrics
 
 if TYPE_CHECKING:
@@ -347,7 +347,7 @@ def merge_spheres(
     out = xrdf.replace(**changes)
     diags: list[Diagnostic] = []
     if old.clone:
-        from ..model import clone_order
+        from ..xrdf.model import clone_order
 
         groups: Mapping[str, GeometryGroup] = out.geometry or FrozenMap()
         for child in clone_order(groups, name)[1:]:

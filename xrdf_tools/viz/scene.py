@@ -22,8 +22,8 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..model import Xrdf
 from ..util.errors import GeometryGroupError, SourceError
+from ..xrdf.model import Xrdf
 from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
 
 if TYPE_CHECKING:

@@ -4,7 +4,7 @@ version only.
 
 Two consumers read this description, each with its own wording:
 
-* the strict reader (:mod:`xrdf_tools.xrdf_read`) takes required keys, nullability, list lengths
+* the strict reader (:mod:`xrdf_tools.xrdf.read`) takes required keys, nullability, list lengths
   and the lengths-in-metres bound from it and raises one
   :class:`~xrdf_tools.util.errors.SchemaError` at the first departure it meets while building the
   model;
@@ -15,7 +15,7 @@ Two consumers read this description, each with its own wording:
 configs, lint configuration). The XRDF needs kinds it does not have (a group reference, a
 buffer that is a number or a mapping, a one-key modifier) and facts it does not record
 (required keys, list lengths, versions), so it has its own small vocabulary here.
-``python -m xrdf_tools.xrdf_schema`` turns this description into ``docs/xrdf.schema.json``.
+``python -m xrdf_tools.xrdf.schema`` turns this description into ``docs/xrdf.schema.json``.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
-from .yaml.io import YNode, YScalar, is_finite
+from ..yaml.io import YNode, YScalar, is_finite
 
 __all__ = [
     "DOCUMENT",

@@ -1,10 +1,10 @@
-"""Read an XRDF document into the model (public names re-exported by :mod:`xrdf_tools.xrdf_io`).
+"""Read an XRDF document into the model (public names re-exported by :mod:`xrdf_tools.xrdf.io`).
 
 Reading is strict about types (one :class:`SchemaError` with file:line:col for the first
 problem) and lenient about what the linter judges (missing ``cspace``, a section spelled for the
 other version, unknown keys). Which keys a section has, which are required, where null is
 accepted, list lengths and which numbers are lengths in metres come from the one description of
-the XRDF shape in :mod:`xrdf_tools.xrdf_shape`; the ``_read_*`` functions below build the model
+the XRDF shape in :mod:`xrdf_tools.xrdf.shape`; the ``_read_*`` functions below build the model
 and word the errors.
 """
 
@@ -13,6 +13,20 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Mapping, Sequence
 
+from ..util.errors import GeometryGroupError, SchemaError
+from ..util.frozen import FrozenMap
+from ..yaml.io import (
+    YamlDocument,
+    YMap,
+    YNode,
+    YScalar,
+    YSeq,
+    load_yaml,
+    parse_yaml,
+    positions_of,
+    raise_on_duplicates,
+    to_python,
+)
 from .model import (
     AddFrame,
     CollisionSection,
@@ -31,10 +45,8 @@ from .model import (
     clone_order,
     resolve_group,
 )
-from .util.errors import GeometryGroupError, SchemaError
-from .util.frozen import FrozenMap
-from .xrdf_nodes import NodeReader, describe, is_null, plain_number, plain_numbers
-from .xrdf_shape import (
+from .nodes import NodeReader, describe, is_null, plain_number, plain_numbers
+from .shape import (
     ADD_FRAME,
     BUFFERS,
     CSPACE,
@@ -51,18 +63,6 @@ from .xrdf_shape import (
     WORLD,
     Shape,
     version_string,
-)
-from .yaml.io import (
-    YamlDocument,
-    YMap,
-    YNode,
-    YScalar,
-    YSeq,
-    load_yaml,
-    parse_yaml,
-    positions_of,
-    raise_on_duplicates,
-    to_python,
 )
 
 #: The top-level keys in the order of the spec (and of the canonical writer).

@@ -1,5 +1,5 @@
 """Write the model back as canonical XRDF text (public names re-exported by
-:mod:`xrdf_tools.xrdf_io`).
+:mod:`xrdf_tools.xrdf.io`).
 
 Canonical: the section order of the spec, floats always written as floats that both YAML 1.1 and
 1.2 readers parse as floats, stable formatting, so equal models give byte-identical text. One

@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .util.errors import ConversionError, XrdfToolsError, did_you_mean
+from ..util.errors import ConversionError, XrdfToolsError, did_you_mean
 
 if TYPE_CHECKING:
     from .model import Xrdf

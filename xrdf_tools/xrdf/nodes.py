@@ -3,7 +3,7 @@ plain value or raises one :class:`SchemaError` at the node's file:line:col.
 
 The ``Shape``-taking helpers (:meth:`NodeReader.section`, :meth:`~NodeReader.get`,
 :meth:`~NodeReader.num`, :meth:`~NodeReader.nums`) take nullability, required keys, list
-lengths and the metres bound from the XRDF shape description (:mod:`xrdf_tools.xrdf_shape`);
+lengths and the metres bound from the XRDF shape description (:mod:`xrdf_tools.xrdf.shape`);
 the wording of the errors is the reader's.
 """
 
@@ -13,10 +13,10 @@ import sys
 from collections.abc import Callable
 from typing import TypeVar
 
-from .util.errors import SchemaError, shown_text
-from .util.frozen import FrozenMap
-from .xrdf_shape import MAX_LENGTH, Shape, is_name, is_number
-from .yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite
+from ..util.errors import SchemaError, shown_text
+from ..util.frozen import FrozenMap
+from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite
+from .shape import MAX_LENGTH, Shape, is_name, is_number
 
 T = TypeVar("T")
 

@@ -12,10 +12,10 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Literal, TypedDict
 
-from .util.errors import GeometryGroupError
-from .util.frozen import FrozenMap
-from .util.graph import show_path
-from .util.rotations import quat_from_rpy, unit_quat
+from ..util.errors import GeometryGroupError
+from ..util.frozen import FrozenMap
+from ..util.graph import show_path
+from ..util.rotations import quat_from_rpy, unit_quat
 
 Vec3 = tuple[float, float, float]
 

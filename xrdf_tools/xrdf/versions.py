@@ -5,10 +5,10 @@ What each version can express and what is reported: docs/format.md ("Version con
 
 from __future__ import annotations
 
-from .diagnostics import Diagnostic, Severity
+from ..diagnostics import Diagnostic, Severity
+from ..util.errors import ConversionError
+from ..util.frozen import FrozenMap
 from .model import GeometryGroup, RemoveMimicAttributes, Sphere, Xrdf, clone_order, resolve_group
-from .util.errors import ConversionError
-from .util.frozen import FrozenMap
 
 
 def _diag(x: Xrdf, rule: str, severity: Severity, message: str, key_path: str) -> Diagnostic:

@@ -1,6 +1,6 @@
 """A JSON Schema of the XRDF, generated from the one shape description (:mod:`.xrdf_shape`).
 
-For editors and ``check-jsonschema``: ``python -m xrdf_tools.xrdf_schema > docs/xrdf.schema.json``
+For editors and ``check-jsonschema``: ``python -m xrdf_tools.xrdf.schema > docs/xrdf.schema.json``
 (a test keeps the file up to date). Each XRDF version gets its own document schema (the
 version-specific keys exist in one only), chosen by ``format_version``. Unknown keys are not
 allowed, as ``unknown-key`` warns of them. What the shape does not say (joint names that exist
@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from .xrdf_shape import DOCUMENT, MAX_LENGTH, MODIFIERS, SUPPORTED_VERSIONS, Shape
+from .shape import DOCUMENT, MAX_LENGTH, MODIFIERS, SUPPORTED_VERSIONS, Shape
 
 __all__ = ["json_schema", "render"]
 
@@ -110,7 +110,7 @@ def json_schema() -> Schema:
         props["format_version"] = {"enum": _version_values(v)}
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
-        "title": "XRDF robot description (generated from xrdf_tools.xrdf_shape)",
+        "title": "XRDF robot description (generated from xrdf_tools.xrdf.shape)",
         "oneOf": [{"$ref": f"#/$defs/xrdf-{v}"} for v in SUPPORTED_VERSIONS],
         "$defs": defs,
     }
