@@ -89,9 +89,9 @@ def split_spheres(text: str, k: int) -> str:
 def setup(urdf_path: Path, text: str) -> dict[str, Any]:
     from xrdf_tools.collision import build_sphere_set
     from xrdf_tools.engine import CountEngine
-    from xrdf_tools.kinematics import build_kinematic_model, default_configuration
     from xrdf_tools.report import adjacent_frame_pairs
-    from xrdf_tools.urdf_source import load_urdf
+    from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
+    from xrdf_tools.robot.urdf_source import load_urdf
     from xrdf_tools.xrdf.io import parse_xrdf
 
     xrdf = parse_xrdf(text, "bench.xrdf")

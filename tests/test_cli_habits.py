@@ -280,8 +280,8 @@ def test_one_progress_style_in_the_commands() -> None:
 def pr2(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     """The PR2 (82 links) with one sphere on every link and its adjacent pairs ignored."""
     from xrdf_tools.convert import ConvertOptions, convert
+    from xrdf_tools.robot.urdf_source import load_urdf
     from xrdf_tools.spheres import ignore_adjacent
-    from xrdf_tools.urdf_source import load_urdf
     from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 
     urdf = robot_urdf("pr2")
@@ -300,7 +300,7 @@ def pr2(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
 
 
 def _pr2_scene(pr2: tuple[Path, Path]) -> Any:
-    from xrdf_tools.urdf_source import load_urdf
+    from xrdf_tools.robot.urdf_source import load_urdf
     from xrdf_tools.viz import build_scene
     from xrdf_tools.xrdf.io import load_xrdf
 
@@ -309,8 +309,8 @@ def _pr2_scene(pr2: tuple[Path, Path]) -> Any:
 
 def test_pr2_title_counts_the_frame_pairs(pr2: tuple[Path, Path]) -> None:
     from xrdf_tools.collision import build_sphere_set, colliding_frame_pairs
-    from xrdf_tools.kinematics import build_kinematic_model, default_configuration
-    from xrdf_tools.urdf_source import load_urdf
+    from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
+    from xrdf_tools.robot.urdf_source import load_urdf
     from xrdf_tools.viz.png import png_title
     from xrdf_tools.xrdf.io import load_xrdf
 

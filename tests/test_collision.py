@@ -16,8 +16,8 @@ from xrdf_tools.collision import (
     pair_clearance,
     sphere_world_centers,
 )
-from xrdf_tools.kinematics import KinematicModel, build_kinematic_model, fk
-from xrdf_tools.urdf_source import load_urdf
+from xrdf_tools.robot.kinematics import KinematicModel, build_kinematic_model, fk
+from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
 from xrdf_tools.xrdf.model import Xrdf
 

@@ -8,7 +8,7 @@ import pytest
 
 from tests.robots import robots_dir
 from xrdf_tools.convert import ConvertOptions, convert_files
-from xrdf_tools.robot import as_robot
+from xrdf_tools.robot.core import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
 from xrdf_tools.util.errors import SourceError
@@ -268,7 +268,7 @@ TREE_URDF = """<robot name="t">
 
 @pytest.fixture
 def tree(tmp_path: Path) -> RobotTree:
-    from xrdf_tools.urdf_source import parse_urdf_string
+    from xrdf_tools.robot.urdf_source import parse_urdf_string
 
     return as_robot(parse_urdf_string(TREE_URDF, str(tmp_path / "t.urdf"))).tree
 

@@ -593,7 +593,7 @@ def test_negative_tolerance_is_rejected_by_the_library() -> None:
 
 def test_set_base_frame_on_the_urdf_root_is_no_change() -> None:
     from tests.paths import UR10E_URDF
-    from xrdf_tools.urdf_source import load_urdf, root_link
+    from xrdf_tools.robot.urdf_source import load_urdf, root_link
 
     root = root_link(load_urdf(UR10E_URDF))
     assert root == "base_link"

@@ -8,7 +8,7 @@ import pytest
 from tests.test_collision import brute_force, fixed_configs, panda, three_link
 from xrdf_tools.collision import build_sphere_set, pair_clearance, sphere_world_centers
 from xrdf_tools.engine import CountEngine, EngineTotals, _body_fk, count_sampled
-from xrdf_tools.kinematics import KinematicModel, default_configuration
+from xrdf_tools.robot.kinematics import KinematicModel, default_configuration
 from xrdf_tools.sampling import iter_samples
 from xrdf_tools.xrdf.model import Xrdf
 

@@ -22,7 +22,7 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diagnostics import Diagnostic, Severity
-from xrdf_tools.robot import as_robot
+from xrdf_tools.robot.core import as_robot
 from xrdf_tools.sources import RobotTree
 from xrdf_tools.util.errors import (
     InputError,
@@ -261,7 +261,7 @@ def test_joint_whose_parent_is_its_own_child_with_srdf_chain_does_not_hang(
 
 
 def test_a_loop_of_joints_is_refused_with_its_path(tmp_path: Path) -> None:
-    from xrdf_tools.urdf_source import parse_urdf_string
+    from xrdf_tools.robot.urdf_source import parse_urdf_string
 
     text = CYCLE_URDF.replace(
         '<child link="a"/></joint>\n  <joint name="j1"',
@@ -279,7 +279,7 @@ def test_a_loop_of_joints_is_refused_with_its_path(tmp_path: Path) -> None:
 
 
 def test_robot_tree_walks_terminate_on_a_hand_made_cycle() -> None:
-    from xrdf_tools.urdf_source import JointInfo
+    from xrdf_tools.robot.urdf_source import JointInfo
 
     eye = [[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]]
     joints = {
@@ -310,7 +310,7 @@ def _nested_groups(n: int, close_cycle: bool = False) -> str:
 
 
 def _tree() -> RobotTree:
-    from xrdf_tools.urdf_source import load_urdf
+    from xrdf_tools.robot.urdf_source import load_urdf
 
     return as_robot(load_urdf(UR10E_URDF)).tree
 
@@ -363,8 +363,8 @@ def _mimic_chain_urdf(n: int, loop: bool = False) -> str:
 
 
 def test_a_long_mimic_chain_resolves_in_linear_time() -> None:
-    from xrdf_tools.kinematics import _resolve_mimic
-    from xrdf_tools.urdf_source import joints_of, parse_urdf_string
+    from xrdf_tools.robot.kinematics import _resolve_mimic
+    from xrdf_tools.robot.urdf_source import joints_of, parse_urdf_string
 
     joints = joints_of(parse_urdf_string(_mimic_chain_urdf(3000), "chain.urdf"))
     memo: dict[str, tuple[str | None, float, float, str]] = {}
@@ -377,8 +377,8 @@ def test_a_long_mimic_chain_resolves_in_linear_time() -> None:
 
 
 def test_mimic_loop_is_an_error() -> None:
-    from xrdf_tools.kinematics import build_kinematic_model
-    from xrdf_tools.urdf_source import parse_urdf_string
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.robot.urdf_source import parse_urdf_string
     from xrdf_tools.xrdf.io import parse_xrdf
 
     urdf = parse_urdf_string(_mimic_chain_urdf(4, loop=True), "loop.urdf")

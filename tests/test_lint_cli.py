@@ -157,7 +157,7 @@ def test_panda_against_example_robot_data() -> None:
 def test_lint_with_urdf_reads_and_parses_the_urdf_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """Issue 15: ``xrdf lint FILE --urdf URDF`` reads the URDF file once and parses and
     validates it once, whatever its rules look at (joints, frames, collision geometry)."""
-    import xrdf_tools.urdf_source as urdf_source
+    import xrdf_tools.robot.urdf_source as urdf_source
     import xrdf_tools.util.fileio as fileio
     from xrdf_tools.lint.rules import sphere_outside_geometry
 

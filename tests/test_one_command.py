@@ -20,8 +20,8 @@ from xrdf_tools.cli import app
 from xrdf_tools.convert import ConvertOptions
 from xrdf_tools.lint import lint_text
 from xrdf_tools.report import self_collision_report
+from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.spheres.geometry import load_link_geometry
-from xrdf_tools.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import load_xrdf
 from xrdf_tools.xrdf.model import Xrdf
 

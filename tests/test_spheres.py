@@ -345,7 +345,7 @@ def test_cli_refuses_to_overwrite_its_input_and_bad_options(tmp_path: Path) -> N
 
 
 def test_a_loaded_robot_fits_like_its_file(tmp_path: Path) -> None:
-    from xrdf_tools.sources.xacro_source import load_robot
+    from xrdf_tools.robot.xacro_source import load_robot
 
     path = tmp_path / "prims.urdf"  # yourdfpy itself knows no <capsule>
     path.write_text(PRIMITIVES_URDF.replace("<capsule", "<cylinder"))

@@ -28,14 +28,14 @@ from typing import TYPE_CHECKING
 
 from .convert import ConvertOptions, convert, with_spheres
 from .diagnostics import Diagnostic, Severity
-from .robot import Robot, as_robot
+from .robot.core import Robot, as_robot
 from .util.frozen import FrozenMap
 
 if TYPE_CHECKING:
     import yourdfpy
 
-    from .link_geometry import GeometryChoice
     from .report import Report, Sampler
+    from .robot.link_geometry import GeometryChoice
     from .xrdf.model import Sphere, Xrdf
 
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
@@ -109,7 +109,7 @@ def convert_robot(
     ``label`` names the XRDF in lint diagnostics. Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
     """
-    from .sources.xacro_source import load_robot
+    from .robot.xacro_source import load_robot
     from .xrdf.io import dump_xrdf
 
     pkgs = {k: str(v) for k, v in (package_paths or {}).items()}

@@ -2,7 +2,7 @@
 
 Both return full actuated configurations [B, n] (:attr:`KinematicModel.actuated_joints`
 order); joints outside the c-space stay at their default
-(:func:`xrdf_tools.kinematics.full_configuration`).
+(:func:`xrdf_tools.robot.kinematics.full_configuration`).
 
 Configuration files (``--configs FILE``), one configuration per row:
 
@@ -28,14 +28,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .binding import cspace_indices
+from .robot.binding import cspace_indices
 from .util.errors import SourceError, XrdfToolsError
 from .util.fileio import max_input_bytes, read_input_bytes, read_input_text
 from .xrdf.model import Xrdf
 from .yaml.io import YMap, YSeq, parse_yaml, to_python
 
 if TYPE_CHECKING:
-    from .kinematics import KinematicModel
+    from .robot.kinematics import KinematicModel
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -45,7 +45,7 @@ MAX_SAMPLES = 100_000
 def load_cspace_configurations(
     path: str | os.PathLike[str], kin: KinematicModel, xrdf: Xrdf
 ) -> FloatArray:
-    """Configurations [B, n_c] in c-space order (:func:`~xrdf_tools.binding.cspace_joints`)
+    """Configurations [B, n_c] in c-space order (:func:`~xrdf_tools.robot.binding.cspace_joints`)
     from a file.
 
     Same formats as :func:`load_configurations`, no row cap; values given for joints outside
@@ -60,7 +60,7 @@ def sample_configurations(
     kin: KinematicModel, xrdf: Xrdf, n: int, seed: int | None = 0
 ) -> FloatArray:
     """``n`` configurations [n, n_actuated] drawn uniformly within the c-space joint limits."""
-    from .kinematics import full_configuration
+    from .robot.kinematics import full_configuration
     from .sampling import sample_uniform
 
     if n < 0 or n > MAX_SAMPLES:
@@ -201,7 +201,7 @@ def _assemble(
     *,
     max_rows: int | None = MAX_SAMPLES,
 ) -> FloatArray:
-    from .kinematics import default_configuration
+    from .robot.kinematics import default_configuration
 
     if max_rows is not None and len(rows) > max_rows:
         raise SourceError(f"too many configurations ({len(rows)} > {max_rows})", path=spath)

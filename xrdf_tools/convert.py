@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .diagnostics import Diagnostic, Severity
-from .robot import as_robot
+from .robot.core import as_robot
 from .sources import Draft, Reporter, RobotTree
 from .util.errors import SourceError, did_you_mean
 from .util.frozen import FrozenMap
@@ -34,7 +34,7 @@ from .xrdf.versions import to_version
 if TYPE_CHECKING:
     import yourdfpy
 
-    from .robot import Robot
+    from .robot.core import Robot
 
 __all__ = [
     "DEFAULT_ACCELERATION",
@@ -88,7 +88,7 @@ def convert_files(
     package_paths: dict[str, str] | None = None,
 ) -> tuple[Xrdf, list[Diagnostic], yourdfpy.URDF]:
     """Load ``robot`` (URDF or xacro) and :func:`convert`; also returns the loaded URDF."""
-    from .sources.xacro_source import load_robot
+    from .robot.xacro_source import load_robot
 
     loaded = load_robot(robot, xacro_args=xacro_args, package_paths=package_paths)
     x, diags = convert(loaded, options)
@@ -305,7 +305,7 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
 
 def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
     """The sources name only frames below the chosen base (else :class:`SourceError`)."""
-    from .binding import unreachable_frames
+    from .robot.binding import unreachable_frames
 
     lost = sorted({f for f, _ in unreachable_frames(x, tree)})
     if lost:

@@ -17,13 +17,13 @@ from typing import TYPE_CHECKING, Any
 
 from .diagnostics import Diagnostic, Severity
 from .export_srdf import to_srdf
-from .sources import RobotTree
+from .robot.tree import RobotTree
 from .util.errors import ConversionError
 from .xrdf.io import format_float, format_str
 from .xrdf.model import RemoveMimicAttributes, Xrdf
 
 if TYPE_CHECKING:
-    from .robot import Robot
+    from .robot.core import Robot
 
 __all__ = ["CUROBO_LAYOUTS", "for_target", "to_curobo", "to_srdf"]
 
@@ -94,7 +94,7 @@ def _located(x: Xrdf, key_path: str, message: str) -> ConversionError:
 def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
     """Raise :class:`ConversionError` / :class:`SourceError` when ``x`` cannot become a cuRobo
     config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot."""
-    from .binding import check_belongs
+    from .robot.binding import check_belongs
 
     if layout not in CUROBO_LAYOUTS:
         raise ConversionError(
@@ -125,7 +125,7 @@ def to_curobo(
     ``layout`` is ``"2.0"`` (``tool_frames``, ``default_joint_position``) or ``"classic"``
     (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). Joints that have a default
     position but are not in the c-space become ``lock_joints``. ``tree`` is the URDF's
-    :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.Robot`.
+    :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`.
     """
     if not isinstance(tree, RobotTree):
         tree = tree.tree

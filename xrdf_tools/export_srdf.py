@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from .diagnostics import Diagnostic, Severity
-from .sources import RobotTree
+from .robot.tree import RobotTree
 from .srdf_xml import XmlDocument, insert_after, last_child, remove_element
 from .util.errors import ConversionError, SourceError
 from .xrdf.model import Xrdf

@@ -6,12 +6,12 @@ self-collision when ``‖c_a − c_b‖ < (r_a + s_a) + (r_b + s_b)``, where ``s
 pair whose frames are in ``self_collision.ignore`` (either direction) is masked. A sphere with a
 raw radius ≤ −1 is an attached-object slot and takes part in no check; a small negative raw
 radius becomes a real sphere once buffered (at least 1 mm, as cuRobo builds it). Mimic,
-continuous and prismatic joints are handled by :mod:`xrdf_tools.kinematics`.
+continuous and prismatic joints are handled by :mod:`xrdf_tools.robot.kinematics`.
 
 Modules, bottom up:
 
 * :mod:`.spheres`: :func:`build_sphere_set` turns an :class:`~xrdf_tools.xrdf.model.Xrdf` plus a
-  :class:`~xrdf_tools.kinematics.KinematicModel` into a :class:`SphereSet` of flat arrays
+  :class:`~xrdf_tools.robot.kinematics.KinematicModel` into a :class:`SphereSet` of flat arrays
   (and :func:`~.spheres.bounding_sphere`, the culling bound shared with the engine).
 * :mod:`.distances`: the pair test (:func:`~.distances.touching`), :func:`sphere_world_centers`
   and :func:`pair_clearance` (every pair, float64, no culling), the float64 verdicts of chosen

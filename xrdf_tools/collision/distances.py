@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from ..kinematics import KinematicModel, fk_batch_last
+from ..robot.kinematics import KinematicModel, fk_batch_last
 from ..xrdf.model import Xrdf
 from .spheres import SphereSet, build_sphere_set
 
@@ -114,7 +114,7 @@ def sphere_world_centers(
     """World (base-frame) centres [B, S, 3] of the spheres for configurations ``q_full``.
 
     ``q_full``: [B, n] (or [n], giving [S, 3]) values of every actuated joint, in
-    ``kin.actuated_joints`` order (see :func:`~xrdf_tools.kinematics.full_configuration`).
+    ``kin.actuated_joints`` order (see :func:`~xrdf_tools.robot.kinematics.full_configuration`).
     """
     q2, single = _as_q2(kin, q_full)
     c = _centers_batch_last(kin, spheres, q2).transpose(2, 0, 1)
@@ -237,7 +237,7 @@ def colliding_frame_pairs(
     """Frame pairs in self-collision at one configuration ``q_full`` [n], worst first.
 
     ``q_full`` holds every actuated joint of ``kin`` (e.g. from
-    :func:`~xrdf_tools.kinematics.default_configuration`). Masked pairs are skipped unless
+    :func:`~xrdf_tools.robot.kinematics.default_configuration`). Masked pairs are skipped unless
     ``include_masked``. For repeated queries build the :class:`SphereSet` once and use
     :func:`sphere_world_centers` + :func:`contacts`.
     """

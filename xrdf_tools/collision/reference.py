@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from ..kinematics import KinematicModel
+from ..robot.kinematics import KinematicModel
 from .distances import _as_q2, _centers_batch_last, touching
 from .spheres import SphereSet
 

@@ -1,7 +1,7 @@
 """Sphere sets: the self-collision spheres of a robot as flat arrays, and how they are built.
 
 :func:`build_sphere_set` turns an :class:`~xrdf_tools.xrdf.model.Xrdf` plus a
-:class:`~xrdf_tools.kinematics.KinematicModel` into a :class:`SphereSet`: spheres grouped by
+:class:`~xrdf_tools.robot.kinematics.KinematicModel` into a :class:`SphereSet`: spheres grouped by
 frame, the frame pairs that are checked (masked ones on request) and every sphere pair of
 them as index arrays. Buffered radii follow cuRobo (:func:`self_radius`). Every consumer
 (lint, viz, the report's :mod:`xrdf_tools.engine`, the reference counter
@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..kinematics import KinematicModel
+from ..robot.kinematics import KinematicModel
 from ..util.errors import did_you_mean
 from ..xrdf.model import Xrdf, clone_order
 
@@ -68,7 +68,7 @@ class SphereSet:
 
     Frames (``Fs = len(frame_names)``): frames that carry at least one active sphere, in
     kinematic (topological) order; ``frame_kin_index`` [Fs] is each one's index in the
-    :class:`~xrdf_tools.kinematics.KinematicModel`.
+    :class:`~xrdf_tools.robot.kinematics.KinematicModel`.
 
     Spheres (``S``), grouped by frame in that order (``frame_of_sphere`` is non-decreasing):
     ``frame_of_sphere`` [S] index into ``frame_names``; ``kin_frame`` [S] index into the

@@ -205,9 +205,9 @@ def command(
     """
     from ..assistant import FitOptions, MaskOptions, convert_robot
     from ..convert import ConvertOptions
-    from ..packages import parse_package_path
+    from ..robot.packages import parse_package_path
+    from ..robot.xacro_source import parse_xacro_arg
     from ..sources.cspace import parse_chain
-    from ..sources.xacro_source import parse_xacro_arg
 
     if format_version not in (None, "1.0", "2.0"):
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 from ..diagnostics import Diagnostic, Severity, render_github, render_json, render_text
 
 if TYPE_CHECKING:
-    from ..robot import Robot
+    from ..robot.core import Robot
 
 
 class OutputFormat(str, Enum):
@@ -171,8 +171,8 @@ def load_robot_option(
 
     Raises :class:`XrdfToolsError` (the caller exits 2).
     """
-    from ..packages import parse_package_path
-    from ..sources.xacro_source import load_robot, parse_xacro_arg
+    from ..robot.packages import parse_package_path
+    from ..robot.xacro_source import load_robot, parse_xacro_arg
 
     return load_robot(
         path,

@@ -89,7 +89,7 @@ def command(
     try:
         root = None
         if urdf is not None:
-            from ..urdf_source import root_link
+            from ..robot.urdf_source import root_link
 
             root = root_link(load_robot_option(urdf, xacro_arg, package_path))
         from ..diff import diff_xrdf

@@ -24,7 +24,7 @@ from .common import (
 from .core import OutputFormat
 
 if TYPE_CHECKING:
-    from ..sources import RobotTree
+    from ..robot.tree import RobotTree
 
 app = typer.Typer(
     help="Export an XRDF to a cuRobo robot YAML, sync its ignore pairs into a MoveIt SRDF, or "
@@ -38,8 +38,8 @@ def _load_tree(
     urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None
 ) -> RobotTree:
     """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
-    from ..packages import parse_package_path
-    from ..sources.xacro_source import load_robot, parse_xacro_arg
+    from ..robot.packages import parse_package_path
+    from ..robot.xacro_source import load_robot, parse_xacro_arg
 
     pkgs = dict(parse_package_path(p) for p in package_path or [])
     xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])

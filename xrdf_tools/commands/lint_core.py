@@ -34,7 +34,7 @@ from .core import (
 )
 
 if TYPE_CHECKING:
-    from ..robot import Robot
+    from ..robot.core import Robot
     from ..util.errors import XrdfToolsError
 
 

@@ -221,7 +221,7 @@ def command(
         q_c = None
         if configs is not None:
             from ..configs import load_cspace_configurations
-            from ..kinematics import build_kinematic_model
+            from ..robot.kinematics import build_kinematic_model
 
             kin, _ = build_kinematic_model(u, x, path=str(urdf))
             q_c = load_cspace_configurations(configs, kin, x)

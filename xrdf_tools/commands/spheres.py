@@ -118,7 +118,7 @@ def command(
     goes to stdout with -o FILE, else to stderr (not with -q). Exit 1 when a link's geometry
     could not be read.
     """
-    from ..packages import parse_package_path
+    from ..robot.packages import parse_package_path
     from ..spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
     from ..spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
     from ..xrdf.io import dump_xrdf

@@ -145,8 +145,8 @@ def command(
         fail(e)
 
     try:
-        from ..kinematics import build_kinematic_model
-        from ..packages import parse_package_path
+        from ..robot.kinematics import build_kinematic_model
+        from ..robot.packages import parse_package_path
         from ..viz import (
             build_scene,
             load_configurations,

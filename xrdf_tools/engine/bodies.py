@@ -16,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..collision import SphereSet
-from ..kinematics import JointType, KinematicModel
+from ..robot.kinematics import JointType, KinematicModel
 
 F32 = npt.NDArray[np.float32]
 FloatArray = npt.NDArray[np.float64]

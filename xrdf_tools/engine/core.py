@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..collision import SphereSet, frame_pair_verdicts, sphere_world_centers
-from ..kinematics import KinematicModel, fk
+from ..robot.kinematics import KinematicModel, fk
 from .bodies import (
     _EPS32,
     F32,

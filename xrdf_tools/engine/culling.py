@@ -23,7 +23,7 @@ import numpy.typing as npt
 
 from ..collision import CULL_SLACK, bounding_sphere
 from ..engine_grid import PairGrid, build_pair_grid
-from ..kinematics import KinematicModel
+from ..robot.kinematics import KinematicModel
 from .bodies import _FK_BLOCK, _ROT, F32, _Bodies, _body_fk
 from .pairs import _BodyPair
 

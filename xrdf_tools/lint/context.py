@@ -1,5 +1,5 @@
 """What a rule sees: the parsed YAML tree with positions, a lenient view of the XRDF sections,
-and (with ``--urdf``) the loaded :class:`~xrdf_tools.robot.Robot` with its kinematic model.
+and (with ``--urdf``) the loaded :class:`~xrdf_tools.robot.core.Robot` with its kinematic model.
 
 Rules never raise on malformed input: every accessor here tolerates wrong types and returns
 ``None`` or nothing for parts that are not shaped as the spec says (the ``wrong-type`` rule
@@ -21,8 +21,8 @@ from ..xrdf.shape import SUPPORTED_VERSIONS, version_string
 from ..yaml.io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
 
 if TYPE_CHECKING:
-    from ..kinematics import KinematicModel
-    from ..robot import Robot
+    from ..robot.core import Robot
+    from ..robot.kinematics import KinematicModel
     from ..xrdf.model import Xrdf
 
 #: Section spelled ``collision`` in 1.0 and ``world_collision`` in 2.0.
@@ -409,7 +409,7 @@ class LintContext:
         if mods is None:
             return robot
         try:
-            from ..kinematics import build_kinematic_model
+            from ..robot.kinematics import build_kinematic_model
 
             self._kin, _ = build_kinematic_model(robot, mods)
         except XrdfToolsError as exc:

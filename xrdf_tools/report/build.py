@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
-from ..binding import cspace_indices
 from ..certify import certify_pair
 from ..collision import (
     Contact,
@@ -29,7 +28,8 @@ from ..collision import (
 )
 from ..diagnostics import Diagnostic, sort_key
 from ..engine import CountEngine, EngineTotals, ProgressFn, count_sampled
-from ..kinematics import (
+from ..robot.binding import cspace_indices
+from ..robot.kinematics import (
     KinematicModel,
     build_kinematic_model,
     default_configuration,
@@ -53,7 +53,7 @@ from .verdicts import _certified, _findings, _verdict, adjacent_frame_pairs, nev
 if TYPE_CHECKING:
     import yourdfpy
 
-    from ..robot import Robot
+    from ..robot.core import Robot
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -96,8 +96,8 @@ def self_collision_report(
     ``configs`` are always checked in this process). ``certify`` decides the "never" pairs
     over their whole joint box: proven, or "sometimes" with a witness configuration.
     """
+    from ..robot.urdf_source import urdf_path as _urdf_path
     from ..sampling import fresh_seed
-    from ..urdf_source import urdf_path as _urdf_path
 
     t0 = time.perf_counter()
     upath = urdf_path or _urdf_path(urdf)
@@ -155,7 +155,7 @@ def self_collision_report(
     rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
     cov = None
     if coverage:
-        from ..robot import as_robot
+        from ..robot.core import as_robot
         from ..spheres import coverage_for_xrdf
 
         cov = coverage_for_xrdf(as_robot(urdf), xrdf)  # the loaded robot: no second parse

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..collision import SphereSet
-from ..kinematics import KinematicModel
+from ..robot.kinematics import KinematicModel
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
 from ..xrdf.model import SelfCollisionSection, Xrdf

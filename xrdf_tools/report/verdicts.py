@@ -28,7 +28,7 @@ import numpy.typing as npt
 from ..certify import Verdict
 from ..collision import Contact
 from ..diagnostics import Diagnostic, Severity
-from ..kinematics import KinematicModel
+from ..robot.kinematics import KinematicModel
 from ..util.errors import did_you_mean
 from ..xrdf.model import SelfCollisionSection, Xrdf
 from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from ..diagnostics import Diagnostic, Severity
-from ..robot_tree import RobotTree
+from ..robot.tree import RobotTree
 from ..util.errors import did_you_mean
 from ..xrdf.model import Modifier, Sphere
 

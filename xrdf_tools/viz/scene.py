@@ -30,8 +30,8 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from ..collision import Contact
-    from ..kinematics import KinematicModel
-    from ..robot import Robot
+    from ..robot.core import Robot
+    from ..robot.kinematics import KinematicModel
 
 FloatArray = npt.NDArray[np.float64]
 Progress = Callable[[int, int], None]
@@ -252,7 +252,7 @@ def build_scene(
     """Evaluate the sphere model of ``xrdf`` on ``urdf`` for drawing.
 
     ``configurations`` [B, n] are full actuated configurations (see
-    :func:`xrdf_tools.kinematics.full_configuration`); the scene always starts with the
+    :func:`xrdf_tools.robot.kinematics.full_configuration`); the scene always starts with the
     default pose. ``colliding_only`` keeps, after the default pose, only configurations with
     a self-collision. ``meshes`` chooses the URDF elements drawn with each link.
     ``progress(done, total)`` is called while contacts are computed.
@@ -261,9 +261,9 @@ def build_scene(
     group's by :func:`xrdf_tools.collision.build_sphere_set`). Raises
     :class:`GeometryGroupError` for an unknown group.
     """
-    from ..binding import cspace_indices
-    from ..kinematics import build_kinematic_model, default_configuration, fk
-    from ..robot import as_robot
+    from ..robot.binding import cspace_indices
+    from ..robot.core import as_robot
+    from ..robot.kinematics import build_kinematic_model, default_configuration, fk
 
     robot = as_robot(urdf)
     diags: list[Diagnostic] = []

@@ -45,7 +45,7 @@ from ...yaml.io import YSeq
 from ..context import LintContext, Problem, Rule, SphereRef, finite_number
 
 if TYPE_CHECKING:
-    from ...robot import Robot
+    from ...robot.core import Robot
 
 RULE_ID = "sphere-outside-geometry"
 

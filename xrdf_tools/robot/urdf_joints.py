@@ -1,7 +1,7 @@
 """One URDF joint as plain, typed values (:class:`JointInfo`), read from a yourdfpy joint.
 
 The bottom of the robot model: it imports nothing of xrdf-tools, so
-:class:`~xrdf_tools.robot.Robot`, the kinematics, the linter and the converter build on it.
+:class:`~xrdf_tools.robot.core.Robot`, the kinematics, the linter and the converter build on it.
 """
 
 from __future__ import annotations

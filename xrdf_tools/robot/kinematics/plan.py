@@ -3,7 +3,7 @@
 A frame's pose is its parent's pose times the joint origin times the joint motion. The plan
 folds the origin and the joint axis into one constant matrix per frame, so that FK is one
 stacked matmul per frame plus elementwise terms in ``sin θ``, ``1 − cos θ`` or the prismatic
-displacement (see :func:`xrdf_tools.kinematics.fk_batch_last`).
+displacement (see :func:`xrdf_tools.robot.kinematics.fk_batch_last`).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
-from ..util.rotations import axis_angle_matrix, skew
+from ...util.rotations import axis_angle_matrix, skew
 from .base import MOVING_TYPES, FloatArray, IntArray, JointType
 
 

@@ -1,7 +1,7 @@
 """The URDF as a tree of names: links, joints, parent/child relations, depth-first order.
 
-Built once per :class:`~xrdf_tools.robot.Robot` (:attr:`~xrdf_tools.robot.Robot.tree`); the
-converter and the source readers check names and walk chains with it. Imports nothing above
+Built once per :class:`~xrdf_tools.robot.core.Robot` (:attr:`~xrdf_tools.robot.core.Robot.tree`);
+the converter and the source readers check names and walk chains with it. Imports nothing above
 the plain joint view.
 """
 
@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from ..util.errors import UrdfError
 from .urdf_joints import JointInfo
-from .util.errors import UrdfError
 
 __all__ = ["RobotTree"]
 
@@ -35,7 +35,7 @@ class RobotTree:
     def from_parts(
         cls, name: str, path: str, links: tuple[str, ...], joints: Mapping[str, JointInfo]
     ) -> RobotTree:
-        """The tree of a robot's links and joints (:attr:`xrdf_tools.robot.Robot.tree` builds
+        """The tree of a robot's links and joints (:attr:`xrdf_tools.robot.core.Robot.tree` builds
         it once per robot); :class:`UrdfError` when every link has a parent joint."""
         parent_joint = {j.child: j.name for j in joints.values()}
         roots = tuple(link for link in links if link not in parent_joint)

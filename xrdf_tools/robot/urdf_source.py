@@ -22,14 +22,14 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
+from ..util.errors import UrdfError, UrdfReadError, XrdfToolsError
 from .urdf_check import JOINT_TYPES, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
-from .util.errors import UrdfError, UrdfReadError, XrdfToolsError
 
 if TYPE_CHECKING:
     import yourdfpy
 
-    from .robot import Robot
+    from .core import Robot
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -53,38 +53,38 @@ __all__ = [
 
 def links_of(urdf: Robot | yourdfpy.URDF) -> list[str]:
     """Link names in document order."""
-    from .robot import as_robot
+    from .core import as_robot
 
     return list(as_robot(urdf).links)
 
 
 def root_link(urdf: Robot | yourdfpy.URDF) -> str:
     """The one link that is no joint's child; :class:`UrdfError` when there is not exactly one."""
-    from .robot import as_robot
+    from .core import as_robot
 
     return as_robot(urdf).root_link()
 
 
 def joints_of(urdf: Robot | yourdfpy.URDF) -> dict[str, JointInfo]:
     """Every ``<joint>`` of the robot as :class:`JointInfo`, keyed by name, in document order."""
-    from .robot import as_robot
+    from .core import as_robot
 
     return dict(as_robot(urdf).joints)
 
 
 # --------------------------------------------------------------------------------------------
-# Where a loaded URDF came from (fields of its :class:`~xrdf_tools.robot.Robot`)
+# Where a loaded URDF came from (fields of its :class:`~xrdf_tools.robot.core.Robot`)
 # --------------------------------------------------------------------------------------------
 def urdf_path(urdf: Robot | yourdfpy.URDF) -> str:
     """The path a URDF was loaded from by this module, or ``"<urdf>"``."""
-    from .robot import as_robot
+    from .core import as_robot
 
     return as_robot(urdf).path
 
 
 def urdf_text(urdf: Robot | yourdfpy.URDF) -> str | None:
     """The text a URDF was parsed from by this module (an expanded xacro: the expansion)."""
-    from .robot import as_robot
+    from .core import as_robot
 
     return as_robot(urdf).text
 
@@ -93,7 +93,7 @@ def source_line(
     urdf: Robot | yourdfpy.URDF, kind: Literal["link", "joint"], name: str
 ) -> int | None:
     """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""
-    from .robot import as_robot
+    from .core import as_robot
 
     return as_robot(urdf).source_line(kind, name)
 
@@ -108,7 +108,8 @@ def load_urdf(
     build_scene_graph: bool = False,
 ) -> yourdfpy.URDF:
     """Load a URDF file without loading any mesh: the yourdfpy object of :func:`read_robot`
-    (which carries its :class:`~xrdf_tools.robot.Robot`, see :func:`xrdf_tools.robot.as_robot`).
+    (which carries its :class:`~xrdf_tools.robot.core.Robot`, see
+    :func:`xrdf_tools.robot.core.as_robot`).
     """
     return read_robot(path, package_paths=package_paths, build_scene_graph=build_scene_graph).urdf
 
@@ -120,12 +121,12 @@ def read_robot(
     build_scene_graph: bool = False,
     data: bytes | None = None,
 ) -> Robot:
-    """Load a URDF file without loading any mesh, as a :class:`~xrdf_tools.robot.Robot`.
+    """Load a URDF file without loading any mesh, as a :class:`~xrdf_tools.robot.core.Robot`.
 
     ``package_paths`` (``{"pkg": "/dir"}``) resolves ``package://pkg/...`` mesh URIs for
     whoever loads meshes later (see :func:`make_filename_handler`); meshes are never read here.
     ``build_scene_graph`` builds yourdfpy's scene graph (needed only for yourdfpy's own
-    ``get_transform``; :mod:`xrdf_tools.kinematics` does not need it). ``data``: the file's
+    ``get_transform``; :mod:`xrdf_tools.robot.kinematics` does not need it). ``data``: the file's
     bytes when the caller has already read them (:func:`read_urdf_bytes`): not read again.
 
     Raises :class:`UrdfError` (one line, with the path, and the line when known).
@@ -140,7 +141,7 @@ def read_urdf_bytes(path: str | os.PathLike[str]) -> bytes:
     """The bytes of a URDF file, read through :func:`xrdf_tools.util.fileio.read_input_bytes`
     (regular files only, size limit); any failure is a one-line :class:`UrdfReadError` (the file
     cannot be used at all: a usage error, not a finding about the robot)."""
-    from .util.fileio import read_input_bytes
+    from ..util.fileio import read_input_bytes
 
     return read_input_bytes(path, what="URDF file", error=UrdfReadError)
 
@@ -170,7 +171,7 @@ def parse_robot(
     build_scene_graph: bool = False,
     expanded: bool = False,
 ) -> Robot:
-    """:func:`parse_urdf_string` as a :class:`~xrdf_tools.robot.Robot` (``expanded``: the
+    """:func:`parse_urdf_string` as a :class:`~xrdf_tools.robot.core.Robot` (``expanded``: the
     text is the expansion of the xacro file ``path``)."""
     text = _ENCODING_DECL.sub(r"\1", text, count=1)
     return _parse_bytes(
@@ -189,7 +190,7 @@ def make_filename_handler(
     """A yourdfpy ``filename_handler``: ``package://``, ``file://`` and relative mesh URIs.
 
     Packages come from ``package_paths`` first, then from ``package.xml`` files near ``path``
-    (:class:`xrdf_tools.packages.PackageResolver`). An unresolvable URI is returned unchanged
+    (:class:`xrdf_tools.robot.packages.PackageResolver`). An unresolvable URI is returned unchanged
     (yourdfpy then reports the missing mesh when it tries to load it).
     """
     from .packages import PackageResolver
@@ -218,9 +219,9 @@ def _parse_bytes(
 ) -> Robot:
     from lxml import etree
 
+    from ..util.frozen import FrozenMap
+    from .core import Robot, attach
     from .link_geometry import capsules_as_cylinders
-    from .robot import Robot, attach
-    from .util.frozen import FrozenMap
 
     parser = etree.XMLParser(
         remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=True

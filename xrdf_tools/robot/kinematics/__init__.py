@@ -24,7 +24,7 @@ Modules
 * :mod:`.plan` and :mod:`.batch_fk` -- the per-frame FK constants and batched FK;
 * :mod:`.configurations` -- default, MoveIt default and c-space-expanded configurations.
 
-Everything is importable from ``xrdf_tools.kinematics``.
+Everything is importable from ``xrdf_tools.robot.kinematics``.
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from .util.errors import UrdfError, did_you_mean, shown_text
+from ..util.errors import UrdfError, did_you_mean, shown_text
 
 __all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
 
@@ -19,7 +19,7 @@ JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "plan
 XACRO_NS = "http://www.ros.org/wiki/xacro"
 #: The geometry elements the loader reads: yourdfpy's four, and ``<capsule>`` (not standard
 #: URDF; handed to yourdfpy as a cylinder, see
-#: :func:`xrdf_tools.link_geometry.capsules_as_cylinders`).
+#: :func:`xrdf_tools.robot.link_geometry.capsules_as_cylinders`).
 URDF_GEOMETRIES = ("box", "cylinder", "sphere", "mesh", "capsule")
 #: Numbers yourdfpy parses besides origins, axes, limits, mimic and geometry:
 #: (element, child path, attributes, count).
@@ -135,7 +135,7 @@ def _check_is_tree(
     fail: Fail,
 ) -> None:
     """Each link is the child of at most one joint, and parent links never loop back."""
-    from .util.graph import find_cycle, show_path
+    from ..util.graph import find_cycle, show_path
 
     parent_of: dict[str, tuple[str, str]] = {}  # child link -> (joint, parent link)
     element: dict[str, Any] = {}

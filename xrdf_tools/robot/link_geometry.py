@@ -1,14 +1,14 @@
 """The link geometry of a loaded robot as triangle meshes: the one loader (viz, spheres, lint).
 
-:func:`link_geometry` takes a loaded :class:`~xrdf_tools.robot.Robot` and returns, per link, the
-parts of its ``<collision>`` or ``<visual>`` elements as the yourdfpy object holds them (the
+:func:`link_geometry` takes a loaded :class:`~xrdf_tools.robot.core.Robot` and returns, per link,
+the parts of its ``<collision>`` or ``<visual>`` elements as the yourdfpy object holds them (the
 URDF XML is not parsed again):
 
 * the primitives ``box``, ``cylinder``, ``sphere`` and ``capsule`` tessellated (cylinder and
   capsule along z, centred, like URDF's cylinder), finely enough that sphere-fitting metrics do
   not see the facets;
 * meshes that trimesh reads (STL, OBJ, DAE, PLY, ...), found with
-  :class:`~xrdf_tools.packages.PackageResolver` (``package://``, ``file://``, relative to the
+  :class:`~xrdf_tools.robot.packages.PackageResolver` (``package://``, ``file://``, relative to the
   URDF) and read through :func:`~xrdf_tools.util.fileio.check_input_file` with the mesh size limit;
   ``scale`` applied;
 * each with its element's ``origin`` (the transform into the link frame), the URDF material
@@ -32,15 +32,15 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import numpy.typing as npt
 
-from .util.errors import XrdfToolsError
-from .util.fileio import check_input_file, mesh_bytes_limit
+from ..util.errors import XrdfToolsError
+from ..util.fileio import check_input_file, mesh_bytes_limit
 
 if TYPE_CHECKING:
     import trimesh
     import yourdfpy
 
+    from .core import Robot
     from .packages import PackageResolver
-    from .robot import Robot
 
 FloatArray = npt.NDArray[np.float64]
 Rgba = tuple[float, float, float, float]
@@ -145,8 +145,8 @@ def link_geometry(
     ``links`` gets an entry, also without elements; other names (e.g. an XRDF's added frames)
     are skipped. ``package_paths`` replaces the robot's own for resolving ``package://``.
     """
+    from .core import as_robot
     from .packages import PackageResolver
-    from .robot import as_robot
 
     loaded = as_robot(robot)
     pkgs = loaded.package_paths if package_paths is None else package_paths

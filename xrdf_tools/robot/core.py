@@ -1,13 +1,13 @@
 """One loaded robot as one frozen value: where it came from and every view of it.
 
-A :class:`Robot` is built once by the loader (:func:`xrdf_tools.urdf_source.load_urdf`,
-:func:`xrdf_tools.sources.xacro_source.load_robot`) and carries the path, the URDF text it was
+A :class:`Robot` is built once by the loader (:func:`xrdf_tools.robot.urdf_source.load_urdf`,
+:func:`xrdf_tools.robot.xacro_source.load_robot`) and carries the path, the URDF text it was
 parsed from (an expanded xacro: the expansion), the line of every ``<link>`` and ``<joint>``,
 the ``package_paths`` it was loaded with, which geometry elements are capsules and the yourdfpy
-object. The plain views — the joints as :class:`~xrdf_tools.urdf_joints.JointInfo`, the link
-names (and which have collision geometry), the :class:`~xrdf_tools.robot_tree.RobotTree` — are
+object. The plain views — the joints as :class:`~xrdf_tools.robot.urdf_joints.JointInfo`, the link
+names (and which have collision geometry), the :class:`~xrdf_tools.robot.tree.RobotTree` — are
 computed on first use and kept. Modules above keep what they derive from the robot in
-:attr:`Robot.derived` (the :class:`~xrdf_tools.kinematics.KinematicModel` per XRDF modifiers):
+:attr:`Robot.derived` (the :class:`~xrdf_tools.robot.kinematics.KinematicModel` per XRDF modifiers):
 the robot itself imports only the plain views below it.
 
 Functions that still receive a bare ``yourdfpy.URDF`` call :func:`as_robot`: the loader leaves
@@ -23,9 +23,9 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
-from .robot_tree import RobotTree
+from ..util.frozen import FrozenMap
+from .tree import RobotTree
 from .urdf_joints import JointInfo, joint_info
-from .util.frozen import FrozenMap
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -52,10 +52,11 @@ class Robot:
     package_paths: Mapping[str, str] = field(default_factory=FrozenMap)
     #: ``(link, "collision" | "visual", index)`` of the elements whose geometry is a
     #: ``<capsule>`` (not standard URDF): yourdfpy holds them as cylinders of the same radius
-    #: and length (see :func:`xrdf_tools.link_geometry.capsules_as_cylinders`).
+    #: and length (see :func:`xrdf_tools.robot.link_geometry.capsules_as_cylinders`).
     capsules: frozenset[tuple[str, str, int]] = frozenset()
     #: Results other modules derive from the robot and keep with it, by their own keys (the
-    #: kinematic model per XRDF modifiers: :func:`xrdf_tools.kinematics.build_kinematic_model`).
+    #: kinematic model per XRDF modifiers:
+    #: :func:`xrdf_tools.robot.kinematics.build_kinematic_model`).
     derived: dict[Any, Any] = field(default_factory=dict, repr=False, compare=False)
 
     # --- views ---------------------------------------------------------------------------
@@ -92,7 +93,7 @@ class Robot:
 
     @cached_property
     def tree(self) -> RobotTree:
-        """The URDF as a tree of names (:class:`~xrdf_tools.robot_tree.RobotTree`)."""
+        """The URDF as a tree of names (:class:`~xrdf_tools.robot.tree.RobotTree`)."""
         return RobotTree.from_parts(self.name, self.path, self.links, self.joints)
 
     def source_line(self, kind: Literal["link", "joint"], name: str) -> int | None:
@@ -101,7 +102,7 @@ class Robot:
 
     def root_link(self) -> str:
         """The one link that is no joint's child; :class:`UrdfError` when not exactly one."""
-        from .util.errors import UrdfError
+        from ..util.errors import UrdfError
 
         children = {j.child for j in self.joints.values()}
         roots = [link for link in self.links if link not in children]

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 
+from ...util.errors import did_you_mean
+from ...util.graph import show_path
 from ..urdf_source import JointInfo
-from ..util.errors import did_you_mean
-from ..util.graph import show_path
 
 MimicLink = tuple[str | None, float, float, str]
 """``(actuated master or None, multiplier, offset, why the follower is held when no master)``."""

@@ -1,6 +1,6 @@
 """Expand xacro files with the ``xacro`` package, without a ROS installation.
 
-``$(find pkg)`` is resolved through :class:`~xrdf_tools.packages.PackageResolver`
+``$(find pkg)`` is resolved through :class:`~xrdf_tools.robot.packages.PackageResolver`
 (``--package-path NAME=DIR``, then directories holding a ``package.xml`` of that name near the
 input, then a directory named like the package); ``$(arg x)`` takes the ``<xacro:arg>`` default
 or ``--xacro-arg x:=v``. An unresolved package is a :class:`SourceError` naming it and the
@@ -24,12 +24,12 @@ from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 from xml.sax.saxutils import escape
 
-from ..packages import PackageResolver
 from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
+from .packages import PackageResolver
 
 if TYPE_CHECKING:
-    from ..robot import Robot
+    from .core import Robot
 
 __all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg"]
 
@@ -206,7 +206,7 @@ def load_robot(
     of a robot file. For xacro input :attr:`Robot.xacro_text` is the expanded URDF text.
     A URDF file is read once: the bytes that tell it is no xacro are the bytes parsed.
     """
-    from ..urdf_source import parse_robot, read_robot, read_urdf_bytes
+    from .urdf_source import parse_robot, read_robot, read_urdf_bytes
 
     pkg = {k: str(v) for k, v in (package_paths or {}).items()}
     data: bytes | None = None

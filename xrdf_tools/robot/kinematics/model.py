@@ -10,9 +10,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ...util.errors import UrdfError, did_you_mean
+from ...util.frozen import FrozenMap
 from ..urdf_source import JointInfo
-from ..util.errors import UrdfError, did_you_mean
-from ..util.frozen import FrozenMap
 from .base import BoolArray, FloatArray, FrameSelection, IntArray
 from .plan import FkPlan, make_plan
 

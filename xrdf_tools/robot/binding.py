@@ -14,12 +14,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from .util.errors import UrdfError
+from ..util.errors import UrdfError
 
 if TYPE_CHECKING:
+    from ..xrdf.model import Xrdf
     from .kinematics import KinematicModel
-    from .sources import RobotTree
-    from .xrdf.model import Xrdf
+    from .tree import RobotTree
 
 __all__ = ["check_belongs", "cspace_indices", "cspace_joints", "unreachable_frames"]
 

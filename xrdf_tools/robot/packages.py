@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from urllib.parse import unquote
 
-from .util.errors import SourceError, XrdfToolsError
-from .util.fileio import read_input_bytes
+from ..util.errors import SourceError, XrdfToolsError
+from ..util.fileio import read_input_bytes
 
 _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 
