@@ -308,9 +308,9 @@ def _pr2_scene(pr2: tuple[Path, Path]) -> Any:
 
 
 def test_pr2_title_counts_the_frame_pairs(pr2: tuple[Path, Path]) -> None:
-    from xrdf_tools.collision import build_sphere_set, colliding_frame_pairs
     from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
     from xrdf_tools.robot.urdf_source import load_urdf
+    from xrdf_tools.selfcollision.collision import build_sphere_set, colliding_frame_pairs
     from xrdf_tools.viz.png import png_title
     from xrdf_tools.xrdf.io import load_xrdf
 

@@ -137,8 +137,8 @@ def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None
         "x.xrdf",
     )
     r2 = self_collision_report(urdf, fixed, configs=q, chunk=64)
-    from xrdf_tools.collision import colliding_frame_pairs
     from xrdf_tools.robot.kinematics import build_kinematic_model, full_configuration
+    from xrdf_tools.selfcollision.collision import colliding_frame_pairs
 
     kin, _ = build_kinematic_model(urdf, fixed)
     full = full_configuration(kin, ["joint1", "joint2", "joint3"], q)
@@ -149,8 +149,8 @@ def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None
 
 
 def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
-    from xrdf_tools.configs import load_cspace_configurations
     from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.selfcollision.configurations import load_cspace_configurations
     from xrdf_tools.util.errors import SourceError
 
     urdf, xrdf = load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF)
@@ -260,7 +260,7 @@ def test_halton_and_uniform_agree_roughly() -> None:
 
 
 def test_jobs_give_the_same_report(monkeypatch: pytest.MonkeyPatch) -> None:
-    import xrdf_tools.engine.jobs as engine  # where count_sampled reads the threshold
+    import xrdf_tools.selfcollision.engine.jobs as engine  # where count_sampled reads the threshold
 
     monkeypatch.setattr(engine, "MIN_SAMPLES_PER_JOB", 1000)  # two workers on a small sample
     _, one = three_link_report(samples=6000, seed=2, chunk=1000)

@@ -21,9 +21,9 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
-from xrdf_tools.collision import colliding_frame_pairs
 from xrdf_tools.robot.kinematics import build_kinematic_model
 from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.selfcollision.collision import colliding_frame_pairs
 from xrdf_tools.util.errors import GeometryGroupError, SourceError
 from xrdf_tools.viz import (
     COLLISION_RGBA,

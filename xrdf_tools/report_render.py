@@ -16,8 +16,8 @@ from pathlib import Path
 from typing import Any
 
 from . import __version__
-from .collision import Contact
 from .report import PairStat, Report
+from .selfcollision.collision import Contact
 from .yaml.io import write_atomic
 
 __all__ = [

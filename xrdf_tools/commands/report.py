@@ -200,9 +200,9 @@ def command(
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
-    from ..engine import default_jobs
     from ..report import CertifyOptions, recommended_xrdf, self_collision_report
     from ..report_render import ReportView, write_heatmap
+    from ..selfcollision.engine import default_jobs
     from ..xrdf.io import dump_xrdf
 
     inputs = [xrdf_file, urdf, configs]
@@ -220,8 +220,8 @@ def command(
         u = load_robot_option(urdf, xacro_arg, package_path)
         q_c = None
         if configs is not None:
-            from ..configs import load_cspace_configurations
             from ..robot.kinematics import build_kinematic_model
+            from ..selfcollision.configurations import load_cspace_configurations
 
             kin, _ = build_kinematic_model(u, x, path=str(urdf))
             q_c = load_cspace_configurations(configs, kin, x)

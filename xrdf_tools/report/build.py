@@ -2,10 +2,10 @@
 
 :func:`self_collision_report` samples configurations (or takes given ones, e.g. a recorded
 trajectory), counts for every pair of frames with spheres how often it collides
-(:class:`xrdf_tools.engine.CountEngine`, exact, chunked so memory stays bounded), classifies
-each pair (:mod:`.verdicts`), optionally certifies the "never" pairs (:mod:`xrdf_tools.certify`)
-and recommends the ``ignore`` mask (:mod:`.mask`). Masked adjacent pairs are not sampled
-(their verdict does not depend on it).
+(:class:`xrdf_tools.selfcollision.engine.CountEngine`, exact, chunked so memory stays bounded),
+classifies each pair (:mod:`.verdicts`), optionally certifies the "never" pairs
+(:mod:`xrdf_tools.selfcollision.certify`) and recommends the ``ignore`` mask (:mod:`.mask`). Masked
+adjacent pairs are not sampled (their verdict does not depend on it).
 """
 
 from __future__ import annotations
@@ -17,17 +17,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
-from ..certify import certify_pair
-from ..collision import (
-    Contact,
-    SphereSet,
-    build_sphere_set,
-    contacts,
-    pair_clearance,
-    sphere_world_centers,
-)
 from ..diagnostics import Diagnostic, sort_key
-from ..engine import CountEngine, EngineTotals, ProgressFn, count_sampled
 from ..robot.binding import cspace_indices
 from ..robot.kinematics import (
     KinematicModel,
@@ -35,6 +25,16 @@ from ..robot.kinematics import (
     default_configuration,
     moveit_default_configuration,
 )
+from ..selfcollision.certify import certify_pair
+from ..selfcollision.collision import (
+    Contact,
+    SphereSet,
+    build_sphere_set,
+    contacts,
+    pair_clearance,
+    sphere_world_centers,
+)
+from ..selfcollision.engine import CountEngine, EngineTotals, ProgressFn, count_sampled
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
 from ..xrdf.model import Xrdf
@@ -97,7 +97,7 @@ def self_collision_report(
     over their whole joint box: proven, or "sometimes" with a witness configuration.
     """
     from ..robot.urdf_source import urdf_path as _urdf_path
-    from ..sampling import fresh_seed
+    from ..selfcollision.sampling import fresh_seed
 
     t0 = time.perf_counter()
     upath = urdf_path or _urdf_path(urdf)

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ..collision import SphereSet
 from ..robot.kinematics import KinematicModel
+from ..selfcollision.collision import SphereSet
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
 from ..xrdf.model import SelfCollisionSection, Xrdf

@@ -11,9 +11,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
-from ..certify import Verdict
-from ..collision import Contact
 from ..diagnostics import Diagnostic
+from ..selfcollision.certify import Verdict
+from ..selfcollision.collision import Contact
 from ..util.errors import XrdfToolsError
 
 if TYPE_CHECKING:
@@ -39,7 +39,7 @@ __all__ = [
 @dataclass(frozen=True)
 class CertifyOptions:
     """``--certify``: decide every "never" pair over its whole joint box (see
-    :mod:`xrdf_tools.certify`) within ``budget_s`` seconds in all. ``mask_policy``
+    :mod:`xrdf_tools.selfcollision.certify`) within ``budget_s`` seconds in all. ``mask_policy``
     ``"proven"`` recommends ignoring a never-colliding pair only when it is proven;
     ``"sampled"`` keeps the sampled recommendation."""
 

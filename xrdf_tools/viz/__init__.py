@@ -22,7 +22,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Literal, Protocol
 
-from ..configs import load_configurations, sample_configurations
+from ..selfcollision.configurations import load_configurations, sample_configurations
 from ..util.errors import MissingDependencyError, XrdfToolsError
 from ..util.fileio import atomic_output
 from .scene import (

@@ -8,7 +8,7 @@ translate a :class:`Scene` into their format.
   buffered radii), one colour, its meshes.
 * Per sample (:class:`Sample`): the actuated joint values, the pose of every frame (in
   :attr:`Scene.poses`), and the colliding sphere pairs found with the XRDF's self-collision
-  semantics (:mod:`xrdf_tools.collision`). Sample 0 is always the default pose.
+  semantics (:mod:`xrdf_tools.selfcollision.collision`). Sample 0 is always the default pose.
 """
 
 from __future__ import annotations
@@ -29,9 +29,9 @@ from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
 if TYPE_CHECKING:
     import yourdfpy
 
-    from ..collision import Contact
     from ..robot.core import Robot
     from ..robot.kinematics import KinematicModel
+    from ..selfcollision.collision import Contact
 
 FloatArray = npt.NDArray[np.float64]
 Progress = Callable[[int, int], None]
@@ -118,7 +118,8 @@ class Sample:
     ``step`` is its position on the timeline (0: default pose); ``source`` is the row of the
     input configurations it came from (-1 for the default pose); ``q`` [n] the actuated joint
     values; ``contacts`` every sphere pair in self-collision (worst first);
-    ``frame_contacts`` one :class:`~xrdf_tools.collision.Contact` per colliding frame pair.
+    ``frame_contacts`` one :class:`~xrdf_tools.selfcollision.collision.Contact` per colliding frame
+    pair.
     """
 
     step: int
@@ -258,7 +259,7 @@ def build_scene(
     ``progress(done, total)`` is called while contacts are computed.
 
     Spheres on a frame the kinematic tree lacks are left out with a warning (the self-collision
-    group's by :func:`xrdf_tools.collision.build_sphere_set`). Raises
+    group's by :func:`xrdf_tools.selfcollision.collision.build_sphere_set`). Raises
     :class:`GeometryGroupError` for an unknown group.
     """
     from ..robot.binding import cspace_indices
@@ -412,9 +413,9 @@ def _contacts(
     chunk: int = 256,
 ) -> tuple[list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]], int, int]:
     """Per configuration of ``Q`` [B, n]: every colliding sphere pair, and the colliding
-    frame pairs (worst sphere pair first), by :mod:`xrdf_tools.collision`; and the numbers
-    of frame pairs checked and ignored by the mask."""
-    from ..collision import (
+    frame pairs (worst sphere pair first), by :mod:`xrdf_tools.selfcollision.collision`; and the
+    numbers of frame pairs checked and ignored by the mask."""
+    from ..selfcollision.collision import (
         build_sphere_set,
         contacts,
         pair_clearance,

@@ -3,8 +3,8 @@
 Two ways to skip configurations in which a body pair is farther apart than the margin, chosen
 once per body pair when the engine is built (:meth:`_Culler.choose`):
 
-* a **cell grid** (:mod:`xrdf_tools.engine_grid`) when one or two revolute joints separate
-  the bodies: cells proven far are skipped, with the grid's clearance bound;
+* a **cell grid** (:mod:`xrdf_tools.selfcollision.engine.grid`) when one or two revolute joints
+  separate the bodies: cells proven far are skipped, with the grid's clearance bound;
 * a **bounding-sphere cull** when a fixed pilot sample finds the bodies mostly out of reach:
   one float32 distance between the bodies' bounding spheres per configuration
   (:meth:`_Culler.gaps2`), widened by the float32 error so that it never skips a near case.
@@ -21,10 +21,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 import numpy.typing as npt
 
+from ...robot.kinematics import KinematicModel
 from ..collision import CULL_SLACK, bounding_sphere
-from ..engine_grid import PairGrid, build_pair_grid
-from ..robot.kinematics import KinematicModel
 from .bodies import _FK_BLOCK, _ROT, F32, _Bodies, _body_fk
+from .grid import PairGrid, build_pair_grid
 from .pairs import _BodyPair
 
 FloatArray = npt.NDArray[np.float64]
@@ -34,7 +34,7 @@ IntArray = npt.NDArray[np.intp]
 _CULL_FRACTION = 0.5
 _PILOT = 512
 #: Body pairs with one or two revolute joints between them and at least this many counted
-#: sphere pairs get a cell grid (see :mod:`xrdf_tools.engine_grid`).
+#: sphere pairs get a cell grid (see :mod:`xrdf_tools.selfcollision.engine.grid`).
 _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
@@ -44,7 +44,8 @@ def _body_bounds(
     n_bodies: int, sphere_body: IntArray, local: FloatArray, radii: FloatArray
 ) -> FloatArray:
     """Bounding sphere [nb, 4] (centre in the body frame, radius + slack) of each body's
-    spheres (:func:`~xrdf_tools.collision.bounding_sphere`, as the reference counter's)."""
+    spheres (:func:`~xrdf_tools.selfcollision.collision.bounding_sphere`, as the reference
+    counter's)."""
     out = np.zeros((n_bodies, 4))
     for b in np.unique(sphere_body).tolist():
         mine = sphere_body == b

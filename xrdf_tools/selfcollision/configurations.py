@@ -28,14 +28,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from .robot.binding import cspace_indices
-from .util.errors import SourceError, XrdfToolsError
-from .util.fileio import max_input_bytes, read_input_bytes, read_input_text
-from .xrdf.model import Xrdf
-from .yaml.io import YMap, YSeq, parse_yaml, to_python
+from ..robot.binding import cspace_indices
+from ..util.errors import SourceError, XrdfToolsError
+from ..util.fileio import max_input_bytes, read_input_bytes, read_input_text
+from ..xrdf.model import Xrdf
+from ..yaml.io import YMap, YSeq, parse_yaml, to_python
 
 if TYPE_CHECKING:
-    from .robot.kinematics import KinematicModel
+    from ..robot.kinematics import KinematicModel
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -60,7 +60,7 @@ def sample_configurations(
     kin: KinematicModel, xrdf: Xrdf, n: int, seed: int | None = 0
 ) -> FloatArray:
     """``n`` configurations [n, n_actuated] drawn uniformly within the c-space joint limits."""
-    from .robot.kinematics import full_configuration
+    from ..robot.kinematics import full_configuration
     from .sampling import sample_uniform
 
     if n < 0 or n > MAX_SAMPLES:
@@ -201,7 +201,7 @@ def _assemble(
     *,
     max_rows: int | None = MAX_SAMPLES,
 ) -> FloatArray:
-    from .robot.kinematics import default_configuration
+    from ..robot.kinematics import default_configuration
 
     if max_rows is not None and len(rows) > max_rows:
         raise SourceError(f"too many configurations ({len(rows)} > {max_rows})", path=spath)

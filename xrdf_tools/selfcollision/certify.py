@@ -35,7 +35,7 @@ import numpy.typing as npt
 
 from .collision import sphere_world_centers, squared_distances, touching
 from .engine import CountEngine
-from .engine.bodies import _PRISM
+from .engine.bodies import PRISM
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
@@ -101,11 +101,11 @@ def _levers(engine: CountEngine, chain: list[int], x: FloatArray) -> list[float]
     """Per body of ``chain`` (outer first): displacement of point ``x`` (in the innermost
     body's frame) per unit of that body's joint value."""
     bodies = engine.bodies
-    travel = [_travel(engine, j) if bodies.kind[j] == _PRISM else 0.0 for j in chain]
+    travel = [_travel(engine, j) if bodies.kind[j] == PRISM else 0.0 for j in chain]
     offs = [float(np.linalg.norm(bodies.consts[j][:3, 3])) for j in chain]
     out = []
     for k, j in enumerate(chain):
-        if bodies.kind[j] == _PRISM:
+        if bodies.kind[j] == PRISM:
             out.append(1.0)
             continue
         if k == len(chain) - 1:

@@ -4,8 +4,8 @@
 :class:`~xrdf_tools.robot.kinematics.KinematicModel` into a :class:`SphereSet`: spheres grouped by
 frame, the frame pairs that are checked (masked ones on request) and every sphere pair of
 them as index arrays. Buffered radii follow cuRobo (:func:`self_radius`). Every consumer
-(lint, viz, the report's :mod:`xrdf_tools.engine`, the reference counter
-:func:`xrdf_tools.collision.count_chunk`, ``--certify``) starts from this one set, so they
+(lint, viz, the report's :mod:`xrdf_tools.selfcollision.engine`, the reference counter
+:func:`tests.collision_reference.count_chunk`, ``--certify``) starts from this one set, so they
 agree on which sphere pairs exist and on their radii.
 
 :func:`bounding_sphere` is the one enclosing-sphere construction used for culling, both per
@@ -21,10 +21,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..diagnostics import Diagnostic, Severity
-from ..robot.kinematics import KinematicModel
-from ..util.errors import did_you_mean
-from ..xrdf.model import Xrdf, clone_order
+from ...diagnostics import Diagnostic, Severity
+from ...robot.kinematics import KinematicModel
+from ...util.errors import did_you_mean
+from ...xrdf.model import Xrdf, clone_order
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]

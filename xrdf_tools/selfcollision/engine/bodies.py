@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from ...robot.kinematics import JointType, KinematicModel
 from ..collision import SphereSet
-from ..robot.kinematics import JointType, KinematicModel
 
 F32 = npt.NDArray[np.float32]
 FloatArray = npt.NDArray[np.float64]
@@ -24,7 +24,7 @@ IntArray = npt.NDArray[np.intp]
 
 _EPS32 = float(np.finfo(np.float32).eps)
 #: Body kinds: the root, a revolute/continuous joint (turns about z), a prismatic one (slides).
-_ROOT, _ROT, _PRISM = 0, 1, 2
+_ROOT, _ROT, PRISM = 0, 1, 2
 _MOVABLE = (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC)
 _ANGLE_MAX = 2 * np.pi
 _FK_BLOCK = 8192  # configurations per forward-kinematics block (cache-sized)
@@ -134,13 +134,13 @@ def _build_bodies(
         C[:3, 3] = G[pb].T @ C[:3, 3]
         C[:3, :3] = G[pb].T @ C[:3, :3] @ G[j]
         parent.append(pb)
-        kind.append(_PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else _ROT)
+        kind.append(PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else _ROT)
         consts.append(C)
         cols.append(col_of[int(kin.q_index[f])])
         mult.append(float(kin.mimic_multiplier[f]))
         off.append(float(kin.mimic_offset[f]))
         lever += float(np.linalg.norm(C[:3, 3]))
-        if kind[-1] == _PRISM:
+        if kind[-1] == PRISM:
             q = int(kin.q_index[f])
             lever += abs(mult[-1]) * max(abs(kin.lower[q]), abs(kin.upper[q])) + abs(off[-1])
     return _Bodies(

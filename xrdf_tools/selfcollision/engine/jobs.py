@@ -1,9 +1,9 @@
 """``--jobs``: the sampling driver, in this process or spread over worker processes.
 
-:func:`count_sampled` cuts a sample stream (:func:`xrdf_tools.sampling.sample_rows`) into
-chunks and counts them with one :class:`~xrdf_tools.engine.CountEngine`, here or in spawned
-workers that each receive a copy of the engine once and pin BLAS/OpenMP to one thread. Every
-chunk's totals are sums and minima, so the result does not depend on the number of workers or
+:func:`count_sampled` cuts a sample stream (:func:`xrdf_tools.selfcollision.sampling.sample_rows`)
+into chunks and counts them with one :class:`~xrdf_tools.selfcollision.engine.CountEngine`, here or
+in spawned workers that each receive a copy of the engine once and pin BLAS/OpenMP to one thread.
+Every chunk's totals are sums and minima, so the result does not depend on the number of workers or
 on the order in which chunks come back.
 """
 

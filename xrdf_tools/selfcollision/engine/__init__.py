@@ -1,7 +1,7 @@
 """The counting engine behind ``xrdf report``: exact per-frame-pair collision counts, fast.
 
 :class:`CountEngine` answers, for a chunk of configurations, which frame pairs of a
-:class:`~xrdf_tools.collision.SphereSet` collide (exactly, as the float64 brute force
+:class:`~xrdf_tools.selfcollision.collision.SphereSet` collide (exactly, as the float64 brute force
 ``‖c_a − c_b‖ < r_a + r_b`` does) and keeps exact minimum clearances. It is built once per
 report; only the c-space joints (``varying``) change between configurations, every other joint
 stays at the base configuration. How it gets its speed (see ``docs/report.md``), module by
@@ -24,15 +24,15 @@ module:
 5. **Exactness** (:mod:`.bounds`, :mod:`.core`). float32 values carry an error bounded by
    ``delta`` (a bound derived from the robot's size and float32 precision); a frame pair whose
    smallest ``d² − (r_a + r_b)²`` lies within ``± delta`` of zero is re-decided in float64
-   with the reference pair test of :mod:`xrdf_tools.collision`, and so are the few
+   with the reference pair test of :mod:`xrdf_tools.selfcollision.collision`, and so are the few
    configurations that may hold a frame pair's minimum clearance (when it is below the
    margin). Counts therefore equal the float64 brute force, clearances are float64-exact.
 6. **Workers** (:mod:`.jobs`). :func:`count_sampled` spreads chunks over ``--jobs`` processes
    with identical totals.
 
-Every name is importable from ``xrdf_tools.engine``. To change the worker threshold at run
-time, set :data:`xrdf_tools.engine.jobs.MIN_SAMPLES_PER_JOB` (the value re-exported here is a
-copy).
+Every name is importable from ``xrdf_tools.selfcollision.engine``. To change the worker threshold at
+run time, set :data:`xrdf_tools.selfcollision.engine.jobs.MIN_SAMPLES_PER_JOB` (the value
+re-exported here is a copy).
 """
 
 from __future__ import annotations

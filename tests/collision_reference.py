@@ -1,10 +1,10 @@
 """The reference counter: exact per-frame-pair hit flags, float64, bounding-sphere culling.
 
-:func:`count_chunk` is what ``xrdf report`` ran before :mod:`xrdf_tools.engine`; it stays as
-the plain, easily checked baseline that ``benchmarks/bench_report.py`` and the tests compare
-the engine with. It takes its spheres, pairs and per-frame bounding spheres from the
-:class:`~xrdf_tools.collision.spheres.SphereSet` and decides every pair with
-:func:`~xrdf_tools.collision.distances.touching`, like the engine's float64 recheck.
+:func:`count_chunk` is what ``xrdf report`` ran before :mod:`xrdf_tools.selfcollision.engine`; it
+stays as the plain, easily checked baseline that ``benchmarks/bench_report.py`` and the tests
+compare the engine with. It takes its spheres, pairs and per-frame bounding spheres from the
+:class:`~xrdf_tools.selfcollision.collision.spheres.SphereSet` and decides every pair with
+:func:`~xrdf_tools.selfcollision.collision.distances.touching`, like the engine's float64 recheck.
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from ..robot.kinematics import KinematicModel
-from .distances import _as_q2, _centers_batch_last, touching
-from .spheres import SphereSet
+from xrdf_tools.robot.kinematics import KinematicModel
+from xrdf_tools.selfcollision.collision.distances import as_q2, centers_batch_last, touching
+from xrdf_tools.selfcollision.collision.spheres import SphereSet
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
@@ -61,7 +61,7 @@ def count_chunk(
 
     Chunk ``q_full`` yourself (a few thousand rows) to bound memory.
     """
-    q2, _ = _as_q2(kin, q_full)
+    q2, _ = as_q2(kin, q_full)
     B = q2.shape[0]
     K = spheres.n_frame_pairs
     hits = np.zeros((K, B), dtype=np.bool_)
@@ -70,7 +70,7 @@ def count_chunk(
     if K == 0 or B == 0:
         return ChunkResult(hits, min_clear, bound)
     S = spheres.n_spheres
-    C = _centers_batch_last(kin, spheres, q2, extra=spheres._bound_center)
+    C = centers_batch_last(kin, spheres, q2, extra=spheres._bound_center)
     X, Y, Z = C[:, 0, :], C[:, 1, :], C[:, 2, :]  # [S + Fs, B], rows contiguous
     sr = spheres.self_radii
     br = spheres._bound_radius

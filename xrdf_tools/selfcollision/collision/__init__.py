@@ -17,13 +17,14 @@ Modules, bottom up:
   and :func:`pair_clearance` (every pair, float64, no culling), the float64 verdicts of chosen
   (frame pair, configuration) entries, and :func:`contacts` / :func:`colliding_frame_pairs`
   ("what collides at this q": lint's default-pose rule, viz).
-* :mod:`.reference`: :func:`count_chunk`, the reference counter (float64 with
-  bounding-sphere culling) that the report's :mod:`xrdf_tools.engine` is measured and tested
-  against.
+* ``tests/collision_reference.py``: ``count_chunk``, the reference counter (float64 with
+  bounding-sphere culling) that the report's :mod:`xrdf_tools.selfcollision.engine` is measured and
+  tested against.
 
 All arithmetic here is float64. Counting compares squared distances with squared radius sums,
 so a pair's verdict can only differ from an exact real-number evaluation when it is within a
-few ulp (~1e-15 m) of touching. Every name is importable from ``xrdf_tools.collision``.
+few ulp (~1e-15 m) of touching. Every name is importable from
+``xrdf_tools.selfcollision.collision``.
 """
 
 from __future__ import annotations
@@ -39,7 +40,6 @@ from .distances import (
     squared_distances,
     touching,
 )
-from .reference import ChunkResult, count_chunk
 from .spheres import (
     CULL_SLACK,
     MIN_BUFFERED_RADIUS,
@@ -52,14 +52,12 @@ from .spheres import (
 __all__ = [
     "CULL_SLACK",
     "MIN_BUFFERED_RADIUS",
-    "ChunkResult",
     "Contact",
     "SphereSet",
     "bounding_sphere",
     "build_sphere_set",
     "colliding_frame_pairs",
     "contacts",
-    "count_chunk",
     "frame_pair_verdicts",
     "pair_clearance",
     "pair_hits",

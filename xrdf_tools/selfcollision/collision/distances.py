@@ -1,8 +1,8 @@
 """Distances between spheres: world centres, the pair test, contacts at one configuration.
 
 The pair semantics live here and nowhere else (docs/report.md): spheres ``i`` and ``j`` of a
-:class:`~xrdf_tools.collision.spheres.SphereSet` collide when ``‖c_i − c_j‖² < (sr_i + sr_j)²``
-(:func:`touching`, squared so that no square root rounds a verdict) and their clearance is
+:class:`~xrdf_tools.selfcollision.collision.spheres.SphereSet` collide when ``‖c_i − c_j‖² < (sr_i +
+sr_j)²`` (:func:`touching`, squared so that no square root rounds a verdict) and their clearance is
 ``‖c_i − c_j‖ − (sr_i + sr_j)``. Everything is float64 and batched:
 
 * :func:`sphere_world_centers` places the spheres for configurations (one GEMM per frame);
@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from ..robot.kinematics import KinematicModel, fk_batch_last
-from ..xrdf.model import Xrdf
+from ...robot.kinematics import KinematicModel, fk_batch_last
+from ...xrdf.model import Xrdf
 from .spheres import SphereSet, build_sphere_set
 
 FloatArray = npt.NDArray[np.float64]
@@ -64,7 +64,7 @@ def touching(d2: FloatArray, radius_sum: FloatArray) -> BoolArray:
 # ------------------------------------------------------------------------------------------
 # Plain batched building blocks
 # ------------------------------------------------------------------------------------------
-def _centers_batch_last(
+def centers_batch_last(
     kin: KinematicModel, spheres: SphereSet, q2: FloatArray, extra: FloatArray | None = None
 ) -> FloatArray:
     """Sphere centres [S (+ Fs), 3, B]; with ``extra`` [Fs, 3] one more point per frame."""
@@ -95,7 +95,7 @@ def _centers_batch_last(
     return out
 
 
-def _as_q2(kin: KinematicModel, q_full: npt.ArrayLike) -> tuple[FloatArray, bool]:
+def as_q2(kin: KinematicModel, q_full: npt.ArrayLike) -> tuple[FloatArray, bool]:
     q = np.asarray(q_full, dtype=np.float64)
     n = kin.n_actuated
     if q.ndim == 1 and q.shape[0] == n:
@@ -116,8 +116,8 @@ def sphere_world_centers(
     ``q_full``: [B, n] (or [n], giving [S, 3]) values of every actuated joint, in
     ``kin.actuated_joints`` order (see :func:`~xrdf_tools.robot.kinematics.full_configuration`).
     """
-    q2, single = _as_q2(kin, q_full)
-    c = _centers_batch_last(kin, spheres, q2).transpose(2, 0, 1)
+    q2, single = as_q2(kin, q_full)
+    c = centers_batch_last(kin, spheres, q2).transpose(2, 0, 1)
     return c[0] if single else np.ascontiguousarray(c)
 
 
@@ -242,7 +242,7 @@ def colliding_frame_pairs(
     :func:`sphere_world_centers` + :func:`contacts`.
     """
     spheres, _ = build_sphere_set(kin, xrdf, include_masked=include_masked)
-    q2, single = _as_q2(kin, q_full)
+    q2, single = as_q2(kin, q_full)
     if not single:
         raise ValueError("colliding_frame_pairs takes one configuration [n]")
     return contacts(spheres, sphere_world_centers(kin, spheres, q2[0]))

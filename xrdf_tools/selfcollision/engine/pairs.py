@@ -17,9 +17,9 @@ import numpy as np
 import numpy.typing as npt
 
 from ..collision import SphereSet
-from ..engine_grid import PairGrid
 from .bodies import F32
 from .bounds import _delta
+from .grid import PairGrid
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]

@@ -11,8 +11,8 @@ then counts chunks of configurations (:meth:`CountEngine.count`):
    error bound ``± delta`` of zero (:mod:`.bounds`) and every configuration that may hold a
    frame pair's minimum clearance below the margin;
 4. the queued entries are re-decided in float64 with the reference pair test
-   (:func:`~xrdf_tools.collision.frame_pair_verdicts`), so counts equal the float64 brute
-   force and clearances are float64-exact.
+   (:func:`~xrdf_tools.selfcollision.collision.frame_pair_verdicts`), so counts equal the float64
+   brute force and clearances are float64-exact.
 
 :class:`EngineTotals` accumulates counts and clearances over chunks (and worker processes).
 """
@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from ...robot.kinematics import KinematicModel, fk
 from ..collision import SphereSet, frame_pair_verdicts, sphere_world_centers
-from ..robot.kinematics import KinematicModel, fk
 from .bodies import (
     _EPS32,
     F32,
