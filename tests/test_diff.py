@@ -1,4 +1,4 @@
-"""`xrdf diff` and the semantic diff library (xrdf_tools.diff, xrdf_tools.diff_render)."""
+"""`xrdf diff` and the semantic diff library (xrdf_tools.diff, xrdf_tools.diff.render)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file
 from xrdf_tools.cli import app
 from xrdf_tools.diff import Level, XrdfDiff, compare_spheres, diff_files, diff_xrdf
-from xrdf_tools.diff_render import render_json, render_text
+from xrdf_tools.diff.render import render_json, render_text
 from xrdf_tools.util.errors import XrdfToolsError
 from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 from xrdf_tools.xrdf.model import Sphere

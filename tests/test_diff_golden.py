@@ -24,7 +24,7 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES, REPO, SEED_XRDF, SHARED, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diff import diff_xrdf
-from xrdf_tools.diff_render import render_json, render_text
+from xrdf_tools.diff.render import render_json, render_text
 from xrdf_tools.util.errors import XrdfToolsError
 from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 from xrdf_tools.xrdf.versions import to_version

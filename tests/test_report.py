@@ -20,7 +20,7 @@ from xrdf_tools.report import (
     recommended_xrdf,
     self_collision_report,
 )
-from xrdf_tools.report_render import render_html, render_markdown, render_text, report_to_dict
+from xrdf_tools.report.render import render_html, render_markdown, render_text, report_to_dict
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 
@@ -296,7 +296,7 @@ def test_joints_on_path_counts_the_joints_that_move_a_pair() -> None:
 
 
 def test_report_views_filter_what_is_shown_but_not_the_json(tmp_path: Path) -> None:
-    from xrdf_tools.report_render import ReportView
+    from xrdf_tools.report.render import ReportView
 
     _, r = three_link_report(samples=2000)
     full = render_text(r)

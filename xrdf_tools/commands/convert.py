@@ -300,7 +300,7 @@ def _check(output: Path, x: Xrdf, root_frame: str) -> None:
 
 
 def _render_diff(result: Any) -> str:
-    from ..diff_render import render_text
+    from ..diff.render import render_text
 
     return render_text(result)
 

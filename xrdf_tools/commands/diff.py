@@ -97,7 +97,7 @@ def command(
         result = diff_xrdf(load_xrdf_input(a), load_xrdf_input(b), tolerance, root_frame=root)
     except XrdfToolsError as exc:
         fail(exc)
-    from ..diff_render import render_json, render_text
+    from ..diff.render import render_json, render_text
 
     out = render_json(result) if fmt is DiffFormat.json else render_text(result)
     typer.echo(out, nl=False)

@@ -41,7 +41,7 @@ from .core import (
 
 if TYPE_CHECKING:
     from ..report import Report
-    from ..report_render import ReportView
+    from ..report.render import ReportView
 
 
 class ReportFormat(str, Enum):
@@ -201,7 +201,7 @@ def command(
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
     from ..report import CertifyOptions, recommended_xrdf, self_collision_report
-    from ..report_render import ReportView, write_heatmap
+    from ..report.render import ReportView, write_heatmap
     from ..selfcollision.engine import default_jobs
     from ..xrdf.io import dump_xrdf
 
@@ -286,7 +286,7 @@ def _render(report: Report, fmt: ReportFormat, view: ReportView) -> str:
     """The report in ``fmt``: whole (text, JSON, Markdown, HTML) or its findings through the
     one diagnostics renderer (GitHub annotations, SARIF listing every report rule)."""
     from ..report import RULES
-    from ..report_render import render_html, render_json, render_markdown, render_text
+    from ..report.render import render_html, render_json, render_markdown, render_text
 
     if fmt in (ReportFormat.github, ReportFormat.sarif):
         return render_diagnostics(

@@ -23,7 +23,7 @@
 
 Numbers are equal when ``|x - y| ≤ tolerance`` (per component for vectors and quaternions).
 
-The package is pure: it returns an :class:`XrdfDiff`; :mod:`xrdf_tools.diff_render` turns it into
+The package is pure: it returns an :class:`XrdfDiff`; :mod:`xrdf_tools.diff.render` turns it into
 text or JSON. See ``docs/diff.md``.
 
 Layout: :mod:`.result` (the values returned), :mod:`.mapping` (the generic comparison every

@@ -1,7 +1,7 @@
 """What a diff returns: :class:`XrdfDiff`, a list of :class:`Change` values, and their JSON form.
 
 Plain frozen values with no comparison logic; :mod:`xrdf_tools.diff` builds them and
-:mod:`xrdf_tools.diff_render` turns them into text or JSON.
+:mod:`xrdf_tools.diff.render` turns them into text or JSON.
 """
 
 from __future__ import annotations

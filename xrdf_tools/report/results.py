@@ -1,7 +1,7 @@
 """What a self-collision report holds: per-pair statistics, trajectory hits, the mask change.
 
 Plain frozen values, built by :func:`xrdf_tools.report.self_collision_report` and rendered by
-:mod:`xrdf_tools.report_render`; :meth:`PairStat.to_dict` is the pair's JSON form.
+:mod:`xrdf_tools.report.render`; :meth:`PairStat.to_dict` is the pair's JSON form.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import json
 
-from .diff import Change, Detail, Level, XrdfDiff
+from . import Change, Detail, Level, XrdfDiff
 
 #: How many per-sphere lines a text rendering shows under one change (the rest are counted).
 MAX_DETAILS = 12

@@ -15,10 +15,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from . import __version__
-from .report import PairStat, Report
-from .selfcollision.collision import Contact
-from .yaml.io import write_atomic
+from .. import __version__
+from ..selfcollision.collision import Contact
+from ..yaml.io import write_atomic
+from . import PairStat, Report
 
 __all__ = [
     "SCHEMA_VERSION",
