@@ -279,7 +279,7 @@ def test_one_progress_style_in_the_commands() -> None:
 @pytest.fixture(scope="module")
 def pr2(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     """The PR2 (82 links) with one sphere on every link and its adjacent pairs ignored."""
-    from xrdf_tools.convert import ConvertOptions, convert
+    from xrdf_tools.convert.core import ConvertOptions, convert
     from xrdf_tools.robot.urdf_source import load_urdf
     from xrdf_tools.spheres import ignore_adjacent
     from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from tests.paths import FIXTURES, UR10E_URDF, shared_file
-from xrdf_tools.convert import ConvertOptions, convert_files
+from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.diagnostics import Diagnostic
 from xrdf_tools.diff import diff_xrdf
 from xrdf_tools.util.errors import SourceError

@@ -21,9 +21,9 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
+from xrdf_tools.convert.sources import RobotTree
 from xrdf_tools.diagnostics import Diagnostic, Severity
 from xrdf_tools.robot.core import as_robot
-from xrdf_tools.sources import RobotTree
 from xrdf_tools.util.errors import (
     InputError,
     OutputError,
@@ -316,14 +316,14 @@ def _tree() -> RobotTree:
 
 
 def test_1200_nested_srdf_subgroups() -> None:
-    from xrdf_tools.sources.srdf import group_joints, parse_srdf
+    from xrdf_tools.convert.sources.srdf import group_joints, parse_srdf
 
     srdf = parse_srdf(_nested_groups(1200), "deep.srdf")
     assert group_joints(srdf, "g0", _tree()) == ["shoulder_pan_joint"]
 
 
 def test_srdf_subgroup_cycle_is_an_error() -> None:
-    from xrdf_tools.sources.srdf import group_joints, parse_srdf
+    from xrdf_tools.convert.sources.srdf import group_joints, parse_srdf
 
     srdf = parse_srdf(_nested_groups(5, close_cycle=True), "loop.srdf")
     with pytest.raises(SourceError, match=r"groups include each other: g0 -> g1 .* -> g0"):
@@ -331,7 +331,7 @@ def test_srdf_subgroup_cycle_is_an_error() -> None:
 
 
 def test_srdf_diamond_of_subgroups_is_linear() -> None:
-    from xrdf_tools.sources.srdf import group_joints, parse_srdf
+    from xrdf_tools.convert.sources.srdf import group_joints, parse_srdf
 
     n = 40  # each group includes the next two: 2**40 paths, 40 groups
     groups = [
@@ -751,7 +751,7 @@ def test_nodes_on_cycles() -> None:
 
 
 def test_choosing_among_thousands_of_nested_groups_is_linear() -> None:
-    from xrdf_tools.sources.srdf import choose_group, parse_srdf
+    from xrdf_tools.convert.sources.srdf import choose_group, parse_srdf
 
     srdf = parse_srdf(_nested_groups(5000), "deep.srdf")
     start = time.monotonic()

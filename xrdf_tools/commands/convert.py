@@ -27,11 +27,11 @@ from .common import (
 from .core import EXIT_FINDINGS, OutputFormat, has_failures, is_stdio, timed
 
 if TYPE_CHECKING:
-    from ..assistant import Progress
+    from ..convert.pipeline import Progress
     from ..xrdf.model import Xrdf
     from .common import ProgressUpdate
 
-#: Progress bar label of each stage of :func:`xrdf_tools.assistant.convert_robot`.
+#: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
 _STAGES = {"fitting": "fitting spheres (links)", "sampling": "sampling the mask"}
 
 
@@ -203,11 +203,11 @@ def command(
     With --fit-spheres: fit spheres to the links' collision geometry and compute the
     self-collision mask like `xrdf report --write-mask`, so the result is planning-ready.
     """
-    from ..assistant import FitOptions, MaskOptions, convert_robot
-    from ..convert import ConvertOptions
+    from ..convert.core import ConvertOptions
+    from ..convert.pipeline import FitOptions, MaskOptions, convert_robot
+    from ..convert.sources.cspace import parse_chain
     from ..robot.packages import parse_package_path
     from ..robot.xacro_source import parse_xacro_arg
-    from ..sources.cspace import parse_chain
 
     if format_version not in (None, "1.0", "2.0"):
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
@@ -215,7 +215,7 @@ def command(
         fail("--check needs -o FILE (the file to compare with)")
     inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
     if curobo is not None:
-        from ..sources.curobo import referenced_files
+        from ..convert.sources.curobo import referenced_files
 
         inputs += referenced_files(curobo)  # the spheres file the config reads
     if output is not None and not check:

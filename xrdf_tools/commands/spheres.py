@@ -140,7 +140,7 @@ def command(
         if xrdf is not None:
             base = load_xrdf_input(xrdf)
         else:
-            from ..convert import ConvertOptions, convert
+            from ..convert.core import ConvertOptions, convert
 
             base, cdiags = convert(model, ConvertOptions())
             diags += [d for d in cdiags if d.rule != "convert-no-spheres"]

@@ -1,7 +1,7 @@
 """Lula / Isaac Sim robot description YAML → Draft (``cspace``, ``default_q``, limits,
 ``root_link``, fixed ``cspace_to_urdf_rules`` and ``collision_spheres``).
 
-Called by :func:`xrdf_tools.sources.curobo.read_curobo` when the layout is ``lula``.
+Called by :func:`xrdf_tools.convert.sources.curobo.read_curobo` when the layout is ``lula``.
 """
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ..util.errors import SourceError, did_you_mean
-from ..xrdf.model import SetBaseFrame, Sphere
+from ...util.errors import SourceError, did_you_mean
+from ...xrdf.model import SetBaseFrame, Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_spheres import is_num, spheres_of
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ..util.errors import SourceError, did_you_mean
+from ...util.errors import SourceError, did_you_mean
 from . import Draft, RobotTree
 
 __all__ = ["apply_cspace_choice", "chain_joints", "parse_chain"]

@@ -4,7 +4,7 @@
 
 1. load the robot once (a xacro is expanded with its arguments; every later step uses this
    URDF object and its text, never a re-read of the file);
-2. convert it (:func:`xrdf_tools.convert.convert`);
+2. convert it (:func:`xrdf_tools.convert.core.convert`);
 3. fit spheres to the links that have none, from their collision geometry (visual-only links
    get none unless ``FitOptions.source`` says ``visual`` or ``auto``);
 4. compute the self-collision mask exactly like ``xrdf report --write-mask``
@@ -26,17 +26,17 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from .convert import ConvertOptions, convert, with_spheres
-from .diagnostics import Diagnostic, Severity
-from .robot.core import Robot, as_robot
-from .util.frozen import FrozenMap
+from ..diagnostics import Diagnostic, Severity
+from ..robot.core import Robot, as_robot
+from ..util.frozen import FrozenMap
+from .core import ConvertOptions, convert, with_spheres
 
 if TYPE_CHECKING:
     import yourdfpy
 
-    from .report import Report, Sampler
-    from .robot.link_geometry import GeometryChoice
-    from .xrdf.model import Sphere, Xrdf
+    from ..report import Report, Sampler
+    from ..robot.link_geometry import GeometryChoice
+    from ..xrdf.model import Sphere, Xrdf
 
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
 
@@ -109,8 +109,8 @@ def convert_robot(
     ``label`` names the XRDF in lint diagnostics. Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
     """
-    from .robot.xacro_source import load_robot
-    from .xrdf.io import dump_xrdf
+    from ..robot.xacro_source import load_robot
+    from ..xrdf.io import dump_xrdf
 
     pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
     if isinstance(robot, Robot):
@@ -132,7 +132,7 @@ def convert_robot(
     text = dump_xrdf(x)
     lint_diags: list[Diagnostic] = []
     if lint:
-        from .lint import lint_text
+        from ..lint import lint_text
 
         lint_diags = lint_text(text, label, urdf_model=loaded, target=options.target)
         if any(d.rule == "convert-no-spheres" for d in diags):
@@ -171,10 +171,10 @@ def fit_missing_spheres(
 ) -> tuple[Xrdf, dict[str, int], list[Diagnostic]]:
     """Fit spheres to the links of ``urdf`` that have geometry of kind ``fit.source`` and no
     spheres in ``x`` yet; returns the XRDF, the spheres per fitted link and diagnostics."""
-    from .util.errors import MissingDependencyError
+    from ..util.errors import MissingDependencyError
 
     try:
-        from .spheres import fit_link_spheres
+        from ..spheres import fit_link_spheres
     except ImportError as e:  # pragma: no cover - depends on the installation
         raise MissingDependencyError(
             f"sphere fitting is not available in this installation ({e})"
@@ -240,7 +240,7 @@ def compute_mask(
     progress: Progress | None = None,
 ) -> tuple[Xrdf, Report]:
     """``x`` with ``self_collision.ignore`` as ``xrdf report --write-mask`` recommends."""
-    from .report import recommended_xrdf, self_collision_report
+    from ..report import recommended_xrdf, self_collision_report
 
     def step(done: int, total: int) -> None:
         if progress is not None:

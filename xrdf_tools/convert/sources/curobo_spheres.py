@@ -9,10 +9,10 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeGuard
 
-from ..diagnostics import Severity
-from ..util.errors import SourceError
-from ..xrdf.model import Sphere
-from ..yaml.io import is_finite
+from ...diagnostics import Severity
+from ...util.errors import SourceError
+from ...xrdf.model import Sphere
+from ...yaml.io import is_finite
 from . import Reporter, known_frame
 
 __all__ = ["find_spheres_file", "is_num", "read_sphere_map", "spheres_of"]

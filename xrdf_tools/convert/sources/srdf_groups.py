@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from ..util.errors import SourceError, did_you_mean
-from ..util.graph import nodes_on_cycles, postorder, reachable, show_path
+from ...util.errors import SourceError, did_you_mean
+from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
 from . import RobotTree
 from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup
 

@@ -14,12 +14,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .diagnostics import Diagnostic, Severity
-from .robot.core import as_robot
-from .sources import Draft, Reporter, RobotTree
-from .util.errors import SourceError, did_you_mean
-from .util.frozen import FrozenMap
-from .xrdf.model import (
+from ..diagnostics import Diagnostic, Severity
+from ..robot.core import as_robot
+from ..util.errors import SourceError, did_you_mean
+from ..util.frozen import FrozenMap
+from ..xrdf.model import (
     AddFrame,
     CollisionSection,
     CSpace,
@@ -28,13 +27,14 @@ from .xrdf.model import (
     SetBaseFrame,
     Xrdf,
 )
-from .xrdf.readers import choose_version, parse_target
-from .xrdf.versions import to_version
+from ..xrdf.readers import choose_version, parse_target
+from ..xrdf.versions import to_version
+from .sources import Draft, Reporter, RobotTree
 
 if TYPE_CHECKING:
     import yourdfpy
 
-    from .robot.core import Robot
+    from ..robot.core import Robot
 
 __all__ = [
     "DEFAULT_ACCELERATION",
@@ -88,7 +88,7 @@ def convert_files(
     package_paths: dict[str, str] | None = None,
 ) -> tuple[Xrdf, list[Diagnostic], yourdfpy.URDF]:
     """Load ``robot`` (URDF or xacro) and :func:`convert`; also returns the loaded URDF."""
-    from .robot.xacro_source import load_robot
+    from ..robot.xacro_source import load_robot
 
     loaded = load_robot(robot, xacro_args=xacro_args, package_paths=package_paths)
     x, diags = convert(loaded, options)
@@ -305,7 +305,7 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
 
 def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
     """The sources name only frames below the chosen base (else :class:`SourceError`)."""
-    from .robot.binding import unreachable_frames
+    from ..robot.binding import unreachable_frames
 
     lost = sorted({f for f, _ in unreachable_frames(x, tree)})
     if lost:
@@ -329,7 +329,7 @@ def _cspace_choice(tree: RobotTree, options: ConvertOptions, draft: Draft) -> bo
 
 def with_spheres(x: Xrdf, spheres: dict[str, Sequence[object]]) -> Xrdf:
     """``x`` with the spheres of its world-collision group replaced (for ``--fit-spheres``)."""
-    from .xrdf.model import Sphere
+    from ..xrdf.model import Sphere
 
     if x.geometry is None or x.world_collision is None:
         return x

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ..diagnostics import Severity
-from ..util.errors import did_you_mean
-from ..xrdf.model import Sphere
+from ...diagnostics import Severity
+from ...util.errors import did_you_mean
+from ...xrdf.model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .srdf_groups import (
     PREFERRED_STATES,

@@ -2,7 +2,7 @@
 
 Each reader fills a :class:`Draft` — what its source says, nothing guessed — and reports every
 dropped or unusable value as a :class:`~xrdf_tools.diagnostics.Diagnostic` with the source
-position. :mod:`xrdf_tools.convert` completes the draft against the URDF (defaults, checks) and
+position. :mod:`xrdf_tools.convert.core` completes the draft against the URDF (defaults, checks) and
 builds the XRDF model. Names of links and joints are checked against a :class:`RobotTree`, a
 plain view of the URDF.
 """
@@ -12,10 +12,10 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
-from ..diagnostics import Diagnostic, Severity
-from ..robot.tree import RobotTree
-from ..util.errors import did_you_mean
-from ..xrdf.model import Modifier, Sphere
+from ...diagnostics import Diagnostic, Severity
+from ...robot.tree import RobotTree
+from ...util.errors import did_you_mean
+from ...xrdf.model import Modifier, Sphere
 
 __all__ = ["Draft", "Reporter", "RobotTree"]
 

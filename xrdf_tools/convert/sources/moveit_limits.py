@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import os
 
-from ..diagnostics import Severity
-from ..util.errors import SourceError
-from ..yaml.io import YMap, YScalar, load_yaml, positions_of, to_python
+from ...diagnostics import Severity
+from ...util.errors import SourceError
+from ...yaml.io import YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 
 __all__ = ["read_joint_limits"]

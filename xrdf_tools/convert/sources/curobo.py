@@ -17,11 +17,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import Severity
-from ..util.errors import SourceError, XrdfToolsError, did_you_mean
-from ..xrdf.model import AddFrame, Orientation, SetBaseFrame, Sphere
-from ..yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
-from ..yaml.shape import check_shape
+from ...diagnostics import Severity
+from ...util.errors import SourceError, XrdfToolsError, did_you_mean
+from ...xrdf.model import AddFrame, Orientation, SetBaseFrame, Sphere
+from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
+from ...yaml.shape import check_shape
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE

@@ -2,13 +2,13 @@
 checked once where the file is read (:func:`xrdf_tools.yaml.shape.check_shape`).
 
 Only the containers are pinned down here: which keys hold a list of names, a mapping, a list.
-Values (numbers, lengths, link names) are judged by :mod:`xrdf_tools.sources.curobo`, which
+Values (numbers, lengths, link names) are judged by :mod:`xrdf_tools.convert.sources.curobo`, which
 reports them with their own messages; keys not listed are reported there as dropped.
 """
 
 from __future__ import annotations
 
-from ..yaml.shape import ANY, SCALAR, list_of, map_of, one_of
+from ...yaml.shape import ANY, SCALAR, list_of, map_of, one_of
 
 __all__ = ["CUROBO_FILE"]
 

@@ -12,9 +12,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..util.errors import SourceError
-from ..util.fileio import read_input_bytes
-from ..xrdf.model import Sphere
+from ...util.errors import SourceError
+from ...util.fileio import read_input_bytes
+from ...xrdf.model import Sphere
 
 __all__ = ["EndEffector", "GroupState", "Srdf", "SrdfGroup", "load_srdf", "parse_srdf"]
 
