@@ -14,7 +14,7 @@ from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.convert.sources import RobotTree
 from xrdf_tools.convert.sources.srdf import parse_srdf
 from xrdf_tools.diff import diff_xrdf
-from xrdf_tools.export import to_curobo, to_srdf
+from xrdf_tools.export.curobo import to_curobo, to_srdf
 from xrdf_tools.robot.core import as_robot
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf

@@ -7,7 +7,7 @@ import dataclasses
 import pytest
 
 from tests.paths import UR10E_URDF, UR10E_XRDF
-from xrdf_tools.export import to_curobo
+from xrdf_tools.export.curobo import to_curobo
 from xrdf_tools.lint import lint_text
 from xrdf_tools.robot.core import Robot, as_robot
 from xrdf_tools.robot.kinematics import build_kinematic_model

@@ -76,7 +76,7 @@ def curobo(
     verbose: VerboseOption = False,
 ) -> None:
     """Write a cuRobo robot YAML (floats, FIXED, lists in c-space order by joint name)."""
-    from ..export import CUROBO_LAYOUTS, to_curobo
+    from ..export.curobo import CUROBO_LAYOUTS, to_curobo
 
     if layout not in CUROBO_LAYOUTS:
         fail(f"--layout must be one of {', '.join(CUROBO_LAYOUTS)}, not '{layout}'")
@@ -129,7 +129,7 @@ def srdf(
     verbose: VerboseOption = False,
 ) -> None:
     """Sync the XRDF's ignore pairs into a MoveIt SRDF's disable_collisions."""
-    from ..export_srdf import load_report_reasons, sync_srdf
+    from ..export.srdf import load_report_reasons, sync_srdf
 
     inputs = [xrdf, merge, report, urdf]
     refuse_two_stdin({"XRDF": [xrdf], "--merge": [merge]})
@@ -198,7 +198,7 @@ def xrdf_for_target(
     Everything the version change cannot carry over is reported; the input is never
     overwritten.
     """
-    from ..export import for_target
+    from ..export.curobo import for_target
     from ..xrdf.io import dump_xrdf
 
     if output is not None:

@@ -1,6 +1,6 @@
 """XRDF → other formats: a cuRobo robot YAML and MoveIt SRDF ``disable_collisions``.
 
-The SRDF side lives in :mod:`xrdf_tools.export_srdf` (``to_srdf`` is re-exported here).
+The SRDF side lives in :mod:`xrdf_tools.export.srdf` (``to_srdf`` is re-exported here).
 
 Pure: functions return text and diagnostics. ``to_curobo`` writes what cuRobo's loader accepts:
 every number a float (``0.0``, never ``0``: cuRobo broadcasts Python floats only), ``FIXED``
@@ -15,15 +15,15 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .diagnostics import Diagnostic, Severity
-from .export_srdf import to_srdf
-from .robot.tree import RobotTree
-from .util.errors import ConversionError
-from .xrdf.io import format_float, format_str
-from .xrdf.model import RemoveMimicAttributes, Xrdf
+from ..diagnostics import Diagnostic, Severity
+from ..robot.tree import RobotTree
+from ..util.errors import ConversionError
+from ..xrdf.io import format_float, format_str
+from ..xrdf.model import RemoveMimicAttributes, Xrdf
+from .srdf import to_srdf
 
 if TYPE_CHECKING:
-    from .robot.core import Robot
+    from ..robot.core import Robot
 
 __all__ = ["CUROBO_LAYOUTS", "for_target", "to_curobo", "to_srdf"]
 
@@ -75,8 +75,8 @@ def for_target(
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """``x`` rewritten in the XRDF version ``target`` loads (or ``format_version``), with a
     diagnostic for everything the version change could not carry over."""
-    from .xrdf.readers import choose_version, parse_target
-    from .xrdf.versions import to_version
+    from ..xrdf.readers import choose_version, parse_target
+    from ..xrdf.versions import to_version
 
     version, why = choose_version(x, format_version, parse_target(target))
     out, diags = to_version(x, version)
@@ -94,7 +94,7 @@ def _located(x: Xrdf, key_path: str, message: str) -> ConversionError:
 def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
     """Raise :class:`ConversionError` / :class:`SourceError` when ``x`` cannot become a cuRobo
     config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot."""
-    from .robot.binding import check_belongs
+    from ..robot.binding import check_belongs
 
     if layout not in CUROBO_LAYOUTS:
         raise ConversionError(

@@ -23,7 +23,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-from .util.errors import SourceError
+from ..util.errors import SourceError
 
 __all__ = ["XmlDocument", "fill_empty", "insert_after", "last_child", "remove_element"]
 

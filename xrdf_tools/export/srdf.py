@@ -16,8 +16,8 @@
 
 Everything else is kept: groups, states, end effectors, virtual/passive joints, comments,
 processing instructions, the XML declaration, the DOCTYPE and entity references; the file's
-bytes are kept wherever nothing changed (see :mod:`xrdf_tools.srdf_xml`), so an unchanged robot
-round-trips byte for byte. Pure: returns bytes and diagnostics, prints nothing.
+bytes are kept wherever nothing changed (see :mod:`xrdf_tools.export.srdf_xml`), so an unchanged
+robot round-trips byte for byte. Pure: returns bytes and diagnostics, prints nothing.
 """
 
 from __future__ import annotations
@@ -29,11 +29,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .diagnostics import Diagnostic, Severity
-from .robot.tree import RobotTree
+from ..diagnostics import Diagnostic, Severity
+from ..robot.tree import RobotTree
+from ..util.errors import ConversionError, SourceError
+from ..xrdf.model import Xrdf
 from .srdf_xml import XmlDocument, insert_after, last_child, remove_element
-from .util.errors import ConversionError, SourceError
-from .xrdf.model import Xrdf
 
 __all__ = [
     "REPORT_REASONS",
