@@ -78,7 +78,7 @@ def render_diagnostics(
     if fmt is OutputFormat.sarif:
         from .. import __version__
         from ..diagnostics import render_sarif
-        from ..rule_registry import rule_info
+        from ..rules.registry import rule_info
 
         listed = {r[0] for r in rules}
         described = list(rules)

@@ -155,7 +155,7 @@ def render_sarif(
     information_uri: str = "",
 ) -> str:
     """SARIF 2.1.0 log with one run. ``rules`` is ``(id, short description, default severity)``
-    (the CLI passes the registry's, :mod:`xrdf_tools.rule_registry`); an emitted id missing from
+    (the CLI passes the registry's, :mod:`xrdf_tools.rules.registry`); an emitted id missing from
     it is described by its id and the finding's severity."""
     level = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
     rule_ids = [r[0] for r in rules]

@@ -3,7 +3,7 @@ notes of convert, export, kinematics, sphere fitting and viz.
 
 A :class:`RuleInfo` gives the id, its default severity, a one-line summary and the command
 that emits it. ``docs/rules.md`` is generated from this registry (``python -m
-xrdf_tools.rules_doc``) and SARIF logs describe their rules from it; a test checks that every
+xrdf_tools.rules.docs``) and SARIF logs describe their rules from it; a test checks that every
 id the code emits is registered. Lint rules and report findings are registered where they are
 defined (the lint rule modules, :data:`xrdf_tools.report.RULES`); the table below holds the
 others.
@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
-from .diagnostics import Severity
+from ..diagnostics import Severity
 
 __all__ = ["PRODUCER_RULES", "RuleInfo", "all_rules", "rule_info"]
 
@@ -111,8 +111,8 @@ PRODUCER_RULES: tuple[RuleInfo, ...] = tuple(
 @cache
 def all_rules() -> dict[str, RuleInfo]:
     """Every registered id → :class:`RuleInfo`: lint rules, report findings, the rest."""
-    from .lint import RULES as LINT_RULES
-    from .report import RULES as REPORT_RULES
+    from ..lint import RULES as LINT_RULES
+    from ..report import RULES as REPORT_RULES
 
     out = {r.id: RuleInfo(r.id, r.severity, r.summary, "lint") for r in LINT_RULES}
     out["internal-error"] = RuleInfo(

@@ -1,12 +1,12 @@
 """Generate ``docs/rules.md`` from the rule docstrings and the registry of every other
-diagnostic id: ``python -m xrdf_tools.rules_doc``."""
+diagnostic id: ``python -m xrdf_tools.rules.docs``."""
 
 from __future__ import annotations
 
 import inspect
 import sys
 
-from .lint import RULES
+from ..lint import RULES
 
 
 def render_rules_md() -> str:
@@ -14,7 +14,7 @@ def render_rules_md() -> str:
     out = [
         "# `xrdf lint` rules",
         "",
-        "Generated from the rule docstrings by `python -m xrdf_tools.rules_doc > docs/rules.md`;",
+        "Generated from the rule docstrings by `python -m xrdf_tools.rules.docs > docs/rules.md`;",
         "a test fails when this file is stale. Change a level or turn a rule off in the",
         "configuration (see [lint.md](lint.md)).",
         "",
@@ -44,7 +44,7 @@ def render_rules_md() -> str:
 
 def _other_diagnostics() -> list[str]:
     """The ids that other commands emit (report findings, conversion notes, ...)."""
-    from .rule_registry import all_rules
+    from .registry import all_rules
 
     out = [
         "",
