@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 from tests.paths import UR10E_URDF, UR10E_XRDF
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
-from xrdf_tools.commands import common, core
+from xrdf_tools.cli.commands import common, core
 
 runner = CliRunner()
 
@@ -262,7 +262,7 @@ def test_commands_draw_the_common_bar_unless_quiet(
 
 
 def test_one_progress_style_in_the_commands() -> None:
-    import xrdf_tools.commands as pkg
+    import xrdf_tools.cli.commands as pkg
 
     root = Path(pkg.__file__).parent
     for f in root.glob("*.py"):

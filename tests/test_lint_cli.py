@@ -246,7 +246,7 @@ def test_lint_without_urdf_imports_no_heavy_library(run: str) -> None:
 
 
 def test_the_cli_repeats_the_diff_tolerance_it_does_not_import() -> None:
-    from xrdf_tools.commands.diff import DEFAULT_TOLERANCE as cli_default
+    from xrdf_tools.cli.commands.diff import DEFAULT_TOLERANCE as cli_default
     from xrdf_tools.diff import DEFAULT_TOLERANCE
 
     assert cli_default == DEFAULT_TOLERANCE

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ..util.errors import XrdfToolsError
+from ...util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -25,7 +25,7 @@ from .common import (
 from .core import OutputFormat, detail, is_stdio, load_robot_option, timed
 
 if TYPE_CHECKING:
-    from ..viz import Target
+    from ...viz import Target
 
 #: Show a progress bar from this many samples on (when stderr is a terminal).
 PROGRESS_FROM = 200
@@ -137,7 +137,7 @@ def command(
         fail(f"--{target} needs a file name (not written to stdout)")
     if out is not None:
         refuse_input_overwrite(out, [xrdf_file, urdf, configs])
-    from ..viz.png import parse_view
+    from ...viz.png import parse_view
 
     try:
         camera = parse_view(view)
@@ -145,9 +145,9 @@ def command(
         fail(e)
 
     try:
-        from ..robot.kinematics import build_kinematic_model
-        from ..robot.packages import parse_package_path
-        from ..viz import (
+        from ...robot.kinematics import build_kinematic_model
+        from ...robot.packages import parse_package_path
+        from ...viz import (
             build_scene,
             load_configurations,
             render,
@@ -191,7 +191,7 @@ def command(
         label = f"writing {target}"
         with progress_bar(len(scene.samples) >= PROGRESS_FROM) as bar, timed(label):
             if target == "png":
-                from ..viz.png import write_png
+                from ...viz.png import write_png
 
                 write_png(scene, out, buffered=buffered, view=camera, legend=legend.value)
             else:

@@ -1,6 +1,6 @@
 """`xrdf lint`: check XRDF files against the spec, a URDF, and cuRobo's loader.
 
-The options are read here; what the command does is :func:`xrdf_tools.commands.lint_core.run`,
+The options are read here; what the command does is :func:`xrdf_tools.cli.commands.lint_core.run`,
 which the fast start-up path of ``xrdf lint`` runs too (without typer).
 """
 
@@ -69,7 +69,7 @@ def command(
 
     Exit codes: 0 clean, 1 errors (or warnings with --strict), 2 usage or input error.
     """
-    from ..util.errors import XrdfToolsError
+    from ...util.errors import XrdfToolsError
     from .lint_core import LintArgs, run
 
     args = LintArgs(

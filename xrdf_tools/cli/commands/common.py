@@ -1,7 +1,7 @@
 """Helpers shared by the CLI commands: error exits, verbosity (``-q``/``-v``), diagnostics
 on stderr, progress bars, ``-`` for standard input and output, safe writes.
 
-What needs no typer lives in :mod:`xrdf_tools.commands.core`.
+What needs no typer lives in :mod:`xrdf_tools.cli.commands.core`.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING, Annotated, Any, NoReturn
 
 import typer
 
-from ..diagnostics import Diagnostic, Severity
-from ..util.errors import XrdfToolsError, one_line
+from ...diagnostics import Diagnostic, Severity
+from ...util.errors import XrdfToolsError, one_line
 from .core import (
     EXIT_USAGE,
     STDIO,
@@ -33,7 +33,7 @@ from .core import RUN as _RUN
 from .core import VERBOSITY_KEY as _VERBOSITY
 
 if TYPE_CHECKING:
-    from ..xrdf.model import Xrdf
+    from ...xrdf.model import Xrdf
 
 
 def fail(message: str | XrdfToolsError, code: int = EXIT_USAGE) -> NoReturn:
@@ -202,12 +202,12 @@ def refuse_two_stdin(inputs: Mapping[str, Sequence[Path | str | None]]) -> None:
 def load_xrdf_input(path: str | os.PathLike[str]) -> Xrdf:
     """An XRDF input of a command: a file, or standard input for ``-`` (read through the
     guarded reader, named ``<stdin>`` in messages). Raises :class:`XrdfToolsError`."""
-    from ..xrdf.io import load_xrdf, parse_xrdf
+    from ...xrdf.io import load_xrdf, parse_xrdf
 
     if not is_stdio(path):
         return load_xrdf(path)
-    from ..util.errors import YamlError
-    from ..util.fileio import read_input_text
+    from ...util.errors import YamlError
+    from ...util.fileio import read_input_text
 
     detail("reading the XRDF from standard input")
     text = read_input_text(STDIO, what="XRDF", error=YamlError, allow_stdin=True)
@@ -225,7 +225,7 @@ def write_output(data: str | bytes, output: Path | None) -> None:
         else:
             typer.echo(data, nl=False)
         return
-    from ..util.fileio import write_atomic
+    from ...util.fileio import write_atomic
 
     try:
         write_atomic(output, data)
@@ -247,7 +247,7 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
 def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
     """Exit with an error when ``output`` names one of the inputs (nothing is ever lost), or
     cannot be an output at all (a directory, device, FIFO or socket; symlinks are fine)."""
-    from ..util.fileio import check_output_path
+    from ...util.fileio import check_output_path
 
     if is_stdio(output):
         return  # standard output: nothing on disk to lose or refuse

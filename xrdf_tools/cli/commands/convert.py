@@ -12,8 +12,8 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from ..diagnostics import Severity
-from ..util.errors import XrdfToolsError
+from ...diagnostics import Severity
+from ...util.errors import XrdfToolsError
 from .common import (
     QuietOption,
     VerboseOption,
@@ -27,8 +27,8 @@ from .common import (
 from .core import EXIT_FINDINGS, OutputFormat, has_failures, is_stdio, timed
 
 if TYPE_CHECKING:
-    from ..convert.pipeline import Progress
-    from ..xrdf.model import Xrdf
+    from ...convert.pipeline import Progress
+    from ...xrdf.model import Xrdf
     from .common import ProgressUpdate
 
 #: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
@@ -203,11 +203,11 @@ def command(
     With --fit-spheres: fit spheres to the links' collision geometry and compute the
     self-collision mask like `xrdf report --write-mask`, so the result is planning-ready.
     """
-    from ..convert.core import ConvertOptions
-    from ..convert.pipeline import FitOptions, MaskOptions, convert_robot
-    from ..convert.sources.cspace import parse_chain
-    from ..robot.packages import parse_package_path
-    from ..robot.xacro_source import parse_xacro_arg
+    from ...convert.core import ConvertOptions
+    from ...convert.pipeline import FitOptions, MaskOptions, convert_robot
+    from ...convert.sources.cspace import parse_chain
+    from ...robot.packages import parse_package_path
+    from ...robot.xacro_source import parse_xacro_arg
 
     if format_version not in (None, "1.0", "2.0"):
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
@@ -215,7 +215,7 @@ def command(
         fail("--check needs -o FILE (the file to compare with)")
     inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
     if curobo is not None:
-        from ..convert.sources.curobo import referenced_files
+        from ...convert.sources.curobo import referenced_files
 
         inputs += referenced_files(curobo)  # the spheres file the config reads
     if output is not None and not check:
@@ -278,8 +278,8 @@ def command(
 
 
 def _check(output: Path, x: Xrdf, root_frame: str) -> None:
-    from ..diff import diff_xrdf
-    from ..xrdf.io import load_xrdf
+    from ...diff import diff_xrdf
+    from ...xrdf.io import load_xrdf
 
     if not output.exists():
         fail(f"{output}: does not exist; run without --check to create it", EXIT_FINDINGS)
@@ -300,7 +300,7 @@ def _check(output: Path, x: Xrdf, root_frame: str) -> None:
 
 
 def _render_diff(result: Any) -> str:
-    from ..diff.render import render_text
+    from ...diff.render import render_text
 
     return render_text(result)
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ..util.errors import XrdfToolsError
+from ...util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -24,7 +24,7 @@ from .common import (
 from .core import OutputFormat
 
 if TYPE_CHECKING:
-    from ..robot.tree import RobotTree
+    from ...robot.tree import RobotTree
 
 app = typer.Typer(
     help="Export an XRDF to a cuRobo robot YAML, sync its ignore pairs into a MoveIt SRDF, or "
@@ -38,8 +38,8 @@ def _load_tree(
     urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None
 ) -> RobotTree:
     """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
-    from ..robot.packages import parse_package_path
-    from ..robot.xacro_source import load_robot, parse_xacro_arg
+    from ...robot.packages import parse_package_path
+    from ...robot.xacro_source import load_robot, parse_xacro_arg
 
     pkgs = dict(parse_package_path(p) for p in package_path or [])
     xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])
@@ -76,7 +76,7 @@ def curobo(
     verbose: VerboseOption = False,
 ) -> None:
     """Write a cuRobo robot YAML (floats, FIXED, lists in c-space order by joint name)."""
-    from ..export.curobo import CUROBO_LAYOUTS, to_curobo
+    from ...export.curobo import CUROBO_LAYOUTS, to_curobo
 
     if layout not in CUROBO_LAYOUTS:
         fail(f"--layout must be one of {', '.join(CUROBO_LAYOUTS)}, not '{layout}'")
@@ -129,7 +129,7 @@ def srdf(
     verbose: VerboseOption = False,
 ) -> None:
     """Sync the XRDF's ignore pairs into a MoveIt SRDF's disable_collisions."""
-    from ..export.srdf import load_report_reasons, sync_srdf
+    from ...export.srdf import load_report_reasons, sync_srdf
 
     inputs = [xrdf, merge, report, urdf]
     refuse_two_stdin({"XRDF": [xrdf], "--merge": [merge]})
@@ -160,7 +160,7 @@ def _stem(xrdf: Path) -> str:
 
 
 def _read_srdf(path: Path) -> bytes:
-    from ..util.fileio import read_input_bytes
+    from ...util.fileio import read_input_bytes
 
     try:
         return read_input_bytes(path, what="SRDF file", allow_stdin=True)
@@ -198,8 +198,8 @@ def xrdf_for_target(
     Everything the version change cannot carry over is reported; the input is never
     overwritten.
     """
-    from ..export.curobo import for_target
-    from ..xrdf.io import dump_xrdf
+    from ...export.curobo import for_target
+    from ...xrdf.io import dump_xrdf
 
     if output is not None:
         refuse_input_overwrite(output, [xrdf])

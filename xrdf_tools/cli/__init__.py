@@ -1,9 +1,9 @@
 """The ``xrdf`` command line: the console entry point :func:`main`.
 
-The commands are a Typer app (:mod:`xrdf_tools.commands.app`, also importable as
+The commands are a Typer app (:mod:`xrdf_tools.cli.commands.app`, also importable as
 ``xrdf_tools.cli.app``), imported only when it is needed: ``xrdf lint`` with the arguments
 a user or the pre-commit hook normally gives runs without typer
-(:mod:`xrdf_tools.commands.lint_core`), because typer's start-up alone takes longer than
+(:mod:`xrdf_tools.cli.commands.lint_core`), because typer's start-up alone takes longer than
 yamllint takes to lint a file. Everything else, ``xrdf lint --help`` and lint's usage errors
 included, is typer's.
 """
@@ -33,8 +33,8 @@ def _terminate(signum: int, _frame: object) -> None:
 
 def main() -> None:
     """Console entry point: library errors become one line on stderr and exit code 2."""
+    from ..util.errors import XrdfToolsError
     from .commands.core import echo
-    from .util.errors import XrdfToolsError
 
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
@@ -55,7 +55,7 @@ def main() -> None:
 
 
 def _fast(argv: list[str]) -> int | None:
-    """``xrdf lint`` without typer (:func:`~xrdf_tools.commands.lint_core.fast_main`), or
+    """``xrdf lint`` without typer (:func:`~xrdf_tools.cli.commands.lint_core.fast_main`), or
     None when typer runs the command line. An interrupt ends the run with exit code 130 and
     a closed standard output quietly with 1, as typer ends a command."""
     if argv[:1] != ["lint"]:

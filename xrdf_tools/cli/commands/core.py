@@ -2,8 +2,8 @@
 renderer dispatch, the ``-q``/``-v`` level, ``-`` for standard input, the ``--urdf`` loader,
 and :func:`echo`.
 
-The Typer commands import it beside :mod:`xrdf_tools.commands.common` (the typer parts); the
-fast start-up path of ``xrdf lint`` (:mod:`xrdf_tools.commands.lint_core`) imports only this
+The Typer commands import it beside :mod:`xrdf_tools.cli.commands.common` (the typer parts); the
+fast start-up path of ``xrdf lint`` (:mod:`xrdf_tools.cli.commands.lint_core`) imports only this
 module, so that it runs without importing typer.
 """
 
@@ -19,10 +19,10 @@ from enum import Enum, IntEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..diagnostics import Diagnostic, Severity, render_github, render_json, render_text
+from ...diagnostics import Diagnostic, Severity, render_github, render_json, render_text
 
 if TYPE_CHECKING:
-    from ..robot.core import Robot
+    from ...robot.core import Robot
 
 
 class OutputFormat(str, Enum):
@@ -76,9 +76,9 @@ def render_diagnostics(
     if fmt is OutputFormat.github:
         return render_github(diagnostics)
     if fmt is OutputFormat.sarif:
-        from .. import __version__
-        from ..diagnostics import render_sarif
-        from ..rules.registry import rule_info
+        from ... import __version__
+        from ...diagnostics import render_sarif
+        from ...rules.registry import rule_info
 
         listed = {r[0] for r in rules}
         described = list(rules)
@@ -171,8 +171,8 @@ def load_robot_option(
 
     Raises :class:`XrdfToolsError` (the caller exits 2).
     """
-    from ..robot.packages import parse_package_path
-    from ..robot.xacro_source import load_robot, parse_xacro_arg
+    from ...robot.packages import parse_package_path
+    from ...robot.xacro_source import load_robot, parse_xacro_arg
 
     return load_robot(
         path,

@@ -9,7 +9,7 @@ from typing import Annotated
 
 import typer
 
-from ..util.errors import XrdfToolsError
+from ...util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -89,15 +89,15 @@ def command(
     try:
         root = None
         if urdf is not None:
-            from ..robot.urdf_source import root_link
+            from ...robot.urdf_source import root_link
 
             root = root_link(load_robot_option(urdf, xacro_arg, package_path))
-        from ..diff import diff_xrdf
+        from ...diff import diff_xrdf
 
         result = diff_xrdf(load_xrdf_input(a), load_xrdf_input(b), tolerance, root_frame=root)
     except XrdfToolsError as exc:
         fail(exc)
-    from ..diff.render import render_json, render_text
+    from ...diff.render import render_json, render_text
 
     out = render_json(result) if fmt is DiffFormat.json else render_text(result)
     typer.echo(out, nl=False)

@@ -1,6 +1,6 @@
 """The ``xrdf`` Typer app: a thin layer over the library.
 
-Each subcommand lives in ``xrdf_tools.commands.<name>``; this module wires them together and
+Each subcommand lives in ``xrdf_tools.cli.commands.<name>``; this module wires them together and
 handles ``--version``. The console entry point is :func:`xrdf_tools.cli.main` (which also
 turns library exceptions into one-line errors with exit code 2); ``xrdf_tools.cli.app`` is
 this app.
@@ -12,7 +12,7 @@ from typing import Annotated
 
 import typer
 
-from .. import __version__
+from ... import __version__
 from . import convert, diff, expand, export, lint, report, spheres, viz
 
 app = typer.Typer(

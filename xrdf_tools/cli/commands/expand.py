@@ -10,7 +10,7 @@ from typing import Annotated
 
 import typer
 
-from ..util.errors import XrdfToolsError
+from ...util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -54,8 +54,8 @@ def command(
       xrdf expand px150.urdf.xacro --xacro-arg robot_name:=px150 \\
           --package-path trossen_descriptions=../trossen_descriptions
     """
-    from ..robot.urdf_source import urdf_text
-    from ..robot.xacro_source import is_xacro
+    from ...robot.urdf_source import urdf_text
+    from ...robot.xacro_source import is_xacro
     from .core import load_robot_option
 
     if output is not None:

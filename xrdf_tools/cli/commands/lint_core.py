@@ -1,7 +1,7 @@
 """The body of ``xrdf lint``, without typer, and its fast start-up path.
 
 :func:`run` is what ``xrdf lint`` does once its arguments are read. The Typer command
-(:mod:`xrdf_tools.commands.lint`) calls it, and so does :func:`fast_main`: ``xrdf lint`` is
+(:mod:`xrdf_tools.cli.commands.lint`) calls it, and so does :func:`fast_main`: ``xrdf lint`` is
 run once per commit by the pre-commit hook and must start as fast as yamllint, and typer's
 own start-up (click, pydantic, every command's options) costs several times that.
 :func:`parse_fast` reads the arguments a user normally gives; whatever it does not fully
@@ -34,8 +34,8 @@ from .core import (
 )
 
 if TYPE_CHECKING:
-    from ..robot.core import Robot
-    from ..util.errors import XrdfToolsError
+    from ...robot.core import Robot
+    from ...util.errors import XrdfToolsError
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,7 @@ def _robot_or_why_not(
 ) -> Robot | XrdfToolsError:
     """The ``--urdf`` robot, or the :class:`UrdfError` that says why it is not a valid robot
     (lint reports that as ``urdf-invalid``, exit 1); a file that cannot be read raises."""
-    from ..util.errors import UrdfError, UrdfReadError
+    from ...util.errors import UrdfError, UrdfReadError
 
     try:
         return load_robot_option(urdf, xacro_arg, package_path)
@@ -77,9 +77,9 @@ def run(args: LintArgs) -> tuple[str, int]:
     """Lint as ``xrdf lint`` does: the findings rendered in the chosen format and the exit
     code (0 clean, 1 errors, or warnings with ``strict``). Raises :class:`XrdfToolsError` for
     a usage or input error (exit 2)."""
-    from ..lint import RULES, lint
-    from ..lint.config import discover_config, load_config
-    from ..util.errors import XrdfToolsError
+    from ...lint import RULES, lint
+    from ...lint.config import discover_config, load_config
+    from ...util.errors import XrdfToolsError
 
     why = two_stdin({"FILES": args.files})
     if why is not None:
@@ -212,7 +212,7 @@ def fast_main(argv: Sequence[str]) -> int | None:
     args = parse_fast(argv)
     if args is None:
         return None
-    from ..util.errors import XrdfToolsError
+    from ...util.errors import XrdfToolsError
 
     try:
         text, code = run(args)

@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ..diagnostics import Diagnostic
-from ..util.errors import XrdfToolsError
+from ...diagnostics import Diagnostic
+from ...util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -27,7 +27,7 @@ from .core import EXIT_FINDINGS, OutputFormat, is_stdio, load_robot_option, time
 if TYPE_CHECKING:
     from collections.abc import Callable
 
-    from ..spheres import SphereMetrics
+    from ...spheres import SphereMetrics
     from .common import ProgressUpdate
 
 
@@ -118,10 +118,10 @@ def command(
     goes to stdout with -o FILE, else to stderr (not with -q). Exit 1 when a link's geometry
     could not be read.
     """
-    from ..robot.packages import parse_package_path
-    from ..spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
-    from ..spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
-    from ..xrdf.io import dump_xrdf
+    from ...robot.packages import parse_package_path
+    from ...spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
+    from ...spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
+    from ...xrdf.io import dump_xrdf
 
     chosen = [
         n
@@ -140,7 +140,7 @@ def command(
         if xrdf is not None:
             base = load_xrdf_input(xrdf)
         else:
-            from ..convert.core import ConvertOptions, convert
+            from ...convert.core import ConvertOptions, convert
 
             base, cdiags = convert(model, ConvertOptions())
             diags += [d for d in cdiags if d.rule != "convert-no-spheres"]

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ..util.errors import XrdfToolsError
+from ...util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -40,8 +40,8 @@ from .core import (
 )
 
 if TYPE_CHECKING:
-    from ..report import Report
-    from ..report.render import ReportView
+    from ...report import Report
+    from ...report.render import ReportView
 
 
 class ReportFormat(str, Enum):
@@ -200,10 +200,10 @@ def command(
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
     ignore mask treats it and what to do about it."""
-    from ..report import CertifyOptions, recommended_xrdf, self_collision_report
-    from ..report.render import ReportView, write_heatmap
-    from ..selfcollision.engine import default_jobs
-    from ..xrdf.io import dump_xrdf
+    from ...report import CertifyOptions, recommended_xrdf, self_collision_report
+    from ...report.render import ReportView, write_heatmap
+    from ...selfcollision.engine import default_jobs
+    from ...xrdf.io import dump_xrdf
 
     inputs = [xrdf_file, urdf, configs]
     if is_stdio(plot):
@@ -220,8 +220,8 @@ def command(
         u = load_robot_option(urdf, xacro_arg, package_path)
         q_c = None
         if configs is not None:
-            from ..robot.kinematics import build_kinematic_model
-            from ..selfcollision.configurations import load_cspace_configurations
+            from ...robot.kinematics import build_kinematic_model
+            from ...selfcollision.configurations import load_cspace_configurations
 
             kin, _ = build_kinematic_model(u, x, path=str(urdf))
             q_c = load_cspace_configurations(configs, kin, x)
@@ -285,8 +285,8 @@ def command(
 def _render(report: Report, fmt: ReportFormat, view: ReportView) -> str:
     """The report in ``fmt``: whole (text, JSON, Markdown, HTML) or its findings through the
     one diagnostics renderer (GitHub annotations, SARIF listing every report rule)."""
-    from ..report import RULES
-    from ..report.render import render_html, render_json, render_markdown, render_text
+    from ...report import RULES
+    from ...report.render import render_html, render_json, render_markdown, render_text
 
     if fmt in (ReportFormat.github, ReportFormat.sarif):
         return render_diagnostics(
