@@ -1,4 +1,4 @@
-"""A JSON Schema of the XRDF, generated from the one shape description (:mod:`.xrdf_shape`).
+"""A JSON Schema of the XRDF, generated from the one shape description (:mod:`.shape`).
 
 For editors and ``check-jsonschema``: ``python -m xrdf_tools.xrdf.schema > docs/xrdf.schema.json``
 (a test keeps the file up to date). Each XRDF version gets its own document schema (the

@@ -81,7 +81,7 @@ HAVE_LIBYAML = CParser is not None
 #: Lists of plain scalars longer than this keep their positions' array (no copy to bytes).
 _KEEP_ARRAY = 64
 
-# A key that makes ``a.b`` / ``a[0]`` / ``a#key`` paths ambiguous (see yaml_positions).
+# A key that makes ``a.b`` / ``a[0]`` / ``a#key`` paths ambiguous (see yaml.positions).
 _ODD_KEY = re.compile(r"[.\[\]#]")
 
 
