@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from xrdf_tools.kinematics import build_kinematic_model, fk, fk_batch_last, fk_rt
-from xrdf_tools.urdf_source import load_urdf
+from xrdf_tools.robot.kinematics import build_kinematic_model, fk, fk_batch_last, fk_rt
+from xrdf_tools.robot.urdf_source import load_urdf
 
 PANDA = Path("cmeel.prefix/share/example-robot-data/robots/panda_description/urdf/panda.urdf")
 

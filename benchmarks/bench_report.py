@@ -5,11 +5,12 @@ masked pair that is not adjacent, exact counts, minimum clearances exact below 1
 samples. For the Panda (example-robot-data URDF, ``fixtures/panda/panda.xrdf``: cuRobo's 61
 spheres) and for the same model with every sphere split in 2 and in 4 (122, 244 spheres):
 
-* ``configs_per_s``: :class:`xrdf_tools.engine.CountEngine` through ``count_sampled``
+* ``configs_per_s``: :class:`xrdf_tools.selfcollision.engine.CountEngine` through ``count_sampled``
   (sampling included, one process): the issue's metric;
-* ``baseline_configs_per_s``: the old engine (``collision.count_chunk``, float64 with
-  bounding-sphere culling, what ``xrdf report`` ran before) on the same work, same process;
-  ``ratio`` = ours / baseline (absolute rates are noisy on a shared machine, ratios less so);
+* ``baseline_configs_per_s``: the old engine (``count_chunk`` in ``tests/collision_reference.py``,
+  float64 with bounding-sphere culling, what ``xrdf report`` ran before) on the same work, same
+  process; ``ratio`` = ours / baseline (absolute rates are noisy on a shared machine, ratios less
+  so);
 * ``report_configs_per_s``: the whole ``self_collision_report`` (setup included).
 
 Also ``jobs2_speedup`` (``count_sampled`` with 2 worker processes vs 1) and, with
@@ -87,12 +88,12 @@ def split_spheres(text: str, k: int) -> str:
 
 
 def setup(urdf_path: Path, text: str) -> dict[str, Any]:
-    from xrdf_tools.collision import build_sphere_set
-    from xrdf_tools.engine import CountEngine
-    from xrdf_tools.kinematics import build_kinematic_model, default_configuration
     from xrdf_tools.report import adjacent_frame_pairs
-    from xrdf_tools.urdf_source import load_urdf
-    from xrdf_tools.xrdf_io import parse_xrdf
+    from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
+    from xrdf_tools.robot.urdf_source import load_urdf
+    from xrdf_tools.selfcollision.collision import build_sphere_set
+    from xrdf_tools.selfcollision.engine import CountEngine
+    from xrdf_tools.xrdf.io import parse_xrdf
 
     xrdf = parse_xrdf(text, "bench.xrdf")
     urdf = load_urdf(urdf_path)
@@ -117,7 +118,7 @@ def setup(urdf_path: Path, text: str) -> dict[str, Any]:
 
 
 def ours(case: dict[str, Any], n: int, jobs: int = 1) -> tuple[float, Any]:
-    from xrdf_tools.engine import count_sampled
+    from xrdf_tools.selfcollision.engine import count_sampled
 
     kin, idx = case["kin"], case["idx"]
     t0 = time.perf_counter()
@@ -136,8 +137,10 @@ def ours(case: dict[str, Any], n: int, jobs: int = 1) -> tuple[float, Any]:
 
 def baseline(case: dict[str, Any], n: int) -> tuple[float, Any]:
     """The old engine, as the report ran it: float64 FK, culling, exact minima below 1 cm."""
-    from xrdf_tools.collision import count_chunk
-    from xrdf_tools.sampling import iter_samples
+    if str(REPO) not in sys.path:
+        sys.path.insert(0, str(REPO))  # the reference counter is test code
+    from tests.collision_reference import count_chunk
+    from xrdf_tools.selfcollision.sampling import iter_samples
 
     kin, idx, q0, work = case["kin"], case["idx"], case["q0"], case["work"]
     hits = np.zeros(work.n_frame_pairs, dtype=np.int64)

@@ -70,7 +70,7 @@ def main() -> int:
 
     from xrdf_tools.spheres import coverage_for_xrdf, fit_link_spheres, measure_links
     from xrdf_tools.spheres.geometry import load_link_geometry
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     urdf = _robots() / "panda_description/urdf/panda.urdf"
     if not urdf.exists():

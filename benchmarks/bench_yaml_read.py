@@ -19,7 +19,7 @@ Each reader then reads it in a fresh child process (``load_xrdf``, or ``load_yam
   baseline in the same run;
 * ``reference`` (``--reference``; minutes and gigabytes for big files): the reader as it was
   before issue 13's change: PyYAML's composer and the per-node conversion
-  (``xrdf_tools.yaml_compose``, still used for documents with aliases), and for ``xrdf`` the
+  (``xrdf_tools.yaml.compose``, still used for documents with aliases), and for ``xrdf`` the
   position index of every node that the model used to carry.
 
 Prints ONE JSON line: the file's size, then per reader ``seconds`` (wall), ``cpu_seconds``,
@@ -96,12 +96,12 @@ def _rss_mib() -> float:
 
 def child(reader: str, path: str, what: str) -> dict[str, Any]:
     """Read ``path`` once with ``reader`` in this process (run by the parent per reader)."""
-    from xrdf_tools import yaml_build
-    from xrdf_tools.frozen import FrozenMap
-    from xrdf_tools.xrdf_io import load_xrdf, xrdf_from_document
-    from xrdf_tools.yaml_compose import compose_document
-    from xrdf_tools.yaml_io import load_yaml, raise_on_duplicates, read_text
-    from xrdf_tools.yaml_positions import node_positions
+    from xrdf_tools.util.frozen import FrozenMap
+    from xrdf_tools.xrdf.io import load_xrdf, xrdf_from_document
+    from xrdf_tools.yaml import build as yaml_build
+    from xrdf_tools.yaml.compose import compose_document
+    from xrdf_tools.yaml.io import load_yaml, raise_on_duplicates, read_text
+    from xrdf_tools.yaml.positions import node_positions
 
     import_rss = _rss_mib()
     wall, cpu = time.perf_counter(), time.process_time()
@@ -161,7 +161,7 @@ def main() -> None:
         print(json.dumps(child(args.child[0], args.child[1], args.what)))
         return
 
-    from xrdf_tools import yaml_build
+    from xrdf_tools.yaml import build as yaml_build
 
     with tempfile.TemporaryDirectory() as tmp:
         path = args.keep or Path(tmp) / f"big_{args.kind}.xrdf"

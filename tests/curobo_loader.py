@@ -16,7 +16,7 @@ from typing import Any
 
 import yaml
 
-from xrdf_tools.urdf_source import joints_of, links_of, load_urdf, root_link
+from xrdf_tools.robot.urdf_source import joints_of, links_of, load_urdf, root_link
 
 Spheres = dict[str, tuple[tuple[tuple[float, float, float], float], ...]]
 

@@ -438,7 +438,7 @@ def invoke_in_process(args: Sequence[str]) -> tuple[int, str, BaseException | No
     from typer.testing import CliRunner
 
     from xrdf_tools.cli import app
-    from xrdf_tools.errors import XrdfToolsError
+    from xrdf_tools.util.errors import XrdfToolsError
 
     res = CliRunner().invoke(app, list(args), catch_exceptions=True)
     exc = res.exception

@@ -13,11 +13,11 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES, REPO
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
-from xrdf_tools.collision import colliding_frame_pairs
-from xrdf_tools.kinematics import build_kinematic_model, full_configuration
 from xrdf_tools.report import CertifyOptions, Report, self_collision_report
-from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
+from xrdf_tools.robot.kinematics import build_kinematic_model, full_configuration
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.selfcollision.collision import colliding_frame_pairs
+from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
 
 runner = CliRunner()
 SEED = 3  # 200 uniform samples that miss the tiny window

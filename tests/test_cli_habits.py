@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 from tests.paths import UR10E_URDF, UR10E_XRDF
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
-from xrdf_tools.commands import common, core
+from xrdf_tools.cli.commands import common, core
 
 runner = CliRunner()
 
@@ -262,7 +262,7 @@ def test_commands_draw_the_common_bar_unless_quiet(
 
 
 def test_one_progress_style_in_the_commands() -> None:
-    import xrdf_tools.commands as pkg
+    import xrdf_tools.cli.commands as pkg
 
     root = Path(pkg.__file__).parent
     for f in root.glob("*.py"):
@@ -279,10 +279,10 @@ def test_one_progress_style_in_the_commands() -> None:
 @pytest.fixture(scope="module")
 def pr2(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     """The PR2 (82 links) with one sphere on every link and its adjacent pairs ignored."""
-    from xrdf_tools.convert import ConvertOptions, convert
+    from xrdf_tools.convert.core import ConvertOptions, convert
+    from xrdf_tools.robot.urdf_source import load_urdf
     from xrdf_tools.spheres import ignore_adjacent
-    from xrdf_tools.urdf_source import load_urdf
-    from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+    from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 
     urdf = robot_urdf("pr2")
     u = load_urdf(urdf)
@@ -300,19 +300,19 @@ def pr2(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
 
 
 def _pr2_scene(pr2: tuple[Path, Path]) -> Any:
-    from xrdf_tools.urdf_source import load_urdf
+    from xrdf_tools.robot.urdf_source import load_urdf
     from xrdf_tools.viz import build_scene
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     return build_scene(load_urdf(pr2[0]), load_xrdf(pr2[1]), meshes="none")
 
 
 def test_pr2_title_counts_the_frame_pairs(pr2: tuple[Path, Path]) -> None:
-    from xrdf_tools.collision import build_sphere_set, colliding_frame_pairs
-    from xrdf_tools.kinematics import build_kinematic_model, default_configuration
-    from xrdf_tools.urdf_source import load_urdf
+    from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
+    from xrdf_tools.robot.urdf_source import load_urdf
+    from xrdf_tools.selfcollision.collision import build_sphere_set, colliding_frame_pairs
     from xrdf_tools.viz.png import png_title
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     u, x = load_urdf(pr2[0]), load_xrdf(pr2[1])
     kin, _ = build_kinematic_model(u, x)
@@ -364,7 +364,7 @@ def test_cli_viz_view_and_legend_options(pr2: tuple[Path, Path], tmp_path: Path)
 
 
 def test_parse_view() -> None:
-    from xrdf_tools.errors import XrdfToolsError
+    from xrdf_tools.util.errors import XrdfToolsError
     from xrdf_tools.viz.png import VIEWS, parse_view
 
     assert parse_view("TOP") == VIEWS["top"]

@@ -7,19 +7,19 @@ import math
 import numpy as np
 import pytest
 
+from tests.collision_reference import count_chunk
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
-from xrdf_tools.collision import (
+from xrdf_tools.robot.kinematics import KinematicModel, build_kinematic_model, fk
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.selfcollision.collision import (
     build_sphere_set,
     colliding_frame_pairs,
-    count_chunk,
     pair_clearance,
     sphere_world_centers,
 )
-from xrdf_tools.kinematics import KinematicModel, build_kinematic_model, fk
-from xrdf_tools.model import Xrdf
-from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import Xrdf
 
 THREE_LINK = FIXTURES / "urdf" / "three_link_mimic.urdf"
 

@@ -7,12 +7,12 @@ from pathlib import Path
 import pytest
 
 from tests.paths import FIXTURES, UR10E_URDF, shared_file
-from xrdf_tools.convert import ConvertOptions, convert_files
+from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.diagnostics import Diagnostic
 from xrdf_tools.diff import diff_xrdf
-from xrdf_tools.errors import SourceError
-from xrdf_tools.model import AddFrame, Sphere
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.util.errors import SourceError
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import AddFrame, Sphere
 
 CLASSIC = FIXTURES / "curobo_classic"
 

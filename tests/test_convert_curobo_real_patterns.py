@@ -7,9 +7,9 @@ The real files are not in the repository; ``fixtures/curobo_classic/ur10e_real_p
 from __future__ import annotations
 
 from tests.paths import FIXTURES, UR10E_URDF
-from xrdf_tools.convert import ConvertOptions, convert_files
+from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.diagnostics import Diagnostic, Severity
-from xrdf_tools.model import Sphere, Xrdf
+from xrdf_tools.xrdf.model import Sphere, Xrdf
 
 CLASSIC = FIXTURES / "curobo_classic"
 CONFIG = CLASSIC / "ur10e_real_patterns.yml"

@@ -7,12 +7,12 @@ from pathlib import Path
 import pytest
 
 from tests.robots import robots_dir
-from xrdf_tools.convert import ConvertOptions, convert_files
-from xrdf_tools.errors import SourceError
-from xrdf_tools.robot import as_robot
-from xrdf_tools.sources import RobotTree
-from xrdf_tools.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
-from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+from xrdf_tools.convert.core import ConvertOptions, convert_files
+from xrdf_tools.convert.sources import RobotTree
+from xrdf_tools.convert.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
+from xrdf_tools.robot.core import as_robot
+from xrdf_tools.util.errors import SourceError
+from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 
 #: SRDF (below robots/) -> (URDF below robots/, planning group or None for the default choice).
 #: Every SRDF in example-robot-data that has a URDF beside it (cassie ships only SDF files).
@@ -268,7 +268,7 @@ TREE_URDF = """<robot name="t">
 
 @pytest.fixture
 def tree(tmp_path: Path) -> RobotTree:
-    from xrdf_tools.urdf_source import parse_urdf_string
+    from xrdf_tools.robot.urdf_source import parse_urdf_string
 
     return as_robot(parse_urdf_string(TREE_URDF, str(tmp_path / "t.urdf"))).tree
 
@@ -335,7 +335,7 @@ def test_srdf_mapping_details(tree: RobotTree, tmp_path: Path) -> None:
         </link_sphere_approximation>
         </robot>"""
     )
-    from xrdf_tools.convert import convert
+    from xrdf_tools.convert.core import convert
 
     x, diags = convert(tree, ConvertOptions(srdf=srdf))
     by_rule = {d.rule: d for d in diags}
@@ -384,7 +384,7 @@ def test_broken_group_is_an_error_even_when_another_is_chosen(
         <group name="sub"><group name="missing"/></group>
         </robot>""",
     )
-    from xrdf_tools.sources.srdf import read_srdf
+    from xrdf_tools.convert.sources.srdf import read_srdf
 
     with pytest.raises(SourceError) as err:
         read_srdf(load_srdf(srdf), tree, group="arm")
@@ -417,7 +417,7 @@ def test_several_groups_are_one_cspace_in_the_given_order(tree: RobotTree, tmp_p
         <group_state name="home" group="side"><joint name="zz" value="0.3"/></group_state>
         </robot>""",
     )
-    from xrdf_tools.convert import convert
+    from xrdf_tools.convert.core import convert
 
     x, _ = convert(tree, ConvertOptions(srdf=srdf, groups=("side", "arm")))
     assert x.cspace is not None and x.cspace.joint_names == ("zz", "j1", "j2", "j3")
@@ -426,7 +426,7 @@ def test_several_groups_are_one_cspace_in_the_given_order(tree: RobotTree, tmp_p
 
 
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:
-    from xrdf_tools.convert import convert
+    from xrdf_tools.convert.core import convert
 
     x, diags = convert(tree, ConvertOptions(joints=("j3", "j1")))
     assert x.cspace is not None and x.cspace.joint_names == ("j3", "j1")  # the given order

@@ -9,9 +9,9 @@ import pytest
 from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
-from xrdf_tools.errors import SourceError
-from xrdf_tools.sources.xacro_source import expand_xacro
-from xrdf_tools.xrdf_io import parse_xrdf
+from xrdf_tools.robot.xacro_source import expand_xacro
+from xrdf_tools.util.errors import SourceError
+from xrdf_tools.xrdf.io import parse_xrdf
 
 runner = CliRunner()
 

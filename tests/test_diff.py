@@ -1,4 +1,4 @@
-"""`xrdf diff` and the semantic diff library (xrdf_tools.diff, xrdf_tools.diff_render)."""
+"""`xrdf diff` and the semantic diff library (xrdf_tools.diff, xrdf_tools.diff.render)."""
 
 from __future__ import annotations
 
@@ -11,11 +11,11 @@ from typer.testing import CliRunner
 from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file
 from xrdf_tools.cli import app
 from xrdf_tools.diff import Level, XrdfDiff, compare_spheres, diff_files, diff_xrdf
-from xrdf_tools.diff_render import render_json, render_text
-from xrdf_tools.errors import XrdfToolsError
-from xrdf_tools.model import Sphere
-from xrdf_tools.versions import to_version
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.diff.render import render_json, render_text
+from xrdf_tools.util.errors import XrdfToolsError
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import Sphere
+from xrdf_tools.xrdf.versions import to_version
 
 runner = CliRunner()
 
@@ -593,7 +593,7 @@ def test_negative_tolerance_is_rejected_by_the_library() -> None:
 
 def test_set_base_frame_on_the_urdf_root_is_no_change() -> None:
     from tests.paths import UR10E_URDF
-    from xrdf_tools.urdf_source import load_urdf, root_link
+    from xrdf_tools.robot.urdf_source import load_urdf, root_link
 
     root = root_link(load_urdf(UR10E_URDF))
     assert root == "base_link"

@@ -24,10 +24,10 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES, REPO, SEED_XRDF, SHARED, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diff import diff_xrdf
-from xrdf_tools.diff_render import render_json, render_text
-from xrdf_tools.errors import XrdfToolsError
-from xrdf_tools.versions import to_version
-from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+from xrdf_tools.diff.render import render_json, render_text
+from xrdf_tools.util.errors import XrdfToolsError
+from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
+from xrdf_tools.xrdf.versions import to_version
 
 GOLDEN = Path(__file__).resolve().parent / "data" / "diff_golden"
 UPDATE = os.environ.get("XRDF_DIFF_GOLDEN_UPDATE") == "1"

@@ -6,11 +6,15 @@ import numpy as np
 import pytest
 
 from tests.test_collision import brute_force, fixed_configs, panda, three_link
-from xrdf_tools.collision import build_sphere_set, pair_clearance, sphere_world_centers
-from xrdf_tools.engine import CountEngine, EngineTotals, _body_fk, count_sampled
-from xrdf_tools.kinematics import KinematicModel, default_configuration
-from xrdf_tools.model import Xrdf
-from xrdf_tools.sampling import iter_samples
+from xrdf_tools.robot.kinematics import KinematicModel, default_configuration
+from xrdf_tools.selfcollision.collision import (
+    build_sphere_set,
+    pair_clearance,
+    sphere_world_centers,
+)
+from xrdf_tools.selfcollision.engine import CountEngine, EngineTotals, _body_fk, count_sampled
+from xrdf_tools.selfcollision.sampling import iter_samples
+from xrdf_tools.xrdf.model import Xrdf
 
 MARGIN = 0.05
 
@@ -197,7 +201,8 @@ def test_chunks_and_jobs_give_identical_totals() -> None:
     np.testing.assert_array_equal(one.hits, ref.hits)
     for a, b in zip(one.clearance(), ref.clearance(), strict=True):
         np.testing.assert_array_equal(a, b)
-    import xrdf_tools.engine.jobs as engine_mod  # where count_sampled reads the threshold
+    # where count_sampled reads the threshold
+    import xrdf_tools.selfcollision.engine.jobs as engine_mod
 
     old = engine_mod.MIN_SAMPLES_PER_JOB
     engine_mod.MIN_SAMPLES_PER_JOB = 1000  # force two worker processes on a small sample

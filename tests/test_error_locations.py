@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from tests.paths import UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
-from xrdf_tools.errors import XrdfToolsError
+from xrdf_tools.util.errors import XrdfToolsError
 
 runner = CliRunner()
 

@@ -10,14 +10,14 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
-from xrdf_tools.convert import ConvertOptions, convert_files
+from xrdf_tools.convert.core import ConvertOptions, convert_files
+from xrdf_tools.convert.sources import RobotTree
+from xrdf_tools.convert.sources.srdf import parse_srdf
 from xrdf_tools.diff import diff_xrdf
-from xrdf_tools.export import to_curobo, to_srdf
-from xrdf_tools.robot import as_robot
-from xrdf_tools.sources import RobotTree
-from xrdf_tools.sources.srdf import parse_srdf
-from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.export.curobo import to_curobo, to_srdf
+from xrdf_tools.robot.core import as_robot
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 
 runner = CliRunner()
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
@@ -219,7 +219,7 @@ def test_round_trip_panda_without_set_base_frame(tmp_path: Path) -> None:
     back as set_base_frame on the URDF root: a no-op that diff, told the root, ignores. cuRobo
     configs do not name geometry groups, so the group name is the only other change."""
     from tests.robots import robot_urdf
-    from xrdf_tools.urdf_source import root_link
+    from xrdf_tools.robot.urdf_source import root_link
 
     urdf_path = robot_urdf("panda")
     urdf = load_urdf(urdf_path)

@@ -17,15 +17,15 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf, robots_dir
 from xrdf_tools.cli import app
-from xrdf_tools.convert import ConvertOptions, convert_files, with_spheres
-from xrdf_tools.errors import SourceError
-from xrdf_tools.export import to_srdf
-from xrdf_tools.export_srdf import reasons_from_report, sync_srdf
-from xrdf_tools.frozen import FrozenMap
-from xrdf_tools.model import Xrdf
-from xrdf_tools.sources.srdf import Srdf, parse_srdf
-from xrdf_tools.srdf_xml import XmlDocument
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.convert.core import ConvertOptions, convert_files, with_spheres
+from xrdf_tools.convert.sources.srdf import Srdf, parse_srdf
+from xrdf_tools.export.curobo import to_srdf
+from xrdf_tools.export.srdf import reasons_from_report, sync_srdf
+from xrdf_tools.export.srdf_xml import XmlDocument
+from xrdf_tools.util.errors import SourceError
+from xrdf_tools.util.frozen import FrozenMap
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import Xrdf
 
 runner = CliRunner()
 

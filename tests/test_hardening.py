@@ -21,8 +21,10 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
+from xrdf_tools.convert.sources import RobotTree
 from xrdf_tools.diagnostics import Diagnostic, Severity
-from xrdf_tools.errors import (
+from xrdf_tools.robot.core import as_robot
+from xrdf_tools.util.errors import (
     InputError,
     OutputError,
     SchemaError,
@@ -31,17 +33,15 @@ from xrdf_tools.errors import (
     XrdfToolsError,
     YamlError,
 )
-from xrdf_tools.fileio import (
+from xrdf_tools.util.fileio import (
     ENV_MAX_INPUT,
     atomic_output,
     read_input_bytes,
     read_input_text,
     write_atomic,
 )
-from xrdf_tools.graph import find_cycle, reachable
-from xrdf_tools.robot import as_robot
-from xrdf_tools.sources import RobotTree
-from xrdf_tools.yaml_io import load_yaml, parse_yaml, to_python
+from xrdf_tools.util.graph import find_cycle, reachable
+from xrdf_tools.yaml.io import load_yaml, parse_yaml, to_python
 
 runner = CliRunner()
 posix = pytest.mark.skipif(os.name != "posix", reason="FIFOs and /dev/zero are POSIX")
@@ -225,7 +225,7 @@ def test_a_collection_as_a_mapping_key_is_an_error(text: str, kind: str) -> None
 def test_values_with_newlines_are_not_echoed_raw(tmp_path: Path) -> None:
     p = tmp_path / "robot.xrdf"
     p.write_text(UR10E_XRDF.read_text().replace("tool_frames: [tool0]", 'tool_frames: "a\\nb"'))
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     with pytest.raises(SchemaError) as e:
         load_xrdf(p)
@@ -261,7 +261,7 @@ def test_joint_whose_parent_is_its_own_child_with_srdf_chain_does_not_hang(
 
 
 def test_a_loop_of_joints_is_refused_with_its_path(tmp_path: Path) -> None:
-    from xrdf_tools.urdf_source import parse_urdf_string
+    from xrdf_tools.robot.urdf_source import parse_urdf_string
 
     text = CYCLE_URDF.replace(
         '<child link="a"/></joint>\n  <joint name="j1"',
@@ -279,7 +279,7 @@ def test_a_loop_of_joints_is_refused_with_its_path(tmp_path: Path) -> None:
 
 
 def test_robot_tree_walks_terminate_on_a_hand_made_cycle() -> None:
-    from xrdf_tools.urdf_source import JointInfo
+    from xrdf_tools.robot.urdf_source import JointInfo
 
     eye = [[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]]
     joints = {
@@ -310,20 +310,20 @@ def _nested_groups(n: int, close_cycle: bool = False) -> str:
 
 
 def _tree() -> RobotTree:
-    from xrdf_tools.urdf_source import load_urdf
+    from xrdf_tools.robot.urdf_source import load_urdf
 
     return as_robot(load_urdf(UR10E_URDF)).tree
 
 
 def test_1200_nested_srdf_subgroups() -> None:
-    from xrdf_tools.sources.srdf import group_joints, parse_srdf
+    from xrdf_tools.convert.sources.srdf import group_joints, parse_srdf
 
     srdf = parse_srdf(_nested_groups(1200), "deep.srdf")
     assert group_joints(srdf, "g0", _tree()) == ["shoulder_pan_joint"]
 
 
 def test_srdf_subgroup_cycle_is_an_error() -> None:
-    from xrdf_tools.sources.srdf import group_joints, parse_srdf
+    from xrdf_tools.convert.sources.srdf import group_joints, parse_srdf
 
     srdf = parse_srdf(_nested_groups(5, close_cycle=True), "loop.srdf")
     with pytest.raises(SourceError, match=r"groups include each other: g0 -> g1 .* -> g0"):
@@ -331,7 +331,7 @@ def test_srdf_subgroup_cycle_is_an_error() -> None:
 
 
 def test_srdf_diamond_of_subgroups_is_linear() -> None:
-    from xrdf_tools.sources.srdf import group_joints, parse_srdf
+    from xrdf_tools.convert.sources.srdf import group_joints, parse_srdf
 
     n = 40  # each group includes the next two: 2**40 paths, 40 groups
     groups = [
@@ -363,8 +363,8 @@ def _mimic_chain_urdf(n: int, loop: bool = False) -> str:
 
 
 def test_a_long_mimic_chain_resolves_in_linear_time() -> None:
-    from xrdf_tools.kinematics import _resolve_mimic
-    from xrdf_tools.urdf_source import joints_of, parse_urdf_string
+    from xrdf_tools.robot.kinematics import _resolve_mimic
+    from xrdf_tools.robot.urdf_source import joints_of, parse_urdf_string
 
     joints = joints_of(parse_urdf_string(_mimic_chain_urdf(3000), "chain.urdf"))
     memo: dict[str, tuple[str | None, float, float, str]] = {}
@@ -377,9 +377,9 @@ def test_a_long_mimic_chain_resolves_in_linear_time() -> None:
 
 
 def test_mimic_loop_is_an_error() -> None:
-    from xrdf_tools.kinematics import build_kinematic_model
-    from xrdf_tools.urdf_source import parse_urdf_string
-    from xrdf_tools.xrdf_io import parse_xrdf
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.robot.urdf_source import parse_urdf_string
+    from xrdf_tools.xrdf.io import parse_xrdf
 
     urdf = parse_urdf_string(_mimic_chain_urdf(4, loop=True), "loop.urdf")
     x = parse_xrdf("format: xrdf\nformat_version: 2.0\n", "x.xrdf")
@@ -649,7 +649,7 @@ def test_sigterm_removes_the_temporary_file(tmp_path: Path) -> None:
     script = (
         "import os, signal, sys\n"
         "from xrdf_tools.cli import _terminate\n"
-        "from xrdf_tools.fileio import atomic_output\n"
+        "from xrdf_tools.util.fileio import atomic_output\n"
         "signal.signal(signal.SIGTERM, _terminate)\n"
         f"with atomic_output({str(tmp_path / 'out.txt')!r}) as tmp:\n"
         "    tmp.write_text('partial')\n"
@@ -701,7 +701,7 @@ def test_report_errors_name_the_output_not_the_temporary(
 
 def test_math_is_still_finite_for_in_range_values(tmp_path: Path) -> None:
     """The length bound leaves real robots alone: the bundled XRDF loads and lints clean."""
-    from xrdf_tools.xrdf_io import load_xrdf
+    from xrdf_tools.xrdf.io import load_xrdf
 
     x = load_xrdf(UR10E_XRDF)
     assert all(math.isfinite(s.radius) for ss in x.world_collision_spheres().values() for s in ss)
@@ -729,7 +729,7 @@ def test_long_clone_chains_lint_in_linear_time(cycle: bool) -> None:
 
 
 def test_clone_cycle_message_is_one_short_line() -> None:
-    from xrdf_tools.xrdf_io import parse_xrdf
+    from xrdf_tools.xrdf.io import parse_xrdf
 
     with pytest.raises(
         SchemaError,
@@ -740,7 +740,7 @@ def test_clone_cycle_message_is_one_short_line() -> None:
 
 
 def test_nodes_on_cycles() -> None:
-    from xrdf_tools.graph import nodes_on_cycles, show_path
+    from xrdf_tools.util.graph import nodes_on_cycles, show_path
 
     edges = {"a": ["b"], "b": ["c", "a"], "c": ["c"], "d": ["a"], "e": []}
     assert nodes_on_cycles(edges, edges.__getitem__) == {"a", "b", "c"}
@@ -751,7 +751,7 @@ def test_nodes_on_cycles() -> None:
 
 
 def test_choosing_among_thousands_of_nested_groups_is_linear() -> None:
-    from xrdf_tools.sources.srdf import choose_group, parse_srdf
+    from xrdf_tools.convert.sources.srdf import choose_group, parse_srdf
 
     srdf = parse_srdf(_nested_groups(5000), "deep.srdf")
     start = time.monotonic()
@@ -762,7 +762,7 @@ def test_choosing_among_thousands_of_nested_groups_is_linear() -> None:
 
 
 def test_postorder_puts_children_first() -> None:
-    from xrdf_tools.graph import postorder
+    from xrdf_tools.util.graph import postorder
 
     edges = {"a": ["b", "c"], "b": [], "c": ["b"], "d": ["d"]}
     order = postorder(edges, edges.__getitem__)

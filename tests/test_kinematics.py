@@ -14,8 +14,7 @@ from hypothesis import strategies as st
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.diagnostics import Severity
-from xrdf_tools.errors import UrdfError
-from xrdf_tools.kinematics import (
+from xrdf_tools.robot.kinematics import (
     JointType,
     KinematicModel,
     build_kinematic_model,
@@ -25,8 +24,9 @@ from xrdf_tools.kinematics import (
     fk_rt,
     full_configuration,
 )
-from xrdf_tools.urdf_source import joints_of, links_of, load_urdf, parse_urdf_string
-from xrdf_tools.xrdf_io import parse_xrdf
+from xrdf_tools.robot.urdf_source import joints_of, links_of, load_urdf, parse_urdf_string
+from xrdf_tools.util.errors import UrdfError
+from xrdf_tools.xrdf.io import parse_xrdf
 
 THREE_LINK = FIXTURES / "urdf" / "three_link_mimic.urdf"
 TOL = 1e-9
@@ -667,7 +667,7 @@ def test_parse_urdf_string_with_encoding_declaration() -> None:
 
 
 def test_package_paths_resolve_meshes(tmp_path: Path) -> None:
-    from xrdf_tools.urdf_source import make_filename_handler
+    from xrdf_tools.robot.urdf_source import make_filename_handler
 
     pkg = tmp_path / "my_pkg"
     (pkg / "meshes").mkdir(parents=True)

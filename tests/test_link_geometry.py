@@ -1,7 +1,8 @@
-"""One loader of URDF link geometry (:mod:`xrdf_tools.link_geometry`) for viz, spheres and lint.
+"""One loader of URDF link geometry (:mod:`xrdf_tools.robot.link_geometry`) for viz, spheres and
+lint.
 
 On the bundled demo arm and a real robot of example-robot-data: viz draws exactly the parts
-sphere fitting solidifies, both read from the loaded :class:`~xrdf_tools.robot.Robot` without
+sphere fitting solidifies, both read from the loaded :class:`~xrdf_tools.robot.core.Robot` without
 parsing the URDF again; ``<capsule>`` (not standard URDF, unknown to yourdfpy) is loaded by
 every command.
 """
@@ -18,10 +19,10 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
-from xrdf_tools import link_geometry as lg
 from xrdf_tools.cli import app
-from xrdf_tools.robot import Robot
-from xrdf_tools.sources.xacro_source import load_robot
+from xrdf_tools.robot import link_geometry as lg
+from xrdf_tools.robot.core import Robot
+from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.spheres import fit_link_spheres
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.viz.meshes import load_link_meshes
@@ -105,7 +106,7 @@ def test_fitting_a_loaded_robot_does_not_parse_the_urdf_again(
 ) -> None:
     from lxml import etree
 
-    import xrdf_tools.urdf_source as urdf_source
+    import xrdf_tools.robot.urdf_source as urdf_source
 
     robot = load_robot(DEMO)
     calls: list[str] = []

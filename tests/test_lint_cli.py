@@ -157,8 +157,8 @@ def test_panda_against_example_robot_data() -> None:
 def test_lint_with_urdf_reads_and_parses_the_urdf_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """Issue 15: ``xrdf lint FILE --urdf URDF`` reads the URDF file once and parses and
     validates it once, whatever its rules look at (joints, frames, collision geometry)."""
-    import xrdf_tools.fileio as fileio
-    import xrdf_tools.urdf_source as urdf_source
+    import xrdf_tools.robot.urdf_source as urdf_source
+    import xrdf_tools.util.fileio as fileio
     from xrdf_tools.lint.rules import sphere_outside_geometry
 
     urdf = robot_urdf("panda")
@@ -208,9 +208,9 @@ HEAVY = (
     "lxml",
     "numpy",
     "xrdf_tools.diff",
-    "xrdf_tools.model",
-    "xrdf_tools.xrdf_read",
-    "xrdf_tools.xrdf_write",
+    "xrdf_tools.xrdf.model",
+    "xrdf_tools.xrdf.read",
+    "xrdf_tools.xrdf.write",
 )
 #: Not imported either by the console entry point, which runs ``xrdf lint`` without typer.
 TYPER_AND_WRITERS = ("typer", "pydantic", "rich", "tempfile", "difflib", "json", "zipfile")
@@ -246,7 +246,7 @@ def test_lint_without_urdf_imports_no_heavy_library(run: str) -> None:
 
 
 def test_the_cli_repeats_the_diff_tolerance_it_does_not_import() -> None:
-    from xrdf_tools.commands.diff import DEFAULT_TOLERANCE as cli_default
+    from xrdf_tools.cli.commands.diff import DEFAULT_TOLERANCE as cli_default
     from xrdf_tools.diff import DEFAULT_TOLERANCE
 
     assert cli_default == DEFAULT_TOLERANCE

@@ -14,8 +14,8 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES, REPO, SEED_XRDF, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
-from xrdf_tools.commands.core import OutputFormat
-from xrdf_tools.commands.lint_core import LintArgs, fast_main, parse_fast
+from xrdf_tools.cli.commands.core import OutputFormat
+from xrdf_tools.cli.commands.lint_core import LintArgs, fast_main, parse_fast
 
 LINT = FIXTURES / "lint"
 URDF_LINE = re.compile(r"^# urdf: (.+)$", re.M)
@@ -128,7 +128,7 @@ def test_the_fast_path_knows_the_options_of_the_typer_command() -> None:
     here fails this test (until then the fast path would leave the new spelling to typer)."""
     import typer.main
 
-    from xrdf_tools.commands import lint_core
+    from xrdf_tools.cli.commands import lint_core
 
     command = typer.main.get_command(app).commands["lint"]  # type: ignore[attr-defined]
     typer_opts = {}

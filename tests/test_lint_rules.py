@@ -16,7 +16,7 @@ import pytest
 
 from tests.paths import FIXTURES, REPO
 from xrdf_tools.lint import RULES, lint_text, rules
-from xrdf_tools.rules_doc import render_rules_md
+from xrdf_tools.rules.docs import render_rules_md
 
 LINT_FIXTURES = FIXTURES / "lint"
 EXPECT = re.compile(r"^# expect: (\d+):(\d+) (error|warning|info)$", re.M)
@@ -77,7 +77,7 @@ def test_fixture(path: Path) -> None:
 def test_rules_md_is_up_to_date() -> None:
     doc = REPO / "docs" / "rules.md"
     assert doc.read_text() == render_rules_md(), (
-        "docs/rules.md is stale: run python -m xrdf_tools.rules_doc > docs/rules.md"
+        "docs/rules.md is stale: run python -m xrdf_tools.rules.docs > docs/rules.md"
     )
     for r in RULES:
         assert f"## {r.id}\n" in doc.read_text()

@@ -2,7 +2,7 @@
 
 The real-robot tests run the command as a user would and then check the result with
 `xrdf report` and `xrdf lint`: neither may find an error. The small synthetic robot checks
-the library call (:func:`xrdf_tools.assistant.convert_robot`) quickly.
+the library call (:func:`xrdf_tools.convert.pipeline.convert_robot`) quickly.
 """
 
 from __future__ import annotations
@@ -15,15 +15,15 @@ import pytest
 from typer.testing import CliRunner
 
 from tests.robots import robot_urdf, robots_dir
-from xrdf_tools.assistant import FitOptions, MaskOptions, convert_robot
 from xrdf_tools.cli import app
-from xrdf_tools.convert import ConvertOptions
+from xrdf_tools.convert.core import ConvertOptions
+from xrdf_tools.convert.pipeline import FitOptions, MaskOptions, convert_robot
 from xrdf_tools.lint import lint_text
-from xrdf_tools.model import Xrdf
 from xrdf_tools.report import self_collision_report
+from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.spheres.geometry import load_link_geometry
-from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import load_xrdf
+from xrdf_tools.xrdf.io import load_xrdf
+from xrdf_tools.xrdf.model import Xrdf
 
 runner = CliRunner()
 

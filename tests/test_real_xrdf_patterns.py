@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from xrdf_tools import versions
 from xrdf_tools.cli import app
 from xrdf_tools.lint import lint_text
-from xrdf_tools.xrdf_io import dump_xrdf, parse_xrdf
+from xrdf_tools.xrdf import versions
+from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 
 runner = CliRunner()
 

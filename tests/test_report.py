@@ -20,9 +20,9 @@ from xrdf_tools.report import (
     recommended_xrdf,
     self_collision_report,
 )
-from xrdf_tools.report_render import render_html, render_markdown, render_text, report_to_dict
-from xrdf_tools.urdf_source import load_urdf
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.report.render import render_html, render_markdown, render_text, report_to_dict
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 
 runner = CliRunner()
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
@@ -42,7 +42,7 @@ def test_never_upper_bound_is_the_exact_binomial_bound() -> None:
 
 
 def test_adjacency_collapses_frames_without_spheres() -> None:
-    from xrdf_tools.kinematics import build_kinematic_model
+    from xrdf_tools.robot.kinematics import build_kinematic_model
 
     xrdf = load_xrdf(PANDA_XRDF)
     kin, _ = build_kinematic_model(load_urdf(robot_urdf("panda")), xrdf)
@@ -137,8 +137,8 @@ def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None
         "x.xrdf",
     )
     r2 = self_collision_report(urdf, fixed, configs=q, chunk=64)
-    from xrdf_tools.collision import colliding_frame_pairs
-    from xrdf_tools.kinematics import build_kinematic_model, full_configuration
+    from xrdf_tools.robot.kinematics import build_kinematic_model, full_configuration
+    from xrdf_tools.selfcollision.collision import colliding_frame_pairs
 
     kin, _ = build_kinematic_model(urdf, fixed)
     full = full_configuration(kin, ["joint1", "joint2", "joint3"], q)
@@ -149,9 +149,9 @@ def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None
 
 
 def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
-    from xrdf_tools.configs import load_cspace_configurations
-    from xrdf_tools.errors import SourceError
-    from xrdf_tools.kinematics import build_kinematic_model
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.selfcollision.configurations import load_cspace_configurations
+    from xrdf_tools.util.errors import SourceError
 
     urdf, xrdf = load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF)
     kin, _ = build_kinematic_model(urdf, xrdf)
@@ -260,7 +260,7 @@ def test_halton_and_uniform_agree_roughly() -> None:
 
 
 def test_jobs_give_the_same_report(monkeypatch: pytest.MonkeyPatch) -> None:
-    import xrdf_tools.engine.jobs as engine  # where count_sampled reads the threshold
+    import xrdf_tools.selfcollision.engine.jobs as engine  # where count_sampled reads the threshold
 
     monkeypatch.setattr(engine, "MIN_SAMPLES_PER_JOB", 1000)  # two workers on a small sample
     _, one = three_link_report(samples=6000, seed=2, chunk=1000)
@@ -279,7 +279,7 @@ def test_jobs_give_the_same_report(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_joints_on_path_counts_the_joints_that_move_a_pair() -> None:
-    from xrdf_tools.kinematics import build_kinematic_model
+    from xrdf_tools.robot.kinematics import build_kinematic_model
 
     urdf = load_urdf(THREE_LINK)
     kin, _ = build_kinematic_model(urdf, parse_xrdf(THREE_LINK_XRDF, "t.xrdf"))
@@ -296,7 +296,7 @@ def test_joints_on_path_counts_the_joints_that_move_a_pair() -> None:
 
 
 def test_report_views_filter_what_is_shown_but_not_the_json(tmp_path: Path) -> None:
-    from xrdf_tools.report_render import ReportView
+    from xrdf_tools.report.render import ReportView
 
     _, r = three_link_report(samples=2000)
     full = render_text(r)
@@ -315,7 +315,7 @@ def test_report_views_filter_what_is_shown_but_not_the_json(tmp_path: Path) -> N
 
 
 def test_moveit_default_pose_is_zero_within_limits_else_mid_range() -> None:
-    from xrdf_tools.kinematics import build_kinematic_model, moveit_default_configuration
+    from xrdf_tools.robot.kinematics import build_kinematic_model, moveit_default_configuration
 
     kin, _ = build_kinematic_model(load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF, "t.xrdf"))
     q = dict(zip(kin.actuated_joints, moveit_default_configuration(kin), strict=True))

@@ -7,13 +7,13 @@ import dataclasses
 import pytest
 
 from tests.paths import UR10E_URDF, UR10E_XRDF
-from xrdf_tools.export import to_curobo
-from xrdf_tools.kinematics import build_kinematic_model
+from xrdf_tools.export.curobo import to_curobo
 from xrdf_tools.lint import lint_text
-from xrdf_tools.robot import Robot, as_robot
-from xrdf_tools.sources.xacro_source import load_robot
-from xrdf_tools.urdf_source import joints_of, load_urdf, source_line, urdf_path, urdf_text
-from xrdf_tools.xrdf_io import load_xrdf
+from xrdf_tools.robot.core import Robot, as_robot
+from xrdf_tools.robot.kinematics import build_kinematic_model
+from xrdf_tools.robot.urdf_source import joints_of, load_urdf, source_line, urdf_path, urdf_text
+from xrdf_tools.robot.xacro_source import load_robot
+from xrdf_tools.xrdf.io import load_xrdf
 
 
 def test_loader_builds_one_frozen_robot() -> None:

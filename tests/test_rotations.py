@@ -1,4 +1,4 @@
-"""The conversions of :mod:`xrdf_tools.rotations` agree with one another and with trimesh's
+"""The conversions of :mod:`xrdf_tools.util.rotations` agree with one another and with trimesh's
 (which yourdfpy reads URDF origins with)."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from xrdf_tools.rotations import (
+from xrdf_tools.util.rotations import (
     axis_angle_matrix,
     matrix_from_quat,
     matrix_from_rpy,
@@ -64,6 +64,6 @@ def test_zero_quaternion_is_the_identity() -> None:
 
 def test_importing_does_not_import_numpy() -> None:
     """The XRDF model uses it at lint start-up, which does not load numpy."""
-    code = "import sys, xrdf_tools.rotations; print('numpy' in sys.modules)"
+    code = "import sys, xrdf_tools.util.rotations; print('numpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

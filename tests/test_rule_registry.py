@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES, REPO, UR10E_URDF
 from tests.test_sarif_schema import check_sarif
 from xrdf_tools.cli import app
-from xrdf_tools.rule_registry import all_rules
+from xrdf_tools.rules.registry import all_rules
 
 runner = CliRunner()
 PACKAGE = REPO / "xrdf_tools"

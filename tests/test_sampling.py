@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from xrdf_tools.sampling import (
+from xrdf_tools.selfcollision.sampling import (
     first_primes,
     halton,
     iter_samples,

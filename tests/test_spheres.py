@@ -12,12 +12,12 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
 from xrdf_tools.cli import app
-from xrdf_tools.errors import XrdfToolsError
-from xrdf_tools.model import Sphere
 from xrdf_tools.spheres import coverage_for_xrdf, fit_link_spheres, sphere_metrics
 from xrdf_tools.spheres.fit import default_max_protrusion
 from xrdf_tools.spheres.geometry import load_link_geometry
-from xrdf_tools.xrdf_io import load_xrdf
+from xrdf_tools.util.errors import XrdfToolsError
+from xrdf_tools.xrdf.io import load_xrdf
+from xrdf_tools.xrdf.model import Sphere
 
 ROBOTS = (
     Path(trimesh.__file__).resolve().parents[1] / "cmeel.prefix/share/example-robot-data/robots"
@@ -345,7 +345,7 @@ def test_cli_refuses_to_overwrite_its_input_and_bad_options(tmp_path: Path) -> N
 
 
 def test_a_loaded_robot_fits_like_its_file(tmp_path: Path) -> None:
-    from xrdf_tools.sources.xacro_source import load_robot
+    from xrdf_tools.robot.xacro_source import load_robot
 
     path = tmp_path / "prims.urdf"  # yourdfpy itself knows no <capsule>
     path.write_text(PRIMITIVES_URDF.replace("<capsule", "<cylinder"))

@@ -3,9 +3,9 @@ from __future__ import annotations
 import pytest
 
 from tests.paths import SEED_XRDF
-from xrdf_tools.errors import ConversionError
-from xrdf_tools.versions import to_1_0, to_2_0, to_version
-from xrdf_tools.xrdf_io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.util.errors import ConversionError
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.versions import to_1_0, to_2_0, to_version
 
 
 def test_seed_to_2_0_drops_placeholder_and_renames_collision() -> None:

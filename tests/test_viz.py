@@ -21,11 +21,10 @@ from typer.testing import CliRunner
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
-from xrdf_tools.collision import colliding_frame_pairs
-from xrdf_tools.errors import GeometryGroupError, SourceError
-from xrdf_tools.kinematics import build_kinematic_model
-from xrdf_tools.model import Xrdf
-from xrdf_tools.urdf_source import load_urdf
+from xrdf_tools.robot.kinematics import build_kinematic_model
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.selfcollision.collision import colliding_frame_pairs
+from xrdf_tools.util.errors import GeometryGroupError, SourceError
 from xrdf_tools.viz import (
     COLLISION_RGBA,
     Scene,
@@ -36,7 +35,8 @@ from xrdf_tools.viz import (
     sample_configurations,
     sphere_counts,
 )
-from xrdf_tools.xrdf_io import load_xrdf
+from xrdf_tools.xrdf.io import load_xrdf
+from xrdf_tools.xrdf.model import Xrdf
 
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 N_SAMPLES = 40
@@ -188,8 +188,8 @@ def test_unresolvable_meshes_are_warnings_and_package_path_fixes_them(
 def test_another_group_is_drawn_without_collision_colours(
     panda: tuple[Any, Xrdf], panda_urdf: Path
 ) -> None:
-    from xrdf_tools.frozen import FrozenMap
-    from xrdf_tools.model import GeometryGroup, Sphere
+    from xrdf_tools.util.frozen import FrozenMap
+    from xrdf_tools.xrdf.model import GeometryGroup, Sphere
 
     urdf, xrdf = panda
     coarse = GeometryGroup(FrozenMap({"panda_hand": (Sphere((0.0, 0.0, 0.05), 0.1),)}))

@@ -5,9 +5,10 @@ from pathlib import Path
 import pytest
 
 from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file, shared_xrdfs
-from xrdf_tools.errors import GeometryGroupError, SchemaError
-from xrdf_tools.frozen import FrozenMap
-from xrdf_tools.model import (
+from xrdf_tools.util.errors import GeometryGroupError, SchemaError
+from xrdf_tools.util.frozen import FrozenMap
+from xrdf_tools.xrdf.io import dump_xrdf, format_float, load_xrdf, parse_xrdf
+from xrdf_tools.xrdf.model import (
     AddFrame,
     CollisionSection,
     CSpace,
@@ -21,8 +22,7 @@ from xrdf_tools.model import (
     clone_order,
     resolve_group,
 )
-from xrdf_tools.xrdf_io import dump_xrdf, format_float, load_xrdf, parse_xrdf
-from xrdf_tools.yaml_io import parse_yaml, to_python
+from xrdf_tools.yaml.io import parse_yaml, to_python
 
 
 def roundtrip_is_stable(path: Path) -> None:

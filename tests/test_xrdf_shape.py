@@ -11,11 +11,11 @@ import pytest
 import yaml
 
 from tests.paths import FIXTURES, REPO
-from xrdf_tools.errors import XrdfToolsError
 from xrdf_tools.lint import lint_text
-from xrdf_tools.xrdf_io import TOP_LEVEL_ORDER, parse_xrdf
-from xrdf_tools.xrdf_schema import json_schema, render
-from xrdf_tools.xrdf_shape import DOCUMENT, GROUP, MODIFIERS, SPHERE, exists_in
+from xrdf_tools.util.errors import XrdfToolsError
+from xrdf_tools.xrdf.io import TOP_LEVEL_ORDER, parse_xrdf
+from xrdf_tools.xrdf.schema import json_schema, render
+from xrdf_tools.xrdf.shape import DOCUMENT, GROUP, MODIFIERS, SPHERE, exists_in
 
 SCHEMA = REPO / "docs" / "xrdf.schema.json"
 #: Lint rules whose findings are departures from the shape.
@@ -32,7 +32,7 @@ SHAPE_RULES = {
 
 def test_schema_file_is_up_to_date() -> None:
     assert SCHEMA.read_text() == render(), (
-        "docs/xrdf.schema.json is stale: run python -m xrdf_tools.xrdf_schema > "
+        "docs/xrdf.schema.json is stale: run python -m xrdf_tools.xrdf.schema > "
         "docs/xrdf.schema.json"
     )
 

@@ -5,9 +5,9 @@ from pathlib import Path
 
 import pytest
 
-from xrdf_tools.errors import SchemaError, YamlError
-from xrdf_tools.xrdf_io import parse_xrdf
-from xrdf_tools.yaml_io import YMap, YScalar, YSeq, load_yaml, parse_yaml, write_atomic
+from xrdf_tools.util.errors import SchemaError, YamlError
+from xrdf_tools.xrdf.io import parse_xrdf
+from xrdf_tools.yaml.io import YMap, YScalar, YSeq, load_yaml, parse_yaml, write_atomic
 
 MINIMAL = """format: xrdf
 format_version: 2.0
@@ -128,7 +128,7 @@ def test_the_characters_refused_are_those_pyyaml_refuses() -> None:
     compiles far faster than PyYAML's negated class of the allowed ones."""
     import yaml
 
-    from xrdf_tools.yaml_io import _NON_PRINTABLE
+    from xrdf_tools.yaml.io import _NON_PRINTABLE
 
     every = "".join(map(chr, range(0x110000)))
     assert _NON_PRINTABLE.findall(every) == yaml.reader.Reader.NON_PRINTABLE.findall(every)

@@ -1,8 +1,8 @@
 """The YAML readers agree: libyaml's events, PyYAML's events and the reference composer give the
 same tree (values, positions, quoting, duplicate keys) or the same one-line error.
 
-``parse_yaml`` reads with the one-pass reader of ``xrdf_tools.yaml_build`` (libyaml when PyYAML
-has it, else PyYAML's parser; documents with aliases go to ``xrdf_tools.yaml_compose``). Each
+``parse_yaml`` reads with the one-pass reader of ``xrdf_tools.yaml.build`` (libyaml when PyYAML
+has it, else PyYAML's parser; documents with aliases go to ``xrdf_tools.yaml.compose``). Each
 test reads its inputs three ways: ``libyaml`` (skipped when PyYAML has no libyaml), ``pyyaml``
 (libyaml turned off: the fallback) and ``reference`` (every document through the composer, as
 before the one-pass reader).
@@ -23,13 +23,14 @@ import pytest
 import yaml
 
 from tests.fuzzing import _YAML_SNIPPETS, SEEDS, _mutate_text
-from xrdf_tools import yaml_build, yaml_io
-from xrdf_tools.errors import XrdfToolsError, YamlError
-from xrdf_tools.xrdf_io import load_xrdf, parse_xrdf
-from xrdf_tools.yaml_io import YMap, YScalar, YSeq, load_yaml, parse_yaml, to_python
-from xrdf_tools.yaml_positions import NodePositions, node_positions, positions_of
-from xrdf_tools.yaml_rules import Resolver12, plain_value, scalar_value
-from xrdf_tools.yaml_tree import YNode, YPlainSeq, new_plain_seq, pack_position
+from xrdf_tools.util.errors import XrdfToolsError, YamlError
+from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
+from xrdf_tools.yaml import build as yaml_build
+from xrdf_tools.yaml import io as yaml_io
+from xrdf_tools.yaml.io import YMap, YScalar, YSeq, load_yaml, parse_yaml, to_python
+from xrdf_tools.yaml.positions import NodePositions, node_positions, positions_of
+from xrdf_tools.yaml.rules import Resolver12, plain_value, scalar_value
+from xrdf_tools.yaml.tree import YNode, YPlainSeq, new_plain_seq, pack_position
 
 MODES = ("libyaml", "pyyaml", "reference")
 needs_libyaml = pytest.mark.skipif(not yaml_build.HAVE_LIBYAML, reason="PyYAML without libyaml")

@@ -23,7 +23,7 @@
 
 Numbers are equal when ``|x - y| ≤ tolerance`` (per component for vectors and quaternions).
 
-The package is pure: it returns an :class:`XrdfDiff`; :mod:`xrdf_tools.diff_render` turns it into
+The package is pure: it returns an :class:`XrdfDiff`; :mod:`xrdf_tools.diff.render` turns it into
 text or JSON. See ``docs/diff.md``.
 
 Layout: :mod:`.result` (the values returned), :mod:`.mapping` (the generic comparison every
@@ -38,8 +38,8 @@ from __future__ import annotations
 import math
 import os
 
-from ..model import Xrdf
-from ..xrdf_io import load_xrdf
+from ..xrdf.io import load_xrdf
+from ..xrdf.model import Xrdf
 from .geometry import diff_geometry
 from .modifiers import diff_modifiers
 from .result import (
@@ -105,8 +105,8 @@ def diff_xrdf(
     a file that has it and one that does not are equal (a note says so).
 
     Raises :class:`ValueError` for a negative or non-finite ``tolerance`` and
-    :class:`~xrdf_tools.errors.GeometryGroupError` when a collision section's group (or a clone)
-    is undefined or cyclic, because its effective spheres cannot be known.
+    :class:`~xrdf_tools.util.errors.GeometryGroupError` when a collision section's group (or a
+    clone) is undefined or cyclic, because its effective spheres cannot be known.
     """
     if not (math.isfinite(tolerance) and tolerance >= 0):
         raise ValueError(f"tolerance must be a finite number ≥ 0, not {tolerance!r}")

@@ -13,9 +13,9 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from ..errors import GeometryGroupError
-from ..frozen import FrozenMap
-from ..model import GeometryGroup, Sphere, Xrdf, resolve_group
+from ..util.errors import GeometryGroupError
+from ..util.frozen import FrozenMap
+from ..xrdf.model import GeometryGroup, Sphere, Xrdf, resolve_group
 from .mapping import MappingRule, OneSided, diff_mapping
 from .result import Change, Detail, Level
 from .spheres import FrameSpheres, compare_spheres, effective

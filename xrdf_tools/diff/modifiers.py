@@ -13,7 +13,7 @@ from collections import Counter
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from ..model import AddFrame, Modifier, Orientation, RemoveMimicAttributes, SetBaseFrame, Xrdf
+from ..xrdf.model import AddFrame, Modifier, Orientation, RemoveMimicAttributes, SetBaseFrame, Xrdf
 from .mapping import (
     MISSING,
     Changed,

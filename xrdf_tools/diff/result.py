@@ -1,7 +1,7 @@
 """What a diff returns: :class:`XrdfDiff`, a list of :class:`Change` values, and their JSON form.
 
 Plain frozen values with no comparison logic; :mod:`xrdf_tools.diff` builds them and
-:mod:`xrdf_tools.diff_render` turns them into text or JSON.
+:mod:`xrdf_tools.diff.render` turns them into text or JSON.
 """
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
-from ..frozen import FrozenMap
-from ..model import Sphere
+from ..util.frozen import FrozenMap
+from ..xrdf.model import Sphere
 
 #: Sections in report order. ``world_collision`` is ``collision`` in 1.0 files.
 SECTION_ORDER = (
@@ -50,7 +50,7 @@ class Detail:
     """One item inside a grouped change, e.g. one sphere of a frame's sphere-set change.
 
     ``kind`` is ``added``, ``removed``, ``radius-changed`` or ``moved``; ``before``/``after``
-    are :class:`~xrdf_tools.model.Sphere` or ``None``.
+    are :class:`~xrdf_tools.xrdf.model.Sphere` or ``None``.
     """
 
     kind: str

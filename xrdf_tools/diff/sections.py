@@ -11,8 +11,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..frozen import FrozenMap
-from ..model import CollisionSection, CSpace, SelfCollisionSection, Xrdf
+from ..util.frozen import FrozenMap
+from ..xrdf.model import CollisionSection, CSpace, SelfCollisionSection, Xrdf
 from .geometry import sphere_count
 from .mapping import (
     Changed,

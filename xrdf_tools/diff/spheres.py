@@ -13,7 +13,7 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ..model import Sphere
+from ..xrdf.model import Sphere
 from .values import close, close_all
 
 

@@ -14,9 +14,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..diagnostics import Diagnostic, Severity, sort_key
-from ..errors import UrdfReadError, XrdfToolsError, YamlError, did_you_mean
-from ..fileio import STDIN
-from ..yaml_io import read_text
+from ..util.errors import UrdfReadError, XrdfToolsError, YamlError, did_you_mean
+from ..util.fileio import STDIN
+from ..yaml.io import read_text
 from .config import LintConfig
 from .context import LintContext, Rule
 from .rules import (
@@ -58,7 +58,7 @@ from .rules import (
 )
 
 if TYPE_CHECKING:
-    from ..robot import Robot
+    from ..robot.core import Robot
 
 __all__ = ["RULES", "LintConfig", "Rule", "lint", "lint_text", "rule_by_id", "select_rules"]
 
@@ -189,8 +189,8 @@ def lint_text(
     """Lint one XRDF document given as text (``path`` is used in the diagnostics).
 
     ``target`` (default: the configuration's) names the reader the file is for.
-    ``urdf_model`` is a :class:`~xrdf_tools.robot.Robot` (or its yourdfpy object) already
-    loaded by :mod:`xrdf_tools.urdf_source` (e.g. an expanded xacro), used as it is instead
+    ``urdf_model`` is a :class:`~xrdf_tools.robot.core.Robot` (or its yourdfpy object) already
+    loaded by :mod:`xrdf_tools.robot.urdf_source` (e.g. an expanded xacro), used as it is instead
     of reading ``urdf``, or the :class:`UrdfError` its loading raised.
 
     Raises :class:`XrdfToolsError` only when ``urdf`` cannot be read at all or the target is
@@ -208,20 +208,20 @@ def lint_text(
 
 
 def _target(target: str | None, config: LintConfig) -> str | None:
-    from ..targets import parse_target
+    from ..xrdf.readers import parse_target
 
     chosen = parse_target(target if target is not None else config.target)
     return chosen.id if chosen is not None else None
 
 
 def _model_loader(model: Any) -> UrdfLoader:
-    """A loader of an already loaded URDF (a :class:`~xrdf_tools.robot.Robot` or its yourdfpy
+    """A loader of an already loaded URDF (a :class:`~xrdf_tools.robot.core.Robot` or its yourdfpy
     object), or of the :class:`UrdfError` its loading raised (reported as ``urdf-invalid``)."""
 
     def load() -> Robot:
         if isinstance(model, XrdfToolsError):
             raise model
-        from ..robot import as_robot
+        from ..robot.core import as_robot
 
         return as_robot(model)
 
@@ -234,7 +234,7 @@ def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Robot]) -> UrdfL
 
     def load() -> Robot:
         if upath not in cache:
-            from ..urdf_source import read_robot
+            from ..robot.urdf_source import read_robot
 
             cache[upath] = read_robot(upath)
         return cache[upath]
@@ -299,7 +299,7 @@ def lint(
 
 
 def _read_stdin() -> str:
-    from ..fileio import read_input_text
+    from ..util.fileio import read_input_text
 
     return read_input_text(STDIN, what="file", error=YamlError, allow_stdin=True)
 

@@ -25,10 +25,10 @@ from pathlib import Path
 from typing import Any
 
 from ..diagnostics import Severity
-from ..errors import XrdfToolsError, did_you_mean
-from ..fileio import read_input_text
-from ..shape import BOOL, NAME, check_shape, map_of, one_of
-from ..yaml_io import load_yaml, node_positions, parse_yaml, to_python
+from ..util.errors import XrdfToolsError, did_you_mean
+from ..util.fileio import read_input_text
+from ..yaml.io import load_yaml, node_positions, parse_yaml, to_python
+from ..yaml.shape import BOOL, NAME, check_shape, map_of, one_of
 
 CONFIG_NAME = ".xrdf-lint.yaml"
 LEVELS = ("error", "warning", "info", "off")
@@ -141,7 +141,7 @@ def _parse(data: Any, source: str, base_dir: str, positions: Positions | None = 
         )
     target = data.get("target")
     if target is not None:
-        from ..targets import parse_target
+        from ..xrdf.readers import parse_target
 
         try:
             target = getattr(parse_target(str(target)), "id", None)

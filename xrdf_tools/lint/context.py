@@ -1,5 +1,5 @@
 """What a rule sees: the parsed YAML tree with positions, a lenient view of the XRDF sections,
-and (with ``--urdf``) the loaded :class:`~xrdf_tools.robot.Robot` with its kinematic model.
+and (with ``--urdf``) the loaded :class:`~xrdf_tools.robot.core.Robot` with its kinematic model.
 
 Rules never raise on malformed input: every accessor here tolerates wrong types and returns
 ``None`` or nothing for parts that are not shaped as the spec says (the ``wrong-type`` rule
@@ -16,14 +16,14 @@ from functools import cached_property
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Severity
-from ..errors import XrdfToolsError, YamlError
-from ..xrdf_shape import SUPPORTED_VERSIONS, version_string
-from ..yaml_io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
+from ..util.errors import XrdfToolsError, YamlError
+from ..xrdf.shape import SUPPORTED_VERSIONS, version_string
+from ..yaml.io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
 
 if TYPE_CHECKING:
-    from ..kinematics import KinematicModel
-    from ..model import Xrdf
-    from ..robot import Robot
+    from ..robot.core import Robot
+    from ..robot.kinematics import KinematicModel
+    from ..xrdf.model import Xrdf
 
 #: Section spelled ``collision`` in 1.0 and ``world_collision`` in 2.0.
 WORLD_KEYS = ("collision", "world_collision")
@@ -225,7 +225,7 @@ class LintContext:
     @cached_property
     def cyclic_groups(self) -> set[str]:
         """Groups that lie on a clone cycle (linear time: many groups must not hang lint)."""
-        from ..graph import nodes_on_cycles
+        from ..util.graph import nodes_on_cycles
 
         graph = {g: [c for c, _ in self.clones_of(g) if c in self.groups] for g in self.groups}
         return nodes_on_cycles(graph, graph.__getitem__)
@@ -352,7 +352,7 @@ class LintContext:
     @cached_property
     def model(self) -> Xrdf | None:
         """The strict model when the file reads cleanly (repeated keys tolerated), else None."""
-        from ..xrdf_io import xrdf_from_document
+        from ..xrdf.io import xrdf_from_document
 
         if self.doc is None:
             return None
@@ -367,7 +367,7 @@ class LintContext:
         the modifiers themselves are malformed."""
         if self.model is not None:
             return self.model
-        from ..xrdf_io import xrdf_from_document
+        from ..xrdf.io import xrdf_from_document
 
         top = self.top
         if top is None:
@@ -396,7 +396,7 @@ class LintContext:
         propagates (exit 2)."""
         if self._urdf_loader is None:
             return None
-        from ..errors import UrdfReadError
+        from ..util.errors import UrdfReadError
 
         try:
             robot = self._urdf_loader()
@@ -409,7 +409,7 @@ class LintContext:
         if mods is None:
             return robot
         try:
-            from ..kinematics import build_kinematic_model
+            from ..robot.kinematics import build_kinematic_model
 
             self._kin, _ = build_kinematic_model(robot, mods)
         except XrdfToolsError as exc:

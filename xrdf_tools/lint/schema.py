@@ -1,6 +1,6 @@
 """One walk over an XRDF tree that reports where the file departs from its shape.
 
-The shape itself is described once, in :mod:`xrdf_tools.xrdf_shape` (the strict reader uses the
+The shape itself is described once, in :mod:`xrdf_tools.xrdf.shape` (the strict reader uses the
 same description). The walk yields :class:`SchemaEvent` items of three kinds, each consumed by
 one rule: ``type`` (``wrong-type``), ``missing`` (``required-key``) and ``unknown``
 (``unknown-key``). Version-specific keys (``collision``/``world_collision``, ``clone``,
@@ -13,10 +13,10 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
-from ..errors import shown_text
-from ..xrdf_nodes import FINITE, plain_number
-from ..xrdf_shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
-from ..yaml_io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of
+from ..util.errors import shown_text
+from ..xrdf.nodes import FINITE, plain_number
+from ..xrdf.shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
+from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of
 
 __all__ = ["DOCUMENT", "MODIFIERS", "SchemaEvent", "Shape", "walk"]
 

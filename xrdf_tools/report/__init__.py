@@ -5,7 +5,7 @@ often each pair of frames with spheres collides, its classification (the MoveIt 
 Assistant's: adjacent, default, always, never, sometimes), optionally a proof for the "never"
 pairs, and what the ``ignore`` mask should say. Findings come back as
 :class:`~xrdf_tools.diagnostics.Diagnostic` objects; rendering lives in
-:mod:`xrdf_tools.report_render`.
+:mod:`xrdf_tools.report.render`.
 
 Modules:
 

@@ -2,10 +2,10 @@
 
 :func:`self_collision_report` samples configurations (or takes given ones, e.g. a recorded
 trajectory), counts for every pair of frames with spheres how often it collides
-(:class:`xrdf_tools.engine.CountEngine`, exact, chunked so memory stays bounded), classifies
-each pair (:mod:`.verdicts`), optionally certifies the "never" pairs (:mod:`xrdf_tools.certify`)
-and recommends the ``ignore`` mask (:mod:`.mask`). Masked adjacent pairs are not sampled
-(their verdict does not depend on it).
+(:class:`xrdf_tools.selfcollision.engine.CountEngine`, exact, chunked so memory stays bounded),
+classifies each pair (:mod:`.verdicts`), optionally certifies the "never" pairs
+(:mod:`xrdf_tools.selfcollision.certify`) and recommends the ``ignore`` mask (:mod:`.mask`). Masked
+adjacent pairs are not sampled (their verdict does not depend on it).
 """
 
 from __future__ import annotations
@@ -17,9 +17,16 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
-from ..binding import cspace_indices
-from ..certify import certify_pair
-from ..collision import (
+from ..diagnostics import Diagnostic, sort_key
+from ..robot.binding import cspace_indices
+from ..robot.kinematics import (
+    KinematicModel,
+    build_kinematic_model,
+    default_configuration,
+    moveit_default_configuration,
+)
+from ..selfcollision.certify import certify_pair
+from ..selfcollision.collision import (
     Contact,
     SphereSet,
     build_sphere_set,
@@ -27,17 +34,10 @@ from ..collision import (
     pair_clearance,
     sphere_world_centers,
 )
-from ..diagnostics import Diagnostic, sort_key
-from ..engine import CountEngine, EngineTotals, ProgressFn, count_sampled
-from ..errors import XrdfToolsError
-from ..frozen import FrozenMap
-from ..kinematics import (
-    KinematicModel,
-    build_kinematic_model,
-    default_configuration,
-    moveit_default_configuration,
-)
-from ..model import Xrdf
+from ..selfcollision.engine import CountEngine, EngineTotals, ProgressFn, count_sampled
+from ..util.errors import XrdfToolsError
+from ..util.frozen import FrozenMap
+from ..xrdf.model import Xrdf
 from .mask import _recommended_ignore
 from .results import (
     CertifyOptions,
@@ -53,7 +53,7 @@ from .verdicts import _certified, _findings, _verdict, adjacent_frame_pairs, nev
 if TYPE_CHECKING:
     import yourdfpy
 
-    from ..robot import Robot
+    from ..robot.core import Robot
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -96,8 +96,8 @@ def self_collision_report(
     ``configs`` are always checked in this process). ``certify`` decides the "never" pairs
     over their whole joint box: proven, or "sometimes" with a witness configuration.
     """
-    from ..sampling import fresh_seed
-    from ..urdf_source import urdf_path as _urdf_path
+    from ..robot.urdf_source import urdf_path as _urdf_path
+    from ..selfcollision.sampling import fresh_seed
 
     t0 = time.perf_counter()
     upath = urdf_path or _urdf_path(urdf)
@@ -155,7 +155,7 @@ def self_collision_report(
     rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
     cov = None
     if coverage:
-        from ..robot import as_robot
+        from ..robot.core import as_robot
         from ..spheres import coverage_for_xrdf
 
         cov = coverage_for_xrdf(as_robot(urdf), xrdf)  # the loaded robot: no second parse

@@ -4,18 +4,18 @@ Pairs whose recommendation is not "check" (adjacent, default, always, never; wit
 ``--mask-policy proven`` only proven never-pairs) are ignored; existing entries between
 known frames that involve a frame without spheres are kept (the report cannot judge them) and
 entries naming unknown frames are dropped. :func:`recommended_xrdf` writes the mask into an
-:class:`~xrdf_tools.model.Xrdf` (``xrdf report --write-mask``).
+:class:`~xrdf_tools.xrdf.model.Xrdf` (``xrdf report --write-mask``).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ..collision import SphereSet
-from ..errors import XrdfToolsError
-from ..frozen import FrozenMap
-from ..kinematics import KinematicModel
-from ..model import SelfCollisionSection, Xrdf
+from ..robot.kinematics import KinematicModel
+from ..selfcollision.collision import SphereSet
+from ..util.errors import XrdfToolsError
+from ..util.frozen import FrozenMap
+from ..xrdf.model import SelfCollisionSection, Xrdf
 from .results import MaskChange, PairStat, Report
 
 __all__ = ["recommended_xrdf"]

@@ -1,7 +1,7 @@
 """What a self-collision report holds: per-pair statistics, trajectory hits, the mask change.
 
 Plain frozen values, built by :func:`xrdf_tools.report.self_collision_report` and rendered by
-:mod:`xrdf_tools.report_render`; :meth:`PairStat.to_dict` is the pair's JSON form.
+:mod:`xrdf_tools.report.render`; :meth:`PairStat.to_dict` is the pair's JSON form.
 """
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
-from ..certify import Verdict
-from ..collision import Contact
 from ..diagnostics import Diagnostic
-from ..errors import XrdfToolsError
+from ..selfcollision.certify import Verdict
+from ..selfcollision.collision import Contact
+from ..util.errors import XrdfToolsError
 
 if TYPE_CHECKING:
     from ..spheres import CoverageSummary
@@ -39,7 +39,7 @@ __all__ = [
 @dataclass(frozen=True)
 class CertifyOptions:
     """``--certify``: decide every "never" pair over its whole joint box (see
-    :mod:`xrdf_tools.certify`) within ``budget_s`` seconds in all. ``mask_policy``
+    :mod:`xrdf_tools.selfcollision.certify`) within ``budget_s`` seconds in all. ``mask_policy``
     ``"proven"`` recommends ignoring a never-colliding pair only when it is proven;
     ``"sampled"`` keeps the sampled recommendation."""
 

@@ -25,12 +25,12 @@ from dataclasses import replace
 import numpy as np
 import numpy.typing as npt
 
-from ..certify import Verdict
-from ..collision import Contact
 from ..diagnostics import Diagnostic, Severity
-from ..errors import did_you_mean
-from ..kinematics import KinematicModel
-from ..model import SelfCollisionSection, Xrdf
+from ..robot.kinematics import KinematicModel
+from ..selfcollision.certify import Verdict
+from ..selfcollision.collision import Contact
+from ..util.errors import did_you_mean
+from ..xrdf.model import SelfCollisionSection, Xrdf
 from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit
 
 FloatArray = npt.NDArray[np.float64]

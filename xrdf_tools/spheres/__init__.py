@@ -23,14 +23,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import XrdfToolsError
-from ..frozen import FrozenMap
-from ..model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
-from ..robot import Robot
+from ..robot.core import Robot
+from ..util.errors import XrdfToolsError
+from ..util.frozen import FrozenMap
+from ..xrdf.model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
 from .metrics import SphereMetrics, sphere_metrics
 
 if TYPE_CHECKING:
-    from ..link_geometry import GeometryChoice
+    from ..robot.link_geometry import GeometryChoice
     from .geometry import LinkGeometry
 
 __all__ = [
@@ -123,7 +123,7 @@ def fit_link_spheres(
     outside its link; by default 6 % of the cube root of the link's volume. ``source`` chooses
     the geometry as in :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs
     and ``seed`` give the same spheres. ``progress(link, i, n)`` is called before each link.
-    ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.Robot`, whose geometry is then
+    ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.core.Robot`, whose geometry is then
     read without parsing the URDF again (see
     :func:`~xrdf_tools.spheres.geometry.load_link_geometry`).
     Returns ``({link: spheres}, diagnostics)`` in URDF link order.
@@ -295,7 +295,7 @@ def coverage_for_xrdf(
 
     ``group`` defaults to the world-collision group (else the self-collision group, else the
     first group); clones are resolved. Every link with geometry is measured (a link without
-    spheres has coverage 0). ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.Robot`.
+    spheres has coverage 0). ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.core.Robot`.
     """
     from .geometry import load_link_geometry
 
@@ -347,7 +347,7 @@ def merge_spheres(
     out = xrdf.replace(**changes)
     diags: list[Diagnostic] = []
     if old.clone:
-        from ..model import clone_order
+        from ..xrdf.model import clone_order
 
         groups: Mapping[str, GeometryGroup] = out.geometry or FrozenMap()
         for child in clone_order(groups, name)[1:]:
@@ -385,10 +385,10 @@ def ignore_adjacent(
     is MoveIt's "adjacent links" rule: their spheres overlap at the joint by construction.
     Used for a freshly drafted XRDF; a mask written by a user is left to the user. ``urdf``
     is the robot already loaded (an expanded xacro); otherwise ``urdf_path`` is read (or is
-    the loaded :class:`~xrdf_tools.robot.Robot`).
+    the loaded :class:`~xrdf_tools.robot.core.Robot`).
     """
-    from ..sources.xacro_source import load_robot
-    from ..urdf_source import joints_of
+    from ..robot.urdf_source import joints_of
+    from ..robot.xacro_source import load_robot
 
     if isinstance(urdf_path, Robot):
         urdf = urdf_path if urdf is None else urdf

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from ..model import Sphere
+from ..xrdf.model import Sphere
 from .metrics import contains, fibonacci_directions, sample_surface, sample_volume
 
 if TYPE_CHECKING:

@@ -1,7 +1,7 @@
 """Link geometry of a URDF as closed solids in each link's frame, ready for sphere fitting.
 
 The parts come from the one loader of link geometry,
-:func:`xrdf_tools.link_geometry.link_geometry` (meshes that trimesh reads with ``scale``
+:func:`xrdf_tools.robot.link_geometry.link_geometry` (meshes that trimesh reads with ``scale``
 honoured, ``box``, ``cylinder``, ``sphere`` and the non-standard ``capsule``, each with its
 ``<origin>``), read from the loaded robot. For every link the ``<collision>`` elements are used;
 a link without any falls back to its ``<visual>`` elements (reported as
@@ -21,9 +21,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import UrdfError
-from ..link_geometry import GeometryChoice, GeometrySource, LinkParts
-from ..robot import Robot
+from ..robot.core import Robot
+from ..robot.link_geometry import GeometryChoice, GeometrySource, LinkParts
+from ..util.errors import UrdfError
 
 if TYPE_CHECKING:
     import trimesh
@@ -147,7 +147,7 @@ def load_link_geometry(
 ) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
     """Solids of the URDF's links (all links with geometry, or only ``links``).
 
-    ``urdf`` is a loaded :class:`~xrdf_tools.robot.Robot` (its geometry is read from the
+    ``urdf`` is a loaded :class:`~xrdf_tools.robot.core.Robot` (its geometry is read from the
     yourdfpy object, the XML is not parsed again; ``package_paths`` replaces its own when
     given) or the path of a URDF or xacro file, which is loaded first.
     ``source``: ``collision`` uses only ``<collision>`` elements (a link without them gets no
@@ -158,11 +158,11 @@ def load_link_geometry(
     :class:`UrdfError` for an unreadable URDF or a requested link that does not exist.
     Missing or unreadable meshes are diagnostics (the part is skipped), not exceptions.
     """
-    from ..link_geometry import link_geometry
+    from ..robot.link_geometry import link_geometry
 
     robot = urdf if isinstance(urdf, Robot) else _load(urdf, package_paths)
     if links is not None:
-        from ..errors import did_you_mean
+        from ..util.errors import did_you_mean
 
         for name in links:
             if name not in robot.urdf.link_map:
@@ -192,7 +192,7 @@ def load_link_geometry(
 
 
 def _load(path: str | os.PathLike[str], package_paths: Mapping[str, str] | None) -> Robot:
-    from ..sources.xacro_source import load_robot
+    from ..robot.xacro_source import load_robot
 
     return load_robot(path, package_paths=package_paths)
 

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from ..model import Sphere
+from ..xrdf.model import Sphere
 from .inside import points_inside
 
 if TYPE_CHECKING:

@@ -22,9 +22,9 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Literal, Protocol
 
-from ..configs import load_configurations, sample_configurations
-from ..errors import MissingDependencyError, XrdfToolsError
-from ..fileio import atomic_output
+from ..selfcollision.configurations import load_configurations, sample_configurations
+from ..util.errors import MissingDependencyError, XrdfToolsError
+from ..util.fileio import atomic_output
 from .scene import (
     COLLISION_RGBA,
     LinkScene,
@@ -112,7 +112,7 @@ def require(module: str, package: str) -> None:
 @contextlib.contextmanager
 def atomic_path(path: Path) -> Iterator[Path]:
     """A temporary path next to ``path``; renamed to ``path`` when the block succeeds, removed
-    in any case (:func:`xrdf_tools.fileio.atomic_output`; the directory must exist)."""
+    in any case (:func:`xrdf_tools.util.fileio.atomic_output`; the directory must exist)."""
     with atomic_output(path, create_parents=False) as tmp:
         yield tmp
 

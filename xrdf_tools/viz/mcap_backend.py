@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from ..rotations import quat_xyzw_from_matrix
+from ..util.rotations import quat_xyzw_from_matrix
 from . import atomic_path, require
 from .foxglove_schemas import LOG_INFO, LOG_WARNING, schema_bytes
 from .meshes import Rgba

@@ -1,4 +1,5 @@
-"""Link meshes as drawn: the parts of :func:`xrdf_tools.link_geometry.link_geometry` with colours.
+"""Link meshes as drawn: the parts of :func:`xrdf_tools.robot.link_geometry.link_geometry` with
+colours.
 
 Each ``<visual>``/``<collision>`` element becomes one :class:`MeshPart` per sub-mesh, in the
 link frame (the element's ``origin`` applied to the vertices), so back-ends only need the link
@@ -20,13 +21,13 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..link_geometry import Rgba
+from ..robot.link_geometry import Rgba
 
 if TYPE_CHECKING:
     import yourdfpy
 
-    from ..link_geometry import GeometryPart
-    from ..robot import Robot
+    from ..robot.core import Robot
+    from ..robot.link_geometry import GeometryPart
 
 __all__ = ["DEFAULT_MESH_COLOR", "MeshKind", "MeshPart", "Rgba", "load_link_meshes"]
 
@@ -71,8 +72,8 @@ def load_link_meshes(
     out: dict[str, tuple[MeshPart, ...]] = {}
     if kind == "none":
         return out, diags
-    from ..link_geometry import link_geometry
-    from ..robot import as_robot
+    from ..robot.core import as_robot
+    from ..robot.link_geometry import link_geometry
 
     robot = as_robot(urdf)
     upath = os.fspath(urdf_path) if urdf_path is not None else robot.path

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
-from ..errors import XrdfToolsError
+from ..util.errors import XrdfToolsError
 from . import atomic_path
 from .scene import Progress, Scene
 

@@ -15,7 +15,7 @@ configuration. Spheres of a colliding pair are red at that step, in the link col
 
 Uses only APIs present in rerun-sdk 0.22 … 0.41 (``set_time(..., sequence=)``, not the removed
 ``set_time_sequence``). rerun is imported lazily; without it a
-:class:`~xrdf_tools.errors.MissingDependencyError` says how to install it.
+:class:`~xrdf_tools.util.errors.MissingDependencyError` says how to install it.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ translate a :class:`Scene` into their format.
   buffered radii), one colour, its meshes.
 * Per sample (:class:`Sample`): the actuated joint values, the pose of every frame (in
   :attr:`Scene.poses`), and the colliding sphere pairs found with the XRDF's self-collision
-  semantics (:mod:`xrdf_tools.collision`). Sample 0 is always the default pose.
+  semantics (:mod:`xrdf_tools.selfcollision.collision`). Sample 0 is always the default pose.
 """
 
 from __future__ import annotations
@@ -22,16 +22,16 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..errors import GeometryGroupError, SourceError
-from ..model import Xrdf
+from ..util.errors import GeometryGroupError, SourceError
+from ..xrdf.model import Xrdf
 from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
 
 if TYPE_CHECKING:
     import yourdfpy
 
-    from ..collision import Contact
-    from ..kinematics import KinematicModel
-    from ..robot import Robot
+    from ..robot.core import Robot
+    from ..robot.kinematics import KinematicModel
+    from ..selfcollision.collision import Contact
 
 FloatArray = npt.NDArray[np.float64]
 Progress = Callable[[int, int], None]
@@ -118,7 +118,8 @@ class Sample:
     ``step`` is its position on the timeline (0: default pose); ``source`` is the row of the
     input configurations it came from (-1 for the default pose); ``q`` [n] the actuated joint
     values; ``contacts`` every sphere pair in self-collision (worst first);
-    ``frame_contacts`` one :class:`~xrdf_tools.collision.Contact` per colliding frame pair.
+    ``frame_contacts`` one :class:`~xrdf_tools.selfcollision.collision.Contact` per colliding frame
+    pair.
     """
 
     step: int
@@ -215,7 +216,7 @@ def choose_group(xrdf: Xrdf, group: str | None = None) -> str:
     defined = list(xrdf.geometry or {})
     if group is not None:
         if group not in defined:
-            from ..errors import did_you_mean
+            from ..util.errors import did_you_mean
 
             raise GeometryGroupError(
                 f"geometry group '{group}' is not defined (defined: {', '.join(defined) or 'none'})"
@@ -252,18 +253,18 @@ def build_scene(
     """Evaluate the sphere model of ``xrdf`` on ``urdf`` for drawing.
 
     ``configurations`` [B, n] are full actuated configurations (see
-    :func:`xrdf_tools.kinematics.full_configuration`); the scene always starts with the
+    :func:`xrdf_tools.robot.kinematics.full_configuration`); the scene always starts with the
     default pose. ``colliding_only`` keeps, after the default pose, only configurations with
     a self-collision. ``meshes`` chooses the URDF elements drawn with each link.
     ``progress(done, total)`` is called while contacts are computed.
 
     Spheres on a frame the kinematic tree lacks are left out with a warning (the self-collision
-    group's by :func:`xrdf_tools.collision.build_sphere_set`). Raises
+    group's by :func:`xrdf_tools.selfcollision.collision.build_sphere_set`). Raises
     :class:`GeometryGroupError` for an unknown group.
     """
-    from ..binding import cspace_indices
-    from ..kinematics import build_kinematic_model, default_configuration, fk
-    from ..robot import as_robot
+    from ..robot.binding import cspace_indices
+    from ..robot.core import as_robot
+    from ..robot.kinematics import build_kinematic_model, default_configuration, fk
 
     robot = as_robot(urdf)
     diags: list[Diagnostic] = []
@@ -412,9 +413,9 @@ def _contacts(
     chunk: int = 256,
 ) -> tuple[list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]], int, int]:
     """Per configuration of ``Q`` [B, n]: every colliding sphere pair, and the colliding
-    frame pairs (worst sphere pair first), by :mod:`xrdf_tools.collision`; and the numbers
-    of frame pairs checked and ignored by the mask."""
-    from ..collision import (
+    frame pairs (worst sphere pair first), by :mod:`xrdf_tools.selfcollision.collision`; and the
+    numbers of frame pairs checked and ignored by the mask."""
+    from ..selfcollision.collision import (
         build_sphere_set,
         contacts,
         pair_clearance,
@@ -463,7 +464,7 @@ def _contacts(
 
 
 def _unknown_frame(xrdf: Xrdf, kin: KinematicModel, group: str, frame: str) -> Diagnostic:
-    from ..errors import did_you_mean
+    from ..util.errors import did_you_mean
 
     kp = f"geometry.{group}.spheres.{frame}"
     line, col = xrdf.source.position(kp + "#key")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...errors import did_you_mean
+from ...util.errors import did_you_mean
 from ..context import LintContext
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml_io import YMap
+from ...yaml.io import YMap
 from ..context import LintContext, Problem, Rule, finite_number, name
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml_io import YMap
+from ...yaml.io import YMap
 from ..context import WORLD_KEYS, LintContext, Problem, Rule
 
 

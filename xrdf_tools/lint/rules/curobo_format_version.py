@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...targets import dropping_readers
+from ...xrdf.readers import dropping_readers
 from ..context import LintContext, Problem, Rule
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml_io import YMap
+from ...yaml.io import YMap
 from ..context import LintContext, Problem, Rule, name
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml_io import YMap, YSeq
+from ...yaml.io import YMap, YSeq
 from ..context import LintContext, Problem, Rule, is_null
 
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml_io import YMap
+from ...yaml.io import YMap
 from ..context import LintContext, Problem, Rule
 
 
@@ -28,8 +28,8 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         return
     if ctx.clone_closure(model.self_collision.geometry) is None:
         return  # an undefined or cyclic group: undefined-group / clone-cycle report it
-    from ...collision import colliding_frame_pairs
-    from ...kinematics import default_configuration
+    from ...robot.kinematics import default_configuration
+    from ...selfcollision.collision import colliding_frame_pairs
 
     known = set(kin.actuated_joints)
     defaults = {k: v for k, v in (model.default_joint_positions or {}).items() if k in known}

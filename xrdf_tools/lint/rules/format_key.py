@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml_io import YScalar, describe_node
+from ...yaml.io import YScalar, describe_node
 from ..context import LintContext, Problem, Rule
 
 

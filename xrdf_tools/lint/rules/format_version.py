@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...xrdf_shape import SUPPORTED_VERSIONS, version_string
-from ...yaml_io import describe_node
+from ...xrdf.shape import SUPPORTED_VERSIONS, version_string
+from ...yaml.io import describe_node
 from ..context import LintContext, Problem, Rule
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml_io import YSeq
+from ...yaml.io import YSeq
 from ..context import LintContext, Problem, Rule
 
 

@@ -41,11 +41,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
-from ...yaml_io import YSeq
+from ...yaml.io import YSeq
 from ..context import LintContext, Problem, Rule, SphereRef, finite_number
 
 if TYPE_CHECKING:
-    from ...robot import Robot
+    from ...robot.core import Robot
 
 RULE_ID = "sphere-outside-geometry"
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...errors import did_you_mean
-from ...yaml_io import YMap, YSeq
+from ...util.errors import did_you_mean
+from ...yaml.io import YMap, YSeq
 from ..context import LintContext, Problem, Rule, name
 
 

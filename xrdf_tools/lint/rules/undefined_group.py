@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...errors import did_you_mean
+from ...util.errors import did_you_mean
 from ..context import LintContext, Problem, Rule
 
 

@@ -14,8 +14,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...xrdf_shape import DOCUMENT, GROUP, MODIFIERS, exists_in
-from ...yaml_io import YMap
+from ...xrdf.shape import DOCUMENT, GROUP, MODIFIERS, exists_in
+from ...yaml.io import YMap
 from ..context import LintContext, Problem, Rule
 
 

@@ -1,0 +1,317 @@
+"""``xrdf convert``: URDF/xacro + MoveIt SRDF or cuRobo config → canonical XRDF.
+
+Exit codes: 0 written (diagnostics are only notes), 1 the result fails lint, ``--strict`` found
+a fallback, or ``--check`` found a difference; 2 usage or input error.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any
+
+import typer
+
+from ...diagnostics import Severity
+from ...util.errors import XrdfToolsError
+from .common import (
+    QuietOption,
+    VerboseOption,
+    echo_diagnostics,
+    fail,
+    note,
+    progress_bar,
+    refuse_input_overwrite,
+    write_output,
+)
+from .core import EXIT_FINDINGS, OutputFormat, has_failures, is_stdio, timed
+
+if TYPE_CHECKING:
+    from ...convert.pipeline import Progress
+    from ...xrdf.model import Xrdf
+    from .common import ProgressUpdate
+
+#: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
+_STAGES = {"fitting": "fitting spheres (links)", "sampling": "sampling the mask"}
+
+
+class GeometryFrom(str, Enum):
+    collision = "collision"
+    visual = "visual"
+    auto = "auto"
+
+
+def _pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for v in values or []:
+        k, val = parse(v)
+        out[k] = val
+    return out
+
+
+def command(
+    robot: Annotated[
+        Path,
+        typer.Argument(
+            help="The robot: ROBOT.urdf, ROBOT.urdf.xacro or ROBOT.xacro (xacro is expanded "
+            "without ROS; it evaluates Python, so only convert files you trust).",
+            show_default=False,
+        ),
+    ],
+    srdf: Annotated[
+        Path | None, typer.Option("--srdf", help="MoveIt SRDF (groups, states, ignore pairs).")
+    ] = None,
+    joint_limits: Annotated[
+        Path | None,
+        typer.Option("--joint-limits", help="MoveIt joint_limits.yaml (acceleration, jerk)."),
+    ] = None,
+    curobo: Annotated[
+        Path | None,
+        typer.Option("--curobo", help="cuRobo robot YAML (classic or 2.0 layout) or Lula YAML."),
+    ] = None,
+    group: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--group",
+            help="SRDF planning group (repeatable: the c-space is the union, in the given "
+            "order; default: see docs).",
+        ),
+    ] = None,
+    state: Annotated[
+        str | None, typer.Option("--state", help="SRDF group_state for default positions.")
+    ] = None,
+    tool_frame: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--tool-frame", help="Tool frame (repeatable; the first is the end effector)."
+        ),
+    ] = None,
+    acceleration: Annotated[
+        float | None,
+        typer.Option("--acceleration", help="Acceleration limit for joints the inputs lack."),
+    ] = None,
+    jerk: Annotated[
+        float | None, typer.Option("--jerk", help="Jerk limit for joints the inputs lack.")
+    ] = None,
+    xacro_arg: Annotated[
+        list[str] | None,
+        typer.Option("--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
+    ] = None,
+    package_path: Annotated[
+        list[str] | None,
+        typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
+    ] = None,
+    format_version: Annotated[
+        str | None,
+        typer.Option(
+            "--format-version",
+            help="XRDF version to write: 1.0 or 2.0. Default: 1.0, the version every reader "
+            "loads (2.0 only when the robot needs it; the message says which readers drop it).",
+            show_default=False,
+        ),
+    ] = None,
+    target: Annotated[
+        str | None,
+        typer.Option(
+            "--target",
+            help="The program that will load the XRDF: curobo (cuRobo, Isaac ROS cuMotion; "
+            "1.0 only), cumotion (cuMotion library) or isaac-sim (Robot Description Editor). "
+            "Chooses the version and lints the result for that reader.",
+            show_default=False,
+        ),
+    ] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."
+        ),
+    ] = None,
+    check: Annotated[
+        bool,
+        typer.Option(
+            "--check",
+            help="Do not write: compare with the existing -o file and exit 1 on any "
+            "semantic difference.",
+        ),
+    ] = False,
+    strict: Annotated[
+        bool,
+        typer.Option("--strict", help="Fail (exit 1) when any value had to be guessed."),
+    ] = False,
+    fit_spheres: Annotated[
+        bool,
+        typer.Option("--fit-spheres", help="Fit spheres to the link meshes when none are given."),
+    ] = False,
+    samples: Annotated[
+        int,
+        typer.Option(
+            "--samples",
+            "-n",
+            min=1,
+            help="With --fit-spheres: configurations sampled for the self-collision mask "
+            "(as `xrdf report --samples`).",
+        ),
+    ] = 100_000,
+    seed: Annotated[
+        int, typer.Option("--seed", help="With --fit-spheres: seed of the fit and the sampler.")
+    ] = 0,
+    geometry_from: Annotated[
+        GeometryFrom,
+        typer.Option(
+            "--from",
+            help="With --fit-spheres: fit to collision geometry (links with visual geometry "
+            "only get no spheres), visual geometry, or auto (collision, else visual).",
+        ),
+    ] = GeometryFrom.collision,
+    per_link: Annotated[
+        int | None,
+        typer.Option(
+            "--per-link",
+            min=1,
+            max=64,
+            help="With --fit-spheres: spheres per link (default: the fewest, up to 16, that "
+            "cover 90 % of the link).",
+        ),
+    ] = None,
+    joints: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--joints",
+            help="C-space without an SRDF group: these actuated joints in this order "
+            "(comma-separated or repeated).",
+        ),
+    ] = None,
+    chain: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--chain",
+            help="C-space without an SRDF group: the actuated joints from BASE_LINK to "
+            "TIP_LINK (BASE:TIP, repeatable for several arms).",
+        ),
+    ] = None,
+    no_lint: Annotated[
+        bool, typer.Option("--no-lint", help="Skip linting the result against the URDF.")
+    ] = False,
+    fmt: Annotated[
+        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
+    ] = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
+) -> None:
+    """Convert a URDF/xacro plus an SRDF or cuRobo config to XRDF; report every guess.
+
+    With --fit-spheres: fit spheres to the links' collision geometry and compute the
+    self-collision mask like `xrdf report --write-mask`, so the result is planning-ready.
+    """
+    from ...convert.core import ConvertOptions
+    from ...convert.pipeline import FitOptions, MaskOptions, convert_robot
+    from ...convert.sources.cspace import parse_chain
+    from ...robot.packages import parse_package_path
+    from ...robot.xacro_source import parse_xacro_arg
+
+    if format_version not in (None, "1.0", "2.0"):
+        fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
+    if check and (output is None or is_stdio(output)):
+        fail("--check needs -o FILE (the file to compare with)")
+    inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
+    if curobo is not None:
+        from ...convert.sources.curobo import referenced_files
+
+        inputs += referenced_files(curobo)  # the spheres file the config reads
+    if output is not None and not check:
+        refuse_input_overwrite(output, inputs)
+    try:
+        pkgs = _pairs(package_path, parse_package_path)
+        xargs = _pairs(xacro_arg, parse_xacro_arg)
+        options = ConvertOptions(
+            srdf=srdf,
+            joint_limits=joint_limits,
+            curobo=curobo,
+            state=state,
+            tool_frames=tuple(tool_frame or ()),
+            acceleration=acceleration,
+            jerk=jerk,
+            format_version=format_version,
+            target=target,
+            groups=tuple(group or ()),
+            joints=tuple(_split(joints)),
+            chains=tuple(parse_chain(c) for c in _split(chain)),
+        )
+        fit = None
+        if fit_spheres:
+            fit = FitOptions(source=geometry_from.value, seed=seed, per_link=per_link)
+        mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
+        label = "<stdout>" if output is None or is_stdio(output) else str(output)
+        with progress_bar(fit_spheres) as bar, timed("convert"):
+            result = convert_robot(
+                robot,
+                options,
+                xacro_args=xargs,
+                package_paths=pkgs,
+                fit=fit,
+                mask=mask,
+                lint=not no_lint,
+                label=label,
+                progress=_staged(bar),
+            )
+    except XrdfToolsError as e:
+        fail(e)
+    x, text = result.xrdf, result.text
+    diags, lint_diags = list(result.diagnostics), list(result.lint)
+    echo_diagnostics([*diags, *lint_diags], fmt)
+    errors = [d for d in lint_diags if d.severity is Severity.ERROR]
+    if errors:
+        fail(
+            f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
+            "above); fix the inputs or pass the missing values on the command line",
+            EXIT_FINDINGS,
+        )
+    if strict and has_failures(diags, strict=True):
+        n = sum(1 for d in diags if d.severity is not Severity.INFO)
+        fail(f"--strict: {n} value(s) were guessed or dropped (listed above)", EXIT_FINDINGS)
+
+    if check:
+        assert output is not None
+        _check(output, x, result.robot.root_link())
+        return
+    write_output(text, output)
+
+
+def _check(output: Path, x: Xrdf, root_frame: str) -> None:
+    from ...diff import diff_xrdf
+    from ...xrdf.io import load_xrdf
+
+    if not output.exists():
+        fail(f"{output}: does not exist; run without --check to create it", EXIT_FINDINGS)
+    try:
+        existing = load_xrdf(output)
+    except XrdfToolsError as e:
+        fail(e, EXIT_FINDINGS)
+    result = diff_xrdf(existing, x, root_frame=root_frame)
+    if result.is_equal:
+        note(f"{output}: up to date")
+        return
+    typer.echo(_render_diff(result), nl=False)
+    fail(
+        f"{output}: out of date ({len(result.changes)} semantic difference(s) listed above); "
+        "re-run without --check to update it",
+        EXIT_FINDINGS,
+    )
+
+
+def _render_diff(result: Any) -> str:
+    from ...diff.render import render_text
+
+    return render_text(result)
+
+
+def _split(values: list[str] | None) -> list[str]:
+    """Comma-separated and repeated values, in order."""
+    return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
+
+
+def _staged(bar: ProgressUpdate | None) -> Progress | None:
+    """The assistant's ``progress(stage, done, total)`` drawn on the common bar."""
+    if bar is None:
+        return None
+    return lambda stage, done, total: bar(_STAGES.get(stage, stage), done, total)

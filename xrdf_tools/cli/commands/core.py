@@ -1,0 +1,181 @@
+"""What the CLI commands share that needs no typer: exit codes, output formats and their one
+renderer dispatch, the ``-q``/``-v`` level, ``-`` for standard input, the ``--urdf`` loader,
+and :func:`echo`.
+
+The Typer commands import it beside :mod:`xrdf_tools.cli.commands.common` (the typer parts); the
+fast start-up path of ``xrdf lint`` (:mod:`xrdf_tools.cli.commands.lint_core`) imports only this
+module, so that it runs without importing typer.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+import time
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from enum import Enum, IntEnum
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ...diagnostics import Diagnostic, Severity, render_github, render_json, render_text
+
+if TYPE_CHECKING:
+    from ...robot.core import Robot
+
+
+class OutputFormat(str, Enum):
+    text = "text"
+    json = "json"
+    github = "github"
+    sarif = "sarif"
+
+
+EXIT_OK = 0
+EXIT_FINDINGS = 1
+EXIT_USAGE = 2
+
+#: ANSI escape sequences, removed from output that is not a terminal (as ``typer.echo`` does).
+_ANSI = re.compile(r"\033\[[;?0-9]*[a-zA-Z]")
+
+
+def _isatty(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except Exception:  # a stream without a working isatty is no terminal (as click says)
+        return False
+
+
+def echo(message: str, *, err: bool = False, nl: bool = True) -> None:
+    """``message`` on standard output (``err``: standard error), written like ``typer.echo``
+    writes text: a newline added unless ``nl`` is false, ANSI escapes removed when the stream
+    is not a terminal, flushed."""
+    stream = sys.stderr if err else sys.stdout
+    if stream is None:  # no stream attached (pythonw): nothing to write to
+        return
+    out = message + "\n" if nl else message
+    if out and not _isatty(stream):
+        out = _ANSI.sub("", out)
+    if out:
+        stream.write(out)
+    stream.flush()
+
+
+def render_diagnostics(
+    diagnostics: Sequence[Diagnostic],
+    fmt: OutputFormat,
+    *,
+    files: Sequence[str] | None = None,
+    rules: Sequence[tuple[str, str, Severity]] = (),
+) -> str:
+    """The one renderer dispatch of every command. ``files`` (JSON) lists the inputs checked;
+    ``rules`` (SARIF) are listed even without results."""
+    if fmt is OutputFormat.json:
+        return render_json(diagnostics, **({"files": list(files)} if files is not None else {}))
+    if fmt is OutputFormat.github:
+        return render_github(diagnostics)
+    if fmt is OutputFormat.sarif:
+        from ... import __version__
+        from ...diagnostics import render_sarif
+        from ...rules.registry import rule_info
+
+        listed = {r[0] for r in rules}
+        described = list(rules)
+        for rid in dict.fromkeys(d.rule for d in diagnostics):
+            info = rule_info(rid)
+            if rid not in listed and info is not None:
+                described.append((rid, info.summary, info.severity))
+        return render_sarif(diagnostics, described, version=__version__)
+    return render_text(diagnostics)
+
+
+def has_failures(diagnostics: Sequence[Diagnostic], *, strict: bool) -> bool:
+    worst = {Severity.ERROR} | ({Severity.WARNING} if strict else set())
+    return any(d.severity in worst for d in diagnostics)
+
+
+# --------------------------------------------------------------------------------------------
+# Verbosity: the level -q/--quiet and -v/--verbose set (their options live in common.py)
+# --------------------------------------------------------------------------------------------
+class Verbosity(IntEnum):
+    QUIET = -1
+    NORMAL = 0
+    VERBOSE = 1
+
+
+#: Key of the verbosity in the context's ``meta`` (one dict per ``xrdf`` run, shared by the
+#: group and command contexts).
+VERBOSITY_KEY = "xrdf_tools.verbosity"
+#: The ``meta`` of the running command (bound by the option callbacks, which run on every
+#: invocation, and unbound when its context closes): nothing survives from one run to the next
+#: in one process (tests, ``CliRunner``).
+RUN: list[dict[str, Any]] = [{}]
+
+
+def verbosity() -> Verbosity:
+    """The ``-q``/``-v`` level of the running command (normal outside a command)."""
+    level: Verbosity = RUN[0].get(VERBOSITY_KEY, Verbosity.NORMAL)
+    return level
+
+
+def detail(message: str) -> None:
+    """A note on stderr shown only with ``-v``."""
+    if verbosity() >= Verbosity.VERBOSE:
+        echo(message, err=True)
+
+
+@contextmanager
+def timed(label: str) -> Iterator[None]:
+    """With ``-v``: print how long the block took (``label: 1.23 s``)."""
+    start = time.perf_counter()
+    try:
+        yield
+    finally:
+        detail(f"{label}: {time.perf_counter() - start:.2f} s")
+
+
+# --------------------------------------------------------------------------------------------
+# '-': standard input and output
+# --------------------------------------------------------------------------------------------
+STDIO = "-"
+
+
+def is_stdio(path: str | os.PathLike[str] | None) -> bool:
+    return path is not None and os.fspath(path) == STDIO
+
+
+def two_stdin(inputs: Mapping[str, Sequence[Path | str | None]]) -> str | None:
+    """Why the inputs (``{"A.xrdf": [a], "B.xrdf": [b]}``) cannot be read when ``-``
+    (standard input, which can be read once) is given for more than one, else None."""
+    counts = {name: sum(1 for p in paths if is_stdio(p)) for name, paths in inputs.items()}
+    if sum(counts.values()) <= 1:
+        return None
+    named = [f"{n} ({k} times)" if k > 1 else n for n, k in counts.items() if k]
+    return f"'-' (standard input) can be read only once; it is given for {' and '.join(named)}"
+
+
+# --------------------------------------------------------------------------------------------
+# --urdf, --xacro-arg, --package-path
+# --------------------------------------------------------------------------------------------
+def pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
+    """``--package-path``/``--xacro-arg`` values as a mapping (the last one wins)."""
+    return dict(parse(v) for v in values or [])
+
+
+def load_robot_option(
+    path: Path, xacro_arg: list[str] | None, package_path: list[str] | None
+) -> Robot:
+    """The robot of ``--urdf``: a URDF, or a xacro expanded with ``--xacro-arg`` and
+    ``--package-path`` like ``xrdf convert`` does (one loader for every command).
+
+    Raises :class:`XrdfToolsError` (the caller exits 2).
+    """
+    from ...robot.packages import parse_package_path
+    from ...robot.xacro_source import load_robot, parse_xacro_arg
+
+    return load_robot(
+        path,
+        xacro_args=pairs(xacro_arg, parse_xacro_arg),
+        package_paths=pairs(package_path, parse_package_path),
+    )

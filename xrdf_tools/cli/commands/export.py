@@ -1,0 +1,211 @@
+"""``xrdf export curobo|srdf|xrdf``: XRDF → cuRobo robot YAML; XRDF ignore pairs synced into a
+MoveIt SRDF; an XRDF rewritten for the reader that will load it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from ...util.errors import XrdfToolsError
+from .common import (
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    echo_diagnostics,
+    fail,
+    load_xrdf_input,
+    refuse_input_overwrite,
+    refuse_two_stdin,
+    write_output,
+)
+from .core import OutputFormat
+
+if TYPE_CHECKING:
+    from ...robot.tree import RobotTree
+
+app = typer.Typer(
+    help="Export an XRDF to a cuRobo robot YAML, sync its ignore pairs into a MoveIt SRDF, or "
+    "rewrite it for a reader (--target).",
+    no_args_is_help=True,
+    rich_markup_mode=None,
+)
+
+
+def _load_tree(
+    urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None
+) -> RobotTree:
+    """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
+    from ...robot.packages import parse_package_path
+    from ...robot.xacro_source import load_robot, parse_xacro_arg
+
+    pkgs = dict(parse_package_path(p) for p in package_path or [])
+    xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])
+    return load_robot(urdf, xacro_args=xargs, package_paths=pkgs).tree
+
+
+OutputOption = Annotated[
+    Path | None,
+    typer.Option("-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."),
+]
+XrdfArgument = Annotated[
+    Path, typer.Argument(help="The XRDF file ('-': stdin).", show_default=False)
+]
+FormatOption = Annotated[
+    OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
+]
+
+
+@app.command("curobo")
+def curobo(
+    xrdf: XrdfArgument,
+    urdf: Annotated[
+        Path, typer.Option("--urdf", help="The robot's URDF (or xacro).", show_default=False)
+    ],
+    layout: Annotated[
+        str,
+        typer.Option("--layout", help="cuRobo config layout: 2.0 (tool_frames) or classic."),
+    ] = "2.0",
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
+    output: OutputOption = None,
+    fmt: FormatOption = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
+) -> None:
+    """Write a cuRobo robot YAML (floats, FIXED, lists in c-space order by joint name)."""
+    from ...export.curobo import CUROBO_LAYOUTS, to_curobo
+
+    if layout not in CUROBO_LAYOUTS:
+        fail(f"--layout must be one of {', '.join(CUROBO_LAYOUTS)}, not '{layout}'")
+    if output is not None:
+        refuse_input_overwrite(output, [xrdf, urdf])
+    try:
+        x = load_xrdf_input(xrdf)
+        tree = _load_tree(urdf, package_path, xacro_arg)
+        text, diags = to_curobo(x, tree, layout=layout, urdf_path=urdf)
+    except XrdfToolsError as e:
+        fail(e)
+    echo_diagnostics(diags, fmt)
+    write_output(text, output)
+
+
+@app.command("srdf")
+def srdf(
+    xrdf: XrdfArgument,
+    merge: Annotated[
+        Path | None,
+        typer.Option(
+            "--merge",
+            help="Existing SRDF to sync: its disable_collisions become the XRDF's ignore pairs "
+            "(pairs no longer ignored are removed); everything else is kept.",
+        ),
+    ] = None,
+    urdf: Annotated[
+        Path | None,
+        typer.Option(
+            "--urdf", help="The robot's URDF (or xacro): gives <robot name> and checks link names."
+        ),
+    ] = None,
+    report: Annotated[
+        Path | None,
+        typer.Option(
+            "--report",
+            help="'xrdf report --format json' output: reasons (Adjacent/Default/Always/Never) "
+            "of added pairs; default User.",
+        ),
+    ] = None,
+    robot_name: Annotated[
+        str | None,
+        typer.Option("--robot-name", help="<robot name> of a new SRDF without --urdf."),
+    ] = None,
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
+    output: OutputOption = None,
+    fmt: FormatOption = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
+) -> None:
+    """Sync the XRDF's ignore pairs into a MoveIt SRDF's disable_collisions."""
+    from ...export.srdf import load_report_reasons, sync_srdf
+
+    inputs = [xrdf, merge, report, urdf]
+    refuse_two_stdin({"XRDF": [xrdf], "--merge": [merge]})
+    if output is not None:
+        refuse_input_overwrite(output, inputs)
+    try:
+        x = load_xrdf_input(xrdf)
+        tree = _load_tree(urdf, package_path, xacro_arg) if urdf is not None else None
+        reasons = load_report_reasons(report) if report is not None else None
+        existing = _read_srdf(merge) if merge is not None else None
+        result = sync_srdf(
+            x,
+            existing,
+            urdf=tree,
+            robot_name=robot_name if tree is not None else robot_name or _stem(xrdf),
+            reasons=reasons,
+            srdf_path=str(merge or output or "<srdf>"),
+        )
+    except XrdfToolsError as e:
+        fail(e)
+    echo_diagnostics(result.diagnostics, fmt)
+    write_output(result.data, output)
+
+
+def _stem(xrdf: Path) -> str:
+    """The default robot name: the XRDF's file name up to its first dot."""
+    return "robot" if str(xrdf) == "-" else xrdf.stem.split(".")[0]
+
+
+def _read_srdf(path: Path) -> bytes:
+    from ...util.fileio import read_input_bytes
+
+    try:
+        return read_input_bytes(path, what="SRDF file", allow_stdin=True)
+    except XrdfToolsError as e:
+        fail(e)
+
+
+@app.command("xrdf")
+def xrdf_for_target(
+    xrdf: XrdfArgument,
+    target: Annotated[
+        str | None,
+        typer.Option(
+            "--target",
+            help="The program that will load it: curobo (cuRobo, Isaac ROS cuMotion: 1.0 "
+            "only), cumotion or isaac-sim. Chooses the version.",
+            show_default=False,
+        ),
+    ] = None,
+    format_version: Annotated[
+        str | None,
+        typer.Option(
+            "--format-version",
+            help="XRDF version to write (default: what the target loads).",
+            show_default=False,
+        ),
+    ] = None,
+    output: OutputOption = None,
+    fmt: FormatOption = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
+) -> None:
+    """Rewrite an XRDF for the reader that will load it (e.g. a 2.0 file as 1.0 for cuRobo).
+
+    Everything the version change cannot carry over is reported; the input is never
+    overwritten.
+    """
+    from ...export.curobo import for_target
+    from ...xrdf.io import dump_xrdf
+
+    if output is not None:
+        refuse_input_overwrite(output, [xrdf])
+    try:
+        x, diags = for_target(load_xrdf_input(xrdf), target, format_version)
+    except XrdfToolsError as e:
+        fail(e)
+    echo_diagnostics(diags, fmt)
+    write_output(dump_xrdf(x), output)

@@ -1,0 +1,213 @@
+"""`xrdf viz`: draw the sphere model to rerun (.rrd or a spawned viewer), MCAP or PNG."""
+
+from __future__ import annotations
+
+from enum import Enum
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from ...util.errors import XrdfToolsError
+from .common import (
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    echo_diagnostics,
+    fail,
+    load_xrdf_input,
+    note,
+    one_bar,
+    progress_bar,
+    refuse_input_overwrite,
+)
+from .core import OutputFormat, detail, is_stdio, load_robot_option, timed
+
+if TYPE_CHECKING:
+    from ...viz import Target
+
+#: Show a progress bar from this many samples on (when stderr is a terminal).
+PROGRESS_FROM = 200
+
+
+class LegendChoice(str, Enum):
+    auto = "auto"
+    off = "off"
+
+
+class MeshChoice(str, Enum):
+    visual = "visual"
+    collision = "collision"
+    none = "none"
+
+
+def command(
+    xrdf_file: Annotated[
+        Path,
+        typer.Argument(metavar="ROBOT.xrdf", help="XRDF file ('-': stdin).", show_default=False),
+    ],
+    urdf: Annotated[
+        Path, typer.Option("--urdf", help="URDF (or xacro) of the robot.", show_default=False)
+    ],
+    rrd: Annotated[
+        Path | None, typer.Option("--rrd", help="Write a rerun recording (.rrd).")
+    ] = None,
+    mcap: Annotated[
+        Path | None, typer.Option("--mcap", help="Write an MCAP file for Foxglove.")
+    ] = None,
+    spawn: Annotated[bool, typer.Option("--spawn", help="Stream to a new rerun viewer.")] = False,
+    png: Annotated[
+        Path | None,
+        typer.Option("--png", help="Write a static PNG of the default pose (matplotlib)."),
+    ] = None,
+    samples: Annotated[
+        int,
+        typer.Option("--samples", "-n", min=0, help="Random c-space configurations to add."),
+    ] = 0,
+    configs: Annotated[
+        Path | None,
+        typer.Option(
+            "--configs",
+            help="Configurations file (.npy, .csv/.txt with optional joint-name header, "
+            ".json/.yaml list), one per row.",
+        ),
+    ] = None,
+    colliding_only: Annotated[
+        bool,
+        typer.Option("--colliding-only", help="Keep only configurations in self-collision."),
+    ] = False,
+    meshes: Annotated[
+        MeshChoice, typer.Option("--meshes", help="URDF geometry drawn with the spheres.")
+    ] = MeshChoice.visual,
+    group: Annotated[
+        str | None,
+        typer.Option("--group", help="Geometry group to draw (default: the self-collision one)."),
+    ] = None,
+    buffered: Annotated[
+        bool,
+        typer.Option("--buffered", help="Also draw the self-collision buffered radii."),
+    ] = False,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of --samples.")] = 0,
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
+    view: Annotated[
+        str,
+        typer.Option(
+            "--view",
+            help="--png camera: iso, front, side, top, or ELEV,AZIM in degrees (e.g. 30,-60).",
+        ),
+    ] = "iso",
+    legend: Annotated[
+        LegendChoice,
+        typer.Option(
+            "--legend",
+            help="--png legend of the links: auto (in small columns below the picture from "
+            "21 links on) or off.",
+        ),
+    ] = LegendChoice.auto,
+    fmt: Annotated[
+        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
+    ] = OutputFormat.text,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
+) -> None:
+    """Draw the collision spheres on the robot: default pose, sampled configurations,
+    self-collisions in red.
+
+    Exactly one of --rrd, --mcap, --spawn, --png. Step 0 is the default pose, then one step
+    per configuration from --samples or --configs. rerun and MCAP need the viz extra:
+    pip install "xrdf-tools[viz]".
+    """
+    targets: list[tuple[Target, Path | None]] = []
+    if rrd is not None:
+        targets.append(("rrd", rrd))
+    if mcap is not None:
+        targets.append(("mcap", mcap))
+    if spawn:
+        targets.append(("spawn", None))
+    if png is not None:
+        targets.append(("png", png))
+    if len(targets) != 1:
+        fail("choose exactly one output: --rrd OUT.rrd, --mcap OUT.mcap, --spawn or --png OUT.png")
+    target, out = targets[0]
+    if samples and configs is not None:
+        fail("--samples and --configs cannot be combined; choose one")
+    if is_stdio(out):
+        fail(f"--{target} needs a file name (not written to stdout)")
+    if out is not None:
+        refuse_input_overwrite(out, [xrdf_file, urdf, configs])
+    from ...viz.png import parse_view
+
+    try:
+        camera = parse_view(view)
+    except XrdfToolsError as e:
+        fail(e)
+
+    try:
+        from ...robot.kinematics import build_kinematic_model
+        from ...robot.packages import parse_package_path
+        from ...viz import (
+            build_scene,
+            load_configurations,
+            render,
+            require,
+            sample_configurations,
+        )
+
+        # Check the optional back-end first: no point computing a scene it cannot draw.
+        if target in ("rrd", "spawn"):
+            require("rerun", "rerun-sdk")
+        elif target == "mcap":
+            require("mcap", "mcap")
+        pkgs = dict(parse_package_path(p) for p in package_path or ())
+        x = load_xrdf_input(xrdf_file)
+        u = load_robot_option(urdf, xacro_arg, package_path)
+        kin, kdiags = build_kinematic_model(u, x)
+        if configs is not None:
+            Q = load_configurations(configs, kin, x)
+        elif samples:
+            Q = sample_configurations(kin, x, samples, seed)
+        else:
+            Q = None
+        n = 0 if Q is None else len(Q)
+        detail(f"checking {n + 1} configuration(s) for self-collision (the default pose first)")
+        label = "checking self-collision"
+        with progress_bar(n + 1 >= PROGRESS_FROM) as bar, timed(label):
+            scene = build_scene(
+                u,
+                x,
+                Q,
+                kinematic_model=kin,
+                group=group,
+                meshes="none" if target == "png" else meshes.value,  # type: ignore[arg-type]
+                colliding_only=colliding_only,
+                urdf_path=urdf,
+                package_paths=pkgs,
+                progress=one_bar(bar, label),
+            )
+        unique = {(d.rule, d.message): d for d in [*kdiags, *scene.diagnostics]}
+        echo_diagnostics(sorted(unique.values()), fmt)
+        label = f"writing {target}"
+        with progress_bar(len(scene.samples) >= PROGRESS_FROM) as bar, timed(label):
+            if target == "png":
+                from ...viz.png import write_png
+
+                write_png(scene, out, buffered=buffered, view=camera, legend=legend.value)
+            else:
+                render(scene, target, out, buffered=buffered, progress=one_bar(bar, label))
+    except XrdfToolsError as e:
+        fail(e)
+    except OSError as e:
+        fail(f"{out}: cannot write: {e.strerror or e}")
+
+    hit = sum(1 for s in scene.samples if s.contacts)
+    where = "rerun viewer" if out is None else str(out)
+    note(
+        f"{where}: {len(scene.links)} links, {scene.n_spheres} spheres (group '{scene.group}'), "
+        f"{len(scene.samples)} sample(s), {hit} in self-collision"
+    )
+    detail(
+        f"frame pairs: {scene.frame_pairs_checked} checked, {scene.frame_pairs_ignored} "
+        f"ignored; {len(scene.samples[0].frame_contacts)} colliding at the default pose"
+    )

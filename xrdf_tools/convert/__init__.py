@@ -1,0 +1,1 @@
+"""Sources → XRDF: the converter, its source readers and the one-command pipeline."""

@@ -1,0 +1,360 @@
+"""Sources → XRDF: a URDF plus a MoveIt SRDF (+ joint_limits.yaml) or a cuRobo robot YAML.
+
+:func:`convert` is pure: it reads the given files, returns the :class:`~xrdf_tools.xrdf.model.Xrdf`
+and a list of diagnostics — one for every value that was not taken from the inputs (default
+limits, chosen group/state/tool frame, dropped keys, unknown names, missing spheres). Mapping
+rules and behaviour: ``docs/convert.md``; the readers: ``docs/format.md``.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..diagnostics import Diagnostic, Severity
+from ..robot.core import as_robot
+from ..util.errors import SourceError, did_you_mean
+from ..util.frozen import FrozenMap
+from ..xrdf.model import (
+    AddFrame,
+    CollisionSection,
+    CSpace,
+    GeometryGroup,
+    SelfCollisionSection,
+    SetBaseFrame,
+    Xrdf,
+)
+from ..xrdf.readers import choose_version, parse_target
+from ..xrdf.versions import to_version
+from .sources import Draft, Reporter, RobotTree
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+    from ..robot.core import Robot
+
+__all__ = [
+    "DEFAULT_ACCELERATION",
+    "DEFAULT_JERK",
+    "ConvertOptions",
+    "convert",
+    "convert_files",
+]
+
+DEFAULT_ACCELERATION = 10.0  # rad/s², what MoveIt's Ruckig smoothing uses for unbounded joints
+DEFAULT_JERK = 1000.0  # rad/s³
+
+
+@dataclass(frozen=True)
+class ConvertOptions:
+    """Inputs and choices of a conversion (the CLI flags of ``xrdf convert``)."""
+
+    srdf: str | os.PathLike[str] | None = None
+    joint_limits: str | os.PathLike[str] | None = None
+    curobo: str | os.PathLike[str] | None = None
+    group: str | None = None
+    state: str | None = None
+    tool_frames: tuple[str, ...] = ()
+    acceleration: float | None = None
+    jerk: float | None = None
+    #: XRDF version to write; None chooses: the version every reader (or the target) loads.
+    format_version: str | None = None
+    geometry_name: str | None = None
+    #: The program that will read the file (``curobo``, ``cumotion``, ``isaac-sim``).
+    target: str | None = None
+    #: Several SRDF planning groups: the c-space is their union, in this order (``--group``
+    #: repeated); ``group`` is the single-group form.
+    groups: tuple[str, ...] = ()
+    #: The c-space without an SRDF group: these actuated joints (``--joints``) ...
+    joints: tuple[str, ...] = ()
+    #: ... or the actuated joints of these ``(base_link, tip_link)`` chains (``--chain``).
+    chains: tuple[tuple[str, str], ...] = ()
+
+    def planning_groups(self) -> tuple[str, ...]:
+        """``groups``, or ``(group,)``, or nothing."""
+        if self.group is not None and self.group not in self.groups:
+            return (self.group, *self.groups)
+        return self.groups
+
+
+def convert_files(
+    robot: str | os.PathLike[str],
+    options: ConvertOptions,
+    *,
+    xacro_args: dict[str, str] | None = None,
+    package_paths: dict[str, str] | None = None,
+) -> tuple[Xrdf, list[Diagnostic], yourdfpy.URDF]:
+    """Load ``robot`` (URDF or xacro) and :func:`convert`; also returns the loaded URDF."""
+    from ..robot.xacro_source import load_robot
+
+    loaded = load_robot(robot, xacro_args=xacro_args, package_paths=package_paths)
+    x, diags = convert(loaded, options)
+    return x, diags, loaded.urdf
+
+
+def convert(
+    urdf: Robot | yourdfpy.URDF | RobotTree, options: ConvertOptions
+) -> tuple[Xrdf, list[Diagnostic]]:
+    """Build an XRDF from a loaded robot and the source files named in ``options``."""
+    tree = urdf if isinstance(urdf, RobotTree) else as_robot(urdf).tree
+    if options.format_version not in (None, "1.0", "2.0"):
+        raise SourceError(
+            f"unsupported format version '{options.format_version}'; choose 1.0 or 2.0"
+        )
+    parse_target(options.target)  # an unknown target fails before any file is read
+    if options.srdf is not None and options.curobo is not None:
+        raise SourceError("give either an SRDF or a cuRobo config, not both")
+    draft = Draft()
+    given = _cspace_choice(tree, options, draft)
+    if options.curobo is not None:
+        from .sources.curobo import read_curobo
+
+        if given:
+            raise SourceError("--joints/--chain choose the c-space; a cuRobo config has its own")
+        read_curobo(options.curobo, tree, draft)
+        if options.planning_groups() or options.state is not None:
+            raise SourceError("--group and --state apply to an SRDF, not to a cuRobo config")
+    elif options.srdf is not None:
+        from .sources.srdf import load_srdf, read_srdf
+
+        read_srdf(
+            load_srdf(options.srdf),
+            tree,
+            group=options.planning_groups(),
+            state=options.state,
+            draft=draft,
+            choose=not given,
+        )
+    elif options.planning_groups() or options.state is not None:
+        raise SourceError("--group and --state need --srdf")
+    if options.joint_limits is not None:
+        from .sources.moveit_limits import read_joint_limits
+
+        read_joint_limits(options.joint_limits, tree, draft)
+    return complete(draft, tree, options)
+
+
+def complete(
+    draft: Draft, tree: RobotTree, options: ConvertOptions
+) -> tuple[Xrdf, list[Diagnostic]]:
+    """Fill what the sources did not say (each fill reported) and build the model."""
+    rep = Reporter(tree.path)
+    diags = list(draft.diagnostics)
+    tree = _based_tree(tree, draft, rep)
+
+    # --- c-space
+    if draft.cspace is None:
+        cspace = [j for j in tree.actuated_joints() if j not in draft.passive_joints]
+        rep.report(
+            "convert-chosen-group",
+            f"no planning group given: c-space is every actuated joint of the URDF in tree "
+            f"order ({', '.join(cspace) or 'none'})",
+        )
+    else:
+        cspace = list(draft.cspace)
+    if not cspace:
+        rep.report(
+            "convert-empty-cspace",
+            "the c-space is empty (no actuated joints in the chosen group)",
+        )
+
+    # --- limits
+    def limit(kind: str, given: dict[str, float], cli: float | None, default: float) -> list[float]:
+        missing = [j for j in cspace if j not in given]
+        value = cli if cli is not None else default
+        if missing:
+            origin = f"--{kind}" if cli is not None else "the default"
+            sev = Severity.INFO if cli is not None else Severity.WARNING
+            unit = "rad/s²" if kind == "acceleration" else "rad/s³"
+            rep.report(
+                f"convert-default-{kind}",
+                f"no {kind} limit in the inputs for {', '.join(missing)}: using {origin} "
+                f"{value:g} {unit}" + ("" if cli is not None else f" (set --{kind})"),
+                severity=sev,
+            )
+        return [given.get(j, value) for j in cspace]
+
+    accel = limit("acceleration", draft.acceleration, options.acceleration, DEFAULT_ACCELERATION)
+    jerk = limit("jerk", draft.jerk, options.jerk, DEFAULT_JERK)
+
+    # --- default positions
+    defaults: dict[str, float] = {}
+    missing = []
+    for j in cspace:
+        if j in draft.defaults:
+            defaults[j] = draft.defaults[j]
+        else:
+            info = tree.joints[j]
+            lo = info.lower if info.lower is not None else 0.0
+            hi = info.upper if info.upper is not None else 0.0
+            value = 0.0
+            if info.type != "continuous" and lo <= hi and not lo <= 0.0 <= hi:
+                value = (lo + hi) / 2
+            defaults[j] = value
+            missing.append(j)
+    for j, v in draft.defaults.items():
+        if j not in defaults:
+            defaults[j] = v
+    if missing:
+        rep.report(
+            "convert-default-positions",
+            f"no default position in the inputs for {', '.join(missing)}: using 0 (or the middle "
+            "of the limits when 0 is outside them)",
+        )
+    for j, v in list(defaults.items()):
+        info = tree.joints[j]
+        if info.type == "continuous":
+            continue
+        low, high = info.lower, info.upper
+        if low is not None and high is not None and low <= high and not low <= v <= high:
+            clamped = min(max(v, low), high)
+            rep.report(
+                "convert-clamped-default",
+                f"default position {v:g} of '{j}' is outside its URDF limits [{low:g}, {high:g}]; "
+                f"clamped to {clamped:g}",
+            )
+            defaults[j] = clamped
+    # order: c-space first, then auxiliary joints in tree order
+    order = tree.joint_order()
+    aux = sorted((j for j in defaults if j not in cspace), key=lambda j: order.get(j, 1 << 30))
+    defaults = {j: defaults[j] for j in [*cspace, *aux]}
+
+    # --- frames and tool frames
+    frames = set(tree.links) | {m.frame_name for m in draft.modifiers if isinstance(m, AddFrame)}
+    tool_frames = list(options.tool_frames) or list(draft.tool_frames)
+    for t in options.tool_frames:
+        if t not in frames:
+            raise SourceError(
+                f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"
+            )
+    if not tool_frames and cspace:
+        tool = _tip_link(tree, cspace)
+        tool_frames = [tool]
+        rep.report(
+            "convert-chosen-tool-frame",
+            f"no tool frame in the inputs: using '{tool}', the tip of the c-space chain "
+            "(set --tool-frame)",
+        )
+
+    # --- geometry
+    name = options.geometry_name or draft.geometry_name or f"{_robot_stem(tree)}_collision_spheres"
+    spheres = {k: tuple(v) for k, v in (draft.spheres or {}).items() if v}
+    if not spheres:
+        rep.report(
+            "convert-no-spheres",
+            "NO COLLISION SPHERES in the inputs: the XRDF has an empty geometry group, so "
+            "cuRobo/cuMotion will not check collisions for this robot. Add spheres "
+            "(--fit-spheres, the Isaac Sim sphere editor, or the SRDF/cuRobo source)",
+        )
+    ignore = {a: tuple(bs) for a, bs in draft.ignore.items() if bs}
+    geometry = FrozenMap({name: GeometryGroup(FrozenMap(spheres))})
+    world = CollisionSection(name, FrozenMap(draft.world_buffer))
+    self_c = SelfCollisionSection(name, FrozenMap(draft.self_buffer), FrozenMap(ignore))
+
+    x = Xrdf(
+        # 1.0 holds everything the sources can say (negative radii included); converting to
+        # 2.0 below reports what 2.0 cannot express.
+        format_version="1.0",
+        cspace=CSpace(tuple(cspace), tuple(accel), tuple(jerk)),
+        modifiers=tuple(draft.modifiers),
+        default_joint_positions=FrozenMap(defaults),
+        tool_frames=tuple(tool_frames),
+        world_collision=world,
+        self_collision=self_c,
+        geometry=geometry,
+    )
+    _check_reachable(x, tree)
+    version, why = choose_version(x, options.format_version, parse_target(options.target))
+    if why:
+        rep.report("convert-version", why)
+    x, vdiags = to_version(x, version)
+    return x, [*diags, *rep.diagnostics, *vdiags]
+
+
+def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
+    """The tree walked from the base the sources chose (``set_base_frame``), else the root.
+
+    A URDF with disconnected parts (cuRobo ships some) is usable when a base is chosen; the
+    links it cannot reach are reported.
+    """
+    base = next((m.frame for m in draft.modifiers if isinstance(m, SetBaseFrame)), None)
+    if base is None or base not in tree.links:
+        if len(tree.roots) > 1:
+            raise SourceError(
+                f"the URDF is not one tree: {len(tree.roots)} links have no parent joint "
+                f"({', '.join(tree.roots[:5])}); a cuRobo config's base_link chooses the part "
+                "to use",
+                path=tree.path,
+            )
+        return tree
+    based = tree.with_root(base)
+    reach = {base, *based.descendants(base)}
+    lost = [link for link in tree.links if link not in reach]
+    if len(tree.roots) > 1 and lost:
+        shown = ", ".join(lost[:8]) + (f" and {len(lost) - 8} more" if len(lost) > 8 else "")
+        rep.report(
+            "convert-unreachable-links",
+            f"the URDF is not one tree: {len(lost)} link(s) cannot be reached from the base "
+            f"'{base}' and are not part of the robot ({shown})",
+        )
+    return based
+
+
+def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
+    """The sources name only frames below the chosen base (else :class:`SourceError`)."""
+    from ..robot.binding import unreachable_frames
+
+    lost = sorted({f for f, _ in unreachable_frames(x, tree)})
+    if lost:
+        raise SourceError(
+            f"frames used by the XRDF cannot be reached from the base '{tree.root}': "
+            f"{', '.join(lost[:8])}",
+            path=tree.path,
+        )
+
+
+def _cspace_choice(tree: RobotTree, options: ConvertOptions, draft: Draft) -> bool:
+    """Apply ``--joints``/``--chain`` to ``draft``; whether one was given."""
+    if not options.joints and not options.chains:
+        return False
+    if options.planning_groups():
+        raise SourceError("give either --group or --joints/--chain, not both")
+    from .sources.cspace import apply_cspace_choice
+
+    return apply_cspace_choice(tree, draft, joints=options.joints, chains=options.chains)
+
+
+def with_spheres(x: Xrdf, spheres: dict[str, Sequence[object]]) -> Xrdf:
+    """``x`` with the spheres of its world-collision group replaced (for ``--fit-spheres``)."""
+    from ..xrdf.model import Sphere
+
+    if x.geometry is None or x.world_collision is None:
+        return x
+    name = x.world_collision.geometry
+    clean = {k: tuple(s for s in v if isinstance(s, Sphere)) for k, v in spheres.items() if v}
+    return x.replace(geometry=x.geometry.set(name, GeometryGroup(FrozenMap(clean))))
+
+
+def _robot_stem(tree: RobotTree) -> str:
+    name = tree.name or Path(tree.path).stem
+    for suffix in ("_robot", "_description"):
+        if name.endswith(suffix) and len(name) > len(suffix):
+            name = name[: -len(suffix)]
+    return name.strip("/") or "robot"
+
+
+def _tip_link(tree: RobotTree, cspace: list[str]) -> str:
+    """Child of the last c-space joint, followed down a single chain of fixed joints."""
+    order = tree.joint_order()
+    last = max(cspace, key=lambda j: order.get(j, -1))
+    link = tree.joints[last].child
+    while True:
+        kids = [tree.joints[j] for j in tree.child_joints.get(link, ())]
+        fixed = [j for j in kids if j.type == "fixed"]
+        if len(kids) == 1 and len(fixed) == 1:
+            link = fixed[0].child
+        else:
+            return link

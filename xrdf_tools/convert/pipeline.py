@@ -1,0 +1,291 @@
+"""A robot in one call: URDF/xacro (+ SRDF) → spheres → self-collision mask → linted XRDF.
+
+:func:`convert_robot` is the headless setup assistant behind ``xrdf convert --fit-spheres``:
+
+1. load the robot once (a xacro is expanded with its arguments; every later step uses this
+   URDF object and its text, never a re-read of the file);
+2. convert it (:func:`xrdf_tools.convert.core.convert`);
+3. fit spheres to the links that have none, from their collision geometry (visual-only links
+   get none unless ``FitOptions.source`` says ``visual`` or ``auto``);
+4. compute the self-collision mask exactly like ``xrdf report --write-mask``
+   (:func:`xrdf_tools.report.self_collision_report` + :func:`~xrdf_tools.report.recommended_xrdf`):
+   adjacent pairs, pairs colliding at the default configuration or almost always, and pairs
+   never seen colliding are ignored; pairs that sometimes collide are checked;
+5. lint the result against the same URDF object.
+
+It prints nothing: the XRDF, its text and every diagnostic come back in a
+:class:`ConvertResult`. Two summary diagnostics say what was fitted (``convert-fitted-spheres``)
+and what was masked and why (``convert-computed-mask``, counts per reason).
+"""
+
+from __future__ import annotations
+
+import os
+from collections import Counter
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from ..diagnostics import Diagnostic, Severity
+from ..robot.core import Robot, as_robot
+from ..util.frozen import FrozenMap
+from .core import ConvertOptions, convert, with_spheres
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+    from ..report import Report, Sampler
+    from ..robot.link_geometry import GeometryChoice
+    from ..xrdf.model import Sphere, Xrdf
+
+__all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
+
+RULE_FITTED = "convert-fitted-spheres"
+RULE_MASK = "convert-computed-mask"
+
+#: ``progress(stage, done, total)``; ``stage`` is ``"fitting"`` or ``"sampling"``.
+Progress = Callable[[str, int, int], None]
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    """How spheres are fitted (see :func:`xrdf_tools.spheres.fit_link_spheres`)."""
+
+    source: GeometryChoice = "collision"
+    seed: int = 0
+    per_link: int | None = None
+    max_protrusion: float | None = None
+
+
+@dataclass(frozen=True)
+class MaskOptions:
+    """How the self-collision mask is computed (``xrdf report`` sampling options)."""
+
+    samples: int = 100_000
+    seed: int = 0
+    sampler: Sampler = "uniform"
+
+
+@dataclass(frozen=True)
+class ConvertResult:
+    """What :func:`convert_robot` made.
+
+    ``robot`` is the loaded robot the XRDF was made for; ``diagnostics`` are the
+    conversion's (every guess, the fitting and mask summaries); ``lint`` the findings of
+    linting ``text`` against ``robot``; ``fitted`` the number of spheres per fitted link;
+    ``report`` the self-collision report the mask came from.
+    """
+
+    xrdf: Xrdf
+    text: str
+    robot: Robot
+    diagnostics: tuple[Diagnostic, ...]
+    lint: tuple[Diagnostic, ...] = ()
+    fitted: FrozenMap[str, int] = field(default_factory=FrozenMap)
+    report: Report | None = None
+
+    @property
+    def lint_errors(self) -> list[Diagnostic]:
+        return [d for d in self.lint if d.severity is Severity.ERROR]
+
+
+def convert_robot(
+    robot: str | os.PathLike[str] | Robot,
+    options: ConvertOptions,
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Mapping[str, str] | None = None,
+    fit: FitOptions | None = None,
+    mask: MaskOptions | None = None,
+    lint: bool = True,
+    label: str = "<xrdf>",
+    progress: Progress | None = None,
+) -> ConvertResult:
+    """Load ``robot`` (or take it loaded), convert it and, with ``fit``, fit spheres and
+    compute the mask.
+
+    ``mask`` defaults to :class:`MaskOptions` when ``fit`` is given (a fitted sphere model
+    needs its own mask); pass it without ``fit`` to recompute the mask of the inputs' spheres.
+    ``label`` names the XRDF in lint diagnostics. Raises
+    :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
+    """
+    from ..robot.xacro_source import load_robot
+    from ..xrdf.io import dump_xrdf
+
+    pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
+    if isinstance(robot, Robot):
+        loaded = robot
+    else:
+        loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
+    x, diags = convert(loaded, options)
+    fitted: dict[str, int] = {}
+    if fit is not None:
+        x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
+        if fitted:
+            diags = [d for d in diags if d.rule != "convert-no-spheres"]
+        diags = [*diags, *more]
+        mask = mask or MaskOptions()
+    report = None
+    if mask is not None and x.self_collision_spheres():
+        x, report = compute_mask(x, loaded, mask, progress=progress)
+        diags.append(mask_summary(report, x, mask))
+    text = dump_xrdf(x)
+    lint_diags: list[Diagnostic] = []
+    if lint:
+        from ..lint import lint_text
+
+        lint_diags = lint_text(text, label, urdf_model=loaded, target=options.target)
+        if any(d.rule == "convert-no-spheres" for d in diags):
+            # one loud "no spheres at all" says it; a line per link is noise
+            lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
+    return ConvertResult(
+        x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
+    )
+
+
+# ------------------------------------------------------------------------------------------
+# Spheres
+# ------------------------------------------------------------------------------------------
+def geometry_links(
+    urdf: Robot | yourdfpy.URDF, source: GeometryChoice
+) -> tuple[list[str], list[str]]:
+    """Links with geometry of kind ``source``, and links that have only visual geometry."""
+    usable: list[str] = []
+    visual_only: list[str] = []
+    for name, link in as_robot(urdf).urdf.link_map.items():
+        has_col, has_vis = bool(link.collisions), bool(link.visuals)
+        if has_vis and not has_col:
+            visual_only.append(name)
+        wanted = {"collision": has_col, "visual": has_vis, "auto": has_col or has_vis}
+        if wanted[source]:
+            usable.append(name)
+    return usable, visual_only
+
+
+def fit_missing_spheres(
+    x: Xrdf,
+    urdf: Robot | yourdfpy.URDF,
+    fit: FitOptions,
+    *,
+    progress: Progress | None = None,
+) -> tuple[Xrdf, dict[str, int], list[Diagnostic]]:
+    """Fit spheres to the links of ``urdf`` that have geometry of kind ``fit.source`` and no
+    spheres in ``x`` yet; returns the XRDF, the spheres per fitted link and diagnostics."""
+    from ..util.errors import MissingDependencyError
+
+    try:
+        from ..spheres import fit_link_spheres
+    except ImportError as e:  # pragma: no cover - depends on the installation
+        raise MissingDependencyError(
+            f"sphere fitting is not available in this installation ({e})"
+        ) from None
+    have = {k: list(v) for k, v in x.world_collision_spheres().items() if v}
+    usable, visual_only = geometry_links(urdf, fit.source)
+    todo = [link for link in usable if link not in have]
+
+    def step(link: str, i: int, n: int) -> None:
+        if progress is not None:
+            progress("fitting", i, n)
+
+    robot = as_robot(urdf)
+    fitted, diags = fit_link_spheres(
+        robot,
+        links=todo,
+        per_link=fit.per_link,
+        seed=fit.seed,
+        max_protrusion=fit.max_protrusion,
+        progress=step,
+        source=fit.source,
+    )
+    merged: dict[str, Sequence[Sphere]] = {**have}
+    for link, spheres in fitted.items():
+        merged[link] = [*merged.get(link, ()), *spheres]
+    counts = {k: len(v) for k, v in fitted.items()}
+    summary = fit_summary(robot.path, counts, fit.source, visual_only, len(have))
+    return with_spheres(x, dict(merged)), counts, [*diags, summary]
+
+
+def fit_summary(
+    path: str,
+    counts: Mapping[str, int],
+    source: GeometryChoice,
+    visual_only: Sequence[str],
+    kept: int,
+) -> Diagnostic:
+    """One line: how many spheres on how many links, from what, and who got none."""
+    what = {"collision": "collision", "visual": "visual", "auto": "collision (else visual)"}
+    msg = (
+        f"fitted {sum(counts.values())} sphere(s) to {len(counts)} link(s) from their "
+        f"{what[source]} geometry"
+    )
+    if kept:
+        msg += f"; {kept} link(s) kept the spheres of the inputs"
+    if source == "collision" and visual_only:
+        shown = ", ".join(visual_only[:8]) + (" …" if len(visual_only) > 8 else "")
+        msg += (
+            f"; {len(visual_only)} link(s) with visual geometry only get none ({shown}); "
+            "--from visual fits them too"
+        )
+    return Diagnostic(path, None, None, RULE_FITTED, Severity.INFO, msg, "geometry")
+
+
+# ------------------------------------------------------------------------------------------
+# Mask
+# ------------------------------------------------------------------------------------------
+def compute_mask(
+    x: Xrdf,
+    urdf: Robot | yourdfpy.URDF,
+    mask: MaskOptions,
+    *,
+    progress: Progress | None = None,
+) -> tuple[Xrdf, Report]:
+    """``x`` with ``self_collision.ignore`` as ``xrdf report --write-mask`` recommends."""
+    from ..report import recommended_xrdf, self_collision_report
+
+    def step(done: int, total: int) -> None:
+        if progress is not None:
+            progress("sampling", done, total)
+
+    report = self_collision_report(
+        urdf,
+        x,
+        samples=mask.samples,
+        seed=mask.seed,
+        sampler=mask.sampler,
+        progress=step if progress is not None else None,
+    )
+    return recommended_xrdf(x, report), report
+
+
+_REASONS = (
+    ("adjacent", "adjacent"),
+    ("default", "colliding at the default configuration"),
+    ("always", "colliding in more than 95 % of them"),
+    ("never", "never colliding"),
+)
+
+
+def mask_summary(report: Report, x: Xrdf, mask: MaskOptions) -> Diagnostic:
+    """Counts per reason of the computed mask (``convert-computed-mask``)."""
+    ignored: Counter[str] = Counter(
+        p.classification for p in report.pairs if p.recommendation != "check"
+    )
+    checked = sum(1 for p in report.pairs if p.recommendation == "check")
+    reasons = ", ".join(f"{ignored[c]} {what}" for c, what in _REASONS if ignored[c])
+    sc = x.self_collision
+    total = len(sc.ignore_pairs()) if sc is not None else 0
+    sampled = {frozenset((p.frame_a, p.frame_b)) for p in report.pairs}
+    kept = total - sum(ignored.values())
+    msg = (
+        f"self_collision.ignore computed from {report.samples} {mask.sampler} samples (seed "
+        f"{mask.seed}), like `xrdf report --write-mask`: {sum(ignored.values())} pair(s) "
+        f"ignored ({reasons or 'none'}); {checked} pair(s) checked (they sometimes collide)"
+    )
+    if kept:
+        msg += f"; {kept} pair(s) of the inputs kept (a frame without spheres)"
+    removed = [p for p in report.mask_change.removed if frozenset(p) in sampled]
+    if removed:
+        msg += f"; {len(removed)} pair(s) of the inputs removed (they sometimes collide)"
+    return Diagnostic(
+        report.urdf_path, None, None, RULE_MASK, Severity.INFO, msg, "self_collision.ignore"
+    )

@@ -1,0 +1,106 @@
+"""Readers for conversion inputs: xacro, MoveIt SRDF + joint limits, cuRobo robot YAML.
+
+Each reader fills a :class:`Draft` — what its source says, nothing guessed — and reports every
+dropped or unusable value as a :class:`~xrdf_tools.diagnostics.Diagnostic` with the source
+position. :mod:`xrdf_tools.convert.core` completes the draft against the URDF (defaults, checks) and
+builds the XRDF model. Names of links and joints are checked against a :class:`RobotTree`, a
+plain view of the URDF.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+
+from ...diagnostics import Diagnostic, Severity
+from ...robot.tree import RobotTree
+from ...util.errors import did_you_mean
+from ...xrdf.model import Modifier, Sphere
+
+__all__ = ["Draft", "Reporter", "RobotTree"]
+
+
+@dataclass
+class Draft:
+    """What one or more sources say about the XRDF to write. Empty/None = not said."""
+
+    cspace: list[str] | None = None
+    acceleration: dict[str, float] = field(default_factory=dict)
+    jerk: dict[str, float] = field(default_factory=dict)
+    defaults: dict[str, float] = field(default_factory=dict)
+    tool_frames: list[str] = field(default_factory=list)
+    spheres: dict[str, list[Sphere]] | None = None
+    world_buffer: dict[str, float] = field(default_factory=dict)
+    self_buffer: dict[str, float] = field(default_factory=dict)
+    ignore: dict[str, list[str]] = field(default_factory=dict)
+    modifiers: list[Modifier] = field(default_factory=list)
+    geometry_name: str | None = None
+    group: str | None = None
+    passive_joints: set[str] = field(default_factory=set)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    def add_ignore(self, a: str, b: str) -> None:
+        """Add the pair once (in either direction), folded under ``a``."""
+        if a == b or b in self.ignore.get(a, ()) or a in self.ignore.get(b, ()):
+            return
+        self.ignore.setdefault(a, []).append(b)
+
+
+@dataclass
+class Reporter:
+    """Makes diagnostics for one source file; positions come from ``positions[key_path]``."""
+
+    path: str
+    positions: Mapping[str, tuple[int, int]] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    def position(self, key_path: str) -> tuple[int | None, int | None]:
+        for kp in (key_path + "#key", key_path):
+            if kp in self.positions:
+                return self.positions[kp]
+        kp = key_path
+        while kp:
+            cut = max(kp.rfind("."), kp.rfind("["))
+            kp = kp[:cut] if cut > 0 else ""
+            if kp in self.positions:
+                return self.positions[kp]
+        return (None, None)
+
+    def report(
+        self,
+        rule: str,
+        message: str,
+        key_path: str = "",
+        *,
+        severity: Severity = Severity.WARNING,
+        line: int | None = None,
+    ) -> Diagnostic:
+        if line is not None:
+            pos: tuple[int | None, int | None] = (line, None)
+        else:
+            pos = self.position(key_path)
+        d = Diagnostic(self.path, pos[0], pos[1], rule, severity, message, key_path)
+        self.diagnostics.append(d)
+        return d
+
+
+def known_frame(
+    name: str,
+    frames: Iterable[str],
+    rep: Reporter,
+    key_path: str,
+    what: str,
+    *,
+    line: int | None = None,
+) -> bool:
+    """True when ``name`` is a frame; otherwise report ``convert-unknown-link`` (did-you-mean)."""
+    frames = list(frames)
+    if name in frames:
+        return True
+    rep.report(
+        "convert-unknown-link",
+        f"'{name}' ({what}) is not a link of the URDF; dropped{did_you_mean(name, frames)}",
+        key_path,
+        line=line,
+    )
+    return False

@@ -1,0 +1,488 @@
+"""cuRobo robot configuration YAML → Draft: classic layout, 2.0 layout, Lula/Isaac Sim YAML.
+
+See docs/convert.md for the mapping. Every key without an XRDF equivalent is
+reported (``convert-dropped-key``) except visualisation/USD keys, which are ignored silently.
+Unknown link names (cuRobo ignores them silently; its own ``ur10e.yml`` has ``forarm_link``)
+are reported with a suggestion and dropped. Spheres are kept as written, negative radii included
+(cuRobo turns a small negative radius into a real sphere once buffered), and the
+``extra_collision_spheres`` attached-object slots become radius −10 spheres at the link origin,
+as cuMotion's own ``franka_curobo.xrdf`` carries them (docs/format.md, "Who reads an XRDF").
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ...diagnostics import Severity
+from ...util.errors import SourceError, XrdfToolsError, did_you_mean
+from ...xrdf.model import AddFrame, Orientation, SetBaseFrame, Sphere
+from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
+from ...yaml.shape import check_shape
+from . import Draft, Reporter, RobotTree, known_frame
+from .curobo_lula import read_lula
+from .curobo_shape import CUROBO_FILE
+from .curobo_spheres import find_spheres_file, is_num, read_sphere_map
+
+__all__ = ["detect_layout", "read_curobo", "referenced_files"]
+
+SILENT_KEYS = {
+    "mesh_link_names",
+    "use_global_cumul",
+    "isaac_usd_path",
+    "use_usd_kinematics",
+    "urdf_path",
+    "asset_root_path",
+    "external_asset_path",
+    "external_robot_configs_path",
+    "format_version",
+    "load_link_names_with_mesh",
+    "usd_path",
+    "usd_robot_root",
+    "usd_flip_joints",
+    "usd_flip_joint_limits",
+}
+HANDLED_KEYS = {
+    "base_link",
+    "ee_link",
+    "link_names",
+    "tool_frames",
+    "collision_link_names",
+    "collision_spheres",
+    "collision_sphere_buffer",
+    "self_collision_ignore",
+    "self_collision_buffer",
+    "extra_links",
+    "extra_collision_spheres",
+    "lock_joints",
+    "cspace",
+}
+CSPACE_KEYS = {
+    "joint_names",
+    "retract_config",
+    "default_joint_position",
+    "max_acceleration",
+    "max_jerk",
+}
+
+
+def detect_layout(data: Any) -> str:
+    """``"classic"``, ``"2.0"`` or ``"lula"`` for the plain data of a config file."""
+    if isinstance(data, Mapping):
+        kin = _kinematics(data)
+        if kin is not None:
+            fv = kin.get("format_version")
+            if (
+                (isinstance(fv, (int, float)) and float(fv) >= 2.0)
+                or "tool_frames" in kin
+                or "default_joint_position" in (kin.get("cspace") or {})
+            ):
+                return "2.0"
+            return "classic"
+        if isinstance(data.get("cspace"), list):
+            return "lula"
+    raise SourceError(
+        "not a cuRobo robot configuration: expected 'robot_cfg: {kinematics: ...}' (cuRobo) or "
+        "a Lula robot description with a 'cspace' list"
+    )
+
+
+def _kinematics(data: Mapping[str, Any]) -> Mapping[str, Any] | None:
+    rc = data.get("robot_cfg")
+    if isinstance(rc, Mapping) and isinstance(rc.get("kinematics"), Mapping):
+        return rc["kinematics"]  # type: ignore[no-any-return]
+    if isinstance(data.get("kinematics"), Mapping):
+        return data["kinematics"]  # type: ignore[no-any-return]
+    return None
+
+
+def _load(path: str | os.PathLike[str]) -> tuple[YamlDocument, Reporter]:
+    """Parse a cuRobo YAML file. A repeated key is a warning, not an error: cuRobo loads its
+    configs with PyYAML, which keeps the last value (its own ``franka.yml`` repeats
+    ``usd_flip_joints``), so the last value is used here too."""
+    doc = parse_yaml(read_text(path), str(path))
+    rep = Reporter(doc.path, positions_of(doc))
+    for dup in doc.duplicates:
+        rep.report(
+            "convert-duplicate-key",
+            f"key '{dup.key_path}' appears more than once (first on line {dup.first_line}); "
+            "cuRobo's YAML loader keeps the last value, and so does this conversion",
+            dup.key_path,
+            line=dup.line,
+        )
+    return doc, rep
+
+
+def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | None = None) -> Draft:
+    """Map a cuRobo (or Lula) robot YAML onto a :class:`Draft`."""
+    d = draft or Draft()
+    doc, rep = _load(path)
+    check_shape(doc.root, CUROBO_FILE, path=doc.path, error=SourceError)
+    data = to_python(doc.root)
+    try:
+        layout = detect_layout(data)
+    except SourceError as e:
+        raise SourceError(e.message, path=doc.path, line=1) from None
+    if layout == "lula":
+        read_lula(data, tree, d, rep)
+    else:
+        if "robot_cfg" in data:
+            prefix = "robot_cfg.kinematics"
+            for k in data["robot_cfg"]:
+                if k != "kinematics":
+                    rep.report(
+                        "convert-dropped-key",
+                        f"robot_cfg.{k} has no XRDF equivalent; dropped",
+                        f"robot_cfg.{k}",
+                    )
+        else:
+            prefix = "kinematics"
+        for k in data:
+            if k not in ("robot_cfg", "kinematics"):
+                rep.report("convert-dropped-key", f"'{k}' has no XRDF equivalent; dropped", k)
+        kin = _kinematics(data)
+        assert kin is not None
+        _read_kinematics(kin, layout, tree, d, rep, prefix, Path(doc.path))
+    d.diagnostics.extend(rep.diagnostics)
+    return d
+
+
+@dataclass
+class _Kin:
+    """One ``kinematics`` mapping being read: where it is, what it says, where it goes."""
+
+    data: Mapping[str, Any]
+    tree: RobotTree
+    d: Draft
+    rep: Reporter
+    prefix: str
+    config_path: Path
+    frames: list[str]
+
+    def kp(self, *parts: object) -> str:
+        return ".".join([self.prefix, *(str(p) for p in parts)])
+
+    def fail(self, message: str, *parts: object) -> SourceError:
+        """A :class:`SourceError` located at ``kinematics.<parts>``."""
+        return SourceError(message, path=self.rep.path, line=self.rep.position(self.kp(*parts))[0])
+
+    def mapping(self, key: str) -> Mapping[str, Any]:
+        """``kinematics.<key>`` as a mapping (absent or null: empty)."""
+        value = self.data.get(key) or {}
+        if not isinstance(value, Mapping):
+            raise self.fail(f"{key} must be a mapping", key)
+        return value
+
+
+def _read_kinematics(
+    kin: Mapping[str, Any],
+    layout: str,
+    tree: RobotTree,
+    d: Draft,
+    rep: Reporter,
+    prefix: str,
+    config_path: Path,
+) -> None:
+    k = _Kin(kin, tree, d, rep, prefix, config_path, list(tree.links))
+    for key in kin:
+        if key not in SILENT_KEYS and key not in HANDLED_KEYS and not str(key).startswith("usd"):
+            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", k.kp(key))
+    _read_extra_links(k)  # first: they add frames the rest may refer to
+    _read_base_and_tools(k)
+    _read_cspace(k)
+    _read_sphere_source(k)
+    _read_slots(
+        kin.get("extra_collision_spheres"), k.frames, d, rep, k.kp("extra_collision_spheres")
+    )
+    _read_buffers(k)
+    _read_ignore(k)
+
+
+def _read_extra_links(k: _Kin) -> None:
+    for name, spec in k.mapping("extra_links").items():
+        w = k.kp("extra_links", name)
+        if not isinstance(spec, Mapping):
+            raise k.fail(f"extra_links.{name} must be a mapping", "extra_links", name)
+        parent = str(spec.get("parent_link_name", ""))
+        link = str(spec.get("link_name") or name)
+        if not known_frame(parent, k.frames, k.rep, f"{w}.parent_link_name", "extra link parent"):
+            continue
+        ft = spec.get("fixed_transform") or [0, 0, 0, 1, 0, 0, 0]
+        if not (isinstance(ft, list) and len(ft) == 7 and all(is_num(v) for v in ft)):
+            raise k.fail(
+                f"extra_links.{name}.fixed_transform must be [x, y, z, qw, qx, qy, qz]",
+                "extra_links",
+                name,
+                "fixed_transform",
+            )
+        jt = str(spec.get("joint_type", "FIXED"))
+        if jt.upper() != "FIXED":
+            k.rep.report(
+                "convert-dropped-key",
+                f"extra link '{name}' has joint_type '{jt}'; XRDF add_frame is always FIXED",
+                f"{w}.joint_type",
+            )
+        if link in k.frames:
+            k.rep.report(
+                "convert-duplicate-frame",
+                f"extra link '{link}' already exists in the URDF; not added",
+                w,
+            )
+            continue
+        x, y, z, qw, qx, qy, qz = (float(v) for v in ft)
+        k.d.modifiers.append(
+            AddFrame(
+                frame_name=link,
+                parent_frame_name=parent,
+                joint_name=str(spec.get("joint_name") or f"{link}_joint"),
+                position=(x, y, z),
+                orientation=Orientation.from_wxyz(qw, qx, qy, qz),
+                joint_type="FIXED",
+            )
+        )
+        k.frames.append(link)
+
+
+def _read_base_and_tools(k: _Kin) -> None:
+    base = k.data.get("base_link")
+    if base is not None and known_frame(str(base), k.frames, k.rep, k.kp("base_link"), "base_link"):
+        k.d.modifiers.insert(0, SetBaseFrame(str(base)))  # also the root: cuRobo's XRDFs do
+    tools: list[tuple[str, str]] = []
+    if k.data.get("tool_frames") is not None:
+        tf = k.data["tool_frames"]
+        tf = tf if isinstance(tf, list) else [tf]
+        tools += [(str(t), k.kp("tool_frames", f"[{i}]")) for i, t in enumerate(tf)]
+    if k.data.get("ee_link"):
+        tools.insert(0, (str(k.data["ee_link"]), k.kp("ee_link")))
+    for i, t in enumerate(k.data.get("link_names") or []):
+        tools.append((str(t), k.kp("link_names") + f"[{i}]"))
+    for t, where in tools:
+        if known_frame(t, k.frames, k.rep, where, "tool frame") and t not in k.d.tool_frames:
+            k.d.tool_frames.append(t)
+
+
+def _per_joint(k: _Kin, names: list[str], value: Any, key: str) -> dict[str, float]:
+    """A scalar (broadcast) or one value per c-space joint, by joint name."""
+    if value is None:
+        return {}
+    if is_num(value):
+        return {n: float(value) for n in names}
+    if isinstance(value, list) and all(is_num(v) for v in value):
+        if len(value) != len(names):
+            raise k.fail(
+                f"cspace.{key} has {len(value)} values for {len(names)} joints", "cspace", key
+            )
+        return {n: float(v) for n, v in zip(names, value, strict=True)}
+    raise k.fail(f"cspace.{key} must be a number or a list of numbers", "cspace", key)
+
+
+def _read_cspace(k: _Kin) -> None:
+    cs = k.mapping("cspace")
+    for key in cs:
+        if key not in CSPACE_KEYS:
+            k.rep.report(
+                "convert-dropped-key",
+                f"cspace.{key} has no XRDF equivalent; dropped",
+                k.kp("cspace", key),
+            )
+    names = [str(n) for n in (cs.get("joint_names") or [])]
+    locks = k.mapping("lock_joints")
+    default_key = "default_joint_position" if "default_joint_position" in cs else "retract_config"
+    defaults = cs.get(default_key)
+    if defaults is not None and not isinstance(defaults, list):
+        raise k.fail(f"cspace.{default_key} must be a list", "cspace", default_key)
+    acc_map = _per_joint(k, names, cs.get("max_acceleration"), "max_acceleration")
+    jerk_map = _per_joint(k, names, cs.get("max_jerk"), "max_jerk")
+    def_map = _per_joint(k, names, defaults, default_key)
+    cspace = _cspace_joints(k, names, locks)
+    k.d.cspace = cspace
+    for n in cspace:
+        for source, target in (
+            (acc_map, k.d.acceleration),
+            (jerk_map, k.d.jerk),
+            (def_map, k.d.defaults),
+        ):
+            if n in source:
+                target[n] = source[n]
+    _read_locks(k, locks)
+
+
+def _cspace_joints(k: _Kin, names: list[str], locks: Mapping[str, Any]) -> list[str]:
+    """The actuated, unlocked c-space joints; the others reported. Raises when none of the
+    names is a URDF joint: the config and the URDF describe different robots."""
+    if names and not any(n in k.tree.joints for n in names):
+        raise k.fail(
+            f"none of the {len(names)} c-space joints ({', '.join(names[:4])}"
+            f"{', ...' if len(names) > 4 else ''}) is a joint of {Path(k.tree.path).name}: "
+            "the config and the URDF describe different robots",
+            "cspace",
+            "joint_names",
+        )
+    cspace: list[str] = []
+    for i, n in enumerate(names):
+        where = k.kp("cspace", "joint_names") + f"[{i}]"
+        j = k.tree.joints.get(n)
+        if j is None:
+            k.rep.report(
+                "convert-unknown-joint",
+                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, k.tree.joints)}; dropped",
+                where,
+            )
+        elif n in locks:
+            continue
+        elif not j.is_actuated:
+            k.rep.report(
+                "convert-dropped-joint",
+                f"c-space joint '{n}' is {'a mimic' if j.is_mimic else j.type} joint; "
+                "XRDF c-space holds only actuated joints; dropped",
+                where,
+            )
+        else:
+            cspace.append(n)
+    return cspace
+
+
+def _read_locks(k: _Kin, locks: Mapping[str, Any]) -> None:
+    for n, v in locks.items():
+        where = k.kp("lock_joints", n)
+        j = k.tree.joints.get(str(n))
+        if j is None:
+            k.rep.report(
+                "convert-unknown-joint",
+                f"locked joint '{n}' is not in the URDF{did_you_mean(str(n), k.tree.joints)}; "
+                "dropped",
+                where,
+            )
+        elif not is_num(v):
+            raise k.fail(f"lock_joints.{n} must be a number", "lock_joints", n)
+        elif j.is_actuated:
+            k.d.defaults[str(n)] = float(v)
+        else:
+            k.rep.report(
+                "convert-dropped-joint-value",
+                f"locked joint '{n}' is not actuated; its value is not written",
+                where,
+                severity=Severity.INFO,
+            )
+
+
+def _read_sphere_source(k: _Kin) -> None:
+    """``collision_spheres``: inline, or a file beside the config; restricted to
+    ``collision_link_names`` as cuRobo does."""
+    value = k.data.get("collision_spheres")
+    raw: Mapping[str, Any] | None = None
+    srep, sprefix = k.rep, k.kp("collision_spheres")
+    if isinstance(value, str):
+        sphere_file = find_spheres_file(value, k.config_path, k.rep, sprefix)
+        sdoc, srep = _load(sphere_file)
+        sdata = to_python(sdoc.root)
+        if not isinstance(sdata, Mapping) or not isinstance(
+            sdata.get("collision_spheres"), Mapping
+        ):
+            raise SourceError(
+                "a cuRobo spheres file needs a top-level 'collision_spheres' mapping",
+                path=sdoc.path,
+                line=1,
+            )
+        raw, sprefix = sdata["collision_spheres"], "collision_spheres"
+    elif isinstance(value, Mapping):
+        raw = value
+    elif value is not None:
+        raise k.fail(
+            "collision_spheres must be a file path or a mapping of link → spheres",
+            "collision_spheres",
+        )
+    coll_links = k.data.get("collision_link_names")
+    allowed = None if coll_links is None else {str(c) for c in coll_links}
+    if raw is None:
+        return
+    k.d.spheres = read_sphere_map(raw, k.frames, srep, sprefix, allowed)
+    if srep is not k.rep:
+        k.d.diagnostics.extend(srep.diagnostics)
+    for i, c in enumerate(coll_links or []):
+        if str(c) not in k.frames:
+            where = k.kp("collision_link_names") + f"[{i}]"
+            known_frame(str(c), k.frames, k.rep, where, "collision link")
+
+
+def _read_buffers(k: _Kin) -> None:
+    """``collision_sphere_buffer`` (scalar: every sphere frame) and ``self_collision_buffer``;
+    zero buffers are not written."""
+    sphere_frames = list((k.d.spheres or {}).keys())
+    for key, target in (
+        ("collision_sphere_buffer", k.d.world_buffer),
+        ("self_collision_buffer", k.d.self_buffer),
+    ):
+        buf = k.data.get(key)
+        if is_num(buf):
+            if float(buf) != 0.0:
+                target.update({f: float(buf) for f in sphere_frames})
+        elif isinstance(buf, Mapping):
+            for f, v in buf.items():
+                ok = known_frame(str(f), k.frames, k.rep, k.kp(key, f), key)
+                if ok and is_num(v) and float(v) != 0.0:
+                    target[str(f)] = float(v)
+        elif buf is not None:
+            raise k.fail(f"{key} must be a number or a mapping", key)
+
+
+def _read_ignore(k: _Kin) -> None:
+    for a, others in k.mapping("self_collision_ignore").items():
+        w = k.kp("self_collision_ignore", a)
+        if not known_frame(str(a), k.frames, k.rep, w, "self_collision_ignore key"):
+            continue
+        for i, b in enumerate(others or []):
+            if known_frame(str(b), k.frames, k.rep, f"{w}[{i}]", f"ignored with '{a}'"):
+                k.d.add_ignore(str(a), str(b))
+
+
+#: Radius cuRobo gives the spheres of ``extra_collision_spheres`` (attached-object slots).
+SLOT_RADIUS = -10.0
+
+
+def _read_slots(value: Any, frames: list[str], d: Draft, rep: Reporter, where: str) -> None:
+    """``extra_collision_spheres: {link: n}`` → n spheres of radius −10 at the link origin.
+
+    This is how cuRobo builds them and how cuMotion's own ``franka_curobo.xrdf`` (1.0) keeps
+    them; XRDF 2.0 cannot express them (the version converter reports that).
+    """
+    if value is None:
+        return
+    if not isinstance(value, Mapping):
+        raise SourceError(
+            "extra_collision_spheres must map links to a number of spheres",
+            path=rep.path,
+            line=rep.position(where)[0],
+        )
+    for link, n in value.items():
+        w = f"{where}.{link}"
+        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 0):
+            raise SourceError(
+                f"extra_collision_spheres.{link} must be a whole number of spheres, not {n!r}",
+                path=rep.path,
+                line=rep.position(w)[0],
+            )
+        if n and known_frame(str(link), frames, rep, w, "extra_collision_spheres link"):
+            slots = [Sphere((0.0, 0.0, 0.0), SLOT_RADIUS)] * n
+            d.spheres = d.spheres if d.spheres is not None else {}
+            d.spheres.setdefault(str(link), []).extend(slots)
+
+
+def referenced_files(path: str | os.PathLike[str]) -> list[Path]:
+    """Files a cuRobo config reads besides itself (its ``collision_spheres`` file), so that no
+    output overwrites them. Unreadable or odd configs name none (reading them reports why)."""
+    try:
+        doc, rep = _load(path)
+        kin = _kinematics(to_python(doc.root) or {})
+    except (XrdfToolsError, AttributeError, TypeError):
+        return []
+    value = kin.get("collision_spheres") if kin is not None else None
+    if not isinstance(value, str):
+        return []
+    try:
+        return [find_spheres_file(value, Path(doc.path), rep, "collision_spheres")]
+    except SourceError:
+        return []

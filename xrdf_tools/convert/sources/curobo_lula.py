@@ -1,0 +1,93 @@
+"""Lula / Isaac Sim robot description YAML → Draft (``cspace``, ``default_q``, limits,
+``root_link``, fixed ``cspace_to_urdf_rules`` and ``collision_spheres``).
+
+Called by :func:`xrdf_tools.convert.sources.curobo.read_curobo` when the layout is ``lula``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from ...util.errors import SourceError, did_you_mean
+from ...xrdf.model import SetBaseFrame, Sphere
+from . import Draft, Reporter, RobotTree, known_frame
+from .curobo_spheres import is_num, spheres_of
+
+__all__ = ["LULA_HANDLED", "read_lula"]
+
+#: The Lula keys read; others are reported as dropped.
+LULA_HANDLED = {
+    "cspace",
+    "default_q",
+    "acceleration_limits",
+    "jerk_limits",
+    "collision_spheres",
+    "root_link",
+    "cspace_to_urdf_rules",
+    "api_version",
+}
+
+
+def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter) -> None:
+    """Map a Lula robot description onto ``d``; keys it does not know are reported dropped."""
+    for key in data:
+        if key not in LULA_HANDLED:
+            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", key)
+    frames = list(tree.links)
+    root = data.get("root_link")
+    root_ok = bool(root) and known_frame(str(root), frames, rep, "root_link", "root_link")
+    if root_ok and str(root) != tree.root:
+        d.modifiers.append(SetBaseFrame(str(root)))
+    names = [str(n) for n in data.get("cspace") or []]
+    cspace = []
+    for i, n in enumerate(names):
+        if n not in tree.joints:
+            rep.report(
+                "convert-unknown-joint",
+                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, tree.joints)}; dropped",
+                f"cspace[{i}]",
+            )
+        else:
+            cspace.append(n)
+    d.cspace = cspace
+    for key, target in (
+        ("default_q", d.defaults),
+        ("acceleration_limits", d.acceleration),
+        ("jerk_limits", d.jerk),
+    ):
+        vals = data.get(key)
+        if vals is None:
+            continue
+        if not (isinstance(vals, list) and len(vals) == len(names) and all(map(is_num, vals))):
+            raise SourceError(
+                f"{key} must be a list of {len(names)} numbers (one per cspace joint)",
+                path=rep.path,
+                line=rep.position(key)[0],
+            )
+        for n, v in zip(names, vals, strict=True):
+            if n in cspace:
+                target[n] = float(v)
+    for i, rule in enumerate(data.get("cspace_to_urdf_rules") or []):
+        if isinstance(rule, Mapping) and rule.get("rule") == "fixed" and is_num(rule.get("value")):
+            n = str(rule.get("name"))
+            if tree.is_actuated(n):
+                d.defaults[n] = float(rule["value"])
+            else:
+                rep.report(
+                    "convert-unknown-joint",
+                    f"cspace_to_urdf_rules fixes '{n}', which is not an actuated URDF joint"
+                    f"{did_you_mean(n, tree.joints)}; dropped",
+                    f"cspace_to_urdf_rules[{i}]",
+                )
+    spheres = data.get("collision_spheres")
+    if isinstance(spheres, list):
+        out: dict[str, list[Sphere]] = {}
+        for i, entry in enumerate(spheres):
+            if not isinstance(entry, Mapping):
+                continue
+            for link, items in entry.items():
+                w = f"collision_spheres[{i}].{link}"
+                if known_frame(str(link), frames, rep, w, "collision spheres"):
+                    out.setdefault(str(link), []).extend(spheres_of(items, rep, w))
+        d.spheres = {k: v for k, v in out.items() if v}

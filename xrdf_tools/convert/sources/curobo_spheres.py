@@ -1,0 +1,110 @@
+"""cuRobo collision spheres: the file a config names, and sphere lists checked into the model.
+
+Shared by the cuRobo (:mod:`.curobo`) and Lula (:mod:`.curobo_lula`) readers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, TypeGuard
+
+from ...diagnostics import Severity
+from ...util.errors import SourceError
+from ...xrdf.model import Sphere
+from ...yaml.io import is_finite
+from . import Reporter, known_frame
+
+__all__ = ["find_spheres_file", "is_num", "read_sphere_map", "spheres_of"]
+
+
+def is_num(v: Any) -> TypeGuard[float]:
+    """A finite number of plain YAML data (booleans are not numbers)."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and is_finite(v)
+
+
+def find_spheres_file(value: str, config_path: Path, rep: Reporter, where: str) -> Path:
+    """The ``collision_spheres`` file ``value`` beside the config, one level up, or in its
+    ``spheres/`` folder (cuRobo's layouts); raises :class:`SourceError` when none exists."""
+    base = config_path.parent
+    candidates = [base / value, base.parent / value, base / "spheres" / Path(value).name]
+    for c in candidates:
+        if c.is_file():
+            return c
+    raise SourceError(
+        f"collision_spheres file '{value}' not found (looked in "
+        f"{', '.join(str(c.parent) for c in candidates)})",
+        path=rep.path,
+        line=rep.position(where)[0],
+    )
+
+
+def read_sphere_map(
+    raw: Mapping[str, Any],
+    frames: list[str],
+    rep: Reporter,
+    prefix: str,
+    allowed: set[str] | None,
+) -> dict[str, list[Sphere]]:
+    """``{link: spheres}`` of a sphere file or inline map, for links of ``frames``; with
+    ``allowed`` (``collision_link_names``), spheres on other links are reported and dropped."""
+    out: dict[str, list[Sphere]] = {}
+    # cuRobo looks spheres up only for collision_link_names, so a sphere file shared between
+    # robots (cuRobo's iiwa.yml uses spheres/iiwa_allegro.yml) may name links of another robot:
+    # those are neither unknown-link mistakes nor lost spheres; one info note covers them.
+    foreign: list[str] = []
+    for link, items in raw.items():
+        link = str(link)
+        w = f"{prefix}.{link}"
+        if allowed is not None and link not in allowed and link not in frames:
+            foreign.append(link)
+            continue
+        if not known_frame(link, frames, rep, w, "collision spheres"):
+            continue
+        if allowed is not None and link not in allowed:
+            rep.report(
+                "convert-unused-spheres",
+                f"spheres on '{link}' are not used by cuRobo ('{link}' is not in "
+                "collision_link_names); dropped",
+                w,
+            )
+            continue
+        spheres = spheres_of(items, rep, w)
+        if spheres:
+            out.setdefault(link, []).extend(spheres)
+    if foreign:
+        shown = ", ".join(foreign[:5]) + (
+            f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
+        )
+        rep.report(
+            "convert-unused-spheres",
+            f"spheres on {len(foreign)} link(s) that are neither in the URDF nor in "
+            f"collision_link_names ({shown}) are ignored: cuRobo never reads them (a sphere "
+            "file shared with another robot?)",
+            f"{prefix}.{foreign[0]}",
+            severity=Severity.INFO,
+        )
+    return out
+
+
+def spheres_of(items: Any, rep: Reporter, where: str) -> list[Sphere]:
+    """The spheres of one link (null: none); raises :class:`SourceError` for a malformed one."""
+    if items is None:
+        return []
+    if not isinstance(items, list):
+        raise SourceError(
+            "spheres of a link must be a list", path=rep.path, line=rep.position(where)[0]
+        )
+    out = []
+    for i, s in enumerate(items):
+        w = f"{where}[{i}]"
+        c = s.get("center") if isinstance(s, Mapping) else None
+        r = s.get("radius") if isinstance(s, Mapping) else None
+        if not (isinstance(c, list) and len(c) == 3 and all(is_num(v) for v in c) and is_num(r)):
+            raise SourceError(
+                "a sphere needs center: [x, y, z] and a numeric radius",
+                path=rep.path,
+                line=rep.position(w)[0],
+            )
+        out.append(Sphere((float(c[0]), float(c[1]), float(c[2])), float(r)))
+    return out

@@ -1,0 +1,227 @@
+"""MoveIt SRDF onto a Draft: planning group(s) → c-space, a group state → default positions,
+end effectors and chain tips → tool frames, collision masks → self-collision ignore, sphere
+approximations → spheres (mapping: docs/convert.md, "Sources").
+
+The parser is :mod:`.srdf_parse`, group expansion and choice :mod:`.srdf_groups`; their public
+names are re-exported here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from ...diagnostics import Severity
+from ...util.errors import did_you_mean
+from ...xrdf.model import Sphere
+from . import Draft, Reporter, RobotTree, known_frame
+from .srdf_groups import (
+    PREFERRED_STATES,
+    _group,
+    check_groups,
+    choose_group,
+    choose_state,
+    cspace_of,
+    group_joints,
+    group_sizes,
+)
+from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup, load_srdf, parse_srdf
+
+__all__ = [
+    "PREFERRED_STATES",
+    "EndEffector",
+    "GroupState",
+    "Srdf",
+    "SrdfGroup",
+    "check_groups",
+    "choose_group",
+    "choose_state",
+    "cspace_of",
+    "group_joints",
+    "group_sizes",
+    "load_srdf",
+    "parse_srdf",
+    "read_srdf",
+]
+
+
+def read_srdf(
+    srdf: Srdf,
+    tree: RobotTree,
+    *,
+    group: str | Sequence[str] | None = None,
+    state: str | None = None,
+    draft: Draft | None = None,
+    choose: bool = True,
+) -> Draft:
+    """Map an SRDF onto a :class:`Draft` (mapping: docs/convert.md, "Sources").
+
+    ``group`` is one group or several (their union, in the given order: a dual-arm c-space);
+    none chooses one (see :func:`choose_group`) unless ``choose`` is false (the c-space is
+    given otherwise). Every group is checked first (:func:`check_groups`).
+    """
+    d = draft or Draft()
+    rep = Reporter(srdf.path)
+    check_groups(srdf, tree)
+    groups = [group] if isinstance(group, str) else list(dict.fromkeys(group or ()))
+    for g in groups:
+        _group(srdf, g)
+    if not groups and choose:
+        groups = _choose(srdf, tree, rep)
+    d.group = "+".join(groups) or None
+    d.passive_joints |= set(srdf.passive_joints)
+    if groups:
+        cspace = [j for g in groups for j in cspace_of(srdf, g, tree)]
+        d.cspace = list(dict.fromkeys(cspace))
+    _defaults(srdf, tree, groups, state, d, rep)
+    if groups:
+        d.tool_frames = _tool_frames(srdf, tree, groups, rep)
+
+    # self-collision mask
+    for l1, l2, _reason, line in srdf.disable_collisions:
+        ok1 = known_frame(l1, tree.links, rep, "", "disable_collisions link1", line=line)
+        ok2 = known_frame(l2, tree.links, rep, "", "disable_collisions link2", line=line)
+        if ok1 and ok2:
+            d.add_ignore(l1, l2)
+    for link, line in srdf.disable_default:
+        if known_frame(link, tree.links, rep, "", "disable_default_collisions", line=line):
+            for other in tree.links:
+                d.add_ignore(link, other)
+    for l1, l2, line in srdf.enable_collisions:
+        rep.report(
+            "convert-dropped-key",
+            f"enable_collisions {l1}/{l2} re-enables a pair; XRDF has no override, so the pair "
+            "is checked unless disabled above",
+            severity=Severity.INFO,
+            line=line,
+        )
+        if l2 in d.ignore.get(l1, []):
+            d.ignore[l1].remove(l2)
+        if l1 in d.ignore.get(l2, []):
+            d.ignore[l2].remove(l1)
+    for name, vtype, line in srdf.virtual_joints:
+        rep.report(
+            "convert-virtual-joint",
+            f"virtual_joint '{name}' ({vtype}) is not represented: XRDF is relative to the "
+            "URDF root",
+            severity=Severity.INFO,
+            line=line,
+        )
+
+    # spheres
+    if srdf.spheres:
+        spheres: dict[str, list[Sphere]] = {}
+        for link, ss, line in srdf.spheres:
+            if not known_frame(link, tree.links, rep, "", "link_sphere_approximation", line=line):
+                continue
+            kept = [s for s in ss if s.radius > 0]
+            if len(kept) < len(ss) and kept:
+                rep.report(
+                    "convert-placeholder-spheres",
+                    f"{len(ss) - len(kept)} sphere(s) of radius ≤ 0 on '{link}' dropped",
+                    severity=Severity.INFO,
+                    line=line,
+                )
+            if kept:
+                spheres.setdefault(link, []).extend(kept)
+        d.spheres = spheres
+    d.diagnostics.extend(rep.diagnostics)
+    return d
+
+
+def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
+    group, why = choose_group(srdf, tree)
+    if group is None:
+        return []
+    sizes = group_sizes(srdf, tree)
+    others = [f"{g} ({sizes[g]})" for g in srdf.groups if g != group]
+    rep.report(
+        "convert-chosen-group",
+        f"planning group '{group}' chosen: {why}"
+        + (f"; others (actuated joints): {', '.join(others)}" if others else "")
+        + "; use --group (repeatable for several groups)",
+        line=srdf.groups[group].line,
+    )
+    return [group]
+
+
+def _defaults(
+    srdf: Srdf,
+    tree: RobotTree,
+    groups: list[str],
+    state: str | None,
+    d: Draft,
+    rep: Reporter,
+) -> None:
+    """Default positions from one group_state per group (the first group wins a conflict)."""
+    chosen: list[GroupState] = []
+    targets: list[str | None] = [*groups] or [None]
+    for g in targets:
+        cspace = cspace_of(srdf, g, tree) if g is not None else (d.cspace or [])
+        st, why = choose_state(srdf, g, cspace, state)
+        if st is None or st in chosen:
+            continue
+        chosen.append(st)
+        if why != "requested":
+            rep.report(
+                "convert-chosen-state",
+                f"default positions from group_state '{st.name}' ({why})",
+                line=st.line,
+            )
+    for st in chosen:
+        for jname, value in st.values:
+            if _state_value_ok(srdf, tree, st, jname, rep) and jname not in d.defaults:
+                d.defaults[jname] = value
+
+
+def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep: Reporter) -> bool:
+    j = tree.joints.get(jname)
+    if j is None:
+        rep.report(
+            "convert-unknown-joint",
+            f"group_state '{st.name}' sets '{jname}', which is not a joint of the "
+            f"URDF{did_you_mean(jname, tree.joints)}; dropped",
+            line=st.line,
+        )
+        return False
+    if not j.is_actuated or jname in srdf.passive_joints:
+        kind = "a mimic" if j.is_mimic else ("passive" if j.is_movable else j.type)
+        rep.report(
+            "convert-dropped-joint-value",
+            f"group_state '{st.name}' sets '{jname}', which is {kind} joint; "
+            "XRDF default positions hold only actuated joints; dropped",
+            severity=Severity.INFO,
+            line=st.line,
+        )
+        return False
+    return True
+
+
+def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) -> list[str]:
+    """Per group in order: end effectors attached to it (or its subgroups), then chain tips."""
+    frames: list[str] = []
+    for group in groups:
+        members = _subgroups(srdf, group)
+        for ee in srdf.end_effectors:
+            owner = ee.parent_group or ee.group
+            if owner in members and known_frame(
+                ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", line=ee.line
+            ):
+                frames.append(ee.parent_link)
+        for gname in members:
+            for _, tip in srdf.groups[gname].chains:
+                frames.append(tip)
+    return list(dict.fromkeys(frames))
+
+
+def _subgroups(srdf: Srdf, name: str) -> list[str]:
+    out: list[str] = []
+    seen: set[str] = set()
+    stack = [name]
+    while stack:
+        g = stack.pop()
+        if g in seen or g not in srdf.groups:
+            continue
+        seen.add(g)
+        out.append(g)
+        stack.extend(reversed(srdf.groups[g].subgroups))
+    return out

@@ -1,0 +1,287 @@
+"""MoveIt planning groups of an SRDF against the URDF tree: expansion, checks and choice.
+
+Group expansion (MoveIt ``RobotModel``, see docs/convert.md, "Sources"): a ``chain`` walks up
+from ``tip_link`` adding each parent joint and stops at ``base_link`` (whose own parent joint is
+not included); a ``joint`` is itself; a ``link`` contributes its parent joint; a subgroup
+contributes all of its joints. Joints are ordered depth-first in URDF tree order (siblings by
+name). The c-space is the group's joints minus fixed, mimic and passive joints.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from ...util.errors import SourceError, did_you_mean
+from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
+from . import RobotTree
+from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup
+
+__all__ = [
+    "PREFERRED_STATES",
+    "check_groups",
+    "choose_group",
+    "choose_state",
+    "cspace_of",
+    "group_joints",
+    "group_sizes",
+]
+
+PREFERRED_STATES = ("home", "ready", "default")
+
+
+def _group(srdf: Srdf, name: str) -> SrdfGroup:
+    if name not in srdf.groups:
+        raise SourceError(
+            f"no group '{name}' in the SRDF{did_you_mean(name, srdf.groups)} "
+            f"(groups: {', '.join(srdf.groups) or 'none'})",
+            path=srdf.path,
+        )
+    return srdf.groups[name]
+
+
+def _virtual_joints(srdf: Srdf) -> set[str]:
+    return {name for name, _type, _line in srdf.virtual_joints}
+
+
+def _own_problems(srdf: Srdf, g: SrdfGroup, tree: RobotTree) -> list[str]:
+    """What is wrong with the elements of group ``g`` itself (subgroups not followed)."""
+    virtual = _virtual_joints(srdf)
+    joints = [j for j in g.joints if j not in tree.joints and j not in virtual]
+    links = [n for n in g.links if n not in tree.links]
+    chain_links = [n for c in g.chains for n in c if n not in tree.links]
+    subs = [s for s in g.subgroups if s not in srdf.groups]
+    out = []
+    for what, names, pool in (
+        ("joint", joints, tree.joints),
+        ("link", links, tree.links),
+        ("chain link", chain_links, tree.links),
+        ("subgroup", subs, srdf.groups),
+    ):
+        if names:
+            out.append(_unknown(what, names, pool))
+    for base, tip in g.chains:
+        if base in tree.links and tip in tree.links and base not in (tip, *tree.ancestors(tip)):
+            out.append(f"chain base '{base}' is not an ancestor of tip '{tip}'")
+    return out
+
+
+def _unknown(what: str, names: list[str], pool: Iterable[str]) -> str:
+    shown = ", ".join(f"'{n}'" for n in names[:6])
+    more = f" and {len(names) - 6} more" if len(names) > 6 else ""
+    plural = "s" if len(names) > 1 else ""
+    hint = did_you_mean(names[0], pool).removeprefix("; ").removesuffix("?")
+    hint = f" ({hint} for '{names[0]}'?)" if hint else ""
+    return f"unknown {what}{plural} {shown}{more}{hint}"
+
+
+def check_groups(srdf: Srdf, tree: RobotTree) -> None:
+    """Raise :class:`SourceError` when any group names joints, links or subgroups that do
+    not exist (virtual joints are known), or has a chain whose base is not above its tip.
+
+    Every broken group is named with its unknown names, whether or not it is the group
+    being converted: a broken group is a broken SRDF, never silently skipped.
+    """
+    broken = [(g, _own_problems(srdf, g, tree)) for g in srdf.groups.values()]
+    broken = [(g, p) for g, p in broken if p]
+    if not broken:
+        return
+    parts = [f"group '{g.name}' (line {g.line}): {'; '.join(p)}" for g, p in broken]
+    raise SourceError(
+        f"{len(broken)} SRDF group(s) do not match the URDF: " + " | ".join(parts),
+        path=srdf.path,
+        line=broken[0][0].line,
+    )
+
+
+def _own_joints(srdf: Srdf, gname: str, tree: RobotTree) -> set[str]:
+    """Joints that group ``gname`` names itself (joints, links, chains; not its subgroups)."""
+    g = _group(srdf, gname)
+    found: set[str] = set()
+
+    def fail(msg: str) -> SourceError:
+        return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
+
+    virtual = _virtual_joints(srdf)
+    for j in g.joints:
+        if j in virtual:
+            continue  # a virtual joint is not a URDF joint: it contributes nothing
+        if j not in tree.joints:
+            raise fail(f"unknown joint '{j}'{did_you_mean(j, tree.joints)}")
+        found.add(j)
+    for link in g.links:
+        if link not in tree.links:
+            raise fail(f"unknown link '{link}'{did_you_mean(link, tree.links)}")
+        if link in tree.parent_joint:
+            found.add(tree.parent_joint[link])
+    for base, tip in g.chains:
+        for link in (base, tip):
+            if link not in tree.links:
+                raise fail(
+                    f"chain link '{link}' is not in the URDF{did_you_mean(link, tree.links)}"
+                )
+        chain = tree.chain_joints(base, tip)
+        if chain is None:
+            raise fail(f"chain base '{base}' is not an ancestor of tip '{tip}'")
+        found.update(chain)
+    return found
+
+
+def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
+    """All joints of group ``name`` (fixed ones included) in MoveIt's order.
+
+    Virtual joints (``<virtual_joint>``) are not URDF joints and contribute nothing. Raises
+    :class:`SourceError` for names that are not in the URDF, a chain whose base is not an
+    ancestor of its tip, or subgroups that include each other.
+    """
+    # subgroups: each visited once, without recursion (1,000s of nested groups are fine)
+    members, cycle = reachable(name, lambda gname: _group(srdf, gname).subgroups)
+    if cycle is not None:
+        raise SourceError(
+            f"groups include each other: {show_path(cycle)}",
+            path=srdf.path,
+            line=srdf.groups[cycle[0]].line,
+        )
+    found: set[str] = set()
+    for gname in members:
+        found |= _own_joints(srdf, gname, tree)
+    return [j for j in tree.dfs_joints() if j in found]
+
+
+def _cspace_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
+    """``len(cspace_of(g))`` of every group, 0 when it does not resolve, in one pass over the
+    groups (children first), so thousands of nested groups stay linear."""
+    groups = srdf.groups
+
+    def subs(g: str) -> list[str]:
+        return list(groups[g].subgroups) if g in groups else []
+
+    cyclic = nodes_on_cycles(groups, subs)
+    joints: dict[str, frozenset[str] | None] = {}
+    for g in postorder(groups, subs):
+        if g not in groups or g in cyclic:
+            joints[g] = None
+            continue
+        try:
+            own = frozenset(_own_joints(srdf, g, tree))
+        except SourceError:
+            own = None
+        parts = [joints.get(s) for s in groups[g].subgroups]
+        known = [p for p in parts if p is not None]
+        joints[g] = None if own is None or len(known) < len(parts) else own.union(*known)
+    passive = set(srdf.passive_joints)
+    return {
+        g: 0 if js is None else sum(1 for j in js if tree.is_actuated(j) and j not in passive)
+        for g, js in joints.items()
+        if g in groups
+    }
+
+
+def cspace_of(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
+    """C-space of group ``name``: its joints minus fixed, mimic and passive joints."""
+    passive = set(srdf.passive_joints)
+    return [j for j in group_joints(srdf, name, tree) if tree.is_actuated(j) and j not in passive]
+
+
+def _path_joints(tree: RobotTree, link: str) -> set[str]:
+    """Joints between the root and ``link``."""
+    return {tree.parent_joint[n] for n in (link, *tree.ancestors(link)) if n in tree.parent_joint}
+
+
+def _is_gripper(srdf: Srdf, ee: EndEffector, tree: RobotTree) -> bool:
+    """``ee.group`` is the end effector itself (MoveIt's meaning): none of its joints moves
+    the parent link. Many SRDFs instead name the arm there (Panda, Talos): not a gripper."""
+    if ee.group is None or ee.group not in srdf.groups or ee.parent_link not in tree.links:
+        return False
+    return not set(group_joints(srdf, ee.group, tree)) & _path_joints(tree, ee.parent_link)
+
+
+def _carries(srdf: Srdf, g: str, ee: EndEffector, tree: RobotTree, gripper: bool) -> bool:
+    """Group ``g`` carries end effector ``ee``: named as its parent group, named as its
+    group (not a gripper), or it holds the last joint moving the parent link and not the
+    gripper's joints."""
+    if ee.parent_group is not None:
+        return ee.parent_group == g
+    if ee.group == g:
+        return not gripper
+    last = _nearest_actuated(tree, ee.parent_link)
+    if last is None:
+        return False
+    joints = set(group_joints(srdf, g, tree))
+    own = set(group_joints(srdf, ee.group, tree)) if gripper and ee.group else set()
+    return last in joints and not joints & own
+
+
+def _nearest_actuated(tree: RobotTree, link: str) -> str | None:
+    """The first actuated joint above ``link`` (the one that moves it last)."""
+    for n in (link, *tree.ancestors(link)):
+        jn = tree.parent_joint.get(n)
+        if jn is not None and tree.is_actuated(jn):
+            return jn
+    return None
+
+
+def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
+    """The default planning group and why it was chosen (``None`` when the SRDF has none).
+
+    Candidates are the groups without subgroups that are not an end effector's gripper (all
+    groups when none of those has a movable joint); the one with the most actuated joints
+    wins, ties going to the group carrying the earliest end effector, then SRDF order.
+    """
+    order = list(srdf.groups)
+    sizes = _cspace_sizes(srdf, tree)
+    grippers = {ee.name: _is_gripper(srdf, ee, tree) for ee in srdf.end_effectors}
+    excluded = {ee.group for ee in srdf.end_effectors if grippers[ee.name]}
+    plain = [g for g in order if not srdf.groups[g].subgroups and g not in excluded]
+    cands = [g for g in plain if sizes[g] > 0] or [g for g in order if sizes[g] > 0]
+    if not cands:
+        return None, "the SRDF has no group with movable joints"
+
+    def ee_rank(g: str) -> tuple[int, str]:
+        for i, ee in enumerate(srdf.end_effectors):
+            if _carries(srdf, g, ee, tree, grippers[ee.name]):
+                return i, ee.name
+        return len(srdf.end_effectors), ""
+
+    best = min(cands, key=lambda g: (-sizes[g], ee_rank(g)[0], order.index(g)))
+    kind = "group without subgroups" if best in plain else "group"
+    why = f"the {kind} with the most actuated joints ({sizes[best]})"
+    ee_name = ee_rank(best)[1]
+    if ee_name:
+        why += f", carrying end effector '{ee_name}'"
+    return best, why
+
+
+def group_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
+    """Actuated joints per group (for messages listing the alternatives)."""
+    return _cspace_sizes(srdf, tree)
+
+
+def choose_state(
+    srdf: Srdf, group: str | None, cspace: list[str], requested: str | None
+) -> tuple[GroupState | None, str]:
+    """The group state giving default positions, and why it was chosen."""
+    if requested is not None:
+        for s in srdf.group_states:
+            if s.name == requested and (group is None or s.group in (group, None)):
+                return s, "requested"
+        for s in srdf.group_states:
+            if s.name == requested:
+                return s, "requested"
+        names = [s.name for s in srdf.group_states]
+        raise SourceError(
+            f"no group_state '{requested}'{did_you_mean(requested, names)} "
+            f"(states: {', '.join(names) or 'none'})",
+            path=srdf.path,
+        )
+    own = [s for s in srdf.group_states if group is not None and s.group == group]
+    covering = [
+        s for s in srdf.group_states if s not in own and set(cspace) <= {n for n, _ in s.values}
+    ]
+    for cands, why in ((own, f"of group '{group}'"), (covering, "covering the c-space")):
+        for pref in PREFERRED_STATES:
+            for s in cands:
+                if s.name == pref:
+                    return s, f"the state named '{pref}' {why}"
+        if cands:
+            return cands[0], f"the first state {why}"
+    return None, ""

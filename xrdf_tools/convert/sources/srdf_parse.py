@@ -1,0 +1,231 @@
+"""MoveIt SRDF: the parsed document (:class:`Srdf`) and its parser.
+
+Only the elements that matter for an XRDF are kept (groups, group states, end effectors,
+virtual and passive joints, collision masks, sphere approximations), each with its source line.
+Group expansion and choice are in :mod:`.srdf_groups`, the mapping onto a Draft in :mod:`.srdf`.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from ...util.errors import SourceError
+from ...util.fileio import read_input_bytes
+from ...xrdf.model import Sphere
+
+__all__ = ["EndEffector", "GroupState", "Srdf", "SrdfGroup", "load_srdf", "parse_srdf"]
+
+
+@dataclass(frozen=True)
+class SrdfGroup:
+    name: str
+    links: tuple[str, ...] = ()
+    joints: tuple[str, ...] = ()
+    chains: tuple[tuple[str, str], ...] = ()
+    subgroups: tuple[str, ...] = ()
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class GroupState:
+    name: str
+    group: str | None
+    values: tuple[tuple[str, float], ...]
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class EndEffector:
+    name: str
+    parent_link: str
+    group: str | None
+    parent_group: str | None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Srdf:
+    path: str
+    robot_name: str
+    groups: dict[str, SrdfGroup] = field(default_factory=dict)
+    group_states: tuple[GroupState, ...] = ()
+    end_effectors: tuple[EndEffector, ...] = ()
+    virtual_joints: tuple[tuple[str, str, int | None], ...] = ()  # name, type, line
+    passive_joints: tuple[str, ...] = ()
+    disable_collisions: tuple[tuple[str, str, str, int | None], ...] = ()  # l1, l2, reason, line
+    disable_default: tuple[tuple[str, int | None], ...] = ()
+    enable_collisions: tuple[tuple[str, str, int | None], ...] = ()
+    spheres: tuple[tuple[str, tuple[Sphere, ...], int | None], ...] = ()
+
+
+def load_srdf(path: str | os.PathLike[str]) -> Srdf:
+    """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used."""
+    p = os.fspath(path)
+    return parse_srdf(read_input_bytes(p, what="SRDF file", error=SourceError), p)
+
+
+def parse_srdf(data: bytes | str, path: str = "<srdf>") -> Srdf:
+    """Parse SRDF text; raises :class:`SourceError` (with the line) for malformed XML, a root
+    that is not ``<robot>``, a missing attribute, a value that is not a number, or a group
+    defined twice. Elements other than those MoveIt defines are ignored."""
+    from lxml import etree
+
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, remove_comments=True)
+    try:
+        root = etree.fromstring(raw, parser)
+    except etree.XMLSyntaxError as e:
+        line = e.position[0] if e.position else None
+        msg = (e.msg or "not well-formed").splitlines()[0]
+        raise SourceError(f"malformed SRDF XML: {msg}", path=path, line=line) from None
+    if root is None or root.tag != "robot":
+        raise SourceError("the root element of an SRDF must be <robot>", path=path, line=1)
+    p = _Parser(path)
+    for el in root:
+        if isinstance(el.tag, str) and el.tag in _ELEMENTS:
+            _ELEMENTS[el.tag](p, el)
+    return Srdf(
+        path=path,
+        robot_name=root.get("name") or "",
+        groups=p.groups,
+        group_states=tuple(p.states),
+        end_effectors=tuple(p.ees),
+        virtual_joints=tuple(p.vjs),
+        passive_joints=tuple(p.passive),
+        disable_collisions=tuple(p.disabled),
+        disable_default=tuple(p.disable_default),
+        enable_collisions=tuple(p.enabled),
+        spheres=tuple(p.spheres),
+    )
+
+
+class _Parser:
+    """What has been read so far, and attribute access that raises at the element's line."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.groups: dict[str, SrdfGroup] = {}
+        self.states: list[GroupState] = []
+        self.ees: list[EndEffector] = []
+        self.vjs: list[tuple[str, str, int | None]] = []
+        self.passive: list[str] = []
+        self.disabled: list[tuple[str, str, str, int | None]] = []
+        self.disable_default: list[tuple[str, int | None]] = []
+        self.enabled: list[tuple[str, str, int | None]] = []
+        self.spheres: list[tuple[str, tuple[Sphere, ...], int | None]] = []
+
+    def req(self, el: Any, attr: str) -> str:
+        """A required, non-empty attribute."""
+        v = el.get(attr)
+        if not v:
+            raise SourceError(
+                f"<{el.tag}> needs a '{attr}' attribute", path=self.path, line=el.sourceline
+            )
+        return str(v)
+
+    def num(self, el: Any, attr: str) -> float:
+        """A required number attribute (its first word, as MoveIt reads it)."""
+        raw_v = self.req(el, attr)
+        try:
+            return float(raw_v.split()[0])
+        except (ValueError, IndexError):
+            raise SourceError(
+                f"<{el.tag}> {attr}='{raw_v}' is not a number", path=self.path, line=el.sourceline
+            ) from None
+
+
+def _group(p: _Parser, el: Any) -> None:
+    name = p.req(el, "name")
+    links, joints, chains, subs = [], [], [], []
+    for c in el:
+        if c.tag == "link":
+            links.append(p.req(c, "name"))
+        elif c.tag == "joint":
+            joints.append(p.req(c, "name"))
+        elif c.tag == "chain":
+            chains.append((p.req(c, "base_link"), p.req(c, "tip_link")))
+        elif c.tag == "group":
+            subs.append(p.req(c, "name"))
+    if name in p.groups:
+        raise SourceError(
+            f"group '{name}' is defined twice (first on line {p.groups[name].line})",
+            path=p.path,
+            line=el.sourceline,
+        )
+    p.groups[name] = SrdfGroup(
+        name, tuple(links), tuple(joints), tuple(chains), tuple(subs), el.sourceline
+    )
+
+
+def _group_state(p: _Parser, el: Any) -> None:
+    values = tuple((p.req(j, "name"), p.num(j, "value")) for j in el if j.tag == "joint")
+    p.states.append(GroupState(p.req(el, "name"), el.get("group"), values, el.sourceline))
+
+
+def _end_effector(p: _Parser, el: Any) -> None:
+    p.ees.append(
+        EndEffector(
+            p.req(el, "name"),
+            p.req(el, "parent_link"),
+            el.get("group"),
+            el.get("parent_group"),
+            el.sourceline,
+        )
+    )
+
+
+def _virtual_joint(p: _Parser, el: Any) -> None:
+    p.vjs.append((p.req(el, "name"), el.get("type") or "", el.sourceline))
+
+
+def _passive_joint(p: _Parser, el: Any) -> None:
+    p.passive.append(p.req(el, "name"))
+
+
+def _disable_collisions(p: _Parser, el: Any) -> None:
+    p.disabled.append(
+        (p.req(el, "link1"), p.req(el, "link2"), el.get("reason") or "", el.sourceline)
+    )
+
+
+def _disable_default(p: _Parser, el: Any) -> None:
+    p.disable_default.append((p.req(el, "link"), el.sourceline))
+
+
+def _enable_collisions(p: _Parser, el: Any) -> None:
+    p.enabled.append((p.req(el, "link1"), p.req(el, "link2"), el.sourceline))
+
+
+def _sphere_approximation(p: _Parser, el: Any) -> None:
+    ss = []
+    for s in el:
+        if s.tag != "sphere":
+            continue
+        c = p.req(s, "center").split()
+        try:
+            center = (float(c[0]), float(c[1]), float(c[2]))
+        except (ValueError, IndexError):
+            raise SourceError(
+                f"sphere center '{' '.join(c)}' must be three numbers",
+                path=p.path,
+                line=s.sourceline,
+            ) from None
+        ss.append(Sphere(center, p.num(s, "radius")))
+    p.spheres.append((p.req(el, "link"), tuple(ss), el.sourceline))
+
+
+#: The SRDF elements read, by tag, each with its reader.
+_ELEMENTS: dict[str, Callable[[_Parser, Any], None]] = {
+    "group": _group,
+    "group_state": _group_state,
+    "end_effector": _end_effector,
+    "virtual_joint": _virtual_joint,
+    "passive_joint": _passive_joint,
+    "disable_collisions": _disable_collisions,
+    "disable_default_collisions": _disable_default,
+    "enable_collisions": _enable_collisions,
+    "link_sphere_approximation": _sphere_approximation,
+}

@@ -1,0 +1,90 @@
+"""Render an :class:`~xrdf_tools.diff.XrdfDiff` as text or JSON (strings; nothing is printed).
+
+The JSON schema (``"schema": "xrdf-diff"``, ``"version": 1``) is documented in ``docs/diff.md``.
+"""
+
+from __future__ import annotations
+
+import json
+
+from . import Change, Detail, Level, XrdfDiff
+
+#: How many per-sphere lines a text rendering shows under one change (the rest are counted).
+MAX_DETAILS = 12
+
+_MARK = {"added": "+", "removed": "-"}
+_DETAIL_MARK = {"added": "+", "removed": "-", "radius-changed": "~", "moved": ">"}
+
+
+def _marker(change: Change) -> str:
+    return _MARK.get(change.kind.rsplit("-", 1)[-1], "~")
+
+
+def _num(v: float) -> str:
+    return repr(float(v))
+
+
+def _vec(v: tuple[float, float, float]) -> str:
+    return "[" + ", ".join(_num(c) for c in v) + "]"
+
+
+def _detail_line(d: Detail) -> str:
+    mark = _DETAIL_MARK.get(d.kind, "~")
+    if d.before is None and d.after is not None:
+        return f"{mark} center {_vec(d.after.center)} radius {_num(d.after.radius)}"
+    if d.after is None and d.before is not None:
+        return f"{mark} center {_vec(d.before.center)} radius {_num(d.before.radius)}"
+    assert d.before is not None and d.after is not None
+    if d.kind == "radius-changed":
+        return (
+            f"{mark} center {_vec(d.before.center)} radius {_num(d.before.radius)} -> "
+            f"{_num(d.after.radius)}"
+        )
+    return (
+        f"{mark} center {_vec(d.before.center)} -> {_vec(d.after.center)} "
+        f"radius {_num(d.after.radius)}"
+    )
+
+
+def _side(label: str, path: str, version: str) -> str:
+    return f"{label} {path or '<document>'} (XRDF {version})"
+
+
+def render_text(diff: XrdfDiff, *, max_details: int = MAX_DETAILS) -> str:
+    """Changes grouped by section with counts, then notes, then a one-line summary.
+
+    Markers: ``+`` added, ``-`` removed, ``~`` changed; per-sphere lines also use ``>`` for a
+    moved sphere. Minor (naming/format) changes end with ``[minor]``.
+    """
+    lines = [
+        _side("---", diff.a.path, diff.a.format_version),
+        _side("+++", diff.b.path, diff.b.format_version),
+    ]
+    for section, changes in diff.by_section():
+        lines.append(f"{section}: {len(changes)} change{'' if len(changes) == 1 else 's'}")
+        for c in changes:
+            minor = " [minor]" if c.level is Level.MINOR else ""
+            lines.append(f"  {_marker(c)} {c.message}{minor}")
+            shown = c.details[:max_details]
+            lines.extend(f"      {_detail_line(d)}" for d in shown)
+            if len(c.details) > len(shown):
+                lines.append(f"      … {len(c.details) - len(shown)} more")
+    if diff.notes:
+        lines.append("notes (not differences):")
+        lines.extend(f"  i {n.message}" for n in diff.notes)
+    if diff.is_equal:
+        lines.append(f"identical (tolerance {diff.tolerance:g})")
+    else:
+        sections = len(diff.by_section())
+        lines.append(
+            f"different: {len(diff.changes)} change{'' if len(diff.changes) == 1 else 's'} "
+            f"({len(diff.major_changes)} major, {len(diff.minor_changes)} minor) in "
+            f"{sections} section{'' if sections == 1 else 's'} "
+            f"(tolerance {diff.tolerance:g})"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def render_json(diff: XrdfDiff) -> str:
+    """Stable JSON (``XrdfDiff.to_dict``), indented, one trailing newline."""
+    return json.dumps(diff.to_dict(), indent=2, ensure_ascii=False) + "\n"

@@ -1,0 +1,1 @@
+"""XRDF → other formats: a cuRobo robot YAML and a MoveIt SRDF."""

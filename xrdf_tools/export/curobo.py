@@ -1,0 +1,251 @@
+"""XRDF → other formats: a cuRobo robot YAML and MoveIt SRDF ``disable_collisions``.
+
+The SRDF side lives in :mod:`xrdf_tools.export.srdf` (``to_srdf`` is re-exported here).
+
+Pure: functions return text and diagnostics. ``to_curobo`` writes what cuRobo's loader accepts:
+every number a float (``0.0``, never ``0``: cuRobo broadcasts Python floats only), ``FIXED``
+joint types in upper case, lists in c-space order looked up *by joint name* (cuRobo's own XRDF
+reader fills defaults in URDF order — a bug we do not copy), buffers per link.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ..diagnostics import Diagnostic, Severity
+from ..robot.tree import RobotTree
+from ..util.errors import ConversionError
+from ..xrdf.io import format_float, format_str
+from ..xrdf.model import RemoveMimicAttributes, Xrdf
+from .srdf import to_srdf
+
+if TYPE_CHECKING:
+    from ..robot.core import Robot
+
+__all__ = ["CUROBO_LAYOUTS", "for_target", "to_curobo", "to_srdf"]
+
+CUROBO_LAYOUTS = ("2.0", "classic")
+
+
+def _scalar(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return format_float(float(v))
+    if v is None:
+        return "null"
+    return format_str(str(v))
+
+
+def _emit(value: Any, indent: int) -> list[str]:
+    pad = "  " * indent
+    lines: list[str] = []
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            nested = isinstance(v, list) and any(isinstance(i, (Mapping, list)) for i in v)
+            if (isinstance(v, Mapping) and v) or nested:
+                lines.append(f"{pad}{format_str(str(k))}:")
+                lines += _emit(v, indent + 1)
+            else:
+                lines.append(f"{pad}{format_str(str(k))}: {_inline(v)}")
+    elif isinstance(value, list):
+        for item in value:
+            sub = _emit(item, indent + 1) if isinstance(item, (Mapping, list)) else []
+            if sub:
+                lines.append(f"{pad}- {sub[0].lstrip()}")
+                lines += sub[1:]
+            else:
+                lines.append(f"{pad}- {_inline(item)}")
+    return lines
+
+
+def _inline(v: Any) -> str:
+    if isinstance(v, Mapping):
+        return "{" + ", ".join(f"{format_str(str(k))}: {_inline(x)}" for k, x in v.items()) + "}"
+    if isinstance(v, list):
+        return "[" + ", ".join(_inline(x) for x in v) + "]"
+    return _scalar(v)
+
+
+def for_target(
+    x: Xrdf, target: str | None, format_version: str | None = None
+) -> tuple[Xrdf, list[Diagnostic]]:
+    """``x`` rewritten in the XRDF version ``target`` loads (or ``format_version``), with a
+    diagnostic for everything the version change could not carry over."""
+    from ..xrdf.readers import choose_version, parse_target
+    from ..xrdf.versions import to_version
+
+    version, why = choose_version(x, format_version, parse_target(target))
+    out, diags = to_version(x, version)
+    if why:
+        diags.append(Diagnostic(x.source.path, None, None, "export-version", Severity.WARNING, why))
+    return out, diags
+
+
+def _located(x: Xrdf, key_path: str, message: str) -> ConversionError:
+    """A :class:`ConversionError` at ``key_path`` of ``x`` (the document's start when the key
+    is absent), so that the one-line error names the XRDF file and its line."""
+    return ConversionError(message, **x.source.locate(key_path))
+
+
+def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
+    """Raise :class:`ConversionError` / :class:`SourceError` when ``x`` cannot become a cuRobo
+    config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot."""
+    from ..robot.binding import check_belongs
+
+    if layout not in CUROBO_LAYOUTS:
+        raise ConversionError(
+            f"unknown cuRobo layout '{layout}'; choose {', '.join(CUROBO_LAYOUTS)}"
+        )
+    if x.cspace is None:
+        raise _located(x, "", "the XRDF has no cspace; cuRobo needs one")
+    for i, m in enumerate(x.modifiers):
+        if isinstance(m, RemoveMimicAttributes):
+            raise _located(
+                x,
+                f"modifiers[{i}]",
+                "remove_mimic_attributes has no cuRobo equivalent; edit the URDF instead",
+            )
+    base = x.base_frame()
+    check_belongs(x, tree.with_root(base) if base in tree.links else tree)
+
+
+def to_curobo(
+    x: Xrdf,
+    tree: RobotTree | Robot,
+    *,
+    layout: str = "2.0",
+    urdf_path: str | os.PathLike[str] | None = None,
+) -> tuple[str, list[Diagnostic]]:
+    """A cuRobo robot configuration (``robot_cfg: {kinematics: ...}``) for ``x`` and its URDF.
+
+    ``layout`` is ``"2.0"`` (``tool_frames``, ``default_joint_position``) or ``"classic"``
+    (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). Joints that have a default
+    position but are not in the c-space become ``lock_joints``. ``tree`` is the URDF's
+    :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`.
+    """
+    if not isinstance(tree, RobotTree):
+        tree = tree.tree
+    _check_exportable(x, tree, layout)
+    assert x.cspace is not None
+    diags: list[Diagnostic] = []
+    path = x.source.path
+
+    def note(rule: str, msg: str, sev: Severity = Severity.WARNING) -> None:
+        diags.append(Diagnostic(path, None, None, rule, sev, msg, ""))
+
+    base = x.base_frame()
+    kin: dict[str, Any] = {}
+    if layout == "2.0":
+        kin["format_version"] = 2.0
+    # cuRobo joins a relative urdf_path to its own asset directory: absolute paths are found
+    upath = (Path(urdf_path) if urdf_path is not None else Path(tree.path)).resolve()
+    kin["urdf_path"] = str(upath)
+    kin["asset_root_path"] = str(upath.parent)
+    kin["base_link"] = base or tree.root
+
+    tools = list(x.tool_frames or [])
+    if not tools:
+        raise _located(
+            x, "tool_frames", "the XRDF has no tool_frames; cuRobo needs an end effector"
+        )
+    if layout == "2.0":
+        kin["tool_frames"] = tools
+    else:
+        kin["ee_link"] = tools[0]
+        kin["link_names"] = tools
+
+    world = dict(x.world_collision_spheres())
+    if (
+        x.self_collision is not None
+        and x.world_collision is not None
+        and x.self_collision.geometry != x.world_collision.geometry
+    ):
+        note(
+            "export-different-groups",
+            f"world and self collision use different groups; cuRobo has one sphere set, the "
+            f"world group '{x.world_collision.geometry}' is written",
+        )
+    if not world and x.self_collision is not None:
+        world = dict(x.self_collision_spheres())
+    spheres = {
+        f: [{"center": list(s.center), "radius": s.radius} for s in ss]
+        for f, ss in sorted(world.items())
+        if ss
+    }
+    kin["collision_link_names"] = list(spheres)
+    kin["collision_spheres"] = spheres
+    wbuf = dict(x.world_collision.buffer_distance) if x.world_collision else {}
+    kin["collision_sphere_buffer"] = (
+        {f: wbuf.get(f, 0.0) for f in [*spheres, *(k for k in wbuf if k not in spheres)]}
+        if any(wbuf.values())
+        else 0.0
+    )
+    ignore: dict[str, list[str]] = {}
+    if x.self_collision is not None:
+        for a, bs in x.self_collision.ignore.items():
+            for b in bs:
+                if b not in ignore.get(a, []) and a not in ignore.get(b, []):
+                    ignore.setdefault(a, []).append(b)
+        sbuf = {f: v for f, v in sorted(x.self_collision.buffer_distance.items())}
+    else:
+        sbuf = {}
+    kin["self_collision_ignore"] = {a: ignore[a] for a in sorted(ignore)}
+    kin["self_collision_buffer"] = sbuf
+
+    extra: dict[str, Any] = {}
+    for m in x.added_frames():
+        w, qx, qy, qz = m.orientation.as_wxyz()
+        extra[m.frame_name] = {
+            "parent_link_name": m.parent_frame_name,
+            "link_name": m.frame_name,
+            "joint_name": m.joint_name,
+            "joint_type": "FIXED",
+            "fixed_transform": [*m.position, w, qx, qy, qz],
+        }
+    kin["extra_links"] = extra or None
+    if x.extra:
+        note("export-dropped-key", f"top-level keys {', '.join(x.extra)} are not exported")
+
+    cs = x.cspace
+    defaults = dict(x.default_joint_positions or {})
+    locks = {j: v for j, v in defaults.items() if j not in cs.joint_names and tree.is_actuated(j)}
+    for j in defaults:
+        if j not in cs.joint_names and j not in locks:
+            note("export-dropped-joint", f"default position of '{j}' is not an actuated joint")
+    missing = [j for j in cs.joint_names if j not in defaults]
+    if missing:
+        note(
+            "export-default-positions",
+            f"no default position for {', '.join(missing)}: cuRobo needs one, 0.0 written",
+        )
+    kin["lock_joints"] = locks or None
+    names = [*cs.joint_names, *locks]
+    acc = list(cs.acceleration_limits)
+    jerk = list(cs.jerk_limits)
+    if len(acc) != len(cs.joint_names) or len(jerk) != len(cs.joint_names):
+        raise _located(x, "cspace", "cspace limits do not match the number of c-space joints")
+    fill_a = max(acc, default=10.0)
+    fill_j = max(jerk, default=1000.0)
+    cspace: dict[str, Any] = {"joint_names": names}
+    key = "default_joint_position" if layout == "2.0" else "retract_config"
+    cspace[key] = [defaults.get(j, 0.0) for j in names]
+    cspace["max_acceleration"] = acc + [fill_a] * len(locks)
+    cspace["max_jerk"] = jerk + [fill_j] * len(locks)
+    kin["cspace"] = cspace
+
+    lines = [
+        "# cuRobo robot configuration written by xrdf-tools (xrdf export curobo)",
+        f"# from {Path(path).name if path else 'an XRDF'}; layout: {layout}",
+        "robot_cfg:",
+        "  kinematics:",
+        *_emit(kin, 2),
+    ]
+    return "\n".join(lines) + "\n", diags
+
+
+def pairs_of(x: Xrdf) -> Sequence[frozenset[str]]:
+    return sorted(x.self_collision.ignore_pairs() if x.self_collision else (), key=sorted)

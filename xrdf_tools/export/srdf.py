@@ -1,0 +1,423 @@
+"""XRDF ``self_collision.ignore`` → MoveIt SRDF: a sync of the SRDF's collision mask.
+
+:func:`sync_srdf` makes the SRDF's disabled pairs exactly the XRDF's ignore pairs (unordered):
+
+* a ``disable_collisions`` whose pair the XRDF still ignores is kept as it is (element,
+  attribute order, ``reason``, link order);
+* one whose pair the XRDF no longer ignores is removed and returned in ``removed``;
+* a pair the XRDF ignores and the SRDF does not disable gets a new ``disable_collisions``
+  after the last existing one (else at the end of ``<robot>``), indented like the file, with
+  the reason from ``reasons`` (see :func:`reasons_from_report`) or ``User``;
+* ``disable_default_collisions{link}`` disables ``link`` against every link: a pair it covers
+  is already disabled, so nothing is added for it. A covered pair the XRDF no longer ignores
+  gets an ``enable_collisions`` (srdfdom: "re-enable collision after having disabled it via a
+  default") and is returned in ``removed``; an ``enable_collisions`` of a pair the XRDF ignores
+  is removed (returned in ``added``). ``disable_default_collisions`` itself is never removed.
+
+Everything else is kept: groups, states, end effectors, virtual/passive joints, comments,
+processing instructions, the XML declaration, the DOCTYPE and entity references; the file's
+bytes are kept wherever nothing changed (see :mod:`xrdf_tools.export.srdf_xml`), so an unchanged
+robot round-trips byte for byte. Pure: returns bytes and diagnostics, prints nothing.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Collection, Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import Diagnostic, Severity
+from ..robot.tree import RobotTree
+from ..util.errors import ConversionError, SourceError
+from ..xrdf.model import Xrdf
+from .srdf_xml import XmlDocument, insert_after, last_child, remove_element
+
+__all__ = [
+    "REPORT_REASONS",
+    "PairChange",
+    "SrdfSync",
+    "load_report_reasons",
+    "reasons_from_report",
+    "sync_srdf",
+    "to_srdf",
+]
+
+USER = "User"
+#: ``xrdf report`` pair classification → SRDF ``reason`` (MoveIt Setup Assistant names).
+REPORT_REASONS: Mapping[str, str] = {
+    "adjacent": "Adjacent",
+    "default": "Default",
+    "always": "Always",
+    "never": "Never",
+}
+_NEW = b'<?xml version="1.0" encoding="UTF-8"?>\n<robot name=""/>\n'
+_ALWAYS_RATE = 0.95  # same threshold as xrdf_tools.report.ALWAYS_RATE (not imported: numpy)
+
+Pair = frozenset[str]
+
+
+@dataclass(frozen=True)
+class PairChange:
+    """One pair of the sync: ``element`` is the SRDF element kept, added or removed."""
+
+    link1: str
+    link2: str
+    reason: str | None
+    line: int | None = None
+    element: str = "disable_collisions"
+
+
+@dataclass(frozen=True)
+class SrdfSync:
+    """The synced SRDF (``data`` in the file's encoding) and what changed."""
+
+    data: bytes
+    encoding: str
+    robot_name: str
+    kept: tuple[PairChange, ...]
+    added: tuple[PairChange, ...]
+    removed: tuple[PairChange, ...]
+    diagnostics: tuple[Diagnostic, ...]
+
+    @property
+    def text(self) -> str:
+        return self.data.decode(self.encoding)
+
+
+# ------------------------------------------------------------------------------------------
+# Reasons from an ``xrdf report --format json`` document
+# ------------------------------------------------------------------------------------------
+def _reason_of(p: Mapping[str, Any]) -> str:
+    """``classification`` when present, else derived from the same fields the report uses."""
+    cls = p.get("classification")
+    if isinstance(cls, str):
+        return REPORT_REASONS.get(cls, USER)
+    rate, hits = p.get("rate"), p.get("hits")
+    clearance = p.get("default_clearance")
+    if p.get("adjacent") is True:
+        return "Adjacent"
+    if isinstance(clearance, (int, float)) and clearance < 0:
+        return "Default"
+    if isinstance(rate, (int, float)) and rate > _ALWAYS_RATE:
+        return "Always"
+    if hits == 0:
+        return "Never"
+    return USER
+
+
+def reasons_from_report(data: Any, path: str = "<report>") -> dict[Pair, str]:
+    """SRDF reasons per frame pair from ``xrdf report --format json`` data.
+
+    ``classification`` adjacent/default/always/never → ``Adjacent``/``Default``/``Always``/
+    ``Never``; ``sometimes`` (ignored although seen colliding: a user decision) → ``User``.
+    Without ``classification`` the reason is derived in the report's own order: ``adjacent``
+    true, ``default_clearance`` < 0, ``rate`` > 0.95, ``hits`` == 0, else ``User``. Pairs the
+    report does not list (frames without spheres) get ``User`` from :func:`sync_srdf`.
+    """
+    pairs = data.get("pairs") if isinstance(data, Mapping) else None
+    if not isinstance(pairs, list):
+        raise SourceError(
+            "not an 'xrdf report --format json' document (no 'pairs' list)", path=path
+        )
+    out: dict[Pair, str] = {}
+    for p in pairs:
+        a = p.get("frame_a") if isinstance(p, Mapping) else None
+        b = p.get("frame_b") if isinstance(p, Mapping) else None
+        if not (isinstance(a, str) and isinstance(b, str)):
+            raise SourceError("a report pair lacks 'frame_a'/'frame_b'", path=path)
+        out[frozenset((a, b))] = _reason_of(p)
+    return out
+
+
+def load_report_reasons(path: str | os.PathLike[str]) -> dict[Pair, str]:
+    """:func:`reasons_from_report` of a JSON file; one-line :class:`SourceError` on failure."""
+    p = os.fspath(path)
+    try:
+        data = json.loads(Path(p).read_bytes())
+    except OSError as e:
+        raise SourceError(f"cannot read report: {e.strerror or e}", path=p) from None
+    except ValueError as e:
+        raise SourceError(f"the report is not JSON: {e}", path=p) from None
+    return reasons_from_report(data, p)
+
+
+# ------------------------------------------------------------------------------------------
+# The sync
+# ------------------------------------------------------------------------------------------
+def sync_srdf(
+    x: Xrdf,
+    existing: str | bytes | None = None,
+    *,
+    urdf: RobotTree | None = None,
+    robot_name: str | None = None,
+    reasons: Mapping[Pair, str] | None = None,
+    srdf_path: str = "<srdf>",
+) -> SrdfSync:
+    """Sync ``x``'s ignore pairs into ``existing`` SRDF text (or a new SRDF when ``None``).
+
+    ``<robot name>``: with ``urdf`` it is the URDF robot's name (a differing name in
+    ``existing`` is corrected, with a warning); without it a new SRDF is named ``robot_name``
+    and an existing one keeps its name (a note says it was not checked). With ``urdf``, ignore
+    pairs naming a frame that is neither a URDF link nor an XRDF ``add_frame`` raise
+    :class:`ConversionError`; pairs with ``add_frame`` frames are left out (MoveIt does not know
+    those frames), with a warning.
+    """
+    diags: list[Diagnostic] = []
+    pairs = _wanted_pairs(x, urdf, diags, srdf_path)
+    new = existing is None
+    doc = XmlDocument.parse(_NEW if existing is None else existing, srdf_path)
+    name = _sync_name(doc.root, urdf, robot_name, diags, srdf_path, new=new)
+    universe = _universe(x, urdf, doc.root)
+    plan = _plan(doc.root, pairs, dict(reasons or {}), universe)
+    plan.apply(doc.root)
+    for ch in plan.removed:
+        diags.append(_removed_diag(ch, srdf_path))
+    if plan.added:
+        diags.append(_added_diag(plan.added, srdf_path))
+    return SrdfSync(
+        data=doc.serialize(),
+        encoding=doc.encoding,
+        robot_name=name,
+        kept=tuple(plan.kept),
+        added=tuple(plan.added),
+        removed=tuple(plan.removed),
+        diagnostics=tuple(diags),
+    )
+
+
+def to_srdf(x: Xrdf, robot_name: str, existing: str | bytes | None = None) -> str:
+    """SRDF text of :func:`sync_srdf` (no URDF, no report: new pairs get reason ``User``)."""
+    return sync_srdf(x, existing, robot_name=robot_name).text
+
+
+def _diag(path: str, line: int | None, rule: str, sev: Severity, msg: str) -> Diagnostic:
+    return Diagnostic(path, line, None, rule, sev, msg, "")
+
+
+def _names(names: list[str], limit: int = 8) -> str:
+    shown = ", ".join(repr(n) for n in names[:limit])
+    return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
+
+
+def _ordered_pairs(x: Xrdf) -> list[tuple[str, str]]:
+    """The XRDF's ignore pairs once each, in the order the XRDF lists them."""
+    out: list[tuple[str, str]] = []
+    seen: set[Pair] = set()
+    if x.self_collision is not None:
+        for a, bs in x.self_collision.ignore.items():
+            for b in bs:
+                key = frozenset((a, b))
+                if a != b and key not in seen:
+                    seen.add(key)
+                    out.append((a, b))
+    return out
+
+
+def _wanted_pairs(
+    x: Xrdf, urdf: RobotTree | None, diags: list[Diagnostic], path: str
+) -> list[tuple[str, str]]:
+    pairs = _ordered_pairs(x)
+    added = {m.frame_name for m in x.added_frames()}
+    links = set(urdf.links) if urdf is not None else None
+    unknown = sorted(
+        {n for p in pairs for n in p if links is not None and n not in links and n not in added}
+    )
+    if unknown:
+        raise ConversionError(
+            f"self_collision.ignore names {_names(unknown)}, not "
+            f"link(s) of the URDF '{urdf.name if urdf else ''}'; MoveIt cannot disable them",
+            path=x.source.path,
+        )
+    skipped = [p for p in pairs if added & set(p)]
+    if skipped:
+        frames = sorted(added & {n for p in skipped for n in p})
+        diags.append(
+            _diag(
+                path,
+                None,
+                "export-srdf-added-frame",
+                Severity.WARNING,
+                f"{len(skipped)} ignore pair(s) with add_frame frame(s) {', '.join(frames)} "
+                "not written: MoveIt does not know these frames",
+            )
+        )
+    return [p for p in pairs if not added & set(p)]
+
+
+def _sync_name(
+    root: Any,
+    urdf: RobotTree | None,
+    fallback: str | None,
+    diags: list[Diagnostic],
+    path: str,
+    *,
+    new: bool,
+) -> str:
+    current = root.get("name")
+    if urdf is not None:
+        if not new and current != urdf.name:
+            diags.append(
+                _diag(
+                    path,
+                    root.sourceline,
+                    "export-srdf-robot-name",
+                    Severity.WARNING,
+                    f"<robot name='{current or ''}'> is not the URDF robot name "
+                    f"'{urdf.name}' (MoveIt logs an error); corrected",
+                )
+            )
+        if fallback is not None and fallback != urdf.name:
+            diags.append(
+                _diag(
+                    path,
+                    None,
+                    "export-srdf-robot-name",
+                    Severity.WARNING,
+                    f"robot name '{fallback}' ignored: the SRDF takes the URDF's, '{urdf.name}'",
+                )
+            )
+        if current != urdf.name:
+            root.set("name", urdf.name)
+        return urdf.name
+    if new:
+        name = fallback or "robot"
+        root.set("name", name)
+        msg = f"<robot name='{name}'> is not checked against the URDF; pass --urdf to use its name"
+    else:
+        name = current or ""
+        msg = f"<robot name='{name}'> kept, not checked against the URDF (pass --urdf)"
+    diags.append(_diag(path, None, "export-srdf-robot-name", Severity.INFO, msg))
+    return name
+
+
+def _universe(x: Xrdf, urdf: RobotTree | None, root: Any) -> set[str]:
+    """Links a ``disable_default_collisions`` can pair with: the URDF's, else every name the
+    XRDF (``add_frame`` frames aside) and the SRDF's collision elements mention."""
+    if urdf is not None:
+        return set(urdf.links)
+    names = {n for p in _ordered_pairs(x) for n in p} | set(x.self_collision_spheres())
+    names -= {m.frame_name for m in x.added_frames()}
+    for el in root:
+        for attr in ("link", "link1", "link2"):
+            v = el.get(attr) if isinstance(el.tag, str) else None
+            if v:
+                names.add(v)
+    return names
+
+
+def _removed_diag(ch: PairChange, path: str) -> Diagnostic:
+    if ch.element == "enable_collisions":
+        msg = (
+            f"{ch.link1}/{ch.link2} is no longer ignored by the XRDF but is covered by "
+            "disable_default_collisions: enable_collisions added"
+        )
+    else:
+        why = f" (reason {ch.reason})" if ch.reason else ""
+        msg = f"{ch.link1}/{ch.link2}{why} is no longer ignored by the XRDF: removed"
+    return _diag(path, ch.line, "export-srdf-removed", Severity.WARNING, msg)
+
+
+def _added_diag(added: Iterable[PairChange], path: str) -> Diagnostic:
+    counts: dict[str, int] = {}
+    for ch in added:
+        key = "enable_collisions removed" if ch.element == "enable_collisions" else ch.reason
+        counts[key or USER] = counts.get(key or USER, 0) + 1
+    detail = ", ".join(f"{n} {k}" for k, n in counts.items())
+    total = sum(counts.values())
+    return _diag(path, None, "export-srdf-added", Severity.INFO, f"{total} pair(s) added: {detail}")
+
+
+# ------------------------------------------------------------------------------------------
+# Planning: what to keep, add and remove
+# ------------------------------------------------------------------------------------------
+def _pair_of(el: Any) -> Pair:
+    return frozenset((el.get("link1") or "", el.get("link2") or ""))
+
+
+@dataclass
+class _Plan:
+    kept: list[PairChange]
+    added: list[PairChange]
+    removed: list[PairChange]
+    new_disabled: list[tuple[str, str, str]]
+    new_enabled: list[tuple[str, str]]
+    drop: list[Any]
+
+    def apply(self, root: Any) -> None:
+        from lxml import etree
+
+        anchor = last_child(root, "disable_collisions")
+        els = [
+            etree.Element("disable_collisions", link1=a, link2=b, reason=r)
+            for a, b, r in self.new_disabled
+        ]
+        insert_after(root, anchor, els)
+        enables = [
+            etree.Element("enable_collisions", link1=a, link2=b, reason=USER)
+            for a, b in self.new_enabled
+        ]
+        after = last_child(root, "enable_collisions")
+        if after is None:
+            after = els[-1] if els else anchor
+        insert_after(root, after, enables)
+        for el in self.drop:
+            remove_element(el)
+
+
+def _plan(
+    root: Any, pairs: list[tuple[str, str]], reasons: Mapping[Pair, str], universe: Collection[str]
+) -> _Plan:
+    want = {frozenset(p) for p in pairs}
+    plan = _Plan([], [], [], [], [], [])
+    present: set[Pair] = set()
+    for el in root.iterchildren("disable_collisions"):
+        pair = _pair_of(el)
+        ch = _change(el, "disable_collisions")
+        if pair in want:
+            plan.kept.append(ch)
+            present.add(pair)
+        else:
+            plan.removed.append(ch)
+            plan.drop.append(el)
+    defaults = {el.get("link") for el in root.iterchildren("disable_default_collisions")}
+    enabled: set[Pair] = set()
+    for el in root.iterchildren("enable_collisions"):
+        pair = _pair_of(el)
+        if pair in want:  # it would re-enable a pair the XRDF ignores
+            plan.added.append(_change(el, "enable_collisions"))
+            plan.drop.append(el)
+        else:
+            enabled.add(pair)
+    for a, b in pairs:
+        pair = frozenset((a, b))
+        if pair in present or (pair & defaults and pair not in enabled):
+            continue
+        reason = reasons.get(pair, USER)
+        plan.new_disabled.append((a, b, reason))
+        plan.added = [c for c in plan.added if frozenset((c.link1, c.link2)) != pair]
+        plan.added.append(PairChange(a, b, reason))
+    _re_enable(plan, sorted(d for d in defaults if d), universe, want, enabled)
+    return plan
+
+
+def _re_enable(
+    plan: _Plan, defaults: list[str], universe: Collection[str], want: set[Pair], enabled: set[Pair]
+) -> None:
+    """``enable_collisions`` for pairs a ``disable_default_collisions`` covers but the XRDF
+    checks."""
+    for link in defaults:
+        for other in sorted(universe):
+            pair = frozenset((link, other))
+            if other != link and pair not in want and pair not in enabled:
+                enabled.add(pair)
+                plan.new_enabled.append((link, other))
+                plan.removed.append(PairChange(link, other, None, None, "enable_collisions"))
+
+
+def _change(el: Any, element: str) -> PairChange:
+    return PairChange(
+        el.get("link1") or "", el.get("link2") or "", el.get("reason"), el.sourceline, element
+    )

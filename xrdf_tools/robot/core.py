@@ -1,0 +1,132 @@
+"""One loaded robot as one frozen value: where it came from and every view of it.
+
+A :class:`Robot` is built once by the loader (:func:`xrdf_tools.robot.urdf_source.load_urdf`,
+:func:`xrdf_tools.robot.xacro_source.load_robot`) and carries the path, the URDF text it was
+parsed from (an expanded xacro: the expansion), the line of every ``<link>`` and ``<joint>``,
+the ``package_paths`` it was loaded with, which geometry elements are capsules and the yourdfpy
+object. The plain views — the joints as :class:`~xrdf_tools.robot.urdf_joints.JointInfo`, the link
+names (and which have collision geometry), the :class:`~xrdf_tools.robot.tree.RobotTree` — are
+computed on first use and kept. Modules above keep what they derive from the robot in
+:attr:`Robot.derived` (the :class:`~xrdf_tools.robot.kinematics.KinematicModel` per XRDF modifiers):
+the robot itself imports only the plain views below it.
+
+Functions that still receive a bare ``yourdfpy.URDF`` call :func:`as_robot`: the loader leaves
+a reference to its :class:`Robot` on the yourdfpy object, so the provenance travels with the
+object itself (no global registry); a yourdfpy object built elsewhere gets a :class:`Robot`
+without provenance (path ``"<urdf>"``, no lines).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, Literal
+
+from ..util.frozen import FrozenMap
+from .tree import RobotTree
+from .urdf_joints import JointInfo, joint_info
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+
+__all__ = ["Robot", "as_robot"]
+
+#: Attribute of a loaded yourdfpy object that holds its :class:`Robot`.
+_ATTR = "_xrdf_tools_robot"
+
+
+@dataclass(frozen=True, eq=False)
+class Robot:
+    """A loaded URDF (never with meshes) and its provenance; the views are cached."""
+
+    urdf: yourdfpy.URDF
+    path: str = "<urdf>"
+    #: The text the URDF was parsed from (``None`` for a yourdfpy object built elsewhere).
+    text: str | None = None
+    #: True when :attr:`text` is the expansion of a xacro file.
+    expanded: bool = False
+    link_lines: Mapping[str, int] = field(default_factory=FrozenMap)
+    joint_lines: Mapping[str, int] = field(default_factory=FrozenMap)
+    package_paths: Mapping[str, str] = field(default_factory=FrozenMap)
+    #: ``(link, "collision" | "visual", index)`` of the elements whose geometry is a
+    #: ``<capsule>`` (not standard URDF): yourdfpy holds them as cylinders of the same radius
+    #: and length (see :func:`xrdf_tools.robot.link_geometry.capsules_as_cylinders`).
+    capsules: frozenset[tuple[str, str, int]] = frozenset()
+    #: Results other modules derive from the robot and keep with it, by their own keys (the
+    #: kinematic model per XRDF modifiers:
+    #: :func:`xrdf_tools.robot.kinematics.build_kinematic_model`).
+    derived: dict[Any, Any] = field(default_factory=dict, repr=False, compare=False)
+
+    # --- views ---------------------------------------------------------------------------
+    @property
+    def name(self) -> str:
+        return str(self.urdf.robot.name)
+
+    @property
+    def xacro_text(self) -> str | None:
+        """The expanded URDF text when the robot was read from a xacro file, else ``None``."""
+        return self.text if self.expanded else None
+
+    @cached_property
+    def links(self) -> tuple[str, ...]:
+        """Link names in document order."""
+        return tuple(str(link.name) for link in self.urdf.robot.links)
+
+    @cached_property
+    def collision_counts(self) -> Mapping[str, int]:
+        """The number of ``<collision>`` elements of each link that has any, in link order."""
+        return FrozenMap(
+            (str(link.name), len(link.collisions))
+            for link in self.urdf.robot.links
+            if link.collisions
+        )
+
+    @cached_property
+    def joints(self) -> Mapping[str, JointInfo]:
+        """Every ``<joint>`` as :class:`JointInfo`, keyed by name, in document order."""
+        return FrozenMap(
+            (str(j.name), joint_info(j, self.joint_lines.get(str(j.name))))
+            for j in self.urdf.robot.joints
+        )
+
+    @cached_property
+    def tree(self) -> RobotTree:
+        """The URDF as a tree of names (:class:`~xrdf_tools.robot.tree.RobotTree`)."""
+        return RobotTree.from_parts(self.name, self.path, self.links, self.joints)
+
+    def source_line(self, kind: Literal["link", "joint"], name: str) -> int | None:
+        """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""
+        return (self.link_lines if kind == "link" else self.joint_lines).get(name)
+
+    def root_link(self) -> str:
+        """The one link that is no joint's child; :class:`UrdfError` when not exactly one."""
+        from ..util.errors import UrdfError
+
+        children = {j.child for j in self.joints.values()}
+        roots = [link for link in self.links if link not in children]
+        if len(roots) != 1:
+            raise UrdfError(
+                f"the URDF must form one tree; root links: {', '.join(roots) or 'none'}",
+                path=self.path,
+            )
+        return roots[0]
+
+
+def as_robot(urdf: Robot | yourdfpy.URDF) -> Robot:
+    """``urdf`` as a :class:`Robot`: itself, the one its loader made, or one without
+    provenance for a yourdfpy object built elsewhere (kept on the object for next time)."""
+    if isinstance(urdf, Robot):
+        return urdf
+    robot = getattr(urdf, _ATTR, None)
+    if isinstance(robot, Robot):
+        return robot
+    robot = Robot(urdf)
+    attach(robot)
+    return robot
+
+
+def attach(robot: Robot) -> None:
+    """Leave ``robot`` on its yourdfpy object, for callers that pass the bare object."""
+    setattr(robot.urdf, _ATTR, robot)

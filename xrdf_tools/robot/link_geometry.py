@@ -1,0 +1,330 @@
+"""The link geometry of a loaded robot as triangle meshes: the one loader (viz, spheres, lint).
+
+:func:`link_geometry` takes a loaded :class:`~xrdf_tools.robot.core.Robot` and returns, per link,
+the parts of its ``<collision>`` or ``<visual>`` elements as the yourdfpy object holds them (the
+URDF XML is not parsed again):
+
+* the primitives ``box``, ``cylinder``, ``sphere`` and ``capsule`` tessellated (cylinder and
+  capsule along z, centred, like URDF's cylinder), finely enough that sphere-fitting metrics do
+  not see the facets;
+* meshes that trimesh reads (STL, OBJ, DAE, PLY, ...), found with
+  :class:`~xrdf_tools.robot.packages.PackageResolver` (``package://``, ``file://``, relative to the
+  URDF) and read through :func:`~xrdf_tools.util.fileio.check_input_file` with the mesh size limit;
+  ``scale`` applied;
+* each with its element's ``origin`` (the transform into the link frame), the URDF material
+  colour of a visual element, and the line of its ``<link>``.
+
+A part that cannot be read is a :class:`PartFailure` with the reason, never an exception;
+each caller words its own diagnostic. ``<capsule>`` is not standard URDF and yourdfpy knows
+none: the robot loader hands it to yourdfpy as a cylinder of the same radius and length and
+records which elements were capsules (:func:`capsules_as_cylinders`, :attr:`Robot.capsules`).
+trimesh is imported lazily.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from ..util.errors import XrdfToolsError
+from ..util.fileio import check_input_file, mesh_bytes_limit
+
+if TYPE_CHECKING:
+    import trimesh
+    import yourdfpy
+
+    from .core import Robot
+    from .packages import PackageResolver
+
+FloatArray = npt.NDArray[np.float64]
+Rgba = tuple[float, float, float, float]
+GeometrySource = Literal["collision", "visual"]
+#: Which elements are read: only collision, only visual, or collision with visual as the
+#: fallback for links without collision elements.
+GeometryChoice = Literal["collision", "visual", "auto"]
+Shape = Literal["box", "cylinder", "capsule", "sphere", "mesh"]
+
+__all__ = [
+    "GeometryChoice",
+    "GeometryPart",
+    "GeometrySource",
+    "LinkParts",
+    "PartFailure",
+    "Rgba",
+    "capsules_as_cylinders",
+    "link_geometry",
+]
+
+# Cylinders, capsules and spheres are tessellated finely enough that the facet error stays far
+# below the sampling noise of the sphere-fitting metrics (< 0.2 % of the radius).
+CYLINDER_SECTIONS = 96
+SPHERE_SUBDIVISIONS = 4
+CAPSULE_COUNT = (48, 48)
+
+
+@dataclass(frozen=True, eq=False)
+class GeometryPart:
+    """One ``<collision>``/``<visual>`` element of a link, read.
+
+    ``pieces`` are its triangle meshes in the element frame (``scale`` applied): one for a
+    primitive, one per sub-mesh of a mesh file (a COLLADA file with several materials has
+    several). ``origin`` (4x4, read-only) places the element in the link frame. ``index`` is
+    the element's position among the link's elements of its ``source``; ``file`` the resolved
+    mesh path; ``material`` the URDF material colour (visual elements only).
+    """
+
+    link: str
+    source: GeometrySource
+    index: int
+    shape: Shape
+    origin: FloatArray
+    pieces: tuple[trimesh.Trimesh, ...]
+    file: str | None = None
+    material: Rgba | None = None
+
+    @cached_property
+    def mesh(self) -> trimesh.Trimesh:
+        """All pieces as one mesh, in the element frame."""
+        if len(self.pieces) == 1:
+            return self.pieces[0]
+        import trimesh
+
+        combined: Any = trimesh.util.concatenate(list(self.pieces))  # a Trimesh for Trimeshes
+        mesh: trimesh.Trimesh = combined
+        return mesh
+
+    def in_link_frame(self) -> trimesh.Trimesh:
+        """A copy of :attr:`mesh` moved into the link frame by :attr:`origin`."""
+        out = self.mesh.copy()
+        out.apply_transform(self.origin)
+        return out
+
+
+@dataclass(frozen=True)
+class PartFailure:
+    """An element that could not be read: ``reason`` says why (``"<uri>: ..."`` for meshes)."""
+
+    link: str
+    source: GeometrySource
+    index: int
+    reason: str
+    unsupported: bool = False
+
+
+@dataclass(frozen=True)
+class LinkParts:
+    """The elements of one link of one ``source``: ``elements`` of them, read into ``parts``
+    or not (``failures``), in document order; ``line`` is the line of the ``<link>``."""
+
+    link: str
+    source: GeometrySource
+    elements: int
+    parts: tuple[GeometryPart, ...]
+    failures: tuple[PartFailure, ...]
+    line: int | None = None
+
+
+def link_geometry(
+    robot: Robot | yourdfpy.URDF,
+    source: GeometryChoice = "auto",
+    *,
+    links: Sequence[str] | None = None,
+    package_paths: Mapping[str, str] | None = None,
+) -> dict[str, LinkParts]:
+    """The geometry of ``links`` (in that order; default: every link, in URDF order) of a
+    loaded robot.
+
+    ``source`` is ``collision``, ``visual``, or ``auto`` (collision; visual for a link without
+    collision elements: :attr:`LinkParts.source` says which). Every link of the robot named in
+    ``links`` gets an entry, also without elements; other names (e.g. an XRDF's added frames)
+    are skipped. ``package_paths`` replaces the robot's own for resolving ``package://``.
+    """
+    from .core import as_robot
+    from .packages import PackageResolver
+
+    loaded = as_robot(robot)
+    pkgs = loaded.package_paths if package_paths is None else package_paths
+    reader = _MeshReader(
+        PackageResolver(Path(loaded.path), dict(pkgs)), Path(loaded.path).resolve().parent
+    )
+    link_map: Mapping[str, Any] = loaded.urdf.link_map
+    materials = _global_materials(loaded.urdf)
+    out: dict[str, LinkParts] = {}
+    for name in loaded.links if links is None else dict.fromkeys(links):
+        link = link_map.get(name)
+        if link is None:
+            continue
+        kind, elements = _elements(link, source)
+        parts: list[GeometryPart] = []
+        failures: list[PartFailure] = []
+        for i, element in enumerate(elements):
+            capsule = (name, kind, i) in loaded.capsules
+            try:
+                parts.append(_part(name, kind, i, element, capsule, reader, materials))
+            except _PartError as e:
+                failures.append(PartFailure(name, kind, i, e.reason, e.unsupported))
+        out[name] = LinkParts(
+            name, kind, len(elements), tuple(parts), tuple(failures), loaded.link_lines.get(name)
+        )
+    return out
+
+
+def capsules_as_cylinders(root: Any) -> frozenset[tuple[str, GeometrySource, int]]:
+    """Rename each ``<capsule>`` of a URDF's lxml tree to ``<cylinder>`` (the same radius and
+    length) so that yourdfpy reads it, and return ``(link, source, index)`` of those elements
+    (``index`` among the link's elements of that source, as yourdfpy lists them)."""
+    found: set[tuple[str, GeometrySource, int]] = set()
+    sources: tuple[GeometrySource, ...] = ("visual", "collision")
+    for link in root.findall("link"):
+        for kind in sources:
+            for i, element in enumerate(link.findall(kind)):
+                geometry = element.find("geometry")
+                if geometry is not None and len(geometry) and geometry[0].tag == "capsule":
+                    geometry[0].tag = "cylinder"  # yourdfpy reads only the first child
+                    found.add((str(link.get("name")), kind, i))
+    return frozenset(found)
+
+
+# --------------------------------------------------------------------------------------------
+# Elements and parts
+# --------------------------------------------------------------------------------------------
+def _elements(link: Any, choice: GeometryChoice) -> tuple[GeometrySource, list[Any]]:
+    """The elements of one yourdfpy link for ``choice``, and which kind they are."""
+    if choice == "visual":
+        return "visual", list(link.visuals or ())
+    collisions = list(link.collisions or ())
+    if collisions or choice == "collision":
+        return "collision", collisions
+    return "visual", list(link.visuals or ())
+
+
+class _PartError(Exception):
+    def __init__(self, reason: str, unsupported: bool = False) -> None:
+        super().__init__(reason)
+        self.reason = reason
+        self.unsupported = unsupported
+
+
+_UNSUPPORTED = "unsupported geometry (no box, cylinder, sphere or mesh)"
+
+
+def _part(
+    link: str,
+    kind: GeometrySource,
+    index: int,
+    element: Any,
+    capsule: bool,
+    reader: _MeshReader,
+    materials: Mapping[str, Rgba],
+) -> GeometryPart:
+    import trimesh
+
+    origin = np.eye(4) if element.origin is None else np.array(element.origin, dtype=np.float64)
+    origin.flags.writeable = False
+    material = None
+    if kind == "visual" and getattr(element, "material", None) is not None:
+        material = _material_rgba(element.material) or materials.get(element.material.name)
+    geometry = element.geometry
+    if geometry is None:
+        raise _PartError(_UNSUPPORTED, unsupported=True)
+    shape: Shape
+    file = None
+    if geometry.mesh is not None:
+        shape = "mesh"
+        pieces, file = reader.read(geometry.mesh.filename or "", geometry.mesh.scale)
+    elif geometry.box is not None:
+        shape = "box"
+        pieces = (trimesh.creation.box(extents=np.asarray(geometry.box.size, dtype=float)),)
+    elif geometry.cylinder is not None:
+        radius, length = float(geometry.cylinder.radius), float(geometry.cylinder.length)
+        if capsule:
+            shape = "capsule"
+            pieces = (
+                trimesh.creation.capsule(height=length, radius=radius, count=list(CAPSULE_COUNT)),
+            )
+        else:
+            shape = "cylinder"
+            pieces = (
+                trimesh.creation.cylinder(radius=radius, height=length, sections=CYLINDER_SECTIONS),
+            )
+    elif geometry.sphere is not None:
+        shape = "sphere"
+        radius = float(geometry.sphere.radius)
+        pieces = (trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=radius),)
+    else:  # a yourdfpy object built in code; the robot loader refuses unknown shapes
+        raise _PartError(_UNSUPPORTED, unsupported=True)
+    return GeometryPart(link, kind, index, shape, origin, pieces, file, material)
+
+
+@dataclass
+class _MeshReader:
+    """Reads mesh files for one robot: URIs resolved, size checked, trimesh parses."""
+
+    resolver: PackageResolver
+    base: Path
+
+    def read(self, uri: str, scale: Any) -> tuple[tuple[trimesh.Trimesh, ...], str]:
+        """The sub-meshes of the file ``uri`` (scaled) and its resolved path."""
+        import trimesh
+
+        if not uri:
+            raise _PartError("<mesh> without a filename")
+        try:
+            path = self.resolver.resolve_uri(uri, self.base)
+        except XrdfToolsError as e:
+            raise _PartError(f"{uri}: {e.message}") from None
+        if not path.is_file():
+            raise _PartError(f"{uri}: mesh file not found ({path})")
+        try:
+            check_input_file(path, what="mesh file", max_bytes=mesh_bytes_limit())
+        except XrdfToolsError as e:
+            raise _PartError(f"{uri}: {e.message}") from None
+        try:
+            factors = np.broadcast_to(np.asarray(1.0 if scale is None else scale, float), (3,))
+        except ValueError:
+            raise _PartError(f"{uri}: scale must be one or three numbers") from None
+        try:
+            scene: Any = trimesh.load(str(path), force="scene", process=True)
+            pieces = tuple(
+                p for p in scene.dump() if isinstance(p, trimesh.Trimesh) and len(p.faces)
+            )
+        except Exception as e:  # trimesh raises many exception types for bad files
+            detail = str(e).splitlines()[0] if str(e) else type(e).__name__
+            raise _PartError(f"{uri}: cannot read mesh ({detail})") from None
+        if not pieces:
+            raise _PartError(f"{uri}: cannot read mesh (no triangles in the file)")
+        if not np.array_equal(factors, np.ones(3)):
+            for piece in pieces:  # scene.dump() made copies: scaling them in place is safe
+                piece.apply_transform(np.diag([*factors, 1.0]))
+        return pieces, str(path)
+
+
+# --------------------------------------------------------------------------------------------
+# Material colours
+# --------------------------------------------------------------------------------------------
+def _global_materials(urdf: Any) -> dict[str, Rgba]:
+    """The colours of the robot's top-level ``<material>`` elements, by name."""
+    out: dict[str, Rgba] = {}
+    robot = getattr(urdf, "robot", None)
+    for m in getattr(robot, "materials", None) or ():
+        rgba = _material_rgba(m)
+        if m.name and rgba is not None:
+            out[m.name] = rgba
+    return out
+
+
+def _material_rgba(material: Any) -> Rgba | None:
+    color = getattr(material, "color", None)
+    rgba = getattr(color, "rgba", None)
+    if rgba is None:
+        return None
+    values = [float(v) for v in np.asarray(rgba, dtype=np.float64).ravel()[:4]]
+    if len(values) != 4:
+        return None
+    return (values[0], values[1], values[2], values[3])

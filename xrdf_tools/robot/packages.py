@@ -1,0 +1,139 @@
+"""Resolve ROS package references without ROS: ``package://pkg/…``, ``$(find pkg)``, ``file://``.
+
+Where a package is looked for, in order:
+1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);
+2. the input file's ancestors and their sub-directories (two levels deep): a directory holding
+   a ``package.xml`` whose ``<name>`` is ``pkg``, or, failing that, a directory named ``pkg``.
+
+An unresolved package is a :class:`SourceError` naming the package and the directories searched.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from urllib.parse import unquote
+
+from ..util.errors import SourceError, XrdfToolsError
+from ..util.fileio import read_input_bytes
+
+_NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
+
+
+def package_name(package_xml: Path) -> str | None:
+    """The ``<name>`` of a ``package.xml`` (None if unreadable)."""
+    try:
+        m = _NAME_RE.search(read_input_bytes(package_xml, what="package.xml"))
+    except XrdfToolsError:
+        return None
+    return m.group(1).decode("utf-8", "replace") if m else None
+
+
+@dataclass
+class PackageResolver:
+    """Finds package directories for a given input file.
+
+    ``start`` is the file (or directory) whose ancestors are searched; ``package_paths`` are
+    explicit ``name → directory`` entries that win over anything found on disk.
+    """
+
+    start: Path
+    package_paths: Mapping[str, str | os.PathLike[str]] = field(default_factory=dict)
+    max_depth: int = 2
+    _cache: dict[str, Path] = field(default_factory=dict, init=False, repr=False)
+    _index: dict[str, Path] | None = field(default=None, init=False, repr=False)
+    _searched: list[Path] = field(default_factory=list, init=False, repr=False)
+
+    def _roots(self) -> list[Path]:
+        p = self.start.resolve()
+        base = p if p.is_dir() else p.parent
+        return [base, *base.parents]
+
+    def _build_index(self) -> dict[str, Path]:
+        index: dict[str, Path] = {}
+        self._searched = []
+        for root in self._roots():
+            self._searched.append(root)
+            for xml in _package_xmls(root, self.max_depth):
+                name = package_name(xml)
+                if name and name not in index:
+                    index[name] = xml.parent
+            if len(self._searched) >= 6:  # do not crawl the whole file system
+                break
+        return index
+
+    def find(self, name: str) -> Path:
+        """Directory of package ``name``; raises :class:`SourceError` when not found."""
+        if name in self._cache:
+            return self._cache[name]
+        if name in self.package_paths:
+            d = Path(self.package_paths[name]).expanduser()
+            if not d.is_dir():
+                raise SourceError(f"--package-path {name}={d}: not a directory")
+            self._cache[name] = d
+            return d
+        if self._index is None:
+            self._index = self._build_index()
+        found = self._index.get(name)
+        if found is None:
+            for root in self._searched:
+                cand = root / name
+                if cand.is_dir():
+                    found = cand
+                    break
+                if root.name == name:
+                    found = root
+                    break
+        if found is None:
+            searched = ", ".join(str(p) for p in self._searched) or str(self.start)
+            raise SourceError(
+                f"cannot find ROS package '{name}' (searched for package.xml named '{name}' in "
+                f"and below: {searched}); pass --package-path {name}=DIR"
+            )
+        self._cache[name] = found
+        return found
+
+    def resolve_uri(self, uri: str, relative_to: Path | None = None) -> Path:
+        """A mesh or include URI as a local path (``package://``, ``file://`` or relative)."""
+        if uri.startswith("package://"):
+            rest = uri[len("package://") :]
+            name, _, sub = rest.partition("/")
+            return self.find(name) / unquote(sub)
+        if uri.startswith("file://"):
+            return Path(unquote(uri[len("file://") :]))
+        p = Path(uri)
+        if not p.is_absolute():
+            base = relative_to or (self.start if self.start.is_dir() else self.start.parent)
+            p = base / p
+        return p
+
+
+def _package_xmls(root: Path, depth: int) -> list[Path]:
+    out: list[Path] = []
+    frontier = [root]
+    for level in range(depth + 1):
+        nxt: list[Path] = []
+        for d in frontier:
+            xml = d / "package.xml"
+            if xml.is_file():
+                out.append(xml)
+            if level < depth:
+                try:
+                    nxt.extend(
+                        c for c in sorted(d.iterdir()) if c.is_dir() and not c.name.startswith(".")
+                    )
+                except OSError:
+                    continue
+        frontier = nxt[:500]
+    return out
+
+
+def parse_package_path(spec: str) -> tuple[str, str]:
+    """``NAME=DIR`` from the command line."""
+    name, sep, directory = spec.partition("=")
+    if not sep or not name or not directory:
+        raise SourceError(f"--package-path expects NAME=DIR, got '{spec}'")
+    return name, directory

@@ -1,0 +1,239 @@
+"""Check a parsed URDF (lxml tree) for everything yourdfpy would crash on or silently get
+wrong, before yourdfpy sees it: names, joint types, links that joints refer to, one tree
+without loops, and every number yourdfpy parses (origins, axes, limits, mimic, geometry,
+inertia, dynamics, safety controller, calibration, material colours) finite and with the
+right count. Every failure is a :class:`UrdfError` at the element's line.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from typing import Any
+
+from ..util.errors import UrdfError, did_you_mean, shown_text
+
+__all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
+
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+XACRO_NS = "http://www.ros.org/wiki/xacro"
+#: The geometry elements the loader reads: yourdfpy's four, and ``<capsule>`` (not standard
+#: URDF; handed to yourdfpy as a cylinder, see
+#: :func:`xrdf_tools.robot.link_geometry.capsules_as_cylinders`).
+URDF_GEOMETRIES = ("box", "cylinder", "sphere", "mesh", "capsule")
+#: Numbers yourdfpy parses besides origins, axes, limits, mimic and geometry:
+#: (element, child path, attributes, count).
+_OTHER_NUMBERS: tuple[tuple[str, str, tuple[str, ...], int], ...] = (
+    ("link", "inertial/origin", ("xyz", "rpy"), 3),
+    ("link", "inertial/mass", ("value",), 1),
+    ("link", "inertial/inertia", ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 1),
+    ("link", "visual/material/color", ("rgba",), 4),
+    (
+        "joint",
+        "safety_controller",
+        ("soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"),
+        1,
+    ),
+    ("joint", "calibration", ("rising", "falling"), 1),
+    ("joint", "dynamics", ("damping", "friction"), 1),
+)
+
+Fail = Callable[[str, Any], UrdfError]
+
+
+def check_urdf_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int]]:
+    """Check what yourdfpy needs; return the line of every link and joint."""
+    from lxml import etree
+
+    def fail(msg: str, el: Any) -> UrdfError:
+        return UrdfError(msg, path=path, line=getattr(el, "sourceline", None))
+
+    tag = etree.QName(root).localname if isinstance(root.tag, str) else str(root.tag)
+    if tag != "robot":
+        raise fail(f"the root element must be <robot>, not <{tag}>", root)
+    for el in root.iter():
+        if isinstance(el.tag, str) and etree.QName(el).namespace == XACRO_NS:
+            raise fail(
+                f"<xacro:{etree.QName(el).localname}> found: this is a xacro file; expand it "
+                "first (xrdf convert reads .xacro files)",
+                el,
+            )
+    if not root.get("name"):
+        raise fail("<robot> has no 'name' attribute", root)
+
+    link_lines = _named_lines(root, "link", fail)
+    for el in root.findall("link"):
+        _check_geometry(el, fail)
+    for el in root.findall("material"):
+        _check_numbers(el.find("color"), ("rgba",), 4, f"material '{el.get('name')}' <color>", fail)
+    _check_other_numbers(root, fail)
+
+    joint_lines = _named_lines(root, "joint", fail)
+    edges: list[tuple[str, str, str, Any]] = []  # joint, parent, child, element
+    for el in root.findall("joint"):
+        name = el.get("name")
+        jtype = el.get("type")
+        if jtype not in JOINT_TYPES:
+            what = f"type '{jtype}'" if jtype else "no 'type'"
+            raise fail(
+                f"joint '{name}' has {what}; valid: {', '.join(JOINT_TYPES)}"
+                + (did_you_mean(jtype, JOINT_TYPES) if jtype else ""),
+                el,
+            )
+        for role in ("parent", "child"):
+            sub = el.find(role)
+            link = sub.get("link") if sub is not None else None
+            if not link:
+                raise fail(f"joint '{name}' has no <{role} link='...'/>", el)
+            if link not in link_lines:
+                raise fail(
+                    f"joint '{name}' refers to unknown {role} link '{link}'"
+                    + did_you_mean(link, link_lines),
+                    sub,
+                )
+        edges.append((name, el.find("parent").get("link"), el.find("child").get("link"), el))
+        _check_numbers(el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail)
+        _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
+        _check_limit(el, name, jtype, fail)
+        mimic = el.find("mimic")
+        if mimic is not None:
+            if not mimic.get("joint"):
+                raise fail(f"joint '{name}' <mimic> has no 'joint' attribute", mimic)
+            _check_numbers(mimic, ("multiplier", "offset"), 1, f"joint '{name}' <mimic>", fail)
+    _check_is_tree(edges, joint_lines, fail)
+    return link_lines, joint_lines
+
+
+def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:
+    """The line of every ``<tag>`` child of ``root`` by name; each has a unique name."""
+    lines: dict[str, int] = {}
+    for el in root.findall(tag):
+        name = el.get("name")
+        if not name:
+            raise fail(f"<{tag}> has no 'name' attribute", el)
+        if name in lines:
+            raise fail(f"{tag} '{name}' is defined twice (first on line {lines[name]})", el)
+        lines[name] = el.sourceline or 0
+    return lines
+
+
+def _check_limit(el: Any, name: str, jtype: str, fail: Fail) -> None:
+    """Limit numbers are finite; a revolute or prismatic joint has ``lower <= upper``."""
+    limit = el.find("limit")
+    what = f"joint '{name}' <limit>"
+    _check_numbers(limit, ("lower", "upper", "velocity", "effort"), 1, what, fail)
+    if limit is None or jtype not in ("revolute", "prismatic"):
+        return
+    lower, upper = limit.get("lower"), limit.get("upper")
+    if lower is not None and upper is not None and float(lower) > float(upper):
+        raise fail(f"{what} lower={lower.strip()} is above upper={upper.strip()}", limit)
+
+
+def _check_is_tree(
+    edges: list[tuple[str, str, str, Any]],
+    joint_lines: Mapping[str, int],
+    fail: Fail,
+) -> None:
+    """Each link is the child of at most one joint, and parent links never loop back."""
+    from ..util.graph import find_cycle, show_path
+
+    parent_of: dict[str, tuple[str, str]] = {}  # child link -> (joint, parent link)
+    element: dict[str, Any] = {}
+    for joint, parent, child, el in edges:
+        element[joint] = el
+        if parent == child:
+            raise fail(f"joint '{joint}' has link '{child}' as both parent and child", el)
+        if child in parent_of:
+            first = parent_of[child][0]
+            raise fail(
+                f"link '{child}' is the child of two joints, '{first}' (line "
+                f"{joint_lines.get(first)}) and '{joint}'; a URDF must be a tree",
+                el,
+            )
+        parent_of[child] = (joint, parent)
+    cycle = find_cycle(parent_of, lambda link: [parent_of[link][1]] if link in parent_of else [])
+    if cycle is not None:
+        joints = [parent_of[link][0] for link in cycle[:-1]]
+        raise fail(
+            f"the joints form a cycle ({show_path(list(reversed(cycle)))}, through joints "
+            f"{show_path(list(reversed(joints)))}); a URDF must be a tree",
+            element[joints[-1]],
+        )
+
+
+#: Numbers each geometry needs: element -> ((attribute, count, required), ...).
+_GEOMETRY: dict[str, tuple[tuple[str, tuple[int, ...], bool], ...]] = {
+    "box": (("size", (3,), True),),
+    "cylinder": (("radius", (1,), True), ("length", (1,), True)),
+    "capsule": (("radius", (1,), True), ("length", (1,), True)),
+    "sphere": (("radius", (1,), True),),
+    "mesh": (("scale", (3, 1), False),),
+}
+
+
+def _check_geometry(link: Any, fail: Fail) -> None:
+    """Visual and collision shapes have the numbers their type needs (finite, not negative)."""
+    name = link.get("name")
+    for kind in ("visual", "collision"):
+        for item in link.findall(kind):
+            _check_numbers(item.find("origin"), ("xyz", "rpy"), 3, f"link '{name}' <{kind}>", fail)
+            geometry = item.find("geometry")
+            if geometry is None:
+                raise fail(f"link '{name}' <{kind}> has no <geometry>", item)
+            shapes = [g for g in geometry if isinstance(g.tag, str)]
+            if not shapes or shapes[0].tag not in URDF_GEOMETRIES:
+                held = f"<{shapes[0].tag}>" if shapes else "nothing"
+                raise fail(
+                    f"link '{name}' <{kind}> <geometry> holds {held}; a URDF geometry is one of "
+                    f"{', '.join(f'<{g}>' for g in URDF_GEOMETRIES)}",
+                    shapes[0] if shapes else geometry,
+                )
+            for shape in shapes:
+                for attr, counts, required in _GEOMETRY.get(shape.tag, ()):
+                    what = f"link '{name}' <{kind}> <{shape.tag}>"
+                    raw = shape.get(attr)
+                    if raw is None:
+                        if required:
+                            raise fail(f"{what} has no '{attr}' attribute", shape)
+                        continue
+                    _check_numbers(shape, (attr,), counts, what, fail)
+                    if shape.tag != "mesh" and any(float(x) < 0 for x in raw.split()):
+                        raise fail(f"{what} {attr}='{raw}' must not be negative", shape)
+
+
+def _check_other_numbers(root: Any, fail: Fail) -> None:
+    """The numbers of :data:`_OTHER_NUMBERS` (inertia, colours, dynamics, ...)."""
+    for tag, child, attrs, count in _OTHER_NUMBERS:
+        for el in root.findall(tag):
+            for sub in el.findall(child):
+                what = f"{tag} '{el.get('name')}' <{child.replace('/', '> <')}>"
+                _check_numbers(sub, attrs, count, what, fail)
+
+
+def _check_numbers(
+    el: Any,
+    attrs: tuple[str, ...],
+    count: int | tuple[int, ...],
+    what: str,
+    fail: Fail,
+) -> None:
+    """Each attribute present holds ``count`` finite numbers (one of the counts of a tuple)."""
+    if el is None:
+        return
+    counts = (count,) if isinstance(count, int) else count
+    for attr in attrs:
+        raw = el.get(attr)
+        if raw is None:
+            continue
+        parts = raw.split()
+        shown = shown_text(raw)
+        try:
+            values = [float(x) for x in parts]
+        except ValueError:
+            kind = "a number" if counts == (1,) else "a list of numbers"
+            raise fail(f"{what} {attr}='{shown}' is not {kind}", el) from None
+        if len(parts) not in counts:
+            n = " or ".join("a number" if c == 1 else f"{c} numbers" for c in counts)
+            raise fail(f"{what} {attr}='{shown}' must be {n}", el)
+        if not all(math.isfinite(v) for v in values):
+            raise fail(f"{what} {attr}='{shown}' must be finite", el)

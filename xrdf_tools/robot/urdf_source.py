@@ -1,0 +1,271 @@
+"""Read a URDF through yourdfpy, without meshes, with errors that name the file and line.
+
+The XML is parsed strictly by lxml first (entities are not resolved, no network), then checked
+for what yourdfpy would crash on or silently get wrong: missing names, unknown joint types,
+duplicate links or joints, joints that refer to unknown links, numbers that do not parse. Only
+then is the tree handed to yourdfpy. Every failure is a :class:`UrdfError` whose one-line
+message starts with ``path:line:`` when the line is known.
+
+:class:`JointInfo`, :func:`joints_of` and :func:`links_of` give a plain, typed view of a loaded
+URDF for the kinematics, the linter and the converter. yourdfpy is imported lazily so that
+commands which never read a URDF start fast.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from ..util.errors import UrdfError, UrdfReadError, XrdfToolsError
+from .urdf_check import JOINT_TYPES, check_urdf_tree
+from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
+
+if TYPE_CHECKING:
+    import yourdfpy
+
+    from .core import Robot
+
+FloatArray = npt.NDArray[np.float64]
+
+
+__all__ = [
+    "JOINT_TYPES",
+    "MOVABLE_TYPES",
+    "JointInfo",
+    "joint_info",
+    "joints_of",
+    "links_of",
+    "load_urdf",
+    "make_filename_handler",
+    "parse_robot",
+    "parse_urdf_string",
+    "read_robot",
+    "source_line",
+    "urdf_path",
+]
+
+
+def links_of(urdf: Robot | yourdfpy.URDF) -> list[str]:
+    """Link names in document order."""
+    from .core import as_robot
+
+    return list(as_robot(urdf).links)
+
+
+def root_link(urdf: Robot | yourdfpy.URDF) -> str:
+    """The one link that is no joint's child; :class:`UrdfError` when there is not exactly one."""
+    from .core import as_robot
+
+    return as_robot(urdf).root_link()
+
+
+def joints_of(urdf: Robot | yourdfpy.URDF) -> dict[str, JointInfo]:
+    """Every ``<joint>`` of the robot as :class:`JointInfo`, keyed by name, in document order."""
+    from .core import as_robot
+
+    return dict(as_robot(urdf).joints)
+
+
+# --------------------------------------------------------------------------------------------
+# Where a loaded URDF came from (fields of its :class:`~xrdf_tools.robot.core.Robot`)
+# --------------------------------------------------------------------------------------------
+def urdf_path(urdf: Robot | yourdfpy.URDF) -> str:
+    """The path a URDF was loaded from by this module, or ``"<urdf>"``."""
+    from .core import as_robot
+
+    return as_robot(urdf).path
+
+
+def urdf_text(urdf: Robot | yourdfpy.URDF) -> str | None:
+    """The text a URDF was parsed from by this module (an expanded xacro: the expansion)."""
+    from .core import as_robot
+
+    return as_robot(urdf).text
+
+
+def source_line(
+    urdf: Robot | yourdfpy.URDF, kind: Literal["link", "joint"], name: str
+) -> int | None:
+    """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""
+    from .core import as_robot
+
+    return as_robot(urdf).source_line(kind, name)
+
+
+# --------------------------------------------------------------------------------------------
+# Loading
+# --------------------------------------------------------------------------------------------
+def load_urdf(
+    path: str | os.PathLike[str],
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+) -> yourdfpy.URDF:
+    """Load a URDF file without loading any mesh: the yourdfpy object of :func:`read_robot`
+    (which carries its :class:`~xrdf_tools.robot.core.Robot`, see
+    :func:`xrdf_tools.robot.core.as_robot`).
+    """
+    return read_robot(path, package_paths=package_paths, build_scene_graph=build_scene_graph).urdf
+
+
+def read_robot(
+    path: str | os.PathLike[str],
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+    data: bytes | None = None,
+) -> Robot:
+    """Load a URDF file without loading any mesh, as a :class:`~xrdf_tools.robot.core.Robot`.
+
+    ``package_paths`` (``{"pkg": "/dir"}``) resolves ``package://pkg/...`` mesh URIs for
+    whoever loads meshes later (see :func:`make_filename_handler`); meshes are never read here.
+    ``build_scene_graph`` builds yourdfpy's scene graph (needed only for yourdfpy's own
+    ``get_transform``; :mod:`xrdf_tools.robot.kinematics` does not need it). ``data``: the file's
+    bytes when the caller has already read them (:func:`read_urdf_bytes`): not read again.
+
+    Raises :class:`UrdfError` (one line, with the path, and the line when known).
+    """
+    p = os.fspath(path)
+    if data is None:
+        data = read_urdf_bytes(p)
+    return _parse_bytes(data, p, package_paths=package_paths, build_scene_graph=build_scene_graph)
+
+
+def read_urdf_bytes(path: str | os.PathLike[str]) -> bytes:
+    """The bytes of a URDF file, read through :func:`xrdf_tools.util.fileio.read_input_bytes`
+    (regular files only, size limit); any failure is a one-line :class:`UrdfReadError` (the file
+    cannot be used at all: a usage error, not a finding about the robot)."""
+    from ..util.fileio import read_input_bytes
+
+    return read_input_bytes(path, what="URDF file", error=UrdfReadError)
+
+
+_ENCODING_DECL = re.compile(r"^(\s*<\?xml[^>]*?)\s+encoding\s*=\s*(['\"])[^'\"]*\2", re.I)
+
+
+def parse_urdf_string(
+    text: str,
+    path: str = "<string>",
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+) -> yourdfpy.URDF:
+    """Parse URDF text (e.g. expanded xacro output); ``path`` is used in messages and to
+    resolve relative mesh paths. See :func:`load_urdf`."""
+    return parse_robot(
+        text, path, package_paths=package_paths, build_scene_graph=build_scene_graph
+    ).urdf
+
+
+def parse_robot(
+    text: str,
+    path: str = "<string>",
+    *,
+    package_paths: Mapping[str, str] | None = None,
+    build_scene_graph: bool = False,
+    expanded: bool = False,
+) -> Robot:
+    """:func:`parse_urdf_string` as a :class:`~xrdf_tools.robot.core.Robot` (``expanded``: the
+    text is the expansion of the xacro file ``path``)."""
+    text = _ENCODING_DECL.sub(r"\1", text, count=1)
+    return _parse_bytes(
+        text.encode("utf-8"),
+        path,
+        package_paths=package_paths,
+        build_scene_graph=build_scene_graph,
+        expanded=expanded,
+    )
+
+
+def make_filename_handler(
+    path: str | os.PathLike[str] | None,
+    package_paths: Mapping[str, str] | None = None,
+) -> Callable[[str], str]:
+    """A yourdfpy ``filename_handler``: ``package://``, ``file://`` and relative mesh URIs.
+
+    Packages come from ``package_paths`` first, then from ``package.xml`` files near ``path``
+    (:class:`xrdf_tools.robot.packages.PackageResolver`). An unresolvable URI is returned unchanged
+    (yourdfpy then reports the missing mesh when it tries to load it).
+    """
+    from .packages import PackageResolver
+
+    start = Path(os.fspath(path)) if path is not None else Path.cwd()
+    if not start.exists():
+        start = Path.cwd()
+    resolver = PackageResolver(start, dict(package_paths or {}))
+
+    def handler(fname: str) -> str:
+        try:
+            return str(resolver.resolve_uri(fname))
+        except XrdfToolsError:
+            return fname
+
+    return handler
+
+
+def _parse_bytes(
+    data: bytes,
+    path: str,
+    *,
+    package_paths: Mapping[str, str] | None,
+    build_scene_graph: bool,
+    expanded: bool = False,
+) -> Robot:
+    from lxml import etree
+
+    from ..util.frozen import FrozenMap
+    from .core import Robot, attach
+    from .link_geometry import capsules_as_cylinders
+
+    parser = etree.XMLParser(
+        remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=True
+    )
+    try:
+        root = etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as e:
+        line, col = e.position if e.position else (e.lineno, None)
+        msg = (e.msg or str(e) or "not well-formed").splitlines()[0]
+        msg = re.sub(r",? line \d+, column \d+\s*$", "", msg)
+        raise UrdfError(f"malformed XML: {msg}", path=path, line=line, col=col) from None
+    if root is None:
+        raise UrdfError("the file is empty", path=path, line=1)
+
+    etree.strip_tags(root, etree.Comment)
+    link_lines, joint_lines = check_urdf_tree(root, path)
+    etree.cleanup_namespaces(root)
+    capsules = capsules_as_cylinders(root)  # yourdfpy knows no <capsule>
+
+    import yourdfpy
+
+    try:
+        robot = yourdfpy.URDF._parse_robot(xml_element=root)
+        urdf = yourdfpy.URDF(
+            robot=robot,
+            build_scene_graph=build_scene_graph,
+            build_collision_scene_graph=False,
+            load_meshes=False,
+            load_collision_meshes=False,
+            filename_handler=make_filename_handler(path, package_paths),
+            mesh_dir=os.path.dirname(path),
+        )
+    except Exception as e:  # yourdfpy raises bare KeyError/ValueError/AttributeError
+        detail = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise UrdfError(f"yourdfpy cannot read this URDF: {detail}", path=path) from None
+    robot = Robot(
+        urdf,
+        path,
+        data.decode("utf-8", errors="replace"),
+        expanded,
+        FrozenMap(link_lines),
+        FrozenMap(joint_lines),
+        FrozenMap(package_paths or {}),
+        capsules,
+    )
+    attach(robot)
+    return robot

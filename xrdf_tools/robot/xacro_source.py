@@ -1,0 +1,228 @@
+"""Expand xacro files with the ``xacro`` package, without a ROS installation.
+
+``$(find pkg)`` is resolved through :class:`~xrdf_tools.robot.packages.PackageResolver`
+(``--package-path NAME=DIR``, then directories holding a ``package.xml`` of that name near the
+input, then a directory named like the package); ``$(arg x)`` takes the ``<xacro:arg>`` default
+or ``--xacro-arg x:=v``. An unresolved package is a :class:`SourceError` naming it and the
+directories searched.
+
+**Security:** xacro evaluates Python expressions (``${...}``) and reads any file it is told to
+include. Treat a xacro file like code: only expand files you trust. The top-level file is
+checked like every input (a regular file within the size limit); files it includes are opened
+by xacro itself.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import threading
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+from xml.parsers.expat import ExpatError
+from xml.sax.saxutils import escape
+
+from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
+from ..util.fileio import decode_utf8, read_input_bytes
+from .packages import PackageResolver
+
+if TYPE_CHECKING:
+    from .core import Robot
+
+__all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg"]
+
+_LOCK = threading.Lock()
+
+
+def is_xacro(path: str | os.PathLike[str]) -> bool:
+    """A ``.xacro`` file (``robot.xacro``, ``robot.urdf.xacro``) or a URDF that uses xacro."""
+    p = Path(path)
+    if p.suffix == ".xacro":
+        return True
+    try:
+        data = read_input_bytes(p, what="robot file", error=SourceError)
+    except XrdfToolsError:
+        return False  # not readable: the URDF reader says why
+    return _uses_xacro(data)
+
+
+def _uses_xacro(data: bytes) -> bool:
+    """The bytes of a robot file declare the xacro namespace and use it."""
+    return b"xmlns:xacro" in data[:4096] and b"<xacro:" in data
+
+
+def parse_xacro_arg(spec: str) -> tuple[str, str]:
+    """``name:=value`` from the command line."""
+    name, sep, value = spec.partition(":=")
+    if not sep or not name:
+        raise SourceError(f"--xacro-arg expects NAME:=VALUE, got '{spec}'")
+    return name, value
+
+
+@contextmanager
+def _patched_find(resolver: PackageResolver) -> Iterator[None]:
+    """Make xacro's ``$(find pkg)`` use ``resolver`` (xacro keeps global state: serialise)."""
+    from xacro import substitution_args as sa
+
+    def find(pkg: str) -> str:
+        return str(resolver.find(pkg))
+
+    with _LOCK:
+        old_find = sa._eval_find
+        old_dict = sa._eval_dict.get("find")
+        sa._eval_find = find
+        sa._eval_dict["find"] = find
+        try:
+            yield
+        finally:
+            sa._eval_find = old_find
+            sa._eval_dict["find"] = old_dict
+
+
+def expand_xacro(
+    path: str | os.PathLike[str],
+    args: Mapping[str, str] | None = None,
+    package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+    *,
+    data: bytes | None = None,
+) -> str:
+    """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
+
+    The file is read through the guarded reader (``data``: its bytes, when the caller has
+    read them already) and decoded, so a bad byte is located; xacro then reads it itself."""
+    import xacro
+
+    p = Path(path)
+    if data is None:
+        data = read_input_bytes(p, what="xacro file", error=SourceError)
+    decode_utf8(data, str(p), "xacro file", SourceError)
+    resolver = PackageResolver(p, dict(package_paths or {}))
+    mappings = {str(k): str(v) for k, v in (args or {}).items()}
+    try:
+        with _patched_find(resolver):
+            xacro.all_includes = []
+            doc = xacro.process_file(str(p), mappings=mappings)
+            text: str = doc.toprettyxml(indent="  ")
+    except XrdfToolsError as e:
+        raise SourceError(e.message, path=str(p)) from None
+    except Exception as e:  # xacro raises XacroException, ArgException, NameError, OSError…
+        raise _xacro_error(e, str(p), getattr(xacro, "filestack", None)) from None
+    finally:
+        try:
+            xacro.filestack = None
+            xacro.macrostack = None
+        except AttributeError:  # pragma: no cover - older xacro
+            pass
+    return text
+
+
+_EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
+
+
+def _xacro_error(e: BaseException, top: str, filestack: Any) -> SourceError:
+    """One located error for a failed expansion: an XML syntax error (expat) at its line and
+    column in the file xacro was reading (the top file or an include), anything else at the
+    file being processed."""
+    stack = [str(f) for f in filestack or () if f]
+    where = stack[-1] if stack else top
+    inner: Any = getattr(e, "exc", None) or e
+    line, offset = getattr(inner, "lineno", None), getattr(inner, "offset", None)
+    if isinstance(inner, ExpatError) and isinstance(line, int) and isinstance(offset, int):
+        what = _EXPAT_WHERE.sub("", " ".join(str(inner).split()))
+        return SourceError(
+            f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
+        )
+    message = _xacro_message(e)
+    line, col = _find_culprit(where, message)
+    return SourceError(message, path=where, line=line, col=col)
+
+
+#: What xacro's messages name, and the text that names it in the file:
+#: (pattern of the message, template of the source text).
+_CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
+    (re.compile(r"when evaluating expression '([^']*)'"), ("${{{}}}", "${{{}")),
+    (re.compile(r"unknown macro name: (xacro:\S+)"), ("<{}",)),
+    (re.compile(r"Property names must be valid python identifiers:\s*(.*)$"), ('name="{}"',)),
+    (re.compile(r"Undefined substitution argument (\S+)"), ("$(arg {}",)),
+    (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
+    (re.compile(r"invalid expression: (.+)$"), ("{}",)),
+)
+#: "xacro:macro: missing attribute 'name'": the first ``<xacro:macro>`` tag without it.
+_MISSING_ATTRIBUTE = re.compile(r"^xacro failed: (xacro:\w+): missing attribute '(\w+)'")
+
+
+def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
+    """Where in ``path`` the name or expression a xacro error quotes is first written (xacro
+    itself keeps no positions); ``(None, None)`` when it is not found."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):  # a file that cannot be read again: no position
+        return None, None
+    # xacro works in document order: the first use failed first; the file may write the
+    # quoted text with XML escapes ('&' as '&amp;')
+    at = next((i for n in _needles(message) if (i := text.find(n)) >= 0), -1)
+    if (m := _MISSING_ATTRIBUTE.search(message)) is not None:
+        tags = re.finditer(rf"<{m.group(1)}\b[^>]*>", text)
+        at = next((t.start() for t in tags if f"{m.group(2)}=" not in t.group(0)), -1)
+    if at < 0:
+        return None, None
+    line = text.count("\n", 0, at) + 1
+    return line, at - (text.rfind("\n", 0, at) + 1) + 1
+
+
+def _needles(message: str) -> list[str]:
+    """The texts that may write what ``message`` quotes, most specific first."""
+    for pattern, templates in _CULPRITS:
+        if (m := pattern.search(message)) is not None:
+            raw = [t.format(m.group(1)) for t in templates]
+            return [*raw, *(escape(n) for n in raw)]
+    return []
+
+
+def _xacro_message(e: BaseException) -> str:
+    name = type(e).__name__
+    if name == "ArgException":
+        return f"xacro argument {e} is not set; pass --xacro-arg {e}:=VALUE"
+    # Unwrap nested exceptions (xacro wraps the real cause in XacroException.exc)
+    inner: Any = getattr(e, "exc", None)
+    if isinstance(inner, XrdfToolsError):
+        return inner.message
+    msg = " ".join(str(e).split()) or name
+    inner_text = " ".join(str(inner).split()) if inner is not None else ""
+    if inner_text and inner_text not in msg:
+        msg = f"{msg} {inner_text}"
+    return f"xacro failed: {msg}"
+
+
+def load_robot(
+    path: str | os.PathLike[str],
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+) -> Robot:
+    """Load a URDF or expand and load a xacro file (meshes are never loaded): the one loader
+    of a robot file. For xacro input :attr:`Robot.xacro_text` is the expanded URDF text.
+    A URDF file is read once: the bytes that tell it is no xacro are the bytes parsed.
+    """
+    from .urdf_source import parse_robot, read_robot, read_urdf_bytes
+
+    pkg = {k: str(v) for k, v in (package_paths or {}).items()}
+    data: bytes | None = None
+    if Path(path).suffix != ".xacro":
+        try:
+            data = read_urdf_bytes(path)
+        except UrdfReadError:
+            if xacro_args:  # a file that cannot be read is no xacro file (as is_xacro says)
+                raise SourceError(_NOT_XACRO, path=str(path)) from None
+            raise
+    if data is None or _uses_xacro(data):
+        text = expand_xacro(path, xacro_args, package_paths, data=data)
+        return parse_robot(text, os.fspath(path), package_paths=pkg, expanded=True)
+    if xacro_args:
+        raise SourceError(_NOT_XACRO, path=str(path))
+    return read_robot(path, package_paths=pkg, data=data)
+
+
+_NOT_XACRO = "--xacro-arg given but the robot file is not a xacro file"

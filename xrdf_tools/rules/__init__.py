@@ -1,0 +1,1 @@
+"""Every diagnostic id: the registry and the generated rules documentation."""

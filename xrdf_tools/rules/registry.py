@@ -1,0 +1,131 @@
+"""Every diagnostic id xrdf-tools emits, in one registry: lint rules, report findings, and the
+notes of convert, export, kinematics, sphere fitting and viz.
+
+A :class:`RuleInfo` gives the id, its default severity, a one-line summary and the command
+that emits it. ``docs/rules.md`` is generated from this registry (``python -m
+xrdf_tools.rules.docs``) and SARIF logs describe their rules from it; a test checks that every
+id the code emits is registered. Lint rules and report findings are registered where they are
+defined (the lint rule modules, :data:`xrdf_tools.report.RULES`); the table below holds the
+others.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+
+from ..diagnostics import Severity
+
+__all__ = ["PRODUCER_RULES", "RuleInfo", "all_rules", "rule_info"]
+
+
+@dataclass(frozen=True)
+class RuleInfo:
+    """One diagnostic id: default severity, one-line summary, the command that emits it."""
+
+    id: str
+    severity: Severity
+    summary: str
+    producer: str
+
+
+W, I, E = Severity.WARNING, Severity.INFO, Severity.ERROR  # noqa: E741 - table shorthand
+
+#: Diagnostics that are not lint rules or report findings: (id, default severity, summary).
+_PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
+    "convert": (
+        ("convert-chosen-group", W, "No planning group given: the one chosen, why, the others."),
+        ("convert-chosen-state", W, "No group state given: the one used for default positions."),
+        ("convert-chosen-tool-frame", W, "No tool frame in the inputs: the c-space chain's tip."),
+        ("convert-clamped-default", W, "A default position outside the URDF limits, clamped."),
+        ("convert-computed-mask", I, "--fit-spheres: the mask computed, pairs per reason."),
+        ("convert-default-acceleration", W, "No acceleration limit: a default or --acceleration."),
+        ("convert-default-jerk", W, "No jerk limit in the inputs: the default or --jerk."),
+        ("convert-default-positions", W, "No default position: 0, or the middle of the limits."),
+        ("convert-dropped-joint", W, "A c-space joint that is not actuated: dropped."),
+        ("convert-dropped-joint-value", I, "A state or lock value of a non-actuated joint."),
+        ("convert-dropped-key", W, "A source key without XRDF equivalent: dropped."),
+        ("convert-duplicate-frame", W, "An extra link that already exists in the URDF."),
+        ("convert-duplicate-key", W, "A key repeated in a cuRobo file: the last value is used."),
+        ("convert-empty-cspace", W, "The c-space is empty."),
+        ("convert-fitted-spheres", I, "--fit-spheres: spheres fitted per link, links left out."),
+        ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
+        ("convert-no-spheres", W, "No collision spheres at all in the inputs."),
+        ("convert-placeholder-spheres", W, "SRDF sphere approximation radii of zero, dropped."),
+        ("convert-unknown-joint", W, "A joint name that is not in the URDF: dropped."),
+        ("convert-unknown-link", W, "A link name that is not in the URDF: dropped."),
+        ("convert-unreachable-links", W, "URDF parts the chosen base does not reach."),
+        ("convert-unused-spheres", W, "Spheres cuRobo never used (not a collision link)."),
+        ("convert-version", W, "Writing 2.0: the readers that load it with no collision."),
+        ("convert-virtual-joint", I, "An SRDF virtual joint (XRDF is relative to the URDF root)."),
+    ),
+    "convert, export xrdf": (
+        ("different-collision-groups", W, "World and self collision use different groups."),
+        ("dropped-nonpositive-sphere", W, "Writing 2.0: a sphere with radius ≤ 0 is dropped."),
+        ("flattened-clone", I, "Writing 1.0: a cloned geometry group, flattened."),
+        ("missing-for-curobo", I, "Writing 1.0: a key cuRobo's loader requires is absent."),
+        ("export-version", W, "Exported as 2.0: the readers that load it with no collision."),
+    ),
+    "export curobo": (
+        ("export-default-positions", W, "A c-space joint without default: 0.0 is written."),
+        ("export-different-groups", W, "World and self groups differ: the world group is used."),
+        ("export-dropped-joint", W, "A default position of a joint that is not actuated."),
+        ("export-dropped-key", W, "Top-level keys that have no cuRobo equivalent."),
+    ),
+    "export srdf": (
+        ("export-srdf-added", I, "Pairs added to the SRDF, with their reasons."),
+        ("export-srdf-added-frame", W, "Ignore pairs on added frames MoveIt does not know."),
+        ("export-srdf-removed", W, "A disabled pair the XRDF no longer ignores: removed."),
+        ("export-srdf-robot-name", W, "The SRDF robot name differs from the URDF's."),
+    ),
+    "kinematics (lint, report, viz)": (
+        ("joint-held-fixed", W, "A joint that cannot move is held at its default."),
+        ("joint-limits-missing", W, "A joint without limits: sampled in a default range."),
+        ("sphere-frame-unknown", W, "Spheres on a frame the robot does not have: not checked."),
+    ),
+    "spheres, convert --fit-spheres": (
+        ("spheres-adjacent-ignored", I, "Adjacent links' spheres overlap: the pair is ignored."),
+        ("spheres-cloned-link", W, "Links that share one mesh: spheres fitted once."),
+        ("spheres-convex-hull", W, "A mesh that is not watertight: its convex hull is used."),
+        ("spheres-mesh-unreadable", W, "A mesh that cannot be read: the link gets no spheres."),
+        ("spheres-no-geometry", W, "A link without geometry: no spheres."),
+        ("spheres-unsupported-geometry", W, "A geometry kind the fitter does not handle."),
+        ("spheres-visual-fallback", W, "No collision geometry: the visual geometry is used."),
+    ),
+    "viz": (
+        ("mesh-not-loaded", W, "A link mesh that cannot be loaded is not drawn."),
+        ("viz-collisions-not-drawn", I, "Too many configurations: contacts logged, not coloured."),
+        ("viz-frame-unknown", W, "Spheres on a frame the robot does not have: not drawn."),
+        ("viz-placeholder-spheres", I, "Spheres with a negative radius are not drawn."),
+    ),
+}
+
+#: The rules of :data:`_PRODUCERS` as :class:`RuleInfo`.
+PRODUCER_RULES: tuple[RuleInfo, ...] = tuple(
+    RuleInfo(rid, sev, summary, producer)
+    for producer, rows in _PRODUCERS.items()
+    for rid, sev, summary in rows
+)
+
+
+@cache
+def all_rules() -> dict[str, RuleInfo]:
+    """Every registered id → :class:`RuleInfo`: lint rules, report findings, the rest."""
+    from ..lint import RULES as LINT_RULES
+    from ..report import RULES as REPORT_RULES
+
+    out = {r.id: RuleInfo(r.id, r.severity, r.summary, "lint") for r in LINT_RULES}
+    out["internal-error"] = RuleInfo(
+        "internal-error",
+        E,
+        "A lint rule crashed: a bug in xrdf-tools, please report it.",
+        "lint (framework)",
+    )
+    out.update({rid: RuleInfo(rid, sev, s, "report") for rid, s, sev in REPORT_RULES})
+    out.update({r.id: r for r in PRODUCER_RULES})
+    return out
+
+
+def rule_info(rule_id: str) -> RuleInfo | None:
+    """The registered :class:`RuleInfo` of ``rule_id``, or None."""
+    return all_rules().get(rule_id)

@@ -1,0 +1,2 @@
+"""Self-collision: sphere sets and distances, the counting engine, sampling, configurations and
+certification."""

@@ -1,0 +1,248 @@
+"""Distances between spheres: world centres, the pair test, contacts at one configuration.
+
+The pair semantics live here and nowhere else (docs/report.md): spheres ``i`` and ``j`` of a
+:class:`~xrdf_tools.selfcollision.collision.spheres.SphereSet` collide when ``‖c_i − c_j‖² < (sr_i +
+sr_j)²`` (:func:`touching`, squared so that no square root rounds a verdict) and their clearance is
+``‖c_i − c_j‖ − (sr_i + sr_j)``. Everything is float64 and batched:
+
+* :func:`sphere_world_centers` places the spheres for configurations (one GEMM per frame);
+* :func:`pair_clearance` / :func:`pair_hits` evaluate every sphere pair of the set;
+* :func:`frame_pair_verdicts` decides chosen (frame pair, configuration) entries: the float64
+  reference that the engine's float32 path falls back on near the boundary;
+* :func:`contacts` / :func:`colliding_frame_pairs` answer "what collides at this q" (lint's
+  default-pose rule, viz, the report's default configuration).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from ...robot.kinematics import KinematicModel, fk_batch_last
+from ...xrdf.model import Xrdf
+from .spheres import SphereSet, build_sphere_set
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+BoolArray = npt.NDArray[np.bool_]
+
+__all__ = [
+    "Contact",
+    "colliding_frame_pairs",
+    "contacts",
+    "frame_pair_verdicts",
+    "pair_clearance",
+    "pair_hits",
+    "sphere_world_centers",
+    "squared_distances",
+    "touching",
+]
+
+#: Sphere-pair evaluations per block of :func:`frame_pair_verdicts` (bounded memory).
+_BLOCK_ELEMENTS = 1 << 15
+
+
+# ------------------------------------------------------------------------------------------
+# The pair test
+# ------------------------------------------------------------------------------------------
+def squared_distances(centers: FloatArray, i: IntArray, j: IntArray) -> FloatArray:
+    """``‖c_i − c_j‖²`` [..., P] for index arrays ``i``, ``j`` [P] into ``centers`` [..., S, 3]."""
+    diff = centers[..., i, :] - centers[..., j, :]
+    out: FloatArray = np.einsum("...k,...k->...", diff, diff)
+    return out
+
+
+def touching(d2: FloatArray, radius_sum: FloatArray) -> BoolArray:
+    """The collision test of every counter: ``d² < (r_i + r_j)²`` (strict: touching spheres
+    with zero clearance do not collide)."""
+    out: BoolArray = d2 < radius_sum * radius_sum
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# Plain batched building blocks
+# ------------------------------------------------------------------------------------------
+def centers_batch_last(
+    kin: KinematicModel, spheres: SphereSet, q2: FloatArray, extra: FloatArray | None = None
+) -> FloatArray:
+    """Sphere centres [S (+ Fs), 3, B]; with ``extra`` [Fs, 3] one more point per frame."""
+    S, Fs = spheres.n_spheres, len(spheres.frame_names)
+    B = q2.shape[0]
+    rows = S + (Fs if extra is not None else 0)
+    out = np.empty((rows, 3, B))
+    if Fs == 0:
+        return out
+    if kin.n_frames <= 2 * Fs:
+        # all frames: no gather copy, little extra work
+        R, t = fk_batch_last(kin, q2)
+        fidx = spheres.frame_kin_index.tolist()
+    else:
+        R, t = fk_batch_last(kin, q2, spheres.frame_kin_index)
+        fidx = list(range(Fs))
+    for f, kf in enumerate(fidx):
+        sl = spheres.spheres_of(f)
+        # out[s, i, b] = sum_k pts[s, k] * R[kf, i, k, b] + t[kf, i, b], as one GEMM
+        Rk = np.ascontiguousarray(R[kf].transpose(1, 0, 2)).reshape(3, 3 * B)
+        dst = out[sl].reshape(sl.stop - sl.start, 3 * B)
+        np.matmul(spheres.local_centers[sl], Rk, out=dst)
+        out[sl] += t[kf]
+        if extra is not None:
+            row = out[S + f].reshape(1, 3 * B)
+            np.matmul(extra[f : f + 1], Rk, out=row)
+            out[S + f] += t[kf]
+    return out
+
+
+def as_q2(kin: KinematicModel, q_full: npt.ArrayLike) -> tuple[FloatArray, bool]:
+    q = np.asarray(q_full, dtype=np.float64)
+    n = kin.n_actuated
+    if q.ndim == 1 and q.shape[0] == n:
+        return q[None, :], True
+    if q.ndim == 2 and q.shape[1] == n:
+        return q, False
+    raise ValueError(
+        f"q must have shape [{n}] or [B, {n}] (actuated joints: "
+        f"{', '.join(kin.actuated_joints) or 'none'}), got {list(q.shape)}"
+    )
+
+
+def sphere_world_centers(
+    kin: KinematicModel, spheres: SphereSet, q_full: npt.ArrayLike
+) -> FloatArray:
+    """World (base-frame) centres [B, S, 3] of the spheres for configurations ``q_full``.
+
+    ``q_full``: [B, n] (or [n], giving [S, 3]) values of every actuated joint, in
+    ``kin.actuated_joints`` order (see :func:`~xrdf_tools.robot.kinematics.full_configuration`).
+    """
+    q2, single = as_q2(kin, q_full)
+    c = centers_batch_last(kin, spheres, q2).transpose(2, 0, 1)
+    return c[0] if single else np.ascontiguousarray(c)
+
+
+def pair_clearance(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
+    """Signed clearance [B, P] (or [P]) of every sphere pair of the set.
+
+    ``centers``: [B, S, 3] (or [S, 3]). Clearance is ``‖c_i − c_j‖ − (sr_i + sr_j)`` with the
+    buffered self-collision radii ``sr``; negative means the pair collides.
+    """
+    c = np.asarray(centers, dtype=np.float64)
+    if c.shape[-2:] != (spheres.n_spheres, 3) or c.ndim not in (2, 3):
+        raise ValueError(f"centers must be [B, {spheres.n_spheres}, 3], got {list(c.shape)}")
+    d = np.linalg.norm(c[..., spheres.pair_i, :] - c[..., spheres.pair_j, :], axis=-1)
+    out: FloatArray = d - spheres.pair_radius_sum
+    return out
+
+
+def pair_hits(spheres: SphereSet, centers: npt.ArrayLike) -> BoolArray:
+    """Collision flags [B, P] (or [P]) with the counting comparison :func:`touching`."""
+    c = np.asarray(centers, dtype=np.float64)
+    return touching(squared_distances(c, spheres.pair_i, spheres.pair_j), spheres.pair_radius_sum)
+
+
+def frame_pair_verdicts(
+    spheres: SphereSet, centers: FloatArray, ks: IntArray, rows: IntArray
+) -> tuple[BoolArray, FloatArray]:
+    """float64 verdict and clearance of frame pair ``ks[e]`` at configuration ``rows[e]``.
+
+    ``centers`` [U, S, 3] are world centres (:func:`sphere_world_centers`); entry ``e`` asks
+    whether any sphere pair of frame pair ``ks[e]`` collides at ``centers[rows[e]]``
+    (:func:`touching`) and for its smallest clearance. Entries are grouped by frame pair and
+    evaluated in blocks of bounded size.
+    """
+    s = spheres
+    hit = np.zeros(len(ks), dtype=np.bool_)
+    clr = np.zeros(len(ks))
+    order = np.argsort(ks, kind="stable")
+    uk, starts = np.unique(ks[order], return_index=True)
+    ends = np.append(starts[1:], len(order))
+    for k, s0, s1 in zip(uk.tolist(), starts.tolist(), ends.tolist(), strict=True):
+        lo, hi = int(s.pair_start[k]), int(s.pair_start[k + 1])
+        pi, pj = s.pair_i[lo:hi], s.pair_j[lo:hi]
+        rs = s.pair_radius_sum[lo:hi]
+        step = max(1, _BLOCK_ELEMENTS // (hi - lo))
+        for e0 in range(s0, s1, step):  # bounded memory
+            ent = order[e0 : min(s1, e0 + step)]
+            d2 = squared_distances(centers[rows[ent]], pi, pj)
+            hit[ent] = touching(d2, rs).any(axis=1)
+            clr[ent] = (np.sqrt(d2) - rs).min(axis=1)
+    return hit, clr
+
+
+# ------------------------------------------------------------------------------------------
+# One configuration: what collides?
+# ------------------------------------------------------------------------------------------
+# ------------------------------------------------------------------------------------------
+# One configuration: what collides?
+# ------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Contact:
+    """A colliding frame pair at one configuration.
+
+    ``clearance`` (negative, metres) is that of the worst sphere pair, ``sphere_a`` and
+    ``sphere_b`` its positions in the frames' sphere lists; ``n_sphere_pairs`` counts the
+    colliding sphere pairs of the frame pair. ``masked`` is True when ``ignore`` disables the
+    pair (only reported when asked for).
+    """
+
+    frame_a: str
+    frame_b: str
+    clearance: float
+    sphere_a: int
+    sphere_b: int
+    n_sphere_pairs: int = 1
+    masked: bool = False
+
+
+def contacts(spheres: SphereSet, centers: npt.ArrayLike) -> list[Contact]:
+    """Colliding frame pairs of ``spheres`` for one configuration's centres [S, 3].
+
+    One :class:`Contact` per colliding frame pair of the set (masked pairs only if the set
+    was built with ``include_masked=True``), worst (most negative clearance) first.
+    """
+    c = np.asarray(centers, dtype=np.float64)
+    if c.shape != (spheres.n_spheres, 3):
+        raise ValueError(f"centers must be [{spheres.n_spheres}, 3], got {list(c.shape)}")
+    hit = pair_hits(spheres, c)
+    clr = pair_clearance(spheres, c)
+    out: list[Contact] = []
+    for k in np.unique(spheres.pair_frame_pair[hit]).tolist():
+        lo, hi = int(spheres.pair_start[k]), int(spheres.pair_start[k + 1])
+        h = hit[lo:hi]
+        cl = np.where(h, clr[lo:hi], np.inf)
+        w = lo + int(np.argmin(cl))
+        out.append(
+            Contact(
+                frame_a=spheres.frame_names[spheres.frame_pair_a[k]],
+                frame_b=spheres.frame_names[spheres.frame_pair_b[k]],
+                clearance=float(clr[w]),
+                sphere_a=int(spheres.sphere_index[spheres.pair_i[w]]),
+                sphere_b=int(spheres.sphere_index[spheres.pair_j[w]]),
+                n_sphere_pairs=int(np.count_nonzero(h)),
+                masked=bool(spheres.frame_pair_masked[k]),
+            )
+        )
+    out.sort(key=lambda c_: (c_.clearance, c_.frame_a, c_.frame_b))
+    return out
+
+
+def colliding_frame_pairs(
+    kin: KinematicModel,
+    xrdf: Xrdf,
+    q_full: npt.ArrayLike,
+    *,
+    include_masked: bool = False,
+) -> list[Contact]:
+    """Frame pairs in self-collision at one configuration ``q_full`` [n], worst first.
+
+    ``q_full`` holds every actuated joint of ``kin`` (e.g. from
+    :func:`~xrdf_tools.robot.kinematics.default_configuration`). Masked pairs are skipped unless
+    ``include_masked``. For repeated queries build the :class:`SphereSet` once and use
+    :func:`sphere_world_centers` + :func:`contacts`.
+    """
+    spheres, _ = build_sphere_set(kin, xrdf, include_masked=include_masked)
+    q2, single = as_q2(kin, q_full)
+    if not single:
+        raise ValueError("colliding_frame_pairs takes one configuration [n]")
+    return contacts(spheres, sphere_world_centers(kin, spheres, q2[0]))

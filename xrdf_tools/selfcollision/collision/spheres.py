@@ -1,0 +1,342 @@
+"""Sphere sets: the self-collision spheres of a robot as flat arrays, and how they are built.
+
+:func:`build_sphere_set` turns an :class:`~xrdf_tools.xrdf.model.Xrdf` plus a
+:class:`~xrdf_tools.robot.kinematics.KinematicModel` into a :class:`SphereSet`: spheres grouped by
+frame, the frame pairs that are checked (masked ones on request) and every sphere pair of
+them as index arrays. Buffered radii follow cuRobo (:func:`self_radius`). Every consumer
+(lint, viz, the report's :mod:`xrdf_tools.selfcollision.engine`, the reference counter
+:func:`tests.collision_reference.count_chunk`, ``--certify``) starts from this one set, so they
+agree on which sphere pairs exist and on their radii.
+
+:func:`bounding_sphere` is the one enclosing-sphere construction used for culling, both per
+frame here and per moving body in the engine.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ...diagnostics import Diagnostic, Severity
+from ...robot.kinematics import KinematicModel
+from ...util.errors import did_you_mean
+from ...xrdf.model import Xrdf, clone_order
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+BoolArray = npt.NDArray[np.bool_]
+
+__all__ = [
+    "CULL_SLACK",
+    "MIN_BUFFERED_RADIUS",
+    "SphereSet",
+    "bounding_sphere",
+    "build_sphere_set",
+    "self_radius",
+]
+
+#: Slack (metres) added to every bounding radius so that culling stays conservative under
+#: float rounding (used by the reference counter and by the engine alike).
+CULL_SLACK = 1e-6
+
+
+def bounding_sphere(centers: FloatArray, radii: FloatArray) -> tuple[FloatArray, float]:
+    """A sphere (centre [3], radius) enclosing the spheres ``centers`` [m, 3] / ``radii`` [m].
+
+    The centre is the middle of the spheres' axis-aligned bounding box; the radius reaches the
+    farthest sphere surface from it. Not the smallest enclosing sphere, but cheap and tight
+    enough for culling. Negative radii count as 0 for the box.
+    """
+    r = np.maximum(radii, 0.0)
+    c: FloatArray = ((centers - r[:, None]).min(axis=0) + (centers + r[:, None]).max(axis=0)) / 2
+    return c, float(np.max(np.linalg.norm(centers - c, axis=1) + radii))
+
+
+def _ro(a: npt.ArrayLike, dtype: Any) -> Any:
+    arr = np.array(a, dtype=dtype, copy=True)
+    arr.flags.writeable = False
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class SphereSet:
+    """The self-collision spheres of a robot as flat arrays.
+
+    Frames (``Fs = len(frame_names)``): frames that carry at least one active sphere, in
+    kinematic (topological) order; ``frame_kin_index`` [Fs] is each one's index in the
+    :class:`~xrdf_tools.robot.kinematics.KinematicModel`.
+
+    Spheres (``S``), grouped by frame in that order (``frame_of_sphere`` is non-decreasing):
+    ``frame_of_sphere`` [S] index into ``frame_names``; ``kin_frame`` [S] index into the
+    kinematic model's frames; ``sphere_index`` [S] position of the sphere in its frame's list
+    of the (clone-resolved) self-collision geometry group; ``local_centers`` [S, 3];
+    ``radii`` [S] raw radius; ``self_radii`` [S] = raw radius + the frame's self-collision
+    buffer.
+
+    Frame pairs (``K``), ``frame_pair_a < frame_pair_b`` (indices into ``frame_names``), in
+    lexicographic order: every pair of sphere frames that is checked, i.e. not masked, plus
+    the masked ones when built with ``include_masked=True`` (``frame_pair_masked`` [K] says
+    which); :meth:`select_frame_pairs` narrows them.
+
+    Sphere pairs (``P``): ``pair_i < pair_j`` sphere indices on different frames, grouped by
+    frame pair: ``pair_frame_pair`` [P] is the frame-pair index of each, so per-frame-pair
+    counts are ``np.bincount(pair_frame_pair[hit], minlength=K)``; ``pair_start`` [K + 1]
+    gives each frame pair's slice of the pair arrays; ``pair_radius_sum`` [P] (derived) the
+    two buffered radii added.
+    """
+
+    frame_names: tuple[str, ...]
+    frame_kin_index: IntArray
+    frame_of_sphere: IntArray
+    kin_frame: IntArray
+    sphere_index: IntArray
+    local_centers: FloatArray
+    radii: FloatArray
+    self_radii: FloatArray
+    frame_pair_a: IntArray
+    frame_pair_b: IntArray
+    frame_pair_masked: BoolArray
+    pair_i: IntArray
+    pair_j: IntArray
+    pair_frame_pair: IntArray
+    pair_start: IntArray
+    n_placeholders: int = 0
+    _frame_start: IntArray = field(init=False, repr=False)
+    _bound_center: FloatArray = field(init=False, repr=False)
+    _bound_radius: FloatArray = field(init=False, repr=False)
+    #: [P] ``self_radii[pair_i] + self_radii[pair_j]``: the sum every pair test compares with.
+    pair_radius_sum: FloatArray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        ints = (
+            "frame_kin_index",
+            "frame_of_sphere",
+            "kin_frame",
+            "sphere_index",
+            "frame_pair_a",
+            "frame_pair_b",
+            "pair_i",
+            "pair_j",
+            "pair_frame_pair",
+            "pair_start",
+        )
+        for name in ints:
+            object.__setattr__(self, name, _ro(getattr(self, name), np.intp))
+        for name in ("local_centers", "radii", "self_radii"):
+            object.__setattr__(self, name, _ro(getattr(self, name), np.float64))
+        object.__setattr__(self, "frame_pair_masked", _ro(self.frame_pair_masked, np.bool_))
+        S, Fs, K = len(self.frame_of_sphere), len(self.frame_names), len(self.frame_pair_a)
+        if self.local_centers.shape != (S, 3) or self.radii.shape != (S,):
+            raise ValueError("SphereSet: local_centers must be [S, 3] and radii [S]")
+        if self.pair_start.shape != (K + 1,) or self.frame_kin_index.shape != (Fs,):
+            raise ValueError("SphereSet: pair_start must be [K + 1], frame_kin_index [Fs]")
+        starts = np.searchsorted(self.frame_of_sphere, np.arange(Fs + 1))
+        object.__setattr__(self, "_frame_start", _ro(starts, np.intp))
+        # Per-frame bounding sphere of the self-collision spheres (frame coordinates).
+        bc = np.zeros((Fs, 3))
+        br = np.zeros(Fs)
+        for f in range(Fs):
+            sl = slice(int(starts[f]), int(starts[f + 1]))
+            bc[f], br[f] = bounding_sphere(self.local_centers[sl], self.self_radii[sl])
+        object.__setattr__(self, "_bound_center", _ro(bc, np.float64))
+        object.__setattr__(self, "_bound_radius", _ro(br + CULL_SLACK, np.float64))
+        rsum = self.self_radii[self.pair_i] + self.self_radii[self.pair_j]
+        object.__setattr__(self, "pair_radius_sum", _ro(rsum, np.float64))
+
+    # --- sizes and names -------------------------------------------------------------------
+    @property
+    def n_spheres(self) -> int:
+        return len(self.frame_of_sphere)
+
+    @property
+    def n_pairs(self) -> int:
+        return len(self.pair_i)
+
+    @property
+    def n_frame_pairs(self) -> int:
+        return len(self.frame_pair_a)
+
+    def spheres_of(self, frame: int) -> slice:
+        """Slice of sphere indices on frame ``frame`` (index into ``frame_names``)."""
+        return slice(int(self._frame_start[frame]), int(self._frame_start[frame + 1]))
+
+    def sphere_counts(self) -> dict[str, int]:
+        """Active spheres per frame."""
+        return {
+            f: int(n) for f, n in zip(self.frame_names, np.diff(self._frame_start), strict=True)
+        }
+
+    def sphere_label(self, s: int) -> str:
+        """``frame[k]``: the sphere's frame and position in that frame's list."""
+        return f"{self.frame_names[self.frame_of_sphere[s]]}[{self.sphere_index[s]}]"
+
+    def select_frame_pairs(self, keep: npt.ArrayLike) -> SphereSet:
+        """A copy that keeps only the frame pairs where ``keep`` [K] is True (same spheres)."""
+        k = np.asarray(keep, dtype=np.bool_)
+        if k.shape != (self.n_frame_pairs,):
+            raise ValueError(f"keep must be [{self.n_frame_pairs}], got {list(k.shape)}")
+        sel = k[self.pair_frame_pair]
+        new_index = np.cumsum(k) - 1
+        counts = np.diff(self.pair_start)[k]
+        return SphereSet(
+            frame_names=self.frame_names,
+            frame_kin_index=self.frame_kin_index,
+            frame_of_sphere=self.frame_of_sphere,
+            kin_frame=self.kin_frame,
+            sphere_index=self.sphere_index,
+            local_centers=self.local_centers,
+            radii=self.radii,
+            self_radii=self.self_radii,
+            frame_pair_a=self.frame_pair_a[k],
+            frame_pair_b=self.frame_pair_b[k],
+            frame_pair_masked=self.frame_pair_masked[k],
+            pair_i=self.pair_i[sel],
+            pair_j=self.pair_j[sel],
+            pair_frame_pair=new_index[self.pair_frame_pair[sel]],
+            pair_start=np.concatenate([[0], np.cumsum(counts)]),
+            n_placeholders=self.n_placeholders,
+        )
+
+    def frame_pair_names(self) -> Iterator[tuple[str, str]]:
+        for a, b in zip(self.frame_pair_a.tolist(), self.frame_pair_b.tolist(), strict=True):
+            yield self.frame_names[a], self.frame_names[b]
+
+
+#: cuRobo clamps a buffered radius in (−1, 0] to this (1 mm): the sphere stays a real one.
+MIN_BUFFERED_RADIUS = 0.001
+
+
+def self_radius(radius: float, buffer: float) -> float | None:
+    """The self-collision radius of a sphere with raw ``radius`` and its frame's ``buffer``,
+    or None for an attached-object slot (raw radius ≤ −1, cuRobo's ``extra_collision_spheres``)
+    or a sphere buffered out of existence (buffered radius ≤ −1)."""
+    if radius <= -1.0:
+        return None
+    buffered = radius + buffer
+    if buffered > 0.0:
+        return buffered
+    return MIN_BUFFERED_RADIUS if buffered > -1.0 else None
+
+
+def build_sphere_set(
+    kin: KinematicModel, xrdf: Xrdf, *, include_masked: bool = False
+) -> tuple[SphereSet, list[Diagnostic]]:
+    """Flatten the self-collision spheres of ``xrdf`` for ``kin``.
+
+    Uses the clone-resolved ``self_collision.geometry`` group. Attached-object slots (raw radius
+    ≤ −1) are dropped (counted in ``n_placeholders``); a small negative raw radius is a real
+    sphere once buffered, as cuRobo builds it (:func:`self_radius`). Spheres on a frame that the
+    kinematic model does not have are dropped with a ``sphere-frame-unknown`` warning located
+    at the frame's key in the geometry group. Without a ``self_collision`` section the set is
+    empty.
+    """
+    diags: list[Diagnostic] = []
+    sc = xrdf.self_collision
+    spheres = xrdf.self_collision_spheres()
+    path = xrdf.source.path
+    per_frame: dict[int, list[tuple[int, tuple[float, float, float], float, float]]] = {}
+    n_placeholders = 0
+    for frame, sph in spheres.items():
+        if not kin.has_frame(frame):
+            group = _group_holding(xrdf, frame)
+            kp = f"geometry.{group}.spheres.{frame}"
+            line, col = xrdf.source.position(kp + "#key")
+            why = (
+                f"was removed by set_base_frame '{kin.base_frame}'"
+                if frame in kin.pruned_frames
+                else "is not a frame of the robot" + did_you_mean(frame, kin.frame_names)
+            )
+            diags.append(
+                Diagnostic(
+                    path,
+                    line,
+                    col,
+                    "sphere-frame-unknown",
+                    Severity.WARNING,
+                    f"spheres on frame '{frame}' are not checked: the frame {why}",
+                    kp,
+                )
+            )
+            continue
+        k = kin.frame_index(frame)
+        buf = float(sc.buffer_distance.get(frame, 0.0)) if sc is not None else 0.0
+        for i, s in enumerate(sph):
+            r_self = self_radius(s.radius, buf)
+            if r_self is None:
+                n_placeholders += 1
+                continue
+            per_frame.setdefault(k, []).append((i, s.center, s.radius, r_self))
+    kin_frames = sorted(per_frame)
+    names = tuple(kin.frame_names[k] for k in kin_frames)
+    fos: list[int] = []
+    kfs: list[int] = []
+    idx: list[int] = []
+    centers: list[tuple[float, float, float]] = []
+    radii: list[float] = []
+    self_radii: list[float] = []
+    for f, k in enumerate(kin_frames):
+        for i, c, r, sr in per_frame[k]:
+            fos.append(f)
+            kfs.append(k)
+            idx.append(i)
+            centers.append(c)
+            radii.append(r)
+            self_radii.append(sr)
+    starts = np.searchsorted(np.array(fos, dtype=np.intp), np.arange(len(names) + 1))
+    fa: list[int] = []
+    fb: list[int] = []
+    masked: list[bool] = []
+    pi: list[npt.NDArray[np.intp]] = []
+    pj: list[npt.NDArray[np.intp]] = []
+    pstart = [0]
+    for a in range(len(names)):
+        for b in range(a + 1, len(names)):
+            m = sc is not None and sc.is_ignored(names[a], names[b])
+            if m and not include_masked:
+                continue
+            fa.append(a)
+            fb.append(b)
+            masked.append(m)
+            ia = np.arange(starts[a], starts[a + 1], dtype=np.intp)
+            ib = np.arange(starts[b], starts[b + 1], dtype=np.intp)
+            gi, gj = np.meshgrid(ia, ib, indexing="ij")
+            pi.append(gi.ravel())
+            pj.append(gj.ravel())
+            pstart.append(pstart[-1] + gi.size)
+    pair_i = np.concatenate(pi) if pi else np.zeros(0, dtype=np.intp)
+    pair_j = np.concatenate(pj) if pj else np.zeros(0, dtype=np.intp)
+    pair_fp = np.repeat(np.arange(len(fa), dtype=np.intp), np.diff(np.array(pstart)))
+    sset = SphereSet(
+        frame_names=names,
+        frame_kin_index=np.array(kin_frames, dtype=np.intp),
+        frame_of_sphere=np.array(fos, dtype=np.intp),
+        kin_frame=np.array(kfs, dtype=np.intp),
+        sphere_index=np.array(idx, dtype=np.intp),
+        local_centers=np.array(centers, dtype=np.float64).reshape(-1, 3),
+        radii=np.array(radii, dtype=np.float64),
+        self_radii=np.array(self_radii, dtype=np.float64),
+        frame_pair_a=np.array(fa, dtype=np.intp),
+        frame_pair_b=np.array(fb, dtype=np.intp),
+        frame_pair_masked=np.array(masked, dtype=np.bool_),
+        pair_i=pair_i,
+        pair_j=pair_j,
+        pair_frame_pair=pair_fp,
+        pair_start=np.array(pstart, dtype=np.intp),
+        n_placeholders=n_placeholders,
+    )
+    return sset, diags
+
+
+def _group_holding(xrdf: Xrdf, frame: str) -> str:
+    sc = xrdf.self_collision
+    geometry = xrdf.geometry
+    if sc is None or geometry is None:
+        return ""
+    for g in clone_order(geometry, sc.geometry):
+        if frame in geometry[g].spheres:
+            return g
+    return sc.geometry

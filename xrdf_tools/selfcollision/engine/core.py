@@ -1,0 +1,275 @@
+"""The counting engine: float32 verdicts for every body pair, float64 rechecks at the boundary.
+
+:class:`CountEngine` is built once per report (bodies, body pairs, culling, constant pairs) and
+then counts chunks of configurations (:meth:`CountEngine.count`):
+
+1. body poses for the whole chunk in float32 (:mod:`.bodies`);
+2. per body pair, the configurations that culling keeps (:mod:`.culling`) are evaluated as
+   one distance matrix per block (:mod:`.pairs`), giving per frame pair the float32 minimum
+   of ``d² − R²``;
+3. :meth:`CountEngine._classify` turns those into verdicts, queueing every entry within the
+   error bound ``± delta`` of zero (:mod:`.bounds`) and every configuration that may hold a
+   frame pair's minimum clearance below the margin;
+4. the queued entries are re-decided in float64 with the reference pair test
+   (:func:`~xrdf_tools.selfcollision.collision.frame_pair_verdicts`), so counts equal the float64
+   brute force and clearances are float64-exact.
+
+:class:`EngineTotals` accumulates counts and clearances over chunks (and worker processes).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from ...robot.kinematics import KinematicModel, fk
+from ..collision import SphereSet, frame_pair_verdicts, sphere_world_centers
+from .bodies import (
+    _EPS32,
+    F32,
+    _body_poses,
+    _body_roots,
+    _build_bodies,
+    _local_centers,
+    _position_error,
+)
+from .bounds import _clearance_hi, _clearance_lo, _energy_at
+from .culling import _body_bounds, _Culler
+from .pairs import _body_pairs, _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+BoolArray = npt.NDArray[np.bool_]
+
+__all__ = ["CountEngine", "EngineTotals"]
+
+
+@dataclass
+class EngineTotals:
+    """Per frame pair (``K``): collision counts, exact minimum clearance and its bound.
+
+    ``min_clearance`` is the smallest clearance evaluated exactly (float64); every
+    configuration not evaluated exactly has a clearance of at least ``clearance_bound``, so
+    the true minimum is ``min_clearance`` when ``min_clearance <= clearance_bound``.
+    ``rechecked`` counts (frame pair, configuration) decisions redone in float64.
+    """
+
+    hits: npt.NDArray[np.int64]
+    min_clearance: FloatArray
+    clearance_bound: FloatArray
+    configurations: int = 0
+    rechecked: int = 0
+
+    @classmethod
+    def empty(cls, K: int) -> EngineTotals:
+        return cls(np.zeros(K, dtype=np.int64), np.full(K, np.inf), np.full(K, np.inf))
+
+    def clearance(self) -> tuple[FloatArray, BoolArray]:
+        """Per frame pair: the minimum clearance and whether it is only a lower bound.
+
+        Exact (float64) whenever the true minimum is below the margin; these values do not
+        depend on how the configurations were split into chunks or workers.
+        """
+        exact = self.min_clearance <= self.clearance_bound
+        return np.where(exact, self.min_clearance, self.clearance_bound), ~exact
+
+    def merge(self, other: EngineTotals) -> None:
+        """Add ``other`` (another share of the configurations) into these totals."""
+        self.hits += other.hits
+        np.minimum(self.min_clearance, other.min_clearance, out=self.min_clearance)
+        np.minimum(self.clearance_bound, other.clearance_bound, out=self.clearance_bound)
+        self.configurations += other.configurations
+        self.rechecked += other.rechecked
+
+
+@dataclass
+class _Chunk:
+    """One chunk: verdicts [K, B], clearance bounds [K], body poses, the configurations, the
+    culled pairs' bounding-sphere gaps, and the (frame pair, configuration) entries queued
+    for the float64 recheck."""
+
+    hits: BoolArray
+    bound: FloatArray
+    T: F32 = field(repr=False)  # [nb, 3, 4, B] body poses [R | t]
+    q: FloatArray = field(repr=False)
+    gaps: F32 | None = field(repr=False)
+    prev: FloatArray = field(repr=False)  # [K] exact minimum clearances of earlier chunks
+    re_k: list[IntArray] = field(default_factory=list, repr=False)
+    re_b: list[IntArray] = field(default_factory=list, repr=False)
+
+
+class CountEngine:
+    """Exact per-frame-pair collision counting for configurations that vary ``varying``.
+
+    ``spheres``: the frame pairs to count (e.g. a :meth:`SphereSet.select_frame_pairs`
+    selection). ``varying``: indices into the actuated joints that change (the c-space);
+    every other joint stays at ``q_base`` [n]. ``margin``: minimum clearances below it are
+    exact (float64), larger ones may come back as lower bounds.
+    """
+
+    def __init__(
+        self,
+        kin: KinematicModel,
+        spheres: SphereSet,
+        varying: npt.ArrayLike,
+        q_base: npt.ArrayLike,
+        *,
+        margin: float = 0.0,
+    ) -> None:
+        self.kin = kin
+        self.spheres = spheres
+        self.varying = np.asarray(varying, dtype=np.intp)
+        self.q_base = np.asarray(q_base, dtype=np.float64).copy()
+        self.kin = kin
+        self.spheres = spheres
+        self.varying = np.asarray(varying, dtype=np.intp)
+        self.q_base = np.asarray(q_base, dtype=np.float64).copy()
+        self.margin = max(float(margin), 0.0)
+        self.K = spheres.n_frame_pairs
+        T = fk(kin, self.q_base)  # [F, 4, 4]
+        roots, body_of = _body_roots(kin, self.varying)
+        self.sphere_body, self.local = _local_centers(kin, spheres, T, roots, body_of)
+        max_local = float(np.max(np.linalg.norm(self.local, axis=1))) if len(self.local) else 0.0
+        self.bodies = _build_bodies(kin, self.varying, T, roots, body_of, max_local)
+        self.err = _position_error(self.bodies)
+        self.body_bound = _body_bounds(
+            self.bodies.n, self.sphere_body, self.local, spheres.self_radii
+        )
+        self.culler = _Culler(
+            kin, self.varying, self.bodies, self.local, self.body_bound, self.margin, self.err
+        )
+        self.frame_body = _frame_bodies(spheres, self.sphere_body)
+        self.const_k, self.const_hit, self.const_clear = self._constant_pairs()
+        pairs = _body_pairs(
+            spheres, self.frame_body, self.local, self.err, set(self.const_k.tolist())
+        )
+        self.pairs = self.culler.choose(pairs)
+        self.delta_k, self.rlo_k, self.rhi_k = _pair_constants(spheres, self.pairs)
+
+    def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
+        """Frame pairs on one body: decided once, exactly, at the base configuration."""
+        s = self.spheres
+        fb = self.frame_body
+        ks = [k for k in range(self.K) if fb[s.frame_pair_a[k]] == fb[s.frame_pair_b[k]]]
+        karr = np.array(ks, dtype=np.intp)
+        if not ks:
+            return karr, np.zeros(0, dtype=np.bool_), np.zeros(0)
+        hit, clr = self._exact(karr, np.zeros(len(ks), dtype=np.intp), self.q_base[None, :])
+        return karr, hit, clr
+
+    # --- per chunk -----------------------------------------------------------------------
+    def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
+        """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
+
+        When ``totals`` is given, the chunk's counts and clearances are added to it.
+        """
+        q = np.asarray(q_var, dtype=np.float64)
+        if q.ndim != 2 or q.shape[1] != len(self.varying):
+            raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
+        B = q.shape[0]
+        T = _body_poses(self.bodies, q)
+        culled = [bp for bp in self.pairs if bp.cull]
+        gaps = self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled) if culled else None
+        hits = np.zeros((self.K, B), dtype=np.bool_)
+        # the best clearance so far only narrows the candidates (it never changes a result)
+        prev = totals.min_clearance if totals is not None else np.full(self.K, np.inf)
+        ch = _Chunk(hits, np.full(self.K, np.inf), T, q, gaps, prev)
+        row = 0
+        for bp in self.pairs:
+            g2 = gaps[row] if bp.cull and gaps is not None else None
+            sel = self.culler.select(bp, ch.q, g2, ch.bound)
+            row += bp.cull
+            if sel is None or len(sel):
+                self._classify(bp, ch, sel, _evaluate(bp, ch.T, sel))
+        best = np.full(self.K, np.inf)
+        n_exact = self._recheck(ch, best)
+        if len(self.const_k):
+            hits[self.const_k] = self.const_hit[:, None]
+            best[self.const_k] = self.const_clear
+        if totals is not None:
+            totals.hits += hits.sum(axis=1)
+            np.minimum(totals.min_clearance, best, out=totals.min_clearance)
+            np.minimum(totals.clearance_bound, ch.bound, out=totals.clearance_bound)
+            totals.configurations += B
+            totals.rechecked += n_exact
+        return hits
+
+    def _classify(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None, em: F32) -> None:
+        """Verdicts from the float32 minima ``em`` [blocks, n]; queue the float64 rechecks.
+
+        Entries within ``± delta`` of zero are unsure. For the minimum clearance, every
+        configuration whose clearance may lie below ``min(margin, an upper bound of the
+        chunk's smallest)`` is a candidate; candidates are narrowed in float32
+        (:meth:`_refine`). Everything not rechecked has a clearance of at least the bound
+        recorded for its frame pair.
+        """
+        ks = np.array([k for k, _, _ in bp.blocks], dtype=np.intp)
+        d = np.float32(bp.delta)
+        cols = np.arange(em.shape[1]) if sel is None else sel
+        hit = em < -d
+        for i, k in enumerate(ks.tolist()):
+            ch.hits[k, cols] = hit[i]
+        e_min = em.min(axis=1).astype(np.float64)
+        rlo, rhi = self.rlo_k[ks], self.rhi_k[ks]
+        thr = np.minimum(self.margin, _clearance_hi(e_min + bp.delta, rlo, rhi))
+        np.minimum(thr, ch.prev[ks], out=thr)
+        e_star = (_energy_at(thr, rlo, rhi) + bp.delta).astype(np.float32)
+        cand = em <= e_star[:, None]
+        has_cand = cand.any(axis=1)
+        low = np.where(has_cand, thr, _clearance_lo(e_min - bp.delta, rlo, rhi))
+        np.minimum(ch.bound[ks], low, out=low)
+        ch.bound[ks] = low
+        unsure = np.abs(em) <= d
+        if has_cand.any():
+            cand = self._refine(bp, ch, cols, cand, ks)
+        bi, bj = np.nonzero(unsure | cand)
+        if len(bi):
+            ch.re_k.append(ks[bi])
+            ch.re_b.append(cols[bj])
+
+    def _refine(
+        self, bp: _BodyPair, ch: _Chunk, cols: IntArray, cand: BoolArray, ks: IntArray
+    ) -> BoolArray:
+        """Narrow minimum-clearance candidates with float32 clearances (error ≤ ``tau``).
+
+        ``d² − R²`` ranks configurations only roughly when a frame pair's radii differ, so the
+        candidates' clearances are computed directly; only those that can be within ``tau``
+        of the smallest are kept for float64. The dropped ones' clearances exceed the limit
+        recorded in the frame pair's bound.
+        """
+        tau = 2.0 * self.err + 8.0 * _EPS32 * self.bodies.lever
+        idx = np.flatnonzero(cand.any(axis=0))
+        clr = _direct(bp, ch.T, cols[idx])
+        kept = np.zeros_like(cand)
+        for i, (k, _, _) in enumerate(bp.blocks):
+            ci = cand[i, idx]
+            if not ci.any():
+                continue
+            ck = np.where(ci, clr[i], np.inf)
+            lim = min(self.margin, float(ch.prev[k]), float(ck.min()) + tau)
+            kept[i, idx[ck - tau <= lim]] = True
+            ch.bound[k] = min(ch.bound[k], lim)
+        return kept
+
+    def _recheck(self, ch: _Chunk, best: FloatArray) -> int:
+        """Decide the queued entries in float64: exact verdicts into ``ch.hits``, exact
+        clearances into ``best``. Returns how many entries were redone."""
+        if not ch.re_k:
+            return 0
+        ks, bs = np.concatenate(ch.re_k), np.concatenate(ch.re_b)
+        ub, inv = np.unique(bs, return_inverse=True)
+        qf = np.repeat(self.q_base[None, :], len(ub), axis=0)
+        qf[:, self.varying] = ch.q[ub]
+        hit, clr = self._exact(ks, inv, qf)
+        ch.hits[ks, bs] = hit
+        np.minimum.at(best, ks, clr)
+        return len(ks)
+
+    def _exact(
+        self, ks: IntArray, rows: IntArray, q_full: FloatArray
+    ) -> tuple[BoolArray, FloatArray]:
+        """float64 verdicts and clearances of frame pairs ``ks`` at ``q_full[rows]``."""
+        c = sphere_world_centers(self.kin, self.spheres, q_full)  # [U, S, 3]
+        return frame_pair_verdicts(self.spheres, c, ks, rows)

@@ -1,0 +1,188 @@
+"""Culling: which configurations of a chunk a body pair needs to evaluate at all.
+
+Two ways to skip configurations in which a body pair is farther apart than the margin, chosen
+once per body pair when the engine is built (:meth:`_Culler.choose`):
+
+* a **cell grid** (:mod:`xrdf_tools.selfcollision.engine.grid`) when one or two revolute joints
+  separate the bodies: cells proven far are skipped, with the grid's clearance bound;
+* a **bounding-sphere cull** when a fixed pilot sample finds the bodies mostly out of reach:
+  one float32 distance between the bodies' bounding spheres per configuration
+  (:meth:`_Culler.gaps2`), widened by the float32 error so that it never skips a near case.
+
+Everything else is evaluated in full. A skipped configuration's clearance lower bound goes into
+the chunk's bounds (:meth:`_Culler.select`), so the minimum clearance stays honest.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import numpy.typing as npt
+
+from ...robot.kinematics import KinematicModel
+from ..collision import CULL_SLACK, bounding_sphere
+from .bodies import _FK_BLOCK, _ROT, F32, _Bodies, _body_fk
+from .grid import PairGrid, build_pair_grid
+from .pairs import _BodyPair
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+
+#: A body pair is culled when fewer than this fraction of pilot configurations is within reach.
+_CULL_FRACTION = 0.5
+_PILOT = 512
+#: Body pairs with one or two revolute joints between them and at least this many counted
+#: sphere pairs get a cell grid (see :mod:`xrdf_tools.selfcollision.engine.grid`).
+_GRID_MIN_PAIRS = 1
+_GRID_MAX_JOINTS = 2
+_GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
+
+
+def _body_bounds(
+    n_bodies: int, sphere_body: IntArray, local: FloatArray, radii: FloatArray
+) -> FloatArray:
+    """Bounding sphere [nb, 4] (centre in the body frame, radius + slack) of each body's
+    spheres (:func:`~xrdf_tools.selfcollision.collision.bounding_sphere`, as the reference
+    counter's)."""
+    out = np.zeros((n_bodies, 4))
+    for b in np.unique(sphere_body).tolist():
+        mine = sphere_body == b
+        c, r = bounding_sphere(local[mine], radii[mine])
+        out[b, :3], out[b, 3] = c, r
+    out[:, 3] += CULL_SLACK
+    return out
+
+
+def _path_joints(bodies: _Bodies, a: int, b: int) -> tuple[int, list[int]] | None:
+    """(ancestor, bodies whose revolute joints lie between a and b, outer first) when one body
+    is an ancestor of the other at most two joints away; None otherwise."""
+    for anc, desc in ((a, b), (b, a)):
+        joints = [desc]
+        while len(joints) <= _GRID_MAX_JOINTS and bodies.parent[joints[0]] >= 0:
+            if bodies.parent[joints[0]] == anc:
+                if all(bodies.kind[j] == _ROT for j in joints):
+                    return anc, joints
+                return None
+            joints.insert(0, bodies.parent[joints[0]])
+    return None
+
+
+@dataclass(frozen=True, eq=False)
+class _Culler:
+    """The culling state of one engine: the bodies, each body's bounding sphere
+    ``body_bound`` [nb, 4], the exact-clearance ``margin`` and the float32 error ``err``."""
+
+    kin: KinematicModel
+    varying: IntArray
+    bodies: _Bodies
+    local: FloatArray  # [S, 3] sphere centres in their body frames (float64)
+    body_bound: FloatArray
+    margin: float
+    err: float
+
+    def reach(self, bp: _BodyPair) -> float:
+        """Bounding-sphere centre distance beyond which ``bp`` is farther apart than the
+        margin, float32 error included."""
+        return (
+            float(self.body_bound[bp.a, 3] + self.body_bound[bp.b, 3])
+            + self.margin
+            + (4 * self.err)
+        )
+
+    def gaps2(self, R: F32, t: F32, pairs: list[_BodyPair]) -> F32:
+        """float32 squared distance between the bounding-sphere centres of each pair's bodies
+        [P, B], in cache-sized column blocks."""
+        ia = [bp.a for bp in pairs]
+        ib = [bp.b for bp in pairs]
+        c = self.body_bound[:, :3].astype(np.float32)
+        B = R.shape[-1]
+        out = np.empty((len(pairs), B), dtype=np.float32)
+        for s0 in range(0, B, _FK_BLOCK):
+            sl = slice(s0, min(B, s0 + _FK_BLOCK))
+            Rs = R[..., sl]
+            W = t[..., sl] + Rs[:, :, 0] * c[:, 0, None, None]  # [nb, 3, n]
+            W += Rs[:, :, 1] * c[:, 1, None, None]
+            W += Rs[:, :, 2] * c[:, 2, None, None]
+            g = out[:, sl]
+            for i in range(3):
+                D = W[ia, i] - W[ib, i]
+                if i == 0:
+                    np.multiply(D, D, out=g)
+                else:
+                    D *= D
+                    g += D
+        return out
+
+    def choose(self, pairs: list[_BodyPair]) -> list[_BodyPair]:
+        """Give body pairs a cell grid (one or two joints between them) or, when a fixed pilot
+        sample finds them mostly out of reach, a bounding-sphere cull."""
+        if not pairs or len(self.varying) == 0:
+            return pairs
+        lo = self.kin.lower[self.varying]
+        hi = self.kin.upper[self.varying]
+        q = np.random.default_rng(12345).uniform(lo, hi, size=(_PILOT, len(self.varying)))
+        R, t = _body_fk(self.bodies, q)
+        out = []
+        for bp in pairs:
+            grid = self._grid_for(bp)
+            if grid is not None and grid.far_fraction >= _GRID_MIN_FAR:
+                out.append(replace(bp, grid=grid))
+                continue
+            g2 = self.gaps2(R, t, [bp])[0]
+            near = float(np.mean(g2 <= self.reach(bp) ** 2))
+            out.append(replace(bp, cull=near < _CULL_FRACTION))
+        return out
+
+    def _grid_for(self, bp: _BodyPair) -> PairGrid | None:
+        path = _path_joints(self.bodies, bp.a, bp.b)
+        if path is None or int(bp.relevant.sum()) < _GRID_MIN_PAIRS:
+            return None
+        anc, joints = path
+        p, q = self.local[bp.ia], self.local[bp.ib]  # each side in its own body frame
+        rsum, relevant = bp.rsum.astype(np.float64), bp.relevant
+        if anc != bp.a:
+            p, q, rsum, relevant = q, p, rsum.T, relevant.T
+        b = self.bodies
+        cols = [int(b.col[j]) for j in joints]
+        vcols = self.varying[cols]
+        return build_pair_grid(
+            [b.consts[j] for j in joints],
+            cols,
+            [float(b.mult[j]) for j in joints],
+            [float(b.off[j]) for j in joints],
+            self.kin.lower[vcols].tolist(),
+            self.kin.upper[vcols].tolist(),
+            p,
+            q,
+            rsum,
+            relevant,
+            self.margin,
+        )
+
+    def select(
+        self, bp: _BodyPair, q: FloatArray, g2: F32 | None, bound: FloatArray
+    ) -> IntArray | None:
+        """Configurations of the chunk ``q`` to evaluate for ``bp`` (None: all of them).
+
+        ``g2``: the pair's row of :meth:`gaps2` when it is culled. The skipped configurations
+        are farther apart than the margin; their clearance lower bound goes into ``bound``
+        [K] (the chunk's bounds).
+        """
+        if bp.grid is not None:
+            near = bp.grid.near(q)
+            low = bp.grid.far_bound
+        elif bp.cull and g2 is not None:
+            reach = self.reach(bp)
+            near = g2 <= np.float32(reach**2)
+            far_min = float(np.min(g2, where=~near, initial=np.inf))
+            low = math.sqrt(far_min) - reach + self.margin
+        else:
+            return None
+        sel = np.flatnonzero(near)
+        if len(sel) == len(near):
+            return None
+        for k, _, _ in bp.blocks:
+            bound[k] = min(bound[k], low)
+        return sel

@@ -1,0 +1,234 @@
+"""The shape of an XRDF document, described once: keys per section, which are required, the type
+of every value, fixed list lengths, where null is accepted and which keys exist in one XRDF
+version only.
+
+Two consumers read this description, each with its own wording:
+
+* the strict reader (:mod:`xrdf_tools.xrdf.read`) takes required keys, nullability, list lengths
+  and the lengths-in-metres bound from it and raises one
+  :class:`~xrdf_tools.util.errors.SchemaError` at the first departure it meets while building the
+  model;
+* lint (:func:`xrdf_tools.lint.schema.walk`) reports every departure as a ``wrong-type``,
+  ``unknown-key`` or ``required-key`` finding, and ``version-key`` asks :func:`exists_in`.
+
+:mod:`xrdf_tools.yaml.shape` is a different tool: a first-error check for *foreign* YAML (cuRobo
+configs, lint configuration). The XRDF needs kinds it does not have (a group reference, a
+buffer that is a number or a mapping, a one-key modifier) and facts it does not record
+(required keys, list lengths, versions), so it has its own small vocabulary here.
+``python -m xrdf_tools.xrdf.schema`` turns this description into ``docs/xrdf.schema.json``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Literal
+
+from ..yaml.io import YNode, YScalar, is_finite
+
+__all__ = [
+    "DOCUMENT",
+    "MAX_LENGTH",
+    "MODIFIERS",
+    "SUPPORTED_VERSIONS",
+    "Shape",
+    "exists_in",
+    "is_name",
+    "is_number",
+    "version_string",
+]
+
+#: The XRDF versions there are (``format_version``).
+SUPPORTED_VERSIONS = ("1.0", "2.0")
+
+#: Largest length or coordinate accepted in an XRDF, in metres (sphere centres and radii,
+#: buffer distances, added frame positions): far beyond any robot, far below overflow.
+MAX_LENGTH = 1e6
+
+Kind = Literal["fields", "dict", "list", "str", "num", "groupref", "buffers", "modifier", "any"]
+
+
+@dataclass(frozen=True)
+class Shape:
+    """Expected shape of a node.
+
+    ``fields``: a mapping with known keys (``fields``, of which ``required`` must be present);
+    ``dict``: a mapping from names to ``values``; ``list``: a list of ``values`` (``length``
+    items when set); ``str``: a name; ``num``: a finite number (``metres``: a length or
+    coordinate, within ±:data:`MAX_LENGTH`); ``groupref``: a group name (or a one-item list of
+    one); ``buffers``: a ``dict`` of lengths or a single length; ``modifier``: a one-key mapping
+    naming one of :data:`MODIFIERS`; ``any``: not checked here. ``nullable``: null is accepted.
+
+    ``versions``: the XRDF versions in which the key holding this value exists (empty: all).
+    ``length_rule``: the lint rule that reports a list of the wrong length (``sphere-center``
+    words it for sphere centres; everywhere else it is ``wrong-type``).
+    """
+
+    kind: Kind
+    fields: Mapping[str, Shape] = field(default_factory=dict)
+    required: tuple[str, ...] = ()
+    values: Shape | None = None
+    length: int | None = None
+    nullable: bool = True
+    metres: bool = False
+    versions: tuple[str, ...] = ()
+    length_rule: str = "wrong-type"
+
+
+def version_string(node: YNode | None) -> str | None:
+    """Normalise ``format_version`` (``1.0``, ``1``, ``"2.0"``) to ``"1.0"``/``"2.0"``."""
+    if not isinstance(node, YScalar) or isinstance(node.value, bool) or node.value is None:
+        return None
+    v = node.value
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    return f"{f:.1f}" if f.is_integer() else str(v)
+
+
+def exists_in(section: Shape, key: str, version: str) -> bool:
+    """Whether ``key`` of ``section`` exists in XRDF ``version`` (unknown keys: False)."""
+    sub = section.fields.get(key)
+    return sub is not None and (not sub.versions or version in sub.versions)
+
+
+def is_name(node: YNode | None) -> bool:
+    """A usable name: a non-empty string, or a number (a frame called ``1`` is legal YAML)."""
+    if isinstance(node, YScalar):
+        v = node.value
+        if isinstance(v, str):
+            return v != ""
+        return isinstance(v, (int, float)) and not isinstance(v, bool)
+    return False
+
+
+def is_number(node: YNode | None, *, finite: bool = True) -> bool:
+    """A YAML number (not a boolean); ``finite``: NaN and infinities are not numbers here."""
+    if not isinstance(node, YScalar):
+        return False
+    v = node.value
+    if not isinstance(v, (int, float)) or isinstance(v, bool):
+        return False
+    return not finite or is_finite(v)
+
+
+NUM = Shape("num", nullable=False)
+LENGTH = Shape("num", nullable=False, metres=True)
+STR = Shape("str", nullable=False)
+NAMES = Shape("list", values=STR)
+VEC3 = Shape("list", values=NUM, length=3, nullable=False)
+POSITION = Shape("list", values=LENGTH, length=3, nullable=False)
+
+ORIENTATION = Shape(
+    "fields",
+    {
+        "w": NUM,
+        "xyz": VEC3,
+        "quaternion": Shape("list", values=NUM, length=4, nullable=False),
+        "euler_rpy": VEC3,
+    },
+)
+FIXED_TRANSFORM = Shape(
+    "fields",
+    {"position": POSITION, "orientation": ORIENTATION},
+    required=("position",),
+    nullable=False,
+)
+ADD_FRAME = Shape(
+    "fields",
+    {
+        "frame_name": STR,
+        "parent_frame_name": STR,
+        "joint_name": STR,
+        "joint_type": STR,
+        "fixed_transform": FIXED_TRANSFORM,
+    },
+    required=("frame_name", "parent_frame_name", "joint_name", "fixed_transform"),
+    nullable=False,
+)
+REMOVE_MIMIC = Shape(
+    "fields",
+    {
+        "joint_name": STR,
+        "position_limits": Shape("list", values=NUM, length=2),
+        "velocity_limits": Shape("num"),
+        "velocity_limit": Shape("num"),  # cuRobo's singular spelling, read as velocity_limits
+    },
+    required=("joint_name",),
+    nullable=False,
+    versions=("2.0",),
+)
+#: The modifiers, by the one key each list item has.
+MODIFIERS: Mapping[str, Shape] = {
+    "add_frame": ADD_FRAME,
+    "set_base_frame": STR,
+    "remove_mimic_attributes": REMOVE_MIMIC,
+}
+CSPACE = Shape(
+    "fields",
+    {
+        "joint_names": NAMES,
+        "acceleration_limits": Shape("list", values=NUM),
+        "jerk_limits": Shape("list", values=NUM),
+    },
+    required=("joint_names", "acceleration_limits", "jerk_limits"),
+    nullable=False,
+)
+GROUP_REF = Shape("groupref", nullable=False)
+BUFFERS = Shape("buffers", values=LENGTH)
+WORLD = Shape(
+    "fields",
+    {"geometry": GROUP_REF, "buffer_distance": BUFFERS},
+    required=("geometry",),
+    nullable=False,
+)
+SELF = Shape(
+    "fields",
+    {
+        "geometry": GROUP_REF,
+        "buffer_distance": BUFFERS,
+        "ignore": Shape("dict", values=NAMES),
+    },
+    required=("geometry",),
+    nullable=False,
+)
+SPHERE = Shape(
+    "fields",
+    {
+        "center": Shape(
+            "list", values=LENGTH, length=3, nullable=False, length_rule="sphere-center"
+        ),
+        "radius": LENGTH,
+    },
+    required=("center", "radius"),
+    nullable=False,
+)
+GROUP = Shape(
+    "fields",
+    {
+        "spheres": Shape("dict", values=Shape("list", values=SPHERE)),
+        "clone": replace(NAMES, versions=("2.0",)),
+    },
+)
+#: The whole document. ``format`` and ``format_version`` are required (their values are judged
+#: by the reader and by the ``format-key``/``format-version`` rules, in their own words);
+#: ``cspace`` is required of a robot description but not of a geometry-only fragment, so
+#: ``required-key`` judges it and the reader accepts a file without it.
+DOCUMENT = Shape(
+    "fields",
+    {
+        "format": Shape("any"),
+        "format_version": Shape("any"),
+        "modifiers": Shape("list", values=Shape("modifier", nullable=False)),
+        "default_joint_positions": Shape("dict", values=NUM),
+        "cspace": CSPACE,
+        "tool_frames": NAMES,
+        "collision": replace(WORLD, versions=("1.0",)),
+        "world_collision": replace(WORLD, versions=("2.0",)),
+        "self_collision": SELF,
+        "geometry": Shape("dict", values=GROUP),
+    },
+    required=("format", "format_version"),
+    nullable=False,
+)

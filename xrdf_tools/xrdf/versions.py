@@ -1,0 +1,174 @@
+"""Conversions between XRDF 1.0 and 2.0, reporting what could not be carried over.
+
+What each version can express and what is reported: docs/format.md ("Version conversion").
+"""
+
+from __future__ import annotations
+
+from ..diagnostics import Diagnostic, Severity
+from ..util.errors import ConversionError
+from ..util.frozen import FrozenMap
+from .model import GeometryGroup, RemoveMimicAttributes, Sphere, Xrdf, clone_order, resolve_group
+
+
+def _diag(x: Xrdf, rule: str, severity: Severity, message: str, key_path: str) -> Diagnostic:
+    line, col = x.source.position(key_path)
+    return Diagnostic(x.source.path, line, col, rule, severity, message, key_path)
+
+
+def needs_version_2(x: Xrdf) -> list[str]:
+    """Why ``x`` cannot be written as XRDF 1.0 without changing the robot (empty: it can)."""
+    why = []
+    if (
+        x.world_collision is not None
+        and x.self_collision is not None
+        and x.world_collision.geometry != x.self_collision.geometry
+    ):
+        why.append(
+            f"world and self collision use different geometry groups "
+            f"('{x.world_collision.geometry}', '{x.self_collision.geometry}')"
+        )
+    why += [
+        f"remove_mimic_attributes ('{m.joint_name}') has no 1.0 form"
+        for m in x.modifiers
+        if isinstance(m, RemoveMimicAttributes)
+    ]
+    return why
+
+
+def to_version(x: Xrdf, version: str) -> tuple[Xrdf, list[Diagnostic]]:
+    """Convert ``x`` to ``version`` ("1.0" or "2.0"); same version returns it unchanged."""
+    if version == x.format_version:
+        return x, []
+    if version == "2.0":
+        return to_2_0(x)
+    if version == "1.0":
+        return to_1_0(x)
+    raise ConversionError(f"unsupported format_version '{version}'; supported: 1.0, 2.0")
+
+
+def _not_in_2_0(s: Sphere, frame: str, i: int, buffers: list[float]) -> str:
+    """Why sphere ``i`` of ``frame`` cannot be written in 2.0 ("" when it can)."""
+    if s.radius <= -1:
+        return (
+            f"sphere {i} on '{frame}' (radius {s.radius:g}) is a cuRobo attached-object slot; "
+            "XRDF 2.0 requires radius > 0 and cannot express it, so it was dropped (write 1.0 "
+            "to keep it)"
+        )
+    if s.radius <= 0:
+        return (
+            f"sphere {i} on '{frame}' has radius {s.radius:g}; 1.0 readers turn it into a real "
+            "sphere once buffered, but XRDF 2.0 requires radius > 0, so it was dropped (write "
+            "1.0 to keep it)"
+        )
+    if any(s.radius + b <= 0 for b in buffers):
+        return (
+            f"sphere {i} on '{frame}' has radius {s.radius:g} but a buffered radius ≤ 0; 2.0 "
+            "rejects it, so it was dropped"
+        )
+    return ""
+
+
+def to_2_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
+    """1.0 → 2.0: ``collision`` becomes ``world_collision``; spheres 2.0 cannot express
+    (radius ≤ 0: cuRobo's attached-object slots and small negative radii; buffered radius
+    ≤ 0) are dropped and reported."""
+    diags: list[Diagnostic] = []
+    geometry = x.geometry
+    if geometry is not None:
+        world_buf = x.world_collision.buffer_distance if x.world_collision else FrozenMap()
+        self_buf = x.self_collision.buffer_distance if x.self_collision else FrozenMap()
+        groups = {}
+        for gname, group in geometry.items():
+            frames: dict[str, tuple[Sphere, ...]] = {}
+            for frame, spheres in group.spheres.items():
+                kept = []
+                for i, s in enumerate(spheres):
+                    kp = f"geometry.{gname}.spheres.{frame}[{i}].radius"
+                    buffers = [world_buf.get(frame, 0.0), self_buf.get(frame, 0.0)]
+                    why = _not_in_2_0(s, frame, i, buffers)
+                    if why:
+                        diags.append(
+                            _diag(x, "dropped-nonpositive-sphere", Severity.WARNING, why, kp)
+                        )
+                    else:
+                        kept.append(s)
+                if kept or not spheres:  # a frame whose every sphere was dropped goes too
+                    frames[frame] = tuple(kept)
+            groups[gname] = GeometryGroup(FrozenMap(frames), group.clone)
+        geometry = FrozenMap(groups)
+    return x.replace(format_version="2.0", geometry=geometry), diags
+
+
+def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
+    """2.0 → 1.0: clones flattened, ``world_collision`` becomes ``collision``.
+
+    Raises :class:`ConversionError` for ``remove_mimic_attributes`` (1.0 cannot express it).
+    Warns when world and self collision use different groups (cuRobo rejects that in 1.0) and
+    when ``tool_frames``/``default_joint_positions`` are absent (cuRobo requires them).
+    """
+    diags: list[Diagnostic] = []
+    for i, m in enumerate(x.modifiers):
+        if isinstance(m, RemoveMimicAttributes):
+            line, col = x.source.position(f"modifiers[{i}]")
+            raise ConversionError(
+                f"modifier remove_mimic_attributes (joint '{m.joint_name}') has no XRDF 1.0 "
+                "equivalent; edit the URDF instead or keep format_version 2.0",
+                path=x.source.path or None,
+                line=line,
+                col=col,
+            )
+    geometry = x.geometry
+    if geometry is not None and any(g.clone for g in geometry.values()):
+        flat = {}
+        for gname, group in geometry.items():
+            if group.clone:
+                diags.append(
+                    _diag(
+                        x,
+                        "flattened-clone",
+                        Severity.INFO,
+                        f"geometry group '{gname}' clones {', '.join(group.clone)}: flattened "
+                        f"(order: {', '.join(clone_order(geometry, gname))})",
+                        f"geometry.{gname}.clone",
+                    )
+                )
+            flat[gname] = GeometryGroup(resolve_group(geometry, gname), ())
+        geometry = FrozenMap(flat)
+    if (
+        x.world_collision is not None
+        and x.self_collision is not None
+        and x.world_collision.geometry != x.self_collision.geometry
+    ):
+        diags.append(
+            _diag(
+                x,
+                "different-collision-groups",
+                Severity.WARNING,
+                f"world collision uses '{x.world_collision.geometry}' and self collision "
+                f"'{x.self_collision.geometry}'; XRDF 1.0 consumers (cuRobo, Isaac Sim) need one "
+                "group for both",
+                "self_collision.geometry",
+            )
+        )
+    if x.tool_frames is None:
+        diags.append(
+            _diag(
+                x,
+                "missing-for-curobo",
+                Severity.INFO,
+                "no tool_frames: cuRobo's 1.0 loader requires them",
+                "",
+            )
+        )
+    if x.default_joint_positions is None:
+        diags.append(
+            _diag(
+                x,
+                "missing-for-curobo",
+                Severity.INFO,
+                "no default_joint_positions: cuRobo's 1.0 loader requires them",
+                "",
+            )
+        )
+    return x.replace(format_version="1.0", geometry=geometry), diags
