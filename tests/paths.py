@@ -24,3 +24,12 @@ def shared_file(*parts: str) -> Path:
 
 def shared_xrdfs() -> list[Path]:
     return sorted(SHARED.rglob("*.xrdf")) if SHARED.exists() else []
+
+
+def shared_xrdf_params() -> list[object]:
+    """``shared_xrdfs()`` as parameters; one skipped case when shared/ is absent (a
+    parametrised test that collects nothing fails: ``empty_parameter_set_mark``)."""
+    found = shared_xrdfs()
+    if found:
+        return [pytest.param(p, id=p.name) for p in found]
+    return [pytest.param(None, id="shared", marks=pytest.mark.skip(reason=f"{SHARED} absent"))]

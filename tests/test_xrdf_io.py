@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file, shared_xrdfs
+from tests.paths import SEED_XRDF, UR10E_XRDF, shared_file, shared_xrdf_params
 from xrdf_tools.util.errors import GeometryGroupError, SchemaError
 from xrdf_tools.util.frozen import FrozenMap
 from xrdf_tools.xrdf.io import dump_xrdf, format_float, load_xrdf, parse_xrdf
@@ -45,7 +45,7 @@ def test_shared_reference_ur10e_roundtrip() -> None:
     roundtrip_is_stable(shared_file("reference", "curobo-2.0", "ur10e.xrdf"))
 
 
-@pytest.mark.parametrize("path", shared_xrdfs(), ids=lambda p: p.name)
+@pytest.mark.parametrize("path", shared_xrdf_params())
 def test_every_shared_xrdf_roundtrips(path: Path) -> None:
     roundtrip_is_stable(path)
 
