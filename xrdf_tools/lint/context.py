@@ -305,6 +305,18 @@ class LintContext:
 
         Covers sphere frames, buffer_distance and ignore keys and values, tool frames.
         """
+        yield from self._sphere_frame_references()
+        for key, section in self.collision_sections():
+            yield from _buffer_frame_references(key, section)
+            if key == "self_collision":
+                yield from _ignore_frame_references(section)
+        tools = self.get("tool_frames")
+        if isinstance(tools, YSeq):
+            for j, item in enumerate(tools.items):
+                if (n := name(item)) is not None:
+                    yield n, item, f"tool_frames[{j}]", "tool frame"
+
+    def _sphere_frame_references(self) -> Iterator[tuple[str, YNode, str, str]]:
         for gname, gnode in self.groups.items():
             spheres = gnode.get("spheres") if isinstance(gnode, YMap) else None
             if isinstance(spheres, YMap):
@@ -312,27 +324,6 @@ class LintContext:
                     if (n := name(k)) is not None:
                         kp = f"geometry.{gname}.spheres.{n}"
                         yield n, k, kp, f"group '{gname}': sphere frame"
-        for key, section in self.collision_sections():
-            buf = section.get("buffer_distance")
-            if isinstance(buf, YMap):
-                for k, _ in buf.pairs:
-                    if (n := name(k)) is not None:
-                        yield n, k, f"{key}.buffer_distance.{n}", f"{key} buffer_distance frame"
-            ignore = section.get("ignore") if key == "self_collision" else None
-            if isinstance(ignore, YMap):
-                for k, v in ignore.pairs:
-                    if (n := name(k)) is None:
-                        continue
-                    yield n, k, f"self_collision.ignore.{n}", "ignore frame"
-                    if isinstance(v, YSeq):
-                        for j, item in enumerate(v.items):
-                            if (m := name(item)) is not None:
-                                yield m, item, f"self_collision.ignore.{n}[{j}]", "ignore frame"
-        tools = self.get("tool_frames")
-        if isinstance(tools, YSeq):
-            for j, item in enumerate(tools.items):
-                if (n := name(item)) is not None:
-                    yield n, item, f"tool_frames[{j}]", "tool frame"
 
     def cspace_joint_nodes(self) -> list[tuple[str, YNode]]:
         cs = self.get("cspace")
@@ -463,3 +454,25 @@ class Rule:
         """First paragraph of the documentation, on one line."""
         para = self.doc.strip().split("\n\n")[0]
         return " ".join(para.split()) or self.id
+
+
+def _buffer_frame_references(key: str, section: YMap) -> Iterator[tuple[str, YNode, str, str]]:
+    buf = section.get("buffer_distance")
+    if isinstance(buf, YMap):
+        for k, _ in buf.pairs:
+            if (n := name(k)) is not None:
+                yield n, k, f"{key}.buffer_distance.{n}", f"{key} buffer_distance frame"
+
+
+def _ignore_frame_references(section: YMap) -> Iterator[tuple[str, YNode, str, str]]:
+    ignore = section.get("ignore")
+    if not isinstance(ignore, YMap):
+        return
+    for k, v in ignore.pairs:
+        if (n := name(k)) is None:
+            continue
+        yield n, k, f"self_collision.ignore.{n}", "ignore frame"
+        if isinstance(v, YSeq):
+            for j, item in enumerate(v.items):
+                if (m := name(item)) is not None:
+                    yield m, item, f"self_collision.ignore.{n}[{j}]", "ignore frame"

@@ -25,13 +25,13 @@ from typing import Literal, Protocol
 from ..selfcollision.configurations import load_configurations, sample_configurations
 from ..util.errors import MissingDependencyError, XrdfToolsError
 from ..util.fileio import atomic_output
+from .contacts import SpherePair
 from .scene import (
     COLLISION_RGBA,
     LinkScene,
     Progress,
     Sample,
     Scene,
-    SpherePair,
     build_scene,
     choose_group,
     link_color,

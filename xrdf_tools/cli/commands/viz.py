@@ -119,18 +119,7 @@ def command(
     per configuration from --samples or --configs. rerun and MCAP need the viz extra:
     pip install "xrdf-tools[viz]".
     """
-    targets: list[tuple[Target, Path | None]] = []
-    if rrd is not None:
-        targets.append(("rrd", rrd))
-    if mcap is not None:
-        targets.append(("mcap", mcap))
-    if spawn:
-        targets.append(("spawn", None))
-    if png is not None:
-        targets.append(("png", png))
-    if len(targets) != 1:
-        fail("choose exactly one output: --rrd OUT.rrd, --mcap OUT.mcap, --spawn or --png OUT.png")
-    target, out = targets[0]
+    target, out = _one_output(rrd, mcap, spawn, png)
     if samples and configs is not None:
         fail("--samples and --configs cannot be combined; choose one")
     if is_stdio(out):
@@ -211,3 +200,19 @@ def command(
         f"frame pairs: {scene.frame_pairs_checked} checked, {scene.frame_pairs_ignored} "
         f"ignored; {len(scene.samples[0].frame_contacts)} colliding at the default pose"
     )
+
+
+def _one_output(
+    rrd: Path | None, mcap: Path | None, spawn: bool, png: Path | None
+) -> tuple[Target, Path | None]:
+    """The one output chosen among --rrd, --mcap, --spawn and --png (a usage error otherwise)."""
+    offered: tuple[tuple[Target, Path | None, bool], ...] = (
+        ("rrd", rrd, rrd is not None),
+        ("mcap", mcap, mcap is not None),
+        ("spawn", None, spawn),
+        ("png", png, png is not None),
+    )
+    chosen = [(target, out) for target, out, given in offered if given]
+    if len(chosen) != 1:
+        fail("choose exactly one output: --rrd OUT.rrd, --mcap OUT.mcap, --spawn or --png OUT.png")
+    return chosen[0]

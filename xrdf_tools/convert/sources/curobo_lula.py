@@ -40,6 +40,16 @@ def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter)
     if root_ok and str(root) != tree.root:
         d.modifiers.append(SetBaseFrame(str(root)))
     names = [str(n) for n in data.get("cspace") or []]
+    cspace = _known_cspace(names, tree, rep)
+    d.cspace = cspace
+    _read_joint_vectors(data, names, cspace, d, rep)
+    _read_fixed_rules(data.get("cspace_to_urdf_rules") or [], tree, d, rep)
+    spheres = data.get("collision_spheres")
+    if isinstance(spheres, list):
+        d.spheres = _lula_spheres(spheres, frames, rep)
+
+
+def _known_cspace(names: list[str], tree: RobotTree, rep: Reporter) -> list[str]:
     cspace = []
     for i, n in enumerate(names):
         if n not in tree.joints:
@@ -50,7 +60,13 @@ def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter)
             )
         else:
             cspace.append(n)
-    d.cspace = cspace
+    return cspace
+
+
+def _read_joint_vectors(
+    data: Mapping[str, Any], names: list[str], cspace: list[str], d: Draft, rep: Reporter
+) -> None:
+    """default_q, acceleration and jerk limits: one number per Lula c-space joint."""
     for key, target in (
         ("default_q", d.defaults),
         ("acceleration_limits", d.acceleration),
@@ -68,26 +84,34 @@ def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter)
         for n, v in zip(names, vals, strict=True):
             if n in cspace:
                 target[n] = float(v)
-    for i, rule in enumerate(data.get("cspace_to_urdf_rules") or []):
-        if isinstance(rule, Mapping) and rule.get("rule") == "fixed" and is_num(rule.get("value")):
-            n = str(rule.get("name"))
-            if tree.is_actuated(n):
-                d.defaults[n] = float(rule["value"])
-            else:
-                rep.report(
-                    "convert-unknown-joint",
-                    f"cspace_to_urdf_rules fixes '{n}', which is not an actuated URDF joint"
-                    f"{did_you_mean(n, tree.joints)}; dropped",
-                    f"cspace_to_urdf_rules[{i}]",
-                )
-    spheres = data.get("collision_spheres")
-    if isinstance(spheres, list):
-        out: dict[str, list[Sphere]] = {}
-        for i, entry in enumerate(spheres):
-            if not isinstance(entry, Mapping):
-                continue
-            for link, items in entry.items():
-                w = f"collision_spheres[{i}].{link}"
-                if known_frame(str(link), frames, rep, w, "collision spheres"):
-                    out.setdefault(str(link), []).extend(spheres_of(items, rep, w))
-        d.spheres = {k: v for k, v in out.items() if v}
+
+
+def _read_fixed_rules(rules: Any, tree: RobotTree, d: Draft, rep: Reporter) -> None:
+    """``cspace_to_urdf_rules`` of kind ``fixed`` become default positions."""
+    for i, rule in enumerate(rules):
+        if not (
+            isinstance(rule, Mapping) and rule.get("rule") == "fixed" and is_num(rule.get("value"))
+        ):
+            continue
+        n = str(rule.get("name"))
+        if tree.is_actuated(n):
+            d.defaults[n] = float(rule["value"])
+        else:
+            rep.report(
+                "convert-unknown-joint",
+                f"cspace_to_urdf_rules fixes '{n}', which is not an actuated URDF joint"
+                f"{did_you_mean(n, tree.joints)}; dropped",
+                f"cspace_to_urdf_rules[{i}]",
+            )
+
+
+def _lula_spheres(spheres: list[Any], frames: list[str], rep: Reporter) -> dict[str, list[Sphere]]:
+    out: dict[str, list[Sphere]] = {}
+    for i, entry in enumerate(spheres):
+        if not isinstance(entry, Mapping):
+            continue
+        for link, items in entry.items():
+            w = f"collision_spheres[{i}].{link}"
+            if known_frame(str(link), frames, rep, w, "collision spheres"):
+                out.setdefault(str(link), []).extend(spheres_of(items, rep, w))
+    return {k: v for k, v in out.items() if v}
