@@ -56,3 +56,68 @@ def test_entry_points_take_the_robot() -> None:
     assert lint_text(text, "u.xrdf", urdf_model=robot) == lint_text(
         text, "u.xrdf", urdf_model=robot.urdf
     )
+
+
+def _every_real_urdf() -> list[object]:
+    from tests.robots import robots_dir
+
+    root = robots_dir()
+    if root is None:
+        return [pytest.param(None, marks=pytest.mark.skip(reason="example-robot-data absent"))]
+    return [pytest.param(p, id=p.stem) for p in sorted(root.rglob("*.urdf"))]
+
+
+@pytest.mark.slow
+def test_the_own_parse_reads_every_real_urdf_as_yourdfpy_does() -> None:
+    """Names, order and every joint number (the origin bit for bit) of the Robot's own XML
+    parse equal yourdfpy's, on every URDF of example-robot-data that loads."""
+    from xrdf_tools.robot.urdf_joints import joint_info
+    from xrdf_tools.util.errors import XrdfToolsError
+
+    compared = 0
+    for param in _every_real_urdf():
+        path = param.values[0]  # type: ignore[attr-defined]
+        if path is None:
+            pytest.skip("example-robot-data absent")
+        try:
+            robot = load_robot(path)
+        except XrdfToolsError:
+            continue
+        yourdf = robot.urdf.robot
+        assert robot.name == yourdf.name
+        assert robot.links == tuple(link.name for link in yourdf.links)
+        assert dict(robot.collision_counts) == {
+            link.name: len(link.collisions) for link in yourdf.links if link.collisions
+        }
+        theirs = {j.name: joint_info(j, robot.joint_lines.get(j.name)) for j in yourdf.joints}
+        assert list(robot.joints) == list(theirs)
+        for name, joint in robot.joints.items():
+            assert joint == theirs[name], name  # equality compares the origin's bytes
+        compared += 1
+    assert compared >= 30
+
+
+def test_a_command_that_reads_no_geometry_imports_no_geometry_library() -> None:
+    """`xrdf report` and `xrdf convert` (without spheres) build the Robot from the project's
+    own parse: yourdfpy, trimesh and scipy are never imported (most of a short run's time)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from xrdf_tools.cli import main\n"
+        f"xrdf, urdf = {str(UR10E_XRDF)!r}, {str(UR10E_URDF)!r}\n"
+        "for argv in (['report', xrdf, '--urdf', urdf, '--samples', '200', '-q'],\n"
+        "             ['convert', urdf, '-q', '-o', '-']):\n"
+        "    sys.argv = ['xrdf', *argv]\n"
+        "    try:\n"
+        "        main()\n"
+        "    except SystemExit as e:\n"
+        "        print('EXIT', e.code)\n"
+        "heavy = sorted(m for m in ('yourdfpy', 'trimesh', 'scipy', 'matplotlib', 'shapely')\n"
+        "               if m in sys.modules)\n"
+        "print('HEAVY', heavy)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert "HEAVY []" in done.stdout, done.stdout + done.stderr
+    assert "EXIT 2" not in done.stdout, done.stdout + done.stderr

@@ -3,12 +3,16 @@
 A :class:`Robot` is built once by the loader (:func:`xrdf_tools.robot.urdf_source.load_urdf`,
 :func:`xrdf_tools.robot.xacro_source.load_robot`) and carries the path, the URDF text it was
 parsed from (an expanded xacro: the expansion), the line of every ``<link>`` and ``<joint>``,
-the ``package_paths`` it was loaded with, which geometry elements are capsules and the yourdfpy
-object. The plain views — the joints as :class:`~xrdf_tools.robot.urdf_joints.JointInfo`, the link
+the ``package_paths`` it was loaded with, which geometry elements are capsules and the checked
+XML tree. The plain views — the joints as :class:`~xrdf_tools.robot.urdf_joints.JointInfo`, the link
 names (and which have collision geometry), the :class:`~xrdf_tools.robot.tree.RobotTree` — are
 computed on first use and kept. Modules above keep what they derive from the robot in
 :attr:`Robot.derived` (the :class:`~xrdf_tools.robot.kinematics.KinematicModel` per XRDF modifiers):
 the robot itself imports only the plain views below it.
+
+The views are read from the project's own checked XML parse: a command that reads no geometry
+(report, lint, convert without spheres) never imports yourdfpy or trimesh. The yourdfpy object
+(:attr:`Robot.urdf`, for geometry) is built from the same tree on first use.
 
 Functions that still receive a bare ``yourdfpy.URDF`` call :func:`as_robot`: the loader leaves
 a reference to its :class:`Robot` on the yourdfpy object, so the provenance travels with the
@@ -25,7 +29,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from ..util.frozen import FrozenMap
 from .tree import RobotTree
-from .urdf_joints import JointInfo, joint_info
+from .urdf_joints import JointInfo, joint_from_xml, joint_info
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -39,9 +43,14 @@ _ATTR = "_xrdf_tools_robot"
 
 @dataclass(frozen=True, eq=False)
 class Robot:
-    """A loaded URDF (never with meshes) and its provenance; the views are cached."""
+    """A loaded URDF (never with meshes) and its provenance; the views are cached.
 
-    urdf: yourdfpy.URDF
+    ``document`` is the checked ``<robot>`` element the loader parsed (capsules already held
+    as cylinders); ``prebuilt`` a yourdfpy object built elsewhere (no document). Exactly one
+    of the two is set.
+    """
+
+    document: Any = None
     path: str = "<urdf>"
     #: The text the URDF was parsed from (``None`` for a yourdfpy object built elsewhere).
     text: str | None = None
@@ -54,14 +63,31 @@ class Robot:
     #: ``<capsule>`` (not standard URDF): yourdfpy holds them as cylinders of the same radius
     #: and length (see :func:`xrdf_tools.robot.link_geometry.capsules_as_cylinders`).
     capsules: frozenset[tuple[str, str, int]] = frozenset()
+    prebuilt: yourdfpy.URDF | None = None
+    #: Whether :attr:`urdf` builds yourdfpy's scene graph.
+    build_scene_graph: bool = False
     #: Results other modules derive from the robot and keep with it, by their own keys (the
     #: kinematic model per XRDF modifiers:
     #: :func:`xrdf_tools.robot.kinematics.build_kinematic_model`).
     derived: dict[Any, Any] = field(default_factory=dict, repr=False, compare=False)
 
     # --- views ---------------------------------------------------------------------------
+    @cached_property
+    def urdf(self) -> yourdfpy.URDF:
+        """The yourdfpy object (no meshes loaded), built on first use: geometry readers need it,
+        the plain views below do not."""
+        if self.prebuilt is not None:
+            return self.prebuilt
+        from .urdf_source import build_yourdfpy
+
+        urdf = build_yourdfpy(self)
+        setattr(urdf, _ATTR, self)
+        return urdf
+
     @property
     def name(self) -> str:
+        if self.document is not None:
+            return str(self.document.get("name"))
         return str(self.urdf.robot.name)
 
     @property
@@ -72,20 +98,31 @@ class Robot:
     @cached_property
     def links(self) -> tuple[str, ...]:
         """Link names in document order."""
+        if self.document is not None:
+            return tuple(str(e.get("name")) for e in self.document.findall("link"))
         return tuple(str(link.name) for link in self.urdf.robot.links)
 
     @cached_property
     def collision_counts(self) -> Mapping[str, int]:
         """The number of ``<collision>`` elements of each link that has any, in link order."""
-        return FrozenMap(
-            (str(link.name), len(link.collisions))
-            for link in self.urdf.robot.links
-            if link.collisions
-        )
+        if self.document is not None:
+            counts = ((str(e.get("name")), len(e.findall("collision"))) for e in self._links())
+        else:
+            counts = ((str(k.name), len(k.collisions)) for k in self.urdf.robot.links)
+        return FrozenMap((name, n) for name, n in counts if n)
+
+    def _links(self) -> list[Any]:
+        return list(self.document.findall("link"))
 
     @cached_property
     def joints(self) -> Mapping[str, JointInfo]:
         """Every ``<joint>`` as :class:`JointInfo`, keyed by name, in document order."""
+        if self.document is not None:
+            elements = self.document.findall("joint")
+            return FrozenMap(
+                (str(e.get("name")), joint_from_xml(e, self.joint_lines.get(str(e.get("name")))))
+                for e in elements
+            )
         return FrozenMap(
             (str(j.name), joint_info(j, self.joint_lines.get(str(j.name))))
             for j in self.urdf.robot.joints
@@ -122,11 +159,6 @@ def as_robot(urdf: Robot | yourdfpy.URDF) -> Robot:
     robot = getattr(urdf, _ATTR, None)
     if isinstance(robot, Robot):
         return robot
-    robot = Robot(urdf)
-    attach(robot)
+    robot = Robot(prebuilt=urdf)
+    setattr(urdf, _ATTR, robot)
     return robot
-
-
-def attach(robot: Robot) -> None:
-    """Leave ``robot`` on its yourdfpy object, for callers that pass the bare object."""
-    setattr(robot.urdf, _ATTR, robot)

@@ -1,4 +1,9 @@
-"""One URDF joint as plain, typed values (:class:`JointInfo`), read from a yourdfpy joint.
+"""One URDF joint as plain, typed values (:class:`JointInfo`), read from its checked
+``<joint>`` element (:func:`joint_from_xml`) or from a yourdfpy joint (:func:`joint_info`).
+
+Both read the numbers as yourdfpy does (``float`` of each whitespace-separated field; the
+origin composed as translation then ``rpy`` in the static xyz convention, with the same numpy
+operations), so both give the same bits.
 
 The bottom of the robot model: it imports nothing of xrdf-tools, so
 :class:`~xrdf_tools.robot.core.Robot`, the kinematics, the linter and the converter build on it.
@@ -12,7 +17,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["MOVABLE_TYPES", "JointInfo", "joint_info"]
+__all__ = ["MOVABLE_TYPES", "JointInfo", "joint_from_xml", "joint_info", "origin_matrix"]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -122,3 +127,63 @@ def joint_info(j: Any, line: int | None) -> JointInfo:
 
 def _opt_float(v: Any) -> float | None:
     return None if v is None else float(v)
+
+
+def joint_from_xml(e: Any, line: int | None) -> JointInfo:
+    """One checked ``<joint>`` element (lxml) as :class:`JointInfo`."""
+    origin = e.find("origin")
+    axis = e.find("axis")
+    limit = e.find("limit")
+    mimic = e.find("mimic")
+    axis_xyz = [1.0, 0.0, 0.0] if axis is None else _floats(axis.get("xyz", "1 0 0"))
+    return JointInfo(
+        name=str(e.get("name")),
+        type=str(e.get("type")),
+        parent=str(e.find("parent").get("link")),
+        child=str(e.find("child").get("link")),
+        origin=np.eye(4) if origin is None else origin_matrix(origin),
+        axis=(float(axis_xyz[0]), float(axis_xyz[1]), float(axis_xyz[2])),
+        lower=_opt_float(limit.get("lower")) if limit is not None else None,
+        upper=_opt_float(limit.get("upper")) if limit is not None else None,
+        velocity=_opt_float(limit.get("velocity")) if limit is not None else None,
+        mimic_joint=str(mimic.get("joint")) if mimic is not None else None,
+        mimic_multiplier=1.0 if mimic is None else float(mimic.get("multiplier", 1.0)),
+        mimic_offset=0.0 if mimic is None else float(mimic.get("offset", 0.0)),
+        line=line,
+    )
+
+
+def origin_matrix(origin: Any) -> FloatArray:
+    """The (4, 4) transform of an ``<origin xyz rpy>`` element: translation, then the rotation
+    ``Rz(yaw) Ry(pitch) Rx(roll)``, composed exactly as yourdfpy composes it."""
+    xyz = np.array(_floats(origin.get("xyz", "0 0 0")))
+    rpy = np.array(_floats(origin.get("rpy", "0 0 0")))
+    translate = np.identity(4)
+    translate[:3, 3] = xyz[:3]
+    m: FloatArray = np.dot(np.identity(4), translate)
+    m = np.dot(m, _static_xyz_matrix(rpy[0], rpy[1], rpy[2]))
+    m /= m[3, 3]
+    return m
+
+
+def _static_xyz_matrix(ai: float, aj: float, ak: float) -> FloatArray:
+    """Rotation about static x by ``ai``, then y by ``aj``, then z by ``ak`` (4, 4)."""
+    si, sj, sk = np.sin(ai), np.sin(aj), np.sin(ak)
+    ci, cj, ck = np.cos(ai), np.cos(aj), np.cos(ak)
+    cc, cs = ci * ck, ci * sk
+    sc, ss = si * ck, si * sk
+    m = np.eye(4)
+    m[0, 0] = cj * ck
+    m[0, 1] = sj * sc - cs
+    m[0, 2] = sj * cc + ss
+    m[1, 0] = cj * sk
+    m[1, 1] = sj * ss + cc
+    m[1, 2] = sj * cs - sc
+    m[2, 0] = -sj
+    m[2, 1] = cj * si
+    m[2, 2] = cj * ci
+    return m
+
+
+def _floats(text: str) -> list[float]:
+    return list(map(float, text.split()))

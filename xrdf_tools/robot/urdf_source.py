@@ -1,9 +1,10 @@
-"""Read a URDF through yourdfpy, without meshes, with errors that name the file and line.
+"""Read a URDF, without meshes, with errors that name the file and line.
 
 The XML is parsed strictly by lxml first (entities are not resolved, no network), then checked
 for what yourdfpy would crash on or silently get wrong: missing names, unknown joint types,
-duplicate links or joints, joints that refer to unknown links, numbers that do not parse. Only
-then is the tree handed to yourdfpy. Every failure is a :class:`UrdfError` whose one-line
+duplicate links or joints, joints that refer to unknown links, numbers that do not parse. The
+checked tree is the :class:`~xrdf_tools.robot.core.Robot`; yourdfpy gets it only when geometry is
+read (:func:`build_yourdfpy`). Every failure is a :class:`UrdfError` whose one-line
 message starts with ``path:line:`` when the line is known.
 
 :class:`JointInfo`, :func:`joints_of` and :func:`links_of` give a plain, typed view of a loaded
@@ -220,7 +221,7 @@ def _parse_bytes(
     from lxml import etree
 
     from ..util.frozen import FrozenMap
-    from .core import Robot, attach
+    from .core import Robot
     from .link_geometry import capsules_as_cylinders
 
     parser = etree.XMLParser(
@@ -241,31 +242,34 @@ def _parse_bytes(
     etree.cleanup_namespaces(root)
     capsules = capsules_as_cylinders(root)  # yourdfpy knows no <capsule>
 
+    return Robot(
+        document=root,
+        path=path,
+        text=data.decode("utf-8", errors="replace"),
+        expanded=expanded,
+        link_lines=FrozenMap(link_lines),
+        joint_lines=FrozenMap(joint_lines),
+        package_paths=FrozenMap(package_paths or {}),
+        capsules=capsules,
+        build_scene_graph=build_scene_graph,
+    )
+
+
+def build_yourdfpy(robot: Robot) -> yourdfpy.URDF:
+    """The yourdfpy object of a loaded robot, built from its checked tree (no meshes)."""
     import yourdfpy
 
     try:
-        robot = yourdfpy.URDF._parse_robot(xml_element=root)
-        urdf = yourdfpy.URDF(
-            robot=robot,
-            build_scene_graph=build_scene_graph,
+        parsed = yourdfpy.URDF._parse_robot(xml_element=robot.document)
+        return yourdfpy.URDF(
+            robot=parsed,
+            build_scene_graph=robot.build_scene_graph,
             build_collision_scene_graph=False,
             load_meshes=False,
             load_collision_meshes=False,
-            filename_handler=make_filename_handler(path, package_paths),
-            mesh_dir=os.path.dirname(path),
+            filename_handler=make_filename_handler(robot.path, robot.package_paths),
+            mesh_dir=os.path.dirname(robot.path),
         )
     except Exception as e:  # yourdfpy raises bare KeyError/ValueError/AttributeError
         detail = str(e).splitlines()[0] if str(e) else type(e).__name__
-        raise UrdfError(f"yourdfpy cannot read this URDF: {detail}", path=path) from None
-    robot = Robot(
-        urdf,
-        path,
-        data.decode("utf-8", errors="replace"),
-        expanded,
-        FrozenMap(link_lines),
-        FrozenMap(joint_lines),
-        FrozenMap(package_paths or {}),
-        capsules,
-    )
-    attach(robot)
-    return robot
+        raise UrdfError(f"yourdfpy cannot read this URDF: {detail}", path=robot.path) from None
