@@ -171,14 +171,11 @@ def fit_missing_spheres(
 ) -> tuple[Xrdf, dict[str, int], list[Diagnostic]]:
     """Fit spheres to the links of ``urdf`` that have geometry of kind ``fit.source`` and no
     spheres in ``x`` yet; returns the XRDF, the spheres per fitted link and diagnostics."""
-    from ..util.errors import MissingDependencyError
+    from ..util.extras import FIT, require
 
-    try:
-        from ..spheres import fit_link_spheres
-    except ImportError as e:  # pragma: no cover - depends on the installation
-        raise MissingDependencyError(
-            f"sphere fitting is not available in this installation ({e})"
-        ) from None
+    require(FIT, "fit", "--fit-spheres")
+    from ..spheres import fit_link_spheres
+
     have = {k: list(v) for k, v in x.world_collision_spheres().items() if v}
     usable, visual_only = geometry_links(urdf, fit.source)
     todo = [link for link in usable if link not in have]

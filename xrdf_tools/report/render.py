@@ -369,6 +369,9 @@ def write_heatmap(r: Report, path: str | Path) -> None:
     Cell colour: collision rate (log scale); adjacent pairs are grey, masked pairs are hatched
     with an ``x``; the number in a cell is the rate in percent.
     """
+    from ..util.extras import VIZ, require
+
+    require(VIZ, "viz", "--plot")
     import matplotlib
 
     matplotlib.use("Agg", force=True)

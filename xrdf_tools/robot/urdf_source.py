@@ -257,6 +257,9 @@ def _parse_bytes(
 
 def build_yourdfpy(robot: Robot) -> yourdfpy.URDF:
     """The yourdfpy object of a loaded robot, built from its checked tree (no meshes)."""
+    from ..util.extras import FIT, require
+
+    require(FIT, "fit", "reading link geometry")
     import yourdfpy
 
     try:

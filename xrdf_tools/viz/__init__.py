@@ -23,7 +23,8 @@ from pathlib import Path
 from typing import Literal, Protocol
 
 from ..selfcollision.configurations import load_configurations, sample_configurations
-from ..util.errors import MissingDependencyError, XrdfToolsError
+from ..util.errors import XrdfToolsError
+from ..util.extras import install_hint
 from ..util.fileio import atomic_output
 from .contacts import SpherePair
 from .scene import (
@@ -49,7 +50,7 @@ _BACKENDS: dict[str, tuple[str, str]] = {
     "png": ("xrdf_tools.viz.png", "write_png"),
 }
 
-VIZ_EXTRA_HINT = 'pip install "xrdf-tools[viz]"'
+VIZ_EXTRA_HINT = install_hint("viz")
 
 
 class Backend(Protocol):
@@ -100,13 +101,11 @@ def render(
 
 
 def require(module: str, package: str) -> None:
-    """Import check for an optional dependency: a one-line :class:`MissingDependencyError`."""
-    try:
-        importlib.import_module(module)
-    except ImportError:
-        raise MissingDependencyError(
-            f"{package} is not installed; install the visualization extra: {VIZ_EXTRA_HINT}"
-        ) from None
+    """Import check for a back-end's package: a one-line :class:`MissingDependencyError`
+    naming the ``viz`` extra."""
+    from ..util.extras import require as require_extra
+
+    require_extra((module,), "viz", f"this output ({package})")
 
 
 @contextlib.contextmanager

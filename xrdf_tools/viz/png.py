@@ -90,6 +90,9 @@ def draw_png(
 ) -> Figure:
     """The figure of sample 0 (the default pose): ``size_px`` square, taller when a legend of
     many links is placed below the picture."""
+    from ..util.extras import VIZ, require
+
+    require(VIZ, "viz", "a PNG picture")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D

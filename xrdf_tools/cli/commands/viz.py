@@ -120,6 +120,7 @@ def command(
     pip install "xrdf-tools[viz]".
     """
     target, out = _one_output(rrd, mcap, spawn, png)
+    _require_viz_extra(target)
     if samples and configs is not None:
         fail("--samples and --configs cannot be combined; choose one")
     if is_stdio(out):
@@ -216,3 +217,10 @@ def _one_output(
     if len(chosen) != 1:
         fail("choose exactly one output: --rrd OUT.rrd, --mcap OUT.mcap, --spawn or --png OUT.png")
     return chosen[0]
+
+
+def _require_viz_extra(target: Target) -> None:
+    """Drawing reads link geometry (the fit extra, part of viz); a PNG also needs matplotlib."""
+    from ...util.extras import FIT, VIZ, require
+
+    require((*FIT, *VIZ) if target == "png" else FIT, "viz", "xrdf viz")
