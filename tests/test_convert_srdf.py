@@ -230,7 +230,8 @@ def test_ur5_against_srdf() -> None:
     assert {"convert-chosen-group", "convert-chosen-tool-frame", "convert-default-positions"} <= (
         rules
     )
-    assert x.tool_frames == ("wrist_3_link",)
+    # the tool frame: UR's tool0, rigidly attached to wrist_3_link (not wrist_3_link itself)
+    assert x.tool_frames == ("tool0",)
     assert dict(x.default_joint_positions or {}) == dict.fromkeys(x.cspace.joint_names, 0.0)
     assert x.self_collision is not None
     assert x.self_collision.ignore_pairs() == _srdf_pairs(srdf)

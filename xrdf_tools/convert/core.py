@@ -9,7 +9,7 @@ rules and behaviour: ``docs/convert.md``; the readers: ``docs/format.md``.
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -99,7 +99,9 @@ def convert(
     urdf: Robot | yourdfpy.URDF | RobotTree, options: ConvertOptions
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Build an XRDF from a loaded robot and the source files named in ``options``."""
+    robot = None if isinstance(urdf, RobotTree) else as_robot(urdf)
     tree = urdf if isinstance(urdf, RobotTree) else as_robot(urdf).tree
+    collision_links = None if robot is None else frozenset(robot.collision_counts)
     if options.format_version not in (None, "1.0", "2.0"):
         raise SourceError(
             f"unsupported format version '{options.format_version}'; choose 1.0 or 2.0"
@@ -108,7 +110,7 @@ def convert(
     if options.srdf is not None and options.curobo is not None:
         raise SourceError("give either an SRDF or a cuRobo config, not both")
     draft = Draft()
-    given = _cspace_choice(tree, options, draft)
+    given = _cspace_choice(tree, options, draft, collision_links)
     if options.curobo is not None:
         from .sources.curobo import read_curobo
 
@@ -118,43 +120,50 @@ def convert(
         if options.planning_groups() or options.state is not None:
             raise SourceError("--group and --state apply to an SRDF, not to a cuRobo config")
     elif options.srdf is not None:
+        from .sources.cspace import report_unplannable_joints
         from .sources.srdf import load_srdf, read_srdf
 
+        srdf = load_srdf(options.srdf)
         read_srdf(
-            load_srdf(options.srdf),
+            srdf,
             tree,
             group=options.planning_groups(),
             state=options.state,
             draft=draft,
             choose=not given,
         )
+        used = draft.group.split("+") if draft.group else []
+        draft.diagnostics.extend(report_unplannable_joints(srdf, used, tree).diagnostics)
     elif options.planning_groups() or options.state is not None:
         raise SourceError("--group and --state need --srdf")
     if options.joint_limits is not None:
         from .sources.moveit_limits import read_joint_limits
 
         read_joint_limits(options.joint_limits, tree, draft)
-    return complete(draft, tree, options)
+    return complete(draft, tree, options, collision_links)
 
 
 def complete(
-    draft: Draft, tree: RobotTree, options: ConvertOptions
+    draft: Draft,
+    tree: RobotTree,
+    options: ConvertOptions,
+    collision_links: Collection[str] | None = None,
 ) -> tuple[Xrdf, list[Diagnostic]]:
-    """Fill what the sources did not say (each fill reported) and build the model."""
+    """Fill what the sources did not say (each fill reported) and build the model.
+
+    ``collision_links`` (the links with collision geometry) refine the tool-frame guess."""
+    from .sources.cspace import apply_default_cspace, guessed_tool_frame
+    from .targets import order_for_target
+
     rep = Reporter(tree.path)
     diags = list(draft.diagnostics)
     tree = _based_tree(tree, draft, rep)
 
     # --- c-space
+    default_tool = None
     if draft.cspace is None:
-        cspace = [j for j in tree.actuated_joints() if j not in draft.passive_joints]
-        rep.report(
-            "convert-chosen-group",
-            f"no planning group given: c-space is every actuated joint of the URDF in tree "
-            f"order ({', '.join(cspace) or 'none'})",
-        )
-    else:
-        cspace = list(draft.cspace)
+        default_tool = apply_default_cspace(tree, draft, rep, collision_links)
+    cspace = order_for_target(list(draft.cspace or []), tree, options.target, rep)
     if not cspace:
         rep.report(
             "convert-empty-cspace",
@@ -231,13 +240,7 @@ def complete(
                 f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"
             )
     if not tool_frames and cspace:
-        tool = _tip_link(tree, cspace)
-        tool_frames = [tool]
-        rep.report(
-            "convert-chosen-tool-frame",
-            f"no tool frame in the inputs: using '{tool}', the tip of the c-space chain "
-            "(set --tool-frame)",
-        )
+        tool_frames = [guessed_tool_frame(tree, cspace, rep, collision_links, default_tool)]
 
     # --- geometry
     name = options.geometry_name or draft.geometry_name or f"{_robot_stem(tree)}_collision_spheres"
@@ -316,7 +319,12 @@ def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
         )
 
 
-def _cspace_choice(tree: RobotTree, options: ConvertOptions, draft: Draft) -> bool:
+def _cspace_choice(
+    tree: RobotTree,
+    options: ConvertOptions,
+    draft: Draft,
+    collision_links: Collection[str] | None,
+) -> bool:
     """Apply ``--joints``/``--chain`` to ``draft``; whether one was given."""
     if not options.joints and not options.chains:
         return False
@@ -324,7 +332,13 @@ def _cspace_choice(tree: RobotTree, options: ConvertOptions, draft: Draft) -> bo
         raise SourceError("give either --group or --joints/--chain, not both")
     from .sources.cspace import apply_cspace_choice
 
-    return apply_cspace_choice(tree, draft, joints=options.joints, chains=options.chains)
+    return apply_cspace_choice(
+        tree,
+        draft,
+        joints=options.joints,
+        chains=options.chains,
+        collision_links=collision_links,
+    )
 
 
 def with_spheres(x: Xrdf, spheres: dict[str, Sequence[object]]) -> Xrdf:
@@ -344,17 +358,3 @@ def _robot_stem(tree: RobotTree) -> str:
         if name.endswith(suffix) and len(name) > len(suffix):
             name = name[: -len(suffix)]
     return name.strip("/") or "robot"
-
-
-def _tip_link(tree: RobotTree, cspace: list[str]) -> str:
-    """Child of the last c-space joint, followed down a single chain of fixed joints."""
-    order = tree.joint_order()
-    last = max(cspace, key=lambda j: order.get(j, -1))
-    link = tree.joints[last].child
-    while True:
-        kids = [tree.joints[j] for j in tree.child_joints.get(link, ())]
-        fixed = [j for j in kids if j.type == "fixed"]
-        if len(kids) == 1 and len(fixed) == 1:
-            link = fixed[0].child
-        else:
-            return link

@@ -13,6 +13,9 @@
    never seen colliding are ignored; pairs that sometimes collide are checked;
 5. lint the result against the same URDF object.
 
+With a ``target``, the XRDF is linted for it before step 3: errors that fitting cannot change
+(:func:`xrdf_tools.convert.targets.target_errors`) come back at once, without fitting.
+
 It prints nothing: the XRDF, its text and every diagnostic come back in a
 :class:`ConvertResult`. Two summary diagnostics say what was fitted (``convert-fitted-spheres``)
 and what was masked and why (``convert-computed-mask``, counts per reason).
@@ -119,6 +122,10 @@ def convert_robot(
         loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
     x, diags = convert(loaded, options)
     fitted: dict[str, int] = {}
+    if fit is not None and lint:
+        early = _checked_before_fitting(x, loaded, options, label)
+        if early is not None:
+            return ConvertResult(x, early[0], loaded, tuple(diags), tuple(early[1]))
     if fit is not None:
         x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
         if fitted:
@@ -141,6 +148,21 @@ def convert_robot(
     return ConvertResult(
         x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
     )
+
+
+def _checked_before_fitting(
+    x: Xrdf, robot: Robot, options: ConvertOptions, label: str
+) -> tuple[str, list[Diagnostic]] | None:
+    """The text and the target's errors when the XRDF fails ``options.target`` whatever
+    spheres are fitted (:func:`~xrdf_tools.convert.targets.target_errors`), else None."""
+    from ..xrdf.io import dump_xrdf
+    from .targets import target_errors
+
+    if options.target is None:
+        return None
+    text = dump_xrdf(x)
+    errors = target_errors(text, robot, options.target, label)
+    return (text, errors) if errors else None
 
 
 # ------------------------------------------------------------------------------------------

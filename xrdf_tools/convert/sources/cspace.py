@@ -1,20 +1,38 @@
-"""The c-space chosen on the command line, without an SRDF: ``--joints`` and ``--chain``.
+"""The c-space without an SRDF group: ``--joints``, ``--chain``, or the default chain.
 
 ``--joints j1,j2`` takes the actuated joints as given, in the given order. ``--chain BASE:TIP``
 walks up from ``TIP`` to ``BASE`` like an SRDF chain (``BASE``'s own parent joint excluded)
 and keeps the actuated joints in tree order; several chains are joined in the given order
 (a dual-arm c-space). Tool frames are the tips: each chain's ``TIP``, or for ``--joints`` the
-child link of every joint with no other c-space joint below it.
+tool frame guessed below every joint with no other c-space joint below it.
+
+With none of them and no group: :func:`apply_default_cspace` takes the longest serial arm
+chain (:func:`xrdf_tools.robot.chains.default_cspace`) and reports the choice. A planar or
+floating joint an SRDF group names cannot be a c-space coordinate in any reader:
+:func:`report_unplannable_joints` names each one left out.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
+from typing import TYPE_CHECKING
 
+from ...robot.chains import ToolFrameGuess, default_cspace, guess_tool_frame
 from ...util.errors import SourceError, did_you_mean
-from . import Draft, RobotTree
+from . import Draft, Reporter, RobotTree
 
-__all__ = ["apply_cspace_choice", "chain_joints", "parse_chain"]
+if TYPE_CHECKING:
+    from .srdf_parse import Srdf
+
+__all__ = [
+    "apply_cspace_choice",
+    "apply_default_cspace",
+    "chain_joints",
+    "guessed_tool_frame",
+    "parse_chain",
+    "report_unplannable_joints",
+    "unplannable_joints",
+]
 
 
 def parse_chain(spec: str) -> tuple[str, str]:
@@ -67,22 +85,15 @@ def _checked_joints(tree: RobotTree, joints: Sequence[str]) -> list[str]:
     return out
 
 
-def _tip(tree: RobotTree, link: str) -> str:
-    """``link`` followed down a single chain of fixed joints (a flange, a tool frame)."""
-    while True:
-        kids = [tree.joints[j] for j in tree.child_joints.get(link, ())]
-        if len(kids) != 1 or kids[0].type != "fixed":
-            return link
-        link = kids[0].child
-
-
-def _leaf_tips(tree: RobotTree, cspace: list[str]) -> list[str]:
+def _leaf_tips(
+    tree: RobotTree, cspace: list[str], collision_links: Collection[str] | None
+) -> list[str]:
     chosen = set(cspace)
     tips = []
     for j in cspace:
         below = tree.descendants(tree.joints[j].child)
         if not any(tree.parent_joint.get(n) in chosen for n in below):
-            tips.append(_tip(tree, tree.joints[j].child))
+            tips.append(guess_tool_frame(tree, j, collision_links).frame)
     return tips
 
 
@@ -92,6 +103,7 @@ def apply_cspace_choice(
     *,
     joints: Sequence[str] = (),
     chains: Sequence[tuple[str, str]] = (),
+    collision_links: Collection[str] | None = None,
 ) -> bool:
     """Set ``draft.cspace`` (and its tool frames) from ``joints`` or ``chains``.
 
@@ -107,7 +119,7 @@ def apply_cspace_choice(
         what = "--chain " + ", ".join(f"{b}:{t}" for b, t in chains)
     elif joints:
         cspace = _checked_joints(tree, joints)
-        tips = _leaf_tips(tree, cspace)
+        tips = _leaf_tips(tree, cspace, collision_links)
         what = "--joints"
     else:
         return False
@@ -117,3 +129,97 @@ def apply_cspace_choice(
     draft.tool_frames = list(dict.fromkeys(tips))
     draft.group = None
     return True
+
+
+def apply_default_cspace(
+    tree: RobotTree,
+    draft: Draft,
+    rep: Reporter,
+    collision_links: Collection[str] | None = None,
+) -> ToolFrameGuess | None:
+    """Set ``draft.cspace`` to the default chain and return the tool frame at its end.
+
+    Reports the choice (``convert-chosen-group``) with what was left out and the flags that
+    change it; the tool frame is reported where it is used (:func:`guessed_tool_frame`).
+    """
+    choice = default_cspace(tree, draft.passive_joints, collision_links)
+    draft.cspace = list(choice.joints)
+    if not choice.joints:
+        rep.report(
+            "convert-chosen-group",
+            "no planning group given and no serial chain of actuated joints in the URDF "
+            "(--joints, --chain or --srdf choose one)",
+        )
+        return None
+    rep.report("convert-chosen-group", f"no planning group given: {choice.describe()}")
+    return choice.tool
+
+
+def guessed_tool_frame(
+    tree: RobotTree,
+    cspace: Sequence[str],
+    rep: Reporter,
+    collision_links: Collection[str] | None = None,
+    guess: ToolFrameGuess | None = None,
+) -> str:
+    """``guess``, else the tool frame below the last c-space joint in tree order; reported."""
+    if guess is None:
+        order = tree.joint_order()
+        last = max(cspace, key=lambda j: order.get(j, -1))
+        guess = guess_tool_frame(tree, last, collision_links)
+    _report_tool(rep, guess.frame, guess.reason, guess.candidates)
+    return guess.frame
+
+
+def _report_tool(rep: Reporter, frame: str, reason: str, candidates: Sequence[str]) -> None:
+    others = [c for c in candidates if c != frame]
+    shown = ", ".join(others[:6]) + (" …" if len(others) > 6 else "")
+    rep.report(
+        "convert-chosen-tool-frame",
+        f"no tool frame in the inputs: using '{frame}' ({reason})"
+        + (f"; also rigidly attached: {shown}" if others else "")
+        + "; set --tool-frame",
+    )
+
+
+def report_unplannable_joints(srdf: Srdf, groups: Sequence[str], tree: RobotTree) -> Reporter:
+    """Warn about each planar or floating joint of ``groups`` (left out of the c-space)."""
+    rep = Reporter(srdf.path)
+    for group, joint, kind in unplannable_joints(srdf, groups, tree):
+        rep.report(
+            "convert-unplannable-joint",
+            f"group '{group}' holds the {kind} joint '{joint}': left out of the c-space (an "
+            "XRDF c-space holds revolute, continuous and prismatic joints only); plan the base "
+            "separately or model it as prismatic/revolute joints in the URDF",
+            line=srdf.groups[group].line,
+        )
+    return rep
+
+
+def unplannable_joints(
+    srdf: Srdf, groups: Sequence[str], tree: RobotTree
+) -> list[tuple[str, str, str]]:
+    """``(group, joint, type)`` of the planar and floating joints the groups (or their
+    subgroups) name: URDF joints and SRDF virtual joints, each once, in group order."""
+    virtual = {name: kind for name, kind, _ in srdf.virtual_joints}
+    out: list[tuple[str, str, str]] = []
+    seen: set[str] = set()
+    for top in groups:
+        stack, visited = [top], set()
+        while stack:
+            gname = stack.pop()
+            g = srdf.groups.get(gname)
+            if g is None or gname in visited:
+                continue
+            visited.add(gname)
+            stack.extend(reversed(g.subgroups))
+            named = [*g.joints, *(tree.parent_joint.get(link, "") for link in g.links)]
+            for base, tip in g.chains:
+                named += reversed(tree.chain_joints(base, tip) or [])
+            for j in named:
+                info = tree.joints.get(j)
+                kind = info.type if info is not None else virtual.get(j)
+                if kind in ("planar", "floating") and j not in seen:
+                    seen.add(j)
+                    out.append((gname, j, kind))
+    return out

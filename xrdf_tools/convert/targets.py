@@ -1,0 +1,87 @@
+"""What a chosen ``--target`` needs of a conversion, fixed or checked before the slow work.
+
+:func:`order_for_target` fixes what has a known fix: cuRobo fills default positions in the
+URDF's joint order and pairs them with ``cspace.joint_names`` in the file's order, so for
+``--target curobo`` a c-space in another order is put in the URDF's order (default positions
+are kept by joint name) and the change is reported. :func:`target_errors` lints the XRDF
+before spheres are fitted: findings for the target that fitting and the mask cannot change
+stop the command before minutes of fitting.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from ..diagnostics import Diagnostic, Severity
+from ..xrdf.readers import parse_target
+
+if TYPE_CHECKING:
+    from ..robot.core import Robot
+    from .sources import Reporter, RobotTree
+
+__all__ = ["RULE_ORDER", "RULE_STOPPED", "order_for_target", "target_errors"]
+
+RULE_ORDER = "convert-cspace-order"
+RULE_STOPPED = "convert-target-check"
+
+#: XRDF sections that sphere fitting and the computed mask write: findings there are decided
+#: after fitting, not before.
+_FITTED_SECTIONS = ("geometry", "collision", "self_collision", "world_collision")
+#: Rules about spheres, decided after fitting.
+_FITTED_RULES = frozenset({"mesh-without-spheres"})
+
+
+def order_for_target(
+    cspace: Sequence[str], tree: RobotTree, target: str | None, rep: Reporter
+) -> list[str]:
+    """``cspace`` in the order ``target`` needs (reported when it changes)."""
+    chosen = parse_target(target)
+    names = list(cspace)
+    if chosen is None or chosen.id != "curobo" or any(j not in tree.joints for j in names):
+        return names
+    wanted = set(names)
+    urdf_order = [j for j in tree.joints if j in wanted]
+    if urdf_order == names:
+        return names
+    rep.report(
+        RULE_ORDER,
+        f"--target {chosen.id}: c-space put in the URDF's joint order ({', '.join(urdf_order)}) "
+        f"instead of {', '.join(names)}: {chosen.label} fills default positions in URDF order "
+        "and would scramble them otherwise; default positions (SRDF states) are kept by joint "
+        "name",
+        "cspace.joint_names",
+    )
+    return urdf_order
+
+
+def target_errors(text: str, robot: Robot, target: str | None, label: str) -> list[Diagnostic]:
+    """Lint errors of ``text`` for ``target`` that fitting spheres cannot remove.
+
+    Empty without a target. When there are any, a last ``convert-target-check`` error says
+    that the fitting was not started."""
+    chosen = parse_target(target)
+    if chosen is None:
+        return []
+    from ..lint import lint_text
+
+    found = [
+        d
+        for d in lint_text(text, label, urdf_model=robot, target=chosen.id)
+        if d.severity is Severity.ERROR
+        and d.rule not in _FITTED_RULES
+        and not d.key_path.startswith(_FITTED_SECTIONS)
+    ]
+    if not found:
+        return []
+    stop = Diagnostic(
+        label,
+        None,
+        None,
+        RULE_STOPPED,
+        Severity.ERROR,
+        f"the XRDF would fail --target {chosen.id} ({len(found)} error(s) above) whatever "
+        "spheres are fitted: stopped before fitting",
+        "",
+    )
+    return [*found, stop]

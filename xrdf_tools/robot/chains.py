@@ -1,0 +1,322 @@
+"""Serial chains of a URDF and the c-space and tool frame a robotics engineer would pick.
+
+Without an SRDF group or ``--chain``/``--joints``, :func:`default_cspace` chooses the longest
+serial chain of actuated (revolute, continuous, prismatic, non-mimic) joints from the root to a
+leaf, leaving out what a motion planner does not plan for:
+
+* **wheels**: joints named like ``wheel``/``caster``, and continuous joints mounted on the base
+  (no movable joint above them) with no movable joint below;
+* **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
+  ``knuckle``/``palm``, and every joint that a mimic joint follows (a mimic joint itself is never
+  a c-space joint);
+* **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
+  ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm).
+
+A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
+Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
+``behead`` is not. The tool frame (:func:`guess_tool_frame`) is a link below the last c-space joint
+reached through fixed joints only, preferring ``tool0``, then ``tcp``, ``tool``, ``ee``/``eef``/
+``end_effector``, ``flange``, ``grasp`` names, then a frame without collision geometry at the end
+of a fixed branch, then the link where a single chain of fixed joints ends.
+
+Everything here is a pure function of the :class:`~xrdf_tools.robot.tree.RobotTree`; the
+converter reports each choice and ``xrdf inspect`` shows it.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Collection, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+from .tree import RobotTree
+
+__all__ = [
+    "Chain",
+    "DefaultCSpace",
+    "JointRole",
+    "ToolFrameGuess",
+    "default_cspace",
+    "guess_tool_frame",
+    "joint_roles",
+    "leaf_chains",
+    "name_words",
+]
+
+#: Why a joint is left out of a default c-space.
+JointRole = Literal["wheel", "gripper", "head"]
+
+_WHEEL = frozenset({"wheel", "wheels", "caster", "castor", "tire", "tyre"})
+_GRIPPER = frozenset(
+    {"gripper", "grip", "finger", "fingers", "hand", "jaw", "claw", "thumb", "knuckle", "palm"}
+)
+_HEAD = frozenset(
+    {"head", "neck", "camera", "cam", "eye", "eyes", "laser", "lidar", "xtion", "kinect"}
+)
+_PAN_TILT = frozenset({"pan", "tilt"})
+_ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
+
+#: Tool-frame name preferences, best first: (rank, words or exact name).
+_TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
+    ("a TCP", frozenset({"tcp"})),
+    ("a tool", frozenset({"tool", "tool0"})),
+    ("an end-effector", frozenset({"ee", "eef", "effector", "endeffector", "endpoint"})),
+    ("a flange", frozenset({"flange"})),
+    ("a grasp", frozenset({"grasp", "grasping"})),
+)
+_SENSOR = _HEAD | {"optical", "depth", "rgb", "imu", "sensor", "accelerometer", "range", "sonar"}
+
+
+def name_words(name: str) -> tuple[str, ...]:
+    """Lower-case words of a link or joint name: split at non-letters and camelCase humps."""
+    spaced = re.sub(r"([a-z])([A-Z])", r"\1 \2", name)
+    return tuple(w.lower() for w in re.split(r"[^A-Za-z]+", spaced) if w)
+
+
+def _name_role(name: str) -> JointRole | None:
+    words = set(name_words(name))
+    if words & _WHEEL:
+        return "wheel"
+    if words & _GRIPPER:
+        return "gripper"
+    if words & _HEAD or (words & _PAN_TILT and not words & _ARM):
+        return "head"
+    return None
+
+
+def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
+    """The movable joints a default c-space leaves out, with the reason (see module doc)."""
+    leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint is not None}
+    roles: dict[str, JointRole] = {}
+    for name, j in tree.joints.items():
+        if not j.is_movable:
+            continue
+        role = _name_role(name)
+        if role is None and not set(name_words(name)) & _ARM:
+            role = _name_role(j.child)
+        if role is None and (j.is_mimic or name in leaders) and not _moves_below(tree, j.child):
+            role = "gripper"
+        if role is None and j.type == "continuous" and _is_base_wheel(tree, name):
+            role = "wheel"
+        if role is not None:
+            roles[name] = role
+    return roles
+
+
+def _moves_below(tree: RobotTree, link: str) -> bool:
+    """Whether an actuated joint that no mimic joint follows lies below ``link``."""
+    leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint is not None}
+    return any(
+        tree.is_actuated(tree.parent_joint[n]) and tree.parent_joint[n] not in leaders
+        for n in tree.descendants(link)
+    )
+
+
+def _is_base_wheel(tree: RobotTree, joint: str) -> bool:
+    """A continuous joint on the base (nothing movable above) with nothing movable below."""
+    j = tree.joints[joint]
+    links = (j.parent, *tree.ancestors(j.parent))
+    above = [tree.parent_joint[n] for n in links if n in tree.parent_joint]
+    if any(tree.joints[a].is_movable for a in above if a in tree.joints):
+        return False
+    return not any(tree.joints[tree.parent_joint[n]].is_movable for n in tree.descendants(j.child))
+
+
+@dataclass(frozen=True)
+class Chain:
+    """The path from the tree's root to one leaf link.
+
+    ``joints`` are every joint on the path (fixed ones included), root first; ``cspace`` the
+    actuated joints a default c-space takes from it (ending before the first left-out joint);
+    ``stopped_at`` that left-out joint, if any.
+    """
+
+    base: str
+    leaf: str
+    joints: tuple[str, ...]
+    cspace: tuple[str, ...]
+    stopped_at: str | None = None
+
+
+def leaf_chains(
+    tree: RobotTree,
+    roles: Mapping[str, JointRole] | None = None,
+    passive: Collection[str] = (),
+) -> list[Chain]:
+    """The chain from ``tree.root`` to every leaf link, leaves in depth-first order."""
+    roles = joint_roles(tree) if roles is None else roles
+    out: list[Chain] = []
+    stack: list[tuple[str, tuple[str, ...]]] = [(tree.root, ())]
+    seen = {tree.root}
+    while stack:
+        link, path = stack.pop()
+        kids = tree.child_joints.get(link, ())
+        if not kids and path:
+            out.append(_chain(tree, link, path, roles, passive))
+        for jn in reversed(kids):
+            child = tree.joints[jn].child
+            if child not in seen:
+                seen.add(child)
+                stack.append((child, (*path, jn)))
+    return out
+
+
+def _chain(
+    tree: RobotTree,
+    leaf: str,
+    path: tuple[str, ...],
+    roles: Mapping[str, JointRole],
+    passive: Collection[str],
+) -> Chain:
+    cspace: list[str] = []
+    for jn in path:
+        if jn in roles:
+            return Chain(tree.root, leaf, path, tuple(cspace), jn)
+        if tree.is_actuated(jn) and jn not in passive:
+            cspace.append(jn)
+    return Chain(tree.root, leaf, path, tuple(cspace))
+
+
+@dataclass(frozen=True)
+class ToolFrameGuess:
+    """A tool frame below a c-space joint and why it was chosen."""
+
+    frame: str
+    reason: str
+    #: Other links reached from the same joint through fixed joints (the alternatives).
+    candidates: tuple[str, ...] = ()
+    #: Whether the frame was chosen for its tool-like name.
+    named: bool = False
+
+
+def _fixed_below(tree: RobotTree, link: str) -> list[tuple[str, int]]:
+    """``link`` and the links below it reached through fixed joints only, with their depth."""
+    out = [(link, 0)]
+    stack = [(link, 0)]
+    while stack:
+        cur, depth = stack.pop()
+        for jn in reversed(tree.child_joints.get(cur, ())):
+            j = tree.joints[jn]
+            if j.type == "fixed":
+                out.append((j.child, depth + 1))
+                stack.append((j.child, depth + 1))
+    return out
+
+
+def _single_fixed_tip(tree: RobotTree, link: str) -> str:
+    """``link`` followed down a single chain of fixed joints (a flange, a tool frame)."""
+    while True:
+        kids = [tree.joints[j] for j in tree.child_joints.get(link, ())]
+        if len(kids) != 1 or kids[0].type != "fixed":
+            return link
+        link = kids[0].child
+
+
+def guess_tool_frame(
+    tree: RobotTree, last_joint: str, collision_links: Collection[str] | None = None
+) -> ToolFrameGuess:
+    """The tool frame below ``last_joint`` (see the module doc for the preferences).
+
+    ``collision_links`` (links with collision geometry) lets a collision-less leaf frame such
+    as a gripper's TCP frame win over the link it hangs from; None skips that preference.
+    """
+    start = tree.joints[last_joint].child
+    below = _fixed_below(tree, start)
+    names = tuple(n for n, _ in below)
+    exact = [n for n, _ in below if n == "tool0"]
+    if exact:
+        return ToolFrameGuess("tool0", "named tool0", names, named=True)
+    for rank, words in _TOOL_RANKS:
+        hits = [(d, n) for n, d in below if set(name_words(n)) & words]
+        hits = [(d, n) for d, n in hits if not set(name_words(n)) & _SENSOR]
+        if hits:
+            frame = min(hits)[1]
+            return ToolFrameGuess(
+                frame, f"named like {rank} frame, below '{last_joint}'", names, named=True
+            )
+    if collision_links is not None:
+        frames = [
+            (d, n)
+            for n, d in below
+            if d > 0
+            and n not in collision_links
+            and not tree.child_joints.get(n)
+            and not set(name_words(n)) & _SENSOR
+        ]
+        if frames:
+            frame = min(frames)[1]
+            return ToolFrameGuess(
+                frame, f"a frame without geometry at the end of '{last_joint}'", names
+            )
+    tip = _single_fixed_tip(tree, start)
+    return ToolFrameGuess(tip, f"the tip of the chain after '{last_joint}'", names)
+
+
+@dataclass(frozen=True)
+class DefaultCSpace:
+    """The c-space and tool frame :func:`default_cspace` picks, and everything it weighed."""
+
+    joints: tuple[str, ...]
+    tool: ToolFrameGuess | None
+    chain: Chain | None
+    #: Movable joints left out, by reason (``wheel``/``gripper``/``head``), in tree order.
+    left_out: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+    #: Other chains with as many c-space joints and a different c-space (two arms), each
+    #: with its tool frame.
+    ties: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
+
+    def describe(self) -> str:
+        """One sentence: what was chosen, what was left out, and the flags that change it."""
+        if self.chain is None or not self.joints:
+            return "no serial chain of actuated joints found"
+        tip = self.tool.frame if self.tool is not None else self.chain.leaf
+        text = (
+            f"c-space is the longest serial chain of actuated joints from '{self.chain.base}' "
+            f"({len(self.joints)}: {', '.join(self.joints)})"
+        )
+        out = [f"{len(js)} {role} joint(s) ({_short(js)})" for role, js in self.left_out.items()]
+        if out:
+            text += "; left out: " + ", ".join(out)
+        if self.ties:
+            other = "; ".join(
+                f"{_short(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
+            )
+            text += f"; as long: {other}"
+        return text + f"; change it with --chain {self.chain.base}:{tip}, --joints or --srdf"
+
+
+def _short(names: Sequence[str], n: int = 4) -> str:
+    return ", ".join(names[:n]) + (f" and {len(names) - n} more" if len(names) > n else "")
+
+
+def default_cspace(
+    tree: RobotTree,
+    passive: Collection[str] = (),
+    collision_links: Collection[str] | None = None,
+) -> DefaultCSpace:
+    """The longest serial chain of actuated joints from the root (see the module doc).
+
+    ``passive`` joints never enter the c-space. Among chains of equal length, one whose tool
+    frame has a tool-like name wins, then the first in depth-first order (siblings by name).
+    """
+    roles = joint_roles(tree)
+    chains = leaf_chains(tree, roles, passive)
+    order = tree.dfs_joints()
+    left_out: dict[str, tuple[str, ...]] = {}
+    for role in ("wheel", "gripper", "head"):
+        names = tuple(j for j in order if roles.get(j) == role)
+        if names:
+            left_out[role] = names
+    best_len = max((len(c.cspace) for c in chains), default=0)
+    if best_len == 0:
+        return DefaultCSpace((), None, None, left_out)
+    longest = [c for c in chains if len(c.cspace) == best_len]
+    distinct: dict[tuple[str, ...], Chain] = {}
+    for c in longest:
+        distinct.setdefault(c.cspace, c)
+    guesses = {cs: guess_tool_frame(tree, cs[-1], collision_links) for cs in distinct}
+    named = [cs for cs, g in guesses.items() if g.named]
+    pick = (named or list(distinct))[0]
+    ties = tuple((c, guesses[cs]) for cs, c in distinct.items() if cs != pick)
+    return DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties)
