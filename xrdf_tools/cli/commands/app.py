@@ -13,14 +13,14 @@ from typing import Annotated
 import typer
 
 from ... import __version__
-from . import convert, diff, expand, export, lint, report, spheres, viz
+from . import convert, diff, expand, export, inspect, lint, report, spheres, viz
 
 app = typer.Typer(
     name="xrdf",
     help=(
         "Tools for XRDF robot descriptions (cuMotion / cuRobo / MoveIt).\n\n"
-        "Typical flow: convert a URDF + SRDF or cuRobo config to XRDF, lint it, report on its "
-        "self-collision mask, look at the spheres.\n\n"
+        "Typical flow: inspect a URDF (+ SRDF), convert it (with an SRDF or a cuRobo config) to "
+        "XRDF, lint it, report on its self-collision mask, look at the spheres.\n\n"
         "Exit codes: 0 success, 1 findings (lint errors, differences), 2 usage or input error."
     ),
     no_args_is_help=True,
@@ -50,6 +50,9 @@ def _root(
 # is its full `xrdf COMMAND --help`.
 app.command("convert", short_help="URDF/xacro + MoveIt SRDF or cuRobo config → XRDF.")(
     convert.command
+)
+app.command("inspect", short_help="Links, joints, chains, SRDF groups and the default c-space.")(
+    inspect.command
 )
 app.command("lint", short_help="Check XRDF files against the spec (and a URDF).")(lint.command)
 app.command("diff", short_help="Semantic difference between two XRDF files.")(diff.command)

@@ -1,0 +1,297 @@
+"""What a robot description holds, as one value: links, joints, chains, SRDF groups, and the
+c-space and tool frame ``xrdf convert`` would pick by default.
+
+:func:`inspect_robot` reads only the URDF XML (and the SRDF): no mesh is loaded. The default
+choice comes from :func:`xrdf_tools.convert.core.convert` itself, so ``xrdf inspect`` shows
+exactly what ``xrdf convert`` without ``--group``/``--chain``/``--joints`` would write.
+:meth:`Inspection.to_dict` is the stable JSON form (keys documented in ``docs/inspect.md``);
+:func:`xrdf_tools.robot.inspect_text.render_inspection` the text form.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from .chains import Chain, default_cspace, joint_roles, leaf_chains
+
+if TYPE_CHECKING:
+    from .core import Robot
+
+__all__ = [
+    "DefaultChoice",
+    "GroupView",
+    "Inspection",
+    "JointView",
+    "LinkView",
+    "inspect_robot",
+]
+
+#: Version of the JSON form (:meth:`Inspection.to_dict`); raised when a key changes meaning.
+JSON_VERSION = 1
+
+#: Diagnostics of ``convert`` that explain the default choice.
+_CHOICE_RULES = (
+    "convert-chosen-group",
+    "convert-chosen-tool-frame",
+    "convert-chosen-state",
+    "convert-unplannable-joint",
+)
+
+
+@dataclass(frozen=True)
+class LinkView:
+    """One link: its parent joint (None for the root) and its geometry element counts."""
+
+    name: str
+    parent_joint: str | None
+    collision: int
+    visual: int
+
+
+@dataclass(frozen=True)
+class JointView:
+    """One joint as written in the URDF, whether it is a c-space coordinate (``actuated``)
+    and why a default c-space leaves it out (``role``: wheel, gripper, head)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    lower: float | None
+    upper: float | None
+    velocity: float | None
+    mimic_joint: str | None
+    mimic_multiplier: float
+    mimic_offset: float
+    actuated: bool
+    role: str | None
+
+
+@dataclass(frozen=True)
+class GroupView:
+    """One SRDF group resolved against the URDF (``problem``: why it does not resolve)."""
+
+    name: str
+    joints: tuple[str, ...]
+    cspace: tuple[str, ...]
+    subgroups: tuple[str, ...]
+    line: int | None
+    problem: str | None = None
+    #: Planar and floating joints the group names (no c-space can hold them).
+    unplannable: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class DefaultChoice:
+    """What ``xrdf convert`` picks without ``--group``/``--chain``/``--joints``, and why."""
+
+    cspace: tuple[str, ...]
+    tool_frames: tuple[str, ...]
+    #: ``srdf`` (an SRDF group), ``chain`` (the longest arm chain) or ``error``.
+    source: str
+    notes: tuple[str, ...]
+    #: The ``--chain`` that gives the same c-space without an SRDF (None with an SRDF).
+    chain_flag: str | None = None
+    error: str | None = None
+
+
+@dataclass(frozen=True)
+class Inspection:
+    """Everything ``xrdf inspect`` shows."""
+
+    name: str
+    path: str
+    root: str
+    links: tuple[LinkView, ...]
+    joints: tuple[JointView, ...]
+    chains: tuple[Chain, ...]
+    groups: tuple[GroupView, ...]
+    default: DefaultChoice
+    srdf: str | None = None
+    #: Movable joints a default c-space leaves out, by reason.
+    left_out: tuple[tuple[str, tuple[str, ...]], ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: plain dicts and lists, keys in a fixed order."""
+        return {
+            "version": JSON_VERSION,
+            "robot": self.name,
+            "path": self.path,
+            "srdf": self.srdf,
+            "root": self.root,
+            "links": [
+                {
+                    "name": lk.name,
+                    "parent_joint": lk.parent_joint,
+                    "collision": lk.collision,
+                    "visual": lk.visual,
+                }
+                for lk in self.links
+            ],
+            "joints": [_joint_dict(j) for j in self.joints],
+            "chains": [
+                {
+                    "leaf": c.leaf,
+                    "joints": list(c.joints),
+                    "actuated": [j for j in c.joints if j in self._actuated],
+                    "default_cspace": list(c.cspace),
+                }
+                for c in self.chains
+            ],
+            "groups": [
+                {
+                    "name": g.name,
+                    "line": g.line,
+                    "joints": list(g.joints),
+                    "cspace": list(g.cspace),
+                    "subgroups": list(g.subgroups),
+                    "unplannable": list(g.unplannable),
+                    "problem": g.problem,
+                }
+                for g in self.groups
+            ],
+            "left_out": {role: list(js) for role, js in self.left_out},
+            "default": {
+                "source": self.default.source,
+                "cspace": list(self.default.cspace),
+                "tool_frames": list(self.default.tool_frames),
+                "chain_flag": self.default.chain_flag,
+                "notes": list(self.default.notes),
+                "error": self.default.error,
+            },
+        }
+
+    @property
+    def _actuated(self) -> set[str]:
+        return {j.name for j in self.joints if j.actuated}
+
+
+def _joint_dict(j: JointView) -> dict[str, Any]:
+    mimic = None
+    if j.mimic_joint is not None:
+        mimic = {"joint": j.mimic_joint, "multiplier": j.mimic_multiplier, "offset": j.mimic_offset}
+    return {
+        "name": j.name,
+        "type": j.type,
+        "parent": j.parent,
+        "child": j.child,
+        "lower": j.lower,
+        "upper": j.upper,
+        "velocity": j.velocity,
+        "mimic": mimic,
+        "actuated": j.actuated,
+        "role": j.role,
+    }
+
+
+def inspect_robot(robot: Robot, srdf: str | os.PathLike[str] | None = None) -> Inspection:
+    """Inspect ``robot`` (and the SRDF at ``srdf``).
+
+    Raises :class:`~xrdf_tools.util.errors.XrdfToolsError` when the SRDF cannot be read; a
+    group that does not resolve, or a default choice that fails, is reported in the value.
+    """
+    tree = robot.tree
+    roles = joint_roles(tree)
+    visuals = {str(lk.name): len(lk.visuals) for lk in robot.urdf.robot.links}
+    links = tuple(
+        LinkView(
+            name,
+            tree.parent_joint.get(name),
+            robot.collision_counts.get(name, 0),
+            visuals.get(name, 0),
+        )
+        for name in robot.links
+    )
+    joints = tuple(
+        JointView(
+            j.name,
+            j.type,
+            j.parent,
+            j.child,
+            j.lower,
+            j.upper,
+            j.velocity,
+            j.mimic_joint,
+            j.mimic_multiplier,
+            j.mimic_offset,
+            j.is_actuated,
+            roles.get(j.name),
+        )
+        for j in robot.joints.values()
+    )
+    srdf_path = None if srdf is None else os.fspath(srdf)
+    groups = _groups(srdf_path, robot) if srdf_path is not None else ()
+    chosen = default_cspace(tree, collision_links=frozenset(robot.collision_counts))
+    return Inspection(
+        name=robot.name,
+        path=robot.path,
+        root=tree.root,
+        links=links,
+        joints=joints,
+        chains=tuple(leaf_chains(tree, roles)),
+        groups=groups,
+        default=_default_choice(robot, srdf_path),
+        srdf=srdf_path,
+        left_out=tuple(chosen.left_out.items()),
+    )
+
+
+def _groups(path: str, robot: Robot) -> tuple[GroupView, ...]:
+    from ..convert.sources.cspace import unplannable_joints
+    from ..convert.sources.srdf import cspace_of, group_joints, load_srdf
+    from ..util.errors import XrdfToolsError
+
+    srdf = load_srdf(path)
+    out: list[GroupView] = []
+    for g in srdf.groups.values():
+        try:
+            joints = tuple(group_joints(srdf, g.name, robot.tree))
+            cspace = tuple(cspace_of(srdf, g.name, robot.tree))
+            problem = None
+        except XrdfToolsError as e:
+            joints, cspace, problem = (), (), _plain(e)
+        odd = tuple(j for _, j, _ in unplannable_joints(srdf, [g.name], robot.tree))
+        out.append(GroupView(g.name, joints, cspace, tuple(g.subgroups), g.line, problem, odd))
+    return tuple(out)
+
+
+def _plain(e: Exception) -> str:
+    return str(getattr(e, "message", None) or e)
+
+
+def _default_choice(robot: Robot, srdf: str | None) -> DefaultChoice:
+    """Run ``convert`` as ``xrdf convert ROBOT [--srdf S]`` would and keep what it chose."""
+    from ..convert.core import ConvertOptions, convert
+    from ..util.errors import XrdfToolsError
+
+    try:
+        x, diags = convert(robot, ConvertOptions(srdf=srdf))
+    except XrdfToolsError as e:
+        return DefaultChoice((), (), "error", (), error=_plain(e))
+    cspace = tuple(x.cspace.joint_names) if x.cspace is not None else ()
+    notes = tuple(d.message for d in diags if d.rule in _CHOICE_RULES)
+    by_group = srdf is not None and any(
+        d.rule == "convert-chosen-group" and d.path == srdf for d in diags
+    )
+    tools = tuple(x.tool_frames or ())
+    flag = None
+    if not by_group and cspace and tools:
+        flag = f"--chain {robot.tree.root}:{tools[0]}"
+    return DefaultChoice(cspace, tools, "srdf" if by_group else "chain", notes, chain_flag=flag)
+
+
+def chain_summary(
+    chains: Sequence[Chain], actuated: set[str]
+) -> list[tuple[tuple[str, ...], list[str]]]:
+    """Chains grouped by their actuated joints: ``(joints, leaves)``, longest first, then in
+    depth-first order; chains without an actuated joint are left out."""
+    groups: dict[tuple[str, ...], list[str]] = {}
+    for c in chains:
+        key = tuple(j for j in c.joints if j in actuated)
+        if key:
+            groups.setdefault(key, []).append(c.leaf)
+    firsts = list(groups)
+    return sorted(groups.items(), key=lambda kv: (-len(kv[0]), firsts.index(kv[0])))
