@@ -26,7 +26,7 @@ def _rtb() -> Path:
     return root
 
 
-#: name -> (xacro below rtbdata/xacro, {package: dir below rtbdata/xacro}, expected c-space)
+#: name -> (xacro below rtbdata/xacro, {package: dir below rtbdata/xacro}, default c-space)
 XACRO_ROBOTS = {
     "kuka_iiwa": (
         "kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.xacro",
@@ -39,12 +39,12 @@ XACRO_ROBOTS = {
     "panda": (
         "qut_frankie_description/robots/panda_arm_hand.urdf.xacro",
         {"qut_frankie_description": "qut_frankie_description"},
-        [*(f"panda_joint{i}" for i in range(1, 8)), "panda_finger_joint1"],
+        [f"panda_joint{i}" for i in range(1, 8)],  # the fingers are left out by default
     ),
     "interbotix_px150": (
         "trossen_descriptions/urdf/px150.urdf.xacro",
         {"trossen_descriptions": "trossen_descriptions"},
-        ["waist", "shoulder", "elbow", "wrist_angle", "wrist_rotate", "gripper", "left_finger"],
+        ["waist", "shoulder", "elbow", "wrist_angle", "wrist_rotate"],  # no gripper/fingers
     ),
 }
 

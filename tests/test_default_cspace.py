@@ -1,0 +1,232 @@
+"""The c-space and tool frame picked without an SRDF group, on real robots and small trees.
+
+Expectations are derived from each URDF's structure in the test (a plain walk over the tree),
+not copied from the implementation's output.
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+from pathlib import Path
+
+import pytest
+
+from tests.robots import robots_dir
+from xrdf_tools.convert.core import ConvertOptions, convert
+from xrdf_tools.robot.chains import default_cspace, guess_tool_frame, joint_roles, name_words
+from xrdf_tools.robot.core import Robot, as_robot
+from xrdf_tools.robot.urdf_source import load_urdf
+
+#: short name -> path below example-robot-data's robots/
+REAL = {
+    "ur5": "ur_description/urdf/ur5_robot.urdf",
+    "panda": "panda_description/urdf/panda.urdf",
+    "kinova": "kinova_description/robots/kinova.urdf",
+    "so101": "so_arm_description/urdf/so101.urdf",
+    "tiago": "tiago_description/robots/tiago.urdf",
+    "tiago_dual": "tiago_description/robots/tiago_dual.urdf",
+    "talos": "talos_data/robots/talos_full_v2.urdf",
+    "pr2": "pr2_description/urdf/pr2.urdf",
+}
+
+#: What the test itself calls a non-arm joint: a robotics engineer's reading of the names.
+NOT_ARM = re.compile(r"wheel|caster|gripper|finger|hand|jaw|claw|thumb|head|neck|camera|laser")
+
+
+def _robot(name: str) -> Robot:
+    root = robots_dir()
+    if root is None or not (root / REAL[name]).is_file():
+        pytest.skip(f"example-robot-data has no {REAL[name]}")
+    return as_robot(load_urdf(root / REAL[name]))
+
+
+def _expected_length(robot: Robot) -> int:
+    """Longest run of arm joints from the root to a leaf, stopping at the first non-arm joint."""
+    tree = robot.tree
+    leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint}
+    best = 0
+    for leaf in tree.links:
+        if tree.child_joints.get(leaf):
+            continue
+        path = [
+            tree.parent_joint[n] for n in [leaf, *tree.ancestors(leaf)] if n in tree.parent_joint
+        ]
+        count = 0
+        for jn in reversed(path):
+            j = tree.joints[jn]
+            if not j.is_movable:
+                continue
+            if NOT_ARM.search(jn.lower()) or j.is_mimic or jn in leaders:
+                break
+            count += 1
+        best = max(best, count)
+    return best
+
+
+def _fixed_path(robot: Robot, top: str, frame: str) -> bool:
+    """Whether ``frame`` is ``top`` or hangs below it through fixed joints only."""
+    tree = robot.tree
+    cur = frame
+    while cur != top:
+        jn = tree.parent_joint.get(cur)
+        if jn is None or tree.joints[jn].type != "fixed":
+            return False
+        cur = tree.joints[jn].parent
+    return True
+
+
+@pytest.mark.parametrize("name", sorted(REAL))
+def test_default_is_the_longest_serial_arm_chain(name: str) -> None:
+    robot = _robot(name)
+    tree = robot.tree
+    choice = default_cspace(tree, collision_links=set(robot.collision_counts))
+    joints = list(choice.joints)
+    assert len(joints) == _expected_length(robot)
+    # a serial chain: each joint below the previous one, in tree order
+    for upper, lower in itertools.pairwise(joints):
+        assert tree.joints[upper].child in [
+            tree.joints[lower].parent,
+            *tree.ancestors(tree.joints[lower].parent),
+        ]
+    assert not [j for j in joints if NOT_ARM.search(j.lower())]
+    assert all(tree.joints[j].is_actuated for j in joints)
+    # the tool frame hangs below the last c-space joint through fixed joints only
+    assert choice.tool is not None
+    assert _fixed_path(robot, tree.joints[joints[-1]].child, choice.tool.frame)
+
+
+@pytest.mark.parametrize("name", sorted(REAL))
+def test_tool_frame_prefers_tool_names(name: str) -> None:
+    """A frame named tool0 wins; otherwise a tool/tcp/ee-like name when one hangs there."""
+    robot = _robot(name)
+    tree = robot.tree
+    choice = default_cspace(tree, collision_links=set(robot.collision_counts))
+    assert choice.tool is not None
+    top = tree.joints[choice.joints[-1]].child
+    rigid = [lk for lk in tree.links if _fixed_path(robot, top, lk)]
+    if "tool0" in rigid:
+        assert choice.tool.frame == "tool0"
+    elif any(re.search(r"tcp|tool|(^|_)ee(_|$)|eef|end_effector", lk) for lk in rigid):
+        assert re.search(r"tcp|tool|(^|_)ee(_|$)|eef|end_effector", choice.tool.frame)
+    assert choice.tool.frame in rigid
+
+
+def test_named_robots() -> None:
+    """The cases of the field: UR5 tool0, TIAGo's arm + torso, a two-arm robot's tie."""
+    ur5 = default_cspace(_robot("ur5").tree)
+    assert ur5.tool is not None and ur5.tool.frame == "tool0"
+    tiago = _robot("tiago")
+    t = default_cspace(tiago.tree, collision_links=set(tiago.collision_counts))
+    movable = [j for j in tiago.tree.dfs_joints() if tiago.tree.joints[j].is_actuated]
+    assert len(movable) > 40 and len(t.joints) < 10  # wheels, fingers, head all left out
+    assert {"wheel", "gripper", "head"} <= set(t.left_out)
+    assert t.tool is not None and "wheel" not in t.tool.frame and "tool" in t.tool.frame
+    pr2 = default_cspace(_robot("pr2").tree)
+    # two arms as long as each other: one is chosen, the other reported with its --chain
+    assert len(pr2.ties) == 1
+    other, tool = pr2.ties[0]
+    assert {j[:2] for j in pr2.joints if j.startswith(("l_", "r_"))} != {
+        j[:2] for j in other.cspace if j.startswith(("l_", "r_"))
+    }
+    assert f"--chain {other.base}:{tool.frame}" in pr2.describe()
+
+
+def _tree_urdf(tmp_path: Path, joints: str, links: list[str]) -> Robot:
+    body = "".join(f'<link name="{lk}"/>' for lk in links)
+    p = tmp_path / "r.urdf"
+    p.write_text(f'<robot name="r">{body}{joints}</robot>')
+    return as_robot(load_urdf(p))
+
+
+def _j(name: str, kind: str, parent: str, child: str, extra: str = "") -> str:
+    limit = '<limit lower="-1" upper="1" velocity="1" effort="1"/>' if kind != "fixed" else ""
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<axis xyz="0 0 1"/>{limit}{extra}</joint>'
+    )
+
+
+def test_roles_from_names_and_structure(tmp_path: Path) -> None:
+    links = ["base", "w", "a1", "a2", "a3", "g1", "g2", "cam", "flange"]
+    joints = "".join(
+        [
+            _j("drive", "continuous", "base", "w"),  # an unnamed wheel: continuous, on the base
+            _j("shoulder_pan_joint", "revolute", "base", "a1"),  # 'pan' of an arm: an arm joint
+            _j("behead", "revolute", "a1", "a2"),  # 'head' inside a word: an arm joint
+            _j("j3", "revolute", "a2", "a3"),
+            _j("grip_drive", "prismatic", "a3", "g1"),
+            _j("follower", "prismatic", "a3", "g2", '<mimic joint="grip_drive"/>'),
+            _j("pan_joint", "revolute", "base", "cam"),  # a pan joint alone: a head
+            _j("tip_joint", "fixed", "a3", "flange"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    roles = joint_roles(robot.tree)
+    assert roles == {
+        "drive": "wheel",
+        "grip_drive": "gripper",
+        "follower": "gripper",
+        "pan_joint": "head",
+    }
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("shoulder_pan_joint", "behead", "j3")
+    assert choice.tool is not None and choice.tool.frame == "flange"  # a tool-like name
+    assert name_words("rightHandJoint2") == ("right", "hand", "joint")
+
+
+def test_convert_reports_each_guess_with_its_flag() -> None:
+    robot = _robot("tiago")
+    x, diags = convert(robot, ConvertOptions())
+    assert x.cspace is not None
+    choice = default_cspace(robot.tree, collision_links=set(robot.collision_counts))
+    assert x.cspace.joint_names == choice.joints
+    msgs = {d.rule: d.message for d in diags}
+    assert "--chain" in msgs["convert-chosen-group"] and "wheel" in msgs["convert-chosen-group"]
+    assert "--tool-frame" in msgs["convert-chosen-tool-frame"]
+    assert x.tool_frames == (choice.tool.frame,) if choice.tool else ()
+    # the flag the message names gives the same c-space, without guesses about it
+    flag = msgs["convert-chosen-group"].split("--chain ")[1].split(",")[0]
+    base, tip = flag.split(":")
+    x2, diags2 = convert(robot, ConvertOptions(chains=((base, tip),)))
+    assert x2.cspace is not None and x2.cspace.joint_names == x.cspace.joint_names
+    assert "convert-chosen-group" not in {d.rule for d in diags2}
+
+
+def test_joints_option_tool_frame_uses_the_same_guess() -> None:
+    robot = _robot("ur5")
+    joints = tuple(default_cspace(robot.tree).joints)
+    x, _ = convert(robot, ConvertOptions(joints=joints))
+    assert x.tool_frames == (guess_tool_frame(robot.tree, joints[-1]).frame,) == ("tool0",)
+
+
+PLANAR_URDF = """<robot name="mm">
+  <link name="world"/><link name="base"/><link name="l1"/><link name="l2"/>
+  <joint name="base_joint" type="planar"><parent link="world"/><child link="base"/></joint>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+</robot>"""
+
+PLANAR_SRDF = """<robot name="mm">
+  <group name="whole"><joint name="base_joint"/><joint name="j1"/><joint name="j2"/></group>
+  <group name="arm_on_odom"><joint name="odom"/><chain base_link="base" tip_link="l2"/></group>
+  <virtual_joint name="odom" type="planar" parent_frame="map" child_link="world"/>
+</robot>"""
+
+
+@pytest.mark.parametrize(
+    ("group", "joint", "line"), [("whole", "base_joint", 2), ("arm_on_odom", "odom", 3)]
+)
+def test_planar_joint_in_a_group_is_left_out_with_a_warning(
+    tmp_path: Path, group: str, joint: str, line: int
+) -> None:
+    (tmp_path / "r.urdf").write_text(PLANAR_URDF)
+    (tmp_path / "r.srdf").write_text(PLANAR_SRDF)
+    robot = as_robot(load_urdf(tmp_path / "r.urdf"))
+    x, diags = convert(robot, ConvertOptions(srdf=tmp_path / "r.srdf", group=group))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2")
+    warned = [d for d in diags if d.rule == "convert-unplannable-joint"]
+    assert len(warned) == 1 and f"'{joint}'" in warned[0].message and "planar" in warned[0].message
+    assert warned[0].severity.value == "warning" and warned[0].line == line
