@@ -25,7 +25,14 @@ from .srdf import to_srdf
 if TYPE_CHECKING:
     from ..robot.core import Robot
 
-__all__ = ["CUROBO_LAYOUTS", "for_target", "to_curobo", "to_srdf"]
+__all__ = [
+    "CUROBO_LAYOUTS",
+    "curobo_paths",
+    "expanded_urdf_path",
+    "for_target",
+    "to_curobo",
+    "to_srdf",
+]
 
 CUROBO_LAYOUTS = ("2.0", "classic")
 
@@ -119,13 +126,16 @@ def to_curobo(
     *,
     layout: str = "2.0",
     urdf_path: str | os.PathLike[str] | None = None,
+    relative_to: str | os.PathLike[str] | None = None,
 ) -> tuple[str, list[Diagnostic]]:
     """A cuRobo robot configuration (``robot_cfg: {kinematics: ...}``) for ``x`` and its URDF.
 
     ``layout`` is ``"2.0"`` (``tool_frames``, ``default_joint_position``) or ``"classic"``
     (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). Joints that have a default
     position but are not in the c-space become ``lock_joints``. ``tree`` is the URDF's
-    :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`.
+    :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`. ``urdf_path`` (the
+    file ``urdf_path`` names; default: the tree's) is written relative to the directory
+    ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
     """
     if not isinstance(tree, RobotTree):
         tree = tree.tree
@@ -141,10 +151,9 @@ def to_curobo(
     kin: dict[str, Any] = {}
     if layout == "2.0":
         kin["format_version"] = 2.0
-    # cuRobo joins a relative urdf_path to its own asset directory: absolute paths are found
-    upath = (Path(urdf_path) if urdf_path is not None else Path(tree.path)).resolve()
-    kin["urdf_path"] = str(upath)
-    kin["asset_root_path"] = str(upath.parent)
+    kin["urdf_path"], kin["asset_root_path"] = curobo_paths(
+        Path(urdf_path) if urdf_path is not None else Path(tree.path), relative_to
+    )
     kin["base_link"] = base or tree.root
 
     tools = list(x.tool_frames or [])
@@ -240,11 +249,49 @@ def to_curobo(
     lines = [
         "# cuRobo robot configuration written by xrdf-tools (xrdf export curobo)",
         f"# from {Path(path).name if path else 'an XRDF'}; layout: {layout}",
+        *(_RELATIVE_NOTE if not Path(kin["urdf_path"]).is_absolute() else ()),
         "robot_cfg:",
         "  kinematics:",
         *_emit(kin, 2),
     ]
     return "\n".join(lines) + "\n", diags
+
+
+_RELATIVE_NOTE = (
+    "# urdf_path and asset_root_path are relative to this file's directory. cuRobo joins a",
+    "# relative path to its own asset directory: before loading, set",
+    "# robot_cfg.kinematics.external_asset_path to this file's directory, or export again",
+    "# with --absolute-paths.",
+)
+
+
+def curobo_paths(
+    urdf: str | os.PathLike[str], relative_to: str | os.PathLike[str] | None
+) -> tuple[str, str]:
+    """``urdf_path`` and ``asset_root_path`` (the URDF's directory) as a cuRobo config holds
+    them: relative to the directory ``relative_to`` with ``/`` separators, or absolute when it
+    is None or no relative path exists (another drive). Symbolic links are kept as given."""
+    upath = Path(os.path.abspath(urdf))
+    if relative_to is not None:
+        try:
+            rel = Path(os.path.relpath(upath, os.path.abspath(relative_to)))
+        except ValueError:  # another drive: only an absolute path reaches it
+            pass
+        else:
+            root = rel.parent.as_posix()
+            return rel.as_posix(), "." if root in ("", ".") else root
+    return str(upath), str(upath.parent)
+
+
+def expanded_urdf_path(xacro: str | os.PathLike[str], output: str | os.PathLike[str]) -> Path:
+    """Where the expanded URDF of ``xacro`` goes beside ``output``: ``output``'s directory, the
+    xacro's name without ``.xacro``/``.urdf`` + ``.urdf`` (``px150.urdf.xacro`` →
+    ``px150.urdf``)."""
+    name = Path(xacro).name
+    for suffix in (".xacro", ".urdf"):
+        if name.endswith(suffix) and len(name) > len(suffix):
+            name = name[: -len(suffix)]
+    return Path(output).parent / f"{name}.urdf"
 
 
 def pairs_of(x: Xrdf) -> Sequence[frozenset[str]]:

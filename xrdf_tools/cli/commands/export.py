@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
 from .common import (
     PackagePathOption,
@@ -21,9 +22,10 @@ from .common import (
     refuse_two_stdin,
     write_output,
 )
-from .core import OutputFormat
+from .core import OutputFormat, is_stdio
 
 if TYPE_CHECKING:
+    from ...robot.core import Robot
     from ...robot.tree import RobotTree
 
 app = typer.Typer(
@@ -34,16 +36,21 @@ app = typer.Typer(
 )
 
 
-def _load_tree(
-    urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None
-) -> RobotTree:
-    """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
+def _load_robot(urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None) -> Robot:
+    """The URDF (or expanded xacro); raises :class:`XrdfToolsError`."""
     from ...robot.packages import parse_package_path
     from ...robot.xacro_source import load_robot, parse_xacro_arg
 
     pkgs = dict(parse_package_path(p) for p in package_path or [])
     xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])
-    return load_robot(urdf, xacro_args=xargs, package_paths=pkgs).tree
+    return load_robot(urdf, xacro_args=xargs, package_paths=pkgs)
+
+
+def _load_tree(
+    urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None
+) -> RobotTree:
+    """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
+    return _load_robot(urdf, package_path, xacro_arg).tree
 
 
 OutputOption = Annotated[
@@ -70,12 +77,43 @@ def curobo(
     ] = "2.0",
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
+    absolute_paths: Annotated[
+        bool,
+        typer.Option(
+            "--absolute-paths",
+            help="Write urdf_path and asset_root_path absolute (as cuRobo finds them without "
+            "setup) instead of relative to the output file (a file you can commit).",
+        ),
+    ] = False,
+    expanded_urdf: Annotated[
+        Path | None,
+        typer.Option(
+            "--expanded-urdf",
+            help="With a xacro --urdf: where to write the expanded URDF that urdf_path names "
+            "(default: beside the output, named after the xacro).",
+            show_default=False,
+        ),
+    ] = None,
     output: OutputOption = None,
     fmt: FormatOption = OutputFormat.text,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
-    """Write a cuRobo robot YAML (floats, FIXED, lists in c-space order by joint name)."""
+    """Write a cuRobo robot YAML (floats, FIXED, lists in c-space order by joint name).
+
+    urdf_path and asset_root_path are relative to the output file's directory (to the current
+    directory when writing to stdout), so the pair can be committed and moved together;
+    cuRobo joins a relative path to its own asset directory, so set
+    robot_cfg.kinematics.external_asset_path to that directory when loading, or pass
+    --absolute-paths. cuRobo cannot load a xacro: with a xacro --urdf the expanded URDF is
+    written beside the output (or to --expanded-urdf) and urdf_path names it.
+
+    \b
+    Examples:
+      xrdf export curobo ur5.xrdf --urdf ur5.urdf -o ur5.yml
+      xrdf export curobo px150.xrdf --urdf px150.urdf.xacro \\
+          --package-path trossen_descriptions=DIR -o cfg/px150.yml   # + cfg/px150.urdf
+    """
     from ...export.curobo import CUROBO_LAYOUTS, to_curobo
 
     if layout not in CUROBO_LAYOUTS:
@@ -84,12 +122,58 @@ def curobo(
         refuse_input_overwrite(output, [xrdf, urdf])
     try:
         x = load_xrdf_input(xrdf)
-        tree = _load_tree(urdf, package_path, xacro_arg)
-        text, diags = to_curobo(x, tree, layout=layout, urdf_path=urdf)
+        robot = _load_robot(urdf, package_path, xacro_arg)
+        written = _expanded_target(robot, urdf, output, expanded_urdf, xrdf)
+        to_dir = None if absolute_paths else _output_dir(output)
+        text, diags = to_curobo(
+            x, robot, layout=layout, urdf_path=written or urdf, relative_to=to_dir
+        )
     except XrdfToolsError as e:
         fail(e)
+    if written is not None:
+        write_output(robot.text or "", written)
+        diags.append(_expanded_note(urdf, written))
     echo_diagnostics(diags, fmt)
     write_output(text, output)
+
+
+def _output_dir(output: Path | None) -> Path:
+    """The directory paths are written relative to: the output's, or the current one."""
+    if output is None or is_stdio(output):
+        return Path.cwd()
+    return output.parent
+
+
+def _expanded_target(
+    robot: Robot, urdf: Path, output: Path | None, explicit: Path | None, xrdf: Path
+) -> Path | None:
+    """Where the expanded URDF of a xacro ``--urdf`` goes (None for a plain URDF)."""
+    from ...export.curobo import expanded_urdf_path
+
+    if not robot.expanded:
+        if explicit is not None:
+            fail(f"--expanded-urdf: {urdf} is not a xacro file (nothing to expand)")
+        return None
+    if explicit is None and (output is None or is_stdio(output)):
+        fail(
+            f"{urdf} is a xacro, which cuRobo cannot load: pass -o FILE (the expanded URDF is "
+            "written beside it) or --expanded-urdf PATH"
+        )
+    target = explicit if explicit is not None else expanded_urdf_path(urdf, output or ".")
+    refuse_input_overwrite(target, [xrdf, urdf, *([output] if output is not None else [])])
+    return target
+
+
+def _expanded_note(urdf: Path, written: Path) -> Diagnostic:
+    return Diagnostic(
+        str(urdf),
+        None,
+        None,
+        "export-expanded-urdf",
+        Severity.INFO,
+        f"cuRobo cannot load a xacro: wrote the expanded URDF to {written}; urdf_path names it",
+        "",
+    )
 
 
 @app.command("srdf")
