@@ -25,11 +25,17 @@ __all__ = ["RULE_ORDER", "RULE_STOPPED", "order_for_target", "target_errors"]
 RULE_ORDER = "convert-cspace-order"
 RULE_STOPPED = "convert-target-check"
 
-#: XRDF sections that sphere fitting and the computed mask write: findings there are decided
-#: after fitting, not before.
-_FITTED_SECTIONS = ("geometry", "collision", "self_collision", "world_collision")
-#: Rules about spheres, decided after fitting.
-_FITTED_RULES = frozenset({"mesh-without-spheres"})
+#: XRDF sections that sphere fitting and the computed mask never change: a target's error
+#: located there stays whatever is fitted. Errors elsewhere (spheres, the mask, the geometry
+#: groups) are decided after fitting.
+_FIXED_SECTIONS = (
+    "format",
+    "format_version",
+    "modifiers",
+    "cspace",
+    "default_joint_positions",
+    "tool_frames",
+)
 
 
 def order_for_target(
@@ -68,9 +74,7 @@ def target_errors(text: str, robot: Robot, target: str | None, label: str) -> li
     found = [
         d
         for d in lint_text(text, label, urdf_model=robot, target=chosen.id)
-        if d.severity is Severity.ERROR
-        and d.rule not in _FITTED_RULES
-        and not d.key_path.startswith(_FITTED_SECTIONS)
+        if d.severity is Severity.ERROR and _section(d.key_path) in _FIXED_SECTIONS
     ]
     if not found:
         return []
@@ -85,3 +89,11 @@ def target_errors(text: str, robot: Robot, target: str | None, label: str) -> li
         "",
     )
     return [*found, stop]
+
+
+def _section(key_path: str) -> str:
+    """The top-level key of ``key_path`` (``cspace.joint_names[2]`` → ``cspace``)."""
+    for i, ch in enumerate(key_path):
+        if ch in ".[":
+            return key_path[:i]
+    return key_path
