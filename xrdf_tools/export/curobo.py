@@ -11,7 +11,7 @@ reader fills defaults in URDF order — a bug we do not copy), buffers per link.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -167,43 +167,7 @@ def to_curobo(
         kin["ee_link"] = tools[0]
         kin["link_names"] = tools
 
-    world = dict(x.world_collision_spheres())
-    if (
-        x.self_collision is not None
-        and x.world_collision is not None
-        and x.self_collision.geometry != x.world_collision.geometry
-    ):
-        note(
-            "export-different-groups",
-            f"world and self collision use different groups; cuRobo has one sphere set, the "
-            f"world group '{x.world_collision.geometry}' is written",
-        )
-    if not world and x.self_collision is not None:
-        world = dict(x.self_collision_spheres())
-    spheres = {
-        f: [{"center": list(s.center), "radius": s.radius} for s in ss]
-        for f, ss in sorted(world.items())
-        if ss
-    }
-    kin["collision_link_names"] = list(spheres)
-    kin["collision_spheres"] = spheres
-    wbuf = dict(x.world_collision.buffer_distance) if x.world_collision else {}
-    kin["collision_sphere_buffer"] = (
-        {f: wbuf.get(f, 0.0) for f in [*spheres, *(k for k in wbuf if k not in spheres)]}
-        if any(wbuf.values())
-        else 0.0
-    )
-    ignore: dict[str, list[str]] = {}
-    if x.self_collision is not None:
-        for a, bs in x.self_collision.ignore.items():
-            for b in bs:
-                if b not in ignore.get(a, []) and a not in ignore.get(b, []):
-                    ignore.setdefault(a, []).append(b)
-        sbuf = {f: v for f, v in sorted(x.self_collision.buffer_distance.items())}
-    else:
-        sbuf = {}
-    kin["self_collision_ignore"] = {a: ignore[a] for a in sorted(ignore)}
-    kin["self_collision_buffer"] = sbuf
+    kin.update(_collision_keys(x, note))
 
     extra: dict[str, Any] = {}
     for m in x.added_frames():
@@ -255,6 +219,48 @@ def to_curobo(
         *_emit(kin, 2),
     ]
     return "\n".join(lines) + "\n", diags
+
+
+def _collision_keys(x: Xrdf, note: Callable[[str, str], None]) -> dict[str, Any]:
+    """The spheres, buffers and ignore pairs of a cuRobo config (one sphere set: the world
+    group's; a different self group is reported through ``note``)."""
+    world = dict(x.world_collision_spheres())
+    if (
+        x.self_collision is not None
+        and x.world_collision is not None
+        and x.self_collision.geometry != x.world_collision.geometry
+    ):
+        note(
+            "export-different-groups",
+            f"world and self collision use different groups; cuRobo has one sphere set, the "
+            f"world group '{x.world_collision.geometry}' is written",
+        )
+    if not world and x.self_collision is not None:
+        world = dict(x.self_collision_spheres())
+    spheres = {
+        f: [{"center": list(s.center), "radius": s.radius} for s in ss]
+        for f, ss in sorted(world.items())
+        if ss
+    }
+    kin: dict[str, Any] = {"collision_link_names": list(spheres), "collision_spheres": spheres}
+    wbuf = dict(x.world_collision.buffer_distance) if x.world_collision else {}
+    kin["collision_sphere_buffer"] = (
+        {f: wbuf.get(f, 0.0) for f in [*spheres, *(k for k in wbuf if k not in spheres)]}
+        if any(wbuf.values())
+        else 0.0
+    )
+    ignore: dict[str, list[str]] = {}
+    if x.self_collision is not None:
+        for a, bs in x.self_collision.ignore.items():
+            for b in bs:
+                if b not in ignore.get(a, []) and a not in ignore.get(b, []):
+                    ignore.setdefault(a, []).append(b)
+        sbuf = {f: v for f, v in sorted(x.self_collision.buffer_distance.items())}
+    else:
+        sbuf = {}
+    kin["self_collision_ignore"] = {a: ignore[a] for a in sorted(ignore)}
+    kin["self_collision_buffer"] = sbuf
+    return kin
 
 
 _RELATIVE_NOTE = (
