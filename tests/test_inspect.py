@@ -35,10 +35,11 @@ def test_json_describes_every_link_and_joint_of_the_urdf() -> None:
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)
     assert list(data) == [
-        "version", "robot", "path", "srdf", "root", "links", "joints", "chains", "groups",
+        "version", "robot", "path", "srdf", "root", "roots", "links", "joints", "chains", "groups",
         "left_out", "default",
     ]  # fmt: skip
     robot = as_robot(load_urdf(urdf))
+    assert data["roots"] == [data["root"]] == [robot.root_link()]
     assert [lk["name"] for lk in data["links"]] == list(robot.links)
     assert {lk["name"] for lk in data["links"] if lk["collision"]} == set(robot.collision_counts)
     by_name = {j["name"]: j for j in data["joints"]}
@@ -109,3 +110,19 @@ def test_bad_input_is_one_line_exit_2(tmp_path: Path) -> None:
     urdf = _path(PR2[0])
     result = runner.invoke(app, ["inspect", str(urdf), "--srdf", str(bad)])
     assert result.exit_code == 2 and "bad.srdf" in result.output
+
+
+def test_disconnected_parts_are_shown_not_hidden(tmp_path: Path) -> None:
+    urdf = tmp_path / "two.urdf"
+    urdf.write_text(
+        '<robot name="two"><link name="a"/><link name="b"/><link name="c"/>'
+        '<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+        '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint></robot>'
+    )
+    result = runner.invoke(app, ["inspect", str(urdf), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["roots"] == ["a", "c"]
+    assert data["default"]["source"] == "error" and "not one tree" in data["default"]["error"]
+    text = runner.invoke(app, ["inspect", str(urdf)]).stdout
+    assert "c ·  (not connected to 'a')" in text and "nothing, it fails" in text

@@ -113,6 +113,8 @@ class Inspection:
     srdf: str | None = None
     #: Movable joints a default c-space leaves out, by reason.
     left_out: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    #: Every link without a parent joint (``root`` first; more than one: disconnected parts).
+    roots: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form: plain dicts and lists, keys in a fixed order."""
@@ -122,6 +124,7 @@ class Inspection:
             "path": self.path,
             "srdf": self.srdf,
             "root": self.root,
+            "roots": list(self.roots or (self.root,)),
             "links": [
                 {
                     "name": lk.name,
@@ -236,6 +239,7 @@ def inspect_robot(robot: Robot, srdf: str | os.PathLike[str] | None = None) -> I
         default=_default_choice(robot, srdf_path),
         srdf=srdf_path,
         left_out=tuple(chosen.left_out.items()),
+        roots=tree.roots or (tree.root,),
     )
 
 

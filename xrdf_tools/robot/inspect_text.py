@@ -61,14 +61,32 @@ def _tree(ins: Inspection) -> list[str]:
         children.setdefault(j.parent, []).append(j.name)
     cspace_index = {n: i for i, n in enumerate(ins.default.cspace)}
     out = [
-        "tree (joint (type [limits], …) → child link; '·' marks a link without collision "
-        "geometry):",
-        ins.root + ("" if collision.get(ins.root) else " ·"),
-    ]
-    stack: list[tuple[str, str, bool]] = [
-        (name, "", i == 0) for i, name in enumerate(reversed(sorted(children.get(ins.root, []))))
+        "tree (joint (type [limits], …) → child link; '·' marks a link without collision geometry):"
     ]
     seen: set[str] = set()
+    for root in ins.roots or (ins.root,):
+        if root != ins.root:
+            out.append(
+                f"{root}{'' if collision.get(root) else ' ·'}  (not connected to '{ins.root}')"
+            )
+        else:
+            out.append(root + ("" if collision.get(root) else " ·"))
+        out += _subtree(root, joints, children, collision, cspace_index, seen)
+    return out
+
+
+def _subtree(
+    root: str,
+    joints: dict[str, JointView],
+    children: dict[str, list[str]],
+    collision: dict[str, int],
+    cspace_index: dict[str, int],
+    seen: set[str],
+) -> list[str]:
+    out: list[str] = []
+    stack: list[tuple[str, str, bool]] = [
+        (name, "", i == 0) for i, name in enumerate(reversed(sorted(children.get(root, []))))
+    ]
     while stack:
         name, prefix, last = stack.pop()
         if name in seen:
