@@ -95,7 +95,8 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         role = _name_role(name)
         if role is None and not set(name_words(name)) & _ARM:
             role = _name_role(j.child)
-        if role is None and (j.is_mimic or name in leaders) and not _moves_below(tree, j.child):
+        coupled = j.is_mimic or name in leaders
+        if role is None and coupled and not _moves_below(tree, j.child, leaders):
             role = "gripper"
         if role is None and j.type == "continuous" and _is_base_wheel(tree, name):
             role = "wheel"
@@ -104,9 +105,9 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
     return roles
 
 
-def _moves_below(tree: RobotTree, link: str) -> bool:
-    """Whether an actuated joint that no mimic joint follows lies below ``link``."""
-    leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint is not None}
+def _moves_below(tree: RobotTree, link: str, leaders: Collection[str]) -> bool:
+    """Whether an actuated joint that no mimic joint follows (not in ``leaders``) lies below
+    ``link``."""
     return any(
         tree.is_actuated(tree.parent_joint[n]) and tree.parent_joint[n] not in leaders
         for n in tree.descendants(link)
@@ -147,19 +148,31 @@ def leaf_chains(
     """The chain from ``tree.root`` to every leaf link, leaves in depth-first order."""
     roles = joint_roles(tree) if roles is None else roles
     out: list[Chain] = []
-    stack: list[tuple[str, tuple[str, ...]]] = [(tree.root, ())]
+    stack = [tree.root]
     seen = {tree.root}
     while stack:
-        link, path = stack.pop()
+        link = stack.pop()
         kids = tree.child_joints.get(link, ())
-        if not kids and path:
-            out.append(_chain(tree, link, path, roles, passive))
+        if not kids and link != tree.root:
+            out.append(_chain(tree, link, _path(tree, link), roles, passive))
         for jn in reversed(kids):
             child = tree.joints[jn].child
             if child not in seen:
                 seen.add(child)
-                stack.append((child, (*path, jn)))
+                stack.append(child)
     return out
+
+
+def _path(tree: RobotTree, leaf: str) -> tuple[str, ...]:
+    """The joints from ``tree.root`` down to ``leaf`` (built from the leaf: no path is kept
+    per link, so a deep chain costs its depth, not its depth squared)."""
+    up: list[str] = []
+    link = leaf
+    while link != tree.root and link in tree.parent_joint:
+        jn = tree.parent_joint[link]
+        up.append(jn)
+        link = tree.joints[jn].parent
+    return tuple(reversed(up))
 
 
 def _chain(
