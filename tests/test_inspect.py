@@ -126,3 +126,21 @@ def test_disconnected_parts_are_shown_not_hidden(tmp_path: Path) -> None:
     assert data["default"]["source"] == "error" and "not one tree" in data["default"]["error"]
     text = runner.invoke(app, ["inspect", str(urdf)]).stdout
     assert "c ·  (not connected to 'a')" in text and "nothing, it fails" in text
+
+
+def test_reads_no_geometry_library() -> None:
+    """A light install (no [fit] extra) inspects: neither yourdfpy nor trimesh is imported."""
+    import subprocess
+    import sys
+
+    urdf = _path(TIAGO)
+    code = (
+        "import sys\n"
+        "from xrdf_tools.cli import main\n"
+        f"sys.argv = ['xrdf', 'inspect', {str(urdf)!r}]\n"
+        "try:\n    main()\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
+        "print(sorted(m for m in ('yourdfpy', 'trimesh') if m in sys.modules), file=sys.stderr)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stderr.strip().splitlines()[-1] == "[]"
+    assert "arm_tool_link" in done.stdout

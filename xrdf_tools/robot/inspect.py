@@ -198,7 +198,7 @@ def inspect_robot(robot: Robot, srdf: str | os.PathLike[str] | None = None) -> I
     """
     tree = robot.tree
     roles = joint_roles(tree)
-    visuals = {str(lk.name): len(lk.visuals) for lk in robot.urdf.robot.links}
+    visuals = _visual_counts(robot)
     links = tuple(
         LinkView(
             name,
@@ -241,6 +241,16 @@ def inspect_robot(robot: Robot, srdf: str | os.PathLike[str] | None = None) -> I
         left_out=tuple(chosen.left_out.items()),
         roots=tree.roots or (tree.root,),
     )
+
+
+def _visual_counts(robot: Robot) -> dict[str, int]:
+    """``<visual>`` elements per link, from the checked XML (no yourdfpy, no meshes) when the
+    loader kept it, else from the yourdfpy object the robot was made from."""
+    if robot.document is not None:
+        return {
+            str(e.get("name")): len(e.findall("visual")) for e in robot.document.findall("link")
+        }
+    return {str(lk.name): len(lk.visuals) for lk in robot.urdf.robot.links}
 
 
 def _groups(path: str, robot: Robot) -> tuple[GroupView, ...]:
