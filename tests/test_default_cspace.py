@@ -230,3 +230,33 @@ def test_planar_joint_in_a_group_is_left_out_with_a_warning(
     warned = [d for d in diags if d.rule == "convert-unplannable-joint"]
     assert len(warned) == 1 and f"'{joint}'" in warned[0].message and "planar" in warned[0].message
     assert warned[0].severity.value == "warning" and warned[0].line == line
+
+
+#: xacro robots of rtb-data: a mobile manipulator and a two-arm robot
+XACRO = {
+    "frankie": "qut_frankie_description/robots/frankie_arm_hand.urdf.xacro",
+    "dual_panda": "qut_frankie_description/robots/dual_panda_example.urdf.xacro",
+}
+
+
+@pytest.mark.parametrize("name", sorted(XACRO))
+def test_xacro_mobile_and_two_arm_robots(name: str) -> None:
+    import importlib.util
+
+    from xrdf_tools.robot.xacro_source import load_robot
+
+    spec = importlib.util.find_spec("rtbdata")
+    if spec is None or not spec.submodule_search_locations:
+        pytest.skip("rtb-data is not installed")
+    root = Path(next(iter(spec.submodule_search_locations))) / "xacro"
+    if not (root / XACRO[name]).is_file():
+        pytest.skip(f"rtb-data has no {XACRO[name]}")
+    pkg = {"qut_frankie_description": str(root / "qut_frankie_description")}
+    robot = load_robot(root / XACRO[name], package_paths=pkg)
+    choice = default_cspace(robot.tree, collision_links=set(robot.collision_counts))
+    assert len(choice.joints) == _expected_length(robot)
+    assert choice.tool is not None and "finger" not in choice.tool.frame
+    assert not [j for j in choice.joints if NOT_ARM.search(j.lower())]
+    assert _fixed_path(robot, robot.tree.joints[choice.joints[-1]].child, choice.tool.frame)
+    if name == "dual_panda":  # the other arm is as long: named with its --chain
+        assert len(choice.ties) == 1 and "--chain" in choice.describe()
