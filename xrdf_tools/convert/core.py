@@ -34,6 +34,7 @@ from .sources import Draft, Reporter, RobotTree
 if TYPE_CHECKING:
     import yourdfpy
 
+    from ..robot.chains import ToolFrameGuess
     from ..robot.core import Robot
 
 __all__ = [
@@ -152,7 +153,7 @@ def complete(
     """Fill what the sources did not say (each fill reported) and build the model.
 
     ``collision_links`` (the links with collision geometry) refine the tool-frame guess."""
-    from .sources.cspace import apply_default_cspace, guessed_tool_frame
+    from .sources.cspace import apply_default_cspace
     from .targets import order_for_target
 
     rep = Reporter(tree.path)
@@ -170,92 +171,11 @@ def complete(
             "the c-space is empty (no actuated joints in the chosen group)",
         )
 
-    # --- limits
-    def limit(kind: str, given: dict[str, float], cli: float | None, default: float) -> list[float]:
-        missing = [j for j in cspace if j not in given]
-        value = cli if cli is not None else default
-        if missing:
-            origin = f"--{kind}" if cli is not None else "the default"
-            sev = Severity.INFO if cli is not None else Severity.WARNING
-            unit = "rad/s²" if kind == "acceleration" else "rad/s³"
-            rep.report(
-                f"convert-default-{kind}",
-                f"no {kind} limit in the inputs for {', '.join(missing)}: using {origin} "
-                f"{value:g} {unit}" + ("" if cli is not None else f" (set --{kind})"),
-                severity=sev,
-            )
-        return [given.get(j, value) for j in cspace]
-
-    accel = limit("acceleration", draft.acceleration, options.acceleration, DEFAULT_ACCELERATION)
-    jerk = limit("jerk", draft.jerk, options.jerk, DEFAULT_JERK)
-
-    # --- default positions
-    defaults: dict[str, float] = {}
-    missing = []
-    for j in cspace:
-        if j in draft.defaults:
-            defaults[j] = draft.defaults[j]
-        else:
-            info = tree.joints[j]
-            lo = info.lower if info.lower is not None else 0.0
-            hi = info.upper if info.upper is not None else 0.0
-            value = 0.0
-            if info.type != "continuous" and lo <= hi and not lo <= 0.0 <= hi:
-                value = (lo + hi) / 2
-            defaults[j] = value
-            missing.append(j)
-    for j, v in draft.defaults.items():
-        if j not in defaults:
-            defaults[j] = v
-    if missing:
-        rep.report(
-            "convert-default-positions",
-            f"no default position in the inputs for {', '.join(missing)}: using 0 (or the middle "
-            "of the limits when 0 is outside them)",
-        )
-    for j, v in list(defaults.items()):
-        info = tree.joints[j]
-        if info.type == "continuous":
-            continue
-        low, high = info.lower, info.upper
-        if low is not None and high is not None and low <= high and not low <= v <= high:
-            clamped = min(max(v, low), high)
-            rep.report(
-                "convert-clamped-default",
-                f"default position {v:g} of '{j}' is outside its URDF limits [{low:g}, {high:g}]; "
-                f"clamped to {clamped:g}",
-            )
-            defaults[j] = clamped
-    # order: c-space first, then auxiliary joints in tree order
-    order = tree.joint_order()
-    aux = sorted((j for j in defaults if j not in cspace), key=lambda j: order.get(j, 1 << 30))
-    defaults = {j: defaults[j] for j in [*cspace, *aux]}
-
-    # --- frames and tool frames
-    frames = set(tree.links) | {m.frame_name for m in draft.modifiers if isinstance(m, AddFrame)}
-    tool_frames = list(options.tool_frames) or list(draft.tool_frames)
-    for t in options.tool_frames:
-        if t not in frames:
-            raise SourceError(
-                f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"
-            )
-    if not tool_frames and cspace:
-        tool_frames = [guessed_tool_frame(tree, cspace, rep, collision_links, default_tool)]
-
-    # --- geometry
-    name = options.geometry_name or draft.geometry_name or f"{_robot_stem(tree)}_collision_spheres"
-    spheres = {k: tuple(v) for k, v in (draft.spheres or {}).items() if v}
-    if not spheres:
-        rep.report(
-            "convert-no-spheres",
-            "NO COLLISION SPHERES in the inputs: the XRDF has an empty geometry group, so "
-            "cuRobo/cuMotion will not check collisions for this robot. Add spheres "
-            "(--fit-spheres, the Isaac Sim sphere editor, or the SRDF/cuRobo source)",
-        )
-    ignore = {a: tuple(bs) for a, bs in draft.ignore.items() if bs}
-    geometry = FrozenMap({name: GeometryGroup(FrozenMap(spheres))})
-    world = CollisionSection(name, FrozenMap(draft.world_buffer))
-    self_c = SelfCollisionSection(name, FrozenMap(draft.self_buffer), FrozenMap(ignore))
+    accel = _limits("acceleration", cspace, draft.acceleration, options.acceleration, rep)
+    jerk = _limits("jerk", cspace, draft.jerk, options.jerk, rep)
+    defaults = _default_positions(draft, tree, cspace, rep)
+    tool_frames = _tool_frames(draft, tree, options, cspace, rep, collision_links, default_tool)
+    geometry, world, self_c = _collision(draft, tree, options, rep)
 
     x = Xrdf(
         # 1.0 holds everything the sources can say (negative radii included); converting to
@@ -275,6 +195,126 @@ def complete(
         rep.report("convert-version", why)
     x, vdiags = to_version(x, version)
     return x, [*diags, *rep.diagnostics, *vdiags]
+
+
+_DEFAULT_LIMIT = {"acceleration": DEFAULT_ACCELERATION, "jerk": DEFAULT_JERK}
+
+
+def _limits(
+    kind: str, cspace: list[str], given: dict[str, float], cli: float | None, rep: Reporter
+) -> list[float]:
+    """One limit per c-space joint: the sources', else ``--KIND``, else the default (reported)."""
+    missing = [j for j in cspace if j not in given]
+    value = cli if cli is not None else _DEFAULT_LIMIT[kind]
+    if missing:
+        origin = f"--{kind}" if cli is not None else "the default"
+        sev = Severity.INFO if cli is not None else Severity.WARNING
+        unit = "rad/s²" if kind == "acceleration" else "rad/s³"
+        rep.report(
+            f"convert-default-{kind}",
+            f"no {kind} limit in the inputs for {', '.join(missing)}: using {origin} "
+            f"{value:g} {unit}" + ("" if cli is not None else f" (set --{kind})"),
+            severity=sev,
+        )
+    return [given.get(j, value) for j in cspace]
+
+
+def _default_positions(
+    draft: Draft, tree: RobotTree, cspace: list[str], rep: Reporter
+) -> dict[str, float]:
+    """Default positions: the sources', else 0 (or the middle of limits that exclude 0),
+    clamped to the URDF limits; c-space joints first, then the others in tree order."""
+    defaults: dict[str, float] = {}
+    missing = []
+    for j in cspace:
+        if j in draft.defaults:
+            defaults[j] = draft.defaults[j]
+        else:
+            defaults[j] = _neutral_position(tree, j)
+            missing.append(j)
+    for j, v in draft.defaults.items():
+        if j not in defaults:
+            defaults[j] = v
+    if missing:
+        rep.report(
+            "convert-default-positions",
+            f"no default position in the inputs for {', '.join(missing)}: using 0 (or the middle "
+            "of the limits when 0 is outside them)",
+        )
+    for j, v in list(defaults.items()):
+        defaults[j] = _clamped(tree, j, v, rep)
+    order = tree.joint_order()
+    aux = sorted((j for j in defaults if j not in cspace), key=lambda j: order.get(j, 1 << 30))
+    return {j: defaults[j] for j in [*cspace, *aux]}
+
+
+def _neutral_position(tree: RobotTree, joint: str) -> float:
+    info = tree.joints[joint]
+    lo = info.lower if info.lower is not None else 0.0
+    hi = info.upper if info.upper is not None else 0.0
+    if info.type != "continuous" and lo <= hi and not lo <= 0.0 <= hi:
+        return (lo + hi) / 2
+    return 0.0
+
+
+def _clamped(tree: RobotTree, joint: str, value: float, rep: Reporter) -> float:
+    info = tree.joints[joint]
+    low, high = info.lower, info.upper
+    if info.type == "continuous" or low is None or high is None or low > high:
+        return value
+    if low <= value <= high:
+        return value
+    clamped = min(max(value, low), high)
+    rep.report(
+        "convert-clamped-default",
+        f"default position {value:g} of '{joint}' is outside its URDF limits [{low:g}, "
+        f"{high:g}]; clamped to {clamped:g}",
+    )
+    return clamped
+
+
+def _tool_frames(
+    draft: Draft,
+    tree: RobotTree,
+    options: ConvertOptions,
+    cspace: list[str],
+    rep: Reporter,
+    collision_links: Collection[str] | None,
+    default_tool: ToolFrameGuess | None,
+) -> list[str]:
+    """``--tool-frame`` (checked), else the sources', else a guess at the end of the chain."""
+    from .sources.cspace import guessed_tool_frame
+
+    frames = set(tree.links) | {m.frame_name for m in draft.modifiers if isinstance(m, AddFrame)}
+    tool_frames = list(options.tool_frames) or list(draft.tool_frames)
+    for t in options.tool_frames:
+        if t not in frames:
+            raise SourceError(
+                f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"
+            )
+    if not tool_frames and cspace:
+        tool_frames = [guessed_tool_frame(tree, cspace, rep, collision_links, default_tool)]
+    return tool_frames
+
+
+def _collision(
+    draft: Draft, tree: RobotTree, options: ConvertOptions, rep: Reporter
+) -> tuple[FrozenMap[str, GeometryGroup], CollisionSection, SelfCollisionSection]:
+    """The geometry group of the sources' spheres and the two collision sections."""
+    name = options.geometry_name or draft.geometry_name or f"{_robot_stem(tree)}_collision_spheres"
+    spheres = {k: tuple(v) for k, v in (draft.spheres or {}).items() if v}
+    if not spheres:
+        rep.report(
+            "convert-no-spheres",
+            "NO COLLISION SPHERES in the inputs: the XRDF has an empty geometry group, so "
+            "cuRobo/cuMotion will not check collisions for this robot. Add spheres "
+            "(--fit-spheres, the Isaac Sim sphere editor, or the SRDF/cuRobo source)",
+        )
+    ignore = {a: tuple(bs) for a, bs in draft.ignore.items() if bs}
+    geometry = FrozenMap({name: GeometryGroup(FrozenMap(spheres))})
+    world = CollisionSection(name, FrozenMap(draft.world_buffer))
+    self_c = SelfCollisionSection(name, FrozenMap(draft.self_buffer), FrozenMap(ignore))
+    return geometry, world, self_c
 
 
 def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
