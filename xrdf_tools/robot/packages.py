@@ -2,6 +2,8 @@
 
 Where a package is looked for, in order:
 1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);
+   A relative ``DIR`` is taken relative to the current directory (as every command-line
+   path is), never to the file that names the package;
 2. the input file's ancestors and their sub-directories (two levels deep): a directory holding
    a ``package.xml`` whose ``<name>`` is ``pkg``, or, failing that, a directory named ``pkg``.
 
@@ -70,7 +72,7 @@ class PackageResolver:
         if name in self._cache:
             return self._cache[name]
         if name in self.package_paths:
-            d = Path(self.package_paths[name]).expanduser()
+            d = absolute(self.package_paths[name])
             if not d.is_dir():
                 raise SourceError(f"--package-path {name}={d}: not a directory")
             self._cache[name] = d
@@ -109,6 +111,12 @@ class PackageResolver:
             base = relative_to or (self.start if self.start.is_dir() else self.start.parent)
             p = base / p
         return p
+
+
+def absolute(directory: str | os.PathLike[str]) -> Path:
+    """``directory`` (``~`` expanded) as an absolute path, a relative one taken from the
+    current directory; not resolved, so symbolic links stay as given."""
+    return Path(os.path.abspath(Path(directory).expanduser()))
 
 
 def _package_xmls(root: Path, depth: int) -> list[Path]:

@@ -293,3 +293,13 @@ PackagePathOption = Annotated[
     list[str] | None,
     typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
 ]
+#: ``--allow-missing-meshes`` of every command that reads link meshes (one definition).
+AllowMissingMeshesOption = Annotated[
+    bool,
+    typer.Option(
+        "--allow-missing-meshes",
+        help="Go on when a mesh file cannot be found (unknown package, no such file): a "
+        "warning per mesh, and the part is left out. Default: exit 2 naming the mesh URI "
+        "and the directories searched (pass --package-path NAME=DIR to point at them).",
+    ),
+]
