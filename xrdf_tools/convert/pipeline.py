@@ -123,6 +123,7 @@ def convert_robot(
     else:
         loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
     x, diags = convert(loaded, options)
+    diags = [*loaded.warnings, *diags]
     fitted: dict[str, int] = {}
     if fit is not None:
         x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
@@ -204,9 +205,7 @@ def fit_missing_spheres(
 
     robot = as_robot(urdf)
     # before the work: a mesh that cannot be found is an input error (or, allowed, a warning)
-    missing = require_meshes(
-        robot, fit.source, links=todo, allow_missing=fit.allow_missing_meshes
-    )
+    missing = require_meshes(robot, fit.source, links=todo, allow_missing=fit.allow_missing_meshes)
     fitted, diags = fit_link_spheres(
         robot,
         links=todo,

@@ -30,6 +30,8 @@ from .urdf_joints import JointInfo, joint_info
 if TYPE_CHECKING:
     import yourdfpy
 
+    from ..diagnostics import Diagnostic
+
 
 __all__ = ["Robot", "as_robot"]
 
@@ -54,6 +56,9 @@ class Robot:
     #: ``<capsule>`` (not standard URDF): yourdfpy holds them as cylinders of the same radius
     #: and length (see :func:`xrdf_tools.robot.link_geometry.capsules_as_cylinders`).
     capsules: frozenset[tuple[str, str, int]] = frozenset()
+    #: Defects found while loading in parts no command plans with (a malformed material
+    #: colour), located in the URDF: the commands show them as warnings.
+    warnings: tuple[Diagnostic, ...] = ()
     #: Results other modules derive from the robot and keep with it, by their own keys (the
     #: kinematic model per XRDF modifiers:
     #: :func:`xrdf_tools.robot.kinematics.build_kinematic_model`).

@@ -26,6 +26,8 @@ from .srdf_groups import (
 )
 from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup, load_srdf, parse_srdf
 
+RULE_UNUSED_GROUP = "convert-srdf-unused-group"
+
 __all__ = [
     "PREFERRED_STATES",
     "EndEffector",
@@ -57,18 +59,26 @@ def read_srdf(
 
     ``group`` is one group or several (their union, in the given order: a dual-arm c-space);
     none chooses one (see :func:`choose_group`) unless ``choose`` is false (the c-space is
-    given otherwise). Every group is checked first (:func:`check_groups`).
+    given otherwise). The groups used (and their subgroups) must match the URDF
+    (:func:`check_groups` raises); any other group that does not is a located warning
+    (``convert-srdf-unused-group``), as are other SRDF elements naming what the URDF lacks.
     """
     d = draft or Draft()
     rep = Reporter(srdf.path)
-    check_groups(srdf, tree)
     groups = [group] if isinstance(group, str) else list(dict.fromkeys(group or ()))
     for g in groups:
         _group(srdf, g)
     if not groups and choose:
         groups = _choose(srdf, tree, rep)
+    for broken, problems in check_groups(srdf, tree, groups):
+        rep.report(
+            RULE_UNUSED_GROUP,
+            f"group '{broken.name}' does not match the URDF ({'; '.join(problems)}); it is not "
+            "used for this conversion, so it is ignored",
+            line=broken.line,
+        )
     d.group = "+".join(groups) or None
-    d.passive_joints |= set(srdf.passive_joints)
+    d.passive_joints |= _passive_joints(srdf, tree, rep)
     if groups:
         cspace = [j for g in groups for j in cspace_of(srdf, g, tree)]
         d.cspace = list(dict.fromkeys(cspace))
@@ -126,6 +136,21 @@ def read_srdf(
         d.spheres = spheres
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _passive_joints(srdf: Srdf, tree: RobotTree, rep: Reporter) -> set[str]:
+    """The SRDF's passive joints that are joints of the URDF (the others are reported)."""
+    out: set[str] = set()
+    for name in srdf.passive_joints:
+        if name in tree.joints:
+            out.add(name)
+            continue
+        rep.report(
+            "convert-unknown-joint",
+            f"passive_joint '{name}' is not a joint of the URDF{did_you_mean(name, tree.joints)}"
+            "; ignored",
+        )
+    return out
 
 
 def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
