@@ -105,13 +105,15 @@ def convert_robot(
     lint: bool = True,
     label: str = "<xrdf>",
     progress: Progress | None = None,
+    allow_missing_meshes: bool = False,
 ) -> ConvertResult:
     """Load ``robot`` (or take it loaded), convert it and, with ``fit``, fit spheres and
     compute the mask.
 
     ``mask`` defaults to :class:`MaskOptions` when ``fit`` is given (a fitted sphere model
     needs its own mask); pass it without ``fit`` to recompute the mask of the inputs' spheres.
-    ``label`` names the XRDF in lint diagnostics. Raises
+    ``label`` names the XRDF in lint diagnostics; ``allow_missing_meshes`` tells lint that
+    mesh files that cannot be found are expected (``fit`` has its own). Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
     """
     from ..robot.xacro_source import load_robot
@@ -143,7 +145,13 @@ def convert_robot(
     if lint:
         from ..lint import lint_text
 
-        lint_diags = lint_text(text, label, urdf_model=loaded, target=options.target)
+        lint_diags = lint_text(
+            text,
+            label,
+            urdf_model=loaded,
+            target=options.target,
+            allow_missing_meshes=allow_missing_meshes,
+        )
         if any(d.rule == "convert-no-spheres" for d in diags):
             # one loud "no spheres at all" says it; a line per link is noise
             lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]

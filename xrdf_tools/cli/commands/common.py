@@ -298,8 +298,9 @@ AllowMissingMeshesOption = Annotated[
     bool,
     typer.Option(
         "--allow-missing-meshes",
-        help="Go on when a mesh file cannot be found (unknown package, no such file): a "
-        "warning per mesh, and the part is left out. Default: exit 2 naming the mesh URI "
-        "and the directories searched (pass --package-path NAME=DIR to point at them).",
+        help="Mesh files that cannot be found (unknown package, no such file) are expected: "
+        "leave their parts out, a warning each. Without it such a mesh stops the command "
+        "(exit 2) naming the URI and the directories searched (lint: a warning); "
+        "--package-path NAME=DIR points at them.",
     ),
 ]

@@ -263,6 +263,7 @@ def command(
                 lint=not no_lint,
                 label=label,
                 progress=_staged(bar),
+                allow_missing_meshes=allow_missing_meshes,
             )
     except XrdfToolsError as e:
         fail(e)

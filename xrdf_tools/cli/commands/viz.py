@@ -10,6 +10,7 @@ import typer
 
 from ...util.errors import XrdfToolsError
 from .common import (
+    AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -78,7 +79,10 @@ def command(
         typer.Option("--colliding-only", help="Keep only configurations in self-collision."),
     ] = False,
     meshes: Annotated[
-        MeshChoice, typer.Option("--meshes", help="URDF geometry drawn with the spheres.")
+        MeshChoice,
+        typer.Option(
+            "--meshes", help="URDF geometry drawn with the spheres (not in a --png picture)."
+        ),
     ] = MeshChoice.visual,
     group: Annotated[
         str | None,
@@ -91,6 +95,7 @@ def command(
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of --samples.")] = 0,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
+    allow_missing_meshes: AllowMissingMeshesOption = False,
     view: Annotated[
         str,
         typer.Option(
@@ -115,9 +120,11 @@ def command(
     """Draw the collision spheres on the robot: default pose, sampled configurations,
     self-collisions in red.
 
-    Exactly one of --rrd, --mcap, --spawn, --png. Step 0 is the default pose, then one step
-    per configuration from --samples or --configs. rerun and MCAP need the viz extra:
-    pip install "xrdf-tools[viz]".
+    Exactly one of --rrd, --mcap, --spawn, --png (spheres only: --meshes does not apply).
+    Step 0 is the default pose, then one step per configuration from --samples or --configs.
+    rerun and MCAP need the viz extra: pip install "xrdf-tools[viz]". A mesh file that cannot
+    be found is an input error (exit 2) unless --allow-missing-meshes; one that cannot be read
+    is left out of the drawing with a warning.
     """
     targets: list[tuple[Target, Path | None]] = []
     if rrd is not None:
@@ -164,6 +171,17 @@ def command(
         x = load_xrdf_input(xrdf_file)
         u = load_robot_option(urdf, xacro_arg, package_path)
         kin, kdiags = build_kinematic_model(u, x)
+        drawn = "none" if target == "png" else meshes.value
+        if drawn != "none":
+            from ...robot.link_geometry import require_meshes
+
+            require_meshes(
+                u,
+                drawn,  # type: ignore[arg-type]
+                links=kin.frame_names,
+                package_paths=pkgs,
+                allow_missing=allow_missing_meshes,
+            )
         if configs is not None:
             Q = load_configurations(configs, kin, x)
         elif samples:
@@ -180,7 +198,7 @@ def command(
                 Q,
                 kinematic_model=kin,
                 group=group,
-                meshes="none" if target == "png" else meshes.value,  # type: ignore[arg-type]
+                meshes=drawn,  # type: ignore[arg-type]
                 colliding_only=colliding_only,
                 urdf_path=urdf,
                 package_paths=pkgs,
@@ -203,9 +221,10 @@ def command(
 
     hit = sum(1 for s in scene.samples if s.contacts)
     where = "rerun viewer" if out is None else str(out)
+    unread = "; the PNG draws spheres only (meshes not read)" if target == "png" else ""
     note(
         f"{where}: {len(scene.links)} links, {scene.n_spheres} spheres (group '{scene.group}'), "
-        f"{len(scene.samples)} sample(s), {hit} in self-collision"
+        f"{len(scene.samples)} sample(s), {hit} in self-collision{unread}"
     )
     detail(
         f"frame pairs: {scene.frame_pairs_checked} checked, {scene.frame_pairs_ignored} "

@@ -6,8 +6,10 @@ a tool flange is the usual culprit). Add spheres for it (``xrdf convert --fit-sp
 them), or disable the rule for links that cannot collide.
 
 A warning by default. For a planning reader (``--target curobo`` or ``--target cumotion``) it
-is an error: the planner would move that link through obstacles. A file without any collision
-section is then reported too, once per such link.
+is an error when a c-space joint moves the link: the planner would move it through obstacles
+(a file without any collision section is then reported too, once per such link). A link no
+c-space joint moves (a base bolted to the table) stays a warning: no plan can change its
+clearance.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     if robot is None or kin is None:
         return
     planning = ctx.target in PLANNING_TARGETS
-    severity = Severity.ERROR if planning else None
+    cspace = {n for n, _ in ctx.cspace_joint_nodes()}
     used: set[str] = set()
     sections = ctx.collision_sections()
     if not sections and not planning:
@@ -42,6 +44,8 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     for frame in kin.frame_names:
         if frame not in robot.collision_counts or frame in used:
             continue
+        moved = planning and bool(cspace.intersection(kin.joints_on_path(kin.base_frame, frame)))
+        severity = Severity.ERROR if moved else Severity.WARNING
         yield ctx.problem(
             anchor,
             f"link '{frame}' has collision geometry in {robot.path.rsplit('/', 1)[-1]} but no "
