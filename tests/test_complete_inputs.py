@@ -393,3 +393,22 @@ def test_a_relative_package_path_is_taken_from_the_current_directory(
     )
     assert code == 0, text
     assert load_xrdf(out).world_collision_spheres()["base"]
+
+
+def test_a_package_name_or_package_path_too_long_is_a_clear_input_error(tmp_path: Path) -> None:
+    name = "p" * 300
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ROBOT.format(arm=MESH.format(f"package://{name}/x.stl")))
+    code, text = _run("spheres", urdf)
+    assert code == 2 and f"cannot find ROS package '{name}'" in text and "Traceback" not in text
+    code, text = _run("spheres", urdf, "--package-path", f"{name}={name}")
+    assert code == 2 and "cannot be used: File name too long" in text and "Traceback" not in text
+
+
+def test_lint_fast_path_reads_allow_missing_meshes() -> None:
+    from xrdf_tools.cli.commands.lint_core import parse_fast
+
+    args = parse_fast(["lint", "a.xrdf", "--urdf", "u.urdf", "--allow-missing-meshes"])
+    assert args is not None and args.allow_missing_meshes
+    args = parse_fast(["lint", "a.xrdf", "--urdf", "u.urdf"])
+    assert args is not None and not args.allow_missing_meshes
