@@ -60,11 +60,6 @@ def check_urdf_tree(
     def fail(msg: str, el: Any) -> UrdfError:
         return UrdfError(msg, path=path, line=getattr(el, "sourceline", None))
 
-    def color_fail(msg: str, el: Any) -> UrdfError:
-        if warnings is None:
-            return fail(msg, el)
-        return _ColorIgnored(msg, path=path, line=getattr(el, "sourceline", None))
-
     tag = etree.QName(root).localname if isinstance(root.tag, str) else str(root.tag)
     if tag != "robot":
         raise fail(f"the root element must be <robot>, not <{tag}>", root)
@@ -81,7 +76,7 @@ def check_urdf_tree(
     link_lines = _named_lines(root, "link", fail)
     for el in root.findall("link"):
         _check_geometry(el, fail)
-    _check_colors(root, color_fail, warnings)
+    _check_colors(root, path, fail, warnings)
     _check_other_numbers(root, fail)
 
     joint_lines = _named_lines(root, "joint", fail)
@@ -120,10 +115,15 @@ def check_urdf_tree(
     return link_lines, joint_lines
 
 
-def _check_colors(root: Any, fail: Fail, warnings: list[Diagnostic] | None) -> None:
+def _check_colors(root: Any, path: str, fail: Fail, warnings: list[Diagnostic] | None) -> None:
     """Material colours (top-level and of visual elements) are four finite numbers; with
-    ``warnings``, one that is not is removed and reported there (``fail`` then raises
-    :class:`_ColorIgnored`)."""
+    ``warnings``, one that is not is removed and reported there, else ``fail`` raises."""
+
+    def ignored(msg: str, el: Any) -> UrdfError:
+        return _ColorIgnored(msg, path=path, line=getattr(el, "sourceline", None))
+
+    if warnings is not None:
+        fail = ignored
     colors = [
         (m.find("color"), f"material '{m.get('name')}' <color>") for m in root.findall("material")
     ]

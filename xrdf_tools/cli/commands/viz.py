@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -26,6 +26,8 @@ from .common import (
 from .core import OutputFormat, detail, is_stdio, load_robot_option, timed
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from ...viz import Target
 
 #: Show a progress bar from this many samples on (when stderr is a terminal).
@@ -172,16 +174,7 @@ def command(
         u = load_robot_option(urdf, xacro_arg, package_path)
         kin, kdiags = build_kinematic_model(u, x)
         drawn = "none" if target == "png" else meshes.value
-        if drawn != "none":
-            from ...robot.link_geometry import require_meshes
-
-            require_meshes(
-                u,
-                drawn,  # type: ignore[arg-type]
-                links=kin.frame_names,
-                package_paths=pkgs,
-                allow_missing=allow_missing_meshes,
-            )
+        _require_meshes(u, drawn, kin.frame_names, pkgs, allow_missing_meshes)
         if configs is not None:
             Q = load_configurations(configs, kin, x)
         elif samples:
@@ -221,7 +214,7 @@ def command(
 
     hit = sum(1 for s in scene.samples if s.contacts)
     where = "rerun viewer" if out is None else str(out)
-    unread = "; the PNG draws spheres only (meshes not read)" if target == "png" else ""
+    unread = _PNG_NOTE.get(target, "")
     note(
         f"{where}: {len(scene.links)} links, {scene.n_spheres} spheres (group '{scene.group}'), "
         f"{len(scene.samples)} sample(s), {hit} in self-collision{unread}"
@@ -229,4 +222,25 @@ def command(
     detail(
         f"frame pairs: {scene.frame_pairs_checked} checked, {scene.frame_pairs_ignored} "
         f"ignored; {len(scene.samples[0].frame_contacts)} colliding at the default pose"
+    )
+
+
+#: What the summary adds per output: a PNG draws no meshes.
+_PNG_NOTE = {"png": "; the PNG draws spheres only (meshes not read)"}
+
+
+def _require_meshes(
+    robot: Any, drawn: str, links: Sequence[str], pkgs: dict[str, str], allow: bool
+) -> None:
+    """Stop (MissingMeshError) when a mesh to draw cannot be found, unless ``allow``."""
+    if drawn == "none":
+        return
+    from ...robot.link_geometry import require_meshes
+
+    require_meshes(
+        robot,
+        drawn,  # type: ignore[arg-type]
+        links=links,
+        package_paths=pkgs,
+        allow_missing=allow,
     )

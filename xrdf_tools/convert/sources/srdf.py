@@ -86,7 +86,15 @@ def read_srdf(
     if groups:
         d.tool_frames = _tool_frames(srdf, tree, groups, rep)
 
-    # self-collision mask
+    _mask(srdf, tree, d, rep)
+    _virtual(srdf, rep)
+    _spheres(srdf, tree, d, rep)
+    d.diagnostics.extend(rep.diagnostics)
+    return d
+
+
+def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
+    """The self-collision mask: disabled pairs of known links, minus re-enabled pairs."""
     for l1, l2, _reason, line in srdf.disable_collisions:
         ok1 = known_frame(l1, tree.links, rep, "", "disable_collisions link1", line=line)
         ok2 = known_frame(l2, tree.links, rep, "", "disable_collisions link2", line=line)
@@ -108,6 +116,9 @@ def read_srdf(
             d.ignore[l1].remove(l2)
         if l1 in d.ignore.get(l2, []):
             d.ignore[l2].remove(l1)
+
+
+def _virtual(srdf: Srdf, rep: Reporter) -> None:
     for name, vtype, line in srdf.virtual_joints:
         rep.report(
             "convert-virtual-joint",
@@ -117,7 +128,9 @@ def read_srdf(
             line=line,
         )
 
-    # spheres
+
+def _spheres(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
+    """Sphere approximations of known links (radii <= 0 dropped)."""
     if srdf.spheres:
         spheres: dict[str, list[Sphere]] = {}
         for link, ss, line in srdf.spheres:
@@ -134,8 +147,6 @@ def read_srdf(
             if kept:
                 spheres.setdefault(link, []).extend(kept)
         d.spheres = spheres
-    d.diagnostics.extend(rep.diagnostics)
-    return d
 
 
 def _passive_joints(srdf: Srdf, tree: RobotTree, rep: Reporter) -> set[str]:
