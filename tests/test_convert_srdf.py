@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -105,23 +106,39 @@ BROKEN_URDF = {
 }
 
 
-#: SRDFs with groups that name joints/links/subgroups the URDF lacks: converting with them is an
-#: error naming every broken group and its unknown names (never a silently skipped group).
+#: SRDFs with groups that name joints/links/subgroups the URDF lacks, none of them the group
+#: converted: each broken group is a located warning (never a silently skipped group, never a
+#: refusal of the whole SRDF): (line of the first, regex of its message).
 BROKEN_SRDF = {
-    "alexander_description/srdf/alexander.srdf": "group 'right_arm' \\(line 22\\): unknown joints "
-    "'RIGHT_SHOULDER_Y'",
-    "baxter_description/srdf/baxter_manipulation.srdf": "unknown joints 'baxter/head_pan'.*"
-    "did you mean 'head_pan'",
-    "borinot_description/srdf/borinot_flying_arm_2.srdf": "group 'end_effector' .* unknown "
-    "chain link 'base'",
-    "hextilt_description/srdf/hextilt_flying_arm_5.srdf": "unknown chain link 'base'",
-    "hyq_description/srdf/hyq.srdf": "7 SRDF group.*group 'all_legs' .* unknown subgroups 'lf'",
-    "icub_description/srdf/icub.srdf": "chain base 'chest' is not an ancestor of tip 'l_sole'",
-    "simple_humanoid_description/srdf/simple_humanoid.srdf": "unknown chain link 'r_foot'",
-    "simple_humanoid_description/srdf/simple_humanoid_classical.srdf": "unknown chain link "
-    "'r_foot'",
-    "solo_description/srdf/solo.srdf": "unknown subgroups 'lf', 'rf'",
-    "z1_description/srdf/z1.srdf": "group 'end_effector' \\(line 4\\): unknown chain link 'base'",
+    "alexander_description/srdf/alexander.srdf": (
+        22,
+        "group 'right_arm' does not match the URDF \\(unknown joints 'RIGHT_SHOULDER_Y'",
+    ),
+    "baxter_description/srdf/baxter_manipulation.srdf": (
+        None,
+        "unknown joints 'baxter/head_pan'.*did you mean 'head_pan'",
+    ),
+    "borinot_description/srdf/borinot_flying_arm_2.srdf": (
+        None,
+        "group 'end_effector' .*unknown chain link 'base'",
+    ),
+    "hextilt_description/srdf/hextilt_flying_arm_5.srdf": (None, "unknown chain link 'base'"),
+    "hyq_description/srdf/hyq.srdf": (None, "group 'all_legs' .*unknown subgroups 'lf'"),
+    "icub_description/srdf/icub.srdf": (
+        None,
+        "chain base 'chest' is not an ancestor of tip 'l_sole'",
+    ),
+    "simple_humanoid_description/srdf/simple_humanoid.srdf": (None, "unknown chain link 'r_foot'"),
+    "simple_humanoid_description/srdf/simple_humanoid_classical.srdf": (
+        None,
+        "unknown chain link 'r_foot'",
+    ),
+    "solo_description/srdf/solo.srdf": (None, "unknown subgroups 'lf', 'rf'"),
+    "z1_description/srdf/z1.srdf": (
+        4,
+        "group 'end_effector' does not match the URDF \\(unknown chain link 'base'\\); it is not "
+        "used for this conversion",
+    ),
 }
 
 
@@ -159,11 +176,15 @@ def _lint_errors(xrdf_text: str, urdf_path: Path) -> list[str]:
 @pytest.mark.parametrize("srdf", sorted(SRDF_ROBOTS))
 def test_example_robot_data_srdf_converts_and_lints(srdf: str) -> None:
     urdf, srdf_path, group = _pair(srdf)
+    x, diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
+    broken = [d for d in diags if d.rule == "convert-srdf-unused-group"]
     if srdf in BROKEN_SRDF:
-        with pytest.raises(SourceError, match=BROKEN_SRDF[srdf]):
-            convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
-        return
-    x, _diags, _ = convert_files(urdf, ConvertOptions(srdf=srdf_path, group=group))
+        line, pattern = BROKEN_SRDF[srdf]
+        assert broken and all(d.line for d in broken)
+        assert any(re.search(pattern, d.message) for d in broken), broken
+        assert line is None or broken[0].line == line
+    else:
+        assert broken == []
     assert x.cspace is not None and x.cspace.joint_names, "empty c-space"
     assert x.tool_frames
     text = dump_xrdf(x)
@@ -374,7 +395,7 @@ def _write(tmp_path: Path, text: str, name: str = "t.srdf") -> Path:
     return p
 
 
-def test_broken_group_is_an_error_even_when_another_is_chosen(
+def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
     tree: RobotTree, tmp_path: Path
 ) -> None:
     srdf = _write(
@@ -383,17 +404,31 @@ def test_broken_group_is_an_error_even_when_another_is_chosen(
         <group name="arm"><chain base_link="base" tip_link="tip"/></group>
         <group name="typo"><joint name="j22"/><joint name="j33"/><link name="nope"/></group>
         <group name="sub"><group name="missing"/></group>
+        <group name="both"><group name="arm"/><group name="typo"/></group>
+        <passive_joint name="ghost"/>
         </robot>""",
     )
     from xrdf_tools.convert.sources.srdf import read_srdf
 
-    with pytest.raises(SourceError) as err:
-        read_srdf(load_srdf(srdf), tree, group="arm")
-    msg = str(err.value)
-    assert "2 SRDF group(s) do not match the URDF" in msg
-    assert "group 'typo' (line 3): unknown joints 'j22', 'j33'" in msg
-    assert "unknown link 'nope'" in msg and "group 'sub'" in msg and "'missing'" in msg
-    assert "\n" not in msg
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    assert d.cspace == cspace_of(load_srdf(srdf), "arm", tree)
+    warned = {(w.rule, w.line): w.message for w in d.diagnostics}
+    typo = warned[("convert-srdf-unused-group", 3)]
+    assert "group 'typo'" in typo and "unknown joints 'j22', 'j33'" in typo
+    assert "unknown link 'nope'" in typo and "not used for this conversion" in typo
+    assert "'missing'" in warned[("convert-srdf-unused-group", 4)]
+    assert any("passive_joint 'ghost'" in m for m in warned.values())
+    # the chosen default skips broken groups and says so
+    chosen = read_srdf(load_srdf(srdf), tree)
+    assert chosen.group == "arm"
+    # a group that is used, or includes a broken one, stays an error naming every broken one
+    for used in ("typo", "both"):
+        with pytest.raises(SourceError) as err:
+            read_srdf(load_srdf(srdf), tree, group=used)
+        msg = str(err.value)
+        assert "1 SRDF group(s) used for the conversion do not match the URDF" in msg
+        assert "group 'typo' (line 3): unknown joints 'j22', 'j33'" in msg
+        assert "\n" not in msg
 
 
 def test_virtual_joint_in_a_group_is_known(tree: RobotTree) -> None:

@@ -37,10 +37,34 @@ def test_real_panda_spheres_pass_and_a_sphere_moved_half_a_metre_is_flagged() ->
     assert d.key_path == "geometry.panda_spheres.spheres.panda_link3[0].center"
 
 
-def test_ur10e_without_meshes_is_skipped_with_one_info() -> None:
-    diags = _run((UR10E / "ur10e.xrdf").read_text(), UR10E / "ur10e.urdf")
-    assert [d.severity.value for d in diags] == ["info"]
+def test_ur10e_without_meshes_is_one_warning_or_with_allow_missing_meshes_one_info() -> None:
+    text = (UR10E / "ur10e.xrdf").read_text()
+    diags = _run(text, UR10E / "ur10e.urdf")
+    assert [d.severity.value for d in diags] == ["warning"]
     assert "not checked" in diags[0].message and "mesh file not found" in diags[0].message
+    assert "--package-path" in diags[0].message
+    allowed = lint_text(
+        text, "r.xrdf", urdf=UR10E / "ur10e.urdf", rules=(rule.RULE,), allow_missing_meshes=True
+    )
+    assert [d.severity.value for d in allowed] == ["info"]
+    assert "mesh file not found" in allowed[0].message
+
+
+def test_an_unreadable_mesh_is_a_warning_even_with_allow_missing_meshes(tmp_path: Path) -> None:
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="a"><collision><geometry><mesh filename="bad.stl"/>'
+        "</geometry></collision></link></robot>"
+    )
+    (tmp_path / "bad.stl").write_bytes(b"solid x\nfacet normal 0 0 1\n outer loop\n")  # cut
+    text = (
+        "format: xrdf\nformat_version: 2.0\nworld_collision:\n  geometry: g\ngeometry:\n"
+        "  g:\n    spheres:\n      a:\n        - center: [0.0, 0.0, 0.0]\n          radius: 0.05\n"
+    )
+    for allow in (False, True):
+        (d,) = lint_text(text, "r.xrdf", urdf=urdf, rules=(rule.RULE,), allow_missing_meshes=allow)
+        assert d.severity.value == "warning" and "cannot be read" in d.message
+        assert "bad.stl" in d.message
 
 
 def test_a_partly_loadable_link_is_skipped_not_checked_against_the_parts_that_loaded(
@@ -58,7 +82,7 @@ def test_a_partly_loadable_link_is_skipped_not_checked_against_the_parts_that_lo
         "  g:\n    spheres:\n      a:\n        - center: [1.0, 0.0, 0.0]\n          radius: 0.05\n"
     )
     (d,) = _run(text, urdf)
-    assert (d.severity.value, d.line, d.col) == ("info", 8, 7)
+    assert (d.severity.value, d.line, d.col) == ("warning", 8, 7)
     assert "gone.stl" in d.message
 
 

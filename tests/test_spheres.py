@@ -188,7 +188,7 @@ def test_open_visual_mesh_falls_back_to_convex_hull_and_says_so(tmp_path: Path) 
     assert geoms["hand"].kind == "convex_hull" and geoms["hand"].source == "visual"
 
 
-def test_missing_mesh_is_a_diagnostic_and_exit_1(tmp_path: Path) -> None:
+def test_missing_mesh_is_a_diagnostic_and_the_command_exits_2(tmp_path: Path) -> None:
     urdf = tmp_path / "m.urdf"
     urdf.write_text(
         '<robot name="m"><link name="a"><collision><geometry><mesh filename="nope.stl"/>'
@@ -204,8 +204,13 @@ def test_missing_mesh_is_a_diagnostic_and_exit_1(tmp_path: Path) -> None:
         "format: xrdf\nformat_version: 2.0\ncspace:\n  joint_names: []\n"
         "  acceleration_limits: []\n  jerk_limits: []\n"
     )
-    res = runner.invoke(app, ["spheres", str(urdf), "--xrdf", str(xr), "-o", str(tmp_path / "o")])
-    assert res.exit_code == 1
+    args = ["spheres", str(urdf), "--xrdf", str(xr), "-o", str(tmp_path / "o")]
+    res = runner.invoke(app, args)
+    assert res.exit_code == 2 and "nope.stl" in res.output and "mesh file not found" in res.output
+    assert not (tmp_path / "o").exists()
+    res = runner.invoke(app, [*args, "--allow-missing-meshes"])
+    assert res.exit_code == 0, res.output
+    assert "nope.stl" in res.output  # the warning for the mesh left out
     assert load_xrdf(tmp_path / "o").resolved_spheres("collision_spheres")["b"]
 
 

@@ -79,6 +79,12 @@ def test_readme_pr2_example_passes_lint_for_curobo(tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     assert "convert-cspace-order" in result.output
-    lint = runner.invoke(app, ["lint", "--target", "curobo", str(out), "--urdf", str(urdf)])
+    # no --fit-spheres here (the README's example fits them; too slow for this test): the
+    # links without spheres are mesh-without-spheres errors for a planner, so leave that rule out
+    lint = runner.invoke(
+        app,
+        ["lint", "--target", "curobo", str(out), "--urdf", str(urdf)]
+        + ["--ignore", "mesh-without-spheres"],
+    )
     assert lint.exit_code == 0, lint.output
     assert "curobo-default-order" not in lint.output

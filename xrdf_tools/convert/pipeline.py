@@ -31,8 +31,10 @@ from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot, as_robot
+from ..robot.link_geometry import require_meshes
 from ..util.frozen import FrozenMap
 from .core import ConvertOptions, convert, with_spheres
+from .fit_check import RULE_UNFITTED, unfitted_links
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -58,6 +60,9 @@ class FitOptions:
     seed: int = 0
     per_link: int | None = None
     max_protrusion: float | None = None
+    #: Go on without mesh files that cannot be found (a warning each) instead of raising
+    #: :class:`~xrdf_tools.robot.link_geometry.MissingMeshError`.
+    allow_missing_meshes: bool = False
 
 
 @dataclass(frozen=True)
@@ -103,13 +108,15 @@ def convert_robot(
     lint: bool = True,
     label: str = "<xrdf>",
     progress: Progress | None = None,
+    allow_missing_meshes: bool = False,
 ) -> ConvertResult:
     """Load ``robot`` (or take it loaded), convert it and, with ``fit``, fit spheres and
     compute the mask.
 
     ``mask`` defaults to :class:`MaskOptions` when ``fit`` is given (a fitted sphere model
     needs its own mask); pass it without ``fit`` to recompute the mask of the inputs' spheres.
-    ``label`` names the XRDF in lint diagnostics. Raises
+    ``label`` names the XRDF in lint diagnostics; ``allow_missing_meshes`` tells lint that
+    mesh files that cannot be found are expected (``fit`` has its own). Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
     """
     from ..robot.xacro_source import load_robot
@@ -121,6 +128,7 @@ def convert_robot(
     else:
         loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
     x, diags = convert(loaded, options)
+    diags = [*loaded.warnings, *diags]
     fitted: dict[str, int] = {}
     if fit is not None and lint:
         early = _checked_before_fitting(x, loaded, options, label)
@@ -132,7 +140,10 @@ def convert_robot(
             diags = [d for d in diags if d.rule != "convert-no-spheres"]
         diags = [*diags, *more]
         mask = mask or MaskOptions()
+    unfitted = [d for d in diags if d.rule == RULE_UNFITTED]
     report = None
+    if unfitted:
+        mask = None  # the command fails: no point sampling a mask for an incomplete model
     if mask is not None and x.self_collision_spheres():
         x, report = compute_mask(x, loaded, mask, progress=progress)
         diags.append(mask_summary(report, x, mask))
@@ -141,10 +152,18 @@ def convert_robot(
     if lint:
         from ..lint import lint_text
 
-        lint_diags = lint_text(text, label, urdf_model=loaded, target=options.target)
+        lint_diags = lint_text(
+            text,
+            label,
+            urdf_model=loaded,
+            target=options.target,
+            allow_missing_meshes=allow_missing_meshes,
+        )
         if any(d.rule == "convert-no-spheres" for d in diags):
             # one loud "no spheres at all" says it; a line per link is noise
             lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
+        said = tuple(d.message.split("'")[1] for d in unfitted)
+        lint_diags = [d for d in lint_diags if not _about_links(d, "mesh-without-spheres", said)]
     return ConvertResult(
         x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
     )
@@ -163,6 +182,11 @@ def _checked_before_fitting(
     text = dump_xrdf(x)
     errors = target_errors(text, robot, options.target, label)
     return (text, errors) if errors else None
+
+
+def _about_links(d: Diagnostic, rule: str, links: Sequence[str]) -> bool:
+    """``d`` is a ``rule`` finding about one of ``links`` (already said otherwise)."""
+    return d.rule == rule and any(d.message.startswith(f"link '{link}'") for link in links)
 
 
 # ------------------------------------------------------------------------------------------
@@ -207,6 +231,8 @@ def fit_missing_spheres(
             progress("fitting", i, n)
 
     robot = as_robot(urdf)
+    # before the work: a mesh that cannot be found is an input error (or, allowed, a warning)
+    missing = require_meshes(robot, fit.source, links=todo, allow_missing=fit.allow_missing_meshes)
     fitted, diags = fit_link_spheres(
         robot,
         links=todo,
@@ -221,7 +247,10 @@ def fit_missing_spheres(
         merged[link] = [*merged.get(link, ()), *spheres]
     counts = {k: len(v) for k, v in fitted.items()}
     summary = fit_summary(robot.path, counts, fit.source, visual_only, len(have))
-    return with_spheres(x, dict(merged)), counts, [*diags, summary]
+    errors = unfitted_links(
+        robot.path, todo, fitted, diags, allowed_missing=missing, lines=robot.link_lines
+    )
+    return with_spheres(x, dict(merged)), counts, [*diags, summary, *errors]
 
 
 def fit_summary(

@@ -185,6 +185,7 @@ def lint_text(
     rules: Sequence[Rule] = RULES,
     target: str | None = None,
     urdf_model: Any = None,
+    allow_missing_meshes: bool = False,
 ) -> list[Diagnostic]:
     """Lint one XRDF document given as text (``path`` is used in the diagnostics).
 
@@ -201,7 +202,13 @@ def lint_text(
     if urdf_model is not None:
         loader = _model_loader(urdf_model)
     return _run(
-        LintContext(text, path, urdf_loader=loader, target=_target(target, cfg)),
+        LintContext(
+            text,
+            path,
+            urdf_loader=loader,
+            target=_target(target, cfg),
+            allow_missing_meshes=allow_missing_meshes,
+        ),
         rules,
         cfg,
     )
@@ -267,12 +274,15 @@ def lint(
     ignore: Sequence[str] = (),
     target: str | None = None,
     urdf_model: Any = None,
+    allow_missing_meshes: bool = False,
 ) -> list[Diagnostic]:
     """Lint XRDF files. ``urdf`` applies to every file; otherwise the config's ``urdf`` map
     picks one per file (or none). ``urdf_model`` (a URDF already loaded, e.g. an expanded
     xacro) applies to every file and replaces ``urdf``. ``target`` (default: the
     configuration's) names the reader. A path ``-`` reads standard input (named ``<stdin>`` in
     the diagnostics; the configuration's ``urdf`` map does not apply to it).
+    ``allow_missing_meshes``: collision mesh files that cannot be found are expected (the
+    checks that need them are skipped with an info, not a warning).
 
     A file that cannot be read as UTF-8 text raises :class:`YamlError`, an unreadable URDF
     :class:`UrdfError` (both: usage/input errors, exit code 2); a URDF that is read but is not a
@@ -293,7 +303,13 @@ def lint(
         if urdf_model is not None:
             loader = _model_loader(urdf_model)
         label = "<stdin>" if stdin else os.fspath(p)
-        ctx = LintContext(text, label, urdf_loader=loader, target=chosen)
+        ctx = LintContext(
+            text,
+            label,
+            urdf_loader=loader,
+            target=chosen,
+            allow_missing_meshes=allow_missing_meshes,
+        )
         out.extend(_run(ctx, rules, cfg))
     return sorted(out, key=sort_key)
 

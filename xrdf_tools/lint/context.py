@@ -108,9 +108,12 @@ class LintContext:
         *,
         urdf_loader: Callable[[], Robot] | None = None,
         target: str | None = None,
+        allow_missing_meshes: bool = False,
     ) -> None:
         self.text = text
         self.path = path
+        #: Mesh files that cannot be found are known to be absent (``--allow-missing-meshes``).
+        self.allow_missing_meshes = allow_missing_meshes
         #: The reader the file is meant for (``curobo``, ``cumotion``, ``isaac-sim``) or None.
         self.target = target
         self._urdf_loader = urdf_loader

@@ -34,6 +34,8 @@ from .urdf_joints import JointInfo, joint_from_xml, joint_info
 if TYPE_CHECKING:
     import yourdfpy
 
+    from ..diagnostics import Diagnostic
+
 
 __all__ = ["Robot", "as_robot"]
 
@@ -66,6 +68,9 @@ class Robot:
     prebuilt: yourdfpy.URDF | None = None
     #: Whether :attr:`urdf` builds yourdfpy's scene graph.
     build_scene_graph: bool = False
+    #: Defects found while loading in parts no command plans with (a malformed material
+    #: colour), located in the URDF: the commands show them as warnings.
+    warnings: tuple[Diagnostic, ...] = ()
     #: Results other modules derive from the robot and keep with it, by their own keys (the
     #: kinematic model per XRDF modifiers:
     #: :func:`xrdf_tools.robot.kinematics.build_kinematic_model`).

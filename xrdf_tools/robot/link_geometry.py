@@ -23,6 +23,9 @@ trimesh is imported lazily.
 
 from __future__ import annotations
 
+import errno
+import os
+import stat
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -32,7 +35,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import numpy.typing as npt
 
-from ..util.errors import XrdfToolsError
+from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit
 
 if TYPE_CHECKING:
@@ -55,10 +58,13 @@ __all__ = [
     "GeometryPart",
     "GeometrySource",
     "LinkParts",
+    "MissingMeshError",
     "PartFailure",
     "Rgba",
     "capsules_as_cylinders",
     "link_geometry",
+    "missing_meshes",
+    "require_meshes",
 ]
 
 # Cylinders, capsules and spheres are tessellated finely enough that the facet error stays far
@@ -108,13 +114,21 @@ class GeometryPart:
 
 @dataclass(frozen=True)
 class PartFailure:
-    """An element that could not be read: ``reason`` says why (``"<uri>: ..."`` for meshes)."""
+    """An element that could not be read: ``reason`` says why (``"<uri>: ..."`` for meshes).
+
+    ``missing`` is true when the mesh file could not be found or opened as a file at all (an
+    unknown package, no such file, a directory, device, FIFO, a symbolic link loop, a name
+    too long), as opposed to a file that was found but could not be read as a mesh; ``uri``
+    is the mesh ``filename`` as written in the URDF.
+    """
 
     link: str
     source: GeometrySource
     index: int
     reason: str
     unsupported: bool = False
+    missing: bool = False
+    uri: str | None = None
 
 
 @dataclass(frozen=True)
@@ -168,11 +182,96 @@ def link_geometry(
             try:
                 parts.append(_part(name, kind, i, element, capsule, reader, materials))
             except _PartError as e:
-                failures.append(PartFailure(name, kind, i, e.reason, e.unsupported))
+                failures.append(
+                    PartFailure(name, kind, i, e.reason, e.unsupported, e.missing, e.uri)
+                )
         out[name] = LinkParts(
             name, kind, len(elements), tuple(parts), tuple(failures), loaded.link_lines.get(name)
         )
     return out
+
+
+def missing_meshes(
+    robot: Robot | yourdfpy.URDF,
+    source: GeometryChoice = "collision",
+    *,
+    links: Sequence[str] | None = None,
+    package_paths: Mapping[str, str] | None = None,
+) -> list[PartFailure]:
+    """The mesh elements of ``links`` (as :func:`link_geometry` chooses them) whose file cannot
+    be found or is no file (see :attr:`PartFailure.missing`), without reading any mesh: a
+    check that costs a ``stat`` per mesh, made before long work that needs the meshes."""
+    from .core import as_robot
+    from .packages import PackageResolver
+
+    loaded = as_robot(robot)
+    pkgs = loaded.package_paths if package_paths is None else package_paths
+    reader = _MeshReader(
+        PackageResolver(Path(loaded.path), dict(pkgs)), Path(loaded.path).resolve().parent
+    )
+    link_map: Mapping[str, Any] = loaded.urdf.link_map
+    out: list[PartFailure] = []
+    for name in loaded.links if links is None else dict.fromkeys(links):
+        link = link_map.get(name)
+        if link is None:
+            continue
+        kind, elements = _elements(link, source)
+        for i, element in enumerate(elements):
+            mesh = getattr(element.geometry, "mesh", None)
+            if mesh is None:
+                continue
+            uri = mesh.filename or ""
+            try:
+                if not uri:
+                    raise _PartError("<mesh> without a filename", missing=True, uri=uri)
+                reader.locate(uri)
+            except _PartError as e:
+                out.append(PartFailure(name, kind, i, e.reason, missing=True, uri=uri))
+    return out
+
+
+class MissingMeshError(SourceError):
+    """Mesh files a command needs cannot be found; ``failures`` lists each (link, URI, why)."""
+
+    def __init__(self, message: str, failures: Sequence[PartFailure], **where: Any) -> None:
+        super().__init__(message, **where)
+        self.failures = tuple(failures)
+
+
+#: How many other links a missing-mesh error names before it counts the rest.
+_NAMED = 6
+
+
+def require_meshes(
+    robot: Robot | yourdfpy.URDF,
+    source: GeometryChoice = "collision",
+    *,
+    links: Sequence[str] | None = None,
+    package_paths: Mapping[str, str] | None = None,
+    allow_missing: bool = False,
+) -> list[PartFailure]:
+    """Raise :class:`MissingMeshError` when a mesh of ``links`` cannot be found (the first in
+    full: its URI and the package directories searched, then the other links), unless
+    ``allow_missing``; then return the missing meshes (the readers warn for each)."""
+    from .core import as_robot
+
+    loaded = as_robot(robot)
+    failures = missing_meshes(loaded, source, links=links, package_paths=package_paths)
+    if not failures or allow_missing:
+        return failures
+    first = failures[0]
+    others = list(dict.fromkeys(f.link for f in failures[1:]))
+    message = f"{len(failures)} mesh file(s) cannot be found: link '{first.link}' {first.source}: "
+    message += first.reason
+    if others:
+        shown = ", ".join(others[:_NAMED]) + (
+            f" and {len(others) - _NAMED} more" if len(others) > _NAMED else ""
+        )
+        message += f"; also meshes of {shown}"
+    message += "; pass --allow-missing-meshes to go on without them"
+    raise MissingMeshError(
+        message, failures, path=loaded.path, line=loaded.link_lines.get(first.link)
+    )
 
 
 def capsules_as_cylinders(root: Any) -> frozenset[tuple[str, GeometrySource, int]]:
@@ -205,10 +304,19 @@ def _elements(link: Any, choice: GeometryChoice) -> tuple[GeometrySource, list[A
 
 
 class _PartError(Exception):
-    def __init__(self, reason: str, unsupported: bool = False) -> None:
+    def __init__(
+        self,
+        reason: str,
+        unsupported: bool = False,
+        *,
+        missing: bool = False,
+        uri: str | None = None,
+    ) -> None:
         super().__init__(reason)
         self.reason = reason
         self.unsupported = unsupported
+        self.missing = missing
+        self.uri = uri
 
 
 _UNSUPPORTED = "unsupported geometry (no box, cylinder, sphere or mesh)"
@@ -274,21 +382,16 @@ class _MeshReader:
         import trimesh
 
         if not uri:
-            raise _PartError("<mesh> without a filename")
-        try:
-            path = self.resolver.resolve_uri(uri, self.base)
-        except XrdfToolsError as e:
-            raise _PartError(f"{uri}: {e.message}") from None
-        if not path.is_file():
-            raise _PartError(f"{uri}: mesh file not found ({path})")
+            raise _PartError("<mesh> without a filename", missing=True, uri=uri)
+        path = self.locate(uri)
         try:
             check_input_file(path, what="mesh file", max_bytes=mesh_bytes_limit())
         except XrdfToolsError as e:
-            raise _PartError(f"{uri}: {e.message}") from None
+            raise _PartError(f"{uri}: {e.message}", uri=uri) from None
         try:
             factors = np.broadcast_to(np.asarray(1.0 if scale is None else scale, float), (3,))
         except ValueError:
-            raise _PartError(f"{uri}: scale must be one or three numbers") from None
+            raise _PartError(f"{uri}: scale must be one or three numbers", uri=uri) from None
         try:
             scene: Any = trimesh.load(str(path), force="scene", process=True)
             pieces = tuple(
@@ -296,13 +399,54 @@ class _MeshReader:
             )
         except Exception as e:  # trimesh raises many exception types for bad files
             detail = str(e).splitlines()[0] if str(e) else type(e).__name__
-            raise _PartError(f"{uri}: cannot read mesh ({detail})") from None
+            raise _PartError(f"{uri}: cannot read mesh ({detail})", uri=uri) from None
         if not pieces:
-            raise _PartError(f"{uri}: cannot read mesh (no triangles in the file)")
+            raise _PartError(f"{uri}: cannot read mesh (no triangles in the file)", uri=uri)
         if not np.array_equal(factors, np.ones(3)):
             for piece in pieces:  # scene.dump() made copies: scaling them in place is safe
                 piece.apply_transform(np.diag([*factors, 1.0]))
         return pieces, str(path)
+
+    def locate(self, uri: str) -> Path:
+        """The path of the mesh file ``uri``; raises a ``missing`` :class:`_PartError` saying
+        what is there instead of a mesh file (nothing, a directory, a FIFO, ...)."""
+        try:
+            path = self.resolver.resolve_uri(uri, self.base)
+        except XrdfToolsError as e:
+            raise _PartError(f"{uri}: {e.message}", missing=True, uri=uri) from None
+        why = not_a_file(path)
+        if why is not None:
+            raise _PartError(f"{uri}: {why}", missing=True, uri=uri)
+        return path
+
+
+def not_a_file(path: Path) -> str | None:
+    """Why ``path`` cannot be opened as a mesh file, or None when it is a regular file."""
+    try:
+        st = os.stat(path)
+    except OSError as e:
+        if e.errno in (errno.ENOENT, errno.ENOTDIR):
+            return f"mesh file not found ({path})"
+        if e.errno == errno.ELOOP:
+            return f"a symbolic link loop, not a mesh file ({path})"
+        if e.errno == errno.ENAMETOOLONG:
+            longest = max((len(part.encode()) for part in path.parts), default=0)
+            return (
+                f"file name too long for this file system ({longest} bytes in one name, "
+                f"{len(os.fsencode(path))} in the path)"
+            )
+        return f"cannot open the mesh file: {e.strerror or e} ({path})"
+    if stat.S_ISREG(st.st_mode):
+        return None
+    kinds = (
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISFIFO, "a FIFO (named pipe)"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    kind = next((name for test, name in kinds if test(st.st_mode)), "not a regular file")
+    return f"{kind}, not a mesh file ({path})"
 
 
 # --------------------------------------------------------------------------------------------

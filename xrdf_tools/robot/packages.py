@@ -2,6 +2,8 @@
 
 Where a package is looked for, in order:
 1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);
+   A relative ``DIR`` is taken relative to the current directory (as every command-line
+   path is), never to the file that names the package;
 2. the input file's ancestors and their sub-directories (two levels deep): a directory holding
    a ``package.xml`` whose ``<name>`` is ``pkg``, or, failing that, a directory named ``pkg``.
 
@@ -49,7 +51,7 @@ class PackageResolver:
 
     def _roots(self) -> list[Path]:
         p = self.start.resolve()
-        base = p if p.is_dir() else p.parent
+        base = p if _is_dir(p) else p.parent
         return [base, *base.parents]
 
     def _build_index(self) -> dict[str, Path]:
@@ -70,9 +72,10 @@ class PackageResolver:
         if name in self._cache:
             return self._cache[name]
         if name in self.package_paths:
-            d = Path(self.package_paths[name]).expanduser()
-            if not d.is_dir():
-                raise SourceError(f"--package-path {name}={d}: not a directory")
+            d = absolute(self.package_paths[name])
+            why = _not_a_directory(d)
+            if why is not None:
+                raise SourceError(f"--package-path {name}={d}: {why}")
             self._cache[name] = d
             return d
         if self._index is None:
@@ -81,7 +84,7 @@ class PackageResolver:
         if found is None:
             for root in self._searched:
                 cand = root / name
-                if cand.is_dir():
+                if _is_dir(cand):
                     found = cand
                     break
                 if root.name == name:
@@ -106,9 +109,40 @@ class PackageResolver:
             return Path(unquote(uri[len("file://") :]))
         p = Path(uri)
         if not p.is_absolute():
-            base = relative_to or (self.start if self.start.is_dir() else self.start.parent)
+            base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
             p = base / p
         return p
+
+
+def _is_dir(path: Path) -> bool:
+    """``path`` is a directory; False also when it cannot be looked at (a name too long)."""
+    try:
+        return path.is_dir()
+    except OSError:
+        return False
+
+
+def _is_file(path: Path) -> bool:
+    try:
+        return path.is_file()
+    except OSError:
+        return False
+
+
+def _not_a_directory(path: Path) -> str | None:
+    """Why ``path`` is not a directory to search, or None when it is one."""
+    try:
+        if path.is_dir():
+            return None
+        return "not a directory" if path.exists() else "no such directory"
+    except OSError as e:
+        return f"cannot be used: {e.strerror or e}"
+
+
+def absolute(directory: str | os.PathLike[str]) -> Path:
+    """``directory`` (``~`` expanded) as an absolute path, a relative one taken from the
+    current directory; not resolved, so symbolic links stay as given."""
+    return Path(os.path.abspath(Path(directory).expanduser()))
 
 
 def _package_xmls(root: Path, depth: int) -> list[Path]:
@@ -118,12 +152,12 @@ def _package_xmls(root: Path, depth: int) -> list[Path]:
         nxt: list[Path] = []
         for d in frontier:
             xml = d / "package.xml"
-            if xml.is_file():
+            if _is_file(xml):
                 out.append(xml)
             if level < depth:
                 try:
                     nxt.extend(
-                        c for c in sorted(d.iterdir()) if c.is_dir() and not c.name.startswith(".")
+                        c for c in sorted(d.iterdir()) if _is_dir(c) and not c.name.startswith(".")
                     )
                 except OSError:
                     continue

@@ -11,6 +11,7 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError, did_you_mean, shown_text
 
 __all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
@@ -27,7 +28,6 @@ _OTHER_NUMBERS: tuple[tuple[str, str, tuple[str, ...], int], ...] = (
     ("link", "inertial/origin", ("xyz", "rpy"), 3),
     ("link", "inertial/mass", ("value",), 1),
     ("link", "inertial/inertia", ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 1),
-    ("link", "visual/material/color", ("rgba",), 4),
     (
         "joint",
         "safety_controller",
@@ -40,9 +40,21 @@ _OTHER_NUMBERS: tuple[tuple[str, str, tuple[str, ...], int], ...] = (
 
 Fail = Callable[[str, Any], UrdfError]
 
+RULE_COLOR_IGNORED = "urdf-color-ignored"
 
-def check_urdf_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int]]:
-    """Check what yourdfpy needs; return the line of every link and joint."""
+
+class _ColorIgnored(UrdfError):
+    """A material colour that is not four finite numbers (a warning, not a failure)."""
+
+
+def check_urdf_tree(
+    root: Any, path: str, warnings: list[Diagnostic] | None = None
+) -> tuple[dict[str, int], dict[str, int]]:
+    """Check what yourdfpy needs; return the line of every link and joint.
+
+    With a ``warnings`` list, a material colour that is not four finite numbers (used only to
+    draw the robot) is removed from the tree with a located ``urdf-color-ignored`` warning
+    appended there, instead of failing: what no command plans with does not stop one."""
     from lxml import etree
 
     def fail(msg: str, el: Any) -> UrdfError:
@@ -64,8 +76,7 @@ def check_urdf_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int
     link_lines = _named_lines(root, "link", fail)
     for el in root.findall("link"):
         _check_geometry(el, fail)
-    for el in root.findall("material"):
-        _check_numbers(el.find("color"), ("rgba",), 4, f"material '{el.get('name')}' <color>", fail)
+    _check_colors(root, path, fail, warnings)
     _check_other_numbers(root, fail)
 
     joint_lines = _named_lines(root, "joint", fail)
@@ -102,6 +113,39 @@ def check_urdf_tree(root: Any, path: str) -> tuple[dict[str, int], dict[str, int
             _check_numbers(mimic, ("multiplier", "offset"), 1, f"joint '{name}' <mimic>", fail)
     _check_is_tree(edges, joint_lines, fail)
     return link_lines, joint_lines
+
+
+def _check_colors(root: Any, path: str, fail: Fail, warnings: list[Diagnostic] | None) -> None:
+    """Material colours (top-level and of visual elements) are four finite numbers; with
+    ``warnings``, one that is not is removed and reported there, else ``fail`` raises."""
+
+    def ignored(msg: str, el: Any) -> UrdfError:
+        return _ColorIgnored(msg, path=path, line=getattr(el, "sourceline", None))
+
+    if warnings is not None:
+        fail = ignored
+    colors = [
+        (m.find("color"), f"material '{m.get('name')}' <color>") for m in root.findall("material")
+    ]
+    for link in root.findall("link"):
+        for material in link.findall("visual/material"):
+            colors.append(
+                (material.find("color"), f"link '{link.get('name')}' <visual> <material> <color>")
+            )
+    for color, what in colors:
+        if color is None or color.get("rgba") is None:
+            continue
+        try:
+            _check_numbers(color, ("rgba",), 4, what, fail)
+        except _ColorIgnored as e:
+            color.getparent().remove(color)
+            if warnings is not None:
+                message = f"{e.message}; the colour is ignored (it only draws the robot)"
+                warnings.append(
+                    Diagnostic(
+                        e.path or "", e.line, None, RULE_COLOR_IGNORED, Severity.WARNING, message
+                    )
+                )
 
 
 def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 import numpy.typing as npt
 
+from ..diagnostics import Diagnostic
 from ..util.errors import UrdfError, UrdfReadError, XrdfToolsError
 from .urdf_check import JOINT_TYPES, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
@@ -238,7 +239,8 @@ def _parse_bytes(
         raise UrdfError("the file is empty", path=path, line=1)
 
     etree.strip_tags(root, etree.Comment)
-    link_lines, joint_lines = check_urdf_tree(root, path)
+    warnings: list[Diagnostic] = []
+    link_lines, joint_lines = check_urdf_tree(root, path, warnings)
     etree.cleanup_namespaces(root)
     capsules = capsules_as_cylinders(root)  # yourdfpy knows no <capsule>
 
@@ -252,6 +254,7 @@ def _parse_bytes(
         package_paths=FrozenMap(package_paths or {}),
         capsules=capsules,
         build_scene_graph=build_scene_graph,
+        warnings=tuple(warnings),
     )
 
 

@@ -26,7 +26,7 @@ from xml.sax.saxutils import escape
 
 from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
-from .packages import PackageResolver
+from .packages import PackageResolver, absolute
 
 if TYPE_CHECKING:
     from .core import Robot
@@ -208,7 +208,7 @@ def load_robot(
     """
     from .urdf_source import parse_robot, read_robot, read_urdf_bytes
 
-    pkg = {k: str(v) for k, v in (package_paths or {}).items()}
+    pkg = {k: str(absolute(v)) for k, v in (package_paths or {}).items()}
     data: bytes | None = None
     if Path(path).suffix != ".xacro":
         try:
@@ -218,7 +218,7 @@ def load_robot(
                 raise SourceError(_NOT_XACRO, path=str(path)) from None
             raise
     if data is None or _uses_xacro(data):
-        text = expand_xacro(path, xacro_args, package_paths, data=data)
+        text = expand_xacro(path, xacro_args, pkg, data=data)
         return parse_robot(text, os.fspath(path), package_paths=pkg, expanded=True)
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))

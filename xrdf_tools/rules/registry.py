@@ -53,6 +53,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
         ("convert-no-spheres", W, "No collision spheres at all in the inputs."),
         ("convert-placeholder-spheres", W, "SRDF sphere approximation radii of zero, dropped."),
+        ("convert-srdf-unused-group", W, "An SRDF group the conversion does not use is broken."),
         ("convert-unknown-joint", W, "A joint name that is not in the URDF: dropped."),
         ("convert-unknown-link", W, "A link name that is not in the URDF: dropped."),
         ("convert-target-check", E, "The XRDF fails --target whatever spheres: not fitted."),
@@ -82,6 +83,9 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-srdf-removed", W, "A disabled pair the XRDF no longer ignores: removed."),
         ("export-srdf-robot-name", W, "The SRDF robot name differs from the URDF's."),
     ),
+    "robot loading (every command reading a URDF)": (
+        ("urdf-color-ignored", W, "A material colour that is not 4 numbers: ignored."),
+    ),
     "kinematics (lint, report, viz)": (
         ("joint-held-fixed", W, "A joint that cannot move is held at its default."),
         ("joint-limits-missing", W, "A joint without limits: sampled in a default range."),
@@ -91,6 +95,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("spheres-adjacent-ignored", I, "Adjacent links' spheres overlap: the pair is ignored."),
         ("spheres-cloned-link", W, "Links that share one mesh: spheres fitted once."),
         ("spheres-convex-hull", W, "A mesh that is not watertight: its convex hull is used."),
+        ("spheres-link-not-covered", E, "A link with geometry got no spheres, or only some."),
         ("spheres-mesh-unreadable", W, "A mesh that cannot be read: the link gets no spheres."),
         ("spheres-no-geometry", W, "A link without geometry: no spheres."),
         ("spheres-unsupported-geometry", W, "A geometry kind the fitter does not handle."),

@@ -293,3 +293,14 @@ PackagePathOption = Annotated[
     list[str] | None,
     typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
 ]
+#: ``--allow-missing-meshes`` of every command that reads link meshes (one definition).
+AllowMissingMeshesOption = Annotated[
+    bool,
+    typer.Option(
+        "--allow-missing-meshes",
+        help="Mesh files that cannot be found (unknown package, no such file) are expected: "
+        "leave their parts out, a warning each. Without it such a mesh stops the command "
+        "(exit 2) naming the URI and the directories searched (lint: a warning); "
+        "--package-path NAME=DIR points at them.",
+    ),
+]

@@ -15,6 +15,7 @@ import typer
 from ...diagnostics import Severity
 from ...util.errors import XrdfToolsError
 from .common import (
+    AllowMissingMeshesOption,
     QuietOption,
     VerboseOption,
     echo_diagnostics,
@@ -189,6 +190,7 @@ def command(
             "TIP_LINK (BASE:TIP, repeatable for several arms).",
         ),
     ] = None,
+    allow_missing_meshes: AllowMissingMeshesOption = False,
     no_lint: Annotated[
         bool, typer.Option("--no-lint", help="Skip linting the result against the URDF.")
     ] = False,
@@ -202,6 +204,9 @@ def command(
 
     With --fit-spheres: fit spheres to the links' collision geometry and compute the
     self-collision mask like `xrdf report --write-mask`, so the result is planning-ready.
+    Every link with that geometry gets spheres or the command fails (exit 1, naming each
+    link and why); a mesh file that cannot be found is an input error (exit 2) unless
+    --allow-missing-meshes.
     """
     from ...convert.core import ConvertOptions
     from ...convert.pipeline import FitOptions, MaskOptions, convert_robot
@@ -239,7 +244,12 @@ def command(
         )
         fit = None
         if fit_spheres:
-            fit = FitOptions(source=geometry_from.value, seed=seed, per_link=per_link)
+            fit = FitOptions(
+                source=geometry_from.value,
+                seed=seed,
+                per_link=per_link,
+                allow_missing_meshes=allow_missing_meshes,
+            )
         mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
         label = "<stdout>" if output is None or is_stdio(output) else str(output)
         with progress_bar(fit_spheres) as bar, timed("convert"):
@@ -253,12 +263,20 @@ def command(
                 lint=not no_lint,
                 label=label,
                 progress=_staged(bar),
+                allow_missing_meshes=allow_missing_meshes,
             )
     except XrdfToolsError as e:
         fail(e)
     x, text = result.xrdf, result.text
     diags, lint_diags = list(result.diagnostics), list(result.lint)
     echo_diagnostics([*diags, *lint_diags], fmt)
+    unfitted = [d for d in diags if d.severity is Severity.ERROR]
+    if unfitted:
+        fail(
+            f"{len(unfitted)} link(s) with geometry got no spheres or only some (listed "
+            "above); a planner would not see what is missing. Fix or replace those meshes",
+            EXIT_FINDINGS,
+        )
     errors = [d for d in lint_diags if d.severity is Severity.ERROR]
     if errors:
         fail(

@@ -174,8 +174,11 @@ def load_robot_option(
     from ...robot.packages import parse_package_path
     from ...robot.xacro_source import load_robot, parse_xacro_arg
 
-    return load_robot(
+    robot = load_robot(
         path,
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
         package_paths=pairs(package_path, parse_package_path),
     )
+    if robot.warnings and verbosity() > Verbosity.QUIET:
+        echo(render_text(robot.warnings), err=True, nl=False)  # defects in unused parts
+    return robot

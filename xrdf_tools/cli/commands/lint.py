@@ -11,7 +11,14 @@ from typing import Annotated
 
 import typer
 
-from .common import PackagePathOption, QuietOption, VerboseOption, XacroArgOption, fail
+from .common import (
+    AllowMissingMeshesOption,
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    fail,
+)
 from .core import OutputFormat
 
 
@@ -62,18 +69,31 @@ def command(
             ".xrdf-lint.yaml or [tool.xrdf.lint] from the current directory upwards.",
         ),
     ] = None,
+    allow_missing_meshes: AllowMissingMeshesOption = False,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
     """Check XRDF files; report problems as path:line:col: severity rule-id message.
 
     Exit codes: 0 clean, 1 errors (or warnings with --strict), 2 usage or input error.
+    With --urdf, collision meshes that cannot be found or read are warnings (the check that
+    needs them is skipped); --allow-missing-meshes makes the ones not found an info.
     """
     from ...util.errors import XrdfToolsError
     from .lint_core import LintArgs, run
 
     args = LintArgs(
-        files, urdf, xacro_arg, package_path, output_format, select, ignore, target, strict, config
+        files,
+        urdf,
+        xacro_arg,
+        package_path,
+        output_format,
+        select,
+        ignore,
+        target,
+        strict,
+        config,
+        allow_missing_meshes,
     )
     try:
         text, code = run(args)

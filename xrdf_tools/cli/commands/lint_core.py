@@ -52,6 +52,7 @@ class LintArgs:
     target: str | None = None
     strict: bool = False
     config: Path | None = None
+    allow_missing_meshes: bool = False
 
 
 def _robot_or_why_not(
@@ -100,6 +101,7 @@ def run(args: LintArgs) -> tuple[str, int]:
             ignore=_split(args.ignore),
             target=args.target,
             urdf_model=model,
+            allow_missing_meshes=args.allow_missing_meshes,
         )
     text = render_diagnostics(
         diagnostics,
@@ -125,7 +127,7 @@ _VALUED = {
     "--config": ("config", False),
 }
 #: Flags: long name -> LintArgs field (``-q`` sets nothing lint prints without ``-v``).
-_FLAGS = {"--strict": "strict", "--quiet": None}
+_FLAGS = {"--strict": "strict", "--quiet": None, "--allow-missing-meshes": "allow_missing_meshes"}
 _SHORT = {"-f": "--format", "-q": "--quiet"}
 _PATHS = ("urdf", "config")
 

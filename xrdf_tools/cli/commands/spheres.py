@@ -10,6 +10,7 @@ import typer
 from ...diagnostics import Diagnostic
 from ...util.errors import XrdfToolsError
 from .common import (
+    AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -105,6 +106,7 @@ def command(
     ] = None,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
+    allow_missing_meshes: AllowMissingMeshesOption = False,
     fmt: Annotated[
         OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
     ] = OutputFormat.text,
@@ -115,12 +117,16 @@ def command(
 
     Without --xrdf the rest of the XRDF (c-space, defaults) is drafted as `xrdf convert`
     would, and adjacent links are added to the self-collision ignore mask. The metrics table
-    goes to stdout with -o FILE, else to stderr (not with -q). Exit 1 when a link's geometry
-    could not be read.
+    goes to stdout with -o FILE, else to stderr (not with -q). Every link with geometry
+    gets spheres, or the command fails (exit 1, nothing written) naming each link and why; a
+    mesh file that cannot be found is an input error (exit 2) unless --allow-missing-meshes.
     """
+    from ...convert.fit_check import unfitted_links
+    from ...convert.pipeline import geometry_links
+    from ...robot.link_geometry import require_meshes
     from ...robot.packages import parse_package_path
     from ...spheres import fit_link_spheres, ignore_adjacent, measure_links, merge_spheres
-    from ...spheres.geometry import RULE_MESH_UNREADABLE, load_link_geometry
+    from ...spheres.geometry import load_link_geometry
     from ...xrdf.io import dump_xrdf
 
     chosen = [
@@ -144,6 +150,10 @@ def command(
 
             base, cdiags = convert(model, ConvertOptions())
             diags += [d for d in cdiags if d.rule != "convert-no-spheres"]
+        wanted = [n for n in geometry_links(model, "auto")[0] if n in (link_list or [n])]
+        missing = require_meshes(
+            model, "auto", links=wanted, package_paths=pkgs, allow_missing=allow_missing_meshes
+        )
         with progress_bar() as bar, timed("fitting"):
             fitted, fdiags = fit_link_spheres(
                 model,
@@ -168,17 +178,24 @@ def command(
     except XrdfToolsError as e:
         fail(e)
     text = dump_xrdf(merged)
-    echo_diagnostics(diags, fmt)
+    unfitted = unfitted_links(
+        model.path, wanted, fitted, fdiags, allowed_missing=missing, lines=model.link_lines
+    )
+    echo_diagnostics([*diags, *unfitted], fmt)
+    if unfitted:
+        fail(
+            f"{len(unfitted)} link(s) with geometry got no spheres or only some (listed "
+            "above); nothing written. Fix or replace those meshes",
+            EXIT_FINDINGS,
+        )
+    if not fitted:
+        fail("no link with readable geometry: no spheres fitted", EXIT_FINDINGS)
     table = metrics_table(per, overall)
     write_output(text, output)
     if output is None or is_stdio(output):
         note(table.rstrip("\n"))
     else:
         typer.echo(table, nl=False)
-    if not fitted:
-        fail("no link with readable geometry: no spheres fitted", EXIT_FINDINGS)
-    if any(d.rule == RULE_MESH_UNREADABLE for d in fdiags):
-        raise typer.Exit(EXIT_FINDINGS)
 
 
 def _per_link(bar: ProgressUpdate) -> Callable[[str, int, int], None]:

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from ...util.errors import XrdfToolsError
 from .common import (
+    AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -25,6 +26,8 @@ from .common import (
 from .core import OutputFormat, detail, is_stdio, load_robot_option, timed
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from ...viz import Target
 
 #: Show a progress bar from this many samples on (when stderr is a terminal).
@@ -78,7 +81,10 @@ def command(
         typer.Option("--colliding-only", help="Keep only configurations in self-collision."),
     ] = False,
     meshes: Annotated[
-        MeshChoice, typer.Option("--meshes", help="URDF geometry drawn with the spheres.")
+        MeshChoice,
+        typer.Option(
+            "--meshes", help="URDF geometry drawn with the spheres (not in a --png picture)."
+        ),
     ] = MeshChoice.visual,
     group: Annotated[
         str | None,
@@ -91,6 +97,7 @@ def command(
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of --samples.")] = 0,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
+    allow_missing_meshes: AllowMissingMeshesOption = False,
     view: Annotated[
         str,
         typer.Option(
@@ -115,9 +122,11 @@ def command(
     """Draw the collision spheres on the robot: default pose, sampled configurations,
     self-collisions in red.
 
-    Exactly one of --rrd, --mcap, --spawn, --png. Step 0 is the default pose, then one step
-    per configuration from --samples or --configs. rerun and MCAP need the viz extra:
-    pip install "xrdf-tools[viz]".
+    Exactly one of --rrd, --mcap, --spawn, --png (spheres only: --meshes does not apply).
+    Step 0 is the default pose, then one step per configuration from --samples or --configs.
+    rerun and MCAP need the viz extra: pip install "xrdf-tools[viz]". A mesh file that cannot
+    be found is an input error (exit 2) unless --allow-missing-meshes; one that cannot be read
+    is left out of the drawing with a warning.
     """
     target, out = _one_output(rrd, mcap, spawn, png)
     _require_viz_extra(target)
@@ -154,6 +163,8 @@ def command(
         x = load_xrdf_input(xrdf_file)
         u = load_robot_option(urdf, xacro_arg, package_path)
         kin, kdiags = build_kinematic_model(u, x)
+        drawn = "none" if target == "png" else meshes.value
+        _require_meshes(u, drawn, kin.frame_names, pkgs, allow_missing_meshes)
         if configs is not None:
             Q = load_configurations(configs, kin, x)
         elif samples:
@@ -170,7 +181,7 @@ def command(
                 Q,
                 kinematic_model=kin,
                 group=group,
-                meshes="none" if target == "png" else meshes.value,  # type: ignore[arg-type]
+                meshes=drawn,  # type: ignore[arg-type]
                 colliding_only=colliding_only,
                 urdf_path=urdf,
                 package_paths=pkgs,
@@ -193,9 +204,10 @@ def command(
 
     hit = sum(1 for s in scene.samples if s.contacts)
     where = "rerun viewer" if out is None else str(out)
+    unread = _PNG_NOTE.get(target, "")
     note(
         f"{where}: {len(scene.links)} links, {scene.n_spheres} spheres (group '{scene.group}'), "
-        f"{len(scene.samples)} sample(s), {hit} in self-collision"
+        f"{len(scene.samples)} sample(s), {hit} in self-collision{unread}"
     )
     detail(
         f"frame pairs: {scene.frame_pairs_checked} checked, {scene.frame_pairs_ignored} "
@@ -224,3 +236,24 @@ def _require_viz_extra(target: Target) -> None:
     from ...util.extras import FIT, VIZ, require
 
     require((*FIT, *VIZ) if target == "png" else FIT, "viz", "xrdf viz")
+
+
+#: What the summary adds per output: a PNG draws no meshes.
+_PNG_NOTE = {"png": "; the PNG draws spheres only (meshes not read)"}
+
+
+def _require_meshes(
+    robot: Any, drawn: str, links: Sequence[str], pkgs: dict[str, str], allow: bool
+) -> None:
+    """Stop (MissingMeshError) when a mesh to draw cannot be found, unless ``allow``."""
+    if drawn == "none":
+        return
+    from ...robot.link_geometry import require_meshes
+
+    require_meshes(
+        robot,
+        drawn,  # type: ignore[arg-type]
+        links=links,
+        package_paths=pkgs,
+        allow_missing=allow,
+    )

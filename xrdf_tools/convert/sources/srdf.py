@@ -26,6 +26,8 @@ from .srdf_groups import (
 )
 from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup, load_srdf, parse_srdf
 
+RULE_UNUSED_GROUP = "convert-srdf-unused-group"
+
 __all__ = [
     "PREFERRED_STATES",
     "EndEffector",
@@ -57,18 +59,26 @@ def read_srdf(
 
     ``group`` is one group or several (their union, in the given order: a dual-arm c-space);
     none chooses one (see :func:`choose_group`) unless ``choose`` is false (the c-space is
-    given otherwise). Every group is checked first (:func:`check_groups`).
+    given otherwise). The groups used (and their subgroups) must match the URDF
+    (:func:`check_groups` raises); any other group that does not is a located warning
+    (``convert-srdf-unused-group``), as are other SRDF elements naming what the URDF lacks.
     """
     d = draft or Draft()
     rep = Reporter(srdf.path)
-    check_groups(srdf, tree)
     groups = [group] if isinstance(group, str) else list(dict.fromkeys(group or ()))
     for g in groups:
         _group(srdf, g)
     if not groups and choose:
         groups = _choose(srdf, tree, rep)
+    for broken, problems in check_groups(srdf, tree, groups):
+        rep.report(
+            RULE_UNUSED_GROUP,
+            f"group '{broken.name}' does not match the URDF ({'; '.join(problems)}); it is not "
+            "used for this conversion, so it is ignored",
+            line=broken.line,
+        )
     d.group = "+".join(groups) or None
-    d.passive_joints |= set(srdf.passive_joints)
+    d.passive_joints |= _passive_joints(srdf, tree, rep)
     if groups:
         cspace = [j for g in groups for j in cspace_of(srdf, g, tree)]
         d.cspace = list(dict.fromkeys(cspace))
@@ -76,7 +86,15 @@ def read_srdf(
     if groups:
         d.tool_frames = _tool_frames(srdf, tree, groups, rep)
 
-    # self-collision mask
+    _mask(srdf, tree, d, rep)
+    _virtual(srdf, rep)
+    _spheres(srdf, tree, d, rep)
+    d.diagnostics.extend(rep.diagnostics)
+    return d
+
+
+def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
+    """The self-collision mask: disabled pairs of known links, minus re-enabled pairs."""
     for l1, l2, _reason, line in srdf.disable_collisions:
         ok1 = known_frame(l1, tree.links, rep, "", "disable_collisions link1", line=line)
         ok2 = known_frame(l2, tree.links, rep, "", "disable_collisions link2", line=line)
@@ -98,6 +116,9 @@ def read_srdf(
             d.ignore[l1].remove(l2)
         if l1 in d.ignore.get(l2, []):
             d.ignore[l2].remove(l1)
+
+
+def _virtual(srdf: Srdf, rep: Reporter) -> None:
     for name, vtype, line in srdf.virtual_joints:
         rep.report(
             "convert-virtual-joint",
@@ -107,7 +128,9 @@ def read_srdf(
             line=line,
         )
 
-    # spheres
+
+def _spheres(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
+    """Sphere approximations of known links (radii <= 0 dropped)."""
     if srdf.spheres:
         spheres: dict[str, list[Sphere]] = {}
         for link, ss, line in srdf.spheres:
@@ -124,8 +147,21 @@ def read_srdf(
             if kept:
                 spheres.setdefault(link, []).extend(kept)
         d.spheres = spheres
-    d.diagnostics.extend(rep.diagnostics)
-    return d
+
+
+def _passive_joints(srdf: Srdf, tree: RobotTree, rep: Reporter) -> set[str]:
+    """The SRDF's passive joints that are joints of the URDF (the others are reported)."""
+    out: set[str] = set()
+    for name in srdf.passive_joints:
+        if name in tree.joints:
+            out.add(name)
+            continue
+        rep.report(
+            "convert-unknown-joint",
+            f"passive_joint '{name}' is not a joint of the URDF{did_you_mean(name, tree.joints)}"
+            "; ignored",
+        )
+    return out
 
 
 def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:

@@ -23,7 +23,9 @@ __all__ = [
     "choose_state",
     "cspace_of",
     "group_joints",
+    "group_problems",
     "group_sizes",
+    "member_groups",
 ]
 
 PREFERRED_STATES = ("home", "ready", "default")
@@ -74,23 +76,47 @@ def _unknown(what: str, names: list[str], pool: Iterable[str]) -> str:
     return f"unknown {what}{plural} {shown}{more}{hint}"
 
 
-def check_groups(srdf: Srdf, tree: RobotTree) -> None:
-    """Raise :class:`SourceError` when any group names joints, links or subgroups that do
-    not exist (virtual joints are known), or has a chain whose base is not above its tip.
-
-    Every broken group is named with its unknown names, whether or not it is the group
-    being converted: a broken group is a broken SRDF, never silently skipped.
-    """
+def group_problems(srdf: Srdf, tree: RobotTree) -> list[tuple[SrdfGroup, list[str]]]:
+    """Every group that names joints, links or subgroups that do not exist (virtual joints
+    are known), or has a chain whose base is not above its tip, with what is wrong with it
+    (its own elements; a group is not blamed for a broken subgroup)."""
     broken = [(g, _own_problems(srdf, g, tree)) for g in srdf.groups.values()]
-    broken = [(g, p) for g, p in broken if p]
-    if not broken:
-        return
-    parts = [f"group '{g.name}' (line {g.line}): {'; '.join(p)}" for g, p in broken]
-    raise SourceError(
-        f"{len(broken)} SRDF group(s) do not match the URDF: " + " | ".join(parts),
-        path=srdf.path,
-        line=broken[0][0].line,
-    )
+    return [(g, p) for g, p in broken if p]
+
+
+def member_groups(srdf: Srdf, names: Iterable[str]) -> list[str]:
+    """``names`` and every group they include through subgroups (existing groups only)."""
+    out: dict[str, None] = {}
+    stack = list(names)[::-1]
+    while stack:
+        g = stack.pop()
+        if g in out or g not in srdf.groups:
+            continue
+        out[g] = None
+        stack.extend(reversed(srdf.groups[g].subgroups))
+    return list(out)
+
+
+def check_groups(
+    srdf: Srdf, tree: RobotTree, used: Iterable[str] | None = None
+) -> list[tuple[SrdfGroup, list[str]]]:
+    """Raise :class:`SourceError` when a group of ``used`` (default: every group), or a
+    subgroup it includes, does not match the URDF (see :func:`group_problems`): every such
+    group is named with its unknown names. Returns the broken groups that are not used,
+    for the caller to warn about: a defect in a part the conversion does not use does not
+    stop it, and is never skipped without a word."""
+    members = set(member_groups(srdf, srdf.groups if used is None else used))
+    broken = group_problems(srdf, tree)
+    fatal = [(g, p) for g, p in broken if g.name in members]
+    if fatal:
+        parts = [f"group '{g.name}' (line {g.line}): {'; '.join(p)}" for g, p in fatal]
+        raise SourceError(
+            f"{len(fatal)} SRDF group(s) used for the conversion do not match the URDF: "
+            + " | ".join(parts),
+            path=srdf.path,
+            line=fatal[0][0].line,
+        )
+    return [(g, p) for g, p in broken if g.name not in members]
 
 
 def _own_joints(srdf: Srdf, gname: str, tree: RobotTree) -> set[str]:
@@ -192,7 +218,11 @@ def _is_gripper(srdf: Srdf, ee: EndEffector, tree: RobotTree) -> bool:
     the parent link. Many SRDFs instead name the arm there (Panda, Talos): not a gripper."""
     if ee.group is None or ee.group not in srdf.groups or ee.parent_link not in tree.links:
         return False
-    return not set(group_joints(srdf, ee.group, tree)) & _path_joints(tree, ee.parent_link)
+    try:
+        joints = set(group_joints(srdf, ee.group, tree))
+    except SourceError:  # a broken group: not a candidate, the caller warns about it
+        return False
+    return not joints & _path_joints(tree, ee.parent_link)
 
 
 def _carries(srdf: Srdf, g: str, ee: EndEffector, tree: RobotTree, gripper: bool) -> bool:

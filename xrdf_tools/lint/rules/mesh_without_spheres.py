@@ -2,8 +2,14 @@
 self- or world-collision group.
 
 The planner only sees spheres, so such a link is invisible to collision checking (a gripper or
-a tool flange is the usual culprit). Add spheres for it (``xrdf convert`` can fit them), or
-disable the rule for links that cannot collide.
+a tool flange is the usual culprit). Add spheres for it (``xrdf convert --fit-spheres`` fits
+them), or disable the rule for links that cannot collide.
+
+A warning by default. For a planning reader (``--target curobo`` or ``--target cumotion``) it
+is an error when a c-space joint moves the link: the planner would move it through obstacles
+(a file without any collision section is then reported too, once per such link). A link no
+c-space joint moves (a base bolted to the table) stays a warning: no plan can change its
+clearance.
 """
 
 from __future__ import annotations
@@ -13,29 +19,39 @@ from collections.abc import Iterator
 from ...diagnostics import Severity
 from ..context import LintContext, Problem, Rule
 
+#: The readers that plan with the spheres: a link they cannot see is an error for them.
+PLANNING_TARGETS = frozenset({"curobo", "cumotion"})
+
 
 def check(ctx: LintContext) -> Iterator[Problem]:
     robot, kin = ctx.robot, ctx.kin
     if robot is None or kin is None:
         return
+    planning = ctx.target in PLANNING_TARGETS
+    cspace = {n for n, _ in ctx.cspace_joint_nodes()}
     used: set[str] = set()
     sections = ctx.collision_sections()
-    if not sections:
+    if not sections and not planning:
         return
     for _, section in sections:
         g = ctx.group_name(section)
         frames = ctx.sphere_frames(g) if g is not None else None
         if frames is None:
-            return
+            return  # an undefined group: undefined-group says so
         used |= frames
+    anchor, key = (sections[0][1], sections[0][0]) if sections else (None, "")
+    where = "" if sections else " (the file has no collision section)"
     for frame in kin.frame_names:
         if frame not in robot.collision_counts or frame in used:
             continue
+        moved = planning and bool(cspace.intersection(kin.joints_on_path(kin.base_frame, frame)))
+        severity = Severity.ERROR if moved else Severity.WARNING
         yield ctx.problem(
-            sections[0][1],
+            anchor,
             f"link '{frame}' has collision geometry in {robot.path.rsplit('/', 1)[-1]} but no "
-            "collision spheres; the planner cannot see it",
-            sections[0][0],
+            f"collision spheres{where}; the planner cannot see it",
+            key,
+            severity,
         )
 
 

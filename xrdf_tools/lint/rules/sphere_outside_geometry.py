@@ -25,11 +25,14 @@ Spheres whose ``center`` is not 3 finite numbers or whose ``radius`` is not posi
 to ``sphere-center`` and ``sphere-radius``; frames that are not links (``add_frame`` frames) or
 links without collision geometry are not checked.
 
-When a link's collision geometry cannot be loaded in full (a mesh file is missing or
-unreadable, trimesh is not installed, an unsupported element), that link's spheres are skipped
-and **one info** finding per file lists the skipped links with the first reason, so a clean
-result is never mistaken for a check that did not run. (A level configured for this rule also
-applies to that finding.)
+When a link's collision geometry cannot be loaded in full, that link's spheres are skipped and
+one finding per file and cause lists the skipped links with the first reason, so a clean
+result is never mistaken for a check that did not run: a **warning** when a mesh file was
+found but cannot be read (truncated, not a mesh, no triangles), a **warning** when a mesh file
+cannot be found (pass ``--package-path NAME=DIR``), or an **info** for those with
+``--allow-missing-meshes`` (the meshes are knowingly not at hand), and an info when the
+geometry cannot be loaded at all (trimesh not installed). (A level configured for this rule
+also applies to these findings.)
 """
 
 from __future__ import annotations
@@ -77,12 +80,22 @@ class Box:
         return max(MIN_GAP, RELATIVE_GAP * self.largest_extent)
 
 
+@dataclass(frozen=True)
+class Skipped:
+    """Why a link's geometry could not be loaded, and whether a mesh file was not found
+    (``missing``), found but unreadable (``unreadable``), or neither (no loader at all)."""
+
+    reason: str
+    missing: bool = False
+    unreadable: bool = False
+
+
 #: Per URDF file (path, mtime, size): link -> its box, or why its geometry could not be loaded.
-_CACHE: dict[tuple[str, int, int, int], dict[str, Box | str]] = {}
+_CACHE: dict[tuple[str, int, int, int], dict[str, Box | Skipped]] = {}
 _CACHE_SIZE = 8
 
 
-def _cache_for(robot: Robot) -> dict[str, Box | str]:
+def _cache_for(robot: Robot) -> dict[str, Box | Skipped]:
     path, text = robot.path, robot.text
     try:
         st = os.stat(path)
@@ -112,7 +125,7 @@ def _reason(link: str, messages: list[str]) -> str:
     return f"link '{link}': collision geometry not loaded"
 
 
-def _load_boxes(robot: Robot, expected: dict[str, int]) -> dict[str, Box | str]:
+def _load_boxes(robot: Robot, expected: dict[str, int]) -> dict[str, Box | Skipped]:
     """Boxes of the links in ``expected`` (link -> number of its ``<collision>`` elements).
 
     The geometry is read from the loaded robot (an expanded xacro keeps its arguments) with
@@ -120,25 +133,30 @@ def _load_boxes(robot: Robot, expected: dict[str, int]) -> dict[str, Box | str]:
     is not loaded in full gets the reason instead; nothing raises.
     """
     try:
+        from ...robot.link_geometry import missing_meshes
         from ...spheres.geometry import load_link_geometry
 
+        gone = {f.link for f in missing_meshes(robot, "collision", links=list(expected))}
         geoms, diags = load_link_geometry(robot, links=list(expected))
     except Exception as exc:  # an unreadable URDF, a missing trimesh: skip, do not crash
         why = _first_line(str(exc) or type(exc).__name__)
-        return dict.fromkeys(expected, why)
-    out: dict[str, Box | str] = {}
+        return dict.fromkeys(expected, Skipped(why))
+    out: dict[str, Box | Skipped] = {}
     for link, count in expected.items():
         g = geoms.get(link)
         if g is None or g.source != "collision" or g.parts < count:
-            out[link] = _reason(link, [d.message for d in diags])
+            why = _reason(link, [d.message for d in diags])
+            out[link] = Skipped(why, missing=link in gone, unreadable=link not in gone)
             continue
         try:
             b = [[float(v) for v in row] for row in g.solid.bounds]
         except Exception as exc:  # trimesh computes bounds lazily; degenerate meshes raise
-            out[link] = f"link '{link}': no bounds ({type(exc).__name__})"
+            out[link] = Skipped(f"link '{link}': no bounds ({type(exc).__name__})", unreadable=True)
             continue
         if not all(math.isfinite(v) for row in b for v in row):
-            out[link] = f"link '{link}': collision geometry has no finite bounds"
+            out[link] = Skipped(
+                f"link '{link}': collision geometry has no finite bounds", unreadable=True
+            )
             continue
         out[link] = Box((b[0][0], b[0][1], b[0][2]), (b[1][0], b[1][1], b[1][2]))
     return out
@@ -211,18 +229,44 @@ def check(ctx: LintContext) -> Iterator[Problem]:
                 f"(allowed: {box.threshold * 1000:.0f} mm); check its center and frame",
                 s.key_path + ".center",
             )
-    if skipped:
-        first = next(iter(skipped.values()))
+    yield from _skipped(ctx, skipped, cache, urdf_name)
+
+
+def _skipped(
+    ctx: LintContext,
+    skipped: dict[str, SphereRef],
+    cache: dict[str, Box | Skipped],
+    urdf_name: str,
+) -> Iterator[Problem]:
+    """One finding per cause for the links whose spheres were not checked."""
+    causes: dict[tuple[str, str, Severity], dict[str, SphereRef]] = {}
+    for frame, ref in skipped.items():
+        why = cache.get(frame)
+        if not isinstance(why, Skipped):
+            continue
+        if why.unreadable:
+            cause = ("a collision mesh of theirs cannot be read", "", Severity.WARNING)
+        elif why.missing and not ctx.allow_missing_meshes:
+            cause = (
+                "a collision mesh of theirs cannot be found",
+                "; pass --package-path NAME=DIR, or --allow-missing-meshes when the meshes are "
+                "not at hand",
+                Severity.WARNING,
+            )
+        else:
+            cause = ("their collision geometry could not be loaded", "", Severity.INFO)
+        causes.setdefault(cause, {})[frame] = ref
+    for (what, hint, severity), refs in causes.items():
+        first = next(iter(refs.values()))
         why = cache.get(first.frame)
-        names = ", ".join(list(skipped)[:3]) + (
-            f" and {len(skipped) - 3} more" if len(skipped) > 3 else ""
-        )
+        reason = why.reason if isinstance(why, Skipped) else ""
+        names = ", ".join(list(refs)[:3]) + (f" and {len(refs) - 3} more" if len(refs) > 3 else "")
         yield ctx.problem(
             first.frame_key,
-            f"spheres of {len(skipped)} link(s) not checked: their collision geometry in "
-            f"{urdf_name} could not be loaded ({names}; first: {why})",
+            f"spheres of {len(refs)} link(s) not checked: {what} in {urdf_name} ({names}; "
+            f"first: {reason}){hint}",
             f"geometry.{first.group}.spheres.{first.frame}",
-            Severity.INFO,
+            severity,
         )
 
 

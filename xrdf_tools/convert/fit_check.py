@@ -1,0 +1,78 @@
+"""Did every link that should get spheres get them? The check after sphere fitting.
+
+Sphere fitting (:func:`xrdf_tools.spheres.fit_link_spheres`) skips what it cannot use and
+says so in warnings: a mesh that cannot be read, a part that encloses no volume, a link whose
+geometry yields no solid. A planner cannot see a link without spheres, so for the commands
+that fit spheres (``xrdf convert --fit-spheres``, ``xrdf spheres``) such a skip fails the
+command: :func:`unfitted_links` turns it into one error per link, naming the link and why.
+
+Meshes the user allowed to be missing (``--allow-missing-meshes``) are the exception: their
+parts are left out with a warning each, and a link whose only geometry is such a mesh gets no
+spheres without an error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+from ..diagnostics import Diagnostic, Severity
+from ..robot.link_geometry import PartFailure
+
+__all__ = ["RULE_UNFITTED", "unfitted_links"]
+
+RULE_UNFITTED = "spheres-link-not-covered"
+
+#: The fitting diagnostics that say a part or a link was dropped.
+_DROPPED_RULES = frozenset({"spheres-mesh-unreadable", "spheres-unsupported-geometry"})
+_PART_DROPPED = "; this part is ignored"
+
+
+def unfitted_links(
+    path: str,
+    wanted: Sequence[str],
+    fitted: Mapping[str, Sequence[object]],
+    diagnostics: Sequence[Diagnostic],
+    *,
+    allowed_missing: Sequence[PartFailure] = (),
+    lines: Mapping[str, int] | None = None,
+) -> list[Diagnostic]:
+    """One error per link of ``wanted`` that got no spheres in ``fitted``, or got them for
+    only part of its geometry (a part was dropped), with the reasons the fitting
+    ``diagnostics`` give; parts in ``allowed_missing`` do not count. ``path`` and ``lines``
+    (link -> line) locate the errors in the URDF."""
+    out: list[Diagnostic] = []
+    for link in wanted:
+        allowed = [f.reason for f in allowed_missing if f.link == link]
+        about = [
+            d
+            for d in diagnostics
+            if d.message.startswith(f"link '{link}'") and not any(r in d.message for r in allowed)
+        ]
+        said = [d.message for d in about]
+        dropped = [
+            d.message
+            for d in about
+            if d.rule in _DROPPED_RULES and d.message.endswith(_PART_DROPPED)
+        ]
+        if fitted.get(link):
+            if not dropped:
+                continue
+            message = (
+                f"link '{link}' got spheres for only part of its geometry: "
+                f"{_reasons(link, dropped)}"
+            )
+        elif allowed and not said:
+            continue  # its only geometry is a mesh the user allowed to be missing
+        else:
+            why = _reasons(link, said) if said else "its geometry yields no solid to fit"
+            message = f"link '{link}' has geometry but got no spheres: {why}"
+        where = None if lines is None else lines.get(link)
+        out.append(Diagnostic(path, where, None, RULE_UNFITTED, Severity.ERROR, message))
+    return out
+
+
+def _reasons(link: str, messages: Sequence[str]) -> str:
+    """The messages about ``link`` without the repeated link name, joined."""
+    prefix = f"link '{link}'"
+    parts = [m.removeprefix(prefix).lstrip(" :").removesuffix(_PART_DROPPED) for m in messages]
+    return "; ".join(dict.fromkeys(parts))
