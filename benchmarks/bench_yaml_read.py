@@ -18,9 +18,9 @@ Each reader then reads it in a fresh child process (``load_xrdf``, or ``load_yam
 * ``pyyaml``: the same one-pass reader on PyYAML's pure-Python parser (libyaml turned off): the
   baseline in the same run;
 * ``reference`` (``--reference``; minutes and gigabytes for big files): the reader as it was
-  before issue 13's change: PyYAML's composer and the per-node conversion
-  (``xrdf_tools.yaml.compose``, still used for documents with aliases), and for ``xrdf`` the
-  position index of every node that the model used to carry.
+  before the one-pass builder: PyYAML's composer and the per-node conversion (the tests'
+  reference, ``tests/yaml_reference.py``), and for ``xrdf`` the position index of every node
+  that the model used to carry.
 
 Prints ONE JSON line: the file's size, then per reader ``seconds`` (wall), ``cpu_seconds``,
 ``peak_rss_mib`` and ``import_rss_mib`` (the interpreter with xrdf_tools imported, before
@@ -96,10 +96,10 @@ def _rss_mib() -> float:
 
 def child(reader: str, path: str, what: str) -> dict[str, Any]:
     """Read ``path`` once with ``reader`` in this process (run by the parent per reader)."""
+    from tests.yaml_reference import compose_document
     from xrdf_tools.util.frozen import FrozenMap
     from xrdf_tools.xrdf.io import load_xrdf, xrdf_from_document
     from xrdf_tools.yaml import build as yaml_build
-    from xrdf_tools.yaml.compose import compose_document
     from xrdf_tools.yaml.io import load_yaml, raise_on_duplicates, read_text
     from xrdf_tools.yaml.positions import node_positions
 
@@ -153,7 +153,9 @@ def main() -> None:
     ap.add_argument(
         "--readers", default="libyaml,pyyaml", help="comma-separated, of: " + ", ".join(READERS)
     )
-    ap.add_argument("--reference", action="store_true", help="also the reader before issue 13")
+    ap.add_argument(
+        "--reference", action="store_true", help="also the reader before the one-pass builder"
+    )
     ap.add_argument("--keep", type=Path, help="write the generated file here and keep it")
     ap.add_argument("--child", nargs=2, metavar=("READER", "FILE"), help=argparse.SUPPRESS)
     args = ap.parse_args()
