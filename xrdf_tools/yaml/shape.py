@@ -148,6 +148,10 @@ def one_of(*options: Shape, nullable: bool = True, what: str = "") -> Shape:
     return Shape("one_of", options=options, nullable=nullable, what=what)
 
 
+#: Kinds only the XRDF reader and lint's walker read.
+_XRDF_ONLY = frozenset({"groupref", "buffers", "modifier"})
+
+
 def _is_null(node: YNode) -> bool:
     return isinstance(node, YScalar) and node.value is None
 
@@ -182,13 +186,13 @@ def _scalar_ok(kind: Kind, node: YNode) -> bool:
     v = node.value
     if kind == "scalar":
         return v is not None and not isinstance(v, bool)
-    if kind == "bool":
-        return isinstance(v, bool)
-    raise ValueError(f"check_shape does not take {kind!r} shapes (the XRDF reader reads them)")
+    return isinstance(v, bool)
 
 
 def _fits(node: YNode, shape: Shape) -> bool:
     """Whether ``node`` has the outer form of ``shape`` (for choosing a ``one_of`` option)."""
+    if shape.kind in _XRDF_ONLY:
+        raise ValueError(f"check_shape does not take {shape.kind!r} shapes (the XRDF reader does)")
     if _is_null(node):
         return shape.nullable or shape.kind == "any"
     if shape.kind == "any":
