@@ -404,7 +404,7 @@ SPHERES = [
 @pytest.mark.parametrize("sphere", SPHERES, ids=range(len(SPHERES)))
 def test_spheres_read_the_same_from_compact_lists(sphere: str) -> None:
     """Lists of plain numbers are read from their values (YPlainSeq) by the fast paths of
-    the XRDF reader; the reference reader's YSeq takes the item-by-item checks: the same
+    the XRDF reader; the reference's YSeq takes the item-by-item checks: the same
     model or message."""
     text = (
         "format: xrdf\nformat_version: 2.0\n"

@@ -403,7 +403,7 @@ class _Builder:
             self.dups.append(dup)
 
     def _key_path(self, frame: _Frame) -> str:
-        """The key path of the node ``frame`` builds, as the reference reader spells it."""
+        """The key path of the node ``frame`` builds, as :func:`walk_expanded` spells it."""
         frames = [*self.stack, frame]
         key_path = ""
         for parent, child in itertools.pairwise(frames):
@@ -424,13 +424,14 @@ def read_document(source: str | bytes, path: str, *, libyaml: bool | None = None
     ``source``: the text, or its UTF-8 bytes (already checked: libyaml reads them as they are,
     so a big file is not held twice while it is read).
 
-    Raises :class:`UsesAliases` for a document with an alias, PyYAML's errors for syntax
-    errors and :class:`YamlError` for the bounds and bad scalars. ``libyaml``: None uses it
+    Raises PyYAML's errors for syntax errors (and an undefined alias or a repeated anchor) and
+    :class:`YamlError` for the bounds and bad scalars. ``libyaml``: None uses it
     when available (:data:`HAVE_LIBYAML`); False forces PyYAML's parser.
     """
     use_c = HAVE_LIBYAML if libyaml is None else libyaml and CParser is not None
-    # The tree has no reference cycles: the cyclic collector, triggered again and again by
-    # millions of new nodes, would only walk them (a third of the time of a big file).
+    # The tree has no reference cycles (an alias shares an earlier, finished node): the cyclic
+    # collector, triggered again and again by millions of new nodes, would only walk them (a
+    # third of the time of a big file).
     collecting = gc.isenabled()
     gc.disable()
     try:
