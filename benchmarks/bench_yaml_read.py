@@ -1,6 +1,6 @@
 """Cost of reading a big XRDF: the one-pass reader on libyaml vs on PyYAML's parser, same run.
 
-Usage: ``python benchmarks/bench_yaml_read.py [--mib 16] [--kind spheres|numbers]
+Usage: ``python benchmarks/bench_yaml_read.py [--mib 16] [--kind spheres|numbers|aliases]
 [--what xrdf|yaml] [--readers libyaml,pyyaml] [--reference] [--keep FILE]``
 
 Writes an XRDF of about ``--mib`` MiB (16: just under the default input limit; larger sizes
@@ -8,8 +8,10 @@ raise ``XRDF_TOOLS_MAX_INPUT_MB`` for the readers) to a temporary file:
 
 * ``spheres``: the UR10e header and one geometry group of ``- center: [x, y, z]`` /
   ``radius: r`` spheres over seven links (~300,000 spheres in 16 MiB);
-* ``numbers``: the same header and an extra top-level key holding one long list of numbers
-  (eight to a line).
+* ``aliases``: the spheres, 9,000 of whose radii are an alias of the first one (the whole file
+  is then read from PyYAML's parser events, and checked as a document with aliases);
+* ``numbers``: the same header, a geometry group of one sphere and an extra top-level key
+  holding one long list of numbers (eight to a line).
 
 Each reader then reads it in a fresh child process (``load_xrdf``, or ``load_yaml`` with
 ``--what yaml``), so that its peak memory is the child's ``ru_maxrss``:
@@ -18,14 +20,14 @@ Each reader then reads it in a fresh child process (``load_xrdf``, or ``load_yam
 * ``pyyaml``: the same one-pass reader on PyYAML's pure-Python parser (libyaml turned off): the
   baseline in the same run;
 * ``reference`` (``--reference``; minutes and gigabytes for big files): the reader as it was
-  before issue 13's change: PyYAML's composer and the per-node conversion
-  (``xrdf_tools.yaml.compose``, still used for documents with aliases), and for ``xrdf`` the
-  position index of every node that the model used to carry.
+  before the one-pass builder: PyYAML's composer and the per-node conversion (the tests'
+  reference, ``tests/yaml_reference.py``), and for ``xrdf`` the position index of every node
+  that the model used to carry.
 
 Prints ONE JSON line: the file's size, then per reader ``seconds`` (wall), ``cpu_seconds``,
 ``peak_rss_mib`` and ``import_rss_mib`` (the interpreter with xrdf_tools imported, before
-reading), and ``ratio`` = pyyaml / libyaml seconds (``reference_ratio`` likewise). Wall times
-are noisy on a shared machine; CPU seconds and ratios less so. ``float_parse_ns``, the time of
+reading), and ``ratio`` = pyyaml / libyaml CPU seconds (``reference_ratio`` likewise). Wall
+times are noisy on a shared machine; CPU seconds and ratios less so. ``float_parse_ns``, the time of
 ``float("0.12345")`` on this machine, says how fast it is (about 60 ns on a recent desktop).
 """
 
@@ -57,20 +59,32 @@ def _header() -> str:
     return text.replace("ur10e_collision_spheres", "big") + "\n"
 
 
-def _write_spheres(out: TextIO, size: int, rng: random.Random) -> None:
+def _write_spheres(
+    out: TextIO, size: int, rng: random.Random, aliases: int = 0, every: int = 1
+) -> None:
+    """``aliases``: the first sphere's radius is anchored and every ``every``-th sphere after it
+    takes it by alias, ``aliases`` times."""
     out.write("geometry:\n  big:\n    spheres:\n")
+    count = 0
     for k, link in enumerate(LINKS):
         out.write(f"      {link}:\n")
         budget = size * (k + 1) // len(LINKS) - size * k // len(LINKS)
         while budget > 0:
             x, y, z = (rng.uniform(-1, 1) for _ in range(3))
-            r = rng.uniform(0.01, 0.1)
-            entry = f"        - center: [{x:.5f}, {y:.5f}, {z:.5f}]\n          radius: {r:.4f}\n"
+            radius = f"{rng.uniform(0.01, 0.1):.4f}"
+            if aliases and count == 0:
+                radius = "&r " + radius
+            elif aliases and count % every == 0 and count // every <= aliases:
+                radius = "*r"
+            count += 1
+            entry = f"        - center: [{x:.5f}, {y:.5f}, {z:.5f}]\n          radius: {radius}\n"
             out.write(entry)
             budget -= len(entry)
 
 
 def _write_numbers(out: TextIO, size: int, rng: random.Random) -> None:
+    out.write("geometry:\n  big:\n    spheres:\n      tool0:\n")  # the group the header names
+    out.write("        - center: [0.0, 0.0, 0.0]\n          radius: 0.05\n")
     out.write("numbers: [\n")
     while size > 0:
         line = "  " + ", ".join(f"{rng.uniform(-100, 100):.5f}" for _ in range(8)) + ",\n"
@@ -85,7 +99,12 @@ def write_xrdf(path: Path, mib: float, kind: str) -> int:
     rng = random.Random(0)
     with open(path, "w", encoding="utf-8") as out:
         out.write(_header())
-        (_write_spheres if kind == "spheres" else _write_numbers)(out, size, rng)
+        if kind == "numbers":
+            _write_numbers(out, size, rng)
+        else:  # aliases: 9,000 spread over the file (at most 10,000 are read)
+            aliases = 9_000 if kind == "aliases" else 0
+            every = max(1, size // 75 // 9_000)  # a sphere takes about 75 bytes
+            _write_spheres(out, size, rng, aliases, every)
     return path.stat().st_size
 
 
@@ -99,13 +118,14 @@ def child(reader: str, path: str, what: str) -> dict[str, Any]:
     from xrdf_tools.util.frozen import FrozenMap
     from xrdf_tools.xrdf.io import load_xrdf, xrdf_from_document
     from xrdf_tools.yaml import build as yaml_build
-    from xrdf_tools.yaml.compose import compose_document
     from xrdf_tools.yaml.io import load_yaml, raise_on_duplicates, read_text
     from xrdf_tools.yaml.positions import node_positions
 
     import_rss = _rss_mib()
     wall, cpu = time.perf_counter(), time.process_time()
     if reader == "reference":
+        from tests.yaml_reference import compose_document
+
         doc = compose_document(read_text(path), path)
         raise_on_duplicates(doc)
         if what == "xrdf":
@@ -148,12 +168,14 @@ def float_parse_ns() -> float:
 def main() -> None:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--mib", type=float, default=16.0, help="file size in MiB (default 16)")
-    ap.add_argument("--kind", choices=("spheres", "numbers"), default="spheres")
+    ap.add_argument("--kind", choices=("spheres", "numbers", "aliases"), default="spheres")
     ap.add_argument("--what", choices=("xrdf", "yaml"), default="xrdf")
     ap.add_argument(
         "--readers", default="libyaml,pyyaml", help="comma-separated, of: " + ", ".join(READERS)
     )
-    ap.add_argument("--reference", action="store_true", help="also the reader before issue 13")
+    ap.add_argument(
+        "--reference", action="store_true", help="also the reader before the one-pass builder"
+    )
     ap.add_argument("--keep", type=Path, help="write the generated file here and keep it")
     ap.add_argument("--child", nargs=2, metavar=("READER", "FILE"), help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -183,7 +205,8 @@ def main() -> None:
         fast = out.get("libyaml", out.get("pyyaml"))
         for name, key in (("pyyaml", "ratio"), ("reference", "reference_ratio")):
             if fast is not None and name in out and out[name] is not fast:
-                out[key] = round(out[name]["seconds"] / max(fast["seconds"], 1e-9), 2)
+                cpu = out[name]["cpu_seconds"] / max(fast["cpu_seconds"], 1e-9)
+                out[key] = round(cpu, 2)
     print(json.dumps(out))
 
 

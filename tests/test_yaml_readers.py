@@ -1,11 +1,12 @@
-"""The YAML readers agree: libyaml's events, PyYAML's events and the reference composer give the
-same tree (values, positions, quoting, duplicate keys) or the same one-line error.
+"""The YAML reader agrees with the reference: the one-pass builder on libyaml's events, the same
+builder on PyYAML's events, and PyYAML's composer with a plain conversion give the same tree
+(values, positions, quoting, duplicate keys) or the same one-line error.
 
-``parse_yaml`` reads with the one-pass reader of ``xrdf_tools.yaml.build`` (libyaml when PyYAML
-has it, else PyYAML's parser; documents with aliases go to ``xrdf_tools.yaml.compose``). Each
-test reads its inputs three ways: ``libyaml`` (skipped when PyYAML has no libyaml), ``pyyaml``
-(libyaml turned off: the fallback) and ``reference`` (every document through the composer, as
-before the one-pass reader).
+``parse_yaml`` reads with the one-pass builder of ``xrdf_tools.yaml.build`` (libyaml's events
+when PyYAML has it, else PyYAML's; aliases included). Each test reads its inputs three ways:
+``libyaml`` (skipped when PyYAML has no libyaml), ``pyyaml`` (libyaml turned off: the
+fallback) and ``reference`` (``tests/yaml_reference.py``: PyYAML's composer and a per-node
+conversion, the reader before the one-pass builder).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import pytest
 import yaml
 
 from tests.fuzzing import _YAML_SNIPPETS, SEEDS, _mutate_text
+from tests.yaml_reference import compose_document
 from xrdf_tools.util.errors import XrdfToolsError, YamlError
 from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
 from xrdf_tools.yaml import build as yaml_build
@@ -36,8 +38,8 @@ MODES = ("libyaml", "pyyaml", "reference")
 needs_libyaml = pytest.mark.skipif(not yaml_build.HAVE_LIBYAML, reason="PyYAML without libyaml")
 
 
-def _to_reference(text: str, path: str, **_: Any) -> Any:
-    raise yaml_build.UsesAliases
+def _to_reference(source: str | bytes, path: str, **_: Any) -> Any:
+    return compose_document(source if isinstance(source, str) else source.decode("utf-8"), path)
 
 
 @contextlib.contextmanager
@@ -402,7 +404,7 @@ SPHERES = [
 @pytest.mark.parametrize("sphere", SPHERES, ids=range(len(SPHERES)))
 def test_spheres_read_the_same_from_compact_lists(sphere: str) -> None:
     """Lists of plain numbers are read from their values (YPlainSeq) by the fast paths of
-    the XRDF reader; the reference reader's YSeq takes the item-by-item checks: the same
+    the XRDF reader; the reference's YSeq takes the item-by-item checks: the same
     model or message."""
     text = (
         "format: xrdf\nformat_version: 2.0\n"

@@ -1,10 +1,13 @@
-"""One walk over an XRDF tree that reports where the file departs from its shape.
+"""The all-errors walker of the shape vocabulary (:mod:`xrdf_tools.yaml.shape`): one walk over an
+XRDF tree that reports every place where the file departs from its shape.
 
 The shape itself is described once, in :mod:`xrdf_tools.xrdf.shape` (the strict reader uses the
-same description). The walk yields :class:`SchemaEvent` items of three kinds, each consumed by
-one rule: ``type`` (``wrong-type``), ``missing`` (``required-key``) and ``unknown``
-(``unknown-key``). Version-specific keys (``collision``/``world_collision``, ``clone``,
-``remove_mimic_attributes``) are part of the shape for both versions; ``version-key`` judges them.
+same description; readers of foreign YAML use the first-error walker,
+:func:`xrdf_tools.yaml.shape.check_shape`). The walk yields :class:`SchemaEvent` items of
+three kinds, each consumed by one rule: ``type`` (``wrong-type``), ``missing``
+(``required-key``) and ``unknown`` (``unknown-key``). Version-specific keys
+(``collision``/``world_collision``, ``clone``, ``remove_mimic_attributes``) are part of the
+shape for both versions; ``version-key`` judges them.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from ..util.errors import shown_text
 from ..xrdf.nodes import FINITE, plain_number
 from ..xrdf.shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
 from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of
+from ..yaml.shape import MAPPINGS
 
 __all__ = ["DOCUMENT", "MODIFIERS", "SchemaEvent", "Shape", "walk"]
 
@@ -48,7 +52,7 @@ def walk(node: YNode | None, shape: Shape = DOCUMENT, kp: str = "") -> Iterator[
         if not shape.nullable:
             yield SchemaEvent("type", node, kp, f"{what} must not be null")
         return
-    if shape.kind in _MAPPING_KINDS and not isinstance(node, YMap):
+    if shape.kind in MAPPINGS and not isinstance(node, YMap):
         yield SchemaEvent("type", node, kp, f"{what} must be a mapping, not {describe_node(node)}")
         return
     yield from _WALKERS[shape.kind](node, shape, kp, what)
@@ -219,7 +223,6 @@ def _walk_fields(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[Sche
         yield from walk(val, sub, _child(kp, key))
 
 
-_MAPPING_KINDS = frozenset({"fields", "dict", "modifier"})
 _WALKERS: dict[str, _Walker] = {
     "any": _walk_any,
     "num": _walk_num,

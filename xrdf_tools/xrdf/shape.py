@@ -2,29 +2,35 @@
 of every value, fixed list lengths, where null is accepted and which keys exist in one XRDF
 version only.
 
+It is written in the shape vocabulary of every YAML input (:class:`~xrdf_tools.yaml.shape.Shape`):
+``fields`` sections (of which ``required`` keys must be present), ``dict`` mappings from names to
+values, lists (of a fixed ``length`` when set), names (``str``), finite numbers (``num``; with
+``metres``: a length or coordinate within ±:data:`MAX_LENGTH`), and the kinds only an XRDF has:
+``groupref`` (a group name, or a one-item list of one), ``buffers`` (a ``dict`` of lengths or a
+single length) and ``modifier`` (a one-key mapping naming one of :data:`MODIFIERS`).
+``versions`` says in which XRDF versions a key exists; ``length_rule`` which lint rule reports a
+list of the wrong length (``sphere-center`` words it for sphere centres).
+
 Two consumers read this description, each with its own wording:
 
 * the strict reader (:mod:`xrdf_tools.xrdf.read`) takes required keys, nullability, list lengths
   and the lengths-in-metres bound from it and raises one
   :class:`~xrdf_tools.util.errors.SchemaError` at the first departure it meets while building the
   model;
-* lint (:func:`xrdf_tools.lint.schema.walk`) reports every departure as a ``wrong-type``,
-  ``unknown-key`` or ``required-key`` finding, and ``version-key`` asks :func:`exists_in`.
+* lint's all-errors walker (:func:`xrdf_tools.lint.schema.walk`) reports every departure as a
+  ``wrong-type``, ``unknown-key`` or ``required-key`` finding, and ``version-key`` asks
+  :func:`exists_in`.
 
-:mod:`xrdf_tools.yaml.shape` is a different tool: a first-error check for *foreign* YAML (cuRobo
-configs, lint configuration). The XRDF needs kinds it does not have (a group reference, a
-buffer that is a number or a mapping, a one-key modifier) and facts it does not record
-(required keys, list lengths, versions), so it has its own small vocabulary here.
 ``python -m xrdf_tools.xrdf.schema`` turns this description into ``docs/xrdf.schema.json``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
-from typing import Literal
+from dataclasses import replace
 
-from ..yaml.io import YNode, YScalar, is_finite
+from ..yaml.io import YNode, YScalar
+from ..yaml.shape import Shape, is_name, is_number
 
 __all__ = [
     "DOCUMENT",
@@ -45,35 +51,6 @@ SUPPORTED_VERSIONS = ("1.0", "2.0")
 #: buffer distances, added frame positions): far beyond any robot, far below overflow.
 MAX_LENGTH = 1e6
 
-Kind = Literal["fields", "dict", "list", "str", "num", "groupref", "buffers", "modifier", "any"]
-
-
-@dataclass(frozen=True)
-class Shape:
-    """Expected shape of a node.
-
-    ``fields``: a mapping with known keys (``fields``, of which ``required`` must be present);
-    ``dict``: a mapping from names to ``values``; ``list``: a list of ``values`` (``length``
-    items when set); ``str``: a name; ``num``: a finite number (``metres``: a length or
-    coordinate, within ±:data:`MAX_LENGTH`); ``groupref``: a group name (or a one-item list of
-    one); ``buffers``: a ``dict`` of lengths or a single length; ``modifier``: a one-key mapping
-    naming one of :data:`MODIFIERS`; ``any``: not checked here. ``nullable``: null is accepted.
-
-    ``versions``: the XRDF versions in which the key holding this value exists (empty: all).
-    ``length_rule``: the lint rule that reports a list of the wrong length (``sphere-center``
-    words it for sphere centres; everywhere else it is ``wrong-type``).
-    """
-
-    kind: Kind
-    fields: Mapping[str, Shape] = field(default_factory=dict)
-    required: tuple[str, ...] = ()
-    values: Shape | None = None
-    length: int | None = None
-    nullable: bool = True
-    metres: bool = False
-    versions: tuple[str, ...] = ()
-    length_rule: str = "wrong-type"
-
 
 def version_string(node: YNode | None) -> str | None:
     """Normalise ``format_version`` (``1.0``, ``1``, ``"2.0"``) to ``"1.0"``/``"2.0"``."""
@@ -91,26 +68,6 @@ def exists_in(section: Shape, key: str, version: str) -> bool:
     """Whether ``key`` of ``section`` exists in XRDF ``version`` (unknown keys: False)."""
     sub = section.fields.get(key)
     return sub is not None and (not sub.versions or version in sub.versions)
-
-
-def is_name(node: YNode | None) -> bool:
-    """A usable name: a non-empty string, or a number (a frame called ``1`` is legal YAML)."""
-    if isinstance(node, YScalar):
-        v = node.value
-        if isinstance(v, str):
-            return v != ""
-        return isinstance(v, (int, float)) and not isinstance(v, bool)
-    return False
-
-
-def is_number(node: YNode | None, *, finite: bool = True) -> bool:
-    """A YAML number (not a boolean); ``finite``: NaN and infinities are not numbers here."""
-    if not isinstance(node, YScalar):
-        return False
-    v = node.value
-    if not isinstance(v, (int, float)) or isinstance(v, bool):
-        return False
-    return not finite or is_finite(v)
 
 
 NUM = Shape("num", nullable=False)

@@ -1,37 +1,32 @@
-"""One pass from parser events to the tree: the fast YAML reader of :mod:`xrdf_tools.yaml.io`.
+"""The YAML reader of :mod:`xrdf_tools.yaml.io`: one pass from parser events to the tree.
 
-The events come from libyaml's C parser when PyYAML has it (``yaml.__with_libyaml__``), else
-from PyYAML's pure-Python parser. :class:`_Builder` turns them straight into
-:class:`~xrdf_tools.yaml.tree.YNode` objects (no PyYAML node graph, no second walk), applying
-what the reference reader (:mod:`xrdf_tools.yaml.compose`) applies, in the same order, so the
-result and every message are the same:
+:class:`_Builder` turns parser events straight into :class:`~xrdf_tools.yaml.tree.YNode`
+objects (no PyYAML node graph, no second walk). It checks, in the order PyYAML's composer
+would, so every message and position is the one a plain compose-and-convert reader gives:
 
-* while reading: the nesting bound (at the node that goes too deep), a repeated anchor, a
-  second document (PyYAML's own wording), and any syntax error of the parser;
+* while reading: the nesting bound (at the node that goes too deep), a repeated anchor, the
+  alias count (at most ``MAX_ALIASES``), an undefined alias, a second document (PyYAML's own
+  wording), and any syntax error of the parser;
 * after the last event, the first problem in document order of the conversion: a scalar that
   is not what its tag says, a mapping or list used as a key. Duplicate keys are recorded in
   document order with the same key paths.
 
-A document that uses an alias is handed to the reference reader (:class:`UsesAliases`): the
-alias bounds and the expansion count are defined on its node graph.
+An alias is its anchor's node again (shared, not copied); a document that uses one gets the
+checks of :mod:`xrdf_tools.yaml.aliases` after its last event: what the aliases expand to is
+bounded, an alias inside its own anchor is an error, and the checks above run on the document
+as expanded (nesting through aliases, a key that is an alias of a mapping, repeated keys under
+each alias).
 
-libyaml and PyYAML's scanner disagree on a few inputs (both are YAML 1.1 parsers, written
-apart): a tab between tokens (PyYAML refuses it), a byte-order mark after the start (libyaml
-skips it, shifting columns), a text without a line break at its end (libyaml adds one, moving
-an empty value read there), a plain scalar holding ``:`` or ``?`` or an empty value inside
-``[]``/``{}`` (libyaml reads one scalar where PyYAML reads two nodes or an error; the column of
-the empty value differs by one), block scalar headers (libyaml takes ``>#``), tags (PyYAML's
-tag takes a following ``,``), anchor names, and every error message. So libyaml reads a
-document only when it has none of these (:func:`libyaml_may_read`, and :class:`Diverges`
-raised at the first such event); otherwise, or on any libyaml error, the document is read again
-with PyYAML's parser, whose answer is the reference one. The tests compare the three ways on
-the edge cases above and 600 mutated documents (``tests/test_yaml_readers.py``).
+One builder, two event sources (:mod:`xrdf_tools.yaml.events`): libyaml's C parser when PyYAML
+has it, else PyYAML's pure-Python parser, which also reads again the few documents libyaml
+reads differently (:class:`Diverges`). The tests compare both event sources with a plain
+compose-and-convert reference on edge cases, documents with aliases and 600 mutated documents
+(``tests/test_yaml_readers.py``, ``tests/test_yaml_aliases.py``).
 """
 
 from __future__ import annotations
 
 import gc
-import importlib
 import itertools
 import re
 from array import array
@@ -51,7 +46,9 @@ from yaml.events import (
 )
 
 from ..util.errors import YamlError
-from .rules import INT_TAG, MAX_DEPTH, error_at, plain_value, scalar_value
+from .aliases import AliasCycle, check_expansion, walk_expanded
+from .events import CParser, Diverges, PyParser, flow_risk, libyaml_may_read
+from .rules import INT_TAG, MAX_ALIASES, MAX_DEPTH, error_at, plain_value, scalar_value
 from .tree import (
     DuplicateKey,
     YamlDocument,
@@ -63,18 +60,6 @@ from .tree import (
     new_seq,
 )
 
-
-def _libyaml_parser() -> Any:
-    """libyaml's parser class, or None when PyYAML was built without libyaml (PyYAML's own
-    parser then reads everything)."""
-    try:
-        return importlib.import_module("yaml._yaml").CParser
-    except ImportError:
-        return None
-
-
-CParser: Any = _libyaml_parser()
-
 #: Whether libyaml is available to :func:`read_document` (tests and benchmarks turn it off).
 HAVE_LIBYAML = CParser is not None
 
@@ -83,46 +68,6 @@ _KEEP_ARRAY = 64
 
 # A key that makes ``a.b`` / ``a[0]`` / ``a#key`` paths ambiguous (see yaml.positions).
 _ODD_KEY = re.compile(r"[.\[\]#]")
-
-
-class UsesAliases(Exception):
-    """The document uses an alias: the reference reader reads it."""
-
-
-class Diverges(Exception):
-    """libyaml may read this document differently from PyYAML's parser."""
-
-
-class PyParser(yaml.reader.Reader, yaml.scanner.Scanner, yaml.parser.Parser):
-    """PyYAML's pure-Python reader, scanner and parser: the reference events."""
-
-    def __init__(self, stream: str) -> None:
-        yaml.reader.Reader.__init__(self, stream)
-        yaml.scanner.Scanner.__init__(self)
-        yaml.parser.Parser.__init__(self)
-
-
-#: Line breaks (libyaml moves the end of a text that does not end with one to a new line,
-#: which moves an empty value read there).
-_BREAKS = ("\n", "\r", "\x85", "\u2028", "\u2029")
-_BREAKS_UTF8 = tuple(b.encode() for b in _BREAKS)
-_BOM_UTF8 = "\ufeff".encode()
-
-
-def libyaml_may_read(source: str | bytes) -> bool:
-    """False when the document (text, or its UTF-8 bytes) has a tab, a byte-order mark past
-    the start or no line break at its end, where libyaml and PyYAML read differently (the
-    other differences are found in the events)."""
-    if isinstance(source, bytes):
-        ends, tab, bom = source.endswith(_BREAKS_UTF8), b"\t" in source, source.find(_BOM_UTF8, 1)
-    else:
-        ends, tab, bom = source.endswith(_BREAKS), "\t" in source, source.find("\ufeff", 1)
-    return ends and not tab and bom < 0
-
-
-def _flow_risk(text: str) -> bool:
-    """An untagged plain scalar inside ``[]``/``{}`` that libyaml and PyYAML may read apart."""
-    return not text or ":" in text or "?" in text
 
 
 def _may_repeat(items: list[YNode]) -> bool:
@@ -144,9 +89,11 @@ class _Frame:
     turns them into nodes (:meth:`unpack`).
     """
 
-    __slots__ = ("col", "flow", "is_map", "items", "line", "positions", "slot", "values")
+    __slots__ = ("anchor", "col", "flow", "is_map", "items", "line", "positions", "slot", "values")
 
-    def __init__(self, line: int, col: int, flow: bool, is_map: bool, slot: int) -> None:
+    def __init__(
+        self, line: int, col: int, flow: bool, is_map: bool, slot: int, anchor: str | None
+    ) -> None:
         self.items: list[YNode] = []
         self.values: list[Any] | None = None if is_map else []
         # packed positions in an array: no int object kept per item while the list is read
@@ -156,6 +103,7 @@ class _Frame:
         self.flow = flow
         self.is_map = is_map
         self.slot = slot
+        self.anchor = anchor
 
     def unpack(self) -> None:
         """Keep the items as nodes from now on (the YScalar nodes a YPlainSeq would make)."""
@@ -190,7 +138,12 @@ class _Builder:
         self.root: YNode | None = None
         self.error: YamlError | None = None
         self.dups: list[DuplicateKey] = []
-        self.anchors: dict[str, Any] = {}
+        self.anchors: dict[str, Any] = {}  # name -> the mark of its node
+        # name -> its node (None while the node is read); the bad scalars' errors by node id
+        self.anchored: dict[str, YNode | None] = {}
+        self.bad: dict[int, YamlError] = {}
+        self._bad_scalar: YamlError | None = None
+        self.aliases = 0
         self.keys: dict[tuple[str, bool], tuple[Any]] = {}
         self.simple_keys = True
         self._mark_line = -1
@@ -226,10 +179,19 @@ class _Builder:
                 "but found another document",
                 event.start_mark,
             )
+        if self.aliases:
+            return self._expanded()
         if self.error is not None:
             raise self.error
         self.dups.sort(key=lambda d: (d.line, d.col))
         return YamlDocument(self.path, self.root, tuple(self.dups), self.simple_keys)
+
+    def _expanded(self) -> YamlDocument:
+        """The document with aliases, checked as :mod:`xrdf_tools.yaml.aliases` says."""
+        assert self.root is not None
+        check_expansion(self.root, self.path, self.anchored)
+        dups = walk_expanded(self.root, self.path, self.bad)
+        return YamlDocument(self.path, self.root, dups)
 
     # --- events --------------------------------------------------------------------------------
     def _enter(self, event: Any) -> tuple[int, int]:
@@ -256,7 +218,7 @@ class _Builder:
             or event.anchor is not None
             or style == "|"
             or style == ">"
-            or (top is not None and top.flow and not style and _flow_risk(text))
+            or (top is not None and top.flow and not style and flow_risk(text))
         ):
             raise Diverges
         # _enter, inlined (a big file is mostly scalars)
@@ -276,7 +238,10 @@ class _Builder:
             else:
                 value = self._tagged(tag, text, line, col)
                 self.simple_keys = False
-            top.items.append(new_scalar(line, col, value, quoted))
+            node = new_scalar(line, col, value, quoted)
+            top.items.append(node)
+            if event.anchor is not None or self._bad_scalar is not None:
+                self._note(node, event.anchor)
             return
         if tag is not None and tag != "!":
             value = self._tagged(tag, text, line, col)
@@ -287,15 +252,20 @@ class _Builder:
                 value = plain_value(text)
             except ValueError:  # an int of more digits than Python converts: as scalar_value
                 value = self._tagged(INT_TAG, text, line, col)
+        special = event.anchor is not None or self._bad_scalar is not None
         if top is None:
-            self.root = new_scalar(line, col, value, quoted)
-        elif top.values is not None and not quoted:  # a sequence of plain scalars so far
+            node = self.root = new_scalar(line, col, value, quoted)
+        elif top.values is not None and not quoted and not special:  # plain scalars so far
             top.values.append(value)
             top.positions.append((line << 32) | col)  # type: ignore[union-attr]
+            return
         else:
             if top.values is not None:
                 top.unpack()
-            top.items.append(new_scalar(line, col, value, quoted))
+            node = new_scalar(line, col, value, quoted)
+            top.items.append(node)
+        if special:
+            self._note(node, event.anchor)
 
     def start_sequence(self, event: Any) -> None:
         self._start(event, False)
@@ -314,12 +284,18 @@ class _Builder:
             if top.values is not None:
                 top.unpack()
             slot = len(top.items)
-        stack.append(_Frame(line, col, bool(event.flow_style), is_map, slot))
+        anchor = event.anchor
+        if anchor is not None:
+            self.anchored[anchor] = None  # an alias to it from inside is a cycle
+        stack.append(_Frame(line, col, bool(event.flow_style), is_map, slot, anchor))
 
     def end(self, event: Any) -> None:
         frame = self.stack.pop()
         node = frame.node()
+        if frame.anchor is not None:
+            self.anchored[frame.anchor] = node
         repeats = frame.is_map and len(frame.items) > 2 and self.error is None
+        repeats = repeats and not self.aliases  # (an alias's keys: checked at the end)
         if repeats and _may_repeat(frame.items):
             self._find_duplicates(frame, node.pairs)  # type: ignore[attr-defined]
         stack = self.stack
@@ -329,7 +305,7 @@ class _Builder:
         top = stack[-1]
         if top.is_map and not len(top.items) & 1:
             self.simple_keys = False
-            if self.error is None:
+            if self.error is None and not self.aliases:
                 kind = "mapping" if frame.is_map else "list"
                 self.error = YamlError(
                     f"a {kind} is used as a mapping key; keys must be names or numbers",
@@ -340,9 +316,41 @@ class _Builder:
         top.items.append(node)
 
     def alias(self, event: Any) -> None:
-        raise UsesAliases
+        """An alias: its anchor's node again (checked once the document is read)."""
+        if self.libyaml:
+            raise Diverges  # anchor names and messages: PyYAML's
+        mark = event.start_mark
+        self.aliases += 1
+        if self.aliases > MAX_ALIASES:
+            raise error_at(self.path, mark, f"more than {MAX_ALIASES} aliases")
+        if len(self.stack) >= MAX_DEPTH:
+            raise error_at(self.path, mark, f"nesting deeper than {MAX_DEPTH} levels")
+        line, col = mark.line + 1, mark.column + 1
+        name: str = event.anchor  # the name the alias refers to
+        if name not in self.anchored:
+            raise ComposerError(None, None, f"found undefined alias {name!r}", mark)
+        node = self.anchored[name]
+        if node is None:
+            node = AliasCycle(line, col, name)
+        self.simple_keys = False
+        stack = self.stack
+        if not stack:
+            self.root = node
+            return
+        top = stack[-1]
+        if top.values is not None:
+            top.unpack()
+        top.items.append(node)
 
     # --- helpers -------------------------------------------------------------------------------
+    def _note(self, node: YScalar, anchor: str | None) -> None:
+        """Record an anchored scalar, and the error of a scalar that is not what its tag says."""
+        if anchor is not None:
+            self.anchored[anchor] = node
+        if self._bad_scalar is not None:
+            self.bad[id(node)] = self._bad_scalar
+            self._bad_scalar = None
+
     def _anchor(self, name: str, mark: Any) -> None:
         first = self.anchors.get(name)
         if first is not None:
@@ -360,6 +368,7 @@ class _Builder:
         except YamlError as e:
             if self.error is None:
                 self.error = e
+            self._bad_scalar = e
             return text
 
     def _key(self, text: str, plain: bool, line: int, col: int) -> Any:
@@ -394,7 +403,7 @@ class _Builder:
             self.dups.append(dup)
 
     def _key_path(self, frame: _Frame) -> str:
-        """The key path of the node ``frame`` builds, as the reference reader spells it."""
+        """The key path of the node ``frame`` builds, as :func:`walk_expanded` spells it."""
         frames = [*self.stack, frame]
         key_path = ""
         for parent, child in itertools.pairwise(frames):
@@ -415,13 +424,14 @@ def read_document(source: str | bytes, path: str, *, libyaml: bool | None = None
     ``source``: the text, or its UTF-8 bytes (already checked: libyaml reads them as they are,
     so a big file is not held twice while it is read).
 
-    Raises :class:`UsesAliases` for a document with an alias, PyYAML's errors for syntax
-    errors and :class:`YamlError` for the bounds and bad scalars. ``libyaml``: None uses it
+    Raises PyYAML's errors for syntax errors (and an undefined alias or a repeated anchor) and
+    :class:`YamlError` for the bounds and bad scalars. ``libyaml``: None uses it
     when available (:data:`HAVE_LIBYAML`); False forces PyYAML's parser.
     """
     use_c = HAVE_LIBYAML if libyaml is None else libyaml and CParser is not None
-    # The tree has no reference cycles: the cyclic collector, triggered again and again by
-    # millions of new nodes, would only walk them (a third of the time of a big file).
+    # The tree has no reference cycles (an alias shares an earlier, finished node): the cyclic
+    # collector, triggered again and again by millions of new nodes, would only walk them (a
+    # third of the time of a big file).
     collecting = gc.isenabled()
     gc.disable()
     try:

@@ -16,10 +16,10 @@ times :data:`MAX_AMPLIFICATION`, so a kilobyte of nested anchors ("billion laugh
 once; an alias inside its own anchor and a mapping used as a key are errors. Files are read
 through :mod:`xrdf_tools.util.fileio` (regular files only, size limit).
 
-Two readers give the same trees and messages: the one-pass reader of
-:mod:`xrdf_tools.yaml.build` (libyaml's C parser when PyYAML has it, else PyYAML's parser) reads
-documents without aliases, about ten times faster than the reference reader of
-:mod:`xrdf_tools.yaml.compose` (PyYAML's composer), which reads the documents with aliases.
+One reader builds the tree: the one-pass builder of :mod:`xrdf_tools.yaml.build`, fed by
+libyaml's C parser when PyYAML has it and by PyYAML's own parser otherwise (and for the few
+documents libyaml reads differently); aliases are read there too and checked by
+:mod:`xrdf_tools.yaml.aliases`.
 """
 
 from __future__ import annotations
@@ -33,8 +33,7 @@ import yaml
 from ..util.errors import YamlError, shown_text
 from ..util.fileio import decode_utf8, read_input_bytes, read_input_text
 from ..util.fileio import write_atomic as write_atomic
-from .build import UsesAliases, read_document
-from .compose import compose_document
+from .build import read_document
 from .positions import NodePositions, node_positions, positions_of
 from .rules import MAX_ALIASES, MAX_AMPLIFICATION, MAX_DEPTH, MAX_EXPANDED_NODES
 from .tree import (
@@ -122,11 +121,7 @@ def parse_yaml(text: str | bytes, path: str = "<string>") -> YamlDocument:
     )
     del text  # a big file's text is not kept while libyaml reads its bytes
     try:
-        try:
-            return read_document(source, path)
-        except UsesAliases:
-            plain = source if isinstance(source, str) else source.decode("utf-8")
-            return compose_document(plain, path)
+        return read_document(source, path)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         problem = exc.problem or exc.context or "invalid YAML"

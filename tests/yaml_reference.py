@@ -1,11 +1,12 @@
-"""The reference YAML reader: PyYAML's pure-Python composer, bounded, then converted to our tree.
+"""The reference YAML reader of the tests: PyYAML's pure-Python composer, bounded, then
+converted to the tree of :mod:`xrdf_tools.yaml.tree`.
 
-This is how :mod:`xrdf_tools.yaml.io` read every document before the one-pass reader of
-:mod:`xrdf_tools.yaml.build`; it now reads the documents that use aliases (the one-pass reader
-hands them over), and the tests compare both readers on the same inputs. It composes PyYAML's
-node graph (an alias is a second reference to its anchor's node), bounds nesting and alias
-uses while composing, bounds what the aliases expand to, then converts the graph to a tree of
-:class:`~xrdf_tools.yaml.tree.YNode` with duplicate keys recorded.
+This is how every document was read before the one-pass reader of
+:mod:`xrdf_tools.yaml.build`; ``tests/test_yaml_readers.py`` and ``tests/test_yaml_aliases.py``
+compare the two on the same inputs. It composes PyYAML's node graph (an alias is a second
+reference to its anchor's node), bounds nesting and alias uses while composing, bounds what the
+aliases expand to, then converts the graph to a tree of :class:`~xrdf_tools.yaml.tree.YNode`
+with duplicate keys recorded.
 """
 
 from __future__ import annotations
@@ -14,8 +15,8 @@ from typing import Any
 
 import yaml
 
-from ..util.errors import YamlError
-from .rules import (
+from xrdf_tools.util.errors import YamlError
+from xrdf_tools.yaml.rules import (
     MAX_ALIASES,
     MAX_AMPLIFICATION,
     MAX_DEPTH,
@@ -24,7 +25,7 @@ from .rules import (
     error_at,
     scalar_value,
 )
-from .tree import DuplicateKey, YamlDocument, YMap, YNode, YScalar, YSeq
+from xrdf_tools.yaml.tree import DuplicateKey, YamlDocument, YMap, YNode, YScalar, YSeq
 
 
 class _Composer12(
