@@ -23,7 +23,8 @@ Rows (one JSON object per line on stdout):
   no slower).
 
 Run: ``python benchmarks/bench_spheres.py [--robots panda ur5 kinova tiago_base]
-[--total N ...] [--samples N] [--seed S]``. Needs ``morphit-rs`` (the ``dev`` extra); threads
+[--total N ...] [--samples N] [--seed S]``; ``--png FILE`` draws two Panda links instead
+(docs/images/spheres_vs_morphit.png). Needs ``morphit-rs`` (the ``dev`` extra); threads
 are pinned to one so both timings are single-core.
 """
 
@@ -223,12 +224,71 @@ def bench_robot(name: str, total: int, samples: int, seed: int) -> list[dict[str
     return rows
 
 
+def render_png(path: Path, links: list[str], total: int, seed: int, samples: int) -> None:
+    """Panda links side by side: our fit at MorphIt's protrusion (left) and MorphIt's (right),
+    same counts as the ``total`` run, each sphere drawn over the link's mesh."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from xrdf_tools.spheres import link_seed
+    from xrdf_tools.spheres.geometry import load_link_geometry
+    from xrdf_tools.spheres.metrics import measure
+
+    geoms, _ = load_link_geometry(_robots() / ROBOTS["panda"][0])
+    counts = split_counts({k: float(g.solid.volume) for k, g in geoms.items()}, total)
+    fig = plt.figure(figsize=(4.2 * 2, 3.8 * len(links)), dpi=110)
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 24), np.linspace(0, np.pi, 12))
+    for row, link in enumerate(links):
+        g = geoms[link]
+        peer, _ = morphit_fit(g.solid, counts[link], seed)
+        m_peer, _ = measure(g.solid, peer, samples=samples, seed=link_seed(seed, link))
+        tau = equal_p95_budget(g, counts[link], seed, m_peer.protrusion_p95, samples)
+        ours, _ = _ours({link: g}, {link: counts[link]}, seed, tau)
+        m_ours, _ = measure(g.solid, ours[link], samples=samples, seed=link_seed(seed, link))
+        for col, (name, spheres, m) in enumerate(
+            (("ours", ours[link], m_ours), ("MorphIt", peer, m_peer))
+        ):
+            ax = fig.add_subplot(len(links), 2, 2 * row + col + 1, projection="3d")
+            tris = np.asarray(g.solid.vertices)[np.asarray(g.solid.faces)]
+            ax.add_collection3d(
+                Poly3DCollection(tris, facecolor=(0.6, 0.6, 0.6, 0.25), edgecolor="none")
+            )
+            for s in spheres:
+                c, r = np.asarray(s.center), s.radius
+                ax.plot_surface(
+                    c[0] + r * np.cos(u) * np.sin(v),
+                    c[1] + r * np.sin(u) * np.sin(v),
+                    c[2] + r * np.cos(v),
+                    color=(0.15, 0.4, 0.85) if col == 0 else (0.85, 0.35, 0.15),
+                    alpha=0.35,
+                    linewidth=0,
+                )
+            lo, hi = np.asarray(g.solid.bounds)
+            mid, half = (lo + hi) / 2, float((hi - lo).max()) / 2 * 1.15
+            for setter, k in ((ax.set_xlim, 0), (ax.set_ylim, 1), (ax.set_zlim, 2)):
+                setter(mid[k] - half, mid[k] + half)
+            ax.set_box_aspect((1, 1, 1))
+            ax.set_axis_off()
+            ax.set_title(
+                f"{link}, {name}: {len(spheres)} spheres\n"
+                f"coverage {m.coverage:.3f}, protrusion p95 {m.protrusion_p95 * 1000:.1f} mm",
+                fontsize=9,
+            )
+    fig.tight_layout()
+    fig.savefig(path)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=list(ROBOTS))
     ap.add_argument("--total", type=int, nargs="+", help="total spheres (default per robot)")
     ap.add_argument("--samples", type=int, default=20_000, help="metric samples per link")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--png", type=Path, help="also draw Panda links, ours beside MorphIt's")
     args = ap.parse_args()
     try:
         import morphit_rs
@@ -240,6 +300,9 @@ def main() -> int:
     if not (_robots() / ROBOTS["panda"][0]).exists():
         print(f"example-robot-data not installed ({_robots()})", file=sys.stderr)
         return 2
+    if args.png is not None:
+        render_png(args.png, ["panda_link0", "panda_hand"], 57, args.seed, args.samples)
+        return 0
     for name in args.robots:
         for total in args.total or ROBOTS[name][2]:
             for row in bench_robot(name, total, args.samples, args.seed):

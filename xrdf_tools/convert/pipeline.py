@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 
     from ..report import Report, Sampler
     from ..robot.link_geometry import GeometryChoice
+    from ..spheres.fit import Plane
     from ..xrdf.model import Sphere, Xrdf
 
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
@@ -55,6 +56,8 @@ class FitOptions:
     seed: int = 0
     per_link: int | None = None
     max_protrusion: float | None = None
+    sphere_budget: int | None = None
+    clips: Mapping[str, Sequence[Plane]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -192,6 +195,8 @@ def fit_missing_spheres(
         robot,
         links=todo,
         per_link=fit.per_link,
+        count=fit.sphere_budget,
+        clips=fit.clips,
         seed=fit.seed,
         max_protrusion=fit.max_protrusion,
         progress=step,

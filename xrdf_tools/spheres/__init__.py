@@ -18,7 +18,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..util.frozen import FrozenMap

@@ -44,6 +44,7 @@ IntArray = npt.NDArray[np.uint8]
 
 VOLUME_WEIGHT = 0.9
 DEFAULT_PROTRUSION_FRACTION = 0.06
+MIN_DEFAULT_PROTRUSION = 0.002
 _GRID_CELLS = 48
 _SURFACE_DENSE = 8_000
 _COVER_BLOCK = 32
@@ -54,8 +55,11 @@ Plane = tuple[tuple[float, float, float], float]
 
 
 def default_max_protrusion(solid: trimesh.Trimesh) -> float:
-    """The default protrusion budget: 6 % of the cube root of the solid's volume (metres)."""
-    return float(DEFAULT_PROTRUSION_FRACTION * float(abs(solid.volume)) ** (1.0 / 3.0))
+    """The default protrusion budget: 6 % of the cube root of the solid's volume, at least
+    ``MIN_DEFAULT_PROTRUSION`` (metres): a finger or a thin rod would otherwise need many
+    tiny spheres for little gain."""
+    scaled = DEFAULT_PROTRUSION_FRACTION * float(abs(solid.volume)) ** (1.0 / 3.0)
+    return float(max(scaled, MIN_DEFAULT_PROTRUSION))
 
 
 @dataclass

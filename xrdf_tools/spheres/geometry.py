@@ -81,17 +81,10 @@ def is_volume(mesh: trimesh.Trimesh) -> bool:
 def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
     """The convex hull of ``mesh`` as a closed solid, or None when it is flat or degenerate.
 
-    trimesh's own hull is tried first; when it comes out not watertight (qhull's facets merged
-    into a non-manifold surface, as on some dense CAD meshes) the hull is rebuilt from scipy's
-    triangulated facets with consistent normals."""
+    Built from qhull's triangulated facets with consistent normals (trimesh's own hull, tried
+    second, merges facets into a non-manifold surface on some dense CAD meshes)."""
     import trimesh
 
-    try:
-        hull: trimesh.Trimesh = mesh.convex_hull
-        if is_volume(hull):
-            return hull
-    except Exception:  # qhull fails on flat or degenerate parts: try the rebuild below
-        pass
     try:
         from scipy.spatial import ConvexHull
 
@@ -99,9 +92,15 @@ def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
         rebuilt = trimesh.Trimesh(mesh.vertices, ch.simplices, process=True)
         rebuilt.remove_unreferenced_vertices()
         rebuilt.fix_normals()
-    except Exception:  # flat, collinear or too few points: no hull
+        if is_volume(rebuilt):
+            return rebuilt
+    except Exception:  # flat, collinear or too few points: try trimesh's hull below
+        pass
+    try:
+        hull: trimesh.Trimesh = mesh.convex_hull
+    except Exception:  # qhull fails on flat or degenerate parts: no hull
         return None
-    return rebuilt if is_volume(rebuilt) else None
+    return hull if is_volume(hull) else None
 
 
 def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
@@ -150,7 +149,8 @@ def _solidify(
     closed: list[trimesh.Trimesh] = []
     how: list[str] = []
     for part in parts:
-        got = _closed_part(part)
+        with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
+            got = _closed_part(part)
         if got is not None:
             closed.append(got[0])
             how.append(got[1])

@@ -80,6 +80,24 @@ def solid_key(solid: trimesh.Trimesh) -> str:
     return h.hexdigest()
 
 
+def parse_clip(text: str) -> tuple[str, Plane]:
+    """``LINK:nx,ny,nz,d`` as ``(link, ((nx, ny, nz) normalised, d scaled alike))``: the
+    spheres of LINK keep ``n . centre - radius >= d`` (link frame, metres)."""
+    link, sep, numbers = text.rpartition(":")
+    parts = numbers.split(",")
+    if not sep or not link or len(parts) != 4:
+        raise XrdfToolsError(f"clip '{text}': expected LINK:nx,ny,nz,d (e.g. base_link:0,0,1,0)")
+    try:
+        values = [float(v) for v in parts]
+    except ValueError:
+        raise XrdfToolsError(f"clip '{text}': nx, ny, nz and d must be numbers") from None
+    norm = math.sqrt(sum(v * v for v in values[:3]))
+    if not all(math.isfinite(v) for v in values) or norm == 0.0:
+        raise XrdfToolsError(f"clip '{text}': the normal must be finite and non-zero")
+    nx, ny, nz = (v / norm for v in values[:3])
+    return link, ((nx, ny, nz), values[3] / norm)
+
+
 def check_counts(
     per_link: int | Mapping[str, int] | None, count: int | None, density: float | None
 ) -> None:
@@ -136,19 +154,21 @@ class CountPolicy:
 
 def _fewest_reaching(fitter: SphereFitter, target: float) -> tuple[tuple[Sphere, ...], float]:
     """The fewest refined spheres (up to AUTO_MAX_PER_LINK) covering ``target`` of the volume
-    samples: the greedy count, then one fewer while the refined fit still reaches it."""
+    samples: the greedy count is an upper bound (refinement only adds coverage), and a
+    bisection below it with refined fits finds the fewest."""
     curve = fitter.greedy(AUTO_MAX_PER_LINK)[1]
     reach = [k + 1 for k, c in enumerate(curve) if c >= target]
-    k = reach[0] if reach else AUTO_MAX_PER_LINK
-    best = fitter.fit(k)
-    share = fitter.covered_share(best)
-    while k > 1:
-        fewer = fitter.fit(k - 1)
-        got = fitter.covered_share(fewer)
-        if got < target:
-            break
-        best, share, k = fewer, got, k - 1
-    return best, share
+    hi = reach[0] if reach else AUTO_MAX_PER_LINK
+    fits = {hi: fitter.fit(hi)}
+    lo = 0  # lo spheres do not reach the target (0 never does), hi do (or hi is the cap)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        fits[mid] = fitter.fit(mid)
+        if fitter.covered_share(fits[mid]) >= target:
+            hi = mid
+        else:
+            lo = mid
+    return fits[hi], fitter.covered_share(fits[hi])
 
 
 def _info(path: str, line: int | None, rule: str, message: str, warn: bool = False) -> Diagnostic:
@@ -189,6 +209,11 @@ def fit_robot(
             f"count {counts.count} is less than the number of links to fit ({len(geoms)})"
         )
     path = robot.path if isinstance(robot, Robot) else os.fspath(robot)
+    stray = [k for k in clips or {} if k not in geoms]
+    if stray:
+        raise XrdfToolsError(
+            f"clip plane(s) for link(s) without geometry to fit: {', '.join(stray)}"
+        )
     plans = _plan(geoms, max_protrusion, clips or {}, seed)
     fitters: dict[str, SphereFitter] = {}
     seconds: dict[str, float] = {}
