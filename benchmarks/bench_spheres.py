@@ -140,7 +140,7 @@ def equal_p95_budget(geom: Any, k: int, seed: int, p95: float, samples: int) -> 
     lo, hi = 0.7, 1.6
     if p95 <= 0.0 or p95_at(lo) > p95:
         return p95 * lo
-    for _ in range(4):
+    for _ in range(6):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if p95_at(mid) <= p95 else (lo, mid)
     return p95 * lo
