@@ -54,8 +54,7 @@ def test_part_without_volume_is_fitted_to_its_hull_and_said_so() -> None:
     spheres = result.spheres["gripperStator"]
     assert result.kinds["gripperStator"] == "convex_hull"
     assert any(
-        d.rule == "spheres-convex-hull" and "gripperStator" in d.message
-        for d in result.diagnostics
+        d.rule == "spheres-convex-hull" and "gripperStator" in d.message for d in result.diagnostics
     )
     solid = result.geometry["gripperStator"].solid
     assert solid.is_volume and np.allclose(solid.extents, [0.156, 0.082, 0.06885], atol=1e-3)
@@ -126,7 +125,10 @@ def _policy(target: float) -> object:
 def test_links_that_share_a_mesh_are_fitted_once(tmp_path: Path) -> None:
     mesh = trimesh.creation.box(extents=[0.1, 0.04, 0.04])
     mesh.export(tmp_path / "part.stl")
-    link = '<link name="{}"><collision><geometry><mesh filename="part.stl"/></geometry></collision></link>'
+    link = (
+        '<link name="{}"><collision><geometry><mesh filename="part.stl"/></geometry>'
+        "</collision></link>"
+    )
     (tmp_path / "r.urdf").write_text(
         '<robot name="r">'
         + "".join(link.format(n) for n in ("a", "b", "c"))
@@ -191,10 +193,8 @@ def test_cli_metrics_as_json_with_every_field(tmp_path: Path) -> None:
 def test_cli_clip_and_bad_clip(tmp_path: Path) -> None:
     urdf = str(robot_urdf("panda"))
     out = tmp_path / "p.xrdf"
-    res = runner.invoke(
-        app, ["spheres", urdf, "--links", "panda_link0", "--clip", "panda_link0:0,0,1,0.05"]
-        + ["-o", str(out)]
-    )
+    args = ["spheres", urdf, "--links", "panda_link0", "--clip", "panda_link0:0,0,1,0.05"]
+    res = runner.invoke(app, [*args, "-o", str(out)])
     assert res.exit_code == 0, res.output
     from xrdf_tools.xrdf.io import load_xrdf
 
