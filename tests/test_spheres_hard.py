@@ -202,3 +202,12 @@ def test_cli_clip_and_bad_clip(tmp_path: Path) -> None:
     assert spheres and all(s.center[2] - s.radius >= 0.05 - 1e-9 for s in spheres)
     res = runner.invoke(app, ["spheres", urdf, "--clip", "panda_link0:0,0,1"])
     assert res.exit_code == 2 and "LINK:nx,ny,nz,d" in res.output
+
+
+def test_clip_plane_beyond_the_whole_link_is_reported() -> None:
+    urdf = robot_urdf("panda")
+    clips = {"panda_link1": [((0.0, 0.0, 1.0), 5.0)]}  # everything lies below z = 5 m
+    fitted, diags = fit_link_spheres(urdf, links=["panda_link1"], per_link=2, clips=clips)
+    assert fitted == {}
+    assert [d.rule for d in diags] == ["spheres-target-missed"]
+    assert "clip planes" in diags[0].message

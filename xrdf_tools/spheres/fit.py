@@ -246,7 +246,7 @@ class SphereFitter:
         covered = np.zeros(len(self.points), dtype=bool)
         picks: list[int] = []
         curve: list[float] = []
-        for _ in range(k):
+        for _ in range(0 if self.empty else k):
             gain = self._gains(self._cand_packed, ~covered)
             if picks:
                 gain[picks] = -1.0

@@ -298,6 +298,18 @@ def _fit_one(
     diags: list[Diagnostic],
 ) -> tuple[Sphere, ...]:
     """One link's spheres: ``k`` of them, or the fewest reaching the coverage target."""
+    if fitter.empty and k != 0:
+        diags.append(
+            _info(
+                path,
+                geom.line,
+                RULE_TARGET_MISSED,
+                f"link '{geom.link}': nothing of it lies on the kept side of its clip planes; "
+                "no spheres",
+                warn=True,
+            )
+        )
+        return ()
     size = float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
     if size < PLACEHOLDER_SIZE and (k is None or k > 1):
         diags.append(
