@@ -187,7 +187,15 @@ def test_cli_metrics_as_json_with_every_field(tmp_path: Path) -> None:
     }
     assert fields <= set(doc["overall"])
     assert doc["overall"]["sphere_count"] == 6
+    assert {m["solid"] for m in doc["links"].values()} == {"mesh"}
     assert all(m["fit_seconds"] > 0 for m in doc["links"].values())
+
+
+def test_cli_names_the_solid_a_thin_shell_was_measured_against() -> None:
+    urdf = _robot("tiago_description/robots/tiago.urdf")
+    res = runner.invoke(app, ["spheres", str(urdf), "--links", "base_link", "--per-link", "4"])
+    assert res.exit_code == 0, res.output
+    assert "base_link: convex_hull" in res.output
 
 
 def test_cli_clip_and_bad_clip(tmp_path: Path) -> None:

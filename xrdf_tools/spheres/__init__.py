@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 from ..diagnostics import Diagnostic, Severity
@@ -163,7 +163,8 @@ def measure_links(
     samples: int,
     seed: int,
 ) -> tuple[dict[str, SphereMetrics], SphereMetrics]:
-    """Per-link metrics for ``geoms`` and the pooled overall metrics."""
+    """Per-link metrics for ``geoms`` and the pooled overall metrics; ``solid`` says what each
+    link was measured against (``LinkGeometry.kind``)."""
     from .metrics import measure, pooled
 
     per: dict[str, SphereMetrics] = {}
@@ -172,7 +173,7 @@ def measure_links(
         m, pool = measure(
             g.solid, spheres.get(name, ()), samples=samples, seed=link_seed(seed, name)
         )
-        per[name] = m
+        per[name] = replace(m, solid=g.kind) if m.solid == "mesh" else m
         pools.append(pool)
     return per, pooled(list(per.values()), pools)
 

@@ -40,7 +40,7 @@ __all__ = ["LinkGeometry", "is_volume", "load_link_geometry"]
 SolidKind = Literal["mesh", "union", "convex_hull", "bounding_box"]
 
 #: A closed solid with less than this share of its convex hull's volume is a thin shell.
-THIN_SHELL_RATIO = 0.25
+THIN_SHELL_RATIO = 0.4
 #: The thinnest bounding box a flat part becomes (metres).
 MIN_THICKNESS = 0.002
 
