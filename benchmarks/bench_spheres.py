@@ -1,34 +1,38 @@
-"""Sphere fitting quality and speed on the Franka Panda, next to the hand-tuned anchor.
+"""Sphere fitting against MorphIt (``morphit-rs``), same counts, one scorer, same run.
 
-Anchor: cuRobo's hand-tuned franka spheres (fixtures/panda/panda.xrdf, taken from cuRobo's
-franka.yml), measured on the example-robot-data Panda collision meshes (same link frames).
+For each robot (example-robot-data Panda, UR5, Kinova and the TIAGo mobile base), every link's
+solid (as ``xrdf spheres`` prepares it) is fitted by ours and by MorphIt (``morphit-rs``, preset
+``MorphIt-B``, one thread) with the same number of spheres, and both are scored by
+:func:`xrdf_tools.spheres.metrics.measure` with the same samples. The per-link counts split the
+robot's total over its links in proportion to the two-thirds power of each link's volume
+(at least one each), a rule neither fitter chooses.
+
+Ours runs twice, timed from loaded solids like MorphIt: ``mode: default`` (our default
+protrusion bound, 6 % of the cube root of the link volume) and ``mode: matched``: our
+operating point at MorphIt's protrusion. Our bound is a hard maximum, so our p95 sits below
+it; per link the bound is searched (bisection, 0.7 to 1.6 times MorphIt's p95 on that link,
+untimed) for the largest one whose p95 stays within MorphIt's, and the timed run fits every
+link once at those bounds. At equal protrusion, the comparison is coverage against coverage.
 
 Rows (one JSON object per line on stdout):
 
-* ``anchor``           -- the hand-tuned spheres;
-* ``ours_matched``     -- our fit with the anchor's sphere count per link and, per link, the
-  anchor's protrusion p95 as the protrusion budget (the quality target: more coverage at equal
-  or lower protrusion p95 with the same number of spheres);
-* ``ours_default``     -- same counts, default protrusion budget (6 % of the cube root of the
-  link volume);
-* ``ours_auto``        -- default counts (fewest spheres reaching 90 % greedy coverage);
-* ``link``             -- per link: anchor vs ours_matched and whether the target holds;
-* ``ratio``            -- ours_default / anchor over the whole robot (pooled metrics), whether
-  the target holds overall (ours_default) and per link (ours_matched), and the fit time.
+* ``link``  -- per link and mode: both fits' metrics (``ours`` / ``morphit``; lengths in mm)
+  and whether ours is Pareto-better (coverage >= MorphIt's and protrusion p95 <= MorphIt's);
+* ``robot`` -- per mode: pooled metrics of both, the fit time of each, their ratios, how many
+  links ours wins and whether the whole robot meets the target (every link Pareto-better and
+  no slower).
 
-Per link, ``ours_matched`` is the fair comparison (same count, same protrusion p95). Over the
-whole robot the anchor's p95 is dominated by its many tight hand spheres, so matching each
-link's p95 does not match the pooled p95; ``ours_default`` is compared there.
-
-Run: ``python benchmarks/bench_spheres.py [--samples N] [--seed S]``. Threads are pinned to
-one so the timing is single-core.
+Run: ``python benchmarks/bench_spheres.py [--robots panda ur5 kinova tiago_base]
+[--total N ...] [--samples N] [--seed S]``; ``--png FILE`` draws two Panda links instead
+(docs/images/spheres_vs_morphit.png). Needs ``morphit-rs`` (the ``dev`` extra); threads
+are pinned to one so both timings are single-core.
 """
 
 from __future__ import annotations
 
 import os
 
-for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "RAYON_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
@@ -38,7 +42,25 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 from typing import Any  # noqa: E402
 
-REPO = Path(__file__).resolve().parent.parent
+#: robot -> (URDF below example-robot-data's robots/, links (None: all), totals to fit)
+ROBOTS: dict[str, tuple[str, list[str] | None, list[int]]] = {
+    "panda": ("panda_description/urdf/panda.urdf", None, [57, 87]),
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", None, [40]),
+    "kinova": ("kinova_description/robots/kinova.urdf", None, [40]),
+    "tiago_base": ("tiago_description/robots/tiago.urdf", ["base_link"], [12]),
+}
+
+FIELDS = (
+    "coverage",
+    "surface_coverage",
+    "protrusion_share",
+    "protrusion_mean",
+    "protrusion_p95",
+    "surface_gap_mean",
+    "surface_gap_p95",
+    "max_uncovered_gap",
+    "volume_ratio",
+)
 
 
 def _robots() -> Path:
@@ -49,101 +71,242 @@ def _robots() -> Path:
     )
 
 
-def _row(name: str, m: Any, **extra: Any) -> dict[str, Any]:
-    return {
-        "row": name,
-        "spheres": m.sphere_count,
-        "coverage": round(m.coverage, 4),
-        "surface_coverage": round(m.surface_coverage, 4),
-        "protrusion_mean_mm": round(m.protrusion_mean * 1000, 2),
-        "protrusion_p95_mm": round(m.protrusion_p95 * 1000, 2),
-        "protrusion_max_mm": round(m.protrusion_max * 1000, 2),
-        **extra,
+def split_counts(volumes: dict[str, float], total: int) -> dict[str, int]:
+    """``total`` spheres over the links, in proportion to volume^(2/3), at least one each
+    (largest remainder, ties by link order)."""
+    weight = {k: max(v, 1e-12) ** (2.0 / 3.0) for k, v in volumes.items()}
+    spare = total - len(weight)
+    share = {k: spare * w / sum(weight.values()) for k, w in weight.items()}
+    counts = {k: 1 + int(s) for k, s in share.items()}
+    rest = sorted(weight, key=lambda k: -(share[k] - int(share[k])))
+    for k in rest[: total - sum(counts.values())]:
+        counts[k] += 1
+    return counts
+
+
+def _numbers(m: Any) -> dict[str, float]:
+    out = {f: round(getattr(m, f), 4) for f in FIELDS}
+    for f in ("protrusion_mean", "protrusion_p95", "surface_gap_mean", "surface_gap_p95"):
+        out[f] = round(getattr(m, f) * 1000, 2)  # millimetres
+    out["max_uncovered_gap"] = round(m.max_uncovered_gap * 1000, 2)
+    out["spheres"] = m.sphere_count
+    return out
+
+
+def morphit_fit(solid: Any, k: int, seed: int) -> tuple[Any, float]:
+    """MorphIt's spheres for ``solid`` (preset MorphIt-B, ``k`` spheres) and its seconds."""
+    import morphit_rs as mi
+    import numpy as np
+
+    from xrdf_tools.xrdf.model import Sphere
+
+    mesh = mi.Mesh.from_arrays(
+        np.asarray(solid.vertices, dtype=np.float64), np.asarray(solid.faces, dtype=np.uint32)
+    )
+    config = mi.Config.preset("MorphIt-B", num_spheres=k, seed=seed)
+    t0 = time.perf_counter()
+    result = mi.pack(mesh, config)
+    dt = time.perf_counter() - t0
+    spheres = tuple(
+        Sphere(tuple(float(x) for x in c), float(r))  # type: ignore[arg-type]
+        for c, r in zip(result.centers, result.radii, strict=True)
+    )
+    return spheres, dt
+
+
+def _ours(geoms: Any, counts: dict[str, int], seed: int, budget: Any) -> tuple[Any, float]:
+    from xrdf_tools.spheres.robot_fit import CountPolicy, fit_robot
+
+    t0 = time.perf_counter()
+    result = fit_robot(
+        "", geometry=geoms, counts=CountPolicy(per_link=counts), seed=seed, max_protrusion=budget
+    )
+    return result.spheres, time.perf_counter() - t0
+
+
+def equal_p95_budget(geom: Any, k: int, seed: int, p95: float, samples: int) -> float:
+    """The largest protrusion bound (between 0.7 and 1.6 times MorphIt's p95, by bisection)
+    whose fit keeps our protrusion p95 within MorphIt's: our operating point at equal p95."""
+    from xrdf_tools.spheres import link_seed
+    from xrdf_tools.spheres.metrics import measure
+
+    def p95_at(factor: float) -> float:
+        fitted, _ = _ours({geom.link: geom}, {geom.link: k}, seed, p95 * factor)
+        m, _ = measure(
+            geom.solid, fitted.get(geom.link, ()), samples=samples, seed=link_seed(seed, geom.link)
+        )
+        return float(m.protrusion_p95)
+
+    lo, hi = 0.7, 1.6
+    if p95 <= 0.0 or p95_at(lo) > p95:
+        return p95 * lo
+    for _ in range(6):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if p95_at(mid) <= p95 else (lo, mid)
+    return p95 * lo
+
+
+def bench_robot(name: str, total: int, samples: int, seed: int) -> list[dict[str, Any]]:
+    from xrdf_tools.spheres import link_seed
+    from xrdf_tools.spheres.geometry import load_link_geometry
+    from xrdf_tools.spheres.metrics import measure, pooled
+
+    rel, links, _ = ROBOTS[name]
+    geoms, _ = load_link_geometry(_robots() / rel, links=links)
+    counts = split_counts({k: float(g.solid.volume) for k, g in geoms.items()}, total)
+    peer: dict[str, Any] = {}
+    t_peer = 0.0
+    for link, g in geoms.items():
+        peer[link], dt = morphit_fit(g.solid, counts[link], seed)
+        t_peer += dt
+
+    def score(fitted: Any) -> tuple[list[Any], list[Any]]:
+        got = [
+            measure(g.solid, fitted.get(k, ()), samples=samples, seed=link_seed(seed, k))
+            for k, g in geoms.items()
+        ]
+        return [m for m, _ in got], [p for _, p in got]
+
+    m_peer, p_peer = score(peer)
+    budget = {
+        k: equal_p95_budget(g, counts[k], seed, m.protrusion_p95, samples)
+        for (k, g), m in zip(geoms.items(), m_peer, strict=True)
     }
+    ours_default, t_default = _ours(geoms, counts, seed, None)
+    ours_matched, t_matched = _ours(geoms, counts, seed, budget)
+    rows: list[dict[str, Any]] = []
+    wins = {"default": 0, "matched": 0}
+    overall: dict[str, Any] = {"morphit": pooled(m_peer, p_peer)}
+    for mode, fitted in (("default", ours_default), ("matched", ours_matched)):
+        m_ours, p_ours = score(fitted)
+        overall[mode] = pooled(m_ours, p_ours)
+        for (link, a), b in zip(zip(geoms, m_ours, strict=True), m_peer, strict=True):
+            win = a.coverage >= b.coverage and a.protrusion_p95 <= b.protrusion_p95
+            wins[mode] += win
+            rows.append(
+                {
+                    "row": "link",
+                    "robot": name,
+                    "total": total,
+                    "mode": mode,
+                    "link": link,
+                    "ours": _numbers(a),
+                    "morphit": _numbers(b),
+                    "pareto_better": bool(win),
+                }
+            )
+    b_all = overall["morphit"]
+    for mode, t_ours in (("default", t_default), ("matched", t_matched)):
+        a_all = overall[mode]
+        rows.append(
+            {
+                "row": "robot",
+                "robot": name,
+                "total": total,
+                "mode": mode,
+                "ours": _numbers(a_all),
+                "morphit": _numbers(b_all),
+                "fit_seconds": {"ours": round(t_ours, 2), "morphit": round(t_peer, 2)},
+                "ratio": {
+                    "coverage": round(a_all.coverage / max(b_all.coverage, 1e-9), 3),
+                    "protrusion_p95": round(
+                        a_all.protrusion_p95 / max(b_all.protrusion_p95, 1e-9), 3
+                    ),
+                    "surface_gap_p95": round(
+                        a_all.surface_gap_p95 / max(b_all.surface_gap_p95, 1e-9), 3
+                    ),
+                    "fit_seconds": round(t_ours / max(t_peer, 1e-9), 3),
+                },
+                "links_pareto_better": f"{wins[mode]}/{len(geoms)}",
+                "target_met": bool(wins[mode] == len(geoms) and t_ours <= t_peer),
+            }
+        )
+    return rows
+
+
+def render_png(path: Path, links: list[str], total: int, seed: int, samples: int) -> None:
+    """Panda links side by side: our fit at MorphIt's protrusion (left) and MorphIt's (right),
+    same counts as the ``total`` run, each sphere drawn over the link's mesh."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from xrdf_tools.spheres import link_seed
+    from xrdf_tools.spheres.geometry import load_link_geometry
+    from xrdf_tools.spheres.metrics import measure
+
+    geoms, _ = load_link_geometry(_robots() / ROBOTS["panda"][0])
+    counts = split_counts({k: float(g.solid.volume) for k, g in geoms.items()}, total)
+    fig = plt.figure(figsize=(4.2 * 2, 3.8 * len(links)), dpi=110)
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 24), np.linspace(0, np.pi, 12))
+    for row, link in enumerate(links):
+        g = geoms[link]
+        peer, _ = morphit_fit(g.solid, counts[link], seed)
+        m_peer, _ = measure(g.solid, peer, samples=samples, seed=link_seed(seed, link))
+        tau = equal_p95_budget(g, counts[link], seed, m_peer.protrusion_p95, samples)
+        ours, _ = _ours({link: g}, {link: counts[link]}, seed, tau)
+        m_ours, _ = measure(g.solid, ours[link], samples=samples, seed=link_seed(seed, link))
+        for col, (name, spheres, m) in enumerate(
+            (("ours", ours[link], m_ours), ("MorphIt", peer, m_peer))
+        ):
+            ax = fig.add_subplot(len(links), 2, 2 * row + col + 1, projection="3d")
+            tris = np.asarray(g.solid.vertices)[np.asarray(g.solid.faces)]
+            ax.add_collection3d(
+                Poly3DCollection(tris, facecolor=(0.6, 0.6, 0.6, 0.25), edgecolor="none")
+            )
+            for s in spheres:
+                c, r = np.asarray(s.center), s.radius
+                ax.plot_surface(
+                    c[0] + r * np.cos(u) * np.sin(v),
+                    c[1] + r * np.sin(u) * np.sin(v),
+                    c[2] + r * np.cos(v),
+                    color=(0.15, 0.4, 0.85) if col == 0 else (0.85, 0.35, 0.15),
+                    alpha=0.35,
+                    linewidth=0,
+                )
+            lo, hi = np.asarray(g.solid.bounds)
+            mid, half = (lo + hi) / 2, float((hi - lo).max()) / 2 * 1.15
+            for setter, k in ((ax.set_xlim, 0), (ax.set_ylim, 1), (ax.set_zlim, 2)):
+                setter(mid[k] - half, mid[k] + half)
+            ax.set_box_aspect((1, 1, 1))
+            ax.set_axis_off()
+            ax.set_title(
+                f"{link}, {name}: {len(spheres)} spheres\n"
+                f"coverage {m.coverage:.3f}, protrusion p95 {m.protrusion_p95 * 1000:.1f} mm",
+                fontsize=9,
+            )
+    fig.tight_layout()
+    fig.savefig(path)
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=list(ROBOTS))
+    ap.add_argument("--total", type=int, nargs="+", help="total spheres (default per robot)")
     ap.add_argument("--samples", type=int, default=20_000, help="metric samples per link")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--png", type=Path, help="also draw Panda links, ours beside MorphIt's")
     args = ap.parse_args()
+    try:
+        import morphit_rs
 
-    from xrdf_tools.spheres import coverage_for_xrdf, fit_link_spheres, measure_links
-    from xrdf_tools.spheres.geometry import load_link_geometry
-    from xrdf_tools.xrdf.io import load_xrdf
-
-    urdf = _robots() / "panda_description/urdf/panda.urdf"
-    if not urdf.exists():
-        print(f"example-robot-data not installed ({urdf})", file=sys.stderr)
+        morphit_rs.set_num_threads(1)
+    except ImportError:
+        print("morphit-rs is not installed (pip install -e '.[dev]')", file=sys.stderr)
         return 2
-    anchor_xrdf = load_xrdf(REPO / "fixtures/panda/panda.xrdf")
-    anchor = coverage_for_xrdf(urdf, anchor_xrdf, samples=args.samples, seed=args.seed)
-    counts = {k: m.sphere_count for k, m in anchor.links.items()}
-    budgets = {k: m.protrusion_p95 for k, m in anchor.links.items()}
-    geoms, _ = load_link_geometry(urdf)
-
-    def run(**kw: Any) -> tuple[dict[str, Any], Any, float]:
-        t0 = time.perf_counter()
-        fitted, _ = fit_link_spheres(urdf, seed=args.seed, **kw)
-        dt = time.perf_counter() - t0
-        per, overall = measure_links(geoms, fitted, samples=args.samples, seed=args.seed)
-        return per, overall, dt
-
-    matched, matched_all, t_matched = run(per_link=counts, max_protrusion=budgets)
-    _, default_all, t_default = run(per_link=counts)
-    _, auto_all, t_auto = run()
-
-    lines = [
-        _row("anchor", anchor.overall, source="cuRobo franka.yml (hand-tuned)"),
-        _row("ours_matched", matched_all, fit_seconds=round(t_matched, 2)),
-        _row("ours_default", default_all, fit_seconds=round(t_default, 2)),
-        _row("ours_auto", auto_all, fit_seconds=round(t_auto, 2)),
-    ]
-    ok_links = 0
-    for link, a in anchor.links.items():
-        o = matched[link]
-        ok = (
-            o.sphere_count <= a.sphere_count
-            and o.coverage > a.coverage
-            and o.protrusion_p95 <= a.protrusion_p95 + 1e-4
-        )
-        ok_links += ok
-        lines.append(
-            {
-                "row": "link",
-                "link": link,
-                "spheres": [a.sphere_count, o.sphere_count],
-                "coverage": [round(a.coverage, 4), round(o.coverage, 4)],
-                "protrusion_p95_mm": [
-                    round(a.protrusion_p95 * 1000, 2),
-                    round(o.protrusion_p95 * 1000, 2),
-                ],
-                "target_met": bool(ok),
-            }
-        )
-    a_all = anchor.overall
-    d_all = default_all
-    overall_ok = (
-        d_all.coverage > a_all.coverage
-        and d_all.protrusion_p95 <= a_all.protrusion_p95
-        and d_all.sphere_count <= a_all.sphere_count
-    )
-    lines.append(
-        {
-            "row": "ratio",
-            "of": "ours_default / anchor (whole robot, same spheres per link)",
-            "coverage": round(d_all.coverage / a_all.coverage, 3),
-            "surface_coverage": round(d_all.surface_coverage / a_all.surface_coverage, 3),
-            "protrusion_p95": round(d_all.protrusion_p95 / a_all.protrusion_p95, 3),
-            "overall_target_met": bool(overall_ok),
-            "links_meeting_target_matched": f"{ok_links}/{len(anchor.links)}",
-            "target_met": bool(overall_ok and ok_links == len(anchor.links)),
-            "fit_seconds": round(t_default, 2),
-            "fit_under_10s": t_default < 10.0 and t_matched < 10.0,
-        }
-    )
-    for line in lines:
-        print(json.dumps(line))
+    if not (_robots() / ROBOTS["panda"][0]).exists():
+        print(f"example-robot-data not installed ({_robots()})", file=sys.stderr)
+        return 2
+    if args.png is not None:
+        render_png(args.png, ["panda_link0", "panda_hand"], 57, args.seed, args.samples)
+        return 0
+    for name in args.robots:
+        for total in args.total or ROBOTS[name][2]:
+            for row in bench_robot(name, total, args.samples, args.seed):
+                print(json.dumps(row), flush=True)
     return 0
 
 

@@ -374,3 +374,47 @@ def test_outside_distance_in_chunks_equals_one_query(monkeypatch: pytest.MonkeyP
     assert np.array_equal(whole, chunked)
     exact = np.maximum(np.linalg.norm(pts, axis=1) - 0.1, 0.0)
     assert np.allclose(chunked, exact, atol=2e-3)
+
+
+# --------------------------------------------------------------------------------------------
+# cuRobo's metric set: protrusion share, surface gap, volume ratio (closed forms)
+# --------------------------------------------------------------------------------------------
+def test_union_volume_shares_and_ratio_match_closed_forms() -> None:
+    cube = trimesh.creation.box(extents=[1.0, 1.0, 1.0])
+    inner = sphere_metrics(cube, [Sphere((0.0, 0.0, 0.0), 0.3)], samples=40_000)
+    assert inner.protrusion_share == 0.0
+    assert inner.volume_ratio == pytest.approx(4 / 3 * math.pi * 0.3**3, rel=0.01)
+    big = sphere_metrics(cube, [Sphere((0.0, 0.0, 0.0), 0.6)], samples=40_000)
+    r, h = 0.6, 0.1
+    ball = 4 / 3 * math.pi * r**3
+    inside = ball - 6 * math.pi * h * h * (3 * r - h) / 3
+    assert big.volume_ratio == pytest.approx(ball, rel=0.01)
+    assert big.protrusion_share == pytest.approx(1 - inside / ball, abs=0.006)
+    # two overlapping balls: the union is twice a ball minus the lens, pi(4r+d)(2r-d)^2/12
+    two = [Sphere((-0.1, 0.0, 0.0), 0.3), Sphere((0.1, 0.0, 0.0), 0.3)]
+    m = sphere_metrics(cube, two, samples=40_000)
+    lens = math.pi * (4 * 0.3 + 0.2) * (0.6 - 0.2) ** 2 / 12
+    assert m.volume_ratio == pytest.approx(2 * 4 / 3 * math.pi * 0.027 - lens, rel=0.01)
+
+
+def test_surface_gap_of_a_concentric_smaller_sphere_is_the_difference_of_radii() -> None:
+    ball = trimesh.creation.icosphere(subdivisions=4, radius=0.5)
+    m = sphere_metrics(ball, [Sphere((0.0, 0.0, 0.0), 0.4)], samples=20_000)
+    assert m.surface_gap_mean == pytest.approx(0.1, abs=0.002)
+    assert m.surface_gap_p95 == pytest.approx(0.1, abs=0.002)
+    assert m.max_uncovered_gap == pytest.approx(0.1, abs=0.002)
+    assert m.coverage == pytest.approx(0.512, abs=0.012)
+    assert m.volume_ratio == pytest.approx(0.4**3 / 0.5**3, rel=0.02)
+    assert m.protrusion_share == 0.0 and m.surface_coverage == 0.0
+
+
+def test_surface_gap_on_a_cube_face_matches_a_quadrature() -> None:
+    """A ball of radius 0.6 in a unit cube: a face point at (u, v) from the face centre has
+    gap max(0, sqrt(0.25 + u^2 + v^2) - 0.6); its mean over the face by a midpoint rule."""
+    cube = trimesh.creation.box(extents=[1.0, 1.0, 1.0])
+    m = sphere_metrics(cube, [Sphere((0.0, 0.0, 0.0), 0.6)], samples=40_000)
+    u = (np.arange(400) + 0.5) / 400 - 0.5
+    gap = np.maximum(np.sqrt(0.25 + u[:, None] ** 2 + u[None, :] ** 2) - 0.6, 0.0)
+    assert m.surface_gap_mean == pytest.approx(float(gap.mean()), abs=0.0015)
+    assert m.max_uncovered_gap == pytest.approx(math.sqrt(0.75) - 0.6, abs=0.003)
+    assert m.surface_gap_p95 == pytest.approx(float(np.quantile(gap, 0.95)), abs=0.003)

@@ -83,8 +83,10 @@ def test_readme_pr2_example_passes_lint_for_curobo(tmp_path: Path) -> None:
     # links without spheres are mesh-without-spheres errors for a planner, so leave that rule out
     lint = runner.invoke(
         app,
-        ["lint", "--target", "curobo", str(out), "--urdf", str(urdf)]
-        + ["--ignore", "mesh-without-spheres"],
+        [
+            *("lint", "--target", "curobo", str(out), "--urdf", str(urdf)),
+            *("--ignore", "mesh-without-spheres"),
+        ],
     )
     assert lint.exit_code == 0, lint.output
     assert "curobo-default-order" not in lint.output

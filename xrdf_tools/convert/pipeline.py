@@ -41,6 +41,7 @@ if TYPE_CHECKING:
 
     from ..report import Report, Sampler
     from ..robot.link_geometry import GeometryChoice
+    from ..spheres.fit import Plane
     from ..xrdf.model import Sphere, Xrdf
 
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
@@ -63,6 +64,8 @@ class FitOptions:
     #: Go on without mesh files that cannot be found (a warning each) instead of raising
     #: :class:`~xrdf_tools.robot.link_geometry.MissingMeshError`.
     allow_missing_meshes: bool = False
+    sphere_budget: int | None = None
+    clips: Mapping[str, Sequence[Plane]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -237,6 +240,8 @@ def fit_missing_spheres(
         robot,
         links=todo,
         per_link=fit.per_link,
+        count=fit.sphere_budget,
+        clips=fit.clips,
         seed=fit.seed,
         max_protrusion=fit.max_protrusion,
         progress=step,

@@ -13,87 +13,35 @@ trimesh, scipy and lxml are imported lazily: importing this package is cheap.
 
 from __future__ import annotations
 
-import math
 import os
-import zlib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
-
-import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
-from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
 from ..xrdf.model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
 from .metrics import SphereMetrics, sphere_metrics
+from .robot_fit import AUTO_COVERAGE_TARGET, MAX_PER_LINK, link_seed
 
 if TYPE_CHECKING:
     from ..robot.link_geometry import GeometryChoice
+    from .fit import Plane
     from .geometry import LinkGeometry
 
 __all__ = [
+    "MAX_PER_LINK",
     "CoverageSummary",
     "SphereMetrics",
     "coverage_for_xrdf",
     "fit_link_spheres",
+    "link_seed",
     "merge_spheres",
     "sphere_metrics",
 ]
 
-MAX_PER_LINK = 64
-AUTO_COVERAGE_TARGET = 0.9
-AUTO_MAX_PER_LINK = 16
 RULE_MERGE_CLONED = "spheres-cloned-link"
-
-
-def link_seed(seed: int, link: str) -> list[int]:
-    """Seed of one link: independent of which other links are fitted."""
-    return [int(seed) & 0xFFFFFFFF, zlib.crc32(link.encode("utf-8"))]
-
-
-def _check_counts(
-    per_link: int | Mapping[str, int] | None, count: int | None, density: float | None
-) -> None:
-    given = [
-        n
-        for n, v in (("per_link", per_link), ("count", count), ("density", density))
-        if v is not None
-    ]
-    if len(given) > 1:
-        raise XrdfToolsError(f"give at most one of count, per-link and density (got {given})")
-    for n in per_link.values() if isinstance(per_link, Mapping) else [per_link]:
-        if n is not None and not 0 <= n <= MAX_PER_LINK:
-            raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {n}")
-    if isinstance(per_link, int) and per_link < 1:
-        raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {per_link}")
-    if count is not None and count < 1:
-        raise XrdfToolsError(f"count must be at least 1, got {count}")
-    if density is not None and not (density > 0 and math.isfinite(density)):
-        raise XrdfToolsError(f"density must be a positive number, got {density}")
-
-
-def _allocate(
-    curves: Mapping[str, Sequence[float]], volumes: Mapping[str, float], total: int
-) -> dict[str, int]:
-    """Split ``total`` spheres over links: one each, then by largest covered-volume gain."""
-    alloc = dict.fromkeys(curves, 1)
-    left = total - len(alloc)
-    while left > 0:
-        best, best_gain = None, -1.0
-        for link, curve in curves.items():
-            k = alloc[link]
-            if k >= len(curve):
-                continue
-            gain = (curve[k] - curve[k - 1]) * volumes[link]
-            if gain > best_gain:
-                best, best_gain = link, gain
-        if best is None:
-            break
-        alloc[best] += 1
-        left -= 1
-    return alloc
 
 
 def fit_link_spheres(
@@ -108,6 +56,8 @@ def fit_link_spheres(
     max_protrusion: float | Mapping[str, float] | None = None,
     progress: Any = None,
     source: GeometryChoice = "auto",
+    target_coverage: float = AUTO_COVERAGE_TARGET,
+    clips: Mapping[str, Sequence[Plane]] | None = None,
 ) -> tuple[dict[str, tuple[Sphere, ...]], list[Diagnostic]]:
     """Fit spheres to every link with geometry (or to ``links``) of a URDF or xacro file.
 
@@ -117,59 +67,34 @@ def fit_link_spheres(
     * ``count`` -- that many in total (at least one per link), handed out one by one to the
       link whose covered volume grows most;
     * ``density`` -- ``ceil(density * volume in litres)`` per link (1 to 64);
-    * none -- per link, the fewest spheres (up to 16) whose greedy cover reaches 90 %.
+    * none -- per link, the fewest spheres (up to 16) that cover ``target_coverage`` of its
+      volume (default 0.9) within the protrusion bound.
 
-    ``max_protrusion`` (metres, one value or per link) bounds how far each sphere may reach
-    outside its link; by default 6 % of the cube root of the link's volume. ``source`` chooses
-    the geometry as in :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs
-    and ``seed`` give the same spheres. ``progress(link, i, n)`` is called before each link.
-    ``urdf_path`` may be a loaded :class:`~xrdf_tools.robot.core.Robot`, whose geometry is then
-    read without parsing the URDF again (see
-    :func:`~xrdf_tools.spheres.geometry.load_link_geometry`).
-    Returns ``({link: spheres}, diagnostics)`` in URDF link order.
+    A placeholder smaller than 2 cm across gets one sphere. ``max_protrusion`` (metres, one
+    value or per link) bounds how far each sphere may reach outside its link; by default 6 %
+    of the cube root of the link's volume. ``clips`` (``{link: [((nx, ny, nz), d), ...]}``,
+    unit normals, link frame) keeps each sphere of that link on the side the normal points
+    to: ``n . centre - radius >= d``. ``source`` chooses the geometry as in
+    :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs and ``seed`` give
+    the same spheres; links with identical geometry are fitted once and get the same spheres.
+    ``progress(link, i, n)`` is called before each link. ``urdf_path`` may be a loaded
+    :class:`~xrdf_tools.robot.core.Robot`. Returns ``({link: spheres}, diagnostics)`` in URDF
+    link order; :func:`~xrdf_tools.spheres.robot_fit.fit_robot` also gives times and solids.
     """
-    from .fit import SphereFitter
-    from .geometry import load_link_geometry
+    from .robot_fit import CountPolicy, fit_robot
 
-    _check_counts(per_link, count, density)
-    geoms, diags = load_link_geometry(
-        urdf_path, links=links, package_paths=package_paths, source=source
+    result = fit_robot(
+        urdf_path,
+        links=links,
+        counts=CountPolicy(per_link, count, density, target_coverage),
+        seed=seed,
+        package_paths=package_paths,
+        max_protrusion=max_protrusion,
+        clips=clips,
+        progress=progress,
+        source=source,
     )
-    if count is not None and count < len(geoms):
-        raise XrdfToolsError(
-            f"count {count} is less than the number of links to fit ({len(geoms)})"
-        )
-    fitters: dict[str, SphereFitter] = {}
-    for i, (name, g) in enumerate(geoms.items()):
-        if progress is not None:
-            progress(name, i, len(geoms))
-        tau = max_protrusion.get(name) if isinstance(max_protrusion, Mapping) else max_protrusion
-        fitters[name] = SphereFitter(g.solid, seed=link_seed(seed, name), max_protrusion=tau)
-    if isinstance(per_link, Mapping):
-        ks = {n: int(per_link.get(n, 0)) for n in fitters}
-    elif per_link is not None:
-        ks = dict.fromkeys(fitters, per_link)
-    elif density is not None:
-        ks = {
-            n: min(MAX_PER_LINK, max(1, math.ceil(density * f.volume * 1000.0 - 1e-9)))
-            for n, f in fitters.items()
-        }
-    elif count is not None:
-        if count < len(fitters):
-            raise XrdfToolsError(
-                f"count {count} is less than the number of links to fit ({len(fitters)})"
-            )
-        cap = min(MAX_PER_LINK, count - len(fitters) + 1)
-        curves = {n: f.greedy(cap)[1] for n, f in fitters.items()}
-        ks = _allocate(curves, {n: f.volume for n, f in fitters.items()}, count)
-    else:
-        ks = {}
-        for n, f in fitters.items():
-            curve = f.greedy(AUTO_MAX_PER_LINK)[1]
-            reach = [k + 1 for k, c in enumerate(curve) if c >= AUTO_COVERAGE_TARGET]
-            ks[n] = reach[0] if reach else AUTO_MAX_PER_LINK
-    fitted = {n: fitters[n].fit(ks[n]) for n in fitters if ks[n] > 0}
-    return fitted, diags
+    return result.spheres, result.diagnostics
 
 
 # --------------------------------------------------------------------------------------------
@@ -238,48 +163,19 @@ def measure_links(
     samples: int,
     seed: int,
 ) -> tuple[dict[str, SphereMetrics], SphereMetrics]:
-    """Per-link metrics for ``geoms`` and the pooled overall metrics."""
-    from .metrics import measure
+    """Per-link metrics for ``geoms`` and the pooled overall metrics; ``solid`` says what each
+    link was measured against (``LinkGeometry.kind``)."""
+    from .metrics import measure, pooled
 
     per: dict[str, SphereMetrics] = {}
-    prot: list[np.ndarray[Any, np.dtype[np.float64]]] = []
-    weights: list[np.ndarray[Any, np.dtype[np.float64]]] = []
+    pools = []
     for name, g in geoms.items():
-        m, p, w = measure(
+        m, pool = measure(
             g.solid, spheres.get(name, ()), samples=samples, seed=link_seed(seed, name)
         )
-        per[name] = m
-        prot.append(p)
-        weights.append(w)
-    return per, pooled(per, prot, weights)
-
-
-def pooled(
-    per: Mapping[str, SphereMetrics],
-    prot: Sequence[np.ndarray[Any, np.dtype[np.float64]]],
-    weights: Sequence[np.ndarray[Any, np.dtype[np.float64]]],
-) -> SphereMetrics:
-    """Overall metrics of several links (see :class:`CoverageSummary`)."""
-    from .metrics import weighted_quantile
-
-    vol = sum(m.volume for m in per.values())
-    area = sum(m.area for m in per.values())
-    p = np.concatenate(prot) if prot else np.zeros(0)
-    w = np.concatenate(weights) if weights else np.zeros(0)
-    kinds = {m.solid for m in per.values()}
-    return SphereMetrics(
-        sphere_count=sum(m.sphere_count for m in per.values()),
-        coverage=sum(m.coverage * m.volume for m in per.values()) / vol if vol else 0.0,
-        surface_coverage=(
-            sum(m.surface_coverage * m.area for m in per.values()) / area if area else 0.0
-        ),
-        protrusion_mean=float((p * w).sum() / w.sum()) if len(p) else 0.0,
-        protrusion_p95=weighted_quantile(p, w, 0.95),
-        protrusion_max=float(p.max()) if len(p) else 0.0,
-        volume=vol,
-        area=area,
-        solid=kinds.pop() if len(kinds) == 1 else "mixed",
-    )
+        per[name] = replace(m, solid=g.kind) if m.solid == "mesh" else m
+        pools.append(pool)
+    return per, pooled(list(per.values()), pools)
 
 
 def coverage_for_xrdf(

@@ -6,8 +6,10 @@
    surface sample); trilinear interpolation gives the depth of any point and how far a point
    lies outside.
 3. Candidate spheres: centres at interior sample points, each with the *largest* radius whose
-   surface stays within ``max_protrusion`` of the solid (checked at 64 directions on the grid).
-   A point deep inside (near the medial axis) gets a large sphere.
+   surface stays within ``max_protrusion`` of the solid: the distance from the centre to the
+   level set ``sdf = max_protrusion`` (its points interpolated on the grid edges, in a k-d
+   tree), and to each clip plane. A point deep inside (near the medial axis) gets a large
+   sphere.
 4. Greedy set cover: repeatedly take the candidate that covers the most still-uncovered
    weight.
 5. Refinement: each sphere in turn is swapped for the best candidate given the others, then
@@ -31,24 +33,33 @@ import numpy as np
 import numpy.typing as npt
 
 from ..xrdf.model import Sphere
-from .metrics import contains, fibonacci_directions, sample_surface, sample_volume
+from .metrics import fibonacci_directions, sample_surface, sample_volume
 
 if TYPE_CHECKING:
     import trimesh
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
+IntArray = npt.NDArray[np.uint8]
 
-VOLUME_WEIGHT = 0.75
+VOLUME_WEIGHT = 0.9
 DEFAULT_PROTRUSION_FRACTION = 0.06
+MIN_DEFAULT_PROTRUSION = 0.002
 _GRID_CELLS = 48
-_DIRS = fibonacci_directions(64)
+_SURFACE_DENSE = 8_000
+_COVER_BLOCK = 32
 _MOVES = fibonacci_directions(26)
+
+#: A clip plane: unit normal ``n`` and offset ``d``; spheres keep ``n . c - r >= d``.
+Plane = tuple[tuple[float, float, float], float]
 
 
 def default_max_protrusion(solid: trimesh.Trimesh) -> float:
-    """The default protrusion budget: 6 % of the cube root of the solid's volume (metres)."""
-    return float(DEFAULT_PROTRUSION_FRACTION * float(abs(solid.volume)) ** (1.0 / 3.0))
+    """The default protrusion budget: 6 % of the cube root of the solid's volume, at least
+    ``MIN_DEFAULT_PROTRUSION`` (metres): a finger or a thin rod would otherwise need many
+    tiny spheres for little gain."""
+    scaled = DEFAULT_PROTRUSION_FRACTION * float(abs(solid.volume)) ** (1.0 / 3.0)
+    return float(max(scaled, MIN_DEFAULT_PROTRUSION))
 
 
 @dataclass
@@ -70,31 +81,56 @@ def _build_sdf(solid: trimesh.Trimesh, margin: float, rng: np.random.Generator) 
     from scipy.ndimage import distance_transform_edt
     from scipy.spatial import cKDTree
 
+    from .inside import grid_inside
+
     lo = np.asarray(solid.bounds[0], dtype=np.float64) - margin
     hi = np.asarray(solid.bounds[1], dtype=np.float64) + margin
     step = float((hi - lo).max()) / _GRID_CELLS
     shape = np.ceil((hi - lo) / step).astype(int) + 1
     axes = [lo[i] + step * np.arange(shape[i]) for i in range(3)]
-    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    dense = np.concatenate(
-        [sample_surface(solid, 30_000, rng), np.asarray(solid.vertices, dtype=np.float64)]
-    )
-    inside = contains(solid, grid)
+    mask = grid_inside(solid, (axes[0], axes[1], axes[2]))
     # coarse distances from the voxel mask, exact-ish ones near the surface from the samples
-    mask = inside.reshape(*shape)
-    coarse = (
-        np.where(mask, -distance_transform_edt(mask), distance_transform_edt(~mask)).reshape(-1)
-        * step
-    )
+    coarse = np.where(mask, -distance_transform_edt(mask), distance_transform_edt(~mask)) * step
     band = 3.0 * step
+    near_band = np.abs(coarse) <= band + step
+    grid = lo + step * np.argwhere(near_band).astype(np.float64)
+    dense = np.concatenate(
+        [sample_surface(solid, _SURFACE_DENSE, rng), np.asarray(solid.vertices, dtype=np.float64)]
+    )
     near, _ = cKDTree(dense).query(grid, distance_upper_bound=band)
     fine = np.isfinite(near)
+    inside = mask[near_band]
     values = coarse.copy()
-    values[fine] = np.where(inside[fine], -near[fine], near[fine])
-    values[~fine] = np.where(
-        inside[~fine], np.minimum(coarse[~fine], -band), np.maximum(coarse[~fine], band)
+    banded = np.where(
+        inside, np.minimum(coarse[near_band], -band), np.maximum(coarse[near_band], band)
     )
-    return _Sdf(lo, step, values.reshape(*shape))
+    banded[fine] = np.where(inside[fine], -near[fine], near[fine])
+    values[near_band] = banded
+    far = ~near_band
+    values[far] = np.where(mask[far], np.minimum(coarse[far], -band), np.maximum(coarse[far], band))
+    return _Sdf(lo, step, values)
+
+
+def level_points(sdf: _Sdf, level: float) -> FloatArray:
+    """Points of the level set ``sdf == level``: on every grid edge whose two nodes lie on
+    either side of ``level``, the linearly interpolated crossing (marching-cubes vertices)."""
+    values = sdf.values
+    out: list[FloatArray] = []
+    for axis in range(3):
+        a = np.take(values, np.arange(values.shape[axis] - 1), axis=axis)
+        b = np.take(values, np.arange(1, values.shape[axis]), axis=axis)
+        cross = (a <= level) != (b <= level)
+        idx = np.argwhere(cross).astype(np.float64)
+        va, vb = a[cross], b[cross]
+        idx[:, axis] += (level - va) / (vb - va)
+        out.append(sdf.origin + idx * sdf.step)
+    pts = np.concatenate(out)
+    if len(pts) == 0:  # the budget reaches past the grid: bound by the grid's corners
+        pts = (
+            sdf.origin
+            + np.array(np.meshgrid(*[[0, n - 1] for n in values.shape])).reshape(3, -1).T * sdf.step
+        )
+    return pts
 
 
 class SphereFitter:
@@ -109,8 +145,10 @@ class SphereFitter:
         volume_samples: int = 3000,
         surface_samples: int = 1500,
         candidates: int = 1000,
+        clips: Sequence[Plane] = (),
     ) -> None:
         rng = np.random.default_rng(seed)
+        self.clips = np.array([[*n, d] for n, d in clips], dtype=np.float64).reshape(-1, 4)
         self.solid = solid
         self.volume = float(abs(solid.volume))
         self.tau = float(max_protrusion if max_protrusion is not None else 0.0)
@@ -119,51 +157,86 @@ class SphereFitter:
         extent = float(np.max(solid.extents))
         margin = 2.0 * self.tau + extent / _GRID_CELLS * 3
         self.sdf = _build_sdf(solid, margin, rng)
-        vol = sample_volume(solid, volume_samples, rng)
-        surf = sample_surface(solid, surface_samples, rng)
+        from scipy.spatial import cKDTree
+
+        self._level_tree = cKDTree(level_points(self.sdf, self.tau))
+        vol = self._kept(sample_volume(solid, volume_samples, rng))
+        surf = self._kept(sample_surface(solid, surface_samples, rng))
         self.points = np.concatenate([vol, surf])
+        self._xyz = (self.points[None, :, 0], self.points[None, :, 1], self.points[None, :, 2])
         self.n_volume = len(vol)
         self.w_volume = VOLUME_WEIGHT / max(len(vol), 1)
         self.w_surface = (1.0 - VOLUME_WEIGHT) / max(len(surf), 1)
-        cand = sample_volume(solid, candidates, rng)
+        cand = self._kept(sample_volume(solid, candidates, rng))
         if len(cand) == 0:
-            cand = np.asarray(solid.vertices, dtype=np.float64).mean(0, keepdims=True)
+            cand = self._kept(np.asarray(solid.vertices, dtype=np.float64).mean(0, keepdims=True))
+        self.empty = len(cand) == 0 or len(self.points) == 0
         self.cand_c = cand
         self.cand_r = self.max_radius(cand)
         self.cand_cov = self._cover(self.cand_c, self.cand_r)
-        self._cand_cov_f = self.cand_cov.astype(np.float64)
+        self._cand_packed = self._pack(self.cand_cov)
         self.scale = self.volume ** (1.0 / 3.0)
 
     # ----------------------------------------------------------------------------------------
-    def max_radius(self, centers: FloatArray, iterations: int = 12) -> FloatArray:
-        """Largest radius per centre whose sphere stays within the protrusion budget."""
-        depth = np.maximum(-self.sdf(centers), 0.0)
-        lo = 0.5 * depth
-        hi = depth + 2.0 * self.tau + 2.0 * self.sdf.step
-        for _ in range(iterations):
-            mid = 0.5 * (lo + hi)
-            pts = centers[:, None, :] + mid[:, None, None] * _DIRS[None, :, :]
-            worst = self.sdf(pts.reshape(-1, 3)).reshape(len(centers), -1).max(1)
-            ok = worst <= self.tau
-            lo = np.where(ok, mid, lo)
-            hi = np.where(ok, hi, mid)
-        return lo
+    def max_radius(self, centers: FloatArray) -> FloatArray:
+        """Largest radius per centre whose sphere stays within the protrusion budget: the
+        distance to the nearest point where the solid's distance field exceeds the budget
+        (its level set, found on the grid; 0 for a centre already beyond it)."""
+        dist, _ = self._level_tree.query(centers)
+        radius = np.asarray(dist, dtype=np.float64)
+        for plane in self.clips:
+            radius = np.minimum(radius, self._plane_distance(centers, plane))
+        ok = self.sdf(centers) < self.tau
+        return np.where(ok, np.maximum(radius, 0.0), 0.0)
+
+    @staticmethod
+    def _plane_distance(points: FloatArray, plane: FloatArray) -> FloatArray:
+        """Signed distance of ``points`` to ``plane`` (n, d): ``n . p - d``, positive on the
+        kept side (elementwise, no BLAS)."""
+        return np.asarray(
+            points[:, 0] * plane[0] + points[:, 1] * plane[1] + points[:, 2] * plane[2] - plane[3]
+        )
+
+    def _kept(self, points: FloatArray) -> FloatArray:
+        """The points on the kept side of every clip plane."""
+        keep = np.ones(len(points), dtype=bool)
+        for plane in self.clips:
+            keep &= self._plane_distance(points, plane) > 0.0
+        return points[keep]
+
+    def covered_share(self, spheres: Sequence[Sphere]) -> float:
+        """Share of the fitter's volume samples inside ``spheres``."""
+        if self.n_volume == 0 or not spheres:
+            return 0.0
+        c = np.array([s.center for s in spheres], dtype=np.float64)
+        r = np.array([s.radius for s in spheres], dtype=np.float64)
+        return float(self._cover(c, r)[:, : self.n_volume].any(0).mean())
 
     def _cover(self, centers: FloatArray, radii: FloatArray) -> BoolArray:
-        """``(K, P)``: which sample points each sphere covers (elementwise, no BLAS)."""
-        d2 = np.zeros((len(centers), len(self.points)))
-        for axis in range(3):
-            diff = centers[:, axis, None] - self.points[None, :, axis]
-            d2 += diff * diff
-        return np.asarray(d2 <= radii[:, None] ** 2)
+        """``(K, P)``: which sample points each sphere covers (elementwise squared distances,
+        no BLAS, in blocks of spheres that stay in cache)."""
+        out = np.empty((len(centers), len(self.points)), dtype=bool)
+        px, py, pz = self._xyz
+        for s in range(0, len(centers), _COVER_BLOCK):
+            c = centers[s : s + _COVER_BLOCK]
+            d2 = (c[:, 0, None] - px) ** 2
+            d2 += (c[:, 1, None] - py) ** 2
+            d2 += (c[:, 2, None] - pz) ** 2
+            out[s : s + _COVER_BLOCK] = d2 <= radii[s : s + _COVER_BLOCK, None] ** 2
+        return out
 
-    def _gains(self, cover: FloatArray, free: BoolArray) -> FloatArray:
-        """Free weight each row of ``cover`` (0/1 as float) covers: exact counts per kind of
-        point times that kind's weight, so ties and comparisons are the same on every run."""
+    def _pack(self, cover: BoolArray) -> tuple[IntArray, IntArray]:
+        """Rows of ``cover`` as bits, volume and surface points apart."""
         nv = self.n_volume
-        free_f = free.astype(np.float64)
-        volume = cover[:, :nv] @ free_f[:nv]
-        surface = cover[:, nv:] @ free_f[nv:]
+        return np.packbits(cover[:, :nv], axis=1), np.packbits(cover[:, nv:], axis=1)
+
+    def _gains(self, packed: tuple[IntArray, IntArray], free: BoolArray) -> FloatArray:
+        """Free weight each packed cover row covers: exact counts of covered free points per
+        kind times that kind's weight, so ties and comparisons are the same on every run."""
+        nv = self.n_volume
+        fv, fs = np.packbits(free[:nv]), np.packbits(free[nv:])
+        volume = np.bitwise_count(packed[0] & fv).sum(1, dtype=np.int64)
+        surface = np.bitwise_count(packed[1] & fs).sum(1, dtype=np.int64)
         return np.asarray(volume * self.w_volume + surface * self.w_surface)
 
     # ----------------------------------------------------------------------------------------
@@ -173,8 +246,8 @@ class SphereFitter:
         covered = np.zeros(len(self.points), dtype=bool)
         picks: list[int] = []
         curve: list[float] = []
-        for _ in range(k):
-            gain = self._gains(self._cand_cov_f, ~covered)
+        for _ in range(0 if self.empty else k):
+            gain = self._gains(self._cand_packed, ~covered)
             if picks:
                 gain[picks] = -1.0
             best = int(np.argmax(gain))
@@ -183,9 +256,9 @@ class SphereFitter:
             curve.append(float(covered[: self.n_volume].mean()) if self.n_volume else 1.0)
         return picks, curve
 
-    def fit(self, k: int, rounds: int = 3) -> tuple[Sphere, ...]:
+    def fit(self, k: int, rounds: int = 5) -> tuple[Sphere, ...]:
         """``k`` spheres: greedy picks, then swap and move refinement."""
-        if k <= 0:
+        if k <= 0 or self.empty:
             return ()
         picks, _ = self.greedy(k)
         centers = self.cand_c[picks].copy()
@@ -195,9 +268,9 @@ class SphereFitter:
             step = self.scale / (6.0 * 2.0**rnd)
             for i in range(k):
                 free = (cov.sum(0) - cov[i]) == 0
-                current = float(self._gains(cov[i][None, :].astype(np.float64), free)[0])
+                current = float(self._gains(self._pack(cov[i][None, :]), free)[0])
                 # swap for the best candidate given the others
-                gains = self._gains(self._cand_cov_f, free)
+                gains = self._gains(self._cand_packed, free)
                 j = int(np.argmax(gains))
                 if gains[j] > current + 1e-9:
                     centers[i], radii[i], cov[i] = self.cand_c[j], self.cand_r[j], self.cand_cov[j]
@@ -207,13 +280,24 @@ class SphereFitter:
                     trial_c = centers[i][None, :] + step * _MOVES
                     trial_r = self.max_radius(trial_c)
                     trial_cov = self._cover(trial_c, trial_r)
-                    tg = self._gains(trial_cov.astype(np.float64), free)
+                    tg = self._gains(self._pack(trial_cov), free)
                     t = int(np.argmax(tg))
                     if tg[t] <= current + 1e-9:
                         break
                     centers[i], radii[i], cov[i] = trial_c[t], trial_r[t], trial_cov[t]
                     current = float(tg[t])
-        return tuple(_rounded(c, r) for c, r in zip(centers, radii, strict=True))
+        return tuple(self._rounded(c, r) for c, r in zip(centers, radii, strict=True))
+
+    def _rounded(self, c: FloatArray, r: float) -> Sphere:
+        """:func:`_rounded`, then kept inside the clip planes (radius rounded down there)."""
+        sphere = _rounded(c, r)
+        if len(self.clips):
+            centre = np.array([sphere.center], dtype=np.float64)
+            room = min(float(self._plane_distance(centre, p)[0]) for p in self.clips)
+            if sphere.radius > room:
+                radius = max(float(np.floor(room * 1e4 + 1e-6) / 1e4), 1e-4)
+                sphere = Sphere(center=sphere.center, radius=radius)
+        return sphere
 
 
 def _rounded(c: FloatArray, r: float) -> Sphere:

@@ -8,9 +8,14 @@ a link without any falls back to its ``<visual>`` elements (reported as
 ``spheres-visual-fallback``).
 
 What is sphere-specific is here: a part that does not enclose a volume (open, non-manifold) is
-replaced by its convex hull and a ``spheres-convex-hull`` warning says so. Several parts of one
-link are merged into one solid by a boolean union (manifold3d); if that fails, the convex hull
-of all parts is used, again with a warning. Nothing here touches ROS.
+replaced by its convex hull and a ``spheres-convex-hull`` warning says so; a part whose hull is
+flat or degenerate by its oriented bounding box, at least ``MIN_THICKNESS`` thick
+(``spheres-bounding-box``). Several parts of one link are merged into one solid by a boolean
+union (manifold3d); if that fails, the convex hull of all parts is used, again with a warning.
+A thin shell -- a closed solid whose volume is less than ``THIN_SHELL_RATIO`` of its convex
+hull's, like a moulded base cover -- is fitted as its convex hull (``spheres-thin-shell``):
+covering the shell itself needs spheres thinner than the wall, and the hollow inside is not
+reachable free space for a planner. Nothing here touches ROS.
 """
 
 from __future__ import annotations
@@ -19,6 +24,8 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
@@ -30,13 +37,20 @@ if TYPE_CHECKING:
 
 __all__ = ["LinkGeometry", "is_volume", "load_link_geometry"]
 
-SolidKind = Literal["mesh", "union", "convex_hull"]
+SolidKind = Literal["mesh", "union", "convex_hull", "bounding_box"]
+
+#: A closed solid with less than this share of its convex hull's volume is a thin shell.
+THIN_SHELL_RATIO = 0.4
+#: The thinnest bounding box a flat part becomes (metres).
+MIN_THICKNESS = 0.002
 
 RULE_VISUAL_FALLBACK = "spheres-visual-fallback"
 RULE_CONVEX_HULL = "spheres-convex-hull"
 RULE_MESH_UNREADABLE = "spheres-mesh-unreadable"
 RULE_UNSUPPORTED = "spheres-unsupported-geometry"
 RULE_NO_GEOMETRY = "spheres-no-geometry"
+RULE_THIN_SHELL = "spheres-thin-shell"
+RULE_BOUNDING_BOX = "spheres-bounding-box"
 
 
 @dataclass(frozen=True)
@@ -64,6 +78,65 @@ def is_volume(mesh: trimesh.Trimesh) -> bool:
         return False
 
 
+def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
+    """The convex hull of ``mesh`` as a closed solid, or None when it is flat or degenerate.
+
+    Built from qhull's triangulated facets with consistent normals (trimesh's own hull, tried
+    second, merges facets into a non-manifold surface on some dense CAD meshes)."""
+    import trimesh
+
+    try:
+        from scipy.spatial import ConvexHull
+
+        ch = ConvexHull(np.asarray(mesh.vertices, dtype=np.float64), qhull_options="Qt")
+        rebuilt = trimesh.Trimesh(mesh.vertices, ch.simplices, process=True)
+        rebuilt.remove_unreferenced_vertices()
+        rebuilt.fix_normals()
+        if is_volume(rebuilt):
+            return rebuilt
+    except Exception:  # flat, collinear or too few points: try trimesh's hull below
+        pass
+    try:
+        hull: trimesh.Trimesh = mesh.convex_hull
+    except Exception:  # qhull fails on flat or degenerate parts: no hull
+        return None
+    return hull if is_volume(hull) else None
+
+
+def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
+    """The oriented bounding box of ``mesh``, at least ``MIN_THICKNESS`` along each axis."""
+    import trimesh
+
+    if len(mesh.vertices) == 0:
+        return None
+    try:
+        oriented: Any = trimesh.bounds.oriented_bounds
+        transform, extents = oriented(np.asarray(mesh.vertices))
+    except Exception:  # a single point or a degenerate set: use the axis-aligned box
+        lo, hi = np.asarray(mesh.bounds[0]), np.asarray(mesh.bounds[1])
+        transform, extents = np.eye(4), hi - lo
+        transform[:3, 3] = -(lo + hi) / 2.0
+    box = trimesh.creation.box(
+        extents=np.maximum(np.asarray(extents, dtype=np.float64), MIN_THICKNESS),
+        transform=np.linalg.inv(transform),
+    )
+    return box if is_volume(box) else None
+
+
+def _closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
+    """The part as a closed solid: itself, else its hull, else its bounding box."""
+    if is_volume(part):
+        hull = convex_hull(part)
+        if hull is not None and float(part.volume) < THIN_SHELL_RATIO * float(hull.volume):
+            return hull, "thin_shell"
+        return part, "mesh"
+    hull = convex_hull(part)
+    if hull is not None:
+        return hull, "convex_hull"
+    box = bounding_box(part)
+    return (box, "bounding_box") if box is not None else None
+
+
 def _solidify(
     link: str,
     parts: list[trimesh.Trimesh],
@@ -74,45 +147,26 @@ def _solidify(
     import trimesh
 
     closed: list[trimesh.Trimesh] = []
-    hulled = 0
+    how: list[str] = []
     for part in parts:
-        if is_volume(part):
-            closed.append(part)
-            continue
-        try:
-            hull = part.convex_hull
-        except Exception:  # qhull fails on flat or degenerate parts: they enclose nothing
-            continue
-        if is_volume(hull):
-            closed.append(hull)
-            hulled += 1
+        with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
+            got = _closed_part(part)
+        if got is not None:
+            closed.append(got[0])
+            how.append(got[1])
     if not closed:
         diags.append(
-            Diagnostic(
+            _warning(
                 path,
                 line,
-                None,
                 RULE_MESH_UNREADABLE,
-                Severity.WARNING,
-                f"link '{link}': its geometry encloses no volume (even as a convex hull); "
-                "no spheres fitted",
+                f"link '{link}': its geometry has no vertices; no spheres fitted",
             )
         )
         return None
-    if hulled:
-        diags.append(
-            Diagnostic(
-                path,
-                line,
-                None,
-                RULE_CONVEX_HULL,
-                Severity.WARNING,
-                f"link '{link}': {hulled} of {len(parts)} mesh(es) not watertight; spheres "
-                "fitted to the convex hull of those",
-            )
-        )
+    _report_parts(link, parts, closed, how, path, line, diags)
     if len(closed) == 1:
-        return closed[0], ("convex_hull" if hulled else "mesh")
+        return closed[0], _KIND[how[0]]
     try:
         union = trimesh.boolean.union(closed, engine="manifold")
         if is_volume(union):
@@ -120,19 +174,69 @@ def _solidify(
     except Exception:  # the boolean engine may be missing or fail: fall back to the hull below
         pass
     combined: Any = trimesh.util.concatenate(closed)
-    hull = combined.convex_hull
+    hull = convex_hull(combined)
+    if hull is None:
+        return None
     diags.append(
-        Diagnostic(
+        _warning(
             path,
             line,
-            None,
             RULE_CONVEX_HULL,
-            Severity.WARNING,
             f"link '{link}': the union of its {len(closed)} parts failed; spheres fitted to "
             "their convex hull",
         )
     )
     return hull, "convex_hull"
+
+
+_KIND: dict[str, SolidKind] = {
+    "mesh": "mesh",
+    "thin_shell": "convex_hull",
+    "convex_hull": "convex_hull",
+    "bounding_box": "bounding_box",
+}
+
+
+def _report_parts(
+    link: str,
+    parts: list[trimesh.Trimesh],
+    closed: list[trimesh.Trimesh],
+    how: list[str],
+    path: str,
+    line: int | None,
+    diags: list[Diagnostic],
+) -> None:
+    """One diagnostic per way a part was replaced."""
+    n = len(parts)
+    for kind, rule, text in (
+        ("convex_hull", RULE_CONVEX_HULL, "not watertight; spheres fitted to the convex hull"),
+        (
+            "bounding_box",
+            RULE_BOUNDING_BOX,
+            "enclose no volume, even as a convex hull; spheres fitted to the oriented bounding box",
+        ),
+    ):
+        hit = [i for i, h in enumerate(how) if h == kind]
+        if hit:
+            diags.append(
+                _warning(
+                    path, line, rule, f"link '{link}': {len(hit)} of {n} mesh(es) {text} of those"
+                )
+            )
+    for i, h in enumerate(how):
+        if h == "thin_shell":
+            share = float(parts[i].volume) / float(closed[i].volume)
+            diags.append(
+                Diagnostic(
+                    path,
+                    line,
+                    None,
+                    RULE_THIN_SHELL,
+                    Severity.INFO,
+                    f"link '{link}': a thin shell (its volume is {share:.0%} of its convex "
+                    "hull's); spheres fitted to the convex hull",
+                )
+            )
 
 
 _WHAT = {"auto": "collision or visual", "collision": "collision", "visual": "visual"}

@@ -28,7 +28,7 @@ import numpy.typing as npt
 if TYPE_CHECKING:
     import trimesh
 
-__all__ = ["points_inside"]
+__all__ = ["grid_inside", "points_inside"]
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -44,6 +44,41 @@ def points_inside(mesh: trimesh.Trimesh, points: FloatArray) -> BoolArray:
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
     faces = np.asarray(mesh.faces, dtype=np.int64)
     return _inside(vertices, faces, pts)
+
+
+def grid_inside(
+    mesh: trimesh.Trimesh, axes: tuple[FloatArray, FloatArray, FloatArray]
+) -> BoolArray:
+    """``(nx, ny, nz)`` booleans: which nodes of the grid ``axes`` lie inside the closed
+    ``mesh``; the same answer as :func:`points_inside` on the nodes, with one ray per xy column
+    (the crossings of a column are found once and counted above each node of it)."""
+    xs, ys, zs = (np.asarray(a, dtype=np.float64) for a in axes)
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    out = np.zeros((len(xs), len(ys), len(zs)), dtype=bool)
+    if len(faces) == 0 or out.size == 0:
+        return out
+    gx, gy = np.meshgrid(xs, ys, indexing="ij")
+    columns = np.stack([gx.ravel(), gy.ravel(), np.full(gx.size, -np.inf)], axis=1)
+    table = _TriangleTable(vertices, faces)
+    grid = _Buckets(columns, table.lo, table.hi)
+    cols: list[IntArray] = []
+    heights: list[FloatArray] = []
+    for tri, pnt in grid.candidate_blocks():
+        c, z = table.crossings(tri, pnt, columns)
+        cols.append(c)
+        heights.append(z)
+    col = np.concatenate(cols) if cols else np.zeros(0, dtype=np.int64)
+    z = np.concatenate(heights) if heights else np.zeros(0)
+    order = np.lexsort((z, col))
+    col, z = col[order], z[order]
+    bounds = np.searchsorted(col, np.arange(len(columns) + 1))
+    flat = out.reshape(len(columns), len(zs))
+    for k in np.flatnonzero(np.diff(bounds)):
+        zc = z[bounds[k] : bounds[k + 1]]
+        above = len(zc) - np.searchsorted(zc, zs, side="right")  # crossings with z > node
+        flat[k] = (above % 2).astype(bool)
+    return out
 
 
 def _inside(vertices: FloatArray, faces: IntArray, pts: FloatArray) -> BoolArray:
@@ -103,6 +138,15 @@ class _TriangleTable:
 
     def crossed_above(self, tri: IntArray, pnt: IntArray, pts: FloatArray) -> IntArray:
         """The points of the (triangle, point) pairs whose +z ray crosses the triangle."""
+        pnt, z = self.crossings(tri, pnt, pts)
+        crossed: IntArray = pnt[z > pts[pnt, 2]]
+        return crossed
+
+    def crossings(
+        self, tri: IntArray, pnt: IntArray, pts: FloatArray
+    ) -> tuple[IntArray, FloatArray]:
+        """The (point, height) of each pair whose vertical line through the point crosses
+        the triangle: the line's xy lies in the triangle's projection (exact tie rules)."""
         px, py = pts[pnt, 0], pts[pnt, 1]
         lo, hi = self.lo[tri], self.hi[tri]
         near = (px >= lo[:, 0]) & (px <= hi[:, 0]) & (py >= lo[:, 1]) & (py <= hi[:, 1])
@@ -119,8 +163,7 @@ class _TriangleTable:
         tri, pnt = tri[inside], pnt[inside]
         w = np.stack([x[inside] for x in weights], 1)
         z = (w * self.vertices_z[tri]).sum(1) / w.sum(1)
-        crossed: IntArray = pnt[z > pts[pnt, 2]]
-        return crossed
+        return pnt, z
 
 
 class _Buckets:

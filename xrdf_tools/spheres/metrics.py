@@ -13,6 +13,15 @@ All metrics are Monte Carlo estimates from a seeded generator, so they are repro
   ``protrusion_max`` are the area-weighted mean, 95th percentile and maximum, in metres.
   Example: one sphere of radius 0.6 at the centre of a unit cube has half of its surface
   outside in six caps, with protrusion uniform on [0, 0.1] there: mean 0.025, p95 0.09, max 0.1.
+* **protrusion share** -- share of the *volume of the union of the spheres* that lies outside
+  the solid (points sampled uniformly in the union: each sphere gets points in proportion to
+  its volume, and a point is kept only by the first sphere that contains it).
+* **surface gap** -- for each point sampled on the solid's surface, its distance to the union
+  of the spheres, ``max(0, min_k |p - c_k| - r_k)`` (0 when covered). ``surface_gap_mean`` and
+  ``surface_gap_p95`` are its mean and 95th percentile; ``max_uncovered_gap`` its maximum (the
+  one-sided Hausdorff distance from the surface to the spheres). Without spheres every gap is
+  the diagonal of the solid's bounding box.
+* **volume ratio** -- volume of the union of the spheres over the volume of the solid.
 
 The solid must enclose a volume; an open mesh is measured as its convex hull
 (``SphereMetrics.solid == "convex_hull"``).
@@ -51,6 +60,12 @@ class SphereMetrics:
     volume: float
     area: float = 0.0
     solid: str = "mesh"
+    protrusion_share: float = 0.0
+    surface_gap_mean: float = 0.0
+    surface_gap_p95: float = 0.0
+    max_uncovered_gap: float = 0.0
+    volume_ratio: float = 0.0
+    fit_seconds: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -210,38 +225,142 @@ def sphere_metrics(
     return measure(mesh, spheres, samples=samples, seed=seed)[0]
 
 
+@dataclass(frozen=True)
+class MetricSamples:
+    """The samples behind one link's metrics, to pool several links (:func:`pooled`)."""
+
+    protrusion: FloatArray
+    protrusion_weight: FloatArray
+    gap: FloatArray
+    gap_weight: FloatArray
+    union_volume: float
+    outside_volume: float
+
+
+def union_volume_samples(
+    centers: FloatArray, radii: FloatArray, n: int, rng: np.random.Generator
+) -> tuple[FloatArray, FloatArray]:
+    """Points uniform in the union of spheres, and their volume weights (summing to the
+    union's volume): each sphere gets points in proportion to its volume; a point is kept only
+    by the first sphere that contains it."""
+    if len(radii) == 0:
+        return np.zeros((0, 3)), np.zeros(0)
+    vol = 4.0 / 3.0 * np.pi * radii**3
+    counts = np.maximum(16, np.round(n * vol / vol.sum()).astype(int))
+    pts_list: list[FloatArray] = []
+    w_list: list[FloatArray] = []
+    for k, (c, r, m) in enumerate(zip(centers, radii, counts, strict=True)):
+        v = rng.normal(size=(int(m), 3))
+        v /= np.linalg.norm(v, axis=1, keepdims=True)
+        p = c + r * v * np.cbrt(rng.uniform(size=(int(m), 1)))
+        if k:
+            p = p[~inside_any(p, centers[:k], radii[:k])]
+        pts_list.append(p)
+        w_list.append(np.full(len(p), vol[k] / m))
+    return np.concatenate(pts_list), np.concatenate(w_list)
+
+
+def gap_to_spheres(
+    points: FloatArray, centers: FloatArray, radii: FloatArray, chunk: int = 8192
+) -> FloatArray:
+    """Distance of each point to the union of the spheres (0 inside it); inf without spheres."""
+    out = np.full(len(points), np.inf)
+    if len(radii) == 0:
+        return out
+    for s in range(0, len(points), chunk):
+        p = points[s : s + chunk]
+        d = np.sqrt(((p[:, None, :] - centers[None, :, :]) ** 2).sum(-1)) - radii[None, :]
+        out[s : s + chunk] = np.maximum(d.min(1), 0.0)
+    return out
+
+
 def measure(
     mesh: trimesh.Trimesh,
     spheres: Sequence[Sphere],
     *,
     samples: int = DEFAULT_SAMPLES,
     seed: int | Sequence[int] = 0,
-) -> tuple[SphereMetrics, FloatArray, FloatArray]:
-    """:func:`sphere_metrics` plus the protrusion samples and their area weights (to pool)."""
+) -> tuple[SphereMetrics, MetricSamples]:
+    """:func:`sphere_metrics` plus the samples behind it (to pool several links)."""
     solid, kind = as_solid(mesh)
     rng = np.random.default_rng(seed)
     centers, radii = sphere_arrays(spheres)
     vol_pts = sample_volume(solid, samples, rng)
     surf_pts = sample_surface(solid, samples, rng)
     coverage = float(inside_any(vol_pts, centers, radii).mean()) if len(vol_pts) else 0.0
-    surface_cov = float(inside_any(surf_pts, centers, radii).mean()) if len(surf_pts) else 0.0
+    gap = gap_to_spheres(surf_pts, centers, radii)
+    surface_cov = float((gap == 0.0).mean()) if len(surf_pts) else 0.0
     b_pts, b_w = union_boundary_samples(centers, radii, max(samples // 2, 64), rng)
     prot = outside_distance(solid, b_pts)
-    if len(prot):
-        mean = float((prot * b_w).sum() / b_w.sum())
-        p95 = weighted_quantile(prot, b_w, 0.95)
-        pmax = float(prot.max())
-    else:
-        mean = p95 = pmax = 0.0
-    metrics = SphereMetrics(
-        sphere_count=len(spheres),
-        coverage=coverage,
-        surface_coverage=surface_cov,
-        protrusion_mean=mean,
-        protrusion_p95=p95,
-        protrusion_max=pmax,
-        volume=float(solid.volume),
-        area=float(solid.area),
-        solid=kind,
+    u_pts, u_w = union_volume_samples(centers, radii, max(samples // 2, 64), rng)
+    u_out = ~contains(solid, u_pts)
+    volume, area = float(solid.volume), float(solid.area)
+    pool = MetricSamples(
+        prot,
+        b_w,
+        gap if len(radii) else np.full(len(surf_pts), float(solid.scale)),
+        np.full(len(surf_pts), area / max(len(surf_pts), 1)),
+        float(u_w.sum()),
+        float(u_w[u_out].sum()),
     )
-    return metrics, prot, b_w
+    return _metrics(len(spheres), coverage, surface_cov, volume, area, kind, pool), pool
+
+
+def _metrics(
+    count: int,
+    coverage: float,
+    surface_coverage: float,
+    volume: float,
+    area: float,
+    kind: str,
+    pool: MetricSamples,
+) -> SphereMetrics:
+    prot, w = pool.protrusion, pool.protrusion_weight
+    gap, gw = pool.gap, pool.gap_weight
+    return SphereMetrics(
+        sphere_count=count,
+        coverage=coverage,
+        surface_coverage=surface_coverage,
+        protrusion_mean=float((prot * w).sum() / w.sum()) if len(prot) else 0.0,
+        protrusion_p95=weighted_quantile(prot, w, 0.95),
+        protrusion_max=float(prot.max()) if len(prot) else 0.0,
+        volume=volume,
+        area=area,
+        solid=kind,
+        protrusion_share=pool.outside_volume / pool.union_volume if pool.union_volume else 0.0,
+        surface_gap_mean=float((gap * gw).sum() / gw.sum()) if len(gap) else 0.0,
+        surface_gap_p95=weighted_quantile(gap, gw, 0.95),
+        max_uncovered_gap=float(gap.max()) if len(gap) else 0.0,
+        volume_ratio=pool.union_volume / volume if volume else 0.0,
+    )
+
+
+def pooled(per: Sequence[SphereMetrics], pools: Sequence[MetricSamples]) -> SphereMetrics:
+    """Metrics of several links together: coverage weighted by volume, surface coverage by
+    area, distances over the pooled (area-weighted) samples, shares and ratios of the summed
+    volumes."""
+    vol = sum(m.volume for m in per)
+    area = sum(m.area for m in per)
+    kinds = {m.solid for m in per}
+
+    def cat(name: str) -> FloatArray:
+        arrays = [getattr(p, name) for p in pools]
+        return np.concatenate(arrays) if arrays else np.zeros(0)
+
+    pool = MetricSamples(
+        cat("protrusion"),
+        cat("protrusion_weight"),
+        cat("gap"),
+        cat("gap_weight"),
+        sum(p.union_volume for p in pools),
+        sum(p.outside_volume for p in pools),
+    )
+    return _metrics(
+        sum(m.sphere_count for m in per),
+        sum(m.coverage * m.volume for m in per) / vol if vol else 0.0,
+        sum(m.surface_coverage * m.area for m in per) / area if area else 0.0,
+        vol,
+        area,
+        kinds.pop() if len(kinds) == 1 else "mixed",
+        pool,
+    )

@@ -23,12 +23,23 @@ from .common import (
     note,
     progress_bar,
     refuse_input_overwrite,
+    stderr_is_terminal,
     write_output,
 )
-from .core import EXIT_FINDINGS, OutputFormat, has_failures, is_stdio, timed
+from .core import (
+    EXIT_FINDINGS,
+    OutputFormat,
+    Verbosity,
+    detail,
+    has_failures,
+    is_stdio,
+    timed,
+    verbosity,
+)
 
 if TYPE_CHECKING:
     from ...convert.pipeline import Progress
+    from ...spheres.fit import Plane
     from ...xrdf.model import Xrdf
     from .common import ProgressUpdate
 
@@ -174,6 +185,23 @@ def command(
             "cover 90 % of the link).",
         ),
     ] = None,
+    sphere_budget: Annotated[
+        int | None,
+        typer.Option(
+            "--sphere-budget",
+            min=1,
+            help="With --fit-spheres: this many spheres in total, one per link and the rest "
+            "where they add the most covered volume (instead of --per-link).",
+        ),
+    ] = None,
+    clip: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--clip",
+            help="With --fit-spheres: LINK:nx,ny,nz,d keeps LINK's spheres on the side of the "
+            "plane n.x = d that n points to (link frame; as `xrdf spheres --clip`).",
+        ),
+    ] = None,
     joints: Annotated[
         list[str] | None,
         typer.Option(
@@ -243,12 +271,16 @@ def command(
             chains=tuple(parse_chain(c) for c in _split(chain)),
         )
         fit = None
+        if per_link is not None and sphere_budget is not None:
+            fail("give --per-link or --sphere-budget, not both")
         if fit_spheres:
             fit = FitOptions(
                 source=geometry_from.value,
                 seed=seed,
                 per_link=per_link,
                 allow_missing_meshes=allow_missing_meshes,
+                sphere_budget=sphere_budget,
+                clips=_clips(clip),
             )
         mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
         label = "<stdout>" if output is None or is_stdio(output) else str(output)
@@ -328,8 +360,29 @@ def _split(values: list[str] | None) -> list[str]:
     return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
 
 
+def _clips(values: list[str] | None) -> dict[str, list[Plane]]:
+    """``--clip LINK:nx,ny,nz,d`` values by link."""
+    from ...spheres.robot_fit import parse_clip
+
+    out: dict[str, list[Plane]] = {}
+    for text in values or []:
+        link, plane = parse_clip(text)
+        out.setdefault(link, []).append(plane)
+    return out
+
+
 def _staged(bar: ProgressUpdate | None) -> Progress | None:
-    """The assistant's ``progress(stage, done, total)`` drawn on the common bar."""
-    if bar is None:
+    """The assistant's ``progress(stage, done, total)`` drawn on the common bar; with ``-v``
+    and no terminal (CI logs), one line per fitted link and per tenth of the sampling."""
+    if bar is not None:
+        return lambda stage, done, total: bar(_STAGES.get(stage, stage), done, total)
+    if stderr_is_terminal() or verbosity() < Verbosity.VERBOSE:
         return None
-    return lambda stage, done, total: bar(_STAGES.get(stage, stage), done, total)
+
+    def line(stage: str, done: int, total: int) -> None:
+        if stage == "fitting":
+            detail(f"{_STAGES[stage]}: {done + 1}/{total}")
+        elif total and (done * 10 // total) != ((done - 1) * 10 // total) and done:
+            detail(f"{_STAGES.get(stage, stage)}: {done}/{total}")
+
+    return line

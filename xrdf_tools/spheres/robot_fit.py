@@ -1,0 +1,363 @@
+"""Spheres for every link of a robot: how many per link, shared meshes, clip planes, timing.
+
+:func:`fit_robot` is the one place the per-link fits of :class:`~.fit.SphereFitter` are
+planned; :func:`xrdf_tools.spheres.fit_link_spheres` is its two-value form.
+
+* Counts, at most one of ``per_link`` (``n`` or ``{link: n}``), ``count`` (a total, also the
+  ``--sphere-budget`` of ``xrdf convert``: one per link, then each further sphere to the link
+  whose covered volume grows most), ``density`` (per litre); by default the fewest spheres
+  (up to ``AUTO_MAX_PER_LINK``) that cover ``target_coverage`` of the link's volume at the
+  protrusion bound.
+* A tiny placeholder (bounding-box diagonal under ``PLACEHOLDER_SIZE``) gets one sphere.
+* Links whose solids are identical (same vertices and faces in the link frame, same options)
+  are fitted once: the generator of a fit is seeded from ``seed`` and the solid's content, so
+  the spheres do not depend on the link's name or on which other links are fitted.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..diagnostics import Diagnostic, Severity
+from ..robot.core import Robot
+from ..util.errors import XrdfToolsError
+from ..xrdf.model import Sphere
+
+if TYPE_CHECKING:
+    import trimesh
+
+    from ..robot.link_geometry import GeometryChoice
+    from .fit import Plane, SphereFitter
+    from .geometry import LinkGeometry
+
+MAX_PER_LINK = 64
+AUTO_COVERAGE_TARGET = 0.9
+AUTO_MAX_PER_LINK = 16
+#: A solid whose bounding-box diagonal is shorter than this (metres) is a placeholder.
+PLACEHOLDER_SIZE = 0.02
+
+RULE_SHARED_MESH = "spheres-shared-mesh"
+RULE_TARGET_MISSED = "spheres-target-missed"
+RULE_PLACEHOLDER = "spheres-placeholder"
+
+#: ``progress(link, i, n)``: called before link ``i`` of ``n`` is fitted.
+Progress = Callable[[str, int, int], None]
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """What :func:`fit_robot` made: spheres per link (URDF link order), the seconds each link
+    took (0 for a link that reused another's fit), how each link's solid was made
+    (``LinkGeometry.kind``), the solids themselves and the diagnostics."""
+
+    spheres: dict[str, tuple[Sphere, ...]]
+    seconds: dict[str, float] = field(default_factory=dict)
+    kinds: dict[str, str] = field(default_factory=dict)
+    geometry: dict[str, LinkGeometry] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+
+def link_seed(seed: int, link: str) -> list[int]:
+    """Seed of one link's metric samples: independent of which other links are measured."""
+    import zlib
+
+    return [int(seed) & 0xFFFFFFFF, zlib.crc32(link.encode("utf-8"))]
+
+
+def solid_key(solid: trimesh.Trimesh) -> str:
+    """Content hash of a solid (vertices and faces as little-endian bytes)."""
+    h = hashlib.sha256()
+    h.update(np.ascontiguousarray(solid.vertices, dtype="<f8").tobytes())
+    h.update(np.ascontiguousarray(solid.faces, dtype="<i8").tobytes())
+    return h.hexdigest()
+
+
+def parse_clip(text: str) -> tuple[str, Plane]:
+    """``LINK:nx,ny,nz,d`` as ``(link, ((nx, ny, nz) normalised, d scaled alike))``: the
+    spheres of LINK keep ``n . centre - radius >= d`` (link frame, metres)."""
+    link, sep, numbers = text.rpartition(":")
+    parts = numbers.split(",")
+    if not sep or not link or len(parts) != 4:
+        raise XrdfToolsError(f"clip '{text}': expected LINK:nx,ny,nz,d (e.g. base_link:0,0,1,0)")
+    try:
+        values = [float(v) for v in parts]
+    except ValueError:
+        raise XrdfToolsError(f"clip '{text}': nx, ny, nz and d must be numbers") from None
+    norm = math.sqrt(sum(v * v for v in values[:3]))
+    if not all(math.isfinite(v) for v in values) or norm == 0.0:
+        raise XrdfToolsError(f"clip '{text}': the normal must be finite and non-zero")
+    nx, ny, nz = (v / norm for v in values[:3])
+    return link, ((nx, ny, nz), values[3] / norm)
+
+
+def check_counts(
+    per_link: int | Mapping[str, int] | None, count: int | None, density: float | None
+) -> None:
+    """Raise for more than one counting option or a value out of range."""
+    given = [
+        n
+        for n, v in (("per_link", per_link), ("count", count), ("density", density))
+        if v is not None
+    ]
+    if len(given) > 1:
+        raise XrdfToolsError(f"give at most one of count, per-link and density (got {given})")
+    for n in per_link.values() if isinstance(per_link, Mapping) else [per_link]:
+        if n is not None and not 0 <= n <= MAX_PER_LINK:
+            raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {n}")
+    if isinstance(per_link, int) and per_link < 1:
+        raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {per_link}")
+    if count is not None and count < 1:
+        raise XrdfToolsError(f"count must be at least 1, got {count}")
+    if density is not None and not (density > 0 and math.isfinite(density)):
+        raise XrdfToolsError(f"density must be a positive number, got {density}")
+
+
+def allocate(
+    curves: Mapping[str, Sequence[float]], volumes: Mapping[str, float], total: int
+) -> dict[str, int]:
+    """Split ``total`` spheres over links: one each, then by largest covered-volume gain."""
+    alloc = dict.fromkeys(curves, 1)
+    left = total - len(alloc)
+    while left > 0:
+        best, best_gain = None, -1.0
+        for link, curve in curves.items():
+            k = alloc[link]
+            if k >= len(curve):
+                continue
+            gain = (curve[k] - curve[k - 1]) * volumes[link]
+            if gain > best_gain:
+                best, best_gain = link, gain
+        if best is None:
+            break
+        alloc[best] += 1
+        left -= 1
+    return alloc
+
+
+@dataclass(frozen=True)
+class CountPolicy:
+    """How many spheres each link gets (see :func:`fit_robot`)."""
+
+    per_link: int | Mapping[str, int] | None = None
+    count: int | None = None
+    density: float | None = None
+    target_coverage: float = AUTO_COVERAGE_TARGET
+
+
+def _fewest_reaching(fitter: SphereFitter, target: float) -> tuple[tuple[Sphere, ...], float]:
+    """The fewest refined spheres (up to AUTO_MAX_PER_LINK) covering ``target`` of the volume
+    samples: the greedy count is an upper bound (refinement only adds coverage), and a
+    bisection below it with refined fits finds the fewest."""
+    curve = fitter.greedy(AUTO_MAX_PER_LINK)[1]
+    reach = [k + 1 for k, c in enumerate(curve) if c >= target]
+    hi = reach[0] if reach else AUTO_MAX_PER_LINK
+    fits = {hi: fitter.fit(hi)}
+    lo = 0  # lo spheres do not reach the target (0 never does), hi do (or hi is the cap)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        fits[mid] = fitter.fit(mid)
+        if fitter.covered_share(fits[mid]) >= target:
+            hi = mid
+        else:
+            lo = mid
+    return fits[hi], fitter.covered_share(fits[hi])
+
+
+def _info(path: str, line: int | None, rule: str, message: str, warn: bool = False) -> Diagnostic:
+    return Diagnostic(path, line, None, rule, Severity.WARNING if warn else Severity.INFO, message)
+
+
+def fit_robot(
+    robot: str | os.PathLike[str] | Robot,
+    *,
+    links: Sequence[str] | None = None,
+    counts: CountPolicy = CountPolicy(),
+    seed: int = 0,
+    package_paths: Mapping[str, str] | None = None,
+    max_protrusion: float | Mapping[str, float] | None = None,
+    clips: Mapping[str, Sequence[Plane]] | None = None,
+    progress: Progress | None = None,
+    source: GeometryChoice = "auto",
+    geometry: Mapping[str, LinkGeometry] | None = None,
+) -> FitResult:
+    """Fit spheres to the links of ``robot`` (see the module docstring and
+    :func:`xrdf_tools.spheres.fit_link_spheres`). ``clips`` keeps a link's spheres on the
+    positive side of planes in its frame; ``geometry`` skips loading the solids."""
+    from .fit import SphereFitter
+    from .geometry import load_link_geometry
+
+    check_counts(counts.per_link, counts.count, counts.density)
+    if not 0.0 < counts.target_coverage <= 1.0:
+        raise XrdfToolsError(f"target coverage must be in (0, 1], got {counts.target_coverage}")
+    diags: list[Diagnostic] = []
+    if geometry is None:
+        geoms, diags = load_link_geometry(
+            robot, links=links, package_paths=package_paths, source=source
+        )
+    else:
+        geoms = dict(geometry)
+    if counts.count is not None and counts.count < len(geoms):
+        raise XrdfToolsError(
+            f"count {counts.count} is less than the number of links to fit ({len(geoms)})"
+        )
+    path = robot.path if isinstance(robot, Robot) else os.fspath(robot)
+    stray = [k for k in clips or {} if k not in geoms]
+    if stray:
+        raise XrdfToolsError(
+            f"clip plane(s) for link(s) without geometry to fit: {', '.join(stray)}"
+        )
+    plans = _plan(geoms, max_protrusion, clips or {}, seed)
+    fitters: dict[str, SphereFitter] = {}
+    seconds: dict[str, float] = {}
+    first_of: dict[tuple[object, ...], str] = {}
+    for i, (name, (key, tau, planes, fit_seed)) in enumerate(plans.items()):
+        if progress is not None:
+            progress(name, i, len(plans))
+        if key in first_of:
+            seconds[name] = 0.0
+            continue
+        first_of[key] = name
+        t0 = time.perf_counter()
+        fitters[name] = SphereFitter(
+            geoms[name].solid, seed=fit_seed, max_protrusion=tau, clips=planes
+        )
+        seconds[name] = time.perf_counter() - t0
+    ks = _counts(fitters, geoms, counts)
+    spheres: dict[str, tuple[Sphere, ...]] = {}
+    for name, (key, *_rest) in plans.items():
+        owner = first_of[key]
+        if owner != name:
+            spheres[name] = spheres[owner]
+            continue
+        t0 = time.perf_counter()
+        spheres[name] = _fit_one(fitters[owner], ks.get(owner), counts, geoms[name], path, diags)
+        seconds[name] += time.perf_counter() - t0
+    _report_shared(plans, first_of, path, geoms, diags)
+    fitted = {n: s for n, s in spheres.items() if s}
+    return FitResult(
+        fitted,
+        {n: seconds[n] for n in fitted},
+        {n: geoms[n].kind for n in fitted},
+        {n: geoms[n] for n in fitted},
+        diags,
+    )
+
+
+def _plan(
+    geoms: Mapping[str, LinkGeometry],
+    max_protrusion: float | Mapping[str, float] | None,
+    clips: Mapping[str, Sequence[Plane]],
+    seed: int,
+) -> dict[str, tuple[tuple[object, ...], float | None, tuple[Plane, ...], list[int]]]:
+    """Per link: the cache key of its fit, its protrusion budget, clip planes and seed."""
+    out: dict[str, tuple[tuple[object, ...], float | None, tuple[Plane, ...], list[int]]] = {}
+    for name, g in geoms.items():
+        tau = max_protrusion.get(name) if isinstance(max_protrusion, Mapping) else max_protrusion
+        planes = tuple(clips.get(name, ()))
+        content = solid_key(g.solid)
+        key = (content, tau, planes)
+        out[name] = (key, tau, planes, [int(seed) & 0xFFFFFFFF, int(content[:8], 16)])
+    return out
+
+
+def _counts(
+    fitters: Mapping[str, SphereFitter], geoms: Mapping[str, LinkGeometry], counts: CountPolicy
+) -> dict[str, int]:
+    """Spheres per fitted link for the explicit counting options (empty: by target)."""
+    if isinstance(counts.per_link, Mapping):
+        return {n: int(counts.per_link.get(n, 0)) for n in fitters}
+    if counts.per_link is not None:
+        return dict.fromkeys(fitters, counts.per_link)
+    if counts.density is not None:
+        d = counts.density
+        return {
+            n: min(MAX_PER_LINK, max(1, math.ceil(d * f.volume * 1000.0 - 1e-9)))
+            for n, f in fitters.items()
+        }
+    if counts.count is not None:
+        cap = min(MAX_PER_LINK, counts.count - len(geoms) + 1)
+        curves = {n: f.greedy(cap)[1] for n, f in fitters.items()}
+        return allocate(curves, {n: f.volume for n, f in fitters.items()}, counts.count)
+    return {}
+
+
+def _fit_one(
+    fitter: SphereFitter,
+    k: int | None,
+    counts: CountPolicy,
+    geom: LinkGeometry,
+    path: str,
+    diags: list[Diagnostic],
+) -> tuple[Sphere, ...]:
+    """One link's spheres: ``k`` of them, or the fewest reaching the coverage target."""
+    if fitter.empty and k != 0:
+        diags.append(
+            _info(
+                path,
+                geom.line,
+                RULE_TARGET_MISSED,
+                f"link '{geom.link}': nothing of it lies on the kept side of its clip planes; "
+                "no spheres",
+                warn=True,
+            )
+        )
+        return ()
+    size = float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
+    if size < PLACEHOLDER_SIZE and (k is None or k > 1):
+        diags.append(
+            _info(
+                path,
+                geom.line,
+                RULE_PLACEHOLDER,
+                f"link '{geom.link}' is a placeholder ({size * 1000:.0f} mm across): one sphere",
+            )
+        )
+        return fitter.fit(1)
+    if k is not None:
+        return fitter.fit(k)
+    spheres, share = _fewest_reaching(fitter, counts.target_coverage)
+    if share < counts.target_coverage:
+        diags.append(
+            _info(
+                path,
+                geom.line,
+                RULE_TARGET_MISSED,
+                f"link '{geom.link}': {len(spheres)} spheres cover {share:.0%} of its volume "
+                f"(target {counts.target_coverage:.0%}); raise --max-protrusion or give "
+                "--per-link for more",
+                warn=True,
+            )
+        )
+    return spheres
+
+
+def _report_shared(
+    plans: Mapping[str, tuple[tuple[object, ...], object, object, object]],
+    first_of: Mapping[tuple[object, ...], str],
+    path: str,
+    geoms: Mapping[str, LinkGeometry],
+    diags: list[Diagnostic],
+) -> None:
+    """One line per fit reused by other links."""
+    reused: dict[str, list[str]] = {}
+    for name, (key, *_rest) in plans.items():
+        owner = first_of[key]
+        if owner != name:
+            reused.setdefault(owner, []).append(name)
+    for owner, others in reused.items():
+        diags.append(
+            _info(
+                path,
+                geoms[owner].line,
+                RULE_SHARED_MESH,
+                f"links {', '.join(others)} share the geometry of '{owner}': fitted once",
+            )
+        )
