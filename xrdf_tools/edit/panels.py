@@ -111,6 +111,11 @@ class Panels:
             )
             buffered = gui.add_checkbox("Buffered radii", False)
             axes = gui.add_checkbox("Frames", False)
+            ignored = gui.add_checkbox(
+                "Ignored contacts",
+                False,
+                hint="Colour spheres touching in pairs the mask ignores (orange)",
+            )
 
         def set_meshes(e: Any) -> None:
             if from_browser(e):
@@ -123,6 +128,13 @@ class Panels:
                     page.view.set_buffered(buffered.value, page.state.xrdf, page.state.group)
                     page.refresh()
 
+        def set_ignored(e: Any) -> None:
+            if from_browser(e):
+                with page.lock:
+                    page.view.show_ignored = bool(ignored.value)
+                    page.refresh()
+
+        ignored.on_update(set_ignored)
         meshes.on_update(set_meshes)
         buffered.on_update(set_buffered)
         axes.on_update(lambda e: page.view.set_axes(axes.value) if from_browser(e) else None)
@@ -193,14 +205,17 @@ class Panels:
         with gui.add_folder("Spheres"):
             self.link: Any = gui.add_dropdown("Link", frames, initial_value=frames[0])
             self.sphere: Any = gui.add_dropdown("Sphere", (NONE,), initial_value=NONE)
-            self.center: Any = gui.add_vector3("Center", (0.0, 0.0, 0.0), step=0.001)
+            self.center: list[Any] = [
+                gui.add_number(f"Center {axis} (m)", 0.0, step=0.0005) for axis in "xyz"
+            ]
             self.radius: Any = gui.add_slider("Radius", 0.0, 0.3, step=0.0005, initial_value=0.0)
             add = gui.add_button("Add sphere")
             dup = gui.add_button("Duplicate sphere")
             delete = gui.add_button("Delete sphere")
         self.link.on_update(lambda e: page.pick(self.link.value, None) if from_browser(e) else None)
         self.sphere.on_update(lambda e: self._pick_sphere() if from_browser(e) else None)
-        self.center.on_update(lambda e: self._move(self.center.value) if from_browser(e) else None)
+        for axis, box in enumerate(self.center):
+            box.on_update(self._center_moved(axis, box))
         self.radius.on_update(lambda e: self._resize() if from_browser(e) else None)
         add.on_click(lambda e: self._add() if from_browser(e) else None)
         dup.on_click(lambda e: self._on_sphere(DuplicateSphere) if from_browser(e) else None)
@@ -215,6 +230,17 @@ class Panels:
     def _pick_sphere(self) -> None:
         value = self.sphere.value
         self.page.pick(self.link.value, None if value == NONE else int(value))
+
+    def _center_moved(self, axis: int, box: Any) -> Any:
+        def moved(e: Any) -> None:
+            sel = self._selected_sphere()
+            if from_browser(e) and sel is not None:
+                s = self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]][sel[1]]
+                c = list(s.center)
+                c[axis] = float(box.value)
+                self._move((c[0], c[1], c[2]))
+
+        return moved
 
     def _move(self, center: tuple[float, float, float]) -> None:
         sel = self._selected_sphere()
@@ -256,7 +282,8 @@ class Panels:
         self.sphere.value = NONE if k is None else str(k)
         if k is not None and k < len(spheres):
             s = spheres[k]
-            self.center.value = s.center
+            for box, v in zip(self.center, s.center, strict=True):
+                box.value = v
             self.radius.value = float(min(max(s.radius, 0.0), 0.3))
         self.mask.sync_selection(frame)
         self._place_gizmo(frame, None if k is None or k >= len(spheres) else spheres[k], k)
@@ -280,10 +307,17 @@ class Panels:
             self.gizmo_for = (frame, k)
             gizmo = self.gizmo
 
+            dragging = [False]  # only a drag moves the sphere
+
             def dragged(e: Any) -> None:
-                if from_browser(e) and self.gizmo is gizmo:
+                phase = getattr(e, "phase", "update")
+                if phase == "start":
+                    dragging[0] = True
+                if dragging[0] and from_browser(e) and self.gizmo is gizmo:
                     p = gizmo.position
                     self._move((float(p[0]), float(p[1]), float(p[2])))
+                if phase == "end":
+                    dragging[0] = False
 
             gizmo.on_update(dragged)
         elif not np.allclose(self.gizmo.position, sphere.center):
@@ -377,16 +411,21 @@ class Panels:
         self.mask.update(document=document)
 
 
+#: Touching pairs listed under Collisions (of each kind; the rest are counted).
+MAX_CONTACTS = 12
+
+
 def _contacts_text(page: EditorPage) -> str:
     c = page.collisions
     if not c.contacts:
         return "No touching pairs at this pose."
-    lines = []
-    for x in c.contacts:
-        kind = "ignored" if x.masked else "**COLLIDING**"
-        lines.append(
-            f"- {kind} `{x.frame_a}` ↔ `{x.frame_b}`: {x.clearance * 1000:.1f} mm "
-            f"({x.n_sphere_pairs} sphere pair(s))"
-        )
-    head = f"{len(c.checked)} colliding, {len(c.ignored)} ignored touching pair(s):"
-    return head + "\n\n" + "\n".join(lines)
+    lines = [f"{len(c.checked)} colliding, {len(c.ignored)} ignored touching pair(s):", ""]
+    for kind, items in (("**COLLIDING**", c.checked), ("ignored", c.ignored)):
+        for x in items[:MAX_CONTACTS]:
+            lines.append(
+                f"- {kind} `{x.frame_a}` ↔ `{x.frame_b}`: {x.clearance * 1000:.1f} mm "
+                f"({x.n_sphere_pairs} sphere pair(s))"
+            )
+        if len(items) > MAX_CONTACTS:
+            lines.append(f"- … and {len(items) - MAX_CONTACTS} more {kind.strip('*').lower()}")
+    return "\n".join(lines)

@@ -72,6 +72,7 @@ class RobotView:
         self.colors: dict[str, list[Rgb]] = {}
         self.link_rgb: dict[str, Rgb] = {}
         self.show_buffered = False
+        self.show_ignored = False
         self.show_axes = False
         self.mesh_kind: MeshKind = "none"
         self._mesh_cache: dict[str, dict[str, tuple[MeshPart, ...]]] = {}
@@ -209,8 +210,8 @@ class RobotView:
     def color_spheres(
         self, collisions: Collisions, selected: tuple[str, int | None] | None
     ) -> None:
-        """Colour every sphere: its link's colour, or touching (checked / ignored), or
-        selected."""
+        """Colour every sphere: its link's colour, or touching in a checked pair, or touching
+        in an ignored pair (when :attr:`show_ignored`), or selected."""
         for frame, handles in self.spheres.items():
             hit = collisions.spheres.get(frame, frozenset())
             ign = collisions.ignored_spheres.get(frame, frozenset())
@@ -218,7 +219,7 @@ class RobotView:
                 rgb = self.link_rgb[frame]
                 if k in hit:
                     rgb = CHECKED_RGB
-                elif k in ign:
+                elif self.show_ignored and k in ign:
                     rgb = IGNORED_RGB
                 if selected is not None and selected == (frame, k):
                     rgb = SELECTED_RGB

@@ -168,14 +168,17 @@ def command(
         fail(e)
     except OSError as e:
         fail(f"cannot serve on {host}:{port}: {e.strerror or e}")
-    echo_diagnostics(page.diagnostics, OutputFormat.text)
-    url = page.url
-    note(f"editing {target} at {url} (Ctrl-C stops{'; read-only' if readonly else ''})")
-    if not no_browser:
-        import webbrowser
+    try:  # from here on, Ctrl-C is the way to stop: exit 0 wherever it lands
+        echo_diagnostics(page.diagnostics, OutputFormat.text)
+        url = page.url
+        note(f"editing {target} at {url} (Ctrl-C stops{'; read-only' if readonly else ''})")
+        if not no_browser:
+            import webbrowser
 
-        detail("opening a browser")
-        webbrowser.open(url)
-    page.serve_forever()
+            detail("opening a browser")
+            webbrowser.open(url)
+        page.serve_forever()
+    except KeyboardInterrupt:
+        page.close()
     if page.state.dirty:
         note(f"stopped; unsaved changes to {target} were discarded")
