@@ -55,7 +55,7 @@ CHROMIUM_ARGS = [
     "--disable-component-update",
     "--disable-sync",
 ]
-TIMEOUT_MS = 30_000
+TIMEOUT_MS = 60_000
 sync_api.expect.set_options(timeout=TIMEOUT_MS)
 
 pytestmark = [
@@ -102,7 +102,7 @@ def choose(page: Any, label: str, option: str) -> None:
     page.get_by_role("option", name=option, exact=True).click()
 
 
-def wait_for(condition: Any, what: str, timeout: float = 20.0) -> None:
+def wait_for(condition: Any, what: str, timeout: float = 60.0) -> None:
     end = time.monotonic() + timeout
     while not condition():
         if time.monotonic() > end:
@@ -184,6 +184,7 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         proposal = editor.panels.proposal
         assert proposal is not None and len(proposal.spheres) == 3
         expect(page.get_by_text(f"{proposal.after.coverage:.1%}").first).to_be_visible()
+        page.get_by_role("button", name="Discard fit").scroll_into_view_if_needed()
         page.screenshot(path=str(shots / "edit_refit.png"))
         page.get_by_role("button", name="Accept fit").click()
         wait_for(
@@ -206,6 +207,7 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing written yet
         page.get_by_role("button", name="Save…").click()
         expect(page.get_by_text("geometry", exact=False).first).to_be_visible()
+        page.get_by_role("button", name="Confirm save").scroll_into_view_if_needed()
         page.screenshot(path=str(shots / "edit_save.png"))
         page.get_by_role("button", name="Confirm save").click()
         wait_for(lambda: not editor.state.dirty, "the save")
