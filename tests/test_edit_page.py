@@ -68,3 +68,27 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         assert load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][1] == saved
     finally:
         page.close()
+
+
+@pytest.mark.slow
+def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
+    from xrdf_tools.edit.page import EditorPage
+    from xrdf_tools.report import recommended_xrdf
+
+    robot = load_robot(robot_urdf("panda"))
+    x = load_xrdf(PANDA_XRDF)
+    page = EditorPage(robot, EditState.start(x), target=tmp_path / "out.xrdf", port=free_port())
+    try:
+        mask = page.panels.mask
+        mask.samples.value = 300
+        mask.run_report()
+        report = mask.report
+        assert report is not None and report.samples == 300
+        assert "| pair | rate | verdict | proof | mask |" in mask.summary.content
+        top = max(report.pairs, key=lambda p: p.rate or 0.0)
+        assert f"`{top.frame_a}` ↔ `{top.frame_b}`" in mask.summary.content
+        mask._apply_mask()
+        assert page.state.xrdf == recommended_xrdf(x, report)
+        assert page.state.undo_label == "apply the report's recommended mask"
+    finally:
+        page.close()

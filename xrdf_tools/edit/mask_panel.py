@@ -23,6 +23,8 @@ __all__ = ["MAX_ROWS", "MaskPanel", "pair_label"]
 
 #: Pair toggles shown at once (the filter reaches the others).
 MAX_ROWS = 24
+#: Pairs of the report's table (highest collision rate first).
+TABLE_ROWS = 12
 
 
 def pair_label(a: str, b: str) -> str:
@@ -132,10 +134,19 @@ class MaskPanel:
             return "Run a report to see collision rates and the recommended mask."
         ch = r.mask_change
         stale = "" if self.report_for is self.page.state.xrdf else " (for an earlier version)"
-        return (
+        head = (
             f"Report{stale}: {r.samples} samples, {len(r.pairs)} pairs; recommended mask adds "
             f"{len(ch.added)} and removes {len(ch.removed)} pair(s)."
         )
+        ranked = sorted(r.pairs, key=lambda p: (-(p.rate or 0.0), p.frame_a, p.frame_b))
+        rows = [
+            f"| `{p.frame_a}` ↔ `{p.frame_b}` | "
+            + ("–" if p.rate is None else f"{p.rate:.2%}")
+            + f" | {p.classification} | {p.certificate or ''} | {p.recommendation} |"
+            for p in ranked[:TABLE_ROWS]
+        ]
+        table = "| pair | rate | verdict | proof | mask |\n|---|---:|---|---|---|\n"
+        return head + "\n\n" + table + "\n".join(rows)
 
     # --- the pair table --------------------------------------------------------------------
     def _all_pairs(self) -> list[tuple[str, str]]:
