@@ -102,6 +102,14 @@ def choose(page: Any, label: str, option: str) -> None:
     page.get_by_role("option", name=option, exact=True).click()
 
 
+def settle(editor: Any, page: Any) -> None:
+    """Let the page finish what the last edit started (the server redraws under its lock,
+    then the browser receives the new controls) before clicking a control it may rebuild."""
+    with editor.lock:
+        pass
+    page.wait_for_timeout(500)
+
+
 def wait_for(condition: Any, what: str, timeout: float = 60.0) -> None:
     end = time.monotonic() + timeout
     while not condition():
@@ -176,6 +184,7 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         wait_for(lambda: link5_first().radius == 0.07, "redo")
 
         # 3. refit panda_link3 with 3 spheres, look at the metrics, accept
+        settle(editor, page)
         choose(page, "Link", "panda_link3")
         set_number(page, "Fit spheres", 3)
         page.get_by_role("button", name="Fit link").click()
@@ -194,14 +203,14 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
 
         # 4. ignore the colliding pair with its toggle
         label = f"{first.frame_a} ↔ {first.frame_b}"
+
+        def ignored() -> bool:
+            sc = editor.state.xrdf.self_collision
+            return sc is not None and sc.is_ignored(first.frame_a, first.frame_b)
+
+        settle(editor, page)
         page.get_by_label(label, exact=True).click()
-        wait_for(
-            lambda: (
-                editor.state.xrdf.self_collision is not None
-                and editor.state.xrdf.self_collision.is_ignored(first.frame_a, first.frame_b)
-            ),
-            "the mask toggle",
-        )
+        wait_for(ignored, "the mask toggle")
 
         # 5. save: the diff first, then the file
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing written yet

@@ -185,7 +185,7 @@ class MaskPanel:
             self.summary.content = self._summary()
         want = self.listed()
         sc = page.state.xrdf.self_collision
-        if list(self.rows) != want:
+        if set(self.rows) != set(want):  # rebuilt only when other pairs are listed
             for h in self.rows.values():
                 h.remove()
             self.rows = {}

@@ -52,7 +52,7 @@ def command(
     xrdf_file: Annotated[
         Path | None,
         typer.Argument(
-            metavar="[ROBOT.xrdf]",
+            metavar="ROBOT.xrdf",
             help="XRDF to edit (omit it with -o to start from a draft of the URDF).",
             show_default=False,
         ),
