@@ -13,7 +13,7 @@ from typing import Annotated
 import typer
 
 from ... import __version__
-from . import convert, diff, expand, export, inspect, lint, report, spheres, viz
+from . import convert, diff, edit, expand, export, inspect, lint, report, spheres, viz
 
 app = typer.Typer(
     name="xrdf",
@@ -62,6 +62,9 @@ app.command("report", short_help="Self-collision report over sampled configurati
 app.command("viz", short_help="Sphere visualizations to rerun (.rrd), MCAP or PNG.")(viz.command)
 app.command("spheres", short_help="Fit collision spheres to link meshes; coverage metrics.")(
     spheres.command
+)
+app.command("edit", short_help="Edit spheres, mask and defaults in the browser (viser).")(
+    edit.command
 )
 app.command("expand", short_help="xacro → URDF, without ROS (as every command reads it).")(
     expand.command

@@ -1,0 +1,184 @@
+"""`xrdf edit`: edit spheres, the self-collision mask and default positions in a browser."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from ...util.errors import XrdfToolsError
+from .common import (
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    echo_diagnostics,
+    fail,
+    load_xrdf_input,
+    note,
+    refuse_input_overwrite,
+)
+from .core import OutputFormat, detail, is_stdio, load_robot_option, pairs, timed
+
+if TYPE_CHECKING:
+    from ...robot.core import Robot
+    from ...xrdf.model import Xrdf
+
+EDIT_EXTRA_HINT = 'pip install "xrdf-tools[edit]"'
+LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
+
+
+def _draft(robot: Robot, srdf: Path | None, seed: int, samples: int) -> Xrdf:
+    """The one-command draft: ``xrdf convert URDF [--srdf S] --fit-spheres``."""
+    from ...convert.core import ConvertOptions
+    from ...convert.pipeline import FitOptions, MaskOptions, convert_robot
+
+    result = convert_robot(
+        robot,
+        ConvertOptions(srdf=srdf),
+        fit=FitOptions(seed=seed),
+        mask=MaskOptions(samples=samples, seed=seed),
+        lint=False,
+    )
+    echo_diagnostics(
+        [d for d in result.diagnostics if d.severity.name != "INFO"], OutputFormat.text
+    )
+    return result.xrdf
+
+
+def command(
+    xrdf_file: Annotated[
+        Path | None,
+        typer.Argument(
+            metavar="ROBOT.xrdf",
+            help="XRDF to edit (omit it with -o to start from a draft of the URDF).",
+            show_default=False,
+        ),
+    ] = None,
+    urdf: Annotated[
+        Path | None,
+        typer.Option("--urdf", help="URDF (or xacro) of the robot.", show_default=False),
+    ] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "--output",
+            "-o",
+            help="Where Save writes (default: ROBOT.xrdf itself). Without ROBOT.xrdf: start "
+            "from the draft `xrdf convert URDF --fit-spheres` makes.",
+        ),
+    ] = None,
+    srdf: Annotated[
+        Path | None,
+        typer.Option("--srdf", help="MoveIt SRDF for the draft (with -o and no ROBOT.xrdf)."),
+    ] = None,
+    configs: Annotated[
+        Path | None,
+        typer.Option(
+            "--configs",
+            help="Configurations to pose the robot in (.npy, .csv/.txt, .json/.yaml), picked "
+            "by number on the page.",
+        ),
+    ] = None,
+    port: Annotated[int, typer.Option("--port", min=0, max=65535, help="TCP port.")] = 8080,
+    host: Annotated[
+        str,
+        typer.Option("--host", help="Address to listen on. Anyone who can reach it can edit."),
+    ] = "127.0.0.1",
+    no_browser: Annotated[
+        bool, typer.Option("--no-browser", help="Do not open a browser; print the address.")
+    ] = False,
+    readonly: Annotated[
+        bool, typer.Option("--readonly", help="Look and try edits; saving is disabled.")
+    ] = False,
+    samples: Annotated[
+        int,
+        typer.Option("--samples", min=1, help="Samples of the draft's mask (-o without XRDF)."),
+    ] = 20_000,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of fits and samples.")] = 0,
+    package_path: PackagePathOption = None,
+    xacro_arg: XacroArgOption = None,
+    quiet: QuietOption = False,
+    verbose: VerboseOption = False,
+) -> None:
+    """Edit an XRDF in the browser: move, resize, add, delete and refit spheres; pose the
+    robot and see its self-collisions live; toggle mask pairs, run a report and apply its mask;
+    set buffers and default positions. Undo/redo; Save shows the `xrdf diff` first.
+
+    Nothing is written until you press Save, and only to ROBOT.xrdf (or -o). Stop with Ctrl-C.
+    Needs the edit extra: pip install "xrdf-tools[edit]".
+
+    Examples:
+
+      xrdf edit robot.xrdf --urdf robot.urdf
+
+      xrdf edit --urdf robot.urdf --srdf robot.srdf -o robot.xrdf
+    """
+    if importlib.util.find_spec("viser") is None:
+        fail(f"xrdf edit needs viser; install the edit extra: {EDIT_EXTRA_HINT}")
+    if urdf is None:
+        fail("--urdf is required: the URDF (or xacro) of the robot")
+    if xrdf_file is None and output is None:
+        fail("give ROBOT.xrdf to edit, or -o NEW.xrdf to start from a draft of the URDF")
+    if xrdf_file is not None and srdf is not None:
+        fail("--srdf is read only for a draft (-o without ROBOT.xrdf); the XRDF has its mask")
+    if is_stdio(xrdf_file) or is_stdio(output):
+        fail("xrdf edit needs files (not '-'): Save writes the XRDF back")
+    target = output if output is not None else xrdf_file
+    assert target is not None
+    if output is not None:
+        refuse_input_overwrite(output, [urdf, srdf, configs])
+        if xrdf_file is None and output.exists():
+            fail(f"{output} exists; edit it with: xrdf edit {output} --urdf {urdf}")
+    if host not in LOCAL_HOSTS:
+        typer.echo(
+            f"warning: listening on {host}: anyone who can reach port {port} can edit and save "
+            f"{target}",
+            err=True,
+        )
+    try:
+        from ...edit.state import EditState
+        from ...robot.packages import parse_package_path
+        from ...xrdf.model import Xrdf
+
+        robot = load_robot_option(urdf, xacro_arg, package_path)
+        if xrdf_file is None:
+            with timed("draft"):
+                note(f"drafting {output} from {urdf} (fitting spheres, sampling the mask)")
+                doc = _draft(robot, srdf, seed, samples)
+            state = EditState.start(doc, saved=Xrdf())
+        else:
+            state = EditState.start(load_xrdf_input(xrdf_file))
+        from ...edit.page import EditorPage
+
+        with timed("page"):
+            page = EditorPage(
+                robot,
+                state,
+                target=target,
+                host=host,
+                port=port,
+                readonly=readonly,
+                configs=configs,
+                package_paths=pairs(package_path, parse_package_path),
+            )
+    except XrdfToolsError as e:
+        fail(e)
+    except OSError as e:
+        fail(f"cannot serve on {host}:{port}: {e.strerror or e}")
+    try:  # from here on, Ctrl-C is the way to stop: exit 0 wherever it lands
+        echo_diagnostics(page.diagnostics, OutputFormat.text)
+        url = page.url
+        note(f"editing {target} at {url} (Ctrl-C stops{'; read-only' if readonly else ''})")
+        if not no_browser:
+            import webbrowser
+
+            detail("opening a browser")
+            webbrowser.open(url)
+        page.serve_forever()
+    except KeyboardInterrupt:
+        page.close()
+    if page.state.dirty:
+        note(f"stopped; unsaved changes to {target} were discarded")

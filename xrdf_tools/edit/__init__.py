@@ -1,0 +1,54 @@
+"""``xrdf edit``: edit spheres, the self-collision mask and default positions in a browser.
+
+The editing logic is library code, usable from Python and tested without a browser:
+
+* :mod:`.edits` -- the edits (move/resize/add/delete spheres, refit a link, mask pairs,
+  buffers, default positions) as frozen values, and :func:`apply_edit`;
+* :mod:`.state` -- :class:`EditState`: the document, undo/redo, the diff against what was
+  saved, and :func:`save` (canonical, atomic);
+* :mod:`.robot` -- :class:`EditRobot`: poses, forward kinematics and the self-collisions at a
+  pose with the project's engine;
+* :mod:`.fit` -- :func:`propose_fit`: refit one link, with metrics before accepting.
+
+The page (:mod:`.page`, built on viser, the ``edit`` extra) only drives these.
+"""
+
+from __future__ import annotations
+
+from .edits import (
+    AddSphere,
+    DeleteSphere,
+    DuplicateSphere,
+    Edit,
+    EditError,
+    MoveSphere,
+    ReplaceSpheres,
+    SetBuffer,
+    SetDefaults,
+    SetIgnored,
+    SetMask,
+    SetRadius,
+    apply_edit,
+)
+from .robot import Collisions, EditRobot
+from .state import EditState, save
+
+__all__ = [
+    "AddSphere",
+    "Collisions",
+    "DeleteSphere",
+    "DuplicateSphere",
+    "Edit",
+    "EditError",
+    "EditRobot",
+    "EditState",
+    "MoveSphere",
+    "ReplaceSpheres",
+    "SetBuffer",
+    "SetDefaults",
+    "SetIgnored",
+    "SetMask",
+    "SetRadius",
+    "apply_edit",
+    "save",
+]

@@ -1,0 +1,219 @@
+"""The ``xrdf edit`` page: a viser server whose GUI drives an :class:`EditState`.
+
+Everything the page changes goes through :meth:`EditorPage.apply` (an
+:class:`~xrdf_tools.edit.edits.Edit` on the state), :meth:`EditorPage.set_pose` or
+:meth:`EditorPage.save`; the page holds no editing logic of its own. GUI callbacks run in
+viser's worker threads, so the state is guarded by a lock. Saving writes only to the path given
+when the page was made (no path comes from the browser).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import threading
+from collections.abc import Hashable, Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..util.errors import XrdfToolsError
+from .edits import Edit
+from .robot import Collisions, EditRobot
+from .state import EditState, save
+from .view import RobotView
+
+if TYPE_CHECKING:
+    from ..diagnostics import Diagnostic
+    from ..robot.core import Robot
+    from .panels import Panels
+
+__all__ = ["EditorPage"]
+
+
+class EditorPage:
+    """A running editor: viser server, 3D view and GUI panels over one document.
+
+    ``target`` is the only file :meth:`save` writes; ``readonly`` disables saving.
+    ``configs`` is a configurations file whose rows can be posed from the page.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        state: EditState,
+        *,
+        target: str | os.PathLike[str],
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        readonly: bool = False,
+        configs: str | os.PathLike[str] | None = None,
+        package_paths: Mapping[str, str] | None = None,
+        meshes: str = "collision",
+    ) -> None:
+        import viser
+
+        from .panels import Panels
+
+        self.lock = threading.RLock()
+        self.robot = EditRobot(robot, state.xrdf)
+        self.state = state
+        self.target = Path(target)
+        self.readonly = readonly
+        self.configs: np.ndarray[Any, Any] | None = None
+        if configs is not None:
+            from ..selfcollision.configurations import load_configurations
+
+            self.configs = load_configurations(configs, self.robot.kin, state.xrdf)
+        self.q = self.robot.default_pose(state.xrdf)
+        self.collisions = Collisions()
+        self.selected: tuple[str, int | None] | None = None
+        self.message = ""
+        self._stop = threading.Event()
+        with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner
+            self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        try:
+            self._configure()
+            self.view = RobotView(
+                self.server, self.robot, on_pick=self.pick, package_paths=package_paths
+            )
+            self.view.set_meshes(meshes)  # type: ignore[arg-type]
+            self.view.set_tool_frames(state.xrdf.tool_frames or ())
+            self.panels: Panels = Panels(self)
+            self.refresh(pose=True, document=True)
+        except BaseException:
+            self.close()
+            raise
+
+    def _configure(self) -> None:
+        """Theme, camera and ground; no public share link (the page edits local files)."""
+        server = self.server
+        server.gui.configure_theme(control_width="large", show_share_button=False, show_logo=False)
+
+        def no_share(*_: object, **__: object) -> None:
+            return None
+
+        server.request_share_url = no_share  # type: ignore[method-assign]
+        server.scene.set_up_direction("+z")
+        server.scene.add_grid("/ground", width=2.0, height=2.0, cell_size=0.1)
+        reach = float(np.linalg.norm(self.robot.poses(self.q)[:, :3, 3], axis=1).max())
+        d = max(reach, 0.5) * 1.6
+        server.initial_camera.position = (d, d * 0.8, d * 0.7)
+        server.initial_camera.look_at = (0.0, 0.0, reach * 0.4)
+
+    # --- facts -----------------------------------------------------------------------------
+    @property
+    def url(self) -> str:
+        host = self.server.get_host()
+        shown = "127.0.0.1" if host in ("0.0.0.0", "::") else host
+        if ":" in shown:
+            shown = f"[{shown}]"
+        return f"http://{shown}:{self.server.get_port()}"
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        return [*self.robot.diagnostics, *self.view.diagnostics]
+
+    # --- driving the state -----------------------------------------------------------------
+    def apply(self, edit: Edit, *, merge_key: Hashable | None = None) -> bool:
+        """Make ``edit``; a refused edit becomes the page's message. True when it was made."""
+        with self.lock:
+            try:
+                new = self.state.apply(edit, merge_key=merge_key)
+            except XrdfToolsError as e:
+                self.say(f"not done: {e}")
+                return False
+            changed = new is not self.state
+            self.state = new
+            if changed:
+                self.say(f"done: {edit.describe()}")
+                self.refresh(document=True)
+            return changed
+
+    def undo(self) -> None:
+        with self.lock:
+            label = self.state.undo_label
+            self.state = self.state.undo()
+            self.say(f"undone: {label}" if label else "nothing to undo")
+            self.refresh(document=True)
+
+    def redo(self) -> None:
+        with self.lock:
+            label = self.state.redo_label
+            self.state = self.state.redo()
+            self.say(f"redone: {label}" if label else "nothing to redo")
+            self.refresh(document=True)
+
+    def set_pose(self, q: np.ndarray[Any, Any], *, sliders: bool = True) -> None:
+        """Pose the robot at ``q`` (every actuated joint); ``sliders`` moves the sliders too."""
+        with self.lock:
+            self.q = np.array(q, dtype=np.float64)
+            if sliders:
+                self.panels.sync_sliders()
+            self.refresh(pose=True)
+
+    def pick(self, frame: str, index: int | None) -> None:
+        """Select a link (and one of its spheres) -- from a click or the GUI."""
+        with self.lock:
+            self.selected = (frame, index)
+            self.state = self.state.end_merge()
+            self.panels.sync_selection()
+            self.view.color_spheres(self.collisions, self.selected)
+
+    def save(self) -> bool:
+        """Write the document to the target file. Refused when read-only."""
+        with self.lock:
+            if self.readonly:
+                self.say("read-only: saving is disabled (started with --readonly)")
+                return False
+            try:
+                self.state = save(self.state, self.target)
+            except (XrdfToolsError, OSError) as e:
+                self.say(f"not saved: {e}")
+                return False
+            self.say(f"saved {self.target}")
+            self.refresh(document=True)
+            return True
+
+    def say(self, message: str) -> None:
+        self.message = message
+        if hasattr(self, "panels"):
+            self.panels.show_message(message)
+
+    # --- redrawing -------------------------------------------------------------------------
+    def refresh(self, *, pose: bool = False, document: bool = False) -> None:
+        """Bring the view and the panels up to date after a pose and/or document change."""
+        with self.lock:
+            if document:
+                self.view.set_spheres(self.state.xrdf, self.state.group)
+                sel = self.selected
+                if sel is not None and sel[1] is not None:
+                    n = len(self.state.xrdf.resolved_spheres(self.state.group).get(sel[0], ()))
+                    if sel[1] >= n:
+                        self.selected = (sel[0], n - 1 if n else None)
+            if pose:
+                self.view.set_pose(self.q)
+            self.collisions = self.robot.collisions(self.state.xrdf, self.q)
+            self.view.color_spheres(self.collisions, self.selected)
+            self.panels.update(document=document)
+
+    # --- running ---------------------------------------------------------------------------
+    def serve_forever(self) -> None:
+        """Serve until Ctrl-C (or :meth:`stop`), then shut the server down."""
+        try:
+            while not self._stop.wait(0.25):
+                pass
+        except KeyboardInterrupt:
+            pass
+        finally:
+            self.close()
+
+    def stop(self) -> None:
+        self._stop.set()
+
+    def close(self) -> None:
+        self._stop.set()
+        with contextlib.redirect_stdout(io.StringIO()):
+            self.server.stop()

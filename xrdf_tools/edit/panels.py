@@ -1,0 +1,431 @@
+"""The GUI panels of the ``xrdf edit`` page (viser): document, view, pose, spheres, refit.
+
+Each control calls one :class:`~xrdf_tools.edit.page.EditorPage` method; :meth:`Panels.update`
+shows the page's state again. Controls answer only to the browser (``event.client`` set), so
+the page can set their values without triggering edits. The mask panel is
+:mod:`xrdf_tools.edit.mask_panel`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, cast
+
+import numpy as np
+
+from ..diff.render import render_text
+from ..xrdf.model import Sphere
+from .edits import AddSphere, DeleteSphere, DuplicateSphere, MoveSphere, SetDefaults, SetRadius
+from .mask_panel import MaskPanel
+from .view import node
+
+if TYPE_CHECKING:
+    from ..viz.meshes import MeshKind
+    from .fit import FitProposal
+    from .page import EditorPage
+
+__all__ = ["Panels", "from_browser"]
+
+NONE = "none"
+
+
+def from_browser(event: Any) -> bool:
+    """The event comes from a browser (not from the page setting a value)."""
+    return getattr(event, "client", None) is not None
+
+
+def _link_tree(page: EditorPage) -> str:
+    kin = page.robot.kin
+    names = kin.frame_names
+    children: dict[int, list[int]] = {}
+    for i, p in enumerate(kin.parent.tolist()):
+        children.setdefault(int(p), []).append(i)
+    spheres = page.state.xrdf.resolved_spheres(page.state.group)
+    lines: list[str] = []
+    stack = [(i, 0) for i in reversed(children.get(-1, []))]
+    while stack:
+        i, depth = stack.pop()
+        n = len(spheres.get(names[i], ()))
+        lines.append("  " * depth + f"- `{names[i]}`" + (f" ({n})" if n else ""))
+        stack.extend((c, depth + 1) for c in reversed(children.get(i, [])))
+    return "\n".join(lines)
+
+
+class Panels:
+    """Every GUI control of the page."""
+
+    def __init__(self, page: EditorPage) -> None:
+        self.page = page
+        gui = page.server.gui
+        self.gui = gui
+        self.proposal: FitProposal | None = None
+        self.gizmo: Any = None
+        self.gizmo_for: tuple[str, int] | None = None
+        self._document_panel()
+        self._view_panel()
+        self._pose_panel()
+        self._sphere_panel()
+        self._fit_panel()
+        self.mask = MaskPanel(page, gui)
+        with gui.add_folder("Link tree", expand_by_default=False):
+            self.tree = gui.add_markdown(_link_tree(page))
+
+    # --- document --------------------------------------------------------------------------
+    def _document_panel(self) -> None:
+        gui, page = self.gui, self.page
+        with gui.add_folder("Document"):
+            self.status = gui.add_markdown("")
+            self.message = gui.add_markdown("")
+            undo = gui.add_button("Undo")
+            redo = gui.add_button("Redo")
+            self.undo_button, self.redo_button = undo, redo
+            undo.on_click(lambda e: page.undo() if from_browser(e) else None)
+            redo.on_click(lambda e: page.redo() if from_browser(e) else None)
+            review = gui.add_button("Save…", disabled=page.readonly)
+            review.on_click(lambda e: self.review() if from_browser(e) else None)
+            self.confirm = gui.add_button("Confirm save", visible=False, color="red")
+            self.confirm.on_click(lambda e: self._confirm() if from_browser(e) else None)
+            self.diff = gui.add_markdown("")
+
+    def review(self) -> None:
+        """Show the semantic diff of the change and the button that saves it."""
+        with self.page.lock:
+            d = self.page.state.diff()
+            text = render_text(d).rstrip()
+            self.diff.content = "**No changes** to save." if d.is_equal else f"```\n{text}\n```"
+            self.confirm.visible = not self.page.readonly
+
+    def _confirm(self) -> None:
+        if self.page.save():
+            self.confirm.visible = False
+            self.diff.content = ""
+
+    def show_message(self, message: str) -> None:
+        self.message.content = f"_{message}_" if message else ""
+
+    # --- view ------------------------------------------------------------------------------
+    def _view_panel(self) -> None:
+        gui, page = self.gui, self.page
+        with gui.add_folder("View"):
+            meshes = gui.add_dropdown(
+                "Meshes", ("collision", "visual", "none"), initial_value=page.view.mesh_kind
+            )
+            buffered = gui.add_checkbox("Buffered radii", False)
+            axes = gui.add_checkbox("Frames", False)
+            ignored = gui.add_checkbox(
+                "Ignored contacts",
+                False,
+                hint="Colour spheres touching in pairs the mask ignores (orange)",
+            )
+
+        def set_meshes(e: Any) -> None:
+            if from_browser(e):
+                with page.lock:
+                    page.view.set_meshes(cast("MeshKind", meshes.value))
+
+        def set_buffered(e: Any) -> None:
+            if from_browser(e):
+                with page.lock:
+                    page.view.set_buffered(buffered.value, page.state.xrdf, page.state.group)
+                    page.refresh()
+
+        def set_ignored(e: Any) -> None:
+            if from_browser(e):
+                with page.lock:
+                    page.view.show_ignored = bool(ignored.value)
+                    page.refresh()
+
+        ignored.on_update(set_ignored)
+        meshes.on_update(set_meshes)
+        buffered.on_update(set_buffered)
+        axes.on_update(lambda e: page.view.set_axes(axes.value) if from_browser(e) else None)
+
+    # --- pose ------------------------------------------------------------------------------
+    def _pose_panel(self) -> None:
+        gui, page, robot = self.gui, self.page, self.page.robot
+        self.sliders: list[Any] = []
+        with gui.add_folder("Pose"):
+            for k, (name, i) in enumerate(zip(robot.cspace, robot.cspace_index, strict=True)):
+                lo, hi = float(robot.lower[k]), float(robot.upper[k])
+                value = float(np.clip(page.q[i], lo, hi))
+                s = gui.add_slider(name, lo, hi, step=0.001, initial_value=value)
+                s.on_update(self._slider_moved(int(i), s))
+                self.sliders.append(s)
+            default = gui.add_button("Default pose")
+            default.on_click(
+                lambda e: (
+                    page.set_pose(robot.default_pose(page.state.xrdf)) if from_browser(e) else None
+                )
+            )
+            self.seed = 0
+            rand = gui.add_button("Random pose")
+            rand.on_click(lambda e: self._random() if from_browser(e) else None)
+            as_default = gui.add_button("Use pose as default", disabled=False)
+
+            def use_as_default(e: Any) -> None:
+                if from_browser(e):
+                    page.apply(SetDefaults(robot.cspace_values(page.q)))
+
+            as_default.on_click(use_as_default)
+            if page.configs is not None:
+                n = len(page.configs)
+                row = gui.add_number("Configuration", 0, min=0, max=max(n - 1, 0), step=1)
+                go = gui.add_button(f"Pose configuration (of {n})")
+                go.on_click(
+                    lambda e: (
+                        page.set_pose(page.configs[int(row.value)])  # type: ignore[index]
+                        if from_browser(e) and page.configs is not None
+                        else None
+                    )
+                )
+            with gui.add_folder("Collisions"):
+                self.contacts = gui.add_markdown("")
+
+    def _slider_moved(self, index: int, slider: Any) -> Any:
+        def moved(e: Any) -> None:
+            if from_browser(e):
+                with self.page.lock:
+                    q = self.page.q.copy()
+                    q[index] = float(slider.value)
+                    self.page.set_pose(q, sliders=False)
+
+        return moved
+
+    def _random(self) -> None:
+        self.seed += 1
+        self.page.set_pose(self.page.robot.random_pose(self.page.state.xrdf, self.seed))
+
+    def sync_sliders(self) -> None:
+        for s, i in zip(self.sliders, self.page.robot.cspace_index, strict=True):
+            s.value = float(np.clip(self.page.q[i], s.min, s.max))
+
+    # --- spheres ---------------------------------------------------------------------------
+    def _sphere_panel(self) -> None:
+        gui, page = self.gui, self.page
+        frames = page.robot.frame_names
+        with gui.add_folder("Spheres"):
+            self.link: Any = gui.add_dropdown("Link", frames, initial_value=frames[0])
+            self.sphere: Any = gui.add_dropdown("Sphere", (NONE,), initial_value=NONE)
+            self.center: list[Any] = [
+                gui.add_number(f"Center {axis} (m)", 0.0, step=0.0005) for axis in "xyz"
+            ]
+            self.radius: Any = gui.add_slider("Radius", 0.0, 0.3, step=0.0005, initial_value=0.0)
+            add = gui.add_button("Add sphere")
+            dup = gui.add_button("Duplicate sphere")
+            delete = gui.add_button("Delete sphere")
+        self.link.on_update(lambda e: page.pick(self.link.value, None) if from_browser(e) else None)
+        self.sphere.on_update(lambda e: self._pick_sphere() if from_browser(e) else None)
+        for axis, box in enumerate(self.center):
+            box.on_update(self._center_moved(axis, box))
+        self.radius.on_update(lambda e: self._resize() if from_browser(e) else None)
+        add.on_click(lambda e: self._add() if from_browser(e) else None)
+        dup.on_click(lambda e: self._on_sphere(DuplicateSphere) if from_browser(e) else None)
+        delete.on_click(lambda e: self._on_sphere(DeleteSphere) if from_browser(e) else None)
+
+    def _selected_sphere(self) -> tuple[str, int] | None:
+        sel = self.page.selected
+        if sel is None or sel[1] is None:
+            return None
+        return sel[0], sel[1]
+
+    def _pick_sphere(self) -> None:
+        value = self.sphere.value
+        self.page.pick(self.link.value, None if value == NONE else int(value))
+
+    def _center_moved(self, axis: int, box: Any) -> Any:
+        def moved(e: Any) -> None:
+            sel = self._selected_sphere()
+            if from_browser(e) and sel is not None:
+                s = self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]][sel[1]]
+                c = list(s.center)
+                c[axis] = float(box.value)
+                self._move((c[0], c[1], c[2]))
+
+        return moved
+
+    def _move(self, center: tuple[float, float, float]) -> None:
+        sel = self._selected_sphere()
+        if sel is not None:
+            c = (float(center[0]), float(center[1]), float(center[2]))
+            self.page.apply(MoveSphere(sel[0], sel[1], c), merge_key=("move", *sel))
+
+    def _resize(self) -> None:
+        sel = self._selected_sphere()
+        if sel is not None:
+            edit = SetRadius(sel[0], sel[1], float(self.radius.value))
+            self.page.apply(edit, merge_key=("radius", *sel))
+
+    def _add(self) -> None:
+        frame = self.link.value
+        if self.page.apply(AddSphere(frame, Sphere((0.0, 0.0, 0.0), 0.03))):
+            n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[frame])
+            self.page.pick(frame, n - 1)
+
+    def _on_sphere(self, kind: type[DuplicateSphere] | type[DeleteSphere]) -> None:
+        sel = self._selected_sphere()
+        if sel is None:
+            self.page.say("select a sphere first (click it, or choose it under Spheres)")
+            return
+        if self.page.apply(kind(sel[0], sel[1])) and kind is DuplicateSphere:
+            n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]])
+            self.page.pick(sel[0], n - 1)
+
+    def sync_selection(self) -> None:
+        """Show the selected link and sphere in the controls and put the gizmo on it."""
+        page = self.page
+        sel = page.selected
+        if sel is None:
+            return
+        frame, k = sel
+        spheres = page.state.xrdf.resolved_spheres(page.state.group).get(frame, ())
+        self.link.value = frame
+        self.sphere.options = (NONE, *(str(i) for i in range(len(spheres))))
+        self.sphere.value = NONE if k is None else str(k)
+        if k is not None and k < len(spheres):
+            s = spheres[k]
+            for box, v in zip(self.center, s.center, strict=True):
+                box.value = v
+            self.radius.value = float(min(max(s.radius, 0.0), 0.3))
+        self.mask.sync_selection(frame)
+        self._place_gizmo(frame, None if k is None or k >= len(spheres) else spheres[k], k)
+
+    def _place_gizmo(self, frame: str, sphere: Sphere | None, k: int | None) -> None:
+        if sphere is None or k is None:
+            if self.gizmo is not None:
+                self.gizmo.remove()
+                self.gizmo, self.gizmo_for = None, None
+            return
+        if self.gizmo_for != (frame, k):
+            if self.gizmo is not None:
+                self.gizmo.remove()
+            self.gizmo = self.page.server.scene.add_transform_controls(
+                f"{node(frame)}/gizmo",
+                scale=max(0.12, 3 * sphere.radius),
+                disable_rotations=True,
+                depth_test=False,
+                position=sphere.center,
+            )
+            self.gizmo_for = (frame, k)
+            gizmo = self.gizmo
+
+            dragging = [False]  # only a drag moves the sphere
+
+            def dragged(e: Any) -> None:
+                phase = getattr(e, "phase", "update")
+                if phase == "start":
+                    dragging[0] = True
+                if dragging[0] and from_browser(e) and self.gizmo is gizmo:
+                    p = gizmo.position
+                    self._move((float(p[0]), float(p[1]), float(p[2])))
+                if phase == "end":
+                    dragging[0] = False
+
+            gizmo.on_update(dragged)
+        elif not np.allclose(self.gizmo.position, sphere.center):
+            self.gizmo.position = sphere.center
+
+    # --- refit -----------------------------------------------------------------------------
+    def _fit_panel(self) -> None:
+        gui = self.gui
+        with gui.add_folder("Refit link"):
+            self.fit_count = gui.add_number("Fit spheres", 4, min=1, max=64, step=1)
+            self.fit_target = gui.add_number(
+                "Coverage target",
+                0.0,
+                min=0.0,
+                max=1.0,
+                step=0.01,
+                hint="0: fit the number of spheres above; else the fewest reaching this share",
+            )
+            fit = gui.add_button("Fit link")
+            self.fit_result = gui.add_markdown("")
+            self.accept = gui.add_button("Accept fit", visible=False)
+            self.discard = gui.add_button("Discard fit", visible=False)
+        fit.on_click(lambda e: self._fit() if from_browser(e) else None)
+        self.accept.on_click(lambda e: self._accept() if from_browser(e) else None)
+        self.discard.on_click(lambda e: self._drop_proposal() if from_browser(e) else None)
+
+    def _fit(self) -> None:
+        from ..util.errors import XrdfToolsError
+        from .fit import propose_fit
+
+        page = self.page
+        frame = self.link.value
+        target = float(self.fit_target.value)
+        current = page.state.xrdf.resolved_spheres(page.state.group).get(frame, ())
+        self.fit_result.content = f"_fitting {frame}…_"
+        try:
+            proposal = propose_fit(
+                page.robot.robot,
+                frame,
+                current,
+                count=None if target > 0 else int(self.fit_count.value),
+                coverage=target if target > 0 else None,
+            )
+        except XrdfToolsError as e:
+            self.fit_result.content = f"_not fitted: {e}_"
+            return
+        self.proposal = proposal
+        b, a = proposal.before, proposal.after
+        self.fit_result.content = (
+            f"**{frame}**: proposal in green\n\n"
+            "| | now | proposal |\n|---|---:|---:|\n"
+            f"| spheres | {b.sphere_count} | {a.sphere_count} |\n"
+            f"| coverage | {b.coverage:.1%} | {a.coverage:.1%} |\n"
+            f"| surface | {b.surface_coverage:.1%} | {a.surface_coverage:.1%} |\n"
+            f"| protrusion p95 | {b.protrusion_p95 * 1000:.1f} mm | "
+            f"{a.protrusion_p95 * 1000:.1f} mm |"
+        )
+        with page.lock:
+            page.view.show_preview(frame, proposal.spheres)
+        self.accept.visible = self.discard.visible = True
+
+    def _accept(self) -> None:
+        from .edits import ReplaceSpheres
+
+        p = self.proposal
+        if p is not None:
+            self.page.apply(ReplaceSpheres(p.frame, p.spheres))
+        self._drop_proposal()
+
+    def _drop_proposal(self) -> None:
+        self.proposal = None
+        with self.page.lock:
+            self.page.view.show_preview("", ())
+        self.accept.visible = self.discard.visible = False
+        self.fit_result.content = ""
+
+    # --- showing the state -----------------------------------------------------------------
+    def update(self, *, document: bool) -> None:
+        page = self.page
+        st = page.state
+        if document:
+            mark = "unsaved changes" if st.dirty else "saved"
+            mode = " · **read-only**" if page.readonly else ""
+            self.status.content = f"`{page.target}` · group `{st.group}` · {mark}{mode}"
+            self.undo_button.disabled = not st.can_undo
+            self.redo_button.disabled = not st.can_redo
+            self.tree.content = _link_tree(page) if hasattr(self, "tree") else ""
+            if page.selected is not None:
+                self.sync_selection()
+        self.contacts.content = _contacts_text(page)
+        self.mask.update(document=document)
+
+
+#: Touching pairs listed under Collisions (of each kind; the rest are counted).
+MAX_CONTACTS = 12
+
+
+def _contacts_text(page: EditorPage) -> str:
+    c = page.collisions
+    if not c.contacts:
+        return "No touching pairs at this pose."
+    lines = [f"{len(c.checked)} colliding, {len(c.ignored)} ignored touching pair(s):", ""]
+    for kind, items in (("**COLLIDING**", c.checked), ("ignored", c.ignored)):
+        for x in items[:MAX_CONTACTS]:
+            lines.append(
+                f"- {kind} `{x.frame_a}` ↔ `{x.frame_b}`: {x.clearance * 1000:.1f} mm "
+                f"({x.n_sphere_pairs} sphere pair(s))"
+            )
+        if len(items) > MAX_CONTACTS:
+            lines.append(f"- … and {len(items) - MAX_CONTACTS} more {kind.strip('*').lower()}")
+    return "\n".join(lines)

@@ -1,0 +1,156 @@
+"""The robot side of ``xrdf edit``: poses, forward kinematics and live self-collisions.
+
+:class:`EditRobot` holds what does not change while a document is edited (the loaded URDF,
+its kinematic model with the XRDF's modifiers, the c-space) and answers, for any version of
+the document, which frame pairs touch at a pose -- with the project's collision engine
+(:mod:`xrdf_tools.selfcollision.collision`: buffered radii, the ``ignore`` mask).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import numpy.typing as npt
+
+from ..diagnostics import Diagnostic
+from ..robot.binding import cspace_indices
+from ..robot.kinematics import build_kinematic_model, default_configuration, fk
+from ..selfcollision.collision import (
+    Contact,
+    SphereSet,
+    build_sphere_set,
+    contacts,
+    pair_hits,
+    sphere_world_centers,
+)
+from ..util.errors import XrdfToolsError
+from ..xrdf.model import Xrdf
+
+if TYPE_CHECKING:
+    from ..robot.core import Robot
+    from ..robot.kinematics import KinematicModel
+
+FloatArray = npt.NDArray[np.float64]
+
+__all__ = ["Collisions", "EditRobot"]
+
+
+@dataclass(frozen=True)
+class Collisions:
+    """Self-collisions at one pose.
+
+    ``contacts``: every frame pair whose buffered spheres touch, worst first, the ignored
+    (masked) ones included with ``masked=True``. ``spheres`` / ``ignored_spheres``: per frame,
+    the indices (in the frame's resolved sphere list) of the spheres in a checked / an ignored
+    touching pair.
+    """
+
+    contacts: tuple[Contact, ...] = ()
+    spheres: Mapping[str, frozenset[int]] = field(default_factory=dict)
+    ignored_spheres: Mapping[str, frozenset[int]] = field(default_factory=dict)
+
+    @property
+    def checked(self) -> tuple[Contact, ...]:
+        """The touching pairs the mask does not ignore: real self-collisions."""
+        return tuple(c for c in self.contacts if not c.masked)
+
+    @property
+    def ignored(self) -> tuple[Contact, ...]:
+        return tuple(c for c in self.contacts if c.masked)
+
+    def pairs(self, *, masked: bool | None = None) -> set[frozenset[str]]:
+        """The touching frame pairs (all, or only ignored / checked ones)."""
+        return {
+            frozenset((c.frame_a, c.frame_b))
+            for c in self.contacts
+            if masked is None or c.masked == masked
+        }
+
+
+class EditRobot:
+    """A loaded robot for editing one XRDF (its modifiers and c-space must stay fixed)."""
+
+    def __init__(self, robot: Robot, xrdf: Xrdf) -> None:
+        self.robot = robot
+        kin, diags = build_kinematic_model(robot, xrdf)
+        self.kin: KinematicModel = kin
+        self.diagnostics: tuple[Diagnostic, ...] = tuple(diags)
+        names, idx = cspace_indices(kin, xrdf)
+        self.cspace: tuple[str, ...] = names
+        self.cspace_index = idx
+        lo = np.array(kin.lower[idx], dtype=np.float64)
+        hi = np.array(kin.upper[idx], dtype=np.float64)
+        # continuous joints: one turn either way
+        self.lower: FloatArray = np.where(np.isfinite(lo), lo, -math.pi)
+        self.upper: FloatArray = np.where(np.isfinite(hi), hi, math.pi)
+        self._cache: tuple[Xrdf, SphereSet] | None = None
+
+    @property
+    def frame_names(self) -> tuple[str, ...]:
+        return self.kin.frame_names
+
+    # --- poses -----------------------------------------------------------------------------
+    def default_pose(self, xrdf: Xrdf) -> FloatArray:
+        """Every actuated joint [n] at the document's default position."""
+        return default_configuration(self.kin, xrdf.default_joint_positions)
+
+    def random_pose(self, xrdf: Xrdf, seed: int) -> FloatArray:
+        """The default pose with every c-space joint drawn uniformly within its limits."""
+        q = self.default_pose(xrdf)
+        rng = np.random.default_rng(seed)
+        q[self.cspace_index] = self.lower + rng.random(len(self.cspace)) * (self.upper - self.lower)
+        return q
+
+    def pose_from(self, base: FloatArray, values: Mapping[str, float]) -> FloatArray:
+        """``base`` with the named actuated joints set (e.g. a report's witness); raises
+        :class:`XrdfToolsError` for a joint the robot does not move."""
+        q = np.array(base, dtype=np.float64)
+        for name, value in values.items():
+            why = self.kin.not_actuated_reason(name)
+            if why:
+                raise XrdfToolsError(f"cannot pose joint '{name}': it {why}")
+            q[self.kin.actuated_index(name)] = float(value)
+        return q
+
+    def cspace_values(self, q: FloatArray) -> dict[str, float]:
+        """The c-space joints of ``q`` by name."""
+        return {n: float(q[i]) for n, i in zip(self.cspace, self.cspace_index, strict=True)}
+
+    def poses(self, q: FloatArray) -> FloatArray:
+        """Frame-to-base transforms [F, 4, 4] of every frame at ``q``."""
+        return np.asarray(fk(self.kin, np.asarray(q, dtype=np.float64)[None, :])[0])
+
+    # --- collisions ------------------------------------------------------------------------
+    def sphere_set(self, xrdf: Xrdf) -> SphereSet:
+        """The self-collision spheres of ``xrdf`` (masked pairs included), cached for the
+        last document asked for."""
+        if self._cache is not None and self._cache[0] is xrdf:
+            return self._cache[1]
+        spheres, _ = build_sphere_set(self.kin, xrdf, include_masked=True)
+        self._cache = (xrdf, spheres)
+        return spheres
+
+    def collisions(self, xrdf: Xrdf, q: FloatArray) -> Collisions:
+        """The frame pairs of ``xrdf`` whose buffered spheres touch at ``q`` [n]."""
+        spheres = self.sphere_set(xrdf)
+        if spheres.n_pairs == 0:
+            return Collisions()
+        centers = sphere_world_centers(self.kin, spheres, np.asarray(q, dtype=np.float64))
+        hit = np.flatnonzero(pair_hits(spheres, centers))
+        checked: dict[str, set[int]] = {}
+        ignored: dict[str, set[int]] = {}
+        for p in hit.tolist():
+            masked = bool(spheres.frame_pair_masked[spheres.pair_frame_pair[p]])
+            into = ignored if masked else checked
+            for s in (int(spheres.pair_i[p]), int(spheres.pair_j[p])):
+                frame = spheres.frame_names[int(spheres.frame_of_sphere[s])]
+                into.setdefault(frame, set()).add(int(spheres.sphere_index[s]))
+        return Collisions(
+            tuple(contacts(spheres, centers)) if hit.size else (),
+            {f: frozenset(s) for f, s in checked.items()},
+            {f: frozenset(s) for f, s in ignored.items()},
+        )
