@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ...util.errors import XrdfToolsError
+from ...util.extras import FIT, require
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -26,7 +26,6 @@ if TYPE_CHECKING:
     from ...robot.core import Robot
     from ...xrdf.model import Xrdf
 
-EDIT_EXTRA_HINT = 'pip install "xrdf-tools[edit]"'
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
 
 
@@ -116,8 +115,10 @@ def command(
 
       xrdf edit --urdf robot.urdf --srdf robot.srdf -o robot.xrdf
     """
-    if importlib.util.find_spec("viser") is None:
-        fail(f"xrdf edit needs viser; install the edit extra: {EDIT_EXTRA_HINT}")
+    try:
+        require(("viser", *FIT), "edit", "xrdf edit")
+    except XrdfToolsError as e:
+        fail(e)
     if urdf is None:
         fail("--urdf is required: the URDF (or xacro) of the robot")
     if xrdf_file is None and output is None:
