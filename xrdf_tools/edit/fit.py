@@ -55,13 +55,13 @@ def propose_fit(
     source: GeometryChoice = "auto",
 ) -> FitProposal:
     """Fit ``count`` spheres to ``frame``'s geometry, or the fewest (up to the per-link
-    maximum) whose greedy cover reaches ``coverage`` (a share of the volume, 0-1).
+    maximum) that reach ``coverage`` (a share of the volume, 0-1): the fit of
+    :func:`xrdf_tools.spheres.robot_fit.fit_robot`, as ``xrdf spheres`` runs it.
 
     Exactly one of ``count`` and ``coverage``. Raises :class:`XrdfToolsError` for a link
     without geometry or a bad count/target.
     """
-    from ..spheres.fit import SphereFitter
-    from ..spheres.geometry import load_link_geometry
+    from ..spheres.robot_fit import CountPolicy, fit_robot
 
     if (count is None) == (coverage is None):
         raise XrdfToolsError("give either a sphere count or a coverage target")
@@ -69,17 +69,14 @@ def propose_fit(
         raise XrdfToolsError(f"sphere count must be between 1 and {MAX_PER_LINK}, got {count}")
     if coverage is not None and not 0 < coverage <= 1:
         raise XrdfToolsError(f"coverage target must be in (0, 1], got {coverage}")
-    geoms, _ = load_link_geometry(robot, links=[frame], source=source)
-    if frame not in geoms:
+    policy = (
+        CountPolicy(per_link=count) if coverage is None else CountPolicy(target_coverage=coverage)
+    )
+    result = fit_robot(robot, links=[frame], counts=policy, seed=seed, source=source)
+    if frame not in result.geometry:
         raise XrdfToolsError(f"link '{frame}' has no geometry to fit spheres to")
-    solid = geoms[frame].solid
-    fitter = SphereFitter(solid, seed=link_seed(seed, frame))
-    if count is None:
-        curve = fitter.greedy(MAX_PER_LINK)[1]
-        target = float(coverage or 0.0)
-        reach = [k + 1 for k, c in enumerate(curve) if c >= target]
-        count = reach[0] if reach else MAX_PER_LINK
-    spheres = fitter.fit(count)
+    solid = result.geometry[frame].solid
+    spheres = result.spheres[frame]
     mseed = link_seed(seed, frame)
     return FitProposal(
         frame,
