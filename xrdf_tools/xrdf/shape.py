@@ -24,6 +24,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
+from ..util.numbers import MAX_LENGTH
 from ..yaml.io import YNode, YScalar, is_finite
 
 __all__ = [
@@ -41,9 +42,6 @@ __all__ = [
 #: The XRDF versions there are (``format_version``).
 SUPPORTED_VERSIONS = ("1.0", "2.0")
 
-#: Largest length or coordinate accepted in an XRDF, in metres (sphere centres and radii,
-#: buffer distances, added frame positions): far beyond any robot, far below overflow.
-MAX_LENGTH = 1e6
 
 Kind = Literal["fields", "dict", "list", "str", "num", "groupref", "buffers", "modifier", "any"]
 
