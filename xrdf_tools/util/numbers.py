@@ -17,12 +17,15 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["MAX_LENGTH", "MAX_NUMBER", "bound_problem", "bound_reason", "within"]
+__all__ = ["MAX_LENGTH", "MAX_NUMBER", "MAX_SAMPLES", "bound_problem", "bound_reason", "within"]
 
 #: Largest magnitude of any number read (limits, positions, multipliers, weights, ...).
 MAX_NUMBER = 1e12
 #: Largest magnitude of a length or coordinate, in metres.
 MAX_LENGTH = 1e6
+#: The most configurations one run samples (``--samples`` of ``report`` and ``convert
+#: --fit-spheres``): ten billion, hours of work on any machine.
+MAX_SAMPLES = 10_000_000_000
 
 
 def within(v: int | float, bound: float = MAX_NUMBER) -> bool:

@@ -14,6 +14,7 @@ import typer
 
 from ...diagnostics import Severity
 from ...util.errors import XrdfToolsError
+from ...util.numbers import MAX_SAMPLES
 from .common import (
     QuietOption,
     VerboseOption,
@@ -148,8 +149,9 @@ def command(
             "--samples",
             "-n",
             min=1,
+            max=MAX_SAMPLES,
             help="With --fit-spheres: configurations sampled for the self-collision mask "
-            "(as `xrdf report --samples`).",
+            "(as `xrdf report --samples`; at most 10,000,000,000).",
         ),
     ] = 100_000,
     seed: Annotated[
