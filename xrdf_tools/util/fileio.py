@@ -227,6 +227,11 @@ def check_output_path(path: str | os.PathLike[str]) -> Path:
     try:
         st = os.stat(target)
     except FileNotFoundError:
+        if user.endswith(("/", os.sep)):  # Path() drops the slash: 'new/' would make a file
+            raise OutputError(
+                "names a directory (it ends with '/'), which does not exist; give a file name",
+                path=user,
+            ) from None
         return target
     except OSError as e:
         raise _write_error(e, user) from None

@@ -293,7 +293,7 @@ def _check(output: Path, x: Xrdf, root_frame: str) -> None:
     if result.is_equal:
         note(f"{output}: up to date")
         return
-    typer.echo(_render_diff(result), nl=False)
+    write_output(_render_diff(result), None)
     fail(
         f"{output}: out of date ({len(result.changes)} semantic difference(s) listed above); "
         "re-run without --check to update it",

@@ -11,7 +11,14 @@ from typing import Annotated
 
 import typer
 
-from .common import PackagePathOption, QuietOption, VerboseOption, XacroArgOption, fail
+from .common import (
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    fail,
+    write_output,
+)
 from .core import OutputFormat
 
 
@@ -80,6 +87,6 @@ def command(
     except XrdfToolsError as exc:
         fail(exc)
     if text:
-        typer.echo(text, nl=False)
+        write_output(text, None)
     if code:
         raise typer.Exit(code)

@@ -174,7 +174,7 @@ def command(
     if output is None or is_stdio(output):
         note(table.rstrip("\n"))
     else:
-        typer.echo(table, nl=False)
+        write_output(table, None)
     if not fitted:
         fail("no link with readable geometry: no spheres fitted", EXIT_FINDINGS)
     if any(d.rule == RULE_MESH_UNREADABLE for d in fdiags):
