@@ -648,9 +648,9 @@ def test_write_errors_name_the_requested_path(
 def test_sigterm_removes_the_temporary_file(tmp_path: Path) -> None:
     script = (
         "import os, signal, sys\n"
-        "from xrdf_tools.cli import _terminate\n"
+        "from xrdf_tools.cli import _on_signal\n"
         "from xrdf_tools.util.fileio import atomic_output\n"
-        "signal.signal(signal.SIGTERM, _terminate)\n"
+        "signal.signal(signal.SIGTERM, _on_signal)\n"
         f"with atomic_output({str(tmp_path / 'out.txt')!r}) as tmp:\n"
         "    tmp.write_text('partial')\n"
         "    os.kill(os.getpid(), signal.SIGTERM)\n"

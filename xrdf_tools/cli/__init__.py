@@ -71,13 +71,14 @@ def _watchdog(signum: int) -> None:
 
 
 def main() -> None:
-    """Console entry point: library errors become one line on stderr and exit code 2."""
+    """Console entry point: library errors become one line on stderr and exit code 2;
+    SIGINT, SIGTERM and SIGHUP end the command (see :func:`_on_signal`)."""
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):  # first: imports take a while
+        if hasattr(signal, name) and signal.getsignal(getattr(signal, name)) is not signal.SIG_IGN:
+            signal.signal(getattr(signal, name), _on_signal)
     from ..util.errors import XrdfToolsError
     from .commands.core import echo
 
-    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
-        if hasattr(signal, name) and signal.getsignal(getattr(signal, name)) is not signal.SIG_IGN:
-            signal.signal(getattr(signal, name), _on_signal)
     try:
         code = _fast(sys.argv[1:])
         if code is not None:
