@@ -15,7 +15,7 @@ from typing import Literal
 
 from ..util.numbers import MAX_LENGTH, bound_problem
 from ..xrdf.nodes import FINITE, plain_number
-from ..xrdf.shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
+from ..xrdf.shape import DOCUMENT, LENGTH, MODIFIERS, NUM, Shape, is_name, is_number
 from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, key_of
 
 __all__ = ["DOCUMENT", "MODIFIERS", "SchemaEvent", "Shape", "walk"]
@@ -90,8 +90,9 @@ def _walk_groupref(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[Sc
 
 
 def _walk_buffers(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[SchemaEvent]:
-    if is_number(node):
-        return  # a single number for every frame (cuRobo style); see unconfirmed-syntax
+    if is_number(node, finite=False):  # one length for every frame (cuRobo style)
+        yield from _walk_num(node, LENGTH, kp, what)  # see unconfirmed-syntax for the style
+        return
     yield from walk(node, Shape("dict", values=shape.values or NUM), kp)
 
 
