@@ -381,7 +381,10 @@ def _harden(case: Case, rng: random.Random) -> None:
     to an extreme, a huge ``-n``, or a faulty standard output."""
     roll = rng.random()
     if roll < 0.15 and case.text is not None:
-        text = case.text.decode("utf-8", "surrogatepass")
+        try:
+            text = case.text.decode("utf-8", "surrogatepass")
+        except UnicodeDecodeError:  # damaged bytes: a case of their own already
+            return
         numbers = list(_NUMBER.finditer(text))
         if numbers:
             m = rng.choice(numbers)
