@@ -120,8 +120,19 @@ def test_ctrl_c_at_any_moment_of_start_up(tmp_path: Path, delay: float) -> None:
 
 
 def test_sigterm_while_writing_leaves_no_temporary_file(tmp_path: Path) -> None:
+    demo = Path(__file__).resolve().parent.parent / "fixtures" / "demo_arm"
     proc = _start(
-        ["convert", str(UR10E_URDF), "--fit-spheres", "-n", "2000000000", "-o", "out.xrdf"],
+        [
+            "convert",
+            str(demo / "demo_arm.urdf"),
+            "--srdf",
+            str(demo / "demo_arm.srdf"),
+            "--fit-spheres",
+            "-n",
+            "2000000000",
+            "-o",
+            "out.xrdf",
+        ],
         tmp_path,
     )
     time.sleep(3.0)
