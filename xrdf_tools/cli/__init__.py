@@ -73,9 +73,17 @@ def _watchdog(signum: int) -> None:
 def main() -> None:
     """Console entry point: library errors become one line on stderr and exit code 2;
     SIGINT, SIGTERM and SIGHUP end the command (see :func:`_on_signal`)."""
-    for name in ("SIGINT", "SIGTERM", "SIGHUP"):  # first: imports take a while
-        if hasattr(signal, name) and signal.getsignal(getattr(signal, name)) is not signal.SIG_IGN:
-            signal.signal(getattr(signal, name), _on_signal)
+    try:
+        for name in ("SIGINT", "SIGTERM", "SIGHUP"):  # first: imports take a while
+            sig = getattr(signal, name, None)
+            if sig is not None and signal.getsignal(sig) is not signal.SIG_IGN:
+                signal.signal(sig, _on_signal)
+        _run()
+    except KeyboardInterrupt:  # said by _on_signal
+        sys.exit(130)
+
+
+def _run() -> None:
     from ..util.errors import XrdfToolsError
     from .commands.core import echo
 
@@ -89,8 +97,6 @@ def main() -> None:
     except XrdfToolsError as exc:
         echo(f"error: {exc}", err=True)
         sys.exit(2)
-    except KeyboardInterrupt:  # said by _on_signal
-        sys.exit(130)
 
 
 def _fast(argv: list[str]) -> int | None:
