@@ -15,7 +15,10 @@ input file unchanged.
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import hashlib
+import io
 import os
 import random
 import re
@@ -227,6 +230,27 @@ _XML_SNIPPETS = (
     "\x00",
 )
 _CSV_VALUES = ("nan", "inf", "1e308", "x", "", ",", "0 0 0 0 0 0 0 0", "#")
+#: Numbers at and past the bounds of every reader, and spellings YAML 1.1 reads differently.
+_EXTREME_NUMBERS = (
+    "1e308",
+    "-1e308",
+    "1e13",
+    "1e7",
+    "9223372036854775808",
+    "9" * 400,
+    "5e-324",
+    "nan",
+    "017",
+    "0o17",
+    "1:30",
+    "1e-3",
+    "1.0e3",
+    "yes",
+    "off",
+)
+#: -n values past the sample ceiling, or not a count at all.
+_HUGE_COUNTS = ("99999999999999999999999", "10000000001", "0", "-5")
+_NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
 
 _TOKEN = re.compile(r"-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?|[A-Za-z_][\w-]*")
 _YAML_VALUE = re.compile(r"(?m)^(\s*(?:- )?[\w.-]+:)[ \t]*(.*)$")
@@ -244,6 +268,8 @@ class Case:
     ops: list[str] = field(default_factory=list)
     text: bytes | None = None  # the damaged content (None: a file-type mutation)
     special: str | None = None  # "directory" | "fifo" | "devzero"
+    count: str | None = None  # a -n/--samples value put in place of the scenario's
+    stream: str | None = None  # standard output "full" | "broken" | "none" (closed)
 
 
 def _suffix(path: Path) -> str:
@@ -346,7 +372,31 @@ def make_case(number: int, run_seed: int = 0, *, slow: bool = True) -> Case:
             case.ops.append(label)
         data = text.encode("utf-8", "surrogatepass")
     case.text = data
+    _harden(case, random.Random(f"{run_seed}:{number}:limits"))
     return case
+
+
+def _harden(case: Case, rng: random.Random) -> None:
+    """Damage of its own random stream (the cases without it are unchanged): a number pushed
+    to an extreme, a huge ``-n``, or a faulty standard output."""
+    roll = rng.random()
+    if roll < 0.15 and case.text is not None:
+        try:
+            text = case.text.decode("utf-8", "surrogatepass")
+        except UnicodeDecodeError:  # damaged bytes: a case of their own already
+            return
+        numbers = list(_NUMBER.finditer(text))
+        if numbers:
+            m = rng.choice(numbers)
+            new = rng.choice(_EXTREME_NUMBERS)
+            case.text = (text[: m.start()] + new + text[m.end() :]).encode("utf-8", "surrogatepass")
+            case.ops.append(f"extreme {m.group()!r}->{new[:20]!r}")
+    elif roll < 0.2 and "-n" in case.scenario.args:
+        case.count = rng.choice(_HUGE_COUNTS)
+        case.ops.append(f"-n {case.count[:24]}")
+    elif roll < 0.26:
+        case.stream = rng.choice(("full", "broken", "none"))
+        case.ops.append(f"standard output {case.stream}")
 
 
 def _place(kind: str, seed: Path) -> str:
@@ -374,7 +424,10 @@ def prepare(case: Case, work: Path) -> list[str]:
     shutil.copyfile(SEEDS["xrdf"][0], work / "other.xrdf")
     paths["other"] = work / "other.xrdf"
     args: list[str] = []
-    for a in case.scenario.args:
+    for i, a in enumerate(case.scenario.args):
+        if case.count is not None and i > 0 and case.scenario.args[i - 1] == "-n":
+            args.append(case.count)
+            continue
         if a.startswith("{"):
             args.append(str(paths[a[1:-1]]))
         elif a.startswith("@"):
@@ -450,6 +503,57 @@ def invoke_in_process(args: Sequence[str]) -> tuple[int, str, BaseException | No
     return res.exit_code, res.output, exc, tb
 
 
+#: Appended to the output by :func:`invoke_with_faulty_stdout` when output was lost.
+OUTPUT_LOST = "\n[fuzz] output written to a faulty standard output, yet the exit code is not 2"
+
+
+class _FaultyStdout(io.TextIOBase):
+    """A standard output that fails every write: a full disk or a reader that has gone."""
+
+    def __init__(self, how: str) -> None:
+        self.how = how
+        self.attempted = False
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, s: str) -> int:
+        if not s:
+            return 0
+        self.attempted = True
+        if self.how == "full":
+            raise OSError(errno.ENOSPC, "No space left on device")
+        raise OSError(errno.EPIPE, "Broken pipe")
+
+
+def invoke_with_faulty_stdout(
+    args: Sequence[str], how: str
+) -> tuple[int, str, BaseException | None, str]:
+    """Like :func:`invoke_in_process`, with standard output failing (``full``, ``broken``) or
+    closed (``none``): whatever the command wrote there must end it with exit code 2."""
+    from xrdf_tools.cli import app
+    from xrdf_tools.util.errors import XrdfToolsError
+
+    stdout = None if how == "none" else _FaultyStdout(how)
+    err = io.StringIO()
+    code: int
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(err):  # type: ignore[type-var]
+        try:
+            app(list(args), standalone_mode=True)
+            code = 0
+        except SystemExit as e:
+            code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+        except XrdfToolsError as e:
+            err.write(f"error: {e}\n")
+            code = 2
+        except BaseException as e:
+            return 1, err.getvalue(), e, "".join(traceback.format_exception(e))
+    output = err.getvalue()
+    if isinstance(stdout, _FaultyStdout) and stdout.attempted and code != 2:
+        output += OUTPUT_LOST
+    return code, output, None, ""
+
+
 def check(case: Case, code: int, output: str, exc: BaseException | None, tb: str) -> Outcome:
     """Judge one run against the promises (see the module docstring)."""
     out = Outcome(case, code, output)
@@ -462,6 +566,8 @@ def check(case: Case, code: int, output: str, exc: BaseException | None, tb: str
         out.problems.append("internal-error finding")
     if code not in (0, 1, 2):
         out.problems.append(f"exit code {code}")
+    if OUTPUT_LOST in output:
+        out.problems.append("output lost: written to a faulty standard output with exit 0/1")
     return out
 
 
@@ -472,7 +578,10 @@ def run_case(case: Case, work: Path, invoke: Invoke = invoke_in_process) -> Outc
     cwd = os.getcwd()
     os.chdir(work)  # lint discovers work/.xrdf-lint.yaml, and nothing above it
     try:
-        code, output, exc, tb = invoke(args)
+        if case.stream is not None and invoke is invoke_in_process:
+            code, output, exc, tb = invoke_with_faulty_stdout(args, case.stream)
+        else:
+            code, output, exc, tb = invoke(args)
     finally:
         os.chdir(cwd)
     outcome = check(case, code, output, exc, tb)

@@ -175,7 +175,7 @@ def test_the_entry_point_falls_back_to_typer_for_help_and_usage_errors() -> None
     assert bad.returncode == 2 and "No such option: --bogus" in bad.stderr
 
 
-def test_a_closed_standard_output_ends_the_fast_path_quietly() -> None:
+def test_a_closed_standard_output_is_one_line_in_the_fast_path() -> None:
     code = (
         "import os, sys\n"
         "r, w = os.pipe(); os.close(r); os.dup2(w, 1)\n"  # a reader that has gone away
@@ -184,4 +184,4 @@ def test_a_closed_standard_output_ends_the_fast_path_quietly() -> None:
         "main()\n"
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO)
-    assert (r.returncode, r.stderr) == (1, "")
+    assert (r.returncode, r.stderr) == (2, "error: standard output: cannot write: Broken pipe\n")

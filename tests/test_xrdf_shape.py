@@ -70,7 +70,13 @@ def _shape_clean(path: Path) -> bool:
 
 
 def _xrdf_files() -> list[Path]:
-    return sorted(p for p in FIXTURES.rglob("*.xrdf") if "fuzz" not in p.parts)
+    """The fixtures, but those of ``reader-number``: PyYAML (which reads them here, as YAML
+    1.1) reads their numbers differently, which is what that rule is about."""
+    return sorted(
+        p
+        for p in FIXTURES.rglob("*.xrdf")
+        if "fuzz" not in p.parts and "reader-number" not in p.parts
+    )
 
 
 def test_schema_agrees_with_lint_on_the_fixtures() -> None:

@@ -10,6 +10,7 @@ included, is typer's.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import signal
@@ -26,19 +27,66 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def _terminate(signum: int, _frame: object) -> None:
-    """SIGTERM/SIGHUP: unwind like an interrupt, so ``finally`` blocks remove temporary files."""
+#: After a signal: when the process is still running this long, the interrupt is raised again
+#: (a library may have swallowed it: trimesh's import catches ``BaseException``) ...
+_REPEAT_AFTER_S = 0.3
+#: ... and after this long it exits at once, its temporary files removed.
+_EXIT_AFTER_S = 0.8
+
+
+def _on_signal(signum: int, _frame: object) -> None:
+    """SIGINT/SIGTERM/SIGHUP: unwind (``finally`` blocks remove temporary files, workers are
+    stopped), as ``KeyboardInterrupt`` for SIGINT, else ``SystemExit(128 + signum)``; a
+    watchdog makes sure the process ends within :data:`_EXIT_AFTER_S` seconds."""
+    if not _WATCHDOG:
+        import threading
+
+        _WATCHDOG.append(signum)
+        with contextlib.suppress(Exception):
+            sys.stderr.write("interrupted\n" if signum == signal.SIGINT else "terminated\n")
+            sys.stderr.flush()
+        threading.Thread(target=_watchdog, args=(signum,), daemon=True).start()
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise SystemExit(128 + signum)
 
 
+_WATCHDOG: list[int] = []
+
+
+def _watchdog(signum: int) -> None:
+    import _thread
+    import time
+
+    time.sleep(_REPEAT_AFTER_S)
+    _thread.interrupt_main(signal.Signals(signum))
+    time.sleep(_EXIT_AFTER_S - _REPEAT_AFTER_S)
+    from ..util.fileio import remove_temporaries
+
+    remove_temporaries()
+    jobs = sys.modules.get("xrdf_tools.selfcollision.engine.jobs")
+    if jobs is not None:
+        jobs.stop_workers()
+    os._exit(128 + signum)
+
+
 def main() -> None:
-    """Console entry point: library errors become one line on stderr and exit code 2."""
+    """Console entry point: library errors become one line on stderr and exit code 2;
+    SIGINT, SIGTERM and SIGHUP end the command (see :func:`_on_signal`)."""
+    try:
+        for name in ("SIGINT", "SIGTERM", "SIGHUP"):  # first: imports take a while
+            sig = getattr(signal, name, None)
+            if sig is not None and signal.getsignal(sig) is not signal.SIG_IGN:
+                signal.signal(sig, _on_signal)
+        _run()
+    except KeyboardInterrupt:  # said by _on_signal
+        sys.exit(130)
+
+
+def _run() -> None:
     from ..util.errors import XrdfToolsError
     from .commands.core import echo
 
-    for name in ("SIGTERM", "SIGHUP"):
-        if hasattr(signal, name):
-            signal.signal(getattr(signal, name), _terminate)
     try:
         code = _fast(sys.argv[1:])
         if code is not None:
@@ -49,9 +97,6 @@ def main() -> None:
     except XrdfToolsError as exc:
         echo(f"error: {exc}", err=True)
         sys.exit(2)
-    except KeyboardInterrupt:
-        echo("interrupted", err=True)
-        sys.exit(130)
 
 
 def _fast(argv: list[str]) -> int | None:

@@ -40,6 +40,7 @@ from .rules import (
     limits_length,
     limits_value,
     mesh_without_spheres,
+    reader_number,
     repeated_cspace_joint,
     required_key,
     sphere_center,
@@ -98,6 +99,7 @@ RULES: tuple[Rule, ...] = (
     curobo_default_order.RULE,
     curobo_joint_type.RULE,
     curobo_integer.RULE,
+    reader_number.RULE,
     curobo_quoted_version.RULE,
 )
 

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 from ..diagnostics import Severity
 from ..util.errors import XrdfToolsError, YamlError
+from ..util.numbers import MAX_LENGTH, within
 from ..xrdf.shape import SUPPORTED_VERSIONS, version_string
 from ..yaml.io import YamlDocument, YMap, YNode, YScalar, YSeq, is_finite, key_of, parse_yaml
 
@@ -79,8 +80,16 @@ def number(node: YNode | None) -> float | None:
 
 
 def finite_number(node: YNode | None) -> float | None:
+    """A usable number (finite, within ±``MAX_NUMBER``: see :mod:`xrdf_tools.util.numbers`),
+    else None (``wrong-type`` reports the others)."""
     v = number(node)
-    return v if v is not None and math.isfinite(v) else None
+    return v if v is not None and within(v) else None
+
+
+def length_number(node: YNode | None) -> float | None:
+    """A usable length or coordinate in metres (within ±``MAX_LENGTH``), else None."""
+    v = number(node)
+    return v if v is not None and within(v, MAX_LENGTH) else None
 
 
 def name(node: YNode | None) -> str | None:

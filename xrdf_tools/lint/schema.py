@@ -16,10 +16,10 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
-from ..util.errors import shown_text
+from ..util.numbers import MAX_LENGTH, bound_problem
 from ..xrdf.nodes import FINITE, plain_number
-from ..xrdf.shape import DOCUMENT, MODIFIERS, NUM, Shape, is_name, is_number
-from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite, key_of
+from ..xrdf.shape import DOCUMENT, LENGTH, MODIFIERS, NUM, Shape, is_name, is_number
+from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, key_of
 from ..yaml.shape import MAPPINGS
 
 __all__ = ["DOCUMENT", "MODIFIERS", "SchemaEvent", "Shape", "walk"]
@@ -66,12 +66,13 @@ def _walk_any(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[SchemaE
 
 
 def _walk_num(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[SchemaEvent]:
-    if is_number(node):
+    if is_number(node) and not shape.metres:
         return
     v = node.value if isinstance(node, YScalar) else None
-    if isinstance(v, (int, float)) and not isinstance(v, bool) and not is_finite(v):
-        shown = shown_text(str(v))
-        yield SchemaEvent("type", node, kp, f"{what} must be a finite number, not {shown}")
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        problem = bound_problem(v, metres=shape.metres)
+        if problem is not None:
+            yield SchemaEvent("type", node, kp, f"{what} {problem}")
     else:
         yield SchemaEvent("type", node, kp, f"{what} must be a number, not {describe_node(node)}")
 
@@ -93,8 +94,9 @@ def _walk_groupref(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[Sc
 
 
 def _walk_buffers(node: YNode, shape: Shape, kp: str, what: str) -> Iterator[SchemaEvent]:
-    if is_number(node):
-        return  # a single number for every frame (cuRobo style); see unconfirmed-syntax
+    if is_number(node, finite=False):  # one length for every frame (cuRobo style)
+        yield from _walk_num(node, LENGTH, kp, what)  # see unconfirmed-syntax for the style
+        return
     yield from walk(node, Shape("dict", values=shape.values or NUM), kp)
 
 
@@ -120,7 +122,8 @@ def _plain_items_fit(node: YSeq, shape: Shape) -> bool:
     if type(node) is not YPlainSeq:
         return False
     if shape.kind == "num":
-        return all(plain_number(v, FINITE) is not None for v in node.values)
+        bound = MAX_LENGTH if shape.metres else FINITE
+        return all(plain_number(v, bound) is not None for v in node.values)
     if shape.kind == "str":
         return all(_is_name_value(v) for v in node.values)
     return False
@@ -139,7 +142,7 @@ def _quiet(node: YNode, shape: Shape) -> bool:
         if v is None:
             return shape.nullable
         if kind == "num":
-            return plain_number(v, FINITE) is not None
+            return plain_number(v, MAX_LENGTH if shape.metres else FINITE) is not None
         return kind == "any" or (kind == "str" and _is_name_value(v))
     if kind == "list" and isinstance(node, YSeq):
         wrong_length = shape.length is not None and len(node) != shape.length

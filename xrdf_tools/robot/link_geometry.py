@@ -37,6 +37,7 @@ import numpy.typing as npt
 
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit
+from ..util.numbers import MAX_LENGTH
 
 if TYPE_CHECKING:
     import trimesh
@@ -393,10 +394,14 @@ class _MeshReader:
         except ValueError:
             raise _PartError(f"{uri}: scale must be one or three numbers", uri=uri) from None
         try:
-            scene: Any = trimesh.load(str(path), force="scene", process=True)
+            scene: Any = trimesh.load(str(path), force="scene", process=False)
             pieces = tuple(
                 p for p in scene.dump() if isinstance(p, trimesh.Trimesh) and len(p.faces)
             )
+            # processing would drop a NaN vertex and its faces without a word
+            bad = not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces)
+            for p in () if bad else pieces:
+                p.process()
         except Exception as e:  # trimesh raises many exception types for bad files
             detail = str(e).splitlines()[0] if str(e) else type(e).__name__
             raise _PartError(f"{uri}: cannot read mesh ({detail})", uri=uri) from None
@@ -405,6 +410,8 @@ class _MeshReader:
         if not np.array_equal(factors, np.ones(3)):
             for piece in pieces:  # scene.dump() made copies: scaling them in place is safe
                 piece.apply_transform(np.diag([*factors, 1.0]))
+        if bad or not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces):
+            raise _PartError(f"{uri}: a vertex is not finite or beyond ±{MAX_LENGTH:g} m")
         return pieces, str(path)
 
     def locate(self, uri: str) -> Path:

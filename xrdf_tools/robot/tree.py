@@ -39,6 +39,8 @@ class RobotTree:
         it once per robot); :class:`UrdfError` when every link has a parent joint."""
         parent_joint = {j.child: j.name for j in joints.values()}
         roots = tuple(link for link in links if link not in parent_joint)
+        if not links:
+            raise UrdfError("the robot has no links; a URDF needs at least one <link>", path=path)
         if not roots:
             raise UrdfError("the joints form a cycle: every link has a parent joint", path=path)
         children: dict[str, list[str]] = {}

@@ -7,12 +7,12 @@ right count. Every failure is a :class:`UrdfError` at the element's line.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError, did_you_mean, shown_text
+from ..util.numbers import bound_reason
 
 __all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
 
@@ -74,6 +74,8 @@ def check_urdf_tree(
         raise fail("<robot> has no 'name' attribute", root)
 
     link_lines = _named_lines(root, "link", fail)
+    if not link_lines:
+        raise fail("<robot> has no <link>; a URDF needs at least one link", root)
     for el in root.findall("link"):
         _check_geometry(el, fail)
     _check_colors(root, path, fail, warnings)
@@ -103,7 +105,9 @@ def check_urdf_tree(
                     sub,
                 )
         edges.append((name, el.find("parent").get("link"), el.find("child").get("link"), el))
-        _check_numbers(el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail)
+        _check_numbers(
+            el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail, metres=("xyz",)
+        )
         _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
         _check_limit(el, name, jtype, fail)
         mimic = el.find("mimic")
@@ -165,7 +169,8 @@ def _check_limit(el: Any, name: str, jtype: str, fail: Fail) -> None:
     """Limit numbers are finite; a revolute or prismatic joint has ``lower <= upper``."""
     limit = el.find("limit")
     what = f"joint '{name}' <limit>"
-    _check_numbers(limit, ("lower", "upper", "velocity", "effort"), 1, what, fail)
+    ends = ("lower", "upper") if jtype == "prismatic" else ()
+    _check_numbers(limit, ("lower", "upper", "velocity", "effort"), 1, what, fail, metres=ends)
     if limit is None or jtype not in ("revolute", "prismatic"):
         return
     lower, upper = limit.get("lower"), limit.get("upper")
@@ -220,7 +225,14 @@ def _check_geometry(link: Any, fail: Fail) -> None:
     name = link.get("name")
     for kind in ("visual", "collision"):
         for item in link.findall(kind):
-            _check_numbers(item.find("origin"), ("xyz", "rpy"), 3, f"link '{name}' <{kind}>", fail)
+            _check_numbers(
+                item.find("origin"),
+                ("xyz", "rpy"),
+                3,
+                f"link '{name}' <{kind}>",
+                fail,
+                metres=("xyz",),
+            )
             geometry = item.find("geometry")
             if geometry is None:
                 raise fail(f"link '{name}' <{kind}> has no <geometry>", item)
@@ -240,7 +252,8 @@ def _check_geometry(link: Any, fail: Fail) -> None:
                         if required:
                             raise fail(f"{what} has no '{attr}' attribute", shape)
                         continue
-                    _check_numbers(shape, (attr,), counts, what, fail)
+                    lengths = (attr,) if shape.tag != "mesh" else ()
+                    _check_numbers(shape, (attr,), counts, what, fail, metres=lengths)
                     if shape.tag != "mesh" and any(float(x) < 0 for x in raw.split()):
                         raise fail(f"{what} {attr}='{raw}' must not be negative", shape)
 
@@ -251,7 +264,7 @@ def _check_other_numbers(root: Any, fail: Fail) -> None:
         for el in root.findall(tag):
             for sub in el.findall(child):
                 what = f"{tag} '{el.get('name')}' <{child.replace('/', '> <')}>"
-                _check_numbers(sub, attrs, count, what, fail)
+                _check_numbers(sub, attrs, count, what, fail, metres=("xyz",))
 
 
 def _check_numbers(
@@ -260,8 +273,12 @@ def _check_numbers(
     count: int | tuple[int, ...],
     what: str,
     fail: Fail,
+    *,
+    metres: tuple[str, ...] = (),
 ) -> None:
-    """Each attribute present holds ``count`` finite numbers (one of the counts of a tuple)."""
+    """Each attribute present holds ``count`` usable numbers (one of the counts of a tuple):
+    finite and within the bounds of :mod:`xrdf_tools.util.numbers` (the attributes in
+    ``metres`` are lengths or coordinates)."""
     if el is None:
         return
     counts = (count,) if isinstance(count, int) else count
@@ -279,5 +296,7 @@ def _check_numbers(
         if len(parts) not in counts:
             n = " or ".join("a number" if c == 1 else f"{c} numbers" for c in counts)
             raise fail(f"{what} {attr}='{shown}' must be {n}", el)
-        if not all(math.isfinite(v) for v in values):
-            raise fail(f"{what} {attr}='{shown}' must be finite", el)
+        for v in values:
+            reason = bound_reason(v, metres=attr in metres)
+            if reason is not None:
+                raise fail(f"{what} {attr}='{shown}': {reason}", el)

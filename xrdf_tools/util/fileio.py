@@ -52,6 +52,8 @@ STDIN = "-"
 ErrorType = type[XrdfToolsError]
 _OPEN_FLAGS = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
 _CHUNK = 1 << 20
+#: The temporary files of :func:`atomic_output` blocks under way in this process.
+TEMPORARIES: set[Path] = set()
 
 
 def max_input_bytes() -> int:
@@ -225,6 +227,11 @@ def check_output_path(path: str | os.PathLike[str]) -> Path:
     try:
         st = os.stat(target)
     except FileNotFoundError:
+        if user.endswith(("/", os.sep)):  # Path() drops the slash: 'new/' would make a file
+            raise OutputError(
+                "names a directory (it ends with '/'), which does not exist; give a file name",
+                path=user,
+            ) from None
         return target
     except OSError as e:
         raise _write_error(e, user) from None
@@ -285,6 +292,7 @@ def atomic_output(path: str | os.PathLike[str], *, create_parents: bool = True) 
     except OSError as e:
         raise _write_error(e, user) from None
     tmp = Path(name)
+    TEMPORARIES.add(tmp)
     try:
         yield tmp
         _finish(tmp, target)
@@ -293,6 +301,15 @@ def atomic_output(path: str | os.PathLike[str], *, create_parents: bool = True) 
     except OSError as e:
         raise _write_error(e, user) from None
     finally:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        TEMPORARIES.discard(tmp)
+
+
+def remove_temporaries() -> None:
+    """Remove the temporary files of the writes under way (for a process that must exit at
+    once, without unwinding: see :func:`xrdf_tools.cli.main`)."""
+    for tmp in list(TEMPORARIES):
         with contextlib.suppress(OSError):
             tmp.unlink()
 

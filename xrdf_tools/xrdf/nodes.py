@@ -9,19 +9,19 @@ the wording of the errors is the reader's.
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from typing import TypeVar
 
-from ..util.errors import SchemaError, shown_text
+from ..util.errors import SchemaError
 from ..util.frozen import FrozenMap
-from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node, is_finite
-from .shape import MAX_LENGTH, Shape, is_name, is_number
+from ..util.numbers import MAX_LENGTH, MAX_NUMBER, bound_problem
+from ..yaml.io import YMap, YNode, YPlainSeq, YScalar, YSeq, describe_node
+from .shape import Shape, is_name, is_number
 
 T = TypeVar("T")
 
-#: The bound of :func:`plain_numbers` for a number that only has to be finite.
-FINITE = sys.float_info.max
+#: The bound of :func:`plain_numbers` for a number that is not a length.
+FINITE = MAX_NUMBER
 
 
 def plain_number(value: object, bound: float) -> float | None:
@@ -97,26 +97,21 @@ class NodeReader:
             return node.value if isinstance(node.value, str) else str(node.value)
         raise self.fail(node, f"{what} must be a non-empty string, not {describe(node)}")
 
-    def number(self, node: YNode | None, what: str) -> float:
-        """A finite number (NaN and infinities reach no consumer: they poison FK and JSON)."""
+    def number(self, node: YNode | None, what: str, *, metres: bool = False) -> float:
+        """A usable number: finite (NaN and infinities poison FK and JSON) and within the bounds
+        of :mod:`xrdf_tools.util.numbers` (``metres``: a length or coordinate)."""
         if isinstance(node, YScalar) and is_number(node, finite=False):
             assert isinstance(node.value, (int, float))
-            if not is_finite(node.value):
-                shown = shown_text(str(node.value))
-                raise self.fail(node, f"{what} must be a finite number, not {shown}")
+            problem = bound_problem(node.value, metres=metres)
+            if problem is not None:
+                raise self.fail(node, f"{what} {problem}")
             return float(node.value)
         raise self.fail(node, f"{what} must be a number, not {describe(node)}")
 
     def length(self, node: YNode | None, what: str) -> float:
         """A number that is a length or coordinate in metres: finite and within
         ±:data:`MAX_LENGTH` (beyond that, squared distances overflow)."""
-        v = self.number(node, what)
-        if abs(v) > MAX_LENGTH:
-            raise self.fail(
-                node,
-                f"{what} is {v:g}; lengths must be finite and within ±{MAX_LENGTH:g} m",
-            )
-        return v
+        return self.number(node, what, metres=True)
 
     def strings(self, node: YNode | None, what: str) -> tuple[str, ...]:
         seq = self.sequence(node, what)

@@ -29,6 +29,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import replace
 
+from ..util.numbers import MAX_LENGTH
 from ..yaml.io import YNode, YScalar
 from ..yaml.shape import Shape, is_name, is_number
 
@@ -46,10 +47,6 @@ __all__ = [
 
 #: The XRDF versions there are (``format_version``).
 SUPPORTED_VERSIONS = ("1.0", "2.0")
-
-#: Largest length or coordinate accepted in an XRDF, in metres (sphere centres and radii,
-#: buffer distances, added frame positions): far beyond any robot, far below overflow.
-MAX_LENGTH = 1e6
 
 
 def version_string(node: YNode | None) -> str | None:

@@ -9,14 +9,13 @@ per-field ``object.__setattr__`` calls (half the cost of a node); the nodes are 
 
 from __future__ import annotations
 
-import math
-import sys
 from array import array
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 from ..util.errors import shown_text
+from ..util.numbers import MAX_NUMBER, within
 
 Scalar = str | int | float | bool | None
 
@@ -105,11 +104,10 @@ def key_of(node: YNode) -> Any:
 
 
 def is_finite(v: int | float) -> bool:
-    """A finite float, or an integer a float can hold (YAML integers have no size limit:
-    ``math.isfinite`` of a 400-digit one raises ``OverflowError``)."""
-    if isinstance(v, int):
-        return -sys.float_info.max <= v <= sys.float_info.max
-    return math.isfinite(v)
+    """A usable number: finite and within ±:data:`~xrdf_tools.util.numbers.MAX_NUMBER`, the
+    bound of every number read (YAML integers have no size limit: ``math.isfinite`` of a
+    400-digit one raises ``OverflowError``; ``1e308`` overflows the first product)."""
+    return within(v, MAX_NUMBER)
 
 
 def describe_node(node: YNode | None) -> str:

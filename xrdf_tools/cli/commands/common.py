@@ -28,6 +28,7 @@ from .core import (
     render_diagnostics,
     two_stdin,
     verbosity,
+    write_stdout,
 )
 from .core import RUN as _RUN
 from .core import VERBOSITY_KEY as _VERBOSITY
@@ -218,12 +219,10 @@ def write_output(data: str | bytes, output: Path | None) -> None:
     """The one output writer: ``data`` to stdout (no ``-o``, or ``-o -``), else atomically to
     ``output``; a failed write exits 2 naming the user's path."""
     if output is None or is_stdio(output):
-        if isinstance(data, bytes):
-            sys.stdout.flush()
-            sys.stdout.buffer.write(data)
-            sys.stdout.buffer.flush()
-        else:
-            typer.echo(data, nl=False)
+        try:
+            write_stdout(data)
+        except XrdfToolsError as e:
+            fail(e)
         return
     from ...util.fileio import write_atomic
 
@@ -257,9 +256,20 @@ def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) ->
         if src is not None and same_file(output, src):
             fail(f"{output}: refusing to overwrite an input file; choose another -o path")
     try:
-        check_output_path(output)
+        check_output_path(_as_given(output))
     except XrdfToolsError as e:
         fail(e)
+
+
+def _as_given(output: Path) -> Path | str:
+    """``output`` as the command line spelled it: a ``Path`` option loses a trailing ``/``
+    (``-o newdir/`` would write a file named ``newdir``), so the arguments are asked."""
+    text = os.fspath(output)
+    for arg in sys.argv[1:]:
+        value = arg.split("=", 1)[1] if arg.startswith("-") and "=" in arg else arg
+        if value.endswith(("/", os.sep)) and value.rstrip("/" + os.sep) == text.rstrip(os.sep):
+            return value
+    return output
 
 
 def refuse_output_clash(outputs: Mapping[str, Path | None]) -> None:

@@ -14,6 +14,7 @@ import typer
 
 from ...diagnostics import Severity
 from ...util.errors import XrdfToolsError
+from ...util.numbers import MAX_SAMPLES
 from .common import (
     AllowMissingMeshesOption,
     QuietOption,
@@ -160,8 +161,9 @@ def command(
             "--samples",
             "-n",
             min=1,
+            max=MAX_SAMPLES,
             help="With --fit-spheres: configurations sampled for the self-collision mask "
-            "(as `xrdf report --samples`).",
+            "(as `xrdf report --samples`; at most 10,000,000,000).",
         ),
     ] = 100_000,
     seed: Annotated[
@@ -341,7 +343,7 @@ def _check(output: Path, x: Xrdf, root_frame: str) -> None:
     if result.is_equal:
         note(f"{output}: up to date")
         return
-    typer.echo(_render_diff(result), nl=False)
+    write_output(_render_diff(result), None)
     fail(
         f"{output}: out of date ({len(result.changes)} semantic difference(s) listed above); "
         "re-run without --check to update it",

@@ -50,16 +50,64 @@ def _isatty(stream: Any) -> bool:
 def echo(message: str, *, err: bool = False, nl: bool = True) -> None:
     """``message`` on standard output (``err``: standard error), written like ``typer.echo``
     writes text: a newline added unless ``nl`` is false, ANSI escapes removed when the stream
-    is not a terminal, flushed."""
+    is not a terminal, flushed. Standard output goes through :func:`write_stdout`."""
     stream = sys.stderr if err else sys.stdout
-    if stream is None:  # no stream attached (pythonw): nothing to write to
-        return
     out = message + "\n" if nl else message
     if out and not _isatty(stream):
         out = _ANSI.sub("", out)
+    if not err:
+        write_stdout(out)
+        return
+    if stream is None:  # no stream attached (pythonw): nothing to write to
+        return
     if out:
         stream.write(out)
     stream.flush()
+
+
+def write_stdout(data: str | bytes) -> None:
+    """The one writer of a command's output to standard output: text or bytes, to the real
+    stream or any text stream put in its place (an in-process runner's), flushed.
+
+    Output that cannot be delivered is an error, never silently lost: a closed standard output
+    (``>&-``), a full disk (``> /dev/full``) or a reader that went away (a closed pipe) raise
+    :class:`~xrdf_tools.util.errors.OutputError` (the caller exits 2); standard output is then
+    pointed at the null device, so that Python's own flush at exit says nothing more.
+    """
+    from ...util.errors import OutputError
+
+    stream = sys.stdout
+    if stream is None or getattr(stream, "closed", False):
+        raise OutputError("standard output is closed; nothing was written (use -o FILE)")
+    try:
+        if isinstance(data, bytes):
+            binary = getattr(stream, "buffer", None)
+            if binary is None:  # a text stream (an in-process runner's StringIO)
+                stream.write(data.decode("utf-8"))
+            else:
+                stream.flush()
+                binary.write(data)
+                binary.flush()
+        elif data:
+            stream.write(data)
+        stream.flush()
+    except (OSError, ValueError) as e:
+        _silence_stdout()
+        reason = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+        raise OutputError(f"standard output: cannot write: {reason}") from None
+
+
+def _silence_stdout() -> None:
+    """Point file descriptor 1 at the null device (after a failed write to it)."""
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):
+        return  # not a real file: nothing is flushed to it at exit
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, fd)
+    finally:
+        os.close(null)
 
 
 def render_diagnostics(

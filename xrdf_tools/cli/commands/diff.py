@@ -18,6 +18,7 @@ from .common import (
     fail,
     load_xrdf_input,
     refuse_two_stdin,
+    write_output,
 )
 from .core import EXIT_FINDINGS, EXIT_OK, load_robot_option
 
@@ -100,5 +101,5 @@ def command(
     from ...diff.render import render_json, render_text
 
     out = render_json(result) if fmt is DiffFormat.json else render_text(result)
-    typer.echo(out, nl=False)
+    write_output(out, None)
     raise typer.Exit(EXIT_OK if result.is_equal else EXIT_FINDINGS)

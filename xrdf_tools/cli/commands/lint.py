@@ -18,6 +18,7 @@ from .common import (
     VerboseOption,
     XacroArgOption,
     fail,
+    write_output,
 )
 from .core import OutputFormat
 
@@ -100,6 +101,6 @@ def command(
     except XrdfToolsError as exc:
         fail(exc)
     if text:
-        typer.echo(text, nl=False)
+        write_output(text, None)
     if code:
         raise typer.Exit(code)

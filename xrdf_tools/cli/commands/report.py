@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
+from ...util.numbers import MAX_SAMPLES
 from .common import (
     PackagePathOption,
     QuietOption,
@@ -81,7 +82,14 @@ def command(
         Path, typer.Option("--urdf", help="The robot's URDF (or xacro).", show_default=False)
     ],
     samples: Annotated[
-        int, typer.Option("--samples", "-n", min=1, help="Configurations to sample.")
+        int,
+        typer.Option(
+            "--samples",
+            "-n",
+            min=1,
+            max=MAX_SAMPLES,
+            help="Configurations to sample (at most 10,000,000,000).",
+        ),
     ] = 100_000,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Random seed of the sampler.")] = 0,
     sampler: Annotated[
@@ -142,8 +150,9 @@ def command(
             "--jobs",
             "-j",
             min=1,
-            help="Worker processes for sampling [default: all cores]. Same result for any "
-            "value; samples below 1,000,000 per worker run in fewer processes.",
+            help="Worker processes for sampling [default: all cores; more than the cores are "
+            "not started]. Same result for any value; samples below 1,000,000 per worker run "
+            "in fewer processes.",
             show_default=False,
         ),
     ] = None,
@@ -226,6 +235,9 @@ def command(
             kin, _ = build_kinematic_model(u, x, path=str(urdf))
             q_c = load_cspace_configurations(configs, kin, x)
         n_jobs = default_jobs() if jobs is None else jobs
+        if n_jobs > default_jobs():
+            note(f"--jobs {n_jobs}: this process may use {default_jobs()} core(s); using that many")
+            n_jobs = default_jobs()
         label = "sampling" if configs is None else "checking"
         detail(
             f"{label} {samples if q_c is None else len(q_c):,} configuration(s) "

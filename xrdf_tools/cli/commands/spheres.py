@@ -258,7 +258,7 @@ def command(
     if output is None or is_stdio(output):
         note(table.rstrip("\n"))
     else:
-        typer.echo(table, nl=False)
+        write_output(table, None)
 
 
 def per_link_progress(bar: ProgressUpdate | None, label: str) -> Callable[[str, int, int], None]:

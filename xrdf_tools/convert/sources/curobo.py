@@ -129,7 +129,7 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
     if layout == "lula":
         read_lula(data, tree, d, rep)
     else:
-        if "robot_cfg" in data:
+        if _kinematics(data) is not data.get("kinematics"):
             prefix = "robot_cfg.kinematics"
             for k in data["robot_cfg"]:
                 if k != "kinematics":

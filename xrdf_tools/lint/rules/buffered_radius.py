@@ -12,7 +12,7 @@ from collections.abc import Iterator
 
 from ...diagnostics import Severity
 from ...yaml.io import YMap
-from ..context import LintContext, Problem, Rule, finite_number, name
+from ..context import LintContext, Problem, Rule, length_number, name
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
@@ -27,10 +27,10 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         buffers = {
             n: (b, v)
             for k, v in buf.pairs
-            if (n := name(k)) and (b := finite_number(v)) is not None
+            if (n := name(k)) and (b := length_number(v)) is not None
         }
         for s in spheres:
-            r = finite_number(s.field("radius"))
+            r = length_number(s.field("radius"))
             if r is None or r <= 0 or s.frame not in buffers:
                 continue
             b, bnode = buffers[s.frame]

@@ -45,7 +45,7 @@ from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
 from ...yaml.io import YSeq
-from ..context import LintContext, Problem, Rule, SphereRef, finite_number
+from ..context import LintContext, Problem, Rule, SphereRef, length_number
 
 if TYPE_CHECKING:
     from ...robot.core import Robot
@@ -185,7 +185,7 @@ def _center(s: SphereRef) -> tuple[float, float, float] | None:
     c = s.field("center")
     if not isinstance(c, YSeq) or len(c) != 3:
         return None
-    xyz = [finite_number(v) for v in c.items]
+    xyz = [length_number(v) for v in c.items]
     if any(v is None for v in xyz):
         return None
     x, y, z = (float(v) for v in xyz if v is not None)
@@ -202,7 +202,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         collisions = robot.collision_counts.get(s.frame)
         if not collisions:
             continue
-        center, radius = _center(s), finite_number(s.field("radius"))
+        center, radius = _center(s), length_number(s.field("radius"))
         if center is None or radius is None or radius <= 0.0:
             continue
         todo.append((s, center, radius))

@@ -10,26 +10,34 @@ on the order in which chunks come back.
 from __future__ import annotations
 
 import os
+import signal
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from contextlib import contextmanager
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from contextlib import contextmanager, suppress
+from itertools import islice
 from multiprocessing import get_context
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
+from ...util.numbers import MAX_SAMPLES
 from ..sampling import Method, sample_rows
 from .core import CountEngine, EngineTotals
 
 FloatArray = npt.NDArray[np.float64]
 
-__all__ = ["MIN_SAMPLES_PER_JOB", "ProgressFn", "count_sampled", "default_jobs"]
+__all__ = ["MAX_SAMPLES", "MIN_SAMPLES_PER_JOB", "ProgressFn", "count_sampled", "default_jobs"]
 
 #: Below this many samples per worker, starting a worker process costs more than it saves.
 MIN_SAMPLES_PER_JOB = 1_000_000
+
 _BLAS_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 ProgressFn = Callable[[int, int], None]
+_POLL_S = 0.05
 _WORKER: dict[str, CountEngine] = {}
+#: The pools of the counts under way in this process.
+_LIVE: set[ProcessPoolExecutor] = set()
 
 
 def default_jobs() -> int:
@@ -54,44 +62,131 @@ def count_sampled(
 ) -> EngineTotals:
     """Count ``n`` samples of the stream ``sample_rows(lower, upper, …, method, seed)``.
 
-    The sample is cut into chunks of ``chunk`` rows; with ``jobs > 1`` the chunks go to worker
-    processes (each pinned to one BLAS thread). Totals are sums and minima over chunks, so the
-    result is identical for any ``jobs``. Fewer workers are started when the sample is small
-    (at least :data:`MIN_SAMPLES_PER_JOB` samples each).
+    The sample is cut into chunks of ``chunk`` rows, made one at a time (memory does not grow
+    with ``n``, at most :data:`MAX_SAMPLES`); with ``jobs > 1`` the chunks go to worker
+    processes (each pinned to one BLAS thread), never more than the cores
+    (:func:`default_jobs`) and a few chunks ahead of the results. Totals are sums and minima
+    over chunks, so the result is identical for any ``jobs``. Fewer workers are started when
+    the sample is small (at least :data:`MIN_SAMPLES_PER_JOB` samples each).
+
+    An interrupt (``KeyboardInterrupt``, or ``SystemExit`` from a SIGTERM handler) stops the
+    workers at once: they are killed, no queued chunk runs on.
     """
-    starts = list(range(0, n, chunk))
-    tasks = [(s0, min(chunk, n - s0)) for s0 in starts]
-    workers = max(1, min(jobs, n // MIN_SAMPLES_PER_JOB, len(tasks)))
-    totals = EngineTotals.empty(engine.K)
+    if not 0 <= n <= MAX_SAMPLES:
+        raise ValueError(f"{n} samples: at most {MAX_SAMPLES:,} can be counted")
+    if chunk < 1:
+        raise ValueError(f"chunk must be at least 1, got {chunk}")
+    n_tasks = -(-n // chunk)
+    workers = max(1, min(jobs, default_jobs(), n // MIN_SAMPLES_PER_JOB, n_tasks))
+    tasks = ((s0, min(chunk, n - s0)) for s0 in range(0, n, chunk))
     lo, hi = np.asarray(lower, dtype=np.float64), np.asarray(upper, dtype=np.float64)
-    done = 0
     if workers == 1:
         parts: Iterator[EngineTotals] = (
             _count_rows(engine, lo, hi, s0, m, method, seed) for s0, m in tasks
         )
-        for part in parts:
-            totals.merge(part)
-            done += part.configurations
-            if progress is not None:
-                progress(done, n)
-        return totals
-    with (
-        _one_blas_thread(),
-        ProcessPoolExecutor(
-            max_workers=workers,
-            mp_context=get_context("spawn"),
-            initializer=_worker_init,
-            initargs=(engine,),
-        ) as pool,
-    ):
-        futures = [pool.submit(_worker_rows, lo, hi, s0, m, method, seed) for s0, m in tasks]
-        for fut in as_completed(futures):
-            part = fut.result()
-            totals.merge(part)
-            done += part.configurations
-            if progress is not None:
-                progress(done, n)
+    else:
+        parts = _in_workers(engine, workers, tasks, (lo, hi, method, seed))
+    totals = EngineTotals.empty(engine.K)
+    done = 0
+    for part in parts:
+        totals.merge(part)
+        done += part.configurations
+        if progress is not None:
+            progress(done, n)
     return totals
+
+
+def _in_workers(
+    engine: CountEngine,
+    workers: int,
+    tasks: Iterator[tuple[int, int]],
+    stream: tuple[FloatArray, FloatArray, Method, int],
+) -> Iterator[EngineTotals]:
+    """The totals of each task, counted by ``workers`` spawned processes, in completion order.
+
+    At most two tasks per worker are queued at a time, and results are waited for in short
+    steps (Python runs a signal handler only in the main thread, when a wait returns). The
+    workers ignore SIGINT from their start: a Ctrl-C at the terminal, which reaches the whole
+    process group, interrupts only this process, which then kills them; they print nothing.
+    """
+    lo, hi, method, seed = stream
+    ctx = get_context("spawn")
+    # The engine reaches each worker through a queue (written by the queue's own thread), not
+    # as an initializer argument: those are written to a starting worker by this thread,
+    # which then waits, deaf to signals, until the worker has imported numpy.
+    engines: Any = ctx.Queue()
+    pool = ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=_worker_init, initargs=(engines,)
+    )
+    pending: set[Future[EngineTotals]] = set()
+    _LIVE.add(pool)
+    try:
+        with _one_blas_thread(), _sigint_held():
+            for _ in range(workers):
+                engines.put(engine)
+            # the first `workers` submissions start the processes
+            for s0, m in islice(tasks, workers):
+                pending.add(pool.submit(_worker_rows, lo, hi, s0, m, method, seed))
+        while pending:
+            for s0, m in islice(tasks, 2 * workers - len(pending)):
+                pending.add(pool.submit(_worker_rows, lo, hi, s0, m, method, seed))
+            # a short timeout: a signal delivered to another thread (BLAS's) does not wake a
+            # blocked wait, and Python runs its handler only when the wait returns
+            finished, pending = wait(pending, timeout=_POLL_S, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                yield fut.result()
+    except BaseException:
+        _kill(pool)
+        raise
+    finally:
+        _LIVE.discard(pool)
+        engines.cancel_join_thread()  # what a killed worker did not read is dropped
+        engines.close()
+    pool.shutdown(wait=True)
+
+
+def stop_workers() -> None:
+    """Kill the worker processes of every count under way (for a process about to exit at once,
+    without unwinding)."""
+    for pool in list(_LIVE):
+        for proc in list((getattr(pool, "_processes", None) or {}).values()):
+            with suppress(Exception):
+                proc.kill()
+
+
+def _kill(pool: ProcessPoolExecutor) -> None:
+    """Stop ``pool`` now: its processes killed, its queued work dropped."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for proc in processes:
+        with suppress(Exception):
+            proc.kill()
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in processes:
+        with suppress(Exception):
+            proc.join(0.2)
+
+
+@contextmanager
+def _sigint_held() -> Iterator[None]:
+    """SIGINT held back in this thread while worker processes start: a process or thread started
+    meanwhile inherits the mask, so a Ctrl-C at the terminal, which reaches the whole process
+    group, never prints a worker's traceback; a Ctrl-C meanwhile is raised when the block
+    ends. (multiprocessing's resource tracker, which unblocks SIGINT after starting, is
+    started before.)"""
+    if not hasattr(signal, "pthread_sigmask"):  # not on POSIX
+        yield
+        return
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        held = signal.SIGINT in signal.sigpending()
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        if held:
+            signal.raise_signal(signal.SIGINT)
 
 
 def _count_rows(
@@ -108,8 +203,10 @@ def _count_rows(
     return totals
 
 
-def _worker_init(engine: CountEngine) -> None:
-    _WORKER["engine"] = engine
+def _worker_init(engines: Any) -> None:
+    # the parent stops the workers; a Ctrl-C at the terminal is the parent's to handle
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _WORKER["engine"] = engines.get()
 
 
 def _worker_rows(

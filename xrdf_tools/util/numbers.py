@@ -1,0 +1,60 @@
+"""The bounds on every number xrdf-tools reads, the same for every command.
+
+A number read from an input (an XRDF, cuRobo or Lula YAML, ``joint_limits.yaml``, a lint
+configuration, a URDF attribute, a table of configurations) is usable when it is finite and
+within ±:data:`MAX_NUMBER`; a length or coordinate in metres (sphere centres and radii, buffer
+distances, frame and joint origins, geometry sizes, prismatic limits, mesh vertices) within
+±:data:`MAX_LENGTH`. Past those bounds, products and squares in the self-collision engine,
+the sampler and the renderers overflow (``1e308`` limits make ``uniform(lo, hi)`` raise, a
+``1e308`` origin turns into ``inf - inf`` in forward kinematics), so a number outside them is
+refused where it is read, with its location, and never reaches numpy.
+
+Both bounds are far beyond any robot: joint ranges, limits in rad/s³ and masses stay well below
+``1e12``; a robot spans metres, not ``1e6`` m.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["MAX_LENGTH", "MAX_NUMBER", "MAX_SAMPLES", "bound_problem", "bound_reason", "within"]
+
+#: Largest magnitude of any number read (limits, positions, multipliers, weights, ...).
+MAX_NUMBER = 1e12
+#: Largest magnitude of a length or coordinate, in metres.
+MAX_LENGTH = 1e6
+#: The most configurations one run samples (``--samples`` of ``report`` and ``convert
+#: --fit-spheres``): ten billion, hours of work on any machine.
+MAX_SAMPLES = 10_000_000_000
+
+
+def within(v: int | float, bound: float = MAX_NUMBER) -> bool:
+    """Whether ``v`` is finite and within ±``bound`` (exact for integers of any size: YAML
+    integers have no size limit, and ``float()`` of a 400-digit one raises)."""
+    if isinstance(v, int):
+        return -bound <= v <= bound
+    return math.isfinite(v) and -bound <= v <= bound
+
+
+def bound_reason(v: int | float, *, metres: bool = False) -> str | None:
+    """The rule ``v`` breaks (``"lengths must be finite and within ±1e+06 m"``), or None.
+    ``metres``: a length or coordinate (:data:`MAX_LENGTH`), else any number
+    (:data:`MAX_NUMBER`)."""
+    if within(v, MAX_LENGTH if metres else MAX_NUMBER):
+        return None
+    if metres:
+        return f"lengths must be finite and within ±{MAX_LENGTH:g} m"
+    return f"numbers must be finite and within ±{MAX_NUMBER:g}"
+
+
+def bound_problem(v: int | float, *, metres: bool = False) -> str | None:
+    """Why ``v`` cannot be used (``"is 1e+308; lengths must be finite and within ±1e+06 m"``),
+    or None (see :func:`bound_reason`)."""
+    reason = bound_reason(v, metres=metres)
+    if reason is None:
+        return None
+    if isinstance(v, float) or within(v, 1e300):
+        shown = f"{float(v):g}"
+    else:  # an integer beyond float range
+        shown = f"{'-' if v < 0 else ''}about 1e{int(abs(v).bit_length() * math.log10(2))}"
+    return f"is {shown}; {reason}"
