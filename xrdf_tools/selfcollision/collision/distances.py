@@ -83,16 +83,21 @@ def centers_batch_last(
         fidx = list(range(Fs))
     for f, kf in enumerate(fidx):
         sl = spheres.spheres_of(f)
-        # out[s, i, b] = sum_k pts[s, k] * R[kf, i, k, b] + t[kf, i, b], as one GEMM
-        Rk = np.ascontiguousarray(R[kf].transpose(1, 0, 2)).reshape(3, 3 * B)
-        dst = out[sl].reshape(sl.stop - sl.start, 3 * B)
-        np.matmul(spheres.local_centers[sl], Rk, out=dst)
-        out[sl] += t[kf]
+        _place(spheres.local_centers[sl], R[kf], t[kf], out[sl])
         if extra is not None:
-            row = out[S + f].reshape(1, 3 * B)
-            np.matmul(extra[f : f + 1], Rk, out=row)
-            out[S + f] += t[kf]
+            _place(extra[f : f + 1], R[kf], t[kf], out[S + f : S + f + 1])
     return out
+
+
+def _place(local: FloatArray, R: FloatArray, t: FloatArray, out: FloatArray) -> None:
+    """``out`` [m, 3, B] = the points ``local`` [m, 3] placed by rotations ``R`` [3, 3, B] and
+    translations ``t`` [3, B]: one GEMM (``out[s, i, b] = Σ_k local[s, k] R[i, k, b] + t[i, b]``).
+    Every centre of every counter is computed by this one function, so that they agree to
+    the last bit."""
+    B = R.shape[-1]
+    Rk = np.ascontiguousarray(R.transpose(1, 0, 2)).reshape(3, 3 * B)
+    np.matmul(local, Rk, out=out.reshape(len(local), 3 * B))
+    out += t
 
 
 def as_q2(kin: KinematicModel, q_full: npt.ArrayLike) -> tuple[FloatArray, bool]:
@@ -142,32 +147,71 @@ def pair_hits(spheres: SphereSet, centers: npt.ArrayLike) -> BoolArray:
 
 
 def frame_pair_verdicts(
-    spheres: SphereSet, centers: FloatArray, ks: IntArray, rows: IntArray
+    kin: KinematicModel,
+    spheres: SphereSet,
+    q_full: FloatArray,
+    ks: IntArray,
+    rows: IntArray,
 ) -> tuple[BoolArray, FloatArray]:
     """float64 verdict and clearance of frame pair ``ks[e]`` at configuration ``rows[e]``.
 
-    ``centers`` [U, S, 3] are world centres (:func:`sphere_world_centers`); entry ``e`` asks
-    whether any sphere pair of frame pair ``ks[e]`` collides at ``centers[rows[e]]``
-    (:func:`touching`) and for its smallest clearance. Entries are grouped by frame pair and
-    evaluated in blocks of bounded size.
+    ``q_full`` [U, n]: configurations of every actuated joint. Entry ``e`` asks whether any
+    sphere pair of frame pair ``ks[e]`` collides at ``q_full[rows[e]]`` (:func:`touching`)
+    and for its smallest clearance. Only the frames of the asked pairs are placed, a block of
+    configurations at a time, and every frame pair is evaluated in blocks: memory stays
+    bounded whatever the number of spheres or entries.
     """
     s = spheres
     hit = np.zeros(len(ks), dtype=np.bool_)
     clr = np.zeros(len(ks))
+    if len(ks) == 0:
+        return hit, clr
+    frames = np.unique(np.concatenate([s.frame_pair_a[ks], s.frame_pair_b[ks]]))
+    n_needed = sum(s.spheres_of(int(f)).stop - s.spheres_of(int(f)).start for f in frames)
+    step = max(1, _BLOCK_ELEMENTS // max(1, n_needed))
+    by_row = np.argsort(rows, kind="stable")
+    bounds = np.searchsorted(rows[by_row], np.arange(0, len(q_full) + step, step))
+    for u0, e0, e1 in zip(range(0, len(q_full), step), bounds[:-1], bounds[1:], strict=False):
+        if e0 == e1:
+            continue
+        ents = by_row[e0:e1]
+        q2 = q_full[u0 : u0 + step]
+        R, t = fk_batch_last(kin, q2, s.frame_kin_index[frames])
+        placed = {}
+        for i, f in enumerate(frames.tolist()):
+            sl = s.spheres_of(f)
+            c = np.empty((sl.stop - sl.start, 3, len(q2)))
+            _place(s.local_centers[sl], R[i], t[i], c)
+            placed[f] = c.transpose(2, 0, 1)  # [w, m_f, 3]
+        _decide(s, placed, ks[ents], rows[ents] - u0, hit, clr, ents)
+    return hit, clr
+
+
+def _decide(
+    s: SphereSet,
+    placed: dict[int, FloatArray],
+    ks: IntArray,
+    rows: IntArray,
+    hit: BoolArray,
+    clr: FloatArray,
+    out_at: IntArray,
+) -> None:
+    """Entries ``(ks[e], rows[e])`` decided from the placed centres, grouped by frame pair."""
     order = np.argsort(ks, kind="stable")
     uk, starts = np.unique(ks[order], return_index=True)
     ends = np.append(starts[1:], len(order))
     for k, s0, s1 in zip(uk.tolist(), starts.tolist(), ends.tolist(), strict=True):
-        lo, hi = int(s.pair_start[k]), int(s.pair_start[k + 1])
-        pi, pj = s.pair_i[lo:hi], s.pair_j[lo:hi]
-        rs = s.pair_radius_sum[lo:hi]
-        step = max(1, _BLOCK_ELEMENTS // (hi - lo))
+        fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
+        ra, rb = s.self_radii[s.spheres_of(fa)], s.self_radii[s.spheres_of(fb)]
+        rs = ra[:, None] + rb[None, :]
+        step = max(1, _BLOCK_ELEMENTS // rs.size)
         for e0 in range(s0, s1, step):  # bounded memory
             ent = order[e0 : min(s1, e0 + step)]
-            d2 = squared_distances(centers[rows[ent]], pi, pj)
-            hit[ent] = touching(d2, rs).any(axis=1)
-            clr[ent] = (np.sqrt(d2) - rs).min(axis=1)
-    return hit, clr
+            r = rows[ent]
+            diff = placed[fa][r][:, :, None, :] - placed[fb][r][:, None, :, :]
+            d2 = np.einsum("...k,...k->...", diff, diff)
+            hit[out_at[ent]] = touching(d2, rs).any(axis=(1, 2))
+            clr[out_at[ent]] = (np.sqrt(d2) - rs).min(axis=(1, 2))
 
 
 # ------------------------------------------------------------------------------------------
