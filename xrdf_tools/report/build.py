@@ -61,6 +61,8 @@ __all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
 
 #: Configurations per chunk: the engine's working set stays in a few MB.
 DEFAULT_CHUNK = 65536
+#: Smallest chunk a sample is cut into (a sample is cut into at least ten, for progress).
+_MIN_CHUNK = 4096
 
 
 def self_collision_report(
@@ -134,6 +136,7 @@ def self_collision_report(
         if samples < 1:
             raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
         n_total = samples
+        chunk = min(chunk, max(_MIN_CHUNK, -(-samples // 10)))  # ≥ 10 chunks: progress per 10 %
         totals = count_sampled(
             engine,
             kin.lower[idx],

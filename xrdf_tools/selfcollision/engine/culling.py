@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel
-from .bodies import _FK_BLOCK, _ROT, F32, _Bodies, _body_fk
+from .bodies import _ROT, F32, _Bodies, _body_fk
 from .grid import PairGrid, build_pair_grid
 from .pairs import _BodyPair
 
@@ -38,6 +38,8 @@ _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 #: A grid holds its sphere pairs' radius sums: beyond this many, the pair is culled otherwise.
 _GRID_MAX_PAIRS = 1 << 20
+#: Configurations per block of :meth:`_Culler.gaps2`.
+_GAP_BLOCK = 2048
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 
 
@@ -74,29 +76,40 @@ class _Culler:
 
     def gaps2(self, R: F32, t: F32, pairs: list[_BodyPair]) -> F32:
         """float32 squared distance between the bounding-sphere centres of each pair's sides
-        [P, B], in cache-sized column blocks."""
-        ia = np.array([bp.a for bp in pairs], dtype=np.intp)
-        ib = np.array([bp.b for bp in pairs], dtype=np.intp)
-        ca = np.array([bp.bound_a[:3] for bp in pairs], dtype=np.float32)  # [P, 3]
-        cb = np.array([bp.bound_b[:3] for bp in pairs], dtype=np.float32)
+        [P, B], in cache-sized column blocks. Each distinct centre is placed once per
+        configuration, however many pairs share it."""
+        index: dict[tuple[int, tuple[float, ...]], int] = {}
+        ends = []
+        for bp in pairs:
+            for body, bound in ((bp.a, bp.bound_a), (bp.b, bp.bound_b)):
+                ends.append(index.setdefault((body, tuple(bound[:3].tolist())), len(index)))
+        ia, ib = np.array(ends[0::2], dtype=np.intp), np.array(ends[1::2], dtype=np.intp)
+        by_body: dict[int, list[int]] = {}
+        for (body, _), i in index.items():
+            by_body.setdefault(body, []).append(i)
+        pts = np.array([c for _, c in index], dtype=np.float32).reshape(-1, 3)
         B = R.shape[-1]
         out = np.empty((len(pairs), B), dtype=np.float32)
-        for s0 in range(0, B, _FK_BLOCK):
-            sl = slice(s0, min(B, s0 + _FK_BLOCK))
-            D = self._centres(R[ia, :, :, sl], t[ia, :, sl], ca)
-            D -= self._centres(R[ib, :, :, sl], t[ib, :, sl], cb)
-            D *= D
-            np.sum(D, axis=1, out=out[:, sl])
+        for s0 in range(0, B, _GAP_BLOCK):
+            sl = slice(s0, min(B, s0 + _GAP_BLOCK))
+            n = sl.stop - sl.start
+            W = np.empty((len(pts), 3, n), dtype=np.float32)
+            for body, rows in by_body.items():
+                P = pts[rows]
+                if body == 0:  # the static body: its pose is the identity
+                    W[rows] = P[:, :, None]
+                    continue
+                Rk = np.ascontiguousarray(R[body, :, :, sl].transpose(1, 0, 2)).reshape(3, 3 * n)
+                W[rows] = (P @ Rk).reshape(len(rows), 3, n) + t[body, :, sl]
+            g = out[:, sl]
+            for i in range(3):
+                D = W[ia, i] - W[ib, i]
+                if i == 0:
+                    np.multiply(D, D, out=g)
+                else:
+                    D *= D
+                    g += D
         return out
-
-    @staticmethod
-    def _centres(R: F32, t: F32, c: F32) -> F32:
-        """Points ``c`` [P, 3] (one per pair, in its body frame) placed by the poses ``R``
-        [P, 3, 3, n], ``t`` [P, 3, n]: [P, 3, n]."""
-        W = t + R[:, :, 0] * c[:, 0, None, None]
-        W += R[:, :, 1] * c[:, 1, None, None]
-        W += R[:, :, 2] * c[:, 2, None, None]
-        return W
 
     def choose(self, pairs: list[_BodyPair]) -> list[_BodyPair]:
         """Give body pairs a cell grid (one or two joints between them) or, when a fixed pilot
