@@ -31,7 +31,7 @@ from ..selfcollision.collision import (
     SphereSet,
     build_sphere_set,
     contacts,
-    pair_clearance,
+    frame_pair_clearances,
     sphere_world_centers,
 )
 from ..selfcollision.engine import CountEngine, EngineTotals, ProgressFn, count_sampled
@@ -194,10 +194,7 @@ def _default_clearances(
     """At the default configuration: the clearance [K] of every frame pair (masked ones too)
     and the colliding unmasked pairs, worst first."""
     c_def = sphere_world_centers(kin, spheres, q_default)
-    def_clear = np.full(spheres.n_frame_pairs, np.inf)
-    if spheres.n_pairs:
-        clr = pair_clearance(spheres, c_def)
-        def_clear = np.minimum.reduceat(clr, spheres.pair_start[:-1])
+    def_clear = frame_pair_clearances(spheres, c_def)
     return def_clear, [c for c in contacts(spheres, c_def) if not c.masked]
 
 

@@ -15,6 +15,7 @@ sr_j)²`` (:func:`touching`, squared so that no square root rounds a verdict) an
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,7 +32,9 @@ BoolArray = npt.NDArray[np.bool_]
 __all__ = [
     "Contact",
     "colliding_frame_pairs",
+    "colliding_sphere_pairs",
     "contacts",
+    "frame_pair_clearances",
     "frame_pair_verdicts",
     "pair_clearance",
     "pair_hits",
@@ -239,34 +242,85 @@ class Contact:
     masked: bool = False
 
 
+def _frame_pair_blocks(
+    spheres: SphereSet, c: FloatArray
+) -> Iterator[tuple[int, int, int, FloatArray, FloatArray]]:
+    """Per frame pair and block of its first frame's spheres: ``(k, i0, j0, d2, rs)`` with
+    ``d2`` [m, n] squared centre distances and ``rs`` [m, n] radius sums of spheres
+    ``i0 + r`` and ``j0 + c`` (bounded memory: at most :data:`_BLOCK_ELEMENTS` per block)."""
+    s = spheres
+    for k in range(s.n_frame_pairs):
+        sa, sb = s.spheres_of(int(s.frame_pair_a[k])), s.spheres_of(int(s.frame_pair_b[k]))
+        cb, rb = c[sb], s.self_radii[sb]
+        step = max(1, _BLOCK_ELEMENTS // max(1, len(rb)))
+        for i0 in range(sa.start, sa.stop, step):
+            i1 = min(sa.stop, i0 + step)
+            diff = c[i0:i1, None, :] - cb[None, :, :]
+            d2 = np.einsum("...k,...k->...", diff, diff)
+            yield k, i0, sb.start, d2, s.self_radii[i0:i1, None] + rb[None, :]
+
+
+def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
+    """Smallest clearance [K] of every frame pair at one configuration's centres [S, 3]
+    (+inf for a frame pair without sphere pairs), in bounded memory."""
+    c = _one_configuration(spheres, centers)
+    out = np.full(spheres.n_frame_pairs, np.inf)
+    for k, _, _, d2, rs in _frame_pair_blocks(spheres, c):
+        out[k] = min(out[k], float((np.sqrt(d2) - rs).min()))
+    return out
+
+
+def colliding_sphere_pairs(
+    spheres: SphereSet, centers: npt.ArrayLike
+) -> list[tuple[int, int, int, float]]:
+    """``(frame pair, sphere i, sphere j, clearance)`` of every colliding sphere pair at one
+    configuration's centres [S, 3] (:func:`touching`), in frame-pair order, bounded memory."""
+    c = _one_configuration(spheres, centers)
+    out: list[tuple[int, int, int, float]] = []
+    for k, i0, j0, d2, rs in _frame_pair_blocks(spheres, c):
+        ri, rj = np.nonzero(touching(d2, rs))
+        clr = np.sqrt(d2[ri, rj]) - rs[ri, rj]
+        out.extend(
+            (k, i0 + a, j0 + b, float(x))
+            for a, b, x in zip(ri.tolist(), rj.tolist(), clr.tolist(), strict=True)
+        )
+    return out
+
+
+def _one_configuration(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
+    c = np.asarray(centers, dtype=np.float64)
+    if c.shape != (spheres.n_spheres, 3):
+        raise ValueError(f"centers must be [{spheres.n_spheres}, 3], got {list(c.shape)}")
+    return c
+
+
 def contacts(spheres: SphereSet, centers: npt.ArrayLike) -> list[Contact]:
     """Colliding frame pairs of ``spheres`` for one configuration's centres [S, 3].
 
     One :class:`Contact` per colliding frame pair of the set (masked pairs only if the set
-    was built with ``include_masked=True``), worst (most negative clearance) first.
+    was built with ``include_masked=True``), worst (most negative clearance) first. Memory
+    stays bounded whatever the number of spheres per frame.
     """
-    c = np.asarray(centers, dtype=np.float64)
-    if c.shape != (spheres.n_spheres, 3):
-        raise ValueError(f"centers must be [{spheres.n_spheres}, 3], got {list(c.shape)}")
-    hit = pair_hits(spheres, c)
-    clr = pair_clearance(spheres, c)
-    out: list[Contact] = []
-    for k in np.unique(spheres.pair_frame_pair[hit]).tolist():
-        lo, hi = int(spheres.pair_start[k]), int(spheres.pair_start[k + 1])
-        h = hit[lo:hi]
-        cl = np.where(h, clr[lo:hi], np.inf)
-        w = lo + int(np.argmin(cl))
-        out.append(
-            Contact(
-                frame_a=spheres.frame_names[spheres.frame_pair_a[k]],
-                frame_b=spheres.frame_names[spheres.frame_pair_b[k]],
-                clearance=float(clr[w]),
-                sphere_a=int(spheres.sphere_index[spheres.pair_i[w]]),
-                sphere_b=int(spheres.sphere_index[spheres.pair_j[w]]),
-                n_sphere_pairs=int(np.count_nonzero(h)),
-                masked=bool(spheres.frame_pair_masked[k]),
-            )
+    worst: dict[int, tuple[float, int, int, int]] = {}
+    for k, i, j, clr in colliding_sphere_pairs(spheres, centers):
+        old = worst.get(k)
+        if old is None:
+            worst[k] = (clr, i, j, 1)
+        else:
+            best = (clr, i, j) if clr < old[0] else old[:3]
+            worst[k] = (*best, old[3] + 1)
+    out = [
+        Contact(
+            frame_a=spheres.frame_names[spheres.frame_pair_a[k]],
+            frame_b=spheres.frame_names[spheres.frame_pair_b[k]],
+            clearance=clr,
+            sphere_a=int(spheres.sphere_index[i]),
+            sphere_b=int(spheres.sphere_index[j]),
+            n_sphere_pairs=n,
+            masked=bool(spheres.frame_pair_masked[k]),
         )
+        for k, (clr, i, j, n) in worst.items()
+    ]
     out.sort(key=lambda c_: (c_.clearance, c_.frame_a, c_.frame_b))
     return out
 
