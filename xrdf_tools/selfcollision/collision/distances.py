@@ -206,15 +206,22 @@ def _decide(
     for k, s0, s1 in zip(uk.tolist(), starts.tolist(), ends.tolist(), strict=True):
         fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
         ra, rb = s.self_radii[s.spheres_of(fa)], s.self_radii[s.spheres_of(fb)]
-        rs = ra[:, None] + rb[None, :]
-        step = max(1, _BLOCK_ELEMENTS // rs.size)
-        for e0 in range(s0, s1, step):  # bounded memory
+        row_step = max(1, _BLOCK_ELEMENTS // len(rb))  # bounded memory, however many spheres
+        step = max(1, _BLOCK_ELEMENTS // (min(row_step, len(ra)) * len(rb)))
+        for e0 in range(s0, s1, step):
             ent = order[e0 : min(s1, e0 + step)]
             r = rows[ent]
-            diff = placed[fa][r][:, :, None, :] - placed[fb][r][:, None, :, :]
-            d2 = np.einsum("...k,...k->...", diff, diff)
-            hit[out_at[ent]] = touching(d2, rs).any(axis=(1, 2))
-            clr[out_at[ent]] = (np.sqrt(d2) - rs).min(axis=(1, 2))
+            cb = placed[fb][r][:, None, :, :]
+            h = np.zeros(len(ent), dtype=np.bool_)
+            c = np.full(len(ent), np.inf)
+            for i0 in range(0, len(ra), row_step):
+                rs = ra[i0 : i0 + row_step, None] + rb[None, :]
+                diff = placed[fa][r, i0 : i0 + row_step][:, :, None, :] - cb
+                d2 = np.einsum("...k,...k->...", diff, diff)
+                h |= touching(d2, rs).any(axis=(1, 2))
+                np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
+            hit[out_at[ent]] = h
+            clr[out_at[ent]] = c
 
 
 # ------------------------------------------------------------------------------------------

@@ -37,7 +37,7 @@ _PILOT = 512
 _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 #: A grid holds its sphere pairs' radius sums: beyond this many, the pair is culled otherwise.
-_GRID_MAX_PAIRS = 1 << 20
+_GRID_MAX_PAIRS = 1 << 13
 #: Configurations per block of :meth:`_Culler.gaps2`.
 _GAP_BLOCK = 2048
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little

@@ -24,6 +24,8 @@ IntArray = npt.NDArray[np.intp]
 
 #: A side with more spheres than this is cut into its frames.
 _SPLIT_SPHERES = 48
+#: At most this many spheres of one frame in one part (a large link is cut into pieces).
+_MAX_SIDE = 512
 
 
 def _body_pairs(
@@ -91,21 +93,30 @@ def _split_pair(
     parts_a = _parts(s, a, sorted({fa for _, fa, _ in kept}), keep)
     parts_b = _parts(s, b, sorted({fb for _, _, fb in kept}), keep)
     out = []
-    for ga in parts_a:
-        for gb in parts_b:
+    for ga, keep_a in parts_a:
+        for gb, keep_b in parts_b:
             mine = [(k, fa, fb) for k, fa, fb in kept if fa in ga and fb in gb]
             if mine:
-                out.append(_assemble(s, local, err, (a, b), (ga, gb), mine, keep))
+                out.append(_assemble(s, local, err, (a, b), (ga, gb), mine, keep_a | keep_b))
     return out
 
 
-def _parts(s: SphereSet, body: int, frames: list[int], keep: set[int]) -> list[set[int]]:
-    """The frames of one side, cut into one part per frame when the side is the static body
-    or holds many spheres."""
-    n = sum(1 for f in frames for i in range(*s.spheres_of(f).indices(s.n_spheres)) if i in keep)
-    if len(frames) > 1 and (body == 0 or n > _SPLIT_SPHERES):
-        return [{f} for f in frames]
-    return [set(frames)]
+def _parts(
+    s: SphereSet, body: int, frames: list[int], keep: set[int]
+) -> list[tuple[set[int], set[int]]]:
+    """The frames of one side as parts ``(frames, spheres)``: one part per frame (at most
+    :data:`_MAX_SIDE` spheres each) when the side is the static body or holds many spheres,
+    so that a distance block stays small whatever the number of spheres per link."""
+    mine = {
+        f: [i for i in range(*s.spheres_of(f).indices(s.n_spheres)) if i in keep] for f in frames
+    }
+    if body != 0 and sum(len(v) for v in mine.values()) <= _SPLIT_SPHERES:
+        return [(set(frames), keep)]
+    return [
+        ({f}, set(idx[i : i + _MAX_SIDE]))
+        for f, idx in mine.items()
+        for i in range(0, len(idx), _MAX_SIDE)
+    ]
 
 
 def _assemble(

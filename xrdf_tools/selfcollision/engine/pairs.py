@@ -132,7 +132,9 @@ def _evaluate(bp: _BodyPair, T: F32, sel: IntArray | None) -> F32:
     n = Trel.shape[-1]
     out = np.empty((len(bp.blocks), n), dtype=np.float32)
     m_a, m_b = bp.p_aug.shape[0], bp.q_aug.shape[0]
-    step = max(_MIN_STEP, _BLOCK_ELEMENTS // (m_a * m_b))
+    step = max(1, _BLOCK_ELEMENTS // (m_a * m_b))
+    if m_a * m_b <= _BLOCK_ELEMENTS // 8:
+        step = max(step, _MIN_STEP)  # small blocks: fewer calls matter more than the cache
     buf = np.empty((6, m_b, min(step, n)), dtype=np.float32)
     buf[4] = 1.0
     buf[5] = bp.r_b
