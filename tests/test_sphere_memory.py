@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from tests.paths import FIXTURES
+from tests.robots import robot_urdf
 from tests.test_collision import THREE_LINK, THREE_LINK_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
@@ -100,3 +102,19 @@ def test_report_and_lint_past_the_ceiling(tmp_path: Path, monkeypatch: pytest.Mo
     res = runner.invoke(app, ["lint", str(path), "--urdf", str(THREE_LINK)])
     assert "default pose not checked" in res.output
     assert "internal-error" not in res.output
+
+
+def test_samples_past_the_ceiling_are_refused() -> None:
+    res = runner.invoke(
+        app,
+        [
+            "report",
+            str(FIXTURES / "panda" / "panda.xrdf"),
+            "--urdf",
+            str(robot_urdf("panda")),
+            "-n",
+            "99999999999999999999999",
+        ],
+    )
+    assert res.exit_code == 2, res.output
+    assert "above the ceiling" in res.output and "Traceback" not in res.output

@@ -18,13 +18,16 @@ from multiprocessing import get_context
 import numpy as np
 import numpy.typing as npt
 
+from ...util.errors import XrdfToolsError
 from ..sampling import Method, sample_rows
 from .core import CountEngine, EngineTotals
 
 FloatArray = npt.NDArray[np.float64]
 
-__all__ = ["MIN_SAMPLES_PER_JOB", "ProgressFn", "count_sampled", "default_jobs"]
+__all__ = ["MAX_SAMPLES", "MIN_SAMPLES_PER_JOB", "ProgressFn", "count_sampled", "default_jobs"]
 
+#: Ceiling on one report's samples (docs/security.md): the chunk list stays small.
+MAX_SAMPLES = 10**10
 #: Below this many samples per worker, starting a worker process costs more than it saves.
 MIN_SAMPLES_PER_JOB = 1_000_000
 _BLAS_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
@@ -59,8 +62,9 @@ def count_sampled(
     result is identical for any ``jobs``. Fewer workers are started when the sample is small
     (at least :data:`MIN_SAMPLES_PER_JOB` samples each).
     """
-    starts = list(range(0, n, chunk))
-    tasks = [(s0, min(chunk, n - s0)) for s0 in starts]
+    if n > MAX_SAMPLES:
+        raise XrdfToolsError(f"--samples {n:,} is above the ceiling of {MAX_SAMPLES:,}")
+    tasks = [(s0, min(chunk, n - s0)) for s0 in range(0, n, chunk)]
     workers = max(1, min(jobs, n // MIN_SAMPLES_PER_JOB, len(tasks)))
     totals = EngineTotals.empty(engine.K)
     lo, hi = np.asarray(lower, dtype=np.float64), np.asarray(upper, dtype=np.float64)
