@@ -150,7 +150,9 @@ def self_collision_report(
         )
         source = "sampled"
     def_clear, def_contacts = _default_clearances(kin, spheres_all, q_default)
-    stats = _pair_stats(kin, spheres_all, adj, work_index, totals, def_clear, n_total, source)
+    stats = _pair_stats(
+        kin, spheres_all, adj, work_index, totals, def_clear, n_total, source, frozenset(cspace)
+    )
     w_of = {int(k): i for i, k in enumerate(work_index)}
     if certify is not None:
         stats = _certify(engine, stats, w_of, cspace, certify)
@@ -207,9 +209,12 @@ def _pair_stats(
     def_clear: FloatArray,
     n_total: int,
     source: str,
+    cspace: frozenset[str],
 ) -> list[PairStat]:
     """One :class:`PairStat` per frame pair of ``spheres``; ``work_index`` [W] lists the
-    sampled frame pairs, whose counts and clearances are ``totals`` [W]."""
+    sampled frame pairs, whose counts and clearances are ``totals`` [W]. ``joints_on_path``
+    counts the c-space joints between the two frames: 0 means the pair's relative pose is
+    constant in this report (decided once, at the default configuration)."""
     hits = totals.hits
     min_clear, is_bound_w = totals.clearance()
     masked = spheres.frame_pair_masked
@@ -247,7 +252,7 @@ def _pair_stats(
                 classification=cls,
                 recommendation=rec,
                 note=note,
-                joints_on_path=len(kin.joints_on_path(a, b)),
+                joints_on_path=len(cspace.intersection(kin.joints_on_path(a, b))),
             )
         )
     return stats

@@ -252,8 +252,8 @@ class Contact:
 def _frame_pair_blocks(
     spheres: SphereSet, c: FloatArray
 ) -> Iterator[tuple[int, int, int, FloatArray, FloatArray]]:
-    """Per frame pair and block of its first frame's spheres: ``(k, i0, j0, d2, rs)`` with
-    ``d2`` [m, n] squared centre distances and ``rs`` [m, n] radius sums of spheres
+    """Per frame pair and block of its first frame's spheres: ``(k, i0, j0, diff, rs)`` with
+    ``diff`` [m, n, 3] centre differences and ``rs`` [m, n] radius sums of spheres
     ``i0 + r`` and ``j0 + c`` (bounded memory: at most :data:`_BLOCK_ELEMENTS` per block)."""
     s = spheres
     for k in range(s.n_frame_pairs):
@@ -263,8 +263,7 @@ def _frame_pair_blocks(
         for i0 in range(sa.start, sa.stop, step):
             i1 = min(sa.stop, i0 + step)
             diff = c[i0:i1, None, :] - cb[None, :, :]
-            d2 = np.einsum("...k,...k->...", diff, diff)
-            yield k, i0, sb.start, d2, s.self_radii[i0:i1, None] + rb[None, :]
+            yield k, i0, sb.start, diff, s.self_radii[i0:i1, None] + rb[None, :]
 
 
 def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
@@ -272,8 +271,8 @@ def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatAr
     (+inf for a frame pair without sphere pairs), in bounded memory."""
     c = _one_configuration(spheres, centers)
     out = np.full(spheres.n_frame_pairs, np.inf)
-    for k, _, _, d2, rs in _frame_pair_blocks(spheres, c):
-        out[k] = min(out[k], float((np.sqrt(d2) - rs).min()))
+    for k, _, _, diff, rs in _frame_pair_blocks(spheres, c):
+        out[k] = min(out[k], float((np.linalg.norm(diff, axis=-1) - rs).min()))
     return out
 
 
@@ -284,9 +283,9 @@ def colliding_sphere_pairs(
     configuration's centres [S, 3] (:func:`touching`), in frame-pair order, bounded memory."""
     c = _one_configuration(spheres, centers)
     out: list[tuple[int, int, int, float]] = []
-    for k, i0, j0, d2, rs in _frame_pair_blocks(spheres, c):
-        ri, rj = np.nonzero(touching(d2, rs))
-        clr = np.sqrt(d2[ri, rj]) - rs[ri, rj]
+    for k, i0, j0, diff, rs in _frame_pair_blocks(spheres, c):
+        ri, rj = np.nonzero(touching(np.einsum("...k,...k->...", diff, diff), rs))
+        clr = np.linalg.norm(diff[ri, rj], axis=-1) - rs[ri, rj]
         out.extend(
             (k, i0 + a, j0 + b, float(x))
             for a, b, x in zip(ri.tolist(), rj.tolist(), clr.tolist(), strict=True)
