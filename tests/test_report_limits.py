@@ -1,4 +1,4 @@
-"""Memory linear in spheres per link, and the documented ceilings on spheres and frames."""
+"""Memory linear in spheres per link, the ceilings on spheres, frames and samples, and report progress."""
 
 from __future__ import annotations
 
@@ -118,3 +118,17 @@ def test_samples_past_the_ceiling_are_refused() -> None:
     )
     assert res.exit_code == 2, res.output
     assert "above the ceiling" in res.output and "Traceback" not in res.output
+
+
+def test_report_progress_lines_with_verbose_off_a_terminal(tmp_path: Path) -> None:
+    """CI has no terminal: with -v one line per 10 % of the samples, quiet otherwise."""
+    path = tmp_path / "three.xrdf"
+    path.write_text(THREE_LINK_XRDF)
+    args = ["report", str(path), "--urdf", str(THREE_LINK), "-n", "50000", "-j", "1"]
+    out = tmp_path / "r.txt"
+    res = runner.invoke(app, [*args, "-v", "-o", str(out)])
+    lines = [ln for ln in res.output.splitlines() if ln.startswith("sampling: ") and "%" in ln]
+    assert [ln.split()[1] for ln in lines] == [str(p) for p in range(10, 101, 10)], res.output
+    assert "(50,000/50,000)" in lines[-1]
+    res = runner.invoke(app, [*args, "-o", str(out)])
+    assert "%" not in res.output
