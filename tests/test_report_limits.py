@@ -1,4 +1,4 @@
-"""Memory linear in spheres per link, the ceilings on spheres, frames and samples, and report progress."""
+"""Memory linear in spheres per link, ceilings on spheres, frames and samples, progress."""
 
 from __future__ import annotations
 
