@@ -417,8 +417,9 @@ def _contacts(
     numbers of frame pairs checked and ignored by the mask."""
     from ..selfcollision.collision import (
         build_sphere_set,
-        colliding_sphere_pairs,
         contacts,
+        pair_clearance,
+        pair_hits,
         sphere_world_centers,
     )
 
@@ -436,15 +437,25 @@ def _contacts(
     label_index = spheres.sphere_index.tolist()
     for start in range(0, total, chunk):
         centers = sphere_world_centers(kin, spheres, Q[start : start + chunk])
+        hits = pair_hits(spheres, centers)
         for b in range(centers.shape[0]):
-            found = colliding_sphere_pairs(spheres, centers[b])  # bounded memory
-            if not found:
+            idx = np.flatnonzero(hits[b])
+            if idx.size == 0:
                 out.append(((), ()))
                 continue
-            pairs = [
-                SpherePair(label_frame[i], label_index[i], label_frame[j], label_index[j], clr)
-                for _, i, j, clr in found
-            ]
+            clr = pair_clearance(spheres, centers[b])
+            pairs = []
+            for p in idx.tolist():
+                i, j = int(spheres.pair_i[p]), int(spheres.pair_j[p])
+                pairs.append(
+                    SpherePair(
+                        label_frame[i],
+                        label_index[i],
+                        label_frame[j],
+                        label_index[j],
+                        float(clr[p]),
+                    )
+                )
             pairs.sort(key=lambda sp: sp.clearance)
             out.append((tuple(pairs), tuple(contacts(spheres, centers[b]))))
         if progress is not None:

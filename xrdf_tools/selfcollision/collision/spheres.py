@@ -171,10 +171,18 @@ class SphereSet:
         return i, j, self.self_radii[i] + self.self_radii[j]
 
     def _all_pairs(self) -> tuple[IntArray, IntArray]:
+        """Every sphere pair, materialised on first use and kept (O(P) memory)."""
+        cached: tuple[IntArray, IntArray] | None = self.__dict__.get("_pairs_cache")
+        if cached is not None:
+            return cached
         parts = [self.frame_pair_sphere_pairs(k)[:2] for k in range(self.n_frame_pairs)]
-        if not parts:
-            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-        return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+        out = (
+            (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]))
+            if parts
+            else (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
+        )
+        object.__setattr__(self, "_pairs_cache", out)
+        return out
 
     @property
     def pair_i(self) -> IntArray:
