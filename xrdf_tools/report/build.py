@@ -31,7 +31,7 @@ from ..selfcollision.collision import (
     SphereSet,
     build_sphere_set,
     contacts,
-    pair_clearance,
+    frame_pair_clearances,
     sphere_world_centers,
 )
 from ..selfcollision.engine import CountEngine, EngineTotals, ProgressFn, count_sampled
@@ -61,6 +61,8 @@ __all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
 
 #: Configurations per chunk: the engine's working set stays in a few MB.
 DEFAULT_CHUNK = 65536
+#: Smallest chunk a sample is cut into (a sample is cut into at least ten, for progress).
+_MIN_CHUNK = 4096
 
 
 def self_collision_report(
@@ -134,6 +136,7 @@ def self_collision_report(
         if samples < 1:
             raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
         n_total = samples
+        chunk = min(chunk, max(_MIN_CHUNK, -(-samples // 10)))  # ≥ 10 chunks: progress per 10 %
         totals = count_sampled(
             engine,
             kin.lower[idx],
@@ -147,7 +150,9 @@ def self_collision_report(
         )
         source = "sampled"
     def_clear, def_contacts = _default_clearances(kin, spheres_all, q_default)
-    stats = _pair_stats(kin, spheres_all, adj, work_index, totals, def_clear, n_total, source)
+    stats = _pair_stats(
+        kin, spheres_all, adj, work_index, totals, def_clear, n_total, source, frozenset(cspace)
+    )
     w_of = {int(k): i for i, k in enumerate(work_index)}
     if certify is not None:
         stats = _certify(engine, stats, w_of, cspace, certify)
@@ -191,10 +196,7 @@ def _default_clearances(
     """At the default configuration: the clearance [K] of every frame pair (masked ones too)
     and the colliding unmasked pairs, worst first."""
     c_def = sphere_world_centers(kin, spheres, q_default)
-    def_clear = np.full(spheres.n_frame_pairs, np.inf)
-    if spheres.n_pairs:
-        clr = pair_clearance(spheres, c_def)
-        def_clear = np.minimum.reduceat(clr, spheres.pair_start[:-1])
+    def_clear = frame_pair_clearances(spheres, c_def)
     return def_clear, [c for c in contacts(spheres, c_def) if not c.masked]
 
 
@@ -207,9 +209,12 @@ def _pair_stats(
     def_clear: FloatArray,
     n_total: int,
     source: str,
+    cspace: frozenset[str],
 ) -> list[PairStat]:
     """One :class:`PairStat` per frame pair of ``spheres``; ``work_index`` [W] lists the
-    sampled frame pairs, whose counts and clearances are ``totals`` [W]."""
+    sampled frame pairs, whose counts and clearances are ``totals`` [W]. ``joints_on_path``
+    counts the c-space joints between the two frames: 0 means the pair's relative pose is
+    constant in this report (decided once, at the default configuration)."""
     hits = totals.hits
     min_clear, is_bound_w = totals.clearance()
     masked = spheres.frame_pair_masked
@@ -247,7 +252,7 @@ def _pair_stats(
                 classification=cls,
                 recommendation=rec,
                 note=note,
-                joints_on_path=len(kin.joints_on_path(a, b)),
+                joints_on_path=len(cspace.intersection(kin.joints_on_path(a, b))),
             )
         )
     return stats

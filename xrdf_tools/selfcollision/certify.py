@@ -137,8 +137,7 @@ def _problem(engine: CountEngine, k: int) -> _Problem:
         for i in range(s.spheres_of(frame).start, s.spheres_of(frame).stop):
             for j, lever in zip(chain, _levers(engine, chain, engine.local[i]), strict=True):
                 coef[i, where[int(engine.bodies.col[j])]] += lever * abs(engine.bodies.mult[j])
-    lo, hi = int(s.pair_start[k]), int(s.pair_start[k + 1])
-    pi, pj = s.pair_i[lo:hi], s.pair_j[lo:hi]
+    pi, pj, rs = s.frame_pair_sphere_pairs(k)
     v = engine.varying[np.array(cols, dtype=np.intp)]
     return _Problem(
         cols=np.array(cols, dtype=np.intp),
@@ -146,7 +145,7 @@ def _problem(engine: CountEngine, k: int) -> _Problem:
         hi=engine.kin.upper[v].copy(),
         pi=pi,
         pj=pj,
-        rs=s.pair_radius_sum[lo:hi],
+        rs=rs,
         coef=coef,
         weight=coef.max(axis=0) if len(coef) else np.zeros(len(cols)),
     )

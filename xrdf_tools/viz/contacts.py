@@ -49,12 +49,12 @@ def sphere_contacts(
 ) -> tuple[list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]], int, int]:
     """Per configuration of ``Q`` [B, n]: every colliding sphere pair, and the colliding
     frame pairs (worst sphere pair first), by :mod:`xrdf_tools.selfcollision.collision`; and the
-    numbers of frame pairs checked and ignored by the mask."""
+    numbers of frame pairs checked and ignored by the mask. Memory is linear in the spheres
+    (sphere pairs are visited per frame pair in bounded blocks)."""
     from ..selfcollision.collision import (
         build_sphere_set,
+        colliding_sphere_pairs,
         contacts,
-        pair_clearance,
-        pair_hits,
         sphere_world_centers,
     )
 
@@ -72,25 +72,15 @@ def sphere_contacts(
     label_index = spheres.sphere_index.tolist()
     for start in range(0, total, chunk):
         centers = sphere_world_centers(kin, spheres, Q[start : start + chunk])
-        hits = pair_hits(spheres, centers)
         for b in range(centers.shape[0]):
-            idx = np.flatnonzero(hits[b])
-            if idx.size == 0:
+            found = colliding_sphere_pairs(spheres, centers[b])
+            if not found:
                 out.append(((), ()))
                 continue
-            clr = pair_clearance(spheres, centers[b])
-            pairs = []
-            for p in idx.tolist():
-                i, j = int(spheres.pair_i[p]), int(spheres.pair_j[p])
-                pairs.append(
-                    SpherePair(
-                        label_frame[i],
-                        label_index[i],
-                        label_frame[j],
-                        label_index[j],
-                        float(clr[p]),
-                    )
-                )
+            pairs = [
+                SpherePair(label_frame[i], label_index[i], label_frame[j], label_index[j], clr)
+                for _, i, j, clr in found
+            ]
             pairs.sort(key=lambda sp: sp.clearance)
             out.append((tuple(pairs), tuple(contacts(spheres, centers[b]))))
         if progress is not None:

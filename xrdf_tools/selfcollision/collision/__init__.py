@@ -32,7 +32,9 @@ from __future__ import annotations
 from .distances import (
     Contact,
     colliding_frame_pairs,
+    colliding_sphere_pairs,
     contacts,
+    frame_pair_clearances,
     frame_pair_verdicts,
     pair_clearance,
     pair_hits,
@@ -42,7 +44,10 @@ from .distances import (
 )
 from .spheres import (
     CULL_SLACK,
+    MAX_SPHERE_FRAMES,
+    MAX_SPHERES,
     MIN_BUFFERED_RADIUS,
+    SphereLimitError,
     SphereSet,
     bounding_sphere,
     build_sphere_set,
@@ -51,13 +56,18 @@ from .spheres import (
 
 __all__ = [
     "CULL_SLACK",
+    "MAX_SPHERES",
+    "MAX_SPHERE_FRAMES",
     "MIN_BUFFERED_RADIUS",
     "Contact",
+    "SphereLimitError",
     "SphereSet",
     "bounding_sphere",
     "build_sphere_set",
     "colliding_frame_pairs",
+    "colliding_sphere_pairs",
     "contacts",
+    "frame_pair_clearances",
     "frame_pair_verdicts",
     "pair_clearance",
     "pair_hits",

@@ -15,6 +15,7 @@ sr_j)²`` (:func:`touching`, squared so that no square root rounds a verdict) an
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,7 +32,9 @@ BoolArray = npt.NDArray[np.bool_]
 __all__ = [
     "Contact",
     "colliding_frame_pairs",
+    "colliding_sphere_pairs",
     "contacts",
+    "frame_pair_clearances",
     "frame_pair_verdicts",
     "pair_clearance",
     "pair_hits",
@@ -83,16 +86,21 @@ def centers_batch_last(
         fidx = list(range(Fs))
     for f, kf in enumerate(fidx):
         sl = spheres.spheres_of(f)
-        # out[s, i, b] = sum_k pts[s, k] * R[kf, i, k, b] + t[kf, i, b], as one GEMM
-        Rk = np.ascontiguousarray(R[kf].transpose(1, 0, 2)).reshape(3, 3 * B)
-        dst = out[sl].reshape(sl.stop - sl.start, 3 * B)
-        np.matmul(spheres.local_centers[sl], Rk, out=dst)
-        out[sl] += t[kf]
+        _place(spheres.local_centers[sl], R[kf], t[kf], out[sl])
         if extra is not None:
-            row = out[S + f].reshape(1, 3 * B)
-            np.matmul(extra[f : f + 1], Rk, out=row)
-            out[S + f] += t[kf]
+            _place(extra[f : f + 1], R[kf], t[kf], out[S + f : S + f + 1])
     return out
+
+
+def _place(local: FloatArray, R: FloatArray, t: FloatArray, out: FloatArray) -> None:
+    """``out`` [m, 3, B] = the points ``local`` [m, 3] placed by rotations ``R`` [3, 3, B] and
+    translations ``t`` [3, B]: one GEMM (``out[s, i, b] = Σ_k local[s, k] R[i, k, b] + t[i, b]``).
+    Every centre of every counter is computed by this one function, so that they agree to
+    the last bit."""
+    B = R.shape[-1]
+    Rk = np.ascontiguousarray(R.transpose(1, 0, 2)).reshape(3, 3 * B)
+    np.matmul(local, Rk, out=out.reshape(len(local), 3 * B))
+    out += t
 
 
 def as_q2(kin: KinematicModel, q_full: npt.ArrayLike) -> tuple[FloatArray, bool]:
@@ -142,32 +150,78 @@ def pair_hits(spheres: SphereSet, centers: npt.ArrayLike) -> BoolArray:
 
 
 def frame_pair_verdicts(
-    spheres: SphereSet, centers: FloatArray, ks: IntArray, rows: IntArray
+    kin: KinematicModel,
+    spheres: SphereSet,
+    q_full: FloatArray,
+    ks: IntArray,
+    rows: IntArray,
 ) -> tuple[BoolArray, FloatArray]:
     """float64 verdict and clearance of frame pair ``ks[e]`` at configuration ``rows[e]``.
 
-    ``centers`` [U, S, 3] are world centres (:func:`sphere_world_centers`); entry ``e`` asks
-    whether any sphere pair of frame pair ``ks[e]`` collides at ``centers[rows[e]]``
-    (:func:`touching`) and for its smallest clearance. Entries are grouped by frame pair and
-    evaluated in blocks of bounded size.
+    ``q_full`` [U, n]: configurations of every actuated joint. Entry ``e`` asks whether any
+    sphere pair of frame pair ``ks[e]`` collides at ``q_full[rows[e]]`` (:func:`touching`)
+    and for its smallest clearance. Only the frames of the asked pairs are placed, a block of
+    configurations at a time, and every frame pair is evaluated in blocks: memory stays
+    bounded whatever the number of spheres or entries.
     """
     s = spheres
     hit = np.zeros(len(ks), dtype=np.bool_)
     clr = np.zeros(len(ks))
+    if len(ks) == 0:
+        return hit, clr
+    frames = np.unique(np.concatenate([s.frame_pair_a[ks], s.frame_pair_b[ks]]))
+    n_needed = sum(s.spheres_of(int(f)).stop - s.spheres_of(int(f)).start for f in frames)
+    step = max(1, _BLOCK_ELEMENTS // max(1, n_needed))
+    by_row = np.argsort(rows, kind="stable")
+    bounds = np.searchsorted(rows[by_row], np.arange(0, len(q_full) + step, step))
+    for u0, e0, e1 in zip(range(0, len(q_full), step), bounds[:-1], bounds[1:], strict=False):
+        if e0 == e1:
+            continue
+        ents = by_row[e0:e1]
+        q2 = q_full[u0 : u0 + step]
+        R, t = fk_batch_last(kin, q2, s.frame_kin_index[frames])
+        placed = {}
+        for i, f in enumerate(frames.tolist()):
+            sl = s.spheres_of(f)
+            c = np.empty((sl.stop - sl.start, 3, len(q2)))
+            _place(s.local_centers[sl], R[i], t[i], c)
+            placed[f] = c.transpose(2, 0, 1)  # [w, m_f, 3]
+        _decide(s, placed, ks[ents], rows[ents] - u0, hit, clr, ents)
+    return hit, clr
+
+
+def _decide(
+    s: SphereSet,
+    placed: dict[int, FloatArray],
+    ks: IntArray,
+    rows: IntArray,
+    hit: BoolArray,
+    clr: FloatArray,
+    out_at: IntArray,
+) -> None:
+    """Entries ``(ks[e], rows[e])`` decided from the placed centres, grouped by frame pair."""
     order = np.argsort(ks, kind="stable")
     uk, starts = np.unique(ks[order], return_index=True)
     ends = np.append(starts[1:], len(order))
     for k, s0, s1 in zip(uk.tolist(), starts.tolist(), ends.tolist(), strict=True):
-        lo, hi = int(s.pair_start[k]), int(s.pair_start[k + 1])
-        pi, pj = s.pair_i[lo:hi], s.pair_j[lo:hi]
-        rs = s.pair_radius_sum[lo:hi]
-        step = max(1, _BLOCK_ELEMENTS // (hi - lo))
-        for e0 in range(s0, s1, step):  # bounded memory
+        fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
+        ra, rb = s.self_radii[s.spheres_of(fa)], s.self_radii[s.spheres_of(fb)]
+        row_step = max(1, _BLOCK_ELEMENTS // len(rb))  # bounded memory, however many spheres
+        step = max(1, _BLOCK_ELEMENTS // (min(row_step, len(ra)) * len(rb)))
+        for e0 in range(s0, s1, step):
             ent = order[e0 : min(s1, e0 + step)]
-            d2 = squared_distances(centers[rows[ent]], pi, pj)
-            hit[ent] = touching(d2, rs).any(axis=1)
-            clr[ent] = (np.sqrt(d2) - rs).min(axis=1)
-    return hit, clr
+            r = rows[ent]
+            cb = placed[fb][r][:, None, :, :]
+            h = np.zeros(len(ent), dtype=np.bool_)
+            c = np.full(len(ent), np.inf)
+            for i0 in range(0, len(ra), row_step):
+                rs = ra[i0 : i0 + row_step, None] + rb[None, :]
+                diff = placed[fa][r, i0 : i0 + row_step][:, :, None, :] - cb
+                d2 = np.einsum("...k,...k->...", diff, diff)
+                h |= touching(d2, rs).any(axis=(1, 2))
+                np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
+            hit[out_at[ent]] = h
+            clr[out_at[ent]] = c
 
 
 # ------------------------------------------------------------------------------------------
@@ -195,34 +249,84 @@ class Contact:
     masked: bool = False
 
 
+def _frame_pair_blocks(
+    spheres: SphereSet, c: FloatArray
+) -> Iterator[tuple[int, int, int, FloatArray, FloatArray]]:
+    """Per frame pair and block of its first frame's spheres: ``(k, i0, j0, diff, rs)`` with
+    ``diff`` [m, n, 3] centre differences and ``rs`` [m, n] radius sums of spheres
+    ``i0 + r`` and ``j0 + c`` (bounded memory: at most :data:`_BLOCK_ELEMENTS` per block)."""
+    s = spheres
+    for k in range(s.n_frame_pairs):
+        sa, sb = s.spheres_of(int(s.frame_pair_a[k])), s.spheres_of(int(s.frame_pair_b[k]))
+        cb, rb = c[sb], s.self_radii[sb]
+        step = max(1, _BLOCK_ELEMENTS // max(1, len(rb)))
+        for i0 in range(sa.start, sa.stop, step):
+            i1 = min(sa.stop, i0 + step)
+            diff = c[i0:i1, None, :] - cb[None, :, :]
+            yield k, i0, sb.start, diff, s.self_radii[i0:i1, None] + rb[None, :]
+
+
+def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
+    """Smallest clearance [K] of every frame pair at one configuration's centres [S, 3]
+    (+inf for a frame pair without sphere pairs), in bounded memory."""
+    c = _one_configuration(spheres, centers)
+    out = np.full(spheres.n_frame_pairs, np.inf)
+    for k, _, _, diff, rs in _frame_pair_blocks(spheres, c):
+        out[k] = min(out[k], float((np.linalg.norm(diff, axis=-1) - rs).min()))
+    return out
+
+
+def colliding_sphere_pairs(
+    spheres: SphereSet, centers: npt.ArrayLike
+) -> list[tuple[int, int, int, float]]:
+    """``(frame pair, sphere i, sphere j, clearance)`` of every colliding sphere pair at one
+    configuration's centres [S, 3] (:func:`touching`), in frame-pair order, bounded memory."""
+    c = _one_configuration(spheres, centers)
+    out: list[tuple[int, int, int, float]] = []
+    for k, i0, j0, diff, rs in _frame_pair_blocks(spheres, c):
+        ri, rj = np.nonzero(touching(np.einsum("...k,...k->...", diff, diff), rs))
+        clr = np.linalg.norm(diff[ri, rj], axis=-1) - rs[ri, rj]
+        out.extend(
+            (k, i0 + a, j0 + b, float(x))
+            for a, b, x in zip(ri.tolist(), rj.tolist(), clr.tolist(), strict=True)
+        )
+    return out
+
+
+def _one_configuration(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
+    c = np.asarray(centers, dtype=np.float64)
+    if c.shape != (spheres.n_spheres, 3):
+        raise ValueError(f"centers must be [{spheres.n_spheres}, 3], got {list(c.shape)}")
+    return c
+
+
 def contacts(spheres: SphereSet, centers: npt.ArrayLike) -> list[Contact]:
     """Colliding frame pairs of ``spheres`` for one configuration's centres [S, 3].
 
     One :class:`Contact` per colliding frame pair of the set (masked pairs only if the set
-    was built with ``include_masked=True``), worst (most negative clearance) first.
+    was built with ``include_masked=True``), worst (most negative clearance) first. Memory
+    stays bounded whatever the number of spheres per frame.
     """
-    c = np.asarray(centers, dtype=np.float64)
-    if c.shape != (spheres.n_spheres, 3):
-        raise ValueError(f"centers must be [{spheres.n_spheres}, 3], got {list(c.shape)}")
-    hit = pair_hits(spheres, c)
-    clr = pair_clearance(spheres, c)
-    out: list[Contact] = []
-    for k in np.unique(spheres.pair_frame_pair[hit]).tolist():
-        lo, hi = int(spheres.pair_start[k]), int(spheres.pair_start[k + 1])
-        h = hit[lo:hi]
-        cl = np.where(h, clr[lo:hi], np.inf)
-        w = lo + int(np.argmin(cl))
-        out.append(
-            Contact(
-                frame_a=spheres.frame_names[spheres.frame_pair_a[k]],
-                frame_b=spheres.frame_names[spheres.frame_pair_b[k]],
-                clearance=float(clr[w]),
-                sphere_a=int(spheres.sphere_index[spheres.pair_i[w]]),
-                sphere_b=int(spheres.sphere_index[spheres.pair_j[w]]),
-                n_sphere_pairs=int(np.count_nonzero(h)),
-                masked=bool(spheres.frame_pair_masked[k]),
-            )
+    worst: dict[int, tuple[float, int, int, int]] = {}
+    for k, i, j, clr in colliding_sphere_pairs(spheres, centers):
+        old = worst.get(k)
+        if old is None:
+            worst[k] = (clr, i, j, 1)
+        else:
+            best = (clr, i, j) if clr < old[0] else old[:3]
+            worst[k] = (*best, old[3] + 1)
+    out = [
+        Contact(
+            frame_a=spheres.frame_names[spheres.frame_pair_a[k]],
+            frame_b=spheres.frame_names[spheres.frame_pair_b[k]],
+            clearance=clr,
+            sphere_a=int(spheres.sphere_index[i]),
+            sphere_b=int(spheres.sphere_index[j]),
+            n_sphere_pairs=n,
+            masked=bool(spheres.frame_pair_masked[k]),
         )
+        for k, (clr, i, j, n) in worst.items()
+    ]
     out.sort(key=lambda c_: (c_.clearance, c_.frame_a, c_.frame_b))
     return out
 

@@ -23,7 +23,7 @@ import numpy.typing as npt
 
 from ...diagnostics import Diagnostic, Severity
 from ...robot.kinematics import KinematicModel
-from ...util.errors import did_you_mean
+from ...util.errors import XrdfToolsError, did_you_mean
 from ...xrdf.model import Xrdf, clone_order
 
 FloatArray = npt.NDArray[np.float64]
@@ -32,12 +32,19 @@ BoolArray = npt.NDArray[np.bool_]
 
 __all__ = [
     "CULL_SLACK",
+    "MAX_SPHERES",
+    "MAX_SPHERE_FRAMES",
     "MIN_BUFFERED_RADIUS",
+    "SphereLimitError",
     "SphereSet",
     "bounding_sphere",
     "build_sphere_set",
     "self_radius",
 ]
+
+#: Ceilings of a sphere set (docs/security.md): memory and time stay bounded below them.
+MAX_SPHERES = 50_000
+MAX_SPHERE_FRAMES = 500
 
 #: Slack (metres) added to every bounding radius so that culling stays conservative under
 #: float rounding (used by the reference counter and by the engine alike).
@@ -82,11 +89,12 @@ class SphereSet:
     the masked ones when built with ``include_masked=True`` (``frame_pair_masked`` [K] says
     which); :meth:`select_frame_pairs` narrows them.
 
-    Sphere pairs (``P``): ``pair_i < pair_j`` sphere indices on different frames, grouped by
-    frame pair: ``pair_frame_pair`` [P] is the frame-pair index of each, so per-frame-pair
-    counts are ``np.bincount(pair_frame_pair[hit], minlength=K)``; ``pair_start`` [K + 1]
-    gives each frame pair's slice of the pair arrays; ``pair_radius_sum`` [P] (derived) the
-    two buffered radii added.
+    Sphere pairs (``P``): every sphere of frame ``a`` with every sphere of frame ``b`` of each
+    frame pair. They are implicit (memory stays linear in the spheres): the library works per
+    frame pair on :meth:`spheres_of` slices, in bounded blocks. ``pair_start`` [K + 1] gives
+    each frame pair's range in the flat order (frame pair by frame pair, row-major);
+    :meth:`frame_pair_sphere_pairs` materialises one frame pair, and ``pair_i``, ``pair_j``,
+    ``pair_frame_pair``, ``pair_radius_sum`` [P] all of them (for small sets and tests).
     """
 
     frame_names: tuple[str, ...]
@@ -100,16 +108,12 @@ class SphereSet:
     frame_pair_a: IntArray
     frame_pair_b: IntArray
     frame_pair_masked: BoolArray
-    pair_i: IntArray
-    pair_j: IntArray
-    pair_frame_pair: IntArray
-    pair_start: IntArray
     n_placeholders: int = 0
     _frame_start: IntArray = field(init=False, repr=False)
     _bound_center: FloatArray = field(init=False, repr=False)
     _bound_radius: FloatArray = field(init=False, repr=False)
-    #: [P] ``self_radii[pair_i] + self_radii[pair_j]``: the sum every pair test compares with.
-    pair_radius_sum: FloatArray = field(init=False, repr=False)
+    #: [K + 1] each frame pair's range in the flat (implicit) sphere-pair order.
+    pair_start: IntArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         ints = (
@@ -119,10 +123,6 @@ class SphereSet:
             "sphere_index",
             "frame_pair_a",
             "frame_pair_b",
-            "pair_i",
-            "pair_j",
-            "pair_frame_pair",
-            "pair_start",
         )
         for name in ints:
             object.__setattr__(self, name, _ro(getattr(self, name), np.intp))
@@ -132,8 +132,8 @@ class SphereSet:
         S, Fs, K = len(self.frame_of_sphere), len(self.frame_names), len(self.frame_pair_a)
         if self.local_centers.shape != (S, 3) or self.radii.shape != (S,):
             raise ValueError("SphereSet: local_centers must be [S, 3] and radii [S]")
-        if self.pair_start.shape != (K + 1,) or self.frame_kin_index.shape != (Fs,):
-            raise ValueError("SphereSet: pair_start must be [K + 1], frame_kin_index [Fs]")
+        if self.frame_pair_b.shape != (K,) or self.frame_kin_index.shape != (Fs,):
+            raise ValueError("SphereSet: frame_pair_b must be [K], frame_kin_index [Fs]")
         starts = np.searchsorted(self.frame_of_sphere, np.arange(Fs + 1))
         object.__setattr__(self, "_frame_start", _ro(starts, np.intp))
         # Per-frame bounding sphere of the self-collision spheres (frame coordinates).
@@ -144,8 +144,11 @@ class SphereSet:
             bc[f], br[f] = bounding_sphere(self.local_centers[sl], self.self_radii[sl])
         object.__setattr__(self, "_bound_center", _ro(bc, np.float64))
         object.__setattr__(self, "_bound_radius", _ro(br + CULL_SLACK, np.float64))
-        rsum = self.self_radii[self.pair_i] + self.self_radii[self.pair_j]
-        object.__setattr__(self, "pair_radius_sum", _ro(rsum, np.float64))
+        sizes = np.diff(starts)
+        per_pair = sizes[self.frame_pair_a] * sizes[self.frame_pair_b]
+        object.__setattr__(
+            self, "pair_start", _ro(np.concatenate([[0], np.cumsum(per_pair)]), np.intp)
+        )
 
     # --- sizes and names -------------------------------------------------------------------
     @property
@@ -154,7 +157,54 @@ class SphereSet:
 
     @property
     def n_pairs(self) -> int:
-        return len(self.pair_i)
+        return int(self.pair_start[-1])
+
+    def frame_pair_sphere_pairs(self, k: int) -> tuple[IntArray, IntArray, FloatArray]:
+        """Sphere indices ``i`` [n], ``j`` [n] and radius sums [n] of every sphere pair of
+        frame pair ``k`` (``n = |a| · |b|``, row-major: ``i`` varies slowest)."""
+        sa = self.spheres_of(int(self.frame_pair_a[k]))
+        sb = self.spheres_of(int(self.frame_pair_b[k]))
+        gi, gj = np.meshgrid(
+            np.arange(sa.start, sa.stop), np.arange(sb.start, sb.stop), indexing="ij"
+        )
+        i, j = gi.ravel().astype(np.intp), gj.ravel().astype(np.intp)
+        return i, j, self.self_radii[i] + self.self_radii[j]
+
+    def _all_pairs(self) -> tuple[IntArray, IntArray]:
+        """Every sphere pair, materialised on first use and kept (O(P) memory)."""
+        cached: tuple[IntArray, IntArray] | None = self.__dict__.get("_pairs_cache")
+        if cached is not None:
+            return cached
+        parts = [self.frame_pair_sphere_pairs(k)[:2] for k in range(self.n_frame_pairs)]
+        out = (
+            (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]))
+            if parts
+            else (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
+        )
+        object.__setattr__(self, "_pairs_cache", out)
+        return out
+
+    @property
+    def pair_i(self) -> IntArray:
+        """[P] first sphere of every sphere pair (materialised: O(P) memory)."""
+        return self._all_pairs()[0]
+
+    @property
+    def pair_j(self) -> IntArray:
+        """[P] second sphere of every sphere pair (materialised: O(P) memory)."""
+        return self._all_pairs()[1]
+
+    @property
+    def pair_frame_pair(self) -> IntArray:
+        """[P] frame pair of every sphere pair (materialised: O(P) memory)."""
+        return np.repeat(np.arange(self.n_frame_pairs, dtype=np.intp), np.diff(self.pair_start))
+
+    @property
+    def pair_radius_sum(self) -> FloatArray:
+        """[P] the two buffered radii of every sphere pair added (materialised)."""
+        i, j = self._all_pairs()
+        out: FloatArray = self.self_radii[i] + self.self_radii[j]
+        return out
 
     @property
     def n_frame_pairs(self) -> int:
@@ -179,9 +229,6 @@ class SphereSet:
         k = np.asarray(keep, dtype=np.bool_)
         if k.shape != (self.n_frame_pairs,):
             raise ValueError(f"keep must be [{self.n_frame_pairs}], got {list(k.shape)}")
-        sel = k[self.pair_frame_pair]
-        new_index = np.cumsum(k) - 1
-        counts = np.diff(self.pair_start)[k]
         return SphereSet(
             frame_names=self.frame_names,
             frame_kin_index=self.frame_kin_index,
@@ -194,10 +241,6 @@ class SphereSet:
             frame_pair_a=self.frame_pair_a[k],
             frame_pair_b=self.frame_pair_b[k],
             frame_pair_masked=self.frame_pair_masked[k],
-            pair_i=self.pair_i[sel],
-            pair_j=self.pair_j[sel],
-            pair_frame_pair=new_index[self.pair_frame_pair[sel]],
-            pair_start=np.concatenate([[0], np.cumsum(counts)]),
             n_placeholders=self.n_placeholders,
         )
 
@@ -270,6 +313,7 @@ def build_sphere_set(
                 n_placeholders += 1
                 continue
             per_frame.setdefault(k, []).append((i, s.center, s.radius, r_self))
+    _check_ceilings(xrdf, per_frame)
     kin_frames = sorted(per_frame)
     names = tuple(kin.frame_names[k] for k in kin_frames)
     fos: list[int] = []
@@ -286,13 +330,9 @@ def build_sphere_set(
             centers.append(c)
             radii.append(r)
             self_radii.append(sr)
-    starts = np.searchsorted(np.array(fos, dtype=np.intp), np.arange(len(names) + 1))
     fa: list[int] = []
     fb: list[int] = []
     masked: list[bool] = []
-    pi: list[npt.NDArray[np.intp]] = []
-    pj: list[npt.NDArray[np.intp]] = []
-    pstart = [0]
     for a in range(len(names)):
         for b in range(a + 1, len(names)):
             m = sc is not None and sc.is_ignored(names[a], names[b])
@@ -301,15 +341,6 @@ def build_sphere_set(
             fa.append(a)
             fb.append(b)
             masked.append(m)
-            ia = np.arange(starts[a], starts[a + 1], dtype=np.intp)
-            ib = np.arange(starts[b], starts[b + 1], dtype=np.intp)
-            gi, gj = np.meshgrid(ia, ib, indexing="ij")
-            pi.append(gi.ravel())
-            pj.append(gj.ravel())
-            pstart.append(pstart[-1] + gi.size)
-    pair_i = np.concatenate(pi) if pi else np.zeros(0, dtype=np.intp)
-    pair_j = np.concatenate(pj) if pj else np.zeros(0, dtype=np.intp)
-    pair_fp = np.repeat(np.arange(len(fa), dtype=np.intp), np.diff(np.array(pstart)))
     sset = SphereSet(
         frame_names=names,
         frame_kin_index=np.array(kin_frames, dtype=np.intp),
@@ -322,13 +353,34 @@ def build_sphere_set(
         frame_pair_a=np.array(fa, dtype=np.intp),
         frame_pair_b=np.array(fb, dtype=np.intp),
         frame_pair_masked=np.array(masked, dtype=np.bool_),
-        pair_i=pair_i,
-        pair_j=pair_j,
-        pair_frame_pair=pair_fp,
-        pair_start=np.array(pstart, dtype=np.intp),
         n_placeholders=n_placeholders,
     )
     return sset, diags
+
+
+class SphereLimitError(XrdfToolsError):
+    """The self-collision spheres exceed :data:`MAX_SPHERES` or :data:`MAX_SPHERE_FRAMES`."""
+
+
+def _check_ceilings(xrdf: Xrdf, per_frame: dict[int, list[Any]]) -> None:
+    """Refuse sets beyond the documented ceilings, located at the self-collision group."""
+    n = sum(len(v) for v in per_frame.values())
+    if n <= MAX_SPHERES and len(per_frame) <= MAX_SPHERE_FRAMES:
+        return
+    sc = xrdf.self_collision
+    key = f"geometry.{sc.geometry}" if sc is not None else "geometry"
+    line, col = xrdf.source.position(key + "#key")
+    what = (
+        f"{n:,} self-collision spheres (at most {MAX_SPHERES:,})"
+        if n > MAX_SPHERES
+        else f"self-collision spheres on {len(per_frame):,} frames (at most {MAX_SPHERE_FRAMES:,})"
+    )
+    raise SphereLimitError(
+        f"{what}: too many to check; merge spheres (xrdf spheres) or links",
+        path=xrdf.source.path,
+        line=line,
+        col=col,
+    )
 
 
 def _group_holding(xrdf: Xrdf, frame: str) -> str:

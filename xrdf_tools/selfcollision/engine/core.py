@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel, fk
-from ..collision import SphereSet, frame_pair_verdicts, sphere_world_centers
+from ..collision import CULL_SLACK, SphereSet, frame_pair_verdicts
 from .bodies import (
     _EPS32,
     F32,
@@ -36,8 +36,10 @@ from .bodies import (
     _position_error,
 )
 from .bounds import _clearance_hi, _clearance_lo, _energy_at
-from .culling import _body_bounds, _Culler
-from .pairs import _body_pairs, _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
+from .culling import _Culler
+from .layout import _body_pairs
+from .pairs import _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
+from .reach import Reach
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
@@ -122,10 +124,6 @@ class CountEngine:
         self.spheres = spheres
         self.varying = np.asarray(varying, dtype=np.intp)
         self.q_base = np.asarray(q_base, dtype=np.float64).copy()
-        self.kin = kin
-        self.spheres = spheres
-        self.varying = np.asarray(varying, dtype=np.intp)
-        self.q_base = np.asarray(q_base, dtype=np.float64).copy()
         self.margin = max(float(margin), 0.0)
         self.K = spheres.n_frame_pairs
         T = fk(kin, self.q_base)  # [F, 4, 4]
@@ -134,17 +132,24 @@ class CountEngine:
         max_local = float(np.max(np.linalg.norm(self.local, axis=1))) if len(self.local) else 0.0
         self.bodies = _build_bodies(kin, self.varying, T, roots, body_of, max_local)
         self.err = _position_error(self.bodies)
-        self.body_bound = _body_bounds(
-            self.bodies.n, self.sphere_body, self.local, spheres.self_radii
-        )
-        self.culler = _Culler(
-            kin, self.varying, self.bodies, self.local, self.body_bound, self.margin, self.err
-        )
+        self.culler = _Culler(kin, self.varying, self.bodies, self.local, self.margin, self.err)
         self.frame_body = _frame_bodies(spheres, self.sphere_body)
         self.const_k, self.const_hit, self.const_clear = self._constant_pairs()
-        pairs = _body_pairs(
-            spheres, self.frame_body, self.local, self.err, set(self.const_k.tolist())
+        reach = Reach.of(kin, self.varying, self.bodies)
+        pairs, out_of_reach = _body_pairs(
+            spheres,
+            self.frame_body,
+            self.local,
+            self.err,
+            set(self.const_k.tolist()),
+            reach,
+            self.margin + CULL_SLACK,
         )
+        #: [K] lower bound of the clearance of the sphere pairs that can never come within the
+        #: margin (+inf where there are none); they are never evaluated.
+        self.reach_bound = np.full(self.K, np.inf)
+        for k, low in out_of_reach.items():
+            self.reach_bound[k] = low
         self.pairs = self.culler.choose(pairs)
         self.delta_k, self.rlo_k, self.rhi_k = _pair_constants(spheres, self.pairs)
 
@@ -175,7 +180,7 @@ class CountEngine:
         hits = np.zeros((self.K, B), dtype=np.bool_)
         # the best clearance so far only narrows the candidates (it never changes a result)
         prev = totals.min_clearance if totals is not None else np.full(self.K, np.inf)
-        ch = _Chunk(hits, np.full(self.K, np.inf), T, q, gaps, prev)
+        ch = _Chunk(hits, self.reach_bound.copy(), T, q, gaps, prev)
         row = 0
         for bp in self.pairs:
             g2 = gaps[row] if bp.cull and gaps is not None else None
@@ -210,7 +215,7 @@ class CountEngine:
         cols = np.arange(em.shape[1]) if sel is None else sel
         hit = em < -d
         for i, k in enumerate(ks.tolist()):
-            ch.hits[k, cols] = hit[i]
+            ch.hits[k, cols] |= hit[i]  # a frame pair may be spread over several body pairs
         e_min = em.min(axis=1).astype(np.float64)
         rlo, rhi = self.rlo_k[ks], self.rhi_k[ks]
         thr = np.minimum(self.margin, _clearance_hi(e_min + bp.delta, rlo, rhi))
@@ -271,5 +276,4 @@ class CountEngine:
         self, ks: IntArray, rows: IntArray, q_full: FloatArray
     ) -> tuple[BoolArray, FloatArray]:
         """float64 verdicts and clearances of frame pairs ``ks`` at ``q_full[rows]``."""
-        c = sphere_world_centers(self.kin, self.spheres, q_full)  # [U, S, 3]
-        return frame_pair_verdicts(self.spheres, c, ks, rows)
+        return frame_pair_verdicts(self.kin, self.spheres, q_full, ks, rows)

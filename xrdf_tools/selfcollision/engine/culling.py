@@ -22,8 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel
-from ..collision import CULL_SLACK, bounding_sphere
-from .bodies import _FK_BLOCK, _ROT, F32, _Bodies, _body_fk
+from .bodies import _ROT, F32, _Bodies, _body_fk
 from .grid import PairGrid, build_pair_grid
 from .pairs import _BodyPair
 
@@ -37,22 +36,11 @@ _PILOT = 512
 #: sphere pairs get a cell grid (see :mod:`xrdf_tools.selfcollision.engine.grid`).
 _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
+#: A grid holds its sphere pairs' radius sums: beyond this many, the pair is culled otherwise.
+_GRID_MAX_PAIRS = 1 << 13
+#: Configurations per block of :meth:`_Culler.gaps2`.
+_GAP_BLOCK = 2048
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
-
-
-def _body_bounds(
-    n_bodies: int, sphere_body: IntArray, local: FloatArray, radii: FloatArray
-) -> FloatArray:
-    """Bounding sphere [nb, 4] (centre in the body frame, radius + slack) of each body's
-    spheres (:func:`~xrdf_tools.selfcollision.collision.bounding_sphere`, as the reference
-    counter's)."""
-    out = np.zeros((n_bodies, 4))
-    for b in np.unique(sphere_body).tolist():
-        mine = sphere_body == b
-        c, r = bounding_sphere(local[mine], radii[mine])
-        out[b, :3], out[b, 3] = c, r
-    out[:, 3] += CULL_SLACK
-    return out
 
 
 def _path_joints(bodies: _Bodies, a: int, b: int) -> tuple[int, list[int]] | None:
@@ -71,40 +59,48 @@ def _path_joints(bodies: _Bodies, a: int, b: int) -> tuple[int, list[int]] | Non
 
 @dataclass(frozen=True, eq=False)
 class _Culler:
-    """The culling state of one engine: the bodies, each body's bounding sphere
-    ``body_bound`` [nb, 4], the exact-clearance ``margin`` and the float32 error ``err``."""
+    """The culling state of one engine: the bodies, the exact-clearance ``margin`` and the
+    float32 error ``err``. Each body pair carries the bounding spheres of its two sides."""
 
     kin: KinematicModel
     varying: IntArray
     bodies: _Bodies
     local: FloatArray  # [S, 3] sphere centres in their body frames (float64)
-    body_bound: FloatArray
     margin: float
     err: float
 
     def reach(self, bp: _BodyPair) -> float:
         """Bounding-sphere centre distance beyond which ``bp`` is farther apart than the
         margin, float32 error included."""
-        return (
-            float(self.body_bound[bp.a, 3] + self.body_bound[bp.b, 3])
-            + self.margin
-            + (4 * self.err)
-        )
+        return float(bp.bound_a[3] + bp.bound_b[3]) + self.margin + (4 * self.err)
 
     def gaps2(self, R: F32, t: F32, pairs: list[_BodyPair]) -> F32:
-        """float32 squared distance between the bounding-sphere centres of each pair's bodies
-        [P, B], in cache-sized column blocks."""
-        ia = [bp.a for bp in pairs]
-        ib = [bp.b for bp in pairs]
-        c = self.body_bound[:, :3].astype(np.float32)
+        """float32 squared distance between the bounding-sphere centres of each pair's sides
+        [P, B], in cache-sized column blocks. Each distinct centre is placed once per
+        configuration, however many pairs share it."""
+        index: dict[tuple[int, tuple[float, ...]], int] = {}
+        ends = []
+        for bp in pairs:
+            for body, bound in ((bp.a, bp.bound_a), (bp.b, bp.bound_b)):
+                ends.append(index.setdefault((body, tuple(bound[:3].tolist())), len(index)))
+        ia, ib = np.array(ends[0::2], dtype=np.intp), np.array(ends[1::2], dtype=np.intp)
+        by_body: dict[int, list[int]] = {}
+        for (body, _), i in index.items():
+            by_body.setdefault(body, []).append(i)
+        pts = np.array([c for _, c in index], dtype=np.float32).reshape(-1, 3)
         B = R.shape[-1]
         out = np.empty((len(pairs), B), dtype=np.float32)
-        for s0 in range(0, B, _FK_BLOCK):
-            sl = slice(s0, min(B, s0 + _FK_BLOCK))
-            Rs = R[..., sl]
-            W = t[..., sl] + Rs[:, :, 0] * c[:, 0, None, None]  # [nb, 3, n]
-            W += Rs[:, :, 1] * c[:, 1, None, None]
-            W += Rs[:, :, 2] * c[:, 2, None, None]
+        for s0 in range(0, B, _GAP_BLOCK):
+            sl = slice(s0, min(B, s0 + _GAP_BLOCK))
+            n = sl.stop - sl.start
+            W = np.empty((len(pts), 3, n), dtype=np.float32)
+            for body, rows in by_body.items():
+                P = pts[rows]
+                if body == 0:  # the static body: its pose is the identity
+                    W[rows] = P[:, :, None]
+                    continue
+                Rk = np.ascontiguousarray(R[body, :, :, sl].transpose(1, 0, 2)).reshape(3, 3 * n)
+                W[rows] = (P @ Rk).reshape(len(rows), 3, n) + t[body, :, sl]
             g = out[:, sl]
             for i in range(3):
                 D = W[ia, i] - W[ib, i]
@@ -137,11 +133,13 @@ class _Culler:
 
     def _grid_for(self, bp: _BodyPair) -> PairGrid | None:
         path = _path_joints(self.bodies, bp.a, bp.b)
-        if path is None or int(bp.relevant.sum()) < _GRID_MIN_PAIRS:
+        n_pairs = bp.n_sphere_pairs
+        if path is None or not _GRID_MIN_PAIRS <= n_pairs <= _GRID_MAX_PAIRS:
             return None
         anc, joints = path
         p, q = self.local[bp.ia], self.local[bp.ib]  # each side in its own body frame
-        rsum, relevant = bp.rsum.astype(np.float64), bp.relevant
+        rsum = bp.ra64[:, None] + bp.rb64[None, :]
+        relevant = bp.relevant()
         if anc != bp.a:
             p, q, rsum, relevant = q, p, rsum.T, relevant.T
         b = self.bodies

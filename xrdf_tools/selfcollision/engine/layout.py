@@ -1,0 +1,192 @@
+"""Layout: the engine's frame pairs cut into body pairs, each one distance matrix.
+
+:func:`_body_pairs` groups the frame pairs that are not constant by their two bodies, drops
+the spheres that can never come within the margin of the other body (:mod:`.reach`) and cuts
+a side with many spheres (or the static body, which holds everything the c-space does not
+move) into its frames, so that each part is culled with its own bounding sphere
+(:mod:`.culling`). A frame pair may thus be spread over several body pairs; the engine takes
+the smallest value over its parts and OR-s their verdicts. Every part is laid out as
+:class:`~.pairs._BodyPair` expects: rows and columns one contiguous segment per frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from ..collision import CULL_SLACK, SphereSet, bounding_sphere
+from .bounds import _delta
+from .pairs import _BodyPair
+from .reach import Reach
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+
+#: A side with more spheres than this is cut into its frames.
+_SPLIT_SPHERES = 48
+#: At most this many spheres of one frame in one part (a large link is cut into pieces).
+_MAX_SIDE = 512
+
+
+def _body_pairs(
+    spheres: SphereSet,
+    frame_body: IntArray,
+    local: FloatArray,
+    err: float,
+    skip: set[int],
+    reach: Reach,
+    limit: float,
+) -> tuple[list[_BodyPair], dict[int, float]]:
+    """The frame pairs of ``spheres`` (except those in ``skip``) as body pairs, and a lower
+    bound of the clearance of every frame pair that lost sphere pairs to :meth:`Reach.prune`
+    (a frame pair that lost all of them is in no body pair: it cannot come within ``limit``).
+
+    ``frame_body`` [Fs]: each frame's body; ``local`` [S, 3]: each sphere's centre in its
+    body frame; ``err``: the float32 position error bound (:func:`~.bodies._position_error`).
+    """
+    s = spheres
+    groups: dict[tuple[int, int], list[int]] = {}
+    for k in range(s.n_frame_pairs):
+        if k in skip:
+            continue
+        ba, bb = int(frame_body[s.frame_pair_a[k]]), int(frame_body[s.frame_pair_b[k]])
+        groups.setdefault((min(ba, bb), max(ba, bb)), []).append(k)
+    pairs: list[_BodyPair] = []
+    bounds: dict[int, float] = {}
+    for key, ks in groups.items():
+        pairs.extend(_split_pair(s, frame_body, local, err, reach, limit, key, ks, bounds))
+    return pairs, bounds
+
+
+def _split_pair(
+    s: SphereSet,
+    frame_body: IntArray,
+    local: FloatArray,
+    err: float,
+    reach: Reach,
+    limit: float,
+    key: tuple[int, int],
+    ks: list[int],
+    bounds: dict[int, float],
+) -> list[_BodyPair]:
+    a, b = key
+    side: dict[int, list[int]] = {a: [], b: []}
+    for k in ks:
+        for f in (int(s.frame_pair_a[k]), int(s.frame_pair_b[k])):
+            if f not in side[int(frame_body[f])]:
+                side[int(frame_body[f])].append(f)
+    ia, wa = _side_rows(s, side[a])
+    ib, wb = _side_rows(s, side[b])
+    r = s.self_radii
+    pa, pb = reach.prune(a, b, local[ia], r[ia], local[ib], r[ib], limit)
+    kept: list[tuple[int, int, int]] = []  # (frame pair, frame on a, frame on b)
+    for k in ks:
+        fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
+        if fa not in wa:
+            fa, fb = fb, fa
+        low = min(float(pa.gap[wa[fa]].min()), float(pb.gap[wb[fb]].min()))
+        if low < np.inf:
+            bounds[k] = low
+        if pa.keep[wa[fa]].any() and pb.keep[wb[fb]].any():
+            kept.append((k, fa, fb))
+    keep = set(ia[pa.keep].tolist()) | set(ib[pb.keep].tolist())
+    parts_a = _parts(s, a, sorted({fa for _, fa, _ in kept}), keep)
+    parts_b = _parts(s, b, sorted({fb for _, _, fb in kept}), keep)
+    out = []
+    for ga, keep_a in parts_a:
+        for gb, keep_b in parts_b:
+            mine = [(k, fa, fb) for k, fa, fb in kept if fa in ga and fb in gb]
+            if mine:
+                out.append(_assemble(s, local, err, (a, b), (ga, gb), mine, keep_a | keep_b))
+    return out
+
+
+def _parts(
+    s: SphereSet, body: int, frames: list[int], keep: set[int]
+) -> list[tuple[set[int], set[int]]]:
+    """The frames of one side as parts ``(frames, spheres)``: one part per frame (at most
+    :data:`_MAX_SIDE` spheres each) when the side is the static body or holds many spheres,
+    so that a distance block stays small whatever the number of spheres per link."""
+    mine = {
+        f: [i for i in range(*s.spheres_of(f).indices(s.n_spheres)) if i in keep] for f in frames
+    }
+    if body != 0 and sum(len(v) for v in mine.values()) <= _SPLIT_SPHERES:
+        return [(set(frames), keep)]
+    return [
+        ({f}, set(idx[i : i + _MAX_SIDE]))
+        for f, idx in mine.items()
+        for i in range(0, len(idx), _MAX_SIDE)
+    ]
+
+
+def _assemble(
+    s: SphereSet,
+    local: FloatArray,
+    err: float,
+    key: tuple[int, int],
+    groups: tuple[set[int], set[int]],
+    kept: list[tuple[int, int, int]],
+    keep: set[int],
+) -> _BodyPair:
+    a, b = key
+    ia, wa = _side_rows(s, sorted(groups[0]), keep)
+    ib, wb = _side_rows(s, sorted(groups[1]), keep)
+    blocks = [(k, wa[fa], wb[fb]) for k, fa, fb in kept]
+    if len(ib) > len(ia):  # the side with more spheres stays put (fewer to transform)
+        ia, ib, wa, wb, a, b = ib, ia, wb, wa, b, a
+        blocks = [(k, cols, rows) for k, rows, cols in blocks]
+    r = s.self_radii
+    p, ra = local[ia], r[ia]
+    q, rb = local[ib], r[ib]
+    p_aug = np.hstack(
+        [
+            -2.0 * p,
+            np.ones((len(p), 1)),
+            (np.sum(p * p, axis=1) - ra * ra)[:, None],
+            -2.0 * ra[:, None],
+        ]
+    )
+    row_starts = np.array(sorted(sl.start for sl in wa.values()), dtype=np.intp)
+    col_starts = np.array(sorted(sl.start for sl in wb.values()), dtype=np.intp)
+    return _BodyPair(
+        a=a,
+        b=b,
+        ia=ia,
+        ib=ib,
+        p_aug=p_aug.astype(np.float32),
+        q_aug=np.hstack([q, np.ones((len(q), 1))]).astype(np.float32),
+        ra64=ra,
+        rb64=rb,
+        r_b=rb[:, None].astype(np.float32),
+        r2_b=(rb * rb)[:, None].astype(np.float32),
+        blocks=tuple(blocks),
+        row_starts=row_starts,
+        col_starts=col_starts,
+        seg_a=np.searchsorted(row_starts, [rw.start for _, rw, _ in blocks]).astype(np.intp),
+        seg_b=np.searchsorted(col_starts, [cl.start for _, _, cl in blocks]).astype(np.intp),
+        p32=p.astype(np.float32),
+        delta=_delta(p, float(ra.max() + rb.max()), err),
+        bound_a=_bound(p, ra),
+        bound_b=_bound(q, rb),
+    )
+
+
+def _bound(centers: FloatArray, radii: FloatArray) -> FloatArray:
+    c, rad = bounding_sphere(centers, radii)
+    return np.array([*c, rad + CULL_SLACK])
+
+
+def _side_rows(
+    s: SphereSet, frames: list[int], keep: set[int] | None = None
+) -> tuple[IntArray, dict[int, slice]]:
+    """Sphere indices of ``frames`` (in frame order; only those in ``keep`` when given) and
+    each frame's slice of them (frames left without spheres have none)."""
+    idx: list[int] = []
+    where: dict[int, slice] = {}
+    for f in sorted(frames):
+        sl = s.spheres_of(f)
+        mine = [i for i in range(sl.start, sl.stop) if keep is None or i in keep]
+        if mine:
+            where[f] = slice(len(idx), len(idx) + len(mine))
+            idx.extend(mine)
+    return np.array(idx, dtype=np.intp), where

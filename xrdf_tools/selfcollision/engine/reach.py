@@ -1,0 +1,166 @@
+"""Reach: the spheres of a body pair that can ever come within the margin of each other.
+
+A body's spheres can only move as far as the joints between it and another body let them.
+Seen from the lowest common ancestor ``L`` of two bodies, a body ``d`` below ``L`` turns (or
+slides) about the joint of ``top``, the child of ``L`` on the path to ``d``: every sphere
+surface of ``d`` stays inside a *reach ball* around that joint's origin, whose radius adds up
+the translations of the joints from ``top`` down to ``d``, the prismatic travel, and the
+sphere's own distance from its body origin plus its radius (rotations keep lengths). A body
+that *is* ``L`` (for instance the static body, every frame the c-space does not move) keeps its
+exact sphere positions.
+
+:func:`prune` compares the two sides in float64: a sphere of the ancestor whose surface stays
+farther than the margin from the other body's reach ball, or two reach balls that are that far
+apart, can never collide and never hold a minimum clearance below the margin. Such sphere pairs
+are dropped from the sampled work once, at build time; their gap is a lower bound of the
+clearance of every pair they belong to. Counts do not change (the dropped pairs cannot
+collide), only the work does: the legs of a humanoid whose c-space is one arm are never
+evaluated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from ...robot.kinematics import KinematicModel
+from .bodies import PRISM, _Bodies
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
+BoolArray = npt.NDArray[np.bool_]
+
+__all__ = ["Reach", "SidePrune"]
+
+
+@dataclass(frozen=True)
+class SidePrune:
+    """One side of a body pair after :meth:`Reach.prune`: which of its spheres are kept, and a
+    lower bound of the clearance of every pair a dropped sphere is in (``gap`` [m]; +inf for
+    kept spheres)."""
+
+    keep: BoolArray
+    gap: FloatArray
+
+
+@dataclass(frozen=True, eq=False)
+class Reach:
+    """The bodies of an engine with the range ``[lo, hi]`` of every body's joint value
+    (``θ = mult · q + off`` over the joint limits; body 0 has none)."""
+
+    bodies: _Bodies
+    lo: FloatArray
+    hi: FloatArray
+
+    @classmethod
+    def of(cls, kin: KinematicModel, varying: IntArray, bodies: _Bodies) -> Reach:
+        lo = np.zeros(bodies.n)
+        hi = np.zeros(bodies.n)
+        for j in range(1, bodies.n):
+            v = int(varying[int(bodies.col[j])])
+            with np.errstate(invalid="ignore", over="ignore"):
+                ends = bodies.mult[j] * np.array([kin.lower[v], kin.upper[v]]) + bodies.off[j]
+            lo[j], hi[j] = float(np.min(ends)), float(np.max(ends))
+        return cls(bodies, lo, hi)
+
+    def _up(self, b: int) -> list[int]:
+        """``b`` and its ancestors, ``b`` first, body 0 last."""
+        out = [b]
+        while out[-1] != 0:
+            out.append(self.bodies.parent[out[-1]])
+        return out
+
+    def _ball(self, top: int, d: int) -> tuple[FloatArray, float]:
+        """Centre (in the frame of ``top``'s parent) and extra radius of a ball that holds a
+        point of body ``d`` at distance ``ρ`` from its body origin within ``ρ + extra`` for
+        every value of the joints from ``top`` down to ``d``."""
+        b = self.bodies
+        ext = 0.0
+        k = d
+        while k != top:
+            ext += float(np.linalg.norm(b.consts[k][:3, 3]))
+            if b.kind[k] == PRISM:
+                ext += max(abs(self.lo[k]), abs(self.hi[k]))
+            k = b.parent[k]
+        C = b.consts[top]
+        centre = C[:3, 3].copy()
+        if b.kind[top] == PRISM:
+            centre += C[:3, 2] * (self.lo[top] + self.hi[top]) / 2.0
+            ext += (self.hi[top] - self.lo[top]) / 2.0
+        return centre, ext
+
+    def prune(
+        self,
+        a: int,
+        b: int,
+        xa: FloatArray,
+        ra: FloatArray,
+        xb: FloatArray,
+        rb: FloatArray,
+        limit: float,
+    ) -> tuple[SidePrune, SidePrune]:
+        """Which spheres of bodies ``a`` and ``b`` (centres in their body frames, radii) can
+        come within ``limit`` of a sphere of the other body; the rest are dropped."""
+        up_a, up_b = self._up(a), self._up(b)
+        common = set(up_a) & set(up_b)
+        lca = next(x for x in up_a if x in common)
+        with np.errstate(invalid="ignore", over="ignore"):
+            if lca not in (a, b):
+                ca, ea = self._ball(up_a[up_a.index(lca) - 1], a)
+                cb, eb = self._ball(up_b[up_b.index(lca) - 1], b)
+                far = float(np.linalg.norm(ca - cb)) - ea - eb
+                ga = far - (np.linalg.norm(xa, axis=1) + ra) - float(np.max(_extent(xb, rb)))
+                gb = far - (np.linalg.norm(xb, axis=1) + rb) - float(np.max(_extent(xa, ra)))
+                return _side(ga, limit), _side(gb, limit)
+            swap = lca == b
+            if swap:  # the ancestor side first
+                a, b, xa, ra, xb, rb, up_b = b, a, xb, rb, xa, ra, up_a
+            top = up_b[up_b.index(a) - 1]
+            if top == b and self.bodies.kind[b] != PRISM:
+                g_anc, g_desc = self._circles(b, xa, ra, xb, rb)
+            else:
+                centre, ext = self._ball(top, b)
+                u = np.linalg.norm(xa - centre, axis=1) - ra  # [m_a]
+                v = _extent(xb, rb) + ext  # [m_b]
+                g_anc, g_desc = u - float(np.max(v)), float(np.min(u)) - v
+        anc, desc = _side(g_anc, limit), _side(g_desc, limit)
+        return (desc, anc) if swap else (anc, desc)
+
+    def _circles(
+        self, j: int, xa: FloatArray, ra: FloatArray, xb: FloatArray, rb: FloatArray
+    ) -> tuple[FloatArray, FloatArray]:
+        """Body ``j`` turns about one revolute joint of body ``a``: each sphere centre of ``j``
+        sweeps a circle about the joint axis. Smallest gap of each sphere of ``a`` [m_a] and of
+        ``j`` [m_b] to any sphere of the other side over the whole turn."""
+        C = self.bodies.consts[j]
+        y = (xa - C[:3, 3]) @ C[:3, :3]  # a's centres in the joint frame
+        rho_a, z_a = np.hypot(y[:, 0], y[:, 1]), y[:, 2]
+        rho_b, z_b = np.hypot(xb[:, 0], xb[:, 1]), xb[:, 2]
+        g_a = np.full(len(ra), np.inf)
+        g_b = np.full(len(rb), np.inf)
+        step = max(1, _BLOCK // max(1, len(rb)))
+        for s0 in range(0, len(ra), step):
+            sl = slice(s0, s0 + step)
+            d = np.hypot(rho_a[sl, None] - rho_b[None, :], z_a[sl, None] - z_b[None, :])
+            d -= ra[sl, None] + rb[None, :]
+            g_a[sl] = d.min(axis=1)
+            np.minimum(g_b, d.min(axis=0), out=g_b)
+        return g_a, g_b
+
+
+#: Sphere pairs per block of the build-time gap computation (bounded memory).
+_BLOCK = 1 << 18
+
+
+def _extent(x: FloatArray, r: FloatArray) -> FloatArray:
+    """Distance of each sphere surface from its body origin."""
+    out: FloatArray = np.linalg.norm(x, axis=1) + r
+    return out
+
+
+def _side(gap: FloatArray, limit: float) -> SidePrune:
+    """Keep a sphere whose smallest gap may be within ``limit`` (or is not finite)."""
+    keep = ~(gap > limit)
+    return SidePrune(keep, np.where(keep, np.inf, gap))
