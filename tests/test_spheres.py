@@ -360,20 +360,20 @@ def test_a_loaded_robot_fits_like_its_file(tmp_path: Path) -> None:
     assert by_robot == by_path and d1 == d2
 
 
-def test_outside_distance_in_chunks_equals_one_query(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Far points are queried in chunks (memory grows with points x faces); the distances
-    are those of one whole query and of the exact distance to a sphere."""
-    from xrdf_tools.spheres import metrics
+def test_outside_distance_in_blocks_equals_one_block(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Far points are measured in blocks (memory grows with points x faces); the distances
+    are those of one whole block and of the exact distance to a sphere."""
+    from xrdf_tools.spheres import distance, metrics
 
     ball = trimesh.creation.icosphere(subdivisions=3, radius=0.1)
     rng = np.random.default_rng(0)
     pts = rng.normal(size=(500, 3))
     whole = metrics.outside_distance(ball, pts)
-    monkeypatch.setattr(metrics, "_CLOSEST_BUDGET", 10 * len(ball.faces))
-    chunked = metrics.outside_distance(ball, pts)
-    assert np.array_equal(whole, chunked)
+    monkeypatch.setattr(distance, "PAIR_BLOCK", 10 * len(ball.faces))
+    blocked = metrics.outside_distance(ball, pts)
+    assert np.array_equal(whole, blocked)
     exact = np.maximum(np.linalg.norm(pts, axis=1) - 0.1, 0.0)
-    assert np.allclose(chunked, exact, atol=2e-3)
+    assert np.allclose(blocked, exact, atol=2e-3)
 
 
 # --------------------------------------------------------------------------------------------

@@ -176,26 +176,17 @@ def union_boundary_samples(
 
 
 def outside_distance(solid: trimesh.Trimesh, points: FloatArray) -> FloatArray:
-    """Distance to the surface for points outside ``solid``, 0 for points inside."""
-    from trimesh import proximity
+    """Distance to the surface for points outside ``solid``, 0 for points inside (exact:
+    :func:`~xrdf_tools.spheres.distance.surface_distance`, memory bounded)."""
+    from .distance import surface_distance
 
-    closest: Any = proximity.closest_point
     out = np.zeros(len(points))
     if len(points) == 0:
         return out
     outside = np.flatnonzero(~contains(solid, points))
-    # trimesh compares each point with every face near it: a point far from a small mesh has
-    # them all as candidates, so memory grows with points x faces. Chunks keep it bounded.
-    step = max(16, _CLOSEST_BUDGET // max(1, len(solid.faces)))
-    for start in range(0, len(outside), step):
-        idx = outside[start : start + step]
-        _, dist, _ = closest(solid, points[idx])
-        out[idx] = np.asarray(dist, dtype=np.float64)
+    if len(outside):
+        out[outside] = surface_distance(solid, points[outside])
     return out
-
-
-#: Point-face pairs one closest-point query may compare (about 72 bytes each).
-_CLOSEST_BUDGET = 2_000_000
 
 
 def weighted_quantile(values: FloatArray, weights: FloatArray, q: float) -> float:

@@ -1,0 +1,51 @@
+"""Exact point-to-surface distance (the protrusion and gap metrics): against a plain loop
+over every triangle, and closed forms in each region of a triangle."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tests.robots import robot_urdf
+
+
+def test_surface_distance_is_the_smallest_point_triangle_distance() -> None:
+    """The pruned, blocked distance equals a plain loop over every triangle (and is never
+    above trimesh's closest-point distance, which can overshoot by micrometres)."""
+    from trimesh import proximity
+
+    from xrdf_tools.spheres.distance import _point_triangle_distance, surface_distance
+    from xrdf_tools.spheres.geometry import load_link_geometry
+
+    geoms, _ = load_link_geometry(robot_urdf("ur5"), links=["forearm_link"])
+    mesh = geoms["forearm_link"].solid
+    rng = np.random.default_rng(5)
+    points = rng.uniform(mesh.bounds[0] - 0.05, mesh.bounds[1] + 0.05, size=(120, 3))
+    ours = surface_distance(mesh, points)
+    loop = np.array(
+        [
+            _point_triangle_distance(np.repeat(p[None], len(mesh.faces), 0), mesh.triangles).min()
+            for p in points
+        ]
+    )
+    np.testing.assert_allclose(ours, loop, rtol=0, atol=1e-12)
+    _, theirs, _ = proximity.closest_point(mesh, points)
+    assert np.all(ours <= theirs + 1e-12)
+
+
+def test_point_triangle_distance_in_every_voronoi_region() -> None:
+    """Closed forms for the unit right triangle: the face, each edge and each vertex."""
+    from xrdf_tools.spheres.distance import _point_triangle_distance
+
+    tri = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    cases = {
+        (0.25, 0.25, 2.0): 2.0,  # above the face
+        (0.5, -1.0, 0.0): 1.0,  # beside edge ab
+        (-1.0, 0.5, 0.0): 1.0,  # beside edge ac
+        (1.0, 1.0, 0.0): np.sqrt(0.5) - 0.0,  # beside edge bc: distance to (0.5, 0.5)
+        (-1.0, -1.0, 0.0): np.sqrt(2.0),  # vertex a
+        (2.0, -1.0, 0.0): np.sqrt(2.0),  # vertex b
+        (-1.0, 2.0, 1.0): np.sqrt(3.0),  # vertex c
+    }
+    p = np.array(list(cases))
+    d = _point_triangle_distance(p, np.repeat(tri[None], len(p), 0))
+    np.testing.assert_allclose(d, list(cases.values()), rtol=0, atol=1e-12)
