@@ -117,7 +117,7 @@ def test_samples_past_the_ceiling_are_refused() -> None:
         ],
     )
     assert res.exit_code == 2, res.output
-    assert "above the ceiling" in res.output and "Traceback" not in res.output
+    assert "not in the range 1<=x<=10000000000" in res.output and "Traceback" not in res.output
 
 
 def test_report_progress_lines_with_verbose_off_a_terminal(tmp_path: Path) -> None:
