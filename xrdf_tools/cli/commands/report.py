@@ -215,7 +215,6 @@ def command(
     ignore mask treats it and what to do about it."""
     from ...report import CertifyOptions, recommended_xrdf, self_collision_report
     from ...report.render import ReportView, write_heatmap
-    from ...selfcollision.engine import default_jobs
     from ...xrdf.io import dump_xrdf
 
     inputs = [xrdf_file, urdf, configs]
@@ -238,10 +237,7 @@ def command(
 
             kin, _ = build_kinematic_model(u, x, path=str(urdf))
             q_c = load_cspace_configurations(configs, kin, x)
-        n_jobs = default_jobs() if jobs is None else jobs
-        if n_jobs > default_jobs():
-            note(f"--jobs {n_jobs}: this process may use {default_jobs()} core(s); using that many")
-            n_jobs = default_jobs()
+        n_jobs = _clamped_jobs(jobs)
         label = "sampling" if configs is None else "checking"
         detail(
             f"{label} {samples if q_c is None else len(q_c):,} configuration(s) "
@@ -279,23 +275,41 @@ def command(
         fail(f"{exc.filename or ''}: {exc.strerror or exc}")
     write_output(text, output)
     if output_format not in _MACHINE_FORMATS:
-        notes = []
-        if output is not None:
-            notes.append(f"report written to {output}")
-        if plot is not None:
-            notes.append(f"heatmap written to {plot}")
-        if write_mask is not None:
-            ch = report.mask_change
-            notes.append(
-                "XRDF with the recommended ignore list written to "
-                f"{'stdout' if is_stdio(write_mask) else write_mask} "
-                f"({len(ch.added)} pair(s) added, {len(ch.removed)} removed, "
-                f"{len(ch.dropped_unknown)} unknown frame(s) dropped)"
-            )
-        for n in notes:
+        for n in _written_notes(report, output, plot, write_mask):
             note(n)
     if has_failures(report.diagnostics, strict=strict):
         raise typer.Exit(EXIT_FINDINGS)
+
+
+def _clamped_jobs(jobs: int | None) -> int:
+    """``--jobs``, or the cores this process may use; more than that is clamped with a note."""
+    from ...selfcollision.engine import default_jobs
+
+    cores = default_jobs()
+    n_jobs = cores if jobs is None else jobs
+    if n_jobs > cores:
+        note(f"--jobs {n_jobs}: this process may use {cores} core(s); using that many")
+    return min(n_jobs, cores)
+
+
+def _written_notes(
+    report: Report, output: Path | None, plot: Path | None, write_mask: Path | None
+) -> list[str]:
+    """What was written where (notes on stderr after a human-readable report)."""
+    notes = []
+    if output is not None:
+        notes.append(f"report written to {output}")
+    if plot is not None:
+        notes.append(f"heatmap written to {plot}")
+    if write_mask is not None:
+        ch = report.mask_change
+        notes.append(
+            "XRDF with the recommended ignore list written to "
+            f"{'stdout' if is_stdio(write_mask) else write_mask} "
+            f"({len(ch.added)} pair(s) added, {len(ch.removed)} removed, "
+            f"{len(ch.dropped_unknown)} unknown frame(s) dropped)"
+        )
+    return notes
 
 
 def _render(report: Report, fmt: ReportFormat, view: ReportView) -> str:
