@@ -667,7 +667,7 @@ def test_parse_urdf_string_with_encoding_declaration() -> None:
 
 
 def test_package_paths_resolve_meshes(tmp_path: Path) -> None:
-    from xrdf_tools.robot.urdf_source import make_filename_handler
+    from xrdf_tools.robot.yourdfpy_build import make_filename_handler
 
     pkg = tmp_path / "my_pkg"
     (pkg / "meshes").mkdir(parents=True)

@@ -83,9 +83,9 @@ class Robot:
         the plain views below do not."""
         if self.prebuilt is not None:
             return self.prebuilt
-        from .urdf_source import build_yourdfpy
+        from .yourdfpy_build import build_yourdfpy
 
-        urdf = build_yourdfpy(self)
+        urdf = build_yourdfpy(self.document, self.path, self.package_paths, self.build_scene_graph)
         setattr(urdf, _ATTR, self)
         return urdf
 

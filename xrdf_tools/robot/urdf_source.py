@@ -4,8 +4,8 @@ The XML is parsed strictly by lxml first (entities are not resolved, no network)
 for what yourdfpy would crash on or silently get wrong: missing names, unknown joint types,
 duplicate links or joints, joints that refer to unknown links, numbers that do not parse. The
 checked tree is the :class:`~xrdf_tools.robot.core.Robot`; yourdfpy gets it only when geometry is
-read (:func:`build_yourdfpy`). Every failure is a :class:`UrdfError` whose one-line
-message starts with ``path:line:`` when the line is known.
+read (:func:`xrdf_tools.robot.yourdfpy_build.build_yourdfpy`). Every failure is a
+:class:`UrdfError` whose one-line message starts with ``path:line:`` when the line is known.
 
 :class:`JointInfo`, :func:`joints_of` and :func:`links_of` give a plain, typed view of a loaded
 URDF for the kinematics, the linter and the converter. yourdfpy is imported lazily so that
@@ -16,15 +16,14 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable, Mapping
-from pathlib import Path
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic
-from ..util.errors import UrdfError, UrdfReadError, XrdfToolsError
+from ..util.errors import UrdfError, UrdfReadError
 from .urdf_check import JOINT_TYPES, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
 
@@ -44,7 +43,6 @@ __all__ = [
     "joints_of",
     "links_of",
     "load_urdf",
-    "make_filename_handler",
     "parse_robot",
     "parse_urdf_string",
     "read_robot",
@@ -126,7 +124,8 @@ def read_robot(
     """Load a URDF file without loading any mesh, as a :class:`~xrdf_tools.robot.core.Robot`.
 
     ``package_paths`` (``{"pkg": "/dir"}``) resolves ``package://pkg/...`` mesh URIs for
-    whoever loads meshes later (see :func:`make_filename_handler`); meshes are never read here.
+    whoever loads meshes later (see :func:`xrdf_tools.robot.yourdfpy_build.make_filename_handler`);
+    meshes are never read here.
     ``build_scene_graph`` builds yourdfpy's scene graph (needed only for yourdfpy's own
     ``get_transform``; :mod:`xrdf_tools.robot.kinematics` does not need it). ``data``: the file's
     bytes when the caller has already read them (:func:`read_urdf_bytes`): not read again.
@@ -185,32 +184,6 @@ def parse_robot(
     )
 
 
-def make_filename_handler(
-    path: str | os.PathLike[str] | None,
-    package_paths: Mapping[str, str] | None = None,
-) -> Callable[[str], str]:
-    """A yourdfpy ``filename_handler``: ``package://``, ``file://`` and relative mesh URIs.
-
-    Packages come from ``package_paths`` first, then from ``package.xml`` files near ``path``
-    (:class:`xrdf_tools.robot.packages.PackageResolver`). An unresolvable URI is returned unchanged
-    (yourdfpy then reports the missing mesh when it tries to load it).
-    """
-    from .packages import PackageResolver
-
-    start = Path(os.fspath(path)) if path is not None else Path.cwd()
-    if not start.exists():
-        start = Path.cwd()
-    resolver = PackageResolver(start, dict(package_paths or {}))
-
-    def handler(fname: str) -> str:
-        try:
-            return str(resolver.resolve_uri(fname))
-        except XrdfToolsError:
-            return fname
-
-    return handler
-
-
 def _parse_bytes(
     data: bytes,
     path: str,
@@ -256,26 +229,3 @@ def _parse_bytes(
         build_scene_graph=build_scene_graph,
         warnings=tuple(warnings),
     )
-
-
-def build_yourdfpy(robot: Robot) -> yourdfpy.URDF:
-    """The yourdfpy object of a loaded robot, built from its checked tree (no meshes)."""
-    from ..util.extras import FIT, require
-
-    require(FIT, "fit", "reading link geometry")
-    import yourdfpy
-
-    try:
-        parsed = yourdfpy.URDF._parse_robot(xml_element=robot.document)
-        return yourdfpy.URDF(
-            robot=parsed,
-            build_scene_graph=robot.build_scene_graph,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            load_collision_meshes=False,
-            filename_handler=make_filename_handler(robot.path, robot.package_paths),
-            mesh_dir=os.path.dirname(robot.path),
-        )
-    except Exception as e:  # yourdfpy raises bare KeyError/ValueError/AttributeError
-        detail = str(e).splitlines()[0] if str(e) else type(e).__name__
-        raise UrdfError(f"yourdfpy cannot read this URDF: {detail}", path=robot.path) from None
