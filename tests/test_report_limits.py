@@ -132,3 +132,26 @@ def test_report_progress_lines_with_verbose_off_a_terminal(tmp_path: Path) -> No
     assert "(50,000/50,000)" in lines[-1]
     res = runner.invoke(app, [*args, "-o", str(out)])
     assert "%" not in res.output
+
+
+def test_certify_memory_is_linear_in_spheres(many) -> None:  # type: ignore[no-untyped-def]
+    """--certify visits a frame pair's sphere pairs in blocks: the 4 M pairs of link1/link2
+    are never listed, for any number of boxes at once."""
+    from xrdf_tools.selfcollision.certify import certify_pair
+
+    kin, xrdf = many
+    spheres, _ = build_sphere_set(kin, xrdf)
+    q0 = default_configuration(kin, {})
+    eng = CountEngine(kin, spheres, [0, 1], q0, margin=0.01)
+    names = spheres.frame_names
+    k = next(
+        k
+        for k in range(spheres.n_frame_pairs)
+        if {names[spheres.frame_pair_a[k]], names[spheres.frame_pair_b[k]]} == {"link1", "link2"}
+    )
+    tracemalloc.start()
+    cert = certify_pair(eng, k, budget_s=2.0)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert cert.verdict in ("proven", "witness", "undecided")
+    assert peak < 200 * 2**20  # one list of the pairs and a [64, 4 M] distance block: > 2 GB

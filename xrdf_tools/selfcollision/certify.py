@@ -33,7 +33,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
-from .collision import sphere_world_centers, squared_distances, touching
+from .collision import sphere_world_centers, touching
 from .engine import CountEngine
 from .engine.bodies import PRISM
 
@@ -45,6 +45,8 @@ __all__ = ["Certificate", "Verdict", "certify_pair"]
 Verdict = Literal["proven", "witness", "undecided"]
 #: Boxes evaluated together (one batched float64 forward kinematics).
 _BATCH = 64
+#: (box, sphere pair) distances held at once: memory stays linear in the spheres.
+_PAIR_BLOCK = 1 << 20
 #: Slack (m) for float64 rounding: a proof needs a lower bound above it.
 _SLACK = 1e-9
 
@@ -76,9 +78,8 @@ class _Problem:
     cols: IntArray  # varying columns on the path
     lo: FloatArray
     hi: FloatArray
-    pi: IntArray  # sphere pairs (indices into the engine's sphere set)
-    pj: IntArray
-    rs: FloatArray
+    a: IntArray  # the spheres of the pair's two frames (indices into the engine's set):
+    b: IntArray  # every (a, b) sphere pair, visited in bounded blocks, never listed
     coef: FloatArray  # [S, d] indexed by sphere of the set
     weight: FloatArray  # [d] largest coefficient per column (split choice)
 
@@ -137,15 +138,14 @@ def _problem(engine: CountEngine, k: int) -> _Problem:
         for i in range(s.spheres_of(frame).start, s.spheres_of(frame).stop):
             for j, lever in zip(chain, _levers(engine, chain, engine.local[i]), strict=True):
                 coef[i, where[int(engine.bodies.col[j])]] += lever * abs(engine.bodies.mult[j])
-    pi, pj, rs = s.frame_pair_sphere_pairs(k)
+    sa, sb = s.spheres_of(fa), s.spheres_of(fb)
     v = engine.varying[np.array(cols, dtype=np.intp)]
     return _Problem(
         cols=np.array(cols, dtype=np.intp),
         lo=engine.kin.lower[v].copy(),
         hi=engine.kin.upper[v].copy(),
-        pi=pi,
-        pj=pj,
-        rs=rs,
+        a=np.arange(sa.start, sa.stop, dtype=np.intp),
+        b=np.arange(sb.start, sb.stop, dtype=np.intp),
         coef=coef,
         weight=coef.max(axis=0) if len(coef) else np.zeros(len(cols)),
     )
@@ -199,10 +199,20 @@ def _evaluate(
     q[:, engine.varying] = base
     q[:, engine.varying[pb.cols]] = centre
     c = sphere_world_centers(engine.kin, engine.spheres, q)  # [n, S, 3]
-    d2 = squared_distances(c, pb.pi, pb.pj)
-    hit = touching(d2, pb.rs).any(axis=1)  # the counts' test: a witness is a counted hit
     motion = half @ pb.coef.T  # [n, S]
-    lb = (np.sqrt(d2) - pb.rs - motion[:, pb.pi] - motion[:, pb.pj]).min(axis=1)
+    radii = engine.spheres.self_radii
+    cb, mb, rb = c[:, pb.b], motion[:, pb.b], radii[pb.b]
+    hit = np.zeros(len(centre), dtype=bool)
+    lb = np.full(len(centre), np.inf)
+    step = max(1, _PAIR_BLOCK // max(1, len(centre) * len(pb.b)))
+    for start in range(0, len(pb.a), step):
+        ai = pb.a[start : start + step]
+        diff = c[:, ai, None, :] - cb[:, None, :, :]  # [n, a-block, b, 3]
+        d2 = np.einsum("...k,...k->...", diff, diff)
+        rs = radii[ai][:, None] + rb[None, :]
+        hit |= touching(d2, rs).any(axis=(1, 2))  # the counts' test: a witness is a counted hit
+        gap = np.sqrt(d2) - rs - motion[:, ai, None] - mb[:, None, :]
+        lb = np.minimum(lb, gap.min(axis=(1, 2)))
     first = int(np.argmax(hit)) if hit.any() else -1
     return lb, first
 
