@@ -293,3 +293,55 @@ def test_report_mask_applies_as_the_report_writes_it(panda: tuple[Any, Xrdf]) ->
     report = self_collision_report(robot, x, samples=300, seed=0)
     st = EditState.start(x).apply(SetMask(report.recommended_ignore))
     assert st.xrdf == recommended_xrdf(x, report)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("urdf", "srdf", "groups", "hands"),
+    [
+        (
+            FIXTURES / "demo_arm" / "demo_arm.urdf",
+            FIXTURES / "demo_arm" / "demo_arm.srdf",
+            (),
+            ("base_link", "wrist_3_link"),
+        ),
+        (
+            "pr2",
+            "pr2.srdf",
+            ("left_arm", "right_arm"),
+            ("l_gripper_palm_link", "r_gripper_palm_link"),
+        ),
+    ],
+    ids=["demo-arm", "pr2-two-arms"],
+)
+def test_edit_a_draft_of_the_demo_arm_and_a_two_arm_robot(
+    urdf: Any, srdf: Any, groups: tuple[str, ...], hands: tuple[str, str], tmp_path: Path
+) -> None:
+    """From a draft: spheres added on two links, their collision seen at the default pose and
+    gone when the pair is ignored, saved canonical, byte-stable, lint-clean with the URDF."""
+    from xrdf_tools.convert.core import ConvertOptions, convert
+
+    if isinstance(urdf, str):
+        path = robot_urdf(urdf)
+        urdf, srdf = path, path.parent.parent / "srdf" / srdf
+    robot = load_robot(urdf)
+    x, _ = convert(robot, ConvertOptions(srdf=srdf, groups=groups))
+    big = Sphere((0.0, 0.0, 0.0), 2.0)  # reaches the other link whatever the pose
+    st = EditState.start(x).apply(AddSphere(hands[0], big)).apply(AddSphere(hands[1], big))
+    er = EditRobot(robot, st.xrdf)
+    q0 = er.default_pose(st.xrdf)
+    pair = {hands[0], hands[1]}
+    hit = [c for c in er.collisions(st.xrdf, q0).contacts if {c.frame_a, c.frame_b} == pair]
+    assert hit and not hit[0].masked
+    st = st.apply(SetIgnored(hands[0], hands[1], True))
+    masked = [c for c in er.collisions(st.xrdf, q0).contacts if {c.frame_a, c.frame_b} == pair]
+    assert masked and masked[0].masked
+    target = tmp_path / "robot.xrdf"
+    save(st, target)
+    text = target.read_text()
+    save(EditState.start(load_xrdf(target)), target)
+    assert target.read_text() == text
+    errors = [
+        e for e in lint_text(text, str(target), urdf_model=robot) if e.severity.name == "ERROR"
+    ]
+    assert errors == []
