@@ -214,3 +214,26 @@ def test_a_shape_yourdfpy_does_not_hold_is_unsupported(tmp_path: Path) -> None:
     assert base.elements == 2 and len(base.parts) == 1 and base.failures[0].unsupported
     _, diags = load_link_geometry(robot, links=["base"])
     assert [d.rule for d in diags] == ["spheres-unsupported-geometry"]
+
+
+def test_a_package_uri_without_a_name_is_a_path_below_a_search_directory(tmp_path: Path) -> None:
+    """``package:///pkg/meshes/a.stl`` (as Pinocchio's robots write it): found below the
+    URDF's folder or a parent of it, or below a --package-path directory; else an error naming
+    what was searched."""
+    from xrdf_tools.robot.packages import PackageResolver
+    from xrdf_tools.util.errors import XrdfToolsError
+
+    mesh = tmp_path / "share" / "pkg" / "meshes" / "a.stl"
+    mesh.parent.mkdir(parents=True)
+    mesh.write_text("solid a\nendsolid a\n")
+    urdf = tmp_path / "share" / "pkg" / "robots" / "r.urdf"
+    urdf.parent.mkdir(parents=True)
+    urdf.write_text("<robot name='r'/>")
+    uri = "package:///pkg/meshes/a.stl"
+    assert PackageResolver(urdf).resolve_uri(uri) == mesh
+    elsewhere = tmp_path / "elsewhere" / "r.urdf"
+    elsewhere.parent.mkdir()
+    given = PackageResolver(elsewhere, {"anything": str(tmp_path / "share")})
+    assert given.resolve_uri(uri) == mesh
+    with pytest.raises(XrdfToolsError, match="package:/// URI"):
+        PackageResolver(elsewhere).resolve_uri("package:///nope/a.stl")

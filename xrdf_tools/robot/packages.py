@@ -67,6 +67,22 @@ class PackageResolver:
                 break
         return index
 
+    def find_below_roots(self, sub: str) -> Path:
+        """``sub`` below the first search directory that holds it: the ``--package-path``
+        directories, then the input's folder and its parents (a ``package:///sub`` URI, as
+        Pinocchio resolves it against its package directories)."""
+        given = [absolute(d) for d in self.package_paths.values()]
+        roots = [*given, *self._roots()]
+        for root in roots:
+            cand = root / sub
+            if _is_file(cand) or _is_dir(cand):
+                return cand
+        raise SourceError(
+            f"cannot find '{sub}' of a package:/// URI below any search directory (the "
+            f"--package-path directories, {roots[len(given)]} and its parents); pass "
+            "--package-path NAME=DIR with the directory that holds it"
+        )
+
     def find(self, name: str) -> Path:
         """Directory of package ``name``; raises :class:`SourceError` when not found."""
         if name in self._cache:
@@ -104,6 +120,8 @@ class PackageResolver:
         if uri.startswith("package://"):
             rest = uri[len("package://") :]
             name, _, sub = rest.partition("/")
+            if not name:  # package:///a/b: a path below a package search directory
+                return self.find_below_roots(unquote(sub))
             return self.find(name) / unquote(sub)
         if uri.startswith("file://"):
             return Path(unquote(uri[len("file://") :]))
