@@ -102,6 +102,26 @@ def test_report_and_lint_past_the_ceiling(tmp_path: Path, monkeypatch: pytest.Mo
     res = runner.invoke(app, ["lint", str(path), "--urdf", str(THREE_LINK)])
     assert "default pose not checked" in res.output
     assert "internal-error" not in res.output
+    png = tmp_path / "many.png"
+    res = runner.invoke(app, ["viz", str(path), "--urdf", str(THREE_LINK), "--png", str(png)])
+    assert res.exit_code == 2, res.output
+    assert f"{path}:" in res.output and "at most 2" in res.output and not png.exists()
+
+
+@pytest.mark.slow
+def test_viz_contacts_memory_is_linear_in_spheres(many) -> None:  # type: ignore[no-untyped-def]
+    """The picture's colliding sphere pairs come per frame pair in blocks (4 M pairs)."""
+    from xrdf_tools.viz.contacts import sphere_contacts
+
+    kin, xrdf = many
+    q = default_configuration(kin, {})[None, :]
+    tracemalloc.start()
+    found, _, _ = sphere_contacts(kin, xrdf, q, None, [])
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    pairs, frame_contacts = found[0]
+    assert frame_contacts and len(pairs) >= sum(c.n_sphere_pairs for c in frame_contacts)
+    assert peak < 32 * 2**20  # every sphere pair at once: 4 M x (hits, clearances, indices)
 
 
 def test_samples_past_the_ceiling_are_refused() -> None:
