@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-import numpy.typing as npt
 
 from ..diagnostics import Diagnostic
 from ..robot.binding import cspace_indices
@@ -27,6 +26,7 @@ from ..selfcollision.collision import (
     pair_hits,
     sphere_world_centers,
 )
+from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..xrdf.model import Xrdf
 
@@ -34,7 +34,6 @@ if TYPE_CHECKING:
     from ..robot.core import Robot
     from ..robot.kinematics import KinematicModel
 
-FloatArray = npt.NDArray[np.float64]
 
 __all__ = ["Collisions", "EditRobot"]
 

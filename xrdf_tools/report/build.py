@@ -35,6 +35,7 @@ from ..selfcollision.collision import (
     sphere_world_centers,
 )
 from ..selfcollision.engine import CountEngine, EngineTotals, ProgressFn, count_sampled
+from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
 from ..xrdf.model import Xrdf
@@ -55,7 +56,6 @@ if TYPE_CHECKING:
 
     from ..robot.core import Robot
 
-FloatArray = npt.NDArray[np.float64]
 
 __all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
 

@@ -22,18 +22,14 @@ import math
 from collections.abc import Sequence
 from dataclasses import replace
 
-import numpy as np
-import numpy.typing as npt
-
 from ..diagnostics import Diagnostic, Severity
 from ..robot.kinematics import KinematicModel
 from ..selfcollision.certify import Verdict
 from ..selfcollision.collision import Contact
+from ..util.arrays import FloatArray
 from ..util.errors import did_you_mean
 from ..xrdf.model import SelfCollisionSection, Xrdf
 from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit
-
-FloatArray = npt.NDArray[np.float64]
 
 __all__ = ["ALWAYS_RATE", "RULES", "adjacent_frame_pairs", "never_upper_bound"]
 

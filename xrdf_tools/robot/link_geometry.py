@@ -33,8 +33,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-import numpy.typing as npt
 
+from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit
 from ..util.numbers import MAX_LENGTH
@@ -46,7 +46,6 @@ if TYPE_CHECKING:
     from .core import Robot
     from .packages import PackageResolver
 
-FloatArray = npt.NDArray[np.float64]
 Rgba = tuple[float, float, float, float]
 GeometrySource = Literal["collision", "visual"]
 #: Which elements are read: only collision, only visual, or collision with visual as the

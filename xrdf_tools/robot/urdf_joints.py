@@ -15,11 +15,11 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
+
+from ..util.arrays import FloatArray
 
 __all__ = ["MOVABLE_TYPES", "JointInfo", "joint_from_xml", "joint_info", "origin_matrix"]
 
-FloatArray = npt.NDArray[np.float64]
 
 MOVABLE_TYPES = ("revolute", "continuous", "prismatic")
 

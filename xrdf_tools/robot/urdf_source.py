@@ -19,9 +19,6 @@ import re
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Literal
 
-import numpy as np
-import numpy.typing as npt
-
 from ..diagnostics import Diagnostic
 from ..util.errors import UrdfError, UrdfReadError
 from .urdf_check import JOINT_TYPES, check_urdf_tree
@@ -31,8 +28,6 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from .core import Robot
-
-FloatArray = npt.NDArray[np.float64]
 
 
 __all__ = [

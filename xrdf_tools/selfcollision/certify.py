@@ -31,14 +31,11 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-import numpy.typing as npt
 
+from ..util.arrays import FloatArray, IntArray
 from .collision import sphere_world_centers, touching
 from .engine import CountEngine
 from .engine.bodies import PRISM
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
 
 __all__ = ["Certificate", "Verdict", "certify_pair"]
 

@@ -26,9 +26,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import numpy.typing as npt
 
 from ..robot.binding import cspace_indices
+from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import max_input_bytes, read_input_bytes, read_input_text
 from ..xrdf.model import Xrdf
@@ -37,7 +37,6 @@ from ..yaml.io import YMap, YSeq, parse_yaml, to_python
 if TYPE_CHECKING:
     from ..robot.kinematics import KinematicModel
 
-FloatArray = npt.NDArray[np.float64]
 
 MAX_SAMPLES = 100_000
 

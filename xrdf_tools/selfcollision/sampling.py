@@ -20,7 +20,8 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
-FloatArray = npt.NDArray[np.float64]
+from ..util.arrays import FloatArray
+
 Method = Literal["halton", "uniform"]
 
 __all__ = [

@@ -12,14 +12,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-import numpy.typing as npt
+
+from ..util.arrays import FloatArray
 
 if TYPE_CHECKING:
     import trimesh
 
 __all__ = ["surface_distance"]
 
-FloatArray = npt.NDArray[np.float64]
 
 #: Point-triangle pairs held at once (a bounding-box test each; about 60 bytes).
 PAIR_BLOCK = 2_000_000

@@ -32,14 +32,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from ..util.arrays import BoolArray, FloatArray
 from ..xrdf.model import Sphere
 from .metrics import fibonacci_directions, sample_surface, sample_volume
 
 if TYPE_CHECKING:
     import trimesh
 
-FloatArray = npt.NDArray[np.float64]
-BoolArray = npt.NDArray[np.bool_]
 IntArray = npt.NDArray[np.uint8]
 
 VOLUME_WEIGHT = 0.9

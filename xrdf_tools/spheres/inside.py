@@ -23,16 +23,15 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 import numpy as np
-import numpy.typing as npt
+
+from ..util.arrays import BoolArray, FloatArray
+from ..util.arrays import Int64Array as IntArray
 
 if TYPE_CHECKING:
     import trimesh
 
 __all__ = ["grid_inside", "points_inside"]
 
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.int64]
-BoolArray = npt.NDArray[np.bool_]
 
 #: Point-triangle candidate pairs tested per block (about 200 bytes each).
 PAIR_BLOCK = 1_000_000

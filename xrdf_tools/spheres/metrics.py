@@ -36,13 +36,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from ..util.arrays import FloatArray
 from ..xrdf.model import Sphere
 from .inside import points_inside
 
 if TYPE_CHECKING:
     import trimesh
 
-FloatArray = npt.NDArray[np.float64]
 
 DEFAULT_SAMPLES = 20_000
 

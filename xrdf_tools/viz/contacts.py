@@ -6,17 +6,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import numpy as np
-import numpy.typing as npt
-
 from ..diagnostics import Diagnostic
+from ..util.arrays import FloatArray
 from ..xrdf.model import Xrdf
 
 if TYPE_CHECKING:
     from ..robot.kinematics import KinematicModel
     from ..selfcollision.collision import Contact
 
-FloatArray = npt.NDArray[np.float64]
 Progress = Callable[[int, int], None]
 
 __all__ = ["SpherePair", "sphere_contacts"]

@@ -18,10 +18,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.link_geometry import Rgba
+from ..util.arrays import FloatArray
+from ..util.arrays import Int64Array as IntArray
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -31,8 +32,6 @@ if TYPE_CHECKING:
 
 __all__ = ["DEFAULT_MESH_COLOR", "MeshKind", "MeshPart", "Rgba", "load_link_meshes"]
 
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.int64]
 MeshKind = Literal["visual", "collision", "none"]
 
 DEFAULT_MESH_COLOR: Rgba = (0.72, 0.72, 0.75, 1.0)

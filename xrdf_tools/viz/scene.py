@@ -22,6 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
+from ..util.arrays import FloatArray
 from ..util.errors import GeometryGroupError, SourceError
 from ..xrdf.model import Xrdf
 from .contacts import SpherePair, sphere_contacts
@@ -34,7 +35,6 @@ if TYPE_CHECKING:
     from ..robot.kinematics import KinematicModel
     from ..selfcollision.collision import Contact
 
-FloatArray = npt.NDArray[np.float64]
 Progress = Callable[[int, int], None]
 
 #: Colour of spheres in self-collision (and reserved: no link gets it).

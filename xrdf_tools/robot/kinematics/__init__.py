@@ -29,10 +29,10 @@ Everything is importable from ``xrdf_tools.robot.kinematics``.
 
 from __future__ import annotations
 
-from .base import BoolArray as BoolArray
-from .base import FloatArray as FloatArray
+from ...util.arrays import BoolArray as BoolArray
+from ...util.arrays import FloatArray as FloatArray
+from ...util.arrays import IntArray as IntArray
 from .base import FrameSelection as FrameSelection
-from .base import IntArray as IntArray
 from .base import JointType
 from .batch_fk import fk, fk_batch_last, fk_rt
 from .build import build_kinematic_model

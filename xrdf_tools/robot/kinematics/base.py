@@ -9,9 +9,6 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
 FrameSelection = Sequence[int | str] | npt.NDArray[np.integer[Any]] | None
 """Frames asked of FK: names or indices in model order; None means every frame."""
 

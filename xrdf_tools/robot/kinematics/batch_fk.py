@@ -13,7 +13,8 @@ from collections.abc import Iterable
 import numpy as np
 import numpy.typing as npt
 
-from .base import FloatArray, FrameSelection, IntArray
+from ...util.arrays import FloatArray, IntArray
+from .base import FrameSelection
 from .model import KinematicModel
 from .plan import KIND_PRISM, KIND_ROT
 

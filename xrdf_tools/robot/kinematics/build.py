@@ -16,13 +16,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ...diagnostics import Diagnostic, Severity
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from ...util.errors import UrdfError, did_you_mean
 from ...util.frozen import FrozenMap
 from ...util.graph import reachable
 from ...xrdf.model import Xrdf
 from ..core import Robot, as_robot
 from ..urdf_source import JointInfo
-from .base import BoolArray, FloatArray, IntArray, JointType
+from .base import JointType
 from .mimic import MimicLink, resolve_mimic
 from .model import KinematicModel
 from .modifiers import Edit, apply_modifiers

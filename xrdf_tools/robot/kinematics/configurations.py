@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import numpy.typing as npt
 
-from .base import FloatArray
+from ...util.arrays import FloatArray
 from .model import KinematicModel
 
 

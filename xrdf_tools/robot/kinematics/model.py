@@ -10,10 +10,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from ...util.errors import UrdfError, did_you_mean
 from ...util.frozen import FrozenMap
 from ..urdf_source import JointInfo
-from .base import BoolArray, FloatArray, FrameSelection, IntArray
+from .base import FrameSelection
 from .plan import FkPlan, make_plan
 
 

@@ -17,12 +17,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...util.arrays import FloatArray
 from ...util.errors import UrdfError, did_you_mean
 from ...util.graph import reachable
 from ...util.rotations import Quat, matrix_from_quat
 from ...xrdf.model import AddFrame, RemoveMimicAttributes, SetBaseFrame, Xrdf
 from ..urdf_source import JointInfo
-from .base import FloatArray
 
 XrdfError = Callable[[str, str], UrdfError]
 """``(message, key path in the XRDF) -> UrdfError`` located at that key when it can be."""

@@ -14,8 +14,9 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
+from ...util.arrays import FloatArray, IntArray
 from ...util.rotations import axis_angle_matrix, skew
-from .base import MOVING_TYPES, FloatArray, IntArray, JointType
+from .base import MOVING_TYPES, JointType
 
 
 class FrameArrays(Protocol):

@@ -22,12 +22,9 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel, fk_batch_last
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from ...xrdf.model import Xrdf
 from .spheres import SphereSet, build_sphere_set
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
 
 __all__ = [
     "Contact",

@@ -23,12 +23,9 @@ import numpy.typing as npt
 
 from ...diagnostics import Diagnostic, Severity
 from ...robot.kinematics import KinematicModel
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from ...util.errors import XrdfToolsError, did_you_mean
 from ...xrdf.model import Xrdf, clone_order
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
 
 __all__ = [
     "CULL_SLACK",

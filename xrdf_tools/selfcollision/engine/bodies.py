@@ -16,11 +16,10 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import JointType, KinematicModel
+from ...util.arrays import FloatArray, IntArray
 from ..collision import SphereSet
 
 F32 = npt.NDArray[np.float32]
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
 
 _EPS32 = float(np.finfo(np.float32).eps)
 #: Body kinds: the root, a revolute/continuous joint (turns about z), a prismatic one (slides).

@@ -11,11 +11,9 @@ frame pair's minimum clearance without computing every clearance.
 from __future__ import annotations
 
 import numpy as np
-import numpy.typing as npt
 
+from ...util.arrays import FloatArray
 from .bodies import _EPS32
-
-FloatArray = npt.NDArray[np.float64]
 
 
 def _delta(p_a: FloatArray, r_max: float, err: float) -> float:

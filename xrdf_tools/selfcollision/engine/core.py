@@ -25,6 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel, fk
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import CULL_SLACK, SphereSet, frame_pair_verdicts
 from .bodies import (
     _EPS32,
@@ -40,10 +41,6 @@ from .culling import _Culler
 from .layout import _body_pairs
 from .pairs import _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
 from .reach import Reach
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
 
 __all__ = ["CountEngine", "EngineTotals"]
 

@@ -19,15 +19,12 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel
+from ...util.arrays import FloatArray, IntArray
 from .bodies import _ROT, F32, _Bodies, _body_fk
 from .grid import PairGrid, build_pair_grid
 from .pairs import _BodyPair
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
 
 #: A body pair is culled when fewer than this fraction of pilot configurations is within reach.
 _CULL_FRACTION = 0.5

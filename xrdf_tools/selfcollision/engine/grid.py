@@ -17,11 +17,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
+from ...util.arrays import BoolArray, FloatArray, IntArray
 
 __all__ = ["PairGrid", "build_pair_grid"]
 

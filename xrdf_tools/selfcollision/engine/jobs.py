@@ -21,11 +21,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ...util.arrays import FloatArray
 from ...util.numbers import MAX_SAMPLES
 from ..sampling import Method, sample_rows
 from .core import CountEngine, EngineTotals
-
-FloatArray = npt.NDArray[np.float64]
 
 __all__ = ["MAX_SAMPLES", "MIN_SAMPLES_PER_JOB", "ProgressFn", "count_sampled", "default_jobs"]
 

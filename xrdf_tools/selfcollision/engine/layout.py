@@ -12,15 +12,12 @@ the smallest value over its parts and OR-s their verdicts. Every part is laid ou
 from __future__ import annotations
 
 import numpy as np
-import numpy.typing as npt
 
+from ...util.arrays import FloatArray, IntArray
 from ..collision import CULL_SLACK, SphereSet, bounding_sphere
 from .bounds import _delta
 from .pairs import _BodyPair
 from .reach import Reach
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
 
 #: A side with more spheres than this is cut into its frames.
 _SPLIT_SPHERES = 48

@@ -13,15 +13,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import SphereSet
 from .bodies import F32
 from .grid import PairGrid
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
 
 #: float32 elements of one distance block (E = [m_a, m_b, n]): sized for a 512 KB L2 cache.
 _BLOCK_ELEMENTS = 1 << 15

@@ -23,14 +23,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from .bodies import PRISM, _Bodies
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.intp]
-BoolArray = npt.NDArray[np.bool_]
 
 __all__ = ["Reach", "SidePrune"]
 
