@@ -171,8 +171,10 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         def link5_first() -> Any:
             return editor.state.xrdf.resolved_spheres("panda_spheres")["panda_link5"][0]
 
-        for axis, v in zip("xyz", (0.01, 0.02, 0.03), strict=True):
-            set_number(page, f"Center {axis} (m)", v)
+        for i, (axis, v) in enumerate(zip("xyz", (0.01, 0.02, 0.03), strict=True)):
+            set_number(page, f"Center {axis} (m)", v)  # one field at a time: each edit
+            wait_for(lambda i=i, v=v: link5_first().center[i] == v, f"centre {axis}")  # redraws
+            settle(editor, page)
         set_number(page, "Radius", 0.07)
 
         wait_for(lambda: link5_first().radius == 0.07, "the radius")
