@@ -295,6 +295,23 @@ def test_report_mask_applies_as_the_report_writes_it(panda: tuple[Any, Xrdf]) ->
     assert st.xrdf == recommended_xrdf(x, report)
 
 
+def test_a_report_witness_poses_the_robot_where_its_pair_collides(
+    panda: tuple[Any, Xrdf], edit_robot: EditRobot
+) -> None:
+    """The page's "Pose witness": the witness of a pair, as a pose, shows that pair touching."""
+    from xrdf_tools.report import CertifyOptions, self_collision_report
+
+    robot, x = panda
+    # few samples leave pairs "never seen" that --certify then finds a colliding pose for
+    report = self_collision_report(robot, x, samples=20, seed=0, certify=CertifyOptions(20.0))
+    with_witness = [p for p in report.pairs if p.witness is not None]
+    assert with_witness
+    for p in with_witness[:5]:
+        q = edit_robot.pose_from(edit_robot.default_pose(x), p.witness)
+        touching = edit_robot.collisions(x, q).pairs()
+        assert frozenset((p.frame_a, p.frame_b)) in touching, (p.frame_a, p.frame_b)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize(
     ("urdf", "srdf", "groups", "hands"),
