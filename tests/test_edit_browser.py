@@ -16,7 +16,6 @@ from __future__ import annotations
 import os
 import re
 import shutil
-import socket
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -24,6 +23,7 @@ from typing import Any
 
 import pytest
 
+from tests.browser import CHROMIUM, CHROMIUM_ARGS, free_port
 from tests.robots import robot_urdf
 from xrdf_tools.diff import diff_files, diff_xrdf
 from xrdf_tools.edit import (
@@ -44,17 +44,6 @@ sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not 
 
 FIXTURES = Path(__file__).resolve().parent.parent / "fixtures"
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
-CHROMIUM = os.environ.get("XRDF_CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"
-CHROMIUM_ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
 TIMEOUT_MS = 60_000
 sync_api.expect.set_options(timeout=TIMEOUT_MS)
 
@@ -62,12 +51,6 @@ pytestmark = [
     pytest.mark.slow,
     pytest.mark.skipif(not Path(CHROMIUM).is_file(), reason=f"no chromium at {CHROMIUM}"),
 ]
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,6 @@ from __future__ import annotations
 import importlib.util
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -19,6 +18,7 @@ from typing import Any
 import pytest
 from typer.testing import CliRunner
 
+from tests.browser import free_port
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
 
@@ -34,12 +34,6 @@ needs_viser = pytest.mark.skipif(
 
 def run(*args: str) -> Any:
     return CliRunner().invoke(app, ["edit", *args])
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 def test_without_the_extra_it_says_which_to_install(monkeypatch: pytest.MonkeyPatch) -> None:

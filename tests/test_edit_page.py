@@ -5,12 +5,12 @@ Real inputs: the example-robot-data Panda URDF with fixtures/panda/panda.xrdf. N
 
 from __future__ import annotations
 
-import socket
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from tests.browser import free_port
 from tests.robots import robot_urdf
 from xrdf_tools.edit import EditRobot, EditState, SetRadius
 from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
@@ -20,12 +20,6 @@ from xrdf_tools.xrdf.io import load_xrdf
 pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
 
 PANDA_XRDF = Path(__file__).resolve().parent.parent / "fixtures" / "panda" / "panda.xrdf"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.mark.slow
