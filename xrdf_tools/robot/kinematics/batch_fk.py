@@ -47,14 +47,27 @@ _WORK_MAX_BATCH = 1 << 16  # larger batches get fresh scratch buffers each call
 
 
 def _scratch(B: int) -> dict[int, FloatArray]:
-    """Per-thread scratch buffers [3, c, B] (c = 3, 4, 5, 10), reused across calls."""
+    """Per-thread scratch buffers [3, |c|, B] (c = ±3, ±4, ±5, ±10: the negative ones hold a
+    product term), reused across calls."""
     cached: tuple[int, dict[int, FloatArray]] | None = getattr(_WORK, "buffers", None)
     if cached is not None and cached[0] == B:
         return cached[1]
-    bufs = {c: np.empty((3, c, B)) for c in (3, 4, 5, 10)}
+    bufs = {c: np.empty((3, abs(c), B)) for c in (3, 4, 5, 10, -3, -4, -5, -10)}
     if B <= _WORK_MAX_BATCH:
         _WORK.buffers = (B, bufs)
     return bufs
+
+
+def _times(M: FloatArray, A: FloatArray, work: dict[int, FloatArray], c: int) -> FloatArray:
+    """``M @ A`` [3, c, B] for ``M`` (c, 3) and ``A`` [3, 3, B], summed term by term: unlike a
+    BLAS product, each configuration's result does not depend on the batch around it (so an
+    exact value is the same whichever configurations are computed together)."""
+    out, term = work[c], work[-c]
+    np.multiply(M[None, :, 0, None], A[:, None, 0, :], out=out)
+    for k in (1, 2):
+        np.multiply(M[None, :, k, None], A[:, None, k, :], out=term)
+        out += term
+    return out
 
 
 def _fk_batch_last(
@@ -91,7 +104,7 @@ def _fk_batch_last(
         M = plan.consts_t[f]
         # X = parent rotation times the constants: (c, 3) @ (3, 3, B) -> [3, c, B]; when the
         # parent is the root (identity) it is the constants themselves, [3, c, 1]
-        X = plan.consts_root[f] if p == 0 else np.matmul(M, R[p], out=work[M.shape[0]])
+        X = plan.consts_root[f] if p == 0 else _times(M, R[p], work, M.shape[0])
         kind = plan.kinds[f]
         Rf, tf = R[f], t[f]
         if kind == KIND_ROT:

@@ -42,6 +42,8 @@ __all__ = [
 
 #: Sphere-pair evaluations per block of :func:`frame_pair_verdicts` (bounded memory).
 _BLOCK_ELEMENTS = 1 << 15
+#: float64 pose entries per block of :func:`frame_pair_verdicts` (12 per frame and configuration).
+_POSE_ELEMENTS = 1 << 20
 
 
 # ------------------------------------------------------------------------------------------
@@ -91,12 +93,15 @@ def centers_batch_last(
 
 def _place(local: FloatArray, R: FloatArray, t: FloatArray, out: FloatArray) -> None:
     """``out`` [m, 3, B] = the points ``local`` [m, 3] placed by rotations ``R`` [3, 3, B] and
-    translations ``t`` [3, B]: one GEMM (``out[s, i, b] = Σ_k local[s, k] R[i, k, b] + t[i, b]``).
-    Every centre of every counter is computed by this one function, so that they agree to
-    the last bit."""
-    B = R.shape[-1]
-    Rk = np.ascontiguousarray(R.transpose(1, 0, 2)).reshape(3, 3 * B)
-    np.matmul(local, Rk, out=out.reshape(len(local), 3 * B))
+    translations ``t`` [3, B]: ``out[s, i, b] = Σ_k local[s, k] R[i, k, b] + t[i, b]``, summed
+    term by term in a fixed order. Every centre of every counter is computed by this one
+    function, so that they agree to the last bit, whichever configurations are placed
+    together (a BLAS product's last bit may depend on the batch around a configuration)."""
+    term = np.empty_like(out)
+    np.multiply(local[:, None, 0, None], R[None, :, 0, :], out=out)
+    for k in (1, 2):
+        np.multiply(local[:, None, k, None], R[None, :, k, :], out=term)
+        out += term
     out += t
 
 
@@ -157,9 +162,10 @@ def frame_pair_verdicts(
 
     ``q_full`` [U, n]: configurations of every actuated joint. Entry ``e`` asks whether any
     sphere pair of frame pair ``ks[e]`` collides at ``q_full[rows[e]]`` (:func:`touching`)
-    and for its smallest clearance. Only the frames of the asked pairs are placed, a block of
-    configurations at a time, and every frame pair is evaluated in blocks: memory stays
-    bounded whatever the number of spheres or entries.
+    and for its smallest clearance. The frames of the asked pairs are posed a block of
+    configurations at a time; within a block every frame pair places its two frames' spheres
+    only at the configurations asked for it, so the work follows the entries and memory stays
+    bounded whatever the number of spheres, frames or entries.
     """
     s = spheres
     hit = np.zeros(len(ks), dtype=np.bool_)
@@ -167,58 +173,77 @@ def frame_pair_verdicts(
     if len(ks) == 0:
         return hit, clr
     frames = np.unique(np.concatenate([s.frame_pair_a[ks], s.frame_pair_b[ks]]))
-    n_needed = sum(s.spheres_of(int(f)).stop - s.spheres_of(int(f)).start for f in frames)
-    step = max(1, _BLOCK_ELEMENTS // max(1, n_needed))
+    slot = {int(f): i for i, f in enumerate(frames.tolist())}
+    step = max(1, _POSE_ELEMENTS // (12 * len(frames)))
     by_row = np.argsort(rows, kind="stable")
     bounds = np.searchsorted(rows[by_row], np.arange(0, len(q_full) + step, step))
     for u0, e0, e1 in zip(range(0, len(q_full), step), bounds[:-1], bounds[1:], strict=False):
         if e0 == e1:
             continue
+        R, t = fk_batch_last(kin, q_full[u0 : u0 + step], s.frame_kin_index[frames])
         ents = by_row[e0:e1]
-        q2 = q_full[u0 : u0 + step]
-        R, t = fk_batch_last(kin, q2, s.frame_kin_index[frames])
-        placed = {}
-        for i, f in enumerate(frames.tolist()):
-            sl = s.spheres_of(f)
-            c = np.empty((sl.stop - sl.start, 3, len(q2)))
-            _place(s.local_centers[sl], R[i], t[i], c)
-            placed[f] = c.transpose(2, 0, 1)  # [w, m_f, 3]
-        _decide(s, placed, ks[ents], rows[ents] - u0, hit, clr, ents)
+        _decide_block(s, (R, t), slot, ks[ents], rows[ents] - u0, hit, clr, ents)
     return hit, clr
 
 
-def _decide(
+def _decide_block(
     s: SphereSet,
-    placed: dict[int, FloatArray],
+    poses: tuple[FloatArray, FloatArray],
+    slot: dict[int, int],
     ks: IntArray,
     rows: IntArray,
     hit: BoolArray,
     clr: FloatArray,
     out_at: IntArray,
 ) -> None:
-    """Entries ``(ks[e], rows[e])`` decided from the placed centres, grouped by frame pair."""
+    """Entries ``(ks[e], rows[e])`` of one block of posed configurations (``poses``: the
+    frames' rotations and translations, frame ``f`` at ``slot[f]``), by frame pair."""
+    R, t = poses
     order = np.argsort(ks, kind="stable")
-    uk, starts = np.unique(ks[order], return_index=True)
-    ends = np.append(starts[1:], len(order))
-    for k, s0, s1 in zip(uk.tolist(), starts.tolist(), ends.tolist(), strict=True):
+    cut = np.flatnonzero(ks[order][1:] != ks[order][:-1]) + 1
+    for group in np.split(order, cut):
+        k = int(ks[group[0]])
+        at, inv = np.unique(rows[group], return_inverse=True)
         fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
-        ra, rb = s.self_radii[s.spheres_of(fa)], s.self_radii[s.spheres_of(fb)]
-        row_step = max(1, _BLOCK_ELEMENTS // len(rb))  # bounded memory, however many spheres
-        step = max(1, _BLOCK_ELEMENTS // (min(row_step, len(ra)) * len(rb)))
-        for e0 in range(s0, s1, step):
-            ent = order[e0 : min(s1, e0 + step)]
-            r = rows[ent]
-            cb = placed[fb][r][:, None, :, :]
-            h = np.zeros(len(ent), dtype=np.bool_)
-            c = np.full(len(ent), np.inf)
-            for i0 in range(0, len(ra), row_step):
-                rs = ra[i0 : i0 + row_step, None] + rb[None, :]
-                diff = placed[fa][r, i0 : i0 + row_step][:, :, None, :] - cb
-                d2 = np.einsum("...k,...k->...", diff, diff)
-                h |= touching(d2, rs).any(axis=(1, 2))
-                np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
-            hit[out_at[ent]] = h
-            clr[out_at[ent]] = c
+        ia, ib = slot[fa], slot[fb]
+        h, c = _frame_pair_at(
+            s, fa, fb, (R[ia][..., at], t[ia][..., at]), (R[ib][..., at], t[ib][..., at])
+        )
+        hit[out_at[group]] = h[inv]
+        clr[out_at[group]] = c[inv]
+
+
+def _frame_pair_at(
+    s: SphereSet,
+    fa: int,
+    fb: int,
+    pose_a: tuple[FloatArray, FloatArray],
+    pose_b: tuple[FloatArray, FloatArray],
+) -> tuple[BoolArray, FloatArray]:
+    """Verdicts [w] and smallest clearances [w] of frames ``fa`` and ``fb`` posed at ``w``
+    configurations (rotations [3, 3, w], translations [3, w] of each frame)."""
+    sa, sb = s.spheres_of(fa), s.spheres_of(fb)
+    ra, rb = s.self_radii[sa], s.self_radii[sb]
+    w = pose_a[0].shape[-1]
+    ca = np.empty((len(ra), 3, w))
+    cb = np.empty((len(rb), 3, w))
+    _place(s.local_centers[sa], *pose_a, ca)
+    _place(s.local_centers[sb], *pose_b, cb)
+    pa, pb = ca.transpose(2, 0, 1), cb.transpose(2, 0, 1)  # [w, m, 3]
+    row_step = max(1, _BLOCK_ELEMENTS // len(rb))  # bounded memory, however many spheres
+    step = max(1, _BLOCK_ELEMENTS // (min(row_step, len(ra)) * len(rb)))
+    hit = np.zeros(w, dtype=np.bool_)
+    clr = np.full(w, np.inf)
+    for c0 in range(0, w, step):
+        h, c = hit[c0 : c0 + step], clr[c0 : c0 + step]
+        qb = pb[c0 : c0 + step, None, :, :]
+        for i0 in range(0, len(ra), row_step):
+            rs = ra[i0 : i0 + row_step, None] + rb[None, :]
+            diff = pa[c0 : c0 + step, i0 : i0 + row_step, None, :] - qb
+            d2 = np.einsum("...k,...k->...", diff, diff)
+            h |= touching(d2, rs).any(axis=(1, 2))
+            np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
+    return hit, clr
 
 
 # ------------------------------------------------------------------------------------------

@@ -26,7 +26,14 @@ import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel, fk
 from ...util.arrays import BoolArray, FloatArray, IntArray
-from ..collision import CULL_SLACK, SphereSet, frame_pair_verdicts
+from ..collision import (
+    CULL_SLACK,
+    SphereSet,
+    frame_pair_verdicts,
+    sphere_world_centers,
+    squared_distances,
+    touching,
+)
 from .bodies import (
     _EPS32,
     F32,
@@ -38,9 +45,10 @@ from .bodies import (
 )
 from .bounds import _clearance_hi, _clearance_lo, _energy_at
 from .culling import _Culler
-from .layout import _body_pairs
+from .layout import Layout, _body_pairs
 from .pairs import _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
 from .reach import Reach
+from .sharpen import Sharpener
 
 __all__ = ["CountEngine", "EngineTotals"]
 
@@ -133,7 +141,7 @@ class CountEngine:
         self.frame_body = _frame_bodies(spheres, self.sphere_body)
         self.const_k, self.const_hit, self.const_clear = self._constant_pairs()
         reach = Reach.of(kin, self.varying, self.bodies)
-        pairs, out_of_reach = _body_pairs(
+        layout = _body_pairs(
             spheres,
             self.frame_body,
             self.local,
@@ -142,12 +150,19 @@ class CountEngine:
             reach,
             self.margin + CULL_SLACK,
         )
+        pairs = layout.pairs
         #: [K] lower bound of the clearance of the sphere pairs that can never come within the
         #: margin (+inf where there are none); they are never evaluated.
         self.reach_bound = np.full(self.K, np.inf)
-        for k, low in out_of_reach.items():
+        for k, low in layout.out_of_reach.items():
             self.reach_bound[k] = low
+        #: [K] whether a sphere pair that no joint moves collides, and the smallest clearance
+        #: of those pairs (+inf where there are none): decided once, never sampled.
+        self.fixed_hit, self.fixed_clear = self._fixed_pairs(layout)
         self.pairs = self.culler.choose(pairs)
+        self.sharpener = Sharpener.of(
+            self.bodies, spheres, self.local, self.frame_body, kin.n_frames
+        )
         self.delta_k, self.rlo_k, self.rhi_k = _pair_constants(spheres, self.pairs)
 
     def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
@@ -160,6 +175,22 @@ class CountEngine:
             return karr, np.zeros(0, dtype=np.bool_), np.zeros(0)
         hit, clr = self._exact(karr, np.zeros(len(ks), dtype=np.intp), self.q_base[None, :])
         return karr, hit, clr
+
+    def _fixed_pairs(self, layout: Layout) -> tuple[BoolArray, FloatArray]:
+        """Verdicts and clearances of the sphere pairs whose distance no joint changes, at the
+        base configuration, with the reference pair test (exact for every configuration)."""
+        hit = np.zeros(self.K, dtype=np.bool_)
+        clear = np.full(self.K, np.inf)
+        if not layout.fixed_k:
+            return hit, clear
+        i, j = np.array(layout.fixed_i), np.array(layout.fixed_j)
+        k = np.array(layout.fixed_k, dtype=np.intp)
+        c = sphere_world_centers(self.kin, self.spheres, self.q_base)
+        r = self.spheres.self_radii[i] + self.spheres.self_radii[j]
+        d2 = squared_distances(c, i, j)
+        np.logical_or.at(hit, k, touching(d2, r))
+        np.minimum.at(clear, k, np.sqrt(d2) - r)
+        return hit, clear
 
     # --- per chunk -----------------------------------------------------------------------
     def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
@@ -176,7 +207,9 @@ class CountEngine:
         gaps = self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled) if culled else None
         hits = np.zeros((self.K, B), dtype=np.bool_)
         # the best clearance so far only narrows the candidates (it never changes a result)
-        prev = totals.min_clearance if totals is not None else np.full(self.K, np.inf)
+        prev = self.fixed_clear.copy()
+        if totals is not None:
+            np.minimum(prev, totals.min_clearance, out=prev)
         ch = _Chunk(hits, self.reach_bound.copy(), T, q, gaps, prev)
         row = 0
         for bp in self.pairs:
@@ -185,8 +218,9 @@ class CountEngine:
             row += bp.cull
             if sel is None or len(sel):
                 self._classify(bp, ch, sel, _evaluate(bp, ch.T, sel))
-        best = np.full(self.K, np.inf)
+        best = self.fixed_clear.copy()
         n_exact = self._recheck(ch, best)
+        hits |= self.fixed_hit[:, None]
         if len(self.const_k):
             hits[self.const_k] = self.const_hit[:, None]
             best[self.const_k] = self.const_clear
@@ -256,11 +290,23 @@ class CountEngine:
         return kept
 
     def _recheck(self, ch: _Chunk, best: FloatArray) -> int:
-        """Decide the queued entries in float64: exact verdicts into ``ch.hits``, exact
-        clearances into ``best``. Returns how many entries were redone."""
+        """Decide the queued entries: a float64 look along the tree path first
+        (:mod:`.sharpen`), then the reference pair test for the verdicts still within its
+        error of zero and the candidates still tied with a frame pair's smallest clearance.
+        Exact verdicts go into ``ch.hits``, exact clearances into ``best``. Returns how many
+        entries the reference test redid."""
         if not ch.re_k:
             return 0
-        ks, bs = np.concatenate(ch.re_k), np.concatenate(ch.re_b)
+        B = ch.q.shape[0]
+        key = np.unique(np.concatenate(ch.re_k).astype(np.int64) * B + np.concatenate(ch.re_b))
+        ks, bs = key // B, key % B  # sorted by frame pair, each entry once
+        e_min, clear = self.sharpener.evaluate(ks, ch.q[bs])
+        sure = np.abs(e_min) > self.sharpener.delta
+        ch.hits[ks[sure], bs[sure]] = e_min[sure] < 0.0
+        need = ~sure | self._tied(ks, clear, ch)
+        ks, bs = ks[need], bs[need]
+        if not len(ks):
+            return 0
         ub, inv = np.unique(bs, return_inverse=True)
         qf = np.repeat(self.q_base[None, :], len(ub), axis=0)
         qf[:, self.varying] = ch.q[ub]
@@ -268,6 +314,23 @@ class CountEngine:
         ch.hits[ks, bs] = hit
         np.minimum.at(best, ks, clr)
         return len(ks)
+
+    def _tied(self, ks: IntArray, clear: FloatArray, ch: _Chunk) -> BoolArray:
+        """Entries (sorted by frame pair ``ks``) that may hold their frame pair's smallest
+        clearance of the chunk below ``min(margin, the best so far)``. The others' clearances
+        exceed that of an entry kept, or the frame pair's recorded bound."""
+        tau = self.sharpener.tau
+        starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
+        c_min = np.minimum.reduceat(clear, starts)
+        k_of = ks[starts]
+        lim = np.minimum(self.margin, ch.prev[k_of])
+        wanted = c_min - tau <= lim
+        low = np.where(wanted, np.inf, c_min - tau)
+        ch.bound[k_of] = np.minimum(ch.bound[k_of], low)
+        counts = np.diff(np.r_[starts, len(ks)])
+        thr = np.repeat(np.where(wanted, c_min + 2.0 * tau, -np.inf), counts)
+        tied: BoolArray = clear <= thr
+        return tied
 
     def _exact(
         self, ks: IntArray, rows: IntArray, q_full: FloatArray

@@ -11,9 +11,11 @@ the smallest value over its parts and OR-s their verdicts. Every part is laid ou
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
-from ...util.arrays import FloatArray, IntArray
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import CULL_SLACK, SphereSet, bounding_sphere
 from .bounds import _delta
 from .pairs import _BodyPair
@@ -25,6 +27,24 @@ _SPLIT_SPHERES = 48
 _MAX_SIDE = 512
 
 
+@dataclass
+class Layout:
+    """The engine's sampled work and what was decided without sampling.
+
+    ``pairs``: the body pairs to evaluate. ``out_of_reach``: per frame pair that lost sphere
+    pairs to :meth:`Reach.prune`, a lower bound of their clearance (a frame pair that lost all
+    of them is in no body pair: it cannot come within the limit). ``fixed_i``/``fixed_j``/
+    ``fixed_k``: sphere pairs whose distance no joint changes (:meth:`Reach.on_axis`) and their
+    frame pairs; they are decided once and never sampled.
+    """
+
+    pairs: list[_BodyPair] = field(default_factory=list)
+    out_of_reach: dict[int, float] = field(default_factory=dict)
+    fixed_i: list[int] = field(default_factory=list)
+    fixed_j: list[int] = field(default_factory=list)
+    fixed_k: list[int] = field(default_factory=list)
+
+
 def _body_pairs(
     spheres: SphereSet,
     frame_body: IntArray,
@@ -33,10 +53,8 @@ def _body_pairs(
     skip: set[int],
     reach: Reach,
     limit: float,
-) -> tuple[list[_BodyPair], dict[int, float]]:
-    """The frame pairs of ``spheres`` (except those in ``skip``) as body pairs, and a lower
-    bound of the clearance of every frame pair that lost sphere pairs to :meth:`Reach.prune`
-    (a frame pair that lost all of them is in no body pair: it cannot come within ``limit``).
+) -> Layout:
+    """The frame pairs of ``spheres`` (except those in ``skip``) laid out as body pairs.
 
     ``frame_body`` [Fs]: each frame's body; ``local`` [S, 3]: each sphere's centre in its
     body frame; ``err``: the float32 position error bound (:func:`~.bodies._position_error`).
@@ -48,11 +66,10 @@ def _body_pairs(
             continue
         ba, bb = int(frame_body[s.frame_pair_a[k]]), int(frame_body[s.frame_pair_b[k]])
         groups.setdefault((min(ba, bb), max(ba, bb)), []).append(k)
-    pairs: list[_BodyPair] = []
-    bounds: dict[int, float] = {}
+    out = Layout()
     for key, ks in groups.items():
-        pairs.extend(_split_pair(s, frame_body, local, err, reach, limit, key, ks, bounds))
-    return pairs, bounds
+        out.pairs.extend(_split_pair(s, frame_body, local, err, reach, limit, key, ks, out))
+    return out
 
 
 def _split_pair(
@@ -64,7 +81,7 @@ def _split_pair(
     limit: float,
     key: tuple[int, int],
     ks: list[int],
-    bounds: dict[int, float],
+    layout: Layout,
 ) -> list[_BodyPair]:
     a, b = key
     side: dict[int, list[int]] = {a: [], b: []}
@@ -76,6 +93,8 @@ def _split_pair(
     ib, wb = _side_rows(s, side[b])
     r = s.self_radii
     pa, pb = reach.prune(a, b, local[ia], r[ia], local[ib], r[ib], limit)
+    fixed_a, fixed_b = reach.on_axis(a, b, local[ia], local[ib])
+    sampled_a, sampled_b = pa.keep & ~fixed_a, pb.keep & ~fixed_b
     kept: list[tuple[int, int, int]] = []  # (frame pair, frame on a, frame on b)
     for k in ks:
         fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
@@ -83,10 +102,12 @@ def _split_pair(
             fa, fb = fb, fa
         low = min(float(pa.gap[wa[fa]].min()), float(pb.gap[wb[fb]].min()))
         if low < np.inf:
-            bounds[k] = low
-        if pa.keep[wa[fa]].any() and pb.keep[wb[fb]].any():
+            layout.out_of_reach[k] = low
+        _fix(layout, k, ia[wa[fa]], ib[wb[fb]], (pa.keep & fixed_a)[wa[fa]], pb.keep[wb[fb]])
+        _fix(layout, k, ib[wb[fb]], ia[wa[fa]], (pb.keep & fixed_b)[wb[fb]], sampled_a[wa[fa]])
+        if sampled_a[wa[fa]].any() and sampled_b[wb[fb]].any():
             kept.append((k, fa, fb))
-    keep = set(ia[pa.keep].tolist()) | set(ib[pb.keep].tolist())
+    keep = set(ia[sampled_a].tolist()) | set(ib[sampled_b].tolist())
     parts_a = _parts(s, a, sorted({fa for _, fa, _ in kept}), keep)
     parts_b = _parts(s, b, sorted({fb for _, _, fb in kept}), keep)
     out = []
@@ -96,6 +117,18 @@ def _split_pair(
             if mine:
                 out.append(_assemble(s, local, err, (a, b), (ga, gb), mine, keep_a | keep_b))
     return out
+
+
+def _fix(
+    layout: Layout, k: int, mine: IntArray, theirs: IntArray, fixed: BoolArray, other: BoolArray
+) -> None:
+    """Record the sphere pairs of frame pair ``k`` between the fixed spheres of one side and
+    the kept spheres of the other (each such pair once)."""
+    for i in mine[fixed].tolist():
+        for j in theirs[other].tolist():
+            layout.fixed_i.append(i)
+            layout.fixed_j.append(j)
+            layout.fixed_k.append(k)
 
 
 def _parts(

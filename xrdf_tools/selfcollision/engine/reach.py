@@ -124,6 +124,26 @@ class Reach:
         anc, desc = _side(g_anc, limit), _side(g_desc, limit)
         return (desc, anc) if swap else (anc, desc)
 
+    def on_axis(
+        self, a: int, b: int, xa: FloatArray, xb: FloatArray
+    ) -> tuple[BoolArray, BoolArray]:
+        """Spheres of ``a`` and ``b`` (centres in their body frames) whose distance to every
+        sphere of the other body never changes: when one body turns about a revolute joint of
+        the other, a centre on that joint's axis keeps its distance to everything across it.
+        Such sphere pairs are decided once instead of sampled. Both masks are all False unless
+        one body is the other's child."""
+        none_a, none_b = np.zeros(len(xa), dtype=np.bool_), np.zeros(len(xb), dtype=np.bool_)
+        bd = self.bodies
+        for anc, desc, x_anc, x_desc, swap in ((a, b, xa, xb, False), (b, a, xb, xa, True)):
+            if desc == 0 or bd.parent[desc] != anc or bd.kind[desc] == PRISM:
+                continue
+            C = bd.consts[desc]
+            y = (x_anc - C[:3, 3]) @ C[:3, :3]  # the ancestor's centres in the joint frame
+            on_anc = np.hypot(y[:, 0], y[:, 1]) <= _ON_AXIS
+            on_desc = np.hypot(x_desc[:, 0], x_desc[:, 1]) <= _ON_AXIS
+            return (on_desc, on_anc) if swap else (on_anc, on_desc)
+        return none_a, none_b
+
     def _circles(
         self, j: int, xa: FloatArray, ra: FloatArray, xb: FloatArray, rb: FloatArray
     ) -> tuple[FloatArray, FloatArray]:
@@ -146,6 +166,9 @@ class Reach:
         return g_a, g_b
 
 
+#: A centre this close to a joint axis (m) is on it: its distances across the joint change by
+#: less than float64 rounding of a report's clearances.
+_ON_AXIS = 1e-15
 #: Sphere pairs per block of the build-time gap computation (bounded memory).
 _BLOCK = 1 << 18
 
