@@ -25,6 +25,8 @@ from xrdf_tools.selfcollision.engine import CountEngine, EngineTotals
 from xrdf_tools.selfcollision.engine.layout import _body_pairs
 from xrdf_tools.selfcollision.engine.reach import Reach
 
+EPS32 = float(np.finfo(np.float32).eps)
+
 
 @pytest.mark.parametrize("width", [1, 2, 7, 64, 999])
 def test_fk_bits_do_not_depend_on_the_batch(width: int) -> None:
@@ -110,3 +112,26 @@ def test_sphere_pairs_on_a_joint_axis_are_constant_and_decided_once() -> None:
         np.testing.assert_array_equal(hits[k], ref[key], err_msg=f"{a}/{b}")
         if ref_min[key] < 0.01:
             assert totals.min_clearance[k] == pytest.approx(ref_min[key], abs=1e-12)
+
+
+@pytest.mark.parametrize("robot", [panda, three_link])
+def test_path_local_float32_poses_stay_within_their_bound(robot) -> None:  # type: ignore[no-untyped-def]
+    """Body pairs a joint or two apart compose their relative pose from those joints in
+    float32; the centres of ``b`` in ``a``'s frame stay far within the pair's bound."""
+    from xrdf_tools.selfcollision.engine.bodies import _body_poses, _joint_values
+    from xrdf_tools.selfcollision.engine.pairs import ChunkPoses, _pair_transform
+
+    kin, xrdf = robot()
+    eng, _, _, varying = _engine(kin, xrdf)
+    q = fixed_configs(kin, 2000, seed=9)[:, varying]
+    poses = ChunkPoses(eng.bodies, _body_poses(eng.bodies, q), _joint_values(eng.bodies, q))
+    local = [bp for bp in eng.pairs if bp.path is not None]
+    assert local
+    for bp in local:
+        T32 = _pair_transform(bp, poses, None).astype(np.float64)  # [3, 4, n]
+        R, t = eng.sharpener.relative(bp.a, bp.b, q)  # float64 [n, 3, 3], [n, 3]
+        pb = eng.local[bp.ib]
+        fast = np.einsum("ikn,mk->nmi", T32[:, :3], pb) + T32[:, 3].T[:, None, :]
+        exact = np.einsum("nik,mk->nmi", R, pb) + t[:, None, :]
+        assert np.abs(fast - exact).max() < bp.tau / 10
+        assert bp.tau < 2 * eng.err + 8 * EPS32 * eng.bodies.lever  # tighter than the world

@@ -221,6 +221,64 @@ def _body_fk_block(bodies: _Bodies, q_var: FloatArray, T: F32) -> None:
             Y[:, 3] += tmp[0]
 
 
+def _chains(bodies: _Bodies, a: int, b: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """The bodies from the lowest common ancestor of ``a`` and ``b`` (excluded) down to ``a``
+    and down to ``b``, top first."""
+    up_a = [a]
+    while up_a[-1] != 0:
+        up_a.append(bodies.parent[up_a[-1]])
+    chain_b = [b]
+    while chain_b[-1] not in up_a:
+        chain_b.append(bodies.parent[chain_b[-1]])
+    lca = chain_b.pop()
+    return tuple(up_a[: up_a.index(lca)][::-1]), tuple(chain_b[::-1])
+
+
+def _chain_pose(bodies: _Bodies, chain: tuple[int, ...], vals: F32) -> F32:
+    """float32 poses [3, 4, n] of the last body of ``chain`` in the frame of the first one's
+    parent, ``C_1 Z(θ_1) C_2 Z(θ_2) …``, from joint values ``vals`` [nb − 1, n] (as
+    :func:`_body_fk_block` steps, but from that parent instead of the root)."""
+    n = vals.shape[-1]
+    Y = np.empty((3, 4, n), dtype=np.float32)
+    if not chain:
+        Y[...] = np.eye(3, 4, dtype=np.float32)[:, :, None]
+        return Y
+    Y[...] = bodies.consts_root[chain[0]]
+    _turn(bodies, chain[0], vals, Y)
+    for j in chain[1:]:
+        Y = np.matmul(bodies.consts_t[j], Y)
+        _turn(bodies, j, vals, Y)
+    return Y
+
+
+def _turn(bodies: _Bodies, j: int, vals: F32, Y: F32) -> None:
+    """Apply body ``j``'s joint motion ``Z(θ_j)`` to the poses ``Y`` [3, 4, n] in place."""
+    v = vals[j - 1]
+    if bodies.kind[j] == _ROT:
+        c, s = np.cos(v), np.sin(v)
+        x, y = Y[:, 0].copy(), Y[:, 1]
+        Y[:, 0] = x * c + y * s
+        y *= c
+        y -= x * s
+    else:
+        Y[:, 3] += Y[:, 2] * v
+
+
+def _chain_error(
+    bodies: _Bodies, chains: tuple[tuple[int, ...], ...], travel: FloatArray, reach: float
+) -> tuple[float, float]:
+    """Bound (m) on the float32 error of a sphere centre moved along ``chains`` (see
+    :func:`_position_error`: the same bound with the chains' own lever arm), and that lever
+    arm. ``reach``: the largest distance of a sphere centre from its body origin; ``travel``
+    [nb]: each body's prismatic travel (0 for a revolute joint)."""
+    bodies_on = [j for chain in chains for j in chain]
+    lever = reach + sum(
+        float(np.linalg.norm(bodies.consts[j][:3, 3])) + float(travel[j]) for j in bodies_on
+    )
+    lever = max(lever, 1e-3)
+    return 8.0 * _EPS32 * (len(bodies_on) + 2) * lever, lever
+
+
 def _position_error(bodies: _Bodies) -> float:
     """Bound (m) on the float32 error of a sphere centre in another body's frame.
 

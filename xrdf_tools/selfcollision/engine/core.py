@@ -35,18 +35,18 @@ from ..collision import (
     touching,
 )
 from .bodies import (
-    _EPS32,
     F32,
     _body_poses,
     _body_roots,
     _build_bodies,
+    _joint_values,
     _local_centers,
     _position_error,
 )
 from .bounds import _clearance_hi, _clearance_lo, _energy_at
 from .culling import _Culler
 from .layout import Layout, _body_pairs
-from .pairs import _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
+from .pairs import ChunkPoses, _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
 from .reach import Reach
 from .sharpen import Sharpener
 
@@ -99,7 +99,7 @@ class _Chunk:
 
     hits: BoolArray
     bound: FloatArray
-    T: F32 = field(repr=False)  # [nb, 3, 4, B] body poses [R | t]
+    poses: ChunkPoses = field(repr=False)
     q: FloatArray = field(repr=False)
     gaps: F32 | None = field(repr=False)
     prev: FloatArray = field(repr=False)  # [K] exact minimum clearances of earlier chunks
@@ -203,6 +203,7 @@ class CountEngine:
             raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
         B = q.shape[0]
         T = _body_poses(self.bodies, q)
+        poses = ChunkPoses(self.bodies, T, _joint_values(self.bodies, q))
         culled = [bp for bp in self.pairs if bp.cull]
         gaps = self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled) if culled else None
         hits = np.zeros((self.K, B), dtype=np.bool_)
@@ -210,14 +211,14 @@ class CountEngine:
         prev = self.fixed_clear.copy()
         if totals is not None:
             np.minimum(prev, totals.min_clearance, out=prev)
-        ch = _Chunk(hits, self.reach_bound.copy(), T, q, gaps, prev)
+        ch = _Chunk(hits, self.reach_bound.copy(), poses, q, gaps, prev)
         row = 0
         for bp in self.pairs:
             g2 = gaps[row] if bp.cull and gaps is not None else None
             sel = self.culler.select(bp, ch.q, g2, ch.bound)
             row += bp.cull
             if sel is None or len(sel):
-                self._classify(bp, ch, sel, _evaluate(bp, ch.T, sel))
+                self._classify(bp, ch, sel, _evaluate(bp, ch.poses, sel))
         best = self.fixed_clear.copy()
         n_exact = self._recheck(ch, best)
         hits |= self.fixed_hit[:, None]
@@ -275,9 +276,9 @@ class CountEngine:
         of the smallest are kept for float64. The dropped ones' clearances exceed the limit
         recorded in the frame pair's bound.
         """
-        tau = 2.0 * self.err + 8.0 * _EPS32 * self.bodies.lever
+        tau = bp.tau
         idx = np.flatnonzero(cand.any(axis=0))
-        clr = _direct(bp, ch.T, cols[idx])
+        clr = _direct(bp, ch.poses, cols[idx])
         kept = np.zeros_like(cand)
         for i, (k, _, _) in enumerate(bp.blocks):
             ci = cand[i, idx]

@@ -17,10 +17,14 @@ import numpy as np
 
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import CULL_SLACK, SphereSet, bounding_sphere
+from .bodies import _EPS32, _chain_error, _chains
 from .bounds import _delta
 from .pairs import _BodyPair
 from .reach import Reach
 
+#: Body pairs at most this many joints apart have their relative pose composed from those
+#: joints (a float32 error that follows the pair, not the whole robot).
+_LOCAL_JOINTS = 2
 #: A side with more spheres than this is cut into its frames.
 _SPLIT_SPHERES = 48
 #: At most this many spheres of one frame in one part (a large link is cut into pieces).
@@ -115,7 +119,7 @@ def _split_pair(
         for gb, keep_b in parts_b:
             mine = [(k, fa, fb) for k, fa, fb in kept if fa in ga and fb in gb]
             if mine:
-                out.append(_assemble(s, local, err, (a, b), (ga, gb), mine, keep_a | keep_b))
+                out.append(_assemble(s, local, err, reach, (a, b), (ga, gb), mine, keep_a | keep_b))
     return out
 
 
@@ -153,6 +157,7 @@ def _assemble(
     s: SphereSet,
     local: FloatArray,
     err: float,
+    reach: Reach,
     key: tuple[int, int],
     groups: tuple[set[int], set[int]],
     kept: list[tuple[int, int, int]],
@@ -176,6 +181,18 @@ def _assemble(
             -2.0 * ra[:, None],
         ]
     )
+    path: tuple[tuple[int, ...], tuple[int, ...]] | None = _chains(reach.bodies, a, b)
+    tau = 2.0 * err + 8.0 * _EPS32 * reach.bodies.lever  # through the world frame
+    if path is not None and len(path[0]) + len(path[1]) <= _LOCAL_JOINTS:
+        reach_max = float(np.max(np.linalg.norm(np.vstack([p, q]), axis=1)))
+        err_path, lever = _chain_error(reach.bodies, path, reach.travel(), reach_max)
+        tau_path = 2.0 * err_path + 8.0 * _EPS32 * lever
+        if tau_path < tau:
+            err, tau = err_path, tau_path
+        else:
+            path = None
+    else:
+        path = None
     row_starts = np.array(sorted(sl.start for sl in wa.values()), dtype=np.intp)
     col_starts = np.array(sorted(sl.start for sl in wb.values()), dtype=np.intp)
     return _BodyPair(
@@ -198,6 +215,8 @@ def _assemble(
         delta=_delta(p, float(ra.max() + rb.max()), err),
         bound_a=_bound(p, ra),
         bound_b=_bound(q, rb),
+        path=path,
+        tau=tau,
     )
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import SphereSet
-from .bodies import F32
+from .bodies import F32, _Bodies, _chain_pose
 from .grid import PairGrid
 
 #: float32 elements of one distance block (E = [m_a, m_b, n]): sized for a 512 KB L2 cache.
@@ -60,6 +60,13 @@ class _BodyPair:
     bound_b: FloatArray
     cull: bool = False
     grid: PairGrid | None = None
+    #: The bodies from the two bodies' lowest common ancestor down to ``a`` and to ``b`` when
+    #: the pair's relative pose is composed from them (few joints between the bodies: a much
+    #: smaller float32 error than through the world frame); None: through the world frame.
+    path: tuple[tuple[int, ...], tuple[int, ...]] | None = None
+    #: float32 error bound (m) of a clearance computed by :func:`_direct` (see ``delta`` for
+    #: ``d² − R²``).
+    tau: float = 0.0
 
     @property
     def n_sphere_pairs(self) -> int:
@@ -108,23 +115,40 @@ def _relative(Ra: F32, ta: F32, Rb: F32, tb: F32) -> F32:
     return out
 
 
-def _pair_transform(bp: _BodyPair, T: F32, sel: IntArray | None) -> F32:
-    """``T_a⁻¹ T_b`` [3, 4, n] from body poses ``T`` [nb, 3, 4, B] at the selected
-    configurations (all when None)."""
-    Ta, Tb = T[bp.a], T[bp.b]
-    if sel is not None:
-        Ta, Tb = np.take(Ta, sel, axis=-1), np.take(Tb, sel, axis=-1)
+@dataclass(frozen=True, eq=False)
+class ChunkPoses:
+    """A chunk's float32 body poses ``T`` [nb, 3, 4, B] and joint values ``vals`` [nb − 1, B]."""
+
+    bodies: _Bodies
+    T: F32
+    vals: F32
+
+
+def _pair_transform(bp: _BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
+    """``T_a⁻¹ T_b`` [3, 4, n] at the selected configurations (all when None): composed
+    along ``bp.path`` when it has one, else from the body poses."""
+    if bp.path is not None:
+        vals = poses.vals if sel is None else np.take(poses.vals, sel, axis=-1)
+        chain_a, chain_b = bp.path
+        Tb = _chain_pose(poses.bodies, chain_b, vals)
+        if not chain_a:
+            return Tb
+        Ta = _chain_pose(poses.bodies, chain_a, vals)  # (an empty chain is the identity)
+    else:
+        Ta, Tb = poses.T[bp.a], poses.T[bp.b]
+        if sel is not None:
+            Ta, Tb = np.take(Ta, sel, axis=-1), np.take(Tb, sel, axis=-1)
     return _relative(Ta[:, :3], Ta[:, 3], Tb[:, :3], Tb[:, 3])
 
 
-def _evaluate(bp: _BodyPair, T: F32, sel: IntArray | None) -> F32:
+def _evaluate(bp: _BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     """float32 minima of ``d² − R²`` [blocks, n] per frame pair of ``bp`` for the selected
     configurations (all when ``sel`` is None).
 
     Each block of configurations is one GEMM; the per-frame-pair minima are two segmented
     reductions over contiguous rows (``minimum.reduceat`` over ``a``'s frames, then over
     ``b``'s), so their cost follows the sphere pairs, not the number of frame pairs."""
-    Trel = _pair_transform(bp, T, sel)  # [3, 4, n]
+    Trel = _pair_transform(bp, poses, sel)  # [3, 4, n]
     n = Trel.shape[-1]
     out = np.empty((len(bp.blocks), n), dtype=np.float32)
     m_a, m_b = bp.p_aug.shape[0], bp.q_aug.shape[0]
@@ -159,7 +183,7 @@ def _evaluate(bp: _BodyPair, T: F32, sel: IntArray | None) -> F32:
     return out
 
 
-def _direct(bp: _BodyPair, T: F32, cols: IntArray) -> F32:
+def _direct(bp: _BodyPair, poses: ChunkPoses, cols: IntArray) -> F32:
     """float32 clearance [blocks, n] of each frame pair of ``bp`` at configurations
     ``cols`` (every sphere pair computed directly, in cache-sized column blocks)."""
     out = np.empty((len(bp.blocks), len(cols)), dtype=np.float32)
@@ -167,7 +191,7 @@ def _direct(bp: _BodyPair, T: F32, cols: IntArray) -> F32:
     step = max(1, _BLOCK_ELEMENTS // rsum.size)
     for s0 in range(0, len(cols), step):
         c = cols[s0 : s0 + step]
-        qp = np.matmul(bp.q_aug, _pair_transform(bp, T, c))  # [3, m_b, w]
+        qp = np.matmul(bp.q_aug, _pair_transform(bp, poses, c))  # [3, m_b, w]
         diff = qp[:, None, :, :] - bp.p32.T[:, :, None, None]
         d = np.sqrt(np.einsum("kijn,kijn->ijn", diff, diff))
         d -= rsum[:, :, None]

@@ -61,6 +61,11 @@ class Reach:
             lo[j], hi[j] = float(np.min(ends)), float(np.max(ends))
         return cls(bodies, lo, hi)
 
+    def travel(self) -> FloatArray:
+        """Each body's prismatic travel (largest |joint value|; 0 for revolute joints) [nb]."""
+        prism = np.array([k == PRISM for k in self.bodies.kind])
+        return np.where(prism, np.maximum(np.abs(self.lo), np.abs(self.hi)), 0.0)
+
     def _up(self, b: int) -> list[int]:
         """``b`` and its ancestors, ``b`` first, body 0 last."""
         out = [b]
