@@ -154,6 +154,7 @@ class _Culler:
             rsum,
             relevant,
             self.margin,
+            _GRID_MIN_FAR,
         )
 
     def select(

@@ -120,7 +120,8 @@ def build_pair_grid(
     rsum: FloatArray,
     relevant: BoolArray,
     margin: float,
-) -> PairGrid:
+    min_far: float = 0.0,
+) -> PairGrid | None:
     """Grid for the path joints (outer first) between an ancestor and a descendant body.
 
     ``consts`` [j](4, 4): each path joint's constant transform from the previous body
@@ -128,7 +129,8 @@ def build_pair_grid(
     ancestor body, ``x_desc`` [m_b, 3]: those of the descendant in its own frame; ``rsum``
     [m_a, m_b]: radius sums; ``relevant`` [m_a, m_b]: the sphere pairs that are counted.
     Two-joint grids are decided coarse first (4 × 4 fine cells each); only the coarse cells
-    that are not far are split.
+    that are not far are split. None when a fixed pilot of cells finds far fewer far cells
+    than ``min_far`` (a grid that would skip too little is not built).
     """
     th = [
         sorted((m * lo + o, m * hi + o)) for m, o, lo, hi in zip(mult, off, q_lo, q_hi, strict=True)
@@ -141,6 +143,10 @@ def build_pair_grid(
     shape = _cell_counts(spans, [float(lv.max()) if len(lv) else 0.0 for lv in levers])
     h = np.array([max(sp / n, 1e-12) for sp, n in zip(spans, shape, strict=True)])
     ev = _CellTest(consts, lo, x_desc, p_anc, rsum + margin + _SLACK, relevant, levers, [np.inf])
+    if len(shape) == 2 and min_far > 0.0:
+        pilot = np.random.default_rng(0).integers(0, shape[0] * shape[1], _PILOT_CELLS)
+        if ev.far(list(np.divmod(pilot, shape[1])), h).mean() < min_far / 2:
+            return None
     far = ev.far([np.arange(shape[0])], h) if len(shape) == 1 else _far_2d(ev, shape, h)
     return PairGrid(
         cols=np.array(cols, dtype=np.intp),
@@ -155,6 +161,8 @@ def build_pair_grid(
 
 
 _SPLIT = 4
+#: Cells of a two-joint grid decided first, to tell whether the grid is worth building.
+_PILOT_CELLS = 512
 
 
 def _far_2d(ev: _CellTest, shape: list[int], h: FloatArray) -> BoolArray:
