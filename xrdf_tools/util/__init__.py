@@ -1,2 +1,3 @@
-"""Cross-cutting helpers with no domain knowledge: errors, file input/output, graphs, rotations,
+"""Cross-cutting helpers with no domain knowledge: errors, file input/output, the safe XML parser,
+graphs, rotations,
 frozen maps."""
