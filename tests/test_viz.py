@@ -464,6 +464,21 @@ def test_png_shows_the_spheres_in_their_link_colours(scene: Scene, tmp_path: Pat
     assert present >= 8  # most links are visible from the default view
 
 
+def test_png_is_framed_by_the_picture_given_to_render(scene: Scene, tmp_path: Path) -> None:
+    from matplotlib.image import imread
+
+    from xrdf_tools.viz import Picture
+    from xrdf_tools.viz.png import VIEWS
+
+    shots = {}
+    for view in ("top", "side"):
+        out = tmp_path / f"{view}.png"
+        render(scene, "png", out, picture=Picture(view=VIEWS[view], legend="off", size_px=200))
+        assert imread(out).shape[:2] == (200, 200)
+        shots[view] = out.read_bytes()
+    assert shots["top"] != shots["side"]
+
+
 # ------------------------------------------------------------------------------------------
 # Configurations files
 # ------------------------------------------------------------------------------------------
