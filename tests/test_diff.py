@@ -612,3 +612,10 @@ def test_set_base_frame_on_the_urdf_root_is_no_change() -> None:
     assert [c.kind for c in diff_xrdf(without, moved, root_frame=root).changes] == [
         "base-frame-changed"
     ]
+
+
+def test_every_diff_format_is_one_entry_of_the_renderer_table() -> None:
+    from xrdf_tools.cli.commands.diff import DiffFormat
+    from xrdf_tools.diff.render import RENDERERS
+
+    assert list(RENDERERS) == [f.value for f in DiffFormat]

@@ -337,3 +337,13 @@ def test_coverage_comes_from_the_sphere_tools_with_their_diagnostics() -> None:
     doc = report_to_dict(r)["coverage"]
     assert doc["per_frame"] == per and "coverage" in doc["overall"]
     assert "sphere coverage:" in render_text(r)
+
+
+def test_every_report_format_is_one_renderer_of_the_report_or_of_its_findings() -> None:
+    from xrdf_tools.cli.commands.core import OutputFormat
+    from xrdf_tools.cli.commands.report import ReportFormat
+    from xrdf_tools.report.render import RENDERERS
+
+    findings_only = {f.value for f in ReportFormat} - set(RENDERERS)
+    assert findings_only == {"github", "sarif"} <= {f.value for f in OutputFormat}
+    assert set(RENDERERS) < {f.value for f in ReportFormat}

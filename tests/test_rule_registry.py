@@ -96,3 +96,17 @@ def test_convert_sarif_describes_its_rules_from_the_registry(tmp_path: Path) -> 
         assert rule["shortDescription"]["text"] == info.summary
         assert rule["defaultConfiguration"]["level"] == level[info.severity.value]
     assert "convert-unknown-link" in rules and "convert-default-jerk" in rules
+
+
+def test_lint_report_and_the_registry_share_one_rule_record() -> None:
+    from xrdf_tools.diagnostics import RuleInfo
+    from xrdf_tools.lint import RULES as LINT_RULES
+    from xrdf_tools.report import RULES as REPORT_RULES
+
+    registry = all_rules()
+    assert all(type(info) is RuleInfo for info in registry.values())
+    for rule in LINT_RULES:
+        assert registry[rule.id] == rule.info
+        assert (rule.info.producer, rule.info.severity) == ("lint", rule.severity)
+    for info in REPORT_RULES:
+        assert registry[info.id] is info and info.producer == "report"
