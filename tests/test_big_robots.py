@@ -14,8 +14,6 @@ from xrdf_tools.cli import app
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.xrdf.io import load_xrdf
 
-runner = CliRunner()
-
 CASES = {
     "tiago-arm": (
         "tiago_description/robots/tiago.urdf",
@@ -32,7 +30,9 @@ CASES = {
 
 @pytest.mark.slow
 @pytest.mark.parametrize("case", sorted(CASES))
-def test_one_command_report_and_lint_on_a_big_robot(case: str, tmp_path: Path) -> None:
+def test_one_command_report_and_lint_on_a_big_robot(
+    runner: CliRunner, case: str, tmp_path: Path
+) -> None:
     root = robots_dir()
     if root is None:
         pytest.skip("example-robot-data is not installed")

@@ -19,7 +19,6 @@ from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.selfcollision.collision import colliding_frame_pairs
 from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
 
-runner = CliRunner()
 SEED = 3  # 200 uniform samples that miss the tiny window
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 
@@ -146,7 +145,7 @@ def test_panda_certify_with_200_samples_makes_no_false_claim() -> None:
         assert _collides(r, urdf_path, str(PANDA_XRDF), p.frame_a, p.frame_b)
 
 
-def test_cli_certify_json_validates(tmp_path: Path) -> None:
+def test_cli_certify_json_validates(runner: CliRunner, tmp_path: Path) -> None:
     jsonschema = pytest.importorskip("jsonschema")
     urdf = tmp_path / "tiny.urdf"
     urdf.write_text(TINY_URDF)

@@ -9,17 +9,15 @@ from tests.paths import UR10E_XRDF
 from xrdf_tools import __version__
 from xrdf_tools.cli import app
 
-runner = CliRunner()
 
-
-def test_help_lists_the_five_subcommands() -> None:
+def test_help_lists_the_five_subcommands(runner: CliRunner) -> None:
     result = runner.invoke(app, ["--help"])
     assert result.exit_code == 0
     for name in ("convert", "lint", "diff", "report", "viz"):
         assert name in result.output
 
 
-def test_version() -> None:
+def test_version(runner: CliRunner) -> None:
     result = runner.invoke(app, ["--version"])
     assert result.exit_code == 0 and __version__ in result.output
 
@@ -34,7 +32,7 @@ def test_python_dash_m_entry_point() -> None:
     assert out.returncode == 0 and "xrdf-tools" in out.stdout
 
 
-def test_bad_file_is_one_line_error_not_traceback(tmp_path: object) -> None:
+def test_bad_file_is_one_line_error_not_traceback(runner: CliRunner, tmp_path: object) -> None:
     from pathlib import Path
 
     bad = Path(str(tmp_path)) / "bad.xrdf"
@@ -45,6 +43,6 @@ def test_bad_file_is_one_line_error_not_traceback(tmp_path: object) -> None:
     assert f"{bad}:" in result.output
 
 
-def test_lint_bundled_example_is_clean() -> None:
+def test_lint_bundled_example_is_clean(runner: CliRunner) -> None:
     result = runner.invoke(app, ["lint", str(UR10E_XRDF)])
     assert result.exit_code == 0, result.output

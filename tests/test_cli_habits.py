@@ -17,8 +17,6 @@ from tests.robots import robot_urdf
 from xrdf_tools.cli import app
 from xrdf_tools.cli.commands import common, core
 
-runner = CliRunner()
-
 COMMANDS = [
     ["convert"],
     ["lint"],
@@ -43,7 +41,7 @@ XACRO = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
 """
 
 
-def _run(*args: str, stdin: str | None = None) -> Any:
+def _run(runner: CliRunner, *args: str, stdin: str | None = None) -> Any:
     return runner.invoke(app, list(args), input=stdin)
 
 
@@ -51,69 +49,69 @@ def _run(*args: str, stdin: str | None = None) -> Any:
 # -q / -v
 # ------------------------------------------------------------------------------------------
 @pytest.mark.parametrize("cmd", COMMANDS, ids=" ".join)
-def test_every_command_has_quiet_and_verbose(cmd: list[str]) -> None:
-    r = _run(*cmd, "--help")
+def test_every_command_has_quiet_and_verbose(runner: CliRunner, cmd: list[str]) -> None:
+    r = _run(runner, *cmd, "--help")
     assert r.exit_code == 0, r.output
     for flag in ("-q", "--quiet", "-v", "--verbose"):
         assert flag in r.stdout
 
 
-def test_quiet_and_verbose_together_is_a_usage_error() -> None:
-    r = _run("lint", "-q", "-v", str(UR10E_XRDF))
+def test_quiet_and_verbose_together_is_a_usage_error(runner: CliRunner) -> None:
+    r = _run(runner, "lint", "-q", "-v", str(UR10E_XRDF))
     assert r.exit_code == 2
     assert "cannot be combined" in r.stderr
 
 
-def test_quiet_drops_warnings_keeps_the_output() -> None:
-    loud = _run("convert", str(UR10E_URDF))
-    quiet = _run("convert", "-q", str(UR10E_URDF))
+def test_quiet_drops_warnings_keeps_the_output(runner: CliRunner) -> None:
+    loud = _run(runner, "convert", str(UR10E_URDF))
+    quiet = _run(runner, "convert", "-q", str(UR10E_URDF))
     assert loud.exit_code == quiet.exit_code == 0
     assert "warning convert-chosen-group" in loud.stderr
     assert quiet.stderr == ""
     assert quiet.stdout == loud.stdout and quiet.stdout.startswith("format: xrdf")
 
 
-def test_quiet_keeps_errors(tmp_path: Path) -> None:
+def test_quiet_keeps_errors(runner: CliRunner, tmp_path: Path) -> None:
     bad = tmp_path / "bad.xrdf"
     bad.write_text("format: xrdf\nformat_version: 2.0\ncspace: [\n")
-    r = _run("export", "xrdf", "-q", str(bad))
+    r = _run(runner, "export", "xrdf", "-q", str(bad))
     assert r.exit_code == 2
     assert f"{bad}:" in r.stderr
 
 
-def test_quiet_keeps_lint_findings_they_are_the_output() -> None:
-    r = _run("lint", "-q", str(UR10E_XRDF))
+def test_quiet_keeps_lint_findings_they_are_the_output(runner: CliRunner) -> None:
+    r = _run(runner, "lint", "-q", str(UR10E_XRDF))
     assert r.exit_code == 0
     assert "warning curobo-format-version" in r.stdout  # a 2.0 file: a finding, not a note
 
 
-def test_quiet_drops_notes_verbose_adds_timings(tmp_path: Path) -> None:
+def test_quiet_drops_notes_verbose_adds_timings(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "r.txt"
     args = ["report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-n", "200", "-j", "1"]
-    normal = _run(*args, "-o", str(out))
+    normal = _run(runner, *args, "-o", str(out))
     assert normal.exit_code == 0, normal.output
     assert f"report written to {out}" in normal.stderr
-    quiet = _run(*args, "-o", str(out), "-q")
+    quiet = _run(runner, *args, "-o", str(out), "-q")
     assert quiet.exit_code == 0 and quiet.stderr == ""
-    verbose = _run(*args, "-o", str(out), "-v")
+    verbose = _run(runner, *args, "-o", str(out), "-v")
     assert verbose.exit_code == 0
     assert "sampling 200 configuration(s)" in verbose.stderr
     assert "sampling: " in verbose.stderr and "s in all" in verbose.stderr
 
 
-def test_verbosity_does_not_outlive_its_run() -> None:
-    assert _run("convert", "-q", str(UR10E_URDF)).stderr == ""
-    assert "warning" in _run("convert", str(UR10E_URDF)).stderr
+def test_verbosity_does_not_outlive_its_run(runner: CliRunner) -> None:
+    assert _run(runner, "convert", "-q", str(UR10E_URDF)).stderr == ""
+    assert "warning" in _run(runner, "convert", str(UR10E_URDF)).stderr
     assert core.verbosity() is core.Verbosity.NORMAL
 
 
 # ------------------------------------------------------------------------------------------
 # '-' for standard input and output
 # ------------------------------------------------------------------------------------------
-def test_lint_reads_stdin() -> None:
+def test_lint_reads_stdin(runner: CliRunner) -> None:
     text = UR10E_XRDF.read_text()
-    from_file = _run("lint", "--format", "json", str(UR10E_XRDF))
-    from_stdin = _run("lint", "--format", "json", "-", stdin=text)
+    from_file = _run(runner, "lint", "--format", "json", str(UR10E_XRDF))
+    from_stdin = _run(runner, "lint", "--format", "json", "-", stdin=text)
     assert from_stdin.exit_code == from_file.exit_code == 0
     assert from_stdin.stdout == from_file.stdout.replace(str(UR10E_XRDF), "<stdin>")
 
@@ -129,73 +127,85 @@ def test_lint_library_reads_stdin(monkeypatch: pytest.MonkeyPatch) -> None:
     assert diags and {d.path for d in diags} == {"<stdin>"}
 
 
-def test_two_stdin_inputs_are_an_error() -> None:
+def test_two_stdin_inputs_are_an_error(runner: CliRunner) -> None:
     text = UR10E_XRDF.read_text()
-    r = _run("diff", "-", "-", stdin=text)
+    r = _run(runner, "diff", "-", "-", stdin=text)
     assert r.exit_code == 2
     assert "standard input" in r.stderr and "A.xrdf and B.xrdf" in r.stderr
-    r = _run("lint", "-", str(UR10E_XRDF), "-", stdin=text)
+    r = _run(runner, "lint", "-", str(UR10E_XRDF), "-", stdin=text)
     assert r.exit_code == 2 and "FILES (2 times)" in r.stderr
 
 
-def test_diff_reads_one_side_from_stdin() -> None:
-    r = _run("diff", str(UR10E_XRDF), "-", stdin=UR10E_XRDF.read_text())
+def test_diff_reads_one_side_from_stdin(runner: CliRunner) -> None:
+    r = _run(runner, "diff", str(UR10E_XRDF), "-", stdin=UR10E_XRDF.read_text())
     assert r.exit_code == 0, r.output
-    r = _run("diff", str(UR10E_XRDF), "-", stdin=UR10E_XRDF.read_text().replace("0.06", "0.07"))
+    r = _run(
+        runner, "diff", str(UR10E_XRDF), "-", stdin=UR10E_XRDF.read_text().replace("0.06", "0.07")
+    )
     assert r.exit_code == 1
 
 
-def test_export_reads_stdin_and_writes_stdout() -> None:
-    direct = _run("export", "xrdf", "--target", "cumotion", str(UR10E_XRDF))
+def test_export_reads_stdin_and_writes_stdout(runner: CliRunner) -> None:
+    direct = _run(runner, "export", "xrdf", "--target", "cumotion", str(UR10E_XRDF))
     piped = _run(
-        "export", "xrdf", "--target", "cumotion", "-", "-o", "-", stdin=UR10E_XRDF.read_text()
+        runner,
+        "export",
+        "xrdf",
+        "--target",
+        "cumotion",
+        "-",
+        "-o",
+        "-",
+        stdin=UR10E_XRDF.read_text(),
     )
     assert piped.exit_code == direct.exit_code == 0
     assert piped.stdout == direct.stdout and piped.stdout.startswith("format: xrdf")
-    cur = _run("export", "curobo", "-", "--urdf", str(UR10E_URDF), stdin=UR10E_XRDF.read_text())
+    cur = _run(
+        runner, "export", "curobo", "-", "--urdf", str(UR10E_URDF), stdin=UR10E_XRDF.read_text()
+    )
     assert cur.exit_code == 0 and "robot_cfg" in cur.stdout
 
 
-def test_stdin_errors_name_stdin() -> None:
-    r = _run("export", "xrdf", "-", stdin="format: xrdf\ncspace: [\n")
+def test_stdin_errors_name_stdin(runner: CliRunner) -> None:
+    r = _run(runner, "export", "xrdf", "-", stdin="format: xrdf\ncspace: [\n")
     assert r.exit_code == 2
     assert r.stderr.startswith("error: <stdin>:")
 
 
-def test_report_reads_stdin_and_dash_o_is_stdout() -> None:
+def test_report_reads_stdin_and_dash_o_is_stdout(runner: CliRunner) -> None:
     args = ["--urdf", str(UR10E_URDF), "-n", "200", "-j", "1", "--format", "json"]
-    a = _run("report", str(UR10E_XRDF), *args)
-    b = _run("report", "-", *args, "-o", "-", stdin=UR10E_XRDF.read_text())
+    a = _run(runner, "report", str(UR10E_XRDF), *args)
+    b = _run(runner, "report", "-", *args, "-o", "-", stdin=UR10E_XRDF.read_text())
     assert a.exit_code == b.exit_code == 0, b.output
     ja, jb = json.loads(a.stdout), json.loads(b.stdout)
     assert jb["xrdf"] == "<stdin>" and jb["samples"] == 200
     for key in ("pairs", "recommended_ignore", "classification_counts", "sphere_counts"):
         assert ja[key] == jb[key], key
-    clash = _run("report", str(UR10E_XRDF), *args, "--write-mask", "-")
+    clash = _run(runner, "report", str(UR10E_XRDF), *args, "--write-mask", "-")
     assert clash.exit_code == 2 and "given for both" in clash.stderr
 
 
-def test_convert_and_expand_dash_o(tmp_path: Path) -> None:
-    r = _run("convert", "-q", str(UR10E_URDF), "-o", "-")
+def test_convert_and_expand_dash_o(runner: CliRunner, tmp_path: Path) -> None:
+    r = _run(runner, "convert", "-q", str(UR10E_URDF), "-o", "-")
     assert r.exit_code == 0 and r.stdout.startswith("format: xrdf")
     assert not Path("-").exists()
-    r = _run("convert", str(UR10E_URDF), "--check", "-o", "-")
+    r = _run(runner, "convert", str(UR10E_URDF), "--check", "-o", "-")
     assert r.exit_code == 2 and "--check needs -o FILE" in r.stderr
     xacro = tmp_path / "r.urdf.xacro"
     xacro.write_text(XACRO)
-    r = _run("expand", str(xacro), "--xacro-arg", "prefix:=b_", "-o", "-")
+    r = _run(runner, "expand", str(xacro), "--xacro-arg", "prefix:=b_", "-o", "-")
     assert r.exit_code == 0 and 'name="b_tip"' in r.stdout
 
 
-def test_viz_reads_stdin(tmp_path: Path) -> None:
+def test_viz_reads_stdin(runner: CliRunner, tmp_path: Path) -> None:
     from tests.paths import FIXTURES
 
     out = tmp_path / "p.png"
     xrdf = (FIXTURES / "panda" / "panda.xrdf").read_text()
-    r = _run("viz", "-", "--urdf", str(robot_urdf("panda")), "--png", str(out), stdin=xrdf)
+    r = _run(runner, "viz", "-", "--urdf", str(robot_urdf("panda")), "--png", str(out), stdin=xrdf)
     assert r.exit_code == 0, r.output
     assert out.read_bytes()[:4] == b"\x89PNG"
-    r = _run("viz", "-", "--urdf", str(robot_urdf("panda")), "--png", "-", stdin=xrdf)
+    r = _run(runner, "viz", "-", "--urdf", str(robot_urdf("panda")), "--png", "-", stdin=xrdf)
     assert r.exit_code == 2 and "needs a file name" in r.stderr
 
 
@@ -221,10 +231,10 @@ def test_write_output_stdout_and_file(tmp_path: Path, capsys: Any) -> None:
     assert (tmp_path / "sub" / "o.bin").read_bytes() == b"\x00\x01"
 
 
-def test_cli_write_error_names_the_path(tmp_path: Path) -> None:
+def test_cli_write_error_names_the_path(runner: CliRunner, tmp_path: Path) -> None:
     blocker = tmp_path / "file.txt"
     blocker.write_text("x")
-    r = _run("export", "xrdf", str(UR10E_XRDF), "-o", str(blocker / "o.xrdf"))
+    r = _run(runner, "export", "xrdf", str(UR10E_XRDF), "-o", str(blocker / "o.xrdf"))
     assert r.exit_code == 2
     assert f"{blocker / 'o.xrdf'}:" in r.stderr
 
@@ -245,7 +255,7 @@ def test_progress_bar_only_on_a_terminal(monkeypatch: pytest.MonkeyPatch) -> Non
 
 @pytest.mark.parametrize("quiet", [False, True])
 def test_commands_draw_the_common_bar_unless_quiet(
-    monkeypatch: pytest.MonkeyPatch, quiet: bool
+    runner: CliRunner, monkeypatch: pytest.MonkeyPatch, quiet: bool
 ) -> None:
     import rich.progress
 
@@ -256,7 +266,7 @@ def test_commands_draw_the_common_bar_unless_quiet(
         rich.progress.Progress, "start", lambda self: (started.append(1), original(self))[1]
     )
     args = ["report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-n", "300", "-j", "1"]
-    r = _run(*args, *(["-q"] if quiet else []))
+    r = _run(runner, *args, *(["-q"] if quiet else []))
     assert r.exit_code == 0, r.output
     assert bool(started) is not quiet
 
@@ -352,14 +362,16 @@ def test_pr2_legend_stays_inside_the_image(pr2: tuple[Path, Path], tmp_path: Pat
     assert not fig.legends and fig.bbox.height == fig.bbox.width
 
 
-def test_cli_viz_view_and_legend_options(pr2: tuple[Path, Path], tmp_path: Path) -> None:
+def test_cli_viz_view_and_legend_options(
+    runner: CliRunner, pr2: tuple[Path, Path], tmp_path: Path
+) -> None:
     out = tmp_path / "pr2.png"
     base = ["viz", str(pr2[1]), "--urdf", str(pr2[0]), "--png", str(out), "--meshes", "none"]
-    r = _run(*base, "--view", "top", "--legend", "off", "-v")
+    r = _run(runner, *base, "--view", "top", "--legend", "off", "-v")
     assert r.exit_code == 0, r.output
     assert out.read_bytes()[:4] == b"\x89PNG"
     assert "frame pairs: 3240 checked, 81 ignored" in r.stderr
-    r = _run(*base, "--view", "sideways")
+    r = _run(runner, *base, "--view", "sideways")
     assert r.exit_code == 2 and "iso, front, side, top or ELEV,AZIM" in r.stderr
 
 

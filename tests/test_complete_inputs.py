@@ -28,10 +28,8 @@ from xrdf_tools.robot.link_geometry import link_geometry, missing_meshes
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.xrdf.io import load_xrdf
 
-runner = CliRunner()
 
-
-def _run(*args: str | Path) -> tuple[int, str]:
+def _run(runner: CliRunner, *args: str | Path) -> tuple[int, str]:
     r = runner.invoke(app, [str(a) for a in args])
     return r.exit_code, r.output
 
@@ -48,10 +46,14 @@ def _ur5_away_from_its_meshes(tmp_path: Path) -> tuple[Path, Path]:
 # --------------------------------------------------------------------------------------------
 # Missing meshes: exit 2, or warnings with --allow-missing-meshes
 # --------------------------------------------------------------------------------------------
-def test_ur5_away_from_its_meshes_is_an_input_error_naming_uri_and_search(tmp_path: Path) -> None:
+def test_ur5_away_from_its_meshes_is_an_input_error_naming_uri_and_search(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     urdf, srdf = _ur5_away_from_its_meshes(tmp_path)
     out = tmp_path / "ur5.xrdf"
-    code, text = _run("convert", urdf, "--srdf", srdf, "--fit-spheres", "-n", "200", "-o", out)
+    code, text = _run(
+        runner, "convert", urdf, "--srdf", srdf, "--fit-spheres", "-n", "200", "-o", out
+    )
     assert code == 2, text
     (error,) = [line for line in text.splitlines() if line.startswith("error:")]
     assert f"{urdf}:" in error  # located at the first link whose mesh is missing
@@ -64,10 +66,13 @@ def test_ur5_away_from_its_meshes_is_an_input_error_naming_uri_and_search(tmp_pa
     assert not out.exists()
 
 
-def test_allow_missing_meshes_goes_on_with_a_warning_per_mesh(tmp_path: Path) -> None:
+def test_allow_missing_meshes_goes_on_with_a_warning_per_mesh(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     urdf, srdf = _ur5_away_from_its_meshes(tmp_path)
     out = tmp_path / "ur5.xrdf"
     code, text = _run(
+        runner,
         "convert",
         urdf,
         "--srdf",
@@ -94,11 +99,13 @@ def test_allow_missing_meshes_goes_on_with_a_warning_per_mesh(tmp_path: Path) ->
     assert [link for link, s in spheres.items() if s] == ["ee_link"]  # the only box
 
 
-def test_lint_for_a_planner_calls_moved_links_without_spheres_errors(tmp_path: Path) -> None:
+def test_lint_for_a_planner_calls_moved_links_without_spheres_errors(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     urdf, srdf = _ur5_away_from_its_meshes(tmp_path)
     out = tmp_path / "ur5.xrdf"
-    assert _run("convert", urdf, "--srdf", srdf, "-o", out)[0] == 0
-    code, text = _run("lint", out, "--urdf", urdf, "--target", "curobo")
+    assert _run(runner, "convert", urdf, "--srdf", srdf, "-o", out)[0] == 0
+    code, text = _run(runner, "lint", out, "--urdf", urdf, "--target", "curobo")
     assert code == 1
     errors = set(re.findall(r"error mesh-without-spheres link '(\w+)'", text))
     assert errors == {
@@ -112,19 +119,21 @@ def test_lint_for_a_planner_calls_moved_links_without_spheres_errors(tmp_path: P
     }
     # the base no joint moves stays a warning; without a planning target all are warnings
     assert "warning mesh-without-spheres link 'base_link'" in text
-    code, text = _run("lint", out, "--urdf", urdf)
+    code, text = _run(runner, "lint", out, "--urdf", urdf)
     assert code == 0 and "error" not in text and text.count("mesh-without-spheres") == 8
 
 
-def test_viz_stops_on_meshes_it_cannot_find_unless_allowed(tmp_path: Path) -> None:
+def test_viz_stops_on_meshes_it_cannot_find_unless_allowed(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     pytest.importorskip("mcap")
     urdf, srdf = _ur5_away_from_its_meshes(tmp_path)
     xrdf = tmp_path / "ur5.xrdf"
-    assert _run("convert", urdf, "--srdf", srdf, "-o", xrdf)[0] == 0
+    assert _run(runner, "convert", urdf, "--srdf", srdf, "-o", xrdf)[0] == 0
     out = tmp_path / "ur5.mcap"
-    code, text = _run("viz", xrdf, "--urdf", urdf, "--mcap", out)
+    code, text = _run(runner, "viz", xrdf, "--urdf", urdf, "--mcap", out)
     assert code == 2 and "visual/base.dae" in text and not out.exists()
-    code, text = _run("viz", xrdf, "--urdf", urdf, "--mcap", out, "--allow-missing-meshes")
+    code, text = _run(runner, "viz", xrdf, "--urdf", urdf, "--mcap", out, "--allow-missing-meshes")
     assert code == 0, text
     assert text.count("warning mesh-not-loaded") == 7 and out.stat().st_size > 0
 
@@ -159,12 +168,14 @@ def _bad_meshes(d: Path) -> dict[str, Path]:
 
 
 @pytest.mark.parametrize("kind", ["garbage", "truncated", "huge"])
-def test_an_unreadable_mesh_fails_the_fit_naming_the_link(tmp_path: Path, kind: str) -> None:
+def test_an_unreadable_mesh_fails_the_fit_naming_the_link(
+    runner: CliRunner, tmp_path: Path, kind: str
+) -> None:
     mesh = _bad_meshes(tmp_path)[kind]
     urdf = tmp_path / "r.urdf"
     urdf.write_text(ROBOT.format(arm=MESH.format(mesh.name)))
     out = tmp_path / "r.xrdf"
-    code, text = _run("spheres", urdf, "--per-link", "2", "-o", out)
+    code, text = _run(runner, "spheres", urdf, "--per-link", "2", "-o", out)
     assert code == 1, text
     (line,) = [t for t in text.splitlines() if "spheres-link-not-covered" in t]
     assert f"{urdf}:3: error" in line and "link 'arm' has geometry but got no spheres" in line
@@ -172,18 +183,22 @@ def test_an_unreadable_mesh_fails_the_fit_naming_the_link(tmp_path: Path, kind: 
     assert not out.exists()  # nothing written
 
 
-def test_a_link_with_one_unreadable_part_of_two_fails_too(tmp_path: Path) -> None:
+def test_a_link_with_one_unreadable_part_of_two_fails_too(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     mesh = _bad_meshes(tmp_path)["garbage"]
     urdf = tmp_path / "r.urdf"
     urdf.write_text(ROBOT.format(arm=BOX + MESH.format(mesh.name)))
-    code, text = _run("convert", urdf, "--fit-spheres", "-n", "100", "-o", tmp_path / "r.xrdf")
+    code, text = _run(
+        runner, "convert", urdf, "--fit-spheres", "-n", "100", "-o", tmp_path / "r.xrdf"
+    )
     assert code == 1, text
     assert "link 'arm' got spheres for only part of its geometry" in text
     assert "garbage.stl: cannot read mesh" in text
 
 
 @pytest.mark.parametrize("kind", ["garbage", "truncated", "huge"])
-def test_lint_and_viz_say_an_unreadable_mesh(tmp_path: Path, kind: str) -> None:
+def test_lint_and_viz_say_an_unreadable_mesh(runner: CliRunner, tmp_path: Path, kind: str) -> None:
     mesh = _bad_meshes(tmp_path)[kind]
     urdf = tmp_path / "r.urdf"
     urdf.write_text(ROBOT.format(arm=MESH.format(mesh.name)))
@@ -197,16 +212,16 @@ def test_lint_and_viz_say_an_unreadable_mesh(tmp_path: Path, kind: str) -> None:
         "      arm:\n        - center: [0.0, 0.0, 0.1]\n          radius: 0.03\n"
     )
     for allow in ([], ["--allow-missing-meshes"]):
-        code, text = _run("lint", xrdf, "--urdf", urdf, *allow)
+        code, text = _run(runner, "lint", xrdf, "--urdf", urdf, *allow)
         assert code == 0
         assert "warning sphere-outside-geometry" in text and "cannot be read" in text
         assert mesh.name in text
-    code, text = _run("viz", xrdf, "--urdf", urdf, "--png", tmp_path / "r.png")
+    code, text = _run(runner, "viz", xrdf, "--urdf", urdf, "--png", tmp_path / "r.png")
     assert code == 0 and "the PNG draws spheres only (meshes not read)" in text
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
-def test_a_mesh_path_that_is_no_file_says_what_it_is(tmp_path: Path) -> None:
+def test_a_mesh_path_that_is_no_file_says_what_it_is(runner: CliRunner, tmp_path: Path) -> None:
     (tmp_path / "dir.stl").mkdir()
     os.mkfifo(tmp_path / "fifo.stl")
     os.symlink("loop_b.stl", tmp_path / "loop_a.stl")
@@ -231,7 +246,7 @@ def test_a_mesh_path_that_is_no_file_says_what_it_is(tmp_path: Path) -> None:
         assert reason.startswith(f"{name}: {what}"), reason
     (parts,) = link_geometry(robot, "collision", links=["arm"]).values()
     assert [f.reason for f in parts.failures] == reasons and all(f.missing for f in parts.failures)
-    code, text = _run("spheres", urdf, "-o", tmp_path / "r.xrdf")
+    code, text = _run(runner, "spheres", urdf, "-o", tmp_path / "r.xrdf")
     assert code == 2 and f"{len(expected)} mesh file(s) cannot be found" in text
     assert "dir.stl: a directory, not a mesh file" in text and "Traceback" not in text
 
@@ -240,23 +255,26 @@ def test_a_mesh_path_that_is_no_file_says_what_it_is(tmp_path: Path) -> None:
 # Lenient where it does not matter: SRDF groups, material colours
 # --------------------------------------------------------------------------------------------
 def test_z1_srdf_with_a_broken_unused_group_converts_with_a_located_warning(
+    runner: CliRunner,
     tmp_path: Path,
 ) -> None:
     urdf = robot_urdf("z1")
     srdf = urdf.parents[1] / "srdf" / "z1.srdf"
     out = tmp_path / "z1.xrdf"
-    code, text = _run("convert", urdf, "--srdf", srdf, "-o", out)
+    code, text = _run(runner, "convert", urdf, "--srdf", srdf, "-o", out)
     assert code == 0, text
     assert (
         f"{srdf}:4: warning convert-srdf-unused-group group 'end_effector' does not match the "
         "URDF (unknown chain link 'base'); it is not used for this conversion"
     ) in text
     assert load_xrdf(out).cspace is not None
-    code, text = _run("convert", urdf, "--srdf", srdf, "--group", "end_effector")
+    code, text = _run(runner, "convert", urdf, "--srdf", srdf, "--group", "end_effector")
     assert code == 2 and "group 'end_effector' (line 4): unknown chain link 'base'" in text
 
 
-def test_kinova_with_an_unused_gripper_group_naming_missing_joints(tmp_path: Path) -> None:
+def test_kinova_with_an_unused_gripper_group_naming_missing_joints(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     """A Kinova arm with an SRDF written for the arm plus a Robotiq gripper the URDF lacks."""
     urdf = robot_urdf("kinova")
     srdf_text = (urdf.parents[1] / "srdf" / "kinova.srdf").read_text()
@@ -278,7 +296,7 @@ def test_kinova_with_an_unused_gripper_group_naming_missing_joints(tmp_path: Pat
     srdf.write_text(srdf_text.replace("</robot>", gripper))
     line = srdf.read_text().splitlines().index('    <group name="gripper">') + 1
     out = tmp_path / "kinova.xrdf"
-    code, text = _run("convert", urdf, "--srdf", srdf, "--group", "end_effector", "-o", out)
+    code, text = _run(runner, "convert", urdf, "--srdf", srdf, "--group", "end_effector", "-o", out)
     assert code == 0, text
     assert (
         f"{srdf}:{line}: warning convert-srdf-unused-group group 'gripper' does not match the "
@@ -289,13 +307,14 @@ def test_kinova_with_an_unused_gripper_group_naming_missing_joints(tmp_path: Pat
     cspace = load_xrdf(out).cspace
     assert cspace is not None and len(cspace.joint_names) == 6
     # the default choice skips the broken group too; using it is an error naming it
-    code, text = _run("convert", urdf, "--srdf", srdf, "-o", out)
+    code, text = _run(runner, "convert", urdf, "--srdf", srdf, "-o", out)
     assert code == 0 and "convert-srdf-unused-group" in text
-    code, text = _run("convert", urdf, "--srdf", srdf, "--group", "gripper")
+    code, text = _run(runner, "convert", urdf, "--srdf", srdf, "--group", "gripper")
     assert code == 2 and "group 'gripper'" in text and "robotiq_85_left_knuckle_joint" in text
 
 
 def test_a_five_number_colour_in_a_mobile_manipulator_is_a_located_warning(
+    runner: CliRunner,
     tmp_path: Path,
 ) -> None:
     root = robots_dir()
@@ -313,18 +332,21 @@ def test_a_five_number_colour_in_a_mobile_manipulator_is_a_located_warning(
     urdf = tmp_path / "tiago.urdf"
     urdf.write_text("".join(lines))
     out = tmp_path / "tiago.xrdf"
-    code, text = _run("convert", urdf, "--chain", "torso_lift_link:arm_tool_link", "-o", out)
+    code, text = _run(
+        runner, "convert", urdf, "--chain", "torso_lift_link:arm_tool_link", "-o", out
+    )
     assert code == 0, text
     (warning,) = [t for t in text.splitlines() if "urdf-color-ignored" in t]
     assert warning.startswith(f"{urdf}:{at + 1}: warning urdf-color-ignored material '")
     assert "must be 4 numbers; the colour is ignored" in warning
     assert out.is_file()
     # the same URDF through a command loading --urdf says it too
-    code, text = _run("lint", out, "--urdf", urdf)
+    code, text = _run(runner, "lint", out, "--urdf", urdf)
     assert "urdf-color-ignored" in text
 
 
 def test_a_visual_elements_own_colour_is_lenient_too_and_other_numbers_stay_strict(
+    runner: CliRunner,
     tmp_path: Path,
 ) -> None:
     urdf = tmp_path / "r.urdf"
@@ -333,14 +355,14 @@ def test_a_visual_elements_own_colour_is_lenient_too_and_other_numbers_stay_stri
         '<material name="m"><color rgba="1 0 0"/></material></visual>'
     )
     urdf.write_text(ROBOT.format(arm=visual + BOX))
-    code, text = _run("convert", urdf, "-o", tmp_path / "r.xrdf")
+    code, text = _run(runner, "convert", urdf, "-o", tmp_path / "r.xrdf")
     assert code == 0, text
     assert (
         f"{urdf}:3: warning urdf-color-ignored link 'arm' <visual> <material> <color> "
         "rgba='1 0 0' must be 4 numbers"
     ) in text
     urdf.write_text(ROBOT.format(arm=BOX.replace('size="0.05 0.05 0.3"', 'size="0.05 0.05"')))
-    code, text = _run("convert", urdf, "-o", tmp_path / "r.xrdf")
+    code, text = _run(runner, "convert", urdf, "-o", tmp_path / "r.xrdf")
     assert code == 2 and "must be 3 numbers" in text
 
 
@@ -365,7 +387,7 @@ TOP = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
 
 
 def test_a_relative_package_path_is_taken_from_the_current_directory(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     import trimesh
 
@@ -378,11 +400,12 @@ def test_a_relative_package_path_is_taken_from_the_current_directory(
     (tmp_path / "top" / "robot.urdf.xacro").write_text(TOP)
     monkeypatch.chdir(tmp_path)
     robot = Path("top/robot.urdf.xacro")
-    code, text = _run("expand", robot, "--package-path", "mypkg=pkgs/mypkg")
+    code, text = _run(runner, "expand", robot, "--package-path", "mypkg=pkgs/mypkg")
     assert code == 0, text
     assert '<joint name="j1" type="revolute">' in text
     out = tmp_path / "r.xrdf"
     code, text = _run(
+        runner,
         "convert",
         robot,
         "--package-path",
@@ -397,13 +420,15 @@ def test_a_relative_package_path_is_taken_from_the_current_directory(
     assert load_xrdf(out).world_collision_spheres()["base"]
 
 
-def test_a_package_name_or_package_path_too_long_is_a_clear_input_error(tmp_path: Path) -> None:
+def test_a_package_name_or_package_path_too_long_is_a_clear_input_error(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     name = "p" * 300
     urdf = tmp_path / "r.urdf"
     urdf.write_text(ROBOT.format(arm=MESH.format(f"package://{name}/x.stl")))
-    code, text = _run("spheres", urdf)
+    code, text = _run(runner, "spheres", urdf)
     assert code == 2 and f"cannot find ROS package '{name}'" in text and "Traceback" not in text
-    code, text = _run("spheres", urdf, "--package-path", f"{name}={name}")
+    code, text = _run(runner, "spheres", urdf, "--package-path", f"{name}={name}")
     assert code == 2 and "cannot be used: File name too long" in text and "Traceback" not in text
 
 

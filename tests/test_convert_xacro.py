@@ -13,8 +13,6 @@ from xrdf_tools.robot.xacro_source import expand_xacro
 from xrdf_tools.util.errors import SourceError
 from xrdf_tools.xrdf.io import parse_xrdf
 
-runner = CliRunner()
-
 
 def _rtb() -> Path:
     spec = importlib.util.find_spec("rtbdata")
@@ -51,7 +49,9 @@ XACRO_ROBOTS = {
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(XACRO_ROBOTS))
-def test_rtb_xacro_converts_with_package_paths(name: str, tmp_path: Path) -> None:
+def test_rtb_xacro_converts_with_package_paths(
+    runner: CliRunner, name: str, tmp_path: Path
+) -> None:
     root = _rtb()
     rel, packages, cspace = XACRO_ROBOTS[name]
     args = ["convert", str(root / rel), "-o", str(tmp_path / "out.xrdf")]
@@ -67,7 +67,7 @@ def test_rtb_xacro_converts_with_package_paths(name: str, tmp_path: Path) -> Non
     assert "mesh-without-spheres" not in result.output
 
 
-def test_unresolved_package_names_it_and_the_search(tmp_path: Path) -> None:
+def test_unresolved_package_names_it_and_the_search(runner: CliRunner, tmp_path: Path) -> None:
     root = _rtb()
     rel, _, _ = XACRO_ROBOTS["kuka_iiwa"]
     result = runner.invoke(app, ["convert", str(root / rel)])
@@ -79,7 +79,7 @@ def test_unresolved_package_names_it_and_the_search(tmp_path: Path) -> None:
     assert "Traceback" not in result.output
 
 
-def test_xacro_args_and_find(tmp_path: Path) -> None:
+def test_xacro_args_and_find(runner: CliRunner, tmp_path: Path) -> None:
     pkg = tmp_path / "my_pkg"
     (pkg / "urdf").mkdir(parents=True)
     (pkg / "package.xml").write_text("<package><name>my_pkg</name></package>")

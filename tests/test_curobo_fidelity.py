@@ -20,7 +20,6 @@ from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.lint import lint_text
 from xrdf_tools.xrdf.io import dump_xrdf
 
-runner = CliRunner()
 CLASSIC = FIXTURES / "curobo_classic"
 REFERENCE = SHARED / "reference" / "curobo-2.0"
 
@@ -72,7 +71,9 @@ def test_the_attached_object_slots_survive_for_curobo() -> None:
     assert loaded.spheres["attached_object"] == (((0.0, 0.0, 0.0), -10.0),) * 4
 
 
-def test_a_2_0_file_loads_in_curobo_with_no_collision_and_lint_says_so(tmp_path: Path) -> None:
+def test_a_2_0_file_loads_in_curobo_with_no_collision_and_lint_says_so(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     x, diags, _ = convert_files(
         UR10E_URDF, ConvertOptions(curobo=CLASSIC / "ur10e_classic.yml", format_version="2.0")
     )
@@ -92,7 +93,7 @@ def test_a_2_0_file_loads_in_curobo_with_no_collision_and_lint_says_so(tmp_path:
         assert r.exit_code == 0 and "curobo-" not in r.output, reader
 
 
-def test_convert_for_curobo_refuses_2_0(tmp_path: Path) -> None:
+def test_convert_for_curobo_refuses_2_0(runner: CliRunner, tmp_path: Path) -> None:
     r = runner.invoke(
         app,
         [
@@ -195,6 +196,7 @@ def test_every_shipped_xrdf_lints_for_curobo_as_curobo_loads_it() -> None:
 
 
 def test_export_curobo_writes_a_urdf_path_curobo_finds_and_checks_the_urdf(
+    runner: CliRunner,
     tmp_path: Path,
 ) -> None:
     out = tmp_path / "ur10e.yml"
@@ -212,7 +214,7 @@ def test_export_curobo_writes_a_urdf_path_curobo_finds_and_checks_the_urdf(
     assert r.exit_code == 2 and "different robots" in r.output and "Traceback" not in r.output
 
 
-def test_convert_refuses_inputs_that_do_not_belong_together() -> None:
+def test_convert_refuses_inputs_that_do_not_belong_together(runner: CliRunner) -> None:
     franka = REFERENCE / "franka.yml"
     if not franka.exists():
         pytest.skip("shared reference configs not available")
@@ -221,7 +223,7 @@ def test_convert_refuses_inputs_that_do_not_belong_together() -> None:
     assert "joint_names: []" not in r.output
 
 
-def test_export_xrdf_rewrites_a_2_0_file_for_curobo(tmp_path: Path) -> None:
+def test_export_xrdf_rewrites_a_2_0_file_for_curobo(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "for_curobo.xrdf"
     r = runner.invoke(
         app, ["export", "xrdf", str(UR10E_XRDF), "--target", "curobo", "-o", str(out)]
@@ -234,7 +236,7 @@ def test_export_xrdf_rewrites_a_2_0_file_for_curobo(tmp_path: Path) -> None:
     assert r.exit_code == 2  # never overwrites its input
 
 
-def test_disconnected_urdf_converts_from_the_chosen_base(tmp_path: Path) -> None:
+def test_disconnected_urdf_converts_from_the_chosen_base(runner: CliRunner, tmp_path: Path) -> None:
     # like cuRobo's tri_ur10e.urdf: parts that the chosen base_link does not reach
     text = UR10E_URDF.read_text()
     extra = (

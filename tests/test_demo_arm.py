@@ -11,7 +11,6 @@ from tests.curobo_loader import loads_as_written
 from tests.paths import FIXTURES, REPO
 from xrdf_tools.cli import app
 
-runner = CliRunner()
 DEMO = FIXTURES / "demo_arm"
 
 
@@ -26,7 +25,9 @@ def test_readme_main_job_names_the_bundled_demo_arm() -> None:
 
 
 @pytest.mark.slow
-def test_demo_arm_one_command_result_passes_report_lint_and_curobo(tmp_path: Path) -> None:
+def test_demo_arm_one_command_result_passes_report_lint_and_curobo(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     out = tmp_path / "demo_arm.xrdf"
     urdf = DEMO / "demo_arm.urdf"
     r = runner.invoke(

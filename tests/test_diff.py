@@ -17,8 +17,6 @@ from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 from xrdf_tools.xrdf.model import Sphere
 from xrdf_tools.xrdf.versions import to_version
 
-runner = CliRunner()
-
 # A small 2.0 document; tests derive variants from it by text edits.
 BASE = """\
 format: xrdf
@@ -84,7 +82,7 @@ def write(tmp_path: Path, name: str, text: str) -> Path:
 
 @pytest.mark.parametrize("source", ["seed", "shared"])
 def test_ur10e_against_its_2_0_conversion_reports_the_version_and_the_lost_sphere(
-    tmp_path: Path, source: str
+    runner: CliRunner, tmp_path: Path, source: str
 ) -> None:
     path = SEED_XRDF if source == "seed" else shared_file("reference", "curobo-2.0", "ur10e.xrdf")
     original = load_xrdf(path)
@@ -106,7 +104,7 @@ def test_ur10e_against_its_2_0_conversion_reports_the_version_and_the_lost_spher
     assert doc["notes"] == []
 
 
-def test_identical_files_exit_0(tmp_path: Path) -> None:
+def test_identical_files_exit_0(runner: CliRunner, tmp_path: Path) -> None:
     for path in (SEED_XRDF, UR10E_XRDF):
         result = runner.invoke(app, ["diff", str(path), str(path)])
         assert result.exit_code == 0, result.output
@@ -490,7 +488,7 @@ def test_removing_a_section_is_one_change() -> None:
 # --- output and CLI -----------------------------------------------------------------------------
 
 
-def test_json_shape(tmp_path: Path) -> None:
+def test_json_shape(runner: CliRunner, tmp_path: Path) -> None:
     a = write(tmp_path, "a.xrdf", BASE)
     b = write(tmp_path, "b.xrdf", BASE.replace("radius: 0.05}", "radius: 0.06}"))
     result = runner.invoke(app, ["diff", str(a), str(b), "--format", "json"])
@@ -542,7 +540,7 @@ def test_json_shape(tmp_path: Path) -> None:
     assert json.loads(render_json(diff_files(a, a)))["equal"] is True
 
 
-def test_cli_exit_codes_and_tolerance(tmp_path: Path) -> None:
+def test_cli_exit_codes_and_tolerance(runner: CliRunner, tmp_path: Path) -> None:
     a = write(tmp_path, "a.xrdf", BASE)
     b = write(tmp_path, "b.xrdf", BASE.replace("j1: 0.5", "j1: 0.5000001"))
     assert runner.invoke(app, ["diff", str(a), str(a)]).exit_code == 0
@@ -564,7 +562,9 @@ def test_cli_exit_codes_and_tolerance(tmp_path: Path) -> None:
         None,  # missing file
     ],
 )
-def test_bad_input_is_exit_2_with_one_line_error(tmp_path: Path, content: str | None) -> None:
+def test_bad_input_is_exit_2_with_one_line_error(
+    runner: CliRunner, tmp_path: Path, content: str | None
+) -> None:
     good = write(tmp_path, "good.xrdf", BASE)
     bad = tmp_path / "bad.xrdf"
     if content is not None:
@@ -579,7 +579,7 @@ def test_bad_input_is_exit_2_with_one_line_error(tmp_path: Path, content: str | 
         diff_files(good, bad)
 
 
-def test_help() -> None:
+def test_help(runner: CliRunner) -> None:
     result = runner.invoke(app, ["diff", "--help"])
     assert result.exit_code == 0
     assert "--tolerance" in result.output and "--format" in result.output

@@ -715,9 +715,11 @@ def test_diff_errors_are_pinned(name: str) -> None:
 
 
 @pytest.mark.parametrize("name", sorted(CLI_CASES))
-def test_cli_output_is_pinned(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_cli_output_is_pinned(
+    runner: CliRunner, name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.chdir(REPO)
-    result = CliRunner().invoke(app, ["diff", *CLI_CASES[name]])
+    result = runner.invoke(app, ["diff", *CLI_CASES[name]])
     check(GOLDEN / f"{name}.txt", f"exit {result.exit_code}\n{result.stdout}")
 
 

@@ -32,13 +32,15 @@ needs_viser = pytest.mark.skipif(
 )
 
 
-def run(*args: str) -> Any:
-    return CliRunner().invoke(app, ["edit", *args])
+def run(runner: CliRunner, *args: str) -> Any:
+    return runner.invoke(app, ["edit", *args])
 
 
-def test_without_the_extra_it_says_which_to_install(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_without_the_extra_it_says_which_to_install(
+    runner: CliRunner, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setitem(sys.modules, "viser", None)  # an import of viser fails
-    r = run(str(PANDA_XRDF), "--urdf", "robot.urdf")
+    r = run(runner, str(PANDA_XRDF), "--urdf", "robot.urdf")
     assert r.exit_code == 2
     assert r.output.strip().splitlines() == [
         "error: xrdf edit needs the 'edit' extra (viser not installed): "
@@ -57,16 +59,21 @@ def test_without_the_extra_it_says_which_to_install(monkeypatch: pytest.MonkeyPa
         (["--urdf", "r.urdf", "-o", str(PANDA_XRDF)], "exists; edit it with"),
     ],
 )
-def test_usage_errors(args: list[str], message: str) -> None:
-    r = run(*args)
+def test_usage_errors(runner: CliRunner, args: list[str], message: str) -> None:
+    r = run(runner, *args)
     assert r.exit_code == 2, r.output
     assert message in r.output and "Traceback" not in r.output
 
 
 @needs_viser
-def test_output_may_not_be_an_input(tmp_path: Path) -> None:
+def test_output_may_not_be_an_input(runner: CliRunner, tmp_path: Path) -> None:
     r = run(
-        str(PANDA_XRDF), "--urdf", str(DEMO / "demo_arm.urdf"), "-o", str(DEMO / "demo_arm.urdf")
+        runner,
+        str(PANDA_XRDF),
+        "--urdf",
+        str(DEMO / "demo_arm.urdf"),
+        "-o",
+        str(DEMO / "demo_arm.urdf"),
     )
     assert r.exit_code == 2 and "demo_arm.urdf" in r.output
 

@@ -19,7 +19,6 @@ from xrdf_tools.robot.core import as_robot
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 
-runner = CliRunner()
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 
 
@@ -114,7 +113,7 @@ def test_srdf_export_new_and_merged() -> None:
     assert len(merged.disable_collisions) == len(pairs)
 
 
-def test_export_cli(tmp_path: Path) -> None:
+def test_export_cli(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "ur10e.yml"
     r = runner.invoke(
         app, ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-o", str(out)]
@@ -134,7 +133,7 @@ def test_export_cli(tmp_path: Path) -> None:
 CLASSIC = FIXTURES / "curobo_classic" / "ur10e_classic.yml"
 
 
-def test_convert_cli_stdout_output_check_strict(tmp_path: Path) -> None:
+def test_convert_cli_stdout_output_check_strict(runner: CliRunner, tmp_path: Path) -> None:
     base = ["convert", str(UR10E_URDF), "--curobo", str(CLASSIC)]
     r = runner.invoke(app, base)
     assert r.exit_code == 0
@@ -164,7 +163,7 @@ def test_convert_cli_stdout_output_check_strict(tmp_path: Path) -> None:
     assert runner.invoke(app, [*base, "--format-version", "3.0"]).exit_code == 2
 
 
-def test_convert_cli_input_errors(tmp_path: Path) -> None:
+def test_convert_cli_input_errors(runner: CliRunner, tmp_path: Path) -> None:
     bad = tmp_path / "bad.srdf"
     bad.write_text("<robot><group name='x'>")
     r = runner.invoke(app, ["convert", str(UR10E_URDF), "--srdf", str(bad)])

@@ -18,8 +18,6 @@ from xrdf_tools.convert.pipeline import convert_robot
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.robot.xacro_source import expand_xacro
 
-runner = CliRunner()
-
 
 def _kinematics(path: Path) -> dict[str, object]:
     data = yaml.safe_load(path.read_text())
@@ -28,7 +26,7 @@ def _kinematics(path: Path) -> dict[str, object]:
     return kin
 
 
-def test_paths_relative_to_the_output_by_default(tmp_path: Path) -> None:
+def test_paths_relative_to_the_output_by_default(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "deep" / "cfg" / "ur10e.yml"
     out.parent.mkdir(parents=True)
     args = ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-o", str(out)]
@@ -45,7 +43,7 @@ def test_paths_relative_to_the_output_by_default(tmp_path: Path) -> None:
     assert str(tmp_path) not in out.read_text()
 
 
-def test_absolute_paths_on_request(tmp_path: Path) -> None:
+def test_absolute_paths_on_request(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "ur10e.yml"
     args = ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-o", str(out)]
     r = runner.invoke(app, [*args, "--absolute-paths"])
@@ -57,7 +55,7 @@ def test_absolute_paths_on_request(tmp_path: Path) -> None:
 
 
 def test_stdout_paths_are_relative_to_the_current_directory(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
     r = runner.invoke(app, ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF)])
@@ -77,7 +75,7 @@ def _px150() -> tuple[Path, dict[str, str]]:
     return xacro, {"trossen_descriptions": str(root / "trossen_descriptions")}
 
 
-def test_xacro_gets_its_expanded_urdf_beside_the_output(tmp_path: Path) -> None:
+def test_xacro_gets_its_expanded_urdf_beside_the_output(runner: CliRunner, tmp_path: Path) -> None:
     xacro, packages = _px150()
     converted = convert_robot(xacro, ConvertOptions(), package_paths=packages, lint=False)
     xrdf = tmp_path / "px150.xrdf"

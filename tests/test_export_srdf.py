@@ -27,8 +27,6 @@ from xrdf_tools.util.frozen import FrozenMap
 from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 from xrdf_tools.xrdf.model import Xrdf
 
-runner = CliRunner()
-
 SRDFS = {
     "panda": "panda_description/srdf/panda.srdf",
     "ur5": "ur_description/srdf/ur5.srdf",
@@ -94,7 +92,7 @@ def _decorate(srdf: bytes) -> bytes:
     return prolog + b"<robot " + body + b"<!-- end of file -->\n"
 
 
-def _export(*args: str) -> tuple[int, str, str]:
+def _export(runner: CliRunner, *args: str) -> tuple[int, str, str]:
     r = runner.invoke(app, ["export", "srdf", *args])
     return r.exit_code, r.stdout, r.stderr
 
@@ -114,7 +112,7 @@ def _without(x: Xrdf, a: str, b: str) -> Xrdf:
 # ------------------------------------------------------------------------------------------
 # The whole flow on panda: convert, report --write-mask, sync back
 # ------------------------------------------------------------------------------------------
-def test_panda_report_mask_synced_back(tmp_path: Path) -> None:
+def test_panda_report_mask_synced_back(runner: CliRunner, tmp_path: Path) -> None:
     urdf = robot_urdf("panda")
     original = _decorate(_srdf("panda").read_bytes())
     srdf_in = tmp_path / "panda.srdf"
@@ -135,10 +133,10 @@ def test_panda_report_mask_synced_back(tmp_path: Path) -> None:
 
     out = tmp_path / "out.srdf"
     code, stdout, stderr = _export(
-        str(masked), "--merge", str(srdf_in), "--urdf", str(urdf), "--report", str(report)
+        runner, str(masked), "--merge", str(srdf_in), "--urdf", str(urdf), "--report", str(report)
     )
     assert code == 0, stderr
-    code, _, stderr = _export(
+    code, _, stderr = _export(runner,
         str(masked), "--merge", str(srdf_in), "--urdf", str(urdf), "--report", str(report),
         "-o", str(out),
     )  # fmt: skip
@@ -190,14 +188,18 @@ def test_panda_report_mask_synced_back(tmp_path: Path) -> None:
 # Round trip and formatting
 # ------------------------------------------------------------------------------------------
 @pytest.mark.parametrize("name", ["panda", "ur5", "xarm7", "anymal", "pr2"])
-def test_unchanged_robot_round_trips_byte_identical(name: str, tmp_path: Path) -> None:
+def test_unchanged_robot_round_trips_byte_identical(
+    runner: CliRunner, name: str, tmp_path: Path
+) -> None:
     urdf, srdf = robot_urdf(name), _srdf(name)
     xrdf = tmp_path / f"{name}.xrdf"
     r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf), "-o", str(xrdf)])
     assert r.exit_code == 0, r.output
     assert _disabled(parse_srdf(srdf.read_bytes()))  # there is a mask to carry
     out = tmp_path / "out.srdf"
-    code, _, stderr = _export(str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(out))
+    code, _, stderr = _export(
+        runner, str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(out)
+    )
     assert code == 0 and stderr == ""
     assert out.read_bytes() == srdf.read_bytes()
 
@@ -297,7 +299,9 @@ def test_removing_the_last_pairs_keeps_the_layout() -> None:
 # ------------------------------------------------------------------------------------------
 # disable_default_collisions
 # ------------------------------------------------------------------------------------------
-def test_disable_default_collisions_is_kept_and_overridden_per_pair(tmp_path: Path) -> None:
+def test_disable_default_collisions_is_kept_and_overridden_per_pair(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     urdf = robot_urdf("panda")
     text = _srdf("panda").read_text()
     lines = [ln for ln in text.splitlines(keepends=True) if 'link1="panda_hand"' not in ln]
@@ -310,13 +314,17 @@ def test_disable_default_collisions_is_kept_and_overridden_per_pair(tmp_path: Pa
     same = tmp_path / "same.srdf"
     xrdf = tmp_path / "p.xrdf"
     xrdf.write_text(dump_xrdf(x))
-    code, _, err = _export(str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(same))
+    code, _, err = _export(
+        runner, str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(same)
+    )
     assert code == 0 and err == ""
     assert same.read_bytes() == srdf.read_bytes()
     # the XRDF now checks panda_hand/panda_link5: an enable_collisions, reported as removed
     xrdf.write_text(dump_xrdf(_without(x, "panda_hand", "panda_link5")))
     out = tmp_path / "out.srdf"
-    code, _, err = _export(str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(out))
+    code, _, err = _export(
+        runner, str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(out)
+    )
     assert code == 0
     assert "export-srdf-removed panda_hand/panda_link5" in err and "enable_collisions" in err
     result = parse_srdf(out.read_bytes())
@@ -331,7 +339,7 @@ def test_disable_default_collisions_is_kept_and_overridden_per_pair(tmp_path: Pa
 # ------------------------------------------------------------------------------------------
 # <robot name>
 # ------------------------------------------------------------------------------------------
-def test_robot_name_is_the_urdf_name(tmp_path: Path) -> None:
+def test_robot_name_is_the_urdf_name(runner: CliRunner, tmp_path: Path) -> None:
     # example-robot-data's z1.srdf says 'z1' where its URDF says 'z1_description' (and has
     # broken groups): the same mismatch, on the Panda
     urdf, panda_srdf = robot_urdf("panda"), _srdf("panda")
@@ -341,31 +349,35 @@ def test_robot_name_is_the_urdf_name(tmp_path: Path) -> None:
     xrdf = tmp_path / "z1.xrdf"
     xrdf.write_text(dump_xrdf(_convert(urdf, srdf)))
     out = tmp_path / "z1.srdf"
-    code, _, err = _export(str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(out))
+    code, _, err = _export(
+        runner, str(xrdf), "--merge", str(srdf), "--urdf", str(urdf), "-o", str(out)
+    )
     assert code == 0
     assert "warning export-srdf-robot-name" in err and "'panda'" in err
     assert out.read_bytes() == srdf.read_bytes().replace(
         b'<robot name="z1">', b'<robot name="panda">'
     )
     # a new SRDF takes the URDF's name; without --urdf the fallback is said in a note
-    code, stdout, err = _export(str(xrdf), "--urdf", str(urdf))
+    code, stdout, err = _export(runner, str(xrdf), "--urdf", str(urdf))
     assert code == 0 and parse_srdf(stdout).robot_name == "panda"
     assert "export-srdf-robot-name" not in err
-    code, stdout, err = _export(str(xrdf))
+    code, stdout, err = _export(runner, str(xrdf))
     assert code == 0 and parse_srdf(stdout).robot_name == "z1"  # the file stem
     assert "info export-srdf-robot-name" in err and "--urdf" in err
-    code, stdout, _ = _export(str(xrdf), "--robot-name", "arm")
+    code, stdout, _ = _export(runner, str(xrdf), "--robot-name", "arm")
     assert parse_srdf(stdout).robot_name == "arm"
     # without --urdf, a merge keeps the SRDF's name and says it was not checked
-    code, stdout, err = _export(str(xrdf), "--merge", str(srdf))
+    code, stdout, err = _export(runner, str(xrdf), "--merge", str(srdf))
     assert parse_srdf(stdout).robot_name == "z1" and "not checked" in err
 
 
-def test_ignore_links_not_in_the_urdf_are_an_error(tmp_path: Path) -> None:
+def test_ignore_links_not_in_the_urdf_are_an_error(runner: CliRunner, tmp_path: Path) -> None:
     panda = tmp_path / "panda.xrdf"
     panda.write_text(dump_xrdf(_convert(robot_urdf("panda"), _srdf("panda"))))
     out = tmp_path / "out.srdf"
-    code, stdout, err = _export(str(panda), "--urdf", str(robot_urdf("ur5")), "-o", str(out))
+    code, stdout, err = _export(
+        runner, str(panda), "--urdf", str(robot_urdf("ur5")), "-o", str(out)
+    )
     assert code == 2 and stdout == "" and not out.exists()
     assert err.count("\n") == 1 and err.startswith("error: ")
     assert "'panda_hand'" in err and "'ur5'" in err and "Traceback" not in err
@@ -374,7 +386,7 @@ def test_ignore_links_not_in_the_urdf_are_an_error(tmp_path: Path) -> None:
 # ------------------------------------------------------------------------------------------
 # Output safety and inputs
 # ------------------------------------------------------------------------------------------
-def test_output_equal_to_an_input_is_refused(tmp_path: Path) -> None:
+def test_output_equal_to_an_input_is_refused(runner: CliRunner, tmp_path: Path) -> None:
     urdf = robot_urdf("ur5")
     srdf = tmp_path / "ur5.srdf"
     srdf.write_bytes(_srdf("ur5").read_bytes())
@@ -387,12 +399,12 @@ def test_output_equal_to_an_input_is_refused(tmp_path: Path) -> None:
     sub = tmp_path / "sub"
     sub.mkdir()
     for target in (srdf, sub / ".." / "ur5.srdf", report, urdf, xrdf):
-        code, stdout, err = _export(*base, "-o", str(target))
+        code, stdout, err = _export(runner, *base, "-o", str(target))
         assert code == 2, target
         assert err.count("\n") == 1 and "refusing to overwrite an input file" in err
         assert stdout == ""
     assert srdf.read_bytes() == before
-    code, _, err = _export(*base, "-o", str(tmp_path / "new.srdf"))
+    code, _, err = _export(runner, *base, "-o", str(tmp_path / "new.srdf"))
     assert code == 0 and "export-srdf-removed base_link/shoulder_link" in err
 
 
@@ -429,18 +441,18 @@ def test_report_reasons() -> None:
         reasons_from_report({"diagnostics": []}, "r.json")
 
 
-def test_bad_report_or_srdf_is_a_one_line_error(tmp_path: Path) -> None:
+def test_bad_report_or_srdf_is_a_one_line_error(runner: CliRunner, tmp_path: Path) -> None:
     bad = tmp_path / "bad.json"
     bad.write_text("not json")
     xrdf = tmp_path / "a.xrdf"
     xrdf.write_text(dump_xrdf(XRDF_ABCD))
-    code, _, err = _export(str(xrdf), "--report", str(bad))
+    code, _, err = _export(runner, str(xrdf), "--report", str(bad))
     assert code == 2 and err.count("\n") == 1 and "not JSON" in err
     broken = tmp_path / "broken.srdf"
     broken.write_text("<robot name='r'>")
-    code, _, err = _export(str(xrdf), "--merge", str(broken))
+    code, _, err = _export(runner, str(xrdf), "--merge", str(broken))
     assert code == 2 and err.count("\n") == 1 and "malformed SRDF XML" in err
-    code, _, err = _export(str(xrdf), "--merge", str(tmp_path / "missing.srdf"))
+    code, _, err = _export(runner, str(xrdf), "--merge", str(tmp_path / "missing.srdf"))
     assert code == 2 and err.count("\n") == 1 and "SRDF file not found" in err
 
 

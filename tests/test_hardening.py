@@ -43,14 +43,13 @@ from xrdf_tools.util.fileio import (
 from xrdf_tools.util.graph import find_cycle, reachable
 from xrdf_tools.yaml.io import load_yaml, parse_yaml, to_python
 
-runner = CliRunner()
 posix = pytest.mark.skipif(os.name != "posix", reason="FIFOs and /dev/zero are POSIX")
 MIMIC_URDF = FIXTURES / "urdf" / "three_link_mimic.urdf"
 MIMIC_XRDF = FIXTURES / "fuzz" / "three_link_mimic.xrdf"
 CUROBO_CLASSIC = FIXTURES / "curobo_classic" / "ur10e_classic.yml"
 
 
-def _cli(*args: str) -> tuple[int, str]:
+def _cli(runner: CliRunner, *args: str) -> tuple[int, str]:
     """Exit code and output of ``xrdf ARGS``; fails on a traceback."""
     res = runner.invoke(app, list(args))
     exc = res.exception
@@ -74,31 +73,33 @@ def _replace(src: Path, dest: Path, old: str, new: str) -> Path:
 # --------------------------------------------------------------------------------------------
 @posix
 @pytest.mark.parametrize("command", ["lint", "diff"])
-def test_a_fifo_input_is_refused_without_reading(tmp_path: Path, command: str) -> None:
+def test_a_fifo_input_is_refused_without_reading(
+    runner: CliRunner, tmp_path: Path, command: str
+) -> None:
     fifo = tmp_path / "robot.xrdf"
     os.mkfifo(fifo)
     args = [command, str(fifo)] + ([str(UR10E_XRDF)] if command == "diff" else [])
     start = time.monotonic()
-    code, out = _cli(*args)
+    code, out = _cli(runner, *args)
     assert code == 2 and "FIFO" in out and f"{fifo}:" in out
     assert time.monotonic() - start < 10
 
 
 @posix
-def test_dev_zero_and_directories_are_refused_as_inputs(tmp_path: Path) -> None:
+def test_dev_zero_and_directories_are_refused_as_inputs(runner: CliRunner, tmp_path: Path) -> None:
     with pytest.raises(UrdfError, match="character device, not a regular file"):
         read_input_bytes("/dev/zero", what="URDF file", error=UrdfError)
     with pytest.raises(InputError, match=r"is a directory \(file expected\)"):
         read_input_bytes(tmp_path)
-    code, out = _cli("convert", str(UR10E_URDF), "--srdf", "/dev/zero")
+    code, out = _cli(runner, "convert", str(UR10E_URDF), "--srdf", "/dev/zero")
     assert code == 2 and "/dev/zero: is a character device" in out
 
 
 @posix
-def test_a_link_to_dev_zero_is_refused(tmp_path: Path) -> None:
+def test_a_link_to_dev_zero_is_refused(runner: CliRunner, tmp_path: Path) -> None:
     link = tmp_path / "robot.urdf"
     link.symlink_to("/dev/zero")
-    code, out = _cli("lint", str(UR10E_XRDF), "--urdf", str(link))
+    code, out = _cli(runner, "lint", str(UR10E_XRDF), "--urdf", str(link))
     assert code == 2 and "not a regular file" in out
 
 
@@ -138,11 +139,11 @@ def test_control_characters_are_errors_with_a_position(char: str, col: int) -> N
     assert str(e.value).startswith(f"x.yaml:2:{col}: ")
 
 
-def test_control_character_in_cli_input_is_one_line(tmp_path: Path) -> None:
+def test_control_character_in_cli_input_is_one_line(runner: CliRunner, tmp_path: Path) -> None:
     p = tmp_path / "robot.xrdf"
     p.write_text('format: xrdf\nformat_version: 2.0\nx: "a\x01b"\n')
     for args in (["lint", str(p)], ["diff", str(p), str(UR10E_XRDF)]):
-        code, out = _cli(*args)
+        code, out = _cli(runner, *args)
         assert f"{p}:3:" in out and "U+0001" in out and code in (1, 2)
 
 
@@ -162,7 +163,7 @@ def test_billion_laughs_fails_fast() -> None:
 
 
 @pytest.mark.parametrize("command", ["lint", "diff", "convert"])
-def test_billion_laughs_through_the_cli(tmp_path: Path, command: str) -> None:
+def test_billion_laughs_through_the_cli(runner: CliRunner, tmp_path: Path, command: str) -> None:
     bomb = tmp_path / "bomb.yml"
     bomb.write_text(_laughs())
     args = {
@@ -171,7 +172,7 @@ def test_billion_laughs_through_the_cli(tmp_path: Path, command: str) -> None:
         "convert": ["convert", str(UR10E_URDF), "--curobo", str(bomb)],
     }[command]
     start = time.monotonic()
-    code, out = _cli(*args)
+    code, out = _cli(runner, *args)
     assert code in (1, 2) and "aliases expand" in out
     assert time.monotonic() - start < 10
 
@@ -206,10 +207,10 @@ def test_deep_nesting_is_an_error_not_a_recursion_error(text: str) -> None:
         parse_yaml(text, "deep.yaml")
 
 
-def test_deep_nesting_through_lint_is_a_finding(tmp_path: Path) -> None:
+def test_deep_nesting_through_lint_is_a_finding(runner: CliRunner, tmp_path: Path) -> None:
     p = tmp_path / "deep.xrdf"
     p.write_text("x: " + "[" * 1000 + "]" * 1000 + "\n")
-    code, out = _cli("lint", str(p))
+    code, out = _cli(runner, "lint", str(p))
     assert code == 1 and "yaml-syntax" in out and "nesting deeper" in out
 
 
@@ -248,6 +249,7 @@ CHAIN_SRDF = (
 
 
 def test_joint_whose_parent_is_its_own_child_with_srdf_chain_does_not_hang(
+    runner: CliRunner,
     tmp_path: Path,
 ) -> None:
     urdf = tmp_path / "cyc.urdf"
@@ -255,7 +257,7 @@ def test_joint_whose_parent_is_its_own_child_with_srdf_chain_does_not_hang(
     srdf = tmp_path / "cyc.srdf"
     srdf.write_text(CHAIN_SRDF)
     start = time.monotonic()
-    code, out = _cli("convert", str(urdf), "--srdf", str(srdf))
+    code, out = _cli(runner, "convert", str(urdf), "--srdf", str(srdf))
     assert code == 2 and "is the child of two joints" in out and f"{urdf}:5" in out
     assert time.monotonic() - start < 10
 
@@ -420,14 +422,16 @@ def test_non_utf8_pyproject_found_by_discovery(tmp_path: Path) -> None:
         ("rules: {curobo-: {level: [1]}}\n", "rules.curobo-.level must be a level"),
     ],
 )
-def test_lint_config_shape_errors(tmp_path: Path, text: str, message: str) -> None:
+def test_lint_config_shape_errors(
+    runner: CliRunner, tmp_path: Path, text: str, message: str
+) -> None:
     from xrdf_tools.lint.config import ConfigError, load_config
 
     p = tmp_path / ".xrdf-lint.yaml"
     p.write_text(text)
     with pytest.raises(ConfigError, match=message):
         load_config(p)
-    code, out = _cli("lint", "--config", str(p), str(UR10E_XRDF))
+    code, out = _cli(runner, "lint", "--config", str(p), str(UR10E_XRDF))
     assert code == 2 and f"{p}" in out
 
 
@@ -448,22 +452,24 @@ def test_lint_config_shape_errors(tmp_path: Path, text: str, message: str) -> No
         ),
     ],
 )
-def test_bad_urdf_limits_are_input_errors(tmp_path: Path, old: str, new: str, message: str) -> None:
+def test_bad_urdf_limits_are_input_errors(
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
+) -> None:
     urdf = _replace(UR10E_URDF, tmp_path / "bad.urdf", old, new)
     for args in (
         ["report", str(UR10E_XRDF), "--urdf", str(urdf), "-n", "10"],
         ["viz", str(UR10E_XRDF), "--urdf", str(urdf), "--png", str(tmp_path / "o.png")],
     ):
-        code, out = _cli(*args)
+        code, out = _cli(runner, *args)
         assert code == 2 and message in out and f"{urdf}:" in out, (args, out)
     # lint checks the XRDF against the URDF: no reader loads it with this one, a finding
-    code, out = _cli("lint", str(UR10E_XRDF), "--urdf", str(urdf))
+    code, out = _cli(runner, "lint", str(UR10E_XRDF), "--urdf", str(urdf))
     assert code == 1 and "urdf-invalid" in out and message in out and f"{urdf}:" in out, out
 
 
-def test_mimic_offset_inf(tmp_path: Path) -> None:
+def test_mimic_offset_inf(runner: CliRunner, tmp_path: Path) -> None:
     urdf = _replace(MIMIC_URDF, tmp_path / "m.urdf", 'offset="0.1"', 'offset="inf"')
-    code, out = _cli("convert", str(urdf))
+    code, out = _cli(runner, "convert", str(urdf))
     assert code == 2 and "<mimic> offset='inf': numbers must be finite" in out
 
 
@@ -475,13 +481,15 @@ def test_mimic_offset_inf(tmp_path: Path) -> None:
         ('<cylinder radius="0.08" length="0.1"/>', '<cylinder radius="0.08"/>', "no 'length'"),
     ],
 )
-def test_bad_geometry_is_an_input_error(tmp_path: Path, old: str, new: str, message: str) -> None:
+def test_bad_geometry_is_an_input_error(
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
+) -> None:
     urdf = _replace(MIMIC_URDF, tmp_path / "g.urdf", old, new)
-    code, out = _cli("report", str(MIMIC_XRDF), "--urdf", str(urdf), "-n", "10")
+    code, out = _cli(runner, "report", str(MIMIC_XRDF), "--urdf", str(urdf), "-n", "10")
     assert code == 2 and message in out
 
 
-def test_planar_joint_in_viz_sorts_its_diagnostics(tmp_path: Path) -> None:
+def test_planar_joint_in_viz_sorts_its_diagnostics(runner: CliRunner, tmp_path: Path) -> None:
     urdf = _replace(
         UR10E_URDF,
         tmp_path / "planar.urdf",
@@ -492,7 +500,14 @@ def test_planar_joint_in_viz_sorts_its_diagnostics(tmp_path: Path) -> None:
     out_file = str(tmp_path / "o.mcap")
     # the fixture's meshes are not bundled: their warnings sort with the joint's
     code, out = _cli(
-        "viz", str(UR10E_XRDF), "--urdf", str(urdf), "--mcap", out_file, "--allow-missing-meshes"
+        runner,
+        "viz",
+        str(UR10E_XRDF),
+        "--urdf",
+        str(urdf),
+        "--mcap",
+        out_file,
+        "--allow-missing-meshes",
     )
     assert code == 0 and "joint-held-fixed" in out and "mesh-not-loaded" in out
 
@@ -504,9 +519,11 @@ def test_diagnostics_with_and_without_a_line_sort() -> None:
 
 
 @pytest.mark.parametrize("command", ["report", "viz"])
-def test_negative_seed_is_a_usage_error(tmp_path: Path, command: str) -> None:
+def test_negative_seed_is_a_usage_error(runner: CliRunner, tmp_path: Path, command: str) -> None:
     extra = ["--png", str(tmp_path / "o.png"), "-n", "2"] if command == "viz" else ["-n", "2"]
-    code, out = _cli(command, str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--seed", "-1", *extra)
+    code, out = _cli(
+        runner, command, str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--seed", "-1", *extra
+    )
     assert code == 2 and "--seed" in out
 
 
@@ -519,14 +536,14 @@ def test_negative_seed_is_a_usage_error(tmp_path: Path, command: str) -> None:
     ],
 )
 def test_huge_sphere_values_are_errors_not_overflows(
-    tmp_path: Path, old: str, new: str, message: str
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
 ) -> None:
     x = _replace(UR10E_XRDF, tmp_path / "big.xrdf", old, new)
     for args in (
         ["viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "o.png")],
         ["report", str(x), "--urdf", str(UR10E_URDF), "-n", "10"],
     ):
-        code, out = _cli(*args)
+        code, out = _cli(runner, *args)
         assert code == 2 and message in out and out.count("\n") == 1, out
 
 
@@ -554,39 +571,49 @@ def test_huge_sphere_values_are_errors_not_overflows(
         ("link_names: [tool0, flange]", "? {a: 1}\n    : 1", "a mapping is used as a mapping key"),
     ],
 )
-def test_curobo_shape_errors(tmp_path: Path, old: str, new: str, message: str) -> None:
+def test_curobo_shape_errors(
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
+) -> None:
     cfg = _replace(CUROBO_CLASSIC, tmp_path / "cfg.yml", old, new)
     (tmp_path / "spheres").mkdir()
     (tmp_path / "spheres" / "ur10e.yml").write_bytes(
         (CUROBO_CLASSIC.parent / "spheres" / "ur10e.yml").read_bytes()
     )
-    code, out = _cli("convert", str(UR10E_URDF), "--curobo", str(cfg))
+    code, out = _cli(runner, "convert", str(UR10E_URDF), "--curobo", str(cfg))
     assert code == 2 and message in out and f"{cfg}:" in out, out
 
 
-def test_configs_json_nested_too_deeply(tmp_path: Path) -> None:
+def test_configs_json_nested_too_deeply(runner: CliRunner, tmp_path: Path) -> None:
     q = tmp_path / "q.json"
     q.write_text("[" * 100_000 + "]" * 100_000)
-    code, out = _cli("report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q))
+    code, out = _cli(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q)
+    )
     assert code == 2 and "nested too deeply" in out
 
 
-def test_configs_yaml_bomb(tmp_path: Path) -> None:
+def test_configs_yaml_bomb(runner: CliRunner, tmp_path: Path) -> None:
     q = tmp_path / "q.yaml"
     q.write_text(_laughs())
-    code, out = _cli("report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q))
+    code, out = _cli(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q)
+    )
     assert code == 2 and "aliases expand" in out
 
 
-def test_npy_of_the_wrong_shape(tmp_path: Path) -> None:
+def test_npy_of_the_wrong_shape(runner: CliRunner, tmp_path: Path) -> None:
     import numpy as np
 
     q = tmp_path / "q.npy"
     np.save(q, np.zeros((2, 2, 2)))
-    code, out = _cli("report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q))
+    code, out = _cli(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q)
+    )
     assert code == 2 and "[B, k]" in out
     q.write_bytes(b"\x93NUMPY garbage")
-    code, out = _cli("report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q))
+    code, out = _cli(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(q)
+    )
     assert code == 2 and "not a numeric .npy array" in out
 
 
@@ -607,14 +634,14 @@ def test_writing_through_a_symlink_keeps_the_link(tmp_path: Path) -> None:
 
 
 @posix
-def test_devices_and_fifos_are_refused_as_outputs(tmp_path: Path) -> None:
+def test_devices_and_fifos_are_refused_as_outputs(runner: CliRunner, tmp_path: Path) -> None:
     fifo = tmp_path / "out.xrdf"
     os.mkfifo(fifo)
     for path in (fifo, Path("/dev/null")):
         with pytest.raises(OutputError, match="not a regular file; refusing to replace it") as e:
             write_atomic(path, "x")
         assert e.value.path == str(path)
-        code, out = _cli("convert", str(UR10E_URDF), "-o", str(path))
+        code, out = _cli(runner, "convert", str(UR10E_URDF), "-o", str(path))
         assert code == 2 and f"{path}: is a" in out
     assert fifo.exists() and not fifo.is_file()
     with pytest.raises(OutputError, match="is a directory"):
@@ -667,9 +694,12 @@ def test_sigterm_removes_the_temporary_file(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("first", "second"), [("-o", "--write-mask"), ("-o", "--plot"), ("--plot", "--write-mask")]
 )
-def test_report_refuses_one_path_for_two_outputs(tmp_path: Path, first: str, second: str) -> None:
+def test_report_refuses_one_path_for_two_outputs(
+    runner: CliRunner, tmp_path: Path, first: str, second: str
+) -> None:
     r = tmp_path / "R"
     code, out = _cli(
+        runner,
         "report",
         str(UR10E_XRDF),
         "--urdf",
@@ -686,7 +716,7 @@ def test_report_refuses_one_path_for_two_outputs(tmp_path: Path, first: str, sec
 
 
 def test_report_errors_name_the_output_not_the_temporary(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     import errno
 
@@ -696,7 +726,15 @@ def test_report_errors_name_the_output_not_the_temporary(
     monkeypatch.setattr(os, "replace", full)
     mask = tmp_path / "mask.xrdf"
     code, out = _cli(
-        "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-n", "10", "--write-mask", str(mask)
+        runner,
+        "report",
+        str(UR10E_XRDF),
+        "--urdf",
+        str(UR10E_URDF),
+        "-n",
+        "10",
+        "--write-mask",
+        str(mask),
     )
     assert code == 2 and f"{mask}: " in out and ".tmp" not in out and "No space left" in out
 
@@ -772,25 +810,43 @@ def test_postorder_puts_children_first() -> None:
 
 
 # Crashes found by benchmarks/fuzz_cli.py (seed 0), kept as regression tests.
-def test_fuzz_case_5907_repeated_cspace_joint_in_viz(tmp_path: Path) -> None:
+def test_fuzz_case_5907_repeated_cspace_joint_in_viz(runner: CliRunner, tmp_path: Path) -> None:
     x = _replace(MIMIC_XRDF, tmp_path / "m.xrdf", "    - joint2\n", "    - joint2\n    - joint2\n")
     code, out = _cli(
-        "viz", str(x), "--urdf", str(MIMIC_URDF), "--png", str(tmp_path / "o.png"), "-n", "2"
+        runner,
+        "viz",
+        str(x),
+        "--urdf",
+        str(MIMIC_URDF),
+        "--png",
+        str(tmp_path / "o.png"),
+        "-n",
+        "2",
     )
     assert code == 2 and "joint 'joint2' is listed twice" in out and f"{x}:" in out
 
 
-def test_fuzz_case_9969_nan_default_position_in_viz_mcap(tmp_path: Path) -> None:
+def test_fuzz_case_9969_nan_default_position_in_viz_mcap(runner: CliRunner, tmp_path: Path) -> None:
     pytest.importorskip("mcap")
     x = _replace(UR10E_XRDF, tmp_path / "n.xrdf", "elbow_joint: 1.9", "elbow_joint: .nan")
     code, out = _cli(
-        "viz", str(x), "--urdf", str(UR10E_URDF), "--mcap", str(tmp_path / "o.mcap"), "-n", "2"
+        runner,
+        "viz",
+        str(x),
+        "--urdf",
+        str(UR10E_URDF),
+        "--mcap",
+        str(tmp_path / "o.mcap"),
+        "-n",
+        "2",
     )
     assert code == 2 and "is nan; numbers must be finite" in out
     assert not (tmp_path / "o.mcap").exists()
 
 
-def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(tmp_path: Path) -> None:
+def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     import shutil
 
     from tests.paths import FIXTURES
@@ -800,6 +856,7 @@ def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(tmp_path
     spheres = cfg_dir / "spheres" / "ur10e.yml"
     before = spheres.read_bytes()
     code, out = _cli(
+        runner,
         "convert",
         str(UR10E_URDF),
         "--curobo",
@@ -819,25 +876,27 @@ def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(tmp_path
     ],
 )
 def test_an_integer_beyond_float_range_is_an_input_error(
-    tmp_path: Path, old: str, key: str
+    runner: CliRunner, tmp_path: Path, old: str, key: str
 ) -> None:
     """YAML integers have no size limit; a 400-digit one is not finite as a float."""
     text = UR10E_XRDF.read_text()
     assert old in text
     x = tmp_path / "big.xrdf"
     x.write_text(text.replace(old, old.split(":")[0] + ": " + "9" * 400, 1))
-    code, out = _cli("diff", str(x), str(UR10E_XRDF))
+    code, out = _cli(runner, "diff", str(x), str(UR10E_XRDF))
     assert code == 2 and "is about 1e400; " in out, out
-    code, out = _cli("lint", str(x))
+    code, out = _cli(runner, "lint", str(x))
     assert code == 1 and "internal-error" not in out and "is about 1e400; " in out, out
 
 
-def test_a_curobo_sphere_beyond_float_range_is_reported(tmp_path: Path) -> None:
+def test_a_curobo_sphere_beyond_float_range_is_reported(runner: CliRunner, tmp_path: Path) -> None:
     from tests.paths import FIXTURES
 
     cfg = tmp_path / "ur10e.yml"
     text = (FIXTURES / "curobo_classic" / "ur10e_inline.yml").read_text()
     assert '"radius": 0.05' in text or "radius: 0.05" in text
     cfg.write_text(text.replace("0.05", "9" * 400, 1))
-    code, out = _cli("convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(tmp_path / "o"))
+    code, out = _cli(
+        runner, "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(tmp_path / "o")
+    )
     assert code in (0, 2) and "Traceback" not in out, out

@@ -15,8 +15,6 @@ from xrdf_tools.robot.core import as_robot
 from xrdf_tools.robot.inspect import inspect_robot
 from xrdf_tools.robot.urdf_source import load_urdf
 
-runner = CliRunner()
-
 
 def _path(rel: str) -> Path:
     root = robots_dir()
@@ -29,7 +27,7 @@ TIAGO = "tiago_description/robots/tiago.urdf"
 PR2 = ("pr2_description/urdf/pr2.urdf", "pr2_description/srdf/pr2.srdf")
 
 
-def test_json_describes_every_link_and_joint_of_the_urdf() -> None:
+def test_json_describes_every_link_and_joint_of_the_urdf(runner: CliRunner) -> None:
     urdf = _path(TIAGO)
     result = runner.invoke(app, ["inspect", str(urdf), "--format", "json"])
     assert result.exit_code == 0, result.output
@@ -64,7 +62,7 @@ def test_json_describes_every_link_and_joint_of_the_urdf() -> None:
     assert set(data["left_out"]) == {"wheel", "gripper", "head"}
 
 
-def test_text_is_a_tree_with_the_default_marked() -> None:
+def test_text_is_a_tree_with_the_default_marked(runner: CliRunner) -> None:
     urdf = _path(TIAGO)
     result = runner.invoke(app, ["inspect", str(urdf)])
     assert result.exit_code == 0, result.output
@@ -82,7 +80,7 @@ def test_text_is_a_tree_with_the_default_marked() -> None:
     assert len(lines) < 2 * (len(robot.joints) + 10)  # readable: about a line per joint
 
 
-def test_srdf_groups_resolved_and_default_from_the_srdf() -> None:
+def test_srdf_groups_resolved_and_default_from_the_srdf(runner: CliRunner) -> None:
     urdf, srdf = _path(PR2[0]), _path(PR2[1])
     result = runner.invoke(app, ["inspect", str(urdf), "--srdf", str(srdf), "--format", "json"])
     assert result.exit_code == 0, result.output
@@ -101,7 +99,7 @@ def test_srdf_groups_resolved_and_default_from_the_srdf() -> None:
     assert "SRDF groups" in text and "world_joint" in text
 
 
-def test_bad_input_is_one_line_exit_2(tmp_path: Path) -> None:
+def test_bad_input_is_one_line_exit_2(runner: CliRunner, tmp_path: Path) -> None:
     result = runner.invoke(app, ["inspect", str(tmp_path / "missing.urdf")])
     assert result.exit_code == 2
     assert "missing.urdf" in result.output and "Traceback" not in result.output
@@ -112,7 +110,7 @@ def test_bad_input_is_one_line_exit_2(tmp_path: Path) -> None:
     assert result.exit_code == 2 and "bad.srdf" in result.output
 
 
-def test_disconnected_parts_are_shown_not_hidden(tmp_path: Path) -> None:
+def test_disconnected_parts_are_shown_not_hidden(runner: CliRunner, tmp_path: Path) -> None:
     urdf = tmp_path / "two.urdf"
     urdf.write_text(
         '<robot name="two"><link name="a"/><link name="b"/><link name="c"/>'

@@ -134,7 +134,7 @@ def test_fitting_a_loaded_robot_does_not_parse_the_urdf_again(
     assert "fromstring" in calls  # the loader's one parse
 
 
-def test_capsules_load_everywhere(tmp_path: Path) -> None:
+def test_capsules_load_everywhere(runner: CliRunner, tmp_path: Path) -> None:
     path = tmp_path / "caps.urdf"
     path.write_text(CAPSULE_URDF)
     robot = load_robot(path)  # yourdfpy itself knows no <capsule>
@@ -154,9 +154,9 @@ def test_capsules_load_everywhere(tmp_path: Path) -> None:
     assert solids["arm"].solid.volume == pytest.approx(volume, rel=0.02)  # cylinder inside
     # the command line fits and lints it (yourdfpy alone refused the file)
     out = tmp_path / "caps.xrdf"
-    r = CliRunner().invoke(app, ["spheres", str(path), "--per-link", "2", "-o", str(out)])
+    r = runner.invoke(app, ["spheres", str(path), "--per-link", "2", "-o", str(out)])
     assert r.exit_code == 0, r.output
-    lint = CliRunner().invoke(app, ["lint", str(out), "--urdf", str(path)])
+    lint = runner.invoke(app, ["lint", str(out), "--urdf", str(path)])
     assert lint.exit_code == 0, lint.output
 
 
@@ -181,18 +181,18 @@ def test_unreadable_parts_are_failures_worded_once(tmp_path: Path) -> None:
     assert {d.line for d in [*vdiags, *sdiags]} == {None, robot.link_lines["a"]}
 
 
-def test_report_coverage_measures_the_loaded_xacro(tmp_path: Path) -> None:
+def test_report_coverage_measures_the_loaded_xacro(runner: CliRunner, tmp_path: Path) -> None:
     from tests.test_one_command import XACRO
 
     robot = tmp_path / "r.urdf.xacro"
     robot.write_text(XACRO)
     out = tmp_path / "r.xrdf"
     args = ["--xacro-arg", "prefix:=z_"]
-    r = CliRunner().invoke(
+    r = runner.invoke(
         app, ["convert", str(robot), *args, "--fit-spheres", "-n", "200", "-o", str(out)]
     )
     assert r.exit_code == 0, r.output
-    rep = CliRunner().invoke(
+    rep = runner.invoke(
         app, ["report", str(out), "--urdf", str(robot), *args, "-n", "200", "--coverage"]
     )
     assert rep.exit_code == 0, rep.output

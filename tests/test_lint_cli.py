@@ -16,12 +16,11 @@ from tests.robots import robot_urdf
 from xrdf_tools.cli import app
 from xrdf_tools.lint import lint, lint_text
 
-runner = CliRunner()
 BAD = FIXTURES / "lint" / "sphere-radius" / "fail.xrdf"  # 2.0: one error at 35:19
 WARN = FIXTURES / "lint" / "curobo-integer" / "fail.xrdf"  # one warning at 16:20
 
 
-def test_text_output_and_exit_1_on_error() -> None:
+def test_text_output_and_exit_1_on_error(runner: CliRunner) -> None:
     r = runner.invoke(app, ["lint", str(BAD)])
     assert r.exit_code == 1
     # sorted by position: the 2.0 reader warning on format_version, then the error
@@ -30,13 +29,13 @@ def test_text_output_and_exit_1_on_error() -> None:
     assert second.startswith(f"{BAD}:35:19: error sphere-radius ")
 
 
-def test_warnings_pass_unless_strict() -> None:
+def test_warnings_pass_unless_strict(runner: CliRunner) -> None:
     assert runner.invoke(app, ["lint", str(WARN)]).exit_code == 0
     r = runner.invoke(app, ["lint", "--strict", str(WARN)])
     assert r.exit_code == 1 and ":16:20: warning curobo-integer " in r.output
 
 
-def test_json_schema() -> None:
+def test_json_schema(runner: CliRunner) -> None:
     r = runner.invoke(
         app, ["lint", "-f", "json", "--target", "cumotion", str(BAD), str(UR10E_XRDF)]
     )
@@ -55,7 +54,7 @@ def test_json_schema() -> None:
     }
 
 
-def test_github_and_sarif() -> None:
+def test_github_and_sarif(runner: CliRunner) -> None:
     r = runner.invoke(app, ["lint", "-f", "github", "--target", "isaac-sim", str(BAD)])
     assert r.output.startswith(f"::error file={BAD},line=35,col=19,title=sphere-radius::")
     r = runner.invoke(app, ["lint", "-f", "sarif", "--target", "cumotion", str(BAD)])
@@ -70,7 +69,7 @@ def test_github_and_sarif() -> None:
     assert res["locations"][0]["physicalLocation"]["region"] == {"startLine": 35, "startColumn": 19}
 
 
-def test_select_and_ignore() -> None:
+def test_select_and_ignore(runner: CliRunner) -> None:
     assert runner.invoke(app, ["lint", "--ignore", "sphere-radius", str(BAD)]).exit_code == 0
     r = runner.invoke(app, ["lint", "--select", "curobo-", "--strict", str(BAD)])
     assert r.exit_code == 1 and r.output.count("\n") == 1 and "curobo-format-version" in r.output
@@ -82,13 +81,15 @@ def test_select_and_ignore() -> None:
     assert r.exit_code == 2 and "did you mean 'sphere-radius'" in r.output
 
 
-def test_usage_errors_exit_2(tmp_path: Path) -> None:
+def test_usage_errors_exit_2(runner: CliRunner, tmp_path: Path) -> None:
     assert runner.invoke(app, ["lint", str(tmp_path / "missing.xrdf")]).exit_code == 2
     r = runner.invoke(app, ["lint", str(UR10E_XRDF), "--urdf", str(tmp_path / "no.urdf")])
     assert r.exit_code == 2 and "Traceback" not in r.output
 
 
-def test_syntax_errors_and_duplicates_are_findings_not_crashes(tmp_path: Path) -> None:
+def test_syntax_errors_and_duplicates_are_findings_not_crashes(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     f = tmp_path / "x.xrdf"
     f.write_text("format: xrdf\nformat: xrdf\nformat_version: 2.0\ncspace: [\n")
     r = runner.invoke(app, ["lint", str(f)])
@@ -98,7 +99,7 @@ def test_syntax_errors_and_duplicates_are_findings_not_crashes(tmp_path: Path) -
 
 
 def test_config_changes_levels_and_maps_urdf(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     (tmp_path / "robot").mkdir()
     x = tmp_path / "robot" / "arm.xrdf"
@@ -154,7 +155,9 @@ def test_panda_against_example_robot_data() -> None:
     assert [d for d in diags if d.severity.value == "error"] == []
 
 
-def test_lint_with_urdf_reads_and_parses_the_urdf_once(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_lint_with_urdf_reads_and_parses_the_urdf_once(
+    runner: CliRunner, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Issue 15: ``xrdf lint FILE --urdf URDF`` reads the URDF file once and parses and
     validates it once, whatever its rules look at (joints, frames, collision geometry)."""
     import xrdf_tools.robot.urdf_source as urdf_source

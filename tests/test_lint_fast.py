@@ -56,24 +56,24 @@ CASES: list[list[str]] = [
 
 @pytest.mark.parametrize("argv", CASES, ids=lambda a: " ".join(Path(w).name for w in a[1:])[:80])
 def test_the_fast_path_prints_and_exits_as_the_typer_command(
-    argv: list[str], capsys: pytest.CaptureFixture[str]
+    runner: CliRunner, argv: list[str], capsys: pytest.CaptureFixture[str]
 ) -> None:
     assert parse_fast(argv) is not None, "the fast path should run this command line"
     code = fast_main(argv)
     fast = capsys.readouterr()
-    r = CliRunner().invoke(app, argv)
+    r = runner.invoke(app, argv)
     assert r.exception is None or isinstance(r.exception, SystemExit), r.exception
     assert (fast.out, fast.err, code) == (r.stdout, r.stderr, r.exit_code)
 
 
 def test_standard_input_on_the_fast_path(
-    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    runner: CliRunner, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     data = SEED_XRDF.read_bytes()
     monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(data)))
     code = fast_main(["lint", "-", "--format", "json"])
     fast = capsys.readouterr()
-    r = CliRunner().invoke(app, ["lint", "-", "--format", "json"], input=data)
+    r = runner.invoke(app, ["lint", "-", "--format", "json"], input=data)
     assert (fast.out, fast.err, code) == (r.stdout, r.stderr, r.exit_code)
     assert '"<stdin>"' in fast.out
 

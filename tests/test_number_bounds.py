@@ -15,11 +15,10 @@ from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.util.numbers import MAX_LENGTH, MAX_NUMBER, bound_problem, within
 
-runner = CliRunner()
 ARM = FIXTURES / "lint" / "sphere-outside-geometry"
 
 
-def _cli(*args: str) -> tuple[int, str]:
+def _cli(runner: CliRunner, *args: str) -> tuple[int, str]:
     res = runner.invoke(app, list(args))
     if res.exception is not None and not isinstance(res.exception, SystemExit):
         raise AssertionError(f"traceback: {res.exception!r}\n{res.output}") from res.exception
@@ -45,7 +44,9 @@ def test_within_is_exact_for_any_value() -> None:
 
 @pytest.mark.parametrize("value", ["1e308", "9223372036854775808", "1e7"])
 @pytest.mark.parametrize("key", ["radius", "buffer_distance"])
-def test_lint_and_report_refuse_the_same_lengths(tmp_path: Path, key: str, value: str) -> None:
+def test_lint_and_report_refuse_the_same_lengths(
+    runner: CliRunner, tmp_path: Path, key: str, value: str
+) -> None:
     """One bound for every command: what report refuses, lint reports (it passed them)."""
     old = "radius: 0.1\n" if key == "radius" else "buffer_distance: 0.0"
     text = (ARM / "pass.xrdf").read_text()
@@ -54,14 +55,14 @@ def test_lint_and_report_refuse_the_same_lengths(tmp_path: Path, key: str, value
     x = tmp_path / "big.xrdf"
     x.write_text(text.replace(old, old.replace(old.split(": ")[1].strip(), value), 1))
     (tmp_path / "arm.urdf").write_text((ARM / "arm.urdf").read_text())
-    code, out = _cli("report", str(x), "--urdf", str(tmp_path / "arm.urdf"), "-n", "10")
+    code, out = _cli(runner, "report", str(x), "--urdf", str(tmp_path / "arm.urdf"), "-n", "10")
     assert code == 2 and "lengths must be finite and within ±1e+06 m" in out, out
-    code, out = _cli("lint", str(x), "--urdf", str(tmp_path / "arm.urdf"))
+    code, out = _cli(runner, "lint", str(x), "--urdf", str(tmp_path / "arm.urdf"))
     assert code == 1 and "internal-error" not in out, out
     assert "error wrong-type" in out and "lengths must be finite and within ±1e+06 m" in out, out
 
 
-def test_a_huge_sphere_centre_is_a_finding_not_a_crash(tmp_path: Path) -> None:
+def test_a_huge_sphere_centre_is_a_finding_not_a_crash(runner: CliRunner, tmp_path: Path) -> None:
     x = _replace(
         ARM / "pass.xrdf",
         tmp_path / "c.xrdf",
@@ -69,7 +70,7 @@ def test_a_huge_sphere_centre_is_a_finding_not_a_crash(tmp_path: Path) -> None:
         "center: [1e308, 0.0, 0.0]",
     )
     (tmp_path / "arm.urdf").write_text((ARM / "arm.urdf").read_text())
-    code, out = _cli("lint", str(x), "--urdf", str(tmp_path / "arm.urdf"))
+    code, out = _cli(runner, "lint", str(x), "--urdf", str(tmp_path / "arm.urdf"))
     assert code == 1 and "internal-error" not in out and "center[0] is 1e+308" in out, out
 
 
@@ -82,7 +83,7 @@ def test_a_huge_sphere_centre_is_a_finding_not_a_crash(tmp_path: Path) -> None:
     ],
 )
 def test_urdf_numbers_past_the_bounds_are_input_errors(
-    tmp_path: Path, old: str, new: str, message: str
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
 ) -> None:
     """±1e308 limits overflowed the sampler (report, --certify, convert --fit-spheres)."""
     urdf = _replace(ARM / "arm.urdf", tmp_path / "arm.urdf", old, new)
@@ -92,18 +93,18 @@ def test_urdf_numbers_past_the_bounds_are_input_errors(
         ["report", str(x), "--urdf", str(urdf), "-n", "10", "--certify"],
         ["convert", str(urdf), "--fit-spheres", "-n", "10"],
     ):
-        code, out = _cli(*args)
+        code, out = _cli(runner, *args)
         assert code == 2 and message in out and f"{urdf}:" in out, (args, out)
 
 
-def test_a_robot_without_links_says_so(tmp_path: Path) -> None:
+def test_a_robot_without_links_says_so(runner: CliRunner, tmp_path: Path) -> None:
     urdf = tmp_path / "empty.urdf"
     urdf.write_text('<robot name="r"></robot>\n')
-    code, out = _cli("convert", str(urdf))
+    code, out = _cli(runner, "convert", str(urdf))
     assert code == 2 and "has no <link>" in out and "cycle" not in out, out
 
 
-def test_a_nan_mesh_vertex_is_reported_not_dropped(tmp_path: Path) -> None:
+def test_a_nan_mesh_vertex_is_reported_not_dropped(runner: CliRunner, tmp_path: Path) -> None:
     """trimesh drops a NaN vertex and its faces when it processes a mesh: the link would be
     fitted to the rest, silently."""
     trimesh = pytest.importorskip("trimesh")
@@ -117,11 +118,11 @@ def test_a_nan_mesh_vertex_is_reported_not_dropped(tmp_path: Path) -> None:
     (tmp_path / "arm.urdf").write_text((ARM / "arm.urdf").read_text())
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        _, out = _cli("spheres", str(tmp_path / "arm.urdf"), "-o", str(tmp_path / "s.xrdf"))
+        _, out = _cli(runner, "spheres", str(tmp_path / "arm.urdf"), "-o", str(tmp_path / "s.xrdf"))
     assert "camera.stl: a vertex is not finite or beyond ±1e+06 m" in out, out
 
 
-def test_a_null_robot_cfg_beside_kinematics_is_read(tmp_path: Path) -> None:
+def test_a_null_robot_cfg_beside_kinematics_is_read(runner: CliRunner, tmp_path: Path) -> None:
     """``robot_cfg:`` (null) beside a top-level ``kinematics`` (cuRobo's other layout)."""
     src = (FIXTURES / "curobo_classic" / "ur10e_inline.yml").read_text()
     body = src[src.index("robot_cfg:\n") + len("robot_cfg:\n") :]
@@ -129,14 +130,16 @@ def test_a_null_robot_cfg_beside_kinematics_is_read(tmp_path: Path) -> None:
     cfg = tmp_path / "c.yml"
     cfg.write_text("robot_cfg:\n" + dedented + "\n")
     code, out = _cli(
-        "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(tmp_path / "o.xrdf")
+        runner, "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(tmp_path / "o.xrdf")
     )
     assert code == 0 and "NoneType" not in out, out
     assert (tmp_path / "o.xrdf").is_file()
 
 
 # --- values a reader's YAML library reads differently ------------------------------------------
-def test_export_writes_numbers_every_yaml_reader_reads_alike(tmp_path: Path) -> None:
+def test_export_writes_numbers_every_yaml_reader_reads_alike(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     """A value written ``017`` or ``1e-3`` in the XRDF is written so that PyYAML (YAML 1.1,
     cuRobo) and YAML 1.2 read the same number."""
     yaml = pytest.importorskip("yaml")
@@ -148,7 +151,7 @@ def test_export_writes_numbers_every_yaml_reader_reads_alike(tmp_path: Path) -> 
     x = tmp_path / "x.xrdf"
     x.write_text(text)
     out = tmp_path / "robot.yml"
-    code, log = _cli("export", "curobo", str(x), "--urdf", str(UR10E_URDF), "-o", str(out))
+    code, log = _cli(runner, "export", "curobo", str(x), "--urdf", str(UR10E_URDF), "-o", str(out))
     assert code == 0, log
     written = out.read_text()
     assert "[0.001, " in written

@@ -25,8 +25,6 @@ from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.xrdf.io import load_xrdf
 from xrdf_tools.xrdf.model import Xrdf
 
-runner = CliRunner()
-
 # A base, two links with collision boxes and one link with a visual box only.
 BOXES = """<robot name="boxes">
   <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
@@ -50,7 +48,7 @@ BOXES = """<robot name="boxes">
 
 
 def _check_with_report_and_lint(
-    xrdf: Path, urdf: Path, samples: int = 3000, extra: tuple[str, ...] = ()
+    runner: CliRunner, xrdf: Path, urdf: Path, samples: int = 3000, extra: tuple[str, ...] = ()
 ) -> None:
     """`xrdf report` and `xrdf lint` on the written XRDF: exit 0 and no error."""
     rep = runner.invoke(
@@ -125,7 +123,7 @@ def test_geometry_source_choice(boxes: Path) -> None:
     assert [d.rule for d in diags] == ["spheres-visual-fallback"]
 
 
-def test_fit_uses_the_expanded_xacro_with_its_arguments(tmp_path: Path) -> None:
+def test_fit_uses_the_expanded_xacro_with_its_arguments(runner: CliRunner, tmp_path: Path) -> None:
     robot = tmp_path / "r.urdf.xacro"
     robot.write_text(XACRO)  # the small two-link xacro defined below
     result = convert_robot(
@@ -155,7 +153,7 @@ def test_lint_reads_the_given_urdf_object(boxes: Path) -> None:
     )
 
 
-def test_cli_summary_and_options(boxes: Path, tmp_path: Path) -> None:
+def test_cli_summary_and_options(runner: CliRunner, boxes: Path, tmp_path: Path) -> None:
     out = tmp_path / "boxes.xrdf"
     r = runner.invoke(
         app,
@@ -166,7 +164,7 @@ def test_cli_summary_and_options(boxes: Path, tmp_path: Path) -> None:
     x = load_xrdf(out)
     assert x.cspace is not None and list(x.cspace.joint_names) == ["j1", "j2"]
     assert x.tool_frames == ("lower",)
-    _check_with_report_and_lint(out, boxes, samples=300)
+    _check_with_report_and_lint(runner, out, boxes, samples=300)
 
 
 # --------------------------------------------------------------------------------------------
@@ -182,7 +180,7 @@ def _srdf(name: str) -> Path:
 FAST_FIT = ("--fit-spheres", "--per-link", "3", "-n", "3000")
 
 
-def _one_command(out: Path, *args: str) -> tuple[Xrdf, str]:
+def _one_command(runner: CliRunner, out: Path, *args: str) -> tuple[Xrdf, str]:
     """Run ``xrdf convert ARGS --fit-spheres … -o OUT``; the XRDF written and the output."""
     r = runner.invoke(app, ["convert", *args, *FAST_FIT, "-o", str(out)])
     assert r.exit_code == 0, r.output
@@ -190,14 +188,14 @@ def _one_command(out: Path, *args: str) -> tuple[Xrdf, str]:
 
 
 @pytest.mark.slow
-def test_panda_from_srdf(tmp_path: Path) -> None:
+def test_panda_from_srdf(runner: CliRunner, tmp_path: Path) -> None:
     urdf = robot_urdf("panda")
     srdf = _srdf("panda_description/srdf/panda.srdf")
     out = tmp_path / "panda.xrdf"
-    x, output = _one_command(out, str(urdf), "--srdf", str(srdf))
+    x, output = _one_command(runner, out, str(urdf), "--srdf", str(srdf))
     assert "planning group 'arm' chosen" in output
     assert len(x.world_collision_spheres()) == 11  # every link with collision geometry
-    _check_with_report_and_lint(out, urdf)
+    _check_with_report_and_lint(runner, out, urdf)
 
 
 def _rtb_xacro() -> Path:
@@ -211,11 +209,12 @@ def _rtb_xacro() -> Path:
 
 
 @pytest.mark.slow
-def test_xacro_only_robot_with_xacro_arg(tmp_path: Path) -> None:
+def test_xacro_only_robot_with_xacro_arg(runner: CliRunner, tmp_path: Path) -> None:
     pkg = _rtb_xacro()
     robot = pkg / "urdf" / "px150.urdf.xacro"
     out = tmp_path / "px150.xrdf"
     x, _ = _one_command(
+        runner,
         out,
         str(robot),
         "--package-path",
@@ -240,17 +239,17 @@ def test_xacro_only_robot_with_xacro_arg(tmp_path: Path) -> None:
     )
     # report and lint read the xacro with the same arguments (no expanded copy needed)
     extra = ("--xacro-arg", "robot_name:=px150", "--package-path", f"trossen_descriptions={pkg}")
-    _check_with_report_and_lint(out, robot, extra=extra)
+    _check_with_report_and_lint(runner, out, robot, extra=extra)
 
 
 @pytest.mark.slow
-def test_pr2_mobile_manipulator_two_arms(tmp_path: Path) -> None:
+def test_pr2_mobile_manipulator_two_arms(runner: CliRunner, tmp_path: Path) -> None:
     """PR2: a mobile base with visual-only links, both arms in one c-space from two groups."""
     urdf = robot_urdf("pr2")
     srdf = _srdf("pr2_description/srdf/pr2.srdf")
     out = tmp_path / "pr2.xrdf"
     x, output = _one_command(
-        out, str(urdf), "--srdf", str(srdf), "--group", "left_arm", "--group", "right_arm"
+        runner, out, str(urdf), "--srdf", str(srdf), "--group", "left_arm", "--group", "right_arm"
     )
     assert x.cspace is not None
     names = list(x.cspace.joint_names)
@@ -261,10 +260,10 @@ def test_pr2_mobile_manipulator_two_arms(tmp_path: Path) -> None:
     visual_only = [n for n, link in model.link_map.items() if link.visuals and not link.collisions]
     assert visual_only and not set(visual_only) & set(spheres)
     assert "with visual geometry only get none" in output
-    _check_with_report_and_lint(out, urdf)
+    _check_with_report_and_lint(runner, out, urdf)
 
 
-def test_cli_usage_errors_are_one_line_exit_2(boxes: Path) -> None:
+def test_cli_usage_errors_are_one_line_exit_2(runner: CliRunner, boxes: Path) -> None:
     for args, match in (
         (["--chain", "base"], "--chain expects BASE_LINK:TIP_LINK, got 'base'"),
         (["--joints", "j1", "--chain", "base:lower"], "not both"),
@@ -286,7 +285,7 @@ XACRO = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
     <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"""
 
 
-def test_every_command_reads_a_xacro_with_its_arguments(tmp_path: Path) -> None:
+def test_every_command_reads_a_xacro_with_its_arguments(runner: CliRunner, tmp_path: Path) -> None:
     robot = tmp_path / "r.urdf.xacro"
     robot.write_text(XACRO)
     out = tmp_path / "r.xrdf"
@@ -295,7 +294,7 @@ def test_every_command_reads_a_xacro_with_its_arguments(tmp_path: Path) -> None:
         app, ["convert", str(robot), *args, "--fit-spheres", "-n", "200", "-o", str(out)]
     )
     assert r.exit_code == 0, r.output
-    _check_with_report_and_lint(out, robot, samples=200, extra=tuple(args))
+    _check_with_report_and_lint(runner, out, robot, samples=200, extra=tuple(args))
     # without the argument the frames do not exist: lint says so (the xacro default is a_)
     plain = runner.invoke(app, ["lint", str(out), "--urdf", str(robot)])
     assert plain.exit_code == 1 and "z_tip" in plain.output

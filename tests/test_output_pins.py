@@ -111,11 +111,11 @@ def _normalise(text: str) -> str:
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
-def test_output_is_pinned(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_output_is_pinned(runner: CliRunner, name: str, monkeypatch: pytest.MonkeyPatch) -> None:
     from xrdf_tools.cli import app
 
     monkeypatch.chdir(REPO)
-    result = CliRunner().invoke(app, CASES[name])
+    result = runner.invoke(app, CASES[name])
     got = _normalise(f"exit {result.exit_code}\n{result.output}")
     pin = PINS / f"{name}.txt"
     if os.environ.get("XRDF_PINS_UPDATE"):

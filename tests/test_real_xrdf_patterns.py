@@ -15,8 +15,6 @@ from xrdf_tools.lint import lint_text
 from xrdf_tools.xrdf import versions
 from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 
-runner = CliRunner()
-
 HEADER = "format: xrdf\nformat_version: 2.0\n\n"
 
 
@@ -164,7 +162,9 @@ def test_isaac_ros_1_0_placeholders_lint_clean_round_trip_and_convert(tmp_path: 
         ('<mimic joint="j8"/>', "joint 'j1' mimics 'j8', which is not a joint"),
     ],
 )
-def test_invalid_mimic_in_urdf_is_a_finding(tmp_path: Path, mimic: str, message: str) -> None:
+def test_invalid_mimic_in_urdf_is_a_finding(
+    runner: CliRunner, tmp_path: Path, mimic: str, message: str
+) -> None:
     # cuMotion's telescope_invalid_self_mimic / _mimic_parent URDFs with the valid telescope.xrdf:
     # no reader loads the XRDF with that URDF, so it is a finding of the XRDF under test
     # (urdf-invalid, exit 1) naming the URDF's problem; URDF-bound checks are skipped.
@@ -180,7 +180,9 @@ def test_invalid_mimic_in_urdf_is_a_finding(tmp_path: Path, mimic: str, message:
     assert r.exit_code == 1 and "urdf-invalid" in r.output and "Traceback" not in r.output
 
 
-def test_lint_urdf_with_inverted_limits_is_an_urdf_invalid_finding(tmp_path: Path) -> None:
+def test_lint_urdf_with_inverted_limits_is_an_urdf_invalid_finding(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     from tests.paths import FIXTURES
 
     urdf = tmp_path / "inverted.urdf"

@@ -24,7 +24,6 @@ from xrdf_tools.report.render import render_html, render_markdown, render_text, 
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 
-runner = CliRunner()
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 SCHEMA = REPO / "docs" / "report-schema.json"
 
@@ -189,7 +188,7 @@ def _validate(doc: object) -> None:
     jsonschema.validate(doc, json.loads(SCHEMA.read_text()))
 
 
-def test_cli_json_validates_against_schema_panda(tmp_path: Path) -> None:
+def test_cli_json_validates_against_schema_panda(runner: CliRunner, tmp_path: Path) -> None:
     urdf = robot_urdf("panda")
     out = tmp_path / "r.json"
     res = runner.invoke(
@@ -216,7 +215,7 @@ def test_cli_json_validates_against_schema_panda(tmp_path: Path) -> None:
     assert any(d["rule"] == "report-mask-hides-collision" for d in doc["diagnostics"])
 
 
-def test_cli_trajectory_exit_code_and_schema(tmp_path: Path) -> None:
+def test_cli_trajectory_exit_code_and_schema(runner: CliRunner, tmp_path: Path) -> None:
     xrdf_path = tmp_path / "three.xrdf"
     xrdf_path.write_text(THREE_LINK_XRDF)
     q = tmp_path / "traj.csv"
@@ -231,7 +230,7 @@ def test_cli_trajectory_exit_code_and_schema(tmp_path: Path) -> None:
     assert [h["index"] for h in doc["trajectory"]] == [0, 1]
 
 
-def test_cli_write_mask_plot_and_refusals(tmp_path: Path) -> None:
+def test_cli_write_mask_plot_and_refusals(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "ur10e.masked.xrdf"
     png = tmp_path / "m.png"
     args = ["report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-n", "5000"]
@@ -259,7 +258,7 @@ def test_halton_and_uniform_agree_roughly() -> None:
             assert math.isclose(pu.rate, ph.rate, abs_tol=0.05)
 
 
-def test_jobs_give_the_same_report(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_jobs_give_the_same_report(runner: CliRunner, monkeypatch: pytest.MonkeyPatch) -> None:
     import xrdf_tools.selfcollision.engine.jobs as engine  # where count_sampled reads the threshold
 
     monkeypatch.setattr(engine, "MIN_SAMPLES_PER_JOB", 1000)  # two workers on a small sample

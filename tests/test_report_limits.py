@@ -26,7 +26,6 @@ from xrdf_tools.selfcollision.collision import (
 from xrdf_tools.selfcollision.engine import CountEngine
 from xrdf_tools.xrdf.io import parse_xrdf
 
-runner = CliRunner()
 N = 2000  # spheres on each of two links: 4 M sphere pairs between them
 
 
@@ -91,7 +90,9 @@ def test_too_many_spheres_is_a_located_error(monkeypatch: pytest.MonkeyPatch) ->
     assert "at most 100" in str(err.value)
 
 
-def test_report_and_lint_past_the_ceiling(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_report_and_lint_past_the_ceiling(
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(collision.spheres, "MAX_SPHERE_FRAMES", 2)
     path = tmp_path / "many.xrdf"
     path.write_text(_many(5))
@@ -124,7 +125,7 @@ def test_viz_contacts_memory_is_linear_in_spheres(many) -> None:  # type: ignore
     assert peak < 32 * 2**20  # every sphere pair at once: 4 M x (hits, clearances, indices)
 
 
-def test_samples_past_the_ceiling_are_refused() -> None:
+def test_samples_past_the_ceiling_are_refused(runner: CliRunner) -> None:
     res = runner.invoke(
         app,
         [
@@ -140,7 +141,9 @@ def test_samples_past_the_ceiling_are_refused() -> None:
     assert "not in the range 1<=x<=10000000000" in res.output and "Traceback" not in res.output
 
 
-def test_report_progress_lines_with_verbose_off_a_terminal(tmp_path: Path) -> None:
+def test_report_progress_lines_with_verbose_off_a_terminal(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     """CI has no terminal: with -v one line per 10 % of the samples, quiet otherwise."""
     path = tmp_path / "three.xrdf"
     path.write_text(THREE_LINK_XRDF)

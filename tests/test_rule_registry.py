@@ -14,7 +14,6 @@ from tests.test_sarif_schema import check_sarif
 from xrdf_tools.cli import app
 from xrdf_tools.rules.registry import all_rules
 
-runner = CliRunner()
 PACKAGE = REPO / "xrdf_tools"
 RULE_ID = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)+$")
 #: Kebab-case strings in calls that are not diagnostic ids.
@@ -69,7 +68,9 @@ def test_every_registered_id_is_documented() -> None:
     assert undocumented == []
 
 
-def test_convert_sarif_describes_its_rules_from_the_registry(tmp_path: Path) -> None:
+def test_convert_sarif_describes_its_rules_from_the_registry(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     r = runner.invoke(
         app,
         [

@@ -20,7 +20,6 @@ from tests.test_collision import THREE_LINK, THREE_LINK_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diagnostics import Diagnostic, Severity, artifact_uri, render_sarif
 
-runner = CliRunner()
 BAD = FIXTURES / "lint" / "sphere-radius" / "fail.xrdf"
 #: RFC 3986 URI-reference characters (unreserved, reserved, percent-encoded).
 URI_REFERENCE = re.compile(r"^([A-Za-z0-9\-._~:/?#\[\]@!$&'()*+,;=]|%[0-9A-Fa-f]{2})+$")
@@ -54,7 +53,7 @@ def test_the_schema_rejects_what_it_should() -> None:
     assert list(_validator().iter_errors({"version": "2.1.0"}))
 
 
-def test_lint_sarif_is_valid(tmp_path: Path) -> None:
+def test_lint_sarif_is_valid(runner: CliRunner, tmp_path: Path) -> None:
     bad = tmp_path / "dir with spaces" / "bad robot.xrdf"
     bad.parent.mkdir()
     bad.write_bytes(BAD.read_bytes())
@@ -72,7 +71,7 @@ def test_lint_sarif_is_valid(tmp_path: Path) -> None:
     assert artifact_uri(str(bad)).startswith("file:///")
 
 
-def test_lint_sarif_from_stdin_has_no_artifact() -> None:
+def test_lint_sarif_from_stdin_has_no_artifact(runner: CliRunner) -> None:
     r = runner.invoke(
         app, ["lint", "-f", "sarif", "--target", "cumotion", "-"], input=BAD.read_text()
     )
@@ -81,7 +80,7 @@ def test_lint_sarif_from_stdin_has_no_artifact() -> None:
     assert "locations" not in result and result["ruleId"] == "sphere-radius"
 
 
-def test_report_sarif_and_github_list_the_findings(tmp_path: Path) -> None:
+def test_report_sarif_and_github_list_the_findings(runner: CliRunner, tmp_path: Path) -> None:
     xrdf = tmp_path / "three_link.xrdf"
     xrdf.write_text(THREE_LINK_XRDF)
     args = ["report", str(xrdf), "--urdf", str(THREE_LINK), "--samples", "2000"]

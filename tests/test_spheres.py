@@ -42,8 +42,6 @@ UR5_GEOMETRY_LINKS = [
     "ee_link",
 ]
 
-runner = CliRunner()
-
 
 def needs(path: Path) -> Path:
     if not path.exists():
@@ -188,7 +186,9 @@ def test_open_visual_mesh_falls_back_to_convex_hull_and_says_so(tmp_path: Path) 
     assert geoms["hand"].kind == "convex_hull" and geoms["hand"].source == "visual"
 
 
-def test_missing_mesh_is_a_diagnostic_and_the_command_exits_2(tmp_path: Path) -> None:
+def test_missing_mesh_is_a_diagnostic_and_the_command_exits_2(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     urdf = tmp_path / "m.urdf"
     urdf.write_text(
         '<robot name="m"><link name="a"><collision><geometry><mesh filename="nope.stl"/>'
@@ -297,7 +297,7 @@ def test_same_counts_as_the_anchor_cover_more_at_no_more_protrusion() -> None:
 # --------------------------------------------------------------------------------------------
 # CLI
 # --------------------------------------------------------------------------------------------
-def test_cli_merge_replaces_only_the_chosen_links(tmp_path: Path) -> None:
+def test_cli_merge_replaces_only_the_chosen_links(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "out.xrdf"
     args = ["spheres", str(needs(PANDA)), "--xrdf", str(PANDA_XRDF), "--links", "panda_link1"]
     res = runner.invoke(app, [*args, "--per-link", "3", "-o", str(out)])
@@ -311,7 +311,7 @@ def test_cli_merge_replaces_only_the_chosen_links(tmp_path: Path) -> None:
     assert after.replace(geometry=None) == before.replace(geometry=None)
 
 
-def test_cli_output_lints_clean(tmp_path: Path) -> None:
+def test_cli_output_lints_clean(runner: CliRunner, tmp_path: Path) -> None:
     lint_mod = pytest.importorskip("xrdf_tools.lint")
     merged, fresh = tmp_path / "panda.xrdf", tmp_path / "ur5.xrdf"
     r1 = runner.invoke(
@@ -337,7 +337,9 @@ def test_cli_output_lints_clean(tmp_path: Path) -> None:
         assert errors == [], errors
 
 
-def test_cli_refuses_to_overwrite_its_input_and_bad_options(tmp_path: Path) -> None:
+def test_cli_refuses_to_overwrite_its_input_and_bad_options(
+    runner: CliRunner, tmp_path: Path
+) -> None:
     copy = tmp_path / "panda.xrdf"
     copy.write_text(PANDA_XRDF.read_text())
     res = runner.invoke(app, ["spheres", str(needs(PANDA)), "--xrdf", str(copy), "-o", str(copy)])

@@ -19,8 +19,6 @@ from xrdf_tools.spheres.inside import grid_inside, points_inside
 from xrdf_tools.spheres.robot_fit import fit_robot, parse_clip
 from xrdf_tools.util.errors import XrdfToolsError
 
-runner = CliRunner()
-
 
 def _robot(rel: str) -> Path:
     root = robots_dir()
@@ -166,7 +164,7 @@ def test_clip_plane_keeps_every_sphere_on_its_side() -> None:
 # --------------------------------------------------------------------------------------------
 # CLI
 # --------------------------------------------------------------------------------------------
-def test_cli_metrics_as_json_with_every_field(tmp_path: Path) -> None:
+def test_cli_metrics_as_json_with_every_field(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "p.xrdf"
     args = ["spheres", str(robot_urdf("panda")), "--links", "panda_link1,panda_link2"]
     res = runner.invoke(app, [*args, "--per-link", "3", "--format", "json", "-o", str(out)])
@@ -191,14 +189,14 @@ def test_cli_metrics_as_json_with_every_field(tmp_path: Path) -> None:
     assert all(m["fit_seconds"] > 0 for m in doc["links"].values())
 
 
-def test_cli_names_the_solid_a_thin_shell_was_measured_against() -> None:
+def test_cli_names_the_solid_a_thin_shell_was_measured_against(runner: CliRunner) -> None:
     urdf = _robot("tiago_description/robots/tiago.urdf")
     res = runner.invoke(app, ["spheres", str(urdf), "--links", "base_link", "--per-link", "4"])
     assert res.exit_code == 0, res.output
     assert "base_link: convex_hull" in res.output
 
 
-def test_cli_clip_and_bad_clip(tmp_path: Path) -> None:
+def test_cli_clip_and_bad_clip(runner: CliRunner, tmp_path: Path) -> None:
     urdf = str(robot_urdf("panda"))
     out = tmp_path / "p.xrdf"
     args = ["spheres", urdf, "--links", "panda_link0", "--clip", "panda_link0:0,0,1,0.05"]

@@ -17,8 +17,6 @@ from xrdf_tools.robot.core import Robot, as_robot
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import dump_xrdf
 
-runner = CliRunner()
-
 
 def _pr2() -> tuple[Path, Path]:
     root = robots_dir()
@@ -70,7 +68,7 @@ def test_target_errors_before_fitting(pr2: tuple[Robot, Path, Path]) -> None:
     assert target_errors(dump_xrdf(given), robot, None, "pr2.xrdf") == []
 
 
-def test_readme_pr2_example_passes_lint_for_curobo(tmp_path: Path) -> None:
+def test_readme_pr2_example_passes_lint_for_curobo(runner: CliRunner, tmp_path: Path) -> None:
     urdf, srdf = _pr2()
     out = tmp_path / "pr2.xrdf"
     args = ["convert", str(urdf), "--srdf", str(srdf), "--group", "left_arm"]

@@ -42,8 +42,6 @@ PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 N_SAMPLES = 40
 RED8 = [round(255 * v) for v in COLLISION_RGBA]
 
-runner = CliRunner()
-
 
 # ------------------------------------------------------------------------------------------
 # Fixtures
@@ -516,25 +514,28 @@ def test_configurations_from_text_npy_and_yaml(tmp_path: Path, panda: tuple[Any,
 # ------------------------------------------------------------------------------------------
 # CLI
 # ------------------------------------------------------------------------------------------
-def _viz(panda_urdf: Path, *args: str) -> Any:
+def _viz(runner: CliRunner, panda_urdf: Path, *args: str) -> Any:
     return runner.invoke(app, ["viz", str(PANDA_XRDF), "--urdf", str(panda_urdf), *args])
 
 
-def test_cli_png_and_summary(panda_urdf: Path, tmp_path: Path) -> None:
+def test_cli_png_and_summary(runner: CliRunner, panda_urdf: Path, tmp_path: Path) -> None:
     out = tmp_path / "p.png"
-    r = _viz(panda_urdf, "--png", str(out), "--meshes", "none")
+    r = _viz(runner, panda_urdf, "--png", str(out), "--meshes", "none")
     assert r.exit_code == 0, r.output
     assert out.stat().st_size > 10_000
     assert "61 spheres" in r.output and "1 sample(s)" in r.output
 
 
-def test_cli_mcap_with_configs_and_colliding_only(panda_urdf: Path, tmp_path: Path) -> None:
+def test_cli_mcap_with_configs_and_colliding_only(
+    runner: CliRunner, panda_urdf: Path, tmp_path: Path
+) -> None:
     pytest.importorskip("mcap")
     configs = tmp_path / "q.txt"
     # default-like pose (free) and one with the hand folded onto the base (colliding)
     configs.write_text("0 -1.3 0 -2.5 0 1.5 0.8\n0 1.7 0 -3.0 0 0.0 0\n")
     out = tmp_path / "q.mcap"
     r = _viz(
+        runner,
         panda_urdf,
         "--mcap",
         str(out),
@@ -561,6 +562,7 @@ def test_cli_mcap_with_configs_and_colliding_only(panda_urdf: Path, tmp_path: Pa
     ],
 )
 def test_cli_usage_errors_exit_2_with_one_line(
+    runner: CliRunner,
     panda_urdf: Path,
     tmp_path: Path,
     monkeypatch: pytest.MonkeyPatch,
@@ -568,13 +570,13 @@ def test_cli_usage_errors_exit_2_with_one_line(
     message: str,
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    r = _viz(panda_urdf, *args)
+    r = _viz(runner, panda_urdf, *args)
     assert r.exit_code == 2
     assert message in r.output and "Traceback" not in r.output
     assert not list(tmp_path.iterdir())  # nothing written, no temporary left
 
 
-def test_cli_never_overwrites_an_input(panda_urdf: Path, tmp_path: Path) -> None:
+def test_cli_never_overwrites_an_input(runner: CliRunner, panda_urdf: Path, tmp_path: Path) -> None:
     copy = tmp_path / "panda.xrdf"
     copy.write_bytes(PANDA_XRDF.read_bytes())
     r = runner.invoke(app, ["viz", str(copy), "--urdf", str(panda_urdf), "--png", str(copy)])
@@ -584,10 +586,15 @@ def test_cli_never_overwrites_an_input(panda_urdf: Path, tmp_path: Path) -> None
 
 @pytest.mark.parametrize(("flag", "module"), [("--rrd", "rerun"), ("--mcap", "mcap")])
 def test_cli_missing_viz_extra_says_how_to_install(
-    panda_urdf: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, flag: str, module: str
+    runner: CliRunner,
+    panda_urdf: Path,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    flag: str,
+    module: str,
 ) -> None:
     monkeypatch.setitem(sys.modules, module, None)  # makes `import module` fail
-    r = _viz(panda_urdf, flag, str(tmp_path / "out"))
+    r = _viz(runner, panda_urdf, flag, str(tmp_path / "out"))
     assert r.exit_code == 2
     assert 'pip install "xrdf-tools[viz]"' in r.output
     assert len(r.output.strip().splitlines()) == 1
@@ -610,7 +617,7 @@ def test_core_imports_no_visualization_backend() -> None:
     assert out.stdout.strip() == "[]"
 
 
-def test_cli_wrong_urdf_is_an_error_not_an_empty_picture(tmp_path: Path) -> None:
+def test_cli_wrong_urdf_is_an_error_not_an_empty_picture(runner: CliRunner, tmp_path: Path) -> None:
     """The Panda spheres on the UR10e URDF: no sphere frame exists, so nothing could be drawn."""
     from tests.paths import UR10E_URDF
 
@@ -634,7 +641,9 @@ def test_cli_wrong_urdf_is_an_error_not_an_empty_picture(tmp_path: Path) -> None
 
 @pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_FSIZE and SIGXFSZ as on Linux")
 @pytest.mark.parametrize("target", ["--rrd", "--mcap"])
-def test_a_full_disk_is_one_clean_error_and_leaves_nothing(tmp_path: Path, target: str) -> None:
+def test_a_full_disk_is_one_clean_error_and_leaves_nothing(
+    runner: CliRunner, tmp_path: Path, target: str
+) -> None:
     """The file-size limit makes every write past 4 KiB fail like a full disk (EFBIG), for our
     writer and for any library writing on its own: one line naming the output, exit 2, no hang,
     no temporary file left."""
