@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from tests.paths import FIXTURES, REPO, SEED_XRDF, SHARED, UR10E_XRDF
+from tests.paths import FIXTURES, REPO, SEED_XRDF, SHARED, TEST_DATA, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diff import diff_xrdf
 from xrdf_tools.diff.render import render_json, render_text
@@ -29,7 +29,7 @@ from xrdf_tools.util.errors import XrdfToolsError
 from xrdf_tools.xrdf.io import dump_xrdf, parse_xrdf
 from xrdf_tools.xrdf.versions import to_version
 
-GOLDEN = Path(__file__).resolve().parent / "data" / "diff_golden"
+GOLDEN = TEST_DATA / "diff_golden"
 UPDATE = os.environ.get("XRDF_DIFF_GOLDEN_UPDATE") == "1"
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 SHARED_UR10E = SHARED / "reference" / "curobo-2.0" / "ur10e.xrdf"

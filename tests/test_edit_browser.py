@@ -24,6 +24,7 @@ from typing import Any
 import pytest
 
 from tests.browser import CHROMIUM, CHROMIUM_ARGS, free_port
+from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.diff import diff_files, diff_xrdf
 from xrdf_tools.edit import (
@@ -42,7 +43,6 @@ from xrdf_tools.xrdf.io import load_xrdf
 pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
 sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
 
-FIXTURES = Path(__file__).resolve().parent.parent / "fixtures"
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 TIMEOUT_MS = 60_000
 sync_api.expect.set_options(timeout=TIMEOUT_MS)

@@ -19,10 +19,10 @@ import pytest
 from typer.testing import CliRunner
 
 from tests.browser import free_port
+from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
 
-FIXTURES = Path(__file__).resolve().parent.parent / "fixtures"
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 DEMO = FIXTURES / "demo_arm"
 NO_BROWSER = "--no-browser"

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from tests.browser import free_port
+from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.edit import EditRobot, EditState, SetRadius
 from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
@@ -19,7 +20,7 @@ from xrdf_tools.xrdf.io import load_xrdf
 
 pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
 
-PANDA_XRDF = Path(__file__).resolve().parent.parent / "fixtures" / "panda" / "panda.xrdf"
+PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 
 
 @pytest.mark.slow

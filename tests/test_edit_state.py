@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.diff import diff_files, diff_xrdf
 from xrdf_tools.edit import (
@@ -37,7 +38,6 @@ from xrdf_tools.util.frozen import FrozenMap
 from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
 from xrdf_tools.xrdf.model import GeometryGroup, SelfCollisionSection, Sphere, Xrdf
 
-FIXTURES = Path(__file__).resolve().parent.parent / "fixtures"
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 
 

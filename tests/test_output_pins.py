@@ -10,14 +10,13 @@ from __future__ import annotations
 
 import os
 import re
-from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
-from tests.paths import FIXTURES, REPO
+from tests.paths import FIXTURES, REPO, TEST_DATA
 
-PINS = Path(__file__).parent / "data" / "pins"
+PINS = TEST_DATA / "pins"
 DEMO = FIXTURES / "demo_arm"
 CLASSIC = FIXTURES / "curobo_classic"
 

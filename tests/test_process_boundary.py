@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.paths import UR10E_URDF, UR10E_XRDF
+from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 
 XRDF = Path(sys.executable).parent / "xrdf"
 #: Generous for a loaded CI machine; the promise (docs/security.md) is about a second.
@@ -134,7 +134,7 @@ def test_ctrl_c_at_any_moment_of_start_up(tmp_path: Path, delay: float) -> None:
 
 
 def test_sigterm_while_writing_leaves_no_temporary_file(tmp_path: Path) -> None:
-    demo = Path(__file__).resolve().parent.parent / "fixtures" / "demo_arm"
+    demo = FIXTURES / "demo_arm"
     proc = _start(
         [
             "convert",
@@ -210,7 +210,7 @@ def test_output_goes_to_any_text_stream(tmp_path: Path) -> None:
     """In process, with a text stream as standard output (no ``.buffer``)."""
     from xrdf_tools.cli import app
 
-    srdf = Path(__file__).resolve().parent.parent / "fixtures" / "fuzz" / "ur10e.srdf"
+    srdf = FIXTURES / "fuzz" / "ur10e.srdf"
     stream = io.StringIO()
     with contextlib.redirect_stdout(stream), contextlib.suppress(SystemExit):
         app(["export", "srdf", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--merge", str(srdf)])

@@ -24,6 +24,7 @@ import pytest
 import yaml
 
 from tests.fuzzing import _YAML_SNIPPETS, SEEDS, _mutate_text
+from tests.paths import UR10E_XRDF
 from tests.yaml_reference import compose_document
 from xrdf_tools.util.errors import XrdfToolsError, YamlError
 from xrdf_tools.xrdf.io import load_xrdf, parse_xrdf
@@ -277,7 +278,7 @@ def test_files_through_each_reader(mode: str, tmp_path: Path) -> None:
         with pytest.raises(YamlError, match="duplicate key 'format_version'") as e:
             load_yaml(dup)
         assert str(e.value).startswith(f"{dup}:4:1:")
-        x = load_xrdf(Path(__file__).parent.parent / "fixtures" / "ur10e" / "ur10e.xrdf")
+        x = load_xrdf(UR10E_XRDF)
         assert x.geometry is not None and x.source.position("geometry") == (53, 3)
 
 
@@ -367,7 +368,7 @@ def test_positions_on_demand_equal_the_full_index(text: str) -> None:
 
 
 def test_numbers_in_the_model_are_the_same_through_each_reader() -> None:
-    text = (Path(__file__).parent.parent / "fixtures" / "ur10e" / "ur10e.xrdf").read_text()
+    text = UR10E_XRDF.read_text()
     text += "extra_numbers: [1, -2.5e-3, .inf, 0x10]\n"
     models = []
     for mode in MODES:
