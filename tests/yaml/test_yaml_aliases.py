@@ -1,7 +1,7 @@
 """Documents with aliases read the same by every reader: the one-pass builder (aliases shared,
 their bounds checked by ``xrdf_tools.yaml.aliases``) on libyaml's and on PyYAML's events, and
 the reference (PyYAML's composer and a plain conversion, ``tests/yaml_reference.py``) give the
-same tree, repeated keys and message (see ``tests/test_yaml_readers.py`` for the ways)."""
+same tree, repeated keys and message (see ``tests/yaml/test_yaml_readers.py`` for the ways)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import random
 
 import pytest
 
-from tests.test_yaml_readers import assert_same
+from tests.yaml.test_yaml_readers import assert_same
 from xrdf_tools.yaml.io import YMap, YSeq, parse_yaml, to_python
 
 

@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES, REPO, UR10E_URDF, UR10E_XRDF
 from tests.robots import robot_urdf
-from tests.test_collision import THREE_LINK, THREE_LINK_XRDF
+from tests.selfcollision.test_collision import THREE_LINK, THREE_LINK_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.report import (
     adjacent_frame_pairs,

@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
-from tests.test_collision import THREE_LINK, THREE_LINK_XRDF
+from tests.selfcollision.test_collision import THREE_LINK, THREE_LINK_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
 from xrdf_tools.robot.urdf_source import load_urdf

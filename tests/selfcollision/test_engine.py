@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.test_collision import brute_force, fixed_configs, panda, three_link
+from tests.selfcollision.test_collision import brute_force, fixed_configs, panda, three_link
 from xrdf_tools.robot.kinematics import KinematicModel, default_configuration
 from xrdf_tools.selfcollision.collision import (
     build_sphere_set,

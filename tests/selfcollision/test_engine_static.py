@@ -13,8 +13,8 @@ import pytest
 
 from tests.collision_reference import count_chunk
 from tests.robots import robot_urdf
-from tests.test_collision import fixed_configs
-from tests.test_engine import check_against_brute_force, engine_for
+from tests.selfcollision.test_collision import fixed_configs
+from tests.selfcollision.test_engine import check_against_brute_force, engine_for
 from xrdf_tools.robot.kinematics import KinematicModel, build_kinematic_model
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import parse_xrdf

@@ -182,7 +182,7 @@ def test_unreadable_parts_are_failures_worded_once(tmp_path: Path) -> None:
 
 
 def test_report_coverage_measures_the_loaded_xacro(runner: CliRunner, tmp_path: Path) -> None:
-    from tests.test_one_command import XACRO
+    from tests.convert.test_one_command import XACRO
 
     robot = tmp_path / "r.urdf.xacro"
     robot.write_text(XACRO)

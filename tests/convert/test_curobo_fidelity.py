@@ -205,7 +205,7 @@ def test_export_curobo_writes_a_urdf_path_curobo_finds_and_checks_the_urdf(
     assert r.exit_code == 0, r.output
     kin = yaml.safe_load(out.read_text())["robot_cfg"]["kinematics"]
     # cuRobo joins a relative urdf_path to its own asset directory: with --absolute-paths it
-    # finds the URDF without setup (the default, relative paths: tests/test_export_paths.py)
+    # finds the URDF without setup (the default, relative paths: tests/export/test_export_paths.py)
     assert Path(kin["urdf_path"]).is_absolute() and Path(kin["urdf_path"]) == UR10E_URDF
     assert Path(kin["asset_root_path"]) == UR10E_URDF.parent
     # an XRDF of another robot is an error, not a config with no joints

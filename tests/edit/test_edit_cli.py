@@ -1,6 +1,6 @@
 """``xrdf edit`` on the command line: usage errors, the missing extra, serving, Ctrl-C.
 
-The served page itself is tested in a browser by tests/test_edit_browser.py.
+The served page itself is tested in a browser by tests/edit/test_edit_browser.py.
 """
 
 from __future__ import annotations

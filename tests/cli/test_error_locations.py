@@ -61,7 +61,7 @@ def test_viz_and_export_blame_the_xrdf_too(runner: CliRunner, tmp_path: Path) ->
 
 
 def test_a_mimic_joint_in_the_cspace_says_why(runner: CliRunner, tmp_path: Path) -> None:
-    from tests.test_collision import THREE_LINK
+    from tests.selfcollision.test_collision import THREE_LINK
 
     x = tmp_path / "mimic.xrdf"
     x.write_text(

@@ -9,8 +9,8 @@ from pathlib import Path
 
 from typer.testing import CliRunner
 
+from tests.diagnostics.test_sarif_schema import check_sarif
 from tests.paths import FIXTURES, REPO, UR10E_URDF
-from tests.test_sarif_schema import check_sarif
 from xrdf_tools.cli import app
 from xrdf_tools.rules.registry import all_rules
 
