@@ -1,6 +1,6 @@
 """A seeded mutator over the real fixtures and a harness that runs the ``xrdf`` CLI on the result.
 
-Used by ``tests/test_fuzz_cli.py`` (a bounded run in CI) and ``benchmarks/fuzz_cli.py`` (10,000+
+Used by ``tests/cli/test_fuzz_cli.py`` (a bounded run in CI) and ``benchmarks/fuzz_cli.py`` (10,000+
 runs locally). A :class:`Case` is fully determined by its number and the run seed: the same
 number always builds the same inputs, so any failure is reproducible with
 ``python benchmarks/fuzz_cli.py --case N``.

@@ -8,6 +8,8 @@ import pytest
 
 REPO = Path(__file__).resolve().parent.parent
 FIXTURES = REPO / "fixtures"
+#: Expected outputs the tests compare with (output pins, diff goldens).
+TEST_DATA = REPO / "tests" / "data"
 SHARED = REPO.parent / "shared"
 SEED_XRDF = FIXTURES / "seed" / "ur10e_seed.xrdf"
 UR10E_URDF = FIXTURES / "ur10e" / "ur10e.urdf"

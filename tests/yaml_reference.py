@@ -2,11 +2,11 @@
 converted to the tree of :mod:`xrdf_tools.yaml.tree`.
 
 This is how every document was read before the one-pass reader of
-:mod:`xrdf_tools.yaml.build`; ``tests/test_yaml_readers.py`` and ``tests/test_yaml_aliases.py``
-compare the two on the same inputs. It composes PyYAML's node graph (an alias is a second
-reference to its anchor's node), bounds nesting and alias uses while composing, bounds what the
-aliases expand to, then converts the graph to a tree of :class:`~xrdf_tools.yaml.tree.YNode`
-with duplicate keys recorded.
+:mod:`xrdf_tools.yaml.build`; ``tests/yaml/test_yaml_readers.py`` and
+``tests/yaml/test_yaml_aliases.py`` compare the two on the same inputs. It composes PyYAML's
+node graph (an alias is a second reference to its anchor's node), bounds nesting and alias uses
+while composing, bounds what the aliases expand to, then converts the graph to a tree of
+:class:`~xrdf_tools.yaml.tree.YNode` with duplicate keys recorded.
 """
 
 from __future__ import annotations

@@ -73,6 +73,19 @@ class Diagnostic:
         }
 
 
+@dataclass(frozen=True)
+class RuleInfo:
+    """One diagnostic id: its default severity, a one-line summary and the command that emits
+    it. The one rule record: a lint rule carries one (``xrdf_tools.lint.Rule.info``), the
+    report's findings and every other command's notes are declared as one, the registry
+    (:mod:`xrdf_tools.rules.registry`) collects them and SARIF describes its rules with them."""
+
+    id: str
+    severity: Severity
+    summary: str
+    producer: str
+
+
 def sort_key(d: Diagnostic) -> tuple[str, int, int, str, str]:
     return (d.path, d.line or 0, d.col or 0, d.rule, d.message)
 
@@ -148,18 +161,18 @@ def artifact_uri(path: str) -> str | None:
 
 def render_sarif(
     diagnostics: Sequence[Diagnostic],
-    rules: Sequence[tuple[str, str, Severity]] = (),
+    rules: Sequence[RuleInfo] = (),
     *,
     tool_name: str = "xrdf",
     version: str = "",
     information_uri: str = "",
 ) -> str:
-    """SARIF 2.1.0 log with one run. ``rules`` is ``(id, short description, default severity)``
-    (the CLI passes the registry's, :mod:`xrdf_tools.rules.registry`); an emitted id missing from
-    it is described by its id and the finding's severity."""
+    """SARIF 2.1.0 log with one run. ``rules`` are described first, by their summary and
+    default severity (the CLI passes the registry's, :mod:`xrdf_tools.rules.registry`); an
+    emitted id missing from them is described by its id and the finding's severity."""
     level = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
-    rule_ids = [r[0] for r in rules]
-    descr = {r[0]: (r[1], r[2]) for r in rules}
+    rule_ids = [r.id for r in rules]
+    descr = {r.id: (r.summary, r.severity) for r in rules}
     for d in diagnostics:
         if d.rule not in rule_ids:
             rule_ids.append(d.rule)

@@ -6,6 +6,7 @@ The JSON schema (``"schema": "xrdf-diff"``, ``"version": 1``) is documented in `
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 
 from . import Change, Detail, Level, XrdfDiff
 
@@ -88,3 +89,7 @@ def render_text(diff: XrdfDiff, *, max_details: int = MAX_DETAILS) -> str:
 def render_json(diff: XrdfDiff) -> str:
     """Stable JSON (``XrdfDiff.to_dict``), indented, one trailing newline."""
     return json.dumps(diff.to_dict(), indent=2, ensure_ascii=False) + "\n"
+
+
+#: The one table of the diff's renderers: format name → ``(diff) → text``.
+RENDERERS: dict[str, Callable[[XrdfDiff], str]] = {"text": render_text, "json": render_json}

@@ -1,7 +1,8 @@
 """An XML document (an SRDF) edited with lxml and written back with the original bytes kept.
 
-lxml parses without resolving entities, loading a DTD or touching the network, and keeps
-comments, processing instructions, CDATA and entity references. Writing back:
+The document is parsed by :func:`xrdf_tools.util.safe_xml.parse_xml` (no entity resolved, no
+DTD loaded, no network), keeping comments, processing instructions, CDATA and entity
+references. Writing back:
 
 * the bytes before ``<robot`` (XML declaration, comments, DOCTYPE with its internal subset,
   blank lines) and after ``</robot>`` are copied verbatim — lxml would rewrite the declaration
@@ -24,13 +25,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..util.errors import SourceError
+from ..util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
 
 __all__ = ["XmlDocument", "fill_empty", "insert_after", "last_child", "remove_element"]
 
 _DECL = re.compile(rb"^(\xef\xbb\xbf)?<\?xml[^>]*\?>")
-_OTHER_ENCODING = re.compile(
-    rb"^(\s*<\?xml[^>]*?)\s+encoding\s*=\s*(['\"])(?!utf-?8\2)[^'\"]*\2", re.I
-)
 #: Markup inside an element: comments, PIs, CDATA and end tags are matched so that their
 #: content is never taken for a start tag; text never contains a raw "<".
 _MARKUP = re.compile(
@@ -43,25 +42,10 @@ _MAX_CANDIDATES = 50
 Attrs = tuple[tuple[str, str], ...]
 
 
-def _parser() -> Any:
-    from lxml import etree
-
-    return etree.XMLParser(
-        resolve_entities=False,
-        no_network=True,
-        load_dtd=False,
-        remove_comments=False,
-        remove_pis=False,
-        strip_cdata=False,
-    )
-
-
 def _try_parse(data: bytes) -> Any | None:
-    from lxml import etree
-
     try:
-        return etree.fromstring(data, _parser()).getroottree()
-    except etree.XMLSyntaxError:
+        return parse_xml(data, keep_cdata=True).getroottree()
+    except XmlSyntaxError:
         return None
 
 
@@ -113,17 +97,12 @@ class XmlDocument:
     ) -> XmlDocument:
         """Parse ``data``; :class:`SourceError` (one line) when it is not XML with
         ``<root_tag>`` as root (``what`` names the format in messages)."""
-        from lxml import etree
-
-        raw = data.encode("utf-8") if isinstance(data, str) else data
-        if isinstance(data, str):  # now UTF-8 whatever the declaration said: drop another one
-            raw = _OTHER_ENCODING.sub(rb"\1", raw, count=1)
+        raw = utf8_xml_bytes(data)
         try:
-            root = etree.fromstring(raw, _parser())
-        except etree.XMLSyntaxError as e:
-            line = e.position[0] if e.position else None
-            msg = (e.msg or "not well-formed").splitlines()[0]
-            raise SourceError(f"malformed {what} XML: {msg}", path=path, line=line) from None
+            root = parse_xml(raw, keep_cdata=True)
+        except XmlSyntaxError as e:
+            msg = f"malformed {what} XML: {e.verbatim}"
+            raise SourceError(msg, path=path, line=e.line) from None
         if root is None or root.tag != root_tag:
             raise SourceError(
                 f"the root element of an {what} must be <{root_tag}>", path=path, line=1

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING
 
-from ..diagnostics import Severity
+from ..diagnostics import RuleInfo, Severity
 from ..util.errors import XrdfToolsError, YamlError
 from ..util.numbers import MAX_LENGTH, within
 from ..xrdf.shape import SUPPORTED_VERSIONS, version_string
@@ -466,6 +466,11 @@ class Rule:
         """First paragraph of the documentation, on one line."""
         para = self.doc.strip().split("\n\n")[0]
         return " ".join(para.split()) or self.id
+
+    @property
+    def info(self) -> RuleInfo:
+        """The rule's record in the registry of every diagnostic id."""
+        return RuleInfo(self.id, self.severity, self.summary, "lint")
 
 
 def _buffer_frame_references(key: str, section: YMap) -> Iterator[tuple[str, YNode, str, str]]:

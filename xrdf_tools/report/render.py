@@ -10,7 +10,7 @@ import html
 import io
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -21,6 +21,7 @@ from ..yaml.io import write_atomic
 from . import PairStat, Report
 
 __all__ = [
+    "RENDERERS",
     "SCHEMA_VERSION",
     "ReportView",
     "render_html",
@@ -358,6 +359,21 @@ def render_html(r: Report, view: ReportView = ReportView()) -> str:
         out.append("<p>None.</p>")
     out.append("</body></html>")
     return "\n".join(out) + "\n"
+
+
+def _render_json_view(r: Report, view: ReportView = ReportView()) -> str:
+    return render_json(r)  # JSON always holds everything: the view does not apply
+
+
+#: The one table of the report's renderers: format name → ``(report, view) → text``. The
+#: ``github`` and ``sarif`` formats show only the findings (:attr:`Report.diagnostics`), with the
+#: diagnostics' renderers; the heatmap is an extra file (:func:`write_heatmap`).
+RENDERERS: dict[str, Callable[[Report, ReportView], str]] = {
+    "text": render_text,
+    "json": _render_json_view,
+    "markdown": render_markdown,
+    "html": render_html,
+}
 
 
 # ------------------------------------------------------------------------------------------

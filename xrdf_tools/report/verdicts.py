@@ -22,7 +22,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import replace
 
-from ..diagnostics import Diagnostic, Severity
+from ..diagnostics import Diagnostic, RuleInfo, Severity
 from ..robot.kinematics import KinematicModel
 from ..selfcollision.certify import Verdict
 from ..selfcollision.collision import Contact
@@ -36,35 +36,40 @@ __all__ = ["ALWAYS_RATE", "RULES", "adjacent_frame_pairs", "never_upper_bound"]
 #: A pair colliding in more than this fraction of configurations is "always" colliding.
 ALWAYS_RATE = 0.95
 
-#: Report rule ids: (id, short description, severity).
-RULES: tuple[tuple[str, str, Severity], ...] = (
-    (
+#: The report's rules.
+RULES: tuple[RuleInfo, ...] = (
+    RuleInfo(
         "report-always-colliding",
+        Severity.ERROR,
         "an unmasked frame pair collides in more than 95 % of configurations",
-        Severity.ERROR,
+        "report",
     ),
-    (
+    RuleInfo(
         "report-default-colliding",
+        Severity.ERROR,
         "an unmasked frame pair collides at the default configuration",
-        Severity.ERROR,
+        "report",
     ),
-    (
+    RuleInfo(
         "report-mask-hides-collision",
+        Severity.WARNING,
         "a masked frame pair that is not adjacent collides sometimes",
-        Severity.WARNING,
+        "report",
     ),
-    (
+    RuleInfo(
         "report-unknown-mask-frame",
-        "self_collision.ignore names a frame the robot does not have",
         Severity.WARNING,
+        "self_collision.ignore names a frame the robot does not have",
+        "report",
     ),
-    (
+    RuleInfo(
         "report-trajectory-collision",
-        "a given configuration (--configs) is in self-collision",
         Severity.ERROR,
+        "a given configuration (--configs) is in self-collision",
+        "report",
     ),
 )
-_SEVERITY = {r[0]: r[2] for r in RULES}
+_SEVERITY = {r.id: r.severity for r in RULES}
 
 
 def never_upper_bound(n: int, confidence: float = 0.95) -> float:

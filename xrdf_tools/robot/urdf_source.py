@@ -1,11 +1,12 @@
 """Read a URDF, without meshes, with errors that name the file and line.
 
-The XML is parsed strictly by lxml first (entities are not resolved, no network), then checked
-for what yourdfpy would crash on or silently get wrong: missing names, unknown joint types,
-duplicate links or joints, joints that refer to unknown links, numbers that do not parse. The
-checked tree is the :class:`~xrdf_tools.robot.core.Robot`; yourdfpy gets it only when geometry is
-read (:func:`xrdf_tools.robot.yourdfpy_build.build_yourdfpy`). Every failure is a
-:class:`UrdfError` whose one-line message starts with ``path:line:`` when the line is known.
+The XML is parsed strictly first (:mod:`xrdf_tools.util.safe_xml`: no entities, no network),
+then checked for what yourdfpy would crash on or silently get wrong: missing names, unknown
+joint types, duplicate links or joints, joints that refer to unknown links, numbers that do not
+parse. The checked tree is the :class:`~xrdf_tools.robot.core.Robot`; yourdfpy gets it only
+when geometry is read (:func:`xrdf_tools.robot.yourdfpy_build.build_yourdfpy`). Every failure
+is a :class:`UrdfError` whose one-line message starts with ``path:line:`` when the line is
+known.
 
 :class:`JointInfo`, :func:`joints_of` and :func:`links_of` give a plain, typed view of a loaded
 URDF for the kinematics, the linter and the converter. yourdfpy is imported lazily so that
@@ -190,19 +191,14 @@ def _parse_bytes(
     from lxml import etree
 
     from ..util.frozen import FrozenMap
+    from ..util.safe_xml import XmlSyntaxError, parse_xml
     from .core import Robot
     from .link_geometry import capsules_as_cylinders
 
-    parser = etree.XMLParser(
-        remove_blank_text=True, resolve_entities=False, no_network=True, huge_tree=True
-    )
     try:
-        root = etree.fromstring(data, parser)
-    except etree.XMLSyntaxError as e:
-        line, col = e.position if e.position else (e.lineno, None)
-        msg = (e.msg or str(e) or "not well-formed").splitlines()[0]
-        msg = re.sub(r",? line \d+, column \d+\s*$", "", msg)
-        raise UrdfError(f"malformed XML: {msg}", path=path, line=line, col=col) from None
+        root = parse_xml(data, remove_blank_text=True)
+    except XmlSyntaxError as e:
+        raise UrdfError(f"malformed XML: {e.reason}", path=path, line=e.line, col=e.col) from None
     if root is None:
         raise UrdfError("the file is empty", path=path, line=1)
 

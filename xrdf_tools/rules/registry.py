@@ -1,32 +1,21 @@
 """Every diagnostic id xrdf-tools emits, in one registry: lint rules, report findings, and the
 notes of convert, export, kinematics, sphere fitting and viz.
 
-A :class:`RuleInfo` gives the id, its default severity, a one-line summary and the command
-that emits it. ``docs/rules.md`` is generated from this registry (``python -m
-xrdf_tools.rules.docs``) and SARIF logs describe their rules from it; a test checks that every
-id the code emits is registered. Lint rules and report findings are registered where they are
-defined (the lint rule modules, :data:`xrdf_tools.report.RULES`); the table below holds the
-others.
+A :class:`~xrdf_tools.diagnostics.RuleInfo` (the one rule record) gives the id, its default
+severity, a one-line summary and the command that emits it. ``docs/rules.md`` is generated
+from this registry (``python -m xrdf_tools.rules.docs``) and SARIF logs describe their rules
+from it; a test checks that every id the code emits is registered. Lint rules and report
+findings are registered where they are defined (the lint rule modules,
+:data:`xrdf_tools.report.RULES`); the table below holds the others.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import cache
 
-from ..diagnostics import Severity
+from ..diagnostics import RuleInfo, Severity
 
 __all__ = ["PRODUCER_RULES", "RuleInfo", "all_rules", "rule_info"]
-
-
-@dataclass(frozen=True)
-class RuleInfo:
-    """One diagnostic id: default severity, one-line summary, the command that emits it."""
-
-    id: str
-    severity: Severity
-    summary: str
-    producer: str
 
 
 W, I, E = Severity.WARNING, Severity.INFO, Severity.ERROR  # noqa: E741 - table shorthand
@@ -128,14 +117,14 @@ def all_rules() -> dict[str, RuleInfo]:
     from ..lint import RULES as LINT_RULES
     from ..report import RULES as REPORT_RULES
 
-    out = {r.id: RuleInfo(r.id, r.severity, r.summary, "lint") for r in LINT_RULES}
+    out = {r.id: r.info for r in LINT_RULES}
     out["internal-error"] = RuleInfo(
         "internal-error",
         E,
         "A lint rule crashed: a bug in xrdf-tools, please report it.",
         "lint (framework)",
     )
-    out.update({rid: RuleInfo(rid, sev, s, "report") for rid, s, sev in REPORT_RULES})
+    out.update({r.id: r for r in REPORT_RULES})
     out.update({r.id: r for r in PRODUCER_RULES})
     return out
 

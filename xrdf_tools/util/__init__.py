@@ -1,2 +1,2 @@
-"""Cross-cutting helpers with no domain knowledge: errors, file input/output, graphs, rotations,
-frozen maps."""
+"""Cross-cutting helpers with no domain knowledge: errors, file input/output, the safe XML parser,
+graphs, rotations, frozen maps."""

@@ -6,7 +6,8 @@ The one interface: :func:`render` ``(scene, target, path, ...)`` where ``target`
 * ``"spawn"`` — stream to a newly spawned rerun viewer (``rerun-sdk``);
 * ``"mcap"``  — an MCAP file with Foxglove ``SceneUpdate``/``FrameTransform`` messages
   (``mcap``, the ``viz`` extra);
-* ``"png"``   — a static matplotlib picture of the default pose (core dependency only).
+* ``"png"``   — a static matplotlib picture of the default pose (the ``viz`` extra), framed
+  by a :class:`Picture` (camera, legend, size; the viewers of the others have their own).
 
 Back-end modules are imported only when used, so neither rerun nor mcap is needed to import
 :mod:`xrdf_tools` or to build a scene. Files are written atomically: to a temporary file in the
@@ -19,6 +20,7 @@ import contextlib
 import importlib
 import os
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal, Protocol
 
@@ -53,8 +55,24 @@ _BACKENDS: dict[str, tuple[str, str]] = {
 VIZ_EXTRA_HINT = install_hint("viz")
 
 
+@dataclass(frozen=True)
+class Picture:
+    """How a static picture (``"png"``) is framed: the camera (elevation, azimuth in degrees;
+    None: the three-quarter ``iso`` view of :data:`xrdf_tools.viz.png.VIEWS`), the legend of
+    the links (``"auto"`` or ``"off"``) and the side of the square picture in pixels."""
+
+    view: tuple[float, float] | None = None
+    legend: Literal["auto", "off"] = "auto"
+    size_px: int = 640
+
+
+#: The picture drawn when none is asked for.
+DEFAULT_PICTURE = Picture()
+
+
 class Backend(Protocol):
-    """What every back-end provides: draw ``scene`` into ``path`` (None for ``spawn``)."""
+    """What every back-end provides: draw ``scene`` into ``path`` (None for ``spawn``);
+    ``picture`` frames a static picture (the interactive viewers ignore it)."""
 
     def __call__(
         self,
@@ -63,6 +81,7 @@ class Backend(Protocol):
         *,
         buffered: bool = False,
         progress: Progress | None = None,
+        picture: Picture = ...,
     ) -> None: ...
 
 
@@ -86,18 +105,18 @@ def render(
     *,
     buffered: bool = False,
     progress: Progress | None = None,
+    picture: Picture = DEFAULT_PICTURE,
 ) -> None:
     """Draw ``scene`` with the ``target`` back-end into ``path``.
 
-    ``buffered`` also draws each sphere's self-collision buffered radius (rerun, MCAP).
-    Raises :class:`MissingDependencyError` when the back-end's package is not installed and
-    :class:`VizError` for an unusable output path.
+    ``buffered`` also draws each sphere's self-collision buffered radius; ``picture`` frames
+    a ``"png"``. Raises :class:`MissingDependencyError` when the back-end's package is not
+    installed and :class:`VizError` for an unusable output path.
     """
     if target != "spawn" and path is None:
         raise VizError(f"target '{target}' needs an output path")
-    backend(target)(
-        scene, None if path is None else Path(path), buffered=buffered, progress=progress
-    )
+    out = None if path is None else Path(path)
+    backend(target)(scene, out, buffered=buffered, progress=progress, picture=picture)
 
 
 def require(module: str, package: str) -> None:
@@ -118,10 +137,12 @@ def atomic_path(path: Path) -> Iterator[Path]:
 
 __all__ = [
     "COLLISION_RGBA",
+    "DEFAULT_PICTURE",
     "TARGETS",
     "VIZ_EXTRA_HINT",
     "Backend",
     "LinkScene",
+    "Picture",
     "Progress",
     "Sample",
     "Scene",

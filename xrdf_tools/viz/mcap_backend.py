@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..util.rotations import quat_xyzw_from_matrix
-from . import atomic_path, require
+from . import DEFAULT_PICTURE, Picture, atomic_path, require
 from .foxglove_schemas import LOG_INFO, LOG_WARNING, schema_bytes
 from .meshes import Rgba
 from .scene import Progress, Scene
@@ -102,6 +102,7 @@ def write_mcap(
     *,
     buffered: bool = False,
     progress: Progress | None = None,
+    picture: Picture = DEFAULT_PICTURE,
 ) -> None:
     """Write ``scene`` to the MCAP file ``path`` (atomically)."""
     require("mcap", "mcap")

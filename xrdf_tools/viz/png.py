@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from ..util.errors import XrdfToolsError
-from . import atomic_path
+from . import DEFAULT_PICTURE, Picture, atomic_path
 from .scene import Progress, Scene
 
 if TYPE_CHECKING:
@@ -196,13 +196,14 @@ def write_png(
     *,
     buffered: bool = False,
     progress: Progress | None = None,
-    size_px: int = 640,
-    view: tuple[float, float] = VIEWS["iso"],
-    legend: Legend = "auto",
+    picture: Picture = DEFAULT_PICTURE,
 ) -> None:
-    """Write the picture of :func:`draw_png` to ``path`` (atomically)."""
+    """Write the picture of :func:`draw_png`, framed by ``picture``, to ``path`` (atomically)."""
     assert path is not None
-    fig = draw_png(scene, buffered=buffered, size_px=size_px, view=view, legend=legend)
+    view = VIEWS["iso"] if picture.view is None else picture.view
+    fig = draw_png(
+        scene, buffered=buffered, size_px=picture.size_px, view=view, legend=picture.legend
+    )
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=fig.dpi)
     if progress is not None:

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from . import atomic_path, require
+from . import DEFAULT_PICTURE, Picture, atomic_path, require
 from .meshes import Rgba
 from .scene import Progress, Scene
 
@@ -55,6 +55,7 @@ def write_rrd(
     *,
     buffered: bool = False,
     progress: Progress | None = None,
+    picture: Picture = DEFAULT_PICTURE,
 ) -> None:
     """Write ``scene`` to the rerun file ``path`` (atomically).
 
@@ -80,6 +81,7 @@ def spawn(
     *,
     buffered: bool = False,
     progress: Progress | None = None,
+    picture: Picture = DEFAULT_PICTURE,
 ) -> None:
     """Spawn a rerun viewer and stream ``scene`` to it."""
     rr = _rerun()

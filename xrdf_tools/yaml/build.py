@@ -21,7 +21,7 @@ One builder, two event sources (:mod:`xrdf_tools.yaml.events`): libyaml's C pars
 has it, else PyYAML's pure-Python parser, which also reads again the few documents libyaml
 reads differently (:class:`Diverges`). The tests compare both event sources with a plain
 compose-and-convert reference on edge cases, documents with aliases and 600 mutated documents
-(``tests/test_yaml_readers.py``, ``tests/test_yaml_aliases.py``).
+(``tests/yaml/test_yaml_readers.py``, ``tests/yaml/test_yaml_aliases.py``).
 """
 
 from __future__ import annotations

@@ -14,8 +14,8 @@ the builder only for a document without these (:func:`libyaml_may_read` before r
 flow scalar); otherwise, or on any libyaml error, the same builder is fed PyYAML's events for
 that document. Those inputs are rare in robot descriptions (a big file is read by libyaml).
 The tests compare both event sources with a plain compose-and-convert reference on these edge
-cases above, documents with aliases and 600 mutated documents (``tests/test_yaml_readers.py``,
-``tests/test_yaml_aliases.py``).
+cases above, documents with aliases and 600 mutated documents (``tests/yaml/test_yaml_readers.py``,
+``tests/yaml/test_yaml_aliases.py``).
 """
 
 from __future__ import annotations

@@ -19,7 +19,14 @@ from enum import Enum, IntEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ...diagnostics import Diagnostic, Severity, render_github, render_json, render_text
+from ...diagnostics import (
+    Diagnostic,
+    RuleInfo,
+    Severity,
+    render_github,
+    render_json,
+    render_text,
+)
 
 if TYPE_CHECKING:
     from ...robot.core import Robot
@@ -115,7 +122,7 @@ def render_diagnostics(
     fmt: OutputFormat,
     *,
     files: Sequence[str] | None = None,
-    rules: Sequence[tuple[str, str, Severity]] = (),
+    rules: Sequence[RuleInfo] = (),
 ) -> str:
     """The one renderer dispatch of every command. ``files`` (JSON) lists the inputs checked;
     ``rules`` (SARIF) are listed even without results."""
@@ -128,12 +135,12 @@ def render_diagnostics(
         from ...diagnostics import render_sarif
         from ...rules.registry import rule_info
 
-        listed = {r[0] for r in rules}
+        listed = {r.id for r in rules}
         described = list(rules)
         for rid in dict.fromkeys(d.rule for d in diagnostics):
             info = rule_info(rid)
             if rid not in listed and info is not None:
-                described.append((rid, info.summary, info.severity))
+                described.append(info)
         return render_sarif(diagnostics, described, version=__version__)
     return render_text(diagnostics)
 

@@ -98,8 +98,8 @@ def command(
         result = diff_xrdf(load_xrdf_input(a), load_xrdf_input(b), tolerance, root_frame=root)
     except XrdfToolsError as exc:
         fail(exc)
-    from ...diff.render import render_json, render_text
+    from ...diff.render import RENDERERS
 
-    out = render_json(result) if fmt is DiffFormat.json else render_text(result)
+    out = RENDERERS[fmt.value](result)
     write_output(out, None)
     raise typer.Exit(EXIT_OK if result.is_equal else EXIT_FINDINGS)

@@ -107,7 +107,7 @@ def run(args: LintArgs) -> tuple[str, int]:
         diagnostics,
         args.output_format,
         files=["<stdin>" if is_stdio(f) else str(f) for f in args.files],
-        rules=[(r.id, r.summary, r.severity) for r in RULES],
+        rules=[r.info for r in RULES],
     )
     return text, EXIT_FINDINGS if has_failures(diagnostics, strict=args.strict) else EXIT_OK
 

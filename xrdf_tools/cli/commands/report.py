@@ -316,20 +316,13 @@ def _render(report: Report, fmt: ReportFormat, view: ReportView) -> str:
     """The report in ``fmt``: whole (text, JSON, Markdown, HTML) or its findings through the
     one diagnostics renderer (GitHub annotations, SARIF listing every report rule)."""
     from ...report import RULES
-    from ...report.render import render_html, render_json, render_markdown, render_text
+    from ...report.render import RENDERERS
 
     if fmt in (ReportFormat.github, ReportFormat.sarif):
         return render_diagnostics(
             report.diagnostics, OutputFormat(fmt.value), files=None, rules=RULES
         )
-    if fmt is ReportFormat.json:
-        return render_json(report)
-    renderer = {
-        ReportFormat.text: render_text,
-        ReportFormat.markdown: render_markdown,
-        ReportFormat.html: render_html,
-    }[fmt]
-    return renderer(report, view)
+    return RENDERERS[fmt.value](report, view)
 
 
 def _progress_lines(label: str) -> Callable[[int, int], None] | None:

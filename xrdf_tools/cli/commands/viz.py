@@ -147,6 +147,7 @@ def command(
         from ...robot.kinematics import build_kinematic_model
         from ...robot.packages import parse_package_path
         from ...viz import (
+            Picture,
             build_scene,
             load_configurations,
             render,
@@ -191,12 +192,9 @@ def command(
         echo_diagnostics(sorted(unique.values()), fmt)
         label = f"writing {target}"
         with progress_bar(len(scene.samples) >= PROGRESS_FROM) as bar, timed(label):
-            if target == "png":
-                from ...viz.png import write_png
-
-                write_png(scene, out, buffered=buffered, view=camera, legend=legend.value)
-            else:
-                render(scene, target, out, buffered=buffered, progress=one_bar(bar, label))
+            picture = Picture(view=camera, legend=legend.value)
+            progress = one_bar(bar, label)
+            render(scene, target, out, buffered=buffered, progress=progress, picture=picture)
     except XrdfToolsError as e:
         fail(e)
     except OSError as e:

@@ -14,6 +14,7 @@ from typing import Any
 
 from ...util.errors import SourceError
 from ...util.fileio import read_input_bytes
+from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
 from ...xrdf.model import Sphere
 
 __all__ = ["EndEffector", "GroupState", "Srdf", "SrdfGroup", "load_srdf", "parse_srdf"]
@@ -71,16 +72,10 @@ def parse_srdf(data: bytes | str, path: str = "<srdf>") -> Srdf:
     """Parse SRDF text; raises :class:`SourceError` (with the line) for malformed XML, a root
     that is not ``<robot>``, a missing attribute, a value that is not a number, or a group
     defined twice. Elements other than those MoveIt defines are ignored."""
-    from lxml import etree
-
-    raw = data.encode("utf-8") if isinstance(data, str) else data
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, remove_comments=True)
     try:
-        root = etree.fromstring(raw, parser)
-    except etree.XMLSyntaxError as e:
-        line = e.position[0] if e.position else None
-        msg = (e.msg or "not well-formed").splitlines()[0]
-        raise SourceError(f"malformed SRDF XML: {msg}", path=path, line=line) from None
+        root = parse_xml(utf8_xml_bytes(data), keep_comments=False)
+    except XmlSyntaxError as e:
+        raise SourceError(f"malformed SRDF XML: {e.verbatim}", path=path, line=e.line) from None
     if root is None or root.tag != "robot":
         raise SourceError("the root element of an SRDF must be <robot>", path=path, line=1)
     p = _Parser(path)

@@ -1,0 +1,88 @@
+"""Crashes found by the fuzz suite and tracebacks seen on bad input, kept as regression tests:
+sorted diagnostics, a negative seed, repeated and non-finite values in viz."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.cli_checks import MIMIC_URDF, MIMIC_XRDF, copy_replacing, run_cli
+from tests.paths import UR10E_URDF, UR10E_XRDF
+from xrdf_tools.diagnostics import Diagnostic, Severity
+
+
+def test_planar_joint_in_viz_sorts_its_diagnostics(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = copy_replacing(
+        UR10E_URDF,
+        tmp_path / "planar.urdf",
+        '<joint name="camera_mount_joint" type="fixed">',
+        '<joint name="camera_mount_joint" type="planar">',
+    )
+    pytest.importorskip("mcap")
+    out_file = str(tmp_path / "o.mcap")
+    # the fixture's meshes are not bundled: their warnings sort with the joint's
+    code, out = run_cli(
+        runner,
+        "viz",
+        str(UR10E_XRDF),
+        "--urdf",
+        str(urdf),
+        "--mcap",
+        out_file,
+        "--allow-missing-meshes",
+    )
+    assert code == 0 and "joint-held-fixed" in out and "mesh-not-loaded" in out
+
+
+def test_diagnostics_with_and_without_a_line_sort() -> None:
+    a = Diagnostic("f", None, None, "r", Severity.WARNING, "m")
+    b = Diagnostic("f", 3, None, "r", Severity.WARNING, "m")
+    assert sorted([b, a]) == [a, b]
+
+
+@pytest.mark.parametrize("command", ["report", "viz"])
+def test_negative_seed_is_a_usage_error(runner: CliRunner, tmp_path: Path, command: str) -> None:
+    extra = ["--png", str(tmp_path / "o.png"), "-n", "2"] if command == "viz" else ["-n", "2"]
+    code, out = run_cli(
+        runner, command, str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--seed", "-1", *extra
+    )
+    assert code == 2 and "--seed" in out
+
+
+# Crashes found by benchmarks/fuzz_cli.py (seed 0), kept as regression tests.
+def test_fuzz_case_5907_repeated_cspace_joint_in_viz(runner: CliRunner, tmp_path: Path) -> None:
+    x = copy_replacing(
+        MIMIC_XRDF, tmp_path / "m.xrdf", "    - joint2\n", "    - joint2\n    - joint2\n"
+    )
+    code, out = run_cli(
+        runner,
+        "viz",
+        str(x),
+        "--urdf",
+        str(MIMIC_URDF),
+        "--png",
+        str(tmp_path / "o.png"),
+        "-n",
+        "2",
+    )
+    assert code == 2 and "joint 'joint2' is listed twice" in out and f"{x}:" in out
+
+
+def test_fuzz_case_9969_nan_default_position_in_viz_mcap(runner: CliRunner, tmp_path: Path) -> None:
+    pytest.importorskip("mcap")
+    x = copy_replacing(UR10E_XRDF, tmp_path / "n.xrdf", "elbow_joint: 1.9", "elbow_joint: .nan")
+    code, out = run_cli(
+        runner,
+        "viz",
+        str(x),
+        "--urdf",
+        str(UR10E_URDF),
+        "--mcap",
+        str(tmp_path / "o.mcap"),
+        "-n",
+        "2",
+    )
+    assert code == 2 and "is nan; numbers must be finite" in out
+    assert not (tmp_path / "o.mcap").exists()

@@ -1,0 +1,364 @@
+"""Input errors point at the file and position that is wrong (issue 13): a name the XRDF takes
+from the URDF is the XRDF's mistake, so the error is located in the XRDF and names the URDF."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.paths import UR10E_URDF, UR10E_XRDF
+from xrdf_tools.cli import app
+from xrdf_tools.util.errors import XrdfToolsError
+
+
+def _error(runner: CliRunner, *args: str) -> str:
+    """The one error line of ``xrdf ARGS`` (exit 2, no traceback)."""
+    r = runner.invoke(app, list(args))
+    out = r.output
+    if isinstance(r.exception, XrdfToolsError):  # cli.main prints these as one line
+        out += f"error: {r.exception}\n"
+    elif r.exception is not None and not isinstance(r.exception, SystemExit):
+        raise AssertionError(f"traceback: {r.exception!r}")
+    lines = [x for x in out.splitlines() if x.startswith("error:")]
+    assert len(lines) == 1, out
+    return lines[0]
+
+
+def _line_of(path: Path, text: str) -> int:
+    return next(i for i, x in enumerate(path.read_text().splitlines(), 1) if text in x)
+
+
+def _renamed_cspace_joint(tmp_path: Path) -> Path:
+    x = tmp_path / "robot.xrdf"
+    x.write_text(UR10E_XRDF.read_text().replace("- elbow_joint", "- elbow", 1))
+    return x
+
+
+def test_report_blames_the_xrdf_for_a_cspace_joint_the_urdf_lacks(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    x = _renamed_cspace_joint(tmp_path)
+    line = _line_of(x, "- elbow")
+    err = _error(runner, "report", str(x), "--urdf", str(UR10E_URDF), "-n", "10")
+    assert re.match(rf"^error: {re.escape(str(x))}:{line}:\d+: ur10e.urdf does not match", err)
+    assert "c-space joint 'elbow' is not a joint of the robot; did you mean 'elbow_joint'?" in err
+
+
+def test_viz_and_export_blame_the_xrdf_too(runner: CliRunner, tmp_path: Path) -> None:
+    x = _renamed_cspace_joint(tmp_path)
+    line = _line_of(x, "- elbow")
+    viz = _error(runner, "viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "v.png"))
+    export = _error(
+        runner, "export", "curobo", str(x), "--urdf", str(UR10E_URDF), "-o", str(tmp_path / "c.yml")
+    )
+    for err in (viz, export):
+        assert err.startswith(f"error: {x}:{line}:"), err
+        assert "ur10e.urdf does not match this XRDF" in err and "'elbow'" in err
+    assert not (tmp_path / "v.png").exists() and not (tmp_path / "c.yml").exists()
+
+
+def test_a_mimic_joint_in_the_cspace_says_why(runner: CliRunner, tmp_path: Path) -> None:
+    from tests.selfcollision.test_collision import THREE_LINK
+
+    x = tmp_path / "mimic.xrdf"
+    x.write_text(
+        "format: xrdf\nformat_version: 2.0\ncspace:\n  joint_names: [joint1, finger_joint]\n"
+        "  acceleration_limits: [1, 1]\n  jerk_limits: [1, 1]\n"
+        "world_collision:\n  geometry: g\n"
+        "geometry:\n  g:\n    spheres:\n      link1: [{center: [0, 0, 0], radius: 0.1}]\n"
+    )
+    r = runner.invoke(app, ["viz", str(x), "--urdf", str(THREE_LINK), "--png", str(tmp_path / "p")])
+    assert r.exit_code == 2
+    assert f"{x}:4:" in r.output and "'finger_joint' is a mimic joint" in r.output
+
+
+def test_an_undefined_geometry_group_is_located_when_the_xrdf_is_read(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text.replace("geometry: ur10e_collision_spheres", "geometry: ur10e_spheres", 1))
+    line = _line_of(x, "geometry: ur10e_spheres")
+    for args in (
+        ("diff", str(x), str(UR10E_XRDF)),
+        ("report", str(x), "--urdf", str(UR10E_URDF), "-n", "10"),
+    ):
+        err = _error(runner, *args)
+        where = f"error: {x}:{line}:13: world_collision.geometry: "
+        assert err.startswith(where + "geometry group"), err
+        assert "'ur10e_spheres' is not defined (defined: ur10e_collision_spheres)" in err
+
+
+def test_a_clone_of_a_missing_group_is_located(runner: CliRunner, tmp_path: Path) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text().replace(
+        "  ur10e_collision_spheres:\n", "  ur10e_collision_spheres:\n    clone: [gone]\n", 1
+    )
+    x.write_text(text)
+    err = _error(runner, "diff", str(x), str(UR10E_XRDF))
+    assert re.match(rf"^error: {re.escape(str(x))}:\d+:\d+: world_collision.geometry: ", err), err
+    assert "clones 'gone', which is not defined" in err
+
+
+def test_lint_still_reports_an_undefined_group_as_a_finding(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text.replace("geometry: ur10e_collision_spheres", "geometry: ur10e_spheres", 1))
+    r = runner.invoke(app, ["lint", str(x), "--urdf", str(UR10E_URDF)])
+    assert r.exit_code == 1 and "ur10e_spheres" in r.output and "error:" not in r.output
+
+
+def test_lint_config_errors_point_at_the_key(runner: CliRunner, tmp_path: Path) -> None:
+    cfg = tmp_path / ".xrdf-lint.yaml"
+    cases = {
+        "rules:\n  curobo-: off\noptions:\n  x: 1\n": ":3:1: unknown configuration key 'options'",
+        "rules:\n  sphere-radiu: off\n": ":2:3: unknown rule 'sphere-radiu'",
+        "rules:\n  curobo-: {level: bad}\n": ":2:20: rule 'curobo-': level must be one of",
+        "rules:\n  curobo-: in\n": ":2:12: rule 'curobo-': level must be one of",
+    }
+    for text, where in cases.items():
+        cfg.write_text(text)
+        err = _error(runner, "lint", str(UR10E_XRDF), "--config", str(cfg))
+        assert err.startswith(f"error: {cfg}{where.split(' ', 1)[0]} "), err
+        assert where.split(" ", 1)[1] in err
+
+
+def test_configuration_file_errors_point_at_the_row(runner: CliRunner, tmp_path: Path) -> None:
+    configs = tmp_path / "configs.yaml"
+    configs.write_text("configurations:\n  - [0, 0, 0, 0, 0, 0]\n  - [0, 0, x, 0, 0, 0]\n")
+    err = _error(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(configs)
+    )
+    assert err.startswith(f"error: {configs}:3:") and "configuration 1" in err, err
+    configs.write_text("configurations:\n  a: 1\n")
+    err = _error(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(configs)
+    )
+    assert err.startswith(f"error: {configs}:2:") and "expected a list" in err, err
+
+
+def test_xacro_syntax_errors_point_into_the_file_that_has_them(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    top = tmp_path / "top.urdf.xacro"
+    inc = tmp_path / "inc.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="inc.xacro"/>\n  <link name="a"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="b"><\n</robot>\n'
+    )
+    err = _error(runner, "expand", str(top))
+    assert err.startswith(f"error: {inc}:3:19: xacro failed: not valid XML: not well-formed"), err
+    top.write_text(top.read_text().replace('<link name="a"/>', '<link name="a">'))
+    err = _error(runner, "expand", str(top))
+    assert err.startswith(f"error: {top}:5:3: xacro failed: not valid XML: mismatched tag"), err
+
+
+def _urdf_with(tmp_path: Path, old: str, new: str) -> Path:
+    text = UR10E_URDF.read_text()
+    assert old in text
+    out = tmp_path / "robot.urdf"
+    out.write_text(text.replace(old, new, 1))
+    return out
+
+
+def test_urdf_numbers_yourdfpy_parses_are_checked_with_their_line(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    text = UR10E_URDF.read_text()
+    mass = next(x for x in text.splitlines() if "<mass value=" in x).strip()
+    u = _urdf_with(tmp_path, mass, '<mass value="heavy"/>')
+    line = _line_of(u, 'mass value="heavy"')
+    err = _error(runner, "convert", str(u), "-o", str(tmp_path / "out.xrdf"))
+    assert err == (
+        f"error: {u}:{line}: link 'base_link_inertia' <inertial> <mass> value='heavy' is not a "
+        "number"
+    ), err
+
+
+def test_an_unknown_geometry_is_located_and_invisible_characters_are_escaped(
+    runner: CliRunner,
+    tmp_path: Path,
+) -> None:
+    text = UR10E_URDF.read_text()
+    geometry = next(x for x in text.splitlines() if "<mesh filename=" in x).strip()
+    u = _urdf_with(tmp_path, geometry, '<spher\ufeffe radius="0.1"/>')
+    line = _line_of(u, "<spher")
+    err = _error(runner, "convert", str(u), "-o", str(tmp_path / "out.xrdf"))
+    assert err.startswith(f"error: {u}:{line}: link 'base_link_inertia' <visual> <geometry> ")
+    assert "holds <spher\\ufeffe>; a URDF geometry is one of <box>" in err and "\ufeff" not in err
+
+
+def test_a_second_root_link_is_located(runner: CliRunner, tmp_path: Path) -> None:
+    u = _urdf_with(tmp_path, '<parent link="base_link"/>', '<parent link="floating"/>')
+    u.write_text(u.read_text().replace("</robot>", '  <link name="floating"/>\n</robot>'))
+    x = tmp_path / "robot.xrdf"
+    x.write_text(re.sub(r"modifiers:\n(  - .*\n)+", "", UR10E_XRDF.read_text()))
+    err = _error(runner, "report", str(x), "--urdf", str(u), "-n", "10")
+    assert re.match(rf"^error: {re.escape(str(u))}:\d+: 2 links have no parent joint", err), err
+
+
+def test_a_bad_byte_in_a_xacro_file_is_located(runner: CliRunner, tmp_path: Path) -> None:
+    x = tmp_path / "bad.urdf.xacro"
+    x.write_bytes(b'<robot name="r">\n <link name="\xff"/>\n</robot>\n')
+    assert _error(runner, "expand", str(x)) == (
+        f"error: {x}:2:14: xacro file is not UTF-8 text (byte 0xff: invalid start byte)"
+    )
+
+
+def test_write_mask_without_a_self_collision_section_names_the_xrdf(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text[: text.index("self_collision:")] + text[text.index("geometry:\n") :])
+    err = _error(
+        runner,
+        "report",
+        str(x),
+        "--urdf",
+        str(UR10E_URDF),
+        "-n",
+        "10",
+        "--write-mask",
+        str(tmp_path / "m"),
+    )
+    assert err.startswith(f"error: {x}:1: the XRDF has no self_collision section"), err
+
+
+def test_xacro_evaluation_errors_point_at_what_they_quote(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """xacro keeps no positions; the name or expression its message quotes is found in the
+    file it was processing."""
+    x = tmp_path / "arm.urdf.xacro"
+    head = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+    cases = {
+        '  <xacro:property name="l" value="a"/>\n  <link name="${l / 2}"/>\n': (
+            "3:15: xacro failed: unsupported operand type(s) for /: 'str' and 'int' when "
+            "evaluating expression 'l / 2'"
+        ),
+        '  <link name="a"/>\n  <xacro:nope/>\n': (
+            "3:3: xacro failed: unknown macro name: xacro:nope"
+        ),
+        '  <xacro:property name="1 2" value="3"/>\n': (
+            "2:19: xacro failed: Property names must be valid python identifiers: 1 2"
+        ),
+    }
+    for body, where in cases.items():
+        x.write_text(head + body + "</robot>\n")
+        assert _error(runner, "expand", str(x)) == f"error: {x}:{where}"
+
+
+def test_fuzz_seed3_case583_a_collision_without_geometry(runner: CliRunner, tmp_path: Path) -> None:
+    u = _urdf_with(tmp_path, "</collision>", "</collision>\n    <collision/>")
+    line = _line_of(u, "<collision/>")
+    err = _error(runner, "convert", str(u), "-o", str(tmp_path / "out.xrdf"))
+    assert err == f"error: {u}:{line}: link 'base_link_inertia' <collision> has no <geometry>"
+
+
+def test_fuzz_seed3_case860_an_escaped_expression_is_found(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    x = tmp_path / "arm.urdf.xacro"
+    x.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="a"><visual><geometry><sphere radius="${&amp; / 2}"/></geometry>'
+        "</visual></link>\n</robot>\n"
+    )
+    err = _error(runner, "expand", str(x))
+    assert err.startswith(f"error: {x}:2:52: xacro failed: ") and "'& / 2'" in err, err
+
+
+def test_fuzz_seed11_case917_an_unterminated_expression_is_found(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    x = tmp_path / "arm.urdf.xacro"
+    x.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="${pare"/>\n</robot>\n'
+    )
+    assert (
+        _error(runner, "expand", str(x))
+        == f"error: {x}:2:15: xacro failed: invalid expression: ${{pare"
+    )
+
+
+def test_an_unreadable_urdf_named_by_the_lint_config_points_at_the_entry(
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "robot.xrdf").write_bytes(UR10E_XRDF.read_bytes())
+    cfg = tmp_path / ".xrdf-lint.yaml"
+    cfg.write_text('rules:\n  curobo-: off\nurdf:\n  "*.xrdf": missing.urdf\n')
+    monkeypatch.chdir(tmp_path)
+    err = _error(runner, "lint", "robot.xrdf")
+    assert err.startswith(f"error: {cfg}:4:13: the URDF this entry names cannot be read: "), err
+    assert "missing.urdf" in err
+
+
+def _xacro(tmp_path: Path, body: str) -> Path:
+    x = tmp_path / "arm.urdf.xacro"
+    x.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n' + body + "</robot>\n"
+    )
+    return x
+
+
+def test_fuzz_seed0_cases_2198_5167_8858_more_xacro_errors_are_located(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    cases = {
+        '  <xacro:property name="" value="1"/>\n': (
+            "2:19: xacro failed: Property names must be valid python identifiers:"
+        ),
+        '  <link name="a"><visual><geometry><sphere radius="${}"/></geometry></visual></link>\n': (
+            "2:52: xacro failed: invalid syntax (<expression>, line 0) when evaluating "
+            "expression ''"
+        ),
+        '  <xacro:macro name="m"><link name="a"/></xacro:macro>\n  <xacro:macro params="x"/>\n': (
+            "3:3: xacro failed: xacro:macro: missing attribute 'name'"
+        ),
+    }
+    for body, where in cases.items():
+        x = _xacro(tmp_path, body)
+        assert _error(runner, "expand", str(x)) == f"error: {x}:{where}"
+
+
+def test_fuzz_seed0_cases_4464_7935_8887_joint_limits_without_their_mapping(
+    runner: CliRunner,
+    tmp_path: Path,
+) -> None:
+    from tests.paths import FIXTURES
+
+    limits = tmp_path / "joint_limits.yaml"
+    demo = FIXTURES / "demo_arm"
+    for text, where in (
+        ("joint_limits: 5\n", ":1:15:"),
+        ("# nothing\n", ":1:"),
+        ("a: 1\n", ":1:1:"),
+    ):
+        limits.write_text(text)
+        err = _error(runner,
+            "convert", str(demo / "demo_arm.urdf"), "--joint-limits", str(limits), "-o",
+            str(tmp_path / "o.xrdf"),
+        )  # fmt: skip
+        assert err.startswith(f"error: {limits}{where} a MoveIt joint limits file needs"), err
+
+
+def test_fuzz_seed0_case7652_viz_without_a_collision_section_names_the_xrdf(
+    runner: CliRunner,
+    tmp_path: Path,
+) -> None:
+    x = tmp_path / "robot.xrdf"
+    text = UR10E_XRDF.read_text()
+    x.write_text(text[: text.index("world_collision:")])
+    err = _error(runner, "viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "v.png"))
+    assert err.startswith(f"error: {x}:1: no collision section names a geometry group"), err

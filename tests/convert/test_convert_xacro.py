@@ -1,0 +1,113 @@
+"""xacro robots from rtb-data converted on the command line without ROS (package paths given)."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from xrdf_tools.cli import app
+from xrdf_tools.robot.xacro_source import expand_xacro
+from xrdf_tools.util.errors import SourceError
+from xrdf_tools.xrdf.io import parse_xrdf
+
+
+def _rtb() -> Path:
+    spec = importlib.util.find_spec("rtbdata")
+    if spec is None or not spec.submodule_search_locations:
+        pytest.skip("rtb-data is not installed")
+    root = Path(next(iter(spec.submodule_search_locations))) / "xacro"
+    if not root.is_dir():
+        pytest.skip("rtb-data has no xacro directory")
+    return root
+
+
+#: name -> (xacro below rtbdata/xacro, {package: dir below rtbdata/xacro}, default c-space)
+XACRO_ROBOTS = {
+    "kuka_iiwa": (
+        "kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.xacro",
+        {
+            "kuka_lbr_iiwa_support": "kuka_description/kuka_lbr_iiwa",
+            "kuka_resources": "kuka_description/kuka_resources",
+        },
+        [f"joint_a{i}" for i in range(1, 8)],
+    ),
+    "panda": (
+        "qut_frankie_description/robots/panda_arm_hand.urdf.xacro",
+        {"qut_frankie_description": "qut_frankie_description"},
+        [f"panda_joint{i}" for i in range(1, 8)],  # the fingers are left out by default
+    ),
+    "interbotix_px150": (
+        "trossen_descriptions/urdf/px150.urdf.xacro",
+        {"trossen_descriptions": "trossen_descriptions"},
+        ["waist", "shoulder", "elbow", "wrist_angle", "wrist_rotate"],  # no gripper/fingers
+    ),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(XACRO_ROBOTS))
+def test_rtb_xacro_converts_with_package_paths(
+    runner: CliRunner, name: str, tmp_path: Path
+) -> None:
+    root = _rtb()
+    rel, packages, cspace = XACRO_ROBOTS[name]
+    args = ["convert", str(root / rel), "-o", str(tmp_path / "out.xrdf")]
+    for pkg, d in packages.items():
+        args += ["--package-path", f"{pkg}={root / d}"]
+    result = runner.invoke(app, args)
+    # linted against the expanded URDF: no errors, exit 0
+    assert result.exit_code == 0, result.output
+    x = parse_xrdf((tmp_path / "out.xrdf").read_text())
+    assert x.cspace is not None and list(x.cspace.joint_names) == cspace
+    assert "convert-no-spheres" in result.output  # reported loudly on stderr
+    # ... once, instead of a mesh-without-spheres line for every link
+    assert "mesh-without-spheres" not in result.output
+
+
+def test_unresolved_package_names_it_and_the_search(runner: CliRunner, tmp_path: Path) -> None:
+    root = _rtb()
+    rel, _, _ = XACRO_ROBOTS["kuka_iiwa"]
+    result = runner.invoke(app, ["convert", str(root / rel)])
+    assert result.exit_code == 2
+    assert "cannot find ROS package 'kuka_lbr_iiwa_support'" in result.output
+    assert "searched" in result.output and "--package-path kuka_lbr_iiwa_support=DIR" in (
+        result.output
+    )
+    assert "Traceback" not in result.output
+
+
+def test_xacro_args_and_find(runner: CliRunner, tmp_path: Path) -> None:
+    pkg = tmp_path / "my_pkg"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>my_pkg</name></package>")
+    (pkg / "urdf" / "link.xacro").write_text(
+        """<robot xmlns:xacro="http://www.ros.org/wiki/xacro">
+        <xacro:macro name="lnk" params="n"><link name="${n}"/></xacro:macro></robot>"""
+    )
+    robot = pkg / "urdf" / "r.urdf.xacro"
+    robot.write_text(
+        """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+        <xacro:arg name="prefix" default="a_"/>
+        <xacro:include filename="$(find my_pkg)/urdf/link.xacro"/>
+        <xacro:lnk n="$(arg prefix)base"/><xacro:lnk n="$(arg prefix)tip"/>
+        <joint name="$(arg prefix)j" type="revolute"><parent link="$(arg prefix)base"/>
+          <child link="$(arg prefix)tip"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+        </joint></robot>"""
+    )
+    assert 'name="a_base"' in expand_xacro(robot)  # $(find) via package.xml near the input
+    assert 'name="b_base"' in expand_xacro(robot, {"prefix": "b_"})
+    result = runner.invoke(app, ["convert", str(robot), "--xacro-arg", "prefix:=z_"])
+    assert result.exit_code == 0, result.output
+    assert "z_j" in result.output
+    broken = tmp_path / "broken.xacro"
+    broken.write_text(
+        '<robot name="b" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="$(find nowhere_pkg)/x.xacro"/></robot>'
+    )
+    with pytest.raises(SourceError, match="cannot find ROS package 'nowhere_pkg'"):
+        expand_xacro(broken)
+    bad_arg = runner.invoke(app, ["convert", str(robot), "--xacro-arg", "prefix"])
+    assert bad_arg.exit_code == 2 and "NAME:=VALUE" in bad_arg.output

@@ -1,0 +1,82 @@
+"""cuRobo configurations convert cannot use: values of the wrong shape, numbers beyond float
+range, an output that would overwrite the spheres file the configuration reads."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.cli_checks import CUROBO_CLASSIC, copy_replacing, run_cli
+from tests.paths import FIXTURES, UR10E_URDF
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("link_names: [tool0, flange]", "link_names: 5", "link_names must be a list of names"),
+        (
+            "    collision_link_names:\n",
+            "    collision_link_names: 5\n    x:\n",
+            "collision_link_names must be",
+        ),
+        (
+            "upper_arm_link: [forearm_link, shoulder_link]",
+            "upper_arm_link: 7",
+            "self_collision_ignore.upper_arm_link must be",
+        ),
+        ("      joint_names:\n", "      joint_names: 3\n      x:\n", "cspace.joint_names must be"),
+        ("  kinematics:\n", "  kinematics: 4\n  x:\n", "robot_cfg.kinematics must be a mapping"),
+        (
+            "link_names: [tool0, flange]",
+            "link_names: [tool0, {a: b}]",
+            "link_names[1] must be a name",
+        ),
+        ("link_names: [tool0, flange]", "? {a: 1}\n    : 1", "a mapping is used as a mapping key"),
+    ],
+)
+def test_curobo_shape_errors(
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
+) -> None:
+    cfg = copy_replacing(CUROBO_CLASSIC, tmp_path / "cfg.yml", old, new)
+    (tmp_path / "spheres").mkdir()
+    (tmp_path / "spheres" / "ur10e.yml").write_bytes(
+        (CUROBO_CLASSIC.parent / "spheres" / "ur10e.yml").read_bytes()
+    )
+    code, out = run_cli(runner, "convert", str(UR10E_URDF), "--curobo", str(cfg))
+    assert code == 2 and message in out and f"{cfg}:" in out, out
+
+
+def test_a_curobo_sphere_beyond_float_range_is_reported(runner: CliRunner, tmp_path: Path) -> None:
+
+    cfg = tmp_path / "ur10e.yml"
+    text = (FIXTURES / "curobo_classic" / "ur10e_inline.yml").read_text()
+    assert '"radius": 0.05' in text or "radius: 0.05" in text
+    cfg.write_text(text.replace("0.05", "9" * 400, 1))
+    code, out = run_cli(
+        runner, "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(tmp_path / "o")
+    )
+    assert code in (0, 2) and "Traceback" not in out, out
+
+
+def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    import shutil
+
+    cfg_dir = tmp_path / "cfg"
+    shutil.copytree(FIXTURES / "curobo_classic", cfg_dir)
+    spheres = cfg_dir / "spheres" / "ur10e.yml"
+    before = spheres.read_bytes()
+    code, out = run_cli(
+        runner,
+        "convert",
+        str(UR10E_URDF),
+        "--curobo",
+        str(cfg_dir / "ur10e_classic.yml"),
+        "-o",
+        str(spheres),
+    )
+    assert code == 2 and "refusing to overwrite an input file" in out
+    assert spheres.read_bytes() == before

@@ -1,0 +1,318 @@
+"""`xrdf convert ... --fit-spheres`: one command from meshes to a planning-ready XRDF.
+
+The real-robot tests run the command as a user would and then check the result with
+`xrdf report` and `xrdf lint`: neither may find an error. The small synthetic robot checks
+the library call (:func:`xrdf_tools.convert.pipeline.convert_robot`) quickly.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.robots import robot_urdf, robots_dir
+from xrdf_tools.cli import app
+from xrdf_tools.convert.core import ConvertOptions
+from xrdf_tools.convert.pipeline import FitOptions, MaskOptions, convert_robot
+from xrdf_tools.lint import lint_text
+from xrdf_tools.report import self_collision_report
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.spheres.geometry import load_link_geometry
+from xrdf_tools.xrdf.io import load_xrdf
+from xrdf_tools.xrdf.model import Xrdf
+
+# A base, two links with collision boxes and one link with a visual box only.
+BOXES = """<robot name="boxes">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="upper">
+    <collision><origin xyz="0 0 0.15"/><geometry><box size="0.06 0.06 0.3"/></geometry></collision>
+  </link>
+  <link name="lower">
+    <collision><origin xyz="0 0 0.1"/><geometry><box size="0.05 0.05 0.2"/></geometry></collision>
+  </link>
+  <link name="camera"><visual><geometry><box size="0.05 0.05 0.05"/></geometry></visual></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="upper"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="upper"/><child link="lower"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-2.5" upper="2.5" effort="1" velocity="1"/></joint>
+  <joint name="cam" type="fixed"><parent link="base"/><child link="camera"/>
+    <origin xyz="0.1 0 0.1"/></joint>
+</robot>
+"""
+
+
+def _check_with_report_and_lint(
+    runner: CliRunner, xrdf: Path, urdf: Path, samples: int = 3000, extra: tuple[str, ...] = ()
+) -> None:
+    """`xrdf report` and `xrdf lint` on the written XRDF: exit 0 and no error."""
+    rep = runner.invoke(
+        app, ["report", str(xrdf), "--urdf", str(urdf), "-n", str(samples), "-f", "json", *extra]
+    )
+    assert rep.exit_code == 0, rep.output
+    data = json.loads(rep.stdout)
+    assert [d for d in data["diagnostics"] if d["severity"] == "error"] == []
+    assert data["default_ok"]
+    lint = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf), "-f", "json", *extra])
+    assert lint.exit_code == 0, lint.output
+    found = json.loads(lint.stdout)["diagnostics"]
+    assert [d for d in found if d["severity"] == "error"] == []
+
+
+# --------------------------------------------------------------------------------------------
+# The library call on a small robot
+# --------------------------------------------------------------------------------------------
+@pytest.fixture
+def boxes(tmp_path: Path) -> Path:
+    p = tmp_path / "boxes.urdf"
+    p.write_text(BOXES)
+    return p
+
+
+def test_convert_robot_fits_masks_and_lints_clean(boxes: Path) -> None:
+    result = convert_robot(
+        boxes,
+        ConvertOptions(),
+        fit=FitOptions(per_link=2),
+        mask=MaskOptions(samples=500),
+    )
+    x = result.xrdf
+    spheres = x.world_collision_spheres()
+    # collision geometry only: the visual-only camera gets no spheres
+    assert set(spheres) == {"base", "upper", "lower"} == set(result.fitted)
+    rules = {d.rule: d for d in result.diagnostics}
+    assert "convert-no-spheres" not in rules
+    fitted = rules["convert-fitted-spheres"].message
+    assert "6 sphere(s) to 3 link(s)" in fitted and "camera" in fitted and "--from visual" in fitted
+    mask = rules["convert-computed-mask"].message
+    assert "500 uniform samples" in mask and "adjacent" in mask
+    # adjacent pairs (joined by a joint) are masked, as `report --write-mask` does
+    assert x.self_collision is not None
+    assert x.self_collision.is_ignored("base", "upper")
+    assert x.self_collision.is_ignored("upper", "lower")
+    assert result.report is not None and result.report.samples == 500
+    assert result.lint_errors == []
+    # the mask is a fixed point: the same report on the result recommends no change
+    again = self_collision_report(result.robot, x, samples=500, seed=0)
+    assert again.mask_change.empty
+
+
+def test_from_visual_fits_visual_only_links(boxes: Path) -> None:
+    result = convert_robot(
+        boxes, ConvertOptions(), fit=FitOptions(source="visual", per_link=1), mask=MaskOptions(200)
+    )
+    assert set(result.fitted) == {"camera"}  # the only link with visual geometry
+    auto = convert_robot(
+        boxes, ConvertOptions(), fit=FitOptions(source="auto", per_link=1), mask=MaskOptions(200)
+    )
+    assert set(auto.fitted) == {"base", "upper", "lower", "camera"}
+
+
+def test_geometry_source_choice(boxes: Path) -> None:
+    col, _ = load_link_geometry(boxes, source="collision")
+    vis, _ = load_link_geometry(boxes, source="visual")
+    auto, diags = load_link_geometry(boxes)
+    assert set(col) == {"base", "upper", "lower"}
+    assert set(vis) == {"camera"}
+    assert set(auto) == {"base", "upper", "lower", "camera"}
+    assert [d.rule for d in diags] == ["spheres-visual-fallback"]
+
+
+def test_fit_uses_the_expanded_xacro_with_its_arguments(runner: CliRunner, tmp_path: Path) -> None:
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(XACRO)  # the small two-link xacro defined below
+    result = convert_robot(
+        robot,
+        ConvertOptions(),
+        xacro_args={"prefix": "z_"},
+        fit=FitOptions(per_link=1),
+        mask=MaskOptions(200),
+    )
+    assert set(result.fitted) == {"z_base", "z_tip"}
+    assert result.lint_errors == []
+    cli = runner.invoke(
+        app,
+        ["convert", str(robot), "--xacro-arg", "prefix:=q_", "--fit-spheres", "-n", "200"],
+    )
+    assert cli.exit_code == 0, cli.output
+    assert "q_tip:" in cli.stdout and "a_tip" not in cli.stdout
+
+
+def test_lint_reads_the_given_urdf_object(boxes: Path) -> None:
+    result = convert_robot(
+        boxes, ConvertOptions(), fit=FitOptions(per_link=1), mask=MaskOptions(200)
+    )
+    model = load_urdf(boxes)
+    assert lint_text(result.text, "<x>", urdf_model=model) == lint_text(
+        result.text, "<x>", urdf=boxes
+    )
+
+
+def test_cli_summary_and_options(runner: CliRunner, boxes: Path, tmp_path: Path) -> None:
+    out = tmp_path / "boxes.xrdf"
+    r = runner.invoke(
+        app,
+        ["convert", str(boxes), "--joints", "j1,j2", "--fit-spheres", "-n", "300", "-o", str(out)],
+    )
+    assert r.exit_code == 0, r.output
+    assert "convert-fitted-spheres" in r.output and "convert-computed-mask" in r.output
+    x = load_xrdf(out)
+    assert x.cspace is not None and list(x.cspace.joint_names) == ["j1", "j2"]
+    assert x.tool_frames == ("lower",)
+    _check_with_report_and_lint(runner, out, boxes, samples=300)
+
+
+# --------------------------------------------------------------------------------------------
+# Real robots with meshes
+# --------------------------------------------------------------------------------------------
+def _srdf(name: str) -> Path:
+    root = robots_dir()
+    assert root is not None
+    return root / name
+
+
+#: The one command, small enough for CI: three spheres a link, 3,000 samples for the mask.
+FAST_FIT = ("--fit-spheres", "--per-link", "3", "-n", "3000")
+
+
+def _one_command(runner: CliRunner, out: Path, *args: str) -> tuple[Xrdf, str]:
+    """Run ``xrdf convert ARGS --fit-spheres … -o OUT``; the XRDF written and the output."""
+    r = runner.invoke(app, ["convert", *args, *FAST_FIT, "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    return load_xrdf(out), r.output
+
+
+@pytest.mark.slow
+def test_panda_from_srdf(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = robot_urdf("panda")
+    srdf = _srdf("panda_description/srdf/panda.srdf")
+    out = tmp_path / "panda.xrdf"
+    x, output = _one_command(runner, out, str(urdf), "--srdf", str(srdf))
+    assert "planning group 'arm' chosen" in output
+    assert len(x.world_collision_spheres()) == 11  # every link with collision geometry
+    _check_with_report_and_lint(runner, out, urdf)
+
+
+def _rtb_xacro() -> Path:
+    spec = importlib.util.find_spec("rtbdata")
+    if spec is None or not spec.submodule_search_locations:
+        pytest.skip("rtb-data is not installed")
+    root = Path(next(iter(spec.submodule_search_locations))) / "xacro" / "trossen_descriptions"
+    if not root.is_dir():
+        pytest.skip("rtb-data has no trossen_descriptions")
+    return root
+
+
+@pytest.mark.slow
+def test_xacro_only_robot_with_xacro_arg(runner: CliRunner, tmp_path: Path) -> None:
+    pkg = _rtb_xacro()
+    robot = pkg / "urdf" / "px150.urdf.xacro"
+    out = tmp_path / "px150.xrdf"
+    x, _ = _one_command(
+        runner,
+        out,
+        str(robot),
+        "--package-path",
+        f"trossen_descriptions={pkg}",
+        "--xacro-arg",
+        "robot_name:=px150",
+        "--chain",
+        "px150/base_link:px150/ee_arm_link",
+    )
+    assert x.cspace is not None
+    assert list(x.cspace.joint_names) == [
+        "waist",
+        "shoulder",
+        "elbow",
+        "wrist_angle",
+        "wrist_rotate",
+    ]
+    assert x.tool_frames == ("px150/ee_arm_link",)
+    # the spheres were fitted to the expansion with robot_name:=px150
+    assert x.world_collision_spheres() and all(
+        f.startswith("px150/") for f in x.world_collision_spheres()
+    )
+    # report and lint read the xacro with the same arguments (no expanded copy needed)
+    extra = ("--xacro-arg", "robot_name:=px150", "--package-path", f"trossen_descriptions={pkg}")
+    _check_with_report_and_lint(runner, out, robot, extra=extra)
+
+
+@pytest.mark.slow
+def test_pr2_mobile_manipulator_two_arms(runner: CliRunner, tmp_path: Path) -> None:
+    """PR2: a mobile base with visual-only links, both arms in one c-space from two groups."""
+    urdf = robot_urdf("pr2")
+    srdf = _srdf("pr2_description/srdf/pr2.srdf")
+    out = tmp_path / "pr2.xrdf"
+    x, output = _one_command(
+        runner, out, str(urdf), "--srdf", str(srdf), "--group", "left_arm", "--group", "right_arm"
+    )
+    assert x.cspace is not None
+    names = list(x.cspace.joint_names)
+    assert len(names) == 14 and names[0].startswith("l_") and names[-1].startswith("r_")
+    assert x.tool_frames == ("l_wrist_roll_link", "r_wrist_roll_link")
+    spheres = x.world_collision_spheres()
+    model = load_urdf(urdf)
+    visual_only = [n for n, link in model.link_map.items() if link.visuals and not link.collisions]
+    assert visual_only and not set(visual_only) & set(spheres)
+    assert "with visual geometry only get none" in output
+    _check_with_report_and_lint(runner, out, urdf)
+
+
+def test_cli_usage_errors_are_one_line_exit_2(runner: CliRunner, boxes: Path) -> None:
+    for args, match in (
+        (["--chain", "base"], "--chain expects BASE_LINK:TIP_LINK, got 'base'"),
+        (["--joints", "j1", "--chain", "base:lower"], "not both"),
+        (["--joints", "nope"], "--joints: 'nope' is not a joint"),
+    ):
+        r = runner.invoke(app, ["convert", str(boxes), *args])
+        assert r.exit_code == 2, r.output
+        assert match in r.output and "Traceback" not in r.output
+
+
+XACRO = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="prefix" default="a_"/>
+  <link name="$(arg prefix)base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry>
+  </collision></link>
+  <link name="$(arg prefix)tip"><collision><origin xyz="0 0 0.1"/><geometry>
+  <box size="0.04 0.04 0.2"/></geometry></collision></link>
+  <joint name="$(arg prefix)j" type="revolute"><parent link="$(arg prefix)base"/>
+    <child link="$(arg prefix)tip"/><origin xyz="0 0 0.05"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"""
+
+
+def test_every_command_reads_a_xacro_with_its_arguments(runner: CliRunner, tmp_path: Path) -> None:
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(XACRO)
+    out = tmp_path / "r.xrdf"
+    args = ["--xacro-arg", "prefix:=z_"]
+    r = runner.invoke(
+        app, ["convert", str(robot), *args, "--fit-spheres", "-n", "200", "-o", str(out)]
+    )
+    assert r.exit_code == 0, r.output
+    _check_with_report_and_lint(runner, out, robot, samples=200, extra=tuple(args))
+    # without the argument the frames do not exist: lint says so (the xacro default is a_)
+    plain = runner.invoke(app, ["lint", str(out), "--urdf", str(robot)])
+    assert plain.exit_code == 1 and "z_tip" in plain.output
+    d = runner.invoke(app, ["diff", str(out), str(out), "--urdf", str(robot), *args])
+    assert d.exit_code == 0, d.output
+    png = tmp_path / "r.png"
+    v = runner.invoke(app, ["viz", str(out), "--urdf", str(robot), *args, "--png", str(png)])
+    assert v.exit_code == 0, v.output
+    assert png.stat().st_size > 0
+    expanded = tmp_path / "r.urdf"
+    e = runner.invoke(app, ["expand", str(robot), *args, "-o", str(expanded)])
+    assert e.exit_code == 0, e.output
+    assert 'link name="z_tip"' in expanded.read_text()
+    assert load_urdf(expanded).link_map.keys() == {"z_base", "z_tip"}
+    again = runner.invoke(app, ["lint", str(out), "--urdf", str(expanded)])
+    assert again.exit_code == 0, again.output
+    sph = runner.invoke(app, ["spheres", str(robot), *args, "--per-link", "1"])
+    assert sph.exit_code == 0, sph.output
+    assert "z_tip:" in sph.stdout
+    not_xacro = runner.invoke(app, ["expand", str(expanded)])
+    assert not_xacro.exit_code == 2 and "not a xacro file" in not_xacro.output

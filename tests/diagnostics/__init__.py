@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.diagnostics: the diagnostic renderers."""

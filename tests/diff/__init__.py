@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.diff and the diff command."""

@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.edit and the edit command."""

@@ -1,0 +1,250 @@
+"""``xrdf edit`` in a real browser: headless Chromium (the system's ``chromium``) driven by
+Playwright, on the example-robot-data Panda with fixtures/panda/panda.xrdf.
+
+The page is served in this process (a viser server runs in its own threads), so the test can
+compare what the browser shows with the page's state and the library's answers. One scenario
+walks through the editor as a user would: pose until a known pair collides, move and resize a
+sphere, undo/redo, refit a link, toggle a mask pair, save, and compare the file with the
+expected change via the semantic diff.
+
+Screenshots go to ``$XRDF_EDIT_SCREENSHOTS`` when set (docs/images for docs/edit.md), else to
+the test's temporary directory. Skipped only when Playwright or chromium is missing.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.browser import CHROMIUM, CHROMIUM_ARGS, free_port
+from tests.paths import FIXTURES
+from tests.robots import robot_urdf
+from xrdf_tools.diff import diff_files, diff_xrdf
+from xrdf_tools.edit import (
+    EditRobot,
+    EditState,
+    MoveSphere,
+    ReplaceSpheres,
+    SetIgnored,
+    SetRadius,
+    save,
+)
+from xrdf_tools.edit.view import CHECKED_RGB
+from xrdf_tools.robot.xacro_source import load_robot
+from xrdf_tools.xrdf.io import load_xrdf
+
+pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+
+PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
+TIMEOUT_MS = 60_000
+sync_api.expect.set_options(timeout=TIMEOUT_MS)
+
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(not Path(CHROMIUM).is_file(), reason=f"no chromium at {CHROMIUM}"),
+]
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    with sync_api.sync_playwright() as pw:
+        b = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        yield b
+        b.close()
+
+
+def shots_dir(tmp_path: Path) -> Path:
+    d = Path(os.environ.get("XRDF_EDIT_SCREENSHOTS") or tmp_path)
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
+# --- driving viser's controls by their labels --------------------------------------------------
+def row(page: Any, label: str) -> Any:
+    """The GUI row of the control labelled ``label``."""
+    lab = page.locator("label").filter(has_text=re.compile(f"^{re.escape(label)}$")).first
+    return lab.locator("xpath=ancestor::p/parent::div/parent::div")
+
+
+def set_number(page: Any, label: str, value: float, nth: int = 0) -> None:
+    box = row(page, label).locator("input.mantine-NumberInput-input").nth(nth)
+    box.fill(str(value))
+    box.press("Enter")
+
+
+def choose(page: Any, label: str, option: str) -> None:
+    page.get_by_role("combobox", name=label, exact=True).click()
+    page.get_by_role("option", name=option, exact=True).click()
+
+
+def settle(editor: Any, page: Any) -> None:
+    """Let the page finish what the last edit started (the server redraws under its lock,
+    then the browser receives the new controls) before clicking a control it may rebuild."""
+    with editor.lock:
+        pass
+    page.wait_for_timeout(500)
+
+
+def wait_for(condition: Any, what: str, timeout: float = 60.0) -> None:
+    end = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > end:
+            raise AssertionError(f"timed out waiting for {what}")
+        time.sleep(0.05)
+
+
+# --- the scenario ----------------------------------------------------------------------------
+def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
+    from xrdf_tools.edit.page import EditorPage
+
+    expect = sync_api.expect
+    robot = load_robot(robot_urdf("panda"))
+    original = load_xrdf(PANDA_XRDF)
+    target = tmp_path / "panda.xrdf"
+    shutil.copy(PANDA_XRDF, target)
+    shots = shots_dir(tmp_path)
+    t0 = time.perf_counter()
+    editor = EditorPage(robot, EditState.start(load_xrdf(target)), target=target, port=free_port())
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 900})
+        page.set_default_timeout(TIMEOUT_MS)
+        page.goto(editor.url)
+        expect(page.get_by_text("Default pose")).to_be_visible()
+        print(f"page up in {time.perf_counter() - t0:.2f} s")
+        # the software-rendering notice of a GPU-less browser would cover the screenshots
+        page.add_style_tag(content=".mantine-Notification-root { display: none !important; }")
+
+        # 1. raise panda_joint2 until a pair the mask checks collides: the library finds the
+        #    value on a 0.1 rad grid, the slider goes there in two steps
+        reference = EditRobot(robot, original)
+        q = reference.default_pose(original)
+        hit = None
+        for k in range(18):
+            q[1] = round(0.1 * k, 2)
+            if reference.collisions(original, q).checked:
+                hit = q[1]
+                break
+        assert hit is not None, "raising panda_joint2 never made a checked pair collide"
+        colliding = page.get_by_text("COLLIDING").first
+        for value in (round(hit - 0.1, 2), hit):
+            set_number(page, "panda_joint2", value)
+            wait_for(lambda v=value: abs(editor.q[1] - v) < 1e-9, "the pose")
+            assert bool(editor.collisions.checked) == (value == hit)
+        want = reference.collisions(original, editor.q)
+        expect(colliding).to_be_visible()
+        first = want.checked[0]
+        text = page.get_by_text(re.compile(r"\d+ colliding, \d+ ignored")).locator("..")
+        expect(text).to_contain_text(f"{first.frame_a} ↔ {first.frame_b}")
+        assert CHECKED_RGB in editor.view.colors[first.frame_a]
+        page.screenshot(path=str(shots / "edit_collision.png"))
+
+        # 2. move and resize a sphere of panda_link5; undo and redo the resize
+        choose(page, "Link", "panda_link5")
+        choose(page, "Sphere", "0")
+        wait_for(lambda: editor.selected == ("panda_link5", 0), "the selection")
+
+        def link5_first() -> Any:
+            return editor.state.xrdf.resolved_spheres("panda_spheres")["panda_link5"][0]
+
+        for i, (axis, v) in enumerate(zip("xyz", (0.01, 0.02, 0.03), strict=True)):
+            set_number(page, f"Center {axis} (m)", v)  # one field at a time: each edit
+            wait_for(lambda i=i, v=v: link5_first().center[i] == v, f"centre {axis}")  # redraws
+            settle(editor, page)
+        set_number(page, "Radius", 0.07)
+
+        wait_for(lambda: link5_first().radius == 0.07, "the radius")
+        wait_for(lambda: link5_first().center == (0.01, 0.02, 0.03), f"the move ({link5_first()})")
+        radius_before = original.resolved_spheres("panda_spheres")["panda_link5"][0].radius
+        page.get_by_role("button", name="Undo").click()
+        wait_for(lambda: link5_first().radius == radius_before, "undo")
+        page.get_by_role("button", name="Redo").click()
+        wait_for(lambda: link5_first().radius == 0.07, "redo")
+
+        # 3. refit panda_link3 with 3 spheres, look at the metrics, accept
+        settle(editor, page)
+        choose(page, "Link", "panda_link3")
+        set_number(page, "Fit spheres", 3)
+        page.get_by_role("button", name="Fit link").click()
+        expect(page.get_by_role("button", name="Accept fit")).to_be_visible(timeout=120_000)
+        expect(page.get_by_text("protrusion p95")).to_be_visible()
+        proposal = editor.panels.proposal
+        assert proposal is not None and len(proposal.spheres) == 3
+        expect(page.get_by_text(f"{proposal.after.coverage:.1%}").first).to_be_visible()
+        page.get_by_role("button", name="Discard fit").scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / "edit_refit.png"))
+        page.get_by_role("button", name="Accept fit").click()
+        wait_for(
+            lambda: len(editor.state.xrdf.resolved_spheres("panda_spheres")["panda_link3"]) == 3,
+            "the refit",
+        )
+
+        # 4. ignore the colliding pair with its toggle
+        label = f"{first.frame_a} ↔ {first.frame_b}"
+
+        def ignored() -> bool:
+            sc = editor.state.xrdf.self_collision
+            return sc is not None and sc.is_ignored(first.frame_a, first.frame_b)
+
+        settle(editor, page)
+        page.get_by_label(label, exact=True).click()
+        wait_for(ignored, "the mask toggle")
+
+        # 5. save: the diff first, then the file
+        assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing written yet
+        page.get_by_role("button", name="Save…").click()
+        expect(page.get_by_text("geometry", exact=False).first).to_be_visible()
+        page.get_by_role("button", name="Confirm save").scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / "edit_save.png"))
+        page.get_by_role("button", name="Confirm save").click()
+        wait_for(lambda: not editor.state.dirty, "the save")
+
+        expected = EditState.start(original)
+        for edit in (
+            MoveSphere("panda_link5", 0, (0.01, 0.02, 0.03)),
+            SetRadius("panda_link5", 0, 0.07),
+            ReplaceSpheres("panda_link3", proposal.spheres),
+            SetIgnored(first.frame_a, first.frame_b, True),
+        ):
+            expected = expected.apply(edit)
+        expected_path = tmp_path / "expected.xrdf"
+        save(expected, expected_path)
+        assert diff_files(expected_path, target).is_equal
+        assert not diff_xrdf(original, load_xrdf(target)).is_equal
+        page.close()
+    finally:
+        editor.close()
+
+
+def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
+    from xrdf_tools.edit.page import EditorPage
+
+    expect = sync_api.expect
+    robot = load_robot(robot_urdf("panda"))
+    target = tmp_path / "panda.xrdf"
+    shutil.copy(PANDA_XRDF, target)
+    editor = EditorPage(
+        robot, EditState.start(load_xrdf(target)), target=target, port=free_port(), readonly=True
+    )
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 900})
+        page.set_default_timeout(TIMEOUT_MS)
+        page.goto(editor.url)
+        expect(page.get_by_role("button", name="Save…")).to_be_disabled()
+        expect(page.get_by_text("read-only")).to_be_visible()
+        choose(page, "Link", "panda_link2")
+        choose(page, "Sphere", "0")
+        set_number(page, "Radius", 0.08)
+        wait_for(lambda: editor.state.dirty, "the edit")
+        assert not editor.save()
+        assert target.read_bytes() == PANDA_XRDF.read_bytes()
+        page.close()
+    finally:
+        editor.close()

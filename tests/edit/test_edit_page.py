@@ -1,0 +1,89 @@
+"""The ``xrdf edit`` page object without a browser: it only drives the editing state.
+
+Real inputs: the example-robot-data Panda URDF with fixtures/panda/panda.xrdf. Needs viser.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.browser import free_port
+from tests.paths import FIXTURES
+from tests.robots import robot_urdf
+from xrdf_tools.edit import EditRobot, EditState, SetRadius
+from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
+from xrdf_tools.robot.xacro_source import load_robot
+from xrdf_tools.xrdf.io import load_xrdf
+
+pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+
+PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
+
+
+@pytest.mark.slow
+def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> None:
+    from xrdf_tools.edit.page import EditorPage
+
+    robot = load_robot(robot_urdf("panda"))
+    x = load_xrdf(PANDA_XRDF)
+    target = tmp_path / "panda.xrdf"
+    target.write_bytes(PANDA_XRDF.read_bytes())
+    configs = tmp_path / "q.csv"
+    configs.write_text(
+        "panda_joint1,panda_joint2,panda_joint3,panda_joint4,panda_joint5,panda_joint6,"
+        "panda_joint7\n0,-1.3,0,-2.5,0,1.5,0.8\n0,1.0,0,-2.5,0,1.5,0.8\n"
+    )
+    page = EditorPage(robot, EditState.start(x), target=target, port=free_port(), configs=configs)
+    try:
+        assert page.url.startswith("http://127.0.0.1:")
+        assert page.configs is not None  # 7 arm joints and the finger, defaults filled in
+        assert page.configs.shape == (2, len(page.robot.kin.actuated_joints))
+        reference = EditRobot(robot, x)
+        page.set_pose(page.configs[1])
+        want = reference.collisions(x, page.configs[1])
+        assert want.checked and page.collisions.pairs() == want.pairs()
+        c = want.checked[0]
+        assert CHECKED_RGB in page.view.colors[c.frame_a]
+        assert np.isclose(page.panels.sliders[1].value, 1.0)
+        page.pick("panda_link4", 1)
+        assert page.view.colors["panda_link4"][1] == SELECTED_RGB
+        assert not page.apply(SetRadius("panda_link4", 1, -1.0))
+        assert "not done" in page.message and not page.state.dirty
+        assert page.apply(SetRadius("panda_link4", 1, 0.05))
+        assert target.read_bytes() == PANDA_XRDF.read_bytes()
+        assert page.save() and not page.state.dirty
+        saved = load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][1]
+        assert saved.radius == 0.05
+        page.readonly = True
+        page.apply(SetRadius("panda_link4", 1, 0.06))
+        assert not page.save() and "read-only" in page.message
+        assert load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][1] == saved
+    finally:
+        page.close()
+
+
+@pytest.mark.slow
+def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
+    from xrdf_tools.edit.page import EditorPage
+    from xrdf_tools.report import recommended_xrdf
+
+    robot = load_robot(robot_urdf("panda"))
+    x = load_xrdf(PANDA_XRDF)
+    page = EditorPage(robot, EditState.start(x), target=tmp_path / "out.xrdf", port=free_port())
+    try:
+        mask = page.panels.mask
+        mask.samples.value = 300
+        mask.run_report()
+        report = mask.report
+        assert report is not None and report.samples == 300
+        assert "| pair | rate | verdict | proof | mask |" in mask.summary.content
+        top = max(report.pairs, key=lambda p: p.rate or 0.0)
+        assert f"`{top.frame_a}` ↔ `{top.frame_b}`" in mask.summary.content
+        mask._apply_mask()
+        assert page.state.xrdf == recommended_xrdf(x, report)
+        assert page.state.undo_label == "apply the report's recommended mask"
+    finally:
+        page.close()

@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.export and the export command."""

@@ -1,0 +1,235 @@
+"""XRDF → cuRobo YAML / SRDF, the round trip back through convert, and the convert CLI contract."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
+from xrdf_tools.cli import app
+from xrdf_tools.convert.core import ConvertOptions, convert_files
+from xrdf_tools.convert.sources import RobotTree
+from xrdf_tools.convert.sources.srdf import parse_srdf
+from xrdf_tools.diff import diff_xrdf
+from xrdf_tools.export.curobo import to_curobo, to_srdf
+from xrdf_tools.robot.core import as_robot
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+
+PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
+
+
+def _tree() -> RobotTree:
+    return as_robot(load_urdf(UR10E_URDF)).tree
+
+
+@pytest.mark.parametrize("layout", ["2.0", "classic"])
+@pytest.mark.parametrize(
+    "source", [UR10E_XRDF, FIXTURES / "curobo_classic" / "ur10e_classic.yml"], ids=["xrdf", "yml"]
+)
+def test_round_trip_xrdf_export_convert(layout: str, source: Path, tmp_path: Path) -> None:
+    if source.suffix == ".xrdf":
+        original = load_xrdf(source)
+    else:
+        original, _, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=source))
+    text, diags = to_curobo(original, _tree(), layout=layout, urdf_path=UR10E_URDF)
+    assert diags == []
+    cfg = tmp_path / "robot.yml"
+    cfg.write_text(text)
+    back, _, _ = convert_files(
+        UR10E_URDF, ConvertOptions(curobo=cfg, format_version=original.format_version)
+    )
+    result = diff_xrdf(original, back)
+    assert result.is_equal, [c.message for c in result.changes]
+
+
+def test_curobo_yaml_is_what_curobos_loader_accepts() -> None:
+    x, _, _ = convert_files(
+        UR10E_URDF, ConvertOptions(curobo=FIXTURES / "curobo_classic" / "ur10e_inline.yml")
+    )
+    text, _ = to_curobo(x, _tree(), layout="classic")
+    kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
+    assert kin["ee_link"] == "tool0" and kin["link_names"] == ["tool0"]
+    cs = kin["cspace"]
+    # locked joints listed in joint_names and lock_joints; every number a float
+    assert cs["joint_names"][-1] == "wrist_3_joint" and kin["lock_joints"] == {"wrist_3_joint": 0.5}
+    for key in ("retract_config", "max_acceleration", "max_jerk"):
+        assert all(type(v) is float for v in cs[key]), key
+        assert len(cs[key]) == len(cs["joint_names"])
+    assert cs["retract_config"][0] == 0.1  # looked up by name, in joint_names order
+    for link, spheres in kin["collision_spheres"].items():
+        for s in spheres:
+            assert type(s["radius"]) is float and all(type(c) is float for c in s["center"]), link
+    assert all(type(v) is float for v in kin["collision_sphere_buffer"].values())
+    assert list(kin["collision_spheres"]) == sorted(kin["collision_spheres"])  # by name
+
+
+def test_added_frames_export_fixed_and_w_first() -> None:
+    x = load_xrdf(PANDA_XRDF)
+    tree = as_robot(load_urdf(_panda_urdf())).tree
+    text, _ = to_curobo(x, tree)
+    kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
+    for name, link in (kin["extra_links"] or {}).items():
+        assert link["joint_type"] == "FIXED"
+        assert len(link["fixed_transform"]) == 7, name
+    assert kin["format_version"] == 2.0 and "tool_frames" in kin
+
+
+def _panda_urdf() -> Path:
+    from tests.robots import robot_urdf
+
+    return robot_urdf("panda")
+
+
+def test_srdf_export_new_and_merged() -> None:
+    x, _, _ = convert_files(
+        UR10E_URDF, ConvertOptions(curobo=FIXTURES / "curobo_classic" / "ur10e_classic.yml")
+    )
+    assert x.self_collision is not None
+    added = {m.frame_name for m in x.added_frames()}
+    assert added == {"gripper_center"}  # cuRobo extra_links: no URDF link, not for MoveIt
+    pairs = {p for p in x.self_collision.ignore_pairs() if not p & added}
+    assert pairs != x.self_collision.ignore_pairs()
+    fresh = parse_srdf(to_srdf(x, "ur10e"))
+    assert fresh.robot_name == "ur10e"
+    assert {frozenset((a, b)) for a, b, _, _ in fresh.disable_collisions} == pairs
+    assert {r for _, _, r, _ in fresh.disable_collisions} == {"User"}
+    existing = """<?xml version="1.0"?>
+<robot name="ur10e">
+  <group name="arm"><chain base_link="base_link" tip_link="tool0"/></group>
+  <!-- kept -->
+  <disable_collisions link1="forearm_link" link2="upper_arm_link" reason="Adjacent"/>
+</robot>
+"""
+    merged_text = to_srdf(x, "ignored", existing)
+    merged = parse_srdf(merged_text)
+    assert "arm" in merged.groups and "<!-- kept -->" in merged_text
+    reasons = {frozenset((a, b)): r for a, b, r, _ in merged.disable_collisions}
+    assert set(reasons) == pairs
+    assert reasons[frozenset(("upper_arm_link", "forearm_link"))] == "Adjacent"  # not repeated
+    assert len(merged.disable_collisions) == len(pairs)
+
+
+def test_export_cli(runner: CliRunner, tmp_path: Path) -> None:
+    out = tmp_path / "ur10e.yml"
+    r = runner.invoke(
+        app, ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-o", str(out)]
+    )
+    assert r.exit_code == 0, r.output
+    assert yaml.safe_load(out.read_text())["robot_cfg"]["kinematics"]["tool_frames"] == ["tool0"]
+    r = runner.invoke(app, ["export", "srdf", str(UR10E_XRDF)])
+    assert r.exit_code == 0 and 'reason="User"' in r.output
+    r = runner.invoke(app, ["export", "srdf", str(UR10E_XRDF), "-o", str(UR10E_XRDF)])
+    assert r.exit_code == 2 and "refusing to overwrite" in r.output
+    r = runner.invoke(app, ["export", "curobo", str(UR10E_XRDF), "--urdf", "/nope.urdf"])
+    assert r.exit_code == 2 and "Traceback" not in r.output
+
+
+# --- the convert command's contract ------------------------------------------------------------
+
+CLASSIC = FIXTURES / "curobo_classic" / "ur10e_classic.yml"
+
+
+def test_convert_cli_stdout_output_check_strict(runner: CliRunner, tmp_path: Path) -> None:
+    base = ["convert", str(UR10E_URDF), "--curobo", str(CLASSIC)]
+    r = runner.invoke(app, base)
+    assert r.exit_code == 0
+    assert "convert-dropped-key" in r.stderr and "convert-dropped-key" not in r.stdout
+    x = parse_xrdf(r.stdout)
+    assert dump_xrdf(x) == r.stdout  # canonical
+    out = tmp_path / "ur10e.xrdf"
+    assert runner.invoke(app, [*base, "-o", str(out)]).exit_code == 0
+    assert out.read_text() == r.stdout
+    # --check: equal → 0; after a change → 1 with the semantic diff
+    assert runner.invoke(app, [*base, "-o", str(out), "--check"]).exit_code == 0
+    out.write_text(out.read_text().replace("jerk_limits: [500.0", "jerk_limits: [501.0"))
+    r = runner.invoke(app, [*base, "-o", str(out), "--check"])
+    assert r.exit_code == 1 and "jerk" in r.stdout and "out of date" in r.stderr
+    missing = runner.invoke(app, [*base, "-o", str(tmp_path / "nope.xrdf"), "--check"])
+    assert missing.exit_code == 1 and "does not exist" in missing.stderr
+    # --strict: the dropped keys are a failure, nothing is written
+    strict_out = tmp_path / "strict.xrdf"
+    r = runner.invoke(app, [*base, "--strict", "-o", str(strict_out)])
+    assert r.exit_code == 1 and "--strict" in r.stderr and not strict_out.exists()
+    # refusing to overwrite an input
+    r = runner.invoke(app, [*base, "-o", str(CLASSIC)])
+    assert r.exit_code == 2 and "refusing to overwrite" in r.stderr
+    # 1.0 output
+    r = runner.invoke(app, [*base, "--format-version", "1.0"])
+    assert r.exit_code == 0 and parse_xrdf(r.stdout).format_version == "1.0"
+    assert runner.invoke(app, [*base, "--format-version", "3.0"]).exit_code == 2
+
+
+def test_convert_cli_input_errors(runner: CliRunner, tmp_path: Path) -> None:
+    bad = tmp_path / "bad.srdf"
+    bad.write_text("<robot><group name='x'>")
+    r = runner.invoke(app, ["convert", str(UR10E_URDF), "--srdf", str(bad)])
+    assert r.exit_code == 2 and "malformed SRDF XML" in r.stderr and "Traceback" not in r.output
+    r = runner.invoke(
+        app, ["convert", str(UR10E_URDF), "--srdf", str(bad), "--curobo", str(CLASSIC)]
+    )
+    assert r.exit_code == 2 and "not both" in r.stderr
+    srdf = tmp_path / "ok.srdf"
+    srdf.write_text('<robot name="r"><group name="arm"><joint name="elbow_joint"/></group></robot>')
+    r = runner.invoke(app, ["convert", str(UR10E_URDF), "--srdf", str(srdf), "--group", "amr"])
+    assert r.exit_code == 2 and "did you mean 'arm'" in r.stderr
+    r = runner.invoke(
+        app, ["convert", str(UR10E_URDF), "--srdf", str(srdf), "--tool-frame", "tool1"]
+    )
+    assert r.exit_code == 2 and "did you mean 'tool0'" in r.stderr
+
+
+def test_joint_limits_yaml(tmp_path: Path) -> None:
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        """default_velocity_scaling_factor: 0.1
+joint_limits:
+  shoulder_pan_joint: {has_acceleration_limits: true, max_acceleration: -5, has_jerk_limits: true,
+                       max_jerk: 300}
+  shoulder_lift_joint: {has_acceleration_limits: false, max_acceleration: 7.0}
+  elbow_joint: {max_acceleration: 2.5, max_jerk: 0}
+  wrist_1_joint: {has_acceleration_limits: true, max_acceleration: 0}
+  not_a_joint: {has_acceleration_limits: true, max_acceleration: 1.0}
+"""
+    )
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(joint_limits=limits, acceleration=9.0))
+    assert x.cspace is not None
+    acc = dict(zip(x.cspace.joint_names, x.cspace.acceleration_limits, strict=True))
+    jerk = dict(zip(x.cspace.joint_names, x.cspace.jerk_limits, strict=True))
+    assert acc["shoulder_pan_joint"] == 5.0  # abs of the MoveIt 2 value
+    assert acc["shoulder_lift_joint"] == 9.0  # has_* false → absent → --acceleration
+    assert acc["elbow_joint"] == 2.5  # MoveIt 1 style: present and > 0
+    assert acc["wrist_1_joint"] == 9.0  # 0 = absent
+    assert jerk["shoulder_pan_joint"] == 300.0 and jerk["elbow_joint"] == 1000.0
+    rules = {d.rule for d in diags}
+    assert {
+        "convert-unknown-joint",
+        "convert-default-acceleration",
+        "convert-default-jerk",
+    } <= rules
+
+
+@pytest.mark.slow
+def test_round_trip_panda_without_set_base_frame(tmp_path: Path) -> None:
+    """The Panda fixture has no set_base_frame; cuRobo always names a base_link, which comes
+    back as set_base_frame on the URDF root: a no-op that diff, told the root, ignores. cuRobo
+    configs do not name geometry groups, so the group name is the only other change."""
+    from tests.robots import robot_urdf
+    from xrdf_tools.robot.urdf_source import root_link
+
+    urdf_path = robot_urdf("panda")
+    urdf = load_urdf(urdf_path)
+    original = load_xrdf(PANDA_XRDF)
+    text, diags = to_curobo(original, as_robot(urdf).tree, layout="2.0", urdf_path=urdf_path)
+    assert diags == []
+    cfg = tmp_path / "panda.yml"
+    cfg.write_text(text)
+    back, _, _ = convert_files(urdf_path, ConvertOptions(curobo=cfg, format_version="2.0"))
+    result = diff_xrdf(original, back, root_frame=root_link(urdf))
+    assert result.major_changes == (), [c.message for c in result.major_changes]
+    assert {c.kind for c in result.minor_changes} <= {"group-renamed"}, [
+        c.message for c in result.minor_changes
+    ]

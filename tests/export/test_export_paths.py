@@ -1,0 +1,104 @@
+"""``xrdf export curobo`` writes files a user can commit: paths relative to the output, and a
+xacro's expanded URDF beside it (cuRobo cannot load a xacro)."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from pathlib import Path
+
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from tests.paths import UR10E_URDF, UR10E_XRDF
+from xrdf_tools.cli import app
+from xrdf_tools.convert.core import ConvertOptions
+from xrdf_tools.convert.pipeline import convert_robot
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.robot.xacro_source import expand_xacro
+
+
+def _kinematics(path: Path) -> dict[str, object]:
+    data = yaml.safe_load(path.read_text())
+    kin = data["robot_cfg"]["kinematics"]
+    assert isinstance(kin, dict)
+    return kin
+
+
+def test_paths_relative_to_the_output_by_default(runner: CliRunner, tmp_path: Path) -> None:
+    out = tmp_path / "deep" / "cfg" / "ur10e.yml"
+    out.parent.mkdir(parents=True)
+    args = ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-o", str(out)]
+    r = runner.invoke(app, args)
+    assert r.exit_code == 0, r.output
+    kin = _kinematics(out)
+    urdf_path, root = str(kin["urdf_path"]), str(kin["asset_root_path"])
+    assert not os.path.isabs(urdf_path) and not os.path.isabs(root) and "\\" not in urdf_path
+    # joined to the output's directory, they name the input URDF and its directory
+    assert (out.parent / urdf_path).resolve() == UR10E_URDF.resolve()
+    assert (out.parent / root).resolve() == UR10E_URDF.parent.resolve()
+    assert "external_asset_path" in out.read_text()  # the header says how cuRobo finds it
+    # moved together with the URDF, the pair still fits: nothing names this machine
+    assert str(tmp_path) not in out.read_text()
+
+
+def test_absolute_paths_on_request(runner: CliRunner, tmp_path: Path) -> None:
+    out = tmp_path / "ur10e.yml"
+    args = ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-o", str(out)]
+    r = runner.invoke(app, [*args, "--absolute-paths"])
+    assert r.exit_code == 0, r.output
+    kin = _kinematics(out)
+    assert kin["urdf_path"] == os.path.abspath(UR10E_URDF)
+    assert kin["asset_root_path"] == os.path.dirname(os.path.abspath(UR10E_URDF))
+    assert "external_asset_path" not in out.read_text()
+
+
+def test_stdout_paths_are_relative_to_the_current_directory(
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    r = runner.invoke(app, ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF)])
+    assert r.exit_code == 0, r.output
+    kin = yaml.safe_load(r.stdout)["robot_cfg"]["kinematics"]
+    assert (tmp_path / kin["urdf_path"]).resolve() == UR10E_URDF.resolve()
+
+
+def _px150() -> tuple[Path, dict[str, str]]:
+    spec = importlib.util.find_spec("rtbdata")
+    if spec is None or not spec.submodule_search_locations:
+        pytest.skip("rtb-data is not installed")
+    root = Path(next(iter(spec.submodule_search_locations))) / "xacro"
+    xacro = root / "trossen_descriptions/urdf/px150.urdf.xacro"
+    if not xacro.is_file():
+        pytest.skip("rtb-data has no px150 xacro")
+    return xacro, {"trossen_descriptions": str(root / "trossen_descriptions")}
+
+
+def test_xacro_gets_its_expanded_urdf_beside_the_output(runner: CliRunner, tmp_path: Path) -> None:
+    xacro, packages = _px150()
+    converted = convert_robot(xacro, ConvertOptions(), package_paths=packages, lint=False)
+    xrdf = tmp_path / "px150.xrdf"
+    xrdf.write_text(converted.text)
+    out = tmp_path / "cfg" / "px150.yml"
+    out.parent.mkdir()
+    pkg = [f"--package-path=trossen_descriptions={packages['trossen_descriptions']}"]
+    base = ["export", "curobo", str(xrdf), "--urdf", str(xacro), *pkg]
+    r = runner.invoke(app, [*base, "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    expanded = out.parent / "px150.urdf"
+    assert f"expanded URDF to {expanded}" in r.output  # named in the message
+    assert expanded.read_text() == expand_xacro(xacro, package_paths=packages)
+    assert load_urdf(expanded).robot.name == converted.robot.name
+    kin = _kinematics(out)
+    assert kin["urdf_path"] == "px150.urdf" and kin["asset_root_path"] == "."
+    # an explicit place for it; stdout alone has no "beside": a usage error
+    other = tmp_path / "elsewhere.urdf"
+    r = runner.invoke(app, [*base, "-o", str(out), "--expanded-urdf", str(other)])
+    assert r.exit_code == 0, r.output
+    assert other.is_file() and _kinematics(out)["urdf_path"] == "../elsewhere.urdf"
+    r = runner.invoke(app, base)
+    assert r.exit_code == 2 and "-o FILE" in r.output and "Traceback" not in r.output
+    # never over an input
+    r = runner.invoke(app, [*base, "-o", str(out), "--expanded-urdf", str(xrdf)])
+    assert r.exit_code == 2 and "refusing to overwrite" in r.output

@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.lint and the lint command."""

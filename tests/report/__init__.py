@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.report and the report command."""

@@ -1,0 +1,348 @@
+"""xrdf report: classification, findings, recommended mask, trajectory check, CLI outputs."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from tests.paths import FIXTURES, REPO, UR10E_URDF, UR10E_XRDF
+from tests.robots import robot_urdf
+from tests.selfcollision.test_collision import THREE_LINK, THREE_LINK_XRDF
+from xrdf_tools.cli import app
+from xrdf_tools.report import (
+    adjacent_frame_pairs,
+    never_upper_bound,
+    recommended_xrdf,
+    self_collision_report,
+)
+from xrdf_tools.report.render import render_html, render_markdown, render_text, report_to_dict
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.xrdf.io import dump_xrdf, load_xrdf, parse_xrdf
+
+PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
+SCHEMA = REPO / "docs" / "report-schema.json"
+
+
+def three_link_report(**kw: object):  # type: ignore[no-untyped-def]
+    xrdf = parse_xrdf(THREE_LINK_XRDF, "three_link.xrdf")
+    return xrdf, self_collision_report(load_urdf(THREE_LINK), xrdf, **kw)  # type: ignore[arg-type]
+
+
+def test_never_upper_bound_is_the_exact_binomial_bound() -> None:
+    assert never_upper_bound(100_000) == pytest.approx(1 - 0.05 ** (1 / 100_000), rel=1e-12)
+    assert never_upper_bound(100_000) == pytest.approx(3 / 100_000, rel=0.01)
+    assert never_upper_bound(1) == pytest.approx(0.95)
+    assert never_upper_bound(0) == 1.0
+
+
+def test_adjacency_collapses_frames_without_spheres() -> None:
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+
+    xrdf = load_xrdf(PANDA_XRDF)
+    kin, _ = build_kinematic_model(load_urdf(robot_urdf("panda")), xrdf)
+    frames = list(xrdf.self_collision_spheres())
+    adj = adjacent_frame_pairs(kin, frames)
+    # link7 -> link8 (no spheres) -> hand: adjacent; fingers are siblings of each other via
+    # the hand, which has spheres, so they are not adjacent to each other
+    assert frozenset(("panda_link7", "panda_hand")) in adj
+    assert frozenset(("panda_hand", "panda_leftfinger")) in adj
+    assert frozenset(("panda_leftfinger", "panda_rightfinger")) not in adj
+    assert frozenset(("panda_link5", "panda_hand")) not in adj
+    assert len(adj) == 10
+
+
+def test_three_link_report_classifies_and_finds() -> None:
+    _, r = three_link_report(samples=4000, seed=3)
+    assert r.samples == 4000 and r.source == "sampled"
+    by = {frozenset((p.frame_a, p.frame_b)): p for p in r.pairs}
+    # masked adjacent pair: not sampled
+    p = by[frozenset(("base_link", "link1"))]
+    assert p.adjacent and p.masked and not p.sampled and p.hits is None
+    assert p.classification == "adjacent" and p.recommendation == "ignore"
+    # rates are consistent with the counts, never-pairs carry the bound
+    for p in r.pairs:
+        if p.sampled:
+            assert p.rate == p.hits / 4000
+        if p.hits == 0:
+            assert p.classification in ("never", "adjacent", "default")
+            assert p.rate_upper_95 == pytest.approx(never_upper_bound(4000))
+    # link3/tool (fixed joint, spheres overlapping by construction) collide at default and
+    # always; adjacent wins in the classification, and an unmasked always-colliding pair is
+    # an error finding
+    p = by[frozenset(("link3", "tool"))]
+    assert p.adjacent and not p.masked and p.hits == 4000
+    rules = [d.rule for d in r.diagnostics]
+    assert "report-always-colliding" in rules
+    assert "report-default-colliding" in rules
+    assert rules.count("report-unknown-mask-frame") == 1
+    unknown = next(d for d in r.diagnostics if d.rule == "report-unknown-mask-frame")
+    assert "no_such_frame" in unknown.message and unknown.line is not None
+    assert "sphere-frame-unknown" in rules
+    assert not r.default_ok
+    assert {frozenset((c.frame_a, c.frame_b)) for c in r.default_contacts} >= {
+        frozenset(("link3", "tool"))
+    }
+
+
+def test_mask_hides_collision_and_recommended_mask(tmp_path: Path) -> None:
+    text = THREE_LINK_XRDF.replace("base_link: [link1]", "base_link: [link1, link3]")
+    xrdf = parse_xrdf(text, "masked.xrdf")
+    r = self_collision_report(load_urdf(THREE_LINK), xrdf, samples=4000, seed=1)
+    p = r.pair("link3", "base_link")
+    assert p.masked and not p.adjacent and p.classification == "sometimes"
+    assert p.hits is not None and 0 < p.hits < 4000
+    hides = [d for d in r.diagnostics if d.rule == "report-mask-hides-collision"]
+    assert len(hides) == 1 and "'link3'" in hides[0].message
+    assert hides[0].key_path == "self_collision.ignore.base_link[1]"
+    assert ("base_link", "link3") in r.mask_change.removed
+    assert r.mask_change.dropped_unknown == ("no_such_frame",)
+    new = recommended_xrdf(xrdf, r)
+    assert new.self_collision is not None
+    assert not new.self_collision.is_ignored("base_link", "link3")
+    for q in r.pairs:
+        assert new.self_collision.is_ignored(q.frame_a, q.frame_b) == (q.recommendation != "check")
+    # canonical and loadable
+    out = tmp_path / "new.xrdf"
+    out.write_text(dump_xrdf(new))
+    assert load_xrdf(out) == new
+
+
+def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None:
+    xrdf = parse_xrdf(THREE_LINK_XRDF, "three_link.xrdf")
+    urdf = load_urdf(THREE_LINK)
+    base = self_collision_report(urdf, xrdf, samples=2000, seed=0)
+    assert base.trajectory is None
+    rng = np.random.default_rng(0)
+    q = rng.uniform([-2, -3, 0.05], [2, 3, 0.4], size=(300, 3))
+    r = self_collision_report(urdf, xrdf, configs=q, chunk=64)
+    assert r.source == "configs" and r.samples == 300
+    assert r.trajectory is not None
+    # link3/tool always collide (unmasked), so every configuration is listed
+    assert [h.index for h in r.trajectory] == list(range(300))
+    assert all(
+        any({c.frame_a, c.frame_b} == {"link3", "tool"} for c in h.contacts) for h in r.trajectory
+    )
+    # always-colliding pairs masked: exactly the configurations with another contact remain
+    fixed = parse_xrdf(
+        THREE_LINK_XRDF.replace(
+            "link3: [finger, no_such_frame]",
+            "link3: [finger, tool]\n    link1: [link2]\n    finger: [tool]",
+        ),
+        "x.xrdf",
+    )
+    r2 = self_collision_report(urdf, fixed, configs=q, chunk=64)
+    from xrdf_tools.robot.kinematics import build_kinematic_model, full_configuration
+    from xrdf_tools.selfcollision.collision import colliding_frame_pairs
+
+    kin, _ = build_kinematic_model(urdf, fixed)
+    full = full_configuration(kin, ["joint1", "joint2", "joint3"], q)
+    expect = [i for i in range(300) if colliding_frame_pairs(kin, fixed, full[i])]
+    assert r2.trajectory is not None
+    assert [h.index for h in r2.trajectory] == expect
+    assert 0 < len(expect) < 300
+
+
+def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.selfcollision.configurations import load_cspace_configurations
+    from xrdf_tools.util.errors import SourceError
+
+    urdf, xrdf = load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF)
+    kin, _ = build_kinematic_model(urdf, xrdf)
+    names = list(xrdf.cspace.joint_names) if xrdf.cspace else []
+    q = np.array([[0.1, 0.2, 0.03], [0.4, 0.5, 0.06]])
+    np.save(tmp_path / "q.npy", q)
+    np.testing.assert_array_equal(load_cspace_configurations(tmp_path / "q.npy", kin, xrdf), q)
+    header = [names[2], names[0], names[1]]
+    (tmp_path / "q.csv").write_text(
+        ",".join(header) + "\n" + "\n".join(",".join(str(v) for v in r[[2, 0, 1]]) for r in q)
+    )
+    np.testing.assert_array_equal(load_cspace_configurations(tmp_path / "q.csv", kin, xrdf), q)
+    (tmp_path / "short.csv").write_text("0.1,0.2\n")
+    with pytest.raises(SourceError, match="has 2 values"):
+        load_cspace_configurations(tmp_path / "short.csv", kin, xrdf)
+    (tmp_path / "bad.csv").write_text(f"{names[0]},nope,{names[2]}\n1,2,3\n")
+    with pytest.raises(SourceError, match="nope"):
+        load_cspace_configurations(tmp_path / "bad.csv", kin, xrdf)
+
+
+def test_renderers_agree_on_content() -> None:
+    _, r = three_link_report(samples=1000)
+    text, md, page = render_text(r), render_markdown(r), render_html(r)
+    for p in r.pairs:
+        assert p.frame_a in text and p.frame_a in md and p.frame_a in page
+    assert "report-always-colliding" in text and "report-always-colliding" in md
+    assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
+    d = report_to_dict(r)
+    assert d["samples"] == 1000 and len(d["pairs"]) == len(r.pairs)
+    json.dumps(d, allow_nan=False)  # strict JSON: no NaN or Infinity
+
+
+def _validate(doc: object) -> None:
+    jsonschema = pytest.importorskip("jsonschema")
+    jsonschema.validate(doc, json.loads(SCHEMA.read_text()))
+
+
+def test_cli_json_validates_against_schema_panda(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = robot_urdf("panda")
+    out = tmp_path / "r.json"
+    res = runner.invoke(
+        app,
+        [
+            "report",
+            str(PANDA_XRDF),
+            "--urdf",
+            str(urdf),
+            "-n",
+            "20000",
+            "-f",
+            "json",
+            "-o",
+            str(out),
+        ],
+    )
+    assert res.exit_code == 0, res.output  # cuRobo's mask has only warnings
+    doc = json.loads(out.read_text())
+    _validate(doc)
+    assert doc["samples"] == 20000 and doc["default_ok"] is True
+    hides = {tuple(sorted(p[:2])) for p in doc["mask_change"]["removed"]}
+    assert ("panda_hand", "panda_link5") in hides
+    assert any(d["rule"] == "report-mask-hides-collision" for d in doc["diagnostics"])
+
+
+def test_cli_trajectory_exit_code_and_schema(runner: CliRunner, tmp_path: Path) -> None:
+    xrdf_path = tmp_path / "three.xrdf"
+    xrdf_path.write_text(THREE_LINK_XRDF)
+    q = tmp_path / "traj.csv"
+    q.write_text("joint1,joint2,joint3\n0,0,0.1\n1.5,2.5,0.3\n")
+    res = runner.invoke(
+        app,
+        ["report", str(xrdf_path), "--urdf", str(THREE_LINK), "--configs", str(q), "-f", "json"],
+    )
+    assert res.exit_code == 1
+    doc = json.loads(res.stdout)
+    _validate(doc)
+    assert [h["index"] for h in doc["trajectory"]] == [0, 1]
+
+
+def test_cli_write_mask_plot_and_refusals(runner: CliRunner, tmp_path: Path) -> None:
+    out = tmp_path / "ur10e.masked.xrdf"
+    png = tmp_path / "m.png"
+    args = ["report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-n", "5000"]
+    res = runner.invoke(app, [*args, "--write-mask", str(out), "--plot", str(png)])
+    assert res.exit_code == 0, res.output
+    assert "recommended ignore list" in res.stdout
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    new = load_xrdf(out)
+    assert new.self_collision is not None
+    assert dump_xrdf(new) == out.read_text()  # canonical
+    # refuses to overwrite an input, and bad input is a one-line error with exit 2
+    res = runner.invoke(app, [*args, "--write-mask", str(UR10E_XRDF)])
+    assert res.exit_code == 2 and "refusing to overwrite" in res.output
+    res = runner.invoke(app, ["report", str(UR10E_XRDF), "--urdf", str(tmp_path / "nope.urdf")])
+    assert res.exit_code == 2 and "Traceback" not in res.output
+    res = runner.invoke(app, [*args, "--configs", str(tmp_path / "nope.npy")])
+    assert res.exit_code == 2 and "not found" in res.output
+
+
+def test_halton_and_uniform_agree_roughly() -> None:
+    _, u = three_link_report(samples=4000, sampler="uniform", seed=1)
+    _, h = three_link_report(samples=4000, sampler="halton", seed=1)
+    for pu, ph in zip(u.pairs, h.pairs, strict=True):
+        if pu.rate is not None and ph.rate is not None:
+            assert math.isclose(pu.rate, ph.rate, abs_tol=0.05)
+
+
+def test_jobs_give_the_same_report(runner: CliRunner, monkeypatch: pytest.MonkeyPatch) -> None:
+    import xrdf_tools.selfcollision.engine.jobs as engine  # where count_sampled reads the threshold
+
+    monkeypatch.setattr(engine, "MIN_SAMPLES_PER_JOB", 1000)  # two workers on a small sample
+    _, one = three_link_report(samples=6000, seed=2, chunk=1000)
+    _, two = three_link_report(samples=6000, seed=2, chunk=1000, jobs=2)
+    d1, d2 = report_to_dict(one), report_to_dict(two)
+    for d in (d1, d2):
+        d.pop("elapsed_s", None)
+        d.pop("configs_per_s", None)
+    assert d1 == d2
+    # the CLI takes --jobs
+    res = runner.invoke(
+        app,
+        ["report", str(PANDA_XRDF), "--urdf", str(robot_urdf("panda")), "-n", "3000", "-j", "2"],
+    )
+    assert res.exit_code == 0, res.output
+
+
+def test_joints_on_path_counts_the_joints_that_move_a_pair() -> None:
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+
+    urdf = load_urdf(THREE_LINK)
+    kin, _ = build_kinematic_model(urdf, parse_xrdf(THREE_LINK_XRDF, "t.xrdf"))
+    # base_link -> joint1 -> link1 -> joint2 -> link2 -> joint3 -> link3 -> tool (fixed)
+    assert kin.joints_on_path("base_link", "link1") == ("joint1",)
+    assert kin.joints_on_path("link1", "tool") == ("joint2", "joint3")
+    assert kin.joints_on_path("link3", "tool") == ()
+    # the finger mimics joint1: it moves with joint1 (its master), not on its own
+    assert "joint1" in kin.joints_on_path("base_link", "finger")
+    _, r = three_link_report(samples=500)
+    by_pair = {frozenset((p.frame_a, p.frame_b)): p.joints_on_path for p in r.pairs}
+    assert by_pair[frozenset(("link1", "tool"))] == 2
+    assert report_to_dict(r)["pairs"][0]["joints_on_path"] >= 0
+
+
+def test_report_views_filter_what_is_shown_but_not_the_json(tmp_path: Path) -> None:
+    from xrdf_tools.report.render import ReportView
+
+    _, r = three_link_report(samples=2000)
+    full = render_text(r)
+    assert any(line.startswith("frame A") and " joints " in line for line in full.splitlines())
+    rated = [p for p in r.pairs if p.rate]
+    threshold = max(p.rate for p in rated)  # type: ignore[type-var]
+    only_top = render_text(r, ReportView(min_rate=threshold))
+    assert "below --min-rate not shown" in only_top
+    kept = [p for p in r.pairs if p.rate is not None and p.rate >= threshold]
+    assert len(kept) >= 1 and f"({len(r.pairs) - len(kept)} pair(s)" in only_top
+    findings = render_text(r, ReportView(only="findings"))
+    assert "frame A" not in findings and "findings" in findings
+    pairs = render_text(r, ReportView(only="pairs"))
+    assert "frame A" in pairs and "findings:" not in pairs
+    assert len(report_to_dict(r)["pairs"]) == len(r.pairs)  # JSON keeps everything
+
+
+def test_moveit_default_pose_is_zero_within_limits_else_mid_range() -> None:
+    from xrdf_tools.robot.kinematics import build_kinematic_model, moveit_default_configuration
+
+    kin, _ = build_kinematic_model(load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF, "t.xrdf"))
+    q = dict(zip(kin.actuated_joints, moveit_default_configuration(kin), strict=True))
+    # joint3 is prismatic with limits [0.05, 0.4]: zero is outside, so mid-range
+    assert q["joint1"] == 0.0 and q["joint3"] == pytest.approx(0.225)
+    _, r = three_link_report(samples=200, moveit=True)
+    assert r.default_configuration["joint3"] == pytest.approx(0.225)
+
+
+@pytest.mark.slow
+def test_coverage_comes_from_the_sphere_tools_with_their_diagnostics() -> None:
+    from xrdf_tools.spheres import CoverageSummary
+
+    _, r = three_link_report(samples=200, coverage=True)
+    assert isinstance(r.coverage, CoverageSummary)  # one class, no bridge
+    per = r.coverage.per_frame
+    assert set(per) >= {"base_link", "link1", "link2", "link3"}
+    assert all(0.0 <= m["coverage"] <= 1.0 for m in per.values())
+    doc = report_to_dict(r)["coverage"]
+    assert doc["per_frame"] == per and "coverage" in doc["overall"]
+    assert "sphere coverage:" in render_text(r)
+
+
+def test_every_report_format_is_one_renderer_of_the_report_or_of_its_findings() -> None:
+    from xrdf_tools.cli.commands.core import OutputFormat
+    from xrdf_tools.cli.commands.report import ReportFormat
+    from xrdf_tools.report.render import RENDERERS
+
+    findings_only = {f.value for f in ReportFormat} - set(RENDERERS)
+    assert findings_only == {"github", "sarif"} <= {f.value for f in OutputFormat}
+    assert set(RENDERERS) < {f.value for f in ReportFormat}

@@ -1,0 +1,144 @@
+"""``xrdf inspect``: the tree, chains, SRDF groups and the default choice, as text and JSON."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.robots import robots_dir
+from xrdf_tools.cli import app
+from xrdf_tools.convert.core import ConvertOptions, convert
+from xrdf_tools.robot.core import as_robot
+from xrdf_tools.robot.inspect import inspect_robot
+from xrdf_tools.robot.urdf_source import load_urdf
+
+
+def _path(rel: str) -> Path:
+    root = robots_dir()
+    if root is None or not (root / rel).is_file():
+        pytest.skip(f"example-robot-data has no {rel}")
+    return root / rel
+
+
+TIAGO = "tiago_description/robots/tiago.urdf"
+PR2 = ("pr2_description/urdf/pr2.urdf", "pr2_description/srdf/pr2.srdf")
+
+
+def test_json_describes_every_link_and_joint_of_the_urdf(runner: CliRunner) -> None:
+    urdf = _path(TIAGO)
+    result = runner.invoke(app, ["inspect", str(urdf), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert list(data) == [
+        "version", "robot", "path", "srdf", "root", "roots", "links", "joints", "chains", "groups",
+        "left_out", "default",
+    ]  # fmt: skip
+    robot = as_robot(load_urdf(urdf))
+    assert data["roots"] == [data["root"]] == [robot.root_link()]
+    assert [lk["name"] for lk in data["links"]] == list(robot.links)
+    assert {lk["name"] for lk in data["links"] if lk["collision"]} == set(robot.collision_counts)
+    by_name = {j["name"]: j for j in data["joints"]}
+    assert list(by_name) == list(robot.joints)
+    for name, j in robot.joints.items():
+        got = by_name[name]
+        assert (got["type"], got["parent"], got["child"]) == (j.type, j.parent, j.child)
+        assert (got["lower"], got["upper"], got["actuated"]) == (j.lower, j.upper, j.is_actuated)
+        assert (got["mimic"] or {}).get("joint") == j.mimic_joint
+    # one chain per leaf link, each ending at its leaf
+    leaves = [lk for lk in robot.links if not robot.tree.child_joints.get(lk)]
+    assert sorted(c["leaf"] for c in data["chains"]) == sorted(leaves)
+    for c in data["chains"]:
+        assert robot.joints[c["joints"][-1]].child == c["leaf"]
+    # the default is what convert writes
+    x, _ = convert(robot, ConvertOptions())
+    assert x.cspace is not None
+    assert data["default"]["cspace"] == list(x.cspace.joint_names)
+    assert data["default"]["tool_frames"] == list(x.tool_frames or ())
+    assert data["default"]["source"] == "chain"
+    assert data["default"]["chain_flag"] == f"--chain {robot.tree.root}:{x.tool_frames[0]}"
+    assert set(data["left_out"]) == {"wheel", "gripper", "head"}
+
+
+def test_text_is_a_tree_with_the_default_marked(runner: CliRunner) -> None:
+    urdf = _path(TIAGO)
+    result = runner.invoke(app, ["inspect", str(urdf)])
+    assert result.exit_code == 0, result.output
+    out = result.stdout
+    robot = as_robot(load_urdf(urdf))
+    lines = out.splitlines()
+    # every joint on one tree line, 'joint (type …) → child'
+    for name, j in robot.joints.items():
+        assert sum(1 for ln in lines if f"─ {name} (" in ln and f"→ {j.child}" in ln) == 1
+    choice = inspect_robot(robot).default
+    for i, name in enumerate(choice.cspace, 1):
+        assert any(f"{name} (" in ln and f"c-space #{i})" in ln for ln in lines)
+    assert any("left out: wheel" in ln for ln in lines)
+    assert f"--chain {robot.tree.root}:{choice.tool_frames[0]}" in out
+    assert len(lines) < 2 * (len(robot.joints) + 10)  # readable: about a line per joint
+
+
+def test_srdf_groups_resolved_and_default_from_the_srdf(runner: CliRunner) -> None:
+    urdf, srdf = _path(PR2[0]), _path(PR2[1])
+    result = runner.invoke(app, ["inspect", str(urdf), "--srdf", str(srdf), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    groups = {g["name"]: g for g in data["groups"]}
+    assert set(groups["arms"]["cspace"]) == set(groups["left_arm"]["cspace"]) | set(
+        groups["right_arm"]["cspace"]
+    )
+    assert groups["base"]["unplannable"] == ["world_joint"]  # the SRDF's planar virtual joint
+    robot = as_robot(load_urdf(urdf))
+    x, _ = convert(robot, ConvertOptions(srdf=srdf))
+    assert x.cspace is not None
+    assert data["default"] == {**data["default"], "source": "srdf", "chain_flag": None}
+    assert data["default"]["cspace"] == list(x.cspace.joint_names)
+    text = runner.invoke(app, ["inspect", str(urdf), "--srdf", str(srdf)]).stdout
+    assert "SRDF groups" in text and "world_joint" in text
+
+
+def test_bad_input_is_one_line_exit_2(runner: CliRunner, tmp_path: Path) -> None:
+    result = runner.invoke(app, ["inspect", str(tmp_path / "missing.urdf")])
+    assert result.exit_code == 2
+    assert "missing.urdf" in result.output and "Traceback" not in result.output
+    bad = tmp_path / "bad.srdf"
+    bad.write_text("<robot name='x'><group name='g'>")
+    urdf = _path(PR2[0])
+    result = runner.invoke(app, ["inspect", str(urdf), "--srdf", str(bad)])
+    assert result.exit_code == 2 and "bad.srdf" in result.output
+
+
+def test_disconnected_parts_are_shown_not_hidden(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = tmp_path / "two.urdf"
+    urdf.write_text(
+        '<robot name="two"><link name="a"/><link name="b"/><link name="c"/>'
+        '<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+        '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint></robot>'
+    )
+    result = runner.invoke(app, ["inspect", str(urdf), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert data["roots"] == ["a", "c"]
+    assert data["default"]["source"] == "error" and "not one tree" in data["default"]["error"]
+    text = runner.invoke(app, ["inspect", str(urdf)]).stdout
+    assert "c ·  (not connected to 'a')" in text and "nothing, it fails" in text
+
+
+def test_reads_no_geometry_library() -> None:
+    """A light install (no [fit] extra) inspects: neither yourdfpy nor trimesh is imported."""
+    import subprocess
+    import sys
+
+    urdf = _path(TIAGO)
+    code = (
+        "import sys\n"
+        "from xrdf_tools.cli import main\n"
+        f"sys.argv = ['xrdf', 'inspect', {str(urdf)!r}]\n"
+        "try:\n    main()\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
+        "print(sorted(m for m in ('yourdfpy', 'trimesh') if m in sys.modules), file=sys.stderr)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stderr.strip().splitlines()[-1] == "[]"
+    assert "arm_tool_link" in done.stdout

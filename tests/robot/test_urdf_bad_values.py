@@ -1,0 +1,66 @@
+"""URDF values no reader can use (limits, non-finite numbers, mimic offsets, geometry sizes):
+one-line input errors naming the URDF, a finding for lint."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.cli_checks import MIMIC_URDF, MIMIC_XRDF, copy_replacing, run_cli
+from tests.paths import UR10E_URDF, UR10E_XRDF
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        (
+            'lower="-6.283185307179586" upper="6.283185307179586"',
+            'lower="1" upper="-1"',
+            "lower=1 is above upper=-1",
+        ),
+        ('lower="-6.283185307179586"', 'lower="-inf"', "lower='-inf': numbers must be finite"),
+        ('lower="-6.283185307179586"', 'lower="nan"', "lower='nan': numbers must be finite"),
+        (
+            '<origin rpy="0 0 0" xyz="0 0 0.1807"/>',
+            '<origin rpy="0 0 0" xyz="0 0 inf"/>',
+            "must be finite",
+        ),
+    ],
+)
+def test_bad_urdf_limits_are_input_errors(
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
+) -> None:
+    urdf = copy_replacing(UR10E_URDF, tmp_path / "bad.urdf", old, new)
+    for args in (
+        ["report", str(UR10E_XRDF), "--urdf", str(urdf), "-n", "10"],
+        ["viz", str(UR10E_XRDF), "--urdf", str(urdf), "--png", str(tmp_path / "o.png")],
+    ):
+        code, out = run_cli(runner, *args)
+        assert code == 2 and message in out and f"{urdf}:" in out, (args, out)
+    # lint checks the XRDF against the URDF: no reader loads it with this one, a finding
+    code, out = run_cli(runner, "lint", str(UR10E_XRDF), "--urdf", str(urdf))
+    assert code == 1 and "urdf-invalid" in out and message in out and f"{urdf}:" in out, out
+
+
+def test_mimic_offset_inf(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = copy_replacing(MIMIC_URDF, tmp_path / "m.urdf", 'offset="0.1"', 'offset="inf"')
+    code, out = run_cli(runner, "convert", str(urdf))
+    assert code == 2 and "<mimic> offset='inf': numbers must be finite" in out
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ('<box size="0.25 0.06 0.06"/>', '<box size="1 2"/>', "<box> size='1 2' must be 3 numbers"),
+        ('<sphere radius="0.02"/>', '<sphere radius="-1"/>', "must not be negative"),
+        ('<cylinder radius="0.08" length="0.1"/>', '<cylinder radius="0.08"/>', "no 'length'"),
+    ],
+)
+def test_bad_geometry_is_an_input_error(
+    runner: CliRunner, tmp_path: Path, old: str, new: str, message: str
+) -> None:
+    urdf = copy_replacing(MIMIC_URDF, tmp_path / "g.urdf", old, new)
+    code, out = run_cli(runner, "report", str(MIMIC_XRDF), "--urdf", str(urdf), "-n", "10")
+    assert code == 2 and message in out

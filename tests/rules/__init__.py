@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.rules: the registry of every diagnostic id and its generated docs."""

@@ -1,0 +1,112 @@
+"""The engine on a real robot whose c-space leaves most bodies static (Talos, left arm only).
+
+Bodies the c-space does not move are folded into one static body, sphere pairs that can never
+come within the margin are dropped at build time (:mod:`xrdf_tools.selfcollision.engine.reach`)
+and large sides are cut into frames. None of it may change a count: the engine is compared
+with the plain double loop and with the reference counter.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.collision_reference import count_chunk
+from tests.robots import robot_urdf
+from tests.selfcollision.test_collision import fixed_configs
+from tests.selfcollision.test_engine import check_against_brute_force, engine_for
+from xrdf_tools.robot.kinematics import KinematicModel, build_kinematic_model
+from xrdf_tools.robot.urdf_source import load_urdf
+from xrdf_tools.xrdf.io import parse_xrdf
+from xrdf_tools.xrdf.model import Xrdf
+
+ARM = [f"arm_left_{i}_joint" for i in range(1, 8)]
+
+
+def _talos_xrdf(kin: KinematicModel, per_link: int) -> str:
+    """Spheres around every frame of Talos (seeded), the left arm as the c-space."""
+    rng = np.random.default_rng(3)
+    lines = [
+        "format: xrdf",
+        "format_version: 1.0",
+        "cspace:",
+        f"  joint_names: [{', '.join(ARM)}]",
+        f"  acceleration_limits: [{', '.join(['10.0'] * len(ARM))}]",
+        f"  jerk_limits: [{', '.join(['100.0'] * len(ARM))}]",
+        "collision:",
+        "  geometry: body",
+        "self_collision:",
+        "  geometry: body",
+        "geometry:",
+        "  body:",
+        "    spheres:",
+    ]
+    for name in kin.frame_names[1:]:
+        lines.append(f"      {name}:")
+        for _ in range(per_link):
+            c = rng.uniform(-0.08, 0.08, 3)
+            r = rng.uniform(0.02, 0.06)
+            lines.append(
+                f"        - {{center: [{c[0]:.4f}, {c[1]:.4f}, {c[2]:.4f}], radius: {r:.4f}}}"
+            )
+    return "\n".join(lines) + "\n"
+
+
+@pytest.fixture(scope="module")
+def talos() -> tuple[KinematicModel, Xrdf]:
+    urdf = load_urdf(robot_urdf("talos"))
+    probe = parse_xrdf(
+        "format: xrdf\nformat_version: 1.0\ncspace:\n  joint_names: [arm_left_1_joint]\n"
+        "  acceleration_limits: [10.0]\n  jerk_limits: [100.0]\n",
+        "probe.xrdf",
+    )
+    kin0, _ = build_kinematic_model(urdf, probe)
+    xrdf = parse_xrdf(_talos_xrdf(kin0, 3), "talos_left_arm.xrdf")
+    kin, _ = build_kinematic_model(urdf, xrdf)
+    return kin, xrdf
+
+
+def test_static_bodies_fold_and_far_pairs_are_never_evaluated(
+    talos: tuple[KinematicModel, Xrdf],
+) -> None:
+    kin, xrdf = talos
+    arm = [kin.actuated_index(j) for j in ARM]
+    eng, spheres, _ = engine_for(kin, xrdf, True, arm, margin=0.01)
+    assert eng.bodies.n == 8  # the static rest of the robot and one body per arm joint
+    n_const = len(eng.const_k)
+    assert n_const > spheres.n_frame_pairs // 2  # legs, torso, head, right arm: decided once
+    evaluated = {k for bp in eng.pairs for k, _, _ in bp.blocks}
+    names = list(spheres.frame_pair_names())
+    dropped = [names[k] for k in range(spheres.n_frame_pairs) if np.isfinite(eng.reach_bound[k])]
+    # the left hand can never reach the right foot: that pair is not evaluated at all
+    far = next(
+        k
+        for k, (a, b) in enumerate(names)
+        if {a, b} == {"gripper_left_base_link", "leg_right_6_link"}
+    )
+    assert far not in evaluated and eng.reach_bound[far] > 0.01  # beyond the margin
+    assert len(dropped) > 100
+
+
+@pytest.mark.slow
+def test_counts_equal_brute_force_with_a_static_robot(talos: tuple[KinematicModel, Xrdf]) -> None:
+    kin, xrdf = talos
+    arm = [kin.actuated_index(j) for j in ARM]
+    q = fixed_configs(kin, 30, seed=5)[:, arm]
+    totals = check_against_brute_force(kin, xrdf, q, True, arm, margin=0.01)
+    assert totals.hits.sum() > 0
+
+
+def test_counts_equal_reference_counter_with_a_static_robot(
+    talos: tuple[KinematicModel, Xrdf],
+) -> None:
+    kin, xrdf = talos
+    arm = [kin.actuated_index(j) for j in ARM]
+    eng, spheres, q0 = engine_for(kin, xrdf, True, arm, margin=0.01)
+    qv = fixed_configs(kin, 3000, seed=9)[:, arm]
+    q = np.repeat(q0[None, :], len(qv), axis=0)
+    q[:, arm] = qv
+    ref = count_chunk(kin, spheres, q, margin=0.01)
+    hits = eng.count(qv)
+    np.testing.assert_array_equal(hits, ref.hits)
+    assert 0 < hits.sum() < hits.size

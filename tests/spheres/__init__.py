@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.spheres: sphere fitting and surface distances."""

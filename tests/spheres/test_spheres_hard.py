@@ -1,0 +1,219 @@
+"""Sphere fitting on hard links (thin shells, parts without volume, placeholders, fingers),
+clip planes, shared meshes, counts by coverage target, and the metrics in the CLI."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from typer.testing import CliRunner
+
+from tests.robots import robot_urdf, robots_dir
+from xrdf_tools.cli import app
+from xrdf_tools.spheres import fit_link_spheres, sphere_metrics
+from xrdf_tools.spheres.geometry import load_link_geometry
+from xrdf_tools.spheres.inside import grid_inside, points_inside
+from xrdf_tools.spheres.robot_fit import fit_robot, parse_clip
+from xrdf_tools.util.errors import XrdfToolsError
+
+
+def _robot(rel: str) -> Path:
+    root = robots_dir()
+    if root is None or not (root / rel).is_file():
+        pytest.skip(f"{rel} not installed")
+    return root / rel
+
+
+# --------------------------------------------------------------------------------------------
+# The grid inside test is the point inside test, column by column
+# --------------------------------------------------------------------------------------------
+def test_grid_inside_equals_the_point_test_on_every_node() -> None:
+    geoms, _ = load_link_geometry(robot_urdf("panda"), links=["panda_link4", "panda_hand"])
+    for g in geoms.values():
+        lo, hi = g.solid.bounds
+        axes = tuple(np.linspace(lo[i] - 0.01, hi[i] + 0.01, 17 + 3 * i) for i in range(3))
+        grid = grid_inside(g.solid, axes)
+        nodes = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, 3)
+        assert np.array_equal(grid.reshape(-1), points_inside(g.solid, nodes))
+        assert 0.05 < grid.mean() < 0.9
+
+
+# --------------------------------------------------------------------------------------------
+# Hard links on real meshes
+# --------------------------------------------------------------------------------------------
+def test_part_without_volume_is_fitted_to_its_hull_and_said_so() -> None:
+    """Unitree Z1's gripperStator (156 x 82 x 69 mm) is an open mesh whose trimesh hull is
+    not watertight either: its hull rebuilt from qhull's facets gets the spheres."""
+    urdf = _robot("z1_description/urdf/z1.urdf")
+    result = fit_robot(urdf, links=["gripperStator"])
+    spheres = result.spheres["gripperStator"]
+    assert result.kinds["gripperStator"] == "convex_hull"
+    assert any(
+        d.rule == "spheres-convex-hull" and "gripperStator" in d.message for d in result.diagnostics
+    )
+    solid = result.geometry["gripperStator"].solid
+    assert solid.is_volume and np.allclose(solid.extents, [0.156, 0.082, 0.06885], atol=1e-3)
+    m = sphere_metrics(solid, spheres, samples=5000)
+    assert 2 <= len(spheres) <= 16
+    assert m.coverage >= 0.85 and m.protrusion_p95 <= 0.008
+
+
+def test_thin_shell_base_is_fitted_to_its_hull_across_its_whole_span() -> None:
+    """TIAGo's base_link is a closed shell with a tenth of its hull's volume."""
+    urdf = _robot("tiago_description/robots/tiago.urdf")
+    result = fit_robot(urdf, links=["base_link"])
+    spheres = result.spheres["base_link"]
+    assert result.kinds["base_link"] == "convex_hull"
+    assert any(d.rule == "spheres-thin-shell" for d in result.diagnostics)
+    centers = np.array([s.center for s in spheres])
+    assert centers[:, 0].min() < -0.1 and centers[:, 0].max() > 0.1  # the mesh spans +-0.25
+    m = sphere_metrics(result.geometry["base_link"].solid, spheres, samples=5000)
+    assert m.coverage >= 0.85 and m.protrusion_p95 <= 0.025
+
+
+def test_a_placeholder_gets_one_sphere() -> None:
+    urdf = _robot("ur_description/urdf/ur5_robot.urdf")
+    result = fit_robot(urdf, links=["ee_link", "wrist_3_link"])
+    assert len(result.spheres["ee_link"]) == 1
+    assert len(result.spheres["wrist_3_link"]) > 1
+    assert [d.rule for d in result.diagnostics] == ["spheres-placeholder"]
+
+
+def test_open_box_without_volume_falls_back_to_its_bounding_box(tmp_path: Path) -> None:
+    """A flat part (a square sheet) has no hull volume: its bounding box, 2 mm thick."""
+    sheet = trimesh.Trimesh(
+        vertices=[[0, 0, 0], [0.1, 0, 0], [0.1, 0.1, 0], [0, 0.1, 0]], faces=[[0, 1, 2], [0, 2, 3]]
+    )
+    sheet.export(tmp_path / "sheet.stl")
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="plate"><collision><geometry>'
+        '<mesh filename="sheet.stl"/></geometry></collision></link></robot>'
+    )
+    result = fit_robot(tmp_path / "r.urdf")
+    assert result.kinds["plate"] == "bounding_box"
+    assert any(d.rule == "spheres-bounding-box" for d in result.diagnostics)
+    assert np.allclose(sorted(result.geometry["plate"].solid.extents), [0.002, 0.1, 0.1])
+    assert result.spheres["plate"]
+
+
+# --------------------------------------------------------------------------------------------
+# Counts, shared meshes, clip planes
+# --------------------------------------------------------------------------------------------
+def test_default_count_is_the_fewest_reaching_the_target() -> None:
+    urdf = robot_urdf("panda")
+    low = fit_robot(urdf, links=["panda_link3"], counts=_policy(0.8))
+    high = fit_robot(urdf, links=["panda_link3"], counts=_policy(0.95))
+    n_low, n_high = len(low.spheres["panda_link3"]), len(high.spheres["panda_link3"])
+    assert n_low < n_high
+    solid = low.geometry["panda_link3"].solid
+    fewer = fit_link_spheres(urdf, links=["panda_link3"], per_link=n_low - 1)[0]
+    assert sphere_metrics(solid, low.spheres["panda_link3"], samples=8000).coverage >= 0.78
+    assert sphere_metrics(solid, fewer["panda_link3"], samples=8000).coverage < 0.82
+
+
+def _policy(target: float) -> object:
+    from xrdf_tools.spheres.robot_fit import CountPolicy
+
+    return CountPolicy(target_coverage=target)
+
+
+def test_links_that_share_a_mesh_are_fitted_once(tmp_path: Path) -> None:
+    mesh = trimesh.creation.box(extents=[0.1, 0.04, 0.04])
+    mesh.export(tmp_path / "part.stl")
+    link = (
+        '<link name="{}"><collision><geometry><mesh filename="part.stl"/></geometry>'
+        "</collision></link>"
+    )
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r">'
+        + "".join(link.format(n) for n in ("a", "b", "c"))
+        + '<joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>'
+        + '<joint name="j2" type="fixed"><parent link="b"/><child link="c"/></joint></robot>'
+    )
+    result = fit_robot(tmp_path / "r.urdf", counts=_per_link(3))
+    assert result.spheres["a"] == result.spheres["b"] == result.spheres["c"]
+    assert result.seconds["b"] == 0.0 and result.seconds["c"] == 0.0
+    shared = [d for d in result.diagnostics if d.rule == "spheres-shared-mesh"]
+    assert len(shared) == 1 and "b, c" in shared[0].message
+
+
+def _per_link(n: int) -> object:
+    from xrdf_tools.spheres.robot_fit import CountPolicy
+
+    return CountPolicy(per_link=n)
+
+
+def test_clip_plane_keeps_every_sphere_on_its_side() -> None:
+    urdf = robot_urdf("panda")
+    link, plane = parse_clip("panda_link0:0,0,2,0.04")  # normal normalised, d with it
+    assert plane == ((0.0, 0.0, 1.0), 0.02)
+    clipped, _ = fit_link_spheres(urdf, links=[link], per_link=6, clips={link: [plane]})
+    free, _ = fit_link_spheres(urdf, links=[link], per_link=6)
+    assert min(s.center[2] - s.radius for s in free[link]) < 0.02
+    assert all(s.center[2] - s.radius >= 0.02 - 1e-9 for s in clipped[link])
+    with pytest.raises(XrdfToolsError, match="without geometry"):
+        fit_link_spheres(urdf, links=[link], clips={"world": [plane]})
+    for bad in ("panda_link0", "panda_link0:0,0,0,1", "panda_link0:a,b,c,d", ":0,0,1,0"):
+        with pytest.raises(XrdfToolsError):
+            parse_clip(bad)
+
+
+# --------------------------------------------------------------------------------------------
+# CLI
+# --------------------------------------------------------------------------------------------
+def test_cli_metrics_as_json_with_every_field(runner: CliRunner, tmp_path: Path) -> None:
+    out = tmp_path / "p.xrdf"
+    args = ["spheres", str(robot_urdf("panda")), "--links", "panda_link1,panda_link2"]
+    res = runner.invoke(app, [*args, "--per-link", "3", "--format", "json", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.stdout)
+    assert list(doc["links"]) == ["panda_link1", "panda_link2"]
+    fields = {
+        "coverage",
+        "protrusion_share",
+        "protrusion_mean",
+        "protrusion_p95",
+        "surface_gap_mean",
+        "surface_gap_p95",
+        "max_uncovered_gap",
+        "volume_ratio",
+        "sphere_count",
+        "fit_seconds",
+    }
+    assert fields <= set(doc["overall"])
+    assert doc["overall"]["sphere_count"] == 6
+    assert {m["solid"] for m in doc["links"].values()} == {"mesh"}
+    assert all(m["fit_seconds"] > 0 for m in doc["links"].values())
+
+
+def test_cli_names_the_solid_a_thin_shell_was_measured_against(runner: CliRunner) -> None:
+    urdf = _robot("tiago_description/robots/tiago.urdf")
+    res = runner.invoke(app, ["spheres", str(urdf), "--links", "base_link", "--per-link", "4"])
+    assert res.exit_code == 0, res.output
+    assert "base_link: convex_hull" in res.output
+
+
+def test_cli_clip_and_bad_clip(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = str(robot_urdf("panda"))
+    out = tmp_path / "p.xrdf"
+    args = ["spheres", urdf, "--links", "panda_link0", "--clip", "panda_link0:0,0,1,0.05"]
+    res = runner.invoke(app, [*args, "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    from xrdf_tools.xrdf.io import load_xrdf
+
+    spheres = load_xrdf(out).world_collision_spheres()["panda_link0"]
+    assert spheres and all(s.center[2] - s.radius >= 0.05 - 1e-9 for s in spheres)
+    res = runner.invoke(app, ["spheres", urdf, "--clip", "panda_link0:0,0,1"])
+    assert res.exit_code == 2 and "LINK:nx,ny,nz,d" in res.output
+
+
+def test_clip_plane_beyond_the_whole_link_is_reported() -> None:
+    urdf = robot_urdf("panda")
+    clips = {"panda_link1": [((0.0, 0.0, 1.0), 5.0)]}  # everything lies below z = 5 m
+    fitted, diags = fit_link_spheres(urdf, links=["panda_link1"], per_link=2, clips=clips)
+    assert fitted == {}
+    assert [d.rule for d in diags] == ["spheres-target-missed"]
+    assert "clip planes" in diags[0].message

@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.util: the input reader and output writer, numbers, graphs, rotations, XML."""

@@ -1,0 +1,1 @@
+"""Tests of xrdf_tools.viz and the viz command."""
