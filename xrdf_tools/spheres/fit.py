@@ -16,6 +16,10 @@
    moved by a shrinking step in 26 directions (radius re-maximised each time) while that
    increases the covered weight.
 
+A fitter can be re-bound to another bound (:meth:`SphereFitter.rebound`: same samples and
+candidates, new level set and radii); :func:`bound_for_coverage` uses it to pick, for a given
+count, the smallest bound at which the spheres cover a given share.
+
 Everything is driven by one seeded generator, and every decision compares exact numbers: the
 inside test is exact (:mod:`.inside`), covered weight is a count of covered points of each kind
 times that kind's weight (a BLAS product of 0/1 values is an exact integer whatever its
@@ -357,8 +361,9 @@ def bound_for_coverage(fitter: SphereFitter, k: int, target: float) -> tuple[Sph
 
     The bounds tried are the rungs ``tau0 * BOUND_STEP**j`` around the fitter's own bound
     ``tau0``, from ``tau0 / BOUND_FLOOR_DIVISOR`` up to ``BOUND_CAP_FRACTION`` of the solid's
-    largest extent. A rung is judged by its greedy cover plus what refinement added to the
-    greedy cover at ``tau0`` (a greedy cover costs a fraction of a refined fit, and grows
+    largest extent (the distance grid is widened when a rung lies past its room). A rung is
+    judged by a quick greedy probe (:meth:`SphereFitter.greedy_share`) plus what refinement
+    added to that probe at ``tau0`` (a probe costs a fraction of a refined fit, and grows
     with the bound): the lowest rung judged to reach the target is found by a bisection
     (below ``tau0`` when the refined fit there reaches the target, else above it, trying rungs
     1, 2, 4, ... first). The refined fit at that rung is kept if it reaches the target; else the
