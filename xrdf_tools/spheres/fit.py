@@ -16,6 +16,10 @@
    moved by a shrinking step in 26 directions (radius re-maximised each time) while that
    increases the covered weight.
 
+A fitter can be re-bound to another bound (:meth:`SphereFitter.rebound`: same samples and
+candidates, new level set and radii); :func:`bound_for_coverage` uses it to pick, for a given
+count, the smallest bound at which the spheres cover a given share.
+
 Everything is driven by one seeded generator, and every decision compares exact numbers: the
 inside test is exact (:mod:`.inside`), covered weight is a count of covered points of each kind
 times that kind's weight (a BLAS product of 0/1 values is an exact integer whatever its
@@ -38,6 +42,7 @@ from .metrics import fibonacci_directions, sample_surface, sample_volume
 
 if TYPE_CHECKING:
     import trimesh
+    from scipy.spatial import cKDTree
 
 IntArray = npt.NDArray[np.uint8]
 
@@ -48,6 +53,18 @@ _GRID_CELLS = 48
 _SURFACE_DENSE = 8_000
 _COVER_BLOCK = 32
 _MOVES = fibonacci_directions(26)
+#: Ratio of consecutive protrusion bounds tried by :func:`bound_for_coverage`.
+BOUND_STEP = 1.1
+#: The largest bound :func:`bound_for_coverage` tries, as a share of the solid's largest extent.
+BOUND_CAP_FRACTION = 0.4
+#: The smallest bound :func:`bound_for_coverage` tries: the default bound over this.
+BOUND_FLOOR_DIVISOR = 2.0
+_CHECK_RUNGS = 3
+#: A widened distance grid reaches this many times the bound that needed it.
+ROOM_FACTOR = 2.0
+#: Every this many candidates take part in a quick probe of a bound.
+PROBE_STRIDE = 4
+
 
 #: A clip plane: unit normal ``n`` and offset ``d``; spheres keep ``n . c - r >= d``.
 Plane = tuple[tuple[float, float, float], float]
@@ -145,20 +162,16 @@ class SphereFitter:
         surface_samples: int = 1500,
         candidates: int = 1000,
         clips: Sequence[Plane] = (),
+        room: float | None = None,
     ) -> None:
         rng = np.random.default_rng(seed)
         self.clips = np.array([[*n, d] for n, d in clips], dtype=np.float64).reshape(-1, 4)
         self.solid = solid
         self.volume = float(abs(solid.volume))
-        self.tau = float(max_protrusion if max_protrusion is not None else 0.0)
-        if max_protrusion is None:
-            self.tau = default_max_protrusion(solid)
-        extent = float(np.max(solid.extents))
-        margin = 2.0 * self.tau + extent / _GRID_CELLS * 3
-        self.sdf = _build_sdf(solid, margin, rng)
-        from scipy.spatial import cKDTree
-
-        self._level_tree = cKDTree(level_points(self.sdf, self.tau))
+        tau = default_max_protrusion(solid) if max_protrusion is None else float(max_protrusion)
+        self._seed = seed
+        self.room = 0.0
+        self.widen(max(tau, float(room or 0.0)), rng)
         vol = self._kept(sample_volume(solid, volume_samples, rng))
         surf = self._kept(sample_surface(solid, surface_samples, rng))
         self.points = np.concatenate([vol, surf])
@@ -171,22 +184,59 @@ class SphereFitter:
             cand = self._kept(np.asarray(solid.vertices, dtype=np.float64).mean(0, keepdims=True))
         self.empty = len(cand) == 0 or len(self.points) == 0
         self.cand_c = cand
-        self.cand_r = self.max_radius(cand)
+        self.scale = self.volume ** (1.0 / 3.0)
+        self.rebound(tau)
+
+    def widen(self, room: float, rng: np.random.Generator | None = None) -> None:
+        """Build the distance grid so that it reaches past a bound of ``room`` (its margin
+        around the solid grows with it, and its cells with the margin). The grid is built from
+        a generator seeded as the fitter's first, so the same room gives the same grid."""
+        extent = float(np.max(self.solid.extents))
+        margin = 2.0 * room + extent / _GRID_CELLS * 3
+        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self._seed))
+        #: the largest bound the distance grid reaches past (see :meth:`rebound`)
+        self.room = float(room)
+
+    def rebound(self, tau: float) -> None:
+        """Make ``tau`` the protrusion bound: the level set it becomes, the candidates' radii
+        and what they cover. The samples stay, and so does the distance grid unless ``tau``
+        is beyond its :attr:`room` (then it is widened to ``tau``)."""
+        from scipy.spatial import cKDTree
+
+        if tau > self.room * (1.0 + 1e-12):
+            self.widen(tau)
+        self.tau = float(tau)
+        self._level_tree = cKDTree(level_points(self.sdf, self.tau))
+        self.cand_r = self.max_radius(self.cand_c)
         self.cand_cov = self._cover(self.cand_c, self.cand_r)
         self._cand_packed = self._pack(self.cand_cov)
-        self.scale = self.volume ** (1.0 / 3.0)
 
     # ----------------------------------------------------------------------------------------
     def max_radius(self, centers: FloatArray) -> FloatArray:
         """Largest radius per centre whose sphere stays within the protrusion budget: the
         distance to the nearest point where the solid's distance field exceeds the budget
         (its level set, found on the grid; 0 for a centre already beyond it)."""
-        dist, _ = self._level_tree.query(centers)
+        return self._radius_within(centers, self._level_tree, self.tau)
+
+    def _radius_within(self, centers: FloatArray, level_tree: cKDTree, tau: float) -> FloatArray:
+        dist, _ = level_tree.query(centers)
         radius = np.asarray(dist, dtype=np.float64)
         for plane in self.clips:
             radius = np.minimum(radius, self._plane_distance(centers, plane))
-        ok = self.sdf(centers) < self.tau
+        ok = self.sdf(centers) < tau
         return np.where(ok, np.maximum(radius, 0.0), 0.0)
+
+    def greedy_share(self, tau: float, k: int) -> float:
+        """A quick probe of bound ``tau`` (within :attr:`room`): the covered share of the
+        volume samples after ``k`` greedy picks from every ``PROBE_STRIDE``-th candidate. The
+        fitter's own bound, candidates and grid are unchanged."""
+        from scipy.spatial import cKDTree
+
+        centers = self.cand_c[::PROBE_STRIDE]
+        radii = self._radius_within(centers, cKDTree(level_points(self.sdf, tau)), tau)
+        cover = self._cover(centers, radii)
+        curve = self._greedy(self._pack(cover), cover, k)[1]
+        return curve[-1] if curve else 0.0
 
     @staticmethod
     def _plane_distance(points: FloatArray, plane: FloatArray) -> FloatArray:
@@ -242,16 +292,21 @@ class SphereFitter:
     def greedy(self, k: int) -> tuple[list[int], list[float]]:
         """Indices of ``k`` greedy candidates and the covered share of the volume samples
         after each pick."""
+        return self._greedy(self._cand_packed, self.cand_cov, k)
+
+    def _greedy(
+        self, packed: tuple[IntArray, IntArray], cover: BoolArray, k: int
+    ) -> tuple[list[int], list[float]]:
         covered = np.zeros(len(self.points), dtype=bool)
         picks: list[int] = []
         curve: list[float] = []
         for _ in range(0 if self.empty else k):
-            gain = self._gains(self._cand_packed, ~covered)
+            gain = self._gains(packed, ~covered)
             if picks:
                 gain[picks] = -1.0
             best = int(np.argmax(gain))
             picks.append(best)
-            covered |= self.cand_cov[best]
+            covered |= cover[best]
             curve.append(float(covered[: self.n_volume].mean()) if self.n_volume else 1.0)
         return picks, curve
 
@@ -297,6 +352,67 @@ class SphereFitter:
                 radius = max(float(np.floor(room * 1e4 + 1e-6) / 1e4), 1e-4)
                 sphere = Sphere(center=sphere.center, radius=radius)
         return sphere
+
+
+def bound_for_coverage(fitter: SphereFitter, k: int, target: float) -> tuple[Sphere, ...]:
+    """``k`` spheres under the smallest protrusion bound at which they cover ``target`` of
+    the fitter's volume samples (or under the highest bound tried); the fitter is left
+    re-bound to it.
+
+    The bounds tried are the rungs ``tau0 * BOUND_STEP**j`` around the fitter's own bound
+    ``tau0``, from ``tau0 / BOUND_FLOOR_DIVISOR`` up to ``BOUND_CAP_FRACTION`` of the solid's
+    largest extent (the distance grid is widened when a rung lies past its room). A rung is
+    judged by a quick greedy probe (:meth:`SphereFitter.greedy_share`) plus what refinement
+    added to that probe at ``tau0`` (a probe costs a fraction of a refined fit, and grows
+    with the bound): the lowest rung judged to reach the target is found by a bisection
+    (below ``tau0`` when the refined fit there reaches the target, else above it, trying rungs
+    1, 2, 4, ... first). The refined fit at that rung is kept if it reaches the target; else the
+    rungs above it are fitted in turn (at most ``_CHECK_RUNGS``) until one does."""
+    spheres = fitter.fit(k)
+    if fitter.empty:
+        return spheres
+    tau0 = fitter.tau
+    share = fitter.covered_share(spheres)
+    gain = share - fitter.greedy_share(tau0, k)
+    cap = max(tau0, BOUND_CAP_FRACTION * float(np.max(fitter.solid.extents)))
+    top = int(np.floor(np.log(cap / tau0) / np.log(BOUND_STEP) + 1e-9))
+    bottom = -int(np.floor(np.log(BOUND_FLOOR_DIVISOR) / np.log(BOUND_STEP) + 1e-9))
+
+    def bound(j: int) -> float:
+        tau = min(tau0 * BOUND_STEP**j, cap)
+        if tau > fitter.room * (1.0 + 1e-12):
+            fitter.widen(min(cap, ROOM_FACTOR * tau))
+        return tau
+
+    def rebound(j: int) -> None:
+        fitter.rebound(bound(j))
+
+    def judged(j: int) -> bool:
+        return fitter.greedy_share(bound(j), k) + gain >= target
+
+    if share >= target:
+        lo, hi = bottom - 1, 0  # rung lo is judged short (assumed), rung 0 reaches
+    else:
+        lo, hi = 0, min(1, top)
+        while hi < top and not judged(hi):
+            lo, hi = hi, min(2 * hi, top)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if judged(mid) else (mid, hi)
+    fits: dict[int, tuple[tuple[Sphere, ...], float]] = {0: (spheres, share)}
+    chosen = None
+    for j in range(hi, min(hi + _CHECK_RUNGS, top) + 1):
+        if j not in fits:
+            rebound(j)
+            got = fitter.fit(k)
+            fits[j] = (got, fitter.covered_share(got))
+        if fits[j][1] >= target:
+            chosen = j
+            break
+    if chosen is None:  # below tau0: tau0 itself reached the target; above: the highest fitted
+        chosen = 0 if share >= target else max(fits)
+    rebound(chosen)
+    return fits[chosen][0]
 
 
 def _rounded(c: FloatArray, r: float) -> Sphere:

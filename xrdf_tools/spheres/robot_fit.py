@@ -150,6 +150,10 @@ class CountPolicy:
     count: int | None = None
     density: float | None = None
     target_coverage: float = AUTO_COVERAGE_TARGET
+    #: With a count given and no protrusion bound of the link's own: its bound is the
+    #: smallest at which its spheres cover this share of its volume (None: the default
+    #: bound, :func:`~.fit.default_max_protrusion`).
+    count_coverage: float | None = None
 
 
 def _fewest_reaching(fitter: SphereFitter, target: float) -> tuple[tuple[Sphere, ...], float]:
@@ -195,8 +199,9 @@ def fit_robot(
     from .geometry import load_link_geometry
 
     check_counts(counts.per_link, counts.count, counts.density)
-    if not 0.0 < counts.target_coverage <= 1.0:
-        raise XrdfToolsError(f"target coverage must be in (0, 1], got {counts.target_coverage}")
+    for what, share in (("target", counts.target_coverage), ("count", counts.count_coverage)):
+        if share is not None and not 0.0 < share <= 1.0:
+            raise XrdfToolsError(f"{what} coverage must be in (0, 1], got {share}")
     diags: list[Diagnostic] = []
     if geometry is None:
         geoms, diags = load_link_geometry(
@@ -238,7 +243,10 @@ def fit_robot(
             spheres[name] = spheres[owner]
             continue
         t0 = time.perf_counter()
-        spheres[name] = _fit_one(fitters[owner], ks.get(owner), counts, geoms[name], path, diags)
+        search_bound = plans[name][1] is None and counts.count_coverage is not None
+        spheres[name] = _fit_one(
+            fitters[owner], ks.get(owner), counts, geoms[name], path, diags, search_bound
+        )
         seconds[name] += time.perf_counter() - t0
     _report_shared(plans, first_of, path, geoms, diags)
     fitted = {n: s for n, s in spheres.items() if s}
@@ -296,8 +304,11 @@ def _fit_one(
     geom: LinkGeometry,
     path: str,
     diags: list[Diagnostic],
+    search_bound: bool = False,
 ) -> tuple[Sphere, ...]:
-    """One link's spheres: ``k`` of them, or the fewest reaching the coverage target."""
+    """One link's spheres: ``k`` of them (under the smallest bound at which they cover
+    ``counts.count_coverage`` when ``search_bound``), or the fewest reaching the coverage
+    target."""
     if fitter.empty and k != 0:
         diags.append(
             _info(
@@ -321,6 +332,10 @@ def _fit_one(
             )
         )
         return fitter.fit(1)
+    if k is not None and search_bound and counts.count_coverage is not None:
+        from .fit import bound_for_coverage
+
+        return bound_for_coverage(fitter, k, counts.count_coverage)
     if k is not None:
         return fitter.fit(k)
     spheres, share = _fewest_reaching(fitter, counts.target_coverage)
