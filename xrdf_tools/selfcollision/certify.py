@@ -35,7 +35,7 @@ import numpy as np
 from ..util.arrays import FloatArray, IntArray
 from .collision import sphere_world_centers, touching
 from .engine import CountEngine
-from .engine.bodies import PRISM
+from .engine.bodies import PRISM, _chains
 
 __all__ = ["Certificate", "Verdict", "certify_pair"]
 
@@ -81,21 +81,7 @@ class _Problem:
     weight: FloatArray  # [d] largest coefficient per column (split choice)
 
 
-def _chain(parent: tuple[int, ...], b: int) -> list[int]:
-    out = [b]
-    while parent[out[-1]] >= 0:
-        out.append(parent[out[-1]])
-    return out  # body, parent, ..., root
-
-
-def _path(engine: CountEngine, a: int, b: int) -> tuple[list[int], list[int]]:
-    """Bodies from the common ancestor down to ``a`` and to ``b`` (ancestor excluded)."""
-    ca, cb = _chain(engine.bodies.parent, a), _chain(engine.bodies.parent, b)
-    common = next(x for x in ca if x in cb)
-    return ca[: ca.index(common)][::-1], cb[: cb.index(common)][::-1]
-
-
-def _levers(engine: CountEngine, chain: list[int], x: FloatArray) -> list[float]:
+def _levers(engine: CountEngine, chain: tuple[int, ...], x: FloatArray) -> list[float]:
     """Per body of ``chain`` (outer first): displacement of point ``x`` (in the innermost
     body's frame) per unit of that body's joint value."""
     bodies = engine.bodies
@@ -127,7 +113,7 @@ def _problem(engine: CountEngine, k: int) -> _Problem:
     s = engine.spheres
     fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
     body_a, body_b = int(engine.frame_body[fa]), int(engine.frame_body[fb])
-    chains = _path(engine, body_a, body_b)
+    chains = _chains(engine.bodies, body_a, body_b)
     cols = sorted({int(engine.bodies.col[j]) for ch in chains for j in ch})
     where = {c: i for i, c in enumerate(cols)}
     coef = np.zeros((s.n_spheres, len(cols)))

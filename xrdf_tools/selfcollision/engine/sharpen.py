@@ -18,7 +18,7 @@ import numpy as np
 
 from ...util.arrays import FloatArray, IntArray
 from ..collision import SphereSet
-from .bodies import PRISM, _Bodies
+from .bodies import PRISM, _Bodies, _chains
 
 __all__ = ["Sharpener"]
 
@@ -111,25 +111,7 @@ class Sharpener:
                 e_min[at[rows]] = e
                 clear[at[rows]] = c
 
-    def _chain(self, top: int, d: int) -> list[int]:
-        """Bodies from just below ``top`` down to ``d`` (empty when ``d`` is ``top``)."""
-        out = []
-        while d != top:
-            out.append(d)
-            d = self.bodies.parent[d]
-        return out[::-1]
-
-    def _lca(self, a: int, b: int) -> int:
-        up = set()
-        x = a
-        while x != -1:
-            up.add(x)
-            x = self.bodies.parent[x] if x != 0 else -1
-        while b not in up:
-            b = self.bodies.parent[b]
-        return b
-
-    def _pose(self, chain: list[int], q: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def _pose(self, chain: tuple[int, ...], q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Poses [n, 3, 3], [n, 3] of the last body of ``chain`` in the frame of the first's
         parent: ``C_1 Z(θ_1) C_2 Z(θ_2) …``."""
         n = q.shape[0]
@@ -153,8 +135,8 @@ class Sharpener:
     def relative(self, a: int, b: int, q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Pose of body ``b`` in the frame of body ``a`` at configurations ``q`` [n, varying]:
         rotations [n, 3, 3] and translations [n, 3], float64."""
-        top = self._lca(a, b)
-        Ra, ta = self._pose(self._chain(top, a), q)
-        Rb, tb = self._pose(self._chain(top, b), q)
+        chain_a, chain_b = _chains(self.bodies, a, b)
+        Ra, ta = self._pose(chain_a, q)
+        Rb, tb = self._pose(chain_b, q)
         RaT = Ra.transpose(0, 2, 1)
         return RaT @ Rb, np.einsum("nij,nj->ni", RaT, tb - ta)
