@@ -4,8 +4,9 @@ The commands are a Typer app (:mod:`xrdf_tools.cli.commands.app`, also importabl
 ``xrdf_tools.cli.app``), imported only when it is needed: ``xrdf lint`` with the arguments
 a user or the pre-commit hook normally gives runs without typer
 (:mod:`xrdf_tools.cli.commands.lint_core`), because typer's start-up alone takes longer than
-yamllint takes to lint a file. Everything else, ``xrdf lint --help`` and lint's usage errors
-included, is typer's.
+yamllint takes to lint a file; so does a ``xrdf report`` that draws no progress bar
+(:mod:`xrdf_tools.cli.commands.report_core`). Everything else, their ``--help`` and usage
+errors included, is typer's.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import errno
 import os
 import signal
 import sys
+import threading  # before the handlers: an interrupted import of its modules would break it
 from typing import Any
 
 
@@ -39,8 +41,6 @@ def _on_signal(signum: int, _frame: object) -> None:
     stopped), as ``KeyboardInterrupt`` for SIGINT, else ``SystemExit(128 + signum)``; a
     watchdog makes sure the process ends within :data:`_EXIT_AFTER_S` seconds."""
     if not _WATCHDOG:
-        import threading
-
         _WATCHDOG.append(signum)
         with contextlib.suppress(Exception):
             sys.stderr.write("interrupted\n" if signum == signal.SIGINT else "terminated\n")
@@ -100,15 +100,20 @@ def _run() -> None:
 
 
 def _fast(argv: list[str]) -> int | None:
-    """``xrdf lint`` without typer (:func:`~xrdf_tools.cli.commands.lint_core.fast_main`), or
-    None when typer runs the command line. An interrupt ends the run with exit code 130 and
+    """``xrdf lint`` and ``xrdf report`` without typer (``fast_main`` of
+    :mod:`~xrdf_tools.cli.commands.lint_core` and :mod:`~xrdf_tools.cli.commands.report_core`),
+    or None when typer runs the command line. An interrupt ends the run with exit code 130 and
     a closed standard output quietly with 1, as typer ends a command."""
-    if argv[:1] != ["lint"]:
-        return None
-    from .commands.lint_core import fast_main
-
     try:
-        return fast_main(argv)
+        if argv[:1] == ["lint"]:
+            from .commands.lint_core import fast_main
+
+            return fast_main(argv)
+        if argv[:1] == ["report"]:
+            from .commands import report_core
+
+            return report_core.fast_main(argv)
+        return None
     except KeyboardInterrupt:
         return 130
     except OSError as exc:
