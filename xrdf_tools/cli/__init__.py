@@ -91,9 +91,10 @@ def _run() -> None:
         code = _fast(sys.argv[1:])
         if code is not None:
             sys.exit(code)
-        from .commands.app import app
+        from .commands.app import app_for
 
-        app()
+        completing = any(k.startswith("_") and k.endswith("_COMPLETE") for k in os.environ)
+        app_for([] if completing else sys.argv[1:])()
     except XrdfToolsError as exc:
         echo(f"error: {exc}", err=True)
         sys.exit(2)
