@@ -135,6 +135,7 @@ def test_report_on_the_fast_path_prints_and_exits_as_the_typer_command(
     tmp_path: Path,
     capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
+    runner: CliRunner,
 ) -> None:
     argv = [w.replace("{tmp}", str(tmp_path)) for w in argv]
     monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b"")))  # as CliRunner's
@@ -144,7 +145,7 @@ def test_report_on_the_fast_path_prints_and_exits_as_the_typer_command(
     fast = capsys.readouterr()
     fast_file = written.read_text() if written.exists() else None
     written.unlink(missing_ok=True)
-    r = CliRunner().invoke(app, argv)
+    r = runner.invoke(app, argv)
     assert r.exception is None or isinstance(r.exception, SystemExit), r.exception
     typer_file = written.read_text() if written.exists() else None
     assert (_same(fast.out), _same(fast.err), code) == (

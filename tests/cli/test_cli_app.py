@@ -17,22 +17,22 @@ def _lines(name: str) -> list[list[str]]:
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_one_command_app_helps_and_fails_as_the_whole_app(name: str) -> None:
+def test_one_command_app_helps_and_fails_as_the_whole_app(name: str, runner: CliRunner) -> None:
     one = build_app([name])
     for words in _lines(name):
-        a = CliRunner().invoke(full_app(), words)
-        b = CliRunner().invoke(one, words)
+        a = runner.invoke(full_app(), words)
+        b = runner.invoke(one, words)
         assert (b.exit_code, b.stdout, b.stderr) == (a.exit_code, a.stdout, a.stderr), words
 
 
-def test_one_command_app_runs_the_command_as_the_whole_app() -> None:
+def test_one_command_app_runs_the_command_as_the_whole_app(runner: CliRunner) -> None:
     for words in (
         ["diff", str(UR10E_XRDF), str(SEED_XRDF)],
         ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF)],
         ["inspect", str(UR10E_URDF), "--format", "json"],
     ):
-        a = CliRunner().invoke(full_app(), words)
-        b = CliRunner().invoke(app_for(words), words)
+        a = runner.invoke(full_app(), words)
+        b = runner.invoke(app_for(words), words)
         assert (b.exit_code, b.stdout, b.stderr) == (a.exit_code, a.stdout, a.stderr), words
 
 
@@ -44,8 +44,8 @@ def test_anything_but_a_command_gets_the_whole_app() -> None:
     assert [c.name for c in one.registered_commands] == ["report"] and not one.registered_groups
 
 
-def test_the_whole_app_lists_every_command_in_order() -> None:
-    r = CliRunner().invoke(full_app(), ["--help"])
+def test_the_whole_app_lists_every_command_in_order(runner: CliRunner) -> None:
+    r = runner.invoke(full_app(), ["--help"])
     listed = [
         line.split()[0]
         for line in r.stdout.split("Commands:")[1].splitlines()
