@@ -188,3 +188,33 @@ def test_a_progress_bar_is_left_to_typer(monkeypatch: pytest.MonkeyPatch) -> Non
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
     argv = ["report", str(UR10E_XRDF), *URDF, "-n", "100"]
     assert report_core.fast_main(argv) is None
+
+
+def test_report_runs_with_one_blas_thread_unless_the_user_chose_a_count() -> None:
+    from xrdf_tools.cli import BLAS_THREAD_VARS, one_blas_thread_for
+
+    env: dict[str, str] = {}
+    one_blas_thread_for(["report", "a.xrdf", "--urdf", "u.urdf"], env)
+    assert env == dict.fromkeys(BLAS_THREAD_VARS, "1")
+    env = {"OPENBLAS_NUM_THREADS": "4"}
+    one_blas_thread_for(["report", "a.xrdf"], env)
+    assert env["OPENBLAS_NUM_THREADS"] == "4" and env["OMP_NUM_THREADS"] == "1"
+    env = {}
+    one_blas_thread_for(["lint", "a.xrdf"], env)
+    one_blas_thread_for(["spheres", "r.urdf"], env)
+    assert env == {}
+
+
+def test_the_report_fast_path_imports_no_numpy_before_its_thread_count_is_set() -> None:
+    """numpy reads the BLAS thread count when it is imported: the entry point's own imports
+    and the option reading must not import it."""
+    import subprocess
+
+    code = (
+        "import sys\n"
+        "import xrdf_tools.cli, xrdf_tools.cli.commands.report_core as r\n"
+        "r.parse_fast(['report', 'a.xrdf', '--urdf', 'u.urdf', '-n', '10'])\n"
+        "print('numpy' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

@@ -17,6 +17,7 @@ import os
 import signal
 import sys
 import threading  # before the handlers: an interrupted import of its modules would break it
+from collections.abc import MutableMapping
 from typing import Any
 
 
@@ -83,10 +84,24 @@ def main() -> None:
         sys.exit(130)
 
 
+#: The thread-count variables of the BLAS libraries numpy may use.
+BLAS_THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def one_blas_thread_for(argv: list[str], environ: MutableMapping[str, str]) -> None:
+    """``xrdf report`` counts with numpy one small array at a time (and its ``--jobs``
+    workers with one BLAS thread each): a BLAS thread pool only spins beside it. Unless the
+    user chose a count, ``report`` runs with one BLAS thread (set before numpy is imported)."""
+    if argv[:1] == ["report"]:
+        for name in BLAS_THREAD_VARS:
+            environ.setdefault(name, "1")
+
+
 def _run() -> None:
     from ..util.errors import XrdfToolsError
     from .commands.core import echo
 
+    one_blas_thread_for(sys.argv[1:], os.environ)
     try:
         code = _fast(sys.argv[1:])
         if code is not None:
