@@ -4,8 +4,9 @@ The commands are a Typer app (:mod:`xrdf_tools.cli.commands.app`, also importabl
 ``xrdf_tools.cli.app``), imported only when it is needed: ``xrdf lint`` with the arguments
 a user or the pre-commit hook normally gives runs without typer
 (:mod:`xrdf_tools.cli.commands.lint_core`), because typer's start-up alone takes longer than
-yamllint takes to lint a file. Everything else, ``xrdf lint --help`` and lint's usage errors
-included, is typer's.
+yamllint takes to lint a file; so does a ``xrdf report`` that draws no progress bar
+(:mod:`xrdf_tools.cli.commands.report_core`). Everything else, their ``--help`` and usage
+errors included, is typer's.
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ import errno
 import os
 import signal
 import sys
+import threading  # before the handlers: an interrupted import of its modules would break it
+from collections.abc import MutableMapping
 from typing import Any
 
 
@@ -39,8 +42,6 @@ def _on_signal(signum: int, _frame: object) -> None:
     stopped), as ``KeyboardInterrupt`` for SIGINT, else ``SystemExit(128 + signum)``; a
     watchdog makes sure the process ends within :data:`_EXIT_AFTER_S` seconds."""
     if not _WATCHDOG:
-        import threading
-
         _WATCHDOG.append(signum)
         with contextlib.suppress(Exception):
             sys.stderr.write("interrupted\n" if signum == signal.SIGINT else "terminated\n")
@@ -83,32 +84,52 @@ def main() -> None:
         sys.exit(130)
 
 
+#: The thread-count variables of the BLAS libraries numpy may use.
+BLAS_THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def one_blas_thread_for(argv: list[str], environ: MutableMapping[str, str]) -> None:
+    """``xrdf report`` counts with numpy one small array at a time (and its ``--jobs``
+    workers with one BLAS thread each): a BLAS thread pool only spins beside it. Unless the
+    user chose a count, ``report`` runs with one BLAS thread (set before numpy is imported)."""
+    if argv[:1] == ["report"]:
+        for name in BLAS_THREAD_VARS:
+            environ.setdefault(name, "1")
+
+
 def _run() -> None:
     from ..util.errors import XrdfToolsError
     from .commands.core import echo
 
+    one_blas_thread_for(sys.argv[1:], os.environ)
     try:
         code = _fast(sys.argv[1:])
         if code is not None:
             sys.exit(code)
-        from .commands.app import app
+        from .commands.app import app_for
 
-        app()
+        completing = any(k.startswith("_") and k.endswith("_COMPLETE") for k in os.environ)
+        app_for([] if completing else sys.argv[1:])()
     except XrdfToolsError as exc:
         echo(f"error: {exc}", err=True)
         sys.exit(2)
 
 
 def _fast(argv: list[str]) -> int | None:
-    """``xrdf lint`` without typer (:func:`~xrdf_tools.cli.commands.lint_core.fast_main`), or
-    None when typer runs the command line. An interrupt ends the run with exit code 130 and
+    """``xrdf lint`` and ``xrdf report`` without typer (``fast_main`` of
+    :mod:`~xrdf_tools.cli.commands.lint_core` and :mod:`~xrdf_tools.cli.commands.report_core`),
+    or None when typer runs the command line. An interrupt ends the run with exit code 130 and
     a closed standard output quietly with 1, as typer ends a command."""
-    if argv[:1] != ["lint"]:
-        return None
-    from .commands.lint_core import fast_main
-
     try:
-        return fast_main(argv)
+        if argv[:1] == ["lint"]:
+            from .commands.lint_core import fast_main
+
+            return fast_main(argv)
+        if argv[:1] == ["report"]:
+            from .commands import report_core
+
+            return report_core.fast_main(argv)
+        return None
     except KeyboardInterrupt:
         return 130
     except OSError as exc:

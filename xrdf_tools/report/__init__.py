@@ -13,7 +13,9 @@ Modules:
 * :mod:`.verdicts`: classification rules, the "never" bound, adjacency, findings and
   :data:`RULES` (the report's rule ids);
 * :mod:`.build`: :func:`self_collision_report` itself (counting, certification, coverage);
-* :mod:`.mask`: the recommended mask and :func:`recommended_xrdf`.
+* :mod:`.mask`: the recommended mask and :func:`recommended_xrdf`;
+* :mod:`.job`: one report as ``xrdf report`` asks for it (:class:`ReportRequest`, the given
+  configurations, :func:`run_report`, the XRDF with the recommended mask).
 
 Every name is importable from ``xrdf_tools.report``.
 """
@@ -21,6 +23,7 @@ Every name is importable from ``xrdf_tools.report``.
 from __future__ import annotations
 
 from .build import DEFAULT_CHUNK, ProgressFn, self_collision_report
+from .job import ReportRequest, given_configurations, recommended_mask_yaml, run_report
 from .mask import recommended_xrdf
 from .results import (
     CertifyOptions,
@@ -47,10 +50,14 @@ __all__ = [
     "ProgressFn",
     "Recommendation",
     "Report",
+    "ReportRequest",
     "Sampler",
     "TrajectoryHit",
     "adjacent_frame_pairs",
+    "given_configurations",
     "never_upper_bound",
+    "recommended_mask_yaml",
     "recommended_xrdf",
+    "run_report",
     "self_collision_report",
 ]

@@ -25,7 +25,6 @@ from ..robot.kinematics import (
     default_configuration,
     moveit_default_configuration,
 )
-from ..selfcollision.certify import certify_pair
 from ..selfcollision.collision import (
     Contact,
     SphereSet,
@@ -291,6 +290,8 @@ def _certify(
     opts: CertifyOptions,
 ) -> list[PairStat]:
     """Certify the "never" pairs, sharing the time budget evenly among those still to do."""
+    from ..selfcollision.certify import certify_pair  # only with --certify
+
     todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
     deadline = time.perf_counter() + opts.budget_s
     out = list(stats)

@@ -12,11 +12,11 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
 from ..diagnostics import Diagnostic
-from ..selfcollision.certify import Verdict
 from ..selfcollision.collision import Contact
 from ..util.errors import XrdfToolsError
 
 if TYPE_CHECKING:
+    from ..selfcollision.certify import Verdict
     from ..spheres import CoverageSummary
 
 Sampler = Literal["uniform", "halton"]

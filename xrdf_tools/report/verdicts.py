@@ -21,15 +21,18 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, RuleInfo, Severity
 from ..robot.kinematics import KinematicModel
-from ..selfcollision.certify import Verdict
 from ..selfcollision.collision import Contact
 from ..util.arrays import FloatArray
 from ..util.errors import did_you_mean
 from ..xrdf.model import SelfCollisionSection, Xrdf
 from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit
+
+if TYPE_CHECKING:
+    from ..selfcollision.certify import Verdict
 
 __all__ = ["ALWAYS_RATE", "RULES", "adjacent_frame_pairs", "never_upper_bound"]
 

@@ -22,7 +22,6 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
-from xml.sax.saxutils import escape
 
 from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
@@ -174,6 +173,8 @@ def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
 
 def _needles(message: str) -> list[str]:
     """The texts that may write what ``message`` quotes, most specific first."""
+    from xml.sax.saxutils import escape  # an error's path only: it imports urllib and http
+
     for pattern, templates in _CULPRITS:
         if (m := pattern.search(message)) is not None:
             raw = [t.format(m.group(1)) for t in templates]

@@ -319,3 +319,14 @@ def write_atomic(path: str | os.PathLike[str], data: str | bytes) -> None:
     raw = data.encode("utf-8") if isinstance(data, str) else data
     with atomic_output(path) as tmp, open(tmp, "wb") as fh:
         fh.write(raw)
+
+
+def write_output_file(path: str | os.PathLike[str], data: str | bytes) -> None:
+    """:func:`write_atomic`, with any failure an :class:`XrdfToolsError` that names ``path``
+    (``PATH: cannot write: reason``), never the temporary file."""
+    try:
+        write_atomic(path, data)
+    except XrdfToolsError:
+        raise
+    except OSError as e:
+        raise XrdfToolsError(f"{os.fspath(path)}: cannot write: {e.strerror or e}") from None

@@ -38,6 +38,8 @@ from .scene import (
     build_scene,
     choose_group,
     link_color,
+    scene_configurations,
+    scene_diagnostics,
     sphere_counts,
 )
 
@@ -158,5 +160,7 @@ __all__ = [
     "render",
     "require",
     "sample_configurations",
+    "scene_configurations",
+    "scene_diagnostics",
     "sphere_counts",
 ]

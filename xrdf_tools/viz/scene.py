@@ -423,3 +423,32 @@ __all__: Sequence[str] = (
     "link_color",
     "sphere_counts",
 )
+
+
+def scene_configurations(
+    kin: KinematicModel,
+    xrdf: Xrdf,
+    *,
+    configs: str | os.PathLike[str] | None = None,
+    samples: int = 0,
+    seed: int | None = 0,
+) -> FloatArray | None:
+    """The configurations a scene draws after the default pose: those of the file
+    ``configs`` (.npy or .csv), else ``samples`` drawn within the c-space limits, else None
+    (the default pose alone). Raises :class:`~xrdf_tools.util.errors.XrdfToolsError`."""
+    from ..selfcollision.configurations import load_configurations, sample_configurations
+
+    if configs is not None:
+        return load_configurations(configs, kin, xrdf)
+    if samples:
+        return sample_configurations(kin, xrdf, samples, seed)
+    return None
+
+
+def scene_diagnostics(scene: Scene, *earlier: Sequence[Diagnostic]) -> list[Diagnostic]:
+    """The diagnostics of building ``scene`` and of the steps before it (``earlier``, e.g.
+    the kinematic model's), each said once (same rule and message) and in order."""
+    unique = {
+        (d.rule, d.message): d for d in [*(d for ds in earlier for d in ds), *scene.diagnostics]
+    }
+    return sorted(unique.values())

@@ -6,10 +6,9 @@ What needs no typer lives in :mod:`xrdf_tools.cli.commands.core`.
 
 from __future__ import annotations
 
-import os
 import sys
 import time
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, NoReturn
@@ -20,21 +19,42 @@ from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError, one_line
 from .core import (
     EXIT_USAGE,
-    STDIO,
     OutputFormat,
     Verbosity,
-    detail,
-    is_stdio,
+    check_input_overwrite,
+    check_output_clash,
     render_diagnostics,
     two_stdin,
     verbosity,
-    write_stdout,
+    write_result,
 )
 from .core import RUN as _RUN
 from .core import VERBOSITY_KEY as _VERBOSITY
+from .core import ProgressUpdate as ProgressUpdate
+from .core import load_xrdf_input as load_xrdf_input  # the commands' helpers, shared here too
+from .core import note as note
+from .core import one_bar as one_bar
+from .options import (
+    ALLOW_MISSING_MESHES,
+    PACKAGE_PATH,
+    QUIET,
+    VERBOSE,
+    XACRO_ARG,
+    Option,
+)
 
 if TYPE_CHECKING:
-    from ...xrdf.model import Xrdf
+    pass
+
+
+def typer_option(option: Option, **typer_only: Any) -> Any:
+    """The ``typer.Option`` of ``option`` (its table entry: spellings, help, bounds);
+    ``typer_only``: what only typer uses (an option's callback)."""
+    low, high = option.bounds
+    settings: dict[str, Any] = {"help": option.help, "min": low, "max": high}
+    settings.update(option.typer_extra)
+    settings.update(typer_only)
+    return typer.Option(*option.flags, **settings)
 
 
 def fail(message: str | XrdfToolsError, code: int = EXIT_USAGE) -> NoReturn:
@@ -93,31 +113,9 @@ def _verbose_callback(ctx: typer.Context, value: bool) -> bool:
 
 #: ``-q/--quiet`` of every command: no info/warning diagnostics or notes on stderr, no
 #: progress bars; errors and the command's output stay.
-QuietOption = Annotated[
-    bool,
-    typer.Option(
-        "-q",
-        "--quiet",
-        callback=_quiet_callback,
-        help="Only errors and the output: no notes, warnings or progress bars on stderr.",
-    ),
-]
+QuietOption = Annotated[bool, typer_option(QUIET, callback=_quiet_callback)]
 #: ``-v/--verbose`` of every command: extra notes and timings on stderr.
-VerboseOption = Annotated[
-    bool,
-    typer.Option(
-        "-v",
-        "--verbose",
-        callback=_verbose_callback,
-        help="Also print notes on what is read and done, and timings, on stderr.",
-    ),
-]
-
-
-def note(message: str) -> None:
-    """A note on stderr (what was written, a summary); dropped with ``-q``."""
-    if verbosity() > Verbosity.QUIET:
-        typer.echo(message, err=True)
+VerboseOption = Annotated[bool, typer_option(VERBOSE, callback=_verbose_callback)]
 
 
 def shown(diagnostics: Sequence[Diagnostic]) -> list[Diagnostic]:
@@ -138,8 +136,6 @@ def echo_diagnostics(diagnostics: Sequence[Diagnostic], fmt: OutputFormat) -> No
 # --------------------------------------------------------------------------------------------
 # Progress: one style (rich), on a terminal only, never with -q
 # --------------------------------------------------------------------------------------------
-#: ``update(label, done, total)``: one bar per label, created on first use.
-ProgressUpdate = Callable[[str, int, int], None]
 
 
 def stderr_is_terminal() -> bool:
@@ -181,14 +177,6 @@ def progress_bar(enabled: bool = True) -> Iterator[ProgressUpdate | None]:
         yield update
 
 
-def one_bar(bar: ProgressUpdate | None, label: str) -> Callable[[int, int], None] | None:
-    """A ``progress(done, total)`` callback drawing the bar ``label`` (None without a bar)."""
-    if bar is None:
-        return None
-    update = bar
-    return lambda done, total: update(label, done, total)
-
-
 # --------------------------------------------------------------------------------------------
 # '-': standard input and output
 # --------------------------------------------------------------------------------------------
@@ -200,92 +188,31 @@ def refuse_two_stdin(inputs: Mapping[str, Sequence[Path | str | None]]) -> None:
         fail(why)
 
 
-def load_xrdf_input(path: str | os.PathLike[str]) -> Xrdf:
-    """An XRDF input of a command: a file, or standard input for ``-`` (read through the
-    guarded reader, named ``<stdin>`` in messages). Raises :class:`XrdfToolsError`."""
-    from ...xrdf.io import load_xrdf, parse_xrdf
-
-    if not is_stdio(path):
-        return load_xrdf(path)
-    from ...util.errors import YamlError
-    from ...util.fileio import read_input_text
-
-    detail("reading the XRDF from standard input")
-    text = read_input_text(STDIO, what="XRDF", error=YamlError, allow_stdin=True)
-    return parse_xrdf(text, "<stdin>")
-
-
 def write_output(data: str | bytes, output: Path | None) -> None:
-    """The one output writer: ``data`` to stdout (no ``-o``, or ``-o -``), else atomically to
-    ``output``; a failed write exits 2 naming the user's path."""
-    if output is None or is_stdio(output):
-        try:
-            write_stdout(data)
-        except XrdfToolsError as e:
-            fail(e)
-        return
-    from ...util.fileio import write_atomic
-
+    """The one output writer (:func:`~xrdf_tools.cli.commands.core.write_result`); a failed
+    write exits 2 naming the user's path."""
     try:
-        write_atomic(output, data)
-    except XrdfToolsError as e:  # OutputError: names the user's path, never the temporary
-        fail(e)
-    except OSError as e:
-        fail(f"{output}: cannot write: {e.strerror or e}")
-
-
-def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
-    try:
-        return Path(a).resolve() == Path(b).resolve() or (
-            Path(a).exists() and Path(b).exists() and os.path.samefile(a, b)
-        )
-    except OSError:
-        return False
-
-
-def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
-    """Exit with an error when ``output`` names one of the inputs (nothing is ever lost), or
-    cannot be an output at all (a directory, device, FIFO or socket; symlinks are fine)."""
-    from ...util.fileio import check_output_path
-
-    if is_stdio(output):
-        return  # standard output: nothing on disk to lose or refuse
-    for src in inputs:
-        if is_stdio(src):
-            continue
-        if src is not None and same_file(output, src):
-            fail(f"{output}: refusing to overwrite an input file; choose another -o path")
-    try:
-        check_output_path(_as_given(output))
+        write_result(data, output)
     except XrdfToolsError as e:
         fail(e)
 
 
-def _as_given(output: Path) -> Path | str:
-    """``output`` as the command line spelled it: a ``Path`` option loses a trailing ``/``
-    (``-o newdir/`` would write a file named ``newdir``), so the arguments are asked."""
-    text = os.fspath(output)
-    for arg in sys.argv[1:]:
-        value = arg.split("=", 1)[1] if arg.startswith("-") and "=" in arg else arg
-        if value.endswith(("/", os.sep)) and value.rstrip("/" + os.sep) == text.rstrip(os.sep):
-            return value
-    return output
+def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
+    """Exit with an error when ``output`` names one of the inputs or cannot be an output
+    (:func:`~xrdf_tools.cli.commands.core.check_input_overwrite`)."""
+    try:
+        check_input_overwrite(output, inputs)
+    except XrdfToolsError as e:
+        fail(e)
 
 
 def refuse_output_clash(outputs: Mapping[str, Path | None]) -> None:
-    """Exit with an error when two output options (``{"--plot": path, ...}``) name the same
-    file: one would silently replace the other."""
-    seen: list[tuple[str, Path]] = []
-    for option, path in outputs.items():
-        if path is None:
-            continue
-        for other, earlier in seen:
-            both_stdout = is_stdio(path) and is_stdio(earlier)
-            if both_stdout or (
-                not is_stdio(path) and not is_stdio(earlier) and same_file(path, earlier)
-            ):
-                fail(f"{path}: given for both {other} and {option}; choose different paths")
-        seen.append((option, path))
+    """Exit with an error when two output options name the same file
+    (:func:`~xrdf_tools.cli.commands.core.check_output_clash`)."""
+    try:
+        check_output_clash(outputs)
+    except XrdfToolsError as e:
+        fail(e)
 
 
 def stdout_is_terminal() -> bool:
@@ -293,24 +220,7 @@ def stdout_is_terminal() -> bool:
 
 
 #: ``--xacro-arg`` / ``--package-path`` of every command reading a robot (same as ``convert``).
-XacroArgOption = Annotated[
-    list[str] | None,
-    typer.Option(
-        "--xacro-arg", help="xacro argument NAME:=VALUE when the robot is a xacro (repeatable)."
-    ),
-]
-PackagePathOption = Annotated[
-    list[str] | None,
-    typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
-]
+XacroArgOption = Annotated[list[str] | None, typer_option(XACRO_ARG)]
+PackagePathOption = Annotated[list[str] | None, typer_option(PACKAGE_PATH)]
 #: ``--allow-missing-meshes`` of every command that reads link meshes (one definition).
-AllowMissingMeshesOption = Annotated[
-    bool,
-    typer.Option(
-        "--allow-missing-meshes",
-        help="Mesh files that cannot be found (unknown package, no such file) are expected: "
-        "leave their parts out, a warning each. Without it such a mesh stops the command "
-        "(exit 2) naming the URI and the directories searched (lint: a warning); "
-        "--package-path NAME=DIR points at them.",
-    ),
-]
+AllowMissingMeshesOption = Annotated[bool, typer_option(ALLOW_MISSING_MESHES)]

@@ -13,7 +13,7 @@ import os
 import re
 import sys
 import time
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from enum import Enum, IntEnum
 from pathlib import Path
@@ -30,6 +30,7 @@ from ...diagnostics import (
 
 if TYPE_CHECKING:
     from ...robot.core import Robot
+    from ...xrdf.model import Xrdf
 
 
 class OutputFormat(str, Enum):
@@ -47,7 +48,7 @@ EXIT_USAGE = 2
 _ANSI = re.compile(r"\033\[[;?0-9]*[a-zA-Z]")
 
 
-def _isatty(stream: Any) -> bool:
+def is_terminal(stream: Any) -> bool:
     try:
         return bool(stream.isatty())
     except Exception:  # a stream without a working isatty is no terminal (as click says)
@@ -60,7 +61,7 @@ def echo(message: str, *, err: bool = False, nl: bool = True) -> None:
     is not a terminal, flushed. Standard output goes through :func:`write_stdout`."""
     stream = sys.stderr if err else sys.stdout
     out = message + "\n" if nl else message
-    if out and not _isatty(stream):
+    if out and not is_terminal(stream):
         out = _ANSI.sub("", out)
     if not err:
         write_stdout(out)
@@ -174,6 +175,17 @@ def verbosity() -> Verbosity:
     return level
 
 
+@contextmanager
+def run_verbosity(quiet: bool) -> Iterator[None]:
+    """A command run without typer: ``-q`` (``quiet``) or the normal level, for the block."""
+    previous = RUN[0]
+    RUN[0] = {VERBOSITY_KEY: Verbosity.QUIET if quiet else Verbosity.NORMAL}
+    try:
+        yield
+    finally:
+        RUN[0] = previous
+
+
 def detail(message: str) -> None:
     """A note on stderr shown only with ``-v``."""
     if verbosity() >= Verbosity.VERBOSE:
@@ -237,3 +249,109 @@ def load_robot_option(
     if robot.warnings and verbosity() > Verbosity.QUIET:
         echo(render_text(robot.warnings), err=True, nl=False)  # defects in unused parts
     return robot
+
+
+# --------------------------------------------------------------------------------------------
+# Notes, progress callbacks, inputs and outputs (errors raised: the caller exits 2)
+# --------------------------------------------------------------------------------------------
+def note(message: str) -> None:
+    """A note on stderr (what was written, a summary); dropped with ``-q``."""
+    if verbosity() > Verbosity.QUIET:
+        echo(message, err=True)
+
+
+#: ``update(label, done, total)``: one progress bar per label, created on first use.
+ProgressUpdate = Callable[[str, int, int], None]
+
+
+def one_bar(bar: ProgressUpdate | None, label: str) -> Callable[[int, int], None] | None:
+    """A ``progress(done, total)`` callback drawing the bar ``label`` (None without a bar)."""
+    if bar is None:
+        return None
+    update = bar
+    return lambda done, total: update(label, done, total)
+
+
+def load_xrdf_input(path: str | os.PathLike[str]) -> Xrdf:
+    """An XRDF input of a command: a file, or standard input for ``-`` (read through the
+    guarded reader, named ``<stdin>`` in messages). Raises :class:`XrdfToolsError`."""
+    from ...xrdf.io import load_xrdf, parse_xrdf
+
+    if not is_stdio(path):
+        return load_xrdf(path)
+    from ...util.errors import YamlError
+    from ...util.fileio import read_input_text
+
+    detail("reading the XRDF from standard input")
+    text = read_input_text(STDIO, what="XRDF", error=YamlError, allow_stdin=True)
+    return parse_xrdf(text, "<stdin>")
+
+
+def write_result(data: str | bytes, output: Path | None) -> None:
+    """The one output writer: ``data`` to stdout (no ``-o``, or ``-o -``), else atomically to
+    ``output``. A failed write raises :class:`XrdfToolsError` naming the user's path."""
+    if output is None or is_stdio(output):
+        write_stdout(data)
+        return
+    from ...util.fileio import write_output_file
+
+    write_output_file(output, data)
+
+
+def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
+    try:
+        return Path(a).resolve() == Path(b).resolve() or (
+            Path(a).exists() and Path(b).exists() and os.path.samefile(a, b)
+        )
+    except OSError:
+        return False
+
+
+def check_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
+    """Raise :class:`XrdfToolsError` when ``output`` names one of the inputs (nothing is ever
+    lost), or cannot be an output at all (a directory, device, FIFO or socket; symlinks are
+    fine)."""
+    from ...util.errors import XrdfToolsError
+    from ...util.fileio import check_output_path
+
+    if is_stdio(output):
+        return  # standard output: nothing on disk to lose or refuse
+    for src in inputs:
+        if is_stdio(src):
+            continue
+        if src is not None and same_file(output, src):
+            raise XrdfToolsError(
+                f"{output}: refusing to overwrite an input file; choose another -o path"
+            )
+    check_output_path(_as_given(output))
+
+
+def _as_given(output: Path) -> Path | str:
+    """``output`` as the command line spelled it: a ``Path`` option loses a trailing ``/``
+    (``-o newdir/`` would write a file named ``newdir``), so the arguments are asked."""
+    text = os.fspath(output)
+    for arg in sys.argv[1:]:
+        value = arg.split("=", 1)[1] if arg.startswith("-") and "=" in arg else arg
+        if value.endswith(("/", os.sep)) and value.rstrip("/" + os.sep) == text.rstrip(os.sep):
+            return value
+    return output
+
+
+def check_output_clash(outputs: Mapping[str, Path | None]) -> None:
+    """Raise :class:`XrdfToolsError` when two output options (``{"--plot": path, ...}``) name
+    the same file: one would silently replace the other."""
+    from ...util.errors import XrdfToolsError
+
+    seen: list[tuple[str, Path]] = []
+    for option, path in outputs.items():
+        if path is None:
+            continue
+        for other, earlier in seen:
+            both_stdout = is_stdio(path) and is_stdio(earlier)
+            if both_stdout or (
+                not is_stdio(path) and not is_stdio(earlier) and same_file(path, earlier)
+            ):
+                raise XrdfToolsError(
+                    f"{path}: given for both {other} and {option}; choose different paths"
+                )
+        seen.append((option, path))

@@ -1,13 +1,14 @@
 """`xrdf lint`: check XRDF files against the spec, a URDF, and cuRobo's loader.
 
-The options are read here; what the command does is :func:`xrdf_tools.cli.commands.lint_core.run`,
-which the fast start-up path of ``xrdf lint`` runs too (without typer).
+The options come from :data:`xrdf_tools.cli.commands.lint_core.LINT_OPTIONS`, and what the
+command does is :func:`xrdf_tools.cli.commands.lint_core.run`: the fast start-up path of
+``xrdf lint`` reads the same table and runs the same function (without typer).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -18,9 +19,15 @@ from .common import (
     VerboseOption,
     XacroArgOption,
     fail,
+    typer_option,
     write_output,
 )
 from .core import OutputFormat
+from .lint_core import LINT_OPTIONS
+
+
+def _option(name: str) -> Any:
+    return typer_option(LINT_OPTIONS[name])
 
 
 def command(
@@ -28,48 +35,15 @@ def command(
         list[Path],
         typer.Argument(help="XRDF files to check ('-': stdin).", show_default=False),
     ],
-    urdf: Annotated[
-        Path | None,
-        typer.Option(
-            "--urdf",
-            help="URDF (or xacro) the files describe: enables frame, joint, limit and "
-            "collision checks.",
-        ),
-    ] = None,
+    urdf: Annotated[Path | None, _option("urdf")] = None,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
-    output_format: Annotated[
-        OutputFormat, typer.Option("--format", "-f", help="Output format.")
-    ] = OutputFormat.text,
-    select: Annotated[
-        list[str] | None,
-        typer.Option("--select", help="Only these rules (ids or prefixes like 'curobo-')."),
-    ] = None,
-    ignore: Annotated[
-        list[str] | None,
-        typer.Option("--ignore", help="Skip these rules (ids or prefixes like 'curobo-')."),
-    ] = None,
-    target: Annotated[
-        str | None,
-        typer.Option(
-            "--target",
-            help="The program that will load the files: curobo (cuRobo, Isaac ROS cuMotion), "
-            "cumotion (cuMotion library) or isaac-sim. That reader's silent failures become "
-            "errors; other readers' checks are off. Default: the configuration's 'target'.",
-            show_default=False,
-        ),
-    ] = None,
-    strict: Annotated[
-        bool, typer.Option("--strict", help="Exit 1 on warnings too, not only errors.")
-    ] = False,
-    config: Annotated[
-        Path | None,
-        typer.Option(
-            "--config",
-            help="Configuration file (.xrdf-lint.yaml or pyproject.toml). Default: the first "
-            ".xrdf-lint.yaml or [tool.xrdf.lint] from the current directory upwards.",
-        ),
-    ] = None,
+    output_format: Annotated[OutputFormat, _option("output_format")] = OutputFormat.text,
+    select: Annotated[list[str] | None, _option("select")] = None,
+    ignore: Annotated[list[str] | None, _option("ignore")] = None,
+    target: Annotated[str | None, _option("target")] = None,
+    strict: Annotated[bool, _option("strict")] = False,
+    config: Annotated[Path | None, _option("config")] = None,
     allow_missing_meshes: AllowMissingMeshesOption = False,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,

@@ -11,13 +11,12 @@ so help, usage errors and every message stay typer's.
 
 from __future__ import annotations
 
-import os
-import sys
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from ...util.errors import one_line
 from .core import (
     EXIT_FINDINGS,
     EXIT_OK,
@@ -29,8 +28,22 @@ from .core import (
     is_stdio,
     load_robot_option,
     render_diagnostics,
+    run_verbosity,
     timed,
     two_stdin,
+)
+from .options import (
+    ALLOW_MISSING_MESHES,
+    PACKAGE_PATH,
+    QUIET,
+    VERBOSE,
+    XACRO_ARG,
+    Option,
+    OptionTable,
+    choice,
+    parse_command_line,
+    path,
+    text,
 )
 
 if TYPE_CHECKING:
@@ -113,113 +126,99 @@ def run(args: LintArgs) -> tuple[str, int]:
 
 
 # --------------------------------------------------------------------------------------------
-# The fast path: `xrdf lint ...` without typer
+# The options (of the Typer command too) and the fast path: `xrdf lint ...` without typer
 # --------------------------------------------------------------------------------------------
-#: Options taking a value: long name -> (LintArgs field, repeatable).
-_VALUED = {
-    "--urdf": ("urdf", False),
-    "--xacro-arg": ("xacro_arg", True),
-    "--package-path": ("package_path", True),
-    "--format": ("output_format", False),
-    "--select": ("select", True),
-    "--ignore": ("ignore", True),
-    "--target": ("target", False),
-    "--config": ("config", False),
+LINT_OPTIONS = OptionTable(
+    (
+        Option(
+            "urdf",
+            ("--urdf",),
+            "URDF (or xacro) the files describe: enables frame, joint, limit and collision checks.",
+            path,
+        ),
+        XACRO_ARG,
+        PACKAGE_PATH,
+        Option("output_format", ("--format", "-f"), "Output format.", choice(OutputFormat)),
+        Option(
+            "select",
+            ("--select",),
+            "Only these rules (ids or prefixes like 'curobo-').",
+            text,
+            multiple=True,
+        ),
+        Option(
+            "ignore",
+            ("--ignore",),
+            "Skip these rules (ids or prefixes like 'curobo-').",
+            text,
+            multiple=True,
+        ),
+        Option(
+            "target",
+            ("--target",),
+            "The program that will load the files: curobo (cuRobo, Isaac ROS cuMotion), "
+            "cumotion (cuMotion library) or isaac-sim. That reader's silent failures become "
+            "errors; other readers' checks are off. Default: the configuration's 'target'.",
+            text,
+            typer_extra={"show_default": False},
+        ),
+        Option("strict", ("--strict",), "Exit 1 on warnings too, not only errors."),
+        Option(
+            "config",
+            ("--config",),
+            "Configuration file (.xrdf-lint.yaml or pyproject.toml). Default: the first "
+            ".xrdf-lint.yaml or [tool.xrdf.lint] from the current directory upwards.",
+            path,
+        ),
+        ALLOW_MISSING_MESHES,
+        QUIET,
+        VERBOSE,
+    )
+)
+_FAST = [o for o in LINT_OPTIONS if o.fast]
+#: Views of the fast path's spellings: options taking a value (long name -> (field,
+#: repeatable)), flags (long name -> field) and short names (-> long name).
+_VALUED = {o.flags[0]: (o.name, o.multiple) for o in _FAST if not o.is_flag}
+_FLAGS = {next(f for f in o.flags if f.startswith("--")): o.name for o in _FAST if o.is_flag}
+_SHORT = {
+    f: next(g for g in o.flags if g.startswith("--"))
+    for o in _FAST
+    for f in o.flags
+    if not f.startswith("--")
 }
-#: Flags: long name -> LintArgs field (``-q`` sets nothing lint prints without ``-v``).
-_FLAGS = {"--strict": "strict", "--quiet": None, "--allow-missing-meshes": "allow_missing_meshes"}
-_SHORT = {"-f": "--format", "-q": "--quiet"}
-_PATHS = ("urdf", "config")
-
-
-@dataclass
-class _Parsed:
-    values: dict[str, Any] = field(default_factory=dict)
-    files: list[Path] = field(default_factory=list)
-
-    def set(self, name: str, value: str) -> bool:
-        """Take ``value`` for option ``name``; False when typer should say what is wrong."""
-        key, repeatable = _VALUED[name]
-        if not value or (not repeatable and key in self.values):
-            return False  # an empty value or a repeated option: leave it to typer
-        if key == "output_format":
-            if value not in {f.value for f in OutputFormat}:
-                return False
-            self.values[key] = OutputFormat(value)
-        elif repeatable:
-            self.values.setdefault(key, []).append(value)
-        else:
-            self.values[key] = Path(value) if key in _PATHS else value
-        return True
-
-
-def _short(token: str, rest: list[str], parsed: _Parsed) -> bool:
-    """A cluster of short options (``-q``, ``-f json``, ``-fjson``, ``-qf json``)."""
-    for i, letter in enumerate(token[1:], start=1):
-        name = _SHORT.get(f"-{letter}")
-        if name is None:
-            return False
-        if name in _FLAGS:
-            continue
-        value = token[i + 1 :] or (rest.pop(0) if rest else "")
-        return parsed.set(name, value)
-    return True
 
 
 def parse_fast(argv: Sequence[str]) -> LintArgs | None:
     """The :class:`LintArgs` of ``argv`` (the words after ``xrdf``) when it is a ``lint``
     command line read here exactly as typer would read it, else None (typer runs it)."""
-    if not argv or argv[0] != "lint" or sys.platform.startswith("win"):
-        return None  # click expands wildcards on Windows: leave that to it
-    if any(k.startswith("_") and k.endswith("_COMPLETE") for k in os.environ):
-        return None  # shell completion
-    rest = list(argv[1:])
-    parsed = _Parsed()
-    while rest:
-        token = rest.pop(0)
-        if token == "--":  # the rest are files
-            if not all(rest):
-                return None
-            parsed.files.extend(Path(t) for t in rest)
-            break
-        if token.startswith("--"):
-            name, eq, value = token.partition("=")
-            if name in _FLAGS and not eq:
-                key = _FLAGS[name]
-                if key is not None:
-                    parsed.values[key] = True
-                continue
-            if name not in _VALUED or not parsed.set(name, value if eq else _pop(rest)):
-                return None
-        elif token.startswith("-") and token != "-":
-            if not _short(token, rest, parsed):
-                return None
-        elif token:
-            parsed.files.append(Path(token))
-        else:
-            return None
-    if not parsed.files:
+    parsed = _parse(argv)
+    return None if parsed is None else parsed[0]
+
+
+def _parse(argv: Sequence[str]) -> tuple[LintArgs, bool] | None:
+    """:func:`parse_fast`'s arguments and whether ``-q`` was given."""
+    line = parse_command_line(LINT_OPTIONS, argv, "lint")
+    if line is None or not line.arguments:
         return None
-    return LintArgs(files=parsed.files, **parsed.values)
-
-
-def _pop(rest: list[str]) -> str:
-    return rest.pop(0) if rest else ""
+    quiet = bool(line.values.pop("quiet", False))
+    return LintArgs(files=[Path(a) for a in line.arguments], **line.values), quiet
 
 
 def fast_main(argv: Sequence[str]) -> int | None:
     """Run ``xrdf lint`` without typer when :func:`parse_fast` reads ``argv``: the exit code
     (findings on stdout, an error on stderr as ``error: ...``, like the Typer command), or
     None when typer must run it."""
-    args = parse_fast(argv)
-    if args is None:
+    parsed = _parse(argv)
+    if parsed is None:
         return None
+    args, quiet = parsed
     from ...util.errors import XrdfToolsError
 
     try:
-        text, code = run(args)
+        with run_verbosity(quiet):
+            text, code = run(args)
     except XrdfToolsError as exc:
-        echo(f"error: {exc}", err=True)
+        echo(f"error: {one_line(str(exc))}", err=True)
         return EXIT_USAGE
     if text:
         echo(text, nl=False)

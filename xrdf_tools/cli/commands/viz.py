@@ -149,10 +149,10 @@ def command(
         from ...viz import (
             Picture,
             build_scene,
-            load_configurations,
             render,
             require,
-            sample_configurations,
+            scene_configurations,
+            scene_diagnostics,
         )
 
         # Check the optional back-end first: no point computing a scene it cannot draw.
@@ -166,12 +166,7 @@ def command(
         kin, kdiags = build_kinematic_model(u, x)
         drawn = "none" if target == "png" else meshes.value
         _require_meshes(u, drawn, kin.frame_names, pkgs, allow_missing_meshes)
-        if configs is not None:
-            Q = load_configurations(configs, kin, x)
-        elif samples:
-            Q = sample_configurations(kin, x, samples, seed)
-        else:
-            Q = None
+        Q = scene_configurations(kin, x, configs=configs, samples=samples, seed=seed)
         n = 0 if Q is None else len(Q)
         detail(f"checking {n + 1} configuration(s) for self-collision (the default pose first)")
         label = "checking self-collision"
@@ -188,8 +183,7 @@ def command(
                 package_paths=pkgs,
                 progress=one_bar(bar, label),
             )
-        unique = {(d.rule, d.message): d for d in [*kdiags, *scene.diagnostics]}
-        echo_diagnostics(sorted(unique.values()), fmt)
+        echo_diagnostics(scene_diagnostics(scene, kdiags), fmt)
         label = f"writing {target}"
         with progress_bar(len(scene.samples) >= PROGRESS_FROM) as bar, timed(label):
             picture = Picture(view=camera, legend=legend.value)

@@ -1,0 +1,183 @@
+"""``xrdf spheres`` as library calls: fit a robot's links, merge the spheres into an XRDF, say
+which links were not covered, and measure the fit.
+
+:func:`fit_spheres` takes the loaded robot, the XRDF to merge into (None: one is drafted as
+``xrdf convert`` would, with adjacent links added to the ignore mask) and a
+:class:`SpheresRequest`; it returns a :class:`SpheresFit` (the merged XRDF, the fit and its
+diagnostics, and one error per link with geometry that got no spheres or only some).
+:func:`fit_metrics` measures the fitted spheres against the link geometry; :func:`metrics_table`
+and :func:`metrics_json` render those metrics.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
+
+from ..diagnostics import Diagnostic
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from ..robot.core import Robot
+    from ..xrdf.model import Xrdf
+    from . import SphereMetrics
+    from .fit import Plane
+    from .robot_fit import CountPolicy, FitResult
+
+#: Samples per link of the fit metrics.
+METRIC_SAMPLES = 10_000
+
+
+@dataclass(frozen=True)
+class SpheresRequest:
+    """What to fit: ``links`` (None: every link with geometry), how many spheres
+    (``counts``), the random ``seed``, ROS ``package_paths`` for mesh URIs, the largest
+    ``max_protrusion`` (None: per link, from its volume), ``clips`` (``LINK:nx,ny,nz,d``
+    texts: keep LINK's spheres on the side of the plane its normal points to) and whether
+    mesh files that cannot be found are expected (``allow_missing_meshes``)."""
+
+    counts: CountPolicy
+    links: Sequence[str] | None = None
+    seed: int = 0
+    package_paths: Mapping[str, str] = field(default_factory=dict)
+    max_protrusion: float | None = None
+    clips: Sequence[str] = ()
+    allow_missing_meshes: bool = False
+
+
+@dataclass(frozen=True)
+class SpheresFit:
+    """The outcome of :func:`fit_spheres`: the XRDF with the new spheres, the fit itself,
+    the diagnostics of drafting, fitting, merging and masking (in that order) and one error
+    per wanted link with geometry that got no spheres or only some (``unfitted``)."""
+
+    xrdf: Xrdf
+    fit: FitResult
+    diagnostics: list[Diagnostic]
+    unfitted: list[Diagnostic]
+
+
+def fit_spheres(
+    robot: Robot,
+    base: Xrdf | None,
+    request: SpheresRequest,
+    *,
+    progress: Callable[[str, int, int], None] | None = None,
+) -> SpheresFit:
+    """Fit spheres to the links of ``robot`` and merge them into ``base`` (None: an XRDF
+    drafted as ``xrdf convert`` drafts one, with adjacent links added to the ignore mask).
+    ``progress(link, i, n)`` is called per link. Raises
+    :class:`~xrdf_tools.util.errors.XrdfToolsError` (a mesh file that cannot be found unless
+    ``allow_missing_meshes``, a malformed clip plane)."""
+    from ..convert.fit_check import unfitted_links
+    from ..convert.pipeline import geometry_links
+    from ..robot.link_geometry import require_meshes
+    from . import ignore_adjacent, merge_spheres
+    from .robot_fit import fit_robot, parse_clip
+
+    diags: list[Diagnostic] = []
+    if base is None:
+        from ..convert.core import ConvertOptions, convert
+
+        drafted, cdiags = convert(robot, ConvertOptions())
+        diags += [d for d in cdiags if d.rule != "convert-no-spheres"]
+    links = list(request.links) if request.links else None
+    wanted = [n for n in geometry_links(robot, "auto")[0] if n in (links or [n])]
+    missing = require_meshes(
+        robot,
+        "auto",
+        links=wanted,
+        package_paths=dict(request.package_paths),
+        allow_missing=request.allow_missing_meshes,
+    )
+    clips: dict[str, list[Plane]] = {}
+    for text in request.clips:
+        link, plane = parse_clip(text)
+        clips.setdefault(link, []).append(plane)
+    result = fit_robot(
+        robot,
+        links=links,
+        counts=request.counts,
+        seed=request.seed,
+        package_paths=dict(request.package_paths),
+        max_protrusion=request.max_protrusion,
+        clips=clips,
+        progress=progress,
+    )
+    diags += result.diagnostics
+    merged, mdiags = merge_spheres(drafted if base is None else base, result.spheres)
+    diags += mdiags
+    if base is None:
+        merged, adiags = ignore_adjacent(merged, robot)
+        diags += adiags
+    unfitted = unfitted_links(
+        robot.path,
+        wanted,
+        result.spheres,
+        result.diagnostics,
+        allowed_missing=missing,
+        lines=robot.link_lines,
+    )
+    return SpheresFit(merged, result, diags, unfitted)
+
+
+def fit_metrics(fit: FitResult, seed: int = 0) -> tuple[dict[str, SphereMetrics], SphereMetrics]:
+    """How well the spheres of ``fit`` cover their links: metrics per link and overall, each
+    with the seconds its fit took."""
+    from . import measure_links
+
+    per, overall = measure_links(fit.geometry, fit.spheres, samples=METRIC_SAMPLES, seed=seed)
+    per = {n: replace(m, fit_seconds=round(fit.seconds[n], 3)) for n, m in per.items()}
+    overall = replace(overall, fit_seconds=round(sum(fit.seconds.values()), 3))
+    return per, overall
+
+
+#: Columns of the metrics table: header, SphereMetrics field, scale, format.
+_COLUMNS = (
+    ("spheres", "sphere_count", 1.0, "{:>7d}"),
+    ("coverage", "coverage", 1.0, "{:>8.3f}"),
+    ("surface", "surface_coverage", 1.0, "{:>7.3f}"),
+    ("protr.share", "protrusion_share", 1.0, "{:>11.3f}"),
+    ("protr.mean", "protrusion_mean", 1000.0, "{:>10.1f}"),
+    ("protr.p95", "protrusion_p95", 1000.0, "{:>9.1f}"),
+    ("gap mean", "surface_gap_mean", 1000.0, "{:>8.1f}"),
+    ("gap p95", "surface_gap_p95", 1000.0, "{:>7.1f}"),
+    ("max gap", "max_uncovered_gap", 1000.0, "{:>7.1f}"),
+    ("vol.ratio", "volume_ratio", 1.0, "{:>9.3f}"),
+    ("fit s", "fit_seconds", 1.0, "{:>6.2f}"),
+)
+
+
+def metrics_table(per: dict[str, SphereMetrics], overall: SphereMetrics) -> str:
+    """Plain-text table: one row per link and an overall row (lengths in millimetres)."""
+    width = max([24, *(len(n) for n in per)])
+    head = f"{'link':<{width}} " + " ".join(
+        f"{h:>{len(f.format(0) if 'd' in f else f.format(0.0))}}" for h, _, _, f in _COLUMNS
+    )
+    rows = [head, "-" * len(head)]
+
+    def cell(m: SphereMetrics, name: str, scale: float, fmt: str) -> str:
+        value = getattr(m, name)
+        if value is None:
+            return " " * len(fmt.format(0.0))
+        return fmt.format(value * scale if scale != 1.0 else value)
+
+    def row(name: str, m: SphereMetrics) -> str:
+        return f"{name:<{width}} " + " ".join(cell(m, *c[1:]) for c in _COLUMNS)
+
+    rows += [row(n, m) for n, m in per.items()]
+    rows += ["-" * len(head), row("overall", overall)]
+    notes = "lengths in mm; " + ", ".join(
+        f"{n}: {m.solid}" for n, m in per.items() if m.solid not in ("mesh", "union")
+    )
+    return "\n".join(rows) + "\n" + notes.rstrip("; ") + "\n"
+
+
+def metrics_json(per: dict[str, SphereMetrics], overall: SphereMetrics) -> str:
+    """The metrics as one JSON object: ``{"links": {link: metrics}, "overall": metrics}``
+    (lengths in metres, as :class:`~xrdf_tools.spheres.SphereMetrics`)."""
+    doc = {"links": {n: m.to_dict() for n, m in per.items()}, "overall": overall.to_dict()}
+    return json.dumps(doc, indent=2, sort_keys=False) + "\n"
