@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel, fk_batch_last
-from ...util.arrays import BoolArray, FloatArray, IntArray
+from ...util.arrays import BoolArray, FloatArray, IntArray, sorted_unique
 from ...xrdf.model import Xrdf
 from .spheres import SphereSet, build_sphere_set
 
@@ -172,7 +172,7 @@ def frame_pair_verdicts(
     clr = np.zeros(len(ks))
     if len(ks) == 0:
         return hit, clr
-    frames = np.unique(np.concatenate([s.frame_pair_a[ks], s.frame_pair_b[ks]]))
+    frames = sorted_unique(np.concatenate([s.frame_pair_a[ks], s.frame_pair_b[ks]]))
     slot = {int(f): i for i, f in enumerate(frames.tolist())}
     step = max(1, _POSE_ELEMENTS // (12 * len(frames)))
     by_row = np.argsort(rows, kind="stable")

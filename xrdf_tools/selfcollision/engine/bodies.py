@@ -16,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import JointType, KinematicModel
-from ...util.arrays import FloatArray, IntArray
+from ...util.arrays import FloatArray, IntArray, sorted_unique
 from ..collision import SphereSet
 
 F32 = npt.NDArray[np.float32]
@@ -101,7 +101,7 @@ def _local_centers(
     from the kinematic frames ``T`` [F, 4, 4] at the base configuration."""
     kf = spheres.kin_frame
     body = body_of[kf]
-    inv = {int(b): np.linalg.inv(T[roots[int(b)]]) for b in np.unique(body)}
+    inv = {int(b): np.linalg.inv(T[roots[int(b)]]) for b in sorted_unique(body)}
     G = _axis_frames(kin, roots)
     for b, M in inv.items():  # into the z-aligned body frame
         M[:3, :] = G[b].T @ M[:3, :]

@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel, fk
-from ...util.arrays import BoolArray, FloatArray, IntArray
+from ...util.arrays import BoolArray, FloatArray, IntArray, sorted_unique
 from ..collision import (
     CULL_SLACK,
     SphereSet,
@@ -113,7 +113,9 @@ class CountEngine:
     ``spheres``: the frame pairs to count (e.g. a :meth:`SphereSet.select_frame_pairs`
     selection). ``varying``: indices into the actuated joints that change (the c-space);
     every other joint stays at ``q_base`` [n]. ``margin``: minimum clearances below it are
-    exact (float64), larger ones may come back as lower bounds.
+    exact (float64), larger ones may come back as lower bounds. ``cull``: give body pairs
+    cell grids or bounding-sphere culls (:class:`_Culler`), which pay off on large samples
+    only (building them takes tens to hundreds of milliseconds).
     """
 
     def __init__(
@@ -124,6 +126,7 @@ class CountEngine:
         q_base: npt.ArrayLike,
         *,
         margin: float = 0.0,
+        cull: bool = True,
     ) -> None:
         self.kin = kin
         self.spheres = spheres
@@ -159,7 +162,7 @@ class CountEngine:
         #: [K] whether a sphere pair that no joint moves collides, and the smallest clearance
         #: of those pairs (+inf where there are none): decided once, never sampled.
         self.fixed_hit, self.fixed_clear = self._fixed_pairs(layout)
-        self.pairs = self.culler.choose(pairs)
+        self.pairs = self.culler.choose(pairs) if cull else pairs
         self.sharpener = Sharpener.of(
             self.bodies, spheres, self.local, self.frame_body, kin.n_frames
         )
@@ -299,7 +302,7 @@ class CountEngine:
         if not ch.re_k:
             return 0
         B = ch.q.shape[0]
-        key = np.unique(np.concatenate(ch.re_k).astype(np.int64) * B + np.concatenate(ch.re_b))
+        key = sorted_unique(np.concatenate(ch.re_k).astype(np.int64) * B + np.concatenate(ch.re_b))
         ks, bs = key // B, key % B  # sorted by frame pair, each entry once
         e_min, clear = self.sharpener.evaluate(ks, ch.q[bs])
         sure = np.abs(e_min) > self.sharpener.delta

@@ -12,11 +12,9 @@ from __future__ import annotations
 import os
 import signal
 from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from contextlib import contextmanager, suppress
 from itertools import islice
-from multiprocessing import get_context
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -25,6 +23,9 @@ from ...util.arrays import FloatArray
 from ...util.numbers import MAX_SAMPLES
 from ..sampling import Method, sample_rows
 from .core import CountEngine, EngineTotals
+
+if TYPE_CHECKING:
+    from concurrent.futures import Future, ProcessPoolExecutor
 
 __all__ = ["MAX_SAMPLES", "MIN_SAMPLES_PER_JOB", "ProgressFn", "count_sampled", "default_jobs"]
 
@@ -108,6 +109,10 @@ def _in_workers(
     workers ignore SIGINT from their start: a Ctrl-C at the terminal, which reaches the whole
     process group, interrupts only this process, which then kills them; they print nothing.
     """
+    # imported here: a count in this process (most reports) needs no process pool
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from multiprocessing import get_context
+
     lo, hi, method, seed = stream
     ctx = get_context("spawn")
     # The engine reaches each worker through a queue (written by the queue's own thread), not
