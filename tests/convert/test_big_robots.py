@@ -102,7 +102,7 @@ def test_engine_equals_the_reference_counter_on_tiago_arm(
     hits = np.zeros(spheres.n_frame_pairs, dtype=np.int64)
     ref_min = np.full(spheres.n_frame_pairs, np.inf)
     for qc in iter_samples(
-        kin.lower[idx], kin.upper[idx], 1500, method="uniform", seed=1, chunk=500
+        kin.lower[idx], kin.upper[idx], 600, method="uniform", seed=1, chunk=300
     ):
         engine.count(qc, totals)
         q = np.repeat(q0[None, :], len(qc), axis=0)
