@@ -17,8 +17,10 @@ from ...util.errors import XrdfToolsError
 from ...util.numbers import MAX_SAMPLES
 from .common import (
     AllowMissingMeshesOption,
+    PackagePathOption,
     QuietOption,
     VerboseOption,
+    XacroArgOption,
     echo_diagnostics,
     fail,
     note,
@@ -106,14 +108,8 @@ def command(
     jerk: Annotated[
         float | None, typer.Option("--jerk", help="Jerk limit for joints the inputs lack.")
     ] = None,
-    xacro_arg: Annotated[
-        list[str] | None,
-        typer.Option("--xacro-arg", help="xacro argument NAME:=VALUE (repeatable)."),
-    ] = None,
-    package_path: Annotated[
-        list[str] | None,
-        typer.Option("--package-path", help="ROS package location NAME=DIR (repeatable)."),
-    ] = None,
+    xacro_arg: XacroArgOption = None,
+    package_path: PackagePathOption = None,
     format_version: Annotated[
         str | None,
         typer.Option(

@@ -118,6 +118,52 @@ def _silence_stdout() -> None:
         os.close(null)
 
 
+def _as_text(
+    ds: Sequence[Diagnostic], files: Sequence[str] | None, rules: Sequence[RuleInfo]
+) -> str:
+    return render_text(ds)
+
+
+def _as_json(
+    ds: Sequence[Diagnostic], files: Sequence[str] | None, rules: Sequence[RuleInfo]
+) -> str:
+    return render_json(ds, **({"files": list(files)} if files is not None else {}))
+
+
+def _as_github(
+    ds: Sequence[Diagnostic], files: Sequence[str] | None, rules: Sequence[RuleInfo]
+) -> str:
+    return render_github(ds)
+
+
+def _as_sarif(
+    ds: Sequence[Diagnostic], files: Sequence[str] | None, rules: Sequence[RuleInfo]
+) -> str:
+    from ... import __version__
+    from ...diagnostics import render_sarif
+    from ...rules.registry import rule_info
+
+    listed = {r.id for r in rules}
+    described = list(rules)
+    for rid in dict.fromkeys(d.rule for d in ds):
+        info = rule_info(rid)
+        if rid not in listed and info is not None:
+            described.append(info)
+    return render_sarif(ds, described, version=__version__)
+
+
+#: The diagnostics' one table of renderers: format -> (diagnostics, files, rules) -> text.
+DIAGNOSTIC_RENDERERS: dict[
+    OutputFormat,
+    Callable[[Sequence[Diagnostic], Sequence[str] | None, Sequence[RuleInfo]], str],
+] = {
+    OutputFormat.text: _as_text,
+    OutputFormat.json: _as_json,
+    OutputFormat.github: _as_github,
+    OutputFormat.sarif: _as_sarif,
+}
+
+
 def render_diagnostics(
     diagnostics: Sequence[Diagnostic],
     fmt: OutputFormat,
@@ -127,23 +173,7 @@ def render_diagnostics(
 ) -> str:
     """The one renderer dispatch of every command. ``files`` (JSON) lists the inputs checked;
     ``rules`` (SARIF) are listed even without results."""
-    if fmt is OutputFormat.json:
-        return render_json(diagnostics, **({"files": list(files)} if files is not None else {}))
-    if fmt is OutputFormat.github:
-        return render_github(diagnostics)
-    if fmt is OutputFormat.sarif:
-        from ... import __version__
-        from ...diagnostics import render_sarif
-        from ...rules.registry import rule_info
-
-        listed = {r.id for r in rules}
-        described = list(rules)
-        for rid in dict.fromkeys(d.rule for d in diagnostics):
-            info = rule_info(rid)
-            if rid not in listed and info is not None:
-                described.append(info)
-        return render_sarif(diagnostics, described, version=__version__)
-    return render_text(diagnostics)
+    return DIAGNOSTIC_RENDERERS[fmt](diagnostics, files, rules)
 
 
 def has_failures(diagnostics: Sequence[Diagnostic], *, strict: bool) -> bool:
