@@ -3,15 +3,15 @@ against yamllint on the same file.
 
 Usage: ``python benchmarks/bench_lint_startup.py [--runs 21] [FILE]``
 
-Both commands run as fresh subprocesses of this interpreter (``python -m xrdf_tools lint FILE``
-and ``python -m yamllint FILE``), alternately, so that both see the same machine load; a
-warm-up run of each comes first (it also writes the compiled bytecode of this checkout, as an
-installed package has it). Prints one JSON line: the median and minimum wall time of
-each in milliseconds, the median CPU time (user + system, steadier than wall time on a busy
-machine) and the ratios to yamllint of the medians (goals: lint at most 1, the report at most
-3).
-The default file is the bundled ``fixtures/ur10e/ur10e.xrdf``. yamllint is in the ``dev``
-extra.
+With example-robot-data installed, also ``xrdf report`` of franka (the Panda with cuRobo's 61
+spheres, ``report_franka_ratio``). The commands run as fresh subprocesses of this
+interpreter (``python -m xrdf_tools lint FILE``, ``python -m yamllint FILE``, ...),
+alternately, so that all see the same machine load; a warm-up run of each comes first (it
+also writes the compiled bytecode of this checkout, as an installed package has it). Prints
+one JSON line: the median and minimum wall time of each in milliseconds, the median CPU time
+(user + system, steadier than wall time on a busy machine) and the ratios to yamllint of the
+medians (goals: lint at most 1, the report at most 3). The default file is the bundled
+``fixtures/ur10e/ur10e.xrdf``. yamllint is in the ``dev`` extra.
 """
 
 from __future__ import annotations
@@ -31,6 +31,27 @@ REPO = Path(__file__).resolve().parent.parent
 FIXTURE = REPO / "fixtures" / "ur10e" / "ur10e.xrdf"
 REPORT_XRDF = FIXTURE
 REPORT_URDF = REPO / "fixtures" / "ur10e" / "ur10e.urdf"
+#: franka: cuRobo's 61 spheres on the example-robot-data Panda (when that package is installed)
+FRANKA_XRDF = REPO / "fixtures" / "panda" / "panda.xrdf"
+FRANKA_URDF = Path(
+    "cmeel.prefix",
+    "share",
+    "example-robot-data",
+    "robots",
+    "panda_description",
+    "urdf",
+    "panda.urdf",
+)
+
+
+def franka_urdf() -> Path | None:
+    import sysconfig
+
+    for key in ("purelib", "platlib"):
+        path = Path(sysconfig.get_paths()[key]) / FRANKA_URDF
+        if path.is_file():
+            return path
+    return None
 
 
 def timed_run(cmd: list[str], env: dict[str, str]) -> tuple[float, float]:
@@ -72,6 +93,12 @@ def main() -> None:
             *("--urdf", str(REPORT_URDF), "--samples", "1000", "-q"),
         ],
     }
+    panda = franka_urdf()
+    if panda is not None:
+        commands["xrdf_report_franka"] = [
+            *(sys.executable, "-m", "xrdf_tools", "report", str(FRANKA_XRDF)),
+            *("--urdf", str(panda), "--samples", "1000", "-q"),
+        ]
     probe = subprocess.run([*commands["yamllint"][:3], "--version"], capture_output=True)
     if probe.returncode != 0:
         sys.exit("yamllint is not installed: pip install -e '.[dev]'")
@@ -98,6 +125,8 @@ def main() -> None:
     out["cpu_ratio"] = round(cpu_med["xrdf"] / cpu_med["yamllint"], 2)
     out["report_ratio"] = round(wall_med["xrdf_report"] / wall_med["yamllint"], 2)
     out["report_cpu_ratio"] = round(cpu_med["xrdf_report"] / cpu_med["yamllint"], 2)
+    if "xrdf_report_franka" in wall_med:
+        out["report_franka_ratio"] = round(wall_med["xrdf_report_franka"] / wall_med["yamllint"], 2)
     out["python"] = platform.python_version()
     print(json.dumps(out))
 
