@@ -14,10 +14,10 @@ from ..report import Report, self_collision_report
 from ..report.results import CertifyOptions, PairStat
 from ..util.errors import XrdfToolsError
 from .edits import SetBuffer, SetIgnored, SetMask
+from .surface import PageSurface, from_browser
 
 if TYPE_CHECKING:
     from ..xrdf.model import Xrdf
-    from .page import EditorPage
 
 __all__ = ["MAX_ROWS", "MaskPanel", "pair_label"]
 
@@ -41,7 +41,7 @@ def _stat_text(p: PairStat) -> str:
 class MaskPanel:
     """Pair toggles, buffer distance, report run and witness poses."""
 
-    def __init__(self, page: EditorPage, gui: Any) -> None:
+    def __init__(self, page: PageSurface, gui: Any) -> None:
         from ..selfcollision.collision import SphereSet
 
         self.page = page
@@ -61,7 +61,6 @@ class MaskPanel:
             self.apply_mask = gui.add_button("Apply recommended mask", visible=False)
             self.witness = gui.add_dropdown("Witness", ("none",), visible=False)
             self.pose_witness = gui.add_button("Pose witness", visible=False)
-        from .panels import from_browser
 
         self.buffer.on_update(lambda e: self._set_buffer() if from_browser(e) else None)
         self.filter.on_update(lambda e: self.update(document=True) if from_browser(e) else None)
@@ -196,7 +195,6 @@ class MaskPanel:
             h.value = bool(sc is not None and sc.is_ignored(a, b))
 
     def _row(self, a: str, b: str) -> Any:
-        from .panels import from_browser
 
         hint = None
         if self.report is not None:

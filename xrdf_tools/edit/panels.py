@@ -1,6 +1,6 @@
 """The GUI panels of the ``xrdf edit`` page (viser): document, view, pose, spheres, refit.
 
-Each control calls one :class:`~xrdf_tools.edit.page.EditorPage` method; :meth:`Panels.update`
+Each control calls one :class:`~xrdf_tools.edit.page.PageSurface` method; :meth:`Panels.update`
 shows the page's state again. Controls answer only to the browser (``event.client`` set), so
 the page can set their values without triggering edits. The mask panel is
 :mod:`xrdf_tools.edit.mask_panel`.
@@ -16,24 +16,19 @@ from ..diff.render import render_text
 from ..xrdf.model import Sphere
 from .edits import AddSphere, DeleteSphere, DuplicateSphere, MoveSphere, SetDefaults, SetRadius
 from .mask_panel import MaskPanel
+from .surface import PageSurface, from_browser
 from .view import node
 
 if TYPE_CHECKING:
     from ..viz.meshes import MeshKind
     from .fit import FitProposal
-    from .page import EditorPage
 
 __all__ = ["Panels", "from_browser"]
 
 NONE = "none"
 
 
-def from_browser(event: Any) -> bool:
-    """The event comes from a browser (not from the page setting a value)."""
-    return getattr(event, "client", None) is not None
-
-
-def _link_tree(page: EditorPage) -> str:
+def _link_tree(page: PageSurface) -> str:
     kin = page.robot.kin
     names = kin.frame_names
     children: dict[int, list[int]] = {}
@@ -53,7 +48,7 @@ def _link_tree(page: EditorPage) -> str:
 class Panels:
     """Every GUI control of the page."""
 
-    def __init__(self, page: EditorPage) -> None:
+    def __init__(self, page: PageSurface) -> None:
         self.page = page
         gui = page.server.gui
         self.gui = gui
@@ -415,7 +410,7 @@ class Panels:
 MAX_CONTACTS = 12
 
 
-def _contacts_text(page: EditorPage) -> str:
+def _contacts_text(page: PageSurface) -> str:
     c = page.collisions
     if not c.contacts:
         return "No touching pairs at this pose."

@@ -63,8 +63,8 @@ def command(
       xrdf inspect panda.urdf --srdf panda.srdf
       xrdf inspect ur5.urdf --format json | jq '.default.cspace'
     """
-    from ...robot.inspect import inspect_robot
-    from ...robot.inspect_text import render_inspection
+    from ...convert.inspect import inspect_robot
+    from ...convert.inspect_text import render_inspection
     from .core import load_robot_option
 
     try:

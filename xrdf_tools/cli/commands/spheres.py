@@ -1,7 +1,7 @@
 """`xrdf spheres`: fit collision spheres to a URDF's link geometry and report their quality.
 
 The options are read here; the fit, the merge and the metrics are
-:mod:`xrdf_tools.spheres.pipeline`'s.
+:mod:`xrdf_tools.convert.spheres_job`'s.
 """
 
 from __future__ import annotations
@@ -129,14 +129,14 @@ def command(
     gets spheres, or the command fails (exit 1, nothing written) naming each link and why; a
     mesh file that cannot be found is an input error (exit 2) unless --allow-missing-meshes.
     """
-    from ...robot.packages import parse_package_path
-    from ...spheres.pipeline import (
+    from ...convert.spheres_job import (
         SpheresRequest,
         fit_metrics,
         fit_spheres,
         metrics_json,
         metrics_table,
     )
+    from ...robot.packages import parse_package_path
     from ...spheres.robot_fit import CountPolicy
     from ...xrdf.io import dump_xrdf
 

@@ -11,8 +11,8 @@ from typer.testing import CliRunner
 from tests.robots import robots_dir
 from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions, convert
+from xrdf_tools.convert.inspect import inspect_robot
 from xrdf_tools.robot.core import as_robot
-from xrdf_tools.robot.inspect import inspect_robot
 from xrdf_tools.robot.urdf_source import load_urdf
 
 

@@ -5,7 +5,7 @@ c-space and tool frame ``xrdf convert`` would pick by default.
 choice comes from :func:`xrdf_tools.convert.core.convert` itself, so ``xrdf inspect`` shows
 exactly what ``xrdf convert`` without ``--group``/``--chain``/``--joints`` would write.
 :meth:`Inspection.to_dict` is the stable JSON form (keys documented in ``docs/inspect.md``);
-:func:`xrdf_tools.robot.inspect_text.render_inspection` the text form.
+:func:`xrdf_tools.convert.inspect_text.render_inspection` the text form.
 """
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from .chains import Chain, default_cspace, joint_roles, leaf_chains
+from ..robot.chains import Chain, default_cspace, joint_roles, leaf_chains
 
 if TYPE_CHECKING:
-    from .core import Robot
+    from ..robot.core import Robot
 
 __all__ = [
     "DefaultChoice",
@@ -254,9 +254,9 @@ def _visual_counts(robot: Robot) -> dict[str, int]:
 
 
 def _groups(path: str, robot: Robot) -> tuple[GroupView, ...]:
-    from ..convert.sources.cspace import unplannable_joints
-    from ..convert.sources.srdf import cspace_of, group_joints, load_srdf
     from ..util.errors import XrdfToolsError
+    from .sources.cspace import unplannable_joints
+    from .sources.srdf import cspace_of, group_joints, load_srdf
 
     srdf = load_srdf(path)
     out: list[GroupView] = []
@@ -278,8 +278,8 @@ def _plain(e: Exception) -> str:
 
 def _default_choice(robot: Robot, srdf: str | None) -> DefaultChoice:
     """Run ``convert`` as ``xrdf convert ROBOT [--srdf S]`` would and keep what it chose."""
-    from ..convert.core import ConvertOptions, convert
     from ..util.errors import XrdfToolsError
+    from .core import ConvertOptions, convert
 
     try:
         x, diags = convert(robot, ConvertOptions(srdf=srdf))

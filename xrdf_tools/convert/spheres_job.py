@@ -22,10 +22,10 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from ..robot.core import Robot
+    from ..spheres import SphereMetrics
+    from ..spheres.fit import Plane
+    from ..spheres.robot_fit import CountPolicy, FitResult
     from ..xrdf.model import Xrdf
-    from . import SphereMetrics
-    from .fit import Plane
-    from .robot_fit import CountPolicy, FitResult
 
 #: Samples per link of the fit metrics.
 METRIC_SAMPLES = 10_000
@@ -72,15 +72,15 @@ def fit_spheres(
     ``progress(link, i, n)`` is called per link. Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` (a mesh file that cannot be found unless
     ``allow_missing_meshes``, a malformed clip plane)."""
-    from ..convert.fit_check import unfitted_links
-    from ..convert.pipeline import geometry_links
     from ..robot.link_geometry import require_meshes
-    from . import ignore_adjacent, merge_spheres
-    from .robot_fit import fit_robot, parse_clip
+    from ..spheres import ignore_adjacent, merge_spheres
+    from ..spheres.robot_fit import fit_robot, parse_clip
+    from .fit_check import unfitted_links
+    from .pipeline import geometry_links
 
     diags: list[Diagnostic] = []
     if base is None:
-        from ..convert.core import ConvertOptions, convert
+        from .core import ConvertOptions, convert
 
         drafted, cdiags = convert(robot, ConvertOptions())
         diags += [d for d in cdiags if d.rule != "convert-no-spheres"]
@@ -127,7 +127,7 @@ def fit_spheres(
 def fit_metrics(fit: FitResult, seed: int = 0) -> tuple[dict[str, SphereMetrics], SphereMetrics]:
     """How well the spheres of ``fit`` cover their links: metrics per link and overall, each
     with the seconds its fit took."""
-    from . import measure_links
+    from ..spheres import measure_links
 
     per, overall = measure_links(fit.geometry, fit.spheres, samples=METRIC_SAMPLES, seed=seed)
     per = {n: replace(m, fit_seconds=round(fit.seconds[n], 3)) for n, m in per.items()}

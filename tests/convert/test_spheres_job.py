@@ -1,4 +1,4 @@
-"""``xrdf spheres`` as library calls (:mod:`xrdf_tools.spheres.pipeline`) on a real robot:
+"""``xrdf spheres`` as library calls (:mod:`xrdf_tools.convert.spheres_job`) on a real robot:
 fit, merge, the unfitted links and the metrics, without printing or exiting."""
 
 from __future__ import annotations
@@ -9,14 +9,14 @@ from tests.robots import robot_urdf
 
 
 def test_fit_spheres_merges_reports_and_measures() -> None:
-    from xrdf_tools.robot.xacro_source import load_robot
-    from xrdf_tools.spheres.pipeline import (
+    from xrdf_tools.convert.spheres_job import (
         SpheresRequest,
         fit_metrics,
         fit_spheres,
         metrics_json,
         metrics_table,
     )
+    from xrdf_tools.robot.xacro_source import load_robot
     from xrdf_tools.spheres.robot_fit import CountPolicy
 
     robot = load_robot(robot_urdf("ur5"))
@@ -42,8 +42,8 @@ def test_fit_spheres_merges_reports_and_measures() -> None:
 
 
 def test_a_bad_clip_plane_is_an_input_error() -> None:
+    from xrdf_tools.convert.spheres_job import SpheresRequest, fit_spheres
     from xrdf_tools.robot.xacro_source import load_robot
-    from xrdf_tools.spheres.pipeline import SpheresRequest, fit_spheres
     from xrdf_tools.spheres.robot_fit import CountPolicy
     from xrdf_tools.util.errors import XrdfToolsError
 

@@ -1,4 +1,4 @@
-"""The text form of :class:`~xrdf_tools.robot.inspect.Inspection`: a summary line, the tree of
+"""The text form of :class:`~xrdf_tools.convert.inspect.Inspection`: a summary line, the tree of
 joints and links, the chains to the leaves, the SRDF groups and the default choice."""
 
 from __future__ import annotations
