@@ -12,7 +12,7 @@ from xrdf_tools.selfcollision.collision import (
     pair_clearance,
     sphere_world_centers,
 )
-from xrdf_tools.selfcollision.engine import CountEngine, EngineTotals, _body_fk, count_sampled
+from xrdf_tools.selfcollision.engine import CountEngine, EngineTotals, body_fk, count_sampled
 from xrdf_tools.selfcollision.sampling import iter_samples
 from xrdf_tools.xrdf.model import Xrdf
 
@@ -178,7 +178,7 @@ def test_float32_error_stays_far_below_the_guard() -> None:
     cspace = [kin.actuated_index(j) for j in xrdf.cspace.joint_names]
     eng, spheres, q0 = engine_for(kin, xrdf, False, cspace)
     qv = fixed_configs(kin, 3000, seed=2)[:, cspace]
-    R, t = _body_fk(eng.bodies, qv)
+    R, t = body_fk(eng.bodies, qv)
     q = np.repeat(q0[None, :], len(qv), axis=0)
     q[:, cspace] = qv
     exact = sphere_world_centers(kin, spheres, q)

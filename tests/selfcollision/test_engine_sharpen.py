@@ -22,7 +22,7 @@ from xrdf_tools.selfcollision.collision import (
     sphere_world_centers,
 )
 from xrdf_tools.selfcollision.engine import CountEngine, EngineTotals
-from xrdf_tools.selfcollision.engine.layout import _body_pairs
+from xrdf_tools.selfcollision.engine.layout import body_pairs
 from xrdf_tools.selfcollision.engine.reach import Reach
 
 EPS32 = float(np.finfo(np.float32).eps)
@@ -78,7 +78,7 @@ def test_sharpened_values_agree_with_the_reference(robot) -> None:  # type: igno
 def test_sphere_pairs_on_a_joint_axis_are_constant_and_decided_once() -> None:
     kin, xrdf = panda()
     eng, spheres, q0, varying = _engine(kin, xrdf)
-    layout = _body_pairs(
+    layout = body_pairs(
         spheres,
         eng.frame_body,
         eng.local,
@@ -118,13 +118,13 @@ def test_sphere_pairs_on_a_joint_axis_are_constant_and_decided_once() -> None:
 def test_path_local_float32_poses_stay_within_their_bound(robot) -> None:  # type: ignore[no-untyped-def]
     """Body pairs a joint or two apart compose their relative pose from those joints in
     float32; the centres of ``b`` in ``a``'s frame stay far within the pair's bound."""
-    from xrdf_tools.selfcollision.engine.bodies import _body_poses, _joint_values
+    from xrdf_tools.selfcollision.engine.bodies import body_poses, joint_values
     from xrdf_tools.selfcollision.engine.pairs import ChunkPoses, _pair_transform
 
     kin, xrdf = robot()
     eng, _, _, varying = _engine(kin, xrdf)
     q = fixed_configs(kin, 2000, seed=9)[:, varying]
-    poses = ChunkPoses(eng.bodies, _body_poses(eng.bodies, q), _joint_values(eng.bodies, q))
+    poses = ChunkPoses(eng.bodies, body_poses(eng.bodies, q), joint_values(eng.bodies, q))
     local = [bp for bp in eng.pairs if bp.path is not None]
     assert local
     for bp in local:

@@ -38,7 +38,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
 from ..xrdf.model import Xrdf
-from .mask import _recommended_ignore
+from .mask import recommend_ignore
 from .results import (
     CertifyOptions,
     ConfigsError,
@@ -46,9 +46,15 @@ from .results import (
     Report,
     Sampler,
     TrajectoryHit,
-    _finite,
+    finite_or_none,
 )
-from .verdicts import _certified, _findings, _verdict, adjacent_frame_pairs, never_upper_bound
+from .verdicts import (
+    adjacent_frame_pairs,
+    certified_stat,
+    classify_pair,
+    never_upper_bound,
+    pair_findings,
+)
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -161,8 +167,8 @@ def self_collision_report(
     w_of = {int(k): i for i, k in enumerate(work_index)}
     if certify is not None:
         stats = _certify(engine, stats, w_of, cspace, certify)
-    diags.extend(_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
-    rec_ignore, change = _recommended_ignore(xrdf, kin, spheres_all, stats)
+    diags.extend(pair_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
+    rec_ignore, change = recommend_ignore(xrdf, kin, spheres_all, stats)
     cov = None
     if coverage:
         from ..robot.core import as_robot
@@ -236,7 +242,7 @@ def _pair_stats(
         if w is not None:
             mc = float(min_clear[w])
             is_bound = bool(is_bound_w[w])
-        cls, rec, note = _verdict(
+        cls, rec, note = classify_pair(
             bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source
         )
         stats.append(
@@ -251,7 +257,7 @@ def _pair_stats(
                 hits=h,
                 rate=rate,
                 rate_upper_95=ub if h == 0 else None,
-                min_clearance=_finite(mc),
+                min_clearance=finite_or_none(mc),
                 min_clearance_is_bound=is_bound,
                 default_clearance=float(def_clear[k]),
                 classification=cls,
@@ -305,5 +311,7 @@ def _certify(
         budget = max(0.0, deadline - time.perf_counter()) / n_left
         cert = certify_pair(engine, w_of[i], budget)
         path = [cspace[j] for j in cert.joints]
-        out[i] = _certified(stats[i], cert.verdict, cert.witness, cert.seconds, cspace, path, opts)
+        out[i] = certified_stat(
+            stats[i], cert.verdict, cert.witness, cert.seconds, cspace, path, opts
+        )
     return out

@@ -21,7 +21,7 @@ from .results import MaskChange, PairStat, Report
 __all__ = ["recommended_xrdf"]
 
 
-def _recommended_ignore(
+def recommend_ignore(
     xrdf: Xrdf, kin: KinematicModel, spheres: SphereSet, stats: Sequence[PairStat]
 ) -> tuple[FrozenMap[str, tuple[str, ...]], MaskChange]:
     """Ignore map: pairs classified adjacent/default/always/never, plus existing entries

@@ -101,7 +101,7 @@ class PairStat:
             "hits": self.hits,
             "rate": self.rate,
             "rate_upper_95": self.rate_upper_95,
-            "min_clearance": _finite(self.min_clearance),
+            "min_clearance": finite_or_none(self.min_clearance),
             "min_clearance_is_bound": self.min_clearance_is_bound,
             "default_clearance": self.default_clearance,
             "classification": self.classification,
@@ -179,5 +179,5 @@ class Report:
         return self.pairs[self._pair_index[(a, b)]]
 
 
-def _finite(x: float | None) -> float | None:
+def finite_or_none(x: float | None) -> float | None:
     return None if x is None or not math.isfinite(x) else x

@@ -1,6 +1,6 @@
 """Verdicts and findings: how a frame pair is classified and what the report flags.
 
-Classification, first match wins (MoveIt Setup Assistant order, :func:`_verdict`):
+Classification, first match wins (MoveIt Setup Assistant order, :func:`classify_pair`):
 
 ``adjacent``  the frames are joined by a joint once frames without spheres are collapsed
               (:func:`adjacent_frame_pairs`);
@@ -12,8 +12,8 @@ Classification, first match wins (MoveIt Setup Assistant order, :func:`_verdict`
 ``sometimes`` anything else.
 
 ``--certify`` may then turn a "never" into proven or, with a witness, into "sometimes"
-(:func:`_certified`). :func:`_findings` turns the statistics into diagnostics with the rule ids
-of :data:`RULES`.
+(:func:`certified_stat`). :func:`pair_findings` turns the statistics into diagnostics with
+the rule ids of :data:`RULES`.
 """
 
 from __future__ import annotations
@@ -116,7 +116,7 @@ def adjacent_frame_pairs(
     return frozenset(out)
 
 
-def _certified(
+def certified_stat(
     p: PairStat,
     verdict: Verdict,
     witness: FloatArray | None,
@@ -151,7 +151,7 @@ def _certified(
     return replace(p, recommendation=rec, note=note, certificate="undecided", certify_s=seconds)
 
 
-def _verdict(
+def classify_pair(
     adjacent: bool,
     default_clearance: float,
     hits: int | None,
@@ -195,7 +195,7 @@ def _ignore_key_path(sc: SelfCollisionSection | None, a: str, b: str) -> str:
     return "self_collision.ignore"
 
 
-def _findings(
+def pair_findings(
     xrdf: Xrdf,
     kin: KinematicModel,
     stats: Sequence[PairStat],

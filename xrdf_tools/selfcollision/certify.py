@@ -35,7 +35,7 @@ import numpy as np
 from ..util.arrays import FloatArray, IntArray
 from .collision import sphere_world_centers, touching
 from .engine import CountEngine
-from .engine.bodies import PRISM, _chains
+from .engine.bodies import PRISM, body_chains
 
 __all__ = ["Certificate", "Verdict", "certify_pair"]
 
@@ -113,7 +113,7 @@ def _problem(engine: CountEngine, k: int) -> _Problem:
     s = engine.spheres
     fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
     body_a, body_b = int(engine.frame_body[fa]), int(engine.frame_body[fb])
-    chains = _chains(engine.bodies, body_a, body_b)
+    chains = body_chains(engine.bodies, body_a, body_b)
     cols = sorted({int(engine.bodies.col[j]) for ch in chains for j in ch})
     where = {c: i for i, c in enumerate(cols)}
     coef = np.zeros((s.n_spheres, len(cols)))

@@ -16,12 +16,12 @@ from ...xrdf.model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .srdf_groups import (
     PREFERRED_STATES,
-    _group,
     check_groups,
     choose_group,
     choose_state,
     cspace_of,
     group_joints,
+    group_named,
     group_sizes,
 )
 from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup, load_srdf, parse_srdf
@@ -67,7 +67,7 @@ def read_srdf(
     rep = Reporter(srdf.path)
     groups = [group] if isinstance(group, str) else list(dict.fromkeys(group or ()))
     for g in groups:
-        _group(srdf, g)
+        group_named(srdf, g)
     if not groups and choose:
         groups = _choose(srdf, tree, rep)
     for broken, problems in check_groups(srdf, tree, groups):

@@ -31,7 +31,7 @@ __all__ = [
 PREFERRED_STATES = ("home", "ready", "default")
 
 
-def _group(srdf: Srdf, name: str) -> SrdfGroup:
+def group_named(srdf: Srdf, name: str) -> SrdfGroup:
     if name not in srdf.groups:
         raise SourceError(
             f"no group '{name}' in the SRDF{did_you_mean(name, srdf.groups)} "
@@ -121,7 +121,7 @@ def check_groups(
 
 def _own_joints(srdf: Srdf, gname: str, tree: RobotTree) -> set[str]:
     """Joints that group ``gname`` names itself (joints, links, chains; not its subgroups)."""
-    g = _group(srdf, gname)
+    g = group_named(srdf, gname)
     found: set[str] = set()
 
     def fail(msg: str) -> SourceError:
@@ -160,7 +160,7 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     ancestor of its tip, or subgroups that include each other.
     """
     # subgroups: each visited once, without recursion (1,000s of nested groups are fine)
-    members, cycle = reachable(name, lambda gname: _group(srdf, gname).subgroups)
+    members, cycle = reachable(name, lambda gname: group_named(srdf, gname).subgroups)
     if cycle is not None:
         raise SourceError(
             f"groups include each other: {show_path(cycle)}",

@@ -41,7 +41,7 @@ re-exported here is a copy).
 
 from __future__ import annotations
 
-from .bodies import _body_fk as _body_fk  # the tests compare it with float64 kinematics
+from .bodies import body_fk as body_fk  # compared with float64 kinematics in the tests
 from .core import CountEngine, EngineTotals
 from .jobs import MIN_SAMPLES_PER_JOB, ProgressFn, count_sampled, default_jobs
 

@@ -2,9 +2,9 @@
 
 Frames joined by joints that do not vary (fixed joints, joints outside the c-space held at
 their defaults) are folded into one rigid *body*; sphere centres are stored in their body's
-frame (:func:`_local_centers`). Each body's frame is turned so that its joint axis is ``z``,
+frame (:func:`body_local_centers`). Each body's frame is turned so that its joint axis is ``z``,
 which makes a joint step one small matmul with a constant plus a 2-column rotation
-(:func:`_body_poses`). :func:`_position_error` bounds the float32 error this introduces; the
+(:func:`body_poses`). :func:`position_error` bounds the float32 error this introduces; the
 engine's guard band is derived from it.
 """
 
@@ -21,16 +21,16 @@ from ..collision import SphereSet
 
 F32 = npt.NDArray[np.float32]
 
-_EPS32 = float(np.finfo(np.float32).eps)
+EPS32 = float(np.finfo(np.float32).eps)
 #: Body kinds: the root, a revolute/continuous joint (turns about z), a prismatic one (slides).
-_ROOT, _ROT, PRISM = 0, 1, 2
+ROOT, ROT, PRISM = 0, 1, 2
 _MOVABLE = (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC)
 _ANGLE_MAX = 2 * np.pi
 _FK_BLOCK = 8192  # configurations per forward-kinematics block (cache-sized)
 
 
 @dataclass(frozen=True, eq=False)
-class _Bodies:
+class Bodies:
     """Moving bodies in topological order (body 0 is the root frame).
 
     Each body's frame is turned so that its joint axis is ``z`` (``G`` [nb, 3, 3] maps body
@@ -70,7 +70,7 @@ def _z_to(axis: FloatArray) -> FloatArray:
     return np.column_stack([x, np.cross(a, x), a])
 
 
-def _body_roots(kin: KinematicModel, varying: IntArray) -> tuple[list[int], IntArray]:
+def body_roots(kin: KinematicModel, varying: IntArray) -> tuple[list[int], IntArray]:
     """Kinematic frames that start a body, and the body of every kinematic frame."""
     var = set(varying.tolist())
     roots = [0]
@@ -86,11 +86,11 @@ def _body_roots(kin: KinematicModel, varying: IntArray) -> tuple[list[int], IntA
 
 
 def _axis_frames(kin: KinematicModel, roots: list[int]) -> list[FloatArray]:
-    """Per body, the rotation from its z-aligned body frame to its joint frame (``_Bodies.G``)."""
+    """Per body, the rotation from its z-aligned body frame to its joint frame (``Bodies.G``)."""
     return [np.eye(3)] + [_z_to(kin.axis[f]) for f in roots[1:]]
 
 
-def _local_centers(
+def body_local_centers(
     kin: KinematicModel,
     spheres: SphereSet,
     T: FloatArray,
@@ -112,18 +112,18 @@ def _local_centers(
     return body, local
 
 
-def _build_bodies(
+def build_bodies(
     kin: KinematicModel,
     varying: IntArray,
     T: FloatArray,
     roots: list[int],
     body_of: IntArray,
     max_local: float,
-) -> _Bodies:
+) -> Bodies:
     """``T`` [F, 4, 4]: kinematic frames at the base configuration."""
     col_of = {int(c): i for i, c in enumerate(varying.tolist())}
     G = _axis_frames(kin, roots)
-    parent, kind, consts = [-1], [_ROOT], [np.eye(4)]
+    parent, kind, consts = [-1], [ROOT], [np.eye(4)]
     cols, mult, off = [-1], [1.0], [0.0]
     lever = max_local
     for j, f in enumerate(roots[1:], start=1):
@@ -133,7 +133,7 @@ def _build_bodies(
         C[:3, 3] = G[pb].T @ C[:3, 3]
         C[:3, :3] = G[pb].T @ C[:3, :3] @ G[j]
         parent.append(pb)
-        kind.append(PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else _ROT)
+        kind.append(PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else ROT)
         consts.append(C)
         cols.append(col_of[int(kin.q_index[f])])
         mult.append(float(kin.mimic_multiplier[f]))
@@ -142,7 +142,7 @@ def _build_bodies(
         if kind[-1] == PRISM:
             q = int(kin.q_index[f])
             lever += abs(mult[-1]) * max(abs(kin.lower[q]), abs(kin.upper[q])) + abs(off[-1])
-    return _Bodies(
+    return Bodies(
         parent=tuple(parent),
         kind=tuple(kind),
         consts=np.array(consts),
@@ -156,17 +156,17 @@ def _build_bodies(
     )
 
 
-def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
+def joint_values(bodies: Bodies, q_var: FloatArray) -> F32:
     """float32 joint values [nb − 1, B]; angles beyond ±2π are first reduced in float64."""
     if bodies.plain:
         v32: F32 = np.ascontiguousarray(q_var.astype(np.float32).T[bodies.col[1:]])
         ext = np.maximum(v32.max(axis=1), -v32.min(axis=1))
-        if not np.any((np.array(bodies.kind[1:]) == _ROT) & (ext > _ANGLE_MAX)):
+        if not np.any((np.array(bodies.kind[1:]) == ROT) & (ext > _ANGLE_MAX)):
             return v32
     v64 = np.ascontiguousarray(q_var.T[bodies.col[1:]])
     v64 *= bodies.mult[1:, None]
     v64 += bodies.off[1:, None]
-    wide = (np.array(bodies.kind[1:]) == _ROT) & (
+    wide = (np.array(bodies.kind[1:]) == ROT) & (
         (v64.max(axis=1) > _ANGLE_MAX) | (v64.min(axis=1) < -_ANGLE_MAX)
     )
     if wide.any():
@@ -175,14 +175,14 @@ def _joint_values(bodies: _Bodies, q_var: FloatArray) -> F32:
     return out
 
 
-def _body_fk(bodies: _Bodies, q_var: FloatArray) -> tuple[F32, F32]:
+def body_fk(bodies: Bodies, q_var: FloatArray) -> tuple[F32, F32]:
     """float32 rotations [nb, 3, 3, B] and translations [nb, 3, B] of every body (views of
-    :func:`_body_poses`)."""
-    T = _body_poses(bodies, q_var)
+    :func:`body_poses`)."""
+    T = body_poses(bodies, q_var)
     return T[:, :, :3], T[:, :, 3]
 
 
-def _body_poses(bodies: _Bodies, q_var: FloatArray) -> F32:
+def body_poses(bodies: Bodies, q_var: FloatArray) -> F32:
     """float32 poses [nb, 3, 4, B] (``[R | t]`` per body), computed in cache-sized column
     blocks written straight into the result."""
     B = q_var.shape[0]
@@ -195,9 +195,9 @@ def _body_poses(bodies: _Bodies, q_var: FloatArray) -> F32:
     return T
 
 
-def _body_fk_block(bodies: _Bodies, q_var: FloatArray, T: F32) -> None:
+def _body_fk_block(bodies: Bodies, q_var: FloatArray, T: F32) -> None:
     """``T_f = T_parent · C_f · Z(θ_f)``: one matmul with ``C_f``, then Z on columns x, y."""
-    vals = _joint_values(bodies, q_var)
+    vals = joint_values(bodies, q_var)
     sin, cos = np.sin(vals), np.cos(vals)
     tmp = np.empty((2, 3, q_var.shape[0]), dtype=np.float32)
     for f in range(1, bodies.n):
@@ -207,7 +207,7 @@ def _body_fk_block(bodies: _Bodies, q_var: FloatArray, T: F32) -> None:
             Y[...] = bodies.consts_root[f]
         else:
             np.matmul(bodies.consts_t[f], T[p], out=Y)
-        if bodies.kind[f] == _ROT:  # x' = x cos + y sin, y' = y cos − x sin
+        if bodies.kind[f] == ROT:  # x' = x cos + y sin, y' = y cos − x sin
             c, s = cos[f - 1], sin[f - 1]
             x, y = Y[:, 0], Y[:, 1]
             np.multiply(x, s, out=tmp[0])
@@ -221,7 +221,7 @@ def _body_fk_block(bodies: _Bodies, q_var: FloatArray, T: F32) -> None:
             Y[:, 3] += tmp[0]
 
 
-def _chains(bodies: _Bodies, a: int, b: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
+def body_chains(bodies: Bodies, a: int, b: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """The bodies from the lowest common ancestor of ``a`` and ``b`` (excluded) down to ``a``
     and down to ``b``, top first."""
     up_a = [a]
@@ -234,7 +234,7 @@ def _chains(bodies: _Bodies, a: int, b: int) -> tuple[tuple[int, ...], tuple[int
     return tuple(up_a[: up_a.index(lca)][::-1]), tuple(chain_b[::-1])
 
 
-def _chain_pose(bodies: _Bodies, chain: tuple[int, ...], vals: F32) -> F32:
+def chain_pose(bodies: Bodies, chain: tuple[int, ...], vals: F32) -> F32:
     """float32 poses [3, 4, n] of the last body of ``chain`` in the frame of the first one's
     parent, ``C_1 Z(θ_1) C_2 Z(θ_2) …``, from joint values ``vals`` [nb − 1, n] (as
     :func:`_body_fk_block` steps, but from that parent instead of the root)."""
@@ -251,10 +251,10 @@ def _chain_pose(bodies: _Bodies, chain: tuple[int, ...], vals: F32) -> F32:
     return Y
 
 
-def _turn(bodies: _Bodies, j: int, vals: F32, Y: F32) -> None:
+def _turn(bodies: Bodies, j: int, vals: F32, Y: F32) -> None:
     """Apply body ``j``'s joint motion ``Z(θ_j)`` to the poses ``Y`` [3, 4, n] in place."""
     v = vals[j - 1]
-    if bodies.kind[j] == _ROT:
+    if bodies.kind[j] == ROT:
         c, s = np.cos(v), np.sin(v)
         x, y = Y[:, 0].copy(), Y[:, 1]
         Y[:, 0] = x * c + y * s
@@ -264,11 +264,11 @@ def _turn(bodies: _Bodies, j: int, vals: F32, Y: F32) -> None:
         Y[:, 3] += Y[:, 2] * v
 
 
-def _chain_error(
-    bodies: _Bodies, chains: tuple[tuple[int, ...], ...], travel: FloatArray, reach: float
+def chain_error(
+    bodies: Bodies, chains: tuple[tuple[int, ...], ...], travel: FloatArray, reach: float
 ) -> tuple[float, float]:
     """Bound (m) on the float32 error of a sphere centre moved along ``chains`` (see
-    :func:`_position_error`: the same bound with the chains' own lever arm), and that lever
+    :func:`position_error`: the same bound with the chains' own lever arm), and that lever
     arm. ``reach``: the largest distance of a sphere centre from its body origin; ``travel``
     [nb]: each body's prismatic travel (0 for a revolute joint)."""
     bodies_on = [j for chain in chains for j in chain]
@@ -276,10 +276,10 @@ def _chain_error(
         float(np.linalg.norm(bodies.consts[j][:3, 3])) + float(travel[j]) for j in bodies_on
     )
     lever = max(lever, 1e-3)
-    return 8.0 * _EPS32 * (len(bodies_on) + 2) * lever, lever
+    return 8.0 * EPS32 * (len(bodies_on) + 2) * lever, lever
 
 
-def _position_error(bodies: _Bodies) -> float:
+def position_error(bodies: Bodies) -> float:
     """Bound (m) on the float32 error of a sphere centre in another body's frame.
 
     Each body step rounds every rotation entry a few times (a 3-term dot product and the
@@ -289,4 +289,4 @@ def _position_error(bodies: _Bodies) -> float:
     combines two such chains: ``8 eps (n + 2) lever`` covers it with room to spare (the tests
     check that the observed error stays far below).
     """
-    return 8.0 * _EPS32 * (bodies.n + 2) * max(bodies.lever, 1e-3)
+    return 8.0 * EPS32 * (bodies.n + 2) * max(bodies.lever, 1e-3)

@@ -36,17 +36,24 @@ from ..collision import (
 )
 from .bodies import (
     F32,
-    _body_poses,
-    _body_roots,
-    _build_bodies,
-    _joint_values,
-    _local_centers,
-    _position_error,
+    body_local_centers,
+    body_poses,
+    body_roots,
+    build_bodies,
+    joint_values,
+    position_error,
 )
-from .bounds import _clearance_hi, _clearance_lo, _energy_at
-from .culling import _Culler
-from .layout import Layout, _body_pairs
-from .pairs import ChunkPoses, _BodyPair, _direct, _evaluate, _frame_bodies, _pair_constants
+from .bounds import clearance_hi, clearance_lo, energy_at
+from .culling import Culler
+from .layout import Layout, body_pairs
+from .pairs import (
+    BodyPair,
+    ChunkPoses,
+    direct_clearances,
+    evaluate_pair,
+    frame_bodies,
+    pair_constants,
+)
 from .reach import Reach
 from .sharpen import Sharpener
 
@@ -114,7 +121,7 @@ class CountEngine:
     selection). ``varying``: indices into the actuated joints that change (the c-space);
     every other joint stays at ``q_base`` [n]. ``margin``: minimum clearances below it are
     exact (float64), larger ones may come back as lower bounds. ``cull``: give body pairs
-    cell grids or bounding-sphere culls (:class:`_Culler`), which pay off on large samples
+    cell grids or bounding-sphere culls (:class:`Culler`), which pay off on large samples
     only (building them takes tens to hundreds of milliseconds).
     """
 
@@ -135,16 +142,16 @@ class CountEngine:
         self.margin = max(float(margin), 0.0)
         self.K = spheres.n_frame_pairs
         T = fk(kin, self.q_base)  # [F, 4, 4]
-        roots, body_of = _body_roots(kin, self.varying)
-        self.sphere_body, self.local = _local_centers(kin, spheres, T, roots, body_of)
+        roots, body_of = body_roots(kin, self.varying)
+        self.sphere_body, self.local = body_local_centers(kin, spheres, T, roots, body_of)
         max_local = float(np.max(np.linalg.norm(self.local, axis=1))) if len(self.local) else 0.0
-        self.bodies = _build_bodies(kin, self.varying, T, roots, body_of, max_local)
-        self.err = _position_error(self.bodies)
-        self.culler = _Culler(kin, self.varying, self.bodies, self.local, self.margin, self.err)
-        self.frame_body = _frame_bodies(spheres, self.sphere_body)
+        self.bodies = build_bodies(kin, self.varying, T, roots, body_of, max_local)
+        self.err = position_error(self.bodies)
+        self.culler = Culler(kin, self.varying, self.bodies, self.local, self.margin, self.err)
+        self.frame_body = frame_bodies(spheres, self.sphere_body)
         self.const_k, self.const_hit, self.const_clear = self._constant_pairs()
         reach = Reach.of(kin, self.varying, self.bodies)
-        layout = _body_pairs(
+        layout = body_pairs(
             spheres,
             self.frame_body,
             self.local,
@@ -166,7 +173,7 @@ class CountEngine:
         self.sharpener = Sharpener.of(
             self.bodies, spheres, self.local, self.frame_body, kin.n_frames
         )
-        self.delta_k, self.rlo_k, self.rhi_k = _pair_constants(spheres, self.pairs)
+        self.delta_k, self.rlo_k, self.rhi_k = pair_constants(spheres, self.pairs)
 
     def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
         """Frame pairs on one body: decided once, exactly, at the base configuration."""
@@ -205,8 +212,8 @@ class CountEngine:
         if q.ndim != 2 or q.shape[1] != len(self.varying):
             raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
         B = q.shape[0]
-        T = _body_poses(self.bodies, q)
-        poses = ChunkPoses(self.bodies, T, _joint_values(self.bodies, q))
+        T = body_poses(self.bodies, q)
+        poses = ChunkPoses(self.bodies, T, joint_values(self.bodies, q))
         culled = [bp for bp in self.pairs if bp.cull]
         gaps = self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled) if culled else None
         hits = np.zeros((self.K, B), dtype=np.bool_)
@@ -221,7 +228,7 @@ class CountEngine:
             sel = self.culler.select(bp, ch.q, g2, ch.bound)
             row += bp.cull
             if sel is None or len(sel):
-                self._classify(bp, ch, sel, _evaluate(bp, ch.poses, sel))
+                self._classify(bp, ch, sel, evaluate_pair(bp, ch.poses, sel))
         best = self.fixed_clear.copy()
         n_exact = self._recheck(ch, best)
         hits |= self.fixed_hit[:, None]
@@ -236,7 +243,7 @@ class CountEngine:
             totals.rechecked += n_exact
         return hits
 
-    def _classify(self, bp: _BodyPair, ch: _Chunk, sel: IntArray | None, em: F32) -> None:
+    def _classify(self, bp: BodyPair, ch: _Chunk, sel: IntArray | None, em: F32) -> None:
         """Verdicts from the float32 minima ``em`` [blocks, n]; queue the float64 rechecks.
 
         Entries within ``± delta`` of zero are unsure. For the minimum clearance, every
@@ -253,12 +260,12 @@ class CountEngine:
             ch.hits[k, cols] |= hit[i]  # a frame pair may be spread over several body pairs
         e_min = em.min(axis=1).astype(np.float64)
         rlo, rhi = self.rlo_k[ks], self.rhi_k[ks]
-        thr = np.minimum(self.margin, _clearance_hi(e_min + bp.delta, rlo, rhi))
+        thr = np.minimum(self.margin, clearance_hi(e_min + bp.delta, rlo, rhi))
         np.minimum(thr, ch.prev[ks], out=thr)
-        e_star = (_energy_at(thr, rlo, rhi) + bp.delta).astype(np.float32)
+        e_star = (energy_at(thr, rlo, rhi) + bp.delta).astype(np.float32)
         cand = em <= e_star[:, None]
         has_cand = cand.any(axis=1)
-        low = np.where(has_cand, thr, _clearance_lo(e_min - bp.delta, rlo, rhi))
+        low = np.where(has_cand, thr, clearance_lo(e_min - bp.delta, rlo, rhi))
         np.minimum(ch.bound[ks], low, out=low)
         ch.bound[ks] = low
         unsure = np.abs(em) <= d
@@ -270,7 +277,7 @@ class CountEngine:
             ch.re_b.append(cols[bj])
 
     def _refine(
-        self, bp: _BodyPair, ch: _Chunk, cols: IntArray, cand: BoolArray, ks: IntArray
+        self, bp: BodyPair, ch: _Chunk, cols: IntArray, cand: BoolArray, ks: IntArray
     ) -> BoolArray:
         """Narrow minimum-clearance candidates with float32 clearances (error ≤ ``tau``).
 
@@ -281,7 +288,7 @@ class CountEngine:
         """
         tau = bp.tau
         idx = np.flatnonzero(cand.any(axis=0))
-        clr = _direct(bp, ch.poses, cols[idx])
+        clr = direct_clearances(bp, ch.poses, cols[idx])
         kept = np.zeros_like(cand)
         for i, (k, _, _) in enumerate(bp.blocks):
             ci = cand[i, idx]

@@ -1,16 +1,16 @@
 """Culling: which configurations of a chunk a body pair needs to evaluate at all.
 
 Two ways to skip configurations in which a body pair is farther apart than the margin, chosen
-once per body pair when the engine is built (:meth:`_Culler.choose`):
+once per body pair when the engine is built (:meth:`Culler.choose`):
 
 * a **cell grid** (:mod:`xrdf_tools.selfcollision.engine.grid`) when one or two revolute joints
   separate the bodies: cells proven far are skipped, with the grid's clearance bound;
 * a **bounding-sphere cull** when a fixed pilot sample finds the bodies mostly out of reach:
   one float32 distance between the bodies' bounding spheres per configuration
-  (:meth:`_Culler.gaps2`), widened by the float32 error so that it never skips a near case.
+  (:meth:`Culler.gaps2`), widened by the float32 error so that it never skips a near case.
 
 Everything else is evaluated in full. A skipped configuration's clearance lower bound goes into
-the chunk's bounds (:meth:`_Culler.select`), so the minimum clearance stays honest.
+the chunk's bounds (:meth:`Culler.select`), so the minimum clearance stays honest.
 """
 
 from __future__ import annotations
@@ -22,9 +22,9 @@ import numpy as np
 
 from ...robot.kinematics import KinematicModel
 from ...util.arrays import FloatArray, IntArray
-from .bodies import _ROT, F32, _Bodies, _body_fk
+from .bodies import F32, ROT, Bodies, body_fk
 from .grid import PairGrid, build_pair_grid
-from .pairs import _BodyPair
+from .pairs import BodyPair
 
 #: A body pair is culled when fewer than this fraction of pilot configurations is within reach.
 _CULL_FRACTION = 0.5
@@ -35,19 +35,19 @@ _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 #: A grid holds its sphere pairs' radius sums: beyond this many, the pair is culled otherwise.
 _GRID_MAX_PAIRS = 1 << 13
-#: Configurations per block of :meth:`_Culler.gaps2`.
+#: Configurations per block of :meth:`Culler.gaps2`.
 _GAP_BLOCK = 2048
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 
 
-def _path_joints(bodies: _Bodies, a: int, b: int) -> tuple[int, list[int]] | None:
+def _path_joints(bodies: Bodies, a: int, b: int) -> tuple[int, list[int]] | None:
     """(ancestor, bodies whose revolute joints lie between a and b, outer first) when one body
     is an ancestor of the other at most two joints away; None otherwise."""
     for anc, desc in ((a, b), (b, a)):
         joints = [desc]
         while len(joints) <= _GRID_MAX_JOINTS and bodies.parent[joints[0]] >= 0:
             if bodies.parent[joints[0]] == anc:
-                if all(bodies.kind[j] == _ROT for j in joints):
+                if all(bodies.kind[j] == ROT for j in joints):
                     return anc, joints
                 return None
             joints.insert(0, bodies.parent[joints[0]])
@@ -55,23 +55,23 @@ def _path_joints(bodies: _Bodies, a: int, b: int) -> tuple[int, list[int]] | Non
 
 
 @dataclass(frozen=True, eq=False)
-class _Culler:
+class Culler:
     """The culling state of one engine: the bodies, the exact-clearance ``margin`` and the
     float32 error ``err``. Each body pair carries the bounding spheres of its two sides."""
 
     kin: KinematicModel
     varying: IntArray
-    bodies: _Bodies
+    bodies: Bodies
     local: FloatArray  # [S, 3] sphere centres in their body frames (float64)
     margin: float
     err: float
 
-    def reach(self, bp: _BodyPair) -> float:
+    def reach(self, bp: BodyPair) -> float:
         """Bounding-sphere centre distance beyond which ``bp`` is farther apart than the
         margin, float32 error included."""
         return float(bp.bound_a[3] + bp.bound_b[3]) + self.margin + (4 * self.err)
 
-    def gaps2(self, R: F32, t: F32, pairs: list[_BodyPair]) -> F32:
+    def gaps2(self, R: F32, t: F32, pairs: list[BodyPair]) -> F32:
         """float32 squared distance between the bounding-sphere centres of each pair's sides
         [P, B], in cache-sized column blocks. Each distinct centre is placed once per
         configuration, however many pairs share it."""
@@ -108,7 +108,7 @@ class _Culler:
                     g += D
         return out
 
-    def choose(self, pairs: list[_BodyPair]) -> list[_BodyPair]:
+    def choose(self, pairs: list[BodyPair]) -> list[BodyPair]:
         """Give body pairs a cell grid (one or two joints between them) or, when a fixed pilot
         sample finds them mostly out of reach, a bounding-sphere cull."""
         if not pairs or len(self.varying) == 0:
@@ -116,7 +116,7 @@ class _Culler:
         lo = self.kin.lower[self.varying]
         hi = self.kin.upper[self.varying]
         q = np.random.default_rng(12345).uniform(lo, hi, size=(_PILOT, len(self.varying)))
-        R, t = _body_fk(self.bodies, q)
+        R, t = body_fk(self.bodies, q)
         out = []
         for bp in pairs:
             grid = self._grid_for(bp)
@@ -128,7 +128,7 @@ class _Culler:
             out.append(replace(bp, cull=near < _CULL_FRACTION))
         return out
 
-    def _grid_for(self, bp: _BodyPair) -> PairGrid | None:
+    def _grid_for(self, bp: BodyPair) -> PairGrid | None:
         path = _path_joints(self.bodies, bp.a, bp.b)
         n_pairs = bp.n_sphere_pairs
         if path is None or not _GRID_MIN_PAIRS <= n_pairs <= _GRID_MAX_PAIRS:
@@ -158,7 +158,7 @@ class _Culler:
         )
 
     def select(
-        self, bp: _BodyPair, q: FloatArray, g2: F32 | None, bound: FloatArray
+        self, bp: BodyPair, q: FloatArray, g2: F32 | None, bound: FloatArray
     ) -> IntArray | None:
         """Configurations of the chunk ``q`` to evaluate for ``bp`` (None: all of them).
 

@@ -1,6 +1,6 @@
 """Layout: the engine's frame pairs cut into body pairs, each one distance matrix.
 
-:func:`_body_pairs` groups the frame pairs that are not constant by their two bodies, drops
+:func:`body_pairs` groups the frame pairs that are not constant by their two bodies, drops
 the spheres that can never come within the margin of the other body (:mod:`.reach`) and cuts
 a side with many spheres (or the static body, which holds everything the c-space does not
 move) into its frames, so that each part is culled with its own bounding sphere
@@ -17,9 +17,9 @@ import numpy as np
 
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import CULL_SLACK, SphereSet, bounding_sphere
-from .bodies import _EPS32, _chain_error, _chains
-from .bounds import _delta
-from .pairs import _BodyPair
+from .bodies import EPS32, body_chains, chain_error
+from .bounds import energy_error
+from .pairs import BodyPair
 from .reach import Reach
 
 #: Body pairs at most this many joints apart have their relative pose composed from those
@@ -42,14 +42,14 @@ class Layout:
     frame pairs; they are decided once and never sampled.
     """
 
-    pairs: list[_BodyPair] = field(default_factory=list)
+    pairs: list[BodyPair] = field(default_factory=list)
     out_of_reach: dict[int, float] = field(default_factory=dict)
     fixed_i: list[int] = field(default_factory=list)
     fixed_j: list[int] = field(default_factory=list)
     fixed_k: list[int] = field(default_factory=list)
 
 
-def _body_pairs(
+def body_pairs(
     spheres: SphereSet,
     frame_body: IntArray,
     local: FloatArray,
@@ -86,7 +86,7 @@ def _split_pair(
     key: tuple[int, int],
     ks: list[int],
     layout: Layout,
-) -> list[_BodyPair]:
+) -> list[BodyPair]:
     a, b = key
     side: dict[int, list[int]] = {a: [], b: []}
     for k in ks:
@@ -162,7 +162,7 @@ def _assemble(
     groups: tuple[set[int], set[int]],
     kept: list[tuple[int, int, int]],
     keep: set[int],
-) -> _BodyPair:
+) -> BodyPair:
     a, b = key
     ia, wa = _side_rows(s, sorted(groups[0]), keep)
     ib, wb = _side_rows(s, sorted(groups[1]), keep)
@@ -181,12 +181,12 @@ def _assemble(
             -2.0 * ra[:, None],
         ]
     )
-    path: tuple[tuple[int, ...], tuple[int, ...]] | None = _chains(reach.bodies, a, b)
-    tau = 2.0 * err + 8.0 * _EPS32 * reach.bodies.lever  # through the world frame
+    path: tuple[tuple[int, ...], tuple[int, ...]] | None = body_chains(reach.bodies, a, b)
+    tau = 2.0 * err + 8.0 * EPS32 * reach.bodies.lever  # through the world frame
     if path is not None and len(path[0]) + len(path[1]) <= _LOCAL_JOINTS:
         reach_max = float(np.max(np.linalg.norm(np.vstack([p, q]), axis=1)))
-        err_path, lever = _chain_error(reach.bodies, path, reach.travel(), reach_max)
-        tau_path = 2.0 * err_path + 8.0 * _EPS32 * lever
+        err_path, lever = chain_error(reach.bodies, path, reach.travel(), reach_max)
+        tau_path = 2.0 * err_path + 8.0 * EPS32 * lever
         if tau_path < tau:
             err, tau = err_path, tau_path
         else:
@@ -195,7 +195,7 @@ def _assemble(
         path = None
     row_starts = np.array(sorted(sl.start for sl in wa.values()), dtype=np.intp)
     col_starts = np.array(sorted(sl.start for sl in wb.values()), dtype=np.intp)
-    return _BodyPair(
+    return BodyPair(
         a=a,
         b=b,
         ia=ia,
@@ -212,7 +212,7 @@ def _assemble(
         seg_a=np.searchsorted(row_starts, [rw.start for _, rw, _ in blocks]).astype(np.intp),
         seg_b=np.searchsorted(col_starts, [cl.start for _, _, cl in blocks]).astype(np.intp),
         p32=p.astype(np.float32),
-        delta=_delta(p, float(ra.max() + rb.max()), err),
+        delta=energy_error(p, float(ra.max() + rb.max()), err),
         bound_a=_bound(p, ra),
         bound_b=_bound(q, rb),
         path=path,

@@ -1,11 +1,11 @@
 """Body pairs: the frame pairs between two moving bodies, evaluated as one distance matrix.
 
-Frame pairs between the same two bodies share one relative transform. :func:`_body_pairs`
+Frame pairs between the same two bodies share one relative transform. :func:`body_pairs`
 groups the engine's frame pairs that way (frame pairs inside one body are constant and decided
-elsewhere) and precomputes, per :class:`_BodyPair`, the augmented sphere matrices that give
+elsewhere) and precomputes, per :class:`BodyPair`, the augmented sphere matrices that give
 every sphere pair's ``d² − (r_a + r_b)²`` as one GEMM in the frame of body ``a``
-(:func:`_evaluate`, in blocks sized for the CPU cache). :func:`_direct` computes float32
-clearances of chosen configurations for the minimum-clearance bookkeeping.
+(:func:`evaluate_pair`, in blocks sized for the CPU cache). :func:`direct_clearances`
+computes float32 clearances of chosen configurations for the minimum-clearance bookkeeping.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import numpy as np
 
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import SphereSet
-from .bodies import F32, _Bodies, _chain_pose
+from .bodies import F32, Bodies, chain_pose
 from .grid import PairGrid
 
 #: float32 elements of one distance block (E = [m_a, m_b, n]): sized for a 512 KB L2 cache.
@@ -26,7 +26,7 @@ _MIN_STEP = 64
 
 
 @dataclass(frozen=True, eq=False)
-class _BodyPair:
+class BodyPair:
     """Frame pairs between body ``a`` (spheres kept in its frame) and body ``b``.
 
     ``p_aug`` [m_a, 6] = ``[−2p, 1, |p|² − r², −2r]`` per sphere of ``a``; ``q_aug`` [m_b, 4] =
@@ -64,8 +64,8 @@ class _BodyPair:
     #: the pair's relative pose is composed from them (few joints between the bodies: a much
     #: smaller float32 error than through the world frame); None: through the world frame.
     path: tuple[tuple[int, ...], tuple[int, ...]] | None = None
-    #: float32 error bound (m) of a clearance computed by :func:`_direct` (see ``delta`` for
-    #: ``d² − R²``).
+    #: float32 error bound (m) of a clearance computed by :func:`direct_clearances` (see
+    #: ``delta`` for ``d² − R²``).
     tau: float = 0.0
 
     @property
@@ -80,14 +80,14 @@ class _BodyPair:
         return out
 
 
-def _frame_bodies(spheres: SphereSet, sphere_body: IntArray) -> IntArray:
+def frame_bodies(spheres: SphereSet, sphere_body: IntArray) -> IntArray:
     """The body of every sphere frame [Fs] (a frame's spheres all sit on one body)."""
     starts = [spheres.spheres_of(f).start for f in range(len(spheres.frame_names))]
     return sphere_body[np.array(starts, dtype=np.intp)]
 
 
-def _pair_constants(
-    spheres: SphereSet, pairs: list[_BodyPair]
+def pair_constants(
+    spheres: SphereSet, pairs: list[BodyPair]
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Per frame pair [K]: the float32 error bound ``delta`` of its body pair and the smallest
     and largest radius sum of its sphere pairs (0 for frame pairs in no body pair)."""
@@ -119,21 +119,21 @@ def _relative(Ra: F32, ta: F32, Rb: F32, tb: F32) -> F32:
 class ChunkPoses:
     """A chunk's float32 body poses ``T`` [nb, 3, 4, B] and joint values ``vals`` [nb − 1, B]."""
 
-    bodies: _Bodies
+    bodies: Bodies
     T: F32
     vals: F32
 
 
-def _pair_transform(bp: _BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
+def _pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     """``T_a⁻¹ T_b`` [3, 4, n] at the selected configurations (all when None): composed
     along ``bp.path`` when it has one, else from the body poses."""
     if bp.path is not None:
         vals = poses.vals if sel is None else np.take(poses.vals, sel, axis=-1)
         chain_a, chain_b = bp.path
-        Tb = _chain_pose(poses.bodies, chain_b, vals)
+        Tb = chain_pose(poses.bodies, chain_b, vals)
         if not chain_a:
             return Tb
-        Ta = _chain_pose(poses.bodies, chain_a, vals)  # (an empty chain is the identity)
+        Ta = chain_pose(poses.bodies, chain_a, vals)  # (an empty chain is the identity)
     else:
         Ta, Tb = poses.T[bp.a], poses.T[bp.b]
         if sel is not None:
@@ -141,7 +141,7 @@ def _pair_transform(bp: _BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F
     return _relative(Ta[:, :3], Ta[:, 3], Tb[:, :3], Tb[:, 3])
 
 
-def _evaluate(bp: _BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
+def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     """float32 minima of ``d² − R²`` [blocks, n] per frame pair of ``bp`` for the selected
     configurations (all when ``sel`` is None).
 
@@ -183,7 +183,7 @@ def _evaluate(bp: _BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     return out
 
 
-def _direct(bp: _BodyPair, poses: ChunkPoses, cols: IntArray) -> F32:
+def direct_clearances(bp: BodyPair, poses: ChunkPoses, cols: IntArray) -> F32:
     """float32 clearance [blocks, n] of each frame pair of ``bp`` at configurations
     ``cols`` (every sphere pair computed directly, in cache-sized column blocks)."""
     out = np.empty((len(bp.blocks), len(cols)), dtype=np.float32)

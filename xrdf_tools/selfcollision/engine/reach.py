@@ -26,7 +26,7 @@ import numpy as np
 
 from ...robot.kinematics import KinematicModel
 from ...util.arrays import BoolArray, FloatArray, IntArray
-from .bodies import PRISM, _Bodies
+from .bodies import PRISM, Bodies
 
 __all__ = ["Reach", "SidePrune"]
 
@@ -46,12 +46,12 @@ class Reach:
     """The bodies of an engine with the range ``[lo, hi]`` of every body's joint value
     (``θ = mult · q + off`` over the joint limits; body 0 has none)."""
 
-    bodies: _Bodies
+    bodies: Bodies
     lo: FloatArray
     hi: FloatArray
 
     @classmethod
-    def of(cls, kin: KinematicModel, varying: IntArray, bodies: _Bodies) -> Reach:
+    def of(cls, kin: KinematicModel, varying: IntArray, bodies: Bodies) -> Reach:
         lo = np.zeros(bodies.n)
         hi = np.zeros(bodies.n)
         for j in range(1, bodies.n):

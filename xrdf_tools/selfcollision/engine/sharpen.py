@@ -18,7 +18,7 @@ import numpy as np
 
 from ...util.arrays import FloatArray, IntArray
 from ..collision import SphereSet
-from .bodies import PRISM, _Bodies, _chains
+from .bodies import PRISM, Bodies, body_chains
 
 __all__ = ["Sharpener"]
 
@@ -37,7 +37,7 @@ class Sharpener:
     ``d² − R²`` near zero.
     """
 
-    bodies: _Bodies
+    bodies: Bodies
     spheres: SphereSet
     local: FloatArray
     frame_body: IntArray
@@ -47,7 +47,7 @@ class Sharpener:
     @classmethod
     def of(
         cls,
-        bodies: _Bodies,
+        bodies: Bodies,
         spheres: SphereSet,
         local: FloatArray,
         frame_body: IntArray,
@@ -135,7 +135,7 @@ class Sharpener:
     def relative(self, a: int, b: int, q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Pose of body ``b`` in the frame of body ``a`` at configurations ``q`` [n, varying]:
         rotations [n, 3, 3] and translations [n, 3], float64."""
-        chain_a, chain_b = _chains(self.bodies, a, b)
+        chain_a, chain_b = body_chains(self.bodies, a, b)
         Ra, ta = self._pose(chain_a, q)
         Rb, tb = self._pose(chain_b, q)
         RaT = Ra.transpose(0, 2, 1)
