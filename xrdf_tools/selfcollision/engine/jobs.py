@@ -29,6 +29,8 @@ if TYPE_CHECKING:
 
 __all__ = ["MAX_SAMPLES", "MIN_SAMPLES_PER_JOB", "ProgressFn", "count_sampled", "default_jobs"]
 
+#: Longest wait (s) for a stopped pool's manager thread to end.
+_MANAGER_JOIN_S = 0.5
 #: Below this many samples per worker, starting a worker process costs more than it saves.
 MIN_SAMPLES_PER_JOB = 1_000_000
 
@@ -161,6 +163,9 @@ def stop_workers() -> None:
 def _kill(pool: ProcessPoolExecutor) -> None:
     """Stop ``pool`` now: its processes killed, its queued work dropped."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
+    # the pool's manager thread closes its wake-up pipe as it ends; it is let end here, or the
+    # interpreter's exit may write to that pipe while it is being closed (a traceback)
+    manager = getattr(pool, "_executor_manager_thread", None)
     for proc in processes:
         with suppress(Exception):
             proc.kill()
@@ -168,6 +173,8 @@ def _kill(pool: ProcessPoolExecutor) -> None:
     for proc in processes:
         with suppress(Exception):
             proc.join(0.2)
+    if manager is not None:
+        manager.join(_MANAGER_JOIN_S)
 
 
 @contextmanager
