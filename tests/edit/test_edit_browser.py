@@ -18,6 +18,7 @@ import re
 import shutil
 import time
 from collections.abc import Iterator
+from contextlib import suppress
 from pathlib import Path
 from typing import Any
 
@@ -78,6 +79,20 @@ def set_number(page: Any, label: str, value: float, nth: int = 0) -> None:
     box = row(page, label).locator("input.mantine-NumberInput-input").nth(nth)
     box.fill(str(value))
     box.press("Enter")
+
+
+def set_number_until(
+    page: Any, label: str, value: float, done: Any, what: str, tries: int = 4
+) -> None:
+    """Set a number field until ``done()`` holds: a value typed while the page redraws its
+    controls is lost with the old control, so it is typed again (at most ``tries`` times)."""
+    for _ in range(tries - 1):
+        set_number(page, label, value)
+        with suppress(AssertionError):
+            wait_for(done, what, timeout=10.0)
+            return
+    set_number(page, label, value)
+    wait_for(done, what)
 
 
 def choose(page: Any, label: str, option: str) -> None:
@@ -240,9 +255,10 @@ def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
         expect(page.get_by_role("button", name="Save…")).to_be_disabled()
         expect(page.get_by_text("read-only")).to_be_visible()
         choose(page, "Link", "panda_link2")
+        settle(editor, page)
         choose(page, "Sphere", "0")
-        set_number(page, "Radius", 0.08)
-        wait_for(lambda: editor.state.dirty, "the edit")
+        settle(editor, page)
+        set_number_until(page, "Radius", 0.08, lambda: editor.state.dirty, "the edit")
         assert not editor.save()
         assert target.read_bytes() == PANDA_XRDF.read_bytes()
         page.close()
