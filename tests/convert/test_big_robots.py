@@ -42,7 +42,8 @@ def _fitted(
     urdf = root / urdf_rel
     if case not in _FITTED:
         out = tmp_path_factory.mktemp(case) / "r.xrdf"
-        args = ["convert", str(urdf), *choice, "--fit-spheres", "-q", "-o", str(out)]
+        # 10,000 samples for the mask (default 100,000): nothing here depends on the mask
+        args = ["convert", str(urdf), *choice, "--fit-spheres", "-n", "10000", "-q", "-o", str(out)]
         if srdf_rel is not None:
             args += ["--srdf", str(root / srdf_rel)]
         done = runner.invoke(app, args)
