@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 from tests.paths import UR10E_URDF, UR10E_XRDF
 from tests.robots import robot_urdf
 from xrdf_tools.cli import app
-from xrdf_tools.cli.commands import common, core
+from xrdf_tools.cli.commands import plain, typer_common
 
 COMMANDS = [
     ["convert"],
@@ -102,7 +102,7 @@ def test_quiet_drops_notes_verbose_adds_timings(runner: CliRunner, tmp_path: Pat
 def test_verbosity_does_not_outlive_its_run(runner: CliRunner) -> None:
     assert _run(runner, "convert", "-q", str(UR10E_URDF)).stderr == ""
     assert "warning" in _run(runner, "convert", str(UR10E_URDF)).stderr
-    assert core.verbosity() is core.Verbosity.NORMAL
+    assert plain.verbosity() is plain.Verbosity.NORMAL
 
 
 # ------------------------------------------------------------------------------------------
@@ -217,17 +217,17 @@ def test_write_output_names_the_users_path(tmp_path: Path, capsys: Any) -> None:
     blocker.write_text("x")
     target = blocker / "out.xrdf"
     with pytest.raises(typer.Exit) as exc:
-        common.write_output("data", target)
+        typer_common.write_output("data", target)
     assert exc.value.exit_code == 2
     err = capsys.readouterr().err
     assert f"{target}:" in err and "cannot write" in err and ".tmp" not in err
 
 
 def test_write_output_stdout_and_file(tmp_path: Path, capsys: Any) -> None:
-    common.write_output("text\n", None)
-    common.write_output(b"bytes\n", Path("-"))
+    typer_common.write_output("text\n", None)
+    typer_common.write_output(b"bytes\n", Path("-"))
     assert capsys.readouterr().out == "text\nbytes\n"
-    common.write_output(b"\x00\x01", tmp_path / "sub" / "o.bin")
+    typer_common.write_output(b"\x00\x01", tmp_path / "sub" / "o.bin")
     assert (tmp_path / "sub" / "o.bin").read_bytes() == b"\x00\x01"
 
 
@@ -243,13 +243,13 @@ def test_cli_write_error_names_the_path(runner: CliRunner, tmp_path: Path) -> No
 # One progress bar
 # ------------------------------------------------------------------------------------------
 def test_progress_bar_only_on_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
-    with common.progress_bar() as bar:
+    with typer_common.progress_bar() as bar:
         assert bar is None  # pytest's stderr is not a terminal
-    monkeypatch.setattr(common, "stderr_is_terminal", lambda: True)
-    with common.progress_bar() as bar:
+    monkeypatch.setattr(typer_common, "stderr_is_terminal", lambda: True)
+    with typer_common.progress_bar() as bar:
         assert bar is not None
         bar("working", 1, 2)
-    with common.progress_bar(enabled=False) as bar:
+    with typer_common.progress_bar(enabled=False) as bar:
         assert bar is None
 
 
@@ -260,7 +260,7 @@ def test_commands_draw_the_common_bar_unless_quiet(
     import rich.progress
 
     started: list[int] = []
-    monkeypatch.setattr(common, "stderr_is_terminal", lambda: True)
+    monkeypatch.setattr(typer_common, "stderr_is_terminal", lambda: True)
     original = rich.progress.Progress.start
     monkeypatch.setattr(
         rich.progress.Progress, "start", lambda self: (started.append(1), original(self))[1]
@@ -276,7 +276,7 @@ def test_one_progress_style_in_the_commands() -> None:
 
     root = Path(pkg.__file__).parent
     for f in root.glob("*.py"):
-        if f.name == "common.py":
+        if f.name == "typer_common.py":
             continue
         text = f.read_text()
         assert "rich.progress" not in text and "typer.progressbar" not in text, f.name

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 
-from xrdf_tools.cli.commands.core import DIAGNOSTIC_RENDERERS, OutputFormat, render_diagnostics
+from xrdf_tools.cli.commands.plain import DIAGNOSTIC_RENDERERS, OutputFormat, render_diagnostics
 from xrdf_tools.diagnostics import Diagnostic, Severity
 
 

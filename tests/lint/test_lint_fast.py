@@ -14,8 +14,8 @@ from typer.testing import CliRunner
 
 from tests.paths import FIXTURES, REPO, SEED_XRDF, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
-from xrdf_tools.cli.commands.core import OutputFormat
 from xrdf_tools.cli.commands.lint_core import LintArgs, fast_main, parse_fast
+from xrdf_tools.cli.commands.plain import OutputFormat
 
 LINT = FIXTURES / "lint"
 URDF_LINE = re.compile(r"^# urdf: (.+)$", re.M)

@@ -339,7 +339,7 @@ def test_coverage_comes_from_the_sphere_tools_with_their_diagnostics() -> None:
 
 
 def test_every_report_format_is_one_renderer_of_the_report_or_of_its_findings() -> None:
-    from xrdf_tools.cli.commands.core import OutputFormat
+    from xrdf_tools.cli.commands.plain import OutputFormat
     from xrdf_tools.cli.commands.report import ReportFormat
     from xrdf_tools.report.render import RENDERERS
 

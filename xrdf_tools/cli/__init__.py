@@ -99,7 +99,7 @@ def one_blas_thread_for(argv: list[str], environ: MutableMapping[str, str]) -> N
 
 def _run() -> None:
     from ..util.errors import XrdfToolsError
-    from .commands.core import echo
+    from .commands.plain import echo
 
     one_blas_thread_for(sys.argv[1:], os.environ)
     try:

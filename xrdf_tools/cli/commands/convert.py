@@ -15,7 +15,17 @@ import typer
 from ...diagnostics import Severity
 from ...util.errors import XrdfToolsError
 from ...util.numbers import MAX_SAMPLES
-from .common import (
+from .plain import (
+    EXIT_FINDINGS,
+    OutputFormat,
+    Verbosity,
+    detail,
+    has_failures,
+    is_stdio,
+    timed,
+    verbosity,
+)
+from .typer_common import (
     AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
@@ -29,22 +39,12 @@ from .common import (
     stderr_is_terminal,
     write_output,
 )
-from .core import (
-    EXIT_FINDINGS,
-    OutputFormat,
-    Verbosity,
-    detail,
-    has_failures,
-    is_stdio,
-    timed,
-    verbosity,
-)
 
 if TYPE_CHECKING:
     from ...convert.pipeline import Progress
     from ...spheres.fit import Plane
     from ...xrdf.model import Xrdf
-    from .common import ProgressUpdate
+    from .typer_common import ProgressUpdate
 
 #: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
 _STAGES = {"fitting": "fitting spheres (links)", "sampling": "sampling the mask"}

@@ -10,7 +10,8 @@ from typing import Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
-from .common import (
+from .plain import EXIT_FINDINGS, EXIT_OK, load_robot_option
+from .typer_common import (
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -20,7 +21,6 @@ from .common import (
     refuse_two_stdin,
     write_output,
 )
-from .core import EXIT_FINDINGS, EXIT_OK, load_robot_option
 
 #: ``xrdf_tools.diff.DEFAULT_TOLERANCE``, repeated so that importing the CLI (every ``xrdf lint``
 #: start) does not import the diff engine; a test keeps the two equal.

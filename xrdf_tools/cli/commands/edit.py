@@ -9,7 +9,8 @@ import typer
 
 from ...util.errors import XrdfToolsError
 from ...util.extras import FIT, require
-from .common import (
+from .plain import OutputFormat, detail, is_stdio, load_robot_option, pairs, timed
+from .typer_common import (
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -20,7 +21,6 @@ from .common import (
     note,
     refuse_input_overwrite,
 )
-from .core import OutputFormat, detail, is_stdio, load_robot_option, pairs, timed
 
 if TYPE_CHECKING:
     from ...robot.core import Robot

@@ -11,7 +11,8 @@ from typing import Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
-from .common import (
+from .plain import timed
+from .typer_common import (
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -20,7 +21,6 @@ from .common import (
     refuse_input_overwrite,
     write_output,
 )
-from .core import timed
 
 
 def command(
@@ -56,7 +56,7 @@ def command(
     """
     from ...robot.urdf_source import urdf_text
     from ...robot.xacro_source import is_xacro
-    from .core import load_robot_option
+    from .plain import load_robot_option
 
     if output is not None:
         refuse_input_overwrite(output, [robot])

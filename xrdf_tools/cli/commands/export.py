@@ -10,7 +10,8 @@ import typer
 
 from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
-from .common import (
+from .plain import OutputFormat, is_stdio
+from .typer_common import (
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -22,7 +23,6 @@ from .common import (
     refuse_two_stdin,
     write_output,
 )
-from .core import OutputFormat, is_stdio
 
 if TYPE_CHECKING:
     from ...robot.core import Robot

@@ -13,8 +13,8 @@ from typing import Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
-from .common import PackagePathOption, QuietOption, VerboseOption, XacroArgOption, fail
-from .core import echo, timed
+from .plain import echo, timed
+from .typer_common import PackagePathOption, QuietOption, VerboseOption, XacroArgOption, fail
 
 
 class InspectFormat(str, Enum):
@@ -65,7 +65,7 @@ def command(
     """
     from ...convert.inspect import inspect_robot
     from ...convert.inspect_text import render_inspection
-    from .core import load_robot_option
+    from .plain import load_robot_option
 
     try:
         with timed("inspect"):

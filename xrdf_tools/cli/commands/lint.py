@@ -12,7 +12,9 @@ from typing import Annotated, Any
 
 import typer
 
-from .common import (
+from .lint_core import LINT_OPTIONS
+from .plain import OutputFormat
+from .typer_common import (
     AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
@@ -22,8 +24,6 @@ from .common import (
     typer_option,
     write_output,
 )
-from .core import OutputFormat
-from .lint_core import LINT_OPTIONS
 
 
 def _option(name: str) -> Any:

@@ -17,7 +17,20 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...util.errors import one_line
-from .core import (
+from .options import (
+    ALLOW_MISSING_MESHES,
+    PACKAGE_PATH,
+    QUIET,
+    VERBOSE,
+    XACRO_ARG,
+    Option,
+    OptionTable,
+    choice,
+    parse_command_line,
+    path,
+    text,
+)
+from .plain import (
     EXIT_FINDINGS,
     EXIT_OK,
     EXIT_USAGE,
@@ -31,19 +44,6 @@ from .core import (
     run_verbosity,
     timed,
     two_stdin,
-)
-from .options import (
-    ALLOW_MISSING_MESHES,
-    PACKAGE_PATH,
-    QUIET,
-    VERBOSE,
-    XACRO_ARG,
-    Option,
-    OptionTable,
-    choice,
-    parse_command_line,
-    path,
-    text,
 )
 
 if TYPE_CHECKING:

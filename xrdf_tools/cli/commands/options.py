@@ -5,8 +5,8 @@ exactly as typer would (:func:`parse_command_line`); anything else (``--help``, 
 ``-v``, shell completion) is left to the Typer app, so that help, usage errors and every message
 stay typer's. Both readers take the names, values and limits of the options from one
 :class:`OptionTable`: the Typer command builds each ``typer.Option`` from it
-(:func:`xrdf_tools.cli.commands.common.typer_option`), and a test checks that the two accept the
-same options. This module imports no typer.
+(:func:`xrdf_tools.cli.commands.typer_common.typer_option`), and a test checks that the two
+accept the same options. This module imports no typer.
 """
 
 from __future__ import annotations

@@ -17,15 +17,6 @@ from typing import Annotated, Any
 import typer
 
 from ...util.errors import XrdfToolsError
-from .common import (
-    PackagePathOption,
-    QuietOption,
-    VerboseOption,
-    XacroArgOption,
-    fail,
-    progress_bar,
-    typer_option,
-)
 from .report_core import (
     REPORT_OPTIONS,
     MaskPolicy,
@@ -34,6 +25,15 @@ from .report_core import (
     ReportPart,
     SamplerChoice,
     run,
+)
+from .typer_common import (
+    PackagePathOption,
+    QuietOption,
+    VerboseOption,
+    XacroArgOption,
+    fail,
+    progress_bar,
+    typer_option,
 )
 
 

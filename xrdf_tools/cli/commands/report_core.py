@@ -20,7 +20,20 @@ from typing import TYPE_CHECKING
 
 from ...util.errors import XrdfToolsError, one_line
 from ...util.numbers import MAX_SAMPLES
-from .core import (
+from .options import (
+    PACKAGE_PATH,
+    QUIET,
+    VERBOSE,
+    XACRO_ARG,
+    Option,
+    OptionTable,
+    choice,
+    integer,
+    number,
+    parse_command_line,
+    path,
+)
+from .plain import (
     EXIT_FINDINGS,
     EXIT_OK,
     EXIT_USAGE,
@@ -43,19 +56,6 @@ from .core import (
     timed,
     verbosity,
     write_result,
-)
-from .options import (
-    PACKAGE_PATH,
-    QUIET,
-    VERBOSE,
-    XACRO_ARG,
-    Option,
-    OptionTable,
-    choice,
-    integer,
-    number,
-    parse_command_line,
-    path,
 )
 
 if TYPE_CHECKING:

@@ -12,7 +12,8 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
-from .common import (
+from .plain import EXIT_FINDINGS, OutputFormat, detail, is_stdio, load_robot_option, timed
+from .typer_common import (
     AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
@@ -27,12 +28,11 @@ from .common import (
     stderr_is_terminal,
     write_output,
 )
-from .core import EXIT_FINDINGS, OutputFormat, detail, is_stdio, load_robot_option, timed
 
 if TYPE_CHECKING:
     from collections.abc import Callable
 
-    from .common import ProgressUpdate
+    from .typer_common import ProgressUpdate
 
 
 def _split_links(values: list[str] | None) -> list[str] | None:

@@ -9,7 +9,8 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from ...util.errors import XrdfToolsError
-from .common import (
+from .plain import OutputFormat, detail, is_stdio, load_robot_option, timed
+from .typer_common import (
     AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
@@ -23,7 +24,6 @@ from .common import (
     progress_bar,
     refuse_input_overwrite,
 )
-from .core import OutputFormat, detail, is_stdio, load_robot_option, timed
 
 if TYPE_CHECKING:
     from collections.abc import Sequence

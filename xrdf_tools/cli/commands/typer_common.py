@@ -1,7 +1,7 @@
 """Helpers shared by the CLI commands: error exits, verbosity (``-q``/``-v``), diagnostics
 on stderr, progress bars, ``-`` for standard input and output, safe writes.
 
-What needs no typer lives in :mod:`xrdf_tools.cli.commands.core`.
+What needs no typer lives in :mod:`xrdf_tools.cli.commands.plain`.
 """
 
 from __future__ import annotations
@@ -17,7 +17,15 @@ import typer
 
 from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError, one_line
-from .core import (
+from .options import (
+    ALLOW_MISSING_MESHES,
+    PACKAGE_PATH,
+    QUIET,
+    VERBOSE,
+    XACRO_ARG,
+    Option,
+)
+from .plain import (
     EXIT_USAGE,
     OutputFormat,
     Verbosity,
@@ -28,20 +36,12 @@ from .core import (
     verbosity,
     write_result,
 )
-from .core import RUN as _RUN
-from .core import VERBOSITY_KEY as _VERBOSITY
-from .core import ProgressUpdate as ProgressUpdate
-from .core import load_xrdf_input as load_xrdf_input  # the commands' helpers, shared here too
-from .core import note as note
-from .core import one_bar as one_bar
-from .options import (
-    ALLOW_MISSING_MESHES,
-    PACKAGE_PATH,
-    QUIET,
-    VERBOSE,
-    XACRO_ARG,
-    Option,
-)
+from .plain import RUN as _RUN
+from .plain import VERBOSITY_KEY as _VERBOSITY
+from .plain import ProgressUpdate as ProgressUpdate
+from .plain import load_xrdf_input as load_xrdf_input  # the commands' helpers, shared here too
+from .plain import note as note
+from .plain import one_bar as one_bar
 
 if TYPE_CHECKING:
     pass
@@ -189,7 +189,7 @@ def refuse_two_stdin(inputs: Mapping[str, Sequence[Path | str | None]]) -> None:
 
 
 def write_output(data: str | bytes, output: Path | None) -> None:
-    """The one output writer (:func:`~xrdf_tools.cli.commands.core.write_result`); a failed
+    """The one output writer (:func:`~xrdf_tools.cli.commands.plain.write_result`); a failed
     write exits 2 naming the user's path."""
     try:
         write_result(data, output)
@@ -199,7 +199,7 @@ def write_output(data: str | bytes, output: Path | None) -> None:
 
 def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
     """Exit with an error when ``output`` names one of the inputs or cannot be an output
-    (:func:`~xrdf_tools.cli.commands.core.check_input_overwrite`)."""
+    (:func:`~xrdf_tools.cli.commands.plain.check_input_overwrite`)."""
     try:
         check_input_overwrite(output, inputs)
     except XrdfToolsError as e:
@@ -208,7 +208,7 @@ def refuse_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) ->
 
 def refuse_output_clash(outputs: Mapping[str, Path | None]) -> None:
     """Exit with an error when two output options name the same file
-    (:func:`~xrdf_tools.cli.commands.core.check_output_clash`)."""
+    (:func:`~xrdf_tools.cli.commands.plain.check_output_clash`)."""
     try:
         check_output_clash(outputs)
     except XrdfToolsError as e:

@@ -2,9 +2,10 @@
 renderer dispatch, the ``-q``/``-v`` level, ``-`` for standard input, the ``--urdf`` loader,
 and :func:`echo`.
 
-The Typer commands import it beside :mod:`xrdf_tools.cli.commands.common` (the typer parts); the
-fast start-up path of ``xrdf lint`` (:mod:`xrdf_tools.cli.commands.lint_core`) imports only this
-module, so that it runs without importing typer.
+The Typer commands import it beside :mod:`xrdf_tools.cli.commands.typer_common` (what needs
+typer); the typer-free command bodies (:mod:`~xrdf_tools.cli.commands.lint_core`,
+:mod:`~xrdf_tools.cli.commands.report_core`) import only this module, so that they run without
+importing typer.
 """
 
 from __future__ import annotations
