@@ -239,3 +239,45 @@ def test_grid_far_cells_are_really_beyond_the_margin() -> None:
         d = np.linalg.norm(c[:, bp.ia[i]] - c[:, bp.ib[j]], axis=-1)
         clr = d - spheres.self_radii[bp.ia[i]] - spheres.self_radii[bp.ib[j]]
         assert clr.min() > 0.01
+
+
+def _every_cell_far_2d(ev, shape, h):  # type: ignore[no-untyped-def]
+    """The plain two-level decision: every coarse cell, then every fine cell of the coarse
+    cells that are not far, each on all sphere pairs."""
+    split = 4
+    n0, n1 = shape
+    c0, c1 = -(-n0 // split), -(-n1 // split)
+    i0, i1 = np.divmod(np.arange(c0 * c1), c1)
+    coarse = ev.far([i0, i1], h * split)
+    far = np.zeros((c0 * split, c1 * split), dtype=np.bool_)
+    far.reshape(c0, split, c1, split)[:] = coarse.reshape(c0, 1, c1, 1)
+    todo = np.flatnonzero(~coarse)
+    sub0, sub1 = np.divmod(np.arange(split * split), split)
+    f0 = ((todo // c1)[:, None] * split + sub0[None, :]).ravel()
+    f1 = ((todo % c1)[:, None] * split + sub1[None, :]).ravel()
+    if len(todo):
+        far[f0, f1] = ev.far([f0, f1], h)
+    return np.ascontiguousarray(far[:n0, :n1]).ravel()
+
+
+def test_grid_levels_decided_on_the_pairs_that_matter_equal_every_pair_everywhere(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Deciding a level only on the sphere pairs whose parent-cell gap is small gives the same
+    far cells and the same clearance bound as deciding every cell on every pair."""
+    import xrdf_tools.selfcollision.engine.grid as grid_mod
+
+    kin, xrdf = panda()
+    assert xrdf.cspace is not None
+    cspace = [kin.actuated_index(j) for j in xrdf.cspace.joint_names]
+    fast, _, _ = engine_for(kin, xrdf, True, cspace, margin=0.01)
+    monkeypatch.setattr(grid_mod, "_far_2d", _every_cell_far_2d)
+    plain, _, _ = engine_for(kin, xrdf, True, cspace, margin=0.01)
+    grids = [(a.grid, b.grid) for a, b in zip(fast.pairs, plain.pairs, strict=True) if a.grid]
+    two_joint = [(a, b) for a, b in grids if b is not None and len(b.shape) == 2]
+    assert len(two_joint) >= 4
+    assert any(not b.all_far for _, b in two_joint)  # the hand/link5 grid has near cells
+    for a, b in grids:
+        assert b is not None
+        np.testing.assert_array_equal(a.far, b.far)
+        assert a.far_bound == pytest.approx(b.far_bound, rel=1e-12, abs=1e-15)

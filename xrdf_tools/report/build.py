@@ -66,9 +66,6 @@ __all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
 
 #: Configurations per chunk: the engine's working set stays in a few MB.
 DEFAULT_CHUNK = 65536
-#: Configurations from which the engine's culling grids are built: below, building them costs
-#: more than they save (tens to hundreds of milliseconds).
-CULL_FROM = 100_000
 #: Smallest chunk a sample is cut into (a sample is cut into at least ten, for progress).
 _MIN_CHUNK = 4096
 
@@ -128,10 +125,7 @@ def self_collision_report(
     work = spheres_all.select_frame_pairs(sampled)
     work_index = np.flatnonzero(sampled)
 
-    n_expected = samples if configs is None else int((np.shape(configs) or (0,))[0])
-    engine = CountEngine(
-        kin, work, idx, q_default, margin=clearance_margin, cull=n_expected >= CULL_FROM
-    )
+    engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
     trajectory: list[TrajectoryHit] | None = None
     if configs is not None:
         qc = np.asarray(configs, dtype=np.float64)

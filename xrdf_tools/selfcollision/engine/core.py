@@ -120,9 +120,7 @@ class CountEngine:
     ``spheres``: the frame pairs to count (e.g. a :meth:`SphereSet.select_frame_pairs`
     selection). ``varying``: indices into the actuated joints that change (the c-space);
     every other joint stays at ``q_base`` [n]. ``margin``: minimum clearances below it are
-    exact (float64), larger ones may come back as lower bounds. ``cull``: give body pairs
-    cell grids or bounding-sphere culls (:class:`Culler`), which pay off on large samples
-    only (building them takes tens to hundreds of milliseconds).
+    exact (float64), larger ones may come back as lower bounds.
     """
 
     def __init__(
@@ -133,7 +131,6 @@ class CountEngine:
         q_base: npt.ArrayLike,
         *,
         margin: float = 0.0,
-        cull: bool = True,
     ) -> None:
         self.kin = kin
         self.spheres = spheres
@@ -169,7 +166,7 @@ class CountEngine:
         #: [K] whether a sphere pair that no joint moves collides, and the smallest clearance
         #: of those pairs (+inf where there are none): decided once, never sampled.
         self.fixed_hit, self.fixed_clear = self._fixed_pairs(layout)
-        self.pairs = self.culler.choose(pairs) if cull else pairs
+        self.pairs = self.culler.choose(pairs)
         self.sharpener = Sharpener.of(
             self.bodies, spheres, self.local, self.frame_body, kin.n_frames
         )

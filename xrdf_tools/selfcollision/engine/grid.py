@@ -14,6 +14,7 @@ no verdict and no exact value; it only skips work.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -161,25 +162,54 @@ def build_pair_grid(
 
 
 _SPLIT = 4
+#: Sphere pairs of the parent cells split at once (each may look at 16 child cells).
+_SPLIT_PAIRS = 1 << 16
 #: Cells of a two-joint grid decided first, to tell whether the grid is worth building.
 _PILOT_CELLS = 512
 
 
+def _slices(items: IntArray, step: int) -> Iterator[IntArray]:
+    for s0 in range(0, len(items), step):
+        yield items[s0 : s0 + step]
+
+
 def _far_2d(ev: _CellTest, shape: list[int], h: FloatArray) -> BoolArray:
-    """Far flags of a two-joint grid: coarse cells first, then the fine cells of the rest."""
+    """Far flags of a two-joint grid: coarse cells first, then the fine cells of the rest.
+
+    A cell lies inside its parent (a cell four times as wide per joint), so a sphere pair's
+    gap there is at least its gap in the parent (the centres move by at most the difference
+    of the motion bounds). A level is therefore decided on the sphere pairs whose parent gap is
+    no more than the smallest far gap seen so far: the others are far there and cannot be the
+    smallest. The coarse cells are decided that way from their parents when a pilot has seen a
+    far cell, the fine cells of coarse cells that are not far always.
+    """
     n0, n1 = shape
     c0, c1 = -(-n0 // _SPLIT), -(-n1 // _SPLIT)
-    i0, i1 = np.divmod(np.arange(c0 * c1), c1)
-    coarse = ev.far([i0, i1], h * _SPLIT)
-    far = np.zeros((c0 * _SPLIT, c1 * _SPLIT), dtype=np.bool_)
-    far.reshape(c0, _SPLIT, c1, _SPLIT)[:] = coarse.reshape(c0, 1, c1, 1)
-    todo = np.flatnonzero(~coarse)
-    if len(todo):
-        sub0, sub1 = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
-        f0 = ((todo // c1)[:, None] * _SPLIT + sub0[None, :]).ravel()
-        f1 = ((todo % c1)[:, None] * _SPLIT + sub1[None, :]).ravel()
-        far[f0, f1] = ev.far([f0, f1], h)
+    hc = h * _SPLIT
+    if math.isfinite(ev.low[0]):
+        p0, p1 = -(-c0 // _SPLIT), -(-c1 // _SPLIT)
+        coarse = _children_far(ev, np.arange(p0 * p1), p1, (c0, c1), hc).ravel()
+    else:
+        i0, i1 = np.divmod(np.arange(c0 * c1), c1)
+        coarse = ev.far([i0, i1], hc)
+    far = _children_far(ev, np.flatnonzero(~coarse), c1, (c0 * _SPLIT, c1 * _SPLIT), h)
+    far |= np.repeat(np.repeat(coarse.reshape(c0, c1), _SPLIT, axis=0), _SPLIT, axis=1)
     out: BoolArray = np.ascontiguousarray(far[:n0, :n1]).ravel()
+    return out
+
+
+def _children_far(
+    ev: _CellTest, parents: IntArray, width: int, shape: tuple[int, int], h: FloatArray
+) -> BoolArray:
+    """Far flags [shape] of the cells (widths ``h``) inside the parent cells ``parents``
+    (row-major indices in a grid ``width`` parents wide); other cells stay False."""
+    far = np.zeros((-(-shape[0] // _SPLIT) * _SPLIT, -(-shape[1] // _SPLIT) * _SPLIT), np.bool_)
+    sub0, sub1 = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
+    for cells in _slices(parents, ev.cells_per_slice(_SPLIT_PAIRS)):
+        f0 = ((cells // width)[:, None] * _SPLIT + sub0[None, :]).ravel()
+        f1 = ((cells % width)[:, None] * _SPLIT + sub1[None, :]).ravel()
+        far[f0, f1] = ev.split_far([cells // width, cells % width], h, shape).ravel()
+    out: BoolArray = far[: shape[0], : shape[1]]
     return out
 
 
@@ -199,24 +229,83 @@ class _CellTest:
 
     def far(self, idx: list[IntArray], h: FloatArray) -> BoolArray:
         """``idx``: cell indices per joint (outer first), all of one length L."""
-        motion = sum(lv * hj / 2 for lv, hj in zip(self.levers, h.tolist(), strict=True))
-        thr = np.where(self.relevant, self.reach + motion[None, :], -np.inf).T  # [m_b, m_a]
+        thr = self._reach_with_motion(h)
         thr2 = np.square(np.maximum(thr, 0.0)) * np.sign(thr)
-        p2 = np.sum(self.p_anc**2, axis=1)
         out = np.empty(len(idx[0]), dtype=np.bool_)
-        margin2 = np.where(self.relevant, self.reach + motion[None, :], np.inf).T
-        step = max(1, (1 << 20) // max(1, self.x_desc.shape[0] * self.p_anc.shape[0]))
-        for s0 in range(0, len(out), step):
+        # per sphere pair, the smallest squared centre distance over far cells
+        nearest = np.full(thr.shape, np.inf)
+        for sl, d2 in self._distances2(idx, h):
+            far = np.greater(d2, thr2[None]).reshape(len(d2), -1).all(axis=1)
+            out[sl] = far
+            if far.any():
+                d2_far = d2.min(axis=0, where=far[:, None, None], initial=np.inf)
+                np.minimum(nearest, d2_far, out=nearest)
+        if out.any():  # the smallest centre distance minus reach, over far cells
+            reach = np.where(np.isfinite(thr), thr, np.inf)
+            gap = np.sqrt(np.maximum(nearest, 0.0)) - reach
+            self.low[0] = min(self.low[0], float(gap.min()))
+        return out
+
+    def cells_per_slice(self, sphere_pairs: int = 1 << 20) -> int:
+        """Cells per slice of the distance computations: about ``sphere_pairs`` each."""
+        m = int(self.x_desc.shape[0]) * int(self.p_anc.shape[0])
+        return max(1, sphere_pairs // max(1, m))
+
+    def split_far(self, idx: list[IntArray], h: FloatArray, shape: tuple[int, int]) -> BoolArray:
+        """Far flags [L, 16] of the fine cells (widths ``h``) of the coarse cells ``idx``
+        (widths 4·``h``), row-major within each coarse cell; fine cells outside ``shape``
+        are left out (False).
+
+        Only the sphere pairs whose gap in the coarse cell is at most the smallest far gap
+        seen so far are computed: the others are far in every fine cell and larger there.
+        """
+        ((_, d2c),) = self._distances2(idx, h * _SPLIT)
+        thr_c = self._reach_with_motion(h * _SPLIT)
+        gap_c = np.sqrt(np.maximum(d2c, 0.0)) - thr_c[None]
+        cell, jb, ia = np.nonzero(gap_c <= self.low[0])  # the pairs to look at, by coarse cell
+        # each (coarse cell, descendant sphere) once, at the 16 fine cell centres
+        m_b = self.x_desc.shape[0]
+        key, at = np.unique(cell * m_b + jb, return_inverse=True)
+        u_cell, u_sphere = np.divmod(key, m_b)
+        sub = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
+        theta = [self.lo[j] + (idx[j][u_cell, None] * _SPLIT + sub[j] + 0.5) * h[j] for j in (0, 1)]
+        pts = _turned(self.x_desc[u_sphere, None, :], theta[1], self.consts[1])
+        pts = _turned(pts, theta[0], self.consts[0])  # [U, 16, 3]
+        diff = pts[at] - self.p_anc[ia][:, None, :]  # [E, 16, 3]
+        dist = np.sqrt(np.einsum("esk,esk->es", diff, diff))
+        child = [idx[j][:, None] * _SPLIT + sub[j] for j in (0, 1)]  # [L, 16]
+        outside = (child[0] >= shape[0]) | (child[1] >= shape[1])
+        dist[outside[cell]] = np.inf
+        thr = self._reach_with_motion(h)[jb, ia][:, None]
+        near = np.zeros((len(idx[0]), _SPLIT * _SPLIT), dtype=np.bool_)
+        np.logical_or.at(near, cell, dist <= thr)
+        far: BoolArray = ~(near | outside)
+        in_far = far[cell]
+        if in_far.any():
+            self.low[0] = min(self.low[0], float((dist - thr)[in_far].min()))
+        return far
+
+    def _reach_with_motion(self, h: FloatArray) -> FloatArray:
+        """Per relevant sphere pair [m_b, m_a]: reach plus the cell's motion bound (−inf for
+        the pairs that are not counted)."""
+        motion = sum(lv * hj / 2 for lv, hj in zip(self.levers, h.tolist(), strict=True))
+        thr: FloatArray = np.where(self.relevant, self.reach + motion[None, :], -np.inf).T
+        return thr
+
+    def _distances2(self, idx: list[IntArray], h: FloatArray) -> Iterator[tuple[slice, FloatArray]]:
+        """Squared centre distances [L', m_b, m_a] of the cells ``idx``, in bounded slices."""
+        m_b, m_a = self.x_desc.shape[0], self.p_anc.shape[0]
+        p2 = np.sum(self.p_anc**2, axis=1)
+        step = self.cells_per_slice()
+        for s0 in range(0, len(idx[0]), step):
             sl = slice(s0, s0 + step)
             theta = [self.lo[j] + (idx[j][sl] + 0.5) * h[j] for j in range(len(idx))]
-            pts = self._points(theta)  # [L, m_b, 3]
-            d2 = np.sum(pts**2, axis=2)[:, :, None] + p2[None, None, :] - 2.0 * (pts @ self.p_anc.T)
-            far = (d2 > thr2[None]).all(axis=(1, 2))
-            out[sl] = far
-            if far.any():  # the smallest centre distance minus reach, over far cells
-                gap = np.sqrt(np.maximum(d2[far], 0.0)) - margin2[None]
-                self.low[0] = min(self.low[0], float(gap.min()))
-        return out
+            pts = self._points(theta)  # [L', m_b, 3]
+            cross = (pts.reshape(-1, 3) @ self.p_anc.T).reshape(len(pts), m_b, m_a)
+            cross *= 2.0
+            d2 = np.sum(pts**2, axis=2)[:, :, None] + p2[None, None, :]
+            d2 -= cross
+            yield sl, d2
 
     def _points(self, theta: list[FloatArray]) -> FloatArray:
         """Descendant sphere centres in the ancestor frame at joint values ``theta``."""
@@ -228,3 +317,15 @@ class _CellTest:
             rt = _rot_z(theta[0]).transpose(0, 2, 1) @ C[:3, :3].T
             pts = np.matmul(pts, rt) + C[:3, 3]
         return pts
+
+
+def _turned(x: FloatArray, theta: FloatArray, C: FloatArray) -> FloatArray:
+    """``C · Rz(θ) · x`` [U, S, 3] for points ``x`` [U, S or 1, 3] and angles ``θ`` [U, S]."""
+    c, s = np.cos(theta), np.sin(theta)
+    x0, x1, x2 = x[..., 0], x[..., 1], x[..., 2]
+    a, b = c * x0 - s * x1, s * x0 + c * x1  # Rz(θ)·x
+    R, t = C[:3, :3], C[:3, 3]
+    out = np.empty((*theta.shape, 3))
+    for k in range(3):
+        out[..., k] = R[k, 0] * a + R[k, 1] * b + R[k, 2] * x2 + t[k]
+    return out
