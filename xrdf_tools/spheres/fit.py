@@ -38,7 +38,8 @@ import numpy.typing as npt
 
 from ..util.arrays import BoolArray, FloatArray
 from ..xrdf.model import Sphere
-from .metrics import fibonacci_directions, sample_surface, sample_volume
+from .distance import near_face_distance
+from .metrics import fibonacci_directions, sample_surface, sample_surface_faces, sample_volume
 
 if TYPE_CHECKING:
     import trimesh
@@ -50,7 +51,7 @@ VOLUME_WEIGHT = 0.9
 DEFAULT_PROTRUSION_FRACTION = 0.06
 MIN_DEFAULT_PROTRUSION = 0.002
 _GRID_CELLS = 48
-_SURFACE_DENSE = 8_000
+_SURFACE_DENSE = 4_000
 _COVER_BLOCK = 32
 _MOVES = fibonacci_directions(26)
 #: Ratio of consecutive protrusion bounds tried by :func:`bound_for_coverage`.
@@ -95,7 +96,6 @@ class _Sdf:
 
 def _build_sdf(solid: trimesh.Trimesh, margin: float, rng: np.random.Generator) -> _Sdf:
     from scipy.ndimage import distance_transform_edt
-    from scipy.spatial import cKDTree
 
     from .inside import grid_inside
 
@@ -105,16 +105,15 @@ def _build_sdf(solid: trimesh.Trimesh, margin: float, rng: np.random.Generator) 
     shape = np.ceil((hi - lo) / step).astype(int) + 1
     axes = [lo[i] + step * np.arange(shape[i]) for i in range(3)]
     mask = grid_inside(solid, (axes[0], axes[1], axes[2]))
-    # coarse distances from the voxel mask, exact-ish ones near the surface from the samples
+    # coarse distances from the voxel mask; near the surface, the distance to the faces of the
+    # nearest surface samples
     coarse = np.where(mask, -distance_transform_edt(mask), distance_transform_edt(~mask)) * step
     band = 3.0 * step
     near_band = np.abs(coarse) <= band + step
     grid = lo + step * np.argwhere(near_band).astype(np.float64)
-    dense = np.concatenate(
-        [sample_surface(solid, _SURFACE_DENSE, rng), np.asarray(solid.vertices, dtype=np.float64)]
-    )
-    near, _ = cKDTree(dense).query(grid, distance_upper_bound=band)
-    fine = np.isfinite(near)
+    dense, dense_faces = sample_surface_faces(solid, _SURFACE_DENSE, rng)
+    near = near_face_distance(solid, grid, dense, dense_faces)
+    fine = near <= band
     inside = mask[near_band]
     values = coarse.copy()
     banded = np.where(

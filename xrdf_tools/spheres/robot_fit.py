@@ -154,6 +154,10 @@ class CountPolicy:
     #: smallest at which its spheres cover this share of its volume (None: the default
     #: bound, :func:`~.fit.default_max_protrusion`).
     count_coverage: float | None = None
+    #: With a count given and no protrusion bound of the link's own (and no
+    #: ``count_coverage``): the greedy spheres are refined on coverage and on the protrusion
+    #: of their union (:mod:`.refine`). False keeps every sphere within the default bound.
+    refine: bool = True
 
 
 def _fewest_reaching(fitter: SphereFitter, target: float) -> tuple[tuple[Sphere, ...], float]:
@@ -243,9 +247,12 @@ def fit_robot(
             spheres[name] = spheres[owner]
             continue
         t0 = time.perf_counter()
-        search_bound = plans[name][1] is None and counts.count_coverage is not None
+        free = plans[name][1] is None
+        mode = "search" if free and counts.count_coverage is not None else "hard"
+        if free and mode == "hard" and counts.refine:
+            mode = "refine"
         spheres[name] = _fit_one(
-            fitters[owner], ks.get(owner), counts, geoms[name], path, diags, search_bound
+            fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode
         )
         seconds[name] += time.perf_counter() - t0
     _report_shared(plans, first_of, path, geoms, diags)
@@ -304,10 +311,11 @@ def _fit_one(
     geom: LinkGeometry,
     path: str,
     diags: list[Diagnostic],
-    search_bound: bool = False,
+    mode: str = "hard",
 ) -> tuple[Sphere, ...]:
-    """One link's spheres: ``k`` of them (under the smallest bound at which they cover
-    ``counts.count_coverage`` when ``search_bound``), or the fewest reaching the coverage
+    """One link's spheres: ``k`` of them (``mode``: ``hard`` within the fitter's bound,
+    ``refine`` then refined on coverage and protrusion, ``search`` under the smallest bound
+    at which they cover ``counts.count_coverage``), or the fewest reaching the coverage
     target."""
     if fitter.empty and k != 0:
         diags.append(
@@ -332,10 +340,14 @@ def _fit_one(
             )
         )
         return fitter.fit(1)
-    if k is not None and search_bound and counts.count_coverage is not None:
+    if k is not None and mode == "search" and counts.count_coverage is not None:
         from .fit import bound_for_coverage
 
         return bound_for_coverage(fitter, k, counts.count_coverage)
+    if k is not None and mode == "refine":
+        from .refine import refined_fit
+
+        return refined_fit(fitter, k)
     if k is not None:
         return fitter.fit(k)
     spheres, share = _fewest_reaching(fitter, counts.target_coverage)

@@ -1,0 +1,321 @@
+"""Refine fitted spheres by gradient steps on coverage and on the union's protrusion.
+
+The greedy fit (:mod:`.fit`) keeps every sphere within a hard protrusion bound, so every sphere
+reaches it and the 95th percentile of the protrusion of the union's boundary grows as fast as
+the coverage. This stage trades the two the way the metrics measure them (:mod:`.metrics`),
+by minimising the sum of two losses, both in metres (so the balance does not depend on the
+link's size):
+
+* **coverage loss** -- ``COVERAGE_WEIGHT`` times the mean, over the fitter's volume samples,
+  of each point's gap to the union, ``max(0, min_k(|p - c_k| - r_k))`` (how far the nearest
+  sphere would have to grow to cover it);
+* **protrusion loss** -- the area-weighted mean distance outside the solid of the points of
+  the union's boundary whose protrusion lies in the band ``PROTRUSION_BAND`` of quantiles
+  (``REFINE_DIRECTIONS`` points on each sphere, those inside another sphere dropped). The
+  band is where the 95th percentile is decided: points below it do not raise it, and the few
+  above it (a big sphere's cap past a thin part) are free as long as they stay few.
+
+The distance outside the solid is the fitter's signed distance grid (trilinear, its gradient
+from the grid's central differences), continued beyond the grid by the distance to the grid's
+box. Steps are Adam's, their size ``STEP_FRACTION`` of the cube root of the solid's volume
+shrinking linearly to ``FINAL_STEP`` of that; clip planes are kept after each step.
+
+:func:`refined_fit` starts from greedy fits under several bounds (``START_BOUNDS``: a
+tight bound places many mid-sized spheres, a loose one fewer big ones; which is better depends
+on the part), refines each for ``SCREEN_STEPS`` and carries on with the lowest loss. Last,
+each sphere grows to cover the samples and mesh vertices nearest to it that lie outside it by
+at most ``TOUCH_UP`` of its radius (slivers a grid cell cannot see: a ball gets its own
+radius back).
+
+Every operation is elementwise or a sequential sum (``bincount``), never a BLAS product, and
+the samples are the fitter's: the same fitter and count give the same spheres in every process
+and with any thread count.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..util.arrays import FloatArray
+from ..xrdf.model import Sphere
+from .metrics import fibonacci_directions
+
+if TYPE_CHECKING:
+    from .fit import SphereFitter
+
+#: Weight of the coverage loss against the protrusion loss (both in metres).
+COVERAGE_WEIGHT = 7.0
+#: The quantiles of the union boundary's protrusion whose points the protrusion loss pulls in.
+PROTRUSION_BAND = (0.8, 0.97)
+REFINE_STEPS = 200
+#: Volume samples of the fitter used by the coverage loss (the first this many).
+REFINE_POINTS = 3000
+#: Points on each sphere where its protrusion is evaluated.
+REFINE_DIRECTIONS = 64
+#: The bounds of the greedy fits refined, as multiples of the fitter's bound.
+START_BOUNDS = (1.0, 4.5)
+#: Steps each start is refined for before the best is kept.
+SCREEN_STEPS = 60
+#: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`).
+START_ROUNDS = 2
+#: Adam's step, as a share of the cube root of the solid's volume.
+STEP_FRACTION = 0.02
+#: The last step's size, as a share of the first's.
+FINAL_STEP = 0.1
+#: How far (a share of its radius) a sphere grows at most to close a sliver.
+TOUCH_UP = 0.01
+_BETA1, _BETA2 = 0.9, 0.999
+_MIN_RADIUS = 1e-4
+
+
+class _Outside:
+    """Signed distance of the fitter's grid and its gradient at any point (trilinear, from
+    the grid and its central differences); beyond the grid, the value at the nearest grid
+    point plus the distance to it."""
+
+    def __init__(self, fitter: SphereFitter) -> None:
+        sdf = fitter.sdf
+        self.origin, self.step = sdf.origin, sdf.step
+        grads = [np.gradient(sdf.values, sdf.step, axis=a) for a in range(3)]
+        #: value and gradient per node, ``(nx * ny * nz, 4)`` in C order
+        self.nodes = np.stack([sdf.values, *grads], axis=-1).reshape(-1, 4)
+        _, ny, nz = sdf.values.shape
+        self.strides = (ny * nz, nz, 1)
+        self.cells = np.asarray(sdf.values.shape, dtype=np.float64) - 1.0
+        self.hi = sdf.origin + sdf.step * self.cells
+
+    def __call__(self, points: FloatArray) -> tuple[FloatArray, FloatArray]:
+        clamped = np.clip(points, self.origin, self.hi)
+        offset = points - clamped
+        beyond = np.sqrt(offset[:, 0] ** 2 + offset[:, 1] ** 2 + offset[:, 2] ** 2)
+        frac = np.minimum((clamped - self.origin) / self.step, self.cells - 1e-9)
+        base = np.floor(frac).astype(np.int64)
+        t = frac - base
+        sx, sy, sz = self.strides
+        first = base[:, 0] * sx + base[:, 1] * sy + base[:, 2] * sz
+        out = np.zeros((len(points), 4))
+        for corner in range(8):
+            dx, dy, dz = corner & 1, (corner >> 1) & 1, (corner >> 2) & 1
+            w = (t[:, 0] if dx else 1.0 - t[:, 0]) * (t[:, 1] if dy else 1.0 - t[:, 1])
+            w = w * (t[:, 2] if dz else 1.0 - t[:, 2])
+            out += w[:, None] * self.nodes.take(first + (dx * sx + dy * sy + dz * sz), axis=0)
+        value = out[:, 0] + beyond
+        grad = out[:, 1:]
+        far = beyond > 0.0
+        grad[far] = offset[far] / beyond[far, None]
+        return value, grad
+
+
+@dataclass
+class _Adam:
+    """Adam's moments for one parameter array."""
+
+    m: FloatArray
+    v: FloatArray
+
+    def step(self, grad: FloatArray, size: float, t: int) -> FloatArray:
+        self.m = _BETA1 * self.m + (1.0 - _BETA1) * grad
+        self.v = _BETA2 * self.v + (1.0 - _BETA2) * grad * grad
+        rate = size * np.sqrt(1.0 - _BETA2**t) / (1.0 - _BETA1**t)
+        return np.asarray(rate * self.m / (np.sqrt(self.v) + 1e-12))
+
+
+@dataclass
+class _Problem:
+    """What the losses need: the volume samples, the directions on each sphere, the distance
+    field, the weight of coverage, Adam's step and the clip planes."""
+
+    points: FloatArray
+    directions: FloatArray
+    outside: _Outside
+    weight: float
+    size: float
+    clips: FloatArray
+    steps: int
+
+    def rate(self, t: int) -> float:
+        """Adam's step at step ``t``: ``size`` shrinking linearly to ``FINAL_STEP`` of it."""
+        done = min(max(t - 1, 0) / max(self.steps - 1, 1), 1.0)
+        return self.size * (1.0 - (1.0 - FINAL_STEP) * done)
+
+    def gradient(
+        self, centers: FloatArray, radii: FloatArray
+    ) -> tuple[FloatArray, FloatArray, float]:
+        """The loss's gradient in the centres and radii, and the loss."""
+        cov_c, cov_r, cov = _coverage_gradient(self.points, centers, radii, self.weight)
+        out_c, out_r, out = _protrusion_gradient(self.outside, centers, radii, self.directions)
+        return cov_c + out_c, cov_r + out_r, cov + out
+
+
+@dataclass
+class _Run:
+    """One start being refined: its spheres, Adam's moments, steps taken, last loss."""
+
+    centers: FloatArray
+    radii: FloatArray
+    adam_c: _Adam
+    adam_r: _Adam
+    steps: int = 0
+    loss: float = float("inf")
+
+    @classmethod
+    def start(cls, spheres: Sequence[Sphere]) -> _Run:
+        centers = np.array([s.center for s in spheres], dtype=np.float64).reshape(-1, 3)
+        radii = np.array([s.radius for s in spheres], dtype=np.float64)
+        zeros_c, zeros_r = np.zeros_like(centers), np.zeros_like(radii)
+        return cls(centers, radii, _Adam(zeros_c, zeros_c.copy()), _Adam(zeros_r, zeros_r.copy()))
+
+    def advance(self, problem: _Problem, steps: int) -> None:
+        """``steps`` Adam steps; :attr:`loss` is the loss before the last one."""
+        for _ in range(steps):
+            self.steps += 1
+            grad_c, grad_r, self.loss = problem.gradient(self.centers, self.radii)
+            rate = problem.rate(self.steps)
+            self.centers = self.centers - self.adam_c.step(grad_c, rate, self.steps)
+            step_r = self.adam_r.step(grad_r, rate, self.steps)
+            radii = np.maximum(self.radii - step_r, _MIN_RADIUS)
+            self.radii = _keep_clipped(self.centers, radii, problem.clips)
+
+
+def _coverage_gradient(
+    points: FloatArray, centers: FloatArray, radii: FloatArray, weight: float
+) -> tuple[FloatArray, FloatArray, float]:
+    """Gradient of ``weight * mean(max(0, gap))`` over ``points`` (each point pulls on its
+    nearest sphere only), and that loss. The nearest sphere is found in single precision
+    (``points`` are ``(3, N)`` float32 rows), the pull in double."""
+    k, n = len(radii), points.shape[1]
+    c32, r32 = centers.astype(np.float32), radii.astype(np.float32)
+    dist = np.sqrt(
+        (points[0][None, :] - c32[:, 0, None]) ** 2
+        + (points[1][None, :] - c32[:, 1, None]) ** 2
+        + (points[2][None, :] - c32[:, 2, None]) ** 2
+    )
+    nearest = np.argmin(dist - r32[:, None], axis=0)
+    cols = np.arange(n)
+    near = dist[nearest, cols].astype(np.float64)
+    gap = near - radii[nearest]
+    pull = (gap > 0.0) * (weight / max(n, 1))
+    unit = (points.T.astype(np.float64) - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
+    grad_c = np.stack(
+        [-np.bincount(nearest, weights=pull * unit[:, a], minlength=k) for a in range(3)], axis=1
+    )
+    grad_r = -np.bincount(nearest, weights=pull, minlength=k)
+    loss = float((pull * gap).sum())
+    return np.asarray(grad_c, dtype=np.float64), np.asarray(grad_r, dtype=np.float64), loss
+
+
+def _band(values: FloatArray, weights: FloatArray, band: tuple[float, float]) -> FloatArray:
+    """Which values lie within the band of weighted quantiles (and protrude at all)."""
+    order = np.argsort(values, kind="stable")
+    cdf = np.cumsum(weights[order]) / max(float(weights.sum()), 1e-300)
+    last = len(values) - 1
+    lo = values[order][min(int(np.searchsorted(cdf, band[0])), last)]
+    hi = values[order][min(int(np.searchsorted(cdf, band[1])), last)]
+    return np.asarray((values > 0.0) & (values >= lo) & (values <= hi))
+
+
+def _protrusion_gradient(
+    outside: _Outside, centers: FloatArray, radii: FloatArray, directions: FloatArray
+) -> tuple[FloatArray, FloatArray, float]:
+    """Gradient of the area-weighted mean protrusion of the union boundary's points within
+    ``PROTRUSION_BAND`` (the weights and the band are held fixed for the step), and that
+    loss."""
+    k, m = len(radii), len(directions)
+    surface = centers[:, None, :] + radii[:, None, None] * directions[None, :, :]
+    to_centres = surface[:, :, None, :] - centers[None, None, :, :]
+    dist = np.sqrt(to_centres[..., 0] ** 2 + to_centres[..., 1] ** 2 + to_centres[..., 2] ** 2)
+    covered = dist < radii[None, None, :] * (1.0 - 1e-9)
+    covered[np.arange(k), :, np.arange(k)] = False
+    weights = (~covered.any(axis=2)) * (radii[:, None] ** 2)
+    value, grad = outside(surface.reshape(-1, 3))
+    value, grad = value.reshape(k, m), grad.reshape(k, m, 3)
+    total = max(float(weights.sum()), 1e-300)
+    pull = weights * _band(value.ravel(), weights.ravel(), PROTRUSION_BAND).reshape(k, m) / total
+    grad_c = (pull[..., None] * grad).sum(axis=1)
+    radial = grad[..., 0] * directions[None, :, 0]
+    radial += grad[..., 1] * directions[None, :, 1]
+    radial += grad[..., 2] * directions[None, :, 2]
+    grad_r = (pull * radial).sum(axis=1)
+    return np.asarray(grad_c), np.asarray(grad_r), float((pull * value).sum())
+
+
+def _keep_clipped(centers: FloatArray, radii: FloatArray, clips: FloatArray) -> FloatArray:
+    """Centres moved onto the kept side of each clip plane (in place), radii shrunk to stay
+    there."""
+    for plane in clips:
+        normal = plane[:3]
+        room = centers[:, 0] * normal[0] + centers[:, 1] * normal[1] + centers[:, 2] * normal[2]
+        room = room - plane[3]
+        short = room < _MIN_RADIUS
+        centers[short] += (_MIN_RADIUS - room[short])[:, None] * normal[None, :]
+        radii = np.minimum(radii, np.maximum(room, _MIN_RADIUS))
+    return radii
+
+
+def _close_slivers(
+    points: FloatArray, centers: FloatArray, radii: FloatArray, clips: FloatArray
+) -> None:
+    """Grow each sphere (in place) to cover the samples nearest to it that lie outside it by
+    at most ``TOUCH_UP`` of its radius, within the clip planes."""
+    dist = np.sqrt(
+        (points[:, 0, None] - centers[None, :, 0]) ** 2
+        + (points[:, 1, None] - centers[None, :, 1]) ** 2
+        + (points[:, 2, None] - centers[None, :, 2]) ** 2
+    )
+    nearest = np.argmin(dist - radii[None, :], axis=1)
+    near = dist[np.arange(len(points)), nearest]
+    reach = (near > radii[nearest]) & (near <= radii[nearest] * (1.0 + TOUCH_UP))
+    grown = radii.copy()
+    np.maximum.at(grown, nearest[reach], near[reach])
+    radii[:] = _keep_clipped(centers, grown, clips)
+
+
+def refined_fit(
+    fitter: SphereFitter,
+    k: int,
+    *,
+    starts: Sequence[float] = START_BOUNDS,
+    steps: int = REFINE_STEPS,
+    coverage_weight: float = COVERAGE_WEIGHT,
+) -> tuple[Sphere, ...]:
+    """``k`` spheres: a greedy fit under each bound of ``starts`` (multiples of the fitter's
+    bound), each refined for ``SCREEN_STEPS`` steps on the losses of the module docstring;
+    the one with the lowest loss is refined to ``steps`` in all. Ties go to the earlier start.
+    The distance field is the fitter's at its own bound; the fitter is left re-bound to the
+    last start's bound."""
+    if k <= 0 or fitter.empty or fitter.n_volume == 0:
+        return fitter.fit(k)
+    tau = fitter.tau
+    problem = _Problem(
+        np.ascontiguousarray(
+            fitter.points[: min(fitter.n_volume, REFINE_POINTS)].T, dtype=np.float32
+        ),
+        fibonacci_directions(REFINE_DIRECTIONS),
+        _Outside(fitter),
+        coverage_weight,
+        STEP_FRACTION * fitter.scale,
+        fitter.clips,
+        steps,
+    )
+    runs: list[_Run] = []
+    for factor in starts:
+        if factor * tau != fitter.tau:
+            fitter.rebound(factor * tau)
+        run = _Run.start(fitter.fit(k, rounds=START_ROUNDS))
+        run.advance(problem, min(SCREEN_STEPS, steps) if len(starts) > 1 else steps)
+        runs.append(run)
+    best = min(range(len(runs)), key=lambda i: (runs[i].loss, i))
+    chosen = runs[best]
+    chosen.advance(problem, steps - chosen.steps)
+    if TOUCH_UP > 0:
+        targets = np.concatenate(
+            [fitter.points, np.asarray(fitter.solid.vertices, dtype=np.float64)]
+        )
+        _close_slivers(targets, chosen.centers, chosen.radii, fitter.clips)
+    return tuple(
+        fitter._rounded(c, float(r)) for c, r in zip(chosen.centers, chosen.radii, strict=True)
+    )
