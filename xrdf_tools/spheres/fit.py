@@ -94,14 +94,18 @@ class _Sdf:
         return np.asarray(map_coordinates(self.values, idx, order=1, mode="nearest"))
 
 
-def _build_sdf(solid: trimesh.Trimesh, margin: float, rng: np.random.Generator) -> _Sdf:
+def _build_sdf(
+    solid: trimesh.Trimesh, margin: float, rng: np.random.Generator, step: float | None = None
+) -> _Sdf:
+    """The distance grid ``margin`` around the solid; its cells ``step`` (default:
+    ``_GRID_CELLS`` cells along the grid's longest side)."""
     from scipy.ndimage import distance_transform_edt
 
     from .inside import grid_inside
 
     lo = np.asarray(solid.bounds[0], dtype=np.float64) - margin
     hi = np.asarray(solid.bounds[1], dtype=np.float64) + margin
-    step = float((hi - lo).max()) / _GRID_CELLS
+    step = float((hi - lo).max()) / _GRID_CELLS if step is None else float(step)
     shape = np.ceil((hi - lo) / step).astype(int) + 1
     axes = [lo[i] + step * np.arange(shape[i]) for i in range(3)]
     mask = grid_inside(solid, (axes[0], axes[1], axes[2]))
@@ -163,6 +167,9 @@ class SphereFitter:
         clips: Sequence[Plane] = (),
         room: float | None = None,
     ) -> None:
+        """``room``: the distance grid reaches past this bound as well, with the cells of the
+        grid for the fitter's own bound (so that fits under bounds up to ``room`` need no other
+        grid)."""
         rng = np.random.default_rng(seed)
         self.clips = np.array([[*n, d] for n, d in clips], dtype=np.float64).reshape(-1, 4)
         self.solid = solid
@@ -170,7 +177,10 @@ class SphereFitter:
         tau = default_max_protrusion(solid) if max_protrusion is None else float(max_protrusion)
         self._seed = seed
         self.room = 0.0
-        self.widen(max(tau, float(room or 0.0)), rng)
+        cell = None
+        if room is not None and room > tau:
+            cell = (float(np.max(solid.extents)) + 2.0 * self._margin(tau)) / _GRID_CELLS
+        self.widen(max(tau, float(room or 0.0)), rng, cell)
         vol = self._kept(sample_volume(solid, volume_samples, rng))
         surf = self._kept(sample_surface(solid, surface_samples, rng))
         self.points = np.concatenate([vol, surf])
@@ -186,13 +196,19 @@ class SphereFitter:
         self.scale = self.volume ** (1.0 / 3.0)
         self.rebound(tau)
 
-    def widen(self, room: float, rng: np.random.Generator | None = None) -> None:
+    def _margin(self, room: float) -> float:
+        """The grid's margin around the solid for a bound of ``room``."""
+        return 2.0 * room + float(np.max(self.solid.extents)) / _GRID_CELLS * 3
+
+    def widen(
+        self, room: float, rng: np.random.Generator | None = None, cell: float | None = None
+    ) -> None:
         """Build the distance grid so that it reaches past a bound of ``room`` (its margin
-        around the solid grows with it, and its cells with the margin). The grid is built from
-        a generator seeded as the fitter's first, so the same room gives the same grid."""
-        extent = float(np.max(self.solid.extents))
-        margin = 2.0 * room + extent / _GRID_CELLS * 3
-        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self._seed))
+        around the solid grows with it, and its cells with the margin unless ``cell`` is
+        given). The grid is built from a generator seeded as the fitter's first, so the same
+        room gives the same grid."""
+        margin = self._margin(room)
+        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self._seed), cell)
         #: the largest bound the distance grid reaches past (see :meth:`rebound`)
         self.room = float(room)
 

@@ -48,10 +48,10 @@ if TYPE_CHECKING:
     from .fit import SphereFitter
 
 #: Weight of the coverage loss against the protrusion loss (both in metres).
-COVERAGE_WEIGHT = 7.0
+COVERAGE_WEIGHT = 6.0
 #: The quantiles of the union boundary's protrusion whose points the protrusion loss pulls in.
 PROTRUSION_BAND = (0.8, 0.97)
-REFINE_STEPS = 200
+REFINE_STEPS = 160
 #: Volume samples of the fitter used by the coverage loss (the first this many).
 REFINE_POINTS = 3000
 #: Points on each sphere where its protrusion is evaluated.
@@ -59,7 +59,7 @@ REFINE_DIRECTIONS = 64
 #: The bounds of the greedy fits refined, as multiples of the fitter's bound.
 START_BOUNDS = (1.0, 4.5)
 #: Steps each start is refined for before the best is kept.
-SCREEN_STEPS = 60
+SCREEN_STEPS = 50
 #: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`).
 START_ROUNDS = 2
 #: Adam's step, as a share of the cube root of the solid's volume.
@@ -127,7 +127,7 @@ class _Adam:
 @dataclass
 class _Problem:
     """What the losses need: the volume samples, the directions on each sphere, the distance
-    field, the weight of coverage, Adam's step and the clip planes."""
+    field, the weight of coverage, Adam's step, the clip planes and the number of steps."""
 
     points: FloatArray
     directions: FloatArray
@@ -142,18 +142,11 @@ class _Problem:
         done = min(max(t - 1, 0) / max(self.steps - 1, 1), 1.0)
         return self.size * (1.0 - (1.0 - FINAL_STEP) * done)
 
-    def gradient(
-        self, centers: FloatArray, radii: FloatArray
-    ) -> tuple[FloatArray, FloatArray, float]:
-        """The loss's gradient in the centres and radii, and the loss."""
-        cov_c, cov_r, cov = _coverage_gradient(self.points, centers, radii, self.weight)
-        out_c, out_r, out = _protrusion_gradient(self.outside, centers, radii, self.directions)
-        return cov_c + out_c, cov_r + out_r, cov + out
-
 
 @dataclass
 class _Run:
-    """One start being refined: its spheres, Adam's moments, steps taken, last loss."""
+    """One start being refined: its spheres, Adam's moments, steps taken, and at its last
+    step the loss and the share of the volume samples covered."""
 
     centers: FloatArray
     radii: FloatArray
@@ -161,6 +154,7 @@ class _Run:
     adam_r: _Adam
     steps: int = 0
     loss: float = float("inf")
+    share: float = 0.0
 
     @classmethod
     def start(cls, spheres: Sequence[Sphere]) -> _Run:
@@ -170,10 +164,17 @@ class _Run:
         return cls(centers, radii, _Adam(zeros_c, zeros_c.copy()), _Adam(zeros_r, zeros_r.copy()))
 
     def advance(self, problem: _Problem, steps: int) -> None:
-        """``steps`` Adam steps; :attr:`loss` is the loss before the last one."""
+        """``steps`` Adam steps."""
         for _ in range(steps):
             self.steps += 1
-            grad_c, grad_r, self.loss = problem.gradient(self.centers, self.radii)
+            cov_c, cov_r, gap, self.share = _coverage_gradient(
+                problem.points, self.centers, self.radii
+            )
+            out_c, out_r, out = _protrusion_gradient(
+                problem.outside, self.centers, self.radii, problem.directions
+            )
+            self.loss = problem.weight * gap + out
+            grad_c, grad_r = problem.weight * cov_c + out_c, problem.weight * cov_r + out_r
             rate = problem.rate(self.steps)
             self.centers = self.centers - self.adam_c.step(grad_c, rate, self.steps)
             step_r = self.adam_r.step(grad_r, rate, self.steps)
@@ -182,11 +183,11 @@ class _Run:
 
 
 def _coverage_gradient(
-    points: FloatArray, centers: FloatArray, radii: FloatArray, weight: float
-) -> tuple[FloatArray, FloatArray, float]:
-    """Gradient of ``weight * mean(max(0, gap))`` over ``points`` (each point pulls on its
-    nearest sphere only), and that loss. The nearest sphere is found in single precision
-    (``points`` are ``(3, N)`` float32 rows), the pull in double."""
+    points: FloatArray, centers: FloatArray, radii: FloatArray
+) -> tuple[FloatArray, FloatArray, float, float]:
+    """Gradient of ``mean(max(0, gap))`` over ``points`` (each point pulls on its nearest
+    sphere only), that loss and the share of the points covered. The nearest sphere is found
+    in single precision (``points`` are ``(3, N)`` float32 rows), the pull in double."""
     k, n = len(radii), points.shape[1]
     c32, r32 = centers.astype(np.float32), radii.astype(np.float32)
     dist = np.sqrt(
@@ -198,14 +199,15 @@ def _coverage_gradient(
     cols = np.arange(n)
     near = dist[nearest, cols].astype(np.float64)
     gap = near - radii[nearest]
-    pull = (gap > 0.0) * (weight / max(n, 1))
+    pull = (gap > 0.0) * (1.0 / max(n, 1))
     unit = (points.T.astype(np.float64) - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
     grad_c = np.stack(
         [-np.bincount(nearest, weights=pull * unit[:, a], minlength=k) for a in range(3)], axis=1
     )
     grad_r = -np.bincount(nearest, weights=pull, minlength=k)
     loss = float((pull * gap).sum())
-    return np.asarray(grad_c, dtype=np.float64), np.asarray(grad_r, dtype=np.float64), loss
+    share = float((gap <= 0.0).mean()) if n else 1.0
+    return grad_c.astype(np.float64), grad_r.astype(np.float64), loss, share
 
 
 def _band(values: FloatArray, weights: FloatArray, band: tuple[float, float]) -> FloatArray:
@@ -226,12 +228,14 @@ def _protrusion_gradient(
     loss."""
     k, m = len(radii), len(directions)
     surface = centers[:, None, :] + radii[:, None, None] * directions[None, :, :]
-    to_centres = surface[:, :, None, :] - centers[None, None, :, :]
-    dist = np.sqrt(to_centres[..., 0] ** 2 + to_centres[..., 1] ** 2 + to_centres[..., 2] ** 2)
-    covered = dist < radii[None, None, :] * (1.0 - 1e-9)
+    flat = surface.reshape(-1, 3)
+    dist2 = (flat[:, 0, None] - centers[None, :, 0]) ** 2
+    dist2 += (flat[:, 1, None] - centers[None, :, 1]) ** 2
+    dist2 += (flat[:, 2, None] - centers[None, :, 2]) ** 2
+    covered = (dist2 < (radii * (1.0 - 1e-9))[None, :] ** 2).reshape(k, m, k)
     covered[np.arange(k), :, np.arange(k)] = False
     weights = (~covered.any(axis=2)) * (radii[:, None] ** 2)
-    value, grad = outside(surface.reshape(-1, 3))
+    value, grad = outside(flat)
     value, grad = value.reshape(k, m), grad.reshape(k, m, 3)
     total = max(float(weights.sum()), 1e-300)
     pull = weights * _band(value.ravel(), weights.ravel(), PROTRUSION_BAND).reshape(k, m) / total
@@ -278,17 +282,20 @@ def refined_fit(
     fitter: SphereFitter,
     k: int,
     *,
-    starts: Sequence[float] = START_BOUNDS,
-    steps: int = REFINE_STEPS,
-    coverage_weight: float = COVERAGE_WEIGHT,
+    starts: Sequence[float] | None = None,
+    steps: int | None = None,
+    coverage_weight: float | None = None,
 ) -> tuple[Sphere, ...]:
     """``k`` spheres: a greedy fit under each bound of ``starts`` (multiples of the fitter's
-    bound), each refined for ``SCREEN_STEPS`` steps on the losses of the module docstring;
-    the one with the lowest loss is refined to ``steps`` in all. Ties go to the earlier start.
-    The distance field is the fitter's at its own bound; the fitter is left re-bound to the
-    last start's bound."""
+    bound; default ``START_BOUNDS``), each refined for ``SCREEN_STEPS`` steps on the losses of
+    the module docstring (coverage weighted ``coverage_weight``, default ``COVERAGE_WEIGHT``);
+    the one with the lowest loss is refined to ``steps`` (``REFINE_STEPS``) in all. Ties go
+    to the earlier start. The distance field is the fitter's; the fitter is left re-bound to
+    the last start's bound."""
     if k <= 0 or fitter.empty or fitter.n_volume == 0:
         return fitter.fit(k)
+    starts = START_BOUNDS if starts is None else starts
+    steps = REFINE_STEPS if steps is None else steps
     tau = fitter.tau
     problem = _Problem(
         np.ascontiguousarray(
@@ -296,7 +303,7 @@ def refined_fit(
         ),
         fibonacci_directions(REFINE_DIRECTIONS),
         _Outside(fitter),
-        coverage_weight,
+        COVERAGE_WEIGHT if coverage_weight is None else coverage_weight,
         STEP_FRACTION * fitter.scale,
         fitter.clips,
         steps,

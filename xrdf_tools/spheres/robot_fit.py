@@ -236,7 +236,11 @@ def fit_robot(
         first_of[key] = name
         t0 = time.perf_counter()
         fitters[name] = SphereFitter(
-            geoms[name].solid, seed=fit_seed, max_protrusion=tau, clips=planes
+            geoms[name].solid,
+            seed=fit_seed,
+            max_protrusion=tau,
+            clips=planes,
+            room=_refine_room(geoms[name].solid, tau, counts),
         )
         seconds[name] = time.perf_counter() - t0
     ks = _counts(fitters, geoms, counts)
@@ -249,7 +253,7 @@ def fit_robot(
         t0 = time.perf_counter()
         free = plans[name][1] is None
         mode = "search" if free and counts.count_coverage is not None else "hard"
-        if free and mode == "hard" and counts.refine:
+        if _refines(plans[name][1], counts):
             mode = "refine"
         spheres[name] = _fit_one(
             fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode
@@ -264,6 +268,24 @@ def fit_robot(
         {n: geoms[n] for n in fitted},
         diags,
     )
+
+
+def _refines(tau: float | None, counts: CountPolicy) -> bool:
+    """Whether a link's count-given fit is refined (:mod:`.refine`): a count is given, the
+    link has no bound of its own and no bound is searched for a coverage."""
+    given = counts.per_link is not None or counts.count is not None or counts.density is not None
+    return given and tau is None and counts.refine and counts.count_coverage is None
+
+
+def _refine_room(solid: trimesh.Trimesh, tau: float | None, counts: CountPolicy) -> float | None:
+    """How far the distance grid of a refined fit reaches: past the loosest start's bound,
+    so that one grid serves every start (None: the fitter's own bound)."""
+    if not _refines(tau, counts):
+        return None
+    from .fit import default_max_protrusion
+    from .refine import START_BOUNDS
+
+    return max(START_BOUNDS) * default_max_protrusion(solid)
 
 
 def _plan(
