@@ -7,15 +7,18 @@ solid (as ``xrdf spheres`` prepares it) is fitted by ours and by MorphIt (``morp
 robot's total over its links in proportion to the two-thirds power of each link's volume
 (at least one each), a rule neither fitter chooses.
 
-Ours runs twice, timed from loaded solids like MorphIt: ``mode: default`` (our default
-protrusion bound, 6 % of the cube root of the link volume) and ``mode: matched``: our
-operating point at MorphIt's protrusion. Our bound is a hard maximum, so our p95 sits below
-it; per link the bound is searched (bisection, 0.7 to 1.6 times MorphIt's p95 on that link,
-untimed) for the largest one whose p95 stays within MorphIt's, and the timed run fits every
-link once at those bounds. At equal protrusion, the comparison is coverage against coverage.
-``mode: coverage`` is ours with ``CountPolicy(count_coverage=0.975)``: per link the smallest
-bound at which its spheres cover 97.5 % of its volume (our own samples), found by the fitter
-itself (timed; no knowledge of MorphIt).
+Ours runs four ways, timed from loaded solids like MorphIt: ``mode: default`` (what
+``xrdf spheres --per-link`` does: greedy spheres refined on coverage and on the protrusion
+of their union, :mod:`xrdf_tools.spheres.refine`), ``mode: hard`` (the greedy fit within our
+default protrusion bound, 6 % of the cube root of the link volume, not refined:
+``CountPolicy(refine=False)``), ``mode: matched``: the greedy fit at MorphIt's protrusion. That
+bound is a hard maximum, so our p95 sits below it; per link the bound is searched (bisection,
+0.7 to 1.6 times MorphIt's p95 on that link, untimed) for the largest one whose p95 stays
+within MorphIt's, and the timed run fits every link once at those bounds: at equal
+protrusion, the comparison is coverage against coverage. ``mode: coverage`` is ours with
+``CountPolicy(count_coverage=0.975)``: per link the smallest bound at which its spheres cover
+97.5 % of its volume (our own samples), found by the fitter itself (timed; no knowledge of
+MorphIt).
 
 Rows (one JSON object per line on stdout):
 
@@ -121,11 +124,16 @@ def morphit_fit(solid: Any, k: int, seed: int) -> tuple[Any, float]:
 
 
 def _ours(
-    geoms: Any, counts: dict[str, int], seed: int, budget: Any, coverage: float | None = None
+    geoms: Any,
+    counts: dict[str, int],
+    seed: int,
+    budget: Any,
+    coverage: float | None = None,
+    refine: bool = True,
 ) -> tuple[Any, float]:
     from xrdf_tools.spheres.robot_fit import CountPolicy, fit_robot
 
-    policy = CountPolicy(per_link=counts, count_coverage=coverage)
+    policy = CountPolicy(per_link=counts, count_coverage=coverage, refine=refine)
     t0 = time.perf_counter()
     result = fit_robot("", geometry=geoms, counts=policy, seed=seed, max_protrusion=budget)
     return result.spheres, time.perf_counter() - t0
@@ -180,12 +188,18 @@ def bench_robot(name: str, total: int, samples: int, seed: int) -> list[dict[str
         for (k, g), m in zip(geoms.items(), m_peer, strict=True)
     }
     ours_default, t_default = _ours(geoms, counts, seed, None)
+    ours_hard, t_hard = _ours(geoms, counts, seed, None, refine=False)
     ours_matched, t_matched = _ours(geoms, counts, seed, budget)
     ours_coverage, t_coverage = _ours(geoms, counts, seed, None, COVERAGE_MODE)
     rows: list[dict[str, Any]] = []
-    wins = {"default": 0, "matched": 0, "coverage": 0}
+    wins = {"default": 0, "hard": 0, "matched": 0, "coverage": 0}
     overall: dict[str, Any] = {"morphit": pooled(m_peer, p_peer)}
-    fits = (("default", ours_default), ("matched", ours_matched), ("coverage", ours_coverage))
+    fits = (
+        ("default", ours_default),
+        ("hard", ours_hard),
+        ("matched", ours_matched),
+        ("coverage", ours_coverage),
+    )
     for mode, fitted in fits:
         m_ours, p_ours = score(fitted)
         overall[mode] = pooled(m_ours, p_ours)
@@ -205,7 +219,13 @@ def bench_robot(name: str, total: int, samples: int, seed: int) -> list[dict[str
                 }
             )
     b_all = overall["morphit"]
-    for mode, t_ours in (("default", t_default), ("matched", t_matched), ("coverage", t_coverage)):
+    times = (
+        ("default", t_default),
+        ("hard", t_hard),
+        ("matched", t_matched),
+        ("coverage", t_coverage),
+    )
+    for mode, t_ours in times:
         a_all = overall[mode]
         rows.append(
             {
@@ -234,8 +254,8 @@ def bench_robot(name: str, total: int, samples: int, seed: int) -> list[dict[str
 
 
 def render_png(path: Path, links: list[str], total: int, seed: int, samples: int) -> None:
-    """Panda links side by side: our fit at MorphIt's protrusion (left) and MorphIt's (right),
-    same counts as the ``total`` run, each sphere drawn over the link's mesh."""
+    """Panda links side by side: our default fit (left) and MorphIt's (right), same counts as
+    the ``total`` run, each sphere drawn over the link's mesh."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -255,8 +275,7 @@ def render_png(path: Path, links: list[str], total: int, seed: int, samples: int
         g = geoms[link]
         peer, _ = morphit_fit(g.solid, counts[link], seed)
         m_peer, _ = measure(g.solid, peer, samples=samples, seed=link_seed(seed, link))
-        tau = equal_p95_budget(g, counts[link], seed, m_peer.protrusion_p95, samples)
-        ours, _ = _ours({link: g}, {link: counts[link]}, seed, tau)
+        ours, _ = _ours({link: g}, {link: counts[link]}, seed, None)
         m_ours, _ = measure(g.solid, ours[link], samples=samples, seed=link_seed(seed, link))
         for col, (name, spheres, m) in enumerate(
             (("ours", ours[link], m_ours), ("MorphIt", peer, m_peer))

@@ -167,9 +167,9 @@ class SphereFitter:
         clips: Sequence[Plane] = (),
         room: float | None = None,
     ) -> None:
-        """``room``: the distance grid reaches past this bound as well, with the cells of the
-        grid for the fitter's own bound (so that fits under bounds up to ``room`` need no other
-        grid)."""
+        """``room``: the distance grid reaches past this bound as well (by three cells), with
+        the cells of the grid for the fitter's own bound, so that fits under bounds up to
+        ``room`` need no other grid."""
         rng = np.random.default_rng(seed)
         self.clips = np.array([[*n, d] for n, d in clips], dtype=np.float64).reshape(-1, 4)
         self.solid = solid
@@ -177,10 +177,13 @@ class SphereFitter:
         tau = default_max_protrusion(solid) if max_protrusion is None else float(max_protrusion)
         self._seed = seed
         self.room = 0.0
-        cell = None
         if room is not None and room > tau:
             cell = (float(np.max(solid.extents)) + 2.0 * self._margin(tau)) / _GRID_CELLS
-        self.widen(max(tau, float(room or 0.0)), rng, cell)
+            margin = max(self._margin(tau), room + 3.0 * cell)
+            self.sdf = _build_sdf(solid, margin, rng, cell)
+            self.room = float(room)
+        else:
+            self.widen(tau, rng)
         vol = self._kept(sample_volume(solid, volume_samples, rng))
         surf = self._kept(sample_surface(solid, surface_samples, rng))
         self.points = np.concatenate([vol, surf])
@@ -200,15 +203,12 @@ class SphereFitter:
         """The grid's margin around the solid for a bound of ``room``."""
         return 2.0 * room + float(np.max(self.solid.extents)) / _GRID_CELLS * 3
 
-    def widen(
-        self, room: float, rng: np.random.Generator | None = None, cell: float | None = None
-    ) -> None:
+    def widen(self, room: float, rng: np.random.Generator | None = None) -> None:
         """Build the distance grid so that it reaches past a bound of ``room`` (its margin
-        around the solid grows with it, and its cells with the margin unless ``cell`` is
-        given). The grid is built from a generator seeded as the fitter's first, so the same
-        room gives the same grid."""
+        around the solid grows with it, and its cells with the margin). The grid is built from
+        a generator seeded as the fitter's first, so the same room gives the same grid."""
         margin = self._margin(room)
-        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self._seed), cell)
+        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self._seed))
         #: the largest bound the distance grid reaches past (see :meth:`rebound`)
         self.room = float(room)
 

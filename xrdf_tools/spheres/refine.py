@@ -51,7 +51,7 @@ if TYPE_CHECKING:
 COVERAGE_WEIGHT = 6.0
 #: The quantiles of the union boundary's protrusion whose points the protrusion loss pulls in.
 PROTRUSION_BAND = (0.8, 0.97)
-REFINE_STEPS = 160
+REFINE_STEPS = 130
 #: Volume samples of the fitter used by the coverage loss (the first this many).
 REFINE_POINTS = 3000
 #: Points on each sphere where its protrusion is evaluated.
@@ -59,9 +59,9 @@ REFINE_DIRECTIONS = 64
 #: The bounds of the greedy fits refined, as multiples of the fitter's bound.
 START_BOUNDS = (1.0, 4.5)
 #: Steps each start is refined for before the best is kept.
-SCREEN_STEPS = 50
+SCREEN_STEPS = 40
 #: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`).
-START_ROUNDS = 2
+START_ROUNDS = 1
 #: Adam's step, as a share of the cube root of the solid's volume.
 STEP_FRACTION = 0.02
 #: The last step's size, as a share of the first's.

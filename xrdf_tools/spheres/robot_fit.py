@@ -8,6 +8,9 @@ planned; :func:`xrdf_tools.spheres.fit_link_spheres` is its two-value form.
   whose covered volume grows most), ``density`` (per litre); by default the fewest spheres
   (up to ``AUTO_MAX_PER_LINK``) that cover ``target_coverage`` of the link's volume at the
   protrusion bound.
+* With a count given and no protrusion bound of the link's own, the greedy spheres are
+  refined (:mod:`.refine`: coverage against the 95th percentile of the union's protrusion)
+  unless ``CountPolicy(refine=False)``; a bound given is kept as a hard bound.
 * A tiny placeholder (bounding-box diagonal under ``PLACEHOLDER_SIZE``) gets one sphere.
 * Links whose solids are identical (same vertices and faces in the link frame, same options)
   are fitted once: the generator of a fit is seeded from ``seed`` and the solid's content, so
