@@ -17,7 +17,7 @@ from xrdf_tools.spheres.geometry import LinkGeometry, load_link_geometry
 from xrdf_tools.spheres.metrics import fibonacci_directions, sphere_metrics
 from xrdf_tools.spheres.refine import (
     PROTRUSION_BAND,
-    _coverage_gradient,
+    _Coverage,
     _Outside,
     _protrusion_gradient,
 )
@@ -44,21 +44,22 @@ def _box_fitter() -> SphereFitter:
 
 
 def _coverage_by_loop(
-    points: np.ndarray, centers: np.ndarray, radii: np.ndarray
+    loss: _Coverage, points: np.ndarray, centers: np.ndarray, radii: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, float, float]:
     grad_c, grad_r = np.zeros_like(centers), np.zeros_like(radii)
-    loss, covered = 0.0, 0
+    total, covered = 0.0, 0
     for p in points:
         gaps = [math.dist(p, c) - r for c, r in zip(centers, radii, strict=True)]
         j = int(np.argmin(gaps))
-        if gaps[j] <= 0.0:
-            covered += 1
-            continue
+        g = gaps[j]
+        covered += g <= 0.0
+        soft = 1.0 / (1.0 + math.exp(-g / loss.softness))
+        total += (loss.count * soft + loss.gap * max(g, 0.0)) / len(points)
+        slope = loss.count / loss.softness * soft * (1.0 - soft) + (loss.gap if g > 0 else 0.0)
         unit = (p - centers[j]) / math.dist(p, centers[j])
-        grad_c[j] -= unit / len(points)
-        grad_r[j] -= 1.0 / len(points)
-        loss += gaps[j] / len(points)
-    return grad_c, grad_r, loss, covered / len(points)
+        grad_c[j] -= slope * unit / len(points)
+        grad_r[j] -= slope / len(points)
+    return grad_c, grad_r, total, covered / len(points)
 
 
 def test_coverage_gradient_equals_a_plain_loop() -> None:
@@ -66,12 +67,19 @@ def test_coverage_gradient_equals_a_plain_loop() -> None:
     points = rng.uniform(-0.1, 0.1, size=(400, 3))
     centers = rng.uniform(-0.05, 0.05, size=(5, 3))
     radii = rng.uniform(0.02, 0.05, size=5)
-    got = _coverage_gradient(points.T.astype(np.float32), centers, radii)
-    want = _coverage_by_loop(points.astype(np.float32).astype(np.float64), centers, radii)
+    loss = _Coverage(count=0.01, softness=0.002, gap=0.5)
+    got = loss.gradient(points.T.astype(np.float32), centers, radii)
+    want = _coverage_by_loop(loss, points.astype(np.float32).astype(np.float64), centers, radii)
     for a, b in zip(got[:2], want[:2], strict=True):
-        np.testing.assert_allclose(a, b, atol=1e-6)
-    assert got[2] == pytest.approx(want[2], abs=1e-7)
+        np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-9)
+    assert got[2] == pytest.approx(want[2], rel=1e-6)
     assert got[3] == want[3]
+    # the smoothed count is the loss's derivative: a small step along it lowers the loss
+    step = 1e-4 / max(float(np.abs(got[0]).max()), float(np.abs(got[1]).max()))
+    lower = loss.gradient(
+        points.T.astype(np.float32), centers - step * got[0], radii - step * got[1]
+    )
+    assert lower[2] < got[2]
 
 
 def test_distance_lookup_is_trilinear_inside_the_grid_and_grows_beyond_it() -> None:

@@ -3,12 +3,16 @@
 The greedy fit (:mod:`.fit`) keeps every sphere within a hard protrusion bound, so every sphere
 reaches it and the 95th percentile of the protrusion of the union's boundary grows as fast as
 the coverage. This stage trades the two the way the metrics measure them (:mod:`.metrics`),
-by minimising the sum of two losses, both in metres (so the balance does not depend on the
-link's size):
+by minimising the sum of two losses, both in metres and scaled with the part (so the balance
+does not depend on the link's size):
 
-* **coverage loss** -- ``COVERAGE_WEIGHT`` times the mean, over the fitter's volume samples,
-  of each point's gap to the union, ``max(0, min_k(|p - c_k| - r_k))`` (how far the nearest
-  sphere would have to grow to cover it);
+* **coverage loss** -- the mean, over the fitter's volume samples, of a smoothed count of
+  the samples left out: with ``g = min_k(|p - c_k| - r_k)`` a sample's gap to the union and
+  ``l = (volume / k) ** (1/3)``, ``COUNT_WEIGHT * l * sigmoid(g / (SOFTNESS * l))`` plus
+  ``GAP_WEIGHT * max(0, g)`` (the smoothed count has no pull on samples far out; the gap
+  does). A covered share is the metric's coverage, so ``COUNT_WEIGHT * l`` is the price of
+  the whole volume in protrusion: a part whose coverage costs much protrusion (a flat
+  plate) stops at less coverage than a tube;
 * **protrusion loss** -- the area-weighted mean distance outside the solid of the points of
   the union's boundary whose protrusion lies in the band ``PROTRUSION_BAND`` of quantiles
   (``REFINE_DIRECTIONS`` points on each sphere, those inside another sphere dropped). The
@@ -47,8 +51,13 @@ from .metrics import fibonacci_directions
 if TYPE_CHECKING:
     from .fit import SphereFitter
 
-#: Weight of the coverage loss against the protrusion loss (both in metres).
-COVERAGE_WEIGHT = 6.0
+#: The coverage loss of a volume sample left out, as a share of the cube root of the volume per
+#: sphere: what one unit of covered share is worth in protrusion (metres).
+COUNT_WEIGHT = 0.2
+#: Width of the step from covered to not covered, the same way a share of that cube root.
+SOFTNESS = 0.03
+#: Weight of the gap itself (metres per metre), which pulls spheres towards samples far out.
+GAP_WEIGHT = 0.5
 #: The quantiles of the union boundary's protrusion whose points the protrusion loss pulls in.
 PROTRUSION_BAND = (0.8, 0.97)
 REFINE_STEPS = 130
@@ -127,12 +136,12 @@ class _Adam:
 @dataclass
 class _Problem:
     """What the losses need: the volume samples, the directions on each sphere, the distance
-    field, the weight of coverage, Adam's step, the clip planes and the number of steps."""
+    field, the coverage loss, Adam's step, the clip planes and the number of steps."""
 
     points: FloatArray
     directions: FloatArray
     outside: _Outside
-    weight: float
+    coverage: _Coverage
     size: float
     clips: FloatArray
     steps: int
@@ -167,14 +176,14 @@ class _Run:
         """``steps`` Adam steps."""
         for _ in range(steps):
             self.steps += 1
-            cov_c, cov_r, gap, self.share = _coverage_gradient(
+            cov_c, cov_r, cov, self.share = problem.coverage.gradient(
                 problem.points, self.centers, self.radii
             )
             out_c, out_r, out = _protrusion_gradient(
                 problem.outside, self.centers, self.radii, problem.directions
             )
-            self.loss = problem.weight * gap + out
-            grad_c, grad_r = problem.weight * cov_c + out_c, problem.weight * cov_r + out_r
+            self.loss = cov + out
+            grad_c, grad_r = cov_c + out_c, cov_r + out_r
             rate = problem.rate(self.steps)
             self.centers = self.centers - self.adam_c.step(grad_c, rate, self.steps)
             step_r = self.adam_r.step(grad_r, rate, self.steps)
@@ -182,32 +191,46 @@ class _Run:
             self.radii = _keep_clipped(self.centers, radii, problem.clips)
 
 
-def _coverage_gradient(
-    points: FloatArray, centers: FloatArray, radii: FloatArray
-) -> tuple[FloatArray, FloatArray, float, float]:
-    """Gradient of ``mean(max(0, gap))`` over ``points`` (each point pulls on its nearest
-    sphere only), that loss and the share of the points covered. The nearest sphere is found
-    in single precision (``points`` are ``(3, N)`` float32 rows), the pull in double."""
-    k, n = len(radii), points.shape[1]
-    c32, r32 = centers.astype(np.float32), radii.astype(np.float32)
-    dist = np.sqrt(
-        (points[0][None, :] - c32[:, 0, None]) ** 2
-        + (points[1][None, :] - c32[:, 1, None]) ** 2
-        + (points[2][None, :] - c32[:, 2, None]) ** 2
-    )
-    nearest = np.argmin(dist - r32[:, None], axis=0)
-    cols = np.arange(n)
-    near = dist[nearest, cols].astype(np.float64)
-    gap = near - radii[nearest]
-    pull = (gap > 0.0) * (1.0 / max(n, 1))
-    unit = (points.T.astype(np.float64) - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
-    grad_c = np.stack(
-        [-np.bincount(nearest, weights=pull * unit[:, a], minlength=k) for a in range(3)], axis=1
-    )
-    grad_r = -np.bincount(nearest, weights=pull, minlength=k)
-    loss = float((pull * gap).sum())
-    share = float((gap <= 0.0).mean()) if n else 1.0
-    return grad_c.astype(np.float64), grad_r.astype(np.float64), loss, share
+@dataclass(frozen=True)
+class _Coverage:
+    """The coverage loss of each volume sample with gap ``g`` to the union (see the module
+    docstring): ``count * sigmoid(g / softness) + gap * max(0, g)``, ``count`` and
+    ``softness`` in metres."""
+
+    count: float
+    softness: float
+    gap: float
+
+    def gradient(
+        self, points: FloatArray, centers: FloatArray, radii: FloatArray
+    ) -> tuple[FloatArray, FloatArray, float, float]:
+        """The mean loss's gradient in the centres and radii (each point pulls on its nearest
+        sphere only), the mean loss and the share of the points covered. The nearest sphere is
+        found in single precision (``points`` are ``(3, N)`` float32 rows), the rest in
+        double."""
+        k, n = len(radii), points.shape[1]
+        c32, r32 = centers.astype(np.float32), radii.astype(np.float32)
+        dist = np.sqrt(
+            (points[0][None, :] - c32[:, 0, None]) ** 2
+            + (points[1][None, :] - c32[:, 1, None]) ** 2
+            + (points[2][None, :] - c32[:, 2, None]) ** 2
+        )
+        nearest = np.argmin(dist - r32[:, None], axis=0)
+        cols = np.arange(n)
+        near = dist[nearest, cols].astype(np.float64)
+        gap = near - radii[nearest]
+        soft = 1.0 / (1.0 + np.exp(-np.clip(gap / self.softness, -40.0, 40.0)))
+        slope = self.count / self.softness * soft * (1.0 - soft) + self.gap * (gap > 0.0)
+        pull = slope / max(n, 1)
+        unit = (points.T.astype(np.float64) - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
+        grad_c = np.stack(
+            [-np.bincount(nearest, weights=pull * unit[:, a], minlength=k) for a in range(3)],
+            axis=1,
+        )
+        grad_r = -np.bincount(nearest, weights=pull, minlength=k)
+        loss = float((self.count * soft + self.gap * np.maximum(gap, 0.0)).mean()) if n else 0.0
+        share = float((gap <= 0.0).mean()) if n else 1.0
+        return grad_c.astype(np.float64), grad_r.astype(np.float64), loss, share
 
 
 def _band(values: FloatArray, weights: FloatArray, band: tuple[float, float]) -> FloatArray:
@@ -284,11 +307,10 @@ def refined_fit(
     *,
     starts: Sequence[float] | None = None,
     steps: int | None = None,
-    coverage_weight: float | None = None,
 ) -> tuple[Sphere, ...]:
     """``k`` spheres: a greedy fit under each bound of ``starts`` (multiples of the fitter's
     bound; default ``START_BOUNDS``), each refined for ``SCREEN_STEPS`` steps on the losses of
-    the module docstring (coverage weighted ``coverage_weight``, default ``COVERAGE_WEIGHT``);
+    the module docstring;
     the one with the lowest loss is refined to ``steps`` (``REFINE_STEPS``) in all. Ties go
     to the earlier start. The distance field is the fitter's; the fitter is left re-bound to
     the last start's bound."""
@@ -296,6 +318,7 @@ def refined_fit(
         return fitter.fit(k)
     starts = START_BOUNDS if starts is None else starts
     steps = REFINE_STEPS if steps is None else steps
+    reach = (fitter.volume / k) ** (1.0 / 3.0)
     tau = fitter.tau
     problem = _Problem(
         np.ascontiguousarray(
@@ -303,7 +326,7 @@ def refined_fit(
         ),
         fibonacci_directions(REFINE_DIRECTIONS),
         _Outside(fitter),
-        COVERAGE_WEIGHT if coverage_weight is None else coverage_weight,
+        _Coverage(COUNT_WEIGHT * reach, SOFTNESS * reach, GAP_WEIGHT),
         STEP_FRACTION * fitter.scale,
         fitter.clips,
         steps,
