@@ -72,9 +72,11 @@ def fit_link_spheres(
 
     A placeholder smaller than 2 cm across gets one sphere. ``max_protrusion`` (metres, one
     value or per link) bounds how far each sphere may reach outside its link; by default 6 %
-    of the cube root of the link's volume. ``clips`` (``{link: [((nx, ny, nz), d), ...]}``,
-    unit normals, link frame) keeps each sphere of that link on the side the normal points
-    to: ``n . centre - radius >= d``. ``source`` chooses the geometry as in
+    of the cube root of the link's volume. With a count given, a link without a bound of its
+    own gets the greedy spheres refined on coverage and on the 95th percentile of their
+    protrusion instead (:mod:`xrdf_tools.spheres.refine`). ``clips`` (``{link: [((nx, ny,
+    nz), d), ...]}``, unit normals, link frame) keeps each sphere of that link on the side the
+    normal points to: ``n . centre - radius >= d``. ``source`` chooses the geometry as in
     :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs and ``seed`` give
     the same spheres; links with identical geometry are fitted once and get the same spheres.
     ``progress(link, i, n)`` is called before each link. ``urdf_path`` may be a loaded

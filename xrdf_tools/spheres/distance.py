@@ -12,13 +12,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from ..util.arrays import FloatArray
 
 if TYPE_CHECKING:
     import trimesh
 
-__all__ = ["surface_distance"]
+__all__ = ["near_face_distance", "surface_distance"]
 
 
 #: Point-triangle pairs held at once (a bounding-box test each; about 60 bytes).
@@ -49,6 +50,31 @@ def surface_distance(mesh: trimesh.Trimesh, points: FloatArray) -> FloatArray:
         block = best[start : start + step]
         np.minimum.at(block, pi, d)
     return best
+
+
+def near_face_distance(
+    mesh: trimesh.Trimesh,
+    points: FloatArray,
+    samples: FloatArray,
+    sample_faces: npt.NDArray[np.int64],
+    neighbours: int = 2,
+) -> FloatArray:
+    """Distances from ``points`` to the faces the ``neighbours`` nearest surface ``samples``
+    lie on (``sample_faces``): exact when a point's closest face is among them, an upper
+    bound on the distance to the surface otherwise, and far closer to it than the distance to
+    the nearest sample. One point-triangle distance per point and neighbour."""
+    from scipy.spatial import cKDTree
+
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    if len(pts) == 0 or len(samples) == 0:
+        return np.full(len(pts), np.inf)
+    n = min(neighbours, len(samples))
+    _, idx = cKDTree(samples).query(pts, k=n)
+    idx = np.asarray(idx, dtype=np.int64).reshape(len(pts), n)
+    tri = np.asarray(mesh.vertices, dtype=np.float64)[np.asarray(mesh.faces, dtype=np.int64)]
+    faces = sample_faces[idx]
+    d = _point_triangle_distance(np.repeat(pts, n, axis=0), tri[faces.ravel()])
+    return np.asarray(d.reshape(len(pts), n).min(axis=1))
 
 
 def _dot(a: FloatArray, b: FloatArray) -> FloatArray:

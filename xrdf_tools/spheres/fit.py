@@ -38,7 +38,8 @@ import numpy.typing as npt
 
 from ..util.arrays import BoolArray, FloatArray
 from ..xrdf.model import Sphere
-from .metrics import fibonacci_directions, sample_surface, sample_volume
+from .distance import near_face_distance
+from .metrics import fibonacci_directions, sample_surface, sample_surface_faces, sample_volume
 
 if TYPE_CHECKING:
     import trimesh
@@ -50,7 +51,7 @@ VOLUME_WEIGHT = 0.9
 DEFAULT_PROTRUSION_FRACTION = 0.06
 MIN_DEFAULT_PROTRUSION = 0.002
 _GRID_CELLS = 48
-_SURFACE_DENSE = 8_000
+_SURFACE_DENSE = 4_000
 _COVER_BLOCK = 32
 _MOVES = fibonacci_directions(26)
 #: Ratio of consecutive protrusion bounds tried by :func:`bound_for_coverage`.
@@ -93,28 +94,30 @@ class _Sdf:
         return np.asarray(map_coordinates(self.values, idx, order=1, mode="nearest"))
 
 
-def _build_sdf(solid: trimesh.Trimesh, margin: float, rng: np.random.Generator) -> _Sdf:
+def _build_sdf(
+    solid: trimesh.Trimesh, margin: float, rng: np.random.Generator, step: float | None = None
+) -> _Sdf:
+    """The distance grid ``margin`` around the solid; its cells ``step`` (default:
+    ``_GRID_CELLS`` cells along the grid's longest side)."""
     from scipy.ndimage import distance_transform_edt
-    from scipy.spatial import cKDTree
 
     from .inside import grid_inside
 
     lo = np.asarray(solid.bounds[0], dtype=np.float64) - margin
     hi = np.asarray(solid.bounds[1], dtype=np.float64) + margin
-    step = float((hi - lo).max()) / _GRID_CELLS
+    step = float((hi - lo).max()) / _GRID_CELLS if step is None else float(step)
     shape = np.ceil((hi - lo) / step).astype(int) + 1
     axes = [lo[i] + step * np.arange(shape[i]) for i in range(3)]
     mask = grid_inside(solid, (axes[0], axes[1], axes[2]))
-    # coarse distances from the voxel mask, exact-ish ones near the surface from the samples
+    # coarse distances from the voxel mask; near the surface, the distance to the faces of the
+    # nearest surface samples
     coarse = np.where(mask, -distance_transform_edt(mask), distance_transform_edt(~mask)) * step
     band = 3.0 * step
     near_band = np.abs(coarse) <= band + step
     grid = lo + step * np.argwhere(near_band).astype(np.float64)
-    dense = np.concatenate(
-        [sample_surface(solid, _SURFACE_DENSE, rng), np.asarray(solid.vertices, dtype=np.float64)]
-    )
-    near, _ = cKDTree(dense).query(grid, distance_upper_bound=band)
-    fine = np.isfinite(near)
+    dense, dense_faces = sample_surface_faces(solid, _SURFACE_DENSE, rng)
+    near = near_face_distance(solid, grid, dense, dense_faces)
+    fine = near <= band
     inside = mask[near_band]
     values = coarse.copy()
     banded = np.where(
@@ -164,6 +167,9 @@ class SphereFitter:
         clips: Sequence[Plane] = (),
         room: float | None = None,
     ) -> None:
+        """``room``: the distance grid reaches past this bound as well (by three cells), with
+        the cells of the grid for the fitter's own bound, so that fits under bounds up to
+        ``room`` need no other grid."""
         rng = np.random.default_rng(seed)
         self.clips = np.array([[*n, d] for n, d in clips], dtype=np.float64).reshape(-1, 4)
         self.solid = solid
@@ -171,7 +177,13 @@ class SphereFitter:
         tau = default_max_protrusion(solid) if max_protrusion is None else float(max_protrusion)
         self._seed = seed
         self.room = 0.0
-        self.widen(max(tau, float(room or 0.0)), rng)
+        if room is not None and room > tau:
+            cell = (float(np.max(solid.extents)) + 2.0 * self._margin(tau)) / _GRID_CELLS
+            margin = max(self._margin(tau), room + 3.0 * cell)
+            self.sdf = _build_sdf(solid, margin, rng, cell)
+            self.room = float(room)
+        else:
+            self.widen(tau, rng)
         vol = self._kept(sample_volume(solid, volume_samples, rng))
         surf = self._kept(sample_surface(solid, surface_samples, rng))
         self.points = np.concatenate([vol, surf])
@@ -187,12 +199,15 @@ class SphereFitter:
         self.scale = self.volume ** (1.0 / 3.0)
         self.rebound(tau)
 
+    def _margin(self, room: float) -> float:
+        """The grid's margin around the solid for a bound of ``room``."""
+        return 2.0 * room + float(np.max(self.solid.extents)) / _GRID_CELLS * 3
+
     def widen(self, room: float, rng: np.random.Generator | None = None) -> None:
         """Build the distance grid so that it reaches past a bound of ``room`` (its margin
         around the solid grows with it, and its cells with the margin). The grid is built from
         a generator seeded as the fitter's first, so the same room gives the same grid."""
-        extent = float(np.max(self.solid.extents))
-        margin = 2.0 * room + extent / _GRID_CELLS * 3
+        margin = self._margin(room)
         self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self._seed))
         #: the largest bound the distance grid reaches past (see :meth:`rebound`)
         self.room = float(room)

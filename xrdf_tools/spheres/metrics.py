@@ -117,11 +117,18 @@ def sample_volume(solid: trimesh.Trimesh, n: int, rng: np.random.Generator) -> F
 
 def sample_surface(solid: trimesh.Trimesh, n: int, rng: np.random.Generator) -> FloatArray:
     """``n`` points uniformly (by area) on the surface of ``solid``."""
+    return sample_surface_faces(solid, n, rng)[0]
+
+
+def sample_surface_faces(
+    solid: trimesh.Trimesh, n: int, rng: np.random.Generator
+) -> tuple[FloatArray, npt.NDArray[np.int64]]:
+    """:func:`sample_surface` and the face each point lies on."""
     import trimesh
 
     seed = int(rng.integers(0, 2**31 - 1))
-    pts, _ = trimesh.sample.sample_surface(solid, n, seed=seed)
-    return np.asarray(pts, dtype=np.float64)
+    pts, faces = trimesh.sample.sample_surface(solid, n, seed=seed)
+    return np.asarray(pts, dtype=np.float64), np.asarray(faces, dtype=np.int64)
 
 
 def fibonacci_directions(n: int) -> FloatArray:

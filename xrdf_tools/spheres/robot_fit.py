@@ -8,6 +8,9 @@ planned; :func:`xrdf_tools.spheres.fit_link_spheres` is its two-value form.
   whose covered volume grows most), ``density`` (per litre); by default the fewest spheres
   (up to ``AUTO_MAX_PER_LINK``) that cover ``target_coverage`` of the link's volume at the
   protrusion bound.
+* With a count given and no protrusion bound of the link's own, the greedy spheres are
+  refined (:mod:`.refine`: coverage against the 95th percentile of the union's protrusion)
+  unless ``CountPolicy(refine=False)``; a bound given is kept as a hard bound.
 * A tiny placeholder (bounding-box diagonal under ``PLACEHOLDER_SIZE``) gets one sphere.
 * Links whose solids are identical (same vertices and faces in the link frame, same options)
   are fitted once: the generator of a fit is seeded from ``seed`` and the solid's content, so
@@ -154,6 +157,10 @@ class CountPolicy:
     #: smallest at which its spheres cover this share of its volume (None: the default
     #: bound, :func:`~.fit.default_max_protrusion`).
     count_coverage: float | None = None
+    #: With a count given and no protrusion bound of the link's own (and no
+    #: ``count_coverage``): the greedy spheres are refined on coverage and on the protrusion
+    #: of their union (:mod:`.refine`). False keeps every sphere within the default bound.
+    refine: bool = True
 
 
 def _fewest_reaching(fitter: SphereFitter, target: float) -> tuple[tuple[Sphere, ...], float]:
@@ -232,7 +239,11 @@ def fit_robot(
         first_of[key] = name
         t0 = time.perf_counter()
         fitters[name] = SphereFitter(
-            geoms[name].solid, seed=fit_seed, max_protrusion=tau, clips=planes
+            geoms[name].solid,
+            seed=fit_seed,
+            max_protrusion=tau,
+            clips=planes,
+            room=_refine_room(geoms[name].solid, tau, counts),
         )
         seconds[name] = time.perf_counter() - t0
     ks = _counts(fitters, geoms, counts)
@@ -243,9 +254,12 @@ def fit_robot(
             spheres[name] = spheres[owner]
             continue
         t0 = time.perf_counter()
-        search_bound = plans[name][1] is None and counts.count_coverage is not None
+        free = plans[name][1] is None
+        mode = "search" if free and counts.count_coverage is not None else "hard"
+        if _refines(plans[name][1], counts):
+            mode = "refine"
         spheres[name] = _fit_one(
-            fitters[owner], ks.get(owner), counts, geoms[name], path, diags, search_bound
+            fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode
         )
         seconds[name] += time.perf_counter() - t0
     _report_shared(plans, first_of, path, geoms, diags)
@@ -257,6 +271,24 @@ def fit_robot(
         {n: geoms[n] for n in fitted},
         diags,
     )
+
+
+def _refines(tau: float | None, counts: CountPolicy) -> bool:
+    """Whether a link's count-given fit is refined (:mod:`.refine`): a count is given, the
+    link has no bound of its own and no bound is searched for a coverage."""
+    given = counts.per_link is not None or counts.count is not None or counts.density is not None
+    return given and tau is None and counts.refine and counts.count_coverage is None
+
+
+def _refine_room(solid: trimesh.Trimesh, tau: float | None, counts: CountPolicy) -> float | None:
+    """How far the distance grid of a refined fit reaches: past the loosest start's bound,
+    so that one grid serves every start (None: the fitter's own bound)."""
+    if not _refines(tau, counts):
+        return None
+    from .fit import default_max_protrusion
+    from .refine import START_BOUNDS
+
+    return max(START_BOUNDS) * default_max_protrusion(solid)
 
 
 def _plan(
@@ -304,10 +336,11 @@ def _fit_one(
     geom: LinkGeometry,
     path: str,
     diags: list[Diagnostic],
-    search_bound: bool = False,
+    mode: str = "hard",
 ) -> tuple[Sphere, ...]:
-    """One link's spheres: ``k`` of them (under the smallest bound at which they cover
-    ``counts.count_coverage`` when ``search_bound``), or the fewest reaching the coverage
+    """One link's spheres: ``k`` of them (``mode``: ``hard`` within the fitter's bound,
+    ``refine`` then refined on coverage and protrusion, ``search`` under the smallest bound
+    at which they cover ``counts.count_coverage``), or the fewest reaching the coverage
     target."""
     if fitter.empty and k != 0:
         diags.append(
@@ -332,10 +365,14 @@ def _fit_one(
             )
         )
         return fitter.fit(1)
-    if k is not None and search_bound and counts.count_coverage is not None:
+    if k is not None and mode == "search" and counts.count_coverage is not None:
         from .fit import bound_for_coverage
 
         return bound_for_coverage(fitter, k, counts.count_coverage)
+    if k is not None and mode == "refine":
+        from .refine import refined_fit
+
+        return refined_fit(fitter, k)
     if k is not None:
         return fitter.fit(k)
     spheres, share = _fewest_reaching(fitter, counts.target_coverage)
