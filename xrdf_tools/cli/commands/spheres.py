@@ -73,8 +73,10 @@ def command(
         float | None,
         typer.Option(
             "--max-protrusion",
-            help="How far (m) a sphere may reach outside its link "
-            "(default: 6 % of the cube root of the link volume).",
+            help="How far (m) a sphere may reach outside its link: a hard bound on every "
+            "sphere. Without it: 6 % of the cube root of the link volume when the count is "
+            "chosen per link; with --count/--per-link/--density the spheres are refined "
+            "instead, trading coverage against the 95th percentile of their protrusion.",
         ),
     ] = None,
     target_coverage: Annotated[
