@@ -200,10 +200,20 @@ class CountEngine:
         return hit, clear
 
     # --- per chunk -----------------------------------------------------------------------
-    def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
+    def count(
+        self,
+        q_var: npt.ArrayLike,
+        totals: EngineTotals | None = None,
+        *,
+        known: FloatArray | None = None,
+    ) -> BoolArray:
         """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
 
         When ``totals`` is given, the chunk's counts and clearances are added to it.
+        ``known`` [K]: exact minimum clearances already found in other configurations (of the
+        same count); like those of ``totals``, they only narrow the configurations looked at
+        for the minimum. The totals are the same with or without them: a frame pair's
+        minimum is exact whenever it lies below the margin and below every value known.
         """
         q = np.asarray(q_var, dtype=np.float64)
         if q.ndim != 2 or q.shape[1] != len(self.varying):
@@ -218,6 +228,8 @@ class CountEngine:
         prev = self.fixed_clear.copy()
         if totals is not None:
             np.minimum(prev, totals.min_clearance, out=prev)
+        if known is not None:
+            np.minimum(prev, known, out=prev)
         ch = _Chunk(hits, self.reach_bound.copy(), poses, q, gaps, prev)
         row = 0
         for bp in self.pairs:
