@@ -49,10 +49,12 @@ from .layout import Layout, body_pairs
 from .pairs import (
     BodyPair,
     ChunkPoses,
-    direct_clearances,
+    PairValues,
     evaluate_pair,
     frame_bodies,
     pair_constants,
+    sphere_pair_clearances,
+    sphere_pair_minima,
 )
 from .reach import Reach
 from .sharpen import Sharpener
@@ -252,15 +254,16 @@ class CountEngine:
             totals.rechecked += n_exact
         return hits
 
-    def _classify(self, bp: BodyPair, ch: _Chunk, sel: IntArray | None, em: F32) -> None:
-        """Verdicts from the float32 minima ``em`` [blocks, n]; queue the float64 rechecks.
+    def _classify(self, bp: BodyPair, ch: _Chunk, sel: IntArray | None, ev: PairValues) -> None:
+        """Verdicts from the float32 minima of ``ev`` [blocks, n]; queue the float64 rechecks.
 
-        Entries within ``± delta`` of zero are unsure. For the minimum clearance, every
-        configuration whose clearance may lie below ``min(margin, an upper bound of the
-        chunk's smallest)`` is a candidate; candidates are narrowed in float32
-        (:meth:`_refine`). Everything not rechecked has a clearance of at least the bound
-        recorded for its frame pair.
+        Entries within ``± delta`` of zero are unsure. For the minimum clearance, a frame pair
+        whose values may lie below ``min(margin, an upper bound of the chunk's smallest)``
+        has its candidates found sphere pair by sphere pair (:meth:`_minimum_candidates`).
+        Everything not rechecked has a clearance of at least the bound recorded for its frame
+        pair.
         """
+        em = ev.minima
         ks = np.array([k for k, _, _ in bp.blocks], dtype=np.intp)
         d = np.float32(bp.delta)
         cols = np.arange(em.shape[1]) if sel is None else sel
@@ -272,41 +275,49 @@ class CountEngine:
         thr = np.minimum(self.margin, clearance_hi(e_min + bp.delta, rlo, rhi))
         np.minimum(thr, ch.prev[ks], out=thr)
         e_star = (energy_at(thr, rlo, rhi) + bp.delta).astype(np.float32)
-        cand = em <= e_star[:, None]
-        has_cand = cand.any(axis=1)
+        has_cand = (em <= e_star[:, None]).any(axis=1)  # the others are all above thr
         low = np.where(has_cand, thr, clearance_lo(e_min - bp.delta, rlo, rhi))
         np.minimum(ch.bound[ks], low, out=low)
         ch.bound[ks] = low
-        unsure = np.abs(em) <= d
-        if has_cand.any():
-            cand = self._refine(bp, ch, cols, cand, ks)
-        bi, bj = np.nonzero(unsure | cand)
+        queued = np.abs(em) <= d
+        for i in np.flatnonzero(has_cand).tolist():
+            cand = np.flatnonzero(em[i] <= e_star[i])
+            trel = ev.trel[:, :, cand]
+            queued[i, cand] |= self._minimum_candidates(bp, ch, trel, i, float(thr[i]))
+        bi, bj = np.nonzero(queued)
         if len(bi):
             ch.re_k.append(ks[bi])
             ch.re_b.append(cols[bj])
 
-    def _refine(
-        self, bp: BodyPair, ch: _Chunk, cols: IntArray, cand: BoolArray, ks: IntArray
+    def _minimum_candidates(
+        self, bp: BodyPair, ch: _Chunk, trel: F32, i: int, thr: float
     ) -> BoolArray:
-        """Narrow minimum-clearance candidates with float32 clearances (error ≤ ``tau``).
+        """Which of the configurations at poses ``trel`` [3, 4, n] may hold block ``i``'s
+        smallest clearance below ``thr`` (at most the margin and the best so far; the other
+        configurations of the chunk are above it).
 
-        ``d² − R²`` ranks configurations only roughly when a frame pair's radii differ, so the
-        candidates' clearances are computed directly; only those that can be within ``tau``
-        of the smallest are kept for float64. The dropped ones' clearances exceed the limit
-        recorded in the frame pair's bound.
+        ``d² − R²`` ranks the configurations of one sphere pair as its clearance does, but
+        not those of sphere pairs with other radii. So each sphere pair's smallest value bounds
+        its smallest clearance from both sides (within ``delta``, with its own radius sum); the
+        block's smallest clearance is at most the least upper bound, and only the sphere pairs
+        whose lower bound does not exceed it can hold it. Only their clearances are computed
+        directly (float32, error ``tau``). The configurations left out have a clearance above
+        the limit recorded in the frame pair's bound.
         """
-        tau = bp.tau
-        idx = np.flatnonzero(cand.any(axis=0))
-        clr = direct_clearances(bp, ch.poses, cols[idx])
-        kept = np.zeros_like(cand)
-        for i, (k, _, _) in enumerate(bp.blocks):
-            ci = cand[i, idx]
-            if not ci.any():
-                continue
-            ck = np.where(ci, clr[i], np.inf)
-            lim = min(self.margin, float(ch.prev[k]), float(ck.min()) + tau)
-            kept[i, idx[ck - tau <= lim]] = True
-            ch.bound[k] = min(ch.bound[k], lim)
+        k, rows, cs = bp.blocks[i]
+        e = sphere_pair_minima(bp, trel, rows, cs).astype(np.float64)
+        r = bp.ra64[rows, None] + bp.rb64[None, cs]
+        r2 = r * r
+        c_hi = np.sqrt(np.maximum(e + bp.delta + r2, 0.0)) - r
+        lim = min(thr, float(c_hi.min()))
+        c_lo = np.sqrt(np.maximum(e - bp.delta + r2, 0.0)) - r
+        ii, jj = np.nonzero(c_lo <= lim)
+        if not len(ii):  # every configuration is above thr, which the bound holds already
+            return np.zeros(trel.shape[-1], dtype=np.bool_)
+        clr = sphere_pair_clearances(bp, trel, ii + rows.start, jj + cs.start).min(axis=0)
+        lim = min(lim, float(clr.min()) + bp.tau)
+        ch.bound[k] = min(ch.bound[k], lim)
+        kept: BoolArray = clr - bp.tau <= lim
         return kept
 
     def _recheck(self, ch: _Chunk, best: FloatArray) -> int:
