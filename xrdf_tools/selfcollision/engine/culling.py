@@ -35,8 +35,9 @@ _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 #: A grid holds its sphere pairs' radius sums: beyond this many, the pair is culled otherwise.
 _GRID_MAX_PAIRS = 1 << 13
-#: Configurations per block of :meth:`Culler.gaps2`.
-_GAP_BLOCK = 2048
+#: Configurations per block of :meth:`Culler.gaps2`: its temporaries ([pairs, block] each) stay
+#: in the CPU cache for hundreds of culled pairs (TIAGo's 708: 2× faster than 2048).
+_GAP_BLOCK = 256
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 
 
