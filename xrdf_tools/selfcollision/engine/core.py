@@ -19,7 +19,7 @@ then counts chunks of configurations (:meth:`CountEngine.count`):
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
@@ -35,7 +35,6 @@ from ..collision import (
     touching,
 )
 from .bodies import (
-    F32,
     body_local_centers,
     body_poses,
     body_roots,
@@ -43,18 +42,14 @@ from .bodies import (
     joint_values,
     position_error,
 )
-from .bounds import clearance_hi, clearance_lo, energy_at
+from .classify import Chunk, Evaluated, classify
 from .culling import Culler
 from .layout import Layout, body_pairs
 from .pairs import (
-    BodyPair,
     ChunkPoses,
-    PairValues,
     evaluate_pair,
     frame_bodies,
     pair_constants,
-    sphere_pair_clearances,
-    sphere_pair_minima,
 )
 from .reach import Reach
 from .sharpen import Sharpener
@@ -98,22 +93,6 @@ class EngineTotals:
         np.minimum(self.clearance_bound, other.clearance_bound, out=self.clearance_bound)
         self.configurations += other.configurations
         self.rechecked += other.rechecked
-
-
-@dataclass
-class _Chunk:
-    """One chunk: verdicts [K, B], clearance bounds [K], body poses, the configurations, the
-    culled pairs' bounding-sphere gaps, and the (frame pair, configuration) entries queued
-    for the float64 recheck."""
-
-    hits: BoolArray
-    bound: FloatArray
-    poses: ChunkPoses = field(repr=False)
-    q: FloatArray = field(repr=False)
-    gaps: F32 | None = field(repr=False)
-    prev: FloatArray = field(repr=False)  # [K] exact minimum clearances of earlier chunks
-    re_k: list[IntArray] = field(default_factory=list, repr=False)
-    re_b: list[IntArray] = field(default_factory=list, repr=False)
 
 
 class CountEngine:
@@ -223,8 +202,6 @@ class CountEngine:
         B = q.shape[0]
         T = body_poses(self.bodies, q)
         poses = ChunkPoses(self.bodies, T, joint_values(self.bodies, q))
-        culled = [bp for bp in self.pairs if bp.cull]
-        gaps = self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled) if culled else None
         hits = np.zeros((self.K, B), dtype=np.bool_)
         # the best clearance so far only narrows the candidates (it never changes a result)
         prev = self.fixed_clear.copy()
@@ -232,14 +209,22 @@ class CountEngine:
             np.minimum(prev, totals.min_clearance, out=prev)
         if known is not None:
             np.minimum(prev, known, out=prev)
-        ch = _Chunk(hits, self.reach_bound.copy(), poses, q, gaps, prev)
+        ch = Chunk(hits, self.reach_bound.copy(), poses, q, prev)
+        culled = [bp for bp in self.pairs if bp.cull]
+        if culled:
+            near, low = self.culler.culled_near(
+                culled, self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled)
+            )
+        done: list[Evaluated] = []
         row = 0
         for bp in self.pairs:
-            g2 = gaps[row] if bp.cull and gaps is not None else None
-            sel = self.culler.select(bp, ch.q, g2, ch.bound)
+            rows = (near[row], float(low[row])) if bp.cull else None
+            sel = self.culler.select(bp, ch.q, rows, ch.bound)
             row += bp.cull
             if sel is None or len(sel):
-                self._classify(bp, ch, sel, evaluate_pair(bp, ch.poses, sel))
+                cols = np.arange(B) if sel is None else sel
+                done.append(Evaluated(bp, cols, evaluate_pair(bp, ch.poses, sel)))
+        classify(ch, done, self.margin, self.rlo_k, self.rhi_k)
         best = self.fixed_clear.copy()
         n_exact = self._recheck(ch, best)
         hits |= self.fixed_hit[:, None]
@@ -254,73 +239,7 @@ class CountEngine:
             totals.rechecked += n_exact
         return hits
 
-    def _classify(self, bp: BodyPair, ch: _Chunk, sel: IntArray | None, ev: PairValues) -> None:
-        """Verdicts from the float32 minima of ``ev`` [blocks, n]; queue the float64 rechecks.
-
-        Entries within ``± delta`` of zero are unsure. For the minimum clearance, a frame pair
-        whose values may lie below ``min(margin, an upper bound of the chunk's smallest)``
-        has its candidates found sphere pair by sphere pair (:meth:`_minimum_candidates`).
-        Everything not rechecked has a clearance of at least the bound recorded for its frame
-        pair.
-        """
-        em = ev.minima
-        ks = np.array([k for k, _, _ in bp.blocks], dtype=np.intp)
-        d = np.float32(bp.delta)
-        cols = np.arange(em.shape[1]) if sel is None else sel
-        hit = em < -d
-        for i, k in enumerate(ks.tolist()):
-            ch.hits[k, cols] |= hit[i]  # a frame pair may be spread over several body pairs
-        e_min = em.min(axis=1).astype(np.float64)
-        rlo, rhi = self.rlo_k[ks], self.rhi_k[ks]
-        thr = np.minimum(self.margin, clearance_hi(e_min + bp.delta, rlo, rhi))
-        np.minimum(thr, ch.prev[ks], out=thr)
-        e_star = (energy_at(thr, rlo, rhi) + bp.delta).astype(np.float32)
-        has_cand = (em <= e_star[:, None]).any(axis=1)  # the others are all above thr
-        low = np.where(has_cand, thr, clearance_lo(e_min - bp.delta, rlo, rhi))
-        np.minimum(ch.bound[ks], low, out=low)
-        ch.bound[ks] = low
-        queued = np.abs(em) <= d
-        for i in np.flatnonzero(has_cand).tolist():
-            cand = np.flatnonzero(em[i] <= e_star[i])
-            trel = ev.trel[:, :, cand]
-            queued[i, cand] |= self._minimum_candidates(bp, ch, trel, i, float(thr[i]))
-        bi, bj = np.nonzero(queued)
-        if len(bi):
-            ch.re_k.append(ks[bi])
-            ch.re_b.append(cols[bj])
-
-    def _minimum_candidates(
-        self, bp: BodyPair, ch: _Chunk, trel: F32, i: int, thr: float
-    ) -> BoolArray:
-        """Which of the configurations at poses ``trel`` [3, 4, n] may hold block ``i``'s
-        smallest clearance below ``thr`` (at most the margin and the best so far; the other
-        configurations of the chunk are above it).
-
-        ``d² − R²`` ranks the configurations of one sphere pair as its clearance does, but
-        not those of sphere pairs with other radii. So each sphere pair's smallest value bounds
-        its smallest clearance from both sides (within ``delta``, with its own radius sum); the
-        block's smallest clearance is at most the least upper bound, and only the sphere pairs
-        whose lower bound does not exceed it can hold it. Only their clearances are computed
-        directly (float32, error ``tau``). The configurations left out have a clearance above
-        the limit recorded in the frame pair's bound.
-        """
-        k, rows, cs = bp.blocks[i]
-        e = sphere_pair_minima(bp, trel, rows, cs).astype(np.float64)
-        r = bp.ra64[rows, None] + bp.rb64[None, cs]
-        r2 = r * r
-        c_hi = np.sqrt(np.maximum(e + bp.delta + r2, 0.0)) - r
-        lim = min(thr, float(c_hi.min()))
-        c_lo = np.sqrt(np.maximum(e - bp.delta + r2, 0.0)) - r
-        ii, jj = np.nonzero(c_lo <= lim)
-        if not len(ii):  # every configuration is above thr, which the bound holds already
-            return np.zeros(trel.shape[-1], dtype=np.bool_)
-        clr = sphere_pair_clearances(bp, trel, ii + rows.start, jj + cs.start).min(axis=0)
-        lim = min(lim, float(clr.min()) + bp.tau)
-        ch.bound[k] = min(ch.bound[k], lim)
-        kept: BoolArray = clr - bp.tau <= lim
-        return kept
-
-    def _recheck(self, ch: _Chunk, best: FloatArray) -> int:
+    def _recheck(self, ch: Chunk, best: FloatArray) -> int:
         """Decide the queued entries: a float64 look along the tree path first
         (:mod:`.sharpen`), then the reference pair test for the verdicts still within its
         error of zero and the candidates still tied with a frame pair's smallest clearance.
@@ -346,7 +265,7 @@ class CountEngine:
         np.minimum.at(best, ks, clr)
         return len(ks)
 
-    def _tied(self, ks: IntArray, clear: FloatArray, ch: _Chunk) -> BoolArray:
+    def _tied(self, ks: IntArray, clear: FloatArray, ch: Chunk) -> BoolArray:
         """Entries (sorted by frame pair ``ks``) that may hold their frame pair's smallest
         clearance of the chunk below ``min(margin, the best so far)``. The others' clearances
         exceed that of an entry kept, or the frame pair's recorded bound."""

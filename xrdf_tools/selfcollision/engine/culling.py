@@ -15,13 +15,12 @@ the chunk's bounds (:meth:`Culler.select`), so the minimum clearance stays hones
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ...robot.kinematics import KinematicModel
-from ...util.arrays import FloatArray, IntArray
+from ...util.arrays import BoolArray, FloatArray, IntArray
 from .bodies import F32, ROT, Bodies, body_fk
 from .grid import PairGrid, build_pair_grid
 from .pairs import BodyPair
@@ -35,9 +34,11 @@ _GRID_MIN_PAIRS = 1
 _GRID_MAX_JOINTS = 2
 #: A grid holds its sphere pairs' radius sums: beyond this many, the pair is culled otherwise.
 _GRID_MAX_PAIRS = 1 << 13
-#: Configurations per block of :meth:`Culler.gaps2`: its temporaries ([pairs, block] each) stay
-#: in the CPU cache for hundreds of culled pairs (TIAGo's 708: 2× faster than 2048).
-_GAP_BLOCK = 256
+#: (culled pairs × configurations) per block of :meth:`Culler.gaps2`: its temporaries stay in
+#: the CPU cache (TIAGo's 708 culled pairs: 2× faster than blocks of 2048 configurations),
+#: and a few pairs still get long blocks (fewer calls).
+_GAP_ELEMENTS = 1 << 16
+_GAP_MIN_BLOCK = 256
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
 
 
@@ -88,8 +89,9 @@ class Culler:
         pts = np.array([c for _, c in index], dtype=np.float32).reshape(-1, 3)
         B = R.shape[-1]
         out = np.empty((len(pairs), B), dtype=np.float32)
-        for s0 in range(0, B, _GAP_BLOCK):
-            sl = slice(s0, min(B, s0 + _GAP_BLOCK))
+        step = max(_GAP_MIN_BLOCK, _GAP_ELEMENTS // len(pairs))
+        for s0 in range(0, B, step):
+            sl = slice(s0, min(B, s0 + step))
             n = sl.stop - sl.start
             W = np.empty((len(pts), 3, n), dtype=np.float32)
             for body, rows in by_body.items():
@@ -158,23 +160,33 @@ class Culler:
             _GRID_MIN_FAR,
         )
 
+    def culled_near(self, pairs: list[BodyPair], gaps: F32) -> tuple[BoolArray, FloatArray]:
+        """For culled ``pairs`` and their :meth:`gaps2` rows [P, B]: the configurations within
+        reach [P, B], and per pair a lower bound of the clearance of the others [P]."""
+        reach = np.array([self.reach(bp) for bp in pairs])
+        near: BoolArray = gaps <= (reach**2).astype(np.float32)[:, None]
+        far_min = np.min(gaps, axis=1, where=~near, initial=np.inf).astype(np.float64)
+        low: FloatArray = np.sqrt(far_min) - reach + self.margin
+        return near, low
+
     def select(
-        self, bp: BodyPair, q: FloatArray, g2: F32 | None, bound: FloatArray
+        self,
+        bp: BodyPair,
+        q: FloatArray,
+        culled: tuple[BoolArray, float] | None,
+        bound: FloatArray,
     ) -> IntArray | None:
         """Configurations of the chunk ``q`` to evaluate for ``bp`` (None: all of them).
 
-        ``g2``: the pair's row of :meth:`gaps2` when it is culled. The skipped configurations
-        are farther apart than the margin; their clearance lower bound goes into ``bound``
-        [K] (the chunk's bounds).
+        ``culled``: the pair's row of :meth:`culled_near` when it is culled. The skipped
+        configurations are farther apart than the margin; their clearance lower bound goes
+        into ``bound`` [K] (the chunk's bounds).
         """
         if bp.grid is not None:
             near = bp.grid.near(q)
             low = bp.grid.far_bound
-        elif bp.cull and g2 is not None:
-            reach = self.reach(bp)
-            near = g2 <= np.float32(reach**2)
-            far_min = float(np.min(g2, where=~near, initial=np.inf))
-            low = math.sqrt(far_min) - reach + self.margin
+        elif bp.cull and culled is not None:
+            near, low = culled
         else:
             return None
         sel = np.flatnonzero(near)

@@ -12,6 +12,7 @@ sphere pairs for the minimum-clearance bookkeeping.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -71,6 +72,11 @@ class BodyPair:
     #: ``delta`` for ``d² − R²``).
     tau: float = 0.0
 
+    @cached_property
+    def frame_pairs(self) -> IntArray:
+        """[blocks]: the frame pair of each block."""
+        return np.array([k for k, _, _ in self.blocks], dtype=np.intp)
+
     @property
     def n_sphere_pairs(self) -> int:
         return sum((r.stop - r.start) * (c.stop - c.start) for _, r, c in self.blocks)
@@ -127,7 +133,7 @@ class ChunkPoses:
     vals: F32
 
 
-def _pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
+def pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     """``T_a⁻¹ T_b`` [3, 4, n] at the selected configurations (all when None): composed
     along ``bp.path`` when it has one, else from the body poses."""
     if bp.path is not None:
@@ -142,17 +148,6 @@ def _pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F3
         if sel is not None:
             Ta, Tb = np.take(Ta, sel, axis=-1), np.take(Tb, sel, axis=-1)
     return _relative(Ta[:, :3], Ta[:, 3], Tb[:, :3], Tb[:, 3])
-
-
-@dataclass(frozen=True, eq=False)
-class PairValues:
-    """What :func:`evaluate_pair` gives for the selected configurations of one body pair:
-    ``minima`` [blocks, n], per frame pair and configuration the float32 minimum of
-    ``d² − R²`` over its sphere pairs, and ``trel`` [3, 4, n], the pose of body ``b`` in the
-    frame of body ``a`` at each configuration."""
-
-    minima: F32
-    trel: F32
 
 
 def _energies(bp: BodyPair, trel: F32, Q: F32, E: F32, rows: slice, cols: slice) -> None:
@@ -172,14 +167,14 @@ def _q_buffer(bp: BodyPair, cols: slice, w: int) -> F32:
     return Q
 
 
-def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> PairValues:
+def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     """float32 minima of ``d² − R²`` [blocks, n] per frame pair of ``bp`` for the selected
-    configurations (all when ``sel`` is None), and the poses they were computed at.
+    configurations (all when ``sel`` is None).
 
     Each block of configurations is one GEMM; the per-frame-pair minima are two segmented
     reductions over contiguous rows (``minimum.reduceat`` over ``a``'s frames, then over
     ``b``'s), so their cost follows the sphere pairs, not the number of frame pairs."""
-    Trel = _pair_transform(bp, poses, sel)  # [3, 4, n]
+    Trel = pair_transform(bp, poses, sel)  # [3, 4, n]
     n = Trel.shape[-1]
     out = np.empty((len(bp.blocks), n), dtype=np.float32)
     m_a, m_b = bp.p_aug.shape[0], bp.q_aug.shape[0]
@@ -207,7 +202,7 @@ def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> Pair
         else:
             seg = np.minimum.reduceat(R3, bp.col_starts, axis=1)
         out[:, s0:s1] = seg[bp.seg_a, bp.seg_b]
-    return PairValues(out, Trel)
+    return out
 
 
 def sphere_pair_minima(bp: BodyPair, trel: F32, rows: slice, cols: slice) -> F32:
@@ -230,7 +225,7 @@ def sphere_pair_minima(bp: BodyPair, trel: F32, rows: slice, cols: slice) -> F32
 
 def sphere_pair_clearances(bp: BodyPair, trel: F32, ia: IntArray, ib: IntArray) -> F32:
     """float32 clearances [len(ia), n] of the sphere pairs (``ia``, ``ib``) (rows of ``a``'s
-    and of ``b``'s spheres in ``bp``) at the poses ``trel`` [3, 4, n] of :class:`PairValues`,
+    and of ``b``'s spheres in ``bp``) at the poses ``trel`` [3, 4, n] (:func:`pair_transform`),
     computed directly (error at most ``bp.tau``), in cache-sized column blocks."""
     n = trel.shape[-1]
     out = np.empty((len(ia), n), dtype=np.float32)
