@@ -148,6 +148,7 @@ class CountEngine:
         #: of those pairs (+inf where there are none): decided once, never sampled.
         self.fixed_hit, self.fixed_clear = self._fixed_pairs(layout)
         self.pairs = self.culler.choose(pairs)
+        self.cull_plan = self.culler.plan([bp for bp in self.pairs if bp.cull])
         self.sharpener = Sharpener.of(
             self.bodies, spheres, self.local, self.frame_body, kin.n_frames
         )
@@ -210,11 +211,8 @@ class CountEngine:
         if known is not None:
             np.minimum(prev, known, out=prev)
         ch = Chunk(hits, self.reach_bound.copy(), poses, q, prev)
-        culled = [bp for bp in self.pairs if bp.cull]
-        if culled:
-            near, low = self.culler.culled_near(
-                culled, self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled)
-            )
+        if self.cull_plan.pairs:
+            near, low = self.culler.culled_near(self.cull_plan, T[:, :, :3], T[:, :, 3])
         done: list[Evaluated] = []
         row = 0
         for bp in self.pairs:
