@@ -268,9 +268,14 @@ class _CellTest:
         key, at = np.unique(cell * m_b + jb, return_inverse=True)
         u_cell, u_sphere = np.divmod(key, m_b)
         sub = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
-        theta = [self.lo[j] + (idx[j][u_cell, None] * _SPLIT + sub[j] + 0.5) * h[j] for j in (0, 1)]
-        pts = _turned(self.x_desc[u_sphere, None, :], theta[1], self.consts[1])
-        pts = _turned(pts, theta[0], self.consts[0])  # [U, 16, 3]
+        # each fine cell's joint values, their cosines and sines computed once per cell row
+        fine = [idx[j][u_cell, None] * _SPLIT + sub[j] for j in (0, 1)]
+        trig = [
+            _cos_sin(self.lo[j] + (np.arange(int(fine[j].max(initial=-1)) + 1) + 0.5) * h[j])
+            for j in (0, 1)
+        ]
+        pts = _turned(self.x_desc[u_sphere, None, :], trig[1], fine[1], self.consts[1])
+        pts = _turned(pts, trig[0], fine[0], self.consts[0])  # [U, 16, 3]
         diff = pts[at] - self.p_anc[ia][:, None, :]  # [E, 16, 3]
         dist = np.sqrt(np.einsum("esk,esk->es", diff, diff))
         child = [idx[j][:, None] * _SPLIT + sub[j] for j in (0, 1)]  # [L, 16]
@@ -319,13 +324,20 @@ class _CellTest:
         return pts
 
 
-def _turned(x: FloatArray, theta: FloatArray, C: FloatArray) -> FloatArray:
-    """``C · Rz(θ) · x`` [U, S, 3] for points ``x`` [U, S or 1, 3] and angles ``θ`` [U, S]."""
-    c, s = np.cos(theta), np.sin(theta)
+def _cos_sin(theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    return np.cos(theta), np.sin(theta)
+
+
+def _turned(
+    x: FloatArray, trig: tuple[FloatArray, FloatArray], at: IntArray, C: FloatArray
+) -> FloatArray:
+    """``C · Rz(θ) · x`` [U, S, 3] for points ``x`` [U, S or 1, 3] and the angles ``θ`` whose
+    cosines and sines are ``trig`` [n] at the indices ``at`` [U, S]."""
+    c, s = trig[0][at], trig[1][at]
     x0, x1, x2 = x[..., 0], x[..., 1], x[..., 2]
     a, b = c * x0 - s * x1, s * x0 + c * x1  # Rz(θ)·x
     R, t = C[:3, :3], C[:3, 3]
-    out = np.empty((*theta.shape, 3))
+    out = np.empty((*at.shape, 3))
     for k in range(3):
         out[..., k] = R[k, 0] * a + R[k, 1] * b + R[k, 2] * x2 + t[k]
     return out
