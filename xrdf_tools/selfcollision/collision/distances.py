@@ -42,6 +42,8 @@ __all__ = [
 
 #: Sphere-pair evaluations per block of :func:`frame_pair_verdicts` (bounded memory).
 _BLOCK_ELEMENTS = 1 << 15
+#: Sphere pairs per block of the one-configuration functions (all frame pairs in one flat pass).
+_PAIR_BLOCK = 1 << 16
 #: float64 pose entries per block of :func:`frame_pair_verdicts` (12 per frame and configuration).
 _POSE_ELEMENTS = 1 << 20
 
@@ -271,21 +273,28 @@ class Contact:
     masked: bool = False
 
 
-def _frame_pair_blocks(
+def _sphere_pair_blocks(
     spheres: SphereSet, c: FloatArray
-) -> Iterator[tuple[int, int, int, FloatArray, FloatArray]]:
-    """Per frame pair and block of its first frame's spheres: ``(k, i0, j0, diff, rs)`` with
-    ``diff`` [m, n, 3] centre differences and ``rs`` [m, n] radius sums of spheres
-    ``i0 + r`` and ``j0 + c`` (bounded memory: at most :data:`_BLOCK_ELEMENTS` per block)."""
+) -> Iterator[tuple[IntArray, IntArray, IntArray, FloatArray, FloatArray]]:
+    """Every sphere pair of every frame pair, in the flat order (frame pair by frame pair,
+    row-major), in blocks of at most :data:`_PAIR_BLOCK`: ``(k, i, j, diff, rs)`` with the
+    frame pair [m], the two spheres [m], centre differences [m, 3] and radius sums [m]."""
     s = spheres
-    for k in range(s.n_frame_pairs):
-        sa, sb = s.spheres_of(int(s.frame_pair_a[k])), s.spheres_of(int(s.frame_pair_b[k]))
-        cb, rb = c[sb], s.self_radii[sb]
-        step = max(1, _BLOCK_ELEMENTS // max(1, len(rb)))
-        for i0 in range(sa.start, sa.stop, step):
-            i1 = min(sa.stop, i0 + step)
-            diff = c[i0:i1, None, :] - cb[None, :, :]
-            yield k, i0, sb.start, diff, s.self_radii[i0:i1, None] + rb[None, :]
+    total = s.n_pairs
+    for p0 in range(0, total, _PAIR_BLOCK):
+        p = np.arange(p0, min(total, p0 + _PAIR_BLOCK))
+        k = np.searchsorted(s.pair_start, p, side="right") - 1
+        fa, fb = s.frame_pair_a[k], s.frame_pair_b[k]
+        a0, b0 = s.frame_start[fa], s.frame_start[fb]
+        row, col = np.divmod(p - s.pair_start[k], s.frame_start[fb + 1] - b0)
+        i, j = a0 + row, b0 + col
+        yield k, i, j, c[i] - c[j], s.self_radii[i] + s.self_radii[j]
+
+
+def _runs(k: IntArray) -> IntArray:
+    """Where each run of equal values of ``k`` starts."""
+    out: IntArray = np.flatnonzero(np.r_[True, k[1:] != k[:-1]])
+    return out
 
 
 def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
@@ -293,8 +302,11 @@ def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatAr
     (+inf for a frame pair without sphere pairs), in bounded memory."""
     c = _one_configuration(spheres, centers)
     out = np.full(spheres.n_frame_pairs, np.inf)
-    for k, _, _, diff, rs in _frame_pair_blocks(spheres, c):
-        out[k] = min(out[k], float((np.linalg.norm(diff, axis=-1) - rs).min()))
+    for k, _, _, diff, rs in _sphere_pair_blocks(spheres, c):
+        starts = _runs(k)
+        low = np.minimum.reduceat(np.linalg.norm(diff, axis=-1) - rs, starts)
+        np.minimum(out[k[starts]], low, out=low)
+        out[k[starts]] = low
     return out
 
 
@@ -305,13 +317,10 @@ def colliding_sphere_pairs(
     configuration's centres [S, 3] (:func:`touching`), in frame-pair order, bounded memory."""
     c = _one_configuration(spheres, centers)
     out: list[tuple[int, int, int, float]] = []
-    for k, i0, j0, diff, rs in _frame_pair_blocks(spheres, c):
-        ri, rj = np.nonzero(touching(np.einsum("...k,...k->...", diff, diff), rs))
-        clr = np.linalg.norm(diff[ri, rj], axis=-1) - rs[ri, rj]
-        out.extend(
-            (k, i0 + a, j0 + b, float(x))
-            for a, b, x in zip(ri.tolist(), rj.tolist(), clr.tolist(), strict=True)
-        )
+    for k, i, j, diff, rs in _sphere_pair_blocks(spheres, c):
+        (at,) = np.nonzero(touching(np.einsum("...k,...k->...", diff, diff), rs))
+        clr = np.linalg.norm(diff[at], axis=-1) - rs[at]
+        out.extend(zip(k[at].tolist(), i[at].tolist(), j[at].tolist(), clr.tolist(), strict=True))
     return out
 
 
