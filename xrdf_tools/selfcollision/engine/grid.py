@@ -262,11 +262,14 @@ class _CellTest:
         ((_, d2c),) = self._distances2(idx, h * _SPLIT)
         thr_c = self._reach_with_motion(h * _SPLIT)
         gap_c = np.sqrt(np.maximum(d2c, 0.0)) - thr_c[None]
-        cell, jb, ia = np.nonzero(gap_c <= self.low[0])  # the pairs to look at, by coarse cell
+        # the pairs to look at, sorted by coarse cell, then descendant sphere (row-major)
+        cell, jb, ia = np.nonzero(gap_c <= self.low[0])
         # each (coarse cell, descendant sphere) once, at the 16 fine cell centres
         m_b = self.x_desc.shape[0]
-        key, at = np.unique(cell * m_b + jb, return_inverse=True)
-        u_cell, u_sphere = np.divmod(key, m_b)
+        key = cell * m_b + jb  # sorted: the distinct values start where it changes
+        first = np.r_[True, key[1:] != key[:-1]] if len(key) else np.zeros(0, dtype=np.bool_)
+        at = np.cumsum(first) - 1
+        u_cell, u_sphere = np.divmod(key[first], m_b)
         sub = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
         # each fine cell's joint values, their cosines and sines computed once per cell row
         fine = [idx[j][u_cell, None] * _SPLIT + sub[j] for j in (0, 1)]
@@ -283,7 +286,9 @@ class _CellTest:
         dist[outside[cell]] = np.inf
         thr = self._reach_with_motion(h)[jb, ia][:, None]
         near = np.zeros((len(idx[0]), _SPLIT * _SPLIT), dtype=np.bool_)
-        np.logical_or.at(near, cell, dist <= thr)
+        if len(cell):  # one reduction per coarse cell (``cell`` is sorted)
+            starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]])
+            near[cell[starts]] = np.logical_or.reduceat(dist <= thr, starts, axis=0)
         far: BoolArray = ~(near | outside)
         in_far = far[cell]
         if in_far.any():
