@@ -7,12 +7,13 @@ then counts chunks of configurations (:meth:`CountEngine.count`):
 2. per body pair, the configurations that culling keeps (:mod:`.culling`) are evaluated as
    one distance matrix per block (:mod:`.pairs`), giving per frame pair the float32 minimum
    of ``d² − R²``;
-3. :meth:`CountEngine._classify` turns those into verdicts, queueing every entry within the
+3. :func:`.classify.classify` turns those into verdicts, queueing every entry within the
    error bound ``± delta`` of zero (:mod:`.bounds`) and every configuration that may hold a
-   frame pair's minimum clearance below the margin;
-4. the queued entries are re-decided in float64 with the reference pair test
-   (:func:`~xrdf_tools.selfcollision.collision.frame_pair_verdicts`), so counts equal the float64
-   brute force and clearances are float64-exact.
+   frame pair's minimum clearance below the margin (and below the best found so far);
+4. the queued entries get a float64 second look along the tree path (:mod:`.sharpen`), and
+   those still undecided are re-decided with the reference pair test
+   (:func:`~xrdf_tools.selfcollision.collision.frame_pair_verdicts`), so counts equal the
+   float64 brute force and clearances are float64-exact.
 
 :class:`EngineTotals` accumulates counts and clearances over chunks (and worker processes).
 """
