@@ -199,53 +199,68 @@ def _decide_block(
     out_at: IntArray,
 ) -> None:
     """Entries ``(ks[e], rows[e])`` of one block of posed configurations (``poses``: the
-    frames' rotations and translations, frame ``f`` at ``slot[f]``), by frame pair."""
+    frames' rotations [nf, 3, 3, w] and translations [nf, 3, w], frame ``f`` at ``slot[f]``):
+    the two frames' spheres placed once per entry, then every sphere pair of every entry in
+    one flat pass (blocks of about :data:`_PAIR_BLOCK` sphere pairs), reduced per entry."""
     R, t = poses
-    order = np.argsort(ks, kind="stable")
-    cut = np.flatnonzero(ks[order][1:] != ks[order][:-1]) + 1
-    for group in np.split(order, cut):
-        k = int(ks[group[0]])
-        at, inv = np.unique(rows[group], return_inverse=True)
-        fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
-        ia, ib = slot[fa], slot[fb]
-        h, c = _frame_pair_at(
-            s, fa, fb, (R[ia][..., at], t[ia][..., at]), (R[ib][..., at], t[ib][..., at])
-        )
-        hit[out_at[group]] = h[inv]
-        clr[out_at[group]] = c[inv]
-
-
-def _frame_pair_at(
-    s: SphereSet,
-    fa: int,
-    fb: int,
-    pose_a: tuple[FloatArray, FloatArray],
-    pose_b: tuple[FloatArray, FloatArray],
-) -> tuple[BoolArray, FloatArray]:
-    """Verdicts [w] and smallest clearances [w] of frames ``fa`` and ``fb`` posed at ``w``
-    configurations (rotations [3, 3, w], translations [3, w] of each frame)."""
-    sa, sb = s.spheres_of(fa), s.spheres_of(fb)
-    ra, rb = s.self_radii[sa], s.self_radii[sb]
-    w = pose_a[0].shape[-1]
-    ca = np.empty((len(ra), 3, w))
-    cb = np.empty((len(rb), 3, w))
-    _place(s.local_centers[sa], *pose_a, ca)
-    _place(s.local_centers[sb], *pose_b, cb)
-    pa, pb = ca.transpose(2, 0, 1), cb.transpose(2, 0, 1)  # [w, m, 3]
-    row_step = max(1, _BLOCK_ELEMENTS // len(rb))  # bounded memory, however many spheres
-    step = max(1, _BLOCK_ELEMENTS // (min(row_step, len(ra)) * len(rb)))
-    hit = np.zeros(w, dtype=np.bool_)
-    clr = np.full(w, np.inf)
-    for c0 in range(0, w, step):
-        h, c = hit[c0 : c0 + step], clr[c0 : c0 + step]
-        qb = pb[c0 : c0 + step, None, :, :]
-        for i0 in range(0, len(ra), row_step):
-            rs = ra[i0 : i0 + row_step, None] + rb[None, :]
-            diff = pa[c0 : c0 + step, i0 : i0 + row_step, None, :] - qb
+    start = s.frame_start
+    fa, fb = s.frame_pair_a[ks], s.frame_pair_b[ks]
+    where = np.full(len(s.frame_names), -1, dtype=np.intp)
+    for f, i in slot.items():
+        where[f] = i
+    na, nb = start[fa + 1] - start[fa], start[fb + 1] - start[fb]
+    pa = _place_each(s, start[fa], na, R[where[fa], :, :, rows], t[where[fa], :, rows])
+    pb = _place_each(s, start[fb], nb, R[where[fb], :, :, rows], t[where[fb], :, rows])
+    a_at, b_at = np.cumsum(na) - na, np.cumsum(nb) - nb  # each entry's first placed sphere
+    n = na * nb
+    ends = np.cumsum(n)
+    e0 = 0
+    while e0 < len(ks):  # entries e0 … e1 − 1, at least one
+        base = int(ends[e0 - 1]) if e0 else 0
+        e1 = max(e0 + 1, int(np.searchsorted(ends, base + _PAIR_BLOCK, side="right")))
+        m = n[e0:e1]
+        offs = ends[e0:e1] - m - base
+        for p0 in range(0, int(m.sum()), _PAIR_BLOCK):  # one large entry: in blocks too
+            rep, pos = _entries_of(m, offs, p0, e0)
+            row, col = np.divmod(pos, nb[rep])
+            diff = pa[a_at[rep] + row] - pb[b_at[rep] + col]
             d2 = np.einsum("...k,...k->...", diff, diff)
-            h |= touching(d2, rs).any(axis=(1, 2))
-            np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
-    return hit, clr
+            rs = s.self_radii[start[fa[rep]] + row] + s.self_radii[start[fb[rep]] + col]
+            first = np.flatnonzero(np.r_[True, rep[1:] != rep[:-1]])
+            at = out_at[rep[first]]
+            h = np.logical_or.reduceat(touching(d2, rs), first)
+            c = np.minimum.reduceat(np.sqrt(d2) - rs, first)
+            fresh = pos[first] == 0  # the entry's first sphere pairs: overwrite
+            hit[at] = np.where(fresh, h, hit[at] | h)
+            clr[at] = np.where(fresh, c, np.minimum(clr[at], c))
+        e0 = e1
+
+
+def _entries_of(m: IntArray, offs: IntArray, p0: int, e0: int) -> tuple[IntArray, IntArray]:
+    """For the flat sphere pairs ``p0 … p0 + _PAIR_BLOCK`` of entries with ``m`` [E] sphere
+    pairs each starting at ``offs`` [E]: each one's entry (``e0 +`` its position) and its
+    index within the entry."""
+    flat = np.arange(p0, min(int(m.sum()), p0 + _PAIR_BLOCK))
+    which = np.searchsorted(offs, flat, side="right") - 1
+    return which + e0, flat - offs[which]
+
+
+def _place_each(
+    s: SphereSet, first: IntArray, count: IntArray, R: FloatArray, t: FloatArray
+) -> FloatArray:
+    """The spheres ``first[e] … first[e] + count[e]`` placed by ``R[e]`` [3, 3] and ``t[e]``
+    [3], entry after entry [Σ count, 3], summed term by term as :func:`_place` does (the same
+    bits)."""
+    e = np.repeat(np.arange(len(first)), count)
+    local = s.local_centers[
+        first[e] + np.arange(len(e)) - np.repeat(np.cumsum(count) - count, count)
+    ]
+    Rk, tk = R[e], t[e]
+    out: FloatArray = local[:, 0, None] * Rk[:, :, 0]
+    for k in (1, 2):
+        out += local[:, k, None] * Rk[:, :, k]
+    out += tk
+    return out
 
 
 # ------------------------------------------------------------------------------------------
