@@ -25,6 +25,9 @@ __all__ = ["Sharpener"]
 _EPS64 = float(np.finfo(np.float64).eps)
 #: Sphere-pair evaluations per block (bounded memory).
 _BLOCK = 1 << 16
+#: Frame pairs with at least this many entries are evaluated one by one (broadcast over their
+#: entries); the others together (:meth:`Sharpener._few`).
+_MANY = 8
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,10 +89,18 @@ class Sharpener:
         clear: FloatArray,
     ) -> None:
         """Entries ``at`` (sorted by frame pair ``ks``) whose body ``b`` sits at ``R``, ``t``
-        [n, 3, 3], [n, 3] in the frame of body ``a``."""
+        [n, 3, 3], [n, 3] in the frame of body ``a``: frame pair by frame pair for those with
+        many entries, all others together in one flat pass (:meth:`_few`)."""
         s = self.spheres
         cut = np.flatnonzero(ks[1:] != ks[:-1]) + 1
-        for part in np.split(np.arange(len(ks)), cut):
+        parts = np.split(np.arange(len(ks)), cut)
+        few = [p for p in parts if len(p) < _MANY]
+        if few:
+            rows = np.concatenate(few)
+            self._few(ks[rows], R[rows], t[rows], at[rows], e_min, clear)
+        for part in parts:
+            if len(part) < _MANY:
+                continue
             k = int(ks[part[0]])
             sa = s.spheres_of(int(s.frame_pair_a[k]))
             sb = s.spheres_of(int(s.frame_pair_b[k]))
@@ -110,6 +121,43 @@ class Sharpener:
                     np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
                 e_min[at[rows]] = e
                 clear[at[rows]] = c
+
+    def _few(
+        self,
+        ks: IntArray,
+        R: FloatArray,
+        t: FloatArray,
+        at: IntArray,
+        e_min: FloatArray,
+        clear: FloatArray,
+    ) -> None:
+        """:meth:`_frame_pairs` for entries of frame pairs with few entries each: the spheres
+        of ``b`` placed once per entry, every sphere pair of every entry in one flat pass (in
+        blocks of about :data:`_BLOCK` sphere pairs), reduced per entry."""
+        s = self.spheres
+        start = s.frame_start
+        a0, b0 = start[s.frame_pair_a[ks]], start[s.frame_pair_b[ks]]
+        na, nb = start[s.frame_pair_a[ks] + 1] - a0, start[s.frame_pair_b[ks] + 1] - b0
+        placed_at = np.cumsum(nb) - nb  # each entry's first placed sphere of b
+        e = np.repeat(np.arange(len(ks)), nb)
+        jb = b0[e] + np.arange(len(e)) - np.repeat(placed_at, nb)
+        placed = np.einsum("cij,cj->ci", R[e], self.local[jb]) + t[e]
+        n = na * nb
+        ends = np.cumsum(n)
+        e0 = 0
+        while e0 < len(ks):  # entries e0 … e1 − 1, at least one (a large one alone)
+            base = int(ends[e0 - 1]) if e0 else 0
+            e1 = max(e0 + 1, int(np.searchsorted(ends, base + _BLOCK, side="right")))
+            m = n[e0:e1]
+            offs = ends[e0:e1] - m - base
+            rep = np.repeat(np.arange(e0, e1), m)
+            row, col = np.divmod(np.arange(int(m.sum())) - np.repeat(offs, m), nb[rep])
+            diff = self.local[a0[rep] + row] - placed[placed_at[rep] + col]
+            d2 = np.einsum("ck,ck->c", diff, diff)
+            rs = s.self_radii[a0[rep] + row] + s.self_radii[b0[rep] + col]
+            e_min[at[e0:e1]] = np.minimum.reduceat(d2 - rs * rs, offs)
+            clear[at[e0:e1]] = np.minimum.reduceat(np.sqrt(d2) - rs, offs)
+            e0 = e1
 
     def _pose(self, chain: tuple[int, ...], q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Poses [n, 3, 3], [n, 3] of the last body of ``chain`` in the frame of the first's
