@@ -169,3 +169,55 @@ def test_fine_cells_with_no_sphere_pair_left_are_far() -> None:
     )
     far = ev.split_far([np.array([0, 1]), np.array([0, 0])], np.array([0.01, 0.01]), (8, 8))
     assert far.shape == (2, 16) and far.all()
+
+
+@pytest.mark.parametrize("block", [1 << 16, 7])
+def test_reference_verdicts_equal_a_loop_to_the_last_bit(
+    block: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The float64 reference verdicts (every sphere pair of every entry in one flat pass;
+    with blocks of 7 sphere pairs, entries spread over several blocks) against a loop over
+    entries and sphere pairs on the centres of ``sphere_world_centers``: the same bits (the
+    report's exact minima are these values)."""
+    from xrdf_tools.selfcollision.collision import distances, frame_pair_verdicts, touching
+
+    monkeypatch.setattr(distances, "_PAIR_BLOCK", block)
+    kin, _, spheres, q0, cspace = _panda_engine()
+    q = np.repeat(q0[None, :], 30, axis=0)
+    q[:, cspace] = fixed_configs(kin, 30, seed=31)[:, cspace]
+    rng = np.random.default_rng(4)
+    ks = rng.integers(0, spheres.n_frame_pairs, 400)
+    rows = rng.integers(0, len(q), 400)
+    hit, clr = frame_pair_verdicts(kin, spheres, q, ks, rows)
+    centres = sphere_world_centers(kin, spheres, q)
+    for e, (k, row) in enumerate(zip(ks.tolist(), rows.tolist(), strict=True)):
+        i, j, rs = spheres.frame_pair_sphere_pairs(k)
+        diff = centres[row, i] - centres[row, j]
+        d2 = np.einsum("...k,...k->...", diff, diff)
+        assert hit[e] == touching(d2, rs).any()
+        assert clr[e] == (np.sqrt(d2) - rs).min()
+    assert 0 < hit.sum() < len(hit)
+
+
+def test_second_look_few_entries_together_equals_one_by_one(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from xrdf_tools.selfcollision.engine import sharpen as sharpen_mod
+
+    kin, eng, spheres, q0, cspace = _panda_engine()
+    rng = np.random.default_rng(6)
+    ks = np.sort(rng.integers(0, spheres.n_frame_pairs, 300))
+    qv = fixed_configs(kin, 300, seed=33)[:, cspace]
+    monkeypatch.setattr(sharpen_mod, "_MANY", 1)  # every frame pair on its own
+    e_one, c_one = eng.sharpener.evaluate(ks, qv)
+    monkeypatch.setattr(sharpen_mod, "_MANY", 10**9)  # all in the flat pass
+    e_flat, c_flat = eng.sharpener.evaluate(ks, qv)
+    np.testing.assert_allclose(e_flat, e_one, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(c_flat, c_one, rtol=0, atol=1e-12)
+    # and both within the sharpener's error of the reference
+    from xrdf_tools.selfcollision.collision import frame_pair_verdicts
+
+    q = np.repeat(q0[None, :], len(qv), axis=0)
+    q[:, cspace] = qv
+    _, ref = frame_pair_verdicts(kin, spheres, q, ks, np.arange(len(ks)))
+    assert np.abs(c_flat - ref).max() <= eng.sharpener.tau
