@@ -204,35 +204,59 @@ def _decide_block(
     one flat pass (blocks of about :data:`_PAIR_BLOCK` sphere pairs), reduced per entry."""
     R, t = poses
     start = s.frame_start
-    fa, fb = s.frame_pair_a[ks], s.frame_pair_b[ks]
     where = np.full(len(s.frame_names), -1, dtype=np.intp)
     for f, i in slot.items():
         where[f] = i
+    na = start[s.frame_pair_a[ks] + 1] - start[s.frame_pair_a[ks]]
+    nb = start[s.frame_pair_b[ks] + 1] - start[s.frame_pair_b[ks]]
+    for e0, e1 in entry_slices(na * nb + na + nb, _PAIR_BLOCK):
+        _decide_entries(s, (R, t), where, ks[e0:e1], rows[e0:e1], hit, clr, out_at[e0:e1])
+
+
+def _decide_entries(
+    s: SphereSet,
+    poses: tuple[FloatArray, FloatArray],
+    where: IntArray,
+    ks: IntArray,
+    rows: IntArray,
+    hit: BoolArray,
+    clr: FloatArray,
+    out_at: IntArray,
+) -> None:
+    """:func:`_decide_block` for a few entries (one large one: in blocks of sphere pairs)."""
+    R, t = poses
+    start = s.frame_start
+    fa, fb = s.frame_pair_a[ks], s.frame_pair_b[ks]
     na, nb = start[fa + 1] - start[fa], start[fb + 1] - start[fb]
     pa = _place_each(s, start[fa], na, R[where[fa], :, :, rows], t[where[fa], :, rows])
     pb = _place_each(s, start[fb], nb, R[where[fb], :, :, rows], t[where[fb], :, rows])
     a_at, b_at = np.cumsum(na) - na, np.cumsum(nb) - nb  # each entry's first placed sphere
-    n = na * nb
-    ends = np.cumsum(n)
+    m = na * nb
+    offs = np.cumsum(m) - m
+    for p0 in range(0, int(m.sum()), _PAIR_BLOCK):
+        rep, pos = _entries_of(m, offs, p0, 0)
+        row, col = np.divmod(pos, nb[rep])
+        diff = pa[a_at[rep] + row] - pb[b_at[rep] + col]
+        d2 = np.einsum("...k,...k->...", diff, diff)
+        rs = s.self_radii[start[fa[rep]] + row] + s.self_radii[start[fb[rep]] + col]
+        first = np.flatnonzero(np.r_[True, rep[1:] != rep[:-1]])
+        at = out_at[rep[first]]
+        h = np.logical_or.reduceat(touching(d2, rs), first)
+        c = np.minimum.reduceat(np.sqrt(d2) - rs, first)
+        fresh = pos[first] == 0  # the entry's first sphere pairs: overwrite
+        hit[at] = np.where(fresh, h, hit[at] | h)
+        clr[at] = np.where(fresh, c, np.minimum(clr[at], c))
+
+
+def entry_slices(cost: IntArray, limit: int) -> Iterator[tuple[int, int]]:
+    """Consecutive ranges ``(e0, e1)`` of entries whose ``cost`` adds up to at most ``limit``
+    (an entry that costs more alone): work in bounded memory, in few numpy calls."""
+    ends = np.cumsum(cost)
     e0 = 0
-    while e0 < len(ks):  # entries e0 … e1 − 1, at least one
+    while e0 < len(cost):
         base = int(ends[e0 - 1]) if e0 else 0
-        e1 = max(e0 + 1, int(np.searchsorted(ends, base + _PAIR_BLOCK, side="right")))
-        m = n[e0:e1]
-        offs = ends[e0:e1] - m - base
-        for p0 in range(0, int(m.sum()), _PAIR_BLOCK):  # one large entry: in blocks too
-            rep, pos = _entries_of(m, offs, p0, e0)
-            row, col = np.divmod(pos, nb[rep])
-            diff = pa[a_at[rep] + row] - pb[b_at[rep] + col]
-            d2 = np.einsum("...k,...k->...", diff, diff)
-            rs = s.self_radii[start[fa[rep]] + row] + s.self_radii[start[fb[rep]] + col]
-            first = np.flatnonzero(np.r_[True, rep[1:] != rep[:-1]])
-            at = out_at[rep[first]]
-            h = np.logical_or.reduceat(touching(d2, rs), first)
-            c = np.minimum.reduceat(np.sqrt(d2) - rs, first)
-            fresh = pos[first] == 0  # the entry's first sphere pairs: overwrite
-            hit[at] = np.where(fresh, h, hit[at] | h)
-            clr[at] = np.where(fresh, c, np.minimum(clr[at], c))
+        e1 = max(e0 + 1, int(np.searchsorted(ends, base + limit, side="right")))
+        yield e0, e1
         e0 = e1
 
 
