@@ -119,7 +119,7 @@ def test_path_local_float32_poses_stay_within_their_bound(robot) -> None:  # typ
     """Body pairs a joint or two apart compose their relative pose from those joints in
     float32; the centres of ``b`` in ``a``'s frame stay far within the pair's bound."""
     from xrdf_tools.selfcollision.engine.bodies import body_poses, joint_values
-    from xrdf_tools.selfcollision.engine.pairs import ChunkPoses, _pair_transform
+    from xrdf_tools.selfcollision.engine.pairs import ChunkPoses, pair_transform
 
     kin, xrdf = robot()
     eng, _, _, varying = _engine(kin, xrdf)
@@ -128,7 +128,7 @@ def test_path_local_float32_poses_stay_within_their_bound(robot) -> None:  # typ
     local = [bp for bp in eng.pairs if bp.path is not None]
     assert local
     for bp in local:
-        T32 = _pair_transform(bp, poses, None).astype(np.float64)  # [3, 4, n]
+        T32 = pair_transform(bp, poses, None).astype(np.float64)  # [3, 4, n]
         R, t = eng.sharpener.relative(bp.a, bp.b, q)  # float64 [n, 3, 3], [n, 3]
         pb = eng.local[bp.ib]
         fast = np.einsum("ikn,mk->nmi", T32[:, :3], pb) + T32[:, 3].T[:, None, :]

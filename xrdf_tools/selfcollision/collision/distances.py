@@ -42,6 +42,8 @@ __all__ = [
 
 #: Sphere-pair evaluations per block of :func:`frame_pair_verdicts` (bounded memory).
 _BLOCK_ELEMENTS = 1 << 15
+#: Sphere pairs per block of the one-configuration functions (all frame pairs in one flat pass).
+_PAIR_BLOCK = 1 << 16
 #: float64 pose entries per block of :func:`frame_pair_verdicts` (12 per frame and configuration).
 _POSE_ELEMENTS = 1 << 20
 
@@ -197,53 +199,92 @@ def _decide_block(
     out_at: IntArray,
 ) -> None:
     """Entries ``(ks[e], rows[e])`` of one block of posed configurations (``poses``: the
-    frames' rotations and translations, frame ``f`` at ``slot[f]``), by frame pair."""
+    frames' rotations [nf, 3, 3, w] and translations [nf, 3, w], frame ``f`` at ``slot[f]``):
+    the two frames' spheres placed once per entry, then every sphere pair of every entry in
+    one flat pass (blocks of about :data:`_PAIR_BLOCK` sphere pairs), reduced per entry."""
     R, t = poses
-    order = np.argsort(ks, kind="stable")
-    cut = np.flatnonzero(ks[order][1:] != ks[order][:-1]) + 1
-    for group in np.split(order, cut):
-        k = int(ks[group[0]])
-        at, inv = np.unique(rows[group], return_inverse=True)
-        fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
-        ia, ib = slot[fa], slot[fb]
-        h, c = _frame_pair_at(
-            s, fa, fb, (R[ia][..., at], t[ia][..., at]), (R[ib][..., at], t[ib][..., at])
-        )
-        hit[out_at[group]] = h[inv]
-        clr[out_at[group]] = c[inv]
+    start = s.frame_start
+    where = np.full(len(s.frame_names), -1, dtype=np.intp)
+    for f, i in slot.items():
+        where[f] = i
+    na = start[s.frame_pair_a[ks] + 1] - start[s.frame_pair_a[ks]]
+    nb = start[s.frame_pair_b[ks] + 1] - start[s.frame_pair_b[ks]]
+    for e0, e1 in entry_slices(na * nb + na + nb, _PAIR_BLOCK):
+        _decide_entries(s, (R, t), where, ks[e0:e1], rows[e0:e1], hit, clr, out_at[e0:e1])
 
 
-def _frame_pair_at(
+def _decide_entries(
     s: SphereSet,
-    fa: int,
-    fb: int,
-    pose_a: tuple[FloatArray, FloatArray],
-    pose_b: tuple[FloatArray, FloatArray],
-) -> tuple[BoolArray, FloatArray]:
-    """Verdicts [w] and smallest clearances [w] of frames ``fa`` and ``fb`` posed at ``w``
-    configurations (rotations [3, 3, w], translations [3, w] of each frame)."""
-    sa, sb = s.spheres_of(fa), s.spheres_of(fb)
-    ra, rb = s.self_radii[sa], s.self_radii[sb]
-    w = pose_a[0].shape[-1]
-    ca = np.empty((len(ra), 3, w))
-    cb = np.empty((len(rb), 3, w))
-    _place(s.local_centers[sa], *pose_a, ca)
-    _place(s.local_centers[sb], *pose_b, cb)
-    pa, pb = ca.transpose(2, 0, 1), cb.transpose(2, 0, 1)  # [w, m, 3]
-    row_step = max(1, _BLOCK_ELEMENTS // len(rb))  # bounded memory, however many spheres
-    step = max(1, _BLOCK_ELEMENTS // (min(row_step, len(ra)) * len(rb)))
-    hit = np.zeros(w, dtype=np.bool_)
-    clr = np.full(w, np.inf)
-    for c0 in range(0, w, step):
-        h, c = hit[c0 : c0 + step], clr[c0 : c0 + step]
-        qb = pb[c0 : c0 + step, None, :, :]
-        for i0 in range(0, len(ra), row_step):
-            rs = ra[i0 : i0 + row_step, None] + rb[None, :]
-            diff = pa[c0 : c0 + step, i0 : i0 + row_step, None, :] - qb
-            d2 = np.einsum("...k,...k->...", diff, diff)
-            h |= touching(d2, rs).any(axis=(1, 2))
-            np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
-    return hit, clr
+    poses: tuple[FloatArray, FloatArray],
+    where: IntArray,
+    ks: IntArray,
+    rows: IntArray,
+    hit: BoolArray,
+    clr: FloatArray,
+    out_at: IntArray,
+) -> None:
+    """:func:`_decide_block` for a few entries (one large one: in blocks of sphere pairs)."""
+    R, t = poses
+    start = s.frame_start
+    fa, fb = s.frame_pair_a[ks], s.frame_pair_b[ks]
+    na, nb = start[fa + 1] - start[fa], start[fb + 1] - start[fb]
+    pa = _place_each(s, start[fa], na, R[where[fa], :, :, rows], t[where[fa], :, rows])
+    pb = _place_each(s, start[fb], nb, R[where[fb], :, :, rows], t[where[fb], :, rows])
+    a_at, b_at = np.cumsum(na) - na, np.cumsum(nb) - nb  # each entry's first placed sphere
+    m = na * nb
+    offs = np.cumsum(m) - m
+    for p0 in range(0, int(m.sum()), _PAIR_BLOCK):
+        rep, pos = _entries_of(m, offs, p0, 0)
+        row, col = np.divmod(pos, nb[rep])
+        diff = pa[a_at[rep] + row] - pb[b_at[rep] + col]
+        d2 = np.einsum("...k,...k->...", diff, diff)
+        rs = s.self_radii[start[fa[rep]] + row] + s.self_radii[start[fb[rep]] + col]
+        first = np.flatnonzero(np.r_[True, rep[1:] != rep[:-1]])
+        at = out_at[rep[first]]
+        h = np.logical_or.reduceat(touching(d2, rs), first)
+        c = np.minimum.reduceat(np.sqrt(d2) - rs, first)
+        fresh = pos[first] == 0  # the entry's first sphere pairs: overwrite
+        hit[at] = np.where(fresh, h, hit[at] | h)
+        clr[at] = np.where(fresh, c, np.minimum(clr[at], c))
+
+
+def entry_slices(cost: IntArray, limit: int) -> Iterator[tuple[int, int]]:
+    """Consecutive ranges ``(e0, e1)`` of entries whose ``cost`` adds up to at most ``limit``
+    (an entry that costs more alone): work in bounded memory, in few numpy calls."""
+    ends = np.cumsum(cost)
+    e0 = 0
+    while e0 < len(cost):
+        base = int(ends[e0 - 1]) if e0 else 0
+        e1 = max(e0 + 1, int(np.searchsorted(ends, base + limit, side="right")))
+        yield e0, e1
+        e0 = e1
+
+
+def _entries_of(m: IntArray, offs: IntArray, p0: int, e0: int) -> tuple[IntArray, IntArray]:
+    """For the flat sphere pairs ``p0 … p0 + _PAIR_BLOCK`` of entries with ``m`` [E] sphere
+    pairs each starting at ``offs`` [E]: each one's entry (``e0 +`` its position) and its
+    index within the entry."""
+    flat = np.arange(p0, min(int(m.sum()), p0 + _PAIR_BLOCK))
+    which = np.searchsorted(offs, flat, side="right") - 1
+    return which + e0, flat - offs[which]
+
+
+def _place_each(
+    s: SphereSet, first: IntArray, count: IntArray, R: FloatArray, t: FloatArray
+) -> FloatArray:
+    """The spheres ``first[e] … first[e] + count[e]`` placed by ``R[e]`` [3, 3] and ``t[e]``
+    [3], entry after entry [Σ count, 3], summed term by term as :func:`_place` does (the same
+    bits)."""
+    e = np.repeat(np.arange(len(first)), count)
+    local = s.local_centers[
+        first[e] + np.arange(len(e)) - np.repeat(np.cumsum(count) - count, count)
+    ]
+    Rk, tk = R[e], t[e]
+    out: FloatArray = local[:, 0, None] * Rk[:, :, 0]
+    for k in (1, 2):
+        out += local[:, k, None] * Rk[:, :, k]
+    out += tk
+    return out
 
 
 # ------------------------------------------------------------------------------------------
@@ -271,21 +312,28 @@ class Contact:
     masked: bool = False
 
 
-def _frame_pair_blocks(
+def _sphere_pair_blocks(
     spheres: SphereSet, c: FloatArray
-) -> Iterator[tuple[int, int, int, FloatArray, FloatArray]]:
-    """Per frame pair and block of its first frame's spheres: ``(k, i0, j0, diff, rs)`` with
-    ``diff`` [m, n, 3] centre differences and ``rs`` [m, n] radius sums of spheres
-    ``i0 + r`` and ``j0 + c`` (bounded memory: at most :data:`_BLOCK_ELEMENTS` per block)."""
+) -> Iterator[tuple[IntArray, IntArray, IntArray, FloatArray, FloatArray]]:
+    """Every sphere pair of every frame pair, in the flat order (frame pair by frame pair,
+    row-major), in blocks of at most :data:`_PAIR_BLOCK`: ``(k, i, j, diff, rs)`` with the
+    frame pair [m], the two spheres [m], centre differences [m, 3] and radius sums [m]."""
     s = spheres
-    for k in range(s.n_frame_pairs):
-        sa, sb = s.spheres_of(int(s.frame_pair_a[k])), s.spheres_of(int(s.frame_pair_b[k]))
-        cb, rb = c[sb], s.self_radii[sb]
-        step = max(1, _BLOCK_ELEMENTS // max(1, len(rb)))
-        for i0 in range(sa.start, sa.stop, step):
-            i1 = min(sa.stop, i0 + step)
-            diff = c[i0:i1, None, :] - cb[None, :, :]
-            yield k, i0, sb.start, diff, s.self_radii[i0:i1, None] + rb[None, :]
+    total = s.n_pairs
+    for p0 in range(0, total, _PAIR_BLOCK):
+        p = np.arange(p0, min(total, p0 + _PAIR_BLOCK))
+        k = np.searchsorted(s.pair_start, p, side="right") - 1
+        fa, fb = s.frame_pair_a[k], s.frame_pair_b[k]
+        a0, b0 = s.frame_start[fa], s.frame_start[fb]
+        row, col = np.divmod(p - s.pair_start[k], s.frame_start[fb + 1] - b0)
+        i, j = a0 + row, b0 + col
+        yield k, i, j, c[i] - c[j], s.self_radii[i] + s.self_radii[j]
+
+
+def _runs(k: IntArray) -> IntArray:
+    """Where each run of equal values of ``k`` starts."""
+    out: IntArray = np.flatnonzero(np.r_[True, k[1:] != k[:-1]])
+    return out
 
 
 def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatArray:
@@ -293,8 +341,11 @@ def frame_pair_clearances(spheres: SphereSet, centers: npt.ArrayLike) -> FloatAr
     (+inf for a frame pair without sphere pairs), in bounded memory."""
     c = _one_configuration(spheres, centers)
     out = np.full(spheres.n_frame_pairs, np.inf)
-    for k, _, _, diff, rs in _frame_pair_blocks(spheres, c):
-        out[k] = min(out[k], float((np.linalg.norm(diff, axis=-1) - rs).min()))
+    for k, _, _, diff, rs in _sphere_pair_blocks(spheres, c):
+        starts = _runs(k)
+        low = np.minimum.reduceat(np.linalg.norm(diff, axis=-1) - rs, starts)
+        np.minimum(out[k[starts]], low, out=low)
+        out[k[starts]] = low
     return out
 
 
@@ -305,13 +356,10 @@ def colliding_sphere_pairs(
     configuration's centres [S, 3] (:func:`touching`), in frame-pair order, bounded memory."""
     c = _one_configuration(spheres, centers)
     out: list[tuple[int, int, int, float]] = []
-    for k, i0, j0, diff, rs in _frame_pair_blocks(spheres, c):
-        ri, rj = np.nonzero(touching(np.einsum("...k,...k->...", diff, diff), rs))
-        clr = np.linalg.norm(diff[ri, rj], axis=-1) - rs[ri, rj]
-        out.extend(
-            (k, i0 + a, j0 + b, float(x))
-            for a, b, x in zip(ri.tolist(), rj.tolist(), clr.tolist(), strict=True)
-        )
+    for k, i, j, diff, rs in _sphere_pair_blocks(spheres, c):
+        (at,) = np.nonzero(touching(np.einsum("...k,...k->...", diff, diff), rs))
+        clr = np.linalg.norm(diff[at], axis=-1) - rs[at]
+        out.extend(zip(k[at].tolist(), i[at].tolist(), j[at].tolist(), clr.tolist(), strict=True))
     return out
 
 

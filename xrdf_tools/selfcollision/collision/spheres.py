@@ -207,6 +207,12 @@ class SphereSet:
     def n_frame_pairs(self) -> int:
         return len(self.frame_pair_a)
 
+    @property
+    def frame_start(self) -> IntArray:
+        """[Fs + 1] the first sphere of each frame (and, last, the number of spheres)."""
+        out: IntArray = self._frame_start
+        return out
+
     def spheres_of(self, frame: int) -> slice:
         """Slice of sphere indices on frame ``frame`` (index into ``frame_names``)."""
         return slice(int(self._frame_start[frame]), int(self._frame_start[frame + 1]))

@@ -19,16 +19,18 @@ module:
    ``|p|² + |q|² − 2 p·q − r_a² − 2 r_a r_b − r_b²`` with the rank-one radius term folded in),
    in blocks small enough for the CPU cache.
 4. **Culling** (:mod:`.culling`). Body pairs that are usually far apart first test one
-   bounding sphere per body, or a cell grid over the one or two joints between them; only
-   configurations within reach (plus the exact-clearance margin) are evaluated.
-5. **Exactness** (:mod:`.bounds`, :mod:`.sharpen`, :mod:`.core`). float32 values carry an
-   error bounded by ``delta`` (derived from float32 precision and the lever arm: the robot's,
-   or for bodies a joint or two apart, the pair's own along those joints); a frame pair whose
-   smallest ``d² − (r_a + r_b)²`` lies within ``± delta`` of zero is looked at again in float64
-   along the tree path between its bodies, and only what is still within that error goes to
-   the reference pair test of :mod:`xrdf_tools.selfcollision.collision`; so do the few
-   configurations that may hold a frame pair's minimum clearance (when it is below the
-   margin). Sphere pairs that no joint moves (a centre on the joint axis between the two
+   bounding sphere per body (many pairs sharing a side: as a group first), or a cell grid
+   over the one or two joints between them; only configurations within reach (plus the
+   exact-clearance margin) are evaluated.
+5. **Exactness** (:mod:`.bounds`, :mod:`.classify`, :mod:`.sharpen`, :mod:`.core`). float32
+   values carry an error bounded by ``delta`` (derived from float32 precision and the lever
+   arm: the robot's, or for bodies a joint or two apart, the pair's own along those joints);
+   a frame pair whose smallest ``d² − (r_a + r_b)²`` lies within ``± delta`` of zero is
+   looked at again in float64 along the tree path between its bodies, and only what is still
+   within that error goes to the reference pair test of
+   :mod:`xrdf_tools.selfcollision.collision`; so do the few configurations that may hold a
+   frame pair's minimum clearance (when it is below the margin), found sphere pair by sphere
+   pair. Sphere pairs that no joint moves (a centre on the joint axis between the two
    bodies) are decided once. Counts therefore equal the float64 brute force, clearances are
    float64-exact.
 6. **Workers** (:mod:`.jobs`). :func:`count_sampled` spreads chunks over ``--jobs`` processes

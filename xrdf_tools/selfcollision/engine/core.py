@@ -7,19 +7,20 @@ then counts chunks of configurations (:meth:`CountEngine.count`):
 2. per body pair, the configurations that culling keeps (:mod:`.culling`) are evaluated as
    one distance matrix per block (:mod:`.pairs`), giving per frame pair the float32 minimum
    of ``d² − R²``;
-3. :meth:`CountEngine._classify` turns those into verdicts, queueing every entry within the
+3. :func:`.classify.classify` turns those into verdicts, queueing every entry within the
    error bound ``± delta`` of zero (:mod:`.bounds`) and every configuration that may hold a
-   frame pair's minimum clearance below the margin;
-4. the queued entries are re-decided in float64 with the reference pair test
-   (:func:`~xrdf_tools.selfcollision.collision.frame_pair_verdicts`), so counts equal the float64
-   brute force and clearances are float64-exact.
+   frame pair's minimum clearance below the margin (and below the best found so far);
+4. the queued entries get a float64 second look along the tree path (:mod:`.sharpen`), and
+   those still undecided are re-decided with the reference pair test
+   (:func:`~xrdf_tools.selfcollision.collision.frame_pair_verdicts`), so counts equal the
+   float64 brute force and clearances are float64-exact.
 
 :class:`EngineTotals` accumulates counts and clearances over chunks (and worker processes).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
@@ -35,7 +36,6 @@ from ..collision import (
     touching,
 )
 from .bodies import (
-    F32,
     body_local_centers,
     body_poses,
     body_roots,
@@ -43,13 +43,11 @@ from .bodies import (
     joint_values,
     position_error,
 )
-from .bounds import clearance_hi, clearance_lo, energy_at
+from .classify import Chunk, Evaluated, classify
 from .culling import Culler
 from .layout import Layout, body_pairs
 from .pairs import (
-    BodyPair,
     ChunkPoses,
-    direct_clearances,
     evaluate_pair,
     frame_bodies,
     pair_constants,
@@ -96,22 +94,6 @@ class EngineTotals:
         np.minimum(self.clearance_bound, other.clearance_bound, out=self.clearance_bound)
         self.configurations += other.configurations
         self.rechecked += other.rechecked
-
-
-@dataclass
-class _Chunk:
-    """One chunk: verdicts [K, B], clearance bounds [K], body poses, the configurations, the
-    culled pairs' bounding-sphere gaps, and the (frame pair, configuration) entries queued
-    for the float64 recheck."""
-
-    hits: BoolArray
-    bound: FloatArray
-    poses: ChunkPoses = field(repr=False)
-    q: FloatArray = field(repr=False)
-    gaps: F32 | None = field(repr=False)
-    prev: FloatArray = field(repr=False)  # [K] exact minimum clearances of earlier chunks
-    re_k: list[IntArray] = field(default_factory=list, repr=False)
-    re_b: list[IntArray] = field(default_factory=list, repr=False)
 
 
 class CountEngine:
@@ -167,6 +149,7 @@ class CountEngine:
         #: of those pairs (+inf where there are none): decided once, never sampled.
         self.fixed_hit, self.fixed_clear = self._fixed_pairs(layout)
         self.pairs = self.culler.choose(pairs)
+        self.cull_plan = self.culler.plan([bp for bp in self.pairs if bp.cull])
         self.sharpener = Sharpener.of(
             self.bodies, spheres, self.local, self.frame_body, kin.n_frames
         )
@@ -200,10 +183,20 @@ class CountEngine:
         return hit, clear
 
     # --- per chunk -----------------------------------------------------------------------
-    def count(self, q_var: npt.ArrayLike, totals: EngineTotals | None = None) -> BoolArray:
+    def count(
+        self,
+        q_var: npt.ArrayLike,
+        totals: EngineTotals | None = None,
+        *,
+        known: FloatArray | None = None,
+    ) -> BoolArray:
         """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
 
         When ``totals`` is given, the chunk's counts and clearances are added to it.
+        ``known`` [K]: exact minimum clearances already found in other configurations (of the
+        same count); like those of ``totals``, they only narrow the configurations looked at
+        for the minimum. The totals are the same with or without them: a frame pair's
+        minimum is exact whenever it lies below the margin and below every value known.
         """
         q = np.asarray(q_var, dtype=np.float64)
         if q.ndim != 2 or q.shape[1] != len(self.varying):
@@ -211,21 +204,26 @@ class CountEngine:
         B = q.shape[0]
         T = body_poses(self.bodies, q)
         poses = ChunkPoses(self.bodies, T, joint_values(self.bodies, q))
-        culled = [bp for bp in self.pairs if bp.cull]
-        gaps = self.culler.gaps2(T[:, :, :3], T[:, :, 3], culled) if culled else None
         hits = np.zeros((self.K, B), dtype=np.bool_)
         # the best clearance so far only narrows the candidates (it never changes a result)
         prev = self.fixed_clear.copy()
         if totals is not None:
             np.minimum(prev, totals.min_clearance, out=prev)
-        ch = _Chunk(hits, self.reach_bound.copy(), poses, q, gaps, prev)
+        if known is not None:
+            np.minimum(prev, known, out=prev)
+        ch = Chunk(hits, self.reach_bound.copy(), poses, q, prev)
+        if self.cull_plan.pairs:
+            near, low = self.culler.culled_near(self.cull_plan, T[:, :, :3], T[:, :, 3])
+        done: list[Evaluated] = []
         row = 0
         for bp in self.pairs:
-            g2 = gaps[row] if bp.cull and gaps is not None else None
-            sel = self.culler.select(bp, ch.q, g2, ch.bound)
+            rows = (near[row], float(low[row])) if bp.cull else None
+            sel = self.culler.select(bp, ch.q, rows, ch.bound)
             row += bp.cull
             if sel is None or len(sel):
-                self._classify(bp, ch, sel, evaluate_pair(bp, ch.poses, sel))
+                cols = np.arange(B) if sel is None else sel
+                done.append(Evaluated(bp, cols, evaluate_pair(bp, ch.poses, sel)))
+        classify(ch, done, self.margin, self.rlo_k, self.rhi_k)
         best = self.fixed_clear.copy()
         n_exact = self._recheck(ch, best)
         hits |= self.fixed_hit[:, None]
@@ -240,64 +238,7 @@ class CountEngine:
             totals.rechecked += n_exact
         return hits
 
-    def _classify(self, bp: BodyPair, ch: _Chunk, sel: IntArray | None, em: F32) -> None:
-        """Verdicts from the float32 minima ``em`` [blocks, n]; queue the float64 rechecks.
-
-        Entries within ``± delta`` of zero are unsure. For the minimum clearance, every
-        configuration whose clearance may lie below ``min(margin, an upper bound of the
-        chunk's smallest)`` is a candidate; candidates are narrowed in float32
-        (:meth:`_refine`). Everything not rechecked has a clearance of at least the bound
-        recorded for its frame pair.
-        """
-        ks = np.array([k for k, _, _ in bp.blocks], dtype=np.intp)
-        d = np.float32(bp.delta)
-        cols = np.arange(em.shape[1]) if sel is None else sel
-        hit = em < -d
-        for i, k in enumerate(ks.tolist()):
-            ch.hits[k, cols] |= hit[i]  # a frame pair may be spread over several body pairs
-        e_min = em.min(axis=1).astype(np.float64)
-        rlo, rhi = self.rlo_k[ks], self.rhi_k[ks]
-        thr = np.minimum(self.margin, clearance_hi(e_min + bp.delta, rlo, rhi))
-        np.minimum(thr, ch.prev[ks], out=thr)
-        e_star = (energy_at(thr, rlo, rhi) + bp.delta).astype(np.float32)
-        cand = em <= e_star[:, None]
-        has_cand = cand.any(axis=1)
-        low = np.where(has_cand, thr, clearance_lo(e_min - bp.delta, rlo, rhi))
-        np.minimum(ch.bound[ks], low, out=low)
-        ch.bound[ks] = low
-        unsure = np.abs(em) <= d
-        if has_cand.any():
-            cand = self._refine(bp, ch, cols, cand, ks)
-        bi, bj = np.nonzero(unsure | cand)
-        if len(bi):
-            ch.re_k.append(ks[bi])
-            ch.re_b.append(cols[bj])
-
-    def _refine(
-        self, bp: BodyPair, ch: _Chunk, cols: IntArray, cand: BoolArray, ks: IntArray
-    ) -> BoolArray:
-        """Narrow minimum-clearance candidates with float32 clearances (error ≤ ``tau``).
-
-        ``d² − R²`` ranks configurations only roughly when a frame pair's radii differ, so the
-        candidates' clearances are computed directly; only those that can be within ``tau``
-        of the smallest are kept for float64. The dropped ones' clearances exceed the limit
-        recorded in the frame pair's bound.
-        """
-        tau = bp.tau
-        idx = np.flatnonzero(cand.any(axis=0))
-        clr = direct_clearances(bp, ch.poses, cols[idx])
-        kept = np.zeros_like(cand)
-        for i, (k, _, _) in enumerate(bp.blocks):
-            ci = cand[i, idx]
-            if not ci.any():
-                continue
-            ck = np.where(ci, clr[i], np.inf)
-            lim = min(self.margin, float(ch.prev[k]), float(ck.min()) + tau)
-            kept[i, idx[ck - tau <= lim]] = True
-            ch.bound[k] = min(ch.bound[k], lim)
-        return kept
-
-    def _recheck(self, ch: _Chunk, best: FloatArray) -> int:
+    def _recheck(self, ch: Chunk, best: FloatArray) -> int:
         """Decide the queued entries: a float64 look along the tree path first
         (:mod:`.sharpen`), then the reference pair test for the verdicts still within its
         error of zero and the candidates still tied with a frame pair's smallest clearance.
@@ -323,7 +264,7 @@ class CountEngine:
         np.minimum.at(best, ks, clr)
         return len(ks)
 
-    def _tied(self, ks: IntArray, clear: FloatArray, ch: _Chunk) -> BoolArray:
+    def _tied(self, ks: IntArray, clear: FloatArray, ch: Chunk) -> BoolArray:
         """Entries (sorted by frame pair ``ks``) that may hold their frame pair's smallest
         clearance of the chunk below ``min(margin, the best so far)``. The others' clearances
         exceed that of an entry kept, or the frame pair's recorded bound."""

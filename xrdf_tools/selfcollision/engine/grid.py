@@ -262,15 +262,23 @@ class _CellTest:
         ((_, d2c),) = self._distances2(idx, h * _SPLIT)
         thr_c = self._reach_with_motion(h * _SPLIT)
         gap_c = np.sqrt(np.maximum(d2c, 0.0)) - thr_c[None]
-        cell, jb, ia = np.nonzero(gap_c <= self.low[0])  # the pairs to look at, by coarse cell
+        # the pairs to look at, sorted by coarse cell, then descendant sphere (row-major)
+        cell, jb, ia = np.nonzero(gap_c <= self.low[0])
         # each (coarse cell, descendant sphere) once, at the 16 fine cell centres
         m_b = self.x_desc.shape[0]
-        key, at = np.unique(cell * m_b + jb, return_inverse=True)
-        u_cell, u_sphere = np.divmod(key, m_b)
+        key = cell * m_b + jb  # sorted: the distinct values start where it changes
+        first = np.r_[True, key[1:] != key[:-1]] if len(key) else np.zeros(0, dtype=np.bool_)
+        at = np.cumsum(first) - 1
+        u_cell, u_sphere = np.divmod(key[first], m_b)
         sub = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
-        theta = [self.lo[j] + (idx[j][u_cell, None] * _SPLIT + sub[j] + 0.5) * h[j] for j in (0, 1)]
-        pts = _turned(self.x_desc[u_sphere, None, :], theta[1], self.consts[1])
-        pts = _turned(pts, theta[0], self.consts[0])  # [U, 16, 3]
+        # each fine cell's joint values, their cosines and sines computed once per cell row
+        fine = [idx[j][u_cell, None] * _SPLIT + sub[j] for j in (0, 1)]
+        trig = [
+            _cos_sin(self.lo[j] + (np.arange(int(fine[j].max(initial=-1)) + 1) + 0.5) * h[j])
+            for j in (0, 1)
+        ]
+        pts = _turned(self.x_desc[u_sphere, None, :], trig[1], fine[1], self.consts[1])
+        pts = _turned(pts, trig[0], fine[0], self.consts[0])  # [U, 16, 3]
         diff = pts[at] - self.p_anc[ia][:, None, :]  # [E, 16, 3]
         dist = np.sqrt(np.einsum("esk,esk->es", diff, diff))
         child = [idx[j][:, None] * _SPLIT + sub[j] for j in (0, 1)]  # [L, 16]
@@ -278,7 +286,9 @@ class _CellTest:
         dist[outside[cell]] = np.inf
         thr = self._reach_with_motion(h)[jb, ia][:, None]
         near = np.zeros((len(idx[0]), _SPLIT * _SPLIT), dtype=np.bool_)
-        np.logical_or.at(near, cell, dist <= thr)
+        if len(cell):  # one reduction per coarse cell (``cell`` is sorted)
+            starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]])
+            near[cell[starts]] = np.logical_or.reduceat(dist <= thr, starts, axis=0)
         far: BoolArray = ~(near | outside)
         in_far = far[cell]
         if in_far.any():
@@ -319,13 +329,20 @@ class _CellTest:
         return pts
 
 
-def _turned(x: FloatArray, theta: FloatArray, C: FloatArray) -> FloatArray:
-    """``C · Rz(θ) · x`` [U, S, 3] for points ``x`` [U, S or 1, 3] and angles ``θ`` [U, S]."""
-    c, s = np.cos(theta), np.sin(theta)
+def _cos_sin(theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    return np.cos(theta), np.sin(theta)
+
+
+def _turned(
+    x: FloatArray, trig: tuple[FloatArray, FloatArray], at: IntArray, C: FloatArray
+) -> FloatArray:
+    """``C · Rz(θ) · x`` [U, S, 3] for points ``x`` [U, S or 1, 3] and the angles ``θ`` whose
+    cosines and sines are ``trig`` [n] at the indices ``at`` [U, S]."""
+    c, s = trig[0][at], trig[1][at]
     x0, x1, x2 = x[..., 0], x[..., 1], x[..., 2]
     a, b = c * x0 - s * x1, s * x0 + c * x1  # Rz(θ)·x
     R, t = C[:3, :3], C[:3, 3]
-    out = np.empty((*theta.shape, 3))
+    out = np.empty((*at.shape, 3))
     for k in range(3):
         out[..., k] = R[k, 0] * a + R[k, 1] * b + R[k, 2] * x2 + t[k]
     return out

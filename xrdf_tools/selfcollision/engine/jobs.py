@@ -38,6 +38,8 @@ _BLAS_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUM
 ProgressFn = Callable[[int, int], None]
 _POLL_S = 0.05
 _WORKER: dict[str, CountEngine] = {}
+#: A worker's smallest exact clearances so far (see :func:`_count_rows`).
+_KNOWN: dict[str, FloatArray] = {}
 #: The pools of the counts under way in this process.
 _LIVE: set[ProcessPoolExecutor] = set()
 
@@ -83,8 +85,9 @@ def count_sampled(
     tasks = ((s0, min(chunk, n - s0)) for s0 in range(0, n, chunk))
     lo, hi = np.asarray(lower, dtype=np.float64), np.asarray(upper, dtype=np.float64)
     if workers == 1:
+        known = np.full(engine.K, np.inf)
         parts: Iterator[EngineTotals] = (
-            _count_rows(engine, lo, hi, s0, m, method, seed) for s0, m in tasks
+            _count_rows(engine, lo, hi, s0, m, method, seed, known) for s0, m in tasks
         )
     else:
         parts = _in_workers(engine, workers, tasks, (lo, hi, method, seed))
@@ -208,22 +211,29 @@ def _count_rows(
     m: int,
     method: Method,
     seed: int,
+    known: FloatArray,
 ) -> EngineTotals:
+    """The totals of rows ``start … start + m`` of the stream. ``known`` [K]: the smallest
+    exact clearances this process has found so far (updated here); they narrow the work, not
+    the totals' clearances (:meth:`CountEngine.count`), so any split over processes agrees."""
     totals = EngineTotals.empty(engine.K)
-    engine.count(sample_rows(lo, hi, start, m, method=method, seed=seed), totals)
+    engine.count(sample_rows(lo, hi, start, m, method=method, seed=seed), totals, known=known)
+    np.minimum(known, totals.min_clearance, out=known)
     return totals
 
 
 def _worker_init(engines: Any) -> None:
     # the parent stops the workers; a Ctrl-C at the terminal is the parent's to handle
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _WORKER["engine"] = engines.get()
+    engine = engines.get()
+    _WORKER["engine"] = engine
+    _KNOWN["clearance"] = np.full(engine.K, np.inf)
 
 
 def _worker_rows(
     lo: FloatArray, hi: FloatArray, start: int, m: int, method: Method, seed: int
 ) -> EngineTotals:
-    return _count_rows(_WORKER["engine"], lo, hi, start, m, method, seed)
+    return _count_rows(_WORKER["engine"], lo, hi, start, m, method, seed, _KNOWN["clearance"])
 
 
 @contextmanager

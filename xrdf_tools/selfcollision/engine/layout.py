@@ -114,12 +114,28 @@ def _split_pair(
     keep = set(ia[sampled_a].tolist()) | set(ib[sampled_b].tolist())
     parts_a = _parts(s, a, sorted({fa for _, fa, _ in kept}), keep)
     parts_b = _parts(s, b, sorted({fb for _, _, fb in kept}), keep)
+    # the frame pairs of each (part of a, part of b), in the order of ``kept``
+    part_of_a, part_of_b = _part_index(parts_a), _part_index(parts_b)
+    by_parts: dict[tuple[int, int], list[tuple[int, int, int]]] = {}
+    for k, fa, fb in kept:
+        for at_a in part_of_a[fa]:
+            for at_b in part_of_b[fb]:
+                by_parts.setdefault((at_a, at_b), []).append((k, fa, fb))
     out = []
-    for ga, keep_a in parts_a:
-        for gb, keep_b in parts_b:
-            mine = [(k, fa, fb) for k, fa, fb in kept if fa in ga and fb in gb]
+    for at_a, (ga, keep_a) in enumerate(parts_a):
+        for at_b, (gb, keep_b) in enumerate(parts_b):
+            mine = by_parts.get((at_a, at_b))
             if mine:
                 out.append(_assemble(s, local, err, reach, (a, b), (ga, gb), mine, keep_a | keep_b))
+    return out
+
+
+def _part_index(parts: list[tuple[set[int], set[int]]]) -> dict[int, list[int]]:
+    """The parts (indices into ``parts``) each frame belongs to (a large frame: several)."""
+    out: dict[int, list[int]] = {}
+    for i, (frames, _) in enumerate(parts):
+        for f in frames:
+            out.setdefault(f, []).append(i)
     return out
 
 

@@ -4,13 +4,15 @@ Frame pairs between the same two bodies share one relative transform. :func:`bod
 groups the engine's frame pairs that way (frame pairs inside one body are constant and decided
 elsewhere) and precomputes, per :class:`BodyPair`, the augmented sphere matrices that give
 every sphere pair's ``d² − (r_a + r_b)²`` as one GEMM in the frame of body ``a``
-(:func:`evaluate_pair`, in blocks sized for the CPU cache). :func:`direct_clearances`
-computes float32 clearances of chosen configurations for the minimum-clearance bookkeeping.
+(:func:`evaluate_pair`, in blocks sized for the CPU cache), with each sphere pair's minimum
+over the configurations. :func:`sphere_pair_clearances` computes float32 clearances of chosen
+sphere pairs for the minimum-clearance bookkeeping.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -66,9 +68,14 @@ class BodyPair:
     #: the pair's relative pose is composed from them (few joints between the bodies: a much
     #: smaller float32 error than through the world frame); None: through the world frame.
     path: tuple[tuple[int, ...], tuple[int, ...]] | None = None
-    #: float32 error bound (m) of a clearance computed by :func:`direct_clearances` (see
+    #: float32 error bound (m) of a clearance computed by :func:`sphere_pair_clearances` (see
     #: ``delta`` for ``d² − R²``).
     tau: float = 0.0
+
+    @cached_property
+    def frame_pairs(self) -> IntArray:
+        """[blocks]: the frame pair of each block."""
+        return np.array([k for k, _, _ in self.blocks], dtype=np.intp)
 
     @property
     def n_sphere_pairs(self) -> int:
@@ -126,7 +133,7 @@ class ChunkPoses:
     vals: F32
 
 
-def _pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
+def pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     """``T_a⁻¹ T_b`` [3, 4, n] at the selected configurations (all when None): composed
     along ``bp.path`` when it has one, else from the body poses."""
     if bp.path is not None:
@@ -143,6 +150,23 @@ def _pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F3
     return _relative(Ta[:, :3], Ta[:, 3], Tb[:, :3], Tb[:, 3])
 
 
+def _energies(bp: BodyPair, trel: F32, Q: F32, E: F32, rows: slice, cols: slice) -> None:
+    """``d² − R²`` [rows, cols · w] of the spheres ``rows`` of ``a`` and ``cols`` of ``b`` at
+    the poses ``trel`` [3, 4, w] into ``E``: one GEMM of ``p_aug`` with
+    ``Q = [q', |q'|² − r_b², 1, r_b]`` (``Q`` [6, cols, w], rows 4 and 5 already filled)."""
+    np.matmul(bp.q_aug[cols], trel, out=Q[:3])
+    np.einsum("kjn,kjn->jn", Q[:3], Q[:3], out=Q[3])
+    Q[3] -= bp.r2_b[cols]
+    np.matmul(bp.p_aug[rows], Q.reshape(6, -1), out=E)
+
+
+def _q_buffer(bp: BodyPair, cols: slice, w: int) -> F32:
+    Q = np.empty((6, cols.stop - cols.start, w), dtype=np.float32)
+    Q[4] = 1.0
+    Q[5] = bp.r_b[cols]
+    return Q
+
+
 def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     """float32 minima of ``d² − R²`` [blocks, n] per frame pair of ``bp`` for the selected
     configurations (all when ``sel`` is None).
@@ -150,16 +174,15 @@ def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     Each block of configurations is one GEMM; the per-frame-pair minima are two segmented
     reductions over contiguous rows (``minimum.reduceat`` over ``a``'s frames, then over
     ``b``'s), so their cost follows the sphere pairs, not the number of frame pairs."""
-    Trel = _pair_transform(bp, poses, sel)  # [3, 4, n]
+    Trel = pair_transform(bp, poses, sel)  # [3, 4, n]
     n = Trel.shape[-1]
     out = np.empty((len(bp.blocks), n), dtype=np.float32)
     m_a, m_b = bp.p_aug.shape[0], bp.q_aug.shape[0]
+    every_a, every_b = slice(0, m_a), slice(0, m_b)
     step = max(1, _BLOCK_ELEMENTS // (m_a * m_b))
     if m_a * m_b <= _BLOCK_ELEMENTS // 8:
         step = max(step, _MIN_STEP)  # small blocks: fewer calls matter more than the cache
-    buf = np.empty((6, m_b, min(step, n)), dtype=np.float32)
-    buf[4] = 1.0
-    buf[5] = bp.r_b
+    buf = _q_buffer(bp, every_b, min(step, n))
     E = np.empty((m_a, m_b * min(step, n)), dtype=np.float32)
     starts = bp.row_starts.tolist()
     row_segs = list(zip(starts, [*starts[1:], m_a], strict=True))
@@ -169,11 +192,8 @@ def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
         s1 = min(n, s0 + step)
         w = s1 - s0
         Q = buf if w == buf.shape[-1] else buf[:, :, :w].copy()
-        np.matmul(bp.q_aug, Trel[:, :, s0:s1], out=Q[:3])
-        np.einsum("kjn,kjn->jn", Q[:3], Q[:3], out=Q[3])
-        Q[3] -= bp.r2_b
         Ew = E if w == buf.shape[-1] else np.empty((m_a, m_b * w), dtype=np.float32)
-        np.matmul(bp.p_aug, Q.reshape(6, m_b * w), out=Ew)
+        _energies(bp, Trel[:, :, s0:s1], Q, Ew, every_a, every_b)
         for i, (r0, r1) in enumerate(row_segs):  # contiguous rows: a fast reduction
             np.min(Ew[r0:r1], axis=0, out=rows[i, : m_b * w])
         R3 = rows[:, : m_b * w].reshape(len(row_segs), m_b, w)
@@ -185,18 +205,40 @@ def evaluate_pair(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32:
     return out
 
 
-def direct_clearances(bp: BodyPair, poses: ChunkPoses, cols: IntArray) -> F32:
-    """float32 clearance [blocks, n] of each frame pair of ``bp`` at configurations
-    ``cols`` (every sphere pair computed directly, in cache-sized column blocks)."""
-    out = np.empty((len(bp.blocks), len(cols)), dtype=np.float32)
-    rsum = (bp.ra64[:, None] + bp.rb64[None, :]).astype(np.float32)  # [m_a, m_b]
-    step = max(1, _BLOCK_ELEMENTS // rsum.size)
-    for s0 in range(0, len(cols), step):
-        c = cols[s0 : s0 + step]
-        qp = np.matmul(bp.q_aug, _pair_transform(bp, poses, c))  # [3, m_b, w]
-        diff = qp[:, None, :, :] - bp.p32.T[:, :, None, None]
-        d = np.sqrt(np.einsum("kijn,kijn->ijn", diff, diff))
-        d -= rsum[:, :, None]
-        for i, (_, rows, cs) in enumerate(bp.blocks):
-            np.min(d[rows, cs], axis=(0, 1), out=out[i, s0 : s0 + len(c)])
+def sphere_pair_minima(bp: BodyPair, trel: F32, rows: slice, cols: slice) -> F32:
+    """Per sphere pair of ``a``'s spheres ``rows`` and ``b``'s ``cols``, the float32 minimum
+    of ``d² − R²`` [rows, cols] over the poses ``trel`` [3, 4, n] (for one sphere pair,
+    ``d² − R²`` orders the configurations as its clearance does), in cache-sized blocks."""
+    m_r, m_c = rows.stop - rows.start, cols.stop - cols.start
+    out = np.full((m_r, m_c), np.inf, dtype=np.float32)
+    n = trel.shape[-1]
+    step = max(1, _BLOCK_ELEMENTS // (m_r * m_c))
+    part = np.empty_like(out)
+    for s0 in range(0, n, step):
+        w = min(n, s0 + step) - s0
+        E = np.empty((m_r, m_c * w), dtype=np.float32)
+        _energies(bp, trel[:, :, s0 : s0 + w], _q_buffer(bp, cols, w), E, rows, cols)
+        np.min(E.reshape(m_r, m_c, w), axis=2, out=part)
+        np.minimum(out, part, out=out)
+    return out
+
+
+def sphere_pair_clearances(bp: BodyPair, trel: F32, ia: IntArray, ib: IntArray) -> F32:
+    """float32 clearances [len(ia), n] of the sphere pairs (``ia``, ``ib``) (rows of ``a``'s
+    and of ``b``'s spheres in ``bp``) at the poses ``trel`` [3, 4, n] (:func:`pair_transform`),
+    computed directly (error at most ``bp.tau``), in cache-sized column blocks."""
+    n = trel.shape[-1]
+    out = np.empty((len(ia), n), dtype=np.float32)
+    if not len(ia):
+        return out
+    ub, inv = np.unique(ib, return_inverse=True)
+    rsum = (bp.ra64[ia] + bp.rb64[ib]).astype(np.float32)[:, None]
+    pa = bp.p32[ia].T[:, :, None]  # [3, r, 1]
+    step = max(1, _BLOCK_ELEMENTS // (4 * len(ia)))
+    for s0 in range(0, n, step):
+        sl = slice(s0, min(n, s0 + step))
+        qb = np.matmul(bp.q_aug[ub], trel[:, :, sl])  # [3, |ub|, w]
+        diff = qb[:, inv, :] - pa
+        d = np.sqrt(np.einsum("krn,krn->rn", diff, diff))
+        np.subtract(d, rsum, out=out[:, sl])
     return out

@@ -18,6 +18,7 @@ import numpy as np
 
 from ...util.arrays import FloatArray, IntArray
 from ..collision import SphereSet
+from ..collision.distances import entry_slices
 from .bodies import PRISM, Bodies, body_chains
 
 __all__ = ["Sharpener"]
@@ -25,6 +26,10 @@ __all__ = ["Sharpener"]
 _EPS64 = float(np.finfo(np.float64).eps)
 #: Sphere-pair evaluations per block (bounded memory).
 _BLOCK = 1 << 16
+#: Frame pairs with at least this many entries (or more than :data:`_BLOCK` sphere pairs) are
+#: evaluated one by one (broadcast over their entries, in bounded blocks); the others together
+#: (:meth:`Sharpener._few`).
+_MANY = 8
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,10 +91,18 @@ class Sharpener:
         clear: FloatArray,
     ) -> None:
         """Entries ``at`` (sorted by frame pair ``ks``) whose body ``b`` sits at ``R``, ``t``
-        [n, 3, 3], [n, 3] in the frame of body ``a``."""
+        [n, 3, 3], [n, 3] in the frame of body ``a``: frame pair by frame pair for those with
+        many entries, all others together in one flat pass (:meth:`_few`)."""
         s = self.spheres
         cut = np.flatnonzero(ks[1:] != ks[:-1]) + 1
-        for part in np.split(np.arange(len(ks)), cut):
+        parts = np.split(np.arange(len(ks)), cut)
+        sizes = np.diff(s.pair_start)  # sphere pairs per frame pair
+        alone = [len(p) >= _MANY or sizes[ks[p[0]]] > _BLOCK for p in parts]
+        few = [p for p, one in zip(parts, alone, strict=True) if not one]
+        if few:
+            rows = np.concatenate(few)
+            self._few(ks[rows], R[rows], t[rows], at[rows], e_min, clear)
+        for part in (p for p, one in zip(parts, alone, strict=True) if one):
             k = int(ks[part[0]])
             sa = s.spheres_of(int(s.frame_pair_a[k]))
             sb = s.spheres_of(int(s.frame_pair_b[k]))
@@ -110,6 +123,40 @@ class Sharpener:
                     np.minimum(c, (np.sqrt(d2) - rs).min(axis=(1, 2)), out=c)
                 e_min[at[rows]] = e
                 clear[at[rows]] = c
+
+    def _few(
+        self,
+        ks: IntArray,
+        R: FloatArray,
+        t: FloatArray,
+        at: IntArray,
+        e_min: FloatArray,
+        clear: FloatArray,
+    ) -> None:
+        """:meth:`_frame_pairs` for entries of frame pairs with few entries each and at most
+        :data:`_BLOCK` sphere pairs: the spheres of ``b`` placed once per entry, every sphere
+        pair of every entry in one flat pass (in blocks of about :data:`_BLOCK` sphere pairs),
+        reduced per entry."""
+        s = self.spheres
+        start = s.frame_start
+        nb = start[s.frame_pair_b[ks] + 1] - start[s.frame_pair_b[ks]]
+        na = start[s.frame_pair_a[ks] + 1] - start[s.frame_pair_a[ks]]
+        for e0, e1 in entry_slices(na * nb + nb, _BLOCK):
+            sl = slice(e0, e1)
+            a0, b0 = start[s.frame_pair_a[ks[sl]]], start[s.frame_pair_b[ks[sl]]]
+            placed_at = np.cumsum(nb[sl]) - nb[sl]  # each entry's first placed sphere of b
+            e = np.repeat(np.arange(e1 - e0), nb[sl])
+            jb = b0[e] + np.arange(len(e)) - np.repeat(placed_at, nb[sl])
+            placed = np.einsum("cij,cj->ci", R[sl][e], self.local[jb]) + t[sl][e]
+            m = na[sl] * nb[sl]
+            offs = np.cumsum(m) - m
+            rep = np.repeat(np.arange(e1 - e0), m)
+            row, col = np.divmod(np.arange(int(m.sum())) - np.repeat(offs, m), nb[sl][rep])
+            diff = self.local[a0[rep] + row] - placed[placed_at[rep] + col]
+            d2 = np.einsum("ck,ck->c", diff, diff)
+            rs = s.self_radii[a0[rep] + row] + s.self_radii[b0[rep] + col]
+            e_min[at[sl]] = np.minimum.reduceat(d2 - rs * rs, offs)
+            clear[at[sl]] = np.minimum.reduceat(np.sqrt(d2) - rs, offs)
 
     def _pose(self, chain: tuple[int, ...], q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Poses [n, 3, 3], [n, 3] of the last body of ``chain`` in the frame of the first's
