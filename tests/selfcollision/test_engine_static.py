@@ -52,8 +52,8 @@ def _talos_xrdf(kin: KinematicModel, per_link: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-@pytest.fixture(scope="module")
-def talos() -> tuple[KinematicModel, Xrdf]:
+def talos_left_arm(per_link: int) -> tuple[KinematicModel, Xrdf]:
+    """Talos with its left arm as the c-space and ``per_link`` spheres on every link."""
     urdf = load_urdf(robot_urdf("talos"))
     probe = parse_xrdf(
         "format: xrdf\nformat_version: 1.0\ncspace:\n  joint_names: [arm_left_1_joint]\n"
@@ -61,9 +61,14 @@ def talos() -> tuple[KinematicModel, Xrdf]:
         "probe.xrdf",
     )
     kin0, _ = build_kinematic_model(urdf, probe)
-    xrdf = parse_xrdf(_talos_xrdf(kin0, 3), "talos_left_arm.xrdf")
+    xrdf = parse_xrdf(_talos_xrdf(kin0, per_link), "talos_left_arm.xrdf")
     kin, _ = build_kinematic_model(urdf, xrdf)
     return kin, xrdf
+
+
+@pytest.fixture(scope="module")
+def talos() -> tuple[KinematicModel, Xrdf]:
+    return talos_left_arm(3)
 
 
 def test_static_bodies_fold_and_far_pairs_are_never_evaluated(

@@ -16,9 +16,8 @@ import pytest
 from tests.collision_reference import count_chunk
 from tests.selfcollision.test_collision import fixed_configs, panda
 from tests.selfcollision.test_engine import engine_for
-from tests.selfcollision.test_engine_static import ARM, _talos_xrdf
-from xrdf_tools.robot.kinematics import KinematicModel, build_kinematic_model
-from xrdf_tools.robot.urdf_source import load_urdf
+from tests.selfcollision.test_engine_static import ARM, talos_left_arm
+from xrdf_tools.robot.kinematics import KinematicModel
 from xrdf_tools.selfcollision.collision import sphere_world_centers
 from xrdf_tools.selfcollision.engine import EngineTotals, count_sampled
 from xrdf_tools.selfcollision.engine import culling as culling_mod
@@ -29,7 +28,6 @@ from xrdf_tools.selfcollision.engine.pairs import (
     sphere_pair_clearances,
     sphere_pair_minima,
 )
-from xrdf_tools.xrdf.io import parse_xrdf
 from xrdf_tools.xrdf.model import Xrdf
 
 
@@ -110,18 +108,7 @@ def test_known_minima_narrow_the_work_not_the_totals() -> None:
 def talos_split() -> tuple[KinematicModel, Xrdf]:
     """Talos, left arm as the c-space, with enough spheres on the hand that it is cut into
     its frames: culled body pairs share a side (each frame of the static rest)."""
-    from tests.robots import robot_urdf
-
-    urdf = load_urdf(robot_urdf("talos"))
-    probe = parse_xrdf(
-        "format: xrdf\nformat_version: 1.0\ncspace:\n  joint_names: [arm_left_1_joint]\n"
-        "  acceleration_limits: [10.0]\n  jerk_limits: [100.0]\n",
-        "probe.xrdf",
-    )
-    kin0, _ = build_kinematic_model(urdf, probe)
-    xrdf = parse_xrdf(_talos_xrdf(kin0, 7), "talos_left_arm.xrdf")
-    kin, _ = build_kinematic_model(urdf, xrdf)
-    return kin, xrdf
+    return talos_left_arm(7)
 
 
 def test_grouped_culling_equals_pair_by_pair(
