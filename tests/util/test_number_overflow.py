@@ -60,3 +60,48 @@ def test_an_integer_beyond_float_range_is_an_input_error(
     assert code == 2 and "is about 1e400; " in out, out
     code, out = run_cli(runner, "lint", str(x))
     assert code == 1 and "internal-error" not in out and "is about 1e400; " in out, out
+
+
+def test_an_integer_format_version_beyond_float_range_is_an_unsupported_version(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    x = copy_replacing(
+        UR10E_XRDF, tmp_path / "big.xrdf", "format_version: 2.0", "format_version: " + "9" * 400
+    )
+    code, out = run_cli(runner, "lint", str(x))
+    assert code != 0 and "Traceback" not in out and "format_version" in out, out
+    code, out = run_cli(
+        runner, "viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "o.png")
+    )
+    assert code == 2 and out.count("\n") == 1 and "big.xrdf:3:" in out, out
+
+
+def test_a_configuration_value_beyond_float_range_is_a_located_input_error(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    configs = tmp_path / "configs.yaml"
+    configs.write_text("configurations:\n  - [0.0, -1.57, 1.57, -1.57, " + "9" * 400 + ", 0.0]\n")
+    code, out = run_cli(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(configs)
+    )
+    assert code == 2 and "configs.yaml:2: configuration 0: a value is about 1e400" in out, out
+
+
+def test_a_number_as_a_curobo_key_is_reported_dropped_with_its_line(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    from tests.paths import FIXTURES
+
+    lula = FIXTURES / "curobo_classic" / "ur10e_lula.yaml"
+    text = lula.read_text()
+    assert "jerk_limits:" in text
+    src = tmp_path / "robot.yaml"
+    src.write_text(text.replace("jerk_limits:", "1:", 1))
+    line = text[: text.index("jerk_limits:")].count("\n") + 1
+    code, out = run_cli(
+        runner, "convert", str(UR10E_URDF), "--curobo", str(src), "-o", str(tmp_path / "o.xrdf")
+    )
+    assert code == 0 and "Traceback" not in out, out
+    assert f"robot.yaml:{line}:1: warning convert-dropped-key '1' has no XRDF equivalent" in out, (
+        out
+    )

@@ -31,6 +31,7 @@ from ..robot.binding import cspace_indices
 from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import max_input_bytes, read_input_bytes, read_input_text
+from ..util.numbers import bound_problem
 from ..xrdf.model import Xrdf
 from ..yaml.io import YMap, YSeq, parse_yaml, to_python
 
@@ -249,17 +250,23 @@ def _assemble(
                 path=spath,
                 line=line_of(k),
             )
-        try:
-            vals = np.array([float(v) for v in values], dtype=np.float64)
-        except (TypeError, ValueError):
-            raise SourceError(
-                f"configuration {k} holds a value that is not a number",
-                path=spath,
-                line=line_of(k),
-            ) from None
-        if not np.all(np.isfinite(vals)):
-            raise SourceError(
-                f"configuration {k} holds a non-finite value", path=spath, line=line_of(k)
-            )
-        out[k, idx] = vals
+        out[k, idx] = _row_values(values, k, spath, line_of(k))
     return out
+
+
+def _row_values(values: Sequence[Any], k: int, path: str, line: int | None) -> FloatArray:
+    """Configuration ``k``'s values as floats, each a number within the bounds every number
+    read keeps (:mod:`xrdf_tools.util.numbers`; ``float()`` of a 400-digit integer raises)."""
+    for v in values:
+        problem = bound_problem(v) if isinstance(v, (int, float)) else None
+        if problem is not None:
+            raise SourceError(f"configuration {k}: a value {problem}", path=path, line=line)
+    try:
+        vals = np.array([float(v) for v in values], dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise SourceError(
+            f"configuration {k} holds a value that is not a number", path=path, line=line
+        ) from None
+    if not np.all(np.isfinite(vals)):
+        raise SourceError(f"configuration {k} holds a non-finite value", path=path, line=line)
+    return vals

@@ -56,7 +56,7 @@ def version_string(node: YNode | None) -> str | None:
     v = node.value
     try:
         f = float(v)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an integer past 1e308
         return str(v)
     return f"{f:.1f}" if f.is_integer() else str(v)
 

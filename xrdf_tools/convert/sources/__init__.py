@@ -75,6 +75,7 @@ class Reporter:
         severity: Severity = Severity.WARNING,
         line: int | None = None,
     ) -> Diagnostic:
+        key_path = str(key_path)  # a YAML key may be a number (``1: ...``)
         if line is not None:
             pos: tuple[int | None, int | None] = (line, None)
         else:
