@@ -140,6 +140,33 @@ def test_configuration_file_errors_point_at_the_row(runner: CliRunner, tmp_path:
         runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(configs)
     )
     assert err.startswith(f"error: {configs}:2:") and "expected a list" in err, err
+    configs.write_text("")
+    err = _error(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(configs)
+    )
+    assert err.startswith(f"error: {configs}:1: expected a list") and "file is empty" in err, err
+    as_json = tmp_path / "configs.json"
+    as_json.write_text('\n\n{"a": 1}\n')
+    err = _error(
+        runner, "report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--configs", str(as_json)
+    )
+    assert err.startswith(f"error: {as_json}:3: expected a list"), err
+
+
+def test_an_unknown_xacro_substitution_is_located_and_said_once(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    top = tmp_path / "arm.urdf.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="length" default="0.3"/>\n'
+        '  <link name="a"><visual><geometry><box size="$(tool0 length) 1 1"/></geometry>'
+        "</visual></link>\n</robot>\n"
+    )
+    col = top.read_text().splitlines()[3].index("$(tool0") + 1
+    err = _error(runner, "expand", str(top))
+    assert err.startswith(f"error: {top}:4:{col}: xacro failed: Unknown substitution command"), err
+    assert err.count("Unknown substitution command") == 1 and "<class" not in err, err
 
 
 def test_xacro_syntax_errors_point_into_the_file_that_has_them(

@@ -145,6 +145,7 @@ _CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
     (re.compile(r"unknown macro name: (xacro:\S+)"), ("<{}",)),
     (re.compile(r"Property names must be valid python identifiers:\s*(.*)$"), ('name="{}"',)),
     (re.compile(r"Undefined substitution argument (\S+)"), ("$(arg {}",)),
+    (re.compile(r"Unknown substitution command \[([^\]]*)\]"), ("$({})", "$({}")),
     (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
     (re.compile(r"invalid expression: (.+)$"), ("{}",)),
 )
@@ -190,11 +191,18 @@ def _xacro_message(e: BaseException) -> str:
     inner: Any = getattr(e, "exc", None)
     if isinstance(inner, XrdfToolsError):
         return inner.message
-    msg = " ".join(str(e).split()) or name
+    msg = _CLASS_PREFIX.sub("", " ".join(str(e).split())) or name
     inner_text = " ".join(str(inner).split()) if inner is not None else ""
     if inner_text and inner_text not in msg:
         msg = f"{msg} {inner_text}"
+    twice = f"{inner_text} {inner_text}"
+    while inner_text and twice in msg:  # xacro repeats its cause after its own text
+        msg = msg.replace(twice, inner_text)
     return f"xacro failed: {msg}"
+
+
+#: "<class 'xacro.substitution_args.SubstitutionException'>: " before some xacro messages
+_CLASS_PREFIX = re.compile(r"^<class '[\w.]+'>:\s*")
 
 
 def load_robot(

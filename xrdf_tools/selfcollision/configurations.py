@@ -101,10 +101,12 @@ def load_configurations(
     if p.suffix.lower() in (".json", ".yaml", ".yml"):
         data, rows_line, row_lines = _load_structured(text, p.suffix.lower(), spath)
         if not isinstance(data, list):
+            empty = not text.strip()
             raise SourceError(
-                "expected a list of configurations (lists of numbers or {joint: value} maps)",
+                "expected a list of configurations (lists of numbers or {joint: value} maps)"
+                + ("; the file is empty" if empty else ""),
                 path=spath,
-                line=rows_line,
+                line=rows_line if rows_line is not None else _first_content_line(text),
             )
         return _assemble(data, None, kin, xrdf, spath, row_lines, max_rows=max_rows)
     header, header_line, rows, lines = _parse_text(text, spath)
@@ -270,3 +272,9 @@ def _row_values(values: Sequence[Any], k: int, path: str, line: int | None) -> F
     if not np.all(np.isfinite(vals)):
         raise SourceError(f"configuration {k} holds a non-finite value", path=path, line=line)
     return vals
+
+
+def _first_content_line(text: str) -> int:
+    """The line of the first character that is not white space (1 for an empty text)."""
+    stripped = text.lstrip()
+    return text.count("\n", 0, len(text) - len(stripped)) + 1 if stripped else 1
