@@ -19,25 +19,6 @@ from xrdf_tools.xrdf.model import Xrdf
 def ur10e() -> tuple[Robot, Xrdf]:
     return load_urdf(UR10E_URDF), load_xrdf(UR10E_XRDF)
 
-    from xrdf_tools.report import ReportRequest, run_report, self_collision_report
-
-    robot, x = ur10e
-    request = ReportRequest(samples=400, seed=5, sampler="halton", clearance_margin=0.02)
-    got = run_report(robot, x, request, urdf_path=str(UR10E_URDF))
-    want = self_collision_report(
-        robot,
-        x,
-        samples=400,
-        seed=5,
-        sampler="halton",
-        clearance_margin=0.02,
-        urdf_path=str(UR10E_URDF),
-    )
-    assert [(p.frame_a, p.frame_b, p.hits) for p in got.pairs] == [
-        (p.frame_a, p.frame_b, p.hits) for p in want.pairs
-    ]
-    assert got.samples == 400 and any(p.hits for p in got.pairs)
-
 
 def test_run_report_is_the_report_of_its_request(ur10e: tuple[Robot, Xrdf]) -> None:
     from xrdf_tools.report import ReportRequest, run_report, self_collision_report

@@ -259,7 +259,7 @@ class _CellTest:
         Only the sphere pairs whose gap in the coarse cell is at most the smallest far gap
         seen so far are computed: the others are far in every fine cell and larger there.
         """
-        ((_, d2c),) = self._distances2(idx, h * _SPLIT)
+        d2c = np.concatenate([d2 for _, d2 in self._distances2(idx, h * _SPLIT)])
         thr_c = self._reach_with_motion(h * _SPLIT)
         gap_c = np.sqrt(np.maximum(d2c, 0.0)) - thr_c[None]
         # the pairs to look at, sorted by coarse cell, then descendant sphere (row-major)
