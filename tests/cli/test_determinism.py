@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from tests.paths import UR10E_URDF, UR10E_XRDF
 from tests.robots import robot_urdf
 from xrdf_tools.spheres.inside import points_inside
 
@@ -58,6 +59,22 @@ def test_sphere_fit_of_one_link_is_byte_identical_across_processes(tmp_path: Pat
     args = ["spheres", str(urdf), "--links", "shoulder_link"]
     outputs = {_xrdf(args, s, tmp_path / f"{i}.xrdf") for i, s in enumerate(SETTINGS)}
     assert len(outputs) == 1
+
+
+def test_report_with_certify_is_byte_identical_across_processes_and_jobs(tmp_path: Path) -> None:
+    """No wall time in the report (only with --timings) and a --certify budget counted in
+    boxes: the JSON, text and SARIF reports are the same bytes in any process, with any jobs."""
+    base = ["report", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-n", "3000", "--certify"]
+    base += ["--certify-boxes", "20000"]
+    got = {}
+    for fmt in ("json", "text"):
+        one = _xrdf([*base, "-f", fmt, "-j", "1"], SETTINGS[0], tmp_path / f"a.{fmt}")
+        two = _xrdf([*base, "-f", fmt, "-j", "2"], SETTINGS[1], tmp_path / f"b.{fmt}")
+        assert one == two, fmt
+        got[fmt] = one
+    assert b'"certify_boxes": ' in got["json"] and b"boxes)" in got["text"]
+    timed = _xrdf([*base, "-f", "json", "--timings"], SETTINGS[0], tmp_path / "t.json")
+    assert b'"elapsed_s": ' in timed and b'"elapsed_s": ' not in got["json"]
 
 
 def _convex_reference(mesh: trimesh.Trimesh, points: np.ndarray) -> np.ndarray:

@@ -303,7 +303,7 @@ def test_a_report_witness_poses_the_robot_where_its_pair_collides(
 
     robot, x = panda
     # few samples leave pairs "never seen" that --certify then finds a colliding pose for
-    report = self_collision_report(robot, x, samples=20, seed=0, certify=CertifyOptions(20.0))
+    report = self_collision_report(robot, x, samples=20, seed=0, certify=CertifyOptions())
     with_witness = [p for p in report.pairs if p.witness is not None]
     assert with_witness
     for p in with_witness[:5]:

@@ -173,7 +173,7 @@ def test_certify_memory_is_linear_in_spheres(many) -> None:  # type: ignore[no-u
         if {names[spheres.frame_pair_a[k]], names[spheres.frame_pair_b[k]]} == {"link1", "link2"}
     )
     tracemalloc.start()
-    cert = certify_pair(eng, k, budget_s=2.0)
+    cert = certify_pair(eng, k, max_boxes=2_000)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert cert.verdict in ("proven", "witness", "undecided")

@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -93,7 +92,7 @@ def test_tiny_region_pair_gets_a_witness_not_a_proof(tmp_path: Path) -> None:
     p = sampled.pair("base_link", "link2")
     assert p.classification == "never" and p.hits == 0  # sampling misses the window
     r = self_collision_report(
-        load_urdf(urdf), xrdf, samples=200, seed=SEED, certify=CertifyOptions(budget_s=30)
+        load_urdf(urdf), xrdf, samples=200, seed=SEED, certify=CertifyOptions()
     )
     p = r.pair("base_link", "link2")
     assert p.certificate == "witness" and p.classification == "sometimes"
@@ -105,18 +104,29 @@ def test_tiny_region_pair_gets_a_witness_not_a_proof(tmp_path: Path) -> None:
     assert far.certificate == "proven" and far.recommendation == "ignore"
     assert r.pair("link2", "link3").certificate == "proven"
     d = r.pairs[0].to_dict()
-    assert {"certified", "certificate", "witness", "certify_s"} <= set(d)
+    assert {"certified", "certificate", "witness", "certify_boxes"} <= set(d)
 
 
-def test_tiny_region_proof_is_refused_when_budget_is_zero(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    "opts",
+    [
+        CertifyOptions(boxes=0, mask_policy="proven"),
+        CertifyOptions(mask_policy="proven", budget_s=0),
+    ],
+    ids=["no-boxes", "no-time"],
+)
+def test_tiny_region_proof_is_refused_when_budget_is_zero(
+    tmp_path: Path, opts: CertifyOptions
+) -> None:
     urdf = tmp_path / "tiny.urdf"
     urdf.write_text(TINY_URDF)
     xrdf = parse_xrdf(TINY_XRDF, "tiny.xrdf")
-    opts = CertifyOptions(budget_s=0.0, mask_policy="proven")
     r = self_collision_report(load_urdf(urdf), xrdf, samples=200, seed=SEED, certify=opts)
     p = r.pair("base_link", "link2")
     assert p.certificate == "undecided" and p.classification == "never"
     assert p.recommendation == "check"  # mask policy "proven": not proven, keep checking
+    limit = "--certify-boxes budget" if opts.budget_s is None else "--certify-budget time limit"
+    assert limit in p.note
     assert frozenset(("base_link", "link2")) not in {
         frozenset((a, b)) for a, bs in r.recommended_ignore.items() for b in bs
     }
@@ -127,14 +137,12 @@ def test_panda_certify_with_200_samples_makes_no_false_claim() -> None:
     urdf_path = robot_urdf("panda")
     xrdf = load_xrdf(PANDA_XRDF)
     urdf = load_urdf(urdf_path)
-    r = self_collision_report(
-        urdf, xrdf, samples=200, seed=SEED, certify=CertifyOptions(budget_s=60)
-    )
+    r = self_collision_report(urdf, xrdf, samples=200, seed=SEED, certify=CertifyOptions())
     dense = self_collision_report(urdf, xrdf, samples=200_000, seed=1)
     proven = [p for p in r.pairs if p.certificate == "proven"]
     witnessed = [p for p in r.pairs if p.certificate == "witness"]
     assert len(proven) >= 15  # most never-colliding pairs are proven, fast
-    assert sum(p.certify_s or 0.0 for p in r.pairs) < 60
+    assert sum(p.certify_boxes or 0 for p in r.pairs) <= CertifyOptions().boxes
     for p in proven:  # a proof is never contradicted by dense sampling
         assert dense.pair(p.frame_a, p.frame_b).hits == 0, (p.frame_a, p.frame_b)
     for p in r.pairs:  # every pair that dense sampling sees colliding was not proven
@@ -180,4 +188,4 @@ def test_cli_certify_json_validates(runner: CliRunner, tmp_path: Path) -> None:
     assert pair["certified"] is False and pair["certificate"] == "witness"
     assert set(pair["witness"]) == {"joint1"}
     assert by[("base_link", "link3")]["certified"] is True
-    assert np.isfinite(pair["certify_s"])
+    assert pair["certify_boxes"] >= 1

@@ -168,7 +168,8 @@ def test_clip_plane_keeps_every_sphere_on_its_side() -> None:
 def test_cli_metrics_as_json_with_every_field(runner: CliRunner, tmp_path: Path) -> None:
     out = tmp_path / "p.xrdf"
     args = ["spheres", str(robot_urdf("panda")), "--links", "panda_link1,panda_link2"]
-    res = runner.invoke(app, [*args, "--per-link", "3", "--format", "json", "-o", str(out)])
+    args += ["--per-link", "3", "--format", "json", "-o", str(out)]
+    res = runner.invoke(app, [*args, "--timings"])
     assert res.exit_code == 0, res.output
     doc = json.loads(res.stdout)
     assert list(doc["links"]) == ["panda_link1", "panda_link2"]
@@ -188,6 +189,17 @@ def test_cli_metrics_as_json_with_every_field(runner: CliRunner, tmp_path: Path)
     assert doc["overall"]["sphere_count"] == 6
     assert {m["solid"] for m in doc["links"].values()} == {"mesh"}
     assert all(m["fit_seconds"] > 0 for m in doc["links"].values())
+    # without --timings: the same metrics, no wall time (the same bytes on every run)
+    plain = runner.invoke(app, args)
+    assert plain.exit_code == 0, plain.output
+    assert json.loads(plain.stdout) == {
+        part: (
+            {k: {f: v for f, v in m.items() if f != "fit_seconds"} for k, m in doc[part].items()}
+            if part == "links"
+            else {f: v for f, v in doc[part].items() if f != "fit_seconds"}
+        )
+        for part in doc
+    }
 
 
 def test_cli_names_the_solid_a_thin_shell_was_measured_against(runner: CliRunner) -> None:

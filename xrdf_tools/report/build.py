@@ -295,17 +295,19 @@ def _certify(
     cspace: Sequence[str],
     opts: CertifyOptions,
 ) -> list[PairStat]:
-    """Certify the "never" pairs, sharing the time budget evenly among those still to do."""
+    """Certify the "never" pairs, sharing the box budget (and the optional wall-clock limit)
+    evenly among those still to do."""
     from ..selfcollision.certify import certify_pair  # only with --certify
 
     todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
-    deadline = time.perf_counter() + opts.budget_s
+    start = time.perf_counter()
+    boxes_left = opts.boxes
     out = list(stats)
     for n_left, i in zip(range(len(todo), 0, -1), todo, strict=True):
-        budget = max(0.0, deadline - time.perf_counter()) / n_left
-        cert = certify_pair(engine, w_of[i], budget)
-        path = [cspace[j] for j in cert.joints]
-        out[i] = certified_stat(
-            stats[i], cert.verdict, cert.witness, cert.seconds, cspace, path, opts
-        )
+        deadline = None
+        if opts.budget_s is not None:
+            deadline = max(0.0, opts.budget_s - (time.perf_counter() - start)) / n_left
+        cert = certify_pair(engine, w_of[i], boxes_left // n_left, deadline)
+        boxes_left -= cert.boxes
+        out[i] = certified_stat(stats[i], cert, cspace, opts)
     return out

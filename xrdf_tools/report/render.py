@@ -32,7 +32,7 @@ __all__ = [
     "write_heatmap",
 ]
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 _TEXT_TRAJECTORY_LIMIT = 20
 
 
@@ -61,12 +61,14 @@ def _contact_dict(c: Contact) -> dict[str, Any]:
     }
 
 
-def report_to_dict(r: Report) -> dict[str, Any]:
-    """The report as plain JSON data (see ``docs/report-schema.json``)."""
+def report_to_dict(r: Report, *, timings: bool = False) -> dict[str, Any]:
+    """The report as plain JSON data (see ``docs/report-schema.json``). The same inputs and
+    options give the same data; ``timings`` adds the wall time (``elapsed_s``), which does not
+    repeat."""
     counts: dict[str, int] = {}
     for p in r.pairs:
         counts[p.classification] = counts.get(p.classification, 0) + 1
-    return {
+    doc: dict[str, Any] = {
         "schema_version": SCHEMA_VERSION,
         "tool": f"xrdf-tools {__version__}",
         "xrdf": r.xrdf_path,
@@ -75,7 +77,6 @@ def report_to_dict(r: Report) -> dict[str, Any]:
         "samples": r.samples,
         "sampler": r.sampler,
         "seed": r.seed,
-        "elapsed_s": round(r.elapsed_s, 3),
         "cspace_joints": list(r.cspace_joints),
         "frames": list(r.frames),
         "sphere_counts": dict(r.sphere_counts),
@@ -110,10 +111,13 @@ def report_to_dict(r: Report) -> dict[str, Any]:
         ),
         "diagnostics": [d.to_dict() for d in r.diagnostics],
     }
+    if timings:
+        doc["elapsed_s"] = round(r.elapsed_s, 3)
+    return doc
 
 
-def render_json(r: Report) -> str:
-    return json.dumps(report_to_dict(r), indent=2) + "\n"
+def render_json(r: Report, *, timings: bool = False) -> str:
+    return json.dumps(report_to_dict(r, timings=timings), indent=2) + "\n"
 
 
 # ------------------------------------------------------------------------------------------
@@ -138,11 +142,14 @@ class ReportView:
 
     ``only``: ``"all"``, ``"pairs"`` (the table) or ``"findings"``; ``min_rate``: table rows
     whose collision rate is at least this (pairs that were not sampled are left out when it is
-    above 0), so that a PR2-size report shows the pairs that matter.
+    above 0), so that a PR2-size report shows the pairs that matter; ``timings``: also the wall
+    time and rate (in every format, JSON included), which differ run to run while everything
+    else is the same bytes for the same inputs and options.
     """
 
     only: str = "all"
     min_rate: float = 0.0
+    timings: bool = False
 
     def rows(self, r: Report) -> list[PairStat]:
         if self.min_rate <= 0.0:
@@ -164,7 +171,13 @@ def _row(p: PairStat) -> tuple[str, ...]:
     )
 
 
-def _summary_lines(r: Report) -> list[str]:
+def _timing(r: Report, view: ReportView) -> str:
+    if not view.timings:
+        return ""
+    return f" in {r.elapsed_s:.2f} s ({r.configs_per_s:,.0f} configurations/s)"
+
+
+def _summary_lines(r: Report, view: ReportView) -> list[str]:
     what = (
         f"{r.samples} {r.sampler} samples (seed {r.seed})"
         if r.source == "sampled"
@@ -173,8 +186,7 @@ def _summary_lines(r: Report) -> list[str]:
     n_sph = sum(r.sphere_counts.values())
     lines = [
         f"XRDF {r.xrdf_path or '<input>'} with URDF {r.urdf_path}",
-        f"{what} over c-space [{', '.join(r.cspace_joints)}] in {r.elapsed_s:.2f} s "
-        f"({r.configs_per_s:,.0f} configurations/s)",
+        f"{what} over c-space [{', '.join(r.cspace_joints)}]" + _timing(r, view),
         f"{n_sph} spheres on {len(r.frames)} frames, {len(r.pairs)} frame pairs"
         + (f"; {r.placeholders} placeholder sphere(s) ignored" if r.placeholders else ""),
     ]
@@ -244,7 +256,7 @@ def _coverage_lines(r: Report) -> list[str]:
 # Text / Markdown / HTML
 # ------------------------------------------------------------------------------------------
 def render_text(r: Report, view: ReportView = ReportView()) -> str:
-    lines = _summary_lines(r)
+    lines = _summary_lines(r, view)
     lines.append("")
     if view.only != "findings":
         lines += _pair_table_lines(r, view)
@@ -282,7 +294,7 @@ def _md_cell(s: str) -> str:
 
 def render_markdown(r: Report, view: ReportView = ReportView()) -> str:
     out = ["# Self-collision report", ""]
-    out += [f"- {_md_cell(s)}" for s in _summary_lines(r)]
+    out += [f"- {_md_cell(s)}" for s in _summary_lines(r, view)]
     out += ["", "## Spheres per frame", "", "| frame | spheres |", "|---|---:|"]
     out += [f"| {f} | {n} |" for f, n in r.sphere_counts.items()]
     out += ["", "## Frame pairs", ""]
@@ -325,7 +337,7 @@ def render_html(r: Report, view: ReportView = ReportView()) -> str:
         "td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%}th{background:#eee}"
         ".num{text-align:right}</style></head><body>",
         "<h1>Self-collision report</h1><ul>",
-        *(f"<li>{e(s)}</li>" for s in _summary_lines(r)),
+        *(f"<li>{e(s)}</li>" for s in _summary_lines(r, view)),
         "</ul><h2>Spheres per frame</h2><table><tr><th>frame</th><th>spheres</th></tr>",
         *(f'<tr><td>{e(f)}</td><td class="num">{n}</td></tr>' for f, n in r.sphere_counts.items()),
         "</table><h2>Frame pairs</h2><table><tr>",
@@ -362,7 +374,7 @@ def render_html(r: Report, view: ReportView = ReportView()) -> str:
 
 
 def _render_json_view(r: Report, view: ReportView = ReportView()) -> str:
-    return render_json(r)  # JSON always holds everything: the view does not apply
+    return render_json(r, timings=view.timings)  # every pair and row: only timings apply
 
 
 #: The one table of the report's renderers: format name → ``(report, view) → text``. The

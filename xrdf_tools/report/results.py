@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from ..diagnostics import Diagnostic
 from ..selfcollision.collision import Contact
 from ..util.errors import XrdfToolsError
+from ..util.numbers import CERTIFY_BOXES
 
 if TYPE_CHECKING:
     from ..selfcollision.certify import Verdict
@@ -39,12 +40,16 @@ __all__ = [
 @dataclass(frozen=True)
 class CertifyOptions:
     """``--certify``: decide every "never" pair over its whole joint box (see
-    :mod:`xrdf_tools.selfcollision.certify`) within ``budget_s`` seconds in all. ``mask_policy``
+    :mod:`xrdf_tools.selfcollision.certify`) within ``boxes`` boxes in all, shared evenly among
+    the pairs still to decide (the same verdicts on every machine). ``mask_policy``
     ``"proven"`` recommends ignoring a never-colliding pair only when it is proven;
-    ``"sampled"`` keeps the sampled recommendation."""
+    ``"sampled"`` keeps the sampled recommendation. ``budget_s``: also stop after this many
+    seconds in all (None: no wall-clock limit; with one, the verdicts can depend on the
+    machine's speed)."""
 
-    budget_s: float = 60.0
+    boxes: int = CERTIFY_BOXES
     mask_policy: Literal["proven", "sampled"] = "sampled"
+    budget_s: float | None = None
 
 
 class ConfigsError(XrdfToolsError):
@@ -80,7 +85,7 @@ class PairStat:
     note: str
     certificate: Verdict | None = None
     witness: Mapping[str, float] | None = None
-    certify_s: float | None = None
+    certify_boxes: int | None = None
     #: Actuated joints whose values move the two frames relative to each other: 0 means the
     #: pair's verdict holds for every configuration, 1-2 are decided on a grid.
     joints_on_path: int = 0
@@ -110,7 +115,7 @@ class PairStat:
             "certified": None if self.certificate is None else self.certificate == "proven",
             "certificate": self.certificate,
             "witness": dict(self.witness) if self.witness is not None else None,
-            "certify_s": self.certify_s,
+            "certify_boxes": self.certify_boxes,
             "joints_on_path": self.joints_on_path,
         }
 

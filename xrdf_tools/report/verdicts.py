@@ -26,13 +26,12 @@ from typing import TYPE_CHECKING
 from ..diagnostics import Diagnostic, RuleInfo, Severity
 from ..robot.kinematics import KinematicModel
 from ..selfcollision.collision import Contact
-from ..util.arrays import FloatArray
 from ..util.errors import did_you_mean
 from ..xrdf.model import SelfCollisionSection, Xrdf
 from .results import CertifyOptions, Classification, PairStat, Recommendation, TrajectoryHit
 
 if TYPE_CHECKING:
-    from ..selfcollision.certify import Verdict
+    from ..selfcollision.certify import Certificate
 
 __all__ = ["ALWAYS_RATE", "RULES", "adjacent_frame_pairs", "never_upper_bound"]
 
@@ -118,17 +117,16 @@ def adjacent_frame_pairs(
 
 def certified_stat(
     p: PairStat,
-    verdict: Verdict,
-    witness: FloatArray | None,
-    seconds: float,
+    cert: Certificate,
     cspace: Sequence[str],
-    path: Sequence[str],
     opts: CertifyOptions,
 ) -> PairStat:
-    """The pair's statistics with the verdict of ``--certify`` (``path``: its joints)."""
-    took = f"{seconds:.2f} s"
-    if verdict == "witness" and witness is not None:
-        values = {j: float(v) for j, v in zip(cspace, witness, strict=True)}
+    """The pair's statistics with the verdict of ``--certify`` (``cert``, whose joints index
+    ``cspace``). Its notes say how many boxes it took, never how long: the same on every run."""
+    path = [cspace[j] for j in cert.joints]
+    took = f"{cert.boxes:,} box{'es' if cert.boxes != 1 else ''}"
+    if cert.verdict == "witness" and cert.witness is not None:
+        values = {j: float(v) for j, v in zip(cspace, cert.witness, strict=True)}
         what = "remove from ignore" if p.masked else "keep checking"
         at = ", ".join(f"{j}={values[j]:.4f}" for j in path)
         note = f"collides at {at} (others at default; found by --certify in {took}): {what}"
@@ -139,16 +137,19 @@ def certified_stat(
             note=note,
             certificate="witness",
             witness=values,
-            certify_s=seconds,
+            certify_boxes=cert.boxes,
         )
-    if verdict == "proven":
+    if cert.verdict == "proven":
         note = f"proven never to collide over the whole joint box ({took}): ignore"
         return replace(
-            p, recommendation="ignore", note=note, certificate="proven", certify_s=seconds
+            p, recommendation="ignore", note=note, certificate="proven", certify_boxes=cert.boxes
         )
     rec: Recommendation = "check" if opts.mask_policy == "proven" else p.recommendation
-    note = f"{p.note}; not proven within the --certify budget ({took})"
-    return replace(p, recommendation=rec, note=note, certificate="undecided", certify_s=seconds)
+    limit = "--certify-budget time limit" if cert.timed_out else "--certify-boxes budget"
+    note = f"{p.note}; not proven within the {limit} ({took})"
+    return replace(
+        p, recommendation=rec, note=note, certificate="undecided", certify_boxes=cert.boxes
+    )
 
 
 def classify_pair(

@@ -19,7 +19,9 @@ A box whose every sphere pair keeps a positive lower bound is proven free; a box
 a sphere pair collides is a *witness* (checked with the same float64 test as the counts); any
 other box is split along the joint whose motion bound is largest. Boxes are taken lowest lower
 bound first, so a pair that touches only in a tiny region is refined there first. When the
-time budget runs out the pair is *undecided*: the proof never claims what it has not shown.
+budget runs out the pair is *undecided*: the proof never claims what it has not shown. The
+budget is a number of boxes, so the verdicts are the same on every machine; an optional
+wall-clock limit can stop the work earlier (then they may not be).
 """
 
 from __future__ import annotations
@@ -54,7 +56,8 @@ class Certificate:
 
     ``witness``: c-space values (the engine's ``varying`` order) of a colliding configuration;
     ``boxes``: boxes evaluated; ``seconds``: time spent; ``joints``: the c-space joints on the
-    path (indices into the varying columns).
+    path (indices into the varying columns); ``timed_out``: undecided because the wall-clock
+    limit, not the box budget, ran out.
     """
 
     verdict: Verdict
@@ -62,6 +65,7 @@ class Certificate:
     boxes: int
     seconds: float
     joints: tuple[int, ...]
+    timed_out: bool = False
 
 
 @dataclass(frozen=True)
@@ -134,12 +138,14 @@ def _problem(engine: CountEngine, k: int) -> _Problem:
     )
 
 
-def certify_pair(engine: CountEngine, k: int, budget_s: float) -> Certificate:
+def certify_pair(
+    engine: CountEngine, k: int, max_boxes: int, deadline_s: float | None = None
+) -> Certificate:
     """Decide frame pair ``k`` of ``engine.spheres`` over the whole joint box.
 
     ``proven``: no configuration collides (buffered spheres never touch); ``witness``: a
-    colliding configuration (c-space values in ``engine.varying`` order); ``undecided``:
-    ``budget_s`` seconds ran out first.
+    colliding configuration (c-space values in ``engine.varying`` order); ``undecided``: more
+    than ``max_boxes`` boxes would be needed, or ``deadline_s`` seconds ran out first.
     """
     t0 = time.perf_counter()
     pb = _problem(engine, k)
@@ -148,9 +154,12 @@ def certify_pair(engine: CountEngine, k: int, budget_s: float) -> Certificate:
     heap: list[tuple[float, int, FloatArray, FloatArray]] = [(-np.inf, next(tie), pb.lo, pb.hi)]
     boxes = 0
     while heap:
-        if time.perf_counter() - t0 > budget_s:
-            return Certificate("undecided", None, boxes, time.perf_counter() - t0, _joints(pb))
-        batch = [heapq.heappop(heap) for _ in range(min(_BATCH, len(heap)))]
+        size = min(_BATCH, len(heap))
+        late = deadline_s is not None and time.perf_counter() - t0 > deadline_s
+        if late or boxes + size > max_boxes:
+            took = time.perf_counter() - t0
+            return Certificate("undecided", None, boxes, took, _joints(pb), timed_out=late)
+        batch = [heapq.heappop(heap) for _ in range(size)]
         lows = np.array([b[2] for b in batch])
         highs = np.array([b[3] for b in batch])
         lb, hit_row = _evaluate(engine, pb, base, lows, highs)

@@ -68,7 +68,11 @@ class SphereMetrics:
     fit_seconds: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        """Every field; ``fit_seconds`` only when set (a wall time, asked for)."""
+        out = asdict(self)
+        if self.fit_seconds is None:
+            del out["fit_seconds"]
+        return out
 
 
 def sphere_arrays(spheres: Sequence[Sphere]) -> tuple[FloatArray, FloatArray]:

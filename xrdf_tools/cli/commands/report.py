@@ -17,6 +17,7 @@ from typing import Annotated, Any
 import typer
 
 from ...util.errors import XrdfToolsError
+from ...util.numbers import CERTIFY_BOXES
 from .report_core import (
     REPORT_OPTIONS,
     MaskPolicy,
@@ -58,12 +59,14 @@ def command(
     coverage: Annotated[bool, _option("coverage")] = False,
     jobs: Annotated[int | None, _option("jobs")] = None,
     certify: Annotated[bool, _option("certify")] = False,
-    certify_budget: Annotated[float, _option("certify_budget")] = 60.0,
+    certify_boxes: Annotated[int, _option("certify_boxes")] = CERTIFY_BOXES,
+    certify_budget: Annotated[float | None, _option("certify_budget")] = None,
     mask_policy: Annotated[MaskPolicy, _option("mask_policy")] = MaskPolicy.sampled,
     moveit: Annotated[bool, _option("moveit")] = False,
     only: Annotated[ReportPart, _option("only")] = ReportPart.all,
     min_rate: Annotated[float, _option("min_rate")] = 0.0,
     strict: Annotated[bool, _option("strict")] = False,
+    timings: Annotated[bool, _option("timings")] = False,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
     quiet: QuietOption = False,
@@ -86,12 +89,14 @@ def command(
         coverage,
         jobs,
         certify,
+        certify_boxes,
         certify_budget,
         mask_policy,
         moveit,
         only,
         min_rate,
         strict,
+        timings,
         xacro_arg,
         package_path,
     )

@@ -120,6 +120,14 @@ def command(
             "in metres).",
         ),
     ] = OutputFormat.text,
+    timings: Annotated[
+        bool,
+        typer.Option(
+            "--timings",
+            help="Add each link's fit time (wall seconds) to the metrics. Without it the "
+            "metrics, like the XRDF, are the same bytes for the same inputs and options.",
+        ),
+    ] = False,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
@@ -168,7 +176,7 @@ def command(
                 model, base, request, progress=per_link_progress(bar, "fitting spheres")
             )
         with timed("measuring"):
-            per, overall = fit_metrics(fitted.fit, seed)
+            per, overall = fit_metrics(fitted.fit, seed, timings=timings)
     except XrdfToolsError as e:
         fail(e)
     echo_diagnostics([*fitted.diagnostics, *fitted.unfitted], fmt)
