@@ -77,6 +77,20 @@ def test_report_with_certify_is_byte_identical_across_processes_and_jobs(tmp_pat
     assert b'"elapsed_s": ' in timed and b'"elapsed_s": ' not in got["json"]
 
 
+def test_mcap_and_png_drawings_are_byte_identical_across_processes(tmp_path: Path) -> None:
+    base = ["viz", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-n", "5", "--meshes", "none"]
+    outputs: dict[str, set[bytes]] = {"mcap": set(), "png": set()}
+    for i, setting in enumerate(SETTINGS):
+        env = {k: v for k, v in os.environ.items() if k not in THREAD_VARS} | setting
+        for kind in outputs:
+            out = tmp_path / f"{i}.{kind}"
+            cmd = [sys.executable, "-m", "xrdf_tools", *base, f"--{kind}", str(out), "-q"]
+            done = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+            assert done.returncode == 0, done.stderr
+            outputs[kind].add(out.read_bytes())
+    assert {kind: len(seen) for kind, seen in outputs.items()} == {"mcap": 1, "png": 1}
+
+
 def _convex_reference(mesh: trimesh.Trimesh, points: np.ndarray) -> np.ndarray:
     """Inside a convex mesh: behind every face plane (a plain loop over faces)."""
     inside = np.ones(len(points), dtype=bool)
