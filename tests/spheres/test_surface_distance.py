@@ -49,3 +49,24 @@ def test_point_triangle_distance_in_every_voronoi_region() -> None:
     p = np.array(list(cases))
     d = _point_triangle_distance(p, np.repeat(tri[None], len(p), 0))
     np.testing.assert_allclose(d, list(cases.values()), rtol=0, atol=1e-12)
+
+
+def test_zero_area_triangles_warn_nothing_and_leave_the_distance_to_the_others() -> None:
+    """Real meshes hold zero-area triangles (three points on a line): they never put the
+    surface closer than the segment the three points span, and no RuntimeWarning (an error
+    under the test settings) reaches the user."""
+    from xrdf_tools.spheres.distance import _point_triangle_distance
+
+    rng = np.random.default_rng(0)
+    a, b = rng.normal(size=(2, 200, 3))
+    c = a + (b - a) * rng.uniform(-2, 2, size=(200, 1))  # on the line through a and b
+    tri = np.stack([a, b, c], axis=1)
+    p = rng.normal(size=(200, 3))
+    d = _point_triangle_distance(p, tri)
+    u = (b - a) / np.linalg.norm(b - a, axis=1)[:, None]
+    along = np.einsum("tkj,tj->tk", tri - a[:, None], u)  # the three points on the line
+    t = np.clip(np.einsum("tj,tj->t", p - a, u), along.min(1), along.max(1))
+    to_segment = np.linalg.norm(p - (a + t[:, None] * u), axis=1)
+    assert np.all(d >= to_segment - 1e-12)
+    good = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    assert _point_triangle_distance(np.array([[0.25, 0.25, 0.5]]), good)[0] == 0.5

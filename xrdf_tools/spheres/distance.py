@@ -99,6 +99,7 @@ def _point_triangle_distance(p: FloatArray, tri: FloatArray) -> FloatArray:
         w_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
         total = va + vb + vc
         v_in, w_in = vb / total, vc / total
+        inside = a + v_in[:, None] * ab + w_in[:, None] * ac  # NaN for a zero-area triangle
     conditions = [
         (d1 <= 0) & (d2 <= 0),
         (d3 >= 0) & (d4 <= d3),
@@ -115,7 +116,6 @@ def _point_triangle_distance(p: FloatArray, tri: FloatArray) -> FloatArray:
         a + w_ac[:, None] * ac,
         b + w_bc[:, None] * (c - b),
     ]
-    inside = a + v_in[:, None] * ab + w_in[:, None] * ac
     closest = np.select([m[:, None] for m in conditions], choices, default=inside)
     dist = np.linalg.norm(p - closest, axis=1)
     # a degenerate triangle (zero area) gives NaN here: its vertices are in the upper bound
