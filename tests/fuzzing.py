@@ -108,6 +108,23 @@ SCENARIOS: tuple[Scenario, ...] = (
         ("xrdf", "urdf"),
     ),
     Scenario(
+        "report-certify",
+        (
+            "report",
+            "{xrdf}",
+            "--urdf",
+            "{urdf}",
+            "-n",
+            "64",
+            "--certify",
+            "--certify-boxes",
+            "2000",
+            "-f",
+            "json",
+        ),
+        ("xrdf", "urdf"),
+    ),
+    Scenario(
         "report-configs",
         ("report", "{xrdf}", "--urdf", "{urdf}", "--configs", "{configs}", "-f", "json"),
         ("configs",),
