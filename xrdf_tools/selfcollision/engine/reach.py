@@ -119,19 +119,13 @@ class Reach:
             if swap:  # the ancestor side first
                 a, b, xa, ra, xb, rb, up_b = b, a, xb, rb, xa, ra, up_a
             top = up_b[up_b.index(a) - 1]
-            kind = self.bodies.kind
-            if top == b and kind[b] != PRISM:
+            if top == b and self.bodies.kind[b] != PRISM:
                 g_anc, g_desc = self._circles(b, xa, ra, xb, rb)
-            elif top == b:
-                g_anc, g_desc = self._segments(b, xa, ra, xb, rb)
             else:
                 centre, ext = self._ball(top, b)
                 u = np.linalg.norm(xa - centre, axis=1) - ra  # [m_a]
                 v = _extent(xb, rb) + ext  # [m_b]
                 g_anc, g_desc = u - float(np.max(v)), float(np.min(u)) - v
-                if self.bodies.parent[b] == top and kind[top] == kind[b] != PRISM:
-                    s_anc, s_desc = self._swept(top, b, xa, ra, xb, rb)
-                    g_anc, g_desc = np.maximum(g_anc, s_anc), np.maximum(g_desc, s_desc)
         anc, desc = _side(g_anc, limit), _side(g_desc, limit)
         return (desc, anc) if swap else (anc, desc)
 
@@ -176,82 +170,6 @@ class Reach:
             np.minimum(g_b, d.min(axis=0), out=g_b)
         return g_a, g_b
 
-    def _segments(
-        self, j: int, xa: FloatArray, ra: FloatArray, xb: FloatArray, rb: FloatArray
-    ) -> tuple[FloatArray, FloatArray]:
-        """Body ``j`` slides along one prismatic joint of body ``a``: each sphere centre of
-        ``j`` sweeps a segment along the joint axis over the joint's travel. Smallest gap of
-        each sphere of ``a`` [m_a] and of ``j`` [m_b] to any sphere of the other side over
-        the whole travel (exact: the distance from a point to a segment)."""
-        C = self.bodies.consts[j]
-        y = (xa - C[:3, 3]) @ C[:3, :3]  # a's centres in the joint frame
-        lo, hi = float(self.lo[j]), float(self.hi[j])
-        g_a = np.full(len(ra), np.inf)
-        g_b = np.full(len(rb), np.inf)
-        step = max(1, _BLOCK // max(1, len(rb)))
-        for s0 in range(0, len(ra), step):
-            sl = slice(s0, s0 + step)
-            w = y[sl, None, :] - xb[None, :, :]  # a's centres seen from j's at zero travel
-            along = w[..., 2] - np.clip(w[..., 2], lo, hi)  # beyond the ends of the travel
-            d = np.sqrt(w[..., 0] ** 2 + w[..., 1] ** 2 + along**2)
-            d -= ra[sl, None] + rb[None, :]
-            g_a[sl] = d.min(axis=1)
-            np.minimum(g_b, d.min(axis=0), out=g_b)
-        return g_a, g_b
-
-    def _swept(
-        self,
-        top: int,
-        j: int,
-        xa: FloatArray,
-        ra: FloatArray,
-        xb: FloatArray,
-        rb: FloatArray,
-    ) -> tuple[FloatArray, FloatArray]:
-        """Body ``j`` turns about a revolute joint of body ``top``, which turns about one of
-        body ``a``: seen in ``top``'s joint frame, a sphere centre of ``j`` keeps its distance
-        ``ρ`` from that axis and its height ``z`` along it, which depend on ``j``'s angle only.
-        The distance between two centres is at least their distance in the ``(ρ, z)`` plane,
-        whatever ``top``'s angle. ``j``'s angle range is cut into cells; in a cell of width
-        ``h`` a centre at ``ρ_j`` from ``j``'s axis moves by at most ``ρ_j · h / 2`` (chord ≤
-        arc), and so does its ``(ρ, z)`` point. Smallest gap of each sphere of ``a`` [m_a] and
-        of ``j`` [m_b] to any sphere of the other side over every value of both joints."""
-        C1, C2 = self.bodies.consts[top], self.bodies.consts[j]
-        y = (xa - C1[:3, 3]) @ C1[:3, :3]  # a's centres in top's joint frame
-        rho_a, z_a = np.hypot(y[:, 0], y[:, 1]), y[:, 2]
-        lo, hi = float(self.lo[j]), float(self.hi[j])
-        if not (np.isfinite(lo) and np.isfinite(hi)) or hi - lo > 2.0 * np.pi:
-            lo, hi = -np.pi, np.pi
-        rho_j = np.hypot(xb[:, 0], xb[:, 1])  # [m_b] distance from j's axis
-        cells = float(rho_j.max(initial=0.0)) * (hi - lo) / (2.0 * _SWEEP_MOVE)
-        n = int(np.clip(np.ceil(cells), 8, 512))
-        h = (hi - lo) / n
-        th = lo + h * (np.arange(n) + 0.5)  # cell centres
-        c, s = np.cos(th), np.sin(th)
-        # j's centres in top's body frame at each cell centre: C2 · Rz(θ) · x  [m_b, n, 3]
-        rx = xb[:, None, 0] * c - xb[:, None, 1] * s
-        ry = xb[:, None, 0] * s + xb[:, None, 1] * c
-        v = np.stack([rx, ry, np.broadcast_to(xb[:, None, 2], rx.shape)], axis=-1)
-        v = v @ C2[:3, :3].T + C2[:3, 3]
-        rho_v, z_v = np.hypot(v[..., 0], v[..., 1]), v[..., 2]
-        move = rho_j * (h / 2.0) + _SLACK  # [m_b]
-        g_a = np.full(len(ra), np.inf)
-        g_b = np.full(len(rb), np.inf)
-        step = max(1, _BLOCK // max(1, len(rb) * n))
-        for s0 in range(0, len(ra), step):
-            sl = slice(s0, s0 + step)
-            d = np.hypot(rho_a[sl, None, None] - rho_v[None], z_a[sl, None, None] - z_v[None])
-            gap = d.min(axis=2) - move[None, :] - (ra[sl, None] + rb[None, :])
-            g_a[sl] = gap.min(axis=1)
-            np.minimum(g_b, gap.min(axis=0), out=g_b)
-        return g_a, g_b
-
-
-#: The most a sphere centre moves within one angle cell of :meth:`Reach._swept` (m): the
-#: cells are cut that fine (at most 512 of them).
-_SWEEP_MOVE = 0.002
-#: Absolute slack (m) for float64 rounding in the build-time gaps.
-_SLACK = 1e-9
 
 #: A centre this close to a joint axis (m) is on it: its distances across the joint change by
 #: less than float64 rounding of a report's clearances.
