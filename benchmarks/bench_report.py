@@ -23,7 +23,8 @@ beside franka on the same samples (``--robot-samples``, default 100,000), as rat
 (``--chain base_footprint:arm_tool_link``) and PR2's two arms (``left_arm`` + ``right_arm``),
 each from the example-robot-data URDF with spheres fitted by ``xrdf convert --fit-spheres``
 once and cached in ``--cache`` (default: a directory in the temporary directory; fitting takes
-minutes). Two figures per robot: the engine alone and the whole report (setup included).
+minutes). Two figures per robot: the engine alone (chunks of 65,536) and the whole report
+(setup included, in the report's own chunks: ``report_chunk``, from the robot's size).
 
 Usage: ``python benchmarks/bench_report.py [--samples N] [--baseline N] [--jobs-samples N]
 [--memory] [--robots 0|1] [--robot-samples N] [--cache DIR]`` (needs the
@@ -305,7 +306,12 @@ def robot_times(urdf: Path, xrdf: Path, n: int) -> tuple[float, float, dict[str,
     engine = min(n / ours(case, n)[0] for _ in range(2))
     whole = min(n / report_rate(case, n) for _ in range(2))
     work = case["work"]
-    size = {"spheres": int(work.n_spheres), "frame_pairs": int(work.n_frame_pairs)}
+    size = {
+        "spheres": int(work.n_spheres),
+        "frame_pairs": int(work.n_frame_pairs),
+        "body_pairs": len(case["engine"].pairs),
+        "report_chunk": case["engine"].chunk_limit(),  # configurations per chunk of the report
+    }
     return engine, whole, size
 
 

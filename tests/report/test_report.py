@@ -277,6 +277,32 @@ def test_jobs_give_the_same_report(runner: CliRunner, monkeypatch: pytest.Monkey
     assert res.exit_code == 0, res.output
 
 
+def test_the_report_does_not_depend_on_the_chunks_and_reports_progress_within_one() -> None:
+    """The Panda (more than ten body pairs): 20,000 samples in one chunk, in chunks of 4,096
+    and of 700 give the same report; in one chunk, progress still comes every tenth."""
+    xrdf, urdf = load_xrdf(PANDA_XRDF), load_urdf(robot_urdf("panda"))
+    reports = []
+    for chunk in (65536, 4096, 700):
+        calls: list[int] = []
+        r = self_collision_report(
+            urdf,
+            xrdf,
+            samples=20000,
+            seed=3,
+            chunk=chunk,
+            progress=lambda d, n, seen=calls: seen.append(d),
+        )
+        d = report_to_dict(r)
+        d.pop("elapsed_s", None)
+        d.pop("configs_per_s", None)
+        reports.append(d)
+        assert calls == sorted(calls) and calls[-1] == 20000
+        if chunk == 65536:
+            assert len(calls) == 10 and calls[0] <= 2000
+    assert reports[0] == reports[1] == reports[2]
+    assert any(p["min_clearance_is_bound"] for p in reports[0]["pairs"])  # bounds agree too
+
+
 def test_joints_on_path_counts_the_joints_that_move_a_pair() -> None:
     from xrdf_tools.robot.kinematics import build_kinematic_model
 

@@ -241,6 +241,26 @@ def test_grid_far_cells_are_really_beyond_the_margin() -> None:
         assert clr.min() > 0.01
 
 
+def test_coarse_cells_least_gap_first_give_the_same_grids(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Splitting the coarse cells with the least gap first (the smallest far gap then skips
+    most of the others' sphere pairs) gives the far cells and the clearance bound, to the
+    last bit, of splitting them all at once."""
+    import xrdf_tools.selfcollision.engine.grid as grid_mod
+
+    kin, xrdf = panda()
+    assert xrdf.cspace is not None
+    cspace = [kin.actuated_index(j) for j in xrdf.cspace.joint_names]
+    first, _, _ = engine_for(kin, xrdf, True, cspace, margin=0.01)
+    monkeypatch.setattr(grid_mod, "_FIRST_BATCH", 1)  # one batch: every coarse cell at once
+    at_once, _, _ = engine_for(kin, xrdf, True, cspace, margin=0.01)
+    grids = [(a.grid, b.grid) for a, b in zip(first.pairs, at_once.pairs, strict=True) if a.grid]
+    assert sum(len(a.shape) == 2 for a, _ in grids) >= 3
+    for a, b in grids:
+        assert b is not None
+        np.testing.assert_array_equal(a.far, b.far)
+        assert a.far_bound == b.far_bound
+
+
 def _every_cell_far_2d(ev, shape, h):  # type: ignore[no-untyped-def]
     """The plain two-level decision: every coarse cell, then every fine cell of the coarse
     cells that are not far, each on all sphere pairs."""

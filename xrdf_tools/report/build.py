@@ -66,7 +66,8 @@ __all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
 
 #: Configurations per chunk: the engine's working set stays in a few MB.
 DEFAULT_CHUNK = 65536
-#: Smallest chunk a sample is cut into (a sample is cut into at least ten, for progress).
+#: Smallest chunk a sample is cut into for progress (a chunk of a robot with few body pairs
+#: reports no progress from within: such a sample is cut into at least ten chunks).
 _MIN_CHUNK = 4096
 
 
@@ -135,13 +136,16 @@ def self_collision_report(
                 f"({', '.join(cspace)}), got {list(qc.shape)}"
             )
         n_total = qc.shape[0]
+        chunk = min(chunk, engine.chunk_limit(flags=True))
         totals, trajectory = _count_configs(engine, qc, chunk, progress)
         source: Literal["sampled", "configs"] = "configs"
     else:
         if samples < 1:
             raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
         n_total = samples
-        chunk = min(chunk, max(_MIN_CHUNK, -(-samples // 10)))  # ≥ 10 chunks: progress per 10 %
+        chunk = min(chunk, engine.chunk_limit())  # bounded memory
+        if engine.steps_per_chunk < 10:  # progress per 10 %: from at least ten chunks
+            chunk = min(chunk, max(_MIN_CHUNK, -(-samples // 10)))
         totals = count_sampled(
             engine,
             kin.lower[idx],

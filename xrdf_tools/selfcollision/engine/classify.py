@@ -35,11 +35,13 @@ _FEW_CANDIDATES = 4
 
 @dataclass
 class Chunk:
-    """One chunk: verdicts [K, B], clearance bounds [K], body poses, the configurations, the
-    best exact clearances known before it [K], and the (frame pair, configuration) entries
-    queued for the float64 recheck."""
+    """One chunk: verdicts of the sampled frame pairs [K_s, B] (frame pair ``k`` in row
+    ``row_of[k]``), clearance bounds [K], body poses, the configurations, the best exact
+    clearances known before it [K], and the (frame pair, configuration) entries queued for
+    the float64 recheck."""
 
     hits: BoolArray
+    row_of: IntArray = field(repr=False)
     bound: FloatArray
     poses: ChunkPoses = field(repr=False)
     q: FloatArray = field(repr=False)
@@ -93,7 +95,7 @@ def _classify_pair(
     bp, em, cols = ev.bp, ev.minima, ev.cols
     d = np.float32(bp.delta)
     bi, bj = np.nonzero(em < -d)
-    ch.hits[bp.frame_pairs[bi], cols[bj]] = True  # a frame pair may span several body pairs
+    ch.hits[ch.row_of[bp.frame_pairs[bi]], cols[bj]] = True  # (a frame pair may span several)
     cand = em <= e_star[:, None]
     has_cand: BoolArray = np.any(cand, axis=1)
     queued = np.abs(em) <= d

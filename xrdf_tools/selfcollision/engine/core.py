@@ -20,6 +20,7 @@ then counts chunks of configurations (:meth:`CountEngine.count`):
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,6 +57,29 @@ from .reach import Reach
 from .sharpen import Sharpener
 
 __all__ = ["CountEngine", "EngineTotals"]
+
+#: What a chunk's arrays may take (bytes, about; with the minima held, 64 MB):
+#: :meth:`CountEngine.chunk_limit`.
+CHUNK_BYTES = 56 << 20
+#: Bytes per configuration of a chunk's other temporaries (a body pair's poses, indices).
+_CHUNK_SLACK = 256
+#: float32 minima of evaluated body pairs held at once before they are classified (8 MB):
+#: a chunk's memory does not grow with its number of body pairs.
+_HELD_MINIMA = 1 << 21
+
+
+class _Steps:
+    """Calls ``on_step(done / total)`` each time another tenth of ``total`` items is done."""
+
+    def __init__(self, total: int, on_step: Callable[[float], None] | None) -> None:
+        self.total = max(total, 1)
+        self.on_step = on_step
+        self.next = 1
+
+    def __call__(self, done: int) -> None:
+        if self.on_step is not None and 10 * done >= self.next * self.total:
+            self.next = 10 * done // self.total + 1
+            self.on_step(done / self.total)
 
 
 @dataclass
@@ -154,6 +178,28 @@ class CountEngine:
             self.bodies, spheres, self.local, self.frame_body, kin.n_frames
         )
         self.delta_k, self.rlo_k, self.rhi_k = pair_constants(spheres, self.pairs)
+        #: the frame pairs some body pair samples, and each one's row in a chunk's flags
+        #: (-1 for the others, whose verdicts are the same in every configuration)
+        every = [bp.frame_pairs for bp in self.pairs]
+        self.sampled_k = sorted_unique(np.concatenate(every)) if every else np.zeros(0, np.intp)
+        self.row_of = np.full(self.K, -1, dtype=np.intp)
+        self.row_of[self.sampled_k] = np.arange(len(self.sampled_k))
+
+    @property
+    def steps_per_chunk(self) -> int:
+        """How many times :meth:`count` calls its ``on_step`` per chunk (at most ten: one per
+        tenth of the body pairs, the last at the end)."""
+        return min(10, len(self.pairs))
+
+    def chunk_limit(self, *, flags: bool = False) -> int:
+        """The most configurations a chunk should hold for its arrays to stay within about
+        :data:`CHUNK_BYTES` (a multiple of 1024, between 4,096 and 65,536): per configuration a
+        chunk holds the flags of the sampled frame pairs (of every frame pair too with
+        ``flags``, as :meth:`count` returns them), the culled pairs' verdicts, every body's
+        pose and the configuration itself. It depends on the robot and the options only."""
+        per = len(self.sampled_k) + len(self.cull_plan.pairs) + 52 * self.bodies.n
+        per += 16 * len(self.varying) + _CHUNK_SLACK + (self.K if flags else 0)
+        return int(np.clip(CHUNK_BYTES // per // 1024 * 1024, 4096, 65536))
 
     def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
         """Frame pairs on one body: decided once, exactly, at the base configuration."""
@@ -189,6 +235,7 @@ class CountEngine:
         totals: EngineTotals | None = None,
         *,
         known: FloatArray | None = None,
+        on_step: Callable[[float], None] | None = None,
     ) -> BoolArray:
         """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
 
@@ -197,46 +244,86 @@ class CountEngine:
         same count); like those of ``totals``, they only narrow the configurations looked at
         for the minimum. The totals are the same with or without them: a frame pair's
         minimum is exact whenever it lies below the margin and below every value known.
+        ``on_step(fraction)`` is called as the chunk's body pairs are done (about every tenth
+        of them), for progress within a large chunk.
         """
+        hits, B = self._count(q_var, totals, known, on_step)
+        out = np.zeros((self.K, B), dtype=np.bool_)
+        out[self.sampled_k] = hits
+        out |= self.fixed_hit[:, None]
+        if len(self.const_k):
+            out[self.const_k] = self.const_hit[:, None]
+        return out
+
+    def count_totals(
+        self,
+        q_var: npt.ArrayLike,
+        totals: EngineTotals,
+        *,
+        known: FloatArray | None = None,
+        on_step: Callable[[float], None] | None = None,
+    ) -> None:
+        """:meth:`count` into ``totals`` only, without the [K, B] flags: a chunk holds the
+        flags of the sampled frame pairs alone."""
+        self._count(q_var, totals, known, on_step)
+
+    def _count(
+        self,
+        q_var: npt.ArrayLike,
+        totals: EngineTotals | None,
+        known: FloatArray | None,
+        on_step: Callable[[float], None] | None,
+    ) -> tuple[BoolArray, int]:
+        """Flags [len(sampled_k), B] of the sampled frame pairs, and ``B``."""
         q = np.asarray(q_var, dtype=np.float64)
         if q.ndim != 2 or q.shape[1] != len(self.varying):
             raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
         B = q.shape[0]
         T = body_poses(self.bodies, q)
         poses = ChunkPoses(self.bodies, T, joint_values(self.bodies, q))
-        hits = np.zeros((self.K, B), dtype=np.bool_)
+        hits = np.zeros((len(self.sampled_k), B), dtype=np.bool_)
         # the best clearance so far only narrows the candidates (it never changes a result)
         prev = self.fixed_clear.copy()
         if totals is not None:
             np.minimum(prev, totals.min_clearance, out=prev)
         if known is not None:
             np.minimum(prev, known, out=prev)
-        ch = Chunk(hits, self.reach_bound.copy(), poses, q, prev)
+        ch = Chunk(hits, self.row_of, self.reach_bound.copy(), poses, q, prev)
         if self.cull_plan.pairs:
             near, low = self.culler.culled_near(self.cull_plan, T[:, :, :3], T[:, :, 3])
         done: list[Evaluated] = []
+        held = 0  # float32 minima held in ``done``: classified in batches, memory stays bounded
         row = 0
-        for bp in self.pairs:
+        step = _Steps(len(self.pairs), on_step)
+        for i, bp in enumerate(self.pairs):
             rows = (near[row], float(low[row])) if bp.cull else None
             sel = self.culler.select(bp, ch.q, rows, ch.bound)
             row += bp.cull
             if sel is None or len(sel):
                 cols = np.arange(B) if sel is None else sel
                 done.append(Evaluated(bp, cols, evaluate_pair(bp, ch.poses, sel)))
+                held += done[-1].minima.size
+            if held >= _HELD_MINIMA:
+                classify(ch, done, self.margin, self.rlo_k, self.rhi_k)
+                done, held = [], 0
+            step(i + 1)
         classify(ch, done, self.margin, self.rlo_k, self.rhi_k)
         best = self.fixed_clear.copy()
         n_exact = self._recheck(ch, best)
-        hits |= self.fixed_hit[:, None]
         if len(self.const_k):
-            hits[self.const_k] = self.const_hit[:, None]
             best[self.const_k] = self.const_clear
         if totals is not None:
-            totals.hits += hits.sum(axis=1)
+            n = np.zeros(self.K, dtype=np.int64)
+            n[self.sampled_k] = hits.sum(axis=1)
+            n[self.fixed_hit] = B
+            if len(self.const_k):
+                n[self.const_k] = np.where(self.const_hit, B, 0)
+            totals.hits += n
             np.minimum(totals.min_clearance, best, out=totals.min_clearance)
             np.minimum(totals.clearance_bound, ch.bound, out=totals.clearance_bound)
             totals.configurations += B
             totals.rechecked += n_exact
-        return hits
+        return hits, B
 
     def _recheck(self, ch: Chunk, best: FloatArray) -> int:
         """Decide the queued entries: a float64 look along the tree path first
@@ -251,7 +338,7 @@ class CountEngine:
         ks, bs = key // B, key % B  # sorted by frame pair, each entry once
         e_min, clear = self.sharpener.evaluate(ks, ch.q[bs])
         sure = np.abs(e_min) > self.sharpener.delta
-        ch.hits[ks[sure], bs[sure]] = e_min[sure] < 0.0
+        ch.hits[self.row_of[ks[sure]], bs[sure]] = e_min[sure] < 0.0
         need = ~sure | self._tied(ks, clear, ch)
         ks, bs = ks[need], bs[need]
         if not len(ks):
@@ -260,7 +347,7 @@ class CountEngine:
         qf = np.repeat(self.q_base[None, :], len(ub), axis=0)
         qf[:, self.varying] = ch.q[ub]
         hit, clr = self._exact(ks, inv, qf)
-        ch.hits[ks, bs] = hit
+        ch.hits[self.row_of[ks], bs] = hit
         np.minimum.at(best, ks, clr)
         return len(ks)
 

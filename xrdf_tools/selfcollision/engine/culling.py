@@ -15,7 +15,7 @@ the chunk's bounds (:meth:`Culler.select`), so the minimum clearance stays hones
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 from typing import Protocol
 
@@ -125,6 +125,16 @@ class Culler:
         [P, B] (at the configurations ``cols`` only, when given), in cache-sized column
         blocks. Each distinct centre is placed once per configuration, however many pairs
         share it."""
+        B = R.shape[-1] if cols is None else len(cols)
+        out = np.empty((len(pairs), B), dtype=np.float32)
+        for sl, g in self._gap_blocks(R, t, pairs, cols):
+            out[:, sl] = g
+        return out
+
+    def _gap_blocks(
+        self, R: F32, t: F32, pairs: Sequence[Sided], cols: IntArray | None = None
+    ) -> Iterator[tuple[slice, F32]]:
+        """:meth:`gaps2` one column block at a time: (columns, their squared gaps [P, n])."""
         index: dict[tuple[int, tuple[float, ...]], int] = {}
         ends = []
         for bp in pairs:
@@ -142,7 +152,6 @@ class Culler:
                 for b, (r, v) in poses.items()
             }
         B = R.shape[-1] if cols is None else len(cols)
-        out = np.empty((len(pairs), B), dtype=np.float32)
         step = max(_GAP_MIN_BLOCK, _GAP_ELEMENTS // len(pairs))
         for s0 in range(0, B, step):
             sl = slice(s0, min(B, s0 + step))
@@ -156,7 +165,7 @@ class Culler:
                 Rb, tb = poses[body]
                 Rk = np.ascontiguousarray(Rb[:, :, sl].transpose(1, 0, 2)).reshape(3, 3 * n)
                 W[rows] = (P @ Rk).reshape(len(rows), 3, n) + tb[:, sl]
-            g = out[:, sl]
+            g = np.empty((len(pairs), n), dtype=np.float32)
             for i in range(3):
                 D = W[ia, i] - W[ib, i]
                 if i == 0:
@@ -164,7 +173,7 @@ class Culler:
                 else:
                     D *= D
                     g += D
-        return out
+            yield sl, g
 
     def choose(self, pairs: list[BodyPair]) -> list[BodyPair]:
         """Give body pairs a cell grid (one or two joints between them) or, when a fixed pilot
@@ -251,7 +260,7 @@ class Culler:
         low = np.full(P, np.inf)
         if len(plan.single):
             single = [plan.pairs[r] for r in plan.single.tolist()]
-            near[plan.single], low[plan.single] = self._near(single, self.gaps2(R, t, single))
+            near[plan.single], low[plan.single] = self._near_blocks(single, R, t)
         if not plan.groups:
             return near, low
         sides = [g for g, _, _ in plan.groups]
@@ -285,10 +294,20 @@ class Culler:
         self, pairs: Sequence[Sided], R: F32, t: F32, at: BoolArray
     ) -> tuple[BoolArray, FloatArray]:
         """:meth:`_near` of ``pairs`` at the configurations ``at`` [B] only."""
-        cols = np.flatnonzero(at)
-        return self._near(
-            pairs, self.gaps2(np.take(R, cols, axis=-1), np.take(t, cols, axis=-1), pairs)
-        )
+        return self._near(pairs, self.gaps2(R, t, pairs, np.flatnonzero(at)))
+
+    def _near_blocks(self, pairs: Sequence[Sided], R: F32, t: F32) -> tuple[BoolArray, FloatArray]:
+        """:meth:`_near` of ``pairs`` at every configuration, a column block at a time (the
+        gaps of the whole chunk are never held at once)."""
+        reach = np.array([self.reach(bp) for bp in pairs])
+        reach2 = (reach**2).astype(np.float32)[:, None]
+        near = np.empty((len(pairs), R.shape[-1]), dtype=np.bool_)
+        far_min = np.full(len(pairs), np.inf, dtype=np.float32)
+        for sl, g in self._gap_blocks(R, t, pairs):
+            np.less_equal(g, reach2, out=near[:, sl])
+            np.minimum(far_min, np.min(g, axis=1, where=~near[:, sl], initial=np.inf), out=far_min)
+        low: FloatArray = np.sqrt(far_min.astype(np.float64)) - reach + self.margin
+        return near, low
 
     def _near(self, pairs: Sequence[Sided], gaps: F32) -> tuple[BoolArray, FloatArray]:
         """For ``pairs`` and their :meth:`gaps2` rows [P, n]: the configurations within

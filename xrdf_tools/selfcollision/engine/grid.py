@@ -166,6 +166,8 @@ _SPLIT = 4
 _SPLIT_PAIRS = 1 << 16
 #: Cells of a two-joint grid decided first, to tell whether the grid is worth building.
 _PILOT_CELLS = 512
+#: :meth:`_CellTest.split_far` takes this fraction of its coarse cells first, then the rest.
+_FIRST_BATCH = 16
 
 
 def _slices(items: IntArray, step: int) -> Iterator[IntArray]:
@@ -258,10 +260,35 @@ class _CellTest:
 
         Only the sphere pairs whose gap in the coarse cell is at most the smallest far gap
         seen so far are computed: the others are far in every fine cell and larger there.
+        The coarse cells whose smallest gap is least are taken first, so that the smallest
+        far gap falls early and skips most of the rest. (Every far gap is
+        positive: a sphere pair skipped that way can neither make a fine cell near nor lower
+        the smallest far gap, so the flags and the gap are those of computing every pair.)
         """
         d2c = np.concatenate([d2 for _, d2 in self._distances2(idx, h * _SPLIT)])
         thr_c = self._reach_with_motion(h * _SPLIT)
-        gap_c = np.sqrt(np.maximum(d2c, 0.0)) - thr_c[None]
+        gap_c = np.sqrt(np.maximum(d2c, 0.0)) - thr_c[None]  # [L, m_b, m_a]
+        sub = np.divmod(np.arange(_SPLIT * _SPLIT), _SPLIT)
+        child = [idx[j][:, None] * _SPLIT + sub[j] for j in (0, 1)]  # [L, 16]
+        outside = (child[0] >= shape[0]) | (child[1] >= shape[1])
+        far: BoolArray = ~outside
+        cell_min = gap_c.reshape(len(gap_c), -1).min(axis=1, initial=np.inf)
+        order = np.argsort(cell_min, kind="stable")
+        first = max(1, len(order) // _FIRST_BATCH)
+        for batch in (order[:first], order[first:]):
+            cells = np.sort(batch[cell_min[batch] <= self.low[0]])
+            if len(cells):
+                far[cells] = self._split_cells(
+                    [i[cells] for i in idx], gap_c[cells], h, outside[cells]
+                )
+        return far
+
+    def _split_cells(
+        self, idx: list[IntArray], gap_c: FloatArray, h: FloatArray, outside: BoolArray
+    ) -> BoolArray:
+        """:meth:`split_far` of the coarse cells ``idx`` (their gaps ``gap_c`` [L, m_b, m_a],
+        their fine cells ``outside`` the grid [L, 16]), on the sphere pairs whose coarse gap
+        is at most the smallest far gap seen so far."""
         # the pairs to look at, sorted by coarse cell, then descendant sphere (row-major)
         cell, jb, ia = np.nonzero(gap_c <= self.low[0])
         # each (coarse cell, descendant sphere) once, at the 16 fine cell centres
@@ -281,8 +308,6 @@ class _CellTest:
         pts = _turned(pts, trig[0], fine[0], self.consts[0])  # [U, 16, 3]
         diff = pts[at] - self.p_anc[ia][:, None, :]  # [E, 16, 3]
         dist = np.sqrt(np.einsum("esk,esk->es", diff, diff))
-        child = [idx[j][:, None] * _SPLIT + sub[j] for j in (0, 1)]  # [L, 16]
-        outside = (child[0] >= shape[0]) | (child[1] >= shape[1])
         dist[outside[cell]] = np.inf
         thr = self._reach_with_motion(h)[jb, ia][:, None]
         near = np.zeros((len(idx[0]), _SPLIT * _SPLIT), dtype=np.bool_)

@@ -84,21 +84,32 @@ def count_sampled(
     workers = max(1, min(jobs, default_jobs(), n // MIN_SAMPLES_PER_JOB, n_tasks))
     tasks = ((s0, min(chunk, n - s0)) for s0 in range(0, n, chunk))
     lo, hi = np.asarray(lower, dtype=np.float64), np.asarray(upper, dtype=np.float64)
-    if workers == 1:
-        known = np.full(engine.K, np.inf)
-        parts: Iterator[EngineTotals] = (
-            _count_rows(engine, lo, hi, s0, m, method, seed, known) for s0, m in tasks
-        )
-    else:
-        parts = _in_workers(engine, workers, tasks, (lo, hi, method, seed))
     totals = EngineTotals.empty(engine.K)
+    if workers == 1:  # progress also from within each chunk (a chunk may be most of n)
+        known = np.full(engine.K, np.inf)
+        for s0, m in tasks:
+            within = None if progress is None else _within(progress, s0, m, n)
+            totals.merge(_count_rows(engine, lo, hi, s0, m, method, seed, known, within))
+            if progress is not None:
+                progress(s0 + m, n)
+        return totals
     done = 0
-    for part in parts:
+    for part in _in_workers(engine, workers, tasks, (lo, hi, method, seed)):
         totals.merge(part)
         done += part.configurations
         if progress is not None:
             progress(done, n)
     return totals
+
+
+def _within(progress: ProgressFn, start: int, m: int, n: int) -> Callable[[float], None]:
+    """``progress`` for a fraction of the chunk of ``m`` rows from ``start`` (before its end)."""
+
+    def step(fraction: float) -> None:
+        if fraction < 1.0:
+            progress(start + int(fraction * m), n)
+
+    return step
 
 
 def _in_workers(
@@ -212,12 +223,14 @@ def _count_rows(
     method: Method,
     seed: int,
     known: FloatArray,
+    on_step: Callable[[float], None] | None = None,
 ) -> EngineTotals:
     """The totals of rows ``start … start + m`` of the stream. ``known`` [K]: the smallest
     exact clearances this process has found so far (updated here); they narrow the work, not
     the totals' clearances (:meth:`CountEngine.count`), so any split over processes agrees."""
     totals = EngineTotals.empty(engine.K)
-    engine.count(sample_rows(lo, hi, start, m, method=method, seed=seed), totals, known=known)
+    q = sample_rows(lo, hi, start, m, method=method, seed=seed)
+    engine.count_totals(q, totals, known=known, on_step=on_step)
     np.minimum(known, totals.min_clearance, out=known)
     return totals
 

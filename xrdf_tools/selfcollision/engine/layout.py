@@ -99,17 +99,25 @@ def _split_pair(
     pa, pb = reach.prune(a, b, local[ia], r[ia], local[ib], r[ib], limit)
     fixed_a, fixed_b = reach.on_axis(a, b, local[ia], local[ib])
     sampled_a, sampled_b = pa.keep & ~fixed_a, pb.keep & ~fixed_b
+    fix_a, fix_b = pa.keep & fixed_a, pb.keep & fixed_b
+    any_fixed = bool(fix_a.any() or fix_b.any())
+    # per frame of each side: the smallest gap of its dropped spheres, whether it has sampled ones
+    gap_a = {f: float(pa.gap[sl].min()) for f, sl in wa.items()}
+    gap_b = {f: float(pb.gap[sl].min()) for f, sl in wb.items()}
+    any_a = {f: bool(sampled_a[sl].any()) for f, sl in wa.items()}
+    any_b = {f: bool(sampled_b[sl].any()) for f, sl in wb.items()}
     kept: list[tuple[int, int, int]] = []  # (frame pair, frame on a, frame on b)
     for k in ks:
         fa, fb = int(s.frame_pair_a[k]), int(s.frame_pair_b[k])
         if fa not in wa:
             fa, fb = fb, fa
-        low = min(float(pa.gap[wa[fa]].min()), float(pb.gap[wb[fb]].min()))
+        low = min(gap_a[fa], gap_b[fb])
         if low < np.inf:
             layout.out_of_reach[k] = low
-        _fix(layout, k, ia[wa[fa]], ib[wb[fb]], (pa.keep & fixed_a)[wa[fa]], pb.keep[wb[fb]])
-        _fix(layout, k, ib[wb[fb]], ia[wa[fa]], (pb.keep & fixed_b)[wb[fb]], sampled_a[wa[fa]])
-        if sampled_a[wa[fa]].any() and sampled_b[wb[fb]].any():
+        if any_fixed:
+            _fix(layout, k, ia[wa[fa]], ib[wb[fb]], fix_a[wa[fa]], pb.keep[wb[fb]])
+            _fix(layout, k, ib[wb[fb]], ia[wa[fa]], fix_b[wb[fb]], sampled_a[wa[fa]])
+        if any_a[fa] and any_b[fb]:
             kept.append((k, fa, fb))
     keep = set(ia[sampled_a].tolist()) | set(ib[sampled_b].tolist())
     parts_a = _parts(s, a, sorted({fa for _, fa, _ in kept}), keep)

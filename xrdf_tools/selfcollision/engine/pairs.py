@@ -144,9 +144,10 @@ def pair_transform(bp: BodyPair, poses: ChunkPoses, sel: IntArray | None) -> F32
             return Tb
         Ta = chain_pose(poses.bodies, chain_a, vals)  # (an empty chain is the identity)
     else:
-        Ta, Tb = poses.T[bp.a], poses.T[bp.b]
-        if sel is not None:
-            Ta, Tb = np.take(Ta, sel, axis=-1), np.take(Tb, sel, axis=-1)
+        Tb = poses.T[bp.b] if sel is None else np.take(poses.T[bp.b], sel, axis=-1)
+        if bp.a == 0:  # the static body's pose is the identity: T_a⁻¹ T_b is T_b
+            return Tb
+        Ta = poses.T[bp.a] if sel is None else np.take(poses.T[bp.a], sel, axis=-1)
     return _relative(Ta[:, :3], Ta[:, 3], Tb[:, :3], Tb[:, 3])
 
 
