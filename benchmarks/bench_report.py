@@ -21,10 +21,12 @@ alone (its own ``wait4`` resource usage, not this process's).
 beside franka on the same samples (``--robot-samples``, default 100,000), as ratios of time
 (``ratio_to_franka``; the bar is 3): Talos' left arm (SRDF group ``l_arm``), TIAGo's arm
 (``--chain base_footprint:arm_tool_link``) and PR2's two arms (``left_arm`` + ``right_arm``),
-each from the example-robot-data URDF with spheres fitted by ``xrdf convert --fit-spheres``
-once and cached in ``--cache`` (default: a directory in the temporary directory; fitting takes
-minutes). Two figures per robot: the engine alone (chunks of 65,536) and the whole report
-(setup included, in the report's own chunks: ``report_chunk``, from the robot's size).
+each from the example-robot-data URDF, and two Pandas on a table from xacro (rtb-data's
+``dual_panda_example.urdf.xacro``, both arms' 14 joints), with spheres fitted by
+``xrdf convert --fit-spheres`` once and cached in ``--cache`` (default: a directory in the
+temporary directory; fitting takes minutes). Two figures per robot: the engine alone (chunks
+of 65,536) and the whole report (setup included, in the report's own chunks:
+``report_chunk``, from the robot's size).
 
 Usage: ``python benchmarks/bench_report.py [--samples N] [--baseline N] [--jobs-samples N]
 [--memory] [--robots 0|1] [--robot-samples N] [--cache DIR]`` (needs the
@@ -297,7 +299,26 @@ def big_robots(cache: Path) -> list[tuple[str, Path, Path]]:
                 ],
             ),
         ),
+        *_dual_panda(cache),
     ]
+
+
+def _dual_panda(cache: Path) -> list[tuple[str, Path, Path]]:
+    """Two Pandas on a table, from rtb-data's xacro (none without rtb-data): its expanded
+    URDF and its XRDF (both arms, fitted once into ``cache``)."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("rtbdata")
+    if spec is None or spec.origin is None:
+        return []
+    xacro = Path(spec.origin).parent / "xacro/qut_frankie_description/robots"
+    xacro = xacro / "dual_panda_example.urdf.xacro"
+    urdf = cache / "dual_panda.urdf"
+    if not urdf.is_file():
+        cmd = [sys.executable, "-m", "xrdf_tools", "expand", str(xacro), "-o", str(urdf)]
+        subprocess.run(cmd, check=True, cwd=REPO)
+    joints = ",".join(f"panda_{a}_joint{j}" for a in (1, 2) for j in range(1, 8))
+    return [("dual_panda", urdf, _convert(cache, "dual_panda", [str(xacro), "--joints", joints]))]
 
 
 def robot_times(urdf: Path, xrdf: Path, n: int) -> tuple[float, float, dict[str, int]]:
