@@ -109,6 +109,24 @@ def kept_part(solid: trimesh.Trimesh, planes: Sequence[Plane]) -> trimesh.Trimes
     return part
 
 
+def inscribed(
+    centers: FloatArray, radii: FloatArray, planes: Sequence[Plane]
+) -> tuple[FloatArray, FloatArray]:
+    """Spheres kept on the positive side of ``planes``: one crossing a plane becomes the
+    largest sphere inside both it and the kept half-space (centre moved along the normal by
+    half the overshoot, radius shrunk by as much). It reaches no further than before, so it
+    stays on the kept side of the planes already applied. Radii may end up negative (a
+    sphere wholly on the wrong side)."""
+    c = np.array(centers, dtype=np.float64).reshape(-1, 3)
+    r = np.array(radii, dtype=np.float64).reshape(-1)
+    for (nx, ny, nz), d in planes:
+        gap = c[:, 0] * nx + c[:, 1] * ny + c[:, 2] * nz - d
+        over = np.maximum(r - gap, 0.0)
+        c += 0.5 * over[:, None] * np.array([nx, ny, nz], dtype=np.float64)
+        r = r - 0.5 * over
+    return c, r
+
+
 def bounded(
     fitter: SphereFitter,
     centers: FloatArray,
@@ -116,21 +134,12 @@ def bounded(
     planes: Sequence[Plane],
     tau: float | None,
 ) -> tuple[tuple[Sphere, ...], int]:
-    """MorphIt's spheres within the bounds, rounded as ours are, and how many were dropped
-    for lack of room (under :data:`MIN_RADIUS`).
-
-    A sphere crossing a clip plane becomes the largest sphere inside both it and the kept
-    half-space (centre moved along the normal by half the overshoot, radius shrunk by as
-    much): it reaches no further than before, and stays on the kept side of the planes
-    already applied. With a protrusion bound ``tau`` each radius is then cut to the largest
-    within it (:meth:`SphereFitter.max_radius`, the radius our fitter gives that centre)."""
-    c = centers.copy()
-    r = radii.copy()
-    for (nx, ny, nz), d in planes:
-        gap = c[:, 0] * nx + c[:, 1] * ny + c[:, 2] * nz - d
-        over = np.maximum(r - gap, 0.0)
-        c += 0.5 * over[:, None] * np.array([nx, ny, nz], dtype=np.float64)
-        r = r - 0.5 * over
+    """MorphIt's spheres within the clip planes (:func:`inscribed`) and, with a protrusion
+    bound ``tau``, with each radius cut to the largest within it
+    (:meth:`SphereFitter.max_radius`, the radius our fitter gives that centre); rounded as
+    ours are (the fitter holds the same planes), and how many were dropped for having under
+    :data:`MIN_RADIUS` of room."""
+    c, r = inscribed(centers, radii, planes)
     if tau is not None:
         r = np.minimum(r, fitter.max_radius(c))
     keep = r >= MIN_RADIUS
