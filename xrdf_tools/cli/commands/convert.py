@@ -206,11 +206,11 @@ def command(
         typer.Option(
             "--method",
             case_sensitive=False,
-            help="With --fit-spheres: who fits each link's solid. ours: greedy cover under a "
-            "hard protrusion bound, refined on coverage. morphit: MorphIt (cuRobo v2's fitter, "
-            "preset MorphIt-B) at the same per-link counts (--per-link, --sphere-budget, else "
-            "the count ours needs to cover 90 %), seeded alike (same inputs, same bytes); "
-            '--clip is enforced by shrinking its spheres. Needs pip install "xrdf-tools[morphit]".',
+            help="With --fit-spheres: who fits each link's solid. ours (default): greedy "
+            "cover, then refined. morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) at "
+            "the same per-link counts (--per-link, --sphere-budget, else the count ours needs "
+            "to cover 90 %), seeded alike (same inputs, same bytes); --clip is enforced by "
+            'shrinking its spheres. Needs pip install "xrdf-tools[morphit]".',
         ),
     ] = FitMethod.ours,
     joints: Annotated[

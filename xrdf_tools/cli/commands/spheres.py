@@ -43,10 +43,10 @@ class FitMethod(str, Enum):
 
 #: ``--method`` of ``xrdf spheres`` and ``xrdf convert --fit-spheres``.
 FIT_METHOD_HELP = (
-    "Who fits each link's solid. ours: greedy cover under a hard protrusion bound, refined "
-    "on coverage; the fewest spheres reaching --target-coverage unless a count is given. "
-    "morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) on the same solids at the same "
-    "per-link counts, seeded alike (same inputs, same bytes); clip planes and "
+    "Who fits each link's solid. ours (default): greedy cover, then refined (see "
+    "docs/spheres.md). morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) at the same "
+    "per-link counts (--count/--per-link/--density, else the count ours needs for "
+    "--target-coverage), seeded alike (same inputs, same bytes); --clip and "
     "--max-protrusion are enforced by shrinking its spheres. Needs "
     'pip install "xrdf-tools[morphit]".'
 )
