@@ -16,7 +16,7 @@ from tests.spheres.test_spheres_bound import _max_protrusion
 from xrdf_tools.cli import app
 from xrdf_tools.spheres.fit import SphereFitter, _rounded
 from xrdf_tools.spheres.geometry import LinkGeometry, load_link_geometry
-from xrdf_tools.spheres.morphit import PRESET, inscribed, morphit_seed
+from xrdf_tools.spheres.morphit import PRESET, inscribed, morphit_seed, pack
 from xrdf_tools.spheres.robot_fit import CountPolicy, FitResult, fit_robot, solid_key
 from xrdf_tools.util.errors import MissingDependencyError, XrdfToolsError
 from xrdf_tools.xrdf.io import load_xrdf
@@ -129,6 +129,33 @@ def test_a_clip_plane_and_a_protrusion_bound_are_hard_bounds(
     assert _max_protrusion(solid, hand) <= tau + fitter.sdf.step / 2 + 1e-4
     loose = _fit(geoms, counts=CountPolicy(per_link=6)).spheres["panda_hand"]
     assert sum(s.radius for s in hand) < sum(s.radius for s in loose)
+
+
+def test_fewer_spheres_than_asked_are_said(geoms: dict[str, LinkGeometry]) -> None:
+    """Two clip planes leave a 0.2 mm slab of ``panda_link0``: MorphIt prunes spheres there
+    and what it returns has no room for 0.1 mm of radius; the link keeps what fits and a
+    warning says how many of the four and why."""
+    slab = [((0.0, 0.0, 1.0), 0.05), ((0.0, 0.0, -1.0), -0.0502)]
+    result = _fit(geoms, counts=CountPolicy(per_link=4), clips={"panda_link0": slab})
+    kept = result.spheres.get("panda_link0", ())
+    assert len(kept) < 4
+    assert all(
+        0.05 - 1e-9 <= s.center[2] - s.radius <= s.center[2] + s.radius <= 0.0502 + 1e-9
+        for s in kept
+    )
+    said = [d for d in result.diagnostics if d.rule == "spheres-morphit-dropped"]
+    assert len(said) == 1 and said[0].message.startswith(
+        f"link 'panda_link0': {len(kept)} of the 4 spheres asked of MorphIt kept: "
+    )
+    assert "under 0.1 mm of radius within its clip planes" in said[0].message
+
+
+def test_a_solid_morphit_refuses_is_an_error_of_one_line() -> None:
+    import trimesh
+
+    flat = trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], process=False)
+    with pytest.raises(XrdfToolsError, match=r"^MorphIt cannot fit it: mesh is flat"):
+        pack(flat, 3, 0)
 
 
 def test_an_unknown_method_and_a_searched_bound_are_refused(

@@ -17,7 +17,8 @@ optimiser, preset :data:`PRESET`. Everything around the fit stays ours:
 * ``--max-protrusion``: MorphIt has no hard bound, so every sphere is shrunk to the largest
   radius within the bound (the radius our fitter would give a sphere at that centre).
 
-A sphere that cannot keep 0.1 mm of radius under those bounds is dropped, and said.
+A sphere that cannot keep 0.1 mm of radius under those bounds is dropped, and said; so is a
+solid MorphIt refuses (the link then gets no spheres, which fails the commands).
 ``morphit_rs`` is imported only when a fit runs: it is an optional extra.
 """
 
@@ -49,6 +50,7 @@ PRESET = "MorphIt-B"
 MIN_RADIUS = 1e-4
 
 RULE_DROPPED = "spheres-morphit-dropped"
+RULE_FAILED = "spheres-morphit-failed"
 
 
 def require_morphit() -> ModuleType:
@@ -83,12 +85,16 @@ def morphit_seed(fit_seed: Sequence[int]) -> int:
 
 
 def pack(solid: trimesh.Trimesh, k: int, seed: int) -> tuple[FloatArray, FloatArray]:
-    """MorphIt's ``k`` spheres for ``solid`` (preset :data:`PRESET`): centres and radii."""
+    """MorphIt's ``k`` spheres for ``solid`` (preset :data:`PRESET`): centres and radii.
+    Raises :class:`XrdfToolsError` when MorphIt refuses the solid."""
     mi = require_morphit()
-    mesh = mi.Mesh.from_arrays(
-        np.asarray(solid.vertices, dtype=np.float64), np.asarray(solid.faces, dtype=np.uint32)
-    )
-    result = mi.pack(mesh, mi.Config.preset(PRESET, num_spheres=int(k), seed=int(seed)))
+    try:
+        mesh = mi.Mesh.from_arrays(
+            np.asarray(solid.vertices, dtype=np.float64), np.asarray(solid.faces, dtype=np.uint32)
+        )
+        result = mi.pack(mesh, mi.Config.preset(PRESET, num_spheres=int(k), seed=int(seed)))
+    except mi.MorphItError as e:
+        raise XrdfToolsError(f"MorphIt cannot fit it: {e}") from None
     centers = np.asarray(result.centers, dtype=np.float64).reshape(-1, 3)
     return centers, np.asarray(result.radii, dtype=np.float64).reshape(-1)
 
@@ -170,20 +176,24 @@ def fit_link(
         return ()
     _key, tau, planes, seed = plan
     solid = kept_part(geom.solid, planes) if planes else geom.solid
-    centers, radii = pack(solid, k, morphit_seed(seed))
+    try:
+        centers, radii = pack(solid, k, morphit_seed(seed))
+    except XrdfToolsError as e:
+        diags.append(_warning(path, geom, RULE_FAILED, f"{e}; no spheres"))
+        return ()
     spheres, dropped = bounded(fitter, centers, radii, planes, tau)
     if len(spheres) < k:
-        bounds = ["clip planes"] * bool(planes) + ["protrusion bound"] * (tau is not None)
-        within = f" within its {' and '.join(bounds)}" if bounds else ""
-        diags.append(
-            Diagnostic(
-                path,
-                geom.line,
-                None,
-                RULE_DROPPED,
-                Severity.WARNING,
-                f"link '{geom.link}': {len(spheres)} of the {k} spheres asked of MorphIt kept "
-                f"(MorphIt returned {len(radii)}; {dropped} had under 0.1 mm of radius{within})",
-            )
-        )
+        why = [f"MorphIt returned {len(radii)}"] if len(radii) < k else []
+        if dropped:
+            bounds = ["clip planes"] * bool(planes) + ["protrusion bound"] * (tau is not None)
+            within = f" within its {' and '.join(bounds)}" if bounds else ""
+            why.append(f"{dropped} had under 0.1 mm of radius{within}")
+        message = f"{len(spheres)} of the {k} spheres asked of MorphIt kept: {'; '.join(why)}"
+        diags.append(_warning(path, geom, RULE_DROPPED, message))
     return spheres
+
+
+def _warning(path: str, geom: LinkGeometry, rule: str, message: str) -> Diagnostic:
+    return Diagnostic(
+        path, geom.line, None, rule, Severity.WARNING, f"link '{geom.link}': {message}"
+    )
