@@ -252,7 +252,6 @@ def command(
     from ...convert.sources.cspace import parse_chain
     from ...robot.packages import parse_package_path
     from ...robot.xacro_source import parse_xacro_arg
-    from ...spheres.morphit import check_method
 
     if format_version not in (None, "1.0", "2.0"):
         fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
@@ -288,6 +287,8 @@ def command(
         if method is not FitMethod.ours and not fit_spheres:
             fail(f"--method {method.value} fits spheres: give --fit-spheres as well")
         if fit_spheres:
+            from ...spheres.morphit import check_method
+
             check_method(method.value)
             fit = FitOptions(
                 source=geometry_from.value,
