@@ -61,6 +61,24 @@ def test_sphere_fit_of_one_link_is_byte_identical_across_processes(tmp_path: Pat
     assert len(outputs) == 1
 
 
+@pytest.mark.slow
+def test_morphit_sphere_fit_is_byte_identical_across_processes_and_threads(
+    tmp_path: Path,
+) -> None:
+    """``--method morphit``: seeded from the seed and each solid's content, and MorphIt's
+    own threads (RAYON_NUM_THREADS) change nothing; counts by our default, a clip plane."""
+    pytest.importorskip("morphit_rs")
+    urdf = robot_urdf("panda")
+    args = ["spheres", str(urdf), "--links", "panda_link0,panda_hand", "--method", "morphit"]
+    args += ["--clip", "panda_link0:0,0,1,0.02"]
+    outputs = {
+        _xrdf(args, {**s, "RAYON_NUM_THREADS": str(i + 1)}, tmp_path / f"{i}.xrdf")
+        for i, s in enumerate(SETTINGS)
+    }
+    assert len(outputs) == 1
+    assert b"panda_hand:" in next(iter(outputs))
+
+
 def test_report_with_certify_is_byte_identical_across_processes_and_jobs(tmp_path: Path) -> None:
     """No wall time in the report (only with --timings) and a --certify budget counted in
     boxes: the JSON, text and SARIF reports are the same bytes in any process, with any jobs."""

@@ -66,6 +66,8 @@ class FitOptions:
     allow_missing_meshes: bool = False
     sphere_budget: int | None = None
     clips: Mapping[str, Sequence[Plane]] = field(default_factory=dict)
+    #: ``ours`` or ``morphit`` (:mod:`xrdf_tools.spheres.morphit`, an optional extra).
+    method: str = "ours"
 
 
 @dataclass(frozen=True)
@@ -246,6 +248,7 @@ def fit_missing_spheres(
         max_protrusion=fit.max_protrusion,
         progress=step,
         source=fit.source,
+        method=fit.method,
     )
     merged: dict[str, Sequence[Sphere]] = {**have}
     for link, spheres in fitted.items():

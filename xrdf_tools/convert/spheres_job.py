@@ -36,8 +36,9 @@ class SpheresRequest:
     """What to fit: ``links`` (None: every link with geometry), how many spheres
     (``counts``), the random ``seed``, ROS ``package_paths`` for mesh URIs, the largest
     ``max_protrusion`` (None: per link, from its volume), ``clips`` (``LINK:nx,ny,nz,d``
-    texts: keep LINK's spheres on the side of the plane its normal points to) and whether
-    mesh files that cannot be found are expected (``allow_missing_meshes``)."""
+    texts: keep LINK's spheres on the side of the plane its normal points to), whether
+    mesh files that cannot be found are expected (``allow_missing_meshes``) and the fitting
+    ``method`` (``ours`` or ``morphit``, :mod:`xrdf_tools.spheres.morphit`)."""
 
     counts: CountPolicy
     links: Sequence[str] | None = None
@@ -46,6 +47,7 @@ class SpheresRequest:
     max_protrusion: float | None = None
     clips: Sequence[str] = ()
     allow_missing_meshes: bool = False
+    method: str = "ours"
 
 
 @dataclass(frozen=True)
@@ -106,6 +108,7 @@ def fit_spheres(
         max_protrusion=request.max_protrusion,
         clips=clips,
         progress=progress,
+        method=request.method,
     )
     diags += result.diagnostics
     merged, mdiags = merge_spheres(drafted if base is None else base, result.spheres)

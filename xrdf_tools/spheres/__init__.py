@@ -58,6 +58,7 @@ def fit_link_spheres(
     source: GeometryChoice = "auto",
     target_coverage: float = AUTO_COVERAGE_TARGET,
     clips: Mapping[str, Sequence[Plane]] | None = None,
+    method: str = "ours",
 ) -> tuple[dict[str, tuple[Sphere, ...]], list[Diagnostic]]:
     """Fit spheres to every link with geometry (or to ``links``) of a URDF or xacro file.
 
@@ -79,7 +80,9 @@ def fit_link_spheres(
     normal points to: ``n . centre - radius >= d``. ``source`` chooses the geometry as in
     :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs and ``seed`` give
     the same spheres; links with identical geometry are fitted once and get the same spheres.
-    ``progress(link, i, n)`` is called before each link. ``urdf_path`` may be a loaded
+    ``progress(link, i, n)`` is called before each link. ``method="morphit"`` fits each
+    link's solid with MorphIt (the optional ``morphit-rs``; :mod:`xrdf_tools.spheres.morphit`)
+    at the same counts and bounds instead of our fitter. ``urdf_path`` may be a loaded
     :class:`~xrdf_tools.robot.core.Robot`. Returns ``({link: spheres}, diagnostics)`` in URDF
     link order; :func:`~xrdf_tools.spheres.robot_fit.fit_robot` also gives times and solids.
     """
@@ -95,6 +98,7 @@ def fit_link_spheres(
         clips=clips,
         progress=progress,
         source=source,
+        method=method,
     )
     return result.spheres, result.diagnostics
 

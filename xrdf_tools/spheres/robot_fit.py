@@ -198,13 +198,17 @@ def fit_robot(
     progress: Progress | None = None,
     source: GeometryChoice = "auto",
     geometry: Mapping[str, LinkGeometry] | None = None,
+    method: str = "ours",
 ) -> FitResult:
     """Fit spheres to the links of ``robot`` (see the module docstring and
     :func:`xrdf_tools.spheres.fit_link_spheres`). ``clips`` keeps a link's spheres on the
-    positive side of planes in its frame; ``geometry`` skips loading the solids."""
+    positive side of planes in its frame; ``geometry`` skips loading the solids; ``method``
+    ``morphit`` fits each solid with MorphIt instead (:mod:`.morphit`)."""
     from .fit import SphereFitter
     from .geometry import load_link_geometry
+    from .morphit import check_method, fit_link
 
+    check_method(method, counts)
     check_counts(counts.per_link, counts.count, counts.density)
     for what, share in (("target", counts.target_coverage), ("count", counts.count_coverage)):
         if share is not None and not 0.0 < share <= 1.0:
@@ -258,9 +262,14 @@ def fit_robot(
         mode = "search" if free and counts.count_coverage is not None else "hard"
         if _refines(plans[name][1], counts):
             mode = "refine"
-        spheres[name] = _fit_one(
-            fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode
-        )
+        if method == "morphit":
+            spheres[name] = fit_link(
+                fitters[owner], ks.get(owner), counts, geoms[name], plans[name], path, diags
+            )
+        else:
+            spheres[name] = _fit_one(
+                fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode
+            )
         seconds[name] += time.perf_counter() - t0
     _report_shared(plans, first_of, path, geoms, diags)
     fitted = {n: s for n, s in spheres.items() if s}

@@ -25,6 +25,7 @@ from .plain import (
     timed,
     verbosity,
 )
+from .spheres import FitMethod
 from .typer_common import (
     AllowMissingMeshesOption,
     PackagePathOption,
@@ -200,6 +201,18 @@ def command(
             "plane n.x = d that n points to (link frame; as `xrdf spheres --clip`).",
         ),
     ] = None,
+    method: Annotated[
+        FitMethod,
+        typer.Option(
+            "--method",
+            case_sensitive=False,
+            help="With --fit-spheres: who fits each link's solid. ours (default): greedy "
+            "cover, then refined. morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) at "
+            "the same per-link counts (--per-link, --sphere-budget, else the count ours needs "
+            "to cover 90 %), seeded alike (same inputs, same bytes); --clip is enforced by "
+            'shrinking its spheres. Needs pip install "xrdf-tools[morphit]".',
+        ),
+    ] = FitMethod.ours,
     joints: Annotated[
         list[str] | None,
         typer.Option(
@@ -271,7 +284,12 @@ def command(
         fit = None
         if per_link is not None and sphere_budget is not None:
             fail("give --per-link or --sphere-budget, not both")
+        if method is not FitMethod.ours and not fit_spheres:
+            fail(f"--method {method.value} fits spheres: give --fit-spheres as well")
         if fit_spheres:
+            from ...spheres.morphit import check_method
+
+            check_method(method.value)
             fit = FitOptions(
                 source=geometry_from.value,
                 seed=seed,
@@ -279,6 +297,7 @@ def command(
                 allow_missing_meshes=allow_missing_meshes,
                 sphere_budget=sphere_budget,
                 clips=_clips(clip),
+                method=method.value,
             )
         mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
         label = "<stdout>" if output is None or is_stdio(output) else str(output)

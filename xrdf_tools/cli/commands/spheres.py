@@ -6,6 +6,7 @@ The options are read here; the fit, the merge and the metrics are
 
 from __future__ import annotations
 
+from enum import Enum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -33,6 +34,25 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from .typer_common import ProgressUpdate
+
+
+class FitMethod(str, Enum):
+    ours = "ours"
+    morphit = "morphit"
+
+
+#: ``--method`` of ``xrdf spheres`` and ``xrdf convert --fit-spheres``.
+FIT_METHOD_HELP = (
+    "Who fits each link's solid. ours (default): greedy cover, then refined (see "
+    "docs/spheres.md). morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) at the same "
+    "per-link counts (--count/--per-link/--density, else the count ours needs for "
+    "--target-coverage), seeded alike (same inputs, same bytes); --clip and "
+    "--max-protrusion are enforced by shrinking its spheres. Needs "
+    'pip install "xrdf-tools[morphit]".'
+)
+FitMethodOption = Annotated[
+    FitMethod, typer.Option("--method", help=FIT_METHOD_HELP, case_sensitive=False)
+]
 
 
 def _split_links(values: list[str] | None) -> list[str] | None:
@@ -101,6 +121,7 @@ def command(
     seed: Annotated[
         int, typer.Option("--seed", min=0, help="Random seed (same seed, same spheres).")
     ] = 0,
+    method: FitMethodOption = FitMethod.ours,
     output: Annotated[
         Path | None,
         typer.Option(
@@ -147,6 +168,7 @@ def command(
         metrics_table,
     )
     from ...robot.packages import parse_package_path
+    from ...spheres.morphit import check_method
     from ...spheres.robot_fit import CountPolicy
     from ...xrdf.io import dump_xrdf
 
@@ -160,6 +182,7 @@ def command(
     if output is not None:
         refuse_input_overwrite(output, [robot, xrdf])
     try:
+        check_method(method.value)
         request = SpheresRequest(
             CountPolicy(per_link, count, density, target_coverage),
             links=_split_links(links),
@@ -168,6 +191,7 @@ def command(
             max_protrusion=max_protrusion,
             clips=clip or (),
             allow_missing_meshes=allow_missing_meshes,
+            method=method.value,
         )
         model = load_robot_option(robot, xacro_arg, package_path)
         base = load_xrdf_input(xrdf) if xrdf is not None else None
