@@ -40,7 +40,6 @@ if TYPE_CHECKING:
     from ..util.arrays import FloatArray
     from .fit import Plane, SphereFitter
     from .geometry import LinkGeometry
-    from .robot_fit import CountPolicy
 
 #: The fitting methods: ``ours`` (:mod:`.fit`, the default) and ``morphit`` (this module).
 METHODS = ("ours", "morphit")
@@ -63,15 +62,16 @@ def require_morphit() -> ModuleType:
     return morphit_rs
 
 
-def check_method(method: str, counts: CountPolicy | None = None) -> None:
+def check_method(method: str, *, searched_bound: bool = False) -> None:
     """Raise for an unknown method, or for ``morphit`` when morphit-rs is not installed or
-    with a count policy only our fitter follows (a bound searched for a coverage)."""
+    with a count policy only our fitter follows (``searched_bound``: a bound searched for a
+    coverage)."""
     if method not in METHODS:
         raise XrdfToolsError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
     if method != "morphit":
         return
     require_morphit()
-    if counts is not None and counts.count_coverage is not None:
+    if searched_bound:
         raise XrdfToolsError(
             "method morphit has no protrusion bound to search for a coverage (count_coverage)"
         )
@@ -155,23 +155,15 @@ def bounded(
 
 def fit_link(
     fitter: SphereFitter,
-    k: int | None,
-    counts: CountPolicy,
+    k: int,
     geom: LinkGeometry,
     plan: tuple[object, float | None, tuple[Plane, ...], list[int]],
     path: str,
     diags: list[Diagnostic],
 ) -> tuple[Sphere, ...]:
-    """One link's spheres by MorphIt: ``k`` of them (None: the count our fit needs for
-    ``counts.target_coverage``); ``plan`` is the link's (cache key, protrusion bound, clip
-    planes, seed). An empty solid or a placeholder is handled as our method does."""
-    from .robot_fit import PLACEHOLDER_SIZE, _fewest_reaching, _fit_one
-
-    size = float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
-    if fitter.empty or size < PLACEHOLDER_SIZE:
-        return _fit_one(fitter, k, counts, geom, path, diags)
-    if k is None:
-        k = len(_fewest_reaching(fitter, counts.target_coverage)[0])
+    """One link's ``k`` spheres by MorphIt, within the bounds of ``fitter``; ``plan`` is the
+    link's (cache key, protrusion bound, clip planes, seed). Spheres MorphIt did not return or
+    the bounds left no room for are said in ``diags``."""
     if k <= 0:
         return ()
     _key, tau, planes, seed = plan

@@ -206,9 +206,9 @@ def fit_robot(
     ``morphit`` fits each solid with MorphIt instead (:mod:`.morphit`)."""
     from .fit import SphereFitter
     from .geometry import load_link_geometry
-    from .morphit import check_method, fit_link
+    from .morphit import check_method
 
-    check_method(method, counts)
+    check_method(method, searched_bound=counts.count_coverage is not None)
     check_counts(counts.per_link, counts.count, counts.density)
     for what, share in (("target", counts.target_coverage), ("count", counts.count_coverage)):
         if share is not None and not 0.0 < share <= 1.0:
@@ -263,7 +263,7 @@ def fit_robot(
         if _refines(plans[name][1], counts):
             mode = "refine"
         if method == "morphit":
-            spheres[name] = fit_link(
+            spheres[name] = _morphit_one(
                 fitters[owner], ks.get(owner), counts, geoms[name], plans[name], path, diags
             )
         else:
@@ -336,6 +336,27 @@ def _counts(
         curves = {n: f.greedy(cap)[1] for n, f in fitters.items()}
         return allocate(curves, {n: f.volume for n, f in fitters.items()}, counts.count)
     return {}
+
+
+def _morphit_one(
+    fitter: SphereFitter,
+    k: int | None,
+    counts: CountPolicy,
+    geom: LinkGeometry,
+    plan: tuple[object, float | None, tuple[Plane, ...], list[int]],
+    path: str,
+    diags: list[Diagnostic],
+) -> tuple[Sphere, ...]:
+    """One link's spheres by MorphIt (:mod:`.morphit`): ``k`` of them, or the count our fit
+    needs for the coverage target; an empty solid or a placeholder is handled as ours."""
+    from .morphit import fit_link
+
+    size = float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
+    if fitter.empty or size < PLACEHOLDER_SIZE:
+        return _fit_one(fitter, k, counts, geom, path, diags)
+    if k is None:
+        k = len(_fewest_reaching(fitter, counts.target_coverage)[0])
+    return fit_link(fitter, k, geom, plan, path, diags)
 
 
 def _fit_one(
