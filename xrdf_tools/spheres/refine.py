@@ -13,11 +13,12 @@ does not depend on the link's size):
   does). A covered share is the metric's coverage, so ``COUNT_WEIGHT * l`` is the price of
   the whole volume in protrusion: a part whose coverage costs much protrusion (a flat
   plate) stops at less coverage than a tube;
-* **protrusion loss** -- the area-weighted mean distance outside the solid of the points of
-  the union's boundary whose protrusion lies in the band ``PROTRUSION_BAND`` of quantiles
-  (``REFINE_DIRECTIONS`` points on each sphere, those inside another sphere dropped). The
-  band is where the 95th percentile is decided: points below it do not raise it, and the few
-  above it (a big sphere's cap past a thin part) are free as long as they stay few.
+* **protrusion loss** -- the distance outside the solid of the points of the union's boundary
+  whose protrusion lies in the band ``PROTRUSION_BAND`` of quantiles, each weighted by its
+  share of the boundary's area (``REFINE_DIRECTIONS`` points on each sphere, those inside
+  another sphere dropped). The band lies around the 95th percentile that the metrics report:
+  points below it do not raise it, and the few above it (a big sphere's cap past a thin part)
+  are free as long as they stay few.
 
 The distance outside the solid is the fitter's signed distance grid (trilinear, its gradient
 from the grid's central differences), continued beyond the grid by the distance to the grid's
