@@ -13,11 +13,12 @@ does not depend on the link's size):
   does). A covered share is the metric's coverage, so ``COUNT_WEIGHT * l`` is the price of
   the whole volume in protrusion: a part whose coverage costs much protrusion (a flat
   plate) stops at less coverage than a tube;
-* **protrusion loss** -- the area-weighted mean distance outside the solid of the points of
-  the union's boundary whose protrusion lies in the band ``PROTRUSION_BAND`` of quantiles
-  (``REFINE_DIRECTIONS`` points on each sphere, those inside another sphere dropped). The
-  band is where the 95th percentile is decided: points below it do not raise it, and the few
-  above it (a big sphere's cap past a thin part) are free as long as they stay few.
+* **protrusion loss** -- the distance outside the solid of the points of the union's boundary
+  whose protrusion lies in the band ``PROTRUSION_BAND`` of quantiles, each weighted by its
+  share of the boundary's area (``REFINE_DIRECTIONS`` points on each sphere, those inside
+  another sphere dropped). The band lies around the 95th percentile that the metrics report:
+  points below it do not raise it, and the few above it (a big sphere's cap past a thin part)
+  are free as long as they stay few.
 
 The distance outside the solid is the fitter's signed distance grid (trilinear, its gradient
 from the grid's central differences), continued beyond the grid by the distance to the grid's
@@ -53,22 +54,22 @@ if TYPE_CHECKING:
 
 #: The coverage loss of a volume sample left out, as a share of the cube root of the volume per
 #: sphere: what one unit of covered share is worth in protrusion (metres).
-COUNT_WEIGHT = 0.2
+COUNT_WEIGHT = 0.058
 #: Width of the step from covered to not covered, the same way a share of that cube root.
 SOFTNESS = 0.03
 #: Weight of the gap itself (metres per metre), which pulls spheres towards samples far out.
 GAP_WEIGHT = 0.5
 #: The quantiles of the union boundary's protrusion whose points the protrusion loss pulls in.
-PROTRUSION_BAND = (0.8, 0.97)
-REFINE_STEPS = 130
+PROTRUSION_BAND = (0.92, 0.98)
+REFINE_STEPS = 90
 #: Volume samples of the fitter used by the coverage loss (the first this many).
 REFINE_POINTS = 3000
 #: Points on each sphere where its protrusion is evaluated.
-REFINE_DIRECTIONS = 64
+REFINE_DIRECTIONS = 128
 #: The bounds of the greedy fits refined, as multiples of the fitter's bound.
-START_BOUNDS = (1.0, 4.5)
+START_BOUNDS = (1.0, 2.0)
 #: Steps each start is refined for before the best is kept.
-SCREEN_STEPS = 40
+SCREEN_STEPS = 20
 #: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`).
 START_ROUNDS = 1
 #: Adam's step, as a share of the cube root of the solid's volume.
