@@ -98,6 +98,9 @@ def serve(
         stderr=subprocess.PIPE,
         text=True,
         env=env,
+        # a test runner started in the background has SIGINT ignored, and xrdf keeps an
+        # ignored SIGINT ignored (as nohup asks); the user's terminal has it default
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     assert proc.stderr is not None
     seen = ""
