@@ -161,6 +161,23 @@ SCENARIOS: tuple[Scenario, ...] = (
         ("mimic_urdf", "mimic_xrdf"),
         slow=True,
     ),
+    Scenario(
+        "spheres-morphit",
+        (
+            "spheres",
+            "{mimic_urdf}",
+            "--per-link",
+            "2",
+            "--links",
+            "finger,link3",
+            "--method",
+            "morphit",
+            "-o",
+            "@out",
+        ),
+        ("mimic_urdf",),
+        slow=True,
+    ),
 )
 
 _YAML_VALUES = (
