@@ -217,3 +217,12 @@ def test_convert_fit_spheres_with_morphit(panda: Path, runner: CliRunner, tmp_pa
     geoms = load_link_geometry(panda, links=["panda_link3"])[0]
     seed = morphit_seed([0, int(solid_key(geoms["panda_link3"].solid)[:8], 16)])
     assert tuple(spheres["panda_link3"]) == _morphit_alone(geoms["panda_link3"].solid, 2, seed)
+
+
+def test_the_commands_offer_exactly_the_library_s_methods() -> None:
+    """``--method``'s choices (the CLI keeps its own list: the library's module imports numpy,
+    which the command table must not) are the methods the library fits with."""
+    from xrdf_tools.cli.commands.spheres import FitMethod
+    from xrdf_tools.spheres.morphit import METHODS
+
+    assert tuple(m.value for m in FitMethod) == METHODS

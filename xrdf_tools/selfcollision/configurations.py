@@ -265,7 +265,7 @@ def _row_values(values: Sequence[Any], k: int, path: str, line: int | None) -> F
             raise SourceError(f"configuration {k}: a value {problem}", path=path, line=line)
     try:
         vals = np.array([float(v) for v in values], dtype=np.float64)
-    except (TypeError, ValueError, OverflowError):
+    except (TypeError, ValueError):
         raise SourceError(
             f"configuration {k} holds a value that is not a number", path=path, line=line
         ) from None

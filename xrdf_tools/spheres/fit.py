@@ -355,7 +355,12 @@ class SphereFitter:
                         break
                     centers[i], radii[i], cov[i] = trial_c[t], trial_r[t], trial_cov[t]
                     current = float(tg[t])
-        return tuple(self._rounded(c, r) for c, r in zip(centers, radii, strict=True))
+        return self.as_spheres(centers, radii)
+
+    def as_spheres(self, centers: FloatArray, radii: FloatArray) -> tuple[Sphere, ...]:
+        """Centres [k, 3] and radii [k] as the spheres a fit writes: rounded, and kept inside
+        the fitter's clip planes (:meth:`_rounded`)."""
+        return tuple(self._rounded(c, float(r)) for c, r in zip(centers, radii, strict=True))
 
     def _rounded(self, c: FloatArray, r: float) -> Sphere:
         """:func:`_rounded`, then kept inside the clip planes (radius rounded down there)."""

@@ -149,8 +149,7 @@ def bounded(
     if tau is not None:
         r = np.minimum(r, fitter.max_radius(c))
     keep = r >= MIN_RADIUS
-    out = tuple(fitter._rounded(cc, rr) for cc, rr in zip(c[keep], r[keep], strict=True))
-    return out, int((~keep).sum())
+    return fitter.as_spheres(c[keep], r[keep]), int((~keep).sum())
 
 
 def fit_link(

@@ -347,6 +347,4 @@ def refined_fit(
             [fitter.points, np.asarray(fitter.solid.vertices, dtype=np.float64)]
         )
         _close_slivers(targets, chosen.centers, chosen.radii, fitter.clips)
-    return tuple(
-        fitter._rounded(c, float(r)) for c, r in zip(chosen.centers, chosen.radii, strict=True)
-    )
+    return fitter.as_spheres(chosen.centers, chosen.radii)

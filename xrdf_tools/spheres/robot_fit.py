@@ -258,15 +258,12 @@ def fit_robot(
             spheres[name] = spheres[owner]
             continue
         t0 = time.perf_counter()
-        free = plans[name][1] is None
-        mode = "search" if free and counts.count_coverage is not None else "hard"
-        if _refines(plans[name][1], counts):
-            mode = "refine"
         if method == "morphit":
             spheres[name] = _morphit_one(
                 fitters[owner], ks.get(owner), counts, geoms[name], plans[name], path, diags
             )
         else:
+            mode = _fit_mode(plans[name][1], counts)
             spheres[name] = _fit_one(
                 fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode
             )
@@ -280,6 +277,19 @@ def fit_robot(
         {n: geoms[n] for n in fitted},
         diags,
     )
+
+
+def _fit_mode(tau: float | None, counts: CountPolicy) -> str:
+    """How :func:`_fit_one` fits a link whose own bound is ``tau`` (None: the default)."""
+    if _refines(tau, counts):
+        return "refine"
+    return "search" if tau is None and counts.count_coverage is not None else "hard"
+
+
+def _across(geom: LinkGeometry) -> float:
+    """The bounding-box diagonal of a link's solid: under :data:`PLACEHOLDER_SIZE`, a
+    placeholder."""
+    return float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
 
 
 def _refines(tau: float | None, counts: CountPolicy) -> bool:
@@ -351,8 +361,7 @@ def _morphit_one(
     needs for the coverage target; an empty solid or a placeholder is handled as ours."""
     from .morphit import fit_link
 
-    size = float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
-    if fitter.empty or size < PLACEHOLDER_SIZE:
+    if fitter.empty or _across(geom) < PLACEHOLDER_SIZE:
         return _fit_one(fitter, k, counts, geom, path, diags)
     if k is None:
         k = len(_fewest_reaching(fitter, counts.target_coverage)[0])
@@ -384,7 +393,7 @@ def _fit_one(
             )
         )
         return ()
-    size = float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
+    size = _across(geom)
     if size < PLACEHOLDER_SIZE and (k is None or k > 1):
         diags.append(
             _info(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["BoolArray", "FloatArray", "Int64Array", "IntArray", "sorted_unique"]
+__all__ = ["BoolArray", "FloatArray", "Int64Array", "IntArray", "ragged_index", "sorted_unique"]
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
@@ -23,3 +23,12 @@ def sorted_unique(a: npt.NDArray[np.integer]) -> npt.NDArray[np.integer]:
     keep[0] = True
     np.not_equal(s[1:], s[:-1], out=keep[1:])
     return s[keep]
+
+
+def ragged_index(counts: npt.NDArray[np.integer]) -> tuple[IntArray, IntArray]:
+    """For groups of ``counts[g]`` consecutive items: each item's group and its place in the
+    group (``[0, 0, 1, 1, 1]`` and ``[0, 1, 0, 1, 2]`` for counts ``[2, 3]``)."""
+    n = np.asarray(counts, dtype=np.intp)
+    group = np.repeat(np.arange(len(n), dtype=np.intp), n)
+    rank: IntArray = np.arange(len(group), dtype=np.intp) - np.repeat(np.cumsum(n) - n, n)
+    return group, rank

@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...robot.kinematics import KinematicModel, fk_batch_last
-from ...util.arrays import BoolArray, FloatArray, IntArray, sorted_unique
+from ...util.arrays import BoolArray, FloatArray, IntArray, ragged_index, sorted_unique
 from ...xrdf.model import Xrdf
 from .spheres import SphereSet, build_sphere_set
 
@@ -234,7 +234,7 @@ def _decide_entries(
     m = na * nb
     offs = np.cumsum(m) - m
     for p0 in range(0, int(m.sum()), _PAIR_BLOCK):
-        rep, pos = _entries_of(m, offs, p0, 0)
+        rep, pos = _entries_of(m, offs, p0)
         row, col = np.divmod(pos, nb[rep])
         diff = pa[a_at[rep] + row] - pb[b_at[rep] + col]
         d2 = np.einsum("...k,...k->...", diff, diff)
@@ -260,13 +260,12 @@ def entry_slices(cost: IntArray, limit: int) -> Iterator[tuple[int, int]]:
         e0 = e1
 
 
-def _entries_of(m: IntArray, offs: IntArray, p0: int, e0: int) -> tuple[IntArray, IntArray]:
+def _entries_of(m: IntArray, offs: IntArray, p0: int) -> tuple[IntArray, IntArray]:
     """For the flat sphere pairs ``p0 … p0 + _PAIR_BLOCK`` of entries with ``m`` [E] sphere
-    pairs each starting at ``offs`` [E]: each one's entry (``e0 +`` its position) and its
-    index within the entry."""
+    pairs each starting at ``offs`` [E]: each one's entry and its index within the entry."""
     flat = np.arange(p0, min(int(m.sum()), p0 + _PAIR_BLOCK))
     which = np.searchsorted(offs, flat, side="right") - 1
-    return which + e0, flat - offs[which]
+    return which, flat - offs[which]
 
 
 def _place_each(
@@ -275,10 +274,8 @@ def _place_each(
     """The spheres ``first[e] … first[e] + count[e]`` placed by ``R[e]`` [3, 3] and ``t[e]``
     [3], entry after entry [Σ count, 3], summed term by term as :func:`_place` does (the same
     bits)."""
-    e = np.repeat(np.arange(len(first)), count)
-    local = s.local_centers[
-        first[e] + np.arange(len(e)) - np.repeat(np.cumsum(count) - count, count)
-    ]
+    e, rank = ragged_index(count)
+    local = s.local_centers[first[e] + rank]
     Rk, tk = R[e], t[e]
     out: FloatArray = local[:, 0, None] * Rk[:, :, 0]
     for k in (1, 2):

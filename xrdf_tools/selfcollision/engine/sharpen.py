@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...util.arrays import FloatArray, IntArray
+from ...util.arrays import FloatArray, IntArray, ragged_index
 from ..collision import SphereSet
 from ..collision.distances import entry_slices
 from .bodies import PRISM, Bodies, body_chains
@@ -145,13 +145,13 @@ class Sharpener:
             sl = slice(e0, e1)
             a0, b0 = start[s.frame_pair_a[ks[sl]]], start[s.frame_pair_b[ks[sl]]]
             placed_at = np.cumsum(nb[sl]) - nb[sl]  # each entry's first placed sphere of b
-            e = np.repeat(np.arange(e1 - e0), nb[sl])
-            jb = b0[e] + np.arange(len(e)) - np.repeat(placed_at, nb[sl])
+            e, rank = ragged_index(nb[sl])
+            jb = b0[e] + rank
             placed = np.einsum("cij,cj->ci", R[sl][e], self.local[jb]) + t[sl][e]
             m = na[sl] * nb[sl]
             offs = np.cumsum(m) - m
-            rep = np.repeat(np.arange(e1 - e0), m)
-            row, col = np.divmod(np.arange(int(m.sum())) - np.repeat(offs, m), nb[sl][rep])
+            rep, pos = ragged_index(m)
+            row, col = np.divmod(pos, nb[sl][rep])
             diff = self.local[a0[rep] + row] - placed[placed_at[rep] + col]
             d2 = np.einsum("ck,ck->c", diff, diff)
             rs = s.self_radii[a0[rep] + row] + s.self_radii[b0[rep] + col]
