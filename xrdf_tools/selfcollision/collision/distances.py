@@ -203,12 +203,10 @@ def _decide_block(
     the two frames' spheres placed once per entry, then every sphere pair of every entry in
     one flat pass (blocks of about :data:`_PAIR_BLOCK` sphere pairs), reduced per entry."""
     R, t = poses
-    start = s.frame_start
     where = np.full(len(s.frame_names), -1, dtype=np.intp)
     for f, i in slot.items():
         where[f] = i
-    na = start[s.frame_pair_a[ks] + 1] - start[s.frame_pair_a[ks]]
-    nb = start[s.frame_pair_b[ks] + 1] - start[s.frame_pair_b[ks]]
+    na, nb = s.frame_sizes[s.frame_pair_a[ks]], s.frame_sizes[s.frame_pair_b[ks]]
     for e0, e1 in entry_slices(na * nb + na + nb, _PAIR_BLOCK):
         _decide_entries(s, (R, t), where, ks[e0:e1], rows[e0:e1], hit, clr, out_at[e0:e1])
 
@@ -227,7 +225,7 @@ def _decide_entries(
     R, t = poses
     start = s.frame_start
     fa, fb = s.frame_pair_a[ks], s.frame_pair_b[ks]
-    na, nb = start[fa + 1] - start[fa], start[fb + 1] - start[fb]
+    na, nb = s.frame_sizes[fa], s.frame_sizes[fb]
     pa = _place_each(s, start[fa], na, R[where[fa], :, :, rows], t[where[fa], :, rows])
     pb = _place_each(s, start[fb], nb, R[where[fb], :, :, rows], t[where[fb], :, rows])
     a_at, b_at = np.cumsum(na) - na, np.cumsum(nb) - nb  # each entry's first placed sphere
@@ -322,7 +320,7 @@ def _sphere_pair_blocks(
         k = np.searchsorted(s.pair_start, p, side="right") - 1
         fa, fb = s.frame_pair_a[k], s.frame_pair_b[k]
         a0, b0 = s.frame_start[fa], s.frame_start[fb]
-        row, col = np.divmod(p - s.pair_start[k], s.frame_start[fb + 1] - b0)
+        row, col = np.divmod(p - s.pair_start[k], s.frame_sizes[fb])
         i, j = a0 + row, b0 + col
         yield k, i, j, c[i] - c[j], s.self_radii[i] + s.self_radii[j]
 

@@ -213,15 +213,19 @@ class SphereSet:
         out: IntArray = self._frame_start
         return out
 
+    @property
+    def frame_sizes(self) -> IntArray:
+        """[Fs] the number of spheres on each frame."""
+        out: IntArray = np.diff(self._frame_start)
+        return out
+
     def spheres_of(self, frame: int) -> slice:
         """Slice of sphere indices on frame ``frame`` (index into ``frame_names``)."""
         return slice(int(self._frame_start[frame]), int(self._frame_start[frame + 1]))
 
     def sphere_counts(self) -> dict[str, int]:
         """Active spheres per frame."""
-        return {
-            f: int(n) for f, n in zip(self.frame_names, np.diff(self._frame_start), strict=True)
-        }
+        return {f: int(n) for f, n in zip(self.frame_names, self.frame_sizes, strict=True)}
 
     def sphere_label(self, s: int) -> str:
         """``frame[k]``: the sphere's frame and position in that frame's list."""

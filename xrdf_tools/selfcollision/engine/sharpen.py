@@ -139,8 +139,7 @@ class Sharpener:
         reduced per entry."""
         s = self.spheres
         start = s.frame_start
-        nb = start[s.frame_pair_b[ks] + 1] - start[s.frame_pair_b[ks]]
-        na = start[s.frame_pair_a[ks] + 1] - start[s.frame_pair_a[ks]]
+        na, nb = s.frame_sizes[s.frame_pair_a[ks]], s.frame_sizes[s.frame_pair_b[ks]]
         for e0, e1 in entry_slices(na * nb + nb, _BLOCK):
             sl = slice(e0, e1)
             a0, b0 = start[s.frame_pair_a[ks[sl]]], start[s.frame_pair_b[ks[sl]]]
