@@ -135,3 +135,53 @@ def test_path_local_float32_poses_stay_within_their_bound(robot) -> None:  # typ
         exact = np.einsum("nik,mk->nmi", R, pb) + t[:, None, :]
         assert np.abs(fast - exact).max() < bp.tau / 10
         assert bp.tau < 2 * eng.err + 8 * EPS32 * eng.bodies.lever  # tighter than the world
+
+
+def test_a_sphere_just_off_a_joint_axis_ties_in_float32_and_is_narrowed_in_float64(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A sphere 0.2 µm off joint 1's axis, deep inside a base sphere off that axis: its clearance
+    changes by far less than the float32 error as the joint turns, so every configuration
+    ties for the minimum in float32. They are narrowed in float64 before the second look
+    (which then sees a few entries, not every configuration), and the totals still equal
+    the brute force."""
+    from tests.paths import FIXTURES
+    from tests.robots import robot_urdf
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.robot.urdf_source import load_urdf
+    from xrdf_tools.selfcollision.engine.sharpen import Sharpener
+    from xrdf_tools.xrdf.io import parse_xrdf
+
+    text = (FIXTURES / "panda" / "panda.xrdf").read_text()
+    on_axis = "      panda_link0:\n        - center: [0.0, 0.0, 0.085]\n          radius: 0.03\n"
+    off_axis = "      panda_link1:\n        - center: [2.0e-7, 0.0, -0.2]\n          radius: 0.15\n"
+    assert on_axis in text and "      panda_link1:\n" in text
+    text = text.replace(on_axis, "      panda_link0:\n", 1)  # keep the base's off-axis sphere
+    xrdf = parse_xrdf(text.replace("      panda_link1:\n", off_axis, 1), "off_axis.xrdf")
+    kin, _ = build_kinematic_model(load_urdf(robot_urdf("panda")), xrdf)
+    eng, spheres, q0, varying = _engine(kin, xrdf)
+    seen: list[int] = []
+    evaluate = Sharpener.evaluate
+
+    def counting(self: Sharpener, ks: np.ndarray, q: np.ndarray):  # type: ignore[no-untyped-def]
+        seen.append(len(ks))
+        return evaluate(self, ks, q)
+
+    monkeypatch.setattr(Sharpener, "evaluate", counting)
+    n = 1500
+    q = np.repeat(q0[None, :], n, axis=0)
+    q[:, varying] = fixed_configs(kin, n, seed=21)[:, varying]
+    totals = EngineTotals.empty(spheres.n_frame_pairs)
+    hits = eng.count(q[:, varying], totals)
+    assert sum(seen) < n // 4  # without the float64 narrowing: every configuration
+    ref, ref_min, boundary = brute_force(kin, xrdf, q, include_masked=True)
+    k01 = list(spheres.frame_pair_names()).index(("panda_link0", "panda_link1"))
+    assert ref_min[frozenset(("panda_link0", "panda_link1"))] < -0.05  # deep inside
+    for k, (a, b) in enumerate(spheres.frame_pair_names()):
+        key = frozenset((a, b))
+        if key in boundary:
+            continue
+        np.testing.assert_array_equal(hits[k], ref[key], err_msg=f"{a}/{b}")
+        if ref_min[key] < 0.01:
+            assert totals.min_clearance[k] == pytest.approx(ref_min[key], abs=1e-12)
+    assert totals.min_clearance[k01] <= totals.clearance_bound[k01]  # exact, not a bound

@@ -25,12 +25,19 @@ from .pairs import (
     sphere_pair_clearances,
     sphere_pair_minima,
 )
+from .sharpen import Sharpener
 
 __all__ = ["Chunk", "Evaluated", "classify"]
 
 #: Blocks with at most this many candidates for the minimum queue them all for the float64
 #: look (:mod:`.sharpen`, a few µs each) instead of narrowing them first (about 100 µs).
 _FEW_CANDIDATES = 4
+#: A block still left with more candidates than this after the float32 narrowing (a sphere
+#: near a joint axis: its clearance changes less than the float32 error) narrows them again
+#: in float64 on the few sphere pairs that can hold the minimum.
+_MANY_TIED = 64
+#: float64 sphere-pair clearances computed per block of that narrowing (bounded memory).
+_TIED_BLOCK = 1 << 15
 
 
 @dataclass
@@ -46,6 +53,7 @@ class Chunk:
     poses: ChunkPoses = field(repr=False)
     q: FloatArray = field(repr=False)
     prev: FloatArray = field(repr=False)
+    sharpener: Sharpener = field(repr=False)
     re_k: list[IntArray] = field(default_factory=list, repr=False)
     re_b: list[IntArray] = field(default_factory=list, repr=False)
 
@@ -105,7 +113,7 @@ def _classify_pair(
             queued[i, at] = True
             continue
         trel = pair_transform(bp, ch.poses, cols[at])
-        queued[i, at] |= _minimum_candidates(bp, ch, trel, i, float(thr[i]), margin)
+        queued[i, at] |= _minimum_candidates(bp, ch, trel, cols[at], i, float(thr[i]), margin)
     bi, bj = np.nonzero(queued)
     if len(bi):
         ch.re_k.append(bp.frame_pairs[bi])
@@ -114,18 +122,20 @@ def _classify_pair(
 
 
 def _minimum_candidates(
-    bp: BodyPair, ch: Chunk, trel: F32, i: int, thr: float, margin: float
+    bp: BodyPair, ch: Chunk, trel: F32, at: IntArray, i: int, thr: float, margin: float
 ) -> BoolArray:
-    """Which of the configurations at poses ``trel`` [3, 4, n] may hold block ``i``'s smallest
-    clearance below ``thr`` (at most the margin and the best so far; the other configurations
-    of the chunk are above it).
+    """Which of the chunk's configurations ``at`` [n] (poses ``trel`` [3, 4, n]) may hold
+    block ``i``'s smallest clearance below ``thr`` (at most the margin and the best so far;
+    the other configurations of the chunk are above it).
 
     ``d² − R²`` ranks the configurations of one sphere pair as its clearance does, but not
     those of sphere pairs with other radii. So each sphere pair's smallest value bounds its
     smallest clearance from both sides (within ``delta``, with its own radius sum); the
     block's smallest clearance is at most the least upper bound, and only the sphere pairs
     whose lower bound does not exceed it can hold it. Only their clearances are computed
-    directly (float32, error ``tau``). The configurations left out have a clearance above the
+    directly (float32, error ``tau``); when more than :data:`_MANY_TIED` configurations still
+    tie within that error, those again in float64 (:func:`_clearances64`). The configurations
+    left out have a clearance above the
     limit recorded in the frame pair's bound.
     """
     k, rows, cs = bp.blocks[i]
@@ -138,8 +148,36 @@ def _minimum_candidates(
     ii, jj = np.nonzero(c_lo <= lim)
     if not len(ii):  # every configuration is above thr, which the bound holds already
         return np.zeros(trel.shape[-1], dtype=np.bool_)
-    clr = sphere_pair_clearances(bp, trel, ii + rows.start, jj + cs.start).min(axis=0)
+    ia, ib = ii + rows.start, jj + cs.start
+    clr = sphere_pair_clearances(bp, trel, ia, ib).min(axis=0)
     lim = min(lim, float(clr.min()) + bp.tau)
     ch.bound[k] = min(ch.bound[k], lim)
     kept: BoolArray = clr - bp.tau <= lim
+    if np.count_nonzero(kept) > _MANY_TIED:
+        tied = np.flatnonzero(kept)
+        clr64 = _clearances64(bp, ch.sharpener, ch.q[at[tied]], ia, ib)
+        tau = ch.sharpener.tau
+        lim = min(lim, float(clr64.min()) + tau)
+        ch.bound[k] = min(ch.bound[k], lim)
+        kept[tied] = clr64 - tau <= lim
     return kept
+
+
+def _clearances64(
+    bp: BodyPair, sharpener: Sharpener, q: FloatArray, ia: IntArray, ib: IntArray
+) -> FloatArray:
+    """float64 smallest clearance [n] of the sphere pairs (``ia``, ``ib``) (rows of ``a``'s and
+    of ``b``'s spheres in ``bp``) at the configurations ``q`` [n, varying], with the pose of
+    ``b`` in ``a``'s frame composed along the tree path as :mod:`.sharpen` does (within
+    ``sharpener.tau`` of the reference's clearance)."""
+    pa = sharpener.local[bp.ia[ia]]  # [m, 3]
+    pb = sharpener.local[bp.ib[ib]]
+    rsum = bp.ra64[ia] + bp.rb64[ib]
+    out = np.empty(len(q))
+    step = max(1, _TIED_BLOCK // len(ia))
+    for s0 in range(0, len(q), step):
+        R, t = sharpener.relative(bp.a, bp.b, q[s0 : s0 + step])
+        diff = np.einsum("nij,mj->nmi", R, pb) + t[:, None, :] - pa[None]
+        d = np.sqrt(np.einsum("nmk,nmk->nm", diff, diff))
+        out[s0 : s0 + step] = (d - rsum).min(axis=1)
+    return out

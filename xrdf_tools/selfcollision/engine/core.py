@@ -288,7 +288,7 @@ class CountEngine:
             np.minimum(prev, totals.min_clearance, out=prev)
         if known is not None:
             np.minimum(prev, known, out=prev)
-        ch = Chunk(hits, self.row_of, self.reach_bound.copy(), poses, q, prev)
+        ch = Chunk(hits, self.row_of, self.reach_bound.copy(), poses, q, prev, self.sharpener)
         if self.cull_plan.pairs:
             near, low = self.culler.culled_near(self.cull_plan, T[:, :, :3], T[:, :, 3])
         done: list[Evaluated] = []
