@@ -389,3 +389,25 @@ def test_fuzz_seed0_case7652_viz_without_a_collision_section_names_the_xrdf(
     x.write_text(text[: text.index("world_collision:")])
     err = _error(runner, "viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "v.png"))
     assert err.startswith(f"error: {x}:1: no collision section names a geometry group"), err
+
+
+@pytest.mark.parametrize(
+    ("mimic", "message"),
+    [
+        ('<mimic joint="j8"/>', "joint 'j1' mimics 'j8', which is not a joint"),
+        ('<mimic joint="j1"/>', "mimic joints form a loop: j1 -> j1"),
+    ],
+)
+def test_convert_blames_a_urdf_no_reader_loads_at_its_line(
+    runner: CliRunner, tmp_path: Path, mimic: str, message: str
+) -> None:
+    """Not a lint finding located in an XRDF that is never written: the URDF's own line,
+    exit 2, before any work."""
+    from tests.xrdf.test_real_xrdf_patterns import _chain_urdf
+
+    urdf = _chain_urdf(tmp_path, 2, mimic=mimic)
+    out = tmp_path / "robot.xrdf"
+    err = _error(runner, "convert", str(urdf), "--joints", "j0", "-o", str(out))
+    line = _line_of(urdf, 'name="j1"')
+    assert err.startswith(f"error: {urdf}:{line}: ") and message in err, err
+    assert not out.exists()

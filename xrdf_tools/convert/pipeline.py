@@ -133,6 +133,7 @@ def convert_robot(
     else:
         loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
     x, diags = convert(loaded, options)
+    _check_kinematics(loaded, x)
     diags = [*loaded.warnings, *diags]
     fitted: dict[str, int] = {}
     if fit is not None and lint:
@@ -172,6 +173,15 @@ def convert_robot(
     return ConvertResult(
         x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
     )
+
+
+def _check_kinematics(robot: Robot, x: Xrdf) -> None:
+    """Raise the URDF's error, at its line, when no reader can load the robot (a mimic of a
+    name that is no joint, mimic joints in a loop): before any work, and never as a finding of
+    an XRDF that is not written."""
+    from ..robot.kinematics import build_kinematic_model
+
+    build_kinematic_model(robot, x)
 
 
 def _checked_before_fitting(
