@@ -13,6 +13,7 @@ Every case runs through the CLI on real robots from example-robot-data where one
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import shutil
@@ -364,6 +365,40 @@ def test_a_visual_elements_own_colour_is_lenient_too_and_other_numbers_stay_stri
     urdf.write_text(ROBOT.format(arm=BOX.replace('size="0.05 0.05 0.3"', 'size="0.05 0.05"')))
     code, text = _run(runner, "convert", urdf, "-o", tmp_path / "r.xrdf")
     assert code == 2 and "must be 3 numbers" in text
+
+
+def test_a_revolute_limit_of_1e16_reads_as_continuous_and_infinity_stays_an_error(
+    runner: CliRunner,
+    tmp_path: Path,
+) -> None:
+    """Exporters write "no limit" as ±1e16 (the quadrotor's rotors here): a located warning,
+    the joint turns freely everywhere (inspect, convert, report); a limit that is no finite
+    number stays an error at its line."""
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        ROBOT.format(arm=BOX).replace('lower="-1" upper="1"', 'lower="-1e+16" upper="1e16"')
+    )
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 0, text
+    assert (
+        f"{urdf}:6: warning urdf-limit-unbounded revolute joint 'j' <limit> lower='-1e+16' "
+        "upper='1e16': beyond ±1e+12, so no limit at all; the joint is read as continuous"
+    ) in text
+    assert "j (continuous" in text
+    robot = load_robot(urdf)
+    assert robot.joints["j"].type == "continuous"
+    kin, _ = build_kinematic_model(robot)
+    assert kin.lower.tolist() == [-math.pi] and kin.upper.tolist() == [math.pi]
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "-o", out)
+    assert code == 0 and "urdf-limit-unbounded" in text, text
+    code, text = _run(runner, "report", out, "--urdf", urdf, "-n", "200")
+    assert code == 0 and "urdf-limit-unbounded" in text, text
+    urdf.write_text(ROBOT.format(arm=BOX).replace('lower="-1"', 'lower="-inf"'))
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 2 and f"{urdf}:6:" in text and "must be finite" in text, text
 
 
 # --------------------------------------------------------------------------------------------

@@ -7,12 +7,13 @@ right count. Every failure is a :class:`UrdfError` at the element's line.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError, did_you_mean, shown_text
-from ..util.numbers import bound_reason
+from ..util.numbers import MAX_NUMBER, bound_reason
 
 __all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
 
@@ -41,6 +42,7 @@ _OTHER_NUMBERS: tuple[tuple[str, str, tuple[str, ...], int], ...] = (
 Fail = Callable[[str, Any], UrdfError]
 
 RULE_COLOR_IGNORED = "urdf-color-ignored"
+RULE_UNBOUNDED_LIMIT = "urdf-limit-unbounded"
 
 
 class _ColorIgnored(UrdfError):
@@ -54,7 +56,9 @@ def check_urdf_tree(
 
     With a ``warnings`` list, a material colour that is not four finite numbers (used only to
     draw the robot) is removed from the tree with a located ``urdf-color-ignored`` warning
-    appended there, instead of failing: what no command plans with does not stop one."""
+    appended there, instead of failing: what no command plans with does not stop one. So is a
+    revolute joint's limit of ±1e16 (how exporters write "no limit"): the joint is read as
+    continuous, with a located ``urdf-limit-unbounded`` warning."""
     from lxml import etree
 
     def fail(msg: str, el: Any) -> UrdfError:
@@ -109,6 +113,7 @@ def check_urdf_tree(
             el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail, metres=("xyz",)
         )
         _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
+        jtype = _unless_unbounded(el, name, jtype, path, warnings)
         _check_limit(el, name, jtype, fail)
         mimic = el.find("mimic")
         if mimic is not None:
@@ -163,6 +168,40 @@ def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:
             raise fail(f"{tag} '{name}' is defined twice (first on line {lines[name]})", el)
         lines[name] = el.sourceline or 0
     return lines
+
+
+def _unless_unbounded(
+    el: Any, name: str, jtype: str, path: str, warnings: list[Diagnostic] | None
+) -> str:
+    """The joint's type as read: with ``warnings``, a revolute joint whose ``<limit>`` lower
+    or upper is finite but beyond ±MAX_NUMBER (``±1e16``: how exporters write "no limit") is
+    made continuous, with a warning there: such a limit bounds nothing, and sampling or
+    planning between ±1e16 rad is meaningless (a double there cannot tell angles 2 rad
+    apart)."""
+    limit = el.find("limit")
+    if warnings is None or jtype != "revolute" or limit is None:
+        return jtype
+    huge = []
+    for attr in ("lower", "upper"):
+        raw = limit.get(attr)
+        try:
+            v = float(raw) if raw is not None else 0.0
+        except ValueError:
+            return jtype  # not a number: _check_limit says so
+        if math.isfinite(v) and bound_reason(v) is not None:
+            huge.append(f"{attr}='{raw.strip()}'" if raw is not None else attr)
+    if not huge:
+        return jtype
+    el.set("type", "continuous")
+    for attr in ("lower", "upper"):
+        limit.attrib.pop(attr, None)
+    message = (
+        f"revolute joint '{name}' <limit> {' '.join(huge)}: beyond ±{MAX_NUMBER:g}, so no "
+        "limit at all; the joint is read as continuous (it turns freely)"
+    )
+    line = getattr(limit, "sourceline", None)
+    warnings.append(Diagnostic(path, line, None, RULE_UNBOUNDED_LIMIT, Severity.WARNING, message))
+    return "continuous"
 
 
 def _check_limit(el: Any, name: str, jtype: str, fail: Fail) -> None:
