@@ -283,7 +283,7 @@ def _count_configs(
         bad = np.flatnonzero(hits[unmasked].any(axis=0))
         if len(bad):
             q = np.repeat(engine.q_base[None, :], len(bad), axis=0)
-            q[:, engine.varying] = q_c[bad]
+            q[:, engine.cspace] = q_c[bad]
             centers = sphere_world_centers(engine.kin, checked, q)
             for b, c in zip(bad.tolist(), centers, strict=True):
                 trajectory.append(TrajectoryHit(start + b, tuple(contacts(checked, c))))

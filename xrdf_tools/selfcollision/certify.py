@@ -54,7 +54,7 @@ _SLACK = 1e-9
 class Certificate:
     """Outcome of :func:`certify_pair`.
 
-    ``witness``: c-space values (the engine's ``varying`` order) of a colliding configuration;
+    ``witness``: c-space values (the engine's ``cspace`` order) of a colliding configuration;
     ``boxes``: boxes evaluated; ``seconds``: time spent; ``joints``: the c-space joints on the
     path (indices into the varying columns); ``timed_out``: undecided because the wall-clock
     limit, not the box budget, ran out.
@@ -144,7 +144,7 @@ def certify_pair(
     """Decide frame pair ``k`` of ``engine.spheres`` over the whole joint box.
 
     ``proven``: no configuration collides (buffered spheres never touch); ``witness``: a
-    colliding configuration (c-space values in ``engine.varying`` order); ``undecided``: more
+    colliding configuration (c-space values in ``engine.cspace`` order); ``undecided``: more
     than ``max_boxes`` boxes would be needed, or ``deadline_s`` seconds ran out first.
     """
     t0 = time.perf_counter()
@@ -158,26 +158,27 @@ def certify_pair(
         late = deadline_s is not None and time.perf_counter() - t0 > deadline_s
         if late or boxes + size > max_boxes:
             took = time.perf_counter() - t0
-            return Certificate("undecided", None, boxes, took, _joints(pb), timed_out=late)
+            return Certificate("undecided", None, boxes, took, _joints(engine, pb), timed_out=late)
         batch = [heapq.heappop(heap) for _ in range(size)]
         lows = np.array([b[2] for b in batch])
         highs = np.array([b[3] for b in batch])
         lb, hit_row = _evaluate(engine, pb, base, lows, highs)
         boxes += len(batch)
         if hit_row >= 0:
-            q = base.copy()
-            q[pb.cols] = (lows[hit_row] + highs[hit_row]) / 2
-            return Certificate("witness", q, boxes, time.perf_counter() - t0, _joints(pb))
+            q = engine.q_base[engine.cspace].copy()  # in c-space order
+            q[engine.columns[pb.cols]] = (lows[hit_row] + highs[hit_row]) / 2
+            return Certificate("witness", q, boxes, time.perf_counter() - t0, _joints(engine, pb))
         for i in np.flatnonzero(lb <= _SLACK).tolist():
             if not np.any(highs[i] > lows[i]):
                 continue  # a single configuration, evaluated exactly above: no collision
             for child in _split(pb, lows[i], highs[i]):
                 heapq.heappush(heap, (float(lb[i]), next(tie), *child))
-    return Certificate("proven", None, boxes, time.perf_counter() - t0, _joints(pb))
+    return Certificate("proven", None, boxes, time.perf_counter() - t0, _joints(engine, pb))
 
 
-def _joints(pb: _Problem) -> tuple[int, ...]:
-    return tuple(int(c) for c in pb.cols)
+def _joints(engine: CountEngine, pb: _Problem) -> tuple[int, ...]:
+    """The c-space columns of the joints on the pair's path."""
+    return tuple(int(c) for c in engine.columns[pb.cols])
 
 
 def _evaluate(

@@ -70,6 +70,24 @@ def _z_to(axis: FloatArray) -> FloatArray:
     return np.column_stack([x, np.cross(a, x), a])
 
 
+def relative_columns(kin: KinematicModel, varying: IntArray, frames: IntArray) -> IntArray:
+    """Positions in ``varying`` of the joints that move some of the kinematic frames
+    ``frames`` relative to the others (directly or through a mimic follower). A joint above
+    all of them (a mobile base carrying the whole arm) or above none moves them all alike: no
+    distance between them depends on it."""
+    inside = np.zeros(kin.n_frames, dtype=np.intp)  # frames of ``frames`` in each subtree
+    inside[sorted_unique(np.asarray(frames, dtype=np.intp))] = 1
+    total = int(inside.sum())
+    for f in range(kin.n_frames - 1, 0, -1):  # a parent comes before its children
+        inside[int(kin.parent[f])] += inside[f]
+    moves = {
+        int(kin.q_index[f])
+        for f in range(1, kin.n_frames)
+        if int(kin.joint_type[f]) in _MOVABLE and 0 < inside[f] < total
+    }
+    return np.array([i for i, v in enumerate(varying.tolist()) if v in moves], dtype=np.intp)
+
+
 def body_roots(kin: KinematicModel, varying: IntArray) -> tuple[list[int], IntArray]:
     """Kinematic frames that start a body, and the body of every kinematic frame."""
     var = set(varying.tolist())

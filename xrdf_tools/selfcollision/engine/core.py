@@ -43,6 +43,7 @@ from .bodies import (
     build_bodies,
     joint_values,
     position_error,
+    relative_columns,
 )
 from .classify import Chunk, Evaluated, classify
 from .culling import Culler
@@ -124,9 +125,14 @@ class CountEngine:
     """Exact per-frame-pair collision counting for configurations that vary ``varying``.
 
     ``spheres``: the frame pairs to count (e.g. a :meth:`SphereSet.select_frame_pairs`
-    selection). ``varying``: indices into the actuated joints that change (the c-space);
-    every other joint stays at ``q_base`` [n]. ``margin``: minimum clearances below it are
-    exact (float64), larger ones may come back as lower bounds.
+    selection). ``varying``: indices into the actuated joints that change (the c-space, kept
+    as :attr:`cspace`); every other joint stays at ``q_base`` [n]. ``margin``: minimum
+    clearances below it are exact (float64), larger ones may come back as lower bounds.
+
+    Of the c-space, only the joints that move some sphere frames relative to others are
+    modelled (:attr:`varying`, the c-space's columns :attr:`columns`): a mobile base's joints
+    carry every sphere alike and change no distance, so they are held at ``q_base`` (their
+    range, ±1e6 m for a base's "no limit", would otherwise swamp the float32 error bounds).
     """
 
     def __init__(
@@ -140,7 +146,11 @@ class CountEngine:
     ) -> None:
         self.kin = kin
         self.spheres = spheres
-        self.varying = np.asarray(varying, dtype=np.intp)
+        #: the c-space (indices into the actuated joints): the columns of a chunk
+        self.cspace = np.asarray(varying, dtype=np.intp)
+        #: the c-space columns whose joints move some sphere frames relative to others
+        self.columns = relative_columns(kin, self.cspace, spheres.kin_frame)
+        self.varying = self.cspace[self.columns]
         self.q_base = np.asarray(q_base, dtype=np.float64).copy()
         self.margin = max(float(margin), 0.0)
         self.K = spheres.n_frame_pairs
@@ -198,7 +208,7 @@ class CountEngine:
         ``flags``, as :meth:`count` returns them), the culled pairs' verdicts, every body's
         pose and the configuration itself. It depends on the robot and the options only."""
         per = len(self.sampled_k) + len(self.cull_plan.pairs) + 52 * self.bodies.n
-        per += 16 * len(self.varying) + _CHUNK_SLACK + (self.K if flags else 0)
+        per += 16 * len(self.cspace) + _CHUNK_SLACK + (self.K if flags else 0)
         return int(np.clip(CHUNK_BYTES // per // 1024 * 1024, 4096, 65536))
 
     def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
@@ -237,7 +247,7 @@ class CountEngine:
         known: FloatArray | None = None,
         on_step: Callable[[float], None] | None = None,
     ) -> BoolArray:
-        """Collision flags [K, B] of configurations ``q_var`` [B, n_varying] (float64).
+        """Collision flags [K, B] of configurations ``q_var`` [B, len(cspace)] (float64).
 
         When ``totals`` is given, the chunk's counts and clearances are added to it.
         ``known`` [K]: exact minimum clearances already found in other configurations (of the
@@ -276,8 +286,10 @@ class CountEngine:
     ) -> tuple[BoolArray, int]:
         """Flags [len(sampled_k), B] of the sampled frame pairs, and ``B``."""
         q = np.asarray(q_var, dtype=np.float64)
-        if q.ndim != 2 or q.shape[1] != len(self.varying):
-            raise ValueError(f"q_var must be [B, {len(self.varying)}], got {list(q.shape)}")
+        if q.ndim != 2 or q.shape[1] != len(self.cspace):
+            raise ValueError(f"q_var must be [B, {len(self.cspace)}], got {list(q.shape)}")
+        if len(self.columns) < len(self.cspace):
+            q = q[:, self.columns]
         B = q.shape[0]
         T = body_poses(self.bodies, q)
         poses = ChunkPoses(self.bodies, T, joint_values(self.bodies, q))
