@@ -81,8 +81,8 @@ def is_volume(mesh: trimesh.Trimesh) -> bool:
 def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
     """The convex hull of ``mesh`` as a closed solid, or None when it is flat or degenerate.
 
-    Built from qhull's triangulated facets with consistent normals (trimesh's own hull, tried
-    second, merges facets into a non-manifold surface on some dense CAD meshes)."""
+    Built from qhull's triangulated facets turned outward (trimesh's own hull, tried second,
+    merges facets into a non-manifold surface on some dense CAD meshes)."""
     import trimesh
 
     try:
@@ -91,7 +91,7 @@ def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
         ch = ConvexHull(np.asarray(mesh.vertices, dtype=np.float64), qhull_options="Qt")
         rebuilt = trimesh.Trimesh(mesh.vertices, ch.simplices, process=True)
         rebuilt.remove_unreferenced_vertices()
-        rebuilt.fix_normals()
+        _turn_outward(rebuilt)
         if is_volume(rebuilt):
             return rebuilt
     except Exception:  # flat, collinear or too few points: try trimesh's hull below
@@ -101,6 +101,21 @@ def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
     except Exception:  # qhull fails on flat or degenerate parts: no hull
         return None
     return hull if is_volume(hull) else None
+
+
+def _turn_outward(hull: trimesh.Trimesh) -> None:
+    """Reverse the faces of a convex hull whose normal points inward (towards the mean of its
+    vertices, inside a hull that is not flat): the faces trimesh's ``fix_normals`` gives, 20×
+    faster (it walks the faces one by one: 0.2 s for a hull of 5,000)."""
+    v = np.asarray(hull.vertices, dtype=np.float64)
+    f = np.asarray(hull.faces)
+    tri = v[f]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    inward = np.einsum("ij,ij->i", normal, tri.mean(axis=1) - v.mean(axis=0)) < 0.0
+    if inward.any():
+        faces = f.copy()
+        faces[inward] = faces[inward][:, ::-1]
+        hull.faces = faces
 
 
 def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
@@ -275,6 +290,9 @@ def load_link_geometry(
                     path=robot.path,
                 )
     loaded = link_geometry(robot, source, links=links, package_paths=package_paths)
+    # a link's solid is made once per loaded robot: convert fits the links, then lints them
+    same = package_paths is None or dict(package_paths) == dict(robot.package_paths)
+    made = robot.derived.setdefault("link_solids", {}) if same else {}
     out: dict[str, LinkGeometry] = {}
     diags: list[Diagnostic] = []
     for name, link in loaded.items():
@@ -289,7 +307,7 @@ def load_link_geometry(
                     )
                 )
             continue
-        solid = _link_solid(robot.path, link, source, diags)
+        solid = _link_solid(robot.path, link, source, diags, made)
         if solid is not None:
             out[name] = solid
     return out, diags
@@ -306,9 +324,14 @@ def _warning(path: str, line: int | None, rule: str, message: str) -> Diagnostic
 
 
 def _link_solid(
-    path: str, link: LinkParts, choice: GeometryChoice, diags: list[Diagnostic]
+    path: str,
+    link: LinkParts,
+    choice: GeometryChoice,
+    diags: list[Diagnostic],
+    made: dict[tuple[str, str], tuple[tuple[Any, SolidKind] | None, list[Diagnostic]]],
 ) -> LinkGeometry | None:
-    """The solid of one link's parts (None when nothing encloses a volume), and its warnings."""
+    """The solid of one link's parts (None when nothing encloses a volume), and its warnings.
+    ``made``: solids already made from the same parts, by link and source."""
     name = link.link
     for failure in link.failures:
         rule = RULE_UNSUPPORTED if failure.unsupported else RULE_MESH_UNREADABLE
@@ -332,7 +355,12 @@ def _link_solid(
             )
         )
     parts = [part.in_link_frame() for part in link.parts]
-    solid = _solidify(name, parts, path, link.line, diags)
+    key = (name, link.source)
+    if key not in made:
+        said: list[Diagnostic] = []
+        made[key] = (_solidify(name, parts, path, link.line, said), said)
+    solid, said = made[key]
+    diags.extend(said)
     if solid is None:
         return None
     return LinkGeometry(name, solid[0], solid[1], link.source, len(parts), link.line)
