@@ -76,8 +76,9 @@ SCREEN_STEPS = 20
 CLUSTER_ROUNDS = 20
 #: The clustered start's radius: this quantile of its cluster's distances to its centre.
 CLUSTER_SHARE = 0.9
-#: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`).
-START_ROUNDS = 1
+#: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`): none, the
+#: refinement moves the spheres anyway.
+START_ROUNDS = 0
 #: Adam's step, as a share of the cube root of the solid's volume.
 STEP_FRACTION = 0.02
 #: The last step's size, as a share of the first's.
@@ -142,10 +143,12 @@ class _Adam:
 
 @dataclass
 class _Problem:
-    """What the losses need: the volume samples, the directions on each sphere, the distance
-    field, the coverage loss, Adam's step, the clip planes and the number of steps."""
+    """What the losses need: the volume samples (``(3, N)`` float32 rows and the same as
+    ``(N, 3)`` doubles), the directions on each sphere, the distance field, the coverage
+    loss, Adam's step, the clip planes and the number of steps."""
 
     points: FloatArray
+    rows: FloatArray
     directions: FloatArray
     outside: _Outside
     coverage: _Coverage
@@ -188,7 +191,7 @@ class _Run:
         for _ in range(steps):
             self.steps += 1
             cov_c, cov_r, cov, self.share = problem.coverage.gradient(
-                problem.points, self.centers, self.radii
+                problem.points, self.centers, self.radii, problem.rows
             )
             out_c, out_r, out = _protrusion_gradient(
                 problem.outside, self.centers, self.radii, problem.directions
@@ -213,12 +216,16 @@ class _Coverage:
     gap: float
 
     def gradient(
-        self, points: FloatArray, centers: FloatArray, radii: FloatArray
+        self,
+        points: FloatArray,
+        centers: FloatArray,
+        radii: FloatArray,
+        rows: FloatArray | None = None,
     ) -> tuple[FloatArray, FloatArray, float, float]:
         """The mean loss's gradient in the centres and radii (each point pulls on its nearest
         sphere only), the mean loss and the share of the points covered. The nearest sphere is
         found in single precision (``points`` are ``(3, N)`` float32 rows), the rest in
-        double."""
+        double (``rows``: the same points as ``(N, 3)`` doubles, made here if not given)."""
         k, n = len(radii), points.shape[1]
         c32, r32 = centers.astype(np.float32), radii.astype(np.float32)
         dist = np.sqrt(
@@ -233,7 +240,8 @@ class _Coverage:
         soft = 1.0 / (1.0 + np.exp(-np.clip(gap / self.softness, -40.0, 40.0)))
         slope = self.count / self.softness * soft * (1.0 - soft) + self.gap * (gap > 0.0)
         pull = slope / max(n, 1)
-        unit = (points.T.astype(np.float64) - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
+        rows = points.T.astype(np.float64) if rows is None else rows
+        unit = (rows - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
         grad_c = np.stack(
             [-np.bincount(nearest, weights=pull * unit[:, a], minlength=k) for a in range(3)],
             axis=1,
@@ -375,10 +383,10 @@ def refined_fit(
     steps = REFINE_STEPS if steps is None else steps
     reach = (fitter.volume / k) ** (1.0 / 3.0)
     tau = fitter.tau
+    used = fitter.points[: min(fitter.n_volume, REFINE_POINTS)]
     problem = _Problem(
-        np.ascontiguousarray(
-            fitter.points[: min(fitter.n_volume, REFINE_POINTS)].T, dtype=np.float32
-        ),
+        np.ascontiguousarray(used.T, dtype=np.float32),
+        used.astype(np.float32).astype(np.float64),
         fibonacci_directions(REFINE_DIRECTIONS),
         _Outside(fitter),
         _Coverage(COUNT_WEIGHT * reach, SOFTNESS * reach, GAP_WEIGHT),
