@@ -76,9 +76,10 @@ SCREEN_STEPS = 20
 CLUSTER_ROUNDS = 20
 #: The clustered start's radius: this quantile of its cluster's distances to its centre.
 CLUSTER_SHARE = 0.9
-#: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`): none, the
-#: refinement moves the spheres anyway.
-START_ROUNDS = 0
+#: Swap-and-move rounds of the first start's greedy fit (:meth:`~.fit.SphereFitter.fit`); the
+#: other starts are plain greedy picks (a round there costs time and, after the steps, won or
+#: lost no Panda link).
+START_ROUNDS = 1
 #: Adam's step, as a share of the cube root of the solid's volume.
 STEP_FRACTION = 0.02
 #: The last step's size, as a share of the first's.
@@ -398,7 +399,7 @@ def refined_fit(
     for factor in starts:
         if factor * tau != fitter.tau:
             fitter.rebound(factor * tau)
-        runs.append(_Run.start(fitter.fit(k, rounds=START_ROUNDS)))
+        runs.append(_Run.start(fitter.fit(k, rounds=START_ROUNDS if not runs else 0)))
     if clustered and fitter.n_volume >= k:
         centers, radii = cluster_start(fitter.points[: fitter.n_volume], k)
         runs.append(_Run.at(centers, _keep_clipped(centers, radii, fitter.clips)))
