@@ -27,7 +27,9 @@ shrinking linearly to ``FINAL_STEP`` of that; clip planes are kept after each st
 
 :func:`refined_fit` starts from greedy fits under several bounds (``START_BOUNDS``: a
 tight bound places many mid-sized spheres, a loose one fewer big ones; which is better depends
-on the part), refines each for ``SCREEN_STEPS`` and carries on with the lowest loss. Last,
+on the part) and from clusters of the volume samples (:func:`cluster_start`: spheres spread by
+volume, which suits a flat or short part such as a hand), refines each for ``SCREEN_STEPS``
+and carries on with the lowest loss. Last,
 each sphere grows to cover the samples and mesh vertices nearest to it that lie outside it by
 at most ``TOUCH_UP`` of its radius (slivers a grid cell cannot see: a ball gets its own
 radius back).
@@ -70,7 +72,13 @@ REFINE_DIRECTIONS = 128
 START_BOUNDS = (1.0, 2.0)
 #: Steps each start is refined for before the best is kept.
 SCREEN_STEPS = 20
-#: Swap-and-move rounds of the greedy fits (:meth:`~.fit.SphereFitter.fit`).
+#: Lloyd rounds of the clustered start (:func:`cluster_start`).
+CLUSTER_ROUNDS = 20
+#: The clustered start's radius: this quantile of its cluster's distances to its centre.
+CLUSTER_SHARE = 0.9
+#: Swap-and-move rounds of the first start's greedy fit (:meth:`~.fit.SphereFitter.fit`); the
+#: other starts are plain greedy picks (a round there costs time and, after the steps, won or
+#: lost no Panda link).
 START_ROUNDS = 1
 #: Adam's step, as a share of the cube root of the solid's volume.
 STEP_FRACTION = 0.02
@@ -136,10 +144,12 @@ class _Adam:
 
 @dataclass
 class _Problem:
-    """What the losses need: the volume samples, the directions on each sphere, the distance
-    field, the coverage loss, Adam's step, the clip planes and the number of steps."""
+    """What the losses need: the volume samples (``(3, N)`` float32 rows and the same as
+    ``(N, 3)`` doubles), the directions on each sphere, the distance field, the coverage
+    loss, Adam's step, the clip planes and the number of steps."""
 
     points: FloatArray
+    rows: FloatArray
     directions: FloatArray
     outside: _Outside
     coverage: _Coverage
@@ -170,6 +180,10 @@ class _Run:
     def start(cls, spheres: Sequence[Sphere]) -> _Run:
         centers = np.array([s.center for s in spheres], dtype=np.float64).reshape(-1, 3)
         radii = np.array([s.radius for s in spheres], dtype=np.float64)
+        return cls.at(centers, radii)
+
+    @classmethod
+    def at(cls, centers: FloatArray, radii: FloatArray) -> _Run:
         zeros_c, zeros_r = np.zeros_like(centers), np.zeros_like(radii)
         return cls(centers, radii, _Adam(zeros_c, zeros_c.copy()), _Adam(zeros_r, zeros_r.copy()))
 
@@ -178,7 +192,7 @@ class _Run:
         for _ in range(steps):
             self.steps += 1
             cov_c, cov_r, cov, self.share = problem.coverage.gradient(
-                problem.points, self.centers, self.radii
+                problem.points, self.centers, self.radii, problem.rows
             )
             out_c, out_r, out = _protrusion_gradient(
                 problem.outside, self.centers, self.radii, problem.directions
@@ -203,12 +217,16 @@ class _Coverage:
     gap: float
 
     def gradient(
-        self, points: FloatArray, centers: FloatArray, radii: FloatArray
+        self,
+        points: FloatArray,
+        centers: FloatArray,
+        radii: FloatArray,
+        rows: FloatArray | None = None,
     ) -> tuple[FloatArray, FloatArray, float, float]:
         """The mean loss's gradient in the centres and radii (each point pulls on its nearest
         sphere only), the mean loss and the share of the points covered. The nearest sphere is
         found in single precision (``points`` are ``(3, N)`` float32 rows), the rest in
-        double."""
+        double (``rows``: the same points as ``(N, 3)`` doubles, made here if not given)."""
         k, n = len(radii), points.shape[1]
         c32, r32 = centers.astype(np.float32), radii.astype(np.float32)
         dist = np.sqrt(
@@ -223,7 +241,8 @@ class _Coverage:
         soft = 1.0 / (1.0 + np.exp(-np.clip(gap / self.softness, -40.0, 40.0)))
         slope = self.count / self.softness * soft * (1.0 - soft) + self.gap * (gap > 0.0)
         pull = slope / max(n, 1)
-        unit = (points.T.astype(np.float64) - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
+        rows = points.T.astype(np.float64) if rows is None else rows
+        unit = (rows - centers[nearest]) / np.maximum(near, 1e-12)[:, None]
         grad_c = np.stack(
             [-np.bincount(nearest, weights=pull * unit[:, a], minlength=k) for a in range(3)],
             axis=1,
@@ -302,29 +321,73 @@ def _close_slivers(
     radii[:] = _keep_clipped(centers, grown, clips)
 
 
+def _squared_distances(points: FloatArray, centers: FloatArray) -> FloatArray:
+    """``(K, N)`` squared distances from each centre to each point (elementwise, no BLAS)."""
+    d2 = (points[None, :, 0] - centers[:, 0, None]) ** 2
+    d2 += (points[None, :, 1] - centers[:, 1, None]) ** 2
+    d2 += (points[None, :, 2] - centers[:, 2, None]) ** 2
+    return np.asarray(d2)
+
+
+def cluster_start(points: FloatArray, k: int) -> tuple[FloatArray, FloatArray]:
+    """``k`` spheres from clusters of ``points`` (the volume samples): centres seeded by
+    farthest-point sampling from the sample nearest the points' mean, then ``CLUSTER_ROUNDS``
+    Lloyd rounds (each point to its nearest centre, each centre to its points' mean); each
+    radius covers ``CLUSTER_SHARE`` of its cluster. A start that needs no protrusion bound:
+    a flat or short part gets spheres spread by its volume, not by where its largest spheres
+    fit."""
+    n = len(points)
+    k = min(k, n)
+    mean = points.sum(axis=0) / n
+    first = int(np.argmin(_squared_distances(points, mean[None, :])[0]))
+    picks = [first]
+    nearest = _squared_distances(points, points[first][None, :])[0]
+    for _ in range(k - 1):
+        picks.append(int(np.argmax(nearest)))
+        nearest = np.minimum(nearest, _squared_distances(points, points[picks[-1]][None, :])[0])
+    centers = points[picks].copy()
+    for _ in range(CLUSTER_ROUNDS):
+        owner = np.argmin(_squared_distances(points, centers), axis=0)
+        size = np.bincount(owner, minlength=k).astype(np.float64)
+        sums = np.stack([np.bincount(owner, weights=points[:, a], minlength=k) for a in range(3)])
+        held = size > 0
+        centers[held] = (sums[:, held] / size[held]).T
+    d2 = _squared_distances(points, centers)
+    owner = np.argmin(d2, axis=0)
+    reach = np.sqrt(d2[owner, np.arange(n)])
+    radii = np.array(
+        [
+            float(np.quantile(reach[owner == j], CLUSTER_SHARE)) if (owner == j).any() else 0.0
+            for j in range(k)
+        ]
+    )
+    return centers, np.maximum(radii, _MIN_RADIUS)
+
+
 def refined_fit(
     fitter: SphereFitter,
     k: int,
     *,
     starts: Sequence[float] | None = None,
     steps: int | None = None,
+    clustered: bool = True,
 ) -> tuple[Sphere, ...]:
     """``k`` spheres: a greedy fit under each bound of ``starts`` (multiples of the fitter's
-    bound; default ``START_BOUNDS``), each refined for ``SCREEN_STEPS`` steps on the losses of
-    the module docstring;
-    the one with the lowest loss is refined to ``steps`` (``REFINE_STEPS``) in all. Ties go
-    to the earlier start. The distance field is the fitter's; the fitter is left re-bound to
-    the last start's bound."""
+    bound; default ``START_BOUNDS``) and, if ``clustered``, :func:`cluster_start` of the
+    fitter's volume samples, each refined for ``SCREEN_STEPS`` steps on the losses of the
+    module docstring; the one with the lowest loss is refined to ``steps``
+    (``REFINE_STEPS``) in all. Ties go to the earlier start. The distance field is the
+    fitter's; the fitter is left re-bound to the last start's bound."""
     if k <= 0 or fitter.empty or fitter.n_volume == 0:
         return fitter.fit(k)
     starts = START_BOUNDS if starts is None else starts
     steps = REFINE_STEPS if steps is None else steps
     reach = (fitter.volume / k) ** (1.0 / 3.0)
     tau = fitter.tau
+    used = fitter.points[: min(fitter.n_volume, REFINE_POINTS)]
     problem = _Problem(
-        np.ascontiguousarray(
-            fitter.points[: min(fitter.n_volume, REFINE_POINTS)].T, dtype=np.float32
-        ),
+        np.ascontiguousarray(used.T, dtype=np.float32),
+        used.astype(np.float32).astype(np.float64),
         fibonacci_directions(REFINE_DIRECTIONS),
         _Outside(fitter),
         _Coverage(COUNT_WEIGHT * reach, SOFTNESS * reach, GAP_WEIGHT),
@@ -336,9 +399,12 @@ def refined_fit(
     for factor in starts:
         if factor * tau != fitter.tau:
             fitter.rebound(factor * tau)
-        run = _Run.start(fitter.fit(k, rounds=START_ROUNDS))
-        run.advance(problem, min(SCREEN_STEPS, steps) if len(starts) > 1 else steps)
-        runs.append(run)
+        runs.append(_Run.start(fitter.fit(k, rounds=START_ROUNDS if not runs else 0)))
+    if clustered and fitter.n_volume >= k:
+        centers, radii = cluster_start(fitter.points[: fitter.n_volume], k)
+        runs.append(_Run.at(centers, _keep_clipped(centers, radii, fitter.clips)))
+    for run in runs:
+        run.advance(problem, min(SCREEN_STEPS, steps) if len(runs) > 1 else steps)
     best = min(range(len(runs)), key=lambda i: (runs[i].loss, i))
     chosen = runs[best]
     chosen.advance(problem, steps - chosen.steps)
