@@ -157,6 +157,21 @@ def test_report_progress_lines_with_verbose_off_a_terminal(
     assert "%" not in res.output
 
 
+def test_certify_progress_lines_with_verbose_off_a_terminal(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """--certify can take minutes on a big robot: with -v, lines follow the pairs decided."""
+    path = tmp_path / "three.xrdf"
+    path.write_text(THREE_LINK_XRDF)
+    args = ["report", str(path), "--urdf", str(THREE_LINK), "-n", "2000", "-j", "1"]
+    res = runner.invoke(app, [*args, "--certify", "-v", "-o", str(tmp_path / "r.txt")])
+    assert res.exit_code in (0, 1) and "Traceback" not in res.output, res.output  # 1: findings
+    lines = [ln for ln in res.output.splitlines() if ln.startswith("certify: ")]
+    assert lines and lines[-1].startswith("certify: 100 % ("), res.output
+    done, total = lines[-1].split("(")[1].split(")")[0].split("/")
+    assert done == total and int(total) >= 1
+
+
 def test_certify_memory_is_linear_in_spheres(many) -> None:  # type: ignore[no-untyped-def]
     """--certify visits a frame pair's sphere pairs in blocks: the 4 M pairs of link1/link2
     are never listed, for any number of boxes at once."""

@@ -87,6 +87,7 @@ def self_collision_report(
     jobs: int = 1,
     certify: CertifyOptions | None = None,
     moveit: bool = False,
+    certify_progress: ProgressFn | None = None,
 ) -> Report:
     """Sample (or take) configurations and build the self-collision :class:`Report`.
 
@@ -102,7 +103,8 @@ def self_collision_report(
     when within its limits, else mid-range) instead of the XRDF's, to compare like with like.
     ``jobs`` worker processes share a large sample (same result for any ``jobs``; given
     ``configs`` are always checked in this process). ``certify`` decides the "never" pairs
-    over their whole joint box: proven, or "sometimes" with a witness configuration.
+    over their whole joint box: proven, or "sometimes" with a witness configuration;
+    ``certify_progress(done, total)`` is called as each of those pairs is decided.
     """
     from ..robot.urdf_source import urdf_path as _urdf_path
     from ..selfcollision.sampling import fresh_seed
@@ -164,7 +166,7 @@ def self_collision_report(
     )
     w_of = {int(k): i for i, k in enumerate(work_index)}
     if certify is not None:
-        stats = _certify(engine, stats, w_of, cspace, certify)
+        stats = _certify(engine, stats, w_of, cspace, certify, certify_progress)
     diags.extend(pair_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
     rec_ignore, change = recommend_ignore(xrdf, kin, spheres_all, stats)
     cov = None
@@ -298,9 +300,10 @@ def _certify(
     w_of: Mapping[int, int],
     cspace: Sequence[str],
     opts: CertifyOptions,
+    progress: ProgressFn | None = None,
 ) -> list[PairStat]:
     """Certify the "never" pairs, sharing the box budget (and the optional wall-clock limit)
-    evenly among those still to do."""
+    evenly among those still to do; ``progress(done, total)`` after each pair."""
     from ..selfcollision.certify import certify_pair  # only with --certify
 
     todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
@@ -314,4 +317,6 @@ def _certify(
         cert = certify_pair(engine, w_of[i], boxes_left // n_left, deadline)
         boxes_left -= cert.boxes
         out[i] = certified_stat(stats[i], cert, cspace, opts)
+        if progress is not None:
+            progress(len(todo) - n_left + 1, len(todo))
     return out

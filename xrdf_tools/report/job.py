@@ -60,8 +60,10 @@ def run_report(
     urdf_path: str,
     configs: FloatArray | None = None,
     progress: ProgressFn | None = None,
+    certify_progress: ProgressFn | None = None,
 ) -> Report:
-    """The self-collision report of ``request`` (of ``configs`` when given, else sampled)."""
+    """The self-collision report of ``request`` (of ``configs`` when given, else sampled);
+    ``progress`` follows the configurations, ``certify_progress`` the pairs certified."""
     return self_collision_report(
         robot,
         xrdf,
@@ -76,6 +78,7 @@ def run_report(
         jobs=request.jobs,
         certify=request.certify,
         moveit=request.moveit,
+        certify_progress=certify_progress,
     )
 
 

@@ -332,6 +332,7 @@ def _report(args: ReportArgs, progress_bar: ProgressBar) -> tuple[Report, str]:
                 urdf_path=str(args.urdf),
                 configs=q_c,
                 progress=one_bar(bar, label) or _progress_lines(label),
+                certify_progress=one_bar(bar, "certifying pairs") or _progress_lines("certify"),
             )
         view = ReportView(args.only.value, args.min_rate, args.timings)
         text = _render(report, args.output_format, view)
@@ -392,7 +393,7 @@ def _render(report: Report, fmt: ReportFormat, view: ReportView) -> str:
 
 def _progress_lines(label: str) -> Callable[[int, int], None] | None:
     """With ``-v`` and no progress bar (stderr not a terminal, e.g. CI): one line per tenth of
-    the configurations on stderr (``sampling: 30 % (30,000/100,000), 4.2 s``)."""
+    the work on stderr (``sampling: 30 % (30,000/100,000), 4.2 s``; ``certify``: pairs)."""
     if verbosity() < Verbosity.VERBOSE:
         return None
     start = time.perf_counter()
