@@ -29,6 +29,8 @@ _LOCAL_JOINTS = 2
 _SPLIT_SPHERES = 48
 #: At most this many spheres of one frame in one part (a large link is cut into pieces).
 _MAX_SIDE = 512
+#: Frames of a side that is cut are packed into parts of at most this many spheres.
+_PACK_SPHERES = 16
 
 
 @dataclass
@@ -120,8 +122,7 @@ def _split_pair(
         if any_a[fa] and any_b[fb]:
             kept.append((k, fa, fb))
     keep = set(ia[sampled_a].tolist()) | set(ib[sampled_b].tolist())
-    parts_a = _parts(s, a, sorted({fa for _, fa, _ in kept}), keep)
-    parts_b = _parts(s, b, sorted({fb for _, _, fb in kept}), keep)
+    parts_a, parts_b = _both_parts(s, (a, b), kept, keep, local)
     # the frame pairs of each (part of a, part of b), in the order of ``kept``
     part_of_a, part_of_b = _part_index(parts_a), _part_index(parts_b)
     by_parts: dict[tuple[int, int], list[tuple[int, int, int]]] = {}
@@ -159,22 +160,59 @@ def _fix(
             layout.fixed_k.append(k)
 
 
+def _both_parts(
+    s: SphereSet,
+    key: tuple[int, int],
+    kept: list[tuple[int, int, int]],
+    keep: set[int],
+    local: FloatArray,
+) -> tuple[list[tuple[set[int], set[int]]], list[tuple[set[int], set[int]]]]:
+    """The parts of both sides of a body pair (:func:`_parts`). When both sides are moving
+    and cut into several parts (two hands of 30 finger links each: 900 body pairs), nearby
+    frames are packed into parts of at most :data:`_PACK_SPHERES` spheres on both sides."""
+    a, b = key
+    frames_a = sorted({fa for _, fa, _ in kept})
+    frames_b = sorted({fb for _, _, fb in kept})
+    parts_a = _parts(s, a, frames_a, keep, local, 0)
+    parts_b = _parts(s, b, frames_b, keep, local, 0)
+    if a != 0 and b != 0 and len(parts_a) > 1 and len(parts_b) > 1:
+        parts_a = _parts(s, a, frames_a, keep, local, _PACK_SPHERES)
+        parts_b = _parts(s, b, frames_b, keep, local, _PACK_SPHERES)
+    return parts_a, parts_b
+
+
 def _parts(
-    s: SphereSet, body: int, frames: list[int], keep: set[int]
+    s: SphereSet, body: int, frames: list[int], keep: set[int], local: FloatArray, pack: int
 ) -> list[tuple[set[int], set[int]]]:
-    """The frames of one side as parts ``(frames, spheres)``: one part per frame (at most
-    :data:`_MAX_SIDE` spheres each) when the side is the static body or holds many spheres,
-    so that a distance block stays small whatever the number of spheres per link."""
+    """The frames of one side as parts ``(frames, spheres)`` when the side is the static body
+    or holds many spheres, so that each part is culled with its own bounding sphere and a
+    distance block stays small: one part per frame, or with ``pack``, frames near each other
+    (``local``: sphere centres in the body frame) packed into parts of at most ``pack``
+    spheres; a frame with more is cut into pieces of at most :data:`_MAX_SIDE`."""
     mine = {
         f: [i for i in range(*s.spheres_of(f).indices(s.n_spheres)) if i in keep] for f in frames
     }
     if body != 0 and sum(len(v) for v in mine.values()) <= _SPLIT_SPHERES:
         return [(set(frames), keep)]
-    return [
+    out = [
         ({f}, set(idx[i : i + _MAX_SIDE]))
         for f, idx in mine.items()
+        if len(idx) > pack
         for i in range(0, len(idx), _MAX_SIDE)
     ]
+    small = [f for f, idx in mine.items() if 0 < len(idx) <= pack]
+    centre = {f: local[mine[f]].mean(axis=0) for f in small}
+    while small:  # the first frame left and the frames nearest to it, while they fit
+        first = small.pop(0)
+        near = sorted(small, key=lambda f: float(np.linalg.norm(centre[f] - centre[first])))
+        part, size = {first}, len(mine[first])
+        for f in near:
+            if size + len(mine[f]) <= pack:
+                part.add(f)
+                size += len(mine[f])
+        small = [f for f in small if f not in part]
+        out.append((part, {i for f in part for i in mine[f]}))
+    return out
 
 
 def _assemble(
