@@ -164,11 +164,15 @@ class Sharpener:
         R = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
         t = np.zeros((n, 3))
         bd = self.bodies
-        for j in chain:
+        for at, j in enumerate(chain):
             C = bd.consts[j]
             theta = bd.mult[j] * q[:, bd.col[j]] + bd.off[j]
-            t = t + R @ C[:3, 3]
-            R = R @ C[:3, :3]
+            if at == 0:  # the identity times C: C itself, to the last bit
+                t = np.repeat(C[None, :3, 3], n, axis=0)
+                R = np.repeat(C[None, :3, :3], n, axis=0)
+            else:
+                t = t + R @ C[:3, 3]
+                R = R @ C[:3, :3]
             if bd.kind[j] == PRISM:
                 t = t + R[:, :, 2] * theta[:, None]
             else:
@@ -182,7 +186,9 @@ class Sharpener:
         """Pose of body ``b`` in the frame of body ``a`` at configurations ``q`` [n, varying]:
         rotations [n, 3, 3] and translations [n, 3], float64."""
         chain_a, chain_b = body_chains(self.bodies, a, b)
-        Ra, ta = self._pose(chain_a, q)
         Rb, tb = self._pose(chain_b, q)
+        if not chain_a:  # a is the common ancestor: b's pose is already in its frame
+            return Rb, tb
+        Ra, ta = self._pose(chain_a, q)
         RaT = Ra.transpose(0, 2, 1)
         return RaT @ Rb, np.einsum("nij,nj->ni", RaT, tb - ta)
