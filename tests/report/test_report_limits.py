@@ -141,13 +141,17 @@ def test_samples_past_the_ceiling_are_refused(runner: CliRunner) -> None:
     assert "not in the range 1<=x<=10000000000" in res.output and "Traceback" not in res.output
 
 
+def _three_link_report(tmp_path: Path, samples: int) -> list[str]:
+    path = tmp_path / "three.xrdf"
+    path.write_text(THREE_LINK_XRDF)
+    return ["report", str(path), "--urdf", str(THREE_LINK), "-n", str(samples), "-j", "1"]
+
+
 def test_report_progress_lines_with_verbose_off_a_terminal(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     """CI has no terminal: with -v one line per 10 % of the samples, quiet otherwise."""
-    path = tmp_path / "three.xrdf"
-    path.write_text(THREE_LINK_XRDF)
-    args = ["report", str(path), "--urdf", str(THREE_LINK), "-n", "50000", "-j", "1"]
+    args = _three_link_report(tmp_path, 50000)
     out = tmp_path / "r.txt"
     res = runner.invoke(app, [*args, "-v", "-o", str(out)])
     lines = [ln for ln in res.output.splitlines() if ln.startswith("sampling: ") and "%" in ln]
@@ -161,9 +165,7 @@ def test_certify_progress_lines_with_verbose_off_a_terminal(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     """--certify can take minutes on a big robot: with -v, lines follow the pairs decided."""
-    path = tmp_path / "three.xrdf"
-    path.write_text(THREE_LINK_XRDF)
-    args = ["report", str(path), "--urdf", str(THREE_LINK), "-n", "2000", "-j", "1"]
+    args = _three_link_report(tmp_path, 2000)
     res = runner.invoke(app, [*args, "--certify", "-v", "-o", str(tmp_path / "r.txt")])
     assert res.exit_code in (0, 1) and "Traceback" not in res.output, res.output  # 1: findings
     lines = [ln for ln in res.output.splitlines() if ln.startswith("certify: ")]
