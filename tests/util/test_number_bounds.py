@@ -77,7 +77,7 @@ def test_a_huge_sphere_centre_is_a_finding_not_a_crash(runner: CliRunner, tmp_pa
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [
-        ('lower="-2" upper="2"', 'lower="-1e308" upper="1e308"', "lower='-1e308': numbers must be"),
+        ('effort="10" velocity="2"', 'effort="10" velocity="2e308"', "velocity='2e308': numbers"),
         ('origin xyz="0 0 0.1"', 'origin xyz="0 0 1e308"', "xyz='0 0 1e308': lengths must be"),
         ('<box size="0.2 0.2 0.1"/>', '<box size="0.2 0.2 1e7"/>', "size='0.2 0.2 1e7': lengths"),
     ],
@@ -95,6 +95,29 @@ def test_urdf_numbers_past_the_bounds_are_input_errors(
     ):
         code, out = _cli(runner, *args)
         assert code == 2 and message in out and f"{urdf}:" in out, (args, out)
+
+
+def test_revolute_limits_of_1e308_turn_freely_and_overflow_nothing(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """±1e308 limits overflowed the sampler; beyond ±1e12 a revolute limit bounds nothing:
+    the joint is read as continuous (a located warning) and every command samples it."""
+    urdf = _replace(
+        ARM / "arm.urdf",
+        tmp_path / "arm.urdf",
+        'lower="-2" upper="2"',
+        'lower="-1e308" upper="1e308"',
+    )
+    x = ARM / "pass.xrdf"
+    for args in (
+        ["report", str(x), "--urdf", str(urdf), "-n", "10"],
+        ["report", str(x), "--urdf", str(urdf), "-n", "10", "--certify"],
+        ["convert", str(urdf), "--fit-spheres", "-n", "10", "--allow-missing-meshes"],
+    ):
+        code, out = _cli(runner, *args)
+        assert code in (0, 1) and "Traceback" not in out, (args, out)
+        assert f"{urdf}:" in out and "urdf-limit-unbounded" in out, (args, out)
+        assert "lower='-1e308' upper='1e308'" in out, (args, out)
 
 
 def test_a_robot_without_links_says_so(runner: CliRunner, tmp_path: Path) -> None:
