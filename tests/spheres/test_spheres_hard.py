@@ -255,3 +255,30 @@ def test_hull_faces_are_turned_outward_as_trimesh_fix_normals_turns_them() -> No
         theirs.fix_normals()
         np.testing.assert_array_equal(ours.faces, theirs.faces)
         assert ours.is_volume and ours.volume > 0
+
+
+def test_overlapping_shells_in_one_mesh_file_are_fitted_as_their_union() -> None:
+    """The demo arm's shoulder is two intersecting cylinders in one STL (as CAD exports
+    write links). Points inside both cross an even number of faces: fitted to the file as
+    one mesh, they counted as outside, and 16 spheres covered half the link. The shells are
+    unioned like the parts of a link."""
+    import trimesh as tm
+
+    from tests.paths import FIXTURES
+
+    urdf = FIXTURES / "demo_arm" / "demo_arm.urdf"
+    raw = tm.load(FIXTURES / "demo_arm" / "meshes" / "shoulder.stl")
+    shells = raw.split(only_watertight=False)
+    assert len(shells) == 2 and all(s.is_volume for s in shells)
+    geoms, _ = load_link_geometry(urdf, links=["shoulder_link"])
+    g = geoms["shoulder_link"]
+    assert g.kind == "union" and g.solid.is_volume
+    assert g.solid.volume < 0.95 * sum(s.volume for s in shells)  # the overlap counted once
+    assert g.solid.volume > max(s.volume for s in shells)
+    # an inside test of the union sees the overlap as inside
+    both = np.array([[0.0, 0.0, 0.0]])  # the shells' common centre
+    assert all(s.contains(both)[0] for s in shells) and g.solid.contains(both)[0]
+    fitted, _ = fit_link_spheres(urdf, links=["shoulder_link"])
+    spheres = fitted["shoulder_link"]
+    m = sphere_metrics(g.solid, spheres, samples=4000, seed=0)
+    assert m.coverage >= 0.85 and len(spheres) <= 12

@@ -152,6 +152,25 @@ def _closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
     return (box, "bounding_box") if box is not None else None
 
 
+def _overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
+    """The closed bodies of one mesh when some of them overlap (a CAD export of a link as
+    intersecting shells in one file), else the mesh itself. A point inside two shells crosses
+    an even number of faces, so an inside test of the whole file calls it outside: the bodies
+    are unioned instead, like the parts of a link."""
+    if not is_volume(part):
+        return [part]
+    bodies = part.split(only_watertight=False)
+    if len(bodies) < 2 or not all(is_volume(b) for b in bodies):
+        return [part]
+    lo = np.array([b.bounds[0] for b in bodies])
+    hi = np.array([b.bounds[1] for b in bodies])
+    touch = np.all(lo[:, None, :] < hi[None, :, :], axis=2) & np.all(
+        lo[None, :, :] < hi[:, None, :], axis=2
+    )
+    np.fill_diagonal(touch, False)
+    return list(bodies) if touch.any() else [part]
+
+
 def _solidify(
     link: str,
     parts: list[trimesh.Trimesh],
@@ -163,7 +182,7 @@ def _solidify(
 
     closed: list[trimesh.Trimesh] = []
     how: list[str] = []
-    for part in parts:
+    for part in (body for whole in parts for body in _overlapping_bodies(whole)):
         with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
             got = _closed_part(part)
         if got is not None:
