@@ -282,3 +282,26 @@ def test_overlapping_shells_in_one_mesh_file_are_fitted_as_their_union() -> None
     spheres = fitted["shoulder_link"]
     m = sphere_metrics(g.solid, spheres, samples=4000, seed=0)
     assert m.coverage >= 0.85 and len(spheres) <= 12
+
+
+def test_a_mesh_in_millimetres_without_its_scale_is_said(tmp_path: Path) -> None:
+    """A CAD export in millimetres read as metres makes a 20 cm link 200 m long: the fit runs
+    (spheres fitted as it is) and a located warning says what to set; with the scale, no
+    warning."""
+    trimesh.creation.box(extents=(60.0, 40.0, 200.0)).export(tmp_path / "link_mm.stl")
+    text = (
+        '<robot name="r">\n<link name="base"/>\n<link name="arm">\n'
+        '<collision><geometry><mesh filename="link_mm.stl"{scale}/></geometry></collision>\n'
+        '</link>\n<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        "</robot>\n"
+    )
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(text.format(scale=""))
+    _, diags = fit_link_spheres(urdf, links=["arm"], per_link=2)
+    (said,) = [d for d in diags if d.rule == "spheres-mesh-scale"]
+    assert said.path == str(urdf) and said.line == 3
+    assert "spans 200 m" in said.message and 'scale="0.001 0.001 0.001"' in said.message
+    urdf.write_text(text.format(scale=' scale="0.001 0.001 0.001"'))
+    _, diags = fit_link_spheres(urdf, links=["arm"], per_link=2)
+    assert not [d for d in diags if d.rule == "spheres-mesh-scale"]

@@ -88,6 +88,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("spheres-convex-hull", W, "A mesh that is not watertight: its convex hull is used."),
         ("spheres-link-not-covered", E, "A link with geometry got no spheres, or only some."),
         ("spheres-mesh-unreadable", W, "A mesh that cannot be read: the link gets no spheres."),
+        ("spheres-mesh-scale", W, "A link over 10 m across: a mesh in millimetres without scale?"),
         ("spheres-morphit-dropped", W, "Fewer MorphIt spheres than asked: pruned or out of room."),
         ("spheres-morphit-failed", W, "A solid MorphIt cannot fit: the link gets no spheres."),
         ("spheres-no-geometry", W, "A link without geometry: no spheres."),

@@ -51,6 +51,9 @@ RULE_UNSUPPORTED = "spheres-unsupported-geometry"
 RULE_NO_GEOMETRY = "spheres-no-geometry"
 RULE_THIN_SHELL = "spheres-thin-shell"
 RULE_BOUNDING_BOX = "spheres-bounding-box"
+RULE_MESH_SCALE = "spheres-mesh-scale"
+#: A link's solid wider than this (m) is most likely a mesh in millimetres without its scale.
+MAX_LINK_SPAN = 10.0
 
 
 @dataclass(frozen=True)
@@ -382,4 +385,15 @@ def _link_solid(
     diags.extend(said)
     if solid is None:
         return None
+    span = float(np.max(solid[0].extents))
+    if span > MAX_LINK_SPAN:
+        diags.append(
+            _warning(
+                path,
+                link.line,
+                RULE_MESH_SCALE,
+                f"link '{name}' {link.source} geometry spans {span:.4g} m: a mesh exported in "
+                'millimetres needs <mesh scale="0.001 0.001 0.001"> (spheres fitted as it is)',
+            )
+        )
     return LinkGeometry(name, solid[0], solid[1], link.source, len(parts), link.line)
