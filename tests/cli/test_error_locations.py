@@ -279,6 +279,10 @@ def test_xacro_evaluation_errors_point_at_what_they_quote(
         '  <xacro:property name="1 2" value="3"/>\n': (
             "2:19: xacro failed: Property names must be valid python identifiers: 1 2"
         ),
+        '  <link name="$(arg kind)"/>\n': (
+            "2:15: xacro failed: Undefined substitution argument kind "
+            "(pass --xacro-arg kind:=VALUE)"
+        ),
     }
     for body, where in cases.items():
         x.write_text(head + body + "</robot>\n")

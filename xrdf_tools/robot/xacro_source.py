@@ -138,13 +138,15 @@ def _xacro_error(e: BaseException, top: str, filestack: Any) -> SourceError:
     return SourceError(message, path=where, line=line, col=col)
 
 
+#: ``$(arg x)`` of an ``<xacro:arg>`` without a default, not given.
+_UNDEFINED_ARG = re.compile(r"Undefined substitution argument ([^\s;()]+)")
 #: What xacro's messages name, and the text that names it in the file:
 #: (pattern of the message, template of the source text).
 _CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
     (re.compile(r"when evaluating expression '([^']*)'"), ("${{{}}}", "${{{}")),
     (re.compile(r"unknown macro name: (xacro:\S+)"), ("<{}",)),
     (re.compile(r"Property names must be valid python identifiers:\s*(.*)$"), ('name="{}"',)),
-    (re.compile(r"Undefined substitution argument (\S+)"), ("$(arg {}",)),
+    (_UNDEFINED_ARG, ("$(arg {}",)),
     (re.compile(r"Unknown substitution command \[([^\]]*)\]"), ("$({})", "$({}")),
     (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
     (re.compile(r"invalid expression: (.+)$"), ("{}",)),
@@ -198,6 +200,8 @@ def _xacro_message(e: BaseException) -> str:
     twice = f"{inner_text} {inner_text}"
     while inner_text and twice in msg:  # xacro repeats its cause after its own text
         msg = msg.replace(twice, inner_text)
+    if (m := _UNDEFINED_ARG.search(msg)) is not None:
+        return f"xacro failed: {msg} (pass --xacro-arg {m.group(1)}:=VALUE)"
     return f"xacro failed: {msg}"
 
 
