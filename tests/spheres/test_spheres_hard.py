@@ -305,3 +305,32 @@ def test_a_mesh_in_millimetres_without_its_scale_is_said(tmp_path: Path) -> None
     urdf.write_text(text.format(scale=' scale="0.001 0.001 0.001"'))
     _, diags = fit_link_spheres(urdf, links=["arm"], per_link=2)
     assert not [d for d in diags if d.rule == "spheres-mesh-scale"]
+
+
+def test_overlapping_thin_shells_in_one_file_are_hulled_unioned_and_said_once(
+    tmp_path: Path,
+) -> None:
+    """Kinova Gen3's arm covers: one mesh file of several overlapping bodies, each a thin
+    shell. Each body is replaced by its hull, the hulls are unioned, and one note says so
+    (this crashed with an index error once bodies were split)."""
+    from shapely.geometry import Polygon
+
+    ell = Polygon([(0, 0), (0.2, 0), (0.2, 0.02), (0.02, 0.02), (0.02, 0.2), (0, 0.2)])
+    a = trimesh.creation.extrude_polygon(ell, 0.05)
+    b = a.copy()
+    b.apply_translation([0.01, 0.01, 0.02])
+    trimesh.util.concatenate([a, b]).export(tmp_path / "covers.stl")
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r">\n<link name="base"/>\n<link name="arm">\n'
+        '<collision><geometry><mesh filename="covers.stl"/></geometry></collision>\n'
+        '</link>\n<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        "</robot>\n"
+    )
+    geoms, diags = load_link_geometry(urdf, links=["arm"])
+    g = geoms["arm"]
+    assert g.kind == "union" and g.solid.is_volume
+    assert g.solid.volume > max(a.convex_hull.volume, b.convex_hull.volume)
+    (note,) = [d for d in diags if d.rule == "spheres-thin-shell"]
+    assert "2 thin shells" in note.message and note.line == 3

@@ -183,14 +183,15 @@ def _solidify(
 ) -> tuple[trimesh.Trimesh, SolidKind] | None:
     import trimesh
 
-    closed: list[trimesh.Trimesh] = []
-    how: list[str] = []
-    for part in (body for whole in parts for body in _overlapping_bodies(whole)):
+    bodies = [body for whole in parts for body in _overlapping_bodies(whole)]
+    made: list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]] = []  # (body, its solid, how)
+    for body in bodies:
         with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
-            got = _closed_part(part)
+            got = _closed_part(body)
         if got is not None:
-            closed.append(got[0])
-            how.append(got[1])
+            made.append((body, *got))
+    closed = [solid for _, solid, _ in made]
+    how = [kind for _, _, kind in made]
     if not closed:
         diags.append(
             _warning(
@@ -201,7 +202,7 @@ def _solidify(
             )
         )
         return None
-    _report_parts(link, parts, closed, how, path, line, diags)
+    _report_parts(link, len(bodies), made, path, line, diags)
     if len(closed) == 1:
         return closed[0], _KIND[how[0]]
     try:
@@ -236,15 +237,15 @@ _KIND: dict[str, SolidKind] = {
 
 def _report_parts(
     link: str,
-    parts: list[trimesh.Trimesh],
-    closed: list[trimesh.Trimesh],
-    how: list[str],
+    n: int,
+    made: list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]],
     path: str,
     line: int | None,
     diags: list[Diagnostic],
 ) -> None:
-    """One diagnostic per way a part was replaced."""
-    n = len(parts)
+    """One diagnostic per way a part (of ``n``) was replaced; ``made``: each part that got a
+    solid, the solid and how it was made."""
+    how = [kind for _, _, kind in made]
     for kind, rule, text in (
         ("convex_hull", RULE_CONVEX_HULL, "not watertight; spheres fitted to the convex hull"),
         (
@@ -260,20 +261,25 @@ def _report_parts(
                     path, line, rule, f"link '{link}': {len(hit)} of {n} mesh(es) {text} of those"
                 )
             )
-    for i, h in enumerate(how):
-        if h == "thin_shell":
-            share = float(parts[i].volume) / float(closed[i].volume)
-            diags.append(
-                Diagnostic(
-                    path,
-                    line,
-                    None,
-                    RULE_THIN_SHELL,
-                    Severity.INFO,
-                    f"link '{link}': a thin shell (its volume is {share:.0%} of its convex "
-                    "hull's); spheres fitted to the convex hull",
-                )
+    shares = [
+        float(part.volume) / float(solid.volume) for part, solid, h in made if h == "thin_shell"
+    ]
+    if len(shares) == 1:
+        what = f"a thin shell (its volume is {shares[0]:.0%} of its convex hull's)"
+    else:
+        what = f"{len(shares)} thin shells (each {min(shares):.0%}–{max(shares):.0%} of its hull's)"
+    if shares:
+        diags.append(
+            Diagnostic(
+                path,
+                line,
+                None,
+                RULE_THIN_SHELL,
+                Severity.INFO,
+                f"link '{link}': {what}; spheres fitted to the convex hull"
+                + ("s" if len(shares) > 1 else ""),
             )
+        )
 
 
 _WHAT = {"auto": "collision or visual", "collision": "collision", "visual": "visual"}
