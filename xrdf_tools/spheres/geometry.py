@@ -264,22 +264,17 @@ def _report_parts(
     shares = [
         float(part.volume) / float(solid.volume) for part, solid, h in made if h == "thin_shell"
     ]
+    if not shares:
+        return
     if len(shares) == 1:
-        what = f"a thin shell (its volume is {shares[0]:.0%} of its convex hull's)"
+        what = f"a thin shell (its volume is {shares[0]:.0%} of its convex hull's); spheres "
+        what += "fitted to the convex hull"
     else:
-        what = f"{len(shares)} thin shells (each {min(shares):.0%}–{max(shares):.0%} of its hull's)"
-    if shares:
-        diags.append(
-            Diagnostic(
-                path,
-                line,
-                None,
-                RULE_THIN_SHELL,
-                Severity.INFO,
-                f"link '{link}': {what}; spheres fitted to the convex hull"
-                + ("s" if len(shares) > 1 else ""),
-            )
-        )
+        what = f"{len(shares)} thin shells (each {min(shares):.0%}–{max(shares):.0%} of its "
+        what += "hull's); spheres fitted to the convex hulls"
+    diags.append(
+        Diagnostic(path, line, None, RULE_THIN_SHELL, Severity.INFO, f"link '{link}': {what}")
+    )
 
 
 _WHAT = {"auto": "collision or visual", "collision": "collision", "visual": "visual"}
