@@ -396,6 +396,11 @@ def test_a_revolute_limit_of_1e16_reads_as_continuous_and_infinity_stays_an_erro
     assert code == 0 and "urdf-limit-unbounded" in text, text
     code, text = _run(runner, "report", out, "--urdf", urdf, "-n", "200")
     assert code == 0 and "urdf-limit-unbounded" in text, text
+    fixed = ROBOT.format(arm=BOX).replace('type="revolute"', 'type="fixed"')
+    urdf.write_text(fixed.replace('lower="-1" upper="1"', 'lower="-1e+16" upper="1e16"'))
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 0 and "urdf-limit-unbounded fixed joint 'j'" in text, text
+    assert "ignored (a fixed joint has no position limits)" in text
     urdf.write_text(ROBOT.format(arm=BOX).replace('lower="-1"', 'lower="-inf"'))
     code, text = _run(runner, "inspect", urdf)
     assert code == 2 and f"{urdf}:6:" in text and "must be finite" in text, text

@@ -173,13 +173,13 @@ def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:
 def _unless_unbounded(
     el: Any, name: str, jtype: str, path: str, warnings: list[Diagnostic] | None
 ) -> str:
-    """The joint's type as read: with ``warnings``, a revolute joint whose ``<limit>`` lower
-    or upper is finite but beyond ±MAX_NUMBER (``±1e16``: how exporters write "no limit") is
-    made continuous, with a warning there: such a limit bounds nothing, and sampling or
-    planning between ±1e16 rad is meaningless (a double there cannot tell angles 2 rad
-    apart)."""
+    """The joint's type as read: with ``warnings``, a ``<limit>`` lower or upper that is
+    finite but beyond ±MAX_NUMBER (``±1e16``: how exporters write "no limit") is dropped with
+    a warning there. A revolute joint is then continuous: such a limit bounds nothing, and
+    sampling or planning between ±1e16 rad is meaningless (a double there cannot tell angles
+    2 rad apart). A fixed or continuous joint has no position limits to begin with."""
     limit = el.find("limit")
-    if warnings is None or jtype != "revolute" or limit is None:
+    if warnings is None or jtype in ("prismatic", "floating", "planar") or limit is None:
         return jtype
     huge = []
     for attr in ("lower", "upper"):
@@ -192,16 +192,17 @@ def _unless_unbounded(
             huge.append(f"{attr}='{raw.strip()}'" if raw is not None else attr)
     if not huge:
         return jtype
-    el.set("type", "continuous")
     for attr in ("lower", "upper"):
         limit.attrib.pop(attr, None)
-    message = (
-        f"revolute joint '{name}' <limit> {' '.join(huge)}: beyond ±{MAX_NUMBER:g}, so no "
-        "limit at all; the joint is read as continuous (it turns freely)"
-    )
+    if jtype == "revolute":
+        el.set("type", "continuous")
+        what = "so no limit at all; the joint is read as continuous (it turns freely)"
+    else:
+        what = f"ignored (a {jtype} joint has no position limits)"
+    message = f"{jtype} joint '{name}' <limit> {' '.join(huge)}: beyond ±{MAX_NUMBER:g}, {what}"
     line = getattr(limit, "sourceline", None)
     warnings.append(Diagnostic(path, line, None, RULE_UNBOUNDED_LIMIT, Severity.WARNING, message))
-    return "continuous"
+    return "continuous" if jtype == "revolute" else jtype
 
 
 def _check_limit(el: Any, name: str, jtype: str, fail: Fail) -> None:
