@@ -313,10 +313,12 @@ def test_overlapping_thin_shells_in_one_file_are_hulled_unioned_and_said_once(
     """Kinova Gen3's arm covers: one mesh file of several overlapping bodies, each a thin
     shell. Each body is replaced by its hull, the hulls are unioned, and one note says so
     (this crashed with an index error once bodies were split)."""
-    from shapely.geometry import Polygon
-
-    ell = Polygon([(0, 0), (0.2, 0), (0.2, 0.02), (0.02, 0.02), (0.02, 0.2), (0, 0.2)])
-    a = trimesh.creation.extrude_polygon(ell, 0.05)
+    arm_x = trimesh.creation.box(extents=(0.2, 0.015, 0.05))
+    arm_x.apply_translation([0.1, 0.0075, 0.025])
+    arm_y = trimesh.creation.box(extents=(0.015, 0.2, 0.05))
+    arm_y.apply_translation([0.0075, 0.1, 0.025])
+    a = trimesh.boolean.union([arm_x, arm_y], engine="manifold")  # an L: a thin shell
+    assert a.is_volume and a.volume < 0.4 * a.convex_hull.volume
     b = a.copy()
     b.apply_translation([0.01, 0.01, 0.02])
     trimesh.util.concatenate([a, b]).export(tmp_path / "covers.stl")

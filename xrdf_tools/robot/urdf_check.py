@@ -184,12 +184,14 @@ def _unless_unbounded(
     huge = []
     for attr in ("lower", "upper"):
         raw = limit.get(attr)
+        if raw is None:
+            continue
         try:
-            v = float(raw) if raw is not None else 0.0
+            v = float(raw)
         except ValueError:
             return jtype  # not a number: _check_limit says so
         if math.isfinite(v) and bound_reason(v) is not None:
-            huge.append(f"{attr}='{raw.strip()}'" if raw is not None else attr)
+            huge.append(f"{attr}='{raw.strip()}'")
     if not huge:
         return jtype
     for attr in ("lower", "upper"):

@@ -56,7 +56,7 @@ class Certificate:
 
     ``witness``: c-space values (the engine's ``cspace`` order) of a colliding configuration;
     ``boxes``: boxes evaluated; ``seconds``: time spent; ``joints``: the c-space joints on the
-    path (indices into the varying columns); ``timed_out``: undecided because the wall-clock
+    path (indices into the c-space); ``timed_out``: undecided because the wall-clock
     limit, not the box budget, ran out.
     """
 

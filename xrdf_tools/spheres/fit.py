@@ -69,6 +69,9 @@ PROBE_STRIDE = 4
 
 #: A clip plane: unit normal ``n`` and offset ``d``; spheres keep ``n . c - r >= d``.
 Plane = tuple[tuple[float, float, float], float]
+#: A link's fitting plan: the cache key of its fit, its protrusion bound, its clip planes and
+#: its seed.
+LinkPlan = tuple[tuple[object, ...], float | None, tuple[Plane, ...], list[int]]
 
 
 def default_max_protrusion(solid: trimesh.Trimesh) -> float:

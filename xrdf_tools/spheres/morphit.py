@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     import trimesh
 
     from ..util.arrays import FloatArray
-    from .fit import Plane, SphereFitter
+    from .fit import LinkPlan, Plane, SphereFitter
     from .geometry import LinkGeometry
 
 #: The fitting methods: ``ours`` (:mod:`.fit`, the default) and ``morphit`` (this module).
@@ -156,7 +156,7 @@ def fit_link(
     fitter: SphereFitter,
     k: int,
     geom: LinkGeometry,
-    plan: tuple[object, float | None, tuple[Plane, ...], list[int]],
+    plan: LinkPlan,
     path: str,
     diags: list[Diagnostic],
 ) -> tuple[Sphere, ...]:

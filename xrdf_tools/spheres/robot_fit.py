@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     import trimesh
 
     from ..robot.link_geometry import GeometryChoice
-    from .fit import Plane, SphereFitter
+    from .fit import LinkPlan, Plane, SphereFitter
     from .geometry import LinkGeometry
 
 MAX_PER_LINK = 64
@@ -315,9 +315,9 @@ def _plan(
     max_protrusion: float | Mapping[str, float] | None,
     clips: Mapping[str, Sequence[Plane]],
     seed: int,
-) -> dict[str, tuple[tuple[object, ...], float | None, tuple[Plane, ...], list[int]]]:
+) -> dict[str, LinkPlan]:
     """Per link: the cache key of its fit, its protrusion budget, clip planes and seed."""
-    out: dict[str, tuple[tuple[object, ...], float | None, tuple[Plane, ...], list[int]]] = {}
+    out: dict[str, LinkPlan] = {}
     for name, g in geoms.items():
         tau = max_protrusion.get(name) if isinstance(max_protrusion, Mapping) else max_protrusion
         planes = tuple(clips.get(name, ()))
@@ -353,7 +353,7 @@ def _morphit_one(
     k: int | None,
     counts: CountPolicy,
     geom: LinkGeometry,
-    plan: tuple[object, float | None, tuple[Plane, ...], list[int]],
+    plan: LinkPlan,
     path: str,
     diags: list[Diagnostic],
 ) -> tuple[Sphere, ...]:
@@ -431,7 +431,7 @@ def _fit_one(
 
 
 def _report_shared(
-    plans: Mapping[str, tuple[tuple[object, ...], object, object, object]],
+    plans: Mapping[str, LinkPlan],
     first_of: Mapping[tuple[object, ...], str],
     path: str,
     geoms: Mapping[str, LinkGeometry],

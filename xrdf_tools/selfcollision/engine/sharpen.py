@@ -161,16 +161,14 @@ class Sharpener:
         """Poses [n, 3, 3], [n, 3] of the last body of ``chain`` in the frame of the first's
         parent: ``C_1 Z(θ_1) C_2 Z(θ_2) …``."""
         n = q.shape[0]
-        R = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
-        t = np.zeros((n, 3))
         bd = self.bodies
+        first = bd.consts[chain[0]] if chain else np.eye(4)  # the identity times it: itself
+        R = np.repeat(first[None, :3, :3], n, axis=0)
+        t = np.repeat(first[None, :3, 3], n, axis=0)
         for at, j in enumerate(chain):
             C = bd.consts[j]
             theta = bd.mult[j] * q[:, bd.col[j]] + bd.off[j]
-            if at == 0:  # the identity times C: C itself, to the last bit
-                t = np.repeat(C[None, :3, 3], n, axis=0)
-                R = np.repeat(C[None, :3, :3], n, axis=0)
-            else:
+            if at:
                 t = t + R @ C[:3, 3]
                 R = R @ C[:3, :3]
             if bd.kind[j] == PRISM:
