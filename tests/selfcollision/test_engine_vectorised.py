@@ -3,7 +3,7 @@
 * per-sphere-pair minima of ``d² − R²`` and per-sphere-pair clearances (the minimum-clearance
   candidates) against a float64 loop over configurations and sphere pairs;
 * culled body pairs tested as a group (one side against a sphere around the others) against
-  the same pairs tested one by one: the same configurations within reach, the same bounds;
+  the same pairs tested one by one: the same configurations within reach, bounds no higher;
 * the exact minima found in earlier chunks (``known``) narrow the work, not the totals;
 * the two-joint cell grids' fine cells when no sphere pair is left to look at.
 """
@@ -119,17 +119,22 @@ def test_grouped_culling_equals_pair_by_pair(
     monkeypatch.setattr(culling_mod, "_GROUP_MIN", 2)
     eng, spheres, q0 = engine_for(kin, xrdf, True, arm, margin=0.01)
     plan = eng.cull_plan
-    assert len(plan.groups) >= 5 and sum(len(rows) for _, rows, _ in plan.groups) >= 30
+    assert plan.table is not None
+    assert len(plan.sides) >= 5 and len(plan.table.row) >= 30
     monkeypatch.setattr(culling_mod, "_GROUP_MIN", 10**9)
     single = eng.culler.plan(list(plan.pairs))
-    assert not single.groups
+    assert single.table is None
     qv = fixed_configs(kin, 3000, seed=12)[:, arm]
     T = body_poses(eng.bodies, qv)
     near_g, low_g = eng.culler.culled_near(plan, T[:, :, :3], T[:, :, 3])
     near_s, low_s = eng.culler.culled_near(single, T[:, :, :3], T[:, :, 3])
     assert 0 < near_s.sum() < near_s.size
     np.testing.assert_array_equal(near_g, near_s)
-    np.testing.assert_array_equal(low_g, low_s)
+    # a group's bound is a lower bound of the one of testing every pair everywhere (up to the
+    # float32 rounding of the placed centres), and still says "farther than the margin"
+    assert np.all(low_g <= low_s + 1e-6)
+    assert np.all(low_g > 0.01)
+    assert np.mean(np.isclose(low_g, low_s, rtol=0, atol=1e-6)) > 0.5  # most: their own gaps
     # and the counts of the engine with groups equal the reference counter's
     q = np.repeat(q0[None, :], len(qv), axis=0)
     q[:, arm] = qv

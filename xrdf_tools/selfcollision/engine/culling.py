@@ -25,6 +25,7 @@ from ...robot.kinematics import KinematicModel
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import bounding_sphere
 from .bodies import F32, ROT, Bodies, body_fk
+from .cullgroups import GroupTable, grouped_near
 from .grid import PairGrid, build_pair_grid
 from .pairs import BodyPair
 
@@ -43,12 +44,8 @@ _GRID_MAX_PAIRS = 1 << 13
 _GAP_ELEMENTS = 1 << 16
 _GAP_MIN_BLOCK = 256
 _GRID_MIN_FAR = 0.25  # a grid whose cells are mostly near saves too little
-#: Culled body pairs sharing one side are tested as a group from this many on (smaller groups
-#: cost more calls than they save: Talos' arm, groups of 3 to 15, was slower).
-_GROUP_MIN = 16
-#: A group's members are also tested where the group comes closest without being within
-#: reach (this many configurations): their own gaps there bound the rest.
-_GROUP_FIRST = 64
+#: Culled body pairs sharing one side are tested as a group from this many on.
+_GROUP_MIN = 2
 
 
 class Sided(Protocol):
@@ -80,13 +77,13 @@ def _other_side(bp: BodyPair, body: int) -> FloatArray:
 @dataclass(frozen=True, eq=False)
 class CullPlan:
     """How a chunk's culled body pairs (``pairs``, in engine order) are tested: the rows
-    ``single`` one by one; each of ``groups`` (body pairs sharing one side: that side and a
-    sphere around their other sides, their rows, and how far inside that sphere each of
-    their other sides stays) first as one."""
+    ``single`` one by one; the groups (body pairs sharing one side: ``sides`` holds that
+    side and a sphere around their other sides, ``table`` their members) first as one."""
 
     pairs: tuple[BodyPair, ...]
     single: IntArray
-    groups: tuple[tuple[_Sides, IntArray, FloatArray], ...]
+    sides: tuple[_Sides, ...] = ()
+    table: GroupTable | None = None
 
 
 def _path_joints(bodies: Bodies, a: int, b: int) -> tuple[int, list[int]] | None:
@@ -235,25 +232,48 @@ class Culler:
             key = tuple((bp.bound_a if bp.a == lo else bp.bound_b).tolist())
             by_side.setdefault((lo, max(bp.a, bp.b), key), []).append(row)
         single: list[int] = []
-        groups = []
+        groups: list[tuple[_Sides, list[int]]] = []
         for (lo, hi, shared), rows in by_side.items():
             if len(rows) < _GROUP_MIN:
                 single.extend(rows)
                 continue
             other = np.array([_other_side(culled[r], lo) for r in rows])
             c, rad = bounding_sphere(other[:, :3], other[:, 3])
-            sides = _Sides(lo, hi, np.array(shared), np.array([*c, rad]))
-            # how far inside the group's sphere each member's side stays
-            inside = rad - (np.linalg.norm(other[:, :3] - c, axis=1) + other[:, 3])
-            groups.append((sides, np.array(rows, dtype=np.intp), np.maximum(inside, 0.0)))
-        return CullPlan(tuple(culled), np.array(sorted(single), dtype=np.intp), tuple(groups))
+            groups.append((_Sides(lo, hi, np.array(shared), np.array([*c, rad])), rows))
+        single_rows = np.array(sorted(single), dtype=np.intp)
+        if not groups:
+            return CullPlan(tuple(culled), single_rows)
+        sides = tuple(g for g, _ in groups)
+        return CullPlan(tuple(culled), single_rows, sides, self._table(culled, groups))
+
+    def _table(self, culled: list[BodyPair], groups: list[tuple[_Sides, list[int]]]) -> GroupTable:
+        """The groups' members, flattened for :func:`~.cullgroups.grouped_near`."""
+        rows = [r for _, members in groups for r in members]
+        group = np.repeat(np.arange(len(groups)), [len(m) for _, m in groups])
+        sides = [g for g, _ in groups]
+        at = zip(rows, group.tolist(), strict=True)
+        other = np.array([_other_side(culled[r], sides[g].a) for r, g in at])
+        outer = np.array([s.bound_b for s in sides])[group]
+        # how far inside the group's sphere each member's side stays
+        gap = np.linalg.norm(other[:, :3] - outer[:, :3], axis=1) + other[:, 3]
+        return GroupTable(
+            lo=np.array([s.a for s in sides], dtype=np.intp),
+            hi=np.array([s.b for s in sides], dtype=np.intp),
+            shared=np.array([s.bound_a[:3] for s in sides], dtype=np.float32),
+            group_reach=np.array([self.reach(s) for s in sides]),
+            starts=np.r_[0, np.cumsum([len(m) for _, m in groups])].astype(np.intp),
+            row=np.array(rows, dtype=np.intp),
+            group=group,
+            centre=other[:, :3].astype(np.float32),
+            reach=np.array([self.reach(culled[r]) for r in rows]),
+            inside=np.maximum(outer[:, 3] - gap, 0.0),
+        )
 
     def culled_near(self, plan: CullPlan, R: F32, t: F32) -> tuple[BoolArray, FloatArray]:
         """For the culled body pairs of ``plan`` and body poses ``R``, ``t`` (:func:`body_fk`
         views of a chunk): the configurations within reach [P, B], and per pair a lower bound
-        of the clearance of the others [P]. A group's pairs are tested one by one where the
-        group is within reach, and where the group's gap could still be a member's smallest
-        gap; elsewhere the group's gap bounds them all. The bounds are those of testing every
+        of the clearance of the others [P]. The pairs of a group are tested where the group
+        needs them (:func:`~.cullgroups.grouped_near`); the result is that of testing every
         pair everywhere."""
         P, B = len(plan.pairs), R.shape[-1]
         near = np.zeros((P, B), dtype=np.bool_)
@@ -261,40 +281,12 @@ class Culler:
         if len(plan.single):
             single = [plan.pairs[r] for r in plan.single.tolist()]
             near[plan.single], low[plan.single] = self._near_blocks(single, R, t)
-        if not plan.groups:
-            return near, low
-        sides = [g for g, _, _ in plan.groups]
-        g2_groups = self.gaps2(R, t, sides)
-        near_groups, _ = self._near(sides, g2_groups)
-        for (group, rows, inside), within, g2 in zip(
-            plan.groups, near_groups, g2_groups, strict=True
-        ):
-            # a lower bound of every member's clearance: the group's gap, plus how far inside
-            # the group's sphere the member's side stays
-            gap = np.sqrt(g2.astype(np.float64)) - self.reach(group) + self.margin
-            members = [plan.pairs[r] for r in rows.tolist()]
-            todo = within.copy()  # where the members are tested: within reach, and ...
-            far = np.flatnonzero(~within)
-            if len(far) > _GROUP_FIRST:  # ... where the group comes closest (members' bounds)
-                far = far[np.argpartition(gap[far], _GROUP_FIRST)[:_GROUP_FIRST]]
-            todo[far] = True
-            near_m, low_m = self._near_at(members, R, t, todo)
-            near[np.ix_(rows, np.flatnonzero(todo))] = near_m
-            # every other configuration whose gap could still lower a member's bound
-            more = ~todo & (gap < float(np.max(low_m - inside)))
-            if more.any():
-                near_more, low_more = self._near_at(members, R, t, more)
-                near[np.ix_(rows, np.flatnonzero(more))] = near_more
-                np.minimum(low_m, low_more, out=low_m)
-            rest = np.min(gap, where=~(todo | more), initial=np.inf)
-            low[rows] = np.minimum(low_m, rest + inside)  # (rest + inside ≥ low_m)
+        if plan.table is not None:
+            g2 = self.gaps2(R, t, plan.sides)
+            rows, cols, low_m = grouped_near(plan.table, g2, R, t, self.margin)
+            near[rows, cols] = True
+            low[plan.table.row] = low_m
         return near, low
-
-    def _near_at(
-        self, pairs: Sequence[Sided], R: F32, t: F32, at: BoolArray
-    ) -> tuple[BoolArray, FloatArray]:
-        """:meth:`_near` of ``pairs`` at the configurations ``at`` [B] only."""
-        return self._near(pairs, self.gaps2(R, t, pairs, np.flatnonzero(at)))
 
     def _near_blocks(self, pairs: Sequence[Sided], R: F32, t: F32) -> tuple[BoolArray, FloatArray]:
         """:meth:`_near` of ``pairs`` at every configuration, a column block at a time (the
