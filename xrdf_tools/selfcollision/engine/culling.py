@@ -173,8 +173,9 @@ class Culler:
             yield sl, g
 
     def choose(self, pairs: list[BodyPair]) -> list[BodyPair]:
-        """Give body pairs a cell grid (one or two joints between them) or, when a fixed pilot
-        sample finds them mostly out of reach, a bounding-sphere cull."""
+        """Give body pairs a cell grid (one or two joints between them, and within reach in
+        some configuration of a fixed pilot sample) or, when the pilot finds them mostly out of
+        reach, a bounding-sphere cull."""
         if not pairs or len(self.varying) == 0:
             return pairs
         lo = self.kin.lower[self.varying]
@@ -183,12 +184,14 @@ class Culler:
         R, t = body_fk(self.bodies, q)
         out = []
         for bp in pairs:
-            grid = self._grid_for(bp)
+            g2 = self.gaps2(R, t, [bp])[0]
+            near = float(np.mean(g2 <= self.reach(bp) ** 2))
+            # bodies the pilot never finds within reach: culling skips nearly every
+            # configuration at one test each, less than a grid costs to build
+            grid = self._grid_for(bp) if near > 0.0 else None
             if grid is not None and grid.far_fraction >= _GRID_MIN_FAR:
                 out.append(replace(bp, grid=grid))
                 continue
-            g2 = self.gaps2(R, t, [bp])[0]
-            near = float(np.mean(g2 <= self.reach(bp) ** 2))
             out.append(replace(bp, cull=near < _CULL_FRACTION))
         return out
 
