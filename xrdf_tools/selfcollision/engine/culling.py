@@ -182,10 +182,11 @@ class Culler:
         hi = self.kin.upper[self.varying]
         q = np.random.default_rng(12345).uniform(lo, hi, size=(_PILOT, len(self.varying)))
         R, t = body_fk(self.bodies, q)
+        reach = np.array([self.reach(bp) for bp in pairs])
+        g2 = self.gaps2(R, t, pairs)  # [P, pilot]: every pair at once
+        within = np.mean(g2 <= (reach**2).astype(np.float32)[:, None], axis=1)
         out = []
-        for bp in pairs:
-            g2 = self.gaps2(R, t, [bp])[0]
-            near = float(np.mean(g2 <= self.reach(bp) ** 2))
+        for bp, near in zip(pairs, within.tolist(), strict=True):
             # bodies the pilot never finds within reach: culling skips nearly every
             # configuration at one test each, less than a grid costs to build
             grid = self._grid_for(bp) if near > 0.0 else None

@@ -130,12 +130,34 @@ def _split_pair(
         for at_a in part_of_a[fa]:
             for at_b in part_of_b[fb]:
                 by_parts.setdefault((at_a, at_b), []).append((k, fa, fb))
+    return _assemble_parts(s, local, err, reach, (a, b), (parts_a, parts_b), by_parts)
+
+
+def _assemble_parts(
+    s: SphereSet,
+    local: FloatArray,
+    err: float,
+    reach: Reach,
+    key: tuple[int, int],
+    parts: tuple[list[tuple[set[int], set[int]]], list[tuple[set[int], set[int]]]],
+    by_parts: dict[tuple[int, int], list[tuple[int, int, int]]],
+) -> list[BodyPair]:
+    """One body pair per (part of ``a``, part of ``b``) with frame pairs between them; each
+    part's side is made once, however many body pairs it is in."""
+    made: dict[tuple[int, int], _Side] = {}
+
+    def side(which: int, at: int) -> _Side:
+        if (which, at) not in made:
+            frames, keep = parts[which][at]
+            made[which, at] = _side(s, local, frames, keep)
+        return made[which, at]
+
     out = []
-    for at_a, (ga, keep_a) in enumerate(parts_a):
-        for at_b, (gb, keep_b) in enumerate(parts_b):
+    for at_a in range(len(parts[0])):
+        for at_b in range(len(parts[1])):
             mine = by_parts.get((at_a, at_b))
             if mine:
-                out.append(_assemble(s, local, err, reach, (a, b), (ga, gb), mine, keep_a | keep_b))
+                out.append(_assemble(err, reach, key, (side(0, at_a), side(1, at_b)), mine))
     return out
 
 
@@ -215,26 +237,40 @@ def _parts(
     return out
 
 
+@dataclass(frozen=True, eq=False)
+class _Side:
+    """One side of a body pair: its spheres (``idx``, each frame's slice of them in
+    ``where``), their centres in the body frame and radii, and its bounding sphere."""
+
+    idx: IntArray
+    where: dict[int, slice]
+    centres: FloatArray
+    radii: FloatArray
+    bound: FloatArray
+
+
+def _side(s: SphereSet, local: FloatArray, frames: set[int], keep: set[int]) -> _Side:
+    """The spheres of ``frames`` that are in ``keep``, as one side of body pairs."""
+    idx, where = _side_rows(s, sorted(frames), keep)
+    centres, radii = local[idx], s.self_radii[idx]
+    return _Side(idx, where, centres, radii, _bound(centres, radii))
+
+
 def _assemble(
-    s: SphereSet,
-    local: FloatArray,
     err: float,
     reach: Reach,
     key: tuple[int, int],
-    groups: tuple[set[int], set[int]],
+    sides: tuple[_Side, _Side],
     kept: list[tuple[int, int, int]],
-    keep: set[int],
 ) -> BodyPair:
     a, b = key
-    ia, wa = _side_rows(s, sorted(groups[0]), keep)
-    ib, wb = _side_rows(s, sorted(groups[1]), keep)
-    blocks = [(k, wa[fa], wb[fb]) for k, fa, fb in kept]
-    if len(ib) > len(ia):  # the side with more spheres stays put (fewer to transform)
-        ia, ib, wa, wb, a, b = ib, ia, wb, wa, b, a
+    sa, sb = sides
+    blocks = [(k, sa.where[fa], sb.where[fb]) for k, fa, fb in kept]
+    if len(sb.idx) > len(sa.idx):  # the side with more spheres stays put (fewer to transform)
+        sa, sb, a, b = sb, sa, b, a
         blocks = [(k, cols, rows) for k, rows, cols in blocks]
-    r = s.self_radii
-    p, ra = local[ia], r[ia]
-    q, rb = local[ib], r[ib]
+    p, ra = sa.centres, sa.radii
+    q, rb = sb.centres, sb.radii
     p_aug = np.hstack(
         [
             -2.0 * p,
@@ -255,13 +291,13 @@ def _assemble(
             path = None
     else:
         path = None
-    row_starts = np.array(sorted(sl.start for sl in wa.values()), dtype=np.intp)
-    col_starts = np.array(sorted(sl.start for sl in wb.values()), dtype=np.intp)
+    row_starts = np.array(sorted(sl.start for sl in sa.where.values()), dtype=np.intp)
+    col_starts = np.array(sorted(sl.start for sl in sb.where.values()), dtype=np.intp)
     return BodyPair(
         a=a,
         b=b,
-        ia=ia,
-        ib=ib,
+        ia=sa.idx,
+        ib=sb.idx,
         p_aug=p_aug.astype(np.float32),
         q_aug=np.hstack([q, np.ones((len(q), 1))]).astype(np.float32),
         ra64=ra,
@@ -275,8 +311,8 @@ def _assemble(
         seg_b=np.searchsorted(col_starts, [cl.start for _, _, cl in blocks]).astype(np.intp),
         p32=p.astype(np.float32),
         delta=energy_error(p, float(ra.max() + rb.max()), err),
-        bound_a=_bound(p, ra),
-        bound_b=_bound(q, rb),
+        bound_a=sa.bound,
+        bound_b=sb.bound,
         path=path,
         tau=tau,
     )
