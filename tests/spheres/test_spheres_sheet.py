@@ -74,7 +74,9 @@ def test_a_plate_gets_a_few_spheres_holding_its_whole_area(plate_fit: FitResult)
     assert _inside_some(_mid_plane_grid(PLATE), plate_fit, "plate").all()
     corners = trimesh.creation.box(extents=PLATE)
     corners.apply_transform(TURN)
-    assert _inside_some(np.asarray(corners.vertices) + [0.1, 0.0, 0.2], plate_fit, "plate").all()
+    assert _inside_some(
+        np.asarray(corners.vertices) + np.array([0.1, 0.0, 0.2]), plate_fit, "plate"
+    ).all()
     # the spheres are no bigger than it takes: each holds its share of the length and width
     cell = PLATE[0] / len(spheres)
     for s in spheres:
