@@ -180,10 +180,12 @@ def metrics_table(per: dict[str, SphereMetrics], overall: SphereMetrics) -> str:
 
     rows += [row(n, m) for n, m in per.items()]
     rows += ["-" * len(head), row("overall", overall)]
-    notes = "lengths in mm; " + ", ".join(
-        f"{n}: {m.solid}" for n, m in per.items() if m.solid not in ("mesh", "union")
-    )
-    return "\n".join(rows) + "\n" + notes.rstrip("; ") + "\n"
+    solids = [f"{n}: {m.solid}" for n, m in per.items() if m.solid not in ("mesh", "union")]
+    sheets = [f"{n} {m.sheet_thickness * 1000:.2g} mm" for n, m in per.items() if m.sheet_thickness]
+    notes = ["lengths in mm", ", ".join(solids)]
+    if sheets:
+        notes.append(f"sheets (protr.share and vol.ratio only say how thin): {', '.join(sheets)}")
+    return "\n".join(rows) + "\n" + "; ".join(n for n in notes if n) + "\n"
 
 
 def metrics_json(per: dict[str, SphereMetrics], overall: SphereMetrics) -> str:

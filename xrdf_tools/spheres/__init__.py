@@ -170,8 +170,11 @@ def measure_links(
     seed: int,
 ) -> tuple[dict[str, SphereMetrics], SphereMetrics]:
     """Per-link metrics for ``geoms`` and the pooled overall metrics; ``solid`` says what each
-    link was measured against (``LinkGeometry.kind``)."""
+    link was measured against (``LinkGeometry.kind``), ``sheet_thickness`` whether it is a
+    sheet (:mod:`.sheet`, under the default protrusion bound)."""
+    from .fit import default_max_protrusion
     from .metrics import measure, pooled
+    from .sheet import as_sheet
 
     per: dict[str, SphereMetrics] = {}
     pools = []
@@ -179,7 +182,9 @@ def measure_links(
         m, pool = measure(
             g.solid, spheres.get(name, ()), samples=samples, seed=link_seed(seed, name)
         )
-        per[name] = replace(m, solid=g.kind) if m.solid == "mesh" else m
+        m = replace(m, solid=g.kind) if m.solid == "mesh" else m
+        sheet = as_sheet(g.solid, default_max_protrusion(g.solid))
+        per[name] = m if sheet is None else replace(m, sheet_thickness=sheet.thickness)
         pools.append(pool)
     return per, pooled(list(per.values()), pools)
 

@@ -66,12 +66,19 @@ class SphereMetrics:
     max_uncovered_gap: float = 0.0
     volume_ratio: float = 0.0
     fit_seconds: float | None = None
+    #: The thickness of a solid that is a sheet (:mod:`.sheet`), else None. For a sheet the
+    #: protrusion share and volume ratio measure how thin it is, not how well it is fitted
+    #: (any sphere over it is nearly all outside it): judge it by coverage, surface coverage
+    #: and gaps, and by its protrusion, which is the price of covering it.
+    sheet_thickness: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """Every field; ``fit_seconds`` only when set (a wall time, asked for)."""
+        """Every field; ``fit_seconds`` only when set (a wall time, asked for),
+        ``sheet_thickness`` only for a sheet."""
         out = asdict(self)
-        if self.fit_seconds is None:
-            del out["fit_seconds"]
+        for optional in ("fit_seconds", "sheet_thickness"):
+            if out[optional] is None:
+                del out[optional]
         return out
 
 

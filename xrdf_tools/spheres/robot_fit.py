@@ -12,6 +12,8 @@ planned; :func:`xrdf_tools.spheres.fit_link_spheres` is its two-value form.
   refined (:mod:`.refine`: coverage against the 95th percentile of the union's protrusion)
   unless ``CountPolicy(refine=False)``; a bound given is kept as a hard bound.
 * A tiny placeholder (bounding-box diagonal under ``PLACEHOLDER_SIZE``) gets one sphere.
+* Without a count, a sheet with no protrusion bound or clip plane of its own (:mod:`.sheet`:
+  far thinner than wide, and thinner than the bound) gets a few spheres covering all of it.
 * Links whose solids are identical (same vertices and faces in the link frame, same options)
   are fitted once: the generator of a fit is seeded from ``seed`` and the solid's content, so
   the spheres do not depend on the link's name or on which other links are fitted.
@@ -40,6 +42,7 @@ if TYPE_CHECKING:
     from ..robot.link_geometry import GeometryChoice
     from .fit import LinkPlan, Plane, SphereFitter
     from .geometry import LinkGeometry
+    from .sheet import SheetPlan
 
 MAX_PER_LINK = 64
 AUTO_COVERAGE_TARGET = 0.9
@@ -50,6 +53,7 @@ PLACEHOLDER_SIZE = 0.02
 RULE_SHARED_MESH = "spheres-shared-mesh"
 RULE_TARGET_MISSED = "spheres-target-missed"
 RULE_PLACEHOLDER = "spheres-placeholder"
+RULE_SHEET = "spheres-sheet"
 
 #: ``progress(link, i, n)``: called before link ``i`` of ``n`` is fitted.
 Progress = Callable[[str, int, int], None]
@@ -232,6 +236,7 @@ def fit_robot(
         )
     plans = _plan(geoms, max_protrusion, clips or {}, seed)
     fitters: dict[str, SphereFitter] = {}
+    sheets: dict[str, SheetPlan] = {}
     seconds: dict[str, float] = {}
     first_of: dict[tuple[object, ...], str] = {}
     for i, (name, (key, tau, planes, fit_seed)) in enumerate(plans.items()):
@@ -242,6 +247,11 @@ def fit_robot(
             continue
         first_of[key] = name
         t0 = time.perf_counter()
+        sheet = _sheet(geoms[name], plans[name], counts)
+        if sheet is not None:
+            sheets[name] = sheet
+            seconds[name] = time.perf_counter() - t0
+            continue
         fitters[name] = SphereFitter(
             geoms[name].solid,
             seed=fit_seed,
@@ -258,7 +268,9 @@ def fit_robot(
             spheres[name] = spheres[owner]
             continue
         t0 = time.perf_counter()
-        if method == "morphit":
+        if owner in sheets:
+            spheres[name] = _fit_sheet(sheets[owner], geoms[name], plans[name][1], path, diags)
+        elif method == "morphit":
             spheres[name] = _morphit_one(
                 fitters[owner], ks.get(owner), counts, geoms[name], plans[name], path, diags
             )
@@ -277,6 +289,36 @@ def fit_robot(
         {n: geoms[n] for n in fitted},
         diags,
     )
+
+
+def _sheet(geom: LinkGeometry, plan: LinkPlan, counts: CountPolicy) -> SheetPlan | None:
+    """How the sheet rule fits a link (:func:`.sheet.sheet_plan`), when it applies: no count
+    given, no clip plane, not a placeholder."""
+    given = counts.per_link is not None or counts.count is not None or counts.density is not None
+    if given or plan[2] or _across(geom) < PLACEHOLDER_SIZE:
+        return None
+    from .sheet import sheet_plan
+
+    return sheet_plan(geom.solid, plan[1], AUTO_MAX_PER_LINK)
+
+
+def _fit_sheet(
+    sheet: SheetPlan,
+    geom: LinkGeometry,
+    bound: float | None,
+    path: str,
+    diags: list[Diagnostic],
+) -> tuple[Sphere, ...]:
+    """A sheet's spheres (:func:`.sheet.sheet_spheres`), said once for the link; ``bound``:
+    the link's own protrusion bound."""
+    from .fit import default_max_protrusion
+    from .sheet import sheet_message, sheet_spheres
+
+    spheres = sheet_spheres(*sheet)
+    tau = default_max_protrusion(geom.solid) if bound is None else bound
+    message = sheet_message(geom.link, sheet[0], spheres, tau, own=bound is not None)
+    diags.append(_info(path, geom.line, RULE_SHEET, message))
+    return spheres
 
 
 def _fit_mode(tau: float | None, counts: CountPolicy) -> str:

@@ -1,0 +1,189 @@
+"""Sheets (marker plates, stickers, flat parts boxed 2 mm thick): by default a few spheres that
+hold the whole sheet, said once per link; explicit counts and bounds keep their meaning; a
+solid that is not a sheet is not touched."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from tests.robots import robot_urdf
+from xrdf_tools.convert.spheres_job import fit_metrics, metrics_table
+from xrdf_tools.spheres.fit import default_max_protrusion
+from xrdf_tools.spheres.geometry import load_link_geometry
+from xrdf_tools.spheres.robot_fit import CountPolicy, FitResult, fit_robot
+from xrdf_tools.spheres.sheet import SHEET_MAX_SPHERES, as_sheet, sheet_spheres
+
+#: a marker plate: 50 x 30 x 0.3 mm
+PLATE = (0.05, 0.03, 0.0003)
+#: a turn that puts the plate's axes off the link's axes
+TURN = trimesh.transformations.euler_matrix(0.3, -0.7, 1.1)
+
+
+def _urdf(tmp_path: Path, mesh: trimesh.Trimesh, name: str = "plate") -> Path:
+    mesh.export(tmp_path / f"{name}.stl")
+    urdf = tmp_path / f"{name}.urdf"
+    urdf.write_text(
+        f'<robot name="{name}"><link name="{name}"><collision><origin xyz="0.1 0 0.2"/>'
+        f'<geometry><mesh filename="{name}.stl"/></geometry></collision></link></robot>'
+    )
+    return urdf
+
+
+def _plate(extents: tuple[float, float, float] = PLATE) -> trimesh.Trimesh:
+    plate = trimesh.creation.box(extents=extents)
+    plate.apply_transform(TURN)
+    return plate
+
+
+def _mid_plane_grid(extents: tuple[float, float, float], n: int = 41) -> np.ndarray:
+    """Points of the plate's mid-plane (edges and corners included) in the link frame."""
+    u = np.linspace(-extents[0] / 2, extents[0] / 2, n)
+    v = np.linspace(-extents[1] / 2, extents[1] / 2, n)
+    uu, vv = np.meshgrid(u, v)
+    local = np.stack([uu.ravel(), vv.ravel(), np.zeros(uu.size), np.ones(uu.size)], 1)
+    moved = local @ TURN.T
+    return np.asarray(moved[:, :3] + np.array([0.1, 0.0, 0.2]))
+
+
+def _inside_some(points: np.ndarray, fit: FitResult, link: str) -> np.ndarray:
+    centres = np.array([s.center for s in fit.spheres[link]])
+    radii = np.array([s.radius for s in fit.spheres[link]])
+    d = np.linalg.norm(points[:, None, :] - centres[None, :, :], axis=2)
+    return np.asarray((d <= radii[None, :]).any(axis=1))
+
+
+@pytest.fixture(scope="module")
+def plate_urdf(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return _urdf(tmp_path_factory.mktemp("plate"), _plate())
+
+
+@pytest.fixture(scope="module")
+def plate_fit(plate_urdf: Path) -> FitResult:
+    return fit_robot(plate_urdf)
+
+
+def test_a_plate_gets_a_few_spheres_holding_its_whole_area(plate_fit: FitResult) -> None:
+    spheres = plate_fit.spheres["plate"]
+    assert 1 <= len(spheres) <= SHEET_MAX_SPHERES
+    # every point of the mid-plane, and every corner of the plate itself, is inside a sphere
+    assert _inside_some(_mid_plane_grid(PLATE), plate_fit, "plate").all()
+    corners = trimesh.creation.box(extents=PLATE)
+    corners.apply_transform(TURN)
+    assert _inside_some(
+        np.asarray(corners.vertices) + np.array([0.1, 0.0, 0.2]), plate_fit, "plate"
+    ).all()
+    # the spheres are no bigger than it takes: each holds its share of the length and width
+    cell = PLATE[0] / len(spheres)
+    for s in spheres:
+        assert s.radius <= 0.5 * math.hypot(cell, PLATE[1], PLATE[2]) + 0.0002
+
+
+def test_a_plate_is_said_once_as_a_sheet_not_as_a_missed_target(plate_fit: FitResult) -> None:
+    rules = [d.rule for d in plate_fit.diagnostics]
+    assert rules == ["spheres-sheet"]
+    (note,) = plate_fit.diagnostics
+    assert "50 × 30 × 0.3 mm" in note.message
+    assert "--per-link" in note.message and "--max-protrusion" in note.message
+    assert note.line == 1
+
+
+def test_the_count_follows_the_aspect_ratio_up_to_a_few() -> None:
+    """A row of cells no longer than wide: 1 for a square, 2 for 50 x 30, the cap for a strip
+    (its cells then lengthen); every corner of the box is inside a sphere."""
+    for extents, count in (
+        ((0.06, 0.06, 0.00025), 1),
+        ((0.06, 0.0598, 0.00025), 1),  # a CAD square a little off
+        ((0.05, 0.03, 0.0003), 2),
+        ((0.09, 0.03, 0.0003), 3),
+        ((0.4, 0.02, 0.0005), SHEET_MAX_SPHERES),
+    ):
+        box = trimesh.creation.box(extents=extents)
+        box.apply_transform(TURN)
+        sheet = as_sheet(box, default_max_protrusion(box))
+        assert sheet is not None, extents
+        spheres = sheet_spheres(sheet)
+        assert len(spheres) == count, extents
+        c = np.array([s.center for s in spheres])
+        r = np.array([s.radius for s in spheres])
+        d = np.linalg.norm(np.asarray(box.vertices)[:, None] - c[None], axis=2)
+        assert (d <= r[None]).any(axis=1).all(), extents
+
+
+def test_solids_that_are_not_sheets() -> None:
+    """Thick for their width (10 mm over 30 mm), thicker than the protrusion bound (5 mm
+    over 10 cm: the bound is 2.2 mm), or a rod: the volume fit stays theirs."""
+    for extents in ((0.05, 0.03, 0.01), (0.1, 0.1, 0.005), (0.2, 0.004, 0.004)):
+        box = trimesh.creation.box(extents=extents)
+        assert as_sheet(box, default_max_protrusion(box)) is None, extents
+
+
+def test_a_flat_part_boxed_2_mm_thick_is_a_sheet(tmp_path: Path) -> None:
+    """A square with no thickness at all (two triangles) encloses no volume even as a hull:
+    it becomes its bounding box, 2 mm thick, as thick as the smallest bound: a sheet."""
+    flat = trimesh.Trimesh(
+        vertices=[[-0.03, -0.03, 0], [0.03, -0.03, 0], [0.03, 0.03, 0], [-0.03, 0.03, 0]],
+        faces=[[0, 1, 2], [0, 2, 3]],
+        process=False,
+    )
+    fit = fit_robot(_urdf(tmp_path, flat, "flat"))
+    assert [d.rule for d in fit.diagnostics] == ["spheres-bounding-box", "spheres-sheet"]
+    assert fit.kinds["flat"] == "bounding_box"
+    (sphere,) = fit.spheres["flat"]
+    assert sphere.center == (0.1, 0.0, 0.2)
+    assert math.hypot(0.03, 0.03, 0.001) <= sphere.radius <= math.hypot(0.03, 0.03, 0.001) + 2e-4
+
+
+def test_explicit_counts_and_clips_keep_their_meaning(plate_urdf: Path) -> None:
+    by_count = fit_robot(plate_urdf, counts=CountPolicy(per_link=3))
+    assert len(by_count.spheres["plate"]) == 3
+    assert "spheres-sheet" not in [d.rule for d in by_count.diagnostics]
+    clipped = fit_robot(plate_urdf, clips={"plate": [((0.0, 0.0, 1.0), -1.0)]})
+    assert "spheres-sheet" not in [d.rule for d in clipped.diagnostics]
+
+
+def test_a_bound_given_for_a_sheet_is_kept_by_a_grid_covering_it(plate_urdf: Path) -> None:
+    """Within 10 mm: square cells whose spheres reach at most 10 mm past the faces, as few as
+    that takes, all of the plate inside them."""
+    bound = 0.01
+    fit = fit_robot(plate_urdf, max_protrusion=bound)
+    assert [d.rule for d in fit.diagnostics] == ["spheres-sheet"]
+    assert "given" in fit.diagnostics[0].message
+    spheres = fit.spheres["plate"]
+    assert 4 <= len(spheres) <= 16
+    assert all(s.radius - PLATE[2] / 2 <= bound for s in spheres)
+    assert _inside_some(_mid_plane_grid(PLATE), fit, "plate").all()
+
+
+def test_a_bound_a_sheet_cannot_keep_in_16_spheres_is_the_volume_fit(plate_urdf: Path) -> None:
+    fit = fit_robot(plate_urdf, max_protrusion=0.002)
+    assert [d.rule for d in fit.diagnostics] == ["spheres-target-missed"]
+    assert len(fit.spheres["plate"]) == 16
+
+
+def test_the_metrics_name_a_sheet_and_its_whole_area_is_covered(plate_fit: FitResult) -> None:
+    per, overall = fit_metrics(plate_fit)
+    m = per["plate"]
+    assert m.sheet_thickness == pytest.approx(PLATE[2], rel=1e-6)
+    assert m.coverage == 1.0 and m.surface_coverage == 1.0
+    assert m.max_uncovered_gap == 0.0
+    assert m.to_dict()["sheet_thickness"] == m.sheet_thickness
+    assert "sheets (protr.share and vol.ratio only say how thin): plate 0.3 mm" in metrics_table(
+        per, overall
+    )
+
+
+def test_panda_links_are_not_sheets_and_say_nothing_of_it() -> None:
+    geoms, _ = load_link_geometry(robot_urdf("panda"))
+    assert len(geoms) >= 10
+    for g in geoms.values():
+        assert as_sheet(g.solid, default_max_protrusion(g.solid)) is None, g.link
+    fit = fit_robot(robot_urdf("panda"), links=["panda_leftfinger"])
+    assert "spheres-sheet" not in [d.rule for d in fit.diagnostics]
+    per, _ = fit_metrics(fit)
+    assert per["panda_leftfinger"].sheet_thickness is None
+    assert "sheet_thickness" not in per["panda_leftfinger"].to_dict()

@@ -1,0 +1,166 @@
+"""Sheets: solids far thinner than they are wide, and thinner than the protrusion bound.
+
+A marker plate, a sticker, a sheet-metal cover fitted as its bounding box: any sphere over a
+sheet of thickness ``t`` protrudes by about its own radius, so the default count (the fewest
+spheres covering ``target_coverage`` of the volume within the protrusion bound ``tau``) would
+need about ``area / (pi (tau^2 + t tau))`` spheres -- hundreds for a 60 mm plate at a 2 mm
+bound -- and stops at its cap with most of the plate bare. Volume coverage is the wrong
+yardstick there; what a planner needs is the whole area inside few spheres.
+
+A solid is a **sheet** when its oriented bounding box's smallest extent ``t`` (its thickness)
+is at most ``1 / SHEET_ASPECT`` of the middle extent ``b`` (its width) and at most the
+protrusion bound ``tau``: a sphere within the bound is then wider than the sheet is thick, so
+the bound cannot be what limits the spheres. (A part that is flat even as a hull becomes a
+box ``MIN_THICKNESS`` thick, which equals the smallest default bound: a sheet too.)
+
+Without a count and without a bound of its own, a sheet gets one row of spheres along its
+length ``a``: ``ceil(a / b)`` of them (its aspect ratio, at most ``SHEET_MAX_SPHERES``), each
+the smallest sphere containing its cell of the box (``a / n`` by ``b`` by ``t``). So the whole
+sheet lies inside the spheres, and each protrudes by about half its cell's diagonal: what so
+few spheres over a sheet cost, and no more. With a bound of the link's own (and no count),
+the sheet's box is cut into the fewest square cells whose spheres reach at most that bound
+past its faces, when they are at most ``AUTO_MAX_PER_LINK`` (else the volume fit under the
+bound, as for any solid).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..util.arrays import FloatArray
+from ..xrdf.model import Sphere
+
+if TYPE_CHECKING:
+    import trimesh
+
+#: A sheet's thickness is at most this fraction's inverse of its width.
+SHEET_ASPECT = 10.0
+#: The most spheres a sheet gets by default.
+SHEET_MAX_SPHERES = 4
+#: Relative slack when the thickness is compared with the bound (a box made exactly as thick
+#: as the smallest bound must count as a sheet whatever the round-off of its bounding box).
+_BOUND_SLACK = 1e-6
+#: A length within this share of a whole number of widths counts as that many (a square
+#: plate measured 60.0 by 59.9 mm gets one sphere, not two).
+_SQUARE_SLACK = 0.01
+#: Centres are written to 0.1 mm: each radius grows by the farthest a rounded centre moves.
+_CENTRE_ROUNDING = math.sqrt(3.0) * 0.5e-4
+
+
+@dataclass(frozen=True)
+class Sheet:
+    """A sheet's oriented bounding box: ``thickness <= width <= length`` (metres) and the
+    transform from the box's frame (axes in that order, centred) to the link frame."""
+
+    thickness: float
+    width: float
+    length: float
+    to_link: FloatArray
+
+    @property
+    def count(self) -> int:
+        """Spheres along the length: the aspect ratio, rounded up (cells no longer than
+        wide, within ``_SQUARE_SLACK``), at most ``SHEET_MAX_SPHERES``."""
+        return max(1, min(SHEET_MAX_SPHERES, math.ceil(self.length / self.width - _SQUARE_SLACK)))
+
+    def grid_within(self, bound: float, most: int) -> tuple[int, int] | None:
+        """Cells along the length and the width: the fewest square ones whose spheres reach
+        at most ``bound`` past the faces (after rounding), or None when that takes more than
+        ``most``."""
+        half = self.thickness / 2.0
+        reach = bound - 2.0 * _CENTRE_ROUNDING - 1e-4  # what rounding a radius up may add
+        if reach <= 0.0:
+            return None
+        side = math.sqrt(2.0) * math.sqrt((reach + half) ** 2 - half**2)
+        shape = (
+            max(1, math.ceil(self.length / side - 1e-9)),
+            max(1, math.ceil(self.width / side - 1e-9)),
+        )
+        return shape if shape[0] * shape[1] <= most else None
+
+
+def as_sheet(solid: trimesh.Trimesh, bound: float) -> Sheet | None:
+    """The sheet ``solid`` is under the protrusion bound ``bound``, or None when it is not one
+    (see the module docstring)."""
+    import trimesh
+
+    volume, area = float(abs(solid.volume)), float(solid.area)
+    # twice the volume over the area is at most the thickness of any solid lying in a slab
+    # (the area is at least twice the slab-projected area, the volume at most that times the
+    # thickness): a cheap test that rules out every solid but a thin one
+    if area <= 0.0 or 2.0 * volume / area > bound * (1.0 + _BOUND_SLACK):
+        return None
+    oriented: Any = trimesh.bounds.oriented_bounds
+    to_box, extents = oriented(np.asarray(solid.vertices, dtype=np.float64), ordered=True)
+    t, b, a = (float(e) for e in extents)
+    if not (t <= b / SHEET_ASPECT and t <= bound * (1.0 + _BOUND_SLACK)):
+        return None
+    return Sheet(t, b, a, np.linalg.inv(np.asarray(to_box, dtype=np.float64)))
+
+
+#: A sheet and its cells along its length and width (None: a row by its aspect ratio).
+SheetPlan = tuple[Sheet, tuple[int, int] | None]
+
+
+def sheet_plan(solid: trimesh.Trimesh, own: float | None, most: int) -> SheetPlan | None:
+    """How the sheet rule fits ``solid`` when it is a sheet: a row under the default bound
+    (``own`` None), else the grid within the bound ``own`` if it takes at most ``most``
+    spheres; None when the rule does not apply."""
+    from .fit import default_max_protrusion
+
+    sheet = as_sheet(solid, default_max_protrusion(solid) if own is None else own)
+    if sheet is None or own is None:
+        return None if sheet is None else (sheet, None)
+    shape = sheet.grid_within(own, most)
+    return None if shape is None else (sheet, shape)
+
+
+def sheet_spheres(sheet: Sheet, shape: tuple[int, int] | None = None) -> tuple[Sphere, ...]:
+    """The sheet's spheres: its box cut into ``shape`` cells along its length and width
+    (default: ``sheet.count`` by 1), each inside the smallest sphere containing it (centres
+    rounded to 0.1 mm, radii rounded up to 0.1 mm after growing by the farthest a rounded
+    centre moves)."""
+    from .fit import _rounded
+
+    n_a, n_b = (sheet.count, 1) if shape is None else shape
+    da, db = sheet.length / n_a, sheet.width / n_b
+    along = -sheet.length / 2.0 + da * (np.arange(n_a, dtype=np.float64) + 0.5)
+    across = -sheet.width / 2.0 + db * (np.arange(n_b, dtype=np.float64) + 0.5)
+    local = np.zeros((n_a * n_b, 4), dtype=np.float64)
+    local[:, 2] = np.repeat(along, n_b)
+    local[:, 1] = np.tile(across, n_a)
+    local[:, 3] = 1.0
+    centres = np.einsum("ij,nj->ni", sheet.to_link, local)[:, :3]
+    radius = 0.5 * math.sqrt(da**2 + db**2 + sheet.thickness**2) + _CENTRE_ROUNDING
+    out = []
+    for c in centres:
+        s = _rounded(c, radius)
+        x, y, z = (v + 0.0 for v in s.center)  # no -0.0
+        out.append(Sphere(center=(x, y, z), radius=s.radius))
+    return tuple(out)
+
+
+def sheet_message(
+    link: str, sheet: Sheet, spheres: tuple[Sphere, ...], bound: float, own: bool
+) -> str:
+    """What was done to a sheet (``own``: under a protrusion bound given for it), and the
+    options that change it."""
+    mm = 1000.0
+    radius = max(s.radius for s in spheres)
+    reach = radius - sheet.thickness / 2.0
+    size = f"{sheet.length * mm:.4g} × {sheet.width * mm:.4g} × {sheet.thickness * mm:.3g} mm"
+    n = len(spheres)
+    what = f"1 sphere of radius {radius * mm:.1f} mm covers" if n == 1 else ""
+    what = what or f"{n} spheres of radius {radius * mm:.1f} mm cover"
+    head = f"link '{link}' is a sheet ({size}, no thicker than its {bound * mm:.3g} mm protrusion "
+    if own:
+        return head + f"bound, given): {what} all of it, reaching {reach * mm:.1f} mm"
+    return head + (
+        f"bound): {what} all of it, reaching {reach * mm:.1f} mm from its faces; --per-link N "
+        "fits N spheres to its volume, `xrdf spheres --max-protrusion M` covers it with "
+        "spheres reaching at most M"
+    )
