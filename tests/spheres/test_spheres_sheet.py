@@ -5,6 +5,7 @@ solid that is not a sheet is not touched."""
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -77,10 +78,13 @@ def test_a_plate_gets_a_few_spheres_holding_its_whole_area(plate_fit: FitResult)
     assert _inside_some(
         np.asarray(corners.vertices) + np.array([0.1, 0.0, 0.2]), plate_fit, "plate"
     ).all()
-    # the spheres are no bigger than it takes: each holds its share of the length and width
-    cell = PLATE[0] / len(spheres)
+    # the spheres are no bigger than it takes: each holds a square cell half the plate wide
+    # (two rows along its length), so each reaches about a third of its width, not more
+    assert len(spheres) == 2 * math.ceil(2 * PLATE[0] / PLATE[1])
     for s in spheres:
-        assert s.radius <= 0.5 * math.hypot(cell, PLATE[1], PLATE[2]) + 0.0002
+        cell = 0.5 * PLATE[1]
+        assert s.radius <= 0.5 * math.hypot(PLATE[0] / (len(spheres) // 2), cell, PLATE[2]) + 2e-4
+        assert s.radius < 0.4 * PLATE[1]
 
 
 def test_a_plate_is_said_once_as_a_sheet_not_as_a_missed_target(plate_fit: FitResult) -> None:
@@ -93,13 +97,13 @@ def test_a_plate_is_said_once_as_a_sheet_not_as_a_missed_target(plate_fit: FitRe
 
 
 def test_the_count_follows_the_aspect_ratio_up_to_a_few() -> None:
-    """A row of cells no longer than wide: 1 for a square, 2 for 50 x 30, the cap for a strip
-    (its cells then lengthen); every corner of the box is inside a sphere."""
+    """Two rows of square cells half the sheet wide: 4 for a square, 8 for 50 x 30, the cap
+    for a strip (its cells then lengthen); every corner of the box is inside a sphere."""
     for extents, count in (
-        ((0.06, 0.06, 0.00025), 1),
-        ((0.06, 0.0598, 0.00025), 1),  # a CAD square a little off
-        ((0.05, 0.03, 0.0003), 2),
-        ((0.09, 0.03, 0.0003), 3),
+        ((0.06, 0.06, 0.00025), 4),
+        ((0.06, 0.0598, 0.00025), 4),  # a CAD square a little off
+        ((0.05, 0.03, 0.0003), 8),
+        ((0.09, 0.03, 0.0003), 12),
         ((0.4, 0.02, 0.0005), SHEET_MAX_SPHERES),
     ):
         box = trimesh.creation.box(extents=extents)
@@ -133,9 +137,13 @@ def test_a_flat_part_boxed_2_mm_thick_is_a_sheet(tmp_path: Path) -> None:
     fit = fit_robot(_urdf(tmp_path, flat, "flat"))
     assert [d.rule for d in fit.diagnostics] == ["spheres-bounding-box", "spheres-sheet"]
     assert fit.kinds["flat"] == "bounding_box"
-    (sphere,) = fit.spheres["flat"]
-    assert sphere.center == (0.1, 0.0, 0.2)
-    assert math.hypot(0.03, 0.03, 0.001) <= sphere.radius <= math.hypot(0.03, 0.03, 0.001) + 2e-4
+    spheres = fit.spheres["flat"]  # 2 x 2 square cells of 30 mm, one sphere around each
+    assert len(spheres) == 4
+    centres = np.array([s.center for s in spheres]) - np.array([0.1, 0.0, 0.2])
+    np.testing.assert_allclose(np.sort(np.abs(centres[:, :2]), axis=0), 0.015, atol=1e-4)
+    np.testing.assert_allclose(centres[:, 2], 0.0, atol=1e-4)
+    r = math.hypot(0.015, 0.015, 0.001)
+    assert all(r <= s.radius <= r + 2e-4 for s in spheres)
 
 
 def test_explicit_counts_and_clips_keep_their_meaning(plate_urdf: Path) -> None:
@@ -187,3 +195,19 @@ def test_panda_links_are_not_sheets_and_say_nothing_of_it() -> None:
     per, _ = fit_metrics(fit)
     assert per["panda_leftfinger"].sheet_thickness is None
     assert "sheet_thickness" not in per["panda_leftfinger"].to_dict()
+
+
+def test_a_closed_flat_mesh_is_no_volume_without_a_numpy_warning() -> None:
+    """Four coplanar points closed into a tetrahedron (a marker plate exported as a closed
+    shell of no thickness): no volume, and trimesh's 0/0 centre of mass prints nothing."""
+    from xrdf_tools.spheres.geometry import is_volume
+
+    flat = trimesh.Trimesh(
+        vertices=[[0, 0, 0], [0.03, 0, 0], [0, 0.03, 0], [0.03, 0.03, 0]],
+        faces=[[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]],
+        process=False,
+    )
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        assert not is_volume(flat)
+    assert [str(w.message) for w in seen] == []

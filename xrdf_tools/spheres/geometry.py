@@ -74,9 +74,11 @@ class LinkGeometry:
 
 
 def is_volume(mesh: trimesh.Trimesh) -> bool:
-    """True when ``mesh`` encloses a positive volume (watertight, consistently wound)."""
+    """True when ``mesh`` encloses a positive volume (watertight, consistently wound). A flat
+    closed mesh has a centre of mass of 0/0: trimesh's numpy warning is not printed."""
     try:
-        return bool(mesh.is_volume) and float(mesh.volume) > 0.0
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return bool(mesh.is_volume) and float(mesh.volume) > 0.0
     except Exception:  # trimesh's volume checks raise assorted errors on degenerate meshes
         return False
 

@@ -13,11 +13,13 @@ protrusion bound ``tau``: a sphere within the bound is then wider than the sheet
 the bound cannot be what limits the spheres. (A part that is flat even as a hull becomes a
 box ``MIN_THICKNESS`` thick, which equals the smallest default bound: a sheet too.)
 
-Without a count and without a bound of its own, a sheet gets one row of spheres along its
-length ``a``: ``ceil(a / b)`` of them (its aspect ratio, at most ``SHEET_MAX_SPHERES``), each
-the smallest sphere containing its cell of the box (``a / n`` by ``b`` by ``t``). So the whole
-sheet lies inside the spheres, and each protrudes by about half its cell's diagonal: what so
-few spheres over a sheet cost, and no more. With a bound of the link's own (and no count),
+Without a count and without a bound of its own, a sheet gets two rows of spheres along its
+length ``a``: its box cut into square cells half its width ``b`` wide (``ceil(2a / b)`` along
+the length, at most ``SHEET_MAX_SPHERES`` in all, the cells lengthening for a long strip), each
+cell inside the smallest sphere containing it. So the whole sheet lies inside the spheres, and
+each reaches about a third of the sheet's width from its faces (``b / (2√2)``): a sphere per
+sheet would reach 0.7 of its width (43 mm over a 60 mm marker plate), more than the link it
+sits on. With a bound of the link's own (and no count),
 the sheet's box is cut into the fewest square cells whose spheres reach at most that bound
 past its faces, when they are at most ``AUTO_MAX_PER_LINK`` (else the volume fit under the
 bound, as for any solid).
@@ -40,7 +42,9 @@ if TYPE_CHECKING:
 #: A sheet's thickness is at most this fraction's inverse of its width.
 SHEET_ASPECT = 10.0
 #: The most spheres a sheet gets by default.
-SHEET_MAX_SPHERES = 4
+SHEET_MAX_SPHERES = 16
+#: Cells across a sheet's width by default (square cells along its length).
+_ACROSS = 2
 #: Relative slack when the thickness is compared with the bound (a box made exactly as thick
 #: as the smallest bound must count as a sheet whatever the round-off of its bounding box).
 _BOUND_SLACK = 1e-6
@@ -62,10 +66,11 @@ class Sheet:
     to_link: FloatArray
 
     @property
-    def count(self) -> int:
-        """Spheres along the length: the aspect ratio, rounded up (cells no longer than
-        wide, within ``_SQUARE_SLACK``), at most ``SHEET_MAX_SPHERES``."""
-        return max(1, min(SHEET_MAX_SPHERES, math.ceil(self.length / self.width - _SQUARE_SLACK)))
+    def cells(self) -> tuple[int, int]:
+        """Cells along the length and the width by default: :data:`_ACROSS` across, square
+        ones along (within ``_SQUARE_SLACK``), at most ``SHEET_MAX_SPHERES`` in all."""
+        along = math.ceil(_ACROSS * self.length / self.width - _SQUARE_SLACK)
+        return max(1, min(SHEET_MAX_SPHERES // _ACROSS, along)), _ACROSS
 
     def grid_within(self, bound: float, most: int) -> tuple[int, int] | None:
         """Cells along the length and the width: the fewest square ones whose spheres reach
@@ -102,14 +107,14 @@ def as_sheet(solid: trimesh.Trimesh, bound: float) -> Sheet | None:
     return Sheet(t, b, a, np.linalg.inv(np.asarray(to_box, dtype=np.float64)))
 
 
-#: A sheet and its cells along its length and width (None: a row by its aspect ratio).
+#: A sheet and its cells along its length and width (None: its default :attr:`Sheet.cells`).
 SheetPlan = tuple[Sheet, tuple[int, int] | None]
 
 
 def sheet_plan(solid: trimesh.Trimesh, own: float | None, most: int) -> SheetPlan | None:
-    """How the sheet rule fits ``solid`` when it is a sheet: a row under the default bound
-    (``own`` None), else the grid within the bound ``own`` if it takes at most ``most``
-    spheres; None when the rule does not apply."""
+    """How the sheet rule fits ``solid`` when it is a sheet: its default cells under the
+    default bound (``own`` None), else the grid within the bound ``own`` if it takes at most
+    ``most`` spheres; None when the rule does not apply."""
     from .fit import default_max_protrusion
 
     sheet = as_sheet(solid, default_max_protrusion(solid) if own is None else own)
@@ -121,12 +126,12 @@ def sheet_plan(solid: trimesh.Trimesh, own: float | None, most: int) -> SheetPla
 
 def sheet_spheres(sheet: Sheet, shape: tuple[int, int] | None = None) -> tuple[Sphere, ...]:
     """The sheet's spheres: its box cut into ``shape`` cells along its length and width
-    (default: ``sheet.count`` by 1), each inside the smallest sphere containing it (centres
+    (default: :attr:`Sheet.cells`), each inside the smallest sphere containing it (centres
     rounded to 0.1 mm, radii rounded up to 0.1 mm after growing by the farthest a rounded
     centre moves)."""
     from .fit import _rounded
 
-    n_a, n_b = (sheet.count, 1) if shape is None else shape
+    n_a, n_b = sheet.cells if shape is None else shape
     da, db = sheet.length / n_a, sheet.width / n_b
     along = -sheet.length / 2.0 + da * (np.arange(n_a, dtype=np.float64) + 0.5)
     across = -sheet.width / 2.0 + db * (np.arange(n_b, dtype=np.float64) + 0.5)
