@@ -167,9 +167,10 @@ def parse_robot(
     package_paths: Mapping[str, str] | None = None,
     build_scene_graph: bool = False,
     expanded: bool = False,
+    xacro_args: Mapping[str, str] | None = None,
 ) -> Robot:
     """:func:`parse_urdf_string` as a :class:`~xrdf_tools.robot.core.Robot` (``expanded``: the
-    text is the expansion of the xacro file ``path``)."""
+    text is the expansion of the xacro file ``path`` with ``xacro_args``)."""
     text = _ENCODING_DECL.sub(r"\1", text, count=1)
     return _parse_bytes(
         text.encode("utf-8"),
@@ -177,6 +178,7 @@ def parse_robot(
         package_paths=package_paths,
         build_scene_graph=build_scene_graph,
         expanded=expanded,
+        xacro_args=xacro_args,
     )
 
 
@@ -187,6 +189,7 @@ def _parse_bytes(
     package_paths: Mapping[str, str] | None,
     build_scene_graph: bool,
     expanded: bool = False,
+    xacro_args: Mapping[str, str] | None = None,
 ) -> Robot:
     from lxml import etree
 
@@ -216,6 +219,7 @@ def _parse_bytes(
         link_lines=FrozenMap(link_lines),
         joint_lines=FrozenMap(joint_lines),
         package_paths=FrozenMap(package_paths or {}),
+        xacro_args=FrozenMap(xacro_args or {}),
         capsules=capsules,
         build_scene_graph=build_scene_graph,
         warnings=tuple(warnings),
