@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import re
 from pathlib import Path
 
 import pytest
@@ -167,3 +168,31 @@ def test_srdf_xacro_is_expanded_with_the_robots_arguments(
     shown = runner.invoke(app, ["inspect", str(robot), "--srdf", str(srdf)])
     assert shown.exit_code == 0, shown.output
     assert "arm: 2 c-space joint(s): a_j0, a_j1" in shown.output
+
+
+def test_a_xacro_robots_messages_name_no_line_of_its_expansion(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Lines of the expanded URDF are not lines of the xacro file: a message about a xacro
+    robot names the file without a line, not a line the file may not even have."""
+    macro = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+    <xacro:macro name="part" params="n parent">
+      <link name="${n}"><visual><geometry><box size="0.1 0.1 0.1"/></geometry>
+        <material name="m_${n}"><color rgba="1 0 0 1 1"/></material></visual>
+        <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+      <joint name="j_${n}" type="revolute"><parent link="${parent}"/><child link="${n}"/>
+        <origin xyz="0 0 0.2"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </xacro:macro>
+    <link name="base"/>
+    <xacro:part n="a" parent="base"/><xacro:part n="b" parent="%s"/></robot>"""
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(macro % "a")
+    located = re.compile(re.escape(str(robot)) + r":\d")
+    ok = runner.invoke(app, ["convert", str(robot), "--fit-spheres", "-n", "200"])
+    assert ok.exit_code == 0, ok.output
+    assert f"{robot}: warning urdf-color-ignored link 'b'" in ok.output
+    assert not located.search(ok.output), ok.output  # nor the spheres' notes on links
+    robot.write_text(macro % "nowhere")
+    bad = runner.invoke(app, ["convert", str(robot)])
+    assert bad.exit_code == 2 and "nowhere" in bad.output
+    assert f"{robot}: " in bad.output and not located.search(bad.output), bad.output

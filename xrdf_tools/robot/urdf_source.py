@@ -6,7 +6,7 @@ joint types, duplicate links or joints, joints that refer to unknown links, numb
 parse. The checked tree is the :class:`~xrdf_tools.robot.core.Robot`; yourdfpy gets it only
 when geometry is read (:func:`xrdf_tools.robot.yourdfpy_build.build_yourdfpy`). Every failure
 is a :class:`UrdfError` whose one-line message starts with ``path:line:`` when the line is
-known.
+known (never for an expanded xacro: the expansion's lines are not the xacro file's).
 
 :class:`JointInfo`, :func:`joints_of` and :func:`links_of` give a plain, typed view of a loaded
 URDF for the kinematics, the linter and the converter. yourdfpy is imported lazily so that
@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import TYPE_CHECKING, Literal
 
 from ..diagnostics import Diagnostic
@@ -207,7 +208,15 @@ def _parse_bytes(
 
     etree.strip_tags(root, etree.Comment)
     warnings: list[Diagnostic] = []
-    link_lines, joint_lines = check_urdf_tree(root, path, warnings)
+    try:
+        link_lines, joint_lines = check_urdf_tree(root, path, warnings)
+    except UrdfError as e:
+        if expanded:  # a line of the expansion is not a line of the xacro file at ``path``
+            e.line = e.col = None
+        raise
+    if expanded:
+        link_lines, joint_lines = {}, {}
+        warnings = [replace(w, line=None, col=None) for w in warnings]
     etree.cleanup_namespaces(root)
     capsules = capsules_as_cylinders(root)  # yourdfpy knows no <capsule>
 
