@@ -174,7 +174,8 @@ def test_a_xacro_robots_messages_name_no_line_of_its_expansion(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     """Lines of the expanded URDF are not lines of the xacro file: a message about a xacro
-    robot names the file without a line, not a line the file may not even have."""
+    robot names the line of the xacro file where the element is written literally, else no
+    line (not a line of the expansion, which the file may not even have)."""
     macro = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
     <xacro:macro name="part" params="n parent">
       <link name="${n}"><visual><geometry><box size="0.1 0.1 0.1"/></geometry>
@@ -194,5 +195,25 @@ def test_a_xacro_robots_messages_name_no_line_of_its_expansion(
     assert not located.search(ok.output), ok.output  # nor the spheres' notes on links
     robot.write_text(macro % "nowhere")
     bad = runner.invoke(app, ["convert", str(robot)])
-    assert bad.exit_code == 2 and "nowhere" in bad.output
-    assert f"{robot}: " in bad.output and not located.search(bad.output), bad.output
+    # a joint a macro made: at the line that writes the value the message quotes
+    at = (
+        (macro % "nowhere")
+        .splitlines()
+        .index('    <xacro:part n="a" parent="base"/><xacro:part n="b" parent="nowhere"/></robot>')
+    )
+    assert bad.exit_code == 2 and f"{robot}:{at + 1}: " in bad.output, bad.output
+    literal = (macro % "a").replace(
+        "</robot>",
+        '\n<link name="c"/>\n<joint name="j_c" type="fixed">'
+        '<parent link="elsewhere"/><child link="c"/></joint></robot>',
+    )
+    robot.write_text(literal)
+    line = (
+        literal.splitlines().index(
+            '<joint name="j_c" type="fixed">'
+            '<parent link="elsewhere"/><child link="c"/></joint></robot>'
+        )
+        + 1
+    )
+    bad = runner.invoke(app, ["convert", str(robot)])
+    assert bad.exit_code == 2 and f"{robot}:{line}: " in bad.output, bad.output
