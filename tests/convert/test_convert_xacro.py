@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import re
 from pathlib import Path
 
 import pytest
@@ -111,3 +112,108 @@ def test_xacro_args_and_find(runner: CliRunner, tmp_path: Path) -> None:
         expand_xacro(broken)
     bad_arg = runner.invoke(app, ["convert", str(robot), "--xacro-arg", "prefix"])
     assert bad_arg.exit_code == 2 and "NAME:=VALUE" in bad_arg.output
+
+
+def _prefixed_arm(tmp_path: Path) -> tuple[Path, Path]:
+    """A three-link xacro arm named by a ``prefix`` argument, and its MoveIt SRDF as a xacro
+    that names the same links through the same argument (as MoveIt configurations ship)."""
+    pkg = tmp_path / "arm_pkg"
+    (pkg / "config").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>arm_pkg</name></package>")
+    joints = "".join(
+        f"""<joint name="$(arg prefix)j{i}" type="revolute"><parent link="$(arg prefix)l{i}"/>
+          <child link="$(arg prefix)l{i + 1}"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+          <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>"""
+        for i in range(2)
+    )
+    robot = pkg / "arm.urdf.xacro"
+    robot.write_text(
+        f"""<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+        <xacro:arg name="prefix" default="a_"/>
+        <link name="$(arg prefix)l0"/><link name="$(arg prefix)l1"/><link name="$(arg prefix)l2"/>
+        {joints}</robot>"""
+    )
+    srdf = pkg / "config" / "arm.srdf.xacro"
+    srdf.write_text(
+        """<?xml version="1.0"?>
+<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="prefix" default="a_"/>
+  <xacro:property name="p" value="$(arg prefix)"/>
+  <group name="arm"><chain base_link="${p}l0" tip_link="${p}l2"/></group>
+  <group_state name="home" group="arm">
+    <joint name="${p}j0" value="0.25"/><joint name="${p}j1" value="-0.5"/>
+  </group_state>
+  <disable_collisions link1="${p}l0" link2="${p}l2" reason="Never"/>
+</robot>"""
+    )
+    return robot, srdf
+
+
+def test_srdf_xacro_is_expanded_with_the_robots_arguments(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    robot, srdf = _prefixed_arm(tmp_path)
+    out = tmp_path / "arm.xrdf"
+    args = ["convert", str(robot), "--srdf", str(srdf), "--xacro-arg", "prefix:=z_"]
+    result = runner.invoke(app, [*args, "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "$(arg" not in result.output and "unknown-link" not in result.output
+    x = parse_xrdf(out.read_text())
+    assert x.cspace is not None and list(x.cspace.joint_names) == ["z_j0", "z_j1"]
+    assert list(x.default_joint_positions.values()) == [0.25, -0.5]  # the SRDF's home state
+    assert x.self_collision is not None
+    assert tuple(x.self_collision.ignore.get("z_l0", ())) == ("z_l2",)  # kept
+    # the expansion's lines are not the file's: diagnostics about the SRDF name no line
+    assert f"{srdf}: warning convert-chosen-group" in result.output
+    shown = runner.invoke(app, ["inspect", str(robot), "--srdf", str(srdf)])
+    assert shown.exit_code == 0, shown.output
+    assert "arm: 2 c-space joint(s): a_j0, a_j1" in shown.output
+
+
+def test_a_xacro_robots_messages_name_no_line_of_its_expansion(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Lines of the expanded URDF are not lines of the xacro file: a message about a xacro
+    robot names the line of the xacro file where the element is written literally, else no
+    line (not a line of the expansion, which the file may not even have)."""
+    macro = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+    <xacro:macro name="part" params="n parent">
+      <link name="${n}"><visual><geometry><box size="0.1 0.1 0.1"/></geometry>
+        <material name="m_${n}"><color rgba="1 0 0 1 1"/></material></visual>
+        <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+      <joint name="j_${n}" type="revolute"><parent link="${parent}"/><child link="${n}"/>
+        <origin xyz="0 0 0.2"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </xacro:macro>
+    <link name="base"/>
+    <xacro:part n="a" parent="base"/><xacro:part n="b" parent="%s"/></robot>"""
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(macro % "a")
+    located = re.compile(re.escape(str(robot)) + r":\d")
+    ok = runner.invoke(app, ["convert", str(robot), "--fit-spheres", "-n", "200"])
+    assert ok.exit_code == 0, ok.output
+    assert f"{robot}: warning urdf-color-ignored link 'b'" in ok.output
+    assert not located.search(ok.output), ok.output  # nor the spheres' notes on links
+    robot.write_text(macro % "nowhere")
+    bad = runner.invoke(app, ["convert", str(robot)])
+    # a joint a macro made: at the line that writes the value the message quotes
+    at = (
+        (macro % "nowhere")
+        .splitlines()
+        .index('    <xacro:part n="a" parent="base"/><xacro:part n="b" parent="nowhere"/></robot>')
+    )
+    assert bad.exit_code == 2 and f"{robot}:{at + 1}: " in bad.output, bad.output
+    literal = (macro % "a").replace(
+        "</robot>",
+        '\n<link name="c"/>\n<joint name="j_c" type="fixed">'
+        '<parent link="elsewhere"/><child link="c"/></joint></robot>',
+    )
+    robot.write_text(literal)
+    line = (
+        literal.splitlines().index(
+            '<joint name="j_c" type="fixed">'
+            '<parent link="elsewhere"/><child link="c"/></joint></robot>'
+        )
+        + 1
+    )
+    bad = runner.invoke(app, ["convert", str(robot)])
+    assert bad.exit_code == 2 and f"{robot}:{line}: " in bad.output, bad.output

@@ -114,6 +114,23 @@ def test_convert_for_curobo_refuses_2_0(runner: CliRunner, tmp_path: Path) -> No
     assert r.exit_code == 2 and "unknown target" in r.output
 
 
+def test_isaac_ros_is_curobos_reader(runner: CliRunner, tmp_path: Path) -> None:
+    """Isaac ROS cuMotion loads an XRDF through cuRobo's reader: ``--target isaac_ros`` (as a
+    user writes it) is ``curobo``, never the Isaac Sim editor that a spelling match suggests."""
+    args = ["convert", str(UR10E_URDF), "--curobo", str(CLASSIC / "ur10e_classic.yml")]
+    for name in ("isaac_ros", "Isaac-ROS", "isaac-ros-cumotion"):
+        r = runner.invoke(app, [*args, "--target", name, "--format-version", "2.0"])
+        assert r.exit_code == 2 and "reads 1.0" in r.output, name  # curobo's rule
+    r = runner.invoke(app, [*args, "--target", "isaac_sim", "--format-version", "2.0"])
+    assert r.exit_code == 0, r.output  # the Isaac Sim editor loads 2.0
+    two = tmp_path / "two.xrdf"
+    two.write_text(r.stdout)
+    lint = runner.invoke(app, ["lint", "--target", "isaac_ros", str(two)])
+    assert lint.exit_code == 1 and "error curobo-format-version" in lint.output
+    wrong = runner.invoke(app, [*args, "--target", "isaac-rso"])
+    assert wrong.exit_code == 2 and "did you mean 'isaac-ros'?" in wrong.output
+
+
 def _mutations(text: str) -> dict[str, str]:
     """Variants of a cuRobo-loadable 1.0 file, each something cuRobo raises on or silently
     changes (or, for the last ones, accepts)."""

@@ -260,3 +260,32 @@ def test_xacro_mobile_and_two_arm_robots(name: str) -> None:
     assert _fixed_path(robot, robot.tree.joints[choice.joints[-1]].child, choice.tool.frame)
     if name == "dual_panda":  # the other arm is as long: named with its --chain
         assert len(choice.ties) == 1 and "--chain" in choice.describe()
+
+
+def test_a_humanoids_arm_wins_over_its_equally_long_leg(tmp_path: Path) -> None:
+    """A humanoid (Unitree H1's layout): each leg and each arm (with the torso) has five
+    joints; the default plans for an arm and reports the rest as ties."""
+    limbs = {
+        "left_leg": ["left_hip_yaw", "left_hip_roll", "left_hip_pitch", "left_knee", "left_ankle"],
+        "left_arm": [
+            "torso",
+            "left_shoulder_pitch",
+            "left_shoulder_roll",
+            "left_elbow",
+            "left_wrist",
+        ],
+    }
+    links, joints = ["pelvis"], []
+    for chain in limbs.values():
+        parent = "pelvis"
+        for name in chain:
+            if f"{name}_link" not in links:
+                links.append(f"{name}_link")
+                joints.append(_j(f"{name}_joint", "revolute", parent, f"{name}_link"))
+            parent = f"{name}_link"
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    choice = default_cspace(robot.tree)
+    arm = tuple(f"{n}_joint" for n in limbs["left_arm"])
+    assert choice.joints == arm  # not the leg, which comes first in the tree
+    assert choice.tool is not None and choice.tool.frame == "left_wrist_link"
+    assert [c.cspace for c, _ in choice.ties] == [tuple(f"{n}_joint" for n in limbs["left_leg"])]

@@ -124,7 +124,11 @@ def convert(
         from .sources.cspace import report_unplannable_joints
         from .sources.srdf import load_srdf, read_srdf
 
-        srdf = load_srdf(options.srdf)
+        srdf = load_srdf(
+            options.srdf,
+            xacro_args=None if robot is None else robot.xacro_args,
+            package_paths=None if robot is None else robot.package_paths,
+        )
         read_srdf(
             srdf,
             tree,

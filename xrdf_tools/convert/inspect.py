@@ -258,7 +258,7 @@ def _groups(path: str, robot: Robot) -> tuple[GroupView, ...]:
     from .sources.cspace import unplannable_joints
     from .sources.srdf import cspace_of, group_joints, load_srdf
 
-    srdf = load_srdf(path)
+    srdf = load_srdf(path, xacro_args=robot.xacro_args, package_paths=robot.package_paths)
     out: list[GroupView] = []
     for g in srdf.groups.values():
         try:

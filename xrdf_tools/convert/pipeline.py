@@ -167,7 +167,8 @@ def convert_robot(
         )
         if any(d.rule == "convert-no-spheres" for d in diags):
             # one loud "no spheres at all" says it; a line per link is noise
-            lint_diags = [d for d in lint_diags if d.rule != "mesh-without-spheres"]
+            quiet = ("mesh-without-spheres", "empty-collision-group")
+            lint_diags = [d for d in lint_diags if d.rule not in quiet]
         said = tuple(d.message.split("'")[1] for d in unfitted)
         lint_diags = [d for d in lint_diags if not _about_links(d, "mesh-without-spheres", said)]
     return ConvertResult(

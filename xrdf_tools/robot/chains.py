@@ -13,6 +13,7 @@ leaf, leaving out what a motion planner does not plan for:
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm).
 
 A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
+Among equally long chains an arm wins over a leg (a humanoid's arm and leg can both have five).
 Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
 ``behead`` is not. The tool frame (:func:`guess_tool_frame`) is a link below the last c-space joint
 reached through fixed joints only, preferring ``tool0``, then ``tcp``, ``tool``, ``ee``/``eef``/
@@ -56,6 +57,10 @@ _HEAD = frozenset(
 )
 _PAN_TILT = frozenset({"pan", "tilt"})
 _ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
+#: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
+_LEG = frozenset(
+    {"leg", "legs", "hip", "knee", "ankle", "foot", "feet", "toe", "thigh", "shin", "calf"}
+)
 
 #: Tool-frame name preferences, best first: (rank, words or exact name).
 _TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
@@ -311,7 +316,9 @@ def default_cspace(
     """The longest serial chain of actuated joints from the root (see the module doc).
 
     ``passive`` joints never enter the c-space. Among chains of equal length, one whose tool
-    frame has a tool-like name wins, then the first in depth-first order (siblings by name).
+    frame has a tool-like name wins, then an arm (``shoulder``/``elbow``/``wrist`` names) over
+    a leg (``hip``/``knee``/``ankle`` names; a humanoid's arm and leg can be equally long),
+    then the first in depth-first order (siblings by name).
     """
     roles = joint_roles(tree)
     chains = leaf_chains(tree, roles, passive)
@@ -329,7 +336,15 @@ def default_cspace(
     for c in longest:
         distinct.setdefault(c.cspace, c)
     guesses = {cs: guess_tool_frame(tree, cs[-1], collision_links) for cs in distinct}
-    named = [cs for cs, g in guesses.items() if g.named]
-    pick = (named or list(distinct))[0]
+    pick = min(distinct, key=lambda cs: (not guesses[cs].named, *_limb_rank(tree, cs)))
     ties = tuple((c, guesses[cs]) for cs, c in distinct.items() if cs != pick)
     return DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties)
+
+
+def _limb_rank(tree: RobotTree, cspace: Sequence[str]) -> tuple[bool, bool]:
+    """Sort key of a chain among equally long ones: an arm first, a leg last."""
+    words: set[str] = set()
+    for jn in cspace:
+        words.update(name_words(jn), name_words(tree.joints[jn].child))
+    arm = bool(words & _ARM)
+    return (bool(words & _LEG) and not arm, not arm)

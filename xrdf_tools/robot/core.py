@@ -61,6 +61,8 @@ class Robot:
     link_lines: Mapping[str, int] = field(default_factory=FrozenMap)
     joint_lines: Mapping[str, int] = field(default_factory=FrozenMap)
     package_paths: Mapping[str, str] = field(default_factory=FrozenMap)
+    #: The xacro arguments a xacro robot was expanded with (an SRDF xacro takes the same).
+    xacro_args: Mapping[str, str] = field(default_factory=FrozenMap)
     #: ``(link, "collision" | "visual", index)`` of the elements whose geometry is a
     #: ``<capsule>`` (not standard URDF): yourdfpy holds them as cylinders of the same radius
     #: and length (see :func:`xrdf_tools.robot.link_geometry.capsules_as_cylinders`).

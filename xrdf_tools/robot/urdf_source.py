@@ -6,7 +6,8 @@ joint types, duplicate links or joints, joints that refer to unknown links, numb
 parse. The checked tree is the :class:`~xrdf_tools.robot.core.Robot`; yourdfpy gets it only
 when geometry is read (:func:`xrdf_tools.robot.yourdfpy_build.build_yourdfpy`). Every failure
 is a :class:`UrdfError` whose one-line message starts with ``path:line:`` when the line is
-known.
+known (for an expanded xacro, the line of the element in the xacro file when it is written
+there literally).
 
 :class:`JointInfo`, :func:`joints_of` and :func:`links_of` give a plain, typed view of a loaded
 URDF for the kinematics, the linter and the converter. yourdfpy is imported lazily so that
@@ -18,7 +19,8 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Literal
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
 
 from ..diagnostics import Diagnostic
 from ..util.errors import UrdfError, UrdfReadError
@@ -167,9 +169,10 @@ def parse_robot(
     package_paths: Mapping[str, str] | None = None,
     build_scene_graph: bool = False,
     expanded: bool = False,
+    xacro_args: Mapping[str, str] | None = None,
 ) -> Robot:
     """:func:`parse_urdf_string` as a :class:`~xrdf_tools.robot.core.Robot` (``expanded``: the
-    text is the expansion of the xacro file ``path``)."""
+    text is the expansion of the xacro file ``path`` with ``xacro_args``)."""
     text = _ENCODING_DECL.sub(r"\1", text, count=1)
     return _parse_bytes(
         text.encode("utf-8"),
@@ -177,6 +180,7 @@ def parse_robot(
         package_paths=package_paths,
         build_scene_graph=build_scene_graph,
         expanded=expanded,
+        xacro_args=xacro_args,
     )
 
 
@@ -187,6 +191,7 @@ def _parse_bytes(
     package_paths: Mapping[str, str] | None,
     build_scene_graph: bool,
     expanded: bool = False,
+    xacro_args: Mapping[str, str] | None = None,
 ) -> Robot:
     from lxml import etree
 
@@ -203,8 +208,19 @@ def _parse_bytes(
         raise UrdfError("the file is empty", path=path, line=1)
 
     etree.strip_tags(root, etree.Comment)
+    source = _xacro_source(path) if expanded else ""
+    if expanded:
+        _relocate_expansion(root, source)
     warnings: list[Diagnostic] = []
-    link_lines, joint_lines = check_urdf_tree(root, path, warnings)
+    try:
+        link_lines, joint_lines = check_urdf_tree(root, path, warnings)
+    except UrdfError as e:
+        if expanded and e.line is None:  # made by a macro: where the value it quotes is written
+            e.line = _quoted_value_line(source, e.message)
+        raise
+    if expanded:  # 0: not written literally in the xacro file (see _relocate_expansion)
+        link_lines = {k: v for k, v in link_lines.items() if v}
+        joint_lines = {k: v for k, v in joint_lines.items() if v}
     etree.cleanup_namespaces(root)
     capsules = capsules_as_cylinders(root)  # yourdfpy knows no <capsule>
 
@@ -216,7 +232,49 @@ def _parse_bytes(
         link_lines=FrozenMap(link_lines),
         joint_lines=FrozenMap(joint_lines),
         package_paths=FrozenMap(package_paths or {}),
+        xacro_args=FrozenMap(xacro_args or {}),
         capsules=capsules,
         build_scene_graph=build_scene_graph,
         warnings=tuple(warnings),
     )
+
+
+def _xacro_source(path: str) -> str:
+    """The text of the xacro file an expansion came from ("" when it cannot be read again)."""
+    try:
+        return Path(path).read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return ""
+
+
+def _line_of(source: str, at: int) -> int | None:
+    return source.count("\n", 0, at) + 1 if at >= 0 else None
+
+
+def _quoted_value_line(source: str, message: str) -> int | None:
+    """The line of the xacro text that writes a value ``message`` quotes (``'name'``), the
+    last quoted first (the value at fault: "joint 'j' refers to unknown link 'x'")."""
+    for value in reversed(re.findall(r"'([^'\n]+)'", message)):
+        found = [source.find(f"={q}{value}{q}") for q in "\"'"]
+        line = _line_of(source, min((i for i in found if i >= 0), default=-1))
+        if line is not None:
+            return line
+    return None
+
+
+def _relocate_expansion(root: Any, source: str) -> None:
+    """Give the elements of an expanded xacro the lines of its xacro file's text ``source``.
+
+    The expansion's own lines are not the file's. A top-level ``<link>``/``<joint>`` written
+    literally in the file (``<joint name="j1"``) takes that line, and so does everything inside
+    it; one that a macro or a ``$(arg)`` made has no line (lxml reads 0 as no line).
+    """
+    for el in root:
+        line = 0
+        name = el.get("name") if isinstance(el.tag, str) else None
+        if name:
+            found = [source.find(f"<{el.tag} name={q}{name}{q}") for q in "\"'"]
+            line = _line_of(source, min((i for i in found if i >= 0), default=-1)) or 0
+        for node in el.iter():
+            node.sourceline = line
+    root.sourceline = 0

@@ -30,7 +30,7 @@ from .packages import PackageResolver, absolute
 if TYPE_CHECKING:
     from .core import Robot
 
-__all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg"]
+__all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg", "uses_xacro"]
 
 _LOCK = threading.Lock()
 
@@ -44,11 +44,11 @@ def is_xacro(path: str | os.PathLike[str]) -> bool:
         data = read_input_bytes(p, what="robot file", error=SourceError)
     except XrdfToolsError:
         return False  # not readable: the URDF reader says why
-    return _uses_xacro(data)
+    return uses_xacro(data)
 
 
-def _uses_xacro(data: bytes) -> bool:
-    """The bytes of a robot file declare the xacro namespace and use it."""
+def uses_xacro(data: bytes) -> bool:
+    """The bytes of a robot (or SRDF) file declare the xacro namespace and use it."""
     return b"xmlns:xacro" in data[:4096] and b"<xacro:" in data
 
 
@@ -230,9 +230,11 @@ def load_robot(
             if xacro_args:  # a file that cannot be read is no xacro file (as is_xacro says)
                 raise SourceError(_NOT_XACRO, path=str(path)) from None
             raise
-    if data is None or _uses_xacro(data):
+    if data is None or uses_xacro(data):
         text = expand_xacro(path, xacro_args, pkg, data=data)
-        return parse_robot(text, os.fspath(path), package_paths=pkg, expanded=True)
+        return parse_robot(
+            text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
+        )
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
     return read_robot(path, package_paths=pkg, data=data)

@@ -8,7 +8,7 @@ failures into errors, and ``xrdf export --target`` checks the output against it.
 target         reader                                          versions    on another version
 =============  =============================================  ==========  =================
 ``curobo``     cuRobo 0.7.x / main, Isaac ROS cuMotion 4.x     1.0         2.0 loads with
-                                                                           **no** collision
+               (alias ``isaac-ros``)                                       **no** collision
 ``cumotion``   cuMotion library 1.0 / 1.1                      1.0, 2.0    —
 ``isaac-sim``  Isaac Sim Robot Description Editor 6.0          1.0, 2.0    —
 =============  =============================================  ==========  =================
@@ -26,6 +26,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "TARGETS",
+    "TARGET_ALIASES",
     "Target",
     "choose_version",
     "dropping_readers",
@@ -54,15 +55,23 @@ TARGETS: dict[str, Target] = {
 }
 
 
+#: Other names of the programs above: Isaac ROS cuMotion loads an XRDF through cuRobo's reader.
+TARGET_ALIASES: dict[str, str] = {"isaac-ros": "curobo", "isaac-ros-cumotion": "curobo"}
+
+
 def parse_target(value: str | None) -> Target | None:
-    """The target named ``value`` (None stays None); an unknown name raises one clear line."""
+    """The target named ``value`` (None stays None); an unknown name raises one clear line.
+
+    Case, ``_`` and spaces do not matter (``isaac_sim`` is ``isaac-sim``), and an alias names
+    the reader its program loads through (``isaac-ros`` is ``curobo``)."""
     if value is None:
         return None
-    key = value.strip().lower()
+    key = "-".join(value.strip().lower().replace("_", " ").split())
+    key = TARGET_ALIASES.get(key, key)
     if key not in TARGETS:
         raise XrdfToolsError(
-            f"unknown target '{value}'; choose one of {', '.join(TARGETS)}"
-            + did_you_mean(key, TARGETS)
+            f"unknown target '{value}'; choose one of {', '.join(TARGETS)} (isaac-ros: curobo)"
+            + did_you_mean(key, [*TARGETS, *TARGET_ALIASES])
         )
     return TARGETS[key]
 

@@ -8,7 +8,7 @@ Group expansion and choice are in :mod:`.srdf_groups`, the mapping onto a Draft 
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -62,23 +62,39 @@ class Srdf:
     spheres: tuple[tuple[str, tuple[Sphere, ...], int | None], ...] = ()
 
 
-def load_srdf(path: str | os.PathLike[str]) -> Srdf:
-    """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used."""
+def load_srdf(
+    path: str | os.PathLike[str],
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    package_paths: Mapping[str, str] | None = None,
+) -> Srdf:
+    """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used.
+
+    An SRDF xacro (``robot.srdf.xacro``, as MoveIt configurations ship them) is expanded with
+    ``xacro_args`` and ``package_paths`` first, as MoveIt's launch files do; its elements are
+    then reported without a line (the expansion's lines are not the file's)."""
+    from ...robot.xacro_source import expand_xacro, uses_xacro
+
     p = os.fspath(path)
-    return parse_srdf(read_input_bytes(p, what="SRDF file", error=SourceError), p)
+    data = read_input_bytes(p, what="SRDF file", error=SourceError)
+    if not (p.endswith(".xacro") or uses_xacro(data)):
+        return parse_srdf(data, p)
+    text = expand_xacro(p, xacro_args, package_paths, data=data)
+    return parse_srdf(text, p, located=False)
 
 
-def parse_srdf(data: bytes | str, path: str = "<srdf>") -> Srdf:
+def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True) -> Srdf:
     """Parse SRDF text; raises :class:`SourceError` (with the line) for malformed XML, a root
     that is not ``<robot>``, a missing attribute, a value that is not a number, or a group
-    defined twice. Elements other than those MoveIt defines are ignored."""
+    defined twice. Elements other than those MoveIt defines are ignored. ``located=False``:
+    the text is not the file at ``path`` (a xacro's expansion), so no element has a line."""
     try:
         root = parse_xml(utf8_xml_bytes(data), keep_comments=False)
     except XmlSyntaxError as e:
         raise SourceError(f"malformed SRDF XML: {e.verbatim}", path=path, line=e.line) from None
     if root is None or root.tag != "robot":
         raise SourceError("the root element of an SRDF must be <robot>", path=path, line=1)
-    p = _Parser(path)
+    p = _Parser(path, located)
     for el in root:
         if isinstance(el.tag, str) and el.tag in _ELEMENTS:
             _ELEMENTS[el.tag](p, el)
@@ -100,8 +116,9 @@ def parse_srdf(data: bytes | str, path: str = "<srdf>") -> Srdf:
 class _Parser:
     """What has been read so far, and attribute access that raises at the element's line."""
 
-    def __init__(self, path: str) -> None:
+    def __init__(self, path: str, located: bool = True) -> None:
         self.path = path
+        self.located = located
         self.groups: dict[str, SrdfGroup] = {}
         self.states: list[GroupState] = []
         self.ees: list[EndEffector] = []
@@ -112,12 +129,16 @@ class _Parser:
         self.enabled: list[tuple[str, str, int | None]] = []
         self.spheres: list[tuple[str, tuple[Sphere, ...], int | None]] = []
 
+    def line(self, el: Any) -> int | None:
+        """The line of ``el`` in the file, when the parsed text is the file."""
+        return int(el.sourceline) if self.located and el.sourceline is not None else None
+
     def req(self, el: Any, attr: str) -> str:
         """A required, non-empty attribute."""
         v = el.get(attr)
         if not v:
             raise SourceError(
-                f"<{el.tag}> needs a '{attr}' attribute", path=self.path, line=el.sourceline
+                f"<{el.tag}> needs a '{attr}' attribute", path=self.path, line=self.line(el)
             )
         return str(v)
 
@@ -128,7 +149,7 @@ class _Parser:
             return float(raw_v.split()[0])
         except (ValueError, IndexError):
             raise SourceError(
-                f"<{el.tag}> {attr}='{raw_v}' is not a number", path=self.path, line=el.sourceline
+                f"<{el.tag}> {attr}='{raw_v}' is not a number", path=self.path, line=self.line(el)
             ) from None
 
 
@@ -146,18 +167,19 @@ def _group(p: _Parser, el: Any) -> None:
             subs.append(p.req(c, "name"))
     if name in p.groups:
         raise SourceError(
-            f"group '{name}' is defined twice (first on line {p.groups[name].line})",
+            f"group '{name}' is defined twice"
+            + (f" (first on line {first})" if (first := p.groups[name].line) else ""),
             path=p.path,
-            line=el.sourceline,
+            line=p.line(el),
         )
     p.groups[name] = SrdfGroup(
-        name, tuple(links), tuple(joints), tuple(chains), tuple(subs), el.sourceline
+        name, tuple(links), tuple(joints), tuple(chains), tuple(subs), p.line(el)
     )
 
 
 def _group_state(p: _Parser, el: Any) -> None:
     values = tuple((p.req(j, "name"), p.num(j, "value")) for j in el if j.tag == "joint")
-    p.states.append(GroupState(p.req(el, "name"), el.get("group"), values, el.sourceline))
+    p.states.append(GroupState(p.req(el, "name"), el.get("group"), values, p.line(el)))
 
 
 def _end_effector(p: _Parser, el: Any) -> None:
@@ -167,13 +189,13 @@ def _end_effector(p: _Parser, el: Any) -> None:
             p.req(el, "parent_link"),
             el.get("group"),
             el.get("parent_group"),
-            el.sourceline,
+            p.line(el),
         )
     )
 
 
 def _virtual_joint(p: _Parser, el: Any) -> None:
-    p.vjs.append((p.req(el, "name"), el.get("type") or "", el.sourceline))
+    p.vjs.append((p.req(el, "name"), el.get("type") or "", p.line(el)))
 
 
 def _passive_joint(p: _Parser, el: Any) -> None:
@@ -181,17 +203,15 @@ def _passive_joint(p: _Parser, el: Any) -> None:
 
 
 def _disable_collisions(p: _Parser, el: Any) -> None:
-    p.disabled.append(
-        (p.req(el, "link1"), p.req(el, "link2"), el.get("reason") or "", el.sourceline)
-    )
+    p.disabled.append((p.req(el, "link1"), p.req(el, "link2"), el.get("reason") or "", p.line(el)))
 
 
 def _disable_default(p: _Parser, el: Any) -> None:
-    p.disable_default.append((p.req(el, "link"), el.sourceline))
+    p.disable_default.append((p.req(el, "link"), p.line(el)))
 
 
 def _enable_collisions(p: _Parser, el: Any) -> None:
-    p.enabled.append((p.req(el, "link1"), p.req(el, "link2"), el.sourceline))
+    p.enabled.append((p.req(el, "link1"), p.req(el, "link2"), p.line(el)))
 
 
 def _sphere_approximation(p: _Parser, el: Any) -> None:
@@ -206,10 +226,10 @@ def _sphere_approximation(p: _Parser, el: Any) -> None:
             raise SourceError(
                 f"sphere center '{' '.join(c)}' must be three numbers",
                 path=p.path,
-                line=s.sourceline,
+                line=p.line(s),
             ) from None
         ss.append(Sphere(center, p.num(s, "radius")))
-    p.spheres.append((p.req(el, "link"), tuple(ss), el.sourceline))
+    p.spheres.append((p.req(el, "link"), tuple(ss), p.line(el)))
 
 
 #: The SRDF elements read, by tag, each with its reader.
