@@ -316,3 +316,27 @@ def test_every_command_reads_a_xacro_with_its_arguments(runner: CliRunner, tmp_p
     assert "z_tip:" in sph.stdout
     not_xacro = runner.invoke(app, ["expand", str(expanded)])
     assert not_xacro.exit_code == 2 and "not a xacro file" in not_xacro.output
+
+
+def test_fit_spheres_on_a_robot_with_visual_geometry_only_is_an_input_error(
+    tmp_path: Path,
+) -> None:
+    """A vendor URDF with <visual> meshes and no <collision> (Doosan's m1013.white.urdf):
+    --fit-spheres would write an XRDF that checks no collision. It stops with exit 2, names
+    the links and --from visual, and writes nothing; --from visual fits them."""
+    visual_only = BOXES.replace("<collision>", "<visual>").replace("</collision>", "</visual>")
+    urdf = tmp_path / "visual_only.urdf"
+    urdf.write_text(visual_only)
+    out = tmp_path / "out.xrdf"
+    runner = CliRunner()
+    res = runner.invoke(app, ["convert", str(urdf), "--fit-spheres", "-o", str(out)])
+    assert res.exit_code == 2, res.output
+    assert f"{urdf}: " in res.output and "4 link(s) have visual geometry only" in res.output
+    assert "--from visual" in res.output and "Traceback" not in res.output
+    assert not out.exists()
+    ok = runner.invoke(
+        app, ["convert", str(urdf), "--fit-spheres", "--from", "visual", "--per-link", "1",
+              "--samples", "200", "-o", str(out)]
+    )  # fmt: skip
+    assert ok.exit_code == 0, ok.output
+    assert set(load_xrdf(out).world_collision_spheres()) == {"base", "upper", "lower", "camera"}

@@ -241,6 +241,8 @@ def fit_missing_spheres(
     have = {k: list(v) for k, v in x.world_collision_spheres().items() if v}
     usable, visual_only = geometry_links(urdf, fit.source)
     todo = [link for link in usable if link not in have]
+    if not have and not todo:
+        _nothing_to_fit(as_robot(urdf).path, fit.source, visual_only)
 
     def step(link: str, i: int, n: int) -> None:
         if progress is not None:
@@ -270,6 +272,26 @@ def fit_missing_spheres(
         robot.path, todo, fitted, diags, allowed_missing=missing, lines=robot.link_lines
     )
     return with_spheres(x, dict(merged)), counts, [*diags, summary, *errors]
+
+
+def _nothing_to_fit(path: str, source: GeometryChoice, visual_only: Sequence[str]) -> None:
+    """Raise: spheres were asked for, and no link has geometry of kind ``source`` to fit them
+    to (a URDF with visual geometry only would give an XRDF that checks no collision)."""
+    from ..util.errors import XrdfToolsError
+
+    if visual_only:
+        shown = ", ".join(visual_only[:8]) + (" …" if len(visual_only) > 8 else "")
+        raise XrdfToolsError(
+            f"--fit-spheres: no link has {source} geometry to fit spheres to; "
+            f"{len(visual_only)} link(s) have visual geometry only ({shown}): --from visual "
+            "fits spheres to it",
+            path=path,
+        )
+    raise XrdfToolsError(
+        f"--fit-spheres: no link has {source} geometry to fit spheres to (the URDF has no "
+        "<collision> and no <visual> geometry)",
+        path=path,
+    )
 
 
 def fit_summary(
