@@ -170,6 +170,26 @@ def test_srdf_xacro_is_expanded_with_the_robots_arguments(
     assert "arm: 2 c-space joint(s): a_j0, a_j1" in shown.output
 
 
+def test_expand_writes_an_srdf_xacro_as_the_srdf_convert_reads(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """`xrdf expand robot.srdf.xacro` writes the SRDF (its arguments applied, checked as an
+    SRDF) instead of refusing it as a URDF without links; a robot's xacro is still a URDF."""
+    robot, srdf = _prefixed_arm(tmp_path)
+    out = tmp_path / "arm.srdf"
+    res = runner.invoke(app, ["expand", str(srdf), "--xacro-arg", "prefix:=z_", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    text = out.read_text()
+    assert 'link1="z_l0" link2="z_l2"' in text and "$(arg" not in text and "${" not in text
+    urdf = runner.invoke(app, ["expand", str(robot), "--xacro-arg", "prefix:=z_"])
+    assert urdf.exit_code == 0 and '<link name="z_l0"' in urdf.stdout, urdf.output
+    # a file that expands to neither keeps the URDF's reason
+    empty = tmp_path / "empty.xacro"
+    empty.write_text('<robot name="e" xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
+    bad = runner.invoke(app, ["expand", str(empty)])
+    assert bad.exit_code == 2 and "has no <link>" in bad.output, bad.output
+
+
 def test_a_xacro_robots_messages_name_no_line_of_its_expansion(
     runner: CliRunner, tmp_path: Path
 ) -> None:

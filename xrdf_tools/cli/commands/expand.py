@@ -1,4 +1,4 @@
-"""``xrdf expand``: a xacro file → the URDF every other command would read.
+"""``xrdf expand``: a xacro file → the URDF (or SRDF) every other command would read.
 
 Exit codes: 0 written; 2 usage or input error (xacro failure, unresolved package, invalid URDF).
 """
@@ -46,13 +46,16 @@ def command(
     """Expand a xacro file without ROS and write the URDF (checked: it must load).
 
     `$(find pkg)` and `package://pkg/` resolve through --package-path, then package.xml
-    files near the input, exactly as in `xrdf convert`.
+    files near the input, exactly as in `xrdf convert`. An SRDF xacro (a MoveIt
+    configuration's robot.srdf.xacro: groups and disabled pairs, no links) is written as the
+    SRDF `xrdf convert --srdf` reads from it (checked: it must parse).
 
     \b
     Examples:
       xrdf expand robot.urdf.xacro -o robot.urdf
       xrdf expand px150.urdf.xacro --xacro-arg robot_name:=px150 \\
           --package-path trossen_descriptions=../trossen_descriptions
+      xrdf expand wx250s.srdf.xacro --xacro-arg robot_name:=wx250s -o wx250s.srdf
     """
     from ...robot.urdf_source import urdf_text
     from ...robot.xacro_source import is_xacro
@@ -64,7 +67,39 @@ def command(
         fail(f"{robot}: not a xacro file (nothing to expand)")
     try:
         with timed("expand"):
-            text = urdf_text(load_robot_option(robot, xacro_arg, package_path)) or ""
+            try:
+                text = urdf_text(load_robot_option(robot, xacro_arg, package_path)) or ""
+            except XrdfToolsError as not_urdf:
+                srdf = _expanded_srdf(robot, xacro_arg, package_path)
+                if srdf is None:
+                    raise not_urdf from None
+                text = srdf
     except XrdfToolsError as e:
         fail(e)
     write_output(text, output)
+
+
+def _expanded_srdf(
+    path: Path, xacro_arg: list[str] | None, package_path: list[str] | None
+) -> str | None:
+    """The expansion of an SRDF xacro (no ``<link>``; groups, disabled pairs or a virtual
+    joint), checked as an SRDF; None when ``path`` does not expand to one."""
+    from ...convert.sources.srdf_parse import parse_srdf
+    from ...robot.packages import parse_package_path
+    from ...robot.xacro_source import expand_xacro, parse_xacro_arg
+    from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
+    from .plain import pairs
+
+    text = expand_xacro(
+        path,
+        pairs(xacro_arg, parse_xacro_arg),
+        pairs(package_path, parse_package_path),
+    )
+    try:
+        tags = {el.tag for el in parse_xml(utf8_xml_bytes(text), keep_comments=False)}
+    except XmlSyntaxError:
+        return None
+    if "link" in tags or not tags & {"group", "disable_collisions", "virtual_joint"}:
+        return None
+    parse_srdf(text, str(path), located=False)
+    return text
