@@ -14,6 +14,7 @@ import trimesh
 
 from tests.robots import robot_urdf
 from xrdf_tools.convert.spheres_job import fit_metrics, metrics_table
+from xrdf_tools.spheres import sphere_metrics
 from xrdf_tools.spheres.fit import default_max_protrusion
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.spheres.robot_fit import CountPolicy, FitResult, fit_robot
@@ -211,3 +212,22 @@ def test_a_closed_flat_mesh_is_no_volume_without_a_numpy_warning() -> None:
         warnings.simplefilter("always")
         assert not is_volume(flat)
     assert [str(w.message) for w in seen] == []
+
+
+def test_a_disc_its_default_bound_cannot_cover_is_refined_past_it(tmp_path: Path) -> None:
+    """Unitree H1's shoulder discs (80 mm across, 10 mm thick): thicker than a sheet, and
+    under their 2.2 mm default bound 16 spheres covered 43 % of them. By default they are
+    refined past the bound as --per-link is, and reach the target; a bound the user gives
+    stays hard (and the target is missed, said as before)."""
+    disc = trimesh.creation.cylinder(radius=0.04, height=0.01, sections=64)
+    urdf = _urdf(tmp_path, disc, "disc")
+    fit = fit_robot(urdf)
+    assert [d.rule for d in fit.diagnostics] == ["spheres-past-bound"]
+    assert "within its 2.21 mm default bound cover 5" in fit.diagnostics[0].message
+    solid = fit.geometry["disc"].solid
+    m = sphere_metrics(solid, fit.spheres["disc"], samples=8000)
+    assert m.coverage >= 0.9 and len(fit.spheres["disc"]) <= 16
+    hard = fit_robot(urdf, max_protrusion=default_max_protrusion(solid))
+    assert [d.rule for d in hard.diagnostics] == ["spheres-target-missed"]
+    h = sphere_metrics(solid, hard.spheres["disc"], samples=8000)
+    assert h.coverage < 0.6 and h.protrusion_max <= default_max_protrusion(solid) + 2e-4

@@ -95,6 +95,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("spheres-placeholder", I, "A part under 2 cm across: one sphere."),
         ("spheres-shared-mesh", I, "Links with identical geometry: fitted once, same spheres."),
         ("spheres-sheet", I, "A sheet far thinner than the protrusion bound: a few spheres."),
+        ("spheres-past-bound", I, "Too few spheres within the default bound: refined past it."),
         ("spheres-target-missed", W, "A link whose spheres fall short of the coverage target."),
         ("spheres-thin-shell", I, "A shell far thinner than its hull: the hull is fitted."),
         ("spheres-unsupported-geometry", W, "A geometry kind the fitter does not handle."),

@@ -35,6 +35,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
 from ..xrdf.model import Sphere
+from .fewest import AUTO_MAX_PER_LINK, fewest_reaching, past_the_bound
 
 if TYPE_CHECKING:
     import trimesh
@@ -46,7 +47,6 @@ if TYPE_CHECKING:
 
 MAX_PER_LINK = 64
 AUTO_COVERAGE_TARGET = 0.9
-AUTO_MAX_PER_LINK = 16
 #: A solid whose bounding-box diagonal is shorter than this (metres) is a placeholder.
 PLACEHOLDER_SIZE = 0.02
 
@@ -54,6 +54,7 @@ RULE_SHARED_MESH = "spheres-shared-mesh"
 RULE_TARGET_MISSED = "spheres-target-missed"
 RULE_PLACEHOLDER = "spheres-placeholder"
 RULE_SHEET = "spheres-sheet"
+RULE_PAST_BOUND = "spheres-past-bound"
 
 #: ``progress(link, i, n)``: called before link ``i`` of ``n`` is fitted.
 Progress = Callable[[str, int, int], None]
@@ -167,25 +168,6 @@ class CountPolicy:
     refine: bool = True
 
 
-def _fewest_reaching(fitter: SphereFitter, target: float) -> tuple[tuple[Sphere, ...], float]:
-    """The fewest refined spheres (up to AUTO_MAX_PER_LINK) covering ``target`` of the volume
-    samples: the greedy count is an upper bound (refinement only adds coverage), and a
-    bisection below it with refined fits finds the fewest."""
-    curve = fitter.greedy(AUTO_MAX_PER_LINK)[1]
-    reach = [k + 1 for k, c in enumerate(curve) if c >= target]
-    hi = reach[0] if reach else AUTO_MAX_PER_LINK
-    fits = {hi: fitter.fit(hi)}
-    lo = 0  # lo spheres do not reach the target (0 never does), hi do (or hi is the cap)
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        fits[mid] = fitter.fit(mid)
-        if fitter.covered_share(fits[mid]) >= target:
-            hi = mid
-        else:
-            lo = mid
-    return fits[hi], fitter.covered_share(fits[hi])
-
-
 def _info(path: str, line: int | None, rule: str, message: str, warn: bool = False) -> Diagnostic:
     return Diagnostic(path, line, None, rule, Severity.WARNING if warn else Severity.INFO, message)
 
@@ -275,9 +257,10 @@ def fit_robot(
                 fitters[owner], ks.get(owner), counts, geoms[name], plans[name], path, diags
             )
         else:
+            own = plans[name][1] is not None
             mode = _fit_mode(plans[name][1], counts)
             spheres[name] = _fit_one(
-                fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode
+                fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode, own
             )
         seconds[name] += time.perf_counter() - t0
     _report_shared(plans, first_of, path, geoms, diags)
@@ -406,7 +389,7 @@ def _morphit_one(
     if fitter.empty or _across(geom) < PLACEHOLDER_SIZE:
         return _fit_one(fitter, k, counts, geom, path, diags)
     if k is None:
-        k = len(_fewest_reaching(fitter, counts.target_coverage)[0])
+        k = len(fewest_reaching(fitter, counts.target_coverage)[0])
     return fit_link(fitter, k, geom, plan, path, diags)
 
 
@@ -418,11 +401,13 @@ def _fit_one(
     path: str,
     diags: list[Diagnostic],
     mode: str = "hard",
+    own_bound: bool = False,
 ) -> tuple[Sphere, ...]:
     """One link's spheres: ``k`` of them (``mode``: ``hard`` within the fitter's bound,
     ``refine`` then refined on coverage and protrusion, ``search`` under the smallest bound
     at which they cover ``counts.count_coverage``), or the fewest reaching the coverage
-    target."""
+    target (past the default bound when it cannot be reached within it, unless the link has
+    a bound of its own: :mod:`.fewest`)."""
     if fitter.empty and k != 0:
         diags.append(
             _info(
@@ -456,7 +441,24 @@ def _fit_one(
         return refined_fit(fitter, k)
     if k is not None:
         return fitter.fit(k)
-    spheres, share = _fewest_reaching(fitter, counts.target_coverage)
+    spheres, share = fewest_reaching(fitter, counts.target_coverage)
+    if share < counts.target_coverage and not own_bound and counts.refine:
+        within = (
+            f"{len(spheres)} spheres within its {fitter.tau * 1000:.3g} mm default bound cover "
+            f"{share:.0%} of it (target {counts.target_coverage:.0%})"
+        )
+        spheres, share = past_the_bound(fitter, len(spheres))
+        if share >= counts.target_coverage:
+            diags.append(
+                _info(
+                    path,
+                    geom.line,
+                    RULE_PAST_BOUND,
+                    f"link '{geom.link}': {within}; refined past the bound (as --per-link "
+                    f"is) they cover {share:.0%}; --max-protrusion keeps a hard bound",
+                ),
+            )
+            return spheres
     if share < counts.target_coverage:
         diags.append(
             _info(
