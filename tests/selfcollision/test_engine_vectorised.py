@@ -20,6 +20,7 @@ from tests.selfcollision.test_engine_static import ARM, talos_left_arm
 from xrdf_tools.robot.kinematics import KinematicModel
 from xrdf_tools.selfcollision.collision import sphere_world_centers
 from xrdf_tools.selfcollision.engine import EngineTotals, count_sampled
+from xrdf_tools.selfcollision.engine import cullgroups as cullgroups_mod
 from xrdf_tools.selfcollision.engine import culling as culling_mod
 from xrdf_tools.selfcollision.engine.bodies import body_poses, joint_values
 from xrdf_tools.selfcollision.engine.pairs import (
@@ -135,6 +136,11 @@ def test_grouped_culling_equals_pair_by_pair(
     assert np.all(low_g <= low_s + 1e-6)
     assert np.all(low_g > 0.01)
     assert np.mean(np.isclose(low_g, low_s, rtol=0, atol=1e-6)) > 0.5  # most: their own gaps
+    # the members are tested in blocks of bounded memory: the same result block by block
+    monkeypatch.setattr(cullgroups_mod, "_BLOCK", 64)
+    near_b, low_b = eng.culler.culled_near(plan, T[:, :, :3], T[:, :, 3])
+    np.testing.assert_array_equal(near_b, near_g)
+    np.testing.assert_array_equal(low_b, low_g)
     # and the counts of the engine with groups equal the reference counter's
     q = np.repeat(q0[None, :], len(qv), axis=0)
     q[:, arm] = qv

@@ -205,9 +205,11 @@ class CountEngine:
         """The most configurations a chunk should hold for its arrays to stay within about
         :data:`CHUNK_BYTES` (a multiple of 1024, between 4,096 and 65,536): per configuration a
         chunk holds the flags of the sampled frame pairs (of every frame pair too with
-        ``flags``, as :meth:`count` returns them), the culled pairs' verdicts, every body's
-        pose and the configuration itself. It depends on the robot and the options only."""
+        ``flags``, as :meth:`count` returns them), the culled pairs' verdicts and their
+        groups' gaps, every body's pose and the configuration itself. It depends on the robot
+        and the options only."""
         per = len(self.sampled_k) + len(self.cull_plan.pairs) + 52 * self.bodies.n
+        per += 5 * len(self.cull_plan.sides)  # a group's squared gap and whether it is near
         per += 16 * len(self.cspace) + _CHUNK_SLACK + (self.K if flags else 0)
         return int(np.clip(CHUNK_BYTES // per // 1024 * 1024, 4096, 65536))
 

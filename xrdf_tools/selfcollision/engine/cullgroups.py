@@ -25,6 +25,9 @@ from .bodies import F32
 
 __all__ = ["GroupTable", "grouped_near"]
 
+#: (member, configuration) entries of a group tested at once: 1 MB of float32 distances.
+_BLOCK = 1 << 18
+
 
 @dataclass(frozen=True, eq=False)
 class GroupTable:
@@ -80,16 +83,22 @@ class _Found:
         self.low = np.full(n_members, np.inf)
 
     def test(self, table: GroupTable, g: int, at: IntArray, R: F32, t: F32, margin: float) -> None:
-        """Test group ``g``'s members at the configurations ``at``."""
+        """Test group ``g``'s members at the configurations ``at``, in blocks of at most
+        :data:`_BLOCK` (member, configuration) entries (bounded memory)."""
         members = slice(int(table.starts[g]), int(table.starts[g + 1]))
-        d2 = _member_gaps2(table, g, members, at, R, t)  # [n, m]
         reach = table.reach[members]
-        near = d2 <= (reach**2).astype(np.float32)[None, :]
-        far_min = np.min(d2, axis=0, where=~near, initial=np.inf).astype(np.float64)
-        np.minimum(self.low[members], np.sqrt(far_min) - reach + margin, out=self.low[members])
-        b, m = np.nonzero(near)
-        self.rows.append(table.row[members][m])
-        self.cols.append(at[b])
+        reach2 = (reach**2).astype(np.float32)[None, :]
+        step = max(1, _BLOCK // (members.stop - members.start))
+        for s0 in range(0, len(at), step):
+            cols = at[s0 : s0 + step]
+            d2 = _member_gaps2(table, g, members, cols, R, t)  # [n, m]
+            near = d2 <= reach2
+            far_min = np.min(d2, axis=0, where=~near, initial=np.inf).astype(np.float64)
+            low = np.sqrt(far_min) - reach + margin
+            np.minimum(self.low[members], low, out=self.low[members])
+            b, m = np.nonzero(near)
+            self.rows.append(table.row[members][m])
+            self.cols.append(cols[b])
 
 
 def _member_gaps2(table: GroupTable, g: int, members: slice, at: IntArray, R: F32, t: F32) -> F32:
