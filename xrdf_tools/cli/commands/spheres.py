@@ -106,7 +106,9 @@ def command(
             min=0.01,
             max=1.0,
             help="Without --count/--per-link/--density: per link, the fewest spheres (up to "
-            "16) that cover this share of its volume within --max-protrusion.",
+            "16) that cover this share of its volume within --max-protrusion. A link the "
+            "default bound cannot cover so (a thin disc) gets its 16 refined past that bound; "
+            "a sheet (a marker plate) gets a few spheres holding all of it.",
         ),
     ] = 0.9,
     clip: Annotated[
