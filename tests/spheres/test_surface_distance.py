@@ -70,3 +70,20 @@ def test_zero_area_triangles_warn_nothing_and_leave_the_distance_to_the_others()
     assert np.all(d >= to_segment - 1e-12)
     good = np.array([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
     assert _point_triangle_distance(np.array([[0.25, 0.25, 0.5]]), good)[0] == 0.5
+
+
+def test_two_vertices_a_rounding_error_apart_warn_nothing() -> None:
+    """A sliver whose two vertices differ in one coordinate by a rounding error (an exported
+    mesh's welded corner) makes an edge weight infinite against an edge vector holding zeros:
+    inf * 0 must not reach the user as a RuntimeWarning (an error under the test settings),
+    and the distance is the one to the nearer of the two coinciding vertices."""
+    from xrdf_tools.spheres.distance import _point_triangle_distance
+
+    a = np.array([1.3040000451301372, 0.9470809631292422, -0.7037352358069926])
+    b = np.array([0.6409637706641725, 1.5206799400568236, 0.8296882754660052])
+    c = np.array([0.6409637706642067, 1.5206799400568236, 0.8296882754660052])
+    p = np.array([[-3.241608554196193, 2.6716808310288207, -5.24621838425321]])
+    d = _point_triangle_distance(p, np.stack([a, b, c])[None])
+    segment = b - a
+    t = np.clip((p[0] - a) @ segment / (segment @ segment), 0.0, 1.0)
+    np.testing.assert_allclose(d, [np.linalg.norm(p[0] - (a + t * segment))], atol=1e-9)

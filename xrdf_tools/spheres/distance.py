@@ -100,6 +100,16 @@ def _point_triangle_distance(p: FloatArray, tri: FloatArray) -> FloatArray:
         total = va + vb + vc
         v_in, w_in = vb / total, vc / total
         inside = a + v_in[:, None] * ab + w_in[:, None] * ac  # NaN for a zero-area triangle
+        # two vertices a rounding error apart make a weight infinite and an edge vector hold
+        # zeros: inf * 0 is NaN here too, left to the last line
+        choices = [
+            a,
+            b,
+            a + v_ab[:, None] * ab,
+            c,
+            a + w_ac[:, None] * ac,
+            b + w_bc[:, None] * (c - b),
+        ]
     conditions = [
         (d1 <= 0) & (d2 <= 0),
         (d3 >= 0) & (d4 <= d3),
@@ -108,15 +118,12 @@ def _point_triangle_distance(p: FloatArray, tri: FloatArray) -> FloatArray:
         (vb <= 0) & (d2 >= 0) & (d6 <= 0),
         (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0),
     ]
-    choices = [
-        a,
-        b,
-        a + v_ab[:, None] * ab,
-        c,
-        a + w_ac[:, None] * ac,
-        b + w_bc[:, None] * (c - b),
-    ]
     closest = np.select([m[:, None] for m in conditions], choices, default=inside)
-    dist = np.linalg.norm(p - closest, axis=1)
-    # a degenerate triangle (zero area) gives NaN here: its vertices are in the upper bound
-    return np.where(np.isfinite(dist), dist, np.inf)
+    dist: FloatArray = np.linalg.norm(p - closest, axis=1)
+    # a degenerate triangle (zero area, or two vertices a rounding error apart) gives NaN
+    # here: the nearest of its vertices is an upper bound, exact for two coinciding ones
+    bad = ~np.isfinite(dist)
+    if np.any(bad):
+        corners = np.linalg.norm(p[bad, None] - tri[bad], axis=2).min(axis=1)
+        dist[bad] = corners
+    return dist
