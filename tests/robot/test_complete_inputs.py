@@ -184,6 +184,28 @@ def test_an_unreadable_mesh_fails_the_fit_naming_the_link(
     assert not out.exists()  # nothing written
 
 
+@pytest.mark.parametrize("suffix", ["stl", "obj", "dae"])
+def test_a_git_lfs_pointer_in_place_of_a_mesh_says_so(
+    runner: CliRunner, tmp_path: Path, suffix: str
+) -> None:
+    """A repository cloned without git-lfs holds a three-line text file where each mesh
+    should be: the message says what it is and how to get the mesh."""
+    mesh = tmp_path / f"long_U.{suffix}"
+    mesh.write_text(
+        "version https://git-lfs.github.com/spec/v1\n"
+        "oid sha256:c3150095267a94d0df530167b9bb22d22d00ec74918969fdbf33aa83f77ca63b\n"
+        "size 5144484\n"
+    )
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ROBOT.format(arm=MESH.format(mesh.name)))
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "spheres", urdf, "--per-link", "2", "-o", out)
+    assert code == 1, text
+    (line,) = [t for t in text.splitlines() if "spheres-link-not-covered" in t]
+    assert f"{mesh.name}: cannot read mesh (a Git LFS pointer, not the mesh" in line
+    assert "git lfs pull" in line and not out.exists()
+
+
 def test_a_link_with_one_unreadable_part_of_two_fails_too(
     runner: CliRunner, tmp_path: Path
 ) -> None:

@@ -403,9 +403,12 @@ class _MeshReader:
                 p.process()
         except Exception as e:  # trimesh raises many exception types for bad files
             detail = str(e).splitlines()[0] if str(e) else type(e).__name__
-            raise _PartError(f"{uri}: cannot read mesh ({detail})", uri=uri) from None
+            raise _PartError(
+                f"{uri}: cannot read mesh ({_lfs_or(path, detail)})", uri=uri
+            ) from None
         if not pieces:
-            raise _PartError(f"{uri}: cannot read mesh (no triangles in the file)", uri=uri)
+            why = _lfs_or(path, "no triangles in the file")
+            raise _PartError(f"{uri}: cannot read mesh ({why})", uri=uri)
         if not np.array_equal(factors, np.ones(3)):
             for piece in pieces:  # scene.dump() made copies: scaling them in place is safe
                 piece.apply_transform(np.diag([*factors, 1.0]))
@@ -424,6 +427,17 @@ class _MeshReader:
         if why is not None:
             raise _PartError(f"{uri}: {why}", missing=True, uri=uri)
         return path
+
+
+_LFS_POINTER = b"version https://git-lfs.github.com/spec/"
+
+
+def _lfs_or(path: Path, detail: str) -> str:
+    """``detail``, or what to do when ``path`` is a Git LFS pointer (a clone without git-lfs)."""
+    with open(path, "rb") as f:
+        if f.read(len(_LFS_POINTER)) != _LFS_POINTER:
+            return detail
+    return "a Git LFS pointer, not the mesh: run `git lfs pull` in its repository"
 
 
 def not_a_file(path: Path) -> str | None:
