@@ -189,6 +189,39 @@ def test_xacro_syntax_errors_point_into_the_file_that_has_them(
     assert err.startswith(f"error: {top}:5:3: xacro failed: not valid XML: mismatched tag"), err
 
 
+def test_a_macro_body_error_points_into_the_include_and_names_an_unprefixed_property(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A macro defined in an include fails where it is called, but the expression it quotes
+    is written in the include: the error points there. ROS 1 descriptions define properties
+    by ``<property>`` without the ``xacro:`` prefix, which xacro 2 ignores: the error says
+    where and what to write."""
+    top = tmp_path / "top.urdf.xacro"
+    inc = tmp_path / "arm.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="arm.xacro"/>\n  <link name="base"/>\n'
+        '  <xacro:arm parent="base"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <property name="pan_rpy" value="0 3.14 0"/>\n'
+        '  <xacro:macro name="arm" params="parent">\n'
+        '    <link name="arm"/>\n'
+        '    <joint name="pan" type="fixed"><parent link="${parent}"/><child link="arm"/>\n'
+        '      <origin rpy="${pan_rpy}"/></joint>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    err = _error(runner, "expand", str(top))
+    assert err.startswith(f"error: {inc}:7:20: xacro failed: name 'pan_rpy' is not defined"), err
+    assert err.endswith(
+        f"({inc}:3 defines it by <property> without the xacro: prefix, which xacro 2 no "
+        "longer reads: write <xacro:property> there)"
+    ), err
+    inc.write_text(inc.read_text().replace("<property", "<xacro:property"))
+    assert runner.invoke(app, ["expand", str(top)]).exit_code == 0
+
+
 def _urdf_with(tmp_path: Path, old: str, new: str) -> Path:
     text = UR10E_URDF.read_text()
     assert old in text

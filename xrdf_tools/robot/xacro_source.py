@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 import re
 import threading
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -107,7 +107,8 @@ def expand_xacro(
     except XrdfToolsError as e:
         raise SourceError(e.message, path=str(p)) from None
     except Exception as e:  # xacro raises XacroException, ArgException, NameError, OSError…
-        raise _xacro_error(e, str(p), getattr(xacro, "filestack", None)) from None
+        stack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
+        raise _xacro_error(e, str(p), stack, included) from None
     finally:
         try:
             xacro.filestack = None
@@ -120,10 +121,13 @@ def expand_xacro(
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
 
 
-def _xacro_error(e: BaseException, top: str, filestack: Any) -> SourceError:
+def _xacro_error(
+    e: BaseException, top: str, filestack: Any, included: Sequence[str] = ()
+) -> SourceError:
     """One located error for a failed expansion: an XML syntax error (expat) at its line and
-    column in the file xacro was reading (the top file or an include), anything else at the
-    file being processed."""
+    column in the file xacro was reading (the top file or an include), anything else where
+    the text it quotes is written: the file being processed, else the first include that
+    writes it (a macro's body fails where the macro is called)."""
     stack = [str(f) for f in filestack or () if f]
     where = stack[-1] if stack else top
     inner: Any = getattr(e, "exc", None) or e
@@ -135,7 +139,40 @@ def _xacro_error(e: BaseException, top: str, filestack: Any) -> SourceError:
         )
     message = _xacro_message(e)
     line, col = _find_culprit(where, message)
-    return SourceError(message, path=where, line=line, col=col)
+    for other in () if line is not None else dict.fromkeys(included):
+        line, col = _find_culprit(other, message)
+        if line is not None:
+            where = other
+            break
+    return SourceError(
+        message + _unprefixed_hint(message, [where, *included]), path=where, line=line, col=col
+    )
+
+
+#: ``name 'x' is not defined``: a property xacro never defined.
+_UNDEFINED_NAME = re.compile(r"name '(\w+)' is not defined")
+
+
+def _unprefixed_hint(message: str, files: Sequence[str]) -> str:
+    """What to change when the undefined name of ``message`` is defined by a ``<property>``
+    without the ``xacro:`` prefix, which ROS 1's xacro read (with a deprecation warning) and
+    xacro 2 ignores."""
+    m = _UNDEFINED_NAME.search(message)
+    if m is None:
+        return ""
+    tag = re.compile(rf"<property\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"']")
+    for path in dict.fromkeys(files):
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            continue
+        if (found := tag.search(text)) is not None:
+            line = text.count("\n", 0, found.start()) + 1
+            return (
+                f" ({path}:{line} defines it by <property> without the xacro: prefix, which "
+                "xacro 2 no longer reads: write <xacro:property> there)"
+            )
+    return ""
 
 
 #: ``$(arg x)`` of an ``<xacro:arg>`` without a default, not given.
