@@ -175,6 +175,27 @@ def test_roles_from_names_and_structure(tmp_path: Path) -> None:
     assert name_words("rightHandJoint2") == ("right", "hand", "joint")
 
 
+def test_a_mimic_of_a_torso_lift_is_no_gripper(tmp_path: Path) -> None:
+    """A mobile manipulator's body panel follows its torso lift by a mimic joint (Kinova
+    MOVO's mid_body_joint: half of linear_joint) and carries nothing: it is left out of the
+    c-space as a mimic, but it is no gripper, as the lift that carries the arm is none."""
+    links = ["base", "lift", "panel", "a1", "a2", "g1", "g2"]
+    joints = "".join(
+        [
+            _j("linear_joint", "prismatic", "base", "lift"),
+            _j("mid_body_joint", "prismatic", "base", "panel", '<mimic joint="linear_joint"/>'),
+            _j("shoulder_joint", "revolute", "lift", "a1"),
+            _j("elbow_joint", "revolute", "a1", "a2"),
+            _j("j_a", "prismatic", "a2", "g1"),  # an unnamed gripper: a leader and its mimic
+            _j("j_b", "prismatic", "a2", "g2", '<mimic joint="j_a"/>'),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    assert joint_roles(robot.tree) == {"j_a": "gripper", "j_b": "gripper"}
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("linear_joint", "shoulder_joint", "elbow_joint")
+
+
 def test_convert_reports_each_guess_with_its_flag() -> None:
     robot = _robot("tiago")
     x, diags = convert(robot, ConvertOptions())

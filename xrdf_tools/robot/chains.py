@@ -101,7 +101,7 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         if role is None and not set(name_words(name)) & _ARM:
             role = _name_role(j.child)
         coupled = j.is_mimic or name in leaders
-        if role is None and coupled and not _moves_below(tree, j.child, leaders):
+        if role is None and coupled and not _coupling_moves_below(tree, name, leaders):
             role = "gripper"
         if role is None and j.type == "continuous" and _is_base_wheel(tree, name):
             role = "wheel"
@@ -117,6 +117,16 @@ def _moves_below(tree: RobotTree, link: str, leaders: Collection[str]) -> bool:
         tree.is_actuated(tree.parent_joint[n]) and tree.parent_joint[n] not in leaders
         for n in tree.descendants(link)
     )
+
+
+def _coupling_moves_below(tree: RobotTree, joint: str, leaders: Collection[str]) -> bool:
+    """Whether an actuated joint that no mimic joint follows lies below ``joint`` or below the
+    joint it mimics: a gripper's fingers move nothing else, a torso lift's follower (a mimic
+    of a joint that carries the arms) is no gripper."""
+    j = tree.joints[joint]
+    leader = tree.joints.get(j.mimic_joint) if j.mimic_joint is not None else None
+    below = [j.child] if leader is None else [j.child, leader.child]
+    return any(_moves_below(tree, link, leaders) for link in below)
 
 
 def _is_base_wheel(tree: RobotTree, joint: str) -> bool:
