@@ -196,6 +196,29 @@ def test_a_mimic_of_a_torso_lift_is_no_gripper(tmp_path: Path) -> None:
     assert choice.joints == ("linear_joint", "shoulder_joint", "elbow_joint")
 
 
+def test_a_wrist_into_a_link_named_hand_is_an_arm_joint_when_the_tool_is_below(
+    tmp_path: Path,
+) -> None:
+    """The last wrist joint of some arms moves a link called 'hand' that carries the tool
+    frame: the tool below says it is a wrist joint, not a finger; a hand link with fingers
+    and no tool frame below still makes its joint a gripper's."""
+    links = ["base", "arm", "hand", "tool0", "palm", "finger"]
+    joints = "".join(
+        [
+            _j("j1", "revolute", "base", "arm"),
+            _j("j2", "revolute", "arm", "hand"),
+            _j("t", "fixed", "hand", "tool0"),
+            _j("j3", "revolute", "hand", "palm"),  # no tool frame below: a gripper's
+            _j("j4", "revolute", "palm", "finger"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    assert joint_roles(robot.tree) == {"j3": "gripper", "j4": "gripper"}
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("j1", "j2")
+    assert choice.tool is not None and choice.tool.frame == "tool0"
+
+
 def test_convert_reports_each_guess_with_its_flag() -> None:
     robot = _robot("tiago")
     x, diags = convert(robot, ConvertOptions())

@@ -98,7 +98,7 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         if not j.is_movable:
             continue
         role = _name_role(name)
-        if role is None and not set(name_words(name)) & _ARM:
+        if role is None and not set(name_words(name)) & _ARM and not _carries_tool(tree, j.child):
             role = _name_role(j.child)
         coupled = j.is_mimic or name in leaders
         if role is None and coupled and not _coupling_moves_below(tree, name, leaders):
@@ -117,6 +117,14 @@ def _moves_below(tree: RobotTree, link: str, leaders: Collection[str]) -> bool:
         tree.is_actuated(tree.parent_joint[n]) and tree.parent_joint[n] not in leaders
         for n in tree.descendants(link)
     )
+
+
+def _carries_tool(tree: RobotTree, link: str) -> bool:
+    """Whether a TCP, tool, end-effector or flange frame is ``link`` or below it: the joint
+    into ``link`` is then a wrist joint, whatever ``link`` is called (a wrist into 'hand'
+    with 'tool0' on it), as fingers carry no tool frame."""
+    words = frozenset().union(*(names for rank, names in _TOOL_RANKS if rank != "a grasp"))
+    return any(set(name_words(n)) & words for n in (link, *tree.descendants(link)))
 
 
 def _coupling_moves_below(tree: RobotTree, joint: str, leaders: Collection[str]) -> bool:
