@@ -395,6 +395,26 @@ def _write(tmp_path: Path, text: str, name: str = "t.srdf") -> Path:
     return p
 
 
+def test_a_passive_virtual_joint_is_no_unknown_joint(tree: RobotTree, tmp_path: Path) -> None:
+    """A mobile manipulator's SRDF marks its planar virtual joint passive (MoveIt reads a
+    virtual joint there): no warning; a passive joint naming nothing is warned at its line."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <virtual_joint name="virtual_joint" type="planar" parent_frame="odom" child_link="base"/>
+        <passive_joint name="virtual_joint"/>
+        <passive_joint name="ghost"/>
+        </robot>""",
+    )
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    unknown = [(w.line, w.message) for w in d.diagnostics if w.rule == "convert-unknown-joint"]
+    assert len(unknown) == 1 and unknown[0][0] == 5, unknown
+    assert unknown[0][1].startswith("passive_joint 'ghost' is not a joint of the URDF")
+
+
 def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
     tree: RobotTree, tmp_path: Path
 ) -> None:

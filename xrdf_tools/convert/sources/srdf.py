@@ -150,16 +150,23 @@ def _spheres(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
 
 
 def _passive_joints(srdf: Srdf, tree: RobotTree, rep: Reporter) -> set[str]:
-    """The SRDF's passive joints that are joints of the URDF (the others are reported)."""
+    """The SRDF's passive joints that are joints of the URDF. A virtual joint of the SRDF may
+    be passive too (as MoveIt reads it; it is no c-space joint anyway); the others are
+    reported at their line."""
     out: set[str] = set()
-    for name in srdf.passive_joints:
+    virtual = {name for name, _, _ in srdf.virtual_joints}
+    lines = srdf.passive_joint_lines or (None,) * len(srdf.passive_joints)
+    for name, line in zip(srdf.passive_joints, lines, strict=True):
         if name in tree.joints:
             out.add(name)
+            continue
+        if name in virtual:
             continue
         rep.report(
             "convert-unknown-joint",
             f"passive_joint '{name}' is not a joint of the URDF{did_you_mean(name, tree.joints)}"
             "; ignored",
+            line=line,
         )
     return out
 

@@ -56,6 +56,7 @@ class Srdf:
     end_effectors: tuple[EndEffector, ...] = ()
     virtual_joints: tuple[tuple[str, str, int | None], ...] = ()  # name, type, line
     passive_joints: tuple[str, ...] = ()
+    passive_joint_lines: tuple[int | None, ...] = ()  # the line of each passive_joints entry
     disable_collisions: tuple[tuple[str, str, str, int | None], ...] = ()  # l1, l2, reason, line
     disable_default: tuple[tuple[str, int | None], ...] = ()
     enable_collisions: tuple[tuple[str, str, int | None], ...] = ()
@@ -106,6 +107,7 @@ def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True)
         end_effectors=tuple(p.ees),
         virtual_joints=tuple(p.vjs),
         passive_joints=tuple(p.passive),
+        passive_joint_lines=tuple(p.passive_lines),
         disable_collisions=tuple(p.disabled),
         disable_default=tuple(p.disable_default),
         enable_collisions=tuple(p.enabled),
@@ -124,6 +126,7 @@ class _Parser:
         self.ees: list[EndEffector] = []
         self.vjs: list[tuple[str, str, int | None]] = []
         self.passive: list[str] = []
+        self.passive_lines: list[int | None] = []
         self.disabled: list[tuple[str, str, str, int | None]] = []
         self.disable_default: list[tuple[str, int | None]] = []
         self.enabled: list[tuple[str, str, int | None]] = []
@@ -200,6 +203,7 @@ def _virtual_joint(p: _Parser, el: Any) -> None:
 
 def _passive_joint(p: _Parser, el: Any) -> None:
     p.passive.append(p.req(el, "name"))
+    p.passive_lines.append(p.line(el))
 
 
 def _disable_collisions(p: _Parser, el: Any) -> None:
