@@ -124,6 +124,35 @@ def test_lint_for_a_planner_calls_moved_links_without_spheres_errors(
     assert code == 0 and "error" not in text and text.count("mesh-without-spheres") == 8
 
 
+def test_allowed_missing_meshes_leave_a_planner_target_with_warnings(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """--allow-missing-meshes says the meshes are expected to be absent: a link whose only
+    collision geometry is such a mesh is a warning saying so for a planner target too, and
+    convert --target curobo finishes (Kinova MOVO without its gripper meshes); a link whose
+    geometry is at hand stays an error."""
+    urdf, srdf = _ur5_away_from_its_meshes(tmp_path)
+    out = tmp_path / "ur5.xrdf"
+    args = ["--srdf", srdf, "--fit-spheres", "-n", "200", "--allow-missing-meshes"]
+    code, text = _run(runner, "convert", urdf, *args, "--target", "curobo", "-o", out)
+    assert code == 0, text
+    code, text = _run(
+        runner, "lint", out, "--urdf", urdf, "--target", "curobo", "--allow-missing-meshes"
+    )
+    assert code == 0, text
+    warned = re.findall(r"warning mesh-without-spheres link '(\w+)'.*--allow-missing-meshes", text)
+    assert len(warned) == 7 and "wrist_3_link" in warned
+    # the ee_link box is at hand: without its spheres it is an error still
+    x = out.read_text()
+    stripped = tmp_path / "stripped.xrdf"
+    stripped.write_text(re.sub(r"(?m)^      ee_link:\n(?:        .*\n)+", "", x, count=1))
+    assert "ee_link:" not in stripped.read_text().split("geometry:")[-1]
+    code, text = _run(
+        runner, "lint", stripped, "--urdf", urdf, "--target", "curobo", "--allow-missing-meshes"
+    )
+    assert code == 1 and "error mesh-without-spheres link 'ee_link'" in text, text
+
+
 def test_viz_stops_on_meshes_it_cannot_find_unless_allowed(
     runner: CliRunner, tmp_path: Path
 ) -> None:

@@ -9,7 +9,8 @@ A warning by default. For a planning reader (``--target curobo`` or ``--target c
 is an error when a c-space joint moves the link: the planner would move it through obstacles
 (a file without any collision section is then reported too, once per such link). A link no
 c-space joint moves (a base bolted to the table) stays a warning: no plan can change its
-clearance.
+clearance. With ``--allow-missing-meshes`` a link whose collision geometry is only mesh files
+that cannot be found stays a warning too: the user said those are expected.
 """
 
 from __future__ import annotations
@@ -41,18 +42,32 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         used |= frames
     anchor, key = (sections[0][1], sections[0][0]) if sections else (None, "")
     where = "" if sections else " (the file has no collision section)"
-    for frame in kin.frame_names:
-        if frame not in robot.collision_counts or frame in used:
-            continue
+    bare = [f for f in kin.frame_names if f in robot.collision_counts and f not in used]
+    absent = _only_missing_meshes(ctx, bare) if planning and ctx.allow_missing_meshes else set()
+    for frame in bare:
         moved = planning and bool(cspace.intersection(kin.joints_on_path(kin.base_frame, frame)))
-        severity = Severity.ERROR if moved else Severity.WARNING
+        severity = Severity.ERROR if moved and frame not in absent else Severity.WARNING
+        why = " (its collision meshes cannot be found: --allow-missing-meshes)"
         yield ctx.problem(
             anchor,
             f"link '{frame}' has collision geometry in {robot.path.rsplit('/', 1)[-1]} but no "
-            f"collision spheres{where}; the planner cannot see it",
+            f"collision spheres{where}{why if frame in absent else ''}; the planner cannot see it",
             key,
             severity,
         )
+
+
+def _only_missing_meshes(ctx: LintContext, links: list[str]) -> set[str]:
+    """The ``links`` whose every collision element is a mesh file that cannot be found."""
+    from ...robot.link_geometry import missing_meshes
+
+    robot = ctx.robot
+    if robot is None or not links:
+        return set()
+    counts: dict[str, int] = {}
+    for failure in missing_meshes(robot, "collision", links=links):
+        counts[failure.link] = counts.get(failure.link, 0) + 1
+    return {link for link, n in counts.items() if n == robot.collision_counts.get(link)}
 
 
 RULE = Rule("mesh-without-spheres", Severity.WARNING, check, __doc__ or "", needs_urdf=True)
