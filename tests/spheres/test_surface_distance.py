@@ -4,20 +4,31 @@ over every triangle, and closed forms in each region of a triangle."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from tests.robots import robot_urdf
 
 
-def test_surface_distance_is_the_smallest_point_triangle_distance() -> None:
+@pytest.mark.parametrize("nearest, small_share", [(32, 0.98), (1, 0.5)])
+def test_surface_distance_is_the_smallest_point_triangle_distance(
+    nearest: int, small_share: float, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """The pruned, blocked distance equals a plain loop over every triangle (and is never
-    above trimesh's closest-point distance, which can overshoot by micrometres)."""
+    above trimesh's closest-point distance, which can overshoot by micrometres): with the
+    k-d tree's first answer enough for most points, and with every point asking it again and
+    half the triangles tested against every point."""
     from trimesh import proximity
 
+    from xrdf_tools.spheres import distance
     from xrdf_tools.spheres.distance import _point_triangle_distance, surface_distance
+
+    monkeypatch.setattr(distance, "_NEAREST", nearest)
+    monkeypatch.setattr(distance, "_SMALL_SHARE", small_share)
     from xrdf_tools.spheres.geometry import load_link_geometry
 
     geoms, _ = load_link_geometry(robot_urdf("ur5"), links=["forearm_link"])
     mesh = geoms["forearm_link"].solid
+    assert len(mesh.faces) > 2 * distance._DENSE_TRIANGLES  # the k-d tree path
     rng = np.random.default_rng(5)
     points = rng.uniform(mesh.bounds[0] - 0.05, mesh.bounds[1] + 0.05, size=(120, 3))
     ours = surface_distance(mesh, points)
