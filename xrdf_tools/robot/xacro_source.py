@@ -105,7 +105,10 @@ def expand_xacro(
             doc = xacro.process_file(str(p), mappings=mappings)
             text: str = doc.toprettyxml(indent="  ")
     except XrdfToolsError as e:
-        raise SourceError(e.message, path=str(p)) from None
+        stack = _stack(getattr(xacro, "filestack", None))
+        files = [*reversed(stack), str(p), *xacro.all_includes]
+        where = _where_found(e.message, files)
+        raise SourceError(e.message, path=where[0], line=where[1], col=where[2]) from None
     except Exception as e:  # xacro raises XacroException, ArgException, NameError, OSError…
         stack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
         raise _xacro_error(e, str(p), stack, included) from None
@@ -118,6 +121,32 @@ def expand_xacro(
     return text
 
 
+def _stack(filestack: Any) -> list[str]:
+    """xacro's stack of the files it is reading, the top file first."""
+    return [str(f) for f in filestack or () if f]
+
+
+_UNFOUND_PACKAGE = re.compile(r"cannot find ROS package '([^']+)'")
+
+
+def _where_found(message: str, files: Sequence[str]) -> tuple[str, int | None, int | None]:
+    """Where a package that cannot be found is asked for: the first of ``files`` (the file
+    xacro was reading first) that writes its ``$(find NAME)``, with that line and column;
+    the first file without a line when none does or the message names no package."""
+    name = _UNFOUND_PACKAGE.search(message)
+    if name is not None:
+        wanted = re.compile(r"\$\(\s*find\s+" + re.escape(name.group(1)) + r"\s*\)")
+        for path in dict.fromkeys(files):
+            try:
+                text = Path(path).read_text(encoding="utf-8", errors="replace")
+            except OSError:
+                continue
+            if (at := wanted.search(text)) is not None:
+                line_start = text.rfind("\n", 0, at.start()) + 1
+                return path, text.count("\n", 0, at.start()) + 1, at.start() - line_start + 1
+    return files[0], None, None
+
+
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
 
 
@@ -128,7 +157,7 @@ def _xacro_error(
     column in the file xacro was reading (the top file or an include), anything else where
     the text it quotes is written: the file being processed, else the first include that
     writes it (a macro's body fails where the macro is called)."""
-    stack = [str(f) for f in filestack or () if f]
+    stack = _stack(filestack)
     where = stack[-1] if stack else top
     inner: Any = getattr(e, "exc", None) or e
     line, offset = getattr(inner, "lineno", None), getattr(inner, "offset", None)
@@ -138,6 +167,9 @@ def _xacro_error(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
     message = _xacro_message(e)
+    if isinstance(inner, XrdfToolsError):  # a package $(find) cannot find
+        found = _where_found(message, [*reversed(stack), top, *included])
+        return SourceError(message, path=found[0], line=found[1], col=found[2])
     line, col = _find_culprit(where, message)
     for other in () if line is not None else dict.fromkeys(included):
         line, col = _find_culprit(other, message)
