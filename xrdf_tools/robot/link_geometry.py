@@ -38,6 +38,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit
 from ..util.numbers import MAX_LENGTH
+from .mesh_files import load_mesh_scene
 
 if TYPE_CHECKING:
     import trimesh
@@ -393,7 +394,7 @@ class _MeshReader:
         except ValueError:
             raise _PartError(f"{uri}: scale must be one or three numbers", uri=uri) from None
         try:
-            scene: Any = trimesh.load(str(path), force="scene", process=False)
+            scene = load_mesh_scene(path)
             pieces = tuple(
                 p for p in scene.dump() if isinstance(p, trimesh.Trimesh) and len(p.faces)
             )

@@ -1,0 +1,65 @@
+"""Read one mesh file as ROS's mesh loader reads it (RViz, MoveIt, Gazebo: assimp).
+
+trimesh differs from it on two COLLADA points that real robot descriptions rely on:
+
+* ``<asset><unit meter="0.001"/>``: assimp scales the scene to metres; trimesh keeps the file's
+  numbers, so a part modelled in millimetres would come out 1000 times too large.
+* a node whose ``<instance_material>`` names a material the file does not define (some CAD
+  exporters write one): assimp draws the geometry without that material; pycollada rejects the
+  node, and trimesh drops it with its geometry, so the part would read as "no triangles".
+  Such bindings are removed and the file read again; materials play no part in collision.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from typing import Any
+
+from ..util.safe_xml import XmlSyntaxError, parse_xml
+
+__all__ = ["load_mesh_scene", "without_broken_material_bindings"]
+
+
+def load_mesh_scene(path: Path) -> Any:
+    """The file at ``path`` as an unprocessed ``trimesh.Scene``, in metres for COLLADA."""
+    import trimesh
+
+    scene: Any = trimesh.load(str(path), force="scene", process=False)
+    if path.suffix.lower() != ".dae":
+        return scene
+    if not scene.geometry:
+        repaired = without_broken_material_bindings(path.read_bytes())
+        if repaired is not None:
+            scene = trimesh.load(
+                io.BytesIO(repaired),
+                file_type="dae",
+                force="scene",
+                process=False,
+                resolver=trimesh.resolvers.FilePathResolver(str(path)),
+            )
+    if scene.geometry and scene.units not in (None, "meters"):
+        scene = scene.convert_units("meters")
+    return scene
+
+
+def without_broken_material_bindings(data: bytes) -> bytes | None:
+    """The COLLADA document ``data`` without the ``<instance_material>`` elements whose target
+    is not a ``<material>`` of the document, or None when there is none (or it is not XML)."""
+    try:
+        root = parse_xml(data, keep_comments=False)
+    except XmlSyntaxError:
+        return None
+    defined = {m.get("id") for m in root.iter("{*}material") if m.get("id")}
+    broken = [
+        binding
+        for binding in root.iter("{*}instance_material")
+        if (binding.get("target") or "").removeprefix("#") not in defined
+    ]
+    if not broken:
+        return None
+    for binding in broken:
+        binding.getparent().remove(binding)
+    from lxml import etree
+
+    return bytes(etree.tostring(root, xml_declaration=True, encoding="utf-8"))
