@@ -110,8 +110,8 @@ def expand_xacro(
         where = _where_found(e.message, files)
         raise SourceError(e.message, path=where[0], line=where[1], col=where[2]) from None
     except Exception as e:  # xacro raises XacroException, ArgException, NameError, OSError…
-        stack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
-        raise _xacro_error(e, str(p), stack, included) from None
+        filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
+        raise _xacro_error(e, str(p), filestack, included) from None
     finally:
         try:
             xacro.filestack = None
