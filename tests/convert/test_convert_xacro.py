@@ -80,18 +80,22 @@ def test_unresolved_package_names_it_and_the_search(runner: CliRunner, tmp_path:
     assert "Traceback" not in result.output
 
 
+def _unfound_at(top: Path, text: str, package: str) -> tuple[str | None, int | None, int | None]:
+    """Where expanding ``top`` (written as ``text``) says ``package`` cannot be found."""
+    top.write_text(text)
+    with pytest.raises(SourceError, match=f"cannot find ROS package '{package}'") as e:
+        expand_xacro(top)
+    return e.value.path, e.value.line, e.value.col
+
+
 def test_an_unfound_package_is_located_at_its_find(tmp_path: Path) -> None:
     """The error names the file and the line and column of the $(find NAME) that asks for
     the package: in the top file (an include's path) and inside an included macro (a mesh
     path evaluated where the macro is expanded)."""
     top = tmp_path / "r.urdf.xacro"
-    top.write_text(
-        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n  <link name="base"/>\n'
-        '  <xacro:include filename="$(find missing_pkg)/urdf/arm.xacro"/>\n</robot>\n'
-    )
-    with pytest.raises(SourceError, match="cannot find ROS package 'missing_pkg'") as e:
-        expand_xacro(top)
-    assert (e.value.path, e.value.line, e.value.col) == (str(top), 3, 28)
+    head = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n  <link name="base"/>\n'
+    include = '  <xacro:include filename="$(find missing_pkg)/urdf/arm.xacro"/>\n</robot>\n'
+    assert _unfound_at(top, head + include, "missing_pkg") == (str(top), 3, 28)
     arm = tmp_path / "arm.xacro"
     arm.write_text(
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
@@ -101,13 +105,8 @@ def test_an_unfound_package_is_located_at_its_find(tmp_path: Path) -> None:
         '    <joint name="j1" type="fixed"><parent link="${parent}"/><child link="l1"/></joint>\n'
         "  </xacro:macro>\n</robot>\n"
     )
-    top.write_text(
-        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n  <link name="base"/>\n'
-        '  <xacro:include filename="arm.xacro"/>\n  <xacro:arm parent="base"/>\n</robot>\n'
-    )
-    with pytest.raises(SourceError, match="cannot find ROS package 'vendor_meshes'") as e:
-        expand_xacro(top)
-    assert (e.value.path, e.value.line, e.value.col) == (str(arm), 4, 30)
+    body = '  <xacro:include filename="arm.xacro"/>\n  <xacro:arm parent="base"/>\n</robot>\n'
+    assert _unfound_at(top, head + body, "vendor_meshes") == (str(arm), 4, 30)
 
 
 def test_xacro_args_and_find(runner: CliRunner, tmp_path: Path) -> None:

@@ -202,15 +202,22 @@ def test_an_unreadable_mesh_fails_the_fit_naming_the_link(
     runner: CliRunner, tmp_path: Path, kind: str
 ) -> None:
     mesh = _bad_meshes(tmp_path)[kind]
+    urdf, line = _not_covered(runner, tmp_path, mesh)
+    assert f"{urdf}:3: error" in line and "link 'arm' has geometry but got no spheres" in line
+    assert mesh.name in line and "cannot read mesh" in line
+
+
+def _not_covered(runner: CliRunner, tmp_path: Path, mesh: Path) -> tuple[Path, str]:
+    """`xrdf spheres` on a one-link robot whose mesh is ``mesh``: it fails (exit 1, nothing
+    written); the URDF and the line that says the link got no spheres."""
     urdf = tmp_path / "r.urdf"
     urdf.write_text(ROBOT.format(arm=MESH.format(mesh.name)))
     out = tmp_path / "r.xrdf"
     code, text = _run(runner, "spheres", urdf, "--per-link", "2", "-o", out)
     assert code == 1, text
-    (line,) = [t for t in text.splitlines() if "spheres-link-not-covered" in t]
-    assert f"{urdf}:3: error" in line and "link 'arm' has geometry but got no spheres" in line
-    assert mesh.name in line and "cannot read mesh" in line
     assert not out.exists()  # nothing written
+    (line,) = [t for t in text.splitlines() if "spheres-link-not-covered" in t]
+    return urdf, line
 
 
 @pytest.mark.parametrize("suffix", ["stl", "obj", "dae"])
@@ -225,14 +232,9 @@ def test_a_git_lfs_pointer_in_place_of_a_mesh_says_so(
         "oid sha256:c3150095267a94d0df530167b9bb22d22d00ec74918969fdbf33aa83f77ca63b\n"
         "size 5144484\n"
     )
-    urdf = tmp_path / "r.urdf"
-    urdf.write_text(ROBOT.format(arm=MESH.format(mesh.name)))
-    out = tmp_path / "r.xrdf"
-    code, text = _run(runner, "spheres", urdf, "--per-link", "2", "-o", out)
-    assert code == 1, text
-    (line,) = [t for t in text.splitlines() if "spheres-link-not-covered" in t]
+    _, line = _not_covered(runner, tmp_path, mesh)
     assert f"{mesh.name}: cannot read mesh (a Git LFS pointer, not the mesh" in line
-    assert "git lfs pull" in line and not out.exists()
+    assert "git lfs pull" in line
 
 
 def test_a_link_with_one_unreadable_part_of_two_fails_too(
