@@ -448,3 +448,23 @@ def test_convert_blames_a_urdf_no_reader_loads_at_its_line(
     line = _line_of(urdf, 'name="j1"')
     assert err.startswith(f"error: {urdf}:{line}: ") and message in err, err
     assert not out.exists()
+
+
+def test_a_yaml_file_given_as_the_robot_says_which_file_goes_where(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A cuRobo config or an XRDF passed where the URDF goes is named for what it is (the
+    config with its urdf_path and the --curobo spelling), not 'malformed XML'."""
+    cfg = tmp_path / "arm.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    urdf_path: robot/arm/arm.urdf\n"
+        "    cspace:\n      joint_names: [j1]\n"
+    )
+    err = _error(runner, "convert", str(cfg))
+    assert err.startswith(f"error: {cfg}:1:1: a cuRobo robot config, not a URDF"), err
+    assert "'robot/arm/arm.urdf'" in err and "--curobo arm.yml" in err
+    err = _error(runner, "export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_XRDF))
+    assert err.startswith(f"error: {UR10E_XRDF}:1:1: an XRDF file, not a URDF"), err
+    other = tmp_path / "other.yml"
+    other.write_text("a: 1\n")  # YAML, but neither: the XML parser's own message
+    assert "malformed XML" in _error(runner, "convert", str(other))

@@ -199,3 +199,29 @@ def test_not_a_curobo_config(tmp_path: Path) -> None:
     )
     with pytest.raises(SourceError, match=r"bad.yml:5:.*2 values for 1 joints"):
         convert_files(UR10E_URDF, ConvertOptions(curobo=bad))
+
+
+def test_a_locked_cspace_joint_keeps_its_lock_value_and_says_its_default_is_unused(
+    tmp_path: Path,
+) -> None:
+    """A joint in both cspace.joint_names and lock_joints is held at its lock value (as cuRobo
+    holds it); a different retract_config value for it is reported at its list item, an equal
+    one is not."""
+    joints = "shoulder_pan_joint, shoulder_lift_joint, elbow_joint, wrist_1_joint"
+    cfg = tmp_path / "ur.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    base_link: base_link\n    ee_link: tool0\n"
+        "    lock_joints: {wrist_1_joint: 0.5, elbow_joint: 1.0}\n"
+        f"    cspace:\n      joint_names: [{joints}]\n"
+        "      retract_config: [0.0, -1.0, 1.0, 0.25]\n"
+    )
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    assert x.cspace is not None
+    assert x.cspace.joint_names == ("shoulder_pan_joint", "shoulder_lift_joint")
+    defaults = dict(x.default_joint_positions or {})
+    assert defaults["wrist_1_joint"] == 0.5 and defaults["elbow_joint"] == 1.0
+    (note,) = _rules(diags)["convert-dropped-joint-value"]
+    assert "'wrist_1_joint' is also in lock_joints" in note.message
+    assert "lock value 0.5" in note.message and "retract_config value 0.25" in note.message
+    line = cfg.read_text().splitlines()[7]
+    assert (note.path, note.line, note.col) == (str(cfg), 8, line.index("0.25") + 1)

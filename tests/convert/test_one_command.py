@@ -18,6 +18,7 @@ from tests.robots import robot_urdf, robots_dir
 from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions
 from xrdf_tools.convert.pipeline import FitOptions, MaskOptions, convert_robot
+from xrdf_tools.diagnostics import Severity
 from xrdf_tools.lint import lint_text
 from xrdf_tools.report import self_collision_report
 from xrdf_tools.robot.urdf_source import load_urdf
@@ -340,3 +341,45 @@ def test_fit_spheres_on_a_robot_with_visual_geometry_only_is_an_input_error(
     )  # fmt: skip
     assert ok.exit_code == 0, ok.output
     assert set(load_xrdf(out).world_collision_spheres()) == {"base", "upper", "lower", "camera"}
+
+
+TWO_PARTS = """<robot name="two_parts">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="arm">
+    <collision><origin xyz="0 0 0.15"/><geometry><box size="0.06 0.06 0.3"/></geometry></collision>
+  </link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="arm"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <link name="spare"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="spare_arm">
+    <collision><geometry><box size="0.05 0.05 0.2"/></geometry></collision>
+  </link>
+  <joint name="k1" type="revolute"><parent link="spare"/><child link="spare_arm"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"""
+
+
+def test_fitting_leaves_out_the_urdf_parts_the_base_does_not_reach(tmp_path: Path) -> None:
+    """A URDF with a second, disconnected part (as cuRobo's tri_ur10e.urdf): a cuRobo config's
+    base_link chooses the robot, and --fit-spheres fits its links only; spheres on the other
+    part would name frames the base removes, and lint would refuse the file."""
+    urdf = tmp_path / "two_parts.urdf"
+    urdf.write_text(TWO_PARTS)
+    cfg = tmp_path / "two_parts.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    base_link: base\n    ee_link: arm\n"
+        "    cspace:\n      joint_names: [j1]\n      retract_config: [0.0]\n"
+        "      max_acceleration: 10.0\n      max_jerk: 500.0\n"
+    )
+    result = convert_robot(
+        urdf,
+        ConvertOptions(curobo=cfg, target="curobo"),
+        fit=FitOptions(per_link=2),
+        mask=MaskOptions(samples=200),
+    )
+    assert sorted(result.xrdf.world_collision_spheres()) == ["arm", "base"]
+    assert [d for d in result.lint if d.severity is Severity.ERROR] == []
+    assert "convert-unreachable-links" in {d.rule for d in result.diagnostics}

@@ -236,10 +236,15 @@ def fit_missing_spheres(
     from ..util.extras import FIT, require
 
     require(FIT, "fit", "--fit-spheres")
+    from ..robot.kinematics import build_kinematic_model
     from ..spheres import fit_link_spheres
 
     have = {k: list(v) for k, v in x.world_collision_spheres().items() if v}
-    usable, visual_only = geometry_links(urdf, fit.source)
+    # only the robot's links: a URDF part the base does not reach is no part of it
+    frames = set(build_kinematic_model(urdf, x)[0].frame_names)
+    usable, visual_only = (
+        [link for link in links if link in frames] for links in geometry_links(urdf, fit.source)
+    )
     todo = [link for link in usable if link not in have]
     if not have and not todo:
         _nothing_to_fit(as_robot(urdf).path, fit.source, visual_only)

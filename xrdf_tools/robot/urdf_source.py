@@ -184,6 +184,36 @@ def parse_robot(
     )
 
 
+def _yaml_robot_hint(data: bytes, path: str) -> str:
+    """What a file that is no XML is, when it is one of the YAML files given beside a URDF
+    (a cuRobo robot config, an XRDF): the message that says which file goes where; else ''."""
+    import yaml
+
+    try:
+        doc = yaml.safe_load(data)
+    except (yaml.YAMLError, ValueError, RecursionError):
+        return ""
+    if not isinstance(doc, dict):
+        return ""
+    cfg = doc.get("robot_cfg")
+    if isinstance(cfg, dict):
+        kin = cfg.get("kinematics")
+        urdf = kin.get("urdf_path") if isinstance(kin, dict) else None
+        where = (
+            f" (its urdf_path '{urdf}' is relative to cuRobo's asset directory)"
+            if isinstance(urdf, str)
+            else ""
+        )
+        return (
+            "a cuRobo robot config, not a URDF: give the robot's URDF here and read the "
+            f"config with --curobo{where}, e.g. xrdf convert ROBOT.urdf --curobo "
+            f"{os.path.basename(path)}"
+        )
+    if doc.get("format") == "xrdf":
+        return "an XRDF file, not a URDF: give the robot's URDF (or xacro) here"
+    return ""
+
+
 def _parse_bytes(
     data: bytes,
     path: str,
@@ -203,6 +233,9 @@ def _parse_bytes(
     try:
         root = parse_xml(data, remove_blank_text=True)
     except XmlSyntaxError as e:
+        hint = _yaml_robot_hint(data, path)
+        if hint:
+            raise UrdfError(hint, path=path, line=1, col=1) from None
         raise UrdfError(f"malformed XML: {e.reason}", path=path, line=e.line, col=e.col) from None
     if root is None:
         raise UrdfError("the file is empty", path=path, line=1)

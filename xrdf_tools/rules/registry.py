@@ -33,7 +33,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-default-jerk", W, "No jerk limit in the inputs: the default or --jerk."),
         ("convert-default-positions", W, "No default position: 0, or the middle of the limits."),
         ("convert-dropped-joint", W, "A c-space joint that is not actuated: dropped."),
-        ("convert-dropped-joint-value", I, "A state or lock value of a non-actuated joint."),
+        (
+            "convert-dropped-joint-value",
+            I,
+            "A non-actuated joint's state/lock value; a locked joint's default.",
+        ),
         ("convert-dropped-key", W, "A source key without XRDF equivalent: dropped."),
         ("convert-duplicate-frame", W, "An extra link that already exists in the URDF."),
         ("convert-duplicate-key", W, "A key repeated in a cuRobo file: the last value is used."),

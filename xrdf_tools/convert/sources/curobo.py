@@ -307,7 +307,7 @@ def _read_cspace(k: _Kin) -> None:
         ):
             if n in source:
                 target[n] = source[n]
-    _read_locks(k, locks)
+    _read_locks(k, locks, def_map, names, default_key)
 
 
 def _cspace_joints(k: _Kin, names: list[str], locks: Mapping[str, Any]) -> list[str]:
@@ -345,7 +345,10 @@ def _cspace_joints(k: _Kin, names: list[str], locks: Mapping[str, Any]) -> list[
     return cspace
 
 
-def _read_locks(k: _Kin, locks: Mapping[str, Any]) -> None:
+def _read_locks(
+    k: _Kin, locks: Mapping[str, Any], defaults: Mapping[str, float], names: list[str], key: str
+) -> None:
+    """Lock values become defaults; a locked joint's other ``key`` value is said unused."""
     for n, v in locks.items():
         where = k.kp("lock_joints", n)
         j = k.tree.joints.get(str(n))
@@ -360,6 +363,14 @@ def _read_locks(k: _Kin, locks: Mapping[str, Any]) -> None:
             raise k.fail(f"lock_joints.{n} must be a number", "lock_joints", n)
         elif j.is_actuated:
             k.d.defaults[str(n)] = float(v)
+            if (other := defaults.get(str(n), float(v))) != float(v):
+                k.rep.report(
+                    "convert-dropped-joint-value",
+                    f"'{n}' is also in lock_joints: it is held at its lock value {float(v)!r}, "
+                    f"as cuRobo does; its cspace.{key} value {other!r} is not used",
+                    k.kp("cspace", key) + f"[{names.index(str(n))}]",
+                    severity=Severity.INFO,
+                )
         else:
             k.rep.report(
                 "convert-dropped-joint-value",
