@@ -225,3 +225,28 @@ def test_a_locked_cspace_joint_keeps_its_lock_value_and_says_its_default_is_unus
     assert "lock value 0.5" in note.message and "retract_config value 0.25" in note.message
     line = cfg.read_text().splitlines()[7]
     assert (note.path, note.line, note.col) == (str(cfg), 8, line.index("0.25") + 1)
+
+
+def test_a_target_refusing_links_without_spheres_names_fit_spheres(tmp_path: Path) -> None:
+    """A cuRobo config that gives spheres to some moving links only (cuRobo's kinova_gen3 and
+    iiwa configs leave out links on purpose) fails --target curobo; the closing line says how
+    many of the errors are such links and that --fit-spheres fits the rest."""
+    from typer.testing import CliRunner
+
+    from xrdf_tools.cli import app
+
+    cfg = tmp_path / "ur.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    base_link: base_link\n    ee_link: tool0\n"
+        "    collision_link_names: [forearm_link]\n"
+        "    collision_spheres:\n      forearm_link:\n"
+        "        - {center: [0.0, 0.0, 0.1], radius: 0.05}\n"
+        "    cspace:\n      joint_names: [shoulder_pan_joint, shoulder_lift_joint, elbow_joint,"
+        " wrist_1_joint, wrist_2_joint, wrist_3_joint]\n"
+    )
+    args = ["convert", str(UR10E_URDF), "--curobo", str(cfg), "--target", "curobo"]
+    res = CliRunner().invoke(app, [*args, "-o", str(tmp_path / "ur.xrdf")])
+    assert res.exit_code == 1, res.output
+    last = res.output.strip().splitlines()[-1]
+    assert "are moving links with collision geometry and no spheres" in last
+    assert "--fit-spheres" in last and not (tmp_path / "ur.xrdf").exists()

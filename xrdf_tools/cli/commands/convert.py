@@ -328,9 +328,16 @@ def command(
         )
     errors = [d for d in lint_diags if d.severity is Severity.ERROR]
     if errors:
+        bare = sum(1 for d in errors if d.rule == "mesh-without-spheres")
+        remedy = "fix the inputs or pass the missing values on the command line"
+        if bare and not fit_spheres:
+            remedy = (
+                f"{bare} of them are moving links with collision geometry and no spheres "
+                "(--fit-spheres fits spheres to the links the inputs leave without); " + remedy
+            )
         fail(
             f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
-            "above); fix the inputs or pass the missing values on the command line",
+            f"above); {remedy}",
             EXIT_FINDINGS,
         )
     if strict and has_failures(diags, strict=True):
