@@ -67,6 +67,37 @@ def test_ur5_away_from_its_meshes_is_an_input_error_naming_uri_and_search(
     assert not out.exists()
 
 
+def test_a_relative_mesh_path_is_found_in_a_parent_of_the_urdfs_directory(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A URDF in ``robot/urdf/`` naming ``meshes/arm.stl`` that lies in ``robot/meshes/``
+    (cuRobo's tm12): found there, as yourdfpy (and cuRobo through it) finds it, instead of a
+    missing mesh; a path found nowhere is still an input error naming where it was looked
+    for."""
+    import trimesh
+
+    robot = tmp_path / "robot"
+    (robot / "urdf").mkdir(parents=True)
+    (robot / "meshes").mkdir()
+    trimesh.creation.box(extents=[0.05, 0.05, 0.3]).export(robot / "meshes" / "arm.stl")
+    urdf = robot / "urdf" / "r.urdf"
+    text = (
+        '<robot name="r"><link name="base"/><link name="arm"><collision><geometry>'
+        '<mesh filename="meshes/{}.stl"/></geometry></collision></link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        "</robot>"
+    )
+    urdf.write_text(text.format("arm"))
+    out = tmp_path / "r.xrdf"
+    code, output = _run(runner, "convert", urdf, "--fit-spheres", "-n", "200", "-o", out)
+    assert code == 0, output
+    assert load_xrdf(out).world_collision_spheres()["arm"]
+    urdf.write_text(text.format("nowhere"))
+    code, output = _run(runner, "convert", urdf, "--fit-spheres", "-n", "200", "-o", out)
+    assert code == 2 and str(robot / "urdf" / "meshes" / "nowhere.stl") in output, output
+
+
 def test_allow_missing_meshes_goes_on_with_a_warning_per_mesh(
     runner: CliRunner, tmp_path: Path
 ) -> None:

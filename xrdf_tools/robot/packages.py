@@ -128,8 +128,27 @@ class PackageResolver:
         p = Path(uri)
         if not p.is_absolute():
             base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
-            p = base / p
+            return _relative_to_a_parent(base, p)
         return p
+
+
+#: Directories above the URDF's that a relative mesh path is also looked for in.
+_PARENT_LEVELS = 4
+
+
+def _relative_to_a_parent(base: Path, rel: Path) -> Path:
+    """``base / rel``, or when no such file exists the first of ``base``'s parents (up to
+    :data:`_PARENT_LEVELS` above it) that holds ``rel``, as yourdfpy (and so cuRobo) finds a
+    relative mesh path: a URDF in ``robot/urdf/`` naming ``meshes/arm.stl`` that lies in
+    ``robot/meshes/`` (cuRobo's tm12). The path below ``base`` when none holds it (the one an
+    error names)."""
+    first = base / rel
+    if _is_file(first):
+        return first
+    for parent in list(base.parents)[:_PARENT_LEVELS]:
+        if _is_file(parent / rel):
+            return parent / rel
+    return first
 
 
 def _is_dir(path: Path) -> bool:
