@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from tests.paths import FIXTURES
 from xrdf_tools.cli import app
 from xrdf_tools.robot.xacro_source import expand_xacro
 from xrdf_tools.util.errors import SourceError
@@ -107,6 +108,29 @@ def test_an_unfound_package_is_located_at_its_find(tmp_path: Path) -> None:
     )
     body = '  <xacro:include filename="arm.xacro"/>\n  <xacro:arm parent="base"/>\n</robot>\n'
     assert _unfound_at(top, head + body, "vendor_meshes") == (str(arm), 4, 30)
+
+
+@pytest.mark.parametrize(
+    "old, new, line",
+    [
+        ('parent="base_link"', 'parent="' + "0" * 40 + '"', 22),  # the macro call naming it
+        ('length="$(arg length)"', 'length="$(arg 1 2)"', 22),  # a malformed substitution
+        ('upper="${pi / 2}"', 'upper=""', 18),  # an attribute the message names with its value
+    ],
+)
+def test_errors_about_macro_made_parts_are_located_in_the_xacro(
+    runner: CliRunner, tmp_path: Path, old: str, new: str, line: int
+) -> None:
+    """The fuzz arm's segments are made by a macro: an error about one points at the line of
+    the xacro that writes what it quotes (the call's name="upper" for 'upper_joint', the
+    attribute upper="" the message names, the $(arg ...) xacro rejects)."""
+    robot = tmp_path / "arm.urdf.xacro"
+    text = (FIXTURES / "fuzz" / "arm.urdf.xacro").read_text()
+    assert old in text
+    robot.write_text(text.replace(old, new, 1))
+    result = runner.invoke(app, ["convert", str(robot)])
+    assert result.exit_code == 2, result.output
+    assert f"error: {robot}:{line}" in result.output, result.output
 
 
 def test_xacro_args_and_find(runner: CliRunner, tmp_path: Path) -> None:

@@ -285,14 +285,26 @@ def _line_of(source: str, at: int) -> int | None:
 
 
 def _quoted_value_line(source: str, message: str) -> int | None:
-    """The line of the xacro text that writes a value ``message`` quotes (``'name'``), the
-    last quoted first (the value at fault: "joint 'j' refers to unknown link 'x'")."""
-    for value in reversed(re.findall(r"'([^'\n]+)'", message)):
-        found = [source.find(f"={q}{value}{q}") for q in "\"'"]
+    """The line of the xacro text that writes what ``message`` quotes: an attribute it names
+    with its value (``upper=''``), else a value (``'name'``), the last quoted first (the value
+    at fault: "joint 'j' refers to unknown link 'x'"), else a part of a quoted name (a
+    macro-made ``upper_joint``: the call that writes ``name="upper"``)."""
+    wanted = [f"{attr}={{q}}{value}{{q}}" for attr, value in _ATTRIBUTE.findall(message)]
+    values = re.findall(r"'([^'\n]+)'", message)
+    wanted += [f"={{q}}{value}{{q}}" for value in reversed(values)]
+    for value in values:
+        pieces = {p for p in re.split(r"[\W_]+", value) if len(p) > 1} - {value}
+        wanted += [f"={{q}}{p}{{q}}" for p in sorted(pieces, key=lambda p: (-len(p), p))]
+    for template in wanted:
+        found = [source.find(template.format(q=q)) for q in "\"'"]
         line = _line_of(source, min((i for i in found if i >= 0), default=-1))
         if line is not None:
             return line
     return None
+
+
+#: ``upper=''`` in a message: an attribute and the value it holds.
+_ATTRIBUTE = re.compile(r"\b(\w+)='([^'\n]*)'")
 
 
 def _relocate_expansion(root: Any, source: str) -> None:

@@ -217,6 +217,7 @@ _CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
     (re.compile(r"Property names must be valid python identifiers:\s*(.*)$"), ('name="{}"',)),
     (_UNDEFINED_ARG, ("$(arg {}",)),
     (re.compile(r"Unknown substitution command \[([^\]]*)\]"), ("$({})", "$({}")),
+    (re.compile(r"may only specify one arg \[([^\]]*)\]"), ("$({})", "$({}")),
     (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
     (re.compile(r"invalid expression: (.+)$"), ("{}",)),
 )
