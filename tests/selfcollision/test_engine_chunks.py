@@ -103,7 +103,11 @@ def test_culled_gaps_block_by_block_equal_the_whole_chunk(talos) -> None:  # typ
     assert len(pairs) > 100
     R, t = T[:, :, :3], T[:, :, 3]
     near_b, low_b = eng.culler._near_blocks(pairs, R, t)
-    near_w, low_w = eng.culler._near(pairs, eng.culler.gaps2(R, t, pairs))
+    gaps = eng.culler.gaps2(R, t, pairs)  # the whole chunk at once
+    reach = np.array([eng.culler.reach(bp) for bp in pairs])
+    near_w = gaps <= (reach**2).astype(np.float32)[:, None]
+    far = np.min(gaps, axis=1, where=~near_w, initial=np.inf).astype(np.float64)
+    low_w = np.sqrt(far) - reach + eng.culler.margin
     np.testing.assert_array_equal(near_b, near_w)
     np.testing.assert_array_equal(low_b, low_w)
     assert near_w.any() and not near_w.all()

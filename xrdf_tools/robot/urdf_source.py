@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from ..diagnostics import Diagnostic
 from ..util.errors import UrdfError, UrdfReadError
+from ..util.textpos import line_col
 from .urdf_check import JOINT_TYPES, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
 
@@ -281,7 +282,7 @@ def _xacro_source(path: str) -> str:
 
 
 def _line_of(source: str, at: int) -> int | None:
-    return source.count("\n", 0, at) + 1 if at >= 0 else None
+    return line_col(source, at)[0] if at >= 0 else None
 
 
 def _quoted_value_line(source: str, message: str) -> int | None:

@@ -25,6 +25,7 @@ from xml.parsers.expat import ExpatError
 
 from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
+from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 
 if TYPE_CHECKING:
@@ -104,12 +105,8 @@ def expand_xacro(
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=mappings)
             text: str = doc.toprettyxml(indent="  ")
-    except XrdfToolsError as e:
-        stack = _stack(getattr(xacro, "filestack", None))
-        files = [*reversed(stack), str(p), *xacro.all_includes]
-        where = _where_found(e.message, files)
-        raise SourceError(e.message, path=where[0], line=where[1], col=where[2]) from None
-    except Exception as e:  # xacro raises XacroException, ArgException, NameError, OSError…
+    except Exception as e:  # ours ($(find) of an unknown package), xacro's XacroException,
+        # ArgException, NameError, OSError…
         filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
         raise _xacro_error(e, str(p), filestack, included) from None
     finally:
@@ -119,32 +116,6 @@ def expand_xacro(
         except AttributeError:  # pragma: no cover - older xacro
             pass
     return text
-
-
-def _stack(filestack: Any) -> list[str]:
-    """xacro's stack of the files it is reading, the top file first."""
-    return [str(f) for f in filestack or () if f]
-
-
-_UNFOUND_PACKAGE = re.compile(r"cannot find ROS package '([^']+)'")
-
-
-def _where_found(message: str, files: Sequence[str]) -> tuple[str, int | None, int | None]:
-    """Where a package that cannot be found is asked for: the first of ``files`` (the file
-    xacro was reading first) that writes its ``$(find NAME)``, with that line and column;
-    the first file without a line when none does or the message names no package."""
-    name = _UNFOUND_PACKAGE.search(message)
-    if name is not None:
-        wanted = re.compile(r"\$\(\s*find\s+" + re.escape(name.group(1)) + r"\s*\)")
-        for path in dict.fromkeys(files):
-            try:
-                text = Path(path).read_text(encoding="utf-8", errors="replace")
-            except OSError:
-                continue
-            if (at := wanted.search(text)) is not None:
-                line_start = text.rfind("\n", 0, at.start()) + 1
-                return path, text.count("\n", 0, at.start()) + 1, at.start() - line_start + 1
-    return files[0], None, None
 
 
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
@@ -157,7 +128,7 @@ def _xacro_error(
     column in the file xacro was reading (the top file or an include), anything else where
     the text it quotes is written: the file being processed, else the first include that
     writes it (a macro's body fails where the macro is called)."""
-    stack = _stack(filestack)
+    stack = [str(f) for f in filestack or () if f]
     where = stack[-1] if stack else top
     inner: Any = getattr(e, "exc", None) or e
     line, offset = getattr(inner, "lineno", None), getattr(inner, "offset", None)
@@ -167,9 +138,6 @@ def _xacro_error(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
     message = _xacro_message(e)
-    if isinstance(inner, XrdfToolsError):  # a package $(find) cannot find
-        found = _where_found(message, [*reversed(stack), top, *included])
-        return SourceError(message, path=found[0], line=found[1], col=found[2])
     line, col = _find_culprit(where, message)
     for other in () if line is not None else dict.fromkeys(included):
         line, col = _find_culprit(other, message)
@@ -199,7 +167,7 @@ def _unprefixed_hint(message: str, files: Sequence[str]) -> str:
         except (OSError, UnicodeDecodeError):
             continue
         if (found := tag.search(text)) is not None:
-            line = text.count("\n", 0, found.start()) + 1
+            line, _ = line_col(text, found.start())
             return (
                 f" ({path}:{line} defines it by <property> without the xacro: prefix, which "
                 "xacro 2 no longer reads: write <xacro:property> there)"
@@ -218,6 +186,7 @@ _CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
     (_UNDEFINED_ARG, ("$(arg {}",)),
     (re.compile(r"Unknown substitution command \[([^\]]*)\]"), ("$({})", "$({}")),
     (re.compile(r"may only specify one arg \[([^\]]*)\]"), ("$({})", "$({}")),
+    (re.compile(r"cannot find ROS package '([^']+)'"), ("$(find {})", "$(find {}")),
     (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
     (re.compile(r"invalid expression: (.+)$"), ("{}",)),
 )
@@ -240,8 +209,7 @@ def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
         at = next((t.start() for t in tags if f"{m.group(2)}=" not in t.group(0)), -1)
     if at < 0:
         return None, None
-    line = text.count("\n", 0, at) + 1
-    return line, at - (text.rfind("\n", 0, at) + 1) + 1
+    return line_col(text, at)
 
 
 def _needles(message: str) -> list[str]:
@@ -256,6 +224,8 @@ def _needles(message: str) -> list[str]:
 
 
 def _xacro_message(e: BaseException) -> str:
+    if isinstance(e, XrdfToolsError):  # ours: a $(find) of a package that cannot be found
+        return e.message
     name = type(e).__name__
     if name == "ArgException":
         return f"xacro argument {e} is not set; pass --xacro-arg {e}:=VALUE"

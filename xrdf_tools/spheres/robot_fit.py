@@ -167,6 +167,11 @@ class CountPolicy:
     #: of their union (:mod:`.refine`). False keeps every sphere within the default bound.
     refine: bool = True
 
+    @property
+    def given(self) -> bool:
+        """Whether a count is given (per link, in total or by density)."""
+        return self.per_link is not None or self.count is not None or self.density is not None
+
 
 def _info(path: str, line: int | None, rule: str, message: str, warn: bool = False) -> Diagnostic:
     return Diagnostic(path, line, None, rule, Severity.WARNING if warn else Severity.INFO, message)
@@ -277,8 +282,7 @@ def fit_robot(
 def _sheet(geom: LinkGeometry, plan: LinkPlan, counts: CountPolicy) -> SheetPlan | None:
     """How the sheet rule fits a link (:func:`.sheet.sheet_plan`), when it applies: no count
     given, no clip plane, not a placeholder."""
-    given = counts.per_link is not None or counts.count is not None or counts.density is not None
-    if given or plan[2] or _across(geom) < PLACEHOLDER_SIZE:
+    if counts.given or plan[2] or _across(geom) < PLACEHOLDER_SIZE:
         return None
     from .sheet import sheet_plan
 
@@ -320,8 +324,7 @@ def _across(geom: LinkGeometry) -> float:
 def _refines(tau: float | None, counts: CountPolicy) -> bool:
     """Whether a link's count-given fit is refined (:mod:`.refine`): a count is given, the
     link has no bound of its own and no bound is searched for a coverage."""
-    given = counts.per_link is not None or counts.count is not None or counts.density is not None
-    return given and tau is None and counts.refine and counts.count_coverage is None
+    return counts.given and tau is None and counts.refine and counts.count_coverage is None
 
 
 def _refine_room(solid: trimesh.Trimesh, tau: float | None, counts: CountPolicy) -> float | None:
@@ -449,14 +452,10 @@ def _fit_one(
         )
         spheres, share = past_the_bound(fitter, len(spheres))
         if share >= counts.target_coverage:
+            said = f"refined past the bound (as --per-link is) they cover {share:.0%}"
+            tail = f"{said}; --max-protrusion keeps a hard bound"
             diags.append(
-                _info(
-                    path,
-                    geom.line,
-                    RULE_PAST_BOUND,
-                    f"link '{geom.link}': {within}; refined past the bound (as --per-link "
-                    f"is) they cover {share:.0%}; --max-protrusion keeps a hard bound",
-                ),
+                _info(path, geom.line, RULE_PAST_BOUND, f"link '{geom.link}': {within}; {tail}")
             )
             return spheres
     if share < counts.target_coverage:

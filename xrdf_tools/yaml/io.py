@@ -33,6 +33,7 @@ import yaml
 from ..util.errors import YamlError, shown_text
 from ..util.fileio import decode_utf8, read_input_bytes, read_input_text
 from ..util.fileio import write_atomic as write_atomic
+from ..util.textpos import line_col
 from .build import read_document
 from .positions import NodePositions, node_positions, positions_of
 from .rules import MAX_ALIASES, MAX_AMPLIFICATION, MAX_DEPTH, MAX_EXPANDED_NODES
@@ -90,9 +91,7 @@ def _check_printable(text: str, path: str) -> None:
     m = _NON_PRINTABLE.search(text)
     if m is None:
         return
-    start = m.start()
-    line = text.count("\n", 0, start) + 1
-    col = start - (text.rfind("\n", 0, start) + 1) + 1
+    line, col = line_col(text, m.start())
     code = ord(m.group())
     raise YamlError(
         f"control character U+{code:04X} is not allowed in YAML (write it as an escape such "

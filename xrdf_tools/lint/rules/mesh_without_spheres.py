@@ -15,6 +15,7 @@ that cannot be found stays a warning too: the user said those are expected.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
@@ -64,9 +65,7 @@ def _only_missing_meshes(ctx: LintContext, links: list[str]) -> set[str]:
     robot = ctx.robot
     if robot is None or not links:
         return set()
-    counts: dict[str, int] = {}
-    for failure in missing_meshes(robot, "collision", links=links):
-        counts[failure.link] = counts.get(failure.link, 0) + 1
+    counts = Counter(f.link for f in missing_meshes(robot, "collision", links=links))
     return {link for link, n in counts.items() if n == robot.collision_counts.get(link)}
 
 

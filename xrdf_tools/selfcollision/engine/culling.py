@@ -117,20 +117,16 @@ class Culler:
         margin, float32 error included."""
         return float(bp.bound_a[3] + bp.bound_b[3]) + self.margin + (4 * self.err)
 
-    def gaps2(self, R: F32, t: F32, pairs: Sequence[Sided], cols: IntArray | None = None) -> F32:
+    def gaps2(self, R: F32, t: F32, pairs: Sequence[Sided]) -> F32:
         """float32 squared distance between the bounding-sphere centres of each pair's sides
-        [P, B] (at the configurations ``cols`` only, when given), in cache-sized column
-        blocks. Each distinct centre is placed once per configuration, however many pairs
-        share it."""
-        B = R.shape[-1] if cols is None else len(cols)
-        out = np.empty((len(pairs), B), dtype=np.float32)
-        for sl, g in self._gap_blocks(R, t, pairs, cols):
+        [P, B], in cache-sized column blocks. Each distinct centre is placed once per
+        configuration, however many pairs share it."""
+        out = np.empty((len(pairs), R.shape[-1]), dtype=np.float32)
+        for sl, g in self._gap_blocks(R, t, pairs):
             out[:, sl] = g
         return out
 
-    def _gap_blocks(
-        self, R: F32, t: F32, pairs: Sequence[Sided], cols: IntArray | None = None
-    ) -> Iterator[tuple[slice, F32]]:
+    def _gap_blocks(self, R: F32, t: F32, pairs: Sequence[Sided]) -> Iterator[tuple[slice, F32]]:
         """:meth:`gaps2` one column block at a time: (columns, their squared gaps [P, n])."""
         index: dict[tuple[int, tuple[float, ...]], int] = {}
         ends = []
@@ -143,12 +139,7 @@ class Culler:
             by_body.setdefault(body, []).append(i)
         pts = np.array([c for _, c in index], dtype=np.float32).reshape(-1, 3)
         poses = {b: (R[b], t[b]) for b in by_body if b != 0}
-        if cols is not None:
-            poses = {
-                b: (np.take(r, cols, axis=-1), np.take(v, cols, axis=-1))
-                for b, (r, v) in poses.items()
-            }
-        B = R.shape[-1] if cols is None else len(cols)
+        B = R.shape[-1]
         step = max(_GAP_MIN_BLOCK, _GAP_ELEMENTS // len(pairs))
         for s0 in range(0, B, step):
             sl = slice(s0, min(B, s0 + step))
@@ -277,8 +268,8 @@ class Culler:
         """For the culled body pairs of ``plan`` and body poses ``R``, ``t`` (:func:`body_fk`
         views of a chunk): the configurations within reach [P, B], and per pair a lower bound
         of the clearance of the others [P]. The pairs of a group are tested where the group
-        needs them (:func:`~.cullgroups.grouped_near`); the result is that of testing every
-        pair everywhere."""
+        needs them (:func:`~.cullgroups.grouped_near`): the configurations within reach are
+        those of testing every pair everywhere, a group member's bound may be lower."""
         P, B = len(plan.pairs), R.shape[-1]
         near = np.zeros((P, B), dtype=np.bool_)
         low = np.full(P, np.inf)
@@ -303,15 +294,6 @@ class Culler:
             np.less_equal(g, reach2, out=near[:, sl])
             np.minimum(far_min, np.min(g, axis=1, where=~near[:, sl], initial=np.inf), out=far_min)
         low: FloatArray = np.sqrt(far_min.astype(np.float64)) - reach + self.margin
-        return near, low
-
-    def _near(self, pairs: Sequence[Sided], gaps: F32) -> tuple[BoolArray, FloatArray]:
-        """For ``pairs`` and their :meth:`gaps2` rows [P, n]: the configurations within
-        reach [P, n], and per pair a lower bound of the clearance of the others [P]."""
-        reach = np.array([self.reach(bp) for bp in pairs])
-        near: BoolArray = gaps <= (reach**2).astype(np.float32)[:, None]
-        far_min = np.min(gaps, axis=1, where=~near, initial=np.inf).astype(np.float64)
-        low: FloatArray = np.sqrt(far_min) - reach + self.margin
         return near, low
 
     def select(
