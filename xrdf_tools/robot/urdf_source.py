@@ -16,6 +16,7 @@ commands which never read a URDF start fast.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 from collections.abc import Mapping
@@ -301,7 +302,30 @@ def _quoted_value_line(source: str, message: str) -> int | None:
         line = _line_of(source, min((i for i in found if i >= 0), default=-1))
         if line is not None:
             return line
+    return _numeric_value_line(source, list(reversed(values)))
+
+
+def _numeric_value_line(source: str, values: list[str]) -> int | None:
+    """The line of the first attribute value in ``source`` that a number of ``values`` is,
+    written another way (xacro evaluates ``parent="1e308"`` and writes ``1e+308``)."""
+    numbers = [v for v in (_as_number(value) for value in values) if v is not None]
+    for number in numbers:
+        for m in _QUOTED_VALUE.finditer(source):
+            if _as_number(m.group(2)) == number:
+                return _line_of(source, m.start())
     return None
+
+
+def _as_number(text: str) -> float | None:
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
+
+
+#: ``="value"`` or ``='value'`` in a xacro's text.
+_QUOTED_VALUE = re.compile(r"=([\"'])([^\"'\n<]*)\1")
 
 
 #: ``upper=''`` in a message: an attribute and the value it holds.
