@@ -165,7 +165,8 @@ def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:
         if not name:
             raise fail(f"<{tag}> has no 'name' attribute", el)
         if name in lines:
-            raise fail(f"{tag} '{name}' is defined twice (first on line {lines[name]})", el)
+            first = f" (first on line {lines[name]})" if lines[name] else ""
+            raise fail(f"{tag} '{name}' is defined twice{first}", el)
         lines[name] = el.sourceline or 0
     return lines
 

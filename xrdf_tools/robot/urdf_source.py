@@ -307,7 +307,8 @@ def _quoted_value_line(source: str, message: str) -> int | None:
 
 def _numeric_value_line(source: str, values: list[str]) -> int | None:
     """The line of the first attribute value in ``source`` that a number of ``values`` is,
-    written another way (xacro evaluates ``parent="1e308"`` and writes ``1e+308``)."""
+    written another way (xacro evaluates ``parent="1e308"`` or ``name="${1e308}"`` and
+    writes ``1e+308``)."""
     numbers = [v for v in (_as_number(value) for value in values) if v is not None]
     for number in numbers:
         for m in _QUOTED_VALUE.finditer(source):
@@ -317,6 +318,10 @@ def _numeric_value_line(source: str, values: list[str]) -> int | None:
 
 
 def _as_number(text: str) -> float | None:
+    """``text`` as a finite number, also when it is a xacro expression of one (``${1e308}``)."""
+    text = text.strip()
+    if text.startswith("${") and text.endswith("}"):
+        text = text[2:-1]
     try:
         value = float(text)
     except ValueError:
