@@ -119,6 +119,8 @@ def test_an_unfound_package_is_located_at_its_find(tmp_path: Path) -> None:
         # numbers xacro writes another way: the joint '0_joint', the parent link '1e+308'
         ('name="upper" parent="base_link"', 'name="000" parent="1e308"', 22),
         ('<link name="${name}">', '<link name="${1e308}">', 7),  # link '1e+308' twice
+        ('<link name="${name}">', '<link name="&amp;">', 7),  # link '&' twice
+        ('parent="base_link"', 'parent="{x}"', 22),  # braces in a quoted value
     ],
 )
 def test_errors_about_macro_made_parts_are_located_in_the_xacro(

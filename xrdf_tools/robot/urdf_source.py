@@ -22,6 +22,7 @@ import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
+from xml.sax.saxutils import escape
 
 from ..diagnostics import Diagnostic
 from ..util.errors import UrdfError, UrdfReadError
@@ -290,15 +291,17 @@ def _quoted_value_line(source: str, message: str) -> int | None:
     """The line of the xacro text that writes what ``message`` quotes: an attribute it names
     with its value (``upper=''``), else a value (``'name'``), the last quoted first (the value
     at fault: "joint 'j' refers to unknown link 'x'"), else a part of a quoted name (a
-    macro-made ``upper_joint``: the call that writes ``name="upper"``)."""
-    wanted = [f"{attr}={{q}}{value}{{q}}" for attr, value in _ATTRIBUTE.findall(message)]
+    macro-made ``upper_joint``: the call that writes ``name="upper"``). Values are looked for
+    as the text writes them too (``&amp;`` for ``&``)."""
+    wanted = [(f"{attr}=", value) for attr, value in _ATTRIBUTE.findall(message)]
     values = re.findall(r"'([^'\n]+)'", message)
-    wanted += [f"={{q}}{value}{{q}}" for value in reversed(values)]
+    wanted += [("=", value) for value in reversed(values)]
     for value in values:
         pieces = {p for p in re.split(r"[\W_]+", value) if len(p) > 1} - {value}
-        wanted += [f"={{q}}{p}{{q}}" for p in sorted(pieces, key=lambda p: (-len(p), p))]
-    for template in wanted:
-        found = [source.find(template.format(q=q)) for q in "\"'"]
+        wanted += [("=", p) for p in sorted(pieces, key=lambda p: (-len(p), p))]
+    for prefix, value in wanted:
+        written = {value, escape(value, {'"': "&quot;", "'": "&apos;"})}
+        found = [source.find(f"{prefix}{q}{v}{q}") for v in sorted(written) for q in "\"'"]
         line = _line_of(source, min((i for i in found if i >= 0), default=-1))
         if line is not None:
             return line
