@@ -251,6 +251,26 @@ def _not_covered(runner: CliRunner, tmp_path: Path, mesh: Path) -> tuple[Path, s
     return urdf, line
 
 
+@pytest.mark.parametrize(
+    "name, text",
+    [
+        ("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 999999\n"),  # a face past the vertices
+        ("bad.dae", "<COLLADA><asset><unit meter='abc'/></asset></COLLADA>"),  # no scene
+    ],
+)
+def test_a_mesh_the_reader_trips_over_is_called_malformed(
+    runner: CliRunner, tmp_path: Path, name: str, text: str
+) -> None:
+    """The reader's own slip ("'NoneType' object has no attribute 'nodes'", an index out of
+    bounds) says nothing about the file: the message says the file is malformed."""
+    mesh = tmp_path / name
+    mesh.write_text(text)
+    _, line = _not_covered(runner, tmp_path, mesh)
+    kind = name.split(".")[1].upper()
+    assert f"{name}: cannot read mesh (a malformed {kind} file" in line, line
+    assert "NoneType" not in line and "out of bounds" not in line
+
+
 @pytest.mark.parametrize("suffix", ["stl", "obj", "dae"])
 def test_a_git_lfs_pointer_in_place_of_a_mesh_says_so(
     runner: CliRunner, tmp_path: Path, suffix: str

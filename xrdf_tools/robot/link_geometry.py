@@ -403,7 +403,7 @@ class _MeshReader:
             for p in () if bad else pieces:
                 p.process()
         except Exception as e:  # trimesh raises many exception types for bad files
-            detail = str(e).splitlines()[0] if str(e) else type(e).__name__
+            detail = _read_failure(e, path)
             raise _PartError(
                 f"{uri}: cannot read mesh ({_lfs_or(path, detail)})", uri=uri
             ) from None
@@ -428,6 +428,19 @@ class _MeshReader:
         if why is not None:
             raise _PartError(f"{uri}: {why}", missing=True, uri=uri)
         return path
+
+
+#: What the mesh readers raise when their own code trips over a malformed file: the message
+#: ("'NoneType' object has no attribute 'nodes'") says nothing about the file.
+_READER_SLIPS = (AttributeError, TypeError, IndexError, KeyError)
+
+
+def _read_failure(e: Exception, path: Path) -> str:
+    """What to say about the mesh file ``path`` that a reader failed on with ``e``."""
+    if isinstance(e, _READER_SLIPS) or not str(e):
+        kind = path.suffix.lstrip(".").upper() or "mesh"
+        return f"a malformed {kind} file, or one of a form the mesh reader does not know"
+    return str(e).splitlines()[0]
 
 
 _LFS_POINTER = b"version https://git-lfs.github.com/spec/"
