@@ -451,6 +451,32 @@ def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
         assert "\n" not in msg
 
 
+def test_groups_that_include_themselves_warn_unless_used(tree: RobotTree, tmp_path: Path) -> None:
+    """Subgroups that include each other in groups the conversion does not use are located
+    warnings naming the loop (they were ignored without a word); a used one is an error."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="a"><group name="b"/></group>
+        <group name="b"><group name="a"/></group>
+        <group name="self"><group name="self"/><group name="arm"/></group>
+        </robot>""",
+    )
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    warned = {(w.rule, w.line): w.message for w in d.diagnostics}
+    assert (
+        "group 'a' includes itself through its subgroups (a -> b -> a)"
+        in (warned[("convert-srdf-unused-group", 3)])
+    )
+    assert "(b -> a -> b)" in warned[("convert-srdf-unused-group", 4)]
+    assert "(self -> self)" in warned[("convert-srdf-unused-group", 5)]
+    with pytest.raises(SourceError, match="groups include each other: self -> self"):
+        read_srdf(load_srdf(srdf), tree, group="self")
+
+
 def test_virtual_joint_in_a_group_is_known(tree: RobotTree) -> None:
     s = parse_srdf(
         """<robot name="t">

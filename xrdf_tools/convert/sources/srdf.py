@@ -23,6 +23,7 @@ from .srdf_groups import (
     group_joints,
     group_named,
     group_sizes,
+    unused_cycles,
 )
 from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup, load_srdf, parse_srdf
 
@@ -76,6 +77,13 @@ def read_srdf(
             f"group '{broken.name}' does not match the URDF ({'; '.join(problems)}); it is not "
             "used for this conversion, so it is ignored",
             line=broken.line,
+        )
+    for looped, (cycle,) in unused_cycles(srdf, groups):
+        rep.report(
+            RULE_UNUSED_GROUP,
+            f"group '{looped.name}' includes itself through its subgroups ({cycle}); it is not "
+            "used for this conversion, so it is ignored",
+            line=looped.line,
         )
     d.group = "+".join(groups) or None
     d.passive_joints |= _passive_joints(srdf, tree, rep)

@@ -26,6 +26,7 @@ __all__ = [
     "group_problems",
     "group_sizes",
     "member_groups",
+    "unused_cycles",
 ]
 
 PREFERRED_STATES = ("home", "ready", "default")
@@ -117,6 +118,25 @@ def check_groups(
             line=fatal[0][0].line,
         )
     return [(g, p) for g, p in broken if g.name not in members]
+
+
+def unused_cycles(srdf: Srdf, used: Iterable[str]) -> list[tuple[SrdfGroup, list[str]]]:
+    """The groups not among ``used`` (and their subgroups) that include themselves through
+    their subgroups, each with its cycle (``a -> b -> a``), for the caller to warn about. A
+    used group on a cycle is an error when it is expanded (:func:`group_joints`)."""
+    groups = srdf.groups
+
+    def subs(name: str) -> list[str]:
+        return [s for s in groups[name].subgroups if s in groups]
+
+    members = set(member_groups(srdf, used))
+    cyclic = nodes_on_cycles(groups, subs)
+    out = []
+    for name, g in groups.items():
+        if name in cyclic and name not in members:
+            _, cycle = reachable(name, subs)
+            out.append((g, [show_path(cycle or [name, name])]))
+    return out
 
 
 def _own_joints(srdf: Srdf, gname: str, tree: RobotTree) -> set[str]:
