@@ -97,6 +97,9 @@ SCENARIOS: tuple[Scenario, ...] = (
         "convert-curobo", ("convert", "{urdf}", "--curobo", "{curobo}"), ("curobo", "spheres")
     ),
     Scenario("convert-xacro", ("convert", "{xacro}"), ("xacro",)),
+    Scenario("expand-xacro", ("expand", "{xacro}", "-o", "@out"), ("xacro",)),
+    Scenario("inspect", ("inspect", "{urdf}", "--srdf", "{srdf}"), ("urdf", "srdf")),
+    Scenario("inspect-xacro", ("inspect", "{xacro}", "--format", "json"), ("xacro",)),
     Scenario("convert-mimic", ("convert", "{mimic_urdf}"), ("mimic_urdf",)),
     Scenario("export-curobo", ("export", "curobo", "{xrdf}", "--urdf", "{urdf}"), ("xrdf", "urdf")),
     Scenario(

@@ -121,6 +121,8 @@ def test_an_unfound_package_is_located_at_its_find(tmp_path: Path) -> None:
         ('<link name="${name}">', '<link name="${1e308}">', 7),  # link '1e+308' twice
         ('<link name="${name}">', '<link name="&amp;">', 7),  # link '&' twice
         ('parent="base_link"', 'parent="{x}"', 22),  # braces in a quoted value
+        ('<link name="base_link"/>', '<link base_link="base_link"/>', 21),  # a nameless link
+        ('name="upper"', 'name=""', 22),  # an empty name: xacro drops the attribute
     ],
 )
 def test_errors_about_macro_made_parts_are_located_in_the_xacro(

@@ -162,8 +162,10 @@ def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:
     lines: dict[str, int] = {}
     for el in root.findall(tag):
         name = el.get("name")
-        if not name:
+        if name is None:
             raise fail(f"<{tag}> has no 'name' attribute", el)
+        if not name.strip():
+            raise fail(f"<{tag}> has an empty name (name='{name}')", el)
         if name in lines:
             first = f" (first on line {lines[name]})" if lines[name] else ""
             raise fail(f"{tag} '{name}' is defined twice{first}", el)

@@ -292,10 +292,13 @@ def _quoted_value_line(source: str, message: str) -> int | None:
     with its value (``upper=''``), else a value (``'name'``), the last quoted first (the value
     at fault: "joint 'j' refers to unknown link 'x'"), else a part of a quoted name (a
     macro-made ``upper_joint``: the call that writes ``name="upper"``). Values are looked for
-    as the text writes them too (``&amp;`` for ``&``)."""
+    as the text writes them too (``&amp;`` for ``&``), and a missing attribute (``'name'``) as
+    one left empty (``name=""``: xacro drops it)."""
     wanted = [(f"{attr}=", value) for attr, value in _ATTRIBUTE.findall(message)]
     values = re.findall(r"'([^'\n]+)'", message)
     wanted += [("=", value) for value in reversed(values)]
+    # an attribute the message misses may be one the text leaves empty (xacro drops it)
+    wanted += [(f"{value}=", "") for value in reversed(values) if value.isidentifier()]
     for value in values:
         pieces = {p for p in re.split(r"[\W_]+", value) if len(p) > 1} - {value}
         wanted += [("=", p) for p in sorted(pieces, key=lambda p: (-len(p), p))]
@@ -344,14 +347,16 @@ def _relocate_expansion(root: Any, source: str) -> None:
     """Give the elements of an expanded xacro the lines of its xacro file's text ``source``.
 
     The expansion's own lines are not the file's. A top-level ``<link>``/``<joint>`` written
-    literally in the file (``<joint name="j1"``) takes that line, and so does everything inside
-    it; one that a macro or a ``$(arg)`` made has no line (lxml reads 0 as no line).
+    literally in the file (``<joint name="j1"``, or its first attribute when it has no name)
+    takes that line, and so does everything inside it; one that a macro or a ``$(arg)`` made
+    has no line (lxml reads 0 as no line).
     """
     for el in root:
         line = 0
-        name = el.get("name") if isinstance(el.tag, str) else None
-        if name:
-            found = [source.find(f"<{el.tag} name={q}{name}{q}") for q in "\"'"]
+        first = next(iter(el.attrib.items()), None) if isinstance(el.tag, str) else None
+        if first is not None:  # its name, or what it has in place of one
+            key, value = ("name", el.get("name")) if el.get("name") else first
+            found = [source.find(f"<{el.tag} {key}={q}{value}{q}") for q in "\"'"]
             line = _line_of(source, min((i for i in found if i >= 0), default=-1)) or 0
         for node in el.iter():
             node.sourceline = line
