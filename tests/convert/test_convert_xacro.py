@@ -110,6 +110,52 @@ def test_an_unfound_package_is_located_at_its_find(tmp_path: Path) -> None:
     assert _unfound_at(top, head + body, "vendor_meshes") == (str(arm), 4, 30)
 
 
+def test_a_missing_include_is_located_at_its_include_and_names_the_unset_arg(
+    tmp_path: Path,
+) -> None:
+    """A robot family's xacro picks its arm file by an argument whose default is empty
+    (Interbotix LoCoBot: arms/$(arg arm_model).urdf.xacro): the error is located at the
+    include that names the file, not at another include whose name is all substitutions,
+    and says which argument was not given; a given argument gets no such hint."""
+    (tmp_path / "arms").mkdir()
+    (tmp_path / "arms" / "mobile_arm.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="mobile_arm">\n'
+        '    <xacro:include filename="$(find my_bot)/arms/$(arg arm_model).urdf.xacro"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    (tmp_path / "package.xml").write_text("<package><name>my_bot</name></package>")
+    top = tmp_path / "bot.urdf.xacro"
+    top.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="arm_model" default=""/>\n'
+        '  <xacro:arg name="extra" default=""/>\n'
+        "  <xacro:if value=\"${'$(arg extra)' != ''}\">\n"
+        '    <xacro:include filename="$(arg extra)"/>\n'
+        "  </xacro:if>\n"
+        '  <xacro:include filename="arms/mobile_arm.xacro"/>\n'
+        '  <link name="base"/>\n'
+        "  <xacro:mobile_arm/>\n"
+        "</robot>\n"
+    )
+    arm = str(tmp_path / "arms" / "mobile_arm.xacro")
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    assert (e.value.path, e.value.line, e.value.col) == (arm, 3, 30)
+    assert f"the included file {tmp_path / 'arms' / '.urdf.xacro'} does not exist" in str(e.value)
+    assert "$(arg arm_model), not given, so '': pass --xacro-arg arm_model:=VALUE" in str(e.value)
+    assert "Errno" not in str(e.value)
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top, {"arm_model": "wx999"})
+    assert (e.value.path, e.value.line) == (arm, 3)
+    assert "wx999.urdf.xacro does not exist" in str(e.value)
+    assert "--xacro-arg" not in str(e.value)
+    top.write_text(top.read_text().replace("arms/mobile_arm.xacro", "arms/mobile_arms.xacro"))
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    assert (e.value.path, e.value.line, e.value.col) == (str(top), 7, 28)
+
+
 @pytest.mark.parametrize(
     "old, new, line",
     [

@@ -100,15 +100,16 @@ def expand_xacro(
     decode_utf8(data, str(p), "xacro file", SourceError)
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
+    values = dict(mappings)  # xacro adds the defaults of the arguments it meets to it
     try:
         with _patched_find(resolver):
             xacro.all_includes = []
-            doc = xacro.process_file(str(p), mappings=mappings)
+            doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
     except Exception as e:  # ours ($(find) of an unknown package), xacro's XacroException,
         # ArgException, NameError, OSError…
         filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
-        raise _xacro_error(e, str(p), filestack, included) from None
+        raise _xacro_error(e, str(p), filestack, included, mappings, values) from None
     finally:
         try:
             xacro.filestack = None
@@ -122,7 +123,12 @@ _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
 
 
 def _xacro_error(
-    e: BaseException, top: str, filestack: Any, included: Sequence[str] = ()
+    e: BaseException,
+    top: str,
+    filestack: Any,
+    included: Sequence[str] = (),
+    given: Mapping[str, str] | None = None,
+    values: Mapping[str, str] | None = None,
 ) -> SourceError:
     """One located error for a failed expansion: an XML syntax error (expat) at its line and
     column in the file xacro was reading (the top file or an include), anything else where
@@ -137,6 +143,9 @@ def _xacro_error(
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
+    missing = getattr(inner, "filename", None) if isinstance(inner, OSError) else None
+    if isinstance(missing, str):
+        return _missing_include_error(missing, where, included, given or {}, values or {})
     message = _xacro_message(e)
     line, col = _find_culprit(where, message)
     for other in () if line is not None else dict.fromkeys(included):
@@ -147,6 +156,54 @@ def _xacro_error(
     return SourceError(
         message + _unprefixed_hint(message, [where, *included]), path=where, line=line, col=col
     )
+
+
+#: ``<xacro:include filename="...">``: the group is the file name as written.
+_INCLUDE = re.compile(r"<xacro:include\b[^>]*?\bfilename\s*=\s*([\"'])(.*?)\1", re.DOTALL)
+#: A substitution (``$(...)``) or an expression (``${...}``) inside an attribute.
+_SUBSTITUTION = re.compile(r"\$\([^)]*\)|\$\{[^}]*\}")
+
+
+def _missing_include_error(
+    missing: str,
+    where: str,
+    included: Sequence[str],
+    given: Mapping[str, str],
+    values: Mapping[str, str],
+) -> SourceError:
+    """A file that an ``<xacro:include>`` names and that does not exist, located at the
+    include whose ``filename`` (substitutions as wildcards) gives that path, the one with the
+    most literal text when several do; when the name is made from an ``$(arg X)`` the user
+    did not pass (``given``), the hint names the argument and the default it took
+    (``values``)."""
+    message = f"xacro failed: the included file {missing} does not exist"
+    best: tuple[int, str, str, re.Match[str]] | None = None
+    for path in dict.fromkeys([where, *included]):
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            continue
+        for m in _INCLUDE.finditer(text):
+            literal = _SUBSTITUTION.split(m.group(2))
+            pattern = r"(?:.*/)?" + ".*".join(re.escape(t) for t in literal)
+            score = sum(len(t) for t in literal)
+            if re.fullmatch(pattern, missing, re.DOTALL) and (best is None or score > best[0]):
+                best = (score, path, text, m)
+    if best is None:
+        return SourceError(message, path=where)
+    _, path, text, m = best
+    unset = [a for a in _ARG_USE.findall(m.group(2)) if a not in given]
+    hint = "".join(
+        f" (the name uses $(arg {a}), not given, so {values.get(a, '')!r}: pass "
+        f"--xacro-arg {a}:=VALUE)"
+        for a in dict.fromkeys(unset)
+    )
+    line, col = line_col(text, m.start(2))
+    return SourceError(message + hint, path=path, line=line, col=col)
+
+
+#: ``$(arg NAME)`` in an attribute: the group is the name.
+_ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
 
 
 #: ``name 'x' is not defined``: a property xacro never defined.
