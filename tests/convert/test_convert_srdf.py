@@ -481,6 +481,31 @@ def test_several_groups_are_one_cspace_in_the_given_order(tree: RobotTree, tmp_p
     assert x.default_joint_positions["zz"] == 0.3 and x.default_joint_positions["j1"] == 0.2
 
 
+def test_an_end_effector_without_parent_group_gives_the_tool_frame_of_the_arm_moving_it(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Interbotix's SRDFs list the arm as joints (no chain) and the end effector without
+    parent_group: MoveIt gives it to the group that moves its parent_link, so the tool frame
+    is that link ('b'), not the guess at the end of the chain ('c'); a group that does not
+    move it gets no such frame."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><joint name="j1"/><joint name="j2"/><joint name="jfix"/></group>
+        <group name="gripper"><link name="tip"/></group>
+        <group name="side"><joint name="zz"/></group>
+        <end_effector name="hand" parent_link="b" group="gripper"/>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, _ = convert(tree, ConvertOptions(srdf=srdf))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2")
+    assert x.tool_frames == ("b",)
+    x, _ = convert(tree, ConvertOptions(srdf=srdf, groups=("side",)))
+    assert x.tool_frames == ("z_side",)  # the guess at the end of the side chain
+
+
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:
     from xrdf_tools.convert.core import convert
 

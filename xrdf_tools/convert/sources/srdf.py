@@ -16,6 +16,7 @@ from ...xrdf.model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .srdf_groups import (
     PREFERRED_STATES,
+    carries_end_effector,
     check_groups,
     choose_group,
     choose_state,
@@ -240,13 +241,16 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
 
 
 def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) -> list[str]:
-    """Per group in order: end effectors attached to it (or its subgroups), then chain tips."""
+    """Per group in order: end effectors attached to it (or its subgroups), then chain tips.
+
+    An end effector without ``parent_group`` belongs, as in MoveIt, to the group that moves
+    its ``parent_link`` (Interbotix: ``ee_gripper_link`` on a group of joints)."""
     frames: list[str] = []
     for group in groups:
         members = _subgroups(srdf, group)
         for ee in srdf.end_effectors:
-            owner = ee.parent_group or ee.group
-            if owner in members and known_frame(
+            owned = any(carries_end_effector(srdf, g, ee, tree) for g in members)
+            if owned and known_frame(
                 ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", line=ee.line
             ):
                 frames.append(ee.parent_link)
