@@ -451,6 +451,37 @@ def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
         assert "\n" not in msg
 
 
+def test_a_link_missing_from_many_disable_collisions_is_reported_once(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """An SRDF written for another base (LoCoBot's kobuki SRDF on a create3 base) names each
+    missing link in a dozen pairs: one warning per link, at its first entry, with the count;
+    the pairs of known links are kept."""
+    pairs = "".join(
+        f'<disable_collisions link1="{a}" link2="caster" reason="Never"/>\n'
+        for a in ("a", "b", "c", "tip")
+    )
+    srdf = _write(
+        tmp_path,
+        '<robot name="t">\n<group name="arm"><chain base_link="base" tip_link="tip"/></group>\n'
+        f'{pairs}<disable_collisions link1="a" link2="b" reason="Adjacent"/>\n'
+        '<disable_collisions link1="wheel" link2="a" reason="Never"/>\n</robot>\n',
+    )
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    unknown = [w for w in d.diagnostics if w.rule == "convert-unknown-link"]
+    assert [(w.line, w.message) for w in unknown] == [
+        (
+            3,
+            "'caster' (in 4 disable_collisions entries, first as link2) is not a link of the "
+            "URDF; dropped; did you mean 'base'?",
+        ),
+        (8, "'wheel' (disable_collisions link1) is not a link of the URDF; dropped"),
+    ]
+    assert d.ignore == {"a": ["b"]}
+
+
 def test_virtual_joint_in_a_group_is_known(tree: RobotTree) -> None:
     s = parse_srdf(
         """<robot name="t">

@@ -95,12 +95,23 @@ def read_srdf(
 
 
 def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
-    """The self-collision mask: disabled pairs of known links, minus re-enabled pairs."""
+    """The self-collision mask: disabled pairs of known links, minus re-enabled pairs.
+
+    A link the URDF lacks is reported once, at its first entry, with the number of entries
+    that name it (an SRDF written for another base names its links in dozens of pairs)."""
+    unknown: dict[str, list[tuple[str, int | None]]] = {}
     for l1, l2, _reason, line in srdf.disable_collisions:
-        ok1 = known_frame(l1, tree.links, rep, "", "disable_collisions link1", line=line)
-        ok2 = known_frame(l2, tree.links, rep, "", "disable_collisions link2", line=line)
-        if ok1 and ok2:
+        for link, key in ((l1, "link1"), (l2, "link2")):
+            if link not in tree.links:
+                unknown.setdefault(link, []).append((key, line))
+        if l1 in tree.links and l2 in tree.links:
             d.add_ignore(l1, l2)
+    for link, uses in unknown.items():
+        key, line = uses[0]
+        what = f"disable_collisions {key}"
+        if len(uses) > 1:
+            what = f"in {len(uses)} disable_collisions entries, first as {key}"
+        known_frame(link, tree.links, rep, "", what, line=line)
     for link, line in srdf.disable_default:
         if known_frame(link, tree.links, rep, "", "disable_default_collisions", line=line):
             for other in tree.links:
