@@ -156,6 +156,51 @@ def test_a_missing_include_is_located_at_its_include_and_names_the_unset_arg(
     assert (e.value.path, e.value.line, e.value.col) == (str(top), 7, 28)
 
 
+def test_xacro_warnings_are_diagnostics_not_raw_stderr(runner: CliRunner, tmp_path: Path) -> None:
+    """Sawyer's xacro passes <xacro:arg> children to an include, which xacro ignores with a
+    warning it prints itself: that went to stderr past -q and --format json. It is now an
+    xacro-warning diagnostic of the file xacro was reading (robot and SRDF xacro alike)."""
+    (tmp_path / "arm.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="arm"/>\n'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>\n'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
+    )
+    include = '<xacro:include filename="arm.xacro"><xacro:arg name="x" value="1"/></xacro:include>'
+    robot = tmp_path / "bot.urdf.xacro"
+    robot.write_text(
+        f'<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n<link name="base"/>\n'
+        f"{include}\n</robot>\n"
+    )
+    (tmp_path / "groups.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<group name="arm"><joint name="j"/></group></robot>\n'
+    )
+    srdf = tmp_path / "bot.srdf.xacro"
+    srdf.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:include filename="groups.xacro"><xacro:arg name="y" value="2"/></xacro:include>\n'
+        "</robot>\n"
+    )
+    out = tmp_path / "bot.xrdf"
+    args = ["convert", str(robot), "--srdf", str(srdf), "-o", str(out)]
+    quiet = runner.invoke(app, [*args, "-q"])
+    assert quiet.exit_code == 0, quiet.output
+    assert quiet.stderr == ""
+    loud = runner.invoke(app, [*args, "--format", "json"])
+    assert loud.exit_code == 0, loud.output
+    import json
+
+    found = [d for d in json.loads(loud.stderr)["diagnostics"] if d["rule"] == "xacro-warning"]
+    assert sorted(d["path"] for d in found) == sorted([str(robot), str(srdf)])
+    assert {d["message"] for d in found} == {
+        "xacro: Child elements of a <xacro:include> tag are ignored"
+    }
+    expand = runner.invoke(app, ["expand", str(robot), "-o", str(tmp_path / "bot.urdf")])
+    assert expand.exit_code == 0
+    assert f"{robot}: warning xacro-warning xacro: Child elements" in expand.stderr
+    assert "when processing file" not in expand.stderr
+
+
 @pytest.mark.parametrize(
     "old, new, line",
     [

@@ -19,10 +19,12 @@ import re
 import threading
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 
+from ..diagnostics import Diagnostic, Severity
 from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
@@ -61,24 +63,48 @@ def parse_xacro_arg(spec: str) -> tuple[str, str]:
     return name, value
 
 
+#: The id of a warning xacro prints while expanding.
+RULE_XACRO_WARNING = "xacro-warning"
+
+
 @contextmanager
-def _patched_find(resolver: PackageResolver) -> Iterator[None]:
-    """Make xacro's ``$(find pkg)`` use ``resolver`` (xacro keeps global state: serialise)."""
+def _patched_xacro(resolver: PackageResolver, top: str, said: list[Diagnostic]) -> Iterator[None]:
+    """Make xacro's ``$(find pkg)`` use ``resolver`` and its warnings (printed to stderr by
+    xacro itself, past ``-q`` and ``--format``) land in ``said``, each once, at the file
+    xacro was reading (xacro keeps global state: serialise)."""
+    import xacro
     from xacro import substitution_args as sa
 
     def find(pkg: str) -> str:
         return str(resolver.find(pkg))
 
+    def warning(*args: Any, **_: Any) -> None:
+        stack = [str(f) for f in getattr(xacro, "filestack", None) or () if f]
+        text = " ".join(" ".join(str(a) for a in args).split())
+        found = Diagnostic(
+            stack[-1] if stack else top,
+            None,
+            None,
+            RULE_XACRO_WARNING,
+            Severity.WARNING,
+            f"xacro: {text}",
+        )
+        if not any((d.path, d.message) == (found.path, found.message) for d in said):
+            said.append(found)
+
     with _LOCK:
         old_find = sa._eval_find
         old_dict = sa._eval_dict.get("find")
+        old_warning, old_location = xacro.warning, xacro.print_location
         sa._eval_find = find
         sa._eval_dict["find"] = find
+        xacro.warning, xacro.print_location = warning, lambda: None
         try:
             yield
         finally:
             sa._eval_find = old_find
             sa._eval_dict["find"] = old_dict
+            xacro.warning, xacro.print_location = old_warning, old_location
 
 
 def expand_xacro(
@@ -87,11 +113,14 @@ def expand_xacro(
     package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
     *,
     data: bytes | None = None,
+    warnings: list[Diagnostic] | None = None,
 ) -> str:
     """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
 
     The file is read through the guarded reader (``data``: its bytes, when the caller has
-    read them already) and decoded, so a bad byte is located; xacro then reads it itself."""
+    read them already) and decoded, so a bad byte is located; xacro then reads it itself.
+    xacro's own warnings (an include's ignored body, a redefined symbol) are appended to
+    ``warnings`` as ``xacro-warning`` diagnostics, never printed."""
     import xacro
 
     p = Path(path)
@@ -102,7 +131,7 @@ def expand_xacro(
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
     values = dict(mappings)  # xacro adds the defaults of the arguments it meets to it
     try:
-        with _patched_find(resolver):
+        with _patched_xacro(resolver, str(p), warnings if warnings is not None else []):
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
@@ -328,10 +357,12 @@ def load_robot(
                 raise SourceError(_NOT_XACRO, path=str(path)) from None
             raise
     if data is None or uses_xacro(data):
-        text = expand_xacro(path, xacro_args, pkg, data=data)
-        return parse_robot(
+        said: list[Diagnostic] = []
+        text = expand_xacro(path, xacro_args, pkg, data=data, warnings=said)
+        robot = parse_robot(
             text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
         )
+        return replace(robot, warnings=(*said, *robot.warnings)) if said else robot
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
     return read_robot(path, package_paths=pkg, data=data)

@@ -90,6 +90,7 @@ def read_srdf(
     _mask(srdf, tree, d, rep)
     _virtual(srdf, rep)
     _spheres(srdf, tree, d, rep)
+    d.diagnostics.extend(srdf.warnings)
     d.diagnostics.extend(rep.diagnostics)
     return d
 
