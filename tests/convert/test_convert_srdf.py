@@ -537,6 +537,31 @@ def test_an_end_effector_without_parent_group_gives_the_tool_frame_of_the_arm_mo
     assert x.tool_frames == ("z_side",)  # the guess at the end of the side chain
 
 
+def test_a_group_of_subgroups_without_states_takes_its_subgroups_states(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Baxter's both_arms has no group_state; its arms have one each (left_neutral,
+    right_neutral): the two-arm c-space takes both instead of zeros for every joint."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><chain base_link="base" tip_link="z_side"/></group>
+        <group name="both"><group name="side"/><group name="arm"/></group>
+        <group_state name="arm_neutral" group="arm"><joint name="j1" value="0.2"/>
+          <joint name="j2" value="-0.4"/></group_state>
+        <group_state name="side_neutral" group="side"><joint name="zz" value="0.3"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("both",)))
+    assert x.cspace is not None and set(x.cspace.joint_names) == {"zz", "j1", "j2", "j3"}
+    assert dict(x.default_joint_positions) == {"zz": 0.3, "j1": 0.2, "j2": -0.4, "j3": 0.75}
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    assert len(chosen) == 2 and "'side_neutral'" in chosen[0] and "'arm_neutral'" in chosen[1]
+
+
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:
     from xrdf_tools.convert.core import convert
 

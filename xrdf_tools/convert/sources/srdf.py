@@ -208,12 +208,21 @@ def _defaults(
     d: Draft,
     rep: Reporter,
 ) -> None:
-    """Default positions from one group_state per group (the first group wins a conflict)."""
+    """Default positions from one group_state per group (the first group wins a conflict);
+    a group without states takes its subgroups' (Baxter's both_arms: left_neutral and
+    right_neutral)."""
     chosen: list[GroupState] = []
     targets: list[str | None] = [*groups] or [None]
-    for g in targets:
+    seen: set[str | None] = set()
+    while targets:
+        g = targets.pop(0)
+        if g in seen:
+            continue
+        seen.add(g)
         cspace = cspace_of(srdf, g, tree) if g is not None else (d.cspace or [])
         st, why = choose_state(srdf, g, cspace, state)
+        if st is None and g is not None and g in srdf.groups:
+            targets[:0] = srdf.groups[g].subgroups
         if st is None or st in chosen:
             continue
         chosen.append(st)
