@@ -201,6 +201,46 @@ def test_xacro_warnings_are_diagnostics_not_raw_stderr(runner: CliRunner, tmp_pa
     assert "when processing file" not in expand.stderr
 
 
+def test_a_package_named_only_in_gazebo_or_ros2_control_is_a_warning(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Reachy's xacro names $(find reachy_gazebo) in a <gazebo> plugin's parameters: with only
+    the description at hand every command stopped. No command reads <gazebo>,
+    <ros2_control> or <transmission>: a located warning, and the expansion keeps the
+    $(find) as written. The same package in a mesh, an include or a load_yaml stays an
+    error at its $(find)."""
+    head = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n<link name="base"/>\n'
+    gazebo = (
+        '<gazebo><plugin name="c" filename="libc.so">\n'
+        "<parameters>$(find sim_pkg)/config/c.yaml</parameters></plugin></gazebo>\n"
+        '<ros2_control name="s" type="system"><hardware>\n'
+        '<param name="f">$(find ctl_pkg)/p.yaml</param></hardware></ros2_control>\n'
+    )
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(head + gazebo + "</robot>\n")
+    result = runner.invoke(app, ["expand", str(robot)])
+    assert result.exit_code == 0, result.output
+    assert "<parameters>$(find sim_pkg)/config/c.yaml</parameters>" in result.stdout
+    assert '<param name="f">$(find ctl_pkg)/p.yaml</param>' in result.stdout
+    warned = [line for line in result.stderr.splitlines() if "xacro-package-unused" in line]
+    assert len(warned) == 2
+    assert warned[0].startswith(f"{robot}:4:13: warning xacro-package-unused cannot find ROS ")
+    assert "named only in <gazebo>, which no command reads: left as $(find sim_pkg)" in warned[0]
+    assert warned[1].startswith(f"{robot}:6:17:") and "<ros2_control>" in warned[1]
+    used = {
+        "mesh": '<link name="l"><visual><geometry><mesh filename="file://$(find sim_pkg)/m.stl"/>'
+        "</geometry></visual></link>\n",
+        "include": '<xacro:include filename="$(find sim_pkg)/urdf/arm.xacro"/>\n',
+        "yaml": '<xacro:property name="y" value="${xacro.load_yaml(\'$(find sim_pkg)/y.yaml\')}"/>'
+        '<link name="${y}"/>\n',
+    }
+    for what, text in used.items():
+        robot.write_text(head + gazebo + text + "</robot>\n")
+        with pytest.raises(SourceError, match="cannot find ROS package 'sim_pkg'") as e:
+            expand_xacro(robot)
+        assert (e.value.path, e.value.line) == (str(robot), 4), what
+
+
 @pytest.mark.parametrize(
     "old, new, line",
     [

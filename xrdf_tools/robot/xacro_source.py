@@ -29,6 +29,7 @@ from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
+from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
     from .core import Robot
@@ -68,15 +69,28 @@ RULE_XACRO_WARNING = "xacro-warning"
 
 
 @contextmanager
-def _patched_xacro(resolver: PackageResolver, top: str, said: list[Diagnostic]) -> Iterator[None]:
+def _patched_xacro(
+    resolver: PackageResolver,
+    top: str,
+    said: list[Diagnostic],
+    unresolved: dict[str, SourceError],
+) -> Iterator[None]:
     """Make xacro's ``$(find pkg)`` use ``resolver`` and its warnings (printed to stderr by
     xacro itself, past ``-q`` and ``--format``) land in ``said``, each once, at the file
-    xacro was reading (xacro keeps global state: serialise)."""
+    xacro was reading; a package that cannot be found gives a placeholder path and its
+    located error in ``unresolved`` (see :mod:`.xacro_unresolved`). xacro keeps global
+    state: serialise."""
     import xacro
     from xacro import substitution_args as sa
 
     def find(pkg: str) -> str:
-        return str(resolver.find(pkg))
+        try:
+            return str(resolver.find(pkg))
+        except XrdfToolsError as e:
+            if pkg not in unresolved:
+                included = list(getattr(xacro, "all_includes", None) or ())
+                unresolved[pkg] = _xacro_error(e, top, xacro.filestack, included)
+            return PLACEHOLDER + pkg
 
     def warning(*args: Any, **_: Any) -> None:
         stack = [str(f) for f in getattr(xacro, "filestack", None) or () if f]
@@ -130,13 +144,16 @@ def expand_xacro(
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
     values = dict(mappings)  # xacro adds the defaults of the arguments it meets to it
+    said = warnings if warnings is not None else []
+    unresolved: dict[str, SourceError] = {}
     try:
-        with _patched_xacro(resolver, str(p), warnings if warnings is not None else []):
+        with _patched_xacro(resolver, str(p), said, unresolved):
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
-    except Exception as e:  # ours ($(find) of an unknown package), xacro's XacroException,
-        # ArgException, NameError, OSError…
+    except Exception as e:  # xacro's XacroException, ArgException, NameError, OSError…
+        if (placeholder := error_for(e, unresolved)) is not None:  # a package not found
+            raise placeholder from None
         filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
         raise _xacro_error(e, str(p), filestack, included, mappings, values) from None
     finally:
@@ -145,7 +162,7 @@ def expand_xacro(
             xacro.macrostack = None
         except AttributeError:  # pragma: no cover - older xacro
             pass
-    return text
+    return settle(doc, text, unresolved, said)
 
 
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
