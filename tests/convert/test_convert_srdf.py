@@ -477,6 +477,37 @@ def test_groups_that_include_themselves_warn_unless_used(tree: RobotTree, tmp_pa
         read_srdf(load_srdf(srdf), tree, group="self")
 
 
+def test_a_link_missing_from_many_disable_collisions_is_reported_once(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """An SRDF written for another base (LoCoBot's kobuki SRDF on a create3 base) names each
+    missing link in a dozen pairs: one warning per link, at its first entry, with the count;
+    the pairs of known links are kept."""
+    pairs = "".join(
+        f'<disable_collisions link1="{a}" link2="caster" reason="Never"/>\n'
+        for a in ("a", "b", "c", "tip")
+    )
+    srdf = _write(
+        tmp_path,
+        '<robot name="t">\n<group name="arm"><chain base_link="base" tip_link="tip"/></group>\n'
+        f'{pairs}<disable_collisions link1="a" link2="b" reason="Adjacent"/>\n'
+        '<disable_collisions link1="wheel" link2="a" reason="Never"/>\n</robot>\n',
+    )
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    unknown = [w for w in d.diagnostics if w.rule == "convert-unknown-link"]
+    assert [(w.line, w.message) for w in unknown] == [
+        (
+            3,
+            "'caster' (in 4 disable_collisions entries, first as link2) is not a link of the "
+            "URDF; dropped; did you mean 'base'?",
+        ),
+        (8, "'wheel' (disable_collisions link1) is not a link of the URDF; dropped"),
+    ]
+    assert d.ignore == {"a": ["b"]}
+
+
 def test_virtual_joint_in_a_group_is_known(tree: RobotTree) -> None:
     s = parse_srdf(
         """<robot name="t">
@@ -505,6 +536,56 @@ def test_several_groups_are_one_cspace_in_the_given_order(tree: RobotTree, tmp_p
     assert x.cspace is not None and x.cspace.joint_names == ("zz", "j1", "j2", "j3")
     assert x.tool_frames == ("z_side", "tip")
     assert x.default_joint_positions["zz"] == 0.3 and x.default_joint_positions["j1"] == 0.2
+
+
+def test_an_end_effector_without_parent_group_gives_the_tool_frame_of_the_arm_moving_it(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Interbotix's SRDFs list the arm as joints (no chain) and the end effector without
+    parent_group: MoveIt gives it to the group that moves its parent_link, so the tool frame
+    is that link ('b'), not the guess at the end of the chain ('c'); a group that does not
+    move it gets no such frame."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><joint name="j1"/><joint name="j2"/><joint name="jfix"/></group>
+        <group name="gripper"><link name="tip"/></group>
+        <group name="side"><joint name="zz"/></group>
+        <end_effector name="hand" parent_link="b" group="gripper"/>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, _ = convert(tree, ConvertOptions(srdf=srdf))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2")
+    assert x.tool_frames == ("b",)
+    x, _ = convert(tree, ConvertOptions(srdf=srdf, groups=("side",)))
+    assert x.tool_frames == ("z_side",)  # the guess at the end of the side chain
+
+
+def test_a_group_of_subgroups_without_states_takes_its_subgroups_states(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Baxter's both_arms has no group_state; its arms have one each (left_neutral,
+    right_neutral): the two-arm c-space takes both instead of zeros for every joint."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><chain base_link="base" tip_link="z_side"/></group>
+        <group name="both"><group name="side"/><group name="arm"/></group>
+        <group_state name="arm_neutral" group="arm"><joint name="j1" value="0.2"/>
+          <joint name="j2" value="-0.4"/></group_state>
+        <group_state name="side_neutral" group="side"><joint name="zz" value="0.3"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("both",)))
+    assert x.cspace is not None and set(x.cspace.joint_names) == {"zz", "j1", "j2", "j3"}
+    assert dict(x.default_joint_positions) == {"zz": 0.3, "j1": 0.2, "j2": -0.4, "j3": 0.75}
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    assert len(chosen) == 2 and "'side_neutral'" in chosen[0] and "'arm_neutral'" in chosen[1]
 
 
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:

@@ -110,6 +110,137 @@ def test_an_unfound_package_is_located_at_its_find(tmp_path: Path) -> None:
     assert _unfound_at(top, head + body, "vendor_meshes") == (str(arm), 4, 30)
 
 
+def test_a_missing_include_is_located_at_its_include_and_names_the_unset_arg(
+    tmp_path: Path,
+) -> None:
+    """A robot family's xacro picks its arm file by an argument whose default is empty
+    (Interbotix LoCoBot: arms/$(arg arm_model).urdf.xacro): the error is located at the
+    include that names the file, not at another include whose name is all substitutions,
+    and says which argument was not given; a given argument gets no such hint."""
+    (tmp_path / "arms").mkdir()
+    (tmp_path / "arms" / "mobile_arm.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="mobile_arm">\n'
+        '    <xacro:include filename="$(find my_bot)/arms/$(arg arm_model).urdf.xacro"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    (tmp_path / "package.xml").write_text("<package><name>my_bot</name></package>")
+    top = tmp_path / "bot.urdf.xacro"
+    top.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="arm_model" default=""/>\n'
+        '  <xacro:arg name="extra" default=""/>\n'
+        "  <xacro:if value=\"${'$(arg extra)' != ''}\">\n"
+        '    <xacro:include filename="$(arg extra)"/>\n'
+        "  </xacro:if>\n"
+        '  <xacro:include filename="arms/mobile_arm.xacro"/>\n'
+        '  <link name="base"/>\n'
+        "  <xacro:mobile_arm/>\n"
+        "</robot>\n"
+    )
+    arm = str(tmp_path / "arms" / "mobile_arm.xacro")
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    assert (e.value.path, e.value.line, e.value.col) == (arm, 3, 30)
+    assert f"the included file {tmp_path / 'arms' / '.urdf.xacro'} does not exist" in str(e.value)
+    assert "$(arg arm_model), not given, so '': pass --xacro-arg arm_model:=VALUE" in str(e.value)
+    assert "Errno" not in str(e.value)
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top, {"arm_model": "wx999"})
+    assert (e.value.path, e.value.line) == (arm, 3)
+    assert "wx999.urdf.xacro does not exist" in str(e.value)
+    assert "--xacro-arg" not in str(e.value)
+    top.write_text(top.read_text().replace("arms/mobile_arm.xacro", "arms/mobile_arms.xacro"))
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    assert (e.value.path, e.value.line, e.value.col) == (str(top), 7, 28)
+
+
+def test_xacro_warnings_are_diagnostics_not_raw_stderr(runner: CliRunner, tmp_path: Path) -> None:
+    """Sawyer's xacro passes <xacro:arg> children to an include, which xacro ignores with a
+    warning it prints itself: that went to stderr past -q and --format json. It is now an
+    xacro-warning diagnostic of the file xacro was reading (robot and SRDF xacro alike)."""
+    (tmp_path / "arm.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="arm"/>\n'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>\n'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
+    )
+    include = '<xacro:include filename="arm.xacro"><xacro:arg name="x" value="1"/></xacro:include>'
+    robot = tmp_path / "bot.urdf.xacro"
+    robot.write_text(
+        f'<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n<link name="base"/>\n'
+        f"{include}\n</robot>\n"
+    )
+    (tmp_path / "groups.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<group name="arm"><joint name="j"/></group></robot>\n'
+    )
+    srdf = tmp_path / "bot.srdf.xacro"
+    srdf.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:include filename="groups.xacro"><xacro:arg name="y" value="2"/></xacro:include>\n'
+        "</robot>\n"
+    )
+    out = tmp_path / "bot.xrdf"
+    args = ["convert", str(robot), "--srdf", str(srdf), "-o", str(out)]
+    quiet = runner.invoke(app, [*args, "-q"])
+    assert quiet.exit_code == 0, quiet.output
+    assert quiet.stderr == ""
+    loud = runner.invoke(app, [*args, "--format", "json"])
+    assert loud.exit_code == 0, loud.output
+    import json
+
+    found = [d for d in json.loads(loud.stderr)["diagnostics"] if d["rule"] == "xacro-warning"]
+    assert sorted(d["path"] for d in found) == sorted([str(robot), str(srdf)])
+    assert {d["message"] for d in found} == {
+        "xacro: Child elements of a <xacro:include> tag are ignored"
+    }
+    expand = runner.invoke(app, ["expand", str(robot), "-o", str(tmp_path / "bot.urdf")])
+    assert expand.exit_code == 0
+    assert f"{robot}: warning xacro-warning xacro: Child elements" in expand.stderr
+    assert "when processing file" not in expand.stderr
+
+
+def test_a_package_named_only_in_gazebo_or_ros2_control_is_a_warning(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Reachy's xacro names $(find reachy_gazebo) in a <gazebo> plugin's parameters: with only
+    the description at hand every command stopped. No command reads <gazebo>,
+    <ros2_control> or <transmission>: a located warning, and the expansion keeps the
+    $(find) as written. The same package in a mesh, an include or a load_yaml stays an
+    error at its $(find)."""
+    head = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n<link name="base"/>\n'
+    gazebo = (
+        '<gazebo><plugin name="c" filename="libc.so">\n'
+        "<parameters>$(find sim_pkg)/config/c.yaml</parameters></plugin></gazebo>\n"
+        '<ros2_control name="s" type="system"><hardware>\n'
+        '<param name="f">$(find ctl_pkg)/p.yaml</param></hardware></ros2_control>\n'
+    )
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(head + gazebo + "</robot>\n")
+    result = runner.invoke(app, ["expand", str(robot)])
+    assert result.exit_code == 0, result.output
+    assert "<parameters>$(find sim_pkg)/config/c.yaml</parameters>" in result.stdout
+    assert '<param name="f">$(find ctl_pkg)/p.yaml</param>' in result.stdout
+    warned = [line for line in result.stderr.splitlines() if "xacro-package-unused" in line]
+    assert len(warned) == 2
+    assert warned[0].startswith(f"{robot}:4:13: warning xacro-package-unused cannot find ROS ")
+    assert "named only in <gazebo>, which no command reads: left as $(find sim_pkg)" in warned[0]
+    assert warned[1].startswith(f"{robot}:6:17:") and "<ros2_control>" in warned[1]
+    used = {
+        "mesh": '<link name="l"><visual><geometry><mesh filename="file://$(find sim_pkg)/m.stl"/>'
+        "</geometry></visual></link>\n",
+        "include": '<xacro:include filename="$(find sim_pkg)/urdf/arm.xacro"/>\n',
+        "yaml": '<xacro:property name="y" value="${xacro.load_yaml(\'$(find sim_pkg)/y.yaml\')}"/>'
+        '<link name="${y}"/>\n',
+    }
+    for what, text in used.items():
+        robot.write_text(head + gazebo + text + "</robot>\n")
+        with pytest.raises(SourceError, match="cannot find ROS package 'sim_pkg'") as e:
+            expand_xacro(robot)
+        assert (e.value.path, e.value.line) == (str(robot), 4), what
+
+
 @pytest.mark.parametrize(
     "old, new, line",
     [

@@ -408,6 +408,43 @@ def test_output_equal_to_an_input_is_refused(runner: CliRunner, tmp_path: Path) 
     assert code == 0 and "export-srdf-removed base_link/shoulder_link" in err
 
 
+def test_an_srdf_xacro_is_not_merged_into_but_its_expansion_is(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Baxter's MoveIt config keeps its disable_collisions in included xacros: merging into
+    the top file added all 373 pairs again beside the includes and removed none. It is an
+    input error naming the way (expand, then merge), and the expansion merges."""
+    (tmp_path / "pairs.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="pairs">\n'
+        '<disable_collisions link1="a" link2="b" reason="Adjacent"/>\n'
+        '<disable_collisions link1="a" link2="c" reason="Never"/>\n'
+        "</xacro:macro></robot>\n"
+    )
+    srdf = tmp_path / "bot.srdf.xacro"
+    srdf.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="pairs.xacro"/>\n  <xacro:pairs/>\n</robot>\n'
+    )
+    xrdf = tmp_path / "bot.xrdf"
+    xrdf.write_text(
+        "format: xrdf\nformat_version: 1.0\n"
+        "cspace: {joint_names: [j], acceleration_limits: [1.0], jerk_limits: [1.0]}\n"
+        "tool_frames: [b]\n"
+        "collision: {geometry: g}\n"
+        "self_collision: {geometry: g, ignore: {a: [b]}}\n"
+        "geometry: {g: {spheres: {a: [{center: [0, 0, 0], radius: 0.1}]}}}\n"
+    )
+    code, stdout, err = _export(runner, str(xrdf), "--merge", str(srdf))
+    assert code == 2 and stdout == ""
+    assert err.startswith(f"error: {srdf}:2:3: a xacro file") and "xrdf expand" in err
+    expanded = tmp_path / "bot.srdf"
+    assert runner.invoke(app, ["expand", str(srdf), "-o", str(expanded)]).exit_code == 0
+    code, stdout, err = _export(runner, str(xrdf), "--merge", str(expanded))
+    assert code == 0 and "export-srdf-removed a/c" in err
+    assert parse_srdf(stdout).disable_collisions[0][:2] == ("a", "b")
+    assert len(parse_srdf(stdout).disable_collisions) == 1
+
+
 def test_report_reasons() -> None:
     pairs = [
         {"frame_a": "a", "frame_b": "b", "classification": "adjacent"},

@@ -67,6 +67,31 @@ def test_ur5_away_from_its_meshes_is_an_input_error_naming_uri_and_search(
     assert not out.exists()
 
 
+def test_meshes_from_several_missing_packages_name_each_package(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Husky with two UR5s and Robotiq grippers needs meshes of several packages: the error
+    named only the first, so each run found one more --package-path to give. It names every
+    package that cannot be found, with its mesh count."""
+    links = [("a1", "xrdf_absent_arm"), ("g1", "xrdf_absent_grip"), ("g2", "xrdf_absent_grip")]
+    body = "".join(
+        f'<link name="{n}"><collision><geometry><mesh filename="package://{pkg}/m/{n}.stl"/>'
+        f'</geometry></collision></link><joint name="j{n}" type="fixed"><parent link="base"/>'
+        f'<child link="{n}"/></joint>'
+        for n, pkg in links
+    )
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(f'<robot name="r"><link name="base"/>{body}</robot>')
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-o", tmp_path / "r.xrdf")
+    assert code == 2, text
+    (error,) = [line for line in text.splitlines() if line.startswith("error:")]
+    assert "3 mesh file(s) cannot be found: link 'a1' collision" in error
+    assert (
+        "packages not found: xrdf_absent_arm (1 mesh(es)), xrdf_absent_grip (2 mesh(es)): pass "
+        "--package-path NAME=DIR for each" in error
+    )
+
+
 def test_a_relative_mesh_path_is_found_in_a_parent_of_the_urdfs_directory(
     runner: CliRunner, tmp_path: Path
 ) -> None:

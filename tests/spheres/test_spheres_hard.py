@@ -82,6 +82,27 @@ def test_a_placeholder_gets_one_sphere() -> None:
     assert [d.rule for d in result.diagnostics] == ["spheres-placeholder"]
 
 
+def test_a_zero_size_primitive_is_a_placeholder_not_a_traceback(tmp_path: Path) -> None:
+    """Reachy's antenna and neck links collide as <cylinder length="0.0" radius="0.0"/>:
+    trimesh gives vertices that no face uses (no bounds), and the bounding-box fallback
+    raised a TypeError. Each gets one sphere at its origin, as a placeholder."""
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="base"><collision><geometry><box size="0.1 0.1 0.1"/>'
+        "</geometry></collision></link>"
+        '<link name="antenna"><collision><origin xyz="0 0 0.2"/><geometry>'
+        '<cylinder length="0.0" radius="0.0"/></geometry></collision></link>'
+        '<joint name="j" type="fixed"><parent link="base"/><child link="antenna"/></joint>'
+        "</robot>"
+    )
+    result = fit_robot(tmp_path / "r.urdf")
+    (sphere,) = result.spheres["antenna"]
+    assert np.allclose(sphere.center, [0, 0, 0.2], atol=1e-3) and sphere.radius <= 0.003
+    assert any(
+        d.rule == "spheres-placeholder" and "antenna" in d.message for d in result.diagnostics
+    )
+    assert len(result.spheres["base"]) > 1
+
+
 def test_open_box_without_volume_falls_back_to_its_bounding_box(tmp_path: Path) -> None:
     """A flat part (a square sheet) has no hull volume: its bounding box, 2 mm thick."""
     sheet = trimesh.Trimesh(

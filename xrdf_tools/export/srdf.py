@@ -165,6 +165,8 @@ def sync_srdf(
     :class:`ConversionError`; pairs with ``add_frame`` frames are left out (MoveIt does not know
     those frames), with a warning.
     """
+    if existing is not None:
+        _refuse_xacro(existing, srdf_path)
     diags: list[Diagnostic] = []
     pairs = _wanted_pairs(x, urdf, diags, srdf_path)
     new = existing is None
@@ -185,6 +187,27 @@ def sync_srdf(
         added=tuple(plan.added),
         removed=tuple(plan.removed),
         diagnostics=tuple(diags),
+    )
+
+
+def _refuse_xacro(existing: str | bytes, srdf_path: str) -> None:
+    """An SRDF xacro cannot be synced in place: its ``disable_collisions`` may come from
+    includes and macros (MoveIt configurations' ``robot.srdf.xacro``), so pairs would be
+    added twice and pairs to remove left where they are."""
+    from ..robot.xacro_source import uses_xacro
+    from ..util.textpos import line_col
+
+    data = existing.encode("utf-8") if isinstance(existing, str) else existing
+    if not uses_xacro(data):
+        return
+    line, col = line_col(data.decode("utf-8", errors="replace"), data.index(b"<xacro:"))
+    raise SourceError(
+        "a xacro file: its disable_collisions may be made by includes and macros, which a "
+        f"sync cannot edit; expand it first (xrdf expand {srdf_path} -o robot.srdf, with the "
+        "same --xacro-arg and --package-path) and merge into that SRDF",
+        path=srdf_path,
+        line=line,
+        col=col,
     )
 
 

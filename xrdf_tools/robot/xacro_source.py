@@ -19,14 +19,17 @@ import re
 import threading
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 
+from ..diagnostics import Diagnostic, Severity
 from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
+from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
     from .core import Robot
@@ -61,24 +64,61 @@ def parse_xacro_arg(spec: str) -> tuple[str, str]:
     return name, value
 
 
+#: The id of a warning xacro prints while expanding.
+RULE_XACRO_WARNING = "xacro-warning"
+
+
 @contextmanager
-def _patched_find(resolver: PackageResolver) -> Iterator[None]:
-    """Make xacro's ``$(find pkg)`` use ``resolver`` (xacro keeps global state: serialise)."""
+def _patched_xacro(
+    resolver: PackageResolver,
+    top: str,
+    said: list[Diagnostic],
+    unresolved: dict[str, SourceError],
+) -> Iterator[None]:
+    """Make xacro's ``$(find pkg)`` use ``resolver`` and its warnings (printed to stderr by
+    xacro itself, past ``-q`` and ``--format``) land in ``said``, each once, at the file
+    xacro was reading; a package that cannot be found gives a placeholder path and its
+    located error in ``unresolved`` (see :mod:`.xacro_unresolved`). xacro keeps global
+    state: serialise."""
+    import xacro
     from xacro import substitution_args as sa
 
     def find(pkg: str) -> str:
-        return str(resolver.find(pkg))
+        try:
+            return str(resolver.find(pkg))
+        except XrdfToolsError as e:
+            if pkg not in unresolved:
+                included = list(getattr(xacro, "all_includes", None) or ())
+                unresolved[pkg] = _xacro_error(e, top, xacro.filestack, included)
+            return PLACEHOLDER + pkg
+
+    def warning(*args: Any, **_: Any) -> None:
+        stack = [str(f) for f in getattr(xacro, "filestack", None) or () if f]
+        text = " ".join(" ".join(str(a) for a in args).split())
+        found = Diagnostic(
+            stack[-1] if stack else top,
+            None,
+            None,
+            RULE_XACRO_WARNING,
+            Severity.WARNING,
+            f"xacro: {text}",
+        )
+        if not any((d.path, d.message) == (found.path, found.message) for d in said):
+            said.append(found)
 
     with _LOCK:
         old_find = sa._eval_find
         old_dict = sa._eval_dict.get("find")
+        old_warning, old_location = xacro.warning, xacro.print_location
         sa._eval_find = find
         sa._eval_dict["find"] = find
+        xacro.warning, xacro.print_location = warning, lambda: None
         try:
             yield
         finally:
             sa._eval_find = old_find
             sa._eval_dict["find"] = old_dict
+            xacro.warning, xacro.print_location = old_warning, old_location
 
 
 def expand_xacro(
@@ -87,11 +127,14 @@ def expand_xacro(
     package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
     *,
     data: bytes | None = None,
+    warnings: list[Diagnostic] | None = None,
 ) -> str:
     """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
 
     The file is read through the guarded reader (``data``: its bytes, when the caller has
-    read them already) and decoded, so a bad byte is located; xacro then reads it itself."""
+    read them already) and decoded, so a bad byte is located; xacro then reads it itself.
+    xacro's own warnings (an include's ignored body, a redefined symbol) are appended to
+    ``warnings`` as ``xacro-warning`` diagnostics, never printed."""
     import xacro
 
     p = Path(path)
@@ -100,29 +143,38 @@ def expand_xacro(
     decode_utf8(data, str(p), "xacro file", SourceError)
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
+    values = dict(mappings)  # xacro adds the defaults of the arguments it meets to it
+    said = warnings if warnings is not None else []
+    unresolved: dict[str, SourceError] = {}
     try:
-        with _patched_find(resolver):
+        with _patched_xacro(resolver, str(p), said, unresolved):
             xacro.all_includes = []
-            doc = xacro.process_file(str(p), mappings=mappings)
+            doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
-    except Exception as e:  # ours ($(find) of an unknown package), xacro's XacroException,
-        # ArgException, NameError, OSError…
+    except Exception as e:  # xacro's XacroException, ArgException, NameError, OSError…
+        if (placeholder := error_for(e, unresolved)) is not None:  # a package not found
+            raise placeholder from None
         filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
-        raise _xacro_error(e, str(p), filestack, included) from None
+        raise _xacro_error(e, str(p), filestack, included, mappings, values) from None
     finally:
         try:
             xacro.filestack = None
             xacro.macrostack = None
         except AttributeError:  # pragma: no cover - older xacro
             pass
-    return text
+    return settle(doc, text, unresolved, said)
 
 
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
 
 
 def _xacro_error(
-    e: BaseException, top: str, filestack: Any, included: Sequence[str] = ()
+    e: BaseException,
+    top: str,
+    filestack: Any,
+    included: Sequence[str] = (),
+    given: Mapping[str, str] | None = None,
+    values: Mapping[str, str] | None = None,
 ) -> SourceError:
     """One located error for a failed expansion: an XML syntax error (expat) at its line and
     column in the file xacro was reading (the top file or an include), anything else where
@@ -137,6 +189,9 @@ def _xacro_error(
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
+    missing = getattr(inner, "filename", None) if isinstance(inner, OSError) else None
+    if isinstance(missing, str):
+        return _missing_include_error(missing, where, included, given or {}, values or {})
     message = _xacro_message(e)
     line, col = _find_culprit(where, message)
     for other in () if line is not None else dict.fromkeys(included):
@@ -147,6 +202,54 @@ def _xacro_error(
     return SourceError(
         message + _unprefixed_hint(message, [where, *included]), path=where, line=line, col=col
     )
+
+
+#: ``<xacro:include filename="...">``: the group is the file name as written.
+_INCLUDE = re.compile(r"<xacro:include\b[^>]*?\bfilename\s*=\s*([\"'])(.*?)\1", re.DOTALL)
+#: A substitution (``$(...)``) or an expression (``${...}``) inside an attribute.
+_SUBSTITUTION = re.compile(r"\$\([^)]*\)|\$\{[^}]*\}")
+
+
+def _missing_include_error(
+    missing: str,
+    where: str,
+    included: Sequence[str],
+    given: Mapping[str, str],
+    values: Mapping[str, str],
+) -> SourceError:
+    """A file that an ``<xacro:include>`` names and that does not exist, located at the
+    include whose ``filename`` (substitutions as wildcards) gives that path, the one with the
+    most literal text when several do; when the name is made from an ``$(arg X)`` the user
+    did not pass (``given``), the hint names the argument and the default it took
+    (``values``)."""
+    message = f"xacro failed: the included file {missing} does not exist"
+    best: tuple[int, str, str, re.Match[str]] | None = None
+    for path in dict.fromkeys([where, *included]):
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            continue
+        for m in _INCLUDE.finditer(text):
+            literal = _SUBSTITUTION.split(m.group(2))
+            pattern = r"(?:.*/)?" + ".*".join(re.escape(t) for t in literal)
+            score = sum(len(t) for t in literal)
+            if re.fullmatch(pattern, missing, re.DOTALL) and (best is None or score > best[0]):
+                best = (score, path, text, m)
+    if best is None:
+        return SourceError(message, path=where)
+    _, path, text, m = best
+    unset = [a for a in _ARG_USE.findall(m.group(2)) if a not in given]
+    hint = "".join(
+        f" (the name uses $(arg {a}), not given, so {values.get(a, '')!r}: pass "
+        f"--xacro-arg {a}:=VALUE)"
+        for a in dict.fromkeys(unset)
+    )
+    line, col = line_col(text, m.start(2))
+    return SourceError(message + hint, path=path, line=line, col=col)
+
+
+#: ``$(arg NAME)`` in an attribute: the group is the name.
+_ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
 
 
 #: ``name 'x' is not defined``: a property xacro never defined.
@@ -271,10 +374,12 @@ def load_robot(
                 raise SourceError(_NOT_XACRO, path=str(path)) from None
             raise
     if data is None or uses_xacro(data):
-        text = expand_xacro(path, xacro_args, pkg, data=data)
-        return parse_robot(
+        said: list[Diagnostic] = []
+        text = expand_xacro(path, xacro_args, pkg, data=data, warnings=said)
+        robot = parse_robot(
             text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
         )
+        return replace(robot, warnings=(*said, *robot.warnings)) if said else robot
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
     return read_robot(path, package_paths=pkg, data=data)

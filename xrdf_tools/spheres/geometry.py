@@ -133,7 +133,10 @@ def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
         oriented: Any = trimesh.bounds.oriented_bounds
         transform, extents = oriented(np.asarray(mesh.vertices))
     except Exception:  # a single point or a degenerate set: use the axis-aligned box
-        lo, hi = np.asarray(mesh.bounds[0]), np.asarray(mesh.bounds[1])
+        # of the vertices (trimesh's bounds are None when no face uses a vertex: a
+        # <cylinder length="0" radius="0"/> placeholder)
+        points = np.asarray(mesh.vertices, dtype=np.float64)
+        lo, hi = points.min(axis=0), points.max(axis=0)
         transform, extents = np.eye(4), hi - lo
         transform[:3, 3] = -(lo + hi) / 2.0
     box = trimesh.creation.box(

@@ -10,6 +10,7 @@ from typing import Annotated
 
 import typer
 
+from ...diagnostics import Diagnostic
 from ...util.errors import XrdfToolsError
 from .plain import timed
 from .typer_common import (
@@ -88,12 +89,14 @@ def _expanded_srdf(
     from ...robot.packages import parse_package_path
     from ...robot.xacro_source import expand_xacro, parse_xacro_arg
     from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
-    from .plain import pairs
+    from .plain import echo_warnings, pairs
 
+    said: list[Diagnostic] = []
     text = expand_xacro(
         path,
         pairs(xacro_arg, parse_xacro_arg),
         pairs(package_path, parse_package_path),
+        warnings=said,
     )
     try:
         tags = {el.tag for el in parse_xml(utf8_xml_bytes(text), keep_comments=False)}
@@ -102,4 +105,5 @@ def _expanded_srdf(
     if "link" in tags or not tags & {"group", "disable_collisions", "virtual_joint"}:
         return None
     parse_srdf(text, str(path), located=False)
+    echo_warnings(said)
     return text

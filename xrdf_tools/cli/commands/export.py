@@ -184,7 +184,8 @@ def srdf(
         typer.Option(
             "--merge",
             help="Existing SRDF to sync: its disable_collisions become the XRDF's ignore pairs "
-            "(pairs no longer ignored are removed); everything else is kept.",
+            "(pairs no longer ignored are removed); everything else is kept. An SRDF xacro is "
+            "refused: merge into its expansion (xrdf expand).",
         ),
     ] = None,
     urdf: Annotated[

@@ -277,9 +277,14 @@ def load_robot_option(
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
         package_paths=pairs(package_path, parse_package_path),
     )
-    if robot.warnings and verbosity() > Verbosity.QUIET:
-        echo(render_text(robot.warnings), err=True, nl=False)  # defects in unused parts
+    echo_warnings(robot.warnings)  # defects in unused parts, xacro's warnings
     return robot
+
+
+def echo_warnings(warnings: Sequence[Diagnostic]) -> None:
+    """Warnings found while loading an input, on stderr; dropped with ``-q``."""
+    if warnings and verbosity() > Verbosity.QUIET:
+        echo(render_text(warnings), err=True, nl=False)
 
 
 # --------------------------------------------------------------------------------------------

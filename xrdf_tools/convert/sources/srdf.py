@@ -16,6 +16,7 @@ from ...xrdf.model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .srdf_groups import (
     PREFERRED_STATES,
+    carries_end_effector,
     check_groups,
     choose_group,
     choose_state,
@@ -97,17 +98,29 @@ def read_srdf(
     _mask(srdf, tree, d, rep)
     _virtual(srdf, rep)
     _spheres(srdf, tree, d, rep)
+    d.diagnostics.extend(srdf.warnings)
     d.diagnostics.extend(rep.diagnostics)
     return d
 
 
 def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
-    """The self-collision mask: disabled pairs of known links, minus re-enabled pairs."""
+    """The self-collision mask: disabled pairs of known links, minus re-enabled pairs.
+
+    A link the URDF lacks is reported once, at its first entry, with the number of entries
+    that name it (an SRDF written for another base names its links in dozens of pairs)."""
+    unknown: dict[str, list[tuple[str, int | None]]] = {}
     for l1, l2, _reason, line in srdf.disable_collisions:
-        ok1 = known_frame(l1, tree.links, rep, "", "disable_collisions link1", line=line)
-        ok2 = known_frame(l2, tree.links, rep, "", "disable_collisions link2", line=line)
-        if ok1 and ok2:
+        for link, key in ((l1, "link1"), (l2, "link2")):
+            if link not in tree.links:
+                unknown.setdefault(link, []).append((key, line))
+        if l1 in tree.links and l2 in tree.links:
             d.add_ignore(l1, l2)
+    for link, uses in unknown.items():
+        key, line = uses[0]
+        what = f"disable_collisions {key}"
+        if len(uses) > 1:
+            what = f"in {len(uses)} disable_collisions entries, first as {key}"
+        known_frame(link, tree.links, rep, "", what, line=line)
     for link, line in srdf.disable_default:
         if known_frame(link, tree.links, rep, "", "disable_default_collisions", line=line):
             for other in tree.links:
@@ -203,12 +216,21 @@ def _defaults(
     d: Draft,
     rep: Reporter,
 ) -> None:
-    """Default positions from one group_state per group (the first group wins a conflict)."""
+    """Default positions from one group_state per group (the first group wins a conflict);
+    a group without states takes its subgroups' (Baxter's both_arms: left_neutral and
+    right_neutral)."""
     chosen: list[GroupState] = []
     targets: list[str | None] = [*groups] or [None]
-    for g in targets:
+    seen: set[str | None] = set()
+    while targets:
+        g = targets.pop(0)
+        if g in seen:
+            continue
+        seen.add(g)
         cspace = cspace_of(srdf, g, tree) if g is not None else (d.cspace or [])
         st, why = choose_state(srdf, g, cspace, state)
+        if st is None and g is not None and g in srdf.groups:
+            targets[:0] = srdf.groups[g].subgroups
         if st is None or st in chosen:
             continue
         chosen.append(st)
@@ -248,13 +270,16 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
 
 
 def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) -> list[str]:
-    """Per group in order: end effectors attached to it (or its subgroups), then chain tips."""
+    """Per group in order: end effectors attached to it (or its subgroups), then chain tips.
+
+    An end effector without ``parent_group`` belongs, as in MoveIt, to the group that moves
+    its ``parent_link`` (Interbotix: ``ee_gripper_link`` on a group of joints)."""
     frames: list[str] = []
     for group in groups:
         members = _subgroups(srdf, group)
         for ee in srdf.end_effectors:
-            owner = ee.parent_group or ee.group
-            if owner in members and known_frame(
+            owned = any(carries_end_effector(srdf, g, ee, tree) for g in members)
+            if owned and known_frame(
                 ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", line=ee.line
             ):
                 frames.append(ee.parent_link)

@@ -18,6 +18,7 @@ from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup
 
 __all__ = [
     "PREFERRED_STATES",
+    "carries_end_effector",
     "check_groups",
     "choose_group",
     "choose_state",
@@ -243,6 +244,15 @@ def _is_gripper(srdf: Srdf, ee: EndEffector, tree: RobotTree) -> bool:
     except SourceError:  # a broken group: not a candidate, the caller warns about it
         return False
     return not joints & _path_joints(tree, ee.parent_link)
+
+
+def carries_end_effector(srdf: Srdf, group: str, ee: EndEffector, tree: RobotTree) -> bool:
+    """Group ``group`` carries end effector ``ee`` (see :func:`_carries`); a group that
+    cannot be resolved carries none."""
+    try:
+        return _carries(srdf, group, ee, tree, _is_gripper(srdf, ee, tree))
+    except SourceError:
+        return False
 
 
 def _carries(srdf: Srdf, g: str, ee: EndEffector, tree: RobotTree, gripper: bool) -> bool:

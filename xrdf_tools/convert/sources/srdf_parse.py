@@ -9,9 +9,10 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
+from ...diagnostics import Diagnostic
 from ...util.errors import SourceError
 from ...util.fileio import read_input_bytes
 from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
@@ -61,6 +62,8 @@ class Srdf:
     disable_default: tuple[tuple[str, int | None], ...] = ()
     enable_collisions: tuple[tuple[str, str, int | None], ...] = ()
     spheres: tuple[tuple[str, tuple[Sphere, ...], int | None], ...] = ()
+    #: What reading the file said that is no error (xacro's warnings for an SRDF xacro).
+    warnings: tuple[Diagnostic, ...] = ()
 
 
 def load_srdf(
@@ -80,8 +83,9 @@ def load_srdf(
     data = read_input_bytes(p, what="SRDF file", error=SourceError)
     if not (p.endswith(".xacro") or uses_xacro(data)):
         return parse_srdf(data, p)
-    text = expand_xacro(p, xacro_args, package_paths, data=data)
-    return parse_srdf(text, p, located=False)
+    said: list[Diagnostic] = []
+    text = expand_xacro(p, xacro_args, package_paths, data=data, warnings=said)
+    return replace(parse_srdf(text, p, located=False), warnings=tuple(said))
 
 
 def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True) -> Srdf:
