@@ -349,7 +349,7 @@ def _relocate_expansion(root: Any, source: str) -> None:
     The expansion's own lines are not the file's. A top-level ``<link>``/``<joint>`` written
     literally in the file (``<joint name="j1"``, or its first attribute when it has no name)
     takes that line, and so does everything inside it; one that a macro or a ``$(arg)`` made
-    has no line (lxml reads 0 as no line).
+    has no line (lxml reads 0 as no line). The ``<robot>`` takes the line of its tag.
     """
     for el in root:
         line = 0
@@ -360,4 +360,5 @@ def _relocate_expansion(root: Any, source: str) -> None:
             line = _line_of(source, min((i for i in found if i >= 0), default=-1)) or 0
         for node in el.iter():
             node.sourceline = line
-    root.sourceline = 0
+    tag = re.search(r"<robot[\s/>]", source)
+    root.sourceline = (_line_of(source, tag.start()) or 0) if tag else 0
