@@ -468,3 +468,33 @@ def test_a_yaml_file_given_as_the_robot_says_which_file_goes_where(
     other = tmp_path / "other.yml"
     other.write_text("a: 1\n")  # YAML, but neither: the XML parser's own message
     assert "malformed XML" in _error(runner, "convert", str(other))
+
+
+def test_an_include_that_cannot_be_read_is_located_at_its_include_tag(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A package path pointing at the wrong directory makes an include unreadable: the error
+    names the file and points at the ``<xacro:include>`` in the file that includes it (here
+    an include itself), not at the top file without a line."""
+    top = tmp_path / "top.urdf.xacro"
+    (tmp_path / "inc").mkdir()
+    inc = tmp_path / "inc" / "arm.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="a"/>\n  <xacro:include filename="inc/arm.xacro"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        "  <!-- includes the arm_macro.xacro below -->\n"
+        '  <xacro:include filename="../other.xacro"/>\n'
+        '  <xacro:include filename="$(find arm_pkg)/urdf/arm_macro.xacro"/>\n</robot>\n'
+    )
+    (tmp_path / "other.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
+    wrong = tmp_path / "wrong"
+    wrong.mkdir()
+    err = _error(runner, "expand", str(top), "--package-path", f"arm_pkg={wrong}")
+    missing = wrong / "urdf" / "arm_macro.xacro"
+    assert err == (
+        f"error: {inc}:5:3: xacro failed: cannot read the included file '{missing}': "
+        "No such file or directory"
+    ), err

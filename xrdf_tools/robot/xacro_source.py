@@ -137,6 +137,9 @@ def _xacro_error(
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
+    if (missing := _missing_include(inner, where)) is not None:
+        message, line, col = missing
+        return SourceError(message, path=where, line=line, col=col)
     message = _xacro_message(e)
     line, col = _find_culprit(where, message)
     for other in () if line is not None else dict.fromkeys(included):
@@ -147,6 +150,32 @@ def _xacro_error(
     return SourceError(
         message + _unprefixed_hint(message, [where, *included]), path=where, line=line, col=col
     )
+
+
+#: An include tag and the ``filename`` it names.
+_INCLUDE_TAG = re.compile(r"<(?:xacro:)?include\b[^>]*?\bfilename\s*=\s*([\"'])(.*?)\1")
+
+
+def _missing_include(inner: Any, where: str) -> tuple[str, int | None, int | None] | None:
+    """The message and position of an include xacro could not open (``inner`` an OSError
+    on another file than ``where``, the file that includes it): the ``<xacro:include>`` whose
+    filename ends like the missing file's, else the file's only include."""
+    name = getattr(inner, "filename", None) if isinstance(inner, OSError) else None
+    if not isinstance(name, str) or name == where:
+        return None
+    reason = inner.strerror or type(inner).__name__
+    message = f"xacro failed: cannot read the included file '{name}': {reason}"
+    try:
+        text = Path(where).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return message, None, None
+    tags = list(_INCLUDE_TAG.finditer(text))
+    same = [t for t in tags if Path(t.group(2)).name == Path(name).name]
+    tag = same[0] if same else tags[0] if len(tags) == 1 else None
+    if tag is None:
+        return message, None, None
+    line, col = line_col(text, tag.start())
+    return message, line, col
 
 
 #: ``name 'x' is not defined``: a property xacro never defined.
