@@ -165,6 +165,8 @@ def sync_srdf(
     :class:`ConversionError`; pairs with ``add_frame`` frames are left out (MoveIt does not know
     those frames), with a warning.
     """
+    if existing is not None:
+        _refuse_xacro(existing, srdf_path)
     diags: list[Diagnostic] = []
     pairs = _wanted_pairs(x, urdf, diags, srdf_path)
     new = existing is None
@@ -185,6 +187,25 @@ def sync_srdf(
         added=tuple(plan.added),
         removed=tuple(plan.removed),
         diagnostics=tuple(diags),
+    )
+
+
+def _refuse_xacro(existing: str | bytes, srdf_path: str) -> None:
+    """An SRDF xacro cannot be synced in place: its pairs may be written by macros and
+    includes, and its ``$(arg)``/``${}`` values would be read as names."""
+    from ..robot.xacro_source import uses_xacro
+
+    data = existing.encode("utf-8") if isinstance(existing, str) else existing
+    if not uses_xacro(data):
+        return
+    raise SourceError(
+        "this SRDF is a xacro file: a sync edits the SRDF's own text, but a xacro's "
+        "disable_collisions may be written by its macros and includes (and its $(arg) and "
+        "${...} values would be taken as names); expand it first (xrdf expand "
+        f"{srdf_path} [--xacro-arg NAME:=VALUE] -o robot.srdf) and --merge robot.srdf, then "
+        "carry the changes into the xacro",
+        path=srdf_path,
+        line=data[: data.find(b"<xacro:")].count(b"\n") + 1,
     )
 
 
