@@ -498,3 +498,26 @@ def test_an_include_that_cannot_be_read_is_located_at_its_include_tag(
         f"error: {inc}:5:3: xacro failed: cannot read the included file '{missing}': "
         "No such file or directory"
     ), err
+
+
+def test_an_arg_used_before_its_default_is_declared_says_so(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Flexiv's rizon.urdf.xacro names its robot ``$(arg name)`` and declares the default
+    inside ``<robot>``: xacro evaluates the root's attributes first, so the default is not
+    known yet (its launch file passes the name). The error says why the default did not
+    count; an arg without a default gets no such note."""
+    x = tmp_path / "rizon.urdf.xacro"
+    x.write_text(
+        '<?xml version="1.0"?>\n'
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="$(arg name)">\n'
+        '  <xacro:arg name="name" default="rizon"/>\n  <link name="base"/>\n</robot>\n'
+    )
+    assert _error(runner, "expand", str(x)) == (
+        f"error: {x}:2:58: xacro failed: Undefined substitution argument name (pass "
+        "--xacro-arg name:=VALUE); line 3 declares a default for it, but xacro evaluates it "
+        "here before reading that declaration"
+    )
+    assert runner.invoke(app, ["expand", str(x), "--xacro-arg", "name:=r"]).exit_code == 0
+    x.write_text(x.read_text().replace('<xacro:arg name="name" default="rizon"/>', ""))
+    assert _error(runner, "expand", str(x)).endswith("(pass --xacro-arg name:=VALUE)")

@@ -147,8 +147,28 @@ def _xacro_error(
         if line is not None:
             where = other
             break
-    return SourceError(
-        message + _unprefixed_hint(message, [where, *included]), path=where, line=line, col=col
+    hint = _unprefixed_hint(message, [where, *included]) + _late_default_hint(message, where, line)
+    return SourceError(message + hint, path=where, line=line, col=col)
+
+
+def _late_default_hint(message: str, path: str, line: int | None) -> str:
+    """What to know when the undefined ``$(arg x)`` of ``message`` has a ``<xacro:arg>``
+    default below its use at ``line`` (Flexiv's ``<robot name="$(arg name)">`` with the
+    default inside ``<robot>``): xacro has not read it yet, the launch file passes it."""
+    m = _UNDEFINED_ARG.search(message)
+    if m is None or line is None:
+        return ""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return ""
+    tag = re.compile(rf"<xacro:arg\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"'][^>]*default=")
+    found = tag.search(text)
+    if found is None or line_col(text, found.start())[0] <= line:
+        return ""
+    return (
+        f"; line {line_col(text, found.start())[0]} declares a default for it, but xacro "
+        "evaluates it here before reading that declaration"
     )
 
 
