@@ -521,3 +521,32 @@ def test_an_arg_used_before_its_default_is_declared_says_so(
     assert runner.invoke(app, ["expand", str(x), "--xacro-arg", "name:=r"]).exit_code == 0
     x.write_text(x.read_text().replace('<xacro:arg name="name" default="rizon"/>', ""))
     assert _error(runner, "expand", str(x)).endswith("(pass --xacro-arg name:=VALUE)")
+
+
+def test_a_macro_call_with_a_parameter_the_macro_lacks_points_at_that_call(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """ros2_kortex's kortex_robot.xacro passes gripper= to the Gen3 lite's load_arm, which
+    has no such parameter; the top file passes gripper= too, legitimately, to load_robot.
+    The error points at the load_arm call in the include and names the macro."""
+    top = tmp_path / "robot.xacro"
+    inc = tmp_path / "kortex_robot.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="kortex_robot.xacro"/>\n  <link name="world"/>\n'
+        '  <xacro:load_robot parent="world"\n      gripper="2f"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="load_arm" params="parent">\n'
+        '    <link name="arm"/>\n'
+        '    <joint name="j" type="fixed"><parent link="${parent}"/><child link="arm"/></joint>\n'
+        "  </xacro:macro>\n"
+        '  <xacro:macro name="load_robot" params="parent gripper">\n'
+        '    <xacro:load_arm parent="${parent}"\n      gripper="${gripper}"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    assert _error(runner, "expand", str(top)) == (
+        f'error: {inc}:8:5: xacro failed: Invalid parameter "gripper" in a call of macro '
+        "'load_arm', which has no parameter 'gripper'"
+    )

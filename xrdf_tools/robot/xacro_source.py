@@ -108,7 +108,8 @@ def expand_xacro(
     except Exception as e:  # ours ($(find) of an unknown package), xacro's XacroException,
         # ArgException, NameError, OSError…
         filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
-        raise _xacro_error(e, str(p), filestack, included) from None
+        macro = _innermost_macro(getattr(xacro, "macrostack", None))
+        raise _xacro_error(e, str(p), filestack, included, macro) from None
     finally:
         try:
             xacro.filestack = None
@@ -121,8 +122,21 @@ def expand_xacro(
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
 
 
+def _innermost_macro(macrostack: Any) -> str | None:
+    """The name of the macro xacro was calling when it failed (None outside a macro)."""
+    try:
+        name = macrostack[-1].body.getAttribute("name")
+    except (AttributeError, IndexError, TypeError):
+        return None
+    return name if isinstance(name, str) and name else None
+
+
 def _xacro_error(
-    e: BaseException, top: str, filestack: Any, included: Sequence[str] = ()
+    e: BaseException,
+    top: str,
+    filestack: Any,
+    included: Sequence[str] = (),
+    macro: str | None = None,
 ) -> SourceError:
     """One located error for a failed expansion: an XML syntax error (expat) at its line and
     column in the file xacro was reading (the top file or an include), anything else where
@@ -141,6 +155,9 @@ def _xacro_error(
         message, line, col = missing
         return SourceError(message, path=where, line=line, col=col)
     message = _xacro_message(e)
+    if (call := _bad_macro_call(message, macro, [where, *included])) is not None:
+        message, path, line, col = call
+        return SourceError(message, path=path, line=line, col=col)
     line, col = _find_culprit(where, message)
     for other in () if line is not None else dict.fromkeys(included):
         line, col = _find_culprit(other, message)
@@ -170,6 +187,32 @@ def _late_default_hint(message: str, path: str, line: int | None) -> str:
         f"; line {line_col(text, found.start())[0]} declares a default for it, but xacro "
         "evaluates it here before reading that declaration"
     )
+
+
+#: xacro's message for a macro call with an attribute the macro has no parameter for.
+_INVALID_PARAMETER = re.compile(r'Invalid parameter "([^"]+)"')
+
+
+def _bad_macro_call(
+    message: str, macro: str | None, files: Sequence[str]
+) -> tuple[str, str, int, int] | None:
+    """The message and position of a call of ``macro`` that passes a parameter the macro
+    lacks: the first ``<xacro:MACRO …>`` tag in ``files`` that sets it (a call inside another
+    macro's body, which the generic search would look for in the top file)."""
+    m = _INVALID_PARAMETER.search(message)
+    if m is None or macro is None:
+        return None
+    call = re.compile(rf"<xacro:{re.escape(macro)}\b[^>]*?\s{re.escape(m.group(1))}\s*=")
+    for path in dict.fromkeys(files):
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            continue
+        if (found := call.search(text)) is not None:
+            line, col = line_col(text, found.start())
+            why = f" in a call of macro '{macro}', which has no parameter '{m.group(1)}'"
+            return message + why, path, line, col
+    return None
 
 
 #: An include tag and the ``filename`` it names.
