@@ -14,11 +14,13 @@ by xacro itself.
 
 from __future__ import annotations
 
+import dataclasses
+import io
 import os
 import re
 import threading
 from collections.abc import Iterator, Mapping, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
@@ -29,6 +31,7 @@ from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 
 if TYPE_CHECKING:
+    from ..diagnostics import Diagnostic
     from .core import Robot
 
 __all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg", "uses_xacro"]
@@ -87,11 +90,14 @@ def expand_xacro(
     package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
     *,
     data: bytes | None = None,
+    messages: list[Diagnostic] | None = None,
 ) -> str:
     """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
 
     The file is read through the guarded reader (``data``: its bytes, when the caller has
-    read them already) and decoded, so a bad byte is located; xacro then reads it itself."""
+    read them already) and decoded, so a bad byte is located; xacro then reads it itself.
+    What xacro prints while expanding (its warnings: a deprecated ``load_yaml()``) is kept
+    off the terminal and appended to ``messages`` as ``xacro-message`` warnings."""
     import xacro
 
     p = Path(path)
@@ -100,8 +106,9 @@ def expand_xacro(
     decode_utf8(data, str(p), "xacro file", SourceError)
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
+    printed = io.StringIO()
     try:
-        with _patched_find(resolver):
+        with _patched_find(resolver), redirect_stderr(printed), redirect_stdout(printed):
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=mappings)
             text: str = doc.toprettyxml(indent="  ")
@@ -116,7 +123,26 @@ def expand_xacro(
             xacro.macrostack = None
         except AttributeError:  # pragma: no cover - older xacro
             pass
+    if messages is not None:
+        messages.extend(_printed_diagnostics(printed.getvalue(), str(p)))
     return text
+
+
+#: A terminal colour sequence (xacro colours its warnings).
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def _printed_diagnostics(printed: str, path: str) -> list[Diagnostic]:
+    """One ``xacro-message`` warning per distinct line xacro printed (its ``warning:`` prefix
+    dropped), in the order printed."""
+    from ..diagnostics import Diagnostic, Severity
+
+    lines = (_ANSI.sub("", x).strip() for x in printed.splitlines())
+    texts = dict.fromkeys(re.sub(r"^warning:\s*", "", x) for x in lines if x)
+    return [
+        Diagnostic(path, None, None, "xacro-message", Severity.WARNING, f"xacro: {t}")
+        for t in texts
+    ]
 
 
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
@@ -363,10 +389,14 @@ def load_robot(
                 raise SourceError(_NOT_XACRO, path=str(path)) from None
             raise
     if data is None or uses_xacro(data):
-        text = expand_xacro(path, xacro_args, pkg, data=data)
-        return parse_robot(
+        printed: list[Diagnostic] = []
+        text = expand_xacro(path, xacro_args, pkg, data=data, messages=printed)
+        robot = parse_robot(
             text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
         )
+        if not printed:
+            return robot
+        return dataclasses.replace(robot, warnings=(*printed, *robot.warnings))
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
     return read_robot(path, package_paths=pkg, data=data)

@@ -81,6 +81,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
     "robot loading (every command reading a URDF)": (
         ("urdf-color-ignored", W, "A material colour that is not 4 numbers: ignored."),
         ("urdf-limit-unbounded", W, "A limit beyond ±1e12 (no limit): dropped; turns freely."),
+        ("xacro-message", W, "A warning xacro printed while expanding (e.g. a deprecation)."),
     ),
     "kinematics (lint, report, viz)": (
         ("joint-held-fixed", W, "A joint that cannot move is held at its default."),

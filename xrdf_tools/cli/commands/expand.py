@@ -85,15 +85,18 @@ def _expanded_srdf(
     """The expansion of an SRDF xacro (no ``<link>``; groups, disabled pairs or a virtual
     joint), checked as an SRDF; None when ``path`` does not expand to one."""
     from ...convert.sources.srdf_parse import parse_srdf
+    from ...diagnostics import Diagnostic
     from ...robot.packages import parse_package_path
     from ...robot.xacro_source import expand_xacro, parse_xacro_arg
     from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
-    from .plain import pairs
+    from .plain import pairs, show_load_warnings
 
+    printed: list[Diagnostic] = []
     text = expand_xacro(
         path,
         pairs(xacro_arg, parse_xacro_arg),
         pairs(package_path, parse_package_path),
+        messages=printed,
     )
     try:
         tags = {el.tag for el in parse_xml(utf8_xml_bytes(text), keep_comments=False)}
@@ -102,4 +105,5 @@ def _expanded_srdf(
     if "link" in tags or not tags & {"group", "disable_collisions", "virtual_joint"}:
         return None
     parse_srdf(text, str(path), located=False)
+    show_load_warnings(printed)
     return text

@@ -277,9 +277,14 @@ def load_robot_option(
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
         package_paths=pairs(package_path, parse_package_path),
     )
-    if robot.warnings and verbosity() > Verbosity.QUIET:
-        echo(render_text(robot.warnings), err=True, nl=False)  # defects in unused parts
+    show_load_warnings(robot.warnings)  # defects in unused parts, what xacro printed
     return robot
+
+
+def show_load_warnings(warnings: Sequence[Diagnostic]) -> None:
+    """Warnings found while loading an input, as text on stderr (not with -q)."""
+    if warnings and verbosity() > Verbosity.QUIET:
+        echo(render_text(warnings), err=True, nl=False)
 
 
 # --------------------------------------------------------------------------------------------

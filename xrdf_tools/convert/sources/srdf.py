@@ -64,6 +64,7 @@ def read_srdf(
     (``convert-srdf-unused-group``), as are other SRDF elements naming what the URDF lacks.
     """
     d = draft or Draft()
+    d.diagnostics.extend(srdf.warnings)
     rep = Reporter(srdf.path)
     groups = [group] if isinstance(group, str) else list(dict.fromkeys(group or ()))
     for g in groups:

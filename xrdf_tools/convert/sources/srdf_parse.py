@@ -7,11 +7,13 @@ Group expansion and choice are in :mod:`.srdf_groups`, the mapping onto a Draft 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from ...diagnostics import Diagnostic
 from ...util.errors import SourceError
 from ...util.fileio import read_input_bytes
 from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
@@ -61,6 +63,8 @@ class Srdf:
     disable_default: tuple[tuple[str, int | None], ...] = ()
     enable_collisions: tuple[tuple[str, str, int | None], ...] = ()
     spheres: tuple[tuple[str, tuple[Sphere, ...], int | None], ...] = ()
+    #: What xacro printed while expanding an SRDF xacro (``xacro-message`` warnings).
+    warnings: tuple[Diagnostic, ...] = ()
 
 
 def load_srdf(
@@ -80,8 +84,10 @@ def load_srdf(
     data = read_input_bytes(p, what="SRDF file", error=SourceError)
     if not (p.endswith(".xacro") or uses_xacro(data)):
         return parse_srdf(data, p)
-    text = expand_xacro(p, xacro_args, package_paths, data=data)
-    return parse_srdf(text, p, located=False)
+    printed: list[Diagnostic] = []
+    text = expand_xacro(p, xacro_args, package_paths, data=data, messages=printed)
+    srdf = parse_srdf(text, p, located=False)
+    return dataclasses.replace(srdf, warnings=tuple(printed)) if printed else srdf
 
 
 def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True) -> Srdf:
