@@ -468,3 +468,84 @@ def test_a_yaml_file_given_as_the_robot_says_which_file_goes_where(
     other = tmp_path / "other.yml"
     other.write_text("a: 1\n")  # YAML, but neither: the XML parser's own message
     assert "malformed XML" in _error(runner, "convert", str(other))
+
+
+def test_an_include_that_cannot_be_read_is_located_at_its_include_tag(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A package path pointing at the wrong directory makes an include unreadable: the error
+    names the file and points at the ``<xacro:include>`` in the file that includes it (here
+    an include itself), not at the top file without a line."""
+    top = tmp_path / "top.urdf.xacro"
+    (tmp_path / "inc").mkdir()
+    inc = tmp_path / "inc" / "arm.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="a"/>\n  <xacro:include filename="inc/arm.xacro"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        "  <!-- includes the arm_macro.xacro below -->\n"
+        '  <xacro:include filename="../other.xacro"/>\n'
+        '  <xacro:include filename="$(find arm_pkg)/urdf/arm_macro.xacro"/>\n</robot>\n'
+    )
+    (tmp_path / "other.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>')
+    wrong = tmp_path / "wrong"
+    wrong.mkdir()
+    err = _error(runner, "expand", str(top), "--package-path", f"arm_pkg={wrong}")
+    missing = wrong / "urdf" / "arm_macro.xacro"
+    assert err == f"error: {inc}:5:28: xacro failed: the included file {missing} does not exist", (
+        err
+    )
+
+
+def test_an_arg_used_before_its_default_is_declared_says_so(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Flexiv's rizon.urdf.xacro names its robot ``$(arg name)`` and declares the default
+    inside ``<robot>``: xacro evaluates the root's attributes first, so the default is not
+    known yet (its launch file passes the name). The error says why the default did not
+    count; an arg without a default gets no such note."""
+    x = tmp_path / "rizon.urdf.xacro"
+    x.write_text(
+        '<?xml version="1.0"?>\n'
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="$(arg name)">\n'
+        '  <xacro:arg name="name" default="rizon"/>\n  <link name="base"/>\n</robot>\n'
+    )
+    assert _error(runner, "expand", str(x)) == (
+        f"error: {x}:2:58: xacro failed: Undefined substitution argument name (pass "
+        "--xacro-arg name:=VALUE); line 3 declares a default for it, but xacro evaluates it "
+        "here before reading that declaration"
+    )
+    assert runner.invoke(app, ["expand", str(x), "--xacro-arg", "name:=r"]).exit_code == 0
+    x.write_text(x.read_text().replace('<xacro:arg name="name" default="rizon"/>', ""))
+    assert _error(runner, "expand", str(x)).endswith("(pass --xacro-arg name:=VALUE)")
+
+
+def test_a_macro_call_with_a_parameter_the_macro_lacks_points_at_that_call(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """ros2_kortex's kortex_robot.xacro passes gripper= to the Gen3 lite's load_arm, which
+    has no such parameter; the top file passes gripper= too, legitimately, to load_robot.
+    The error points at the load_arm call in the include and names the macro."""
+    top = tmp_path / "robot.xacro"
+    inc = tmp_path / "kortex_robot.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="kortex_robot.xacro"/>\n  <link name="world"/>\n'
+        '  <xacro:load_robot parent="world"\n      gripper="2f"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="load_arm" params="parent">\n'
+        '    <link name="arm"/>\n'
+        '    <joint name="j" type="fixed"><parent link="${parent}"/><child link="arm"/></joint>\n'
+        "  </xacro:macro>\n"
+        '  <xacro:macro name="load_robot" params="parent gripper">\n'
+        '    <xacro:load_arm parent="${parent}"\n      gripper="${gripper}"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    assert _error(runner, "expand", str(top)) == (
+        f'error: {inc}:8:5: xacro failed: Invalid parameter "gripper" in a call of macro '
+        "'load_arm', which has no parameter 'gripper'"
+    )

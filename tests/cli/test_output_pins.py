@@ -49,7 +49,7 @@ CASES: dict[str, list[str]] = {
         "--joint-limits",
         "fixtures/demo_arm/joint_limits.yaml",
         "--target",
-        "curobo",
+        "isaac-sim",
     ],
     "lint-seed-curobo": [
         "lint",

@@ -429,3 +429,36 @@ def test_a_xacro_robots_messages_name_no_line_of_its_expansion(
     )
     bad = runner.invoke(app, ["convert", str(robot)])
     assert bad.exit_code == 2 and f"{robot}:{line}: " in bad.output, bad.output
+
+
+def test_what_xacro_prints_becomes_warnings_in_the_chosen_format(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """xacro prints its own warnings (xArm's description calls the deprecated load_yaml()) to
+    the terminal: they broke `--format json` on stderr and ignored -q. They are diagnostics
+    now, one per distinct message."""
+    import json
+
+    (tmp_path / "len.yaml").write_text("length: 0.3\n")
+    arm = tmp_path / "arm.urdf.xacro"
+    arm.write_text(
+        '<?xml version="1.0"?>\n<robot name="arm" xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        f'  <xacro:property name="p" value="${{load_yaml(\'{tmp_path / "len.yaml"}\')}}"/>\n'
+        f'  <xacro:property name="q" value="${{load_yaml(\'{tmp_path / "len.yaml"}\')}}"/>\n'
+        '  <link name="base"/><link name="l1"/>\n'
+        '  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>\n'
+        '    <origin xyz="0 0 ${p[\'length\']}"/><axis xyz="0 0 1"/>\n'
+        '    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>\n'
+    )
+    out = tmp_path / "arm.xrdf"
+    r = runner.invoke(app, ["convert", str(arm), "--format", "json", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    diags = json.loads(r.stderr)["diagnostics"]
+    printed = [d for d in diags if d["rule"] == "xacro-warning"]
+    assert [(d["path"], d["severity"]) for d in printed] == [(str(arm), "warning")]
+    assert "load_yaml() directly is deprecated" in printed[0]["message"]
+    r = runner.invoke(app, ["convert", str(arm), "-q", "-o", str(out)])
+    assert r.exit_code == 0 and r.stderr == ""
+    r = runner.invoke(app, ["expand", str(arm)])
+    assert r.exit_code == 0 and r.stdout.lstrip().startswith("<?xml")
+    assert r.stderr.startswith(f"{arm}: warning xacro-warning xacro: Using load_yaml()")

@@ -219,6 +219,52 @@ def test_a_wrist_into_a_link_named_hand_is_an_arm_joint_when_the_tool_is_below(
     assert choice.tool is not None and choice.tool.frame == "tool0"
 
 
+def test_jaws_without_gripper_names_are_left_out(tmp_path: Path) -> None:
+    """The AgileX Piper's jaws are independent prismatic joints 'joint7'/'joint8' into
+    'link7'/'link8' on 'gripper_base': the link they hang from names the gripper. Two
+    prismatic leaf joints on one link are a parallel gripper's jaws whatever the names; one
+    prismatic joint at the end of an arm (a SCARA's quill) stays an arm joint."""
+    links = ["base_link", "link1", "link2", "link6", "gripper_base", "link7", "link8"]
+    joints = "".join(
+        [
+            _j("joint1", "revolute", "base_link", "link1"),
+            _j("joint2", "revolute", "link1", "link2"),
+            _j("joint6", "revolute", "link2", "link6"),
+            _j("joint6_to_gripper_base", "fixed", "link6", "gripper_base"),
+            _j("joint7", "prismatic", "gripper_base", "link7"),
+            _j("joint8", "prismatic", "gripper_base", "link8"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    assert joint_roles(robot.tree) == {"joint7": "gripper", "joint8": "gripper"}
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("joint1", "joint2", "joint6")
+    assert choice.tool is not None and choice.tool.frame == "gripper_base"
+
+    parallel = "".join(
+        [
+            _j("j1", "revolute", "base_link", "link1"),
+            _j("j2", "revolute", "link1", "link6"),
+            _j("a", "prismatic", "link6", "link7"),
+            _j("b", "prismatic", "link6", "link8"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, parallel, ["base_link", "link1", "link6", "link7", "link8"])
+    assert joint_roles(robot.tree) == {"a": "gripper", "b": "gripper"}
+    assert default_cspace(robot.tree).joints == ("j1", "j2")
+
+    scara = "".join(
+        [
+            _j("j1", "revolute", "base_link", "link1"),
+            _j("j2", "revolute", "link1", "link6"),
+            _j("quill", "prismatic", "link6", "link7"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, scara, ["base_link", "link1", "link6", "link7"])
+    assert joint_roles(robot.tree) == {}
+    assert default_cspace(robot.tree).joints == ("j1", "j2", "quill")
+
+
 def test_convert_reports_each_guess_with_its_flag() -> None:
     robot = _robot("tiago")
     x, diags = convert(robot, ConvertOptions())

@@ -72,14 +72,14 @@ def test_readme_pr2_example_passes_lint_for_curobo(runner: CliRunner, tmp_path: 
     urdf, srdf = _pr2()
     out = tmp_path / "pr2.xrdf"
     args = ["convert", str(urdf), "--srdf", str(srdf), "--group", "left_arm"]
+    # no --fit-spheres here (the README's example fits them; too slow for this test): the
+    # links without spheres (and a group without any) are errors for a planner, so convert
+    # would fail on them (--no-lint writes the file) and lint leaves those rules out
     result = runner.invoke(
-        app, [*args, "--group", "right_arm", "--target", "curobo", "-o", str(out)]
+        app, [*args, "--group", "right_arm", "--target", "curobo", "--no-lint", "-o", str(out)]
     )
     assert result.exit_code == 0, result.output
     assert "convert-cspace-order" in result.output
-    # no --fit-spheres here (the README's example fits them; too slow for this test): the
-    # links without spheres (and a group without any) are errors for a planner, so leave those
-    # rules out
     lint = runner.invoke(
         app,
         [
@@ -89,3 +89,27 @@ def test_readme_pr2_example_passes_lint_for_curobo(runner: CliRunner, tmp_path: 
     )
     assert lint.exit_code == 0, lint.output
     assert "curobo-default-order" not in lint.output
+
+
+def test_a_planning_target_without_any_sphere_fails_and_writes_nothing(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """`convert --target curobo` without spheres wrote an XRDF that cuRobo loads with
+    collision checking off, and exited 0, while `xrdf lint --target curobo` of that file
+    exits 1: the empty group is an error for a planning reader. One error line (not one per
+    link) and a closing line naming --fit-spheres; for Isaac Sim (spheres drawn in its
+    editor) it stays a warning."""
+    from tests.paths import FIXTURES
+
+    demo = FIXTURES / "demo_arm"
+    args = ["convert", str(demo / "demo_arm.urdf"), "--srdf", str(demo / "demo_arm.srdf")]
+    out = tmp_path / "demo.xrdf"
+    r = runner.invoke(app, [*args, "--target", "curobo", "-o", str(out)])
+    assert r.exit_code == 1 and not out.exists()
+    errors = [x for x in r.stderr.splitlines() if " error " in x or x.startswith("error:")]
+    assert len(errors) == 2 and "error empty-collision-group" in errors[0], r.stderr
+    assert "no collision spheres at all: --fit-spheres fits them" in errors[1]
+    assert "mesh-without-spheres" not in r.stderr
+    r = runner.invoke(app, [*args, "--target", "isaac-sim", "-o", str(out)])
+    assert r.exit_code == 0 and out.exists()
+    assert "warning empty-collision-group" not in r.stderr  # said once, by convert-no-spheres

@@ -519,3 +519,44 @@ def test_added_frames_are_not_written(tmp_path: Path) -> None:
     assert any(
         d.rule == "export-srdf-added-frame" and "tcp" in d.message for d in result.diagnostics
     )
+
+
+def test_an_srdf_xacro_is_refused_and_its_expansion_merged(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A MoveIt 2 config's SRDF xacro writes its pairs in an included macro: a sync of its own
+    text would add every pair again as 'User' and write the expanded robot name over
+    ``$(arg name)``. It is refused, located, and the expansion it names merges."""
+    from tests.paths import UR10E_URDF, UR10E_XRDF
+
+    top = tmp_path / "ur10e.srdf.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://wiki.ros.org/xacro" '
+        'name="$(arg name)">\n  <xacro:arg name="prefix" default=""/>\n'
+        '  <xacro:include filename="pairs.srdf.xacro"/>\n  <xacro:pairs prefix=""/>\n</robot>\n'
+    )
+    (tmp_path / "pairs.srdf.xacro").write_text(
+        '<robot xmlns:xacro="http://wiki.ros.org/xacro">\n'
+        '  <xacro:macro name="pairs" params="prefix">\n'
+        '    <disable_collisions link1="${prefix}upper_arm_link" '
+        'link2="${prefix}forearm_link" reason="Adjacent"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    out = tmp_path / "out.srdf"
+    code, stdout, err = _export(
+        runner, str(UR10E_XRDF), "--merge", str(top), "--urdf", str(UR10E_URDF), "-o", str(out)
+    )
+    assert code == 2 and stdout == "" and not out.exists()
+    assert err.startswith(f"error: {top}:3:3: a xacro file: "), err
+    assert err.count("\n") == 1 and f"xrdf expand {top}" in err
+    expanded = tmp_path / "ur10e.srdf"
+    args = ["expand", str(top), "--xacro-arg", "name:=ur10e_robot", "-o", str(expanded)]
+    assert runner.invoke(app, args).exit_code == 0
+    code, _, err = _export(
+        runner, str(UR10E_XRDF), "--merge", str(expanded), "--urdf", str(UR10E_URDF), "-o", str(out)
+    )
+    assert code == 0, err
+    merged = _disabled(parse_srdf(out.read_text()))
+    assert merged[frozenset(("upper_arm_link", "forearm_link"))][2] == "Adjacent"
+    assert parse_srdf(out.read_text()).robot_name == "ur10e_robot"
+    assert "export-srdf-robot-name" not in err

@@ -144,7 +144,8 @@ def convert(
     if options.joint_limits is not None:
         from .sources.moveit_limits import read_joint_limits
 
-        read_joint_limits(options.joint_limits, tree, draft)
+        xacro_args = None if robot is None else robot.xacro_args
+        read_joint_limits(options.joint_limits, tree, draft, xacro_args)
     return complete(draft, tree, options, collision_links)
 
 

@@ -166,14 +166,22 @@ def convert_robot(
             allow_missing_meshes=allow_missing_meshes,
         )
         if any(d.rule == "convert-no-spheres" for d in diags):
-            # one loud "no spheres at all" says it; a line per link is noise
-            quiet = ("mesh-without-spheres", "empty-collision-group")
-            lint_diags = [d for d in lint_diags if d.rule not in quiet]
+            # one loud "no spheres at all" says it; a line per link is noise. For a planning
+            # target the empty group stays the error it is (the file is not written, exit 1)
+            lint_diags = [d for d in lint_diags if not _said_by_no_spheres(d)]
         said = tuple(d.message.split("'")[1] for d in unfitted)
         lint_diags = [d for d in lint_diags if not _about_links(d, "mesh-without-spheres", said)]
     return ConvertResult(
         x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
     )
+
+
+def _said_by_no_spheres(d: Diagnostic) -> bool:
+    """A lint finding that ``convert-no-spheres`` already says: a link without spheres, or
+    the empty group when it is no error (no planning target)."""
+    if d.rule == "mesh-without-spheres":
+        return True
+    return d.rule == "empty-collision-group" and d.severity is not Severity.ERROR
 
 
 def _check_kinematics(robot: Robot, x: Xrdf) -> None:

@@ -65,6 +65,13 @@ RULES: tuple[RuleInfo, ...] = (
         "report",
     ),
     RuleInfo(
+        "report-nothing-checked",
+        Severity.WARNING,
+        "the self-collision geometry gives no frame pair to check (fewer than two frames "
+        "with spheres)",
+        "report",
+    ),
+    RuleInfo(
         "report-trajectory-collision",
         Severity.ERROR,
         "a given configuration (--configs) is in self-collision",
@@ -206,6 +213,17 @@ def pair_findings(
 ) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     sc = xrdf.self_collision
+    if not stats:
+        out.append(
+            _diag(
+                xrdf,
+                "report-nothing-checked",
+                "no two frames have self-collision spheres, so no pair was checked: this "
+                "report says nothing about self-collision (fit spheres with xrdf convert "
+                "--fit-spheres or xrdf spheres)",
+                "self_collision.geometry" if sc is not None else "self_collision",
+            )
+        )
     for p in stats:
         pair = f"'{p.frame_a}' and '{p.frame_b}'"
         if not p.masked and p.rate is not None and p.rate > ALWAYS_RATE:

@@ -7,8 +7,9 @@ leaf, leaving out what a motion planner does not plan for:
 * **wheels**: joints named like ``wheel``/``caster``, and continuous joints mounted on the base
   (no movable joint above them) with no movable joint below;
 * **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
-  ``knuckle``/``palm``, and every joint that a mimic joint follows (a mimic joint itself is never
-  a c-space joint);
+  ``knuckle``/``palm``, every joint that a mimic joint follows (a mimic joint itself is never
+  a c-space joint), and jaws named otherwise: a joint with nothing actuated below that hangs
+  from a link named like a gripper, or two or more such prismatic joints on one link;
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm).
 
@@ -103,6 +104,8 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         coupled = j.is_mimic or name in leaders
         if role is None and coupled and not _coupling_moves_below(tree, name, leaders):
             role = "gripper"
+        if role is None and not set(name_words(name)) & _ARM and _is_jaw(tree, name, leaders):
+            role = "gripper"
         if role is None and j.type == "continuous" and _is_base_wheel(tree, name):
             role = "wheel"
         if role is not None:
@@ -117,6 +120,27 @@ def _moves_below(tree: RobotTree, link: str, leaders: Collection[str]) -> bool:
         tree.is_actuated(tree.parent_joint[n]) and tree.parent_joint[n] not in leaders
         for n in tree.descendants(link)
     )
+
+
+def _is_jaw(tree: RobotTree, joint: str, leaders: Collection[str]) -> bool:
+    """A gripper's jaw whose own names say nothing: a joint with nothing actuated and no tool
+    frame below it that hangs from a link named like a gripper (the AgileX Piper's 'joint7'
+    on 'gripper_base'), or one of two or more such prismatic joints on one link (the jaws of
+    a parallel gripper)."""
+    j = tree.joints[joint]
+    if _moves_below(tree, j.child, leaders) or _carries_tool(tree, j.child):
+        return False
+    if _name_role(j.parent) == "gripper":
+        return True
+    if j.type != "prismatic":
+        return False
+    jaws = [
+        s
+        for s in tree.child_joints.get(j.parent, ())
+        if tree.joints[s].type == "prismatic"
+        and not _moves_below(tree, tree.joints[s].child, leaders)
+    ]
+    return len(jaws) >= 2
 
 
 def _carries_tool(tree: RobotTree, link: str) -> bool:

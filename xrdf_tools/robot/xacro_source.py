@@ -32,6 +32,7 @@ from .packages import PackageResolver, absolute
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
+    from ..diagnostics import Diagnostic
     from .core import Robot
 
 __all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg", "uses_xacro"]
@@ -155,7 +156,8 @@ def expand_xacro(
         if (placeholder := error_for(e, unresolved)) is not None:  # a package not found
             raise placeholder from None
         filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
-        raise _xacro_error(e, str(p), filestack, included, mappings, values) from None
+        macro = _innermost_macro(getattr(xacro, "macrostack", None))
+        raise _xacro_error(e, str(p), filestack, included, mappings, values, macro) from None
     finally:
         try:
             xacro.filestack = None
@@ -168,6 +170,15 @@ def expand_xacro(
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
 
 
+def _innermost_macro(macrostack: Any) -> str | None:
+    """The name of the macro xacro was calling when it failed (None outside a macro)."""
+    try:
+        name = macrostack[-1].body.getAttribute("name")
+    except (AttributeError, IndexError, TypeError):
+        return None
+    return name if isinstance(name, str) and name else None
+
+
 def _xacro_error(
     e: BaseException,
     top: str,
@@ -175,6 +186,7 @@ def _xacro_error(
     included: Sequence[str] = (),
     given: Mapping[str, str] | None = None,
     values: Mapping[str, str] | None = None,
+    macro: str | None = None,
 ) -> SourceError:
     """One located error for a failed expansion: an XML syntax error (expat) at its line and
     column in the file xacro was reading (the top file or an include), anything else where
@@ -193,14 +205,36 @@ def _xacro_error(
     if isinstance(missing, str):
         return _missing_include_error(missing, where, included, given or {}, values or {})
     message = _xacro_message(e)
+    if (call := _bad_macro_call(message, macro, [where, *included])) is not None:
+        return SourceError(call[0], path=call[1], line=call[2], col=call[3])
     line, col = _find_culprit(where, message)
     for other in () if line is not None else dict.fromkeys(included):
         line, col = _find_culprit(other, message)
         if line is not None:
             where = other
             break
-    return SourceError(
-        message + _unprefixed_hint(message, [where, *included]), path=where, line=line, col=col
+    hint = _unprefixed_hint(message, [where, *included]) + _late_default_hint(message, where, line)
+    return SourceError(message + hint, path=where, line=line, col=col)
+
+
+def _late_default_hint(message: str, path: str, line: int | None) -> str:
+    """What to know when the undefined ``$(arg x)`` of ``message`` has a ``<xacro:arg>``
+    default below its use at ``line`` (Flexiv's ``<robot name="$(arg name)">`` with the
+    default inside ``<robot>``): xacro has not read it yet, the launch file passes it."""
+    m = _UNDEFINED_ARG.search(message)
+    if m is None or line is None:
+        return ""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return ""
+    tag = re.compile(rf"<xacro:arg\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"'][^>]*default=")
+    found = tag.search(text)
+    if found is None or line_col(text, found.start())[0] <= line:
+        return ""
+    return (
+        f"; line {line_col(text, found.start())[0]} declares a default for it, but xacro "
+        "evaluates it here before reading that declaration"
     )
 
 
@@ -246,6 +280,32 @@ def _missing_include_error(
     )
     line, col = line_col(text, m.start(2))
     return SourceError(message + hint, path=path, line=line, col=col)
+
+
+#: xacro's message for a macro call with an attribute the macro has no parameter for.
+_INVALID_PARAMETER = re.compile(r'Invalid parameter "([^"]+)"')
+
+
+def _bad_macro_call(
+    message: str, macro: str | None, files: Sequence[str]
+) -> tuple[str, str, int, int] | None:
+    """The message and position of a call of ``macro`` that passes a parameter the macro
+    lacks: the first ``<xacro:MACRO …>`` tag in ``files`` that sets it (a call inside another
+    macro's body, which the generic search would look for in the top file)."""
+    m = _INVALID_PARAMETER.search(message)
+    if m is None or macro is None:
+        return None
+    call = re.compile(rf"<xacro:{re.escape(macro)}\b[^>]*?\s{re.escape(m.group(1))}\s*=")
+    for path in dict.fromkeys(files):
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            continue
+        if (found := call.search(text)) is not None:
+            line, col = line_col(text, found.start())
+            why = f" in a call of macro '{macro}', which has no parameter '{m.group(1)}'"
+            return message + why, path, line, col
+    return None
 
 
 #: ``$(arg NAME)`` in an attribute: the group is the name.

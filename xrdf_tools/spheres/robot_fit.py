@@ -448,7 +448,7 @@ def _fit_one(
     if share < counts.target_coverage and not own_bound and counts.refine:
         within = (
             f"{len(spheres)} spheres within its {fitter.tau * 1000:.3g} mm default bound cover "
-            f"{share:.0%} of it (target {counts.target_coverage:.0%})"
+            f"{_short_of(share)} of it (target {counts.target_coverage:.0%})"
         )
         spheres, share = past_the_bound(fitter, len(spheres))
         if share >= counts.target_coverage:
@@ -464,13 +464,19 @@ def _fit_one(
                 path,
                 geom.line,
                 RULE_TARGET_MISSED,
-                f"link '{geom.link}': {len(spheres)} spheres cover {share:.0%} of its volume "
-                f"(target {counts.target_coverage:.0%}); raise --max-protrusion or give "
+                f"link '{geom.link}': {len(spheres)} spheres cover {_short_of(share)} of its "
+                f"volume (target {counts.target_coverage:.0%}); raise --max-protrusion or give "
                 "--per-link for more",
                 warn=True,
             )
         )
     return spheres
+
+
+def _short_of(share: float) -> str:
+    """A coverage below its target as a whole percentage rounded down: 89.96 % is '89%', never
+    the '90%' that reads as the target met."""
+    return f"{math.floor(share * 100)}%"
 
 
 def _report_shared(

@@ -335,6 +335,14 @@ def command(
                 f"{bare} of them are moving links with collision geometry and no spheres "
                 "(--fit-spheres fits spheres to the links the inputs leave without); " + remedy
             )
+        if any(d.rule == "empty-collision-group" for d in errors):
+            why = (
+                "no link had collision geometry to fit (--allow-missing-meshes leaves out "
+                "the meshes not found; --from visual fits the visual meshes)"
+                if fit_spheres
+                else "--fit-spheres fits them to the links' collision geometry"
+            )
+            remedy = f"the XRDF has no collision spheres at all: {why}; " + remedy
         fail(
             f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
             f"above); {remedy}",

@@ -3,44 +3,52 @@
 ``joint_limits: {joint: {has_acceleration_limits, max_acceleration, has_jerk_limits, max_jerk}}``.
 A limit is taken as ``abs(max_*)`` when ``has_*`` is true, or when ``has_*`` is absent and the
 value is present and > 0 (MoveIt 1 style). Integers are accepted; 0 or missing means absent.
+
+The ``joint_limits`` mapping is the file's top level, or, in a ROS 2 parameter file
+(``NODE: {ros__parameters: {robot_description_planning: {joint_limits: …}}}``), under a node's
+``ros__parameters`` (its ``robot_description_planning``, else itself). A launch substitution
+``$(var NAME)`` in a joint name (a ``tf_prefix``) takes ``--xacro-arg NAME``'s value, else the
+empty string; both are reported.
 """
 
 from __future__ import annotations
 
 import os
+import re
+from collections.abc import Mapping
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError
-from ...yaml.io import YMap, YScalar, load_yaml, positions_of, to_python
+from ...yaml.io import YamlDocument, YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 
 __all__ = ["read_joint_limits"]
 
+#: A ROS 2 launch substitution in a parameter file: ``$(var tf_prefix)``.
+_LAUNCH_VAR = re.compile(r"\$\(var\s+([^)\s]+)\s*\)")
+
 
 def read_joint_limits(
-    path: str | os.PathLike[str], tree: RobotTree, draft: Draft | None = None
+    path: str | os.PathLike[str],
+    tree: RobotTree,
+    draft: Draft | None = None,
+    substitutions: Mapping[str, str] | None = None,
 ) -> Draft:
-    """Add the acceleration/jerk limits of a MoveIt joint_limits.yaml to ``draft``."""
+    """Add the acceleration/jerk limits of a MoveIt joint_limits.yaml to ``draft``.
+
+    ``substitutions`` (the robot's xacro arguments) give ``$(var NAME)`` in joint names."""
     d = draft or Draft()
     doc = load_yaml(path)
     rep = Reporter(doc.path, positions_of(doc))
-    root = doc.root
-    if not isinstance(root, YMap) or not isinstance(root.get("joint_limits"), YMap):
-        where = root.get("joint_limits") if isinstance(root, YMap) else None
-        where = where if where is not None else root
-        raise SourceError(
-            "a MoveIt joint limits file needs a top-level 'joint_limits' mapping",
-            path=doc.path,
-            line=where.line if where is not None else 1,
-            col=where.col if where is not None else None,
-        )
+    root, prefix = _limits_holder(doc, rep)
     limits = root.get("joint_limits")
     assert isinstance(limits, YMap)
+    unset: dict[str, str] = {}
     for jname, node in limits.items():
-        kp = f"joint_limits.{jname}"
+        kp = f"{prefix}joint_limits.{jname}"
         if not isinstance(node, YMap):
             continue
-        jname = str(jname)
+        jname = _substituted(str(jname), substitutions or {}, unset, kp)
         if jname not in tree.joints:
             rep.report(
                 "convert-unknown-joint",
@@ -78,6 +86,59 @@ def read_joint_limits(
             "default_velocity_scaling_factor",
             "default_acceleration_scaling_factor",
         ) and not isinstance(node, YScalar):
-            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent", str(key))
+            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent", f"{prefix}{key}")
+    for name, kp in unset.items():
+        rep.report(
+            "convert-launch-substitution",
+            f"$(var {name}) in joint names taken as '' (no --xacro-arg {name}:=VALUE given)",
+            kp,
+            severity=Severity.INFO,
+        )
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _limits_holder(doc: YamlDocument, rep: Reporter) -> tuple[YMap, str]:
+    """The mapping that holds ``joint_limits`` and its key path prefix: the top level, else a
+    node's ``ros__parameters`` (its ``robot_description_planning``, else itself) in a ROS 2
+    parameter file (reported)."""
+    root = doc.root
+    if isinstance(root, YMap) and isinstance(root.get("joint_limits"), YMap):
+        return root, ""
+    for node, value in root.items() if isinstance(root, YMap) else ():
+        params = value.get("ros__parameters") if isinstance(value, YMap) else None
+        if not isinstance(params, YMap):
+            continue
+        for sub in ("robot_description_planning", ""):
+            holder = params.get(sub) if sub else params
+            if isinstance(holder, YMap) and isinstance(holder.get("joint_limits"), YMap):
+                prefix = f"{node}.ros__parameters.{sub + '.' if sub else ''}"
+                rep.report(
+                    "convert-ros-parameters",
+                    f"a ROS 2 parameter file: joint limits read from {prefix}joint_limits",
+                    f"{prefix}joint_limits",
+                    severity=Severity.INFO,
+                )
+                return holder, prefix
+    where = root.get("joint_limits") if isinstance(root, YMap) else None
+    where = where if where is not None else root
+    raise SourceError(
+        "a MoveIt joint limits file needs a 'joint_limits' mapping, at the top level or "
+        "under NODE.ros__parameters[.robot_description_planning] (a ROS 2 parameter file)",
+        path=doc.path,
+        line=where.line if where is not None else 1,
+        col=where.col if where is not None else None,
+    )
+
+
+def _substituted(name: str, values: Mapping[str, str], unset: dict[str, str], kp: str) -> str:
+    """``name`` with each ``$(var NAME)`` replaced by ``values[NAME]``, else '' (recorded in
+    ``unset`` with the first key path that uses it)."""
+
+    def value(m: re.Match[str]) -> str:
+        if m.group(1) in values:
+            return values[m.group(1)]
+        unset.setdefault(m.group(1), kp)
+        return ""
+
+    return _LAUNCH_VAR.sub(value, name)

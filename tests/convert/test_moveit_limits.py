@@ -1,0 +1,86 @@
+"""MoveIt joint_limits.yaml as MoveIt 2 configs ship it: a ROS 2 parameter file whose joint names
+carry a launch substitution for the prefix."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from xrdf_tools.cli import app
+from xrdf_tools.xrdf.io import load_xrdf
+
+_ARM = """<?xml version="1.0"?>
+<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="tf_prefix" default=""/>
+  <xacro:property name="p" value="$(arg tf_prefix)"/>
+  <link name="${p}base"/>
+  <link name="${p}l1"/>
+  <link name="${p}l2"/>
+  <joint name="${p}j1" type="revolute"><parent link="${p}base"/><child link="${p}l1"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="${p}j2" type="revolute"><parent link="${p}l1"/><child link="${p}l2"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+#: The layout of a ROS 2 MoveIt config's joint_limits.yaml (Annin AR4's, shortened).
+_ROS2_LIMITS = """/**/move_group:
+  ros__parameters:
+    robot_description_planning:
+      joint_limits:
+        $(var tf_prefix)j1:
+          has_acceleration_limits: true
+          max_acceleration: 0.5
+          has_jerk_limits: true
+          max_jerk: 40
+        $(var tf_prefix)j2:
+          has_acceleration_limits: true
+          max_acceleration: -0.75
+      cartesian_limits:
+        max_trans_vel: 0.05
+"""
+
+
+def _convert(runner: CliRunner, tmp_path: Path, *args: str) -> tuple[str, Path]:
+    arm = tmp_path / "arm.urdf.xacro"
+    arm.write_text(_ARM)
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(_ROS2_LIMITS)
+    out = tmp_path / "arm.xrdf"
+    r = runner.invoke(
+        app,
+        ["convert", str(arm), "--joint-limits", str(limits), "-o", str(out), *args],
+    )
+    assert r.exit_code == 0, r.output
+    return r.stderr, out
+
+
+def test_a_ros2_parameter_file_gives_the_limits_with_the_prefix_empty(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    err, out = _convert(runner, tmp_path)
+    cspace = load_xrdf(out).cspace
+    assert cspace.joint_names == ("j1", "j2")
+    assert cspace.acceleration_limits == (0.5, 0.75)
+    assert cspace.jerk_limits[0] == 40.0
+    limits = tmp_path / "joint_limits.yaml"
+    assert (
+        f"{limits}:4:7: info convert-ros-parameters a ROS 2 parameter file: joint limits read "
+        "from /**/move_group.ros__parameters.robot_description_planning.joint_limits"
+    ) in err
+    assert (
+        f"{limits}:5:9: info convert-launch-substitution $(var tf_prefix) in joint names taken "
+        "as '' (no --xacro-arg tf_prefix:=VALUE given)"
+    ) in err
+    assert f"{limits}:13:7: warning convert-dropped-key 'cartesian_limits'" in err
+    assert "convert-unknown-joint" not in err and "convert-default-acceleration" not in err
+
+
+def test_the_prefix_takes_the_xacro_argument(runner: CliRunner, tmp_path: Path) -> None:
+    err, out = _convert(runner, tmp_path, "--xacro-arg", "tf_prefix:=left_")
+    cspace = load_xrdf(out).cspace
+    assert cspace.joint_names == ("left_j1", "left_j2")
+    assert cspace.acceleration_limits == (0.5, 0.75)
+    assert "convert-launch-substitution" not in err and "convert-unknown-joint" not in err
