@@ -79,6 +79,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
     "robot loading (every command reading a URDF)": (
         ("urdf-color-ignored", W, "A material colour that is not 4 numbers: ignored."),
         ("urdf-limit-unbounded", W, "A limit beyond ±1e12 (no limit): dropped; turns freely."),
+        ("urdf-prefix-undeclared", W, "A namespace prefix without xmlns: read past, as ROS does."),
     ),
     "kinematics (lint, report, viz)": (
         ("joint-held-fixed", W, "A joint that cannot move is held at its default."),
