@@ -72,3 +72,68 @@ def test_an_undeclared_xacro_prefix_is_an_error_saying_what_to_declare(
     assert code == 2, text
     assert f"{urdf}:7:" in text
     assert 'must declare xmlns:xacro="http://www.ros.org/wiki/xacro"' in text
+
+
+def _joint(name: str, parent: str, child: str, kind: str = "revolute") -> str:
+    limit = '<limit lower="-1" upper="1" velocity="1" effort="1"/>' if kind != "fixed" else ""
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<axis xyz="0 0 1"/>{limit}</joint>'
+    )
+
+
+def _tree(tmp_path: Path, links: list[str], joints: list[str]) -> Path:
+    body = "".join(f'<link name="{lk}"/>' for lk in links)
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(f'<robot name="r">{body}{"".join(joints)}</robot>')
+    return urdf
+
+
+def test_a_pan_tilt_unit_that_carries_a_tool_is_a_wrist_and_a_camera_one_a_head(
+    tmp_path: Path,
+) -> None:
+    # Schunk's PW70 powerball wrist: pw70_pan_joint, pw70_tilt_joint, then pw70_tool_link
+    from xrdf_tools.robot.chains import default_cspace, joint_roles
+    from xrdf_tools.robot.core import as_robot
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    links = ["world", "pw70_link", "pw70_pan_link", "pw70_tilt_link", "pw70_tool_link"]
+    wrist = [
+        _joint("pw70_joint", "world", "pw70_link", "fixed"),
+        _joint("pw70_pan_joint", "pw70_link", "pw70_pan_link"),
+        _joint("pw70_tilt_joint", "pw70_pan_link", "pw70_tilt_link"),
+        _joint("pw70_tool_joint", "pw70_tilt_link", "pw70_tool_link", "fixed"),
+    ]
+    robot = as_robot(load_urdf(_tree(tmp_path, links, wrist)))
+    assert joint_roles(robot.tree) == {}
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("pw70_pan_joint", "pw70_tilt_joint")
+    assert choice.tool is not None and choice.tool.frame == "pw70_tool_link"
+    # the same unit carrying a camera frame is a head; so is a head_pan joint with a tool
+    links = ["base", "pan", "tilt", "camera_link", "tool_link"]
+    head = [
+        _joint("ptu_pan", "base", "pan"),
+        _joint("ptu_tilt", "pan", "tilt"),
+        _joint("cam", "tilt", "camera_link", "fixed"),
+        _joint("head_pan", "base", "tool_link"),
+    ]
+    robot = as_robot(load_urdf(_tree(tmp_path, links, head)))
+    assert joint_roles(robot.tree) == {"ptu_pan": "head", "ptu_tilt": "head", "head_pan": "head"}
+
+
+def test_an_empty_default_cspace_says_which_joints_it_left_out(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # a differential-drive base: two wheels and nothing to plan
+    links = ["base_link", "wheel_left_link", "wheel_right_link"]
+    joints = [
+        _joint("wheel_left_joint", "base_link", "wheel_left_link", "continuous"),
+        _joint("wheel_right_joint", "base_link", "wheel_right_link", "continuous"),
+    ]
+    urdf = _tree(tmp_path, links, joints)
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 0, text
+    assert (
+        "no serial chain of actuated joints besides 2 wheel joint(s) (wheel_left_joint, "
+        "wheel_right_joint) in the URDF (--joints, --chain or --srdf choose one)"
+    ) in text
