@@ -137,3 +137,41 @@ def test_an_empty_default_cspace_says_which_joints_it_left_out(
         "no serial chain of actuated joints besides 2 wheel joint(s) (wheel_left_joint, "
         "wheel_right_joint) in the URDF (--joints, --chain or --srdf choose one)"
     ) in text
+
+
+def test_a_package_the_robot_sits_in_wins_over_a_same_named_one_under_a_far_parent(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # MATLAB's franka_description/robots/frankaEmikaPanda.urdf names package://franka_description
+    # meshes; another franka_description with a package.xml two levels below /tmp took its place
+    mesh = "package://franka_description/meshes/link.stl"
+    arm = ARM.replace('<box size=".05 .05 .3"/>', f'<mesh filename="{mesh}"/>')
+    robot = tmp_path / "data" / "models" / "franka_description"
+    (robot / "robots").mkdir(parents=True)
+    (robot / "meshes").mkdir()
+    urdf = robot / "robots" / "r.urdf"
+    urdf.write_text(arm.format(attr="", extra=""))
+    _box_stl(robot / "meshes" / "link.stl")
+    decoy = tmp_path / "elsewhere" / "franka_description"
+    decoy.mkdir(parents=True)
+    (decoy / "package.xml").write_text("<package><name>franka_description</name></package>")
+
+    from xrdf_tools.robot.packages import PackageResolver
+
+    assert PackageResolver(urdf).find("franka_description") == robot.resolve()
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "50", "-o", out)
+    assert code == 0, text
+    geometry = load_xrdf(out).geometry
+    assert geometry is not None and any("arm" in g.spheres for g in geometry.values())
+    # a package.xml nearer than the folder named like the package still wins
+    named = robot / "robots" / "vendor"
+    named.mkdir()
+    (named / "package.xml").write_text("<package><name>franka_description</name></package>")
+    assert PackageResolver(urdf).find("franka_description") == named.resolve()
+
+
+def _box_stl(path: Path) -> None:
+    import trimesh
+
+    trimesh.creation.box((0.05, 0.05, 0.3)).export(path)
