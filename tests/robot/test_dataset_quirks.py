@@ -175,3 +175,23 @@ def _box_stl(path: Path) -> None:
     import trimesh
 
     trimesh.creation.box((0.05, 0.05, 0.3)).export(path)
+
+
+def test_a_report_over_an_xrdf_without_spheres_is_a_finding_not_a_clean_bill(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # an XRDF converted without --fit-spheres: the report said
+    # "findings: none" and exited 0 over zero spheres
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra=""))
+    xrdf = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "-o", xrdf)
+    assert code == 0, text
+    line = next(
+        i + 1 for i, t in enumerate(xrdf.read_text().splitlines()) if t.startswith("self_collision")
+    )
+    code, text = _run(runner, "report", xrdf, "--urdf", urdf, "-n", "50", "-j", "1")
+    assert code == 1, text
+    assert f"{xrdf}:{line + 1}:13: error report-no-spheres the self-collision group" in text
+    code, text = _run(runner, "report", xrdf, "--urdf", urdf, "-n", "50", "--format", "json")
+    assert code == 1 and '"report-no-spheres"' in text

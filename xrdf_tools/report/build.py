@@ -53,6 +53,7 @@ from .verdicts import (
     certified_stat,
     classify_pair,
     never_upper_bound,
+    no_spheres_finding,
     pair_findings,
 )
 
@@ -168,6 +169,8 @@ def self_collision_report(
     if certify is not None:
         stats = _certify(engine, stats, w_of, cspace, certify, certify_progress)
     diags.extend(pair_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
+    if spheres_all.n_spheres == 0:
+        diags.append(no_spheres_finding(xrdf))
     rec_ignore, change = recommend_ignore(xrdf, kin, spheres_all, stats)
     cov = None
     if coverage:

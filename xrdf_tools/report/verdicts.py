@@ -65,6 +65,12 @@ RULES: tuple[RuleInfo, ...] = (
         "report",
     ),
     RuleInfo(
+        "report-no-spheres",
+        Severity.ERROR,
+        "the self-collision group holds no sphere: the report checks nothing",
+        "report",
+    ),
+    RuleInfo(
         "report-trajectory-collision",
         Severity.ERROR,
         "a given configuration (--configs) is in self-collision",
@@ -194,6 +200,21 @@ def _ignore_key_path(sc: SelfCollisionSection | None, a: str, b: str) -> str:
         if y in others:
             return f"self_collision.ignore.{x}[{others.index(y)}]"
     return "self_collision.ignore"
+
+
+def no_spheres_finding(xrdf: Xrdf) -> Diagnostic:
+    """The finding of a report over no sphere at all: "free of self-collision" would say
+    nothing about the robot (an XRDF converted without --fit-spheres, or a group left empty)."""
+    sc = xrdf.self_collision
+    where = "self_collision.geometry" if sc is not None else "self_collision"
+    what = f"self-collision group '{sc.geometry}'" if sc is not None else "XRDF"
+    return _diag(
+        xrdf,
+        "report-no-spheres",
+        f"the {what} holds no collision sphere: no pair can collide, so the report checks "
+        "nothing (fit spheres: xrdf convert --fit-spheres, or xrdf spheres)",
+        where,
+    )
 
 
 def pair_findings(
