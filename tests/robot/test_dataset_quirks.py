@@ -195,3 +195,23 @@ def test_a_report_over_an_xrdf_without_spheres_is_a_finding_not_a_clean_bill(
     assert f"{xrdf}:{line + 1}:13: error report-no-spheres the self-collision group" in text
     code, text = _run(runner, "report", xrdf, "--urdf", urdf, "-n", "50", "--format", "json")
     assert code == 1 and '"report-no-spheres"' in text
+
+
+def test_a_curobo_export_without_spheres_warns_at_the_collision_group(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra=""))
+    xrdf = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "-o", xrdf)
+    assert code == 0, text
+    line = xrdf.read_text().splitlines().index("collision:") + 2
+    code, text = _run(runner, "export", "curobo", xrdf, "--urdf", urdf, "-o", tmp_path / "r.yml")
+    assert code == 0, text
+    assert f"{xrdf}:{line}:13: warning export-no-spheres no collision sphere to export" in text
+    # with spheres there is nothing to say
+    fitted = tmp_path / "fitted.xrdf"
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "50", "-o", fitted)
+    assert code == 0, text
+    code, text = _run(runner, "export", "curobo", fitted, "--urdf", urdf, "-o", tmp_path / "f.yml")
+    assert code == 0 and "export-no-spheres" not in text, text

@@ -69,6 +69,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-dropped-joint", W, "A default position of a joint that is not actuated."),
         ("export-dropped-key", W, "Top-level keys that have no cuRobo equivalent."),
         ("export-expanded-urdf", I, "A xacro --urdf: the expanded URDF written beside the YAML."),
+        ("export-no-spheres", W, "No collision sphere to export: cuRobo checks no collision."),
     ),
     "export srdf": (
         ("export-srdf-added", I, "Pairs added to the SRDF, with their reasons."),
