@@ -215,3 +215,32 @@ def test_a_curobo_export_without_spheres_warns_at_the_collision_group(
     assert code == 0, text
     code, text = _run(runner, "export", "curobo", fitted, "--urdf", urdf, "-o", tmp_path / "f.yml")
     assert code == 0 and "export-no-spheres" not in text, text
+
+
+def test_a_pinky_is_a_finger_so_a_humanoid_arm_ends_at_its_palm(tmp_path: Path) -> None:
+    # Valkyrie: leftIndexFingerPitch1..3 are fingers by name, leftPinkyPitch1..3 were not, and
+    # the default c-space ran down the pinky (13 joints, tool frame 'leftPinkyPitch3Link')
+    from xrdf_tools.robot.chains import default_cspace
+    from xrdf_tools.robot.core import as_robot
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    links = ["pelvis", "upper", "lower", "leftPalm", "i1", "i2", "p1", "p2", "p3"]
+    joints = [
+        _joint("leftShoulderPitch", "pelvis", "upper"),
+        _joint("leftElbowPitch", "upper", "lower"),
+        _joint("leftWristPitch", "lower", "leftPalm"),
+        _joint("leftIndexFingerPitch1", "leftPalm", "i1"),
+        _joint("leftIndexFingerPitch2", "i1", "i2"),
+        _joint("leftPinkyPitch1", "leftPalm", "p1"),
+        _joint("leftPinkyPitch2", "p1", "p2"),
+        _joint("leftPinkyPitch3", "p2", "p3"),
+    ]
+    robot = as_robot(load_urdf(_tree(tmp_path, links, joints)))
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("leftShoulderPitch", "leftElbowPitch", "leftWristPitch")
+    assert choice.tool is not None and choice.tool.frame == "leftPalm"
+    assert choice.left_out["gripper"][-3:] == (
+        "leftPinkyPitch1",
+        "leftPinkyPitch2",
+        "leftPinkyPitch3",
+    )

@@ -7,8 +7,8 @@ leaf, leaving out what a motion planner does not plan for:
 * **wheels**: joints named like ``wheel``/``caster``, and continuous joints mounted on the base
   (no movable joint above them) with no movable joint below;
 * **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
-  ``knuckle``/``palm``, and every joint that a mimic joint follows (a mimic joint itself is never
-  a c-space joint);
+  ``knuckle``/``palm``/``pinky`` (Valkyrie's ``leftPinkyPitch1``), and every joint that a
+  mimic joint follows (a mimic joint itself is never a c-space joint);
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
   and so is a pan/tilt unit that carries a tool frame: a wrist).
@@ -51,7 +51,20 @@ JointRole = Literal["wheel", "gripper", "head"]
 
 _WHEEL = frozenset({"wheel", "wheels", "caster", "castor", "tire", "tyre"})
 _GRIPPER = frozenset(
-    {"gripper", "grip", "finger", "fingers", "hand", "jaw", "claw", "thumb", "knuckle", "palm"}
+    {
+        "gripper",
+        "grip",
+        "finger",
+        "fingers",
+        "hand",
+        "jaw",
+        "claw",
+        "thumb",
+        "knuckle",
+        "palm",
+        "pinky",
+        "pinkie",
+    }
 )
 _HEAD = frozenset(
     {"head", "neck", "camera", "cam", "eye", "eyes", "laser", "lidar", "xtion", "kinect"}
