@@ -244,3 +244,22 @@ def test_a_pinky_is_a_finger_so_a_humanoid_arm_ends_at_its_palm(tmp_path: Path) 
         "leftPinkyPitch2",
         "leftPinkyPitch3",
     )
+
+
+def test_a_fit_that_fits_nothing_does_not_tell_the_user_to_fit_spheres(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # MATLAB's kinovaGen3.urdf names package://JACO3_URDF_V10 meshes that are not there
+    mesh = '<mesh filename="package://JACO3_URDF_V10/meshes/Base_Link.STL"/>'
+    text = ARM.format(attr="", extra="")
+    text = text.replace('<box size=".05 .05 .3"/>', mesh).replace('<box size="0.2 0.2 0.1"/>', mesh)
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(text)
+    out = tmp_path / "r.xrdf"
+    args = ("convert", urdf, "--fit-spheres", "--allow-missing-meshes", "-n", "50", "-o", out)
+    code, text = _run(runner, *args)
+    assert code == 0, text
+    (line,) = [t for t in text.splitlines() if "convert-no-spheres" in t]
+    assert "--fit-spheres fitted none" in line and "spheres-mesh-unreadable says why" in line
+    assert "Add spheres" not in line
+    assert text.count("spheres-mesh-unreadable") >= 2

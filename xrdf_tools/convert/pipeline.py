@@ -144,6 +144,8 @@ def convert_robot(
         x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
         if fitted:
             diags = [d for d in diags if d.rule != "convert-no-spheres"]
+        else:  # "add spheres (--fit-spheres ...)" would send the user round in a circle
+            diags = [_fitted_none(d) if d.rule == "convert-no-spheres" else d for d in diags]
         diags = [*diags, *more]
         mask = mask or MaskOptions()
     unfitted = [d for d in diags if d.rule == RULE_UNFITTED]
@@ -173,6 +175,21 @@ def convert_robot(
         lint_diags = [d for d in lint_diags if not _about_links(d, "mesh-without-spheres", said)]
     return ConvertResult(
         x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
+    )
+
+
+def _fitted_none(no_spheres: Diagnostic) -> Diagnostic:
+    """``convert-no-spheres`` after a fit that fitted nothing: no mesh could be read (every
+    one missing, allowed by --allow-missing-meshes) or no link has collision geometry."""
+    from dataclasses import replace
+
+    return replace(
+        no_spheres,
+        message=(
+            "NO COLLISION SPHERES: --fit-spheres fitted none (no link has collision geometry "
+            "it could read; spheres-mesh-unreadable says why): the XRDF has an empty geometry "
+            "group, so cuRobo/cuMotion will not check collisions for this robot"
+        ),
     )
 
 
