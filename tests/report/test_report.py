@@ -113,17 +113,23 @@ def test_mask_hides_collision_and_recommended_mask(tmp_path: Path) -> None:
 
 
 def test_a_robot_with_spheres_on_fewer_than_two_frames_is_said_to_be_unchecked() -> None:
-    """An XRDF converted with --allow-missing-meshes from a URDF away from its meshes has no
-    spheres at all: the report found nothing because it checked nothing, and says so."""
+    """An XRDF converted with --allow-missing-meshes from a URDF away from its meshes has
+    spheres on one frame, or none at all: the report found nothing because it checked
+    nothing, and says so (a warning for one frame, an error for none)."""
     one_frame = THREE_LINK_XRDF[: THREE_LINK_XRDF.index("      link1:")]
     none = one_frame[: one_frame.index("    spheres:")] + "    spheres: {}\n"
-    for text in (one_frame, none):
+    for text, rule, severity in (
+        (one_frame, "report-nothing-checked", "WARNING"),
+        (none, "report-no-spheres", "ERROR"),
+    ):
         xrdf = parse_xrdf(text, "x.xrdf")
         r = self_collision_report(load_urdf(THREE_LINK), xrdf, samples=100, seed=1)
         assert len(r.pairs) == 0
-        found = [d for d in r.diagnostics if d.rule == "report-nothing-checked"]
-        assert len(found) == 1 and found[0].severity.name == "WARNING"
-        assert found[0].key_path == "self_collision.geometry" and found[0].line == 11
+        said = {d.rule for d in r.diagnostics} & {"report-nothing-checked", "report-no-spheres"}
+        assert said == {rule}
+        (found,) = [d for d in r.diagnostics if d.rule == rule]
+        assert found.severity.name == severity
+        assert found.key_path == "self_collision.geometry" and found.line == 11
     r = self_collision_report(load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF), samples=100)
     assert "report-nothing-checked" not in {d.rule for d in r.diagnostics}
 

@@ -144,6 +144,8 @@ def convert_robot(
         x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
         if fitted:
             diags = [d for d in diags if d.rule != "convert-no-spheres"]
+        else:  # "add spheres (--fit-spheres ...)" would send the user round in a circle
+            diags = [_fitted_none(d) if d.rule == "convert-no-spheres" else d for d in diags]
         diags = [*diags, *more]
         mask = mask or MaskOptions()
     unfitted = [d for d in diags if d.rule == RULE_UNFITTED]
@@ -182,6 +184,21 @@ def _said_by_no_spheres(d: Diagnostic) -> bool:
     if d.rule == "mesh-without-spheres":
         return True
     return d.rule == "empty-collision-group" and d.severity is not Severity.ERROR
+
+
+def _fitted_none(no_spheres: Diagnostic) -> Diagnostic:
+    """``convert-no-spheres`` after a fit that fitted nothing: no mesh could be read (every
+    one missing, allowed by --allow-missing-meshes) or no link has collision geometry."""
+    from dataclasses import replace
+
+    return replace(
+        no_spheres,
+        message=(
+            "NO COLLISION SPHERES: --fit-spheres fitted none (no link has collision geometry "
+            "it could read; spheres-mesh-unreadable says why): the XRDF has an empty geometry "
+            "group, so cuRobo/cuMotion will not check collisions for this robot"
+        ),
+    )
 
 
 def _check_kinematics(robot: Robot, x: Xrdf) -> None:

@@ -168,6 +168,16 @@ def to_curobo(
         kin["link_names"] = tools
 
     kin.update(_collision_keys(x, note))
+    if not kin["collision_spheres"]:
+        where = "collision.geometry" if x.world_collision is not None else "geometry"
+        line, col = x.source.position(where)
+        message = (
+            "no collision sphere to export: cuRobo checks no collision for this robot (fit "
+            "them: xrdf convert --fit-spheres)"
+        )
+        diags.append(
+            Diagnostic(path, line, col, "export-no-spheres", Severity.WARNING, message, where)
+        )
 
     extra: dict[str, Any] = {}
     for m in x.added_frames():

@@ -54,6 +54,7 @@ from .verdicts import (
     classify_pair,
     never_upper_bound,
     pair_findings,
+    unchecked_finding,
 )
 
 if TYPE_CHECKING:
@@ -168,6 +169,8 @@ def self_collision_report(
     if certify is not None:
         stats = _certify(engine, stats, w_of, cspace, certify, certify_progress)
     diags.extend(pair_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
+    if (unchecked := unchecked_finding(xrdf, spheres_all.n_spheres, len(stats))) is not None:
+        diags.append(unchecked)
     rec_ignore, change = recommend_ignore(xrdf, kin, spheres_all, stats)
     cov = None
     if coverage:

@@ -67,8 +67,13 @@ RULES: tuple[RuleInfo, ...] = (
     RuleInfo(
         "report-nothing-checked",
         Severity.WARNING,
-        "the self-collision geometry gives no frame pair to check (fewer than two frames "
-        "with spheres)",
+        "the self-collision spheres sit on one frame: no frame pair to check",
+        "report",
+    ),
+    RuleInfo(
+        "report-no-spheres",
+        Severity.ERROR,
+        "the self-collision group holds no sphere: the report checks nothing",
         "report",
     ),
     RuleInfo(
@@ -203,6 +208,30 @@ def _ignore_key_path(sc: SelfCollisionSection | None, a: str, b: str) -> str:
     return "self_collision.ignore"
 
 
+def unchecked_finding(xrdf: Xrdf, n_spheres: int, n_pairs: int) -> Diagnostic | None:
+    """The finding of a report that checked no pair, where "free of self-collision" would say
+    nothing about the robot: an error when there is no sphere at all (an XRDF converted
+    without --fit-spheres, or a group left empty), a warning when spheres sit on one frame
+    only; None when some pair was checked."""
+    if n_pairs and n_spheres:
+        return None
+    sc = xrdf.self_collision
+    where = "self_collision.geometry" if sc is not None else "self_collision"
+    fit = "fit spheres: xrdf convert --fit-spheres, or xrdf spheres"
+    if n_spheres == 0:
+        what = f"self-collision group '{sc.geometry}'" if sc is not None else "XRDF"
+        message = (
+            f"the {what} holds no collision sphere: no pair can collide, so the report checks "
+            f"nothing ({fit})"
+        )
+        return _diag(xrdf, "report-no-spheres", message, where)
+    message = (
+        "no two frames have self-collision spheres, so no pair was checked: this report says "
+        f"nothing about self-collision ({fit})"
+    )
+    return _diag(xrdf, "report-nothing-checked", message, where)
+
+
 def pair_findings(
     xrdf: Xrdf,
     kin: KinematicModel,
@@ -213,17 +242,6 @@ def pair_findings(
 ) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     sc = xrdf.self_collision
-    if not stats:
-        out.append(
-            _diag(
-                xrdf,
-                "report-nothing-checked",
-                "no two frames have self-collision spheres, so no pair was checked: this "
-                "report says nothing about self-collision (fit spheres with xrdf convert "
-                "--fit-spheres or xrdf spheres)",
-                "self_collision.geometry" if sc is not None else "self_collision",
-            )
-        )
     for p in stats:
         pair = f"'{p.frame_a}' and '{p.frame_b}'"
         if not p.masked and p.rate is not None and p.rate > ALWAYS_RATE:

@@ -7,11 +7,13 @@ leaf, leaving out what a motion planner does not plan for:
 * **wheels**: joints named like ``wheel``/``caster``, and continuous joints mounted on the base
   (no movable joint above them) with no movable joint below;
 * **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
-  ``knuckle``/``palm``, every joint that a mimic joint follows (a mimic joint itself is never
-  a c-space joint), and jaws named otherwise: a joint with nothing actuated below that hangs
-  from a link named like a gripper, or two or more such prismatic joints on one link;
+  ``knuckle``/``palm``/``pinky`` (Valkyrie's ``leftPinkyPitch1``), every joint that a mimic
+  joint follows (a mimic joint itself is never a c-space joint), and jaws named otherwise: a
+  joint with nothing actuated below that hangs from a link named like a gripper, or two or
+  more such prismatic joints on one link;
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
-  ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm).
+  ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
+  and so is a pan/tilt unit that carries a tool frame: a wrist).
 
 A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
 Among equally long chains an arm wins over a leg (a humanoid's arm and leg can both have five).
@@ -51,7 +53,20 @@ JointRole = Literal["wheel", "gripper", "head"]
 
 _WHEEL = frozenset({"wheel", "wheels", "caster", "castor", "tire", "tyre"})
 _GRIPPER = frozenset(
-    {"gripper", "grip", "finger", "fingers", "hand", "jaw", "claw", "thumb", "knuckle", "palm"}
+    {
+        "gripper",
+        "grip",
+        "finger",
+        "fingers",
+        "hand",
+        "jaw",
+        "claw",
+        "thumb",
+        "knuckle",
+        "palm",
+        "pinky",
+        "pinkie",
+    }
 )
 _HEAD = frozenset(
     {"head", "neck", "camera", "cam", "eye", "eyes", "laser", "lidar", "xtion", "kinect"}
@@ -99,7 +114,10 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         if not j.is_movable:
             continue
         role = _name_role(name)
-        if role is None and not set(name_words(name)) & _ARM and not _carries_tool(tree, j.child):
+        carries_tool = _carries_tool(tree, j.child)
+        if role == "head" and carries_tool and not set(name_words(name)) & _HEAD:
+            role = None  # a pan/tilt unit with a tool on it is a wrist (Schunk PW70)
+        if role is None and not set(name_words(name)) & _ARM and not carries_tool:
             role = _name_role(j.child)
         coupled = j.is_mimic or name in leaders
         if role is None and coupled and not _coupling_moves_below(tree, name, leaders):
@@ -329,7 +347,12 @@ class DefaultCSpace:
     def describe(self) -> str:
         """One sentence: what was chosen, what was left out, and the flags that change it."""
         if self.chain is None or not self.joints:
-            return "no serial chain of actuated joints found"
+            if not self.left_out:
+                return "no serial chain of actuated joints"
+            out = [
+                f"{len(js)} {role} joint(s) ({_short(js)})" for role, js in self.left_out.items()
+            ]
+            return "no serial chain of actuated joints besides " + ", ".join(out)
         tip = self.tool.frame if self.tool is not None else self.chain.leaf
         text = (
             f"c-space is the longest serial chain of actuated joints from '{self.chain.base}' "

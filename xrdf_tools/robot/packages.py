@@ -4,8 +4,11 @@ Where a package is looked for, in order:
 1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);
    A relative ``DIR`` is taken relative to the current directory (as every command-line
    path is), never to the file that names the package;
-2. the input file's ancestors and their sub-directories (two levels deep): a directory holding
-   a ``package.xml`` whose ``<name>`` is ``pkg``, or, failing that, a directory named ``pkg``.
+2. the input file's folder, then each of its parents (up to six folders), nearest first: in
+   each, a directory at most two levels below holding a ``package.xml`` whose ``<name>`` is
+   ``pkg``, else a sub-directory named ``pkg``, else the folder itself if so named. The
+   nearest folder that has the package wins, so a ``package.xml`` of the same name under a
+   far parent (``/tmp``, a home directory) never shadows the package the robot sits in.
 
 An unresolved package is a :class:`SourceError` naming the package and the directories searched.
 """
@@ -14,7 +17,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from urllib.parse import unquote
@@ -46,26 +49,29 @@ class PackageResolver:
     package_paths: Mapping[str, str | os.PathLike[str]] = field(default_factory=dict)
     max_depth: int = 2
     _cache: dict[str, Path] = field(default_factory=dict, init=False, repr=False)
-    _index: dict[str, Path] | None = field(default=None, init=False, repr=False)
-    _searched: list[Path] = field(default_factory=list, init=False, repr=False)
+    #: The folders scanned so far, nearest first, each with the packages its package.xml
+    #: files below name.
+    _scanned: list[tuple[Path, dict[str, Path]]] = field(
+        default_factory=list, init=False, repr=False
+    )
 
     def _roots(self) -> list[Path]:
         p = self.start.resolve()
         base = p if _is_dir(p) else p.parent
         return [base, *base.parents]
 
-    def _build_index(self) -> dict[str, Path]:
-        index: dict[str, Path] = {}
-        self._searched = []
-        for root in self._roots():
-            self._searched.append(root)
+    def _search_folders(self) -> Iterator[tuple[Path, dict[str, Path]]]:
+        """The folders searched, nearest first, each scanned once on first need (never more
+        than six: the whole file system is not crawled)."""
+        yield from list(self._scanned)
+        for root in self._roots()[len(self._scanned) : _MAX_FOLDERS]:
+            index: dict[str, Path] = {}
             for xml in _package_xmls(root, self.max_depth):
                 name = package_name(xml)
                 if name and name not in index:
                     index[name] = xml.parent
-            if len(self._searched) >= 6:  # do not crawl the whole file system
-                break
-        return index
+            self._scanned.append((root, index))
+            yield root, index
 
     def find_below_roots(self, sub: str) -> Path:
         """``sub`` below the first search directory that holds it: the ``--package-path``
@@ -94,20 +100,17 @@ class PackageResolver:
                 raise SourceError(f"--package-path {name}={d}: {why}")
             self._cache[name] = d
             return d
-        if self._index is None:
-            self._index = self._build_index()
-        found = self._index.get(name)
+        found: Path | None = None
+        for root, index in self._search_folders():
+            found = index.get(name)
+            if found is None and _is_dir(root / name):
+                found = root / name
+            if found is None and root.name == name:
+                found = root
+            if found is not None:
+                break
         if found is None:
-            for root in self._searched:
-                cand = root / name
-                if _is_dir(cand):
-                    found = cand
-                    break
-                if root.name == name:
-                    found = root
-                    break
-        if found is None:
-            searched = ", ".join(str(p) for p in self._searched) or str(self.start)
+            searched = ", ".join(str(p) for p, _ in self._scanned) or str(self.start)
             raise SourceError(
                 f"cannot find ROS package '{name}' (searched for package.xml named '{name}' in "
                 f"and below: {searched}); pass --package-path {name}=DIR"
@@ -131,6 +134,9 @@ class PackageResolver:
             return _relative_to_a_parent(base, p)
         return p
 
+
+#: Folders searched for a package: the input's and its parents (see the module doc).
+_MAX_FOLDERS = 6
 
 #: Directories above the URDF's that a relative mesh path is also looked for in.
 _PARENT_LEVELS = 4

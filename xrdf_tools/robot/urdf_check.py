@@ -15,7 +15,13 @@ from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError, did_you_mean, shown_text
 from ..util.numbers import MAX_NUMBER, bound_reason
 
-__all__ = ["JOINT_TYPES", "URDF_GEOMETRIES", "XACRO_NS", "check_urdf_tree"]
+__all__ = [
+    "JOINT_TYPES",
+    "RULE_PREFIX_UNDECLARED",
+    "URDF_GEOMETRIES",
+    "XACRO_NS",
+    "check_urdf_tree",
+]
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 XACRO_NS = "http://www.ros.org/wiki/xacro"
@@ -43,6 +49,7 @@ Fail = Callable[[str, Any], UrdfError]
 
 RULE_COLOR_IGNORED = "urdf-color-ignored"
 RULE_UNBOUNDED_LIMIT = "urdf-limit-unbounded"
+RULE_PREFIX_UNDECLARED = "urdf-prefix-undeclared"
 
 
 class _ColorIgnored(UrdfError):

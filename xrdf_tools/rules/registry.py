@@ -71,6 +71,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-dropped-joint", W, "A default position of a joint that is not actuated."),
         ("export-dropped-key", W, "Top-level keys that have no cuRobo equivalent."),
         ("export-expanded-urdf", I, "A xacro --urdf: the expanded URDF written beside the YAML."),
+        ("export-no-spheres", W, "No collision sphere to export: cuRobo checks no collision."),
     ),
     "export srdf": (
         ("export-srdf-added", I, "Pairs added to the SRDF, with their reasons."),
@@ -83,6 +84,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("urdf-limit-unbounded", W, "A limit beyond ±1e12 (no limit): dropped; turns freely."),
         ("xacro-package-unused", W, "A package not found, named only in <gazebo>, <ros2_control>."),
         ("xacro-warning", W, "A warning of xacro's while expanding (an include body it ignores)."),
+        ("urdf-prefix-undeclared", W, "A namespace prefix without xmlns: read past, as ROS does."),
     ),
     "kinematics (lint, report, viz)": (
         ("joint-held-fixed", W, "A joint that cannot move is held at its default."),

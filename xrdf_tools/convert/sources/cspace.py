@@ -147,7 +147,7 @@ def apply_default_cspace(
     if not choice.joints:
         rep.report(
             "convert-chosen-group",
-            "no planning group given and no serial chain of actuated joints in the URDF "
+            f"no planning group given and {choice.describe()} in the URDF "
             "(--joints, --chain or --srdf choose one)",
         )
         return None

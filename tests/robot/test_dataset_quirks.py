@@ -1,0 +1,265 @@
+"""URDFs as robot collections ship them: each quirk a real description has, reproduced in a
+minimal robot, and read as ROS reads it (a located warning) or refused with a located error."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from xrdf_tools.cli import app
+from xrdf_tools.xrdf.io import load_xrdf
+
+ARM = """<robot name="r">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="arm"{attr}><collision><geometry><box size=".05 .05 .3"/></geometry></collision></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+{extra}</robot>
+"""
+
+
+def _run(runner: CliRunner, *args: str | Path) -> tuple[int, str]:
+    r = runner.invoke(app, [str(a) for a in args])
+    return r.exit_code, r.output
+
+
+def test_an_undeclared_namespace_prefix_in_a_gazebo_block_is_a_located_warning(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # robot-assets' fetch.urdf: <sensor:camera> in a <gazebo> block, no xmlns:sensor
+    urdf = tmp_path / "r.urdf"
+    gazebo = (
+        '<gazebo reference="arm">\n'
+        '  <sensor:camera name="rgb"><hfov>50</hfov></sensor:camera>\n</gazebo>\n'
+    )
+    urdf.write_text(ARM.format(attr=' gazebo:tag="x"', extra=gazebo))
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "-o", out)
+    assert code == 0, text
+    warnings = [line for line in text.splitlines() if "urdf-prefix-undeclared" in line]
+    assert [w.split(": warning")[0].rsplit(":", 1)[0] for w in warnings] == [
+        f"{urdf}:3",
+        f"{urdf}:8",
+    ]
+    assert "Namespace prefix sensor on camera is not defined (no xmlns:sensor)" in warnings[1]
+    assert "Namespace prefix gazebo for tag on link is not defined" in warnings[0]
+    cspace = load_xrdf(out).cspace
+    assert cspace is not None and cspace.joint_names == ("j",)
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 0, text
+    assert "c-space #1" in text
+
+
+def test_an_undeclared_prefix_next_to_a_real_xml_error_still_fails_at_the_error(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra="<gazebo><sensor:camera></gazebo>\n"))
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 2, text
+    assert f"{urdf}:7:33: malformed XML: Opening and ending tag mismatch" in text
+    assert "Traceback" not in text
+
+
+def test_an_undeclared_xacro_prefix_is_an_error_saying_what_to_declare(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra='<xacro:property name="p" value="1"/>\n'))
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 2, text
+    assert f"{urdf}:7:" in text
+    assert 'must declare xmlns:xacro="http://www.ros.org/wiki/xacro"' in text
+
+
+def _joint(name: str, parent: str, child: str, kind: str = "revolute") -> str:
+    limit = '<limit lower="-1" upper="1" velocity="1" effort="1"/>' if kind != "fixed" else ""
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<axis xyz="0 0 1"/>{limit}</joint>'
+    )
+
+
+def _tree(tmp_path: Path, links: list[str], joints: list[str]) -> Path:
+    body = "".join(f'<link name="{lk}"/>' for lk in links)
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(f'<robot name="r">{body}{"".join(joints)}</robot>')
+    return urdf
+
+
+def test_a_pan_tilt_unit_that_carries_a_tool_is_a_wrist_and_a_camera_one_a_head(
+    tmp_path: Path,
+) -> None:
+    # Schunk's PW70 powerball wrist: pw70_pan_joint, pw70_tilt_joint, then pw70_tool_link
+    from xrdf_tools.robot.chains import default_cspace, joint_roles
+    from xrdf_tools.robot.core import as_robot
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    links = ["world", "pw70_link", "pw70_pan_link", "pw70_tilt_link", "pw70_tool_link"]
+    wrist = [
+        _joint("pw70_joint", "world", "pw70_link", "fixed"),
+        _joint("pw70_pan_joint", "pw70_link", "pw70_pan_link"),
+        _joint("pw70_tilt_joint", "pw70_pan_link", "pw70_tilt_link"),
+        _joint("pw70_tool_joint", "pw70_tilt_link", "pw70_tool_link", "fixed"),
+    ]
+    robot = as_robot(load_urdf(_tree(tmp_path, links, wrist)))
+    assert joint_roles(robot.tree) == {}
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("pw70_pan_joint", "pw70_tilt_joint")
+    assert choice.tool is not None and choice.tool.frame == "pw70_tool_link"
+    # the same unit carrying a camera frame is a head; so is a head_pan joint with a tool
+    links = ["base", "pan", "tilt", "camera_link", "tool_link"]
+    head = [
+        _joint("ptu_pan", "base", "pan"),
+        _joint("ptu_tilt", "pan", "tilt"),
+        _joint("cam", "tilt", "camera_link", "fixed"),
+        _joint("head_pan", "base", "tool_link"),
+    ]
+    robot = as_robot(load_urdf(_tree(tmp_path, links, head)))
+    assert joint_roles(robot.tree) == {"ptu_pan": "head", "ptu_tilt": "head", "head_pan": "head"}
+
+
+def test_an_empty_default_cspace_says_which_joints_it_left_out(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # a differential-drive base: two wheels and nothing to plan
+    links = ["base_link", "wheel_left_link", "wheel_right_link"]
+    joints = [
+        _joint("wheel_left_joint", "base_link", "wheel_left_link", "continuous"),
+        _joint("wheel_right_joint", "base_link", "wheel_right_link", "continuous"),
+    ]
+    urdf = _tree(tmp_path, links, joints)
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 0, text
+    assert (
+        "no serial chain of actuated joints besides 2 wheel joint(s) (wheel_left_joint, "
+        "wheel_right_joint) in the URDF (--joints, --chain or --srdf choose one)"
+    ) in text
+
+
+def test_a_package_the_robot_sits_in_wins_over_a_same_named_one_under_a_far_parent(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # MATLAB's franka_description/robots/frankaEmikaPanda.urdf names package://franka_description
+    # meshes; another franka_description with a package.xml two levels below /tmp took its place
+    mesh = "package://franka_description/meshes/link.stl"
+    arm = ARM.replace('<box size=".05 .05 .3"/>', f'<mesh filename="{mesh}"/>')
+    robot = tmp_path / "data" / "models" / "franka_description"
+    (robot / "robots").mkdir(parents=True)
+    (robot / "meshes").mkdir()
+    urdf = robot / "robots" / "r.urdf"
+    urdf.write_text(arm.format(attr="", extra=""))
+    _box_stl(robot / "meshes" / "link.stl")
+    decoy = tmp_path / "elsewhere" / "franka_description"
+    decoy.mkdir(parents=True)
+    (decoy / "package.xml").write_text("<package><name>franka_description</name></package>")
+
+    from xrdf_tools.robot.packages import PackageResolver
+
+    assert PackageResolver(urdf).find("franka_description") == robot.resolve()
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "50", "-o", out)
+    assert code == 0, text
+    geometry = load_xrdf(out).geometry
+    assert geometry is not None and any("arm" in g.spheres for g in geometry.values())
+    # a package.xml nearer than the folder named like the package still wins
+    named = robot / "robots" / "vendor"
+    named.mkdir()
+    (named / "package.xml").write_text("<package><name>franka_description</name></package>")
+    assert PackageResolver(urdf).find("franka_description") == named.resolve()
+
+
+def _box_stl(path: Path) -> None:
+    import trimesh
+
+    trimesh.creation.box((0.05, 0.05, 0.3)).export(path)
+
+
+def test_a_report_over_an_xrdf_without_spheres_is_a_finding_not_a_clean_bill(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # an XRDF converted without --fit-spheres: the report said
+    # "findings: none" and exited 0 over zero spheres
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra=""))
+    xrdf = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "-o", xrdf)
+    assert code == 0, text
+    line = next(
+        i + 1 for i, t in enumerate(xrdf.read_text().splitlines()) if t.startswith("self_collision")
+    )
+    code, text = _run(runner, "report", xrdf, "--urdf", urdf, "-n", "50", "-j", "1")
+    assert code == 1, text
+    assert f"{xrdf}:{line + 1}:13: error report-no-spheres the self-collision group" in text
+    code, text = _run(runner, "report", xrdf, "--urdf", urdf, "-n", "50", "--format", "json")
+    assert code == 1 and '"report-no-spheres"' in text
+
+
+def test_a_curobo_export_without_spheres_warns_at_the_collision_group(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra=""))
+    xrdf = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "-o", xrdf)
+    assert code == 0, text
+    line = xrdf.read_text().splitlines().index("collision:") + 2
+    code, text = _run(runner, "export", "curobo", xrdf, "--urdf", urdf, "-o", tmp_path / "r.yml")
+    assert code == 0, text
+    assert f"{xrdf}:{line}:13: warning export-no-spheres no collision sphere to export" in text
+    # with spheres there is nothing to say
+    fitted = tmp_path / "fitted.xrdf"
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "50", "-o", fitted)
+    assert code == 0, text
+    code, text = _run(runner, "export", "curobo", fitted, "--urdf", urdf, "-o", tmp_path / "f.yml")
+    assert code == 0 and "export-no-spheres" not in text, text
+
+
+def test_a_pinky_is_a_finger_so_a_humanoid_arm_ends_at_its_palm(tmp_path: Path) -> None:
+    # Valkyrie: leftIndexFingerPitch1..3 are fingers by name, leftPinkyPitch1..3 were not, and
+    # the default c-space ran down the pinky (13 joints, tool frame 'leftPinkyPitch3Link')
+    from xrdf_tools.robot.chains import default_cspace
+    from xrdf_tools.robot.core import as_robot
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    links = ["pelvis", "upper", "lower", "leftPalm", "i1", "i2", "p1", "p2", "p3"]
+    joints = [
+        _joint("leftShoulderPitch", "pelvis", "upper"),
+        _joint("leftElbowPitch", "upper", "lower"),
+        _joint("leftWristPitch", "lower", "leftPalm"),
+        _joint("leftIndexFingerPitch1", "leftPalm", "i1"),
+        _joint("leftIndexFingerPitch2", "i1", "i2"),
+        _joint("leftPinkyPitch1", "leftPalm", "p1"),
+        _joint("leftPinkyPitch2", "p1", "p2"),
+        _joint("leftPinkyPitch3", "p2", "p3"),
+    ]
+    robot = as_robot(load_urdf(_tree(tmp_path, links, joints)))
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("leftShoulderPitch", "leftElbowPitch", "leftWristPitch")
+    assert choice.tool is not None and choice.tool.frame == "leftPalm"
+    assert choice.left_out["gripper"][-3:] == (
+        "leftPinkyPitch1",
+        "leftPinkyPitch2",
+        "leftPinkyPitch3",
+    )
+
+
+def test_a_fit_that_fits_nothing_does_not_tell_the_user_to_fit_spheres(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # MATLAB's kinovaGen3.urdf names package://JACO3_URDF_V10 meshes that are not there
+    mesh = '<mesh filename="package://JACO3_URDF_V10/meshes/Base_Link.STL"/>'
+    text = ARM.format(attr="", extra="")
+    text = text.replace('<box size=".05 .05 .3"/>', mesh).replace('<box size="0.2 0.2 0.1"/>', mesh)
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(text)
+    out = tmp_path / "r.xrdf"
+    args = ("convert", urdf, "--fit-spheres", "--allow-missing-meshes", "-n", "50", "-o", out)
+    code, text = _run(runner, *args)
+    assert code == 0, text
+    (line,) = [t for t in text.splitlines() if "convert-no-spheres" in t]
+    assert "--fit-spheres fitted none" in line and "spheres-mesh-unreadable says why" in line
+    assert "Add spheres" not in line
+    assert text.count("spheres-mesh-unreadable") >= 2
