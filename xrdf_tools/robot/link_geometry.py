@@ -255,6 +255,7 @@ def require_meshes(
     full: its URI and the package directories searched, then the other links), unless
     ``allow_missing``; then return the missing meshes (the readers warn for each)."""
     from .core import as_robot
+    from .packages import unfound_packages_note
 
     loaded = as_robot(robot)
     failures = missing_meshes(loaded, source, links=links, package_paths=package_paths)
@@ -269,26 +270,11 @@ def require_meshes(
             f" and {len(others) - _NAMED} more" if len(others) > _NAMED else ""
         )
         message += f"; also meshes of {shown}"
-    message += _other_packages(failures)
+    message += unfound_packages_note((f.uri, f.reason) for f in failures)
     message += "; pass --allow-missing-meshes to go on without them"
     raise MissingMeshError(
         message, failures, path=loaded.path, line=loaded.link_lines.get(first.link)
     )
-
-
-def _other_packages(failures: Sequence[PartFailure]) -> str:
-    """The packages that cannot be found, when the meshes need more than the first one's:
-    each named once with its mesh count (a mobile base with arms and grippers from several
-    packages), so that one run says every --package-path to give."""
-    counts: dict[str, int] = {}
-    for f in failures:
-        if f.uri and f.uri.startswith("package://") and "cannot find ROS package" in f.reason:
-            name = f.uri[len("package://") :].split("/", 1)[0]
-            counts[name] = counts.get(name, 0) + 1
-    if len(counts) < 2:
-        return ""
-    named = ", ".join(f"{name} ({n} mesh(es))" for name, n in counts.items())
-    return f"; packages not found: {named}: pass --package-path NAME=DIR for each"
 
 
 def capsules_as_cylinders(root: Any) -> frozenset[tuple[str, GeometrySource, int]]:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from urllib.parse import unquote
@@ -214,3 +214,18 @@ def parse_package_path(spec: str) -> tuple[str, str]:
     if not sep or not name or not directory:
         raise SourceError(f"--package-path expects NAME=DIR, got '{spec}'")
     return name, directory
+
+
+def unfound_packages_note(failures: Iterable[tuple[str | None, str]]) -> str:
+    """The packages that cannot be found among ``(uri, reason)`` failures, when there are
+    several: each named once with its mesh count (a mobile base with arms and grippers from
+    several packages), so that one run says every --package-path to give; else ""."""
+    counts: dict[str, int] = {}
+    for uri, reason in failures:
+        if uri and uri.startswith("package://") and "cannot find ROS package" in reason:
+            name = uri[len("package://") :].split("/", 1)[0]
+            counts[name] = counts.get(name, 0) + 1
+    if len(counts) < 2:
+        return ""
+    named = ", ".join(f"{name} ({n} mesh(es))" for name, n in counts.items())
+    return f"; packages not found: {named}: pass --package-path NAME=DIR for each"
