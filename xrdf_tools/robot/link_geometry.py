@@ -38,7 +38,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit
 from ..util.numbers import MAX_LENGTH
-from .mesh_files import load_mesh_scene
+from .mesh_files import load_mesh_scene, unreadable
 
 if TYPE_CHECKING:
     import trimesh
@@ -405,12 +405,9 @@ class _MeshReader:
             for p in () if bad else pieces:
                 p.process()
         except Exception as e:  # trimesh raises many exception types for bad files
-            detail = _read_failure(e, path)
-            raise _PartError(
-                f"{uri}: cannot read mesh ({_lfs_or(path, detail)})", uri=uri
-            ) from None
+            raise _PartError(f"{uri}: cannot read mesh ({unreadable(path, e)})", uri=uri) from None
         if not pieces:
-            why = _lfs_or(path, "no triangles in the file")
+            why = unreadable(path, None)
             raise _PartError(f"{uri}: cannot read mesh ({why})", uri=uri)
         if not np.array_equal(factors, np.ones(3)):
             for piece in pieces:  # scene.dump() made copies: scaling them in place is safe
@@ -430,30 +427,6 @@ class _MeshReader:
         if why is not None:
             raise _PartError(f"{uri}: {why}", missing=True, uri=uri)
         return path
-
-
-#: What the mesh readers raise when their own code trips over a malformed file: the message
-#: ("'NoneType' object has no attribute 'nodes'") says nothing about the file.
-_READER_SLIPS = (AttributeError, TypeError, IndexError, KeyError)
-
-
-def _read_failure(e: Exception, path: Path) -> str:
-    """What to say about the mesh file ``path`` that a reader failed on with ``e``."""
-    if isinstance(e, _READER_SLIPS) or not str(e):
-        kind = path.suffix.lstrip(".").upper() or "mesh"
-        return f"a malformed {kind} file, or one of a form the mesh reader does not know"
-    return str(e).splitlines()[0]
-
-
-_LFS_POINTER = b"version https://git-lfs.github.com/spec/"
-
-
-def _lfs_or(path: Path, detail: str) -> str:
-    """``detail``, or what to do when ``path`` is a Git LFS pointer (a clone without git-lfs)."""
-    with open(path, "rb") as f:
-        if f.read(len(_LFS_POINTER)) != _LFS_POINTER:
-            return detail
-    return "a Git LFS pointer, not the mesh: run `git lfs pull` in its repository"
 
 
 def not_a_file(path: Path) -> str | None:

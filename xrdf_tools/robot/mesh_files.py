@@ -18,7 +18,7 @@ from typing import Any
 
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 
-__all__ = ["load_mesh_scene", "without_broken_material_bindings"]
+__all__ = ["load_mesh_scene", "unreadable", "without_broken_material_bindings"]
 
 
 def load_mesh_scene(path: Path) -> Any:
@@ -63,3 +63,25 @@ def without_broken_material_bindings(data: bytes) -> bytes | None:
     from lxml import etree
 
     return bytes(etree.tostring(root, xml_declaration=True, encoding="utf-8"))
+
+
+def unreadable(path: Path, e: Exception | None) -> str:
+    """Why the mesh file ``path`` gave no mesh: the reader's error ``e`` (None: the file read
+    but held no triangles), or a Git LFS pointer in place of the mesh (a clone without
+    git-lfs), with what to do."""
+    with open(path, "rb") as f:
+        if f.read(len(_LFS_POINTER)) == _LFS_POINTER:
+            return "a Git LFS pointer, not the mesh: run `git lfs pull` in its repository"
+    if e is None:
+        return "no triangles in the file"
+    if isinstance(e, _READER_SLIPS) or not str(e):
+        kind = path.suffix.lstrip(".").upper() or "mesh"
+        return f"a malformed {kind} file, or one of a form the mesh reader does not know"
+    return str(e).splitlines()[0]
+
+
+#: What the mesh readers raise when their own code trips over a malformed file: the message
+#: ("'NoneType' object has no attribute 'nodes'") says nothing about the file.
+_READER_SLIPS = (AttributeError, TypeError, IndexError, KeyError)
+
+_LFS_POINTER = b"version https://git-lfs.github.com/spec/"
