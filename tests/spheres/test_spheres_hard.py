@@ -14,9 +14,10 @@ from typer.testing import CliRunner
 from tests.robots import robot_urdf, robots_dir
 from xrdf_tools.cli import app
 from xrdf_tools.spheres import fit_link_spheres, sphere_metrics
+from xrdf_tools.spheres.fit import parse_clip
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.spheres.inside import grid_inside, points_inside
-from xrdf_tools.spheres.robot_fit import fit_robot, parse_clip
+from xrdf_tools.spheres.robot_fit import fit_robot
 from xrdf_tools.util.errors import XrdfToolsError
 
 

@@ -76,7 +76,8 @@ def fit_spheres(
     ``allow_missing_meshes``, a malformed clip plane)."""
     from ..robot.link_geometry import require_meshes
     from ..spheres import ignore_adjacent, merge_spheres
-    from ..spheres.robot_fit import fit_robot, parse_clip
+    from ..spheres.fit import parse_clip
+    from ..spheres.robot_fit import fit_robot
     from .fit_check import unfitted_links
     from .pipeline import geometry_links
 

@@ -29,6 +29,7 @@ product. So the same solid, count and seed give the same spheres in every proces
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -37,6 +38,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..util.arrays import BoolArray, FloatArray
+from ..util.errors import XrdfToolsError
 from ..xrdf.model import Sphere
 from .distance import near_face_distance
 from .metrics import fibonacci_directions, sample_surface, sample_surface_faces, sample_volume
@@ -69,6 +71,26 @@ PROBE_STRIDE = 4
 
 #: A clip plane: unit normal ``n`` and offset ``d``; spheres keep ``n . c - r >= d``.
 Plane = tuple[tuple[float, float, float], float]
+
+
+def parse_clip(text: str) -> tuple[str, Plane]:
+    """``LINK:nx,ny,nz,d`` as ``(link, ((nx, ny, nz) normalised, d scaled alike))``: the
+    spheres of LINK keep ``n . centre - radius >= d`` (link frame, metres)."""
+    link, sep, numbers = text.rpartition(":")
+    parts = numbers.split(",")
+    if not sep or not link or len(parts) != 4:
+        raise XrdfToolsError(f"clip '{text}': expected LINK:nx,ny,nz,d (e.g. base_link:0,0,1,0)")
+    try:
+        values = [float(v) for v in parts]
+    except ValueError:
+        raise XrdfToolsError(f"clip '{text}': nx, ny, nz and d must be numbers") from None
+    norm = math.sqrt(sum(v * v for v in values[:3]))
+    if not all(math.isfinite(v) for v in values) or norm == 0.0:
+        raise XrdfToolsError(f"clip '{text}': the normal must be finite and non-zero")
+    nx, ny, nz = (v / norm for v in values[:3])
+    return link, ((nx, ny, nz), values[3] / norm)
+
+
 #: A link's fitting plan: the cache key of its fit, its protrusion bound, its clip planes and
 #: its seed.
 LinkPlan = tuple[tuple[object, ...], float | None, tuple[Plane, ...], list[int]]

@@ -88,24 +88,6 @@ def solid_key(solid: trimesh.Trimesh) -> str:
     return h.hexdigest()
 
 
-def parse_clip(text: str) -> tuple[str, Plane]:
-    """``LINK:nx,ny,nz,d`` as ``(link, ((nx, ny, nz) normalised, d scaled alike))``: the
-    spheres of LINK keep ``n . centre - radius >= d`` (link frame, metres)."""
-    link, sep, numbers = text.rpartition(":")
-    parts = numbers.split(",")
-    if not sep or not link or len(parts) != 4:
-        raise XrdfToolsError(f"clip '{text}': expected LINK:nx,ny,nz,d (e.g. base_link:0,0,1,0)")
-    try:
-        values = [float(v) for v in parts]
-    except ValueError:
-        raise XrdfToolsError(f"clip '{text}': nx, ny, nz and d must be numbers") from None
-    norm = math.sqrt(sum(v * v for v in values[:3]))
-    if not all(math.isfinite(v) for v in values) or norm == 0.0:
-        raise XrdfToolsError(f"clip '{text}': the normal must be finite and non-zero")
-    nx, ny, nz = (v / norm for v in values[:3])
-    return link, ((nx, ny, nz), values[3] / norm)
-
-
 def check_counts(
     per_link: int | Mapping[str, int] | None, count: int | None, density: float | None
 ) -> None:

@@ -394,7 +394,7 @@ def _split(values: list[str] | None) -> list[str]:
 
 def _clips(values: list[str] | None) -> dict[str, list[Plane]]:
     """``--clip LINK:nx,ny,nz,d`` values by link."""
-    from ...spheres.robot_fit import parse_clip
+    from ...spheres.fit import parse_clip
 
     out: dict[str, list[Plane]] = {}
     for text in values or []:
