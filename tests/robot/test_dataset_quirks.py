@@ -177,16 +177,22 @@ def _box_stl(path: Path) -> None:
     trimesh.creation.box((0.05, 0.05, 0.3)).export(path)
 
 
-def test_a_report_over_an_xrdf_without_spheres_is_a_finding_not_a_clean_bill(
-    runner: CliRunner, tmp_path: Path
-) -> None:
-    # an XRDF converted without --fit-spheres: the report said
-    # "findings: none" and exited 0 over zero spheres
+def _without_spheres(runner: CliRunner, tmp_path: Path) -> tuple[Path, Path]:
+    """A URDF with collision geometry and its XRDF converted without --fit-spheres."""
     urdf = tmp_path / "r.urdf"
     urdf.write_text(ARM.format(attr="", extra=""))
     xrdf = tmp_path / "r.xrdf"
     code, text = _run(runner, "convert", urdf, "-o", xrdf)
     assert code == 0, text
+    return urdf, xrdf
+
+
+def test_a_report_over_an_xrdf_without_spheres_is_a_finding_not_a_clean_bill(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # an XRDF converted without --fit-spheres: the report said
+    # "findings: none" and exited 0 over zero spheres
+    urdf, xrdf = _without_spheres(runner, tmp_path)
     line = next(
         i + 1 for i, t in enumerate(xrdf.read_text().splitlines()) if t.startswith("self_collision")
     )
@@ -200,11 +206,7 @@ def test_a_report_over_an_xrdf_without_spheres_is_a_finding_not_a_clean_bill(
 def test_a_curobo_export_without_spheres_warns_at_the_collision_group(
     runner: CliRunner, tmp_path: Path
 ) -> None:
-    urdf = tmp_path / "r.urdf"
-    urdf.write_text(ARM.format(attr="", extra=""))
-    xrdf = tmp_path / "r.xrdf"
-    code, text = _run(runner, "convert", urdf, "-o", xrdf)
-    assert code == 0, text
+    urdf, xrdf = _without_spheres(runner, tmp_path)
     line = xrdf.read_text().splitlines().index("collision:") + 2
     code, text = _run(runner, "export", "curobo", xrdf, "--urdf", urdf, "-o", tmp_path / "r.yml")
     assert code == 0, text

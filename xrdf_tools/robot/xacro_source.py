@@ -296,15 +296,26 @@ def _bad_macro_call(
     if m is None or macro is None:
         return None
     call = re.compile(rf"<xacro:{re.escape(macro)}\b[^>]*?\s{re.escape(m.group(1))}\s*=")
+    if (hit := _first_match(call, files)) is None:
+        return None
+    path, text, found = hit
+    line, col = line_col(text, found.start())
+    why = f" in a call of macro '{macro}', which has no parameter '{m.group(1)}'"
+    return message + why, path, line, col
+
+
+def _first_match(
+    pattern: re.Pattern[str], files: Sequence[str]
+) -> tuple[str, str, re.Match[str]] | None:
+    """The first of ``files`` (unreadable ones skipped) whose text ``pattern`` matches: its
+    path, its text and the match."""
     for path in dict.fromkeys(files):
         try:
             text = Path(path).read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError):
             continue
-        if (found := call.search(text)) is not None:
-            line, col = line_col(text, found.start())
-            why = f" in a call of macro '{macro}', which has no parameter '{m.group(1)}'"
-            return message + why, path, line, col
+        if (found := pattern.search(text)) is not None:
+            return path, text, found
     return None
 
 
@@ -324,18 +335,14 @@ def _unprefixed_hint(message: str, files: Sequence[str]) -> str:
     if m is None:
         return ""
     tag = re.compile(rf"<property\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"']")
-    for path in dict.fromkeys(files):
-        try:
-            text = Path(path).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError):
-            continue
-        if (found := tag.search(text)) is not None:
-            line, _ = line_col(text, found.start())
-            return (
-                f" ({path}:{line} defines it by <property> without the xacro: prefix, which "
-                "xacro 2 no longer reads: write <xacro:property> there)"
-            )
-    return ""
+    if (hit := _first_match(tag, files)) is None:
+        return ""
+    path, text, found = hit
+    line, _ = line_col(text, found.start())
+    return (
+        f" ({path}:{line} defines it by <property> without the xacro: prefix, which "
+        "xacro 2 no longer reads: write <xacro:property> there)"
+    )
 
 
 #: ``$(arg x)`` of an ``<xacro:arg>`` without a default, not given.
