@@ -5,9 +5,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
+from xrdf_tools.util.errors import SourceError
 from xrdf_tools.xrdf.io import load_xrdf
 
 ARM = """<robot name="r">
@@ -265,3 +267,31 @@ def test_a_fit_that_fits_nothing_does_not_tell_the_user_to_fit_spheres(
     assert "--fit-spheres fitted none" in line and "spheres-mesh-unreadable says why" in line
     assert "Add spheres" not in line
     assert text.count("spheres-mesh-unreadable") >= 2
+
+
+def test_the_package_search_stops_below_the_temporary_and_home_folders(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a UR5e URDF copied to /tmp/x found the ur_description another project had left in
+    # /tmp/outside, without a word; the search now stops below the shared folders
+    import tempfile
+
+    from xrdf_tools.robot.packages import PackageResolver
+
+    shared = tmp_path / "tmp"
+    urdf = shared / "copy" / "ur5e.urdf"
+    urdf.parent.mkdir(parents=True)
+    urdf.write_text("<robot name='r'><link name='a'/></robot>")
+    left = shared / "outside" / "ur_description"
+    left.mkdir(parents=True)
+    (left / "package.xml").write_text("<package><name>ur_description</name></package>")
+    assert PackageResolver(urdf).find("ur_description") == left.resolve()  # an ordinary folder
+    monkeypatch.setattr(tempfile, "tempdir", str(shared))
+    with pytest.raises(SourceError, match="cannot find ROS package 'ur_description'"):
+        PackageResolver(urdf).find("ur_description")
+    # a package beside the input, and the input's own folder when it is the shared one
+    (urdf.parent / "ur_description").mkdir()
+    assert PackageResolver(urdf).find("ur_description") == (urdf.parent / "ur_description")
+    top = shared / "r.urdf"
+    top.write_text("<robot name='r'><link name='a'/></robot>")
+    assert PackageResolver(top).find("ur_description") == left.resolve()

@@ -4,11 +4,13 @@ Where a package is looked for, in order:
 1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);
    A relative ``DIR`` is taken relative to the current directory (as every command-line
    path is), never to the file that names the package;
-2. the input file's folder, then each of its parents (up to six folders), nearest first: in
-   each, a directory at most two levels below holding a ``package.xml`` whose ``<name>`` is
-   ``pkg``, else a sub-directory named ``pkg``, else the folder itself if so named. The
-   nearest folder that has the package wins, so a ``package.xml`` of the same name under a
-   far parent (``/tmp``, a home directory) never shadows the package the robot sits in.
+2. the input file's folder, then each of its parents (up to six folders, and never the home
+   directory, the temporary directory or the file-system root unless the input sits right in
+   it: they hold unrelated projects), nearest first: in each, a directory at most two levels
+   below holding a ``package.xml`` whose ``<name>`` is ``pkg``, else a sub-directory named
+   ``pkg``, else the folder itself if so named. The nearest folder that has the package
+   wins, so a ``package.xml`` of the same name under a far parent never shadows the package
+   the robot sits in.
 
 An unresolved package is a :class:`SourceError` naming the package and the directories searched.
 """
@@ -17,6 +19,7 @@ from __future__ import annotations
 
 import os
 import re
+import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -56,9 +59,16 @@ class PackageResolver:
     )
 
     def _roots(self) -> list[Path]:
+        """The input's folder, then its parents up to (not into) a shared folder."""
         p = self.start.resolve()
         base = p if _is_dir(p) else p.parent
-        return [base, *base.parents]
+        shared = _shared_folders()
+        roots = [base]
+        for parent in base.parents:
+            if parent in shared or parent == parent.parent:
+                break
+            roots.append(parent)
+        return roots
 
     def _search_folders(self) -> Iterator[tuple[Path, dict[str, Path]]]:
         """The folders searched, nearest first, each scanned once on first need (never more
@@ -137,6 +147,18 @@ class PackageResolver:
 
 #: Folders searched for a package: the input's and its parents (see the module doc).
 _MAX_FOLDERS = 6
+
+
+def _shared_folders() -> set[Path]:
+    """Folders that hold unrelated work (the home and temporary directories): a parent search
+    stops below them, so a package left in another project there is never picked up."""
+    out = set()
+    for folder in (Path.home(), Path(tempfile.gettempdir()), Path("/var/tmp")):
+        try:
+            out.add(folder.resolve())
+        except (OSError, RuntimeError):
+            continue
+    return out
 
 #: Directories above the URDF's that a relative mesh path is also looked for in.
 _PARENT_LEVELS = 4
