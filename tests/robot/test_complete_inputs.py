@@ -476,7 +476,7 @@ def test_a_revolute_limit_of_1e16_reads_as_continuous_and_infinity_stays_an_erro
     kin, _ = build_kinematic_model(robot)
     assert kin.lower.tolist() == [-math.pi] and kin.upper.tolist() == [math.pi]
     out = tmp_path / "r.xrdf"
-    code, text = _run(runner, "convert", urdf, "-o", out)
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "50", "-o", out)
     assert code == 0 and "urdf-limit-unbounded" in text, text
     code, text = _run(runner, "report", out, "--urdf", urdf, "-n", "200")
     assert code == 0 and "urdf-limit-unbounded" in text, text
