@@ -160,6 +160,7 @@ def _shared_folders() -> set[Path]:
             continue
     return out
 
+
 #: Directories above the URDF's that a relative mesh path is also looked for in.
 _PARENT_LEVELS = 4
 
