@@ -180,17 +180,32 @@ def test_invalid_mimic_in_urdf_is_a_finding(
     assert r.exit_code == 1 and "urdf-invalid" in r.output and "Traceback" not in r.output
 
 
-def test_lint_urdf_with_inverted_limits_is_an_urdf_invalid_finding(
+def test_lint_urdf_with_inverted_limits_is_an_error_only_in_the_cspace(
     runner: CliRunner, tmp_path: Path
 ) -> None:
+    """A joint whose lower limit is above its upper (a vendor's Pioneer LX ptu_pan) is read
+    with a located warning: no c-space uses it, so nothing needs a position between them. A
+    c-space that holds it is an error at the c-space entry."""
     from tests.paths import FIXTURES
 
     urdf = tmp_path / "inverted.urdf"
     text = (FIXTURES / "urdf" / "three_link_mimic.urdf").read_text()
     urdf.write_text(text.replace('lower="-2.0" upper="2.0"', 'lower="2.0" upper="-2.0"'))
-    xrdf = FIXTURES / "lint" / "urdf-invalid" / "pass.xrdf"
+    xrdf = FIXTURES / "lint" / "urdf-invalid" / "pass.xrdf"  # c-space: joint2, joint3
     r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(urdf)])
-    assert r.exit_code == 1 and "error urdf-invalid" in r.output
-    assert "lower=2.0 is above upper=-2.0" in r.output and "Traceback" not in r.output
+    assert r.exit_code == 0, r.output
+    assert f"{urdf}:50: warning urdf-limit-reversed joint 'joint1' <limit> lower=2.0" in r.output
+    held = tmp_path / "held.xrdf"
+    held.write_text(xrdf.read_text().replace("[joint2, joint3]", "[joint1, joint3]"))
+    r = runner.invoke(app, ["lint", str(held), "--urdf", str(urdf)])
+    assert r.exit_code == 1 and "Traceback" not in r.output
+    assert (
+        f"{held}:6:17: error cspace-joint c-space joint 'joint1' has its lower limit 2 above "
+        "its upper limit -2 in the URDF: no position fits"
+    ) in r.output, r.output
+    for args in (["report", "-n", "10"], ["viz", "--png", str(tmp_path / "v.png")]):
+        r = runner.invoke(app, [args[0], str(held), "--urdf", str(urdf), *args[1:]])
+        assert r.exit_code == 2, r.output
+        assert f"error: {held}:6:17: inverted.urdf does not match" in r.output
     r = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(tmp_path / "missing.urdf")])
     assert r.exit_code == 2 and "not found" in r.output

@@ -39,10 +39,11 @@ def cspace_joints(kin: KinematicModel, x: Xrdf) -> tuple[str, ...]:
 
 def cspace_indices(kin: KinematicModel, x: Xrdf) -> tuple[tuple[str, ...], npt.NDArray[np.intp]]:
     """:func:`cspace_joints` and their indices in the model's ``q``; an error located at the
-    c-space entry that names no coordinate of the URDF (unknown, fixed, mimic or pruned)."""
+    c-space entry that names no coordinate of the URDF (unknown, fixed, mimic or pruned) or
+    one whose limits no position fits."""
     names = cspace_joints(kin, x)
     for i, name in enumerate(names):
-        why = kin.not_actuated_reason(name)
+        why = kin.cspace_reason(name)
         if why:
             raise _mismatch(
                 x, f"cspace.joint_names[{i}]", kin.source_path, f"c-space joint '{name}' {why}"

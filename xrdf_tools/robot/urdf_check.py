@@ -48,6 +48,7 @@ _OTHER_NUMBERS: tuple[tuple[str, str, tuple[str, ...], int], ...] = (
 Fail = Callable[[str, Any], UrdfError]
 
 RULE_COLOR_IGNORED = "urdf-color-ignored"
+RULE_REVERSED_LIMIT = "urdf-limit-reversed"
 RULE_UNBOUNDED_LIMIT = "urdf-limit-unbounded"
 RULE_PREFIX_UNDECLARED = "urdf-prefix-undeclared"
 
@@ -121,7 +122,7 @@ def check_urdf_tree(
         )
         _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
         jtype = _unless_unbounded(el, name, jtype, path, warnings)
-        _check_limit(el, name, jtype, fail)
+        _check_limit(el, name, jtype, fail, path, warnings)
         mimic = el.find("mimic")
         if mimic is not None:
             if not mimic.get("joint"):
@@ -217,8 +218,13 @@ def _unless_unbounded(
     return "continuous" if jtype == "revolute" else jtype
 
 
-def _check_limit(el: Any, name: str, jtype: str, fail: Fail) -> None:
-    """Limit numbers are finite; a revolute or prismatic joint has ``lower <= upper``."""
+def _check_limit(
+    el: Any, name: str, jtype: str, fail: Fail, path: str, warnings: list[Diagnostic] | None
+) -> None:
+    """Limit numbers are finite; a revolute or prismatic joint has ``lower <= upper``. With
+    ``warnings``, a lower above the upper is a warning there: the robot is read (ROS reads it;
+    a joint no c-space uses never needs a position between them), and a c-space that holds
+    the joint is an error where it names it (:meth:`KinematicModel.cspace_reason`)."""
     limit = el.find("limit")
     what = f"joint '{name}' <limit>"
     ends = ("lower", "upper") if jtype == "prismatic" else ()
@@ -226,8 +232,14 @@ def _check_limit(el: Any, name: str, jtype: str, fail: Fail) -> None:
     if limit is None or jtype not in ("revolute", "prismatic"):
         return
     lower, upper = limit.get("lower"), limit.get("upper")
-    if lower is not None and upper is not None and float(lower) > float(upper):
-        raise fail(f"{what} lower={lower.strip()} is above upper={upper.strip()}", limit)
+    if lower is None or upper is None or float(lower) <= float(upper):
+        return
+    message = f"{what} lower={lower.strip()} is above upper={upper.strip()}"
+    if warnings is None:
+        raise fail(message, limit)
+    line = getattr(limit, "sourceline", None)
+    message += ": no position fits; read as written, an error in a c-space"
+    warnings.append(Diagnostic(path, line, None, RULE_REVERSED_LIMIT, Severity.WARNING, message))
 
 
 def _check_is_tree(

@@ -81,6 +81,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
     ),
     "robot loading (every command reading a URDF)": (
         ("urdf-color-ignored", W, "A material colour that is not 4 numbers: ignored."),
+        (
+            "urdf-limit-reversed",
+            W,
+            "A limit whose lower is above its upper: an error in a c-space.",
+        ),
         ("urdf-limit-unbounded", W, "A limit beyond ±1e12 (no limit): dropped; turns freely."),
         ("xacro-package-unused", W, "A package not found, named only in <gazebo>, <ros2_control>."),
         ("xacro-warning", W, "A warning of xacro's while expanding (an include body it ignores)."),

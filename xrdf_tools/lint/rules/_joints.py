@@ -11,7 +11,8 @@ def joint_problem(ctx: LintContext, joint: str, what: str) -> str | None:
     assert kin is not None and ctx.robot is not None
     fname = ctx.robot.path.replace("\\", "/").rsplit("/", 1)[-1]
     if joint in kin.actuated_joints:
-        return None
+        why = kin.cspace_reason(joint)
+        return f"{what} '{joint}' {why}" if why else None
     if joint in kin.pruned_joints:
         return f"{what} '{joint}' was removed by set_base_frame '{kin.base_frame}'"
     j = kin.joints.get(joint)

@@ -155,6 +155,22 @@ class KinematicModel:
         why = self.not_actuated_reason(name)
         raise UrdfError(f"joint '{name}' {why}", path=self.source_path)
 
+    def cspace_reason(self, name: str) -> str:
+        """Why ``name`` cannot be a c-space joint: :meth:`not_actuated_reason`, or position
+        limits that no position fits (the URDF's lower above its upper, read as written for a
+        joint no c-space uses); empty for a joint that can."""
+        why = self.not_actuated_reason(name)
+        if why:
+            return why
+        i = self._joint_idx[name]
+        lower, upper = float(self.lower[i]), float(self.upper[i])
+        if lower > upper:
+            return (
+                f"has its lower limit {lower:g} above its upper limit {upper:g} in the URDF: "
+                "no position fits"
+            )
+        return ""
+
     def not_actuated_reason(self, name: str) -> str:
         """Why ``name`` is no coordinate of ``q`` ("is a mimic joint (…)", "is not a joint of
         the robot; did you mean …?"); empty for an actuated joint."""
