@@ -358,3 +358,38 @@ def test_overlapping_thin_shells_in_one_file_are_hulled_unioned_and_said_once(
     assert g.solid.volume > max(a.convex_hull.volume, b.convex_hull.volume)
     (note,) = [d for d in diags if d.rule == "spheres-thin-shell"]
     assert "2 thin shells" in note.message and note.line == 3
+
+
+SPHERE_LINK_URDF = """<robot name="r">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="a">
+    <collision><origin xyz="0 0 0.1"/><geometry><sphere radius="0.0796"/></geometry></collision>
+    <collision><origin xyz="0 0.01 0.25"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def test_a_link_made_of_urdf_spheres_keeps_them_exactly(tmp_path: Path) -> None:
+    """Drake's iiwa14_spheres_collision models links as <sphere> elements: the fit had moved
+    them (radius 0.0796 became 0.083, 2 mm off); they are taken as they are, and a link of
+    other shapes beside them is still fitted. A clip plane on the link makes it a fit again."""
+    from xrdf_tools.xrdf.model import Sphere
+
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(SPHERE_LINK_URDF)
+    result = fit_robot(urdf)
+    assert result.spheres["a"] == (
+        Sphere(center=(0.0, 0.0, 0.1), radius=0.0796),
+        Sphere(center=(0.0, 0.01, 0.25), radius=0.05),
+    )
+    assert len(result.spheres["base"]) > 1 and list(result.spheres) == ["base", "a"]
+    said = [d for d in result.diagnostics if d.rule == "spheres-from-urdf"]
+    assert [(d.line, d.message) for d in said] == [
+        (6, "link 'a': its collision geometry is 2 <sphere> element(s), taken as they are")
+    ]
+    clipped = fit_robot(urdf, clips={"a": [parse_clip("a:0,0,1,0.05")[1]]})
+    assert all(s.center[2] - s.radius >= 0.05 - 1e-9 for s in clipped.spheres["a"])

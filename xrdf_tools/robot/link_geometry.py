@@ -94,6 +94,8 @@ class GeometryPart:
     pieces: tuple[trimesh.Trimesh, ...]
     file: str | None = None
     material: Rgba | None = None
+    #: A ``<sphere>``'s radius as the URDF writes it (None for other shapes).
+    radius: float | None = None
 
     @cached_property
     def mesh(self) -> trimesh.Trimesh:
@@ -346,6 +348,7 @@ def _part(
         raise _PartError(_UNSUPPORTED, unsupported=True)
     shape: Shape
     file = None
+    radius: float | None = None
     if geometry.mesh is not None:
         shape = "mesh"
         pieces, file = reader.read(geometry.mesh.filename or "", geometry.mesh.scale)
@@ -353,16 +356,16 @@ def _part(
         shape = "box"
         pieces = (trimesh.creation.box(extents=np.asarray(geometry.box.size, dtype=float)),)
     elif geometry.cylinder is not None:
-        radius, length = float(geometry.cylinder.radius), float(geometry.cylinder.length)
+        across, length = float(geometry.cylinder.radius), float(geometry.cylinder.length)
         if capsule:
             shape = "capsule"
             pieces = (
-                trimesh.creation.capsule(height=length, radius=radius, count=list(CAPSULE_COUNT)),
+                trimesh.creation.capsule(height=length, radius=across, count=list(CAPSULE_COUNT)),
             )
         else:
             shape = "cylinder"
             pieces = (
-                trimesh.creation.cylinder(radius=radius, height=length, sections=CYLINDER_SECTIONS),
+                trimesh.creation.cylinder(radius=across, height=length, sections=CYLINDER_SECTIONS),
             )
     elif geometry.sphere is not None:
         shape = "sphere"
@@ -370,7 +373,7 @@ def _part(
         pieces = (trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=radius),)
     else:  # a yourdfpy object built in code; the robot loader refuses unknown shapes
         raise _PartError(_UNSUPPORTED, unsupported=True)
-    return GeometryPart(link, kind, index, shape, origin, pieces, file, material)
+    return GeometryPart(link, kind, index, shape, origin, pieces, file, material, radius)
 
 
 @dataclass

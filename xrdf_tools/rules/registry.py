@@ -108,6 +108,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("spheres-morphit-failed", W, "A solid MorphIt cannot fit: the link gets no spheres."),
         ("spheres-no-geometry", W, "A link without geometry: no spheres."),
         ("spheres-placeholder", I, "A part under 2 cm across: one sphere."),
+        ("spheres-from-urdf", I, "A link whose geometry is <sphere> elements: taken as they are."),
         ("spheres-shared-mesh", I, "Links with identical geometry: fitted once, same spheres."),
         ("spheres-sheet", I, "A sheet far thinner than the protrusion bound: a few spheres."),
         ("spheres-past-bound", I, "Too few spheres within the default bound: refined past it."),

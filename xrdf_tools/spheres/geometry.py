@@ -31,6 +31,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..robot.link_geometry import GeometryChoice, GeometrySource, LinkParts
 from ..util.errors import UrdfError
+from ..xrdf.model import Sphere
 
 if TYPE_CHECKING:
     import trimesh
@@ -62,7 +63,8 @@ class LinkGeometry:
 
     ``solid`` is a watertight ``trimesh.Trimesh``; ``kind`` says how it was made (the mesh
     itself, a boolean union of several parts, or a convex hull); ``source`` whether it came from
-    collision or visual elements; ``parts`` is the number of URDF geometry elements used.
+    collision or visual elements; ``parts`` is the number of URDF geometry elements used;
+    ``exact`` the spheres the URDF itself gives, when its parts are all spheres.
     """
 
     link: str
@@ -71,6 +73,8 @@ class LinkGeometry:
     source: GeometrySource
     parts: int
     line: int | None = None
+    #: The link's own spheres when every part is a ``<sphere>`` (centre, radius), else ().
+    exact: tuple[Sphere, ...] = ()
 
 
 def is_volume(mesh: trimesh.Trimesh) -> bool:
@@ -402,4 +406,18 @@ def _link_solid(
                 'millimetres needs <mesh scale="0.001 0.001 0.001"> (spheres fitted as it is)',
             )
         )
-    return LinkGeometry(name, solid[0], solid[1], link.source, len(parts), link.line)
+    exact = _sphere_parts(link)
+    return LinkGeometry(name, solid[0], solid[1], link.source, len(parts), link.line, exact)
+
+
+def _sphere_parts(link: LinkParts) -> tuple[Sphere, ...]:
+    """The link's ``<sphere>`` elements as spheres in the link frame, when every part read
+    is one and none failed; else ()."""
+    radii = [part.radius for part in link.parts]
+    if link.failures or any(r is None for r in radii):
+        return ()
+    return tuple(
+        Sphere(center=(float(o[0, 3]), float(o[1, 3]), float(o[2, 3])), radius=float(r))
+        for part, r in zip(link.parts, radii, strict=True)
+        if r is not None and (o := part.origin) is not None
+    )

@@ -55,6 +55,7 @@ RULE_TARGET_MISSED = "spheres-target-missed"
 RULE_PLACEHOLDER = "spheres-placeholder"
 RULE_SHEET = "spheres-sheet"
 RULE_PAST_BOUND = "spheres-past-bound"
+RULE_URDF_SPHERES = "spheres-from-urdf"
 
 #: ``progress(link, i, n)``: called before link ``i`` of ``n`` is fitted.
 Progress = Callable[[str, int, int], None]
@@ -203,7 +204,10 @@ def fit_robot(
         raise XrdfToolsError(
             f"clip plane(s) for link(s) without geometry to fit: {', '.join(stray)}"
         )
+    order = list(geoms)
     plans = _plan(geoms, max_protrusion, clips or {}, seed)
+    exact = {n: geoms[n].exact for n, plan in plans.items() if geoms[n].exact and not plan[2]}
+    plans = {n: plan for n, plan in plans.items() if n not in exact}
     fitters: dict[str, SphereFitter] = {}
     sheets: dict[str, SheetPlan] = {}
     seconds: dict[str, float] = {}
@@ -251,7 +255,18 @@ def fit_robot(
             )
         seconds[name] += time.perf_counter() - t0
     _report_shared(plans, first_of, path, geoms, diags)
-    fitted = {n: s for n, s in spheres.items() if s}
+    for name, written in exact.items():  # the URDF's own spheres: nothing to fit
+        spheres[name], seconds[name] = written, 0.0
+        diags.append(
+            _info(
+                path,
+                geoms[name].line,
+                RULE_URDF_SPHERES,
+                f"link '{name}': its {geoms[name].source} geometry is {len(written)} <sphere> "
+                "element(s), taken as they are",
+            )
+        )
+    fitted = {n: spheres[n] for n in order if spheres.get(n)}
     return FitResult(
         fitted,
         {n: seconds[n] for n in fitted},
