@@ -250,6 +250,31 @@ def test_a_pinky_is_a_finger_so_a_humanoid_arm_ends_at_its_palm(tmp_path: Path) 
     )
 
 
+def test_wheels_and_hands_written_as_one_word_are_left_out(tmp_path: Path) -> None:
+    # Quanser QCar's 'wheelfl', Eve's 'qbhand': a wheel or a hand inside one word was not
+    # recognised, so a default c-space could run down them
+    from xrdf_tools.robot.chains import default_cspace, joint_roles
+    from xrdf_tools.robot.core import as_robot
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    links = ["base", "upper", "lower", "tool0", "h1", "h2", "w1", "w2"]
+    joints = [
+        _joint("shoulder", "base", "upper"),
+        _joint("elbow", "upper", "lower"),
+        _joint("wrist", "lower", "tool0"),
+        _joint("qbhand_synergy", "tool0", "h1"),
+        _joint("lefthand_close", "h1", "h2"),
+        _joint("steer_wheelfl", "base", "w1"),
+        _joint("frontwheel_spin", "w1", "w2"),
+    ]
+    robot = as_robot(load_urdf(_tree(tmp_path, links, joints)))
+    roles = joint_roles(robot.tree)
+    assert roles["qbhand_synergy"] == roles["lefthand_close"] == "gripper"
+    assert roles["steer_wheelfl"] == roles["frontwheel_spin"] == "wheel"
+    assert "shoulder" not in roles and "elbow" not in roles
+    assert default_cspace(robot.tree).joints == ("shoulder", "elbow", "wrist")
+
+
 def test_a_fit_that_fits_nothing_does_not_tell_the_user_to_fit_spheres(
     runner: CliRunner, tmp_path: Path
 ) -> None:

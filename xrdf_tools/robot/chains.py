@@ -18,7 +18,9 @@ leaf, leaving out what a motion planner does not plan for:
 A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
 Among equally long chains an arm wins over a leg (a humanoid's arm and leg can both have five).
 Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
-``behead`` is not. The tool frame (:func:`guess_tool_frame`) is a link below the last c-space joint
+``behead`` is not; a word that begins or ends with a wheel word, or ends with ``hand``,
+``gripper`` or ``finger``, counts too (``wheelfl``, ``qbhand``). The tool frame
+(:func:`guess_tool_frame`) is a link below the last c-space joint
 reached through fixed joints only, preferring ``tool0``, then ``tcp``, ``tool``, ``ee``/``eef``/
 ``end_effector``, ``flange``, ``grasp`` names, then a frame without collision geometry at the end
 of a fixed branch, then the link where a single chain of fixed joints ends.
@@ -95,11 +97,19 @@ def name_words(name: str) -> tuple[str, ...]:
     return tuple(w.lower() for w in re.split(r"[^A-Za-z]+", spaced) if w)
 
 
+#: Words that name a wheel or a hand inside a compound written as one word (``wheelfl``,
+#: ``qbhand``, ``lefthand``): a word beginning or ending with a wheel word, ending with these.
+_WHEEL_AFFIXES = ("wheel", "caster", "castor")
+_GRIPPER_ENDINGS = ("hand", "gripper", "finger", "fingers")
+
+
 def _name_role(name: str) -> JointRole | None:
     words = set(name_words(name))
-    if words & _WHEEL:
+    if words & _WHEEL or any(
+        w.startswith(_WHEEL_AFFIXES) or w.endswith(_WHEEL_AFFIXES) for w in words
+    ):
         return "wheel"
-    if words & _GRIPPER:
+    if words & _GRIPPER or any(w.endswith(_GRIPPER_ENDINGS) for w in words):
         return "gripper"
     if words & _HEAD or (words & _PAN_TILT and not words & _ARM):
         return "head"
