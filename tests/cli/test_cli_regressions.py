@@ -86,3 +86,41 @@ def test_fuzz_case_9969_nan_default_position_in_viz_mcap(runner: CliRunner, tmp_
     )
     assert code == 2 and "is nan; numbers must be finite" in out
     assert not (tmp_path / "o.mcap").exists()
+
+
+@pytest.mark.parametrize("value", ["9" * 400, "1e300", "-1e13"])
+def test_fuzz_seed_641_case_227_a_joint_limit_no_float_holds(
+    runner: CliRunner, tmp_path: Path, value: str
+) -> None:
+    """A max_acceleration of 400 digits (an int no float holds: OverflowError) or beyond
+    ±1e12 is dropped with a located warning; the other joints' limits are kept."""
+    from tests.paths import FIXTURES
+
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        f"  shoulder_pan_joint: {{has_acceleration_limits: true, max_acceleration: {value}}}\n"
+        "  shoulder_lift_joint: {has_acceleration_limits: true, max_acceleration: 5.0}\n"
+    )
+    out = tmp_path / "o.xrdf"
+    code, text = run_cli(
+        runner,
+        "convert",
+        str(UR10E_URDF),
+        "--srdf",
+        str(FIXTURES / "fuzz" / "ur10e.srdf"),
+        "--joint-limits",
+        str(limits),
+        "-o",
+        str(out),
+    )
+    assert code == 0, text
+    assert f"{limits}:2:" in text and "'shoulder_pan_joint' max_acceleration is" in text, text
+    assert "numbers must be finite and within ±1e+12; dropped" in text
+    assert "Traceback" not in text
+    from xrdf_tools.xrdf.io import load_xrdf
+
+    cspace = load_xrdf(out).cspace
+    assert cspace is not None
+    accel = dict(zip(cspace.joint_names, cspace.acceleration_limits, strict=True))
+    assert accel["shoulder_lift_joint"] == 5.0 and accel["shoulder_pan_joint"] != float(value)

@@ -19,6 +19,7 @@ from collections.abc import Mapping
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError
+from ...util.numbers import bound_problem
 from ...yaml.io import YamlDocument, YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 
@@ -71,6 +72,13 @@ def read_joint_limits(
             if has is False or (has is None and raw <= 0):
                 continue
             if raw == 0:
+                continue
+            if (problem := bound_problem(raw)) is not None:
+                rep.report(
+                    "convert-dropped-key",
+                    f"'{jname}' max_{kind} {problem}; dropped",
+                    f"{kp}.max_{kind}",
+                )
                 continue
             if raw < 0:
                 rep.report(
