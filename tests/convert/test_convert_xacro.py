@@ -255,6 +255,7 @@ def test_a_package_named_only_in_gazebo_or_ros2_control_is_a_warning(
         ('<link name="base_link"/>', '<link base_link="base_link"/>', 21),  # a nameless link
         ('name="upper"', 'name=""', 22),  # an empty name: xacro drops the attribute
         ('<robot name="arm"', '<robot label="arm"', 3),  # a nameless robot
+        ('<link name="${name}">', '<link label="${name}">', 7),  # a macro's nameless link
     ],
 )
 def test_errors_about_macro_made_parts_are_located_in_the_xacro(

@@ -400,6 +400,8 @@ def _relocate_expansion(root: Any, source: str) -> None:
         if first is not None:  # its name, or what it has in place of one
             key, value = ("name", el.get("name")) if el.get("name") else first
             found = [source.find(f"<{el.tag} {key}={q}{value}{q}") for q in "\"'"]
+            if key != "name" and not any(i >= 0 for i in found):  # a macro wrote the value
+                found = [source.find(f"<{el.tag} {key}=")]
             line = _line_of(source, min((i for i in found if i >= 0), default=-1)) or 0
         for node in el.iter():
             node.sourceline = line
