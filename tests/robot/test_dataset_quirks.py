@@ -9,6 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
+from xrdf_tools.robot.tree import RobotTree
 from xrdf_tools.util.errors import SourceError
 from xrdf_tools.xrdf.io import load_xrdf
 
@@ -91,13 +92,19 @@ def _tree(tmp_path: Path, links: list[str], joints: list[str]) -> Path:
     return urdf
 
 
+def _robot_tree(tmp_path: Path, links: list[str], joints: list[str]) -> RobotTree:
+    """The tree of the robot :func:`_tree` writes, as the default c-space reads it."""
+    from xrdf_tools.robot.core import as_robot
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    return as_robot(load_urdf(_tree(tmp_path, links, joints))).tree
+
+
 def test_a_pan_tilt_unit_that_carries_a_tool_is_a_wrist_and_a_camera_one_a_head(
     tmp_path: Path,
 ) -> None:
     # Schunk's PW70 powerball wrist: pw70_pan_joint, pw70_tilt_joint, then pw70_tool_link
     from xrdf_tools.robot.chains import default_cspace, joint_roles
-    from xrdf_tools.robot.core import as_robot
-    from xrdf_tools.robot.urdf_source import load_urdf
 
     links = ["world", "pw70_link", "pw70_pan_link", "pw70_tilt_link", "pw70_tool_link"]
     wrist = [
@@ -106,9 +113,9 @@ def test_a_pan_tilt_unit_that_carries_a_tool_is_a_wrist_and_a_camera_one_a_head(
         _joint("pw70_tilt_joint", "pw70_pan_link", "pw70_tilt_link"),
         _joint("pw70_tool_joint", "pw70_tilt_link", "pw70_tool_link", "fixed"),
     ]
-    robot = as_robot(load_urdf(_tree(tmp_path, links, wrist)))
-    assert joint_roles(robot.tree) == {}
-    choice = default_cspace(robot.tree)
+    tree = _robot_tree(tmp_path, links, wrist)
+    assert joint_roles(tree) == {}
+    choice = default_cspace(tree)
     assert choice.joints == ("pw70_pan_joint", "pw70_tilt_joint")
     assert choice.tool is not None and choice.tool.frame == "pw70_tool_link"
     # the same unit carrying a camera frame is a head; so is a head_pan joint with a tool
@@ -119,8 +126,8 @@ def test_a_pan_tilt_unit_that_carries_a_tool_is_a_wrist_and_a_camera_one_a_head(
         _joint("cam", "tilt", "camera_link", "fixed"),
         _joint("head_pan", "base", "tool_link"),
     ]
-    robot = as_robot(load_urdf(_tree(tmp_path, links, head)))
-    assert joint_roles(robot.tree) == {"ptu_pan": "head", "ptu_tilt": "head", "head_pan": "head"}
+    tree = _robot_tree(tmp_path, links, head)
+    assert joint_roles(tree) == {"ptu_pan": "head", "ptu_tilt": "head", "head_pan": "head"}
 
 
 def test_an_empty_default_cspace_says_which_joints_it_left_out(
@@ -225,8 +232,6 @@ def test_a_pinky_is_a_finger_so_a_humanoid_arm_ends_at_its_palm(tmp_path: Path) 
     # Valkyrie: leftIndexFingerPitch1..3 are fingers by name, leftPinkyPitch1..3 were not, and
     # the default c-space ran down the pinky (13 joints, tool frame 'leftPinkyPitch3Link')
     from xrdf_tools.robot.chains import default_cspace
-    from xrdf_tools.robot.core import as_robot
-    from xrdf_tools.robot.urdf_source import load_urdf
 
     links = ["pelvis", "upper", "lower", "leftPalm", "i1", "i2", "p1", "p2", "p3"]
     joints = [
@@ -239,8 +244,8 @@ def test_a_pinky_is_a_finger_so_a_humanoid_arm_ends_at_its_palm(tmp_path: Path) 
         _joint("leftPinkyPitch2", "p1", "p2"),
         _joint("leftPinkyPitch3", "p2", "p3"),
     ]
-    robot = as_robot(load_urdf(_tree(tmp_path, links, joints)))
-    choice = default_cspace(robot.tree)
+    tree = _robot_tree(tmp_path, links, joints)
+    choice = default_cspace(tree)
     assert choice.joints == ("leftShoulderPitch", "leftElbowPitch", "leftWristPitch")
     assert choice.tool is not None and choice.tool.frame == "leftPalm"
     assert choice.left_out["gripper"][-3:] == (
@@ -254,8 +259,6 @@ def test_wheels_and_hands_written_as_one_word_are_left_out(tmp_path: Path) -> No
     # Quanser QCar's 'wheelfl', Eve's 'qbhand': a wheel or a hand inside one word was not
     # recognised, so a default c-space could run down them
     from xrdf_tools.robot.chains import default_cspace, joint_roles
-    from xrdf_tools.robot.core import as_robot
-    from xrdf_tools.robot.urdf_source import load_urdf
 
     links = ["base", "upper", "lower", "tool0", "h1", "h2", "w1", "w2"]
     joints = [
@@ -267,12 +270,12 @@ def test_wheels_and_hands_written_as_one_word_are_left_out(tmp_path: Path) -> No
         _joint("steer_wheelfl", "base", "w1"),
         _joint("frontwheel_spin", "w1", "w2"),
     ]
-    robot = as_robot(load_urdf(_tree(tmp_path, links, joints)))
-    roles = joint_roles(robot.tree)
+    tree = _robot_tree(tmp_path, links, joints)
+    roles = joint_roles(tree)
     assert roles["qbhand_synergy"] == roles["lefthand_close"] == "gripper"
     assert roles["steer_wheelfl"] == roles["frontwheel_spin"] == "wheel"
     assert "shoulder" not in roles and "elbow" not in roles
-    assert default_cspace(robot.tree).joints == ("shoulder", "elbow", "wrist")
+    assert default_cspace(tree).joints == ("shoulder", "elbow", "wrist")
 
 
 def test_a_fit_that_fits_nothing_does_not_tell_the_user_to_fit_spheres(

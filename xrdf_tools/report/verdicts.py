@@ -213,7 +213,7 @@ def unchecked_finding(xrdf: Xrdf, n_spheres: int, n_pairs: int) -> Diagnostic | 
     nothing about the robot: an error when there is no sphere at all (an XRDF converted
     without --fit-spheres, or a group left empty), a warning when spheres sit on one frame
     only; None when some pair was checked."""
-    if n_pairs and n_spheres:
+    if n_pairs:
         return None
     sc = xrdf.self_collision
     where = "self_collision.geometry" if sc is not None else "self_collision"

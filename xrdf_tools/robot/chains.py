@@ -88,6 +88,8 @@ _TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
     ("a flange", frozenset({"flange"})),
     ("a grasp", frozenset({"grasp", "grasping"})),
 )
+#: Words of a frame a tool is mounted at (a grasp frame may sit between fingers).
+_TOOL_WORDS = frozenset().union(*(names for rank, names in _TOOL_RANKS if rank != "a grasp"))
 _SENSOR = _HEAD | {"optical", "depth", "rgb", "imu", "sensor", "accelerometer", "range", "sonar"}
 
 
@@ -175,8 +177,7 @@ def _carries_tool(tree: RobotTree, link: str) -> bool:
     """Whether a TCP, tool, end-effector or flange frame is ``link`` or below it: the joint
     into ``link`` is then a wrist joint, whatever ``link`` is called (a wrist into 'hand'
     with 'tool0' on it), as fingers carry no tool frame."""
-    words = frozenset().union(*(names for rank, names in _TOOL_RANKS if rank != "a grasp"))
-    return any(set(name_words(n)) & words for n in (link, *tree.descendants(link)))
+    return any(set(name_words(n)) & _TOOL_WORDS for n in (link, *tree.descendants(link)))
 
 
 def _coupling_moves_below(tree: RobotTree, joint: str, leaders: Collection[str]) -> bool:

@@ -32,7 +32,6 @@ from .packages import PackageResolver, absolute
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
-    from ..diagnostics import Diagnostic
     from .core import Robot
 
 __all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg", "uses_xacro"]
@@ -224,17 +223,16 @@ def _late_default_hint(message: str, path: str, line: int | None) -> str:
     m = _UNDEFINED_ARG.search(message)
     if m is None or line is None:
         return ""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return ""
     tag = re.compile(rf"<xacro:arg\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"'][^>]*default=")
-    found = tag.search(text)
-    if found is None or line_col(text, found.start())[0] <= line:
+    if (hit := _first_match(tag, [path])) is None:
+        return ""
+    _, text, found = hit
+    declared, _ = line_col(text, found.start())
+    if declared <= line:
         return ""
     return (
-        f"; line {line_col(text, found.start())[0]} declares a default for it, but xacro "
-        "evaluates it here before reading that declaration"
+        f"; line {declared} declares a default for it, but xacro evaluates it here before "
+        "reading that declaration"
     )
 
 

@@ -411,13 +411,12 @@ def _link_solid(
 
 
 def _sphere_parts(link: LinkParts) -> tuple[Sphere, ...]:
-    """The link's ``<sphere>`` elements as spheres in the link frame, when every part read
-    is one and none failed; else ()."""
-    radii = [part.radius for part in link.parts]
-    if link.failures or any(r is None for r in radii):
-        return ()
-    return tuple(
-        Sphere(center=(float(o[0, 3]), float(o[1, 3]), float(o[2, 3])), radius=float(r))
-        for part, r in zip(link.parts, radii, strict=True)
-        if r is not None and (o := part.origin) is not None
-    )
+    """The link's ``<sphere>`` elements as spheres in the link frame, when every part read is
+    one of positive radius and none failed; else () (a zero-size one is a placeholder)."""
+    out = []
+    for part in link.parts:
+        if part.radius is None or part.radius <= 0.0:
+            return ()
+        x, y, z = (float(v) for v in part.origin[:3, 3])
+        out.append(Sphere(center=(x, y, z), radius=part.radius))
+    return () if link.failures else tuple(out)

@@ -79,7 +79,7 @@ def read_srdf(
             "used for this conversion, so it is ignored",
             line=broken.line,
         )
-    for looped, (cycle,) in unused_cycles(srdf, groups):
+    for looped, cycle in unused_cycles(srdf, groups):
         rep.report(
             RULE_UNUSED_GROUP,
             f"group '{looped.name}' includes itself through its subgroups ({cycle}); it is not "

@@ -121,7 +121,7 @@ def check_groups(
     return [(g, p) for g, p in broken if g.name not in members]
 
 
-def unused_cycles(srdf: Srdf, used: Iterable[str]) -> list[tuple[SrdfGroup, list[str]]]:
+def unused_cycles(srdf: Srdf, used: Iterable[str]) -> list[tuple[SrdfGroup, str]]:
     """The groups not among ``used`` (and their subgroups) that include themselves through
     their subgroups, each with its cycle (``a -> b -> a``), for the caller to warn about. A
     used group on a cycle is an error when it is expanded (:func:`group_joints`)."""
@@ -136,7 +136,7 @@ def unused_cycles(srdf: Srdf, used: Iterable[str]) -> list[tuple[SrdfGroup, list
     for name, g in groups.items():
         if name in cyclic and name not in members:
             _, cycle = reachable(name, subs)
-            out.append((g, [show_path(cycle or [name, name])]))
+            out.append((g, show_path(cycle or [name, name])))
     return out
 
 
