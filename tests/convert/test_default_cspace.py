@@ -379,3 +379,47 @@ def test_a_humanoids_arm_wins_over_its_equally_long_leg(tmp_path: Path) -> None:
     assert choice.joints == arm  # not the leg, which comes first in the tree
     assert choice.tool is not None and choice.tool.frame == "left_wrist_link"
     assert [c.cspace for c, _ in choice.ties] == [tuple(f"{n}_joint" for n in limbs["left_leg"])]
+
+
+@pytest.mark.parametrize("name", sorted(REAL))
+def test_what_lies_below_each_link_matches_a_walk_per_link(name: str) -> None:
+    """The one-walk facts behind the joint roles against walking the tree from every link."""
+    from xrdf_tools.robot.chains import _TOOL_WORDS, _Subtrees
+
+    tree = _robot(name).tree
+    leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint is not None}
+    facts = _Subtrees(tree, leaders)
+    for link in tree.links:
+        below = tree.descendants(link)
+        into = [tree.joints[tree.parent_joint[n]] for n in below]
+        above = [
+            tree.joints[tree.parent_joint[n]]
+            for n in [link, *tree.ancestors(link)]
+            if n in tree.parent_joint
+        ]
+        tool = any(set(name_words(n)) & _TOOL_WORDS for n in (link, *below))
+        assert facts.tool[link] == tool, link
+        assert facts.free[link] == any(j.is_actuated and j.name not in leaders for j in into)
+        assert facts.movable[link] == any(j.is_movable for j in into), link
+        assert facts.movable_above[link] == any(j.is_movable for j in above), link
+
+
+def test_a_chain_of_thousands_of_joints_gets_short_messages(tmp_path: Path) -> None:
+    """A long serial chain (a generated snake robot) is picked whole, and each message names a
+    few joints and counts the rest instead of listing thousands."""
+    n = 2000
+    parts = ['<robot name="snake">']
+    parts += [f'<link name="l{i}"/>' for i in range(n + 1)]
+    parts += [
+        f'<joint name="j{i}" type="revolute"><parent link="l{i}"/><child link="l{i + 1}"/>'
+        '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        for i in range(n)
+    ]
+    urdf = tmp_path / "snake.urdf"
+    urdf.write_text("\n".join([*parts, "</robot>"]))
+    x, diagnostics = convert(load_urdf(urdf), ConvertOptions())
+    assert x.cspace is not None
+    assert len(x.cspace.joint_names) == n
+    messages = [d.message for d in diagnostics]
+    assert any(f"and {n - 12} more" in m for m in messages)
+    assert max(len(m) for m in messages) < 600

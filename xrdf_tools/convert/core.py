@@ -18,6 +18,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..robot.core import as_robot
 from ..util.errors import SourceError, did_you_mean
 from ..util.frozen import FrozenMap
+from ..util.text import name_list
 from ..xrdf.model import (
     AddFrame,
     CollisionSection,
@@ -217,7 +218,7 @@ def _limits(
         unit = "rad/s²" if kind == "acceleration" else "rad/s³"
         rep.report(
             f"convert-default-{kind}",
-            f"no {kind} limit in the inputs for {', '.join(missing)}: using {origin} "
+            f"no {kind} limit in the inputs for {name_list(missing, 12)}: using {origin} "
             f"{value:g} {unit}" + ("" if cli is not None else f" (set --{kind})"),
             severity=sev,
         )
@@ -243,8 +244,8 @@ def _default_positions(
     if missing:
         rep.report(
             "convert-default-positions",
-            f"no default position in the inputs for {', '.join(missing)}: using 0 (or the middle "
-            "of the limits when 0 is outside them)",
+            f"no default position in the inputs for {name_list(missing, 12)}: using 0 (or the "
+            "middle of the limits when 0 is outside them)",
         )
     for j, v in list(defaults.items()):
         defaults[j] = _clamped(tree, j, v, rep)
@@ -333,7 +334,7 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
         if len(tree.roots) > 1:
             raise SourceError(
                 f"the URDF is not one tree: {len(tree.roots)} links have no parent joint "
-                f"({', '.join(tree.roots[:5])}); a cuRobo config's base_link chooses the part "
+                f"({name_list(tree.roots, 5)}); a cuRobo config's base_link chooses the part "
                 "to use",
                 path=tree.path,
             )
@@ -342,7 +343,7 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
     reach = {base, *based.descendants(base)}
     lost = [link for link in tree.links if link not in reach]
     if len(tree.roots) > 1 and lost:
-        shown = ", ".join(lost[:8]) + (f" and {len(lost) - 8} more" if len(lost) > 8 else "")
+        shown = name_list(lost)
         rep.report(
             "convert-unreachable-links",
             f"the URDF is not one tree: {len(lost)} link(s) cannot be reached from the base "
@@ -359,7 +360,7 @@ def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
     if lost:
         raise SourceError(
             f"frames used by the XRDF cannot be reached from the base '{tree.root}': "
-            f"{', '.join(lost[:8])}",
+            f"{name_list(lost)}",
             path=tree.path,
         )
 

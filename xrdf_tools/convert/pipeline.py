@@ -33,6 +33,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot, as_robot
 from ..robot.link_geometry import require_meshes
 from ..util.frozen import FrozenMap
+from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
 from .fit_check import RULE_UNFITTED, unfitted_links
 
@@ -310,7 +311,7 @@ def _nothing_to_fit(path: str, source: GeometryChoice, visual_only: Sequence[str
     from ..util.errors import XrdfToolsError
 
     if visual_only:
-        shown = ", ".join(visual_only[:8]) + (" …" if len(visual_only) > 8 else "")
+        shown = name_list(visual_only)
         raise XrdfToolsError(
             f"--fit-spheres: no link has {source} geometry to fit spheres to; "
             f"{len(visual_only)} link(s) have visual geometry only ({shown}): --from visual "
@@ -340,7 +341,7 @@ def fit_summary(
     if kept:
         msg += f"; {kept} link(s) kept the spheres of the inputs"
     if source == "collision" and visual_only:
-        shown = ", ".join(visual_only[:8]) + (" …" if len(visual_only) > 8 else "")
+        shown = name_list(visual_only)
         msg += (
             f"; {len(visual_only)} link(s) with visual geometry only get none ({shown}); "
             "--from visual fits them too"

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, Severity
+from ..util.text import name_list
 from ..xrdf.readers import parse_target
 
 if TYPE_CHECKING:
@@ -52,10 +53,10 @@ def order_for_target(
         return names
     rep.report(
         RULE_ORDER,
-        f"--target {chosen.id}: c-space put in the URDF's joint order ({', '.join(urdf_order)}) "
-        f"instead of {', '.join(names)}: {chosen.label} fills default positions in URDF order "
-        "and would scramble them otherwise; default positions (SRDF states) are kept by joint "
-        "name",
+        f"--target {chosen.id}: c-space put in the URDF's joint order "
+        f"({name_list(urdf_order, 12)}) instead of {name_list(names, 12)}: {chosen.label} "
+        "fills default positions in URDF order and would scramble them otherwise; default "
+        "positions (SRDF states) are kept by joint name",
         "cspace.joint_names",
     )
     return urdf_order

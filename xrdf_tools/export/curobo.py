@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 from ..diagnostics import Diagnostic, Severity
 from ..robot.tree import RobotTree
 from ..util.errors import ConversionError
+from ..util.text import name_list
 from ..xrdf.io import format_float, format_str
 from ..xrdf.model import RemoveMimicAttributes, Xrdf
 from .srdf import to_srdf
@@ -191,7 +192,7 @@ def to_curobo(
         }
     kin["extra_links"] = extra or None
     if x.extra:
-        note("export-dropped-key", f"top-level keys {', '.join(x.extra)} are not exported")
+        note("export-dropped-key", f"top-level keys {name_list(x.extra)} are not exported")
 
     cs = x.cspace
     defaults = dict(x.default_joint_positions or {})
@@ -203,7 +204,7 @@ def to_curobo(
     if missing:
         note(
             "export-default-positions",
-            f"no default position for {', '.join(missing)}: cuRobo needs one, 0.0 written",
+            f"no default position for {name_list(missing, 12)}: cuRobo needs one, 0.0 written",
         )
     kin["lock_joints"] = locks or None
     names = [*cs.joint_names, *locks]

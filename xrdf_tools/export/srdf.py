@@ -32,6 +32,7 @@ from typing import Any
 from ..diagnostics import Diagnostic, Severity
 from ..robot.tree import RobotTree
 from ..util.errors import ConversionError, SourceError
+from ..util.text import name_list
 from ..xrdf.model import Xrdf
 from .srdf_xml import XmlDocument, insert_after, last_child, remove_element
 
@@ -221,8 +222,7 @@ def _diag(path: str, line: int | None, rule: str, sev: Severity, msg: str) -> Di
 
 
 def _names(names: list[str], limit: int = 8) -> str:
-    shown = ", ".join(repr(n) for n in names[:limit])
-    return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
+    return name_list((repr(n) for n in names), limit)
 
 
 def _ordered_pairs(x: Xrdf) -> list[tuple[str, str]]:

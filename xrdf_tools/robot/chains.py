@@ -34,8 +34,11 @@ from __future__ import annotations
 import re
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Literal
 
+from ..util.graph import postorder
+from ..util.text import name_list
 from .tree import RobotTree
 
 __all__ = [
@@ -93,6 +96,7 @@ _TOOL_WORDS = frozenset().union(*(names for rank, names in _TOOL_RANKS if rank !
 _SENSOR = _HEAD | {"optical", "depth", "rgb", "imu", "sensor", "accelerometer", "range", "sonar"}
 
 
+@lru_cache(maxsize=65536)
 def name_words(name: str) -> tuple[str, ...]:
     """Lower-case words of a link or joint name: split at non-letters and camelCase humps."""
     spaced = re.sub(r"([a-z])([A-Z])", r"\1 \2", name)
@@ -121,44 +125,80 @@ def _name_role(name: str) -> JointRole | None:
 def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
     """The movable joints a default c-space leaves out, with the reason (see module doc)."""
     leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint is not None}
+    below = _Subtrees(tree, leaders)
     roles: dict[str, JointRole] = {}
     for name, j in tree.joints.items():
         if not j.is_movable:
             continue
         role = _name_role(name)
-        carries_tool = _carries_tool(tree, j.child)
+        carries_tool = below.tool[j.child]
         if role == "head" and carries_tool and not set(name_words(name)) & _HEAD:
             role = None  # a pan/tilt unit with a tool on it is a wrist (Schunk PW70)
         if role is None and not set(name_words(name)) & _ARM and not carries_tool:
             role = _name_role(j.child)
         coupled = j.is_mimic or name in leaders
-        if role is None and coupled and not _coupling_moves_below(tree, name, leaders):
+        if role is None and coupled and not _coupling_moves_below(tree, below, name):
             role = "gripper"
-        if role is None and not set(name_words(name)) & _ARM and _is_jaw(tree, name, leaders):
+        if role is None and not set(name_words(name)) & _ARM and _is_jaw(tree, below, name):
             role = "gripper"
-        if role is None and j.type == "continuous" and _is_base_wheel(tree, name):
+        if role is None and j.type == "continuous" and below.is_base_wheel(j.parent, j.child):
             role = "wheel"
         if role is not None:
             roles[name] = role
     return roles
 
 
-def _moves_below(tree: RobotTree, link: str, leaders: Collection[str]) -> bool:
-    """Whether an actuated joint that no mimic joint follows (not in ``leaders``) lies below
-    ``link``."""
-    return any(
-        tree.is_actuated(tree.parent_joint[n]) and tree.parent_joint[n] not in leaders
-        for n in tree.descendants(link)
-    )
+class _Subtrees:
+    """What lies above and below each link, found in one walk of the tree (a walk per joint
+    would cost a long chain its length squared).
+
+    ``tool``: a TCP, tool, end-effector or flange frame is the link or below it (the joint
+    into the link is then a wrist joint, whatever the link is called, as fingers carry no
+    tool frame). ``free``: an actuated joint that no mimic joint follows lies below the link.
+    ``movable``: a movable joint lies below it; ``movable_above``: one lies above it.
+    """
+
+    def __init__(self, tree: RobotTree, leaders: Collection[str]) -> None:
+        def kids(link: str) -> list[str]:
+            return [tree.joints[jn].child for jn in tree.child_joints.get(link, ())]
+
+        order = postorder(tree.links, kids)
+        self.tool: dict[str, bool] = {}
+        self.free: dict[str, bool] = {}
+        self.movable: dict[str, bool] = {}
+        for link in order:
+            joints = [tree.joints[jn] for jn in tree.child_joints.get(link, ())]
+            self.tool[link] = bool(set(name_words(link)) & _TOOL_WORDS) or any(
+                self.tool.get(k.child, False) for k in joints
+            )
+            self.free[link] = any(
+                (k.is_actuated and k.name not in leaders) or self.free.get(k.child, False)
+                for k in joints
+            )
+            self.movable[link] = any(
+                k.is_movable or self.movable.get(k.child, False) for k in joints
+            )
+        self.movable_above: dict[str, bool] = {}
+        for link in reversed(order):
+            jn = tree.parent_joint.get(link)
+            up = tree.joints[jn] if jn is not None else None
+            self.movable_above[link] = up is not None and (
+                up.is_movable or self.movable_above.get(up.parent, False)
+            )
+
+    def is_base_wheel(self, parent: str, child: str) -> bool:
+        """A joint from ``parent`` to ``child`` on the base (nothing movable above) with
+        nothing movable below."""
+        return not self.movable_above[parent] and not self.movable[child]
 
 
-def _is_jaw(tree: RobotTree, joint: str, leaders: Collection[str]) -> bool:
+def _is_jaw(tree: RobotTree, below: _Subtrees, joint: str) -> bool:
     """A gripper's jaw whose own names say nothing: a joint with nothing actuated and no tool
     frame below it that hangs from a link named like a gripper (the AgileX Piper's 'joint7'
     on 'gripper_base'), or one of two or more such prismatic joints on one link (the jaws of
     a parallel gripper)."""
     j = tree.joints[joint]
-    if _moves_below(tree, j.child, leaders) or _carries_tool(tree, j.child):
+    if below.free[j.child] or below.tool[j.child]:
         return False
     if _name_role(j.parent) == "gripper":
         return True
@@ -167,37 +207,19 @@ def _is_jaw(tree: RobotTree, joint: str, leaders: Collection[str]) -> bool:
     jaws = [
         s
         for s in tree.child_joints.get(j.parent, ())
-        if tree.joints[s].type == "prismatic"
-        and not _moves_below(tree, tree.joints[s].child, leaders)
+        if tree.joints[s].type == "prismatic" and not below.free[tree.joints[s].child]
     ]
     return len(jaws) >= 2
 
 
-def _carries_tool(tree: RobotTree, link: str) -> bool:
-    """Whether a TCP, tool, end-effector or flange frame is ``link`` or below it: the joint
-    into ``link`` is then a wrist joint, whatever ``link`` is called (a wrist into 'hand'
-    with 'tool0' on it), as fingers carry no tool frame."""
-    return any(set(name_words(n)) & _TOOL_WORDS for n in (link, *tree.descendants(link)))
-
-
-def _coupling_moves_below(tree: RobotTree, joint: str, leaders: Collection[str]) -> bool:
+def _coupling_moves_below(tree: RobotTree, below: _Subtrees, joint: str) -> bool:
     """Whether an actuated joint that no mimic joint follows lies below ``joint`` or below the
     joint it mimics: a gripper's fingers move nothing else, a torso lift's follower (a mimic
     of a joint that carries the arms) is no gripper."""
     j = tree.joints[joint]
     leader = tree.joints.get(j.mimic_joint) if j.mimic_joint is not None else None
-    below = [j.child] if leader is None else [j.child, leader.child]
-    return any(_moves_below(tree, link, leaders) for link in below)
-
-
-def _is_base_wheel(tree: RobotTree, joint: str) -> bool:
-    """A continuous joint on the base (nothing movable above) with nothing movable below."""
-    j = tree.joints[joint]
-    links = (j.parent, *tree.ancestors(j.parent))
-    above = [tree.parent_joint[n] for n in links if n in tree.parent_joint]
-    if any(tree.joints[a].is_movable for a in above if a in tree.joints):
-        return False
-    return not any(tree.joints[tree.parent_joint[n]].is_movable for n in tree.descendants(j.child))
+    links = [j.child] if leader is None else [j.child, leader.child]
+    return any(below.free[link] for link in links)
 
 
 @dataclass(frozen=True)
@@ -361,27 +383,26 @@ class DefaultCSpace:
             if not self.left_out:
                 return "no serial chain of actuated joints"
             out = [
-                f"{len(js)} {role} joint(s) ({_short(js)})" for role, js in self.left_out.items()
+                f"{len(js)} {role} joint(s) ({name_list(js, 4)})"
+                for role, js in self.left_out.items()
             ]
             return "no serial chain of actuated joints besides " + ", ".join(out)
         tip = self.tool.frame if self.tool is not None else self.chain.leaf
         text = (
             f"c-space is the longest serial chain of actuated joints from '{self.chain.base}' "
-            f"({len(self.joints)}: {', '.join(self.joints)})"
+            f"({len(self.joints)}: {name_list(self.joints, 12)})"
         )
-        out = [f"{len(js)} {role} joint(s) ({_short(js)})" for role, js in self.left_out.items()]
+        out = [
+            f"{len(js)} {role} joint(s) ({name_list(js, 4)})" for role, js in self.left_out.items()
+        ]
         if out:
             text += "; left out: " + ", ".join(out)
         if self.ties:
             other = "; ".join(
-                f"{_short(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
+                f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
             )
             text += f"; as long: {other}"
         return text + f"; change it with --chain {self.chain.base}:{tip}, --joints or --srdf"
-
-
-def _short(names: Sequence[str], n: int = 4) -> str:
-    return ", ".join(names[:n]) + (f" and {len(names) - n} more" if len(names) > n else "")
 
 
 def default_cspace(

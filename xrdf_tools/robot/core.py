@@ -28,6 +28,7 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
 from ..util.frozen import FrozenMap
+from ..util.text import name_list
 from .tree import RobotTree
 from .urdf_joints import JointInfo, joint_from_xml, joint_info
 
@@ -152,7 +153,7 @@ class Robot:
         roots = [link for link in self.links if link not in children]
         if len(roots) != 1:
             raise UrdfError(
-                f"the URDF must form one tree; root links: {', '.join(roots) or 'none'}",
+                f"the URDF must form one tree; root links: {name_list(roots) or 'none'}",
                 path=self.path,
             )
         return roots[0]

@@ -38,6 +38,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit
 from ..util.numbers import MAX_LENGTH
+from ..util.text import name_list
 from .mesh_files import load_mesh_scene, unreadable
 
 if TYPE_CHECKING:
@@ -268,10 +269,7 @@ def require_meshes(
     message = f"{len(failures)} mesh file(s) cannot be found: link '{first.link}' {first.source}: "
     message += first.reason
     if others:
-        shown = ", ".join(others[:_NAMED]) + (
-            f" and {len(others) - _NAMED} more" if len(others) > _NAMED else ""
-        )
-        message += f"; also meshes of {shown}"
+        message += f"; also meshes of {name_list(others, _NAMED)}"
     message += unfound_packages_note((f.uri, f.reason) for f in failures)
     message += "; pass --allow-missing-meshes to go on without them"
     raise MissingMeshError(

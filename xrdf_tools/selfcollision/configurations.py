@@ -32,6 +32,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import max_input_bytes, read_input_bytes, read_input_text
 from ..util.numbers import bound_problem
+from ..util.text import name_list
 from ..xrdf.model import Xrdf
 from ..yaml.io import YMap, YSeq, parse_yaml, to_python
 
@@ -236,7 +237,7 @@ def _assemble(
             else:
                 raise SourceError(
                     f"configuration {k} has {len(values)} values; expected {len(cspace)} "
-                    f"(c-space: {', '.join(cspace)}) or {kin.n_actuated} (all actuated joints)",
+                    f"(c-space: {name_list(cspace, 12)}) or {kin.n_actuated} (all actuated joints)",
                     path=spath,
                     line=line_of(k),
                 )

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..util.frozen import FrozenMap
+from ..util.text import name_list
 from ..xrdf.model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
 from .metrics import SphereMetrics, sphere_metrics
 from .robot_fit import AUTO_COVERAGE_TARGET, MAX_PER_LINK, link_seed
@@ -141,7 +142,7 @@ class CoverageSummary:
     @property
     def note(self) -> str:
         return (
-            f"not measured (no geometry): {', '.join(self.unmeasured)}" if self.unmeasured else ""
+            f"not measured (no geometry): {name_list(self.unmeasured)}" if self.unmeasured else ""
         )
 
 

@@ -34,6 +34,7 @@ import numpy as np
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
+from ..util.text import name_list
 from ..xrdf.model import Sphere
 from .fewest import AUTO_MAX_PER_LINK, fewest_reaching, past_the_bound
 
@@ -202,7 +203,7 @@ def fit_robot(
     stray = [k for k in clips or {} if k not in geoms]
     if stray:
         raise XrdfToolsError(
-            f"clip plane(s) for link(s) without geometry to fit: {', '.join(stray)}"
+            f"clip plane(s) for link(s) without geometry to fit: {name_list(stray)}"
         )
     order = list(geoms)
     plans = _plan(geoms, max_protrusion, clips or {}, seed)
@@ -495,6 +496,6 @@ def _report_shared(
                 path,
                 geoms[owner].line,
                 RULE_SHARED_MESH,
-                f"links {', '.join(others)} share the geometry of '{owner}': fitted once",
+                f"links {name_list(others)} share the geometry of '{owner}': fitted once",
             )
         )

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 from ...robot.chains import ToolFrameGuess, default_cspace, guess_tool_frame
 from ...util.errors import SourceError, did_you_mean
+from ...util.text import name_list
 from . import Draft, Reporter, RobotTree
 
 if TYPE_CHECKING:
@@ -173,7 +174,7 @@ def guessed_tool_frame(
 
 def _report_tool(rep: Reporter, frame: str, reason: str, candidates: Sequence[str]) -> None:
     others = [c for c in candidates if c != frame]
-    shown = ", ".join(others[:6]) + (" …" if len(others) > 6 else "")
+    shown = name_list(others, 6)
     rep.report(
         "convert-chosen-tool-frame",
         f"no tool frame in the inputs: using '{frame}' ({reason})"

@@ -11,6 +11,7 @@ from typing import Any, TypeGuard
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError
+from ...util.text import name_list
 from ...xrdf.model import Sphere
 from ...yaml.io import is_finite
 from . import Reporter, known_frame
@@ -73,9 +74,7 @@ def read_sphere_map(
         if spheres:
             out.setdefault(link, []).extend(spheres)
     if foreign:
-        shown = ", ".join(foreign[:5]) + (
-            f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
-        )
+        shown = name_list(foreign, 5)
         rep.report(
             "convert-unused-spheres",
             f"spheres on {len(foreign)} link(s) that are neither in the URDF nor in "

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 from ...diagnostics import Severity
 from ...util.errors import did_you_mean
+from ...util.text import name_list
 from ...xrdf.model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .srdf_groups import (
@@ -201,7 +202,7 @@ def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
     rep.report(
         "convert-chosen-group",
         f"planning group '{group}' chosen: {why}"
-        + (f"; others (actuated joints): {', '.join(others)}" if others else "")
+        + (f"; others (actuated joints): {name_list(others)}" if others else "")
         + "; use --group (repeatable for several groups)",
         line=srdf.groups[group].line,
     )

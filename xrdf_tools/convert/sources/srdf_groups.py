@@ -13,6 +13,7 @@ from collections.abc import Iterable
 
 from ...util.errors import SourceError, did_you_mean
 from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
+from ...util.text import name_list
 from . import RobotTree
 from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup
 
@@ -37,7 +38,7 @@ def group_named(srdf: Srdf, name: str) -> SrdfGroup:
     if name not in srdf.groups:
         raise SourceError(
             f"no group '{name}' in the SRDF{did_you_mean(name, srdf.groups)} "
-            f"(groups: {', '.join(srdf.groups) or 'none'})",
+            f"(groups: {name_list(srdf.groups, 12) or 'none'})",
             path=srdf.path,
         )
     return srdf.groups[name]
@@ -70,12 +71,11 @@ def _own_problems(srdf: Srdf, g: SrdfGroup, tree: RobotTree) -> list[str]:
 
 
 def _unknown(what: str, names: list[str], pool: Iterable[str]) -> str:
-    shown = ", ".join(f"'{n}'" for n in names[:6])
-    more = f" and {len(names) - 6} more" if len(names) > 6 else ""
+    shown = name_list((f"'{n}'" for n in names), 6)
     plural = "s" if len(names) > 1 else ""
     hint = did_you_mean(names[0], pool).removeprefix("; ").removesuffix("?")
     hint = f" ({hint} for '{names[0]}'?)" if hint else ""
-    return f"unknown {what}{plural} {shown}{more}{hint}"
+    return f"unknown {what}{plural} {shown}{hint}"
 
 
 def group_problems(srdf: Srdf, tree: RobotTree) -> list[tuple[SrdfGroup, list[str]]]:
@@ -330,7 +330,7 @@ def choose_state(
         names = [s.name for s in srdf.group_states]
         raise SourceError(
             f"no group_state '{requested}'{did_you_mean(requested, names)} "
-            f"(states: {', '.join(names) or 'none'})",
+            f"(states: {name_list(names, 12) or 'none'})",
             path=srdf.path,
         )
     own = [s for s in srdf.group_states if group is not None and s.group == group]

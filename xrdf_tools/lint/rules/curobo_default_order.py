@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
+from ...util.text import name_list
 from ..context import LintContext, Problem, Rule, finite_number
 
 
@@ -29,12 +30,11 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     wrong = [n for n in active if loaded[n] != defaults.get(n, 0.0)]
     if not wrong:
         return
-    shown = ", ".join(f"{n} = {loaded[n]:g} (not {defaults.get(n, 0.0):g})" for n in wrong[:3])
-    more = f" and {len(wrong) - 3} more" if len(wrong) > 3 else ""
+    shown = name_list((f"{n} = {loaded[n]:g} (not {defaults.get(n, 0.0):g})" for n in wrong), 3)
     yield ctx.problem(
         cspace[0][1],
         f"cuRobo fills defaults in URDF joint order, not c-space order: it would load {shown}"
-        f"{more}; order cspace.joint_names as the URDF does ({', '.join(urdf_order)})",
+        f"; order cspace.joint_names as the URDF does ({name_list(urdf_order, 12)})",
         "cspace.joint_names",
     )
 

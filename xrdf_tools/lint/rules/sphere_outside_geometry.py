@@ -44,6 +44,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
+from ...util.text import name_list
 from ...yaml.io import YSeq
 from ..context import LintContext, Problem, Rule, SphereRef, length_number
 
@@ -260,7 +261,7 @@ def _skipped(
         first = next(iter(refs.values()))
         why = cache.get(first.frame)
         reason = why.reason if isinstance(why, Skipped) else ""
-        names = ", ".join(list(refs)[:3]) + (f" and {len(refs) - 3} more" if len(refs) > 3 else "")
+        names = name_list(refs, 3)
         yield ctx.problem(
             first.frame_key,
             f"spheres of {len(refs)} link(s) not checked: {what} in {urdf_name} ({names}; "

@@ -21,6 +21,7 @@ from ...util.arrays import FloatArray
 from ...util.errors import UrdfError, did_you_mean
 from ...util.graph import reachable
 from ...util.rotations import Quat, matrix_from_quat
+from ...util.text import name_list
 from ...xrdf.model import AddFrame, RemoveMimicAttributes, SetBaseFrame, Xrdf
 from ..urdf_source import JointInfo
 
@@ -188,7 +189,7 @@ def remove_mimic_attributes(
     if not j.is_mimic:
         mimics = [n for n, x in edit.joints.items() if x.is_mimic]
         hint = did_you_mean(jn, mimics) or (
-            f" (mimic joints: {', '.join(mimics)})" if mimics else " (it has none)"
+            f" (mimic joints: {name_list(mimics)})" if mimics else " (it has none)"
         )
         raise xerr(
             f"remove_mimic_attributes: joint '{jn}' has no <mimic> in {edit.file_name}{hint}",
