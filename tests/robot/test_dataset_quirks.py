@@ -278,7 +278,7 @@ def test_wheels_and_hands_written_as_one_word_are_left_out(tmp_path: Path) -> No
     assert default_cspace(tree).joints == ("shoulder", "elbow", "wrist")
 
 
-def test_a_fit_that_fits_nothing_does_not_tell_the_user_to_fit_spheres(
+def test_a_fit_that_fits_nothing_fails_and_does_not_tell_the_user_to_fit_spheres(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     # MATLAB's kinovaGen3.urdf names package://JACO3_URDF_V10 meshes that are not there
@@ -290,7 +290,9 @@ def test_a_fit_that_fits_nothing_does_not_tell_the_user_to_fit_spheres(
     out = tmp_path / "r.xrdf"
     args = ("convert", urdf, "--fit-spheres", "--allow-missing-meshes", "-n", "50", "-o", out)
     code, text = _run(runner, *args)
-    assert code == 0, text
+    assert code == 1, text
+    assert not out.exists()
+    assert "fitted no sphere" in text.splitlines()[-1]
     (line,) = [t for t in text.splitlines() if "convert-no-spheres" in t]
     assert "--fit-spheres fitted none" in line and "spheres-mesh-unreadable says why" in line
     assert "Add spheres" not in line

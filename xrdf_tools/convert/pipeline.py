@@ -188,16 +188,18 @@ def _said_by_no_spheres(d: Diagnostic) -> bool:
 
 
 def _fitted_none(no_spheres: Diagnostic) -> Diagnostic:
-    """``convert-no-spheres`` after a fit that fitted nothing: no mesh could be read (every
-    one missing, allowed by --allow-missing-meshes) or no link has collision geometry."""
+    """``convert-no-spheres`` after a fit that fitted nothing, as an error: no mesh could be
+    read (every one missing, allowed by --allow-missing-meshes). Spheres were what the user
+    asked for, so the command fails whatever the target."""
     from dataclasses import replace
 
     return replace(
         no_spheres,
+        severity=Severity.ERROR,
         message=(
             "NO COLLISION SPHERES: --fit-spheres fitted none (no link has collision geometry "
-            "it could read; spheres-mesh-unreadable says why): the XRDF has an empty geometry "
-            "group, so cuRobo/cuMotion will not check collisions for this robot"
+            "it could read; spheres-mesh-unreadable says why): the XRDF would have an empty "
+            "geometry group, so cuRobo/cuMotion would check no collision for this robot"
         ),
     )
 

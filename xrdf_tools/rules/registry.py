@@ -45,7 +45,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-fitted-spheres", I, "--fit-spheres: spheres fitted per link, links left out."),
         ("convert-launch-substitution", I, "$(var NAME) in joint_limits: --xacro-arg or ''."),
         ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
-        ("convert-no-spheres", W, "No collision spheres at all in the inputs."),
+        (
+            "convert-no-spheres",
+            W,
+            "No collision spheres at all in the inputs (an error when --fit-spheres fitted none).",
+        ),
         ("convert-placeholder-spheres", W, "SRDF sphere approximation radii of zero, dropped."),
         ("convert-ros-parameters", I, "joint_limits read from a ROS 2 parameter file."),
         ("convert-srdf-unused-group", W, "An SRDF group the conversion does not use is broken."),

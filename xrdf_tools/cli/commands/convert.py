@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from ...diagnostics import Severity
+from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
 from ...util.numbers import MAX_SAMPLES
 from .plain import (
@@ -319,35 +319,7 @@ def command(
     x, text = result.xrdf, result.text
     diags, lint_diags = list(result.diagnostics), list(result.lint)
     echo_diagnostics([*diags, *lint_diags], fmt)
-    unfitted = [d for d in diags if d.severity is Severity.ERROR]
-    if unfitted:
-        fail(
-            f"{len(unfitted)} link(s) with geometry got no spheres or only some (listed "
-            "above); a planner would not see what is missing. Fix or replace those meshes",
-            EXIT_FINDINGS,
-        )
-    errors = [d for d in lint_diags if d.severity is Severity.ERROR]
-    if errors:
-        bare = sum(1 for d in errors if d.rule == "mesh-without-spheres")
-        remedy = "fix the inputs or pass the missing values on the command line"
-        if bare and not fit_spheres:
-            remedy = (
-                f"{bare} of them are moving links with collision geometry and no spheres "
-                "(--fit-spheres fits spheres to the links the inputs leave without); " + remedy
-            )
-        if any(d.rule == "empty-collision-group" for d in errors):
-            why = (
-                "no link had collision geometry to fit (--allow-missing-meshes leaves out "
-                "the meshes not found; --from visual fits the visual meshes)"
-                if fit_spheres
-                else "--fit-spheres fits them to the links' collision geometry"
-            )
-            remedy = f"the XRDF has no collision spheres at all: {why}; " + remedy
-        fail(
-            f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
-            f"above); {remedy}",
-            EXIT_FINDINGS,
-        )
+    _fail_on_errors(diags, lint_diags, fit_spheres)
     if strict and has_failures(diags, strict=True):
         n = sum(1 for d in diags if d.severity is not Severity.INFO)
         fail(f"--strict: {n} value(s) were guessed or dropped (listed above)", EXIT_FINDINGS)
@@ -418,3 +390,45 @@ def _staged(bar: ProgressUpdate | None) -> Progress | None:
             detail(f"{_STAGES.get(stage, stage)}: {done}/{total}")
 
     return line
+
+
+def _fail_on_errors(
+    diags: list[Diagnostic], lint_diags: list[Diagnostic], fit_spheres: bool
+) -> None:
+    """Exit 1 when the conversion or the lint of its result has an error (nothing written)."""
+    if any(d.rule == "convert-no-spheres" and d.severity is Severity.ERROR for d in diags):
+        fail(
+            "--fit-spheres fitted no sphere: no link has collision geometry it could read "
+            "(listed above); make the meshes reachable (--package-path) or fit the visual "
+            "meshes (--from visual)",
+            EXIT_FINDINGS,
+        )
+    unfitted = [d for d in diags if d.severity is Severity.ERROR]
+    if unfitted:
+        fail(
+            f"{len(unfitted)} link(s) with geometry got no spheres or only some (listed "
+            "above); a planner would not see what is missing. Fix or replace those meshes",
+            EXIT_FINDINGS,
+        )
+    errors = [d for d in lint_diags if d.severity is Severity.ERROR]
+    if errors:
+        bare = sum(1 for d in errors if d.rule == "mesh-without-spheres")
+        remedy = "fix the inputs or pass the missing values on the command line"
+        if bare and not fit_spheres:
+            remedy = (
+                f"{bare} of them are moving links with collision geometry and no spheres "
+                "(--fit-spheres fits spheres to the links the inputs leave without); " + remedy
+            )
+        if any(d.rule == "empty-collision-group" for d in errors):
+            why = (
+                "no link had collision geometry to fit (--allow-missing-meshes leaves out "
+                "the meshes not found; --from visual fits the visual meshes)"
+                if fit_spheres
+                else "--fit-spheres fits them to the links' collision geometry"
+            )
+            remedy = f"the XRDF has no collision spheres at all: {why}; " + remedy
+        fail(
+            f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
+            f"above); {remedy}",
+            EXIT_FINDINGS,
+        )
