@@ -383,3 +383,28 @@ def test_fitting_leaves_out_the_urdf_parts_the_base_does_not_reach(tmp_path: Pat
     assert sorted(result.xrdf.world_collision_spheres()) == ["arm", "base"]
     assert [d for d in result.lint if d.severity is Severity.ERROR] == []
     assert "convert-unreachable-links" in {d.rule for d in result.diagnostics}
+
+
+def test_more_links_with_geometry_than_the_mask_checks_stop_before_the_fit(
+    tmp_path: Path,
+) -> None:
+    """A URDF whose base carries hundreds of small marker links with collision boxes: the
+    mask refuses more than MAX_SPHERE_FRAMES frames, so the command says so before fitting
+    (exit 2, nothing written) instead of after fitting every marker."""
+    from xrdf_tools.selfcollision.collision import MAX_SPHERE_FRAMES
+
+    n = MAX_SPHERE_FRAMES
+    markers = "".join(
+        f'<link name="m{i}"><collision><geometry><box size=".01 .01 .01"/></geometry>'
+        f'</collision></link><joint name="m{i}_fixed" type="fixed"><parent link="base"/>'
+        f'<child link="m{i}"/><origin xyz="{0.3 + 0.01 * i} 0 0"/></joint>'
+        for i in range(n)
+    )
+    urdf = tmp_path / "markers.urdf"
+    urdf.write_text(BOXES.replace("</robot>", markers + "</robot>"))
+    out = tmp_path / "out.xrdf"
+    res = CliRunner().invoke(app, ["convert", str(urdf), "--fit-spheres", "-o", str(out)])
+    assert res.exit_code == 2, res.output
+    line = res.output.strip().splitlines()[-1]
+    assert f"{n + 3:,} links would carry spheres" in line and f"at most {n:,}" in line
+    assert "fitted" not in res.output and not out.exists()

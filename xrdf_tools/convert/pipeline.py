@@ -276,6 +276,7 @@ def fit_missing_spheres(
     todo = [link for link in usable if link not in have]
     if not have and not todo:
         _nothing_to_fit(as_robot(urdf).path, fit.source, visual_only)
+    _check_frame_ceiling(as_robot(urdf).path, len(set(have) | set(todo)))
 
     def step(link: str, i: int, n: int) -> None:
         if progress is not None:
@@ -305,6 +306,22 @@ def fit_missing_spheres(
         robot.path, todo, fitted, diags, allowed_missing=missing, lines=robot.link_lines
     )
     return with_spheres(x, dict(merged)), counts, [*diags, summary, *errors]
+
+
+def _check_frame_ceiling(path: str, frames: int) -> None:
+    """Raise before the fit when more links would carry spheres than the self-collision mask
+    can check (:data:`~xrdf_tools.selfcollision.collision.MAX_SPHERE_FRAMES`): the mask
+    would refuse them only after every link was fitted."""
+    from ..selfcollision.collision import MAX_SPHERE_FRAMES, SphereLimitError
+
+    if frames > MAX_SPHERE_FRAMES:
+        raise SphereLimitError(
+            f"--fit-spheres: {frames:,} links would carry spheres, more than the "
+            f"self-collision mask checks (at most {MAX_SPHERE_FRAMES:,} frames); merge links "
+            "joined by fixed joints, or leave the collision geometry out of links no planner "
+            "needs (markers, sensors)",
+            path=path,
+        )
 
 
 def _nothing_to_fit(path: str, source: GeometryChoice, visual_only: Sequence[str]) -> None:
