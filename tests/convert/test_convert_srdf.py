@@ -631,3 +631,73 @@ def test_default_group_prefers_arms_with_the_most_joints(srdf: str, chosen: str,
     assert msg.startswith(f"planning group '{chosen}' chosen: ") and why in msg
     assert "others (actuated joints): " in msg and "use --group" in msg
     assert x.cspace is not None and len(x.cspace.joint_names) >= 7
+
+
+def _legged_arm(tmp_path: Path, with_arm: bool) -> tuple[RobotTree, str]:
+    """A quadruped (four legs of hip, thigh and calf joints) with or without a six-joint arm
+    whose names say nothing (a Unitree Z1's joint1…joint6), and an SRDF with a group for the
+    legs (12 joints), one per leg and one for the arm."""
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    links, joints, groups = ['<link name="trunk"/>'], [], []
+    for leg in ("lf", "rf", "lh", "rh"):
+        parent = "trunk"
+        for part in ("hip", "thigh", "calf"):
+            links.append(f'<link name="{leg}_{part}"/>')
+            joints.append(
+                f'<joint name="{leg}_{part}_joint" type="revolute"><parent link="{parent}"/>'
+                f'<child link="{leg}_{part}"/><axis xyz="0 1 0"/>{limit}</joint>'
+            )
+            parent = f"{leg}_{part}"
+        groups.append(f'<group name="{leg}_leg"><chain base_link="trunk" tip_link="{parent}"/>')
+        groups[-1] += "</group>"
+    legs = "".join(f"<joint name='{leg}_{p}_joint'/>" for leg in ("lf", "rf", "lh", "rh")
+                   for p in ("hip", "thigh", "calf"))  # fmt: skip
+    groups.insert(0, f'<group name="whole_body">{legs}</group>')
+    if with_arm:
+        parent = "trunk"
+        for i in range(1, 7):
+            links.append(f'<link name="link{i}"/>')
+            joints.append(
+                f'<joint name="joint{i}" type="revolute"><parent link="{parent}"/>'
+                f'<child link="link{i}"/><axis xyz="0 0 1"/>{limit}</joint>'
+            )
+            parent = f"link{i}"
+        groups.append('<group name="arm"><chain base_link="trunk" tip_link="link6"/></group>')
+    urdf = tmp_path / "legged.urdf"
+    urdf.write_text(f'<robot name="legged">{"".join(links + joints)}</robot>')
+    srdf = tmp_path / "legged.srdf"
+    srdf.write_text(f'<robot name="legged">{"".join(groups)}</robot>')
+    return as_robot(load_urdf(urdf)).tree, str(srdf)
+
+
+def test_a_legged_manipulators_arm_wins_over_its_bigger_legs_group(tmp_path: Path) -> None:
+    from xrdf_tools.convert.sources.srdf import choose_group
+
+    tree, path = _legged_arm(tmp_path, with_arm=True)
+    group, why = choose_group(load_srdf(path), tree)
+    assert group == "arm"
+    assert "(6) that are not a leg's" in why
+
+
+def test_a_robot_of_legs_only_still_takes_its_biggest_group(tmp_path: Path) -> None:
+    from xrdf_tools.convert.sources.srdf import choose_group
+
+    tree, path = _legged_arm(tmp_path, with_arm=False)
+    group, why = choose_group(load_srdf(path), tree)
+    assert group == "whole_body"
+    assert "not a leg" not in why
+
+
+def test_example_robot_data_b1_with_z1_plans_the_arm() -> None:
+    root = robots_dir()
+    urdf, srdf = (
+        root / f"b1_description/{d}/b1-z1.{d}" if root else None for d in ("urdf", "srdf")
+    )
+    if urdf is None or srdf is None or not urdf.is_file() or not srdf.is_file():
+        pytest.skip("example-robot-data's b1-z1 is not installed")
+    x, _, _ = convert_files(urdf, ConvertOptions(srdf=srdf))
+    assert x.cspace is not None
+    assert x.cspace.joint_names[:6] == tuple(f"joint{i}" for i in range(1, 7))
+    assert not any("hip" in j or "thigh" in j or "calf" in j for j in x.cspace.joint_names)

@@ -48,6 +48,7 @@ __all__ = [
     "ToolFrameGuess",
     "default_cspace",
     "guess_tool_frame",
+    "is_leg",
     "joint_roles",
     "leaf_chains",
     "name_words",
@@ -438,10 +439,22 @@ def default_cspace(
     return DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties)
 
 
+def _limb_words(tree: RobotTree, joints: Sequence[str]) -> set[str]:
+    """The words of ``joints`` and of the links they move."""
+    words: set[str] = set()
+    for jn in joints:
+        words.update(name_words(jn), name_words(tree.joints[jn].child))
+    return words
+
+
+def is_leg(tree: RobotTree, joints: Sequence[str]) -> bool:
+    """Whether ``joints`` are a leg's (or legs'): named like legs (hip, knee, ankle, foot …)
+    and nothing like an arm. A planner plans arms, not legs."""
+    words = _limb_words(tree, joints)
+    return bool(words & _LEG) and not words & _ARM
+
+
 def _limb_rank(tree: RobotTree, cspace: Sequence[str]) -> tuple[bool, bool]:
     """Sort key of a chain among equally long ones: an arm first, a leg last."""
-    words: set[str] = set()
-    for jn in cspace:
-        words.update(name_words(jn), name_words(tree.joints[jn].child))
-    arm = bool(words & _ARM)
-    return (bool(words & _LEG) and not arm, not arm)
+    arm = bool(_limb_words(tree, cspace) & _ARM)
+    return (is_leg(tree, cspace), not arm)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from ...robot.chains import is_leg
 from ...util.errors import SourceError, did_you_mean
 from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
 from ...util.text import name_list
@@ -285,7 +286,9 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
 
     Candidates are the groups without subgroups that are not an end effector's gripper (all
     groups when none of those has a movable joint); the one with the most actuated joints
-    wins, ties going to the group carrying the earliest end effector, then SRDF order.
+    wins, ties going to the group carrying the earliest end effector, then SRDF order. Legs
+    (:func:`~xrdf_tools.robot.chains.is_leg`) come after every other group: a legged
+    manipulator's arm is what a planner plans, however many joints its legs have.
     """
     order = list(srdf.groups)
     sizes = _cspace_sizes(srdf, tree)
@@ -302,9 +305,12 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
                 return i, ee.name
         return len(srdf.end_effectors), ""
 
-    best = min(cands, key=lambda g: (-sizes[g], ee_rank(g)[0], order.index(g)))
+    legs = {g: is_leg(tree, cspace_of(srdf, g, tree)) for g in cands}
+    best = min(cands, key=lambda g: (legs[g], -sizes[g], ee_rank(g)[0], order.index(g)))
     kind = "group without subgroups" if best in plain else "group"
     why = f"the {kind} with the most actuated joints ({sizes[best]})"
+    if any(legs[g] and sizes[g] > sizes[best] for g in cands):
+        why += " that are not a leg's"
     ee_name = ee_rank(best)[1]
     if ee_name:
         why += f", carrying end effector '{ee_name}'"
