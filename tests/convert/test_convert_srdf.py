@@ -508,6 +508,31 @@ def test_a_link_missing_from_many_disable_collisions_is_reported_once(
     assert d.ignore == {"a": ["b"]}
 
 
+def test_an_srdf_naming_thousands_of_missing_links_says_ten_and_counts_the_rest(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """An SRDF of another robot names 2,000 links this URDF lacks: ten warnings name one each,
+    one more counts the others at the first entry of the eleventh (not 2,000 lines)."""
+    pairs = "".join(
+        f'<disable_collisions link1="a" link2="ghost{i}" reason="Never"/>\n' for i in range(2000)
+    )
+    srdf = _write(
+        tmp_path,
+        '<robot name="t">\n<group name="arm"><chain base_link="base" tip_link="tip"/></group>\n'
+        f'{pairs}<disable_collisions link1="a" link2="b" reason="Adjacent"/>\n</robot>\n',
+    )
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    unknown = [w for w in d.diagnostics if w.rule == "convert-unknown-link"]
+    assert [w.message.split("'")[1] for w in unknown[:10]] == [f"ghost{i}" for i in range(10)]
+    assert len(unknown) == 11
+    assert unknown[-1].line == 3 + 10
+    assert unknown[-1].message.startswith("1,990 more links of disable_collisions entries")
+    assert "ghost10, ghost11, ghost12, ghost13 and 1986 more" in unknown[-1].message
+    assert d.ignore == {"a": ["b"]}
+
+
 def test_virtual_joint_in_a_group_is_known(tree: RobotTree) -> None:
     s = parse_srdf(
         """<robot name="t">

@@ -104,11 +104,16 @@ def read_srdf(
     return d
 
 
+#: Unknown links of disable_collisions entries named one by one; the rest are counted.
+_UNKNOWN_NAMED = 10
+
+
 def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
     """The self-collision mask: disabled pairs of known links, minus re-enabled pairs.
 
     A link the URDF lacks is reported once, at its first entry, with the number of entries
-    that name it (an SRDF written for another base names its links in dozens of pairs)."""
+    that name it (an SRDF written for another base names its links in dozens of pairs); past
+    ten such links, the others are counted in one more warning."""
     unknown: dict[str, list[tuple[str, int | None]]] = {}
     for l1, l2, _reason, line in srdf.disable_collisions:
         for link, key in ((l1, "link1"), (l2, "link2")):
@@ -116,12 +121,22 @@ def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
                 unknown.setdefault(link, []).append((key, line))
         if l1 in tree.links and l2 in tree.links:
             d.add_ignore(l1, l2)
-    for link, uses in unknown.items():
+    named = list(unknown.items())
+    for link, uses in named[:_UNKNOWN_NAMED]:
         key, line = uses[0]
         what = f"disable_collisions {key}"
         if len(uses) > 1:
             what = f"in {len(uses)} disable_collisions entries, first as {key}"
         known_frame(link, tree.links, rep, "", what, line=line)
+    rest = named[_UNKNOWN_NAMED:]
+    if rest:
+        rep.report(
+            "convert-unknown-link",
+            f"{len(rest):,} more links of disable_collisions entries are not links of the "
+            f"URDF ({name_list((n for n, _ in rest), 4)}); dropped: was the SRDF written for "
+            "another robot?",
+            line=rest[0][1][0][1],
+        )
     for link, line in srdf.disable_default:
         if known_frame(link, tree.links, rep, "", "disable_default_collisions", line=line):
             for other in tree.links:
