@@ -264,3 +264,43 @@ def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
         page.close()
     finally:
         editor.close()
+
+
+#: A link name that is HTML inside a code span: written into the page's markdown as it is, the
+#: backticks would close the span and the browser would build the image and run its handler.
+HOSTILE = 'arm`<img src=x onerror="window.__xrdf_injected=1">`_*link*_'
+
+
+def test_names_from_the_files_are_shown_as_text_never_as_html(browser: Any, tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from xrdf_tools.cli import app
+    from xrdf_tools.edit.page import EditorPage
+
+    expect = sync_api.expect
+    name = HOSTILE.replace("&", "&amp;").replace("<", "&lt;").replace('"', "&quot;")
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="base"><collision><geometry><box size=".2 .2 .1"/>'
+        f'</geometry></collision></link><link name="{name}"><collision><origin xyz="0 0 .2"/>'
+        '<geometry><box size=".06 .06 .3"/></geometry></collision></link>'
+        f'<joint name="j1" type="revolute"><parent link="base"/><child link="{name}"/>'
+        '<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>'
+    )
+    target = tmp_path / "r.xrdf"
+    args = ["convert", str(urdf), "--fit-spheres", "--per-link", "1", "-n", "100", "-o"]
+    done = CliRunner().invoke(app, [*args, str(target)])
+    assert done.exit_code == 0, done.output
+    state = EditState.start(load_xrdf(target))
+    editor = EditorPage(load_robot(urdf), state, target=target, port=free_port())
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 900})
+        page.set_default_timeout(TIMEOUT_MS)
+        page.goto(editor.url)
+        expect(page.get_by_text("Default pose")).to_be_visible()
+        expect(page.get_by_text(HOSTILE, exact=True).first).to_be_attached()
+        assert page.locator('img[src="x"]').count() == 0
+        assert page.evaluate("window.__xrdf_injected") is None
+        page.close()
+    finally:
+        editor.close()

@@ -14,6 +14,7 @@ from tests.browser import free_port
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.edit import EditRobot, EditState, SetRadius
+from xrdf_tools.edit.markup import code
 from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.xrdf.io import load_xrdf
@@ -81,7 +82,7 @@ def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
         assert report is not None and report.samples == 300
         assert "| pair | rate | verdict | proof | mask |" in mask.summary.content
         top = max(report.pairs, key=lambda p: p.rate or 0.0)
-        assert f"`{top.frame_a}` ↔ `{top.frame_b}`" in mask.summary.content
+        assert f"{code(top.frame_a)} ↔ {code(top.frame_b)}" in mask.summary.content
         mask._apply_mask()
         assert page.state.xrdf == recommended_xrdf(x, report)
         assert page.state.undo_label == "apply the report's recommended mask"

@@ -14,6 +14,7 @@ from ..report import Report, self_collision_report
 from ..report.results import CertifyOptions, PairStat
 from ..util.errors import XrdfToolsError
 from .edits import SetBuffer, SetIgnored, SetMask
+from .markup import code, text
 from .surface import PageSurface, from_browser
 
 if TYPE_CHECKING:
@@ -97,7 +98,7 @@ class MaskPanel:
                 certify=CertifyOptions(budget_s=budget) if budget > 0 else None,
             )
         except XrdfToolsError as e:
-            self.summary.content = f"_report failed: {e}_"
+            self.summary.content = f"_report failed: {text(e)}_"
             return
         with page.lock:
             self.report, self.report_for = report, xrdf
@@ -139,9 +140,10 @@ class MaskPanel:
         )
         ranked = sorted(r.pairs, key=lambda p: (-(p.rate or 0.0), p.frame_a, p.frame_b))
         rows = [
-            f"| `{p.frame_a}` ↔ `{p.frame_b}` | "
+            f"| {code(p.frame_a)} ↔ {code(p.frame_b)} | "
             + ("–" if p.rate is None else f"{p.rate:.2%}")
-            + f" | {p.classification} | {p.certificate or ''} | {p.recommendation} |"
+            + f" | {text(p.classification)} | {text(p.certificate or '')} | "
+            + f"{text(p.recommendation)} |"
             for p in ranked[:TABLE_ROWS]
         ]
         table = "| pair | rate | verdict | proof | mask |\n|---|---:|---|---|---|\n"

@@ -14,7 +14,9 @@ import numpy as np
 
 from ..diff.render import render_text
 from ..xrdf.model import Sphere
+from . import markup
 from .edits import AddSphere, DeleteSphere, DuplicateSphere, MoveSphere, SetDefaults, SetRadius
+from .markup import code, pre
 from .mask_panel import MaskPanel
 from .surface import PageSurface, from_browser
 from .view import node
@@ -40,7 +42,7 @@ def _link_tree(page: PageSurface) -> str:
     while stack:
         i, depth = stack.pop()
         n = len(spheres.get(names[i], ()))
-        lines.append("  " * depth + f"- `{names[i]}`" + (f" ({n})" if n else ""))
+        lines.append("  " * depth + f"- {code(names[i])}" + (f" ({n})" if n else ""))
         stack.extend((c, depth + 1) for c in reversed(children.get(i, [])))
     return "\n".join(lines)
 
@@ -86,7 +88,7 @@ class Panels:
         with self.page.lock:
             d = self.page.state.diff()
             text = render_text(d).rstrip()
-            self.diff.content = "**No changes** to save." if d.is_equal else f"```\n{text}\n```"
+            self.diff.content = "**No changes** to save." if d.is_equal else pre(text)
             self.confirm.visible = not self.page.readonly
 
     def _confirm(self) -> None:
@@ -95,7 +97,7 @@ class Panels:
             self.diff.content = ""
 
     def show_message(self, message: str) -> None:
-        self.message.content = f"_{message}_" if message else ""
+        self.message.content = f"_{markup.text(message)}_" if message else ""
 
     # --- view ------------------------------------------------------------------------------
     def _view_panel(self) -> None:
@@ -347,7 +349,7 @@ class Panels:
         frame = self.link.value
         target = float(self.fit_target.value)
         current = page.state.xrdf.resolved_spheres(page.state.group).get(frame, ())
-        self.fit_result.content = f"_fitting {frame}…_"
+        self.fit_result.content = f"_fitting {markup.text(frame)}…_"
         try:
             proposal = propose_fit(
                 page.robot.robot,
@@ -357,12 +359,12 @@ class Panels:
                 coverage=target if target > 0 else None,
             )
         except XrdfToolsError as e:
-            self.fit_result.content = f"_not fitted: {e}_"
+            self.fit_result.content = f"_not fitted: {markup.text(e)}_"
             return
         self.proposal = proposal
         b, a = proposal.before, proposal.after
         self.fit_result.content = (
-            f"**{frame}**: proposal in green\n\n"
+            f"**{markup.text(frame)}**: proposal in green\n\n"
             "| | now | proposal |\n|---|---:|---:|\n"
             f"| spheres | {b.sphere_count} | {a.sphere_count} |\n"
             f"| coverage | {b.coverage:.1%} | {a.coverage:.1%} |\n"
@@ -396,7 +398,7 @@ class Panels:
         if document:
             mark = "unsaved changes" if st.dirty else "saved"
             mode = " · **read-only**" if page.readonly else ""
-            self.status.content = f"`{page.target}` · group `{st.group}` · {mark}{mode}"
+            self.status.content = f"{code(page.target)} · group {code(st.group)} · {mark}{mode}"
             self.undo_button.disabled = not st.can_undo
             self.redo_button.disabled = not st.can_redo
             self.tree.content = _link_tree(page) if hasattr(self, "tree") else ""
@@ -418,7 +420,7 @@ def _contacts_text(page: PageSurface) -> str:
     for kind, items in (("**COLLIDING**", c.checked), ("ignored", c.ignored)):
         for x in items[:MAX_CONTACTS]:
             lines.append(
-                f"- {kind} `{x.frame_a}` ↔ `{x.frame_b}`: {x.clearance * 1000:.1f} mm "
+                f"- {kind} {code(x.frame_a)} ↔ {code(x.frame_b)}: {x.clearance * 1000:.1f} mm "
                 f"({x.n_sphere_pairs} sphere pair(s))"
             )
         if len(items) > MAX_CONTACTS:
