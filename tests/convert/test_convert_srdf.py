@@ -613,6 +613,35 @@ def test_a_group_of_subgroups_without_states_takes_its_subgroups_states(
     assert len(chosen) == 2 and "'side_neutral'" in chosen[0] and "'arm_neutral'" in chosen[1]
 
 
+def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_path: Path) -> None:
+    """PR2's whole_body: its 'base' subgroup holds only the planar virtual joint (no c-space
+    joint). No state is chosen for it: an empty c-space is not "covered" by every state, so
+    an unrelated group's state ('look', first in the file) is neither taken nor reported."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <virtual_joint name="world_joint" type="planar" parent_frame="odom" child_link="base"/>
+        <group name="base"><joint name="world_joint"/></group>
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><chain base_link="base" tip_link="z_side"/></group>
+        <group name="body"><group name="base"/><group name="arm"/></group>
+        <group_state name="look" group="side"><joint name="zz" value="0.3"/>
+          <joint name="j1" value="0.5"/></group_state>
+        <group_state name="arm_neutral" group="arm"><joint name="j1" value="0.2"/>
+          <joint name="j2" value="-0.4"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("body",)))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "j3")
+    assert dict(x.default_joint_positions) == {"j1": 0.2, "j2": -0.4, "j3": 0.75}
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    assert chosen == [
+        "default positions from group_state 'arm_neutral' (the first state of group 'arm')"
+    ]
+
+
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:
     from xrdf_tools.convert.core import convert
 

@@ -340,8 +340,12 @@ def choose_state(
             path=srdf.path,
         )
     own = [s for s in srdf.group_states if group is not None and s.group == group]
+    # A group without c-space joints (a base holding only a planar virtual joint) is covered
+    # by no state: every state would "cover" its empty c-space.
     covering = [
-        s for s in srdf.group_states if s not in own and set(cspace) <= {n for n, _ in s.values}
+        s
+        for s in srdf.group_states
+        if cspace and s not in own and set(cspace) <= {n for n, _ in s.values}
     ]
     for cands, why in ((own, f"of group '{group}'"), (covering, "covering the c-space")):
         for pref in PREFERRED_STATES:
