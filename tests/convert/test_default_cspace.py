@@ -249,6 +249,28 @@ def test_a_joint_whose_limits_hold_it_still_is_no_cspace_joint(tmp_path: Path) -
         assert x.tool_frames == ("palm",)
 
 
+def test_default_limits_name_the_unit_of_each_joint_kind(tmp_path: Path) -> None:
+    """A mobile manipulator's lift is prismatic: its default acceleration is in m/s², not
+    rad/s² (HSR's arm_lift_joint, PR2's torso_lift_joint)."""
+    links = ["base", "lift_link", "wrist_link"]
+    lift = _j("lift_joint", "prismatic", "base", "lift_link")
+    wrist = _j("wrist_joint", "revolute", "lift_link", "wrist_link")
+    robot = _tree_urdf(tmp_path, lift + wrist, links)
+    cases = {
+        ("lift_joint",): ("m/s²", "m/s³"),
+        ("wrist_joint",): ("rad/s²", "rad/s³"),
+        ("lift_joint", "wrist_joint"): (
+            "rad/s² (m/s² for the prismatic ones)",
+            "rad/s³ (m/s³ for the prismatic ones)",
+        ),
+    }
+    for joints, (accel_unit, jerk_unit) in cases.items():
+        _, diags = convert(robot, ConvertOptions(joints=joints))
+        messages = {d.rule: d.message for d in diags}
+        assert f"using the default 10 {accel_unit} (" in messages["convert-default-acceleration"]
+        assert f"using the default 1000 {jerk_unit} (" in messages["convert-default-jerk"]
+
+
 def test_jaws_without_gripper_names_are_left_out(tmp_path: Path) -> None:
     """The AgileX Piper's jaws are independent prismatic joints 'joint7'/'joint8' into
     'link7'/'link8' on 'gripper_base': the link they hang from names the gripper. Two
