@@ -642,6 +642,32 @@ def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_pa
     ]
 
 
+def test_a_state_value_of_a_joint_that_is_no_cspace_coordinate_is_dropped_with_its_kind(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """HSR's 'neutral' state sets its passive wrist_ft_sensor_frame_joint: each value of a
+    passive, mimic or fixed joint is dropped with a note that says which it is."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group_state name="neutral" group="arm"><joint name="j1" value="0.2"/>
+          <joint name="zz" value="0.1"/><joint name="mim" value="0.1"/>
+          <joint name="jfix" value="0"/></group_state>
+        <passive_joint name="zz"/>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    _, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("arm",)))
+    notes = [d.message for d in diags if d.rule == "convert-dropped-joint-value"]
+    assert [n.split(", which is ")[1].split(";")[0] for n in notes] == [
+        "a passive joint",
+        "a mimic joint",
+        "a fixed joint",
+    ]
+
+
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:
     from xrdf_tools.convert.core import convert
 

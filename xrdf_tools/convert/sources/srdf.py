@@ -273,7 +273,7 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
         )
         return False
     if not j.is_actuated or jname in srdf.passive_joints:
-        kind = "a mimic" if j.is_mimic else ("passive" if j.is_movable else j.type)
+        kind = "a mimic" if j.is_mimic else ("a passive" if j.is_movable else f"a {j.type}")
         rep.report(
             "convert-dropped-joint-value",
             f"group_state '{st.name}' sets '{jname}', which is {kind} joint; "
