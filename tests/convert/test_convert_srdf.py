@@ -438,9 +438,13 @@ def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
     assert "unknown link 'nope'" in typo and "not used for this conversion" in typo
     assert "'missing'" in warned[("convert-srdf-unused-group", 4)]
     assert any("passive_joint 'ghost'" in m for m in warned.values())
-    # the chosen default skips broken groups and says so
+    # the chosen default skips broken groups and says so (HSR's whole_body, whose base names
+    # odom_x/odom_y/odom_t that its URDF lacks, was listed as having 0 actuated joints)
     chosen = read_srdf(load_srdf(srdf), tree)
     assert chosen.group == "arm"
+    (why,) = [w.message for w in chosen.diagnostics if w.rule == "convert-chosen-group"]
+    assert "others (actuated joints): typo (does not match the URDF), sub (does not match " in why
+    assert "both (does not match the URDF)" in why
     # a group that is used, or includes a broken one, stays an error naming every broken one
     for used in ("typo", "both"):
         with pytest.raises(SourceError) as err:

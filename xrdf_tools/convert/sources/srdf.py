@@ -213,7 +213,11 @@ def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
     if group is None:
         return []
     sizes = group_sizes(srdf, tree)
-    others = [f"{g} ({sizes[g]})" for g in srdf.groups if g != group]
+    others = [
+        f"{g} ({'does not match the URDF' if sizes[g] is None else sizes[g]})"
+        for g in srdf.groups
+        if g != group
+    ]
     rep.report(
         "convert-chosen-group",
         f"planning group '{group}' chosen: {why}"

@@ -196,8 +196,14 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
 
 
 def _cspace_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
-    """``len(cspace_of(g))`` of every group, 0 when it does not resolve, in one pass over the
-    groups (children first), so thousands of nested groups stay linear."""
+    """``len(cspace_of(g))`` of every group, 0 when it does not resolve."""
+    return {g: n or 0 for g, n in group_sizes(srdf, tree).items()}
+
+
+def group_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int | None]:
+    """``len(cspace_of(g))`` of every group, None when it does not resolve (for messages
+    listing the alternatives), in one pass over the groups (children first), so thousands of
+    nested groups stay linear."""
     groups = srdf.groups
 
     def subs(g: str) -> list[str]:
@@ -218,7 +224,7 @@ def _cspace_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
         joints[g] = None if own is None or len(known) < len(parts) else own.union(*known)
     passive = set(srdf.passive_joints)
     return {
-        g: 0 if js is None else sum(1 for j in js if tree.is_actuated(j) and j not in passive)
+        g: None if js is None else sum(1 for j in js if tree.is_actuated(j) and j not in passive)
         for g, js in joints.items()
         if g in groups
     }
@@ -315,11 +321,6 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     if ee_name:
         why += f", carrying end effector '{ee_name}'"
     return best, why
-
-
-def group_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
-    """Actuated joints per group (for messages listing the alternatives)."""
-    return _cspace_sizes(srdf, tree)
 
 
 def choose_state(
