@@ -672,6 +672,31 @@ def test_a_state_value_of_a_joint_that_is_no_cspace_coordinate_is_dropped_with_i
     ]
 
 
+def test_an_unknown_state_lists_the_states_with_their_groups(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """HSR has a 'neutral' state for its arm and one for its head: the list of states says
+    whose each is, instead of naming 'neutral' twice."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><joint name="zz"/></group>
+        <group_state name="neutral" group="arm"><joint name="j1" value="0.2"/></group_state>
+        <group_state name="go" group="arm"><joint name="j1" value="0.1"/></group_state>
+        <group_state name="neutral" group="side"><joint name="zz" value="0.3"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    with pytest.raises(SourceError) as err:
+        convert(tree, ConvertOptions(srdf=srdf, state="neutrl"))
+    assert str(err.value).endswith(
+        "no group_state 'neutrl'; did you mean 'neutral'? "
+        "(states: neutral (arm), go (arm), neutral (side))"
+    )
+
+
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:
     from xrdf_tools.convert.core import convert
 

@@ -335,9 +335,10 @@ def choose_state(
             if s.name == requested:
                 return s, "requested"
         names = [s.name for s in srdf.group_states]
+        listed = [f"{s.name} ({s.group})" if s.group else s.name for s in srdf.group_states]
         raise SourceError(
             f"no group_state '{requested}'{did_you_mean(requested, names)} "
-            f"(states: {name_list(names, 12) or 'none'})",
+            f"(states: {name_list(dict.fromkeys(listed), 12) or 'none'})",
             path=srdf.path,
         )
     own = [s for s in srdf.group_states if group is not None and s.group == group]
