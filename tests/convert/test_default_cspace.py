@@ -247,6 +247,11 @@ def test_a_joint_whose_limits_hold_it_still_is_no_cspace_joint(tmp_path: Path) -
         x, _ = convert(robot, options)  # the default, and the --chain it names
         assert x.cspace is not None and x.cspace.joint_names == ("lift_joint", "wrist_joint")
         assert x.tool_frames == ("palm",)
+    # reversed limits are a mistake to report in the c-space, not a joint held still
+    reversed_limits = joints.replace(held, '<limit lower="0.1" upper="-0.1" effort="1"/>', 1)
+    (tmp_path / "reversed").mkdir()
+    robot = _tree_urdf(tmp_path / "reversed", reversed_limits, links)
+    assert default_cspace(robot.tree).joints == ("lift_joint", "wrist_joint", "ft_frame_joint")
 
 
 def test_default_limits_name_the_unit_of_each_joint_kind(tmp_path: Path) -> None:

@@ -294,16 +294,12 @@ def _chain(
 
 
 def is_held(tree: RobotTree, joint: str) -> bool:
-    """Whether ``joint`` is fixed, or revolute/prismatic with limits that leave it no range."""
+    """Whether ``joint`` is fixed, or revolute/prismatic with equal lower and upper limits (a
+    reversed pair is a mistake the c-space reports, not a joint held still)."""
     j = tree.joints[joint]
     if j.type == "fixed":
         return True
-    return (
-        j.type in ("revolute", "prismatic")
-        and j.lower is not None
-        and j.upper is not None
-        and j.upper <= j.lower
-    )
+    return j.type in ("revolute", "prismatic") and j.lower is not None and j.lower == j.upper
 
 
 @dataclass(frozen=True)
