@@ -583,7 +583,7 @@ def test_pairs_naming_a_link_the_urdf_lacks_are_one_warning_per_link(
         '<disable_collisions link1="a" link2="c" reason="Never"/>\n'
         '<disable_collisions link1="a" link2="kinect" reason="Never"/>\n'
         '<disable_collisions link1="kinect" link2="c" reason="Never"/>\n'
-        '<disable_collisions link1="b" link2="prosilica" reason="Never"/>\n'
+        '<disable_collisions link1="prosilica" link2="kinect" reason="Never"/>\n'
         "</robot>\n"
     )
     xrdf = tmp_path / "bot.xrdf"
@@ -601,11 +601,11 @@ def test_pairs_naming_a_link_the_urdf_lacks_are_one_warning_per_link(
     assert removed == [
         f"{srdf}:3: warning export-srdf-removed a/c (reason Never) is no longer ignored by the "
         "XRDF: removed",
-        f"{srdf}:4: warning export-srdf-removed 'kinect' is not a link of the URDF 'bot': 2 "
+        f"{srdf}:4: warning export-srdf-removed 'kinect' is not a link of the URDF 'bot': 3 "
         "disable_collisions naming it removed (first a/kinect); no XRDF of this URDF can "
         "ignore them",
         f"{srdf}:6: warning export-srdf-removed 'prosilica' is not a link of the URDF 'bot': 1 "
-        "disable_collisions naming it removed (first b/prosilica); no XRDF of this URDF can "
-        "ignore them",
+        "disable_collisions naming it removed (first prosilica/kinect); no XRDF of this URDF "
+        "can ignore them",
     ]
     assert [p[:2] for p in parse_srdf(stdout).disable_collisions] == [("a", "b")]

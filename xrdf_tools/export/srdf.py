@@ -341,7 +341,8 @@ def _removed_diags(
     for ch in removed:
         absent = [n for n in (ch.link1, ch.link2) if urdf is not None and n not in urdf.links]
         if absent and ch.element == "disable_collisions":
-            missing.setdefault(absent[0], []).append(ch)
+            for link in absent:
+                missing.setdefault(link, []).append(ch)
         else:
             out.append(_removed_diag(ch, path))
     for link, changes in missing.items():
