@@ -14,6 +14,7 @@ from typing import Any
 
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import did_you_mean, shown_text
+from ..util.text import name_list
 
 __all__ = ["RULE_UNREAD_ARG", "ReadArgs", "unread_arg_warnings"]
 
@@ -44,7 +45,7 @@ class ReadArgs(dict[str, str]):
 def unread_arg_warnings(path: str, given: Mapping[str, str], read: ReadArgs) -> list[Diagnostic]:
     """A warning per argument of ``given`` that the expansion never looked up in ``read``."""
     known = sorted(read.asked)
-    shown = ", ".join(known[:8]) + (f" and {len(known) - 8} more" if len(known) > 8 else "")
+    shown = name_list(known)
     return [
         Diagnostic(
             path,
