@@ -438,9 +438,13 @@ def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
     assert "unknown link 'nope'" in typo and "not used for this conversion" in typo
     assert "'missing'" in warned[("convert-srdf-unused-group", 4)]
     assert any("passive_joint 'ghost'" in m for m in warned.values())
-    # the chosen default skips broken groups and says so
+    # the chosen default skips broken groups and says so (HSR's whole_body, whose base names
+    # odom_x/odom_y/odom_t that its URDF lacks, was listed as having 0 actuated joints)
     chosen = read_srdf(load_srdf(srdf), tree)
     assert chosen.group == "arm"
+    (why,) = [w.message for w in chosen.diagnostics if w.rule == "convert-chosen-group"]
+    assert "others (actuated joints): typo (does not match the URDF), sub (does not match " in why
+    assert "both (does not match the URDF)" in why
     # a group that is used, or includes a broken one, stays an error naming every broken one
     for used in ("typo", "both"):
         with pytest.raises(SourceError) as err:
@@ -611,6 +615,86 @@ def test_a_group_of_subgroups_without_states_takes_its_subgroups_states(
     assert dict(x.default_joint_positions) == {"zz": 0.3, "j1": 0.2, "j2": -0.4, "j3": 0.75}
     chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
     assert len(chosen) == 2 and "'side_neutral'" in chosen[0] and "'arm_neutral'" in chosen[1]
+
+
+def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_path: Path) -> None:
+    """PR2's whole_body: its 'base' subgroup holds only the planar virtual joint (no c-space
+    joint). No state is chosen for it: an empty c-space is not "covered" by every state, so
+    an unrelated group's state ('look', first in the file) is neither taken nor reported."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <virtual_joint name="world_joint" type="planar" parent_frame="odom" child_link="base"/>
+        <group name="base"><joint name="world_joint"/></group>
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><chain base_link="base" tip_link="z_side"/></group>
+        <group name="body"><group name="base"/><group name="arm"/></group>
+        <group_state name="look" group="side"><joint name="zz" value="0.3"/>
+          <joint name="j1" value="0.5"/></group_state>
+        <group_state name="arm_neutral" group="arm"><joint name="j1" value="0.2"/>
+          <joint name="j2" value="-0.4"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("body",)))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "j3")
+    assert dict(x.default_joint_positions) == {"j1": 0.2, "j2": -0.4, "j3": 0.75}
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    assert chosen == [
+        "default positions from group_state 'arm_neutral' (the first state of group 'arm')"
+    ]
+
+
+def test_a_state_value_of_a_joint_that_is_no_cspace_coordinate_is_dropped_with_its_kind(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """HSR's 'neutral' state sets its passive wrist_ft_sensor_frame_joint: each value of a
+    passive, mimic or fixed joint is dropped with a note that says which it is."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group_state name="neutral" group="arm"><joint name="j1" value="0.2"/>
+          <joint name="zz" value="0.1"/><joint name="mim" value="0.1"/>
+          <joint name="jfix" value="0"/></group_state>
+        <passive_joint name="zz"/>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    _, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("arm",)))
+    notes = [d.message for d in diags if d.rule == "convert-dropped-joint-value"]
+    assert [n.split(", which is ")[1].split(";")[0] for n in notes] == [
+        "a passive joint",
+        "a mimic joint",
+        "a fixed joint",
+    ]
+
+
+def test_an_unknown_state_lists_the_states_with_their_groups(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """HSR has a 'neutral' state for its arm and one for its head: the list of states says
+    whose each is, instead of naming 'neutral' twice."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><joint name="zz"/></group>
+        <group_state name="neutral" group="arm"><joint name="j1" value="0.2"/></group_state>
+        <group_state name="go" group="arm"><joint name="j1" value="0.1"/></group_state>
+        <group_state name="neutral" group="side"><joint name="zz" value="0.3"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    with pytest.raises(SourceError) as err:
+        convert(tree, ConvertOptions(srdf=srdf, state="neutrl"))
+    assert str(err.value).endswith(
+        "no group_state 'neutrl'; did you mean 'neutral'? "
+        "(states: neutral (arm), go (arm), neutral (side))"
+    )
 
 
 def test_joints_and_chain_choose_the_cspace_without_srdf(tree: RobotTree) -> None:

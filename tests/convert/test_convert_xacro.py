@@ -463,3 +463,47 @@ def test_what_xacro_prints_becomes_warnings_in_the_chosen_format(
     r = runner.invoke(app, ["expand", str(arm)])
     assert r.exit_code == 0 and r.stdout.lstrip().startswith("<?xml")
     assert r.stderr.startswith(f"{arm}: warning xacro-warning xacro: Using load_yaml()")
+
+
+def test_a_xacro_arg_the_expansion_never_reads_is_a_warning(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """xacro ignores a mapping nothing declares or reads: the KMR iiwa's
+    `--xacro-arg ee_typ:=dd` silently expanded the default gripper. Each given argument that
+    no <xacro:arg> or $(arg) of the expansion reads is a located warning with the closest
+    name; the arguments it does read (declared, or read in a taken branch) are not, and an SRDF
+    xacro given the robot's arguments does not warn about the ones only the robot reads."""
+    robot = tmp_path / "bot.urdf.xacro"
+    robot.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:arg name="ee_type" default="bb"/>\n'
+        '<link name="base"/><link name="$(arg ee_type)"/>\n'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="$(arg ee_type)"/>\n'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        "<xacro:if value=\"${xacro.arg('prefix') == 'x'}\"><link name=\"x\"/>\n"
+        '<joint name="jx" type="fixed"><parent link="base"/><child link="x"/></joint>\n'
+        "</xacro:if>\n"
+        "</robot>\n"
+    )
+    srdf = tmp_path / "bot.srdf.xacro"
+    srdf.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<group name="arm"><joint name="j"/></group></robot>\n'
+    )
+    out = tmp_path / "bot.urdf"
+    args = ["--xacro-arg", "ee_typ:=dd", "--xacro-arg", "prefix:=y"]
+    r = runner.invoke(app, ["expand", str(robot), *args, "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert r.stderr.splitlines() == [
+        f"{robot}: warning xacro-arg-unread --xacro-arg ee_typ:=dd: no <xacro:arg> or $(arg) "
+        "of the expansion reads 'ee_typ', so it changes nothing (arguments read: ee_type, "
+        "prefix); did you mean 'ee_type'?"
+    ]
+    assert '<link name="bb"/>' in out.read_text()
+    fine = ["--xacro-arg", "ee_type:=dd", "--xacro-arg", "prefix:=x"]
+    r = runner.invoke(app, ["convert", str(robot), "--srdf", str(srdf), *fine, "-q"])
+    assert r.exit_code == 0, r.output
+    assert r.stderr == ""
+    r = runner.invoke(app, ["convert", str(robot), "--srdf", str(srdf), *fine, *args[:2]])
+    unread = [ln for ln in r.stderr.splitlines() if "xacro-arg-unread" in ln]
+    assert len(unread) == 1 and unread[0].startswith(f"{robot}: warning"), r.stderr

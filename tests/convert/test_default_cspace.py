@@ -219,6 +219,63 @@ def test_a_wrist_into_a_link_named_hand_is_an_arm_joint_when_the_tool_is_below(
     assert choice.tool is not None and choice.tool.frame == "tool0"
 
 
+def test_a_joint_whose_limits_hold_it_still_is_no_cspace_joint(tmp_path: Path) -> None:
+    """Toyota HSR's force-torque sensor frame hangs from the wrist by a revolute joint with
+    limits [0, 0] (so do its bumpers): it cannot move, so the default c-space ends at the
+    wrist and the tool frame is found through it as through a fixed joint."""
+    held = '<limit lower="0" upper="0" velocity="1" effort="1"/>'
+    links = ["base", "lift_link", "wrist_link", "ft_frame", "palm", "finger", "bumper"]
+    joints = "".join(
+        [
+            _j("lift_joint", "prismatic", "base", "lift_link"),
+            _j("wrist_joint", "revolute", "lift_link", "wrist_link"),
+            _j("ft_frame_joint", "revolute", "wrist_link", "ft_frame").replace(
+                '<limit lower="-1" upper="1" velocity="1" effort="1"/>', held
+            ),
+            _j("palm_joint", "fixed", "ft_frame", "palm"),
+            _j("finger_joint", "revolute", "palm", "finger"),
+            _j("bumper_joint", "revolute", "base", "bumper").replace(
+                '<limit lower="-1" upper="1" velocity="1" effort="1"/>', held
+            ),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("lift_joint", "wrist_joint")
+    assert choice.tool is not None and choice.tool.frame == "palm"
+    for options in (ConvertOptions(), ConvertOptions(chains=(("base", "palm"),))):
+        x, _ = convert(robot, options)  # the default, and the --chain it names
+        assert x.cspace is not None and x.cspace.joint_names == ("lift_joint", "wrist_joint")
+        assert x.tool_frames == ("palm",)
+    # reversed limits are a mistake to report in the c-space, not a joint held still
+    reversed_limits = joints.replace(held, '<limit lower="0.1" upper="-0.1" effort="1"/>', 1)
+    (tmp_path / "reversed").mkdir()
+    robot = _tree_urdf(tmp_path / "reversed", reversed_limits, links)
+    assert default_cspace(robot.tree).joints == ("lift_joint", "wrist_joint", "ft_frame_joint")
+
+
+def test_default_limits_name_the_unit_of_each_joint_kind(tmp_path: Path) -> None:
+    """A mobile manipulator's lift is prismatic: its default acceleration is in m/s², not
+    rad/s² (HSR's arm_lift_joint, PR2's torso_lift_joint)."""
+    links = ["base", "lift_link", "wrist_link"]
+    lift = _j("lift_joint", "prismatic", "base", "lift_link")
+    wrist = _j("wrist_joint", "revolute", "lift_link", "wrist_link")
+    robot = _tree_urdf(tmp_path, lift + wrist, links)
+    cases = {
+        ("lift_joint",): ("m/s²", "m/s³"),
+        ("wrist_joint",): ("rad/s²", "rad/s³"),
+        ("lift_joint", "wrist_joint"): (
+            "rad/s² (m/s² for the prismatic ones)",
+            "rad/s³ (m/s³ for the prismatic ones)",
+        ),
+    }
+    for joints, (accel_unit, jerk_unit) in cases.items():
+        _, diags = convert(robot, ConvertOptions(joints=joints))
+        messages = {d.rule: d.message for d in diags}
+        assert f"using the default 10 {accel_unit} (" in messages["convert-default-acceleration"]
+        assert f"using the default 1000 {jerk_unit} (" in messages["convert-default-jerk"]
+
+
 def test_jaws_without_gripper_names_are_left_out(tmp_path: Path) -> None:
     """The AgileX Piper's jaws are independent prismatic joints 'joint7'/'joint8' into
     'link7'/'link8' on 'gripper_base': the link they hang from names the gripper. Two

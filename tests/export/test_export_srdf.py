@@ -560,3 +560,52 @@ def test_an_srdf_xacro_is_refused_and_its_expansion_merged(
     assert merged[frozenset(("upper_arm_link", "forearm_link"))][2] == "Adjacent"
     assert parse_srdf(out.read_text()).robot_name == "ur10e_robot"
     assert "export-srdf-robot-name" not in err
+
+
+def test_pairs_naming_a_link_the_urdf_lacks_are_one_warning_per_link(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """PR2's MoveIt SRDF disables pairs of its Kinect links, which the default pr2.urdf.xacro
+    does not have: the sync removed each with "no longer ignored by the XRDF" (200 lines),
+    which no XRDF of that URDF could ever ignore. One warning per such link says so, at its
+    first pair; the pairs the XRDF stopped ignoring keep their own warning."""
+    urdf = tmp_path / "bot.urdf"
+    urdf.write_text(
+        '<robot name="bot"><link name="a"/><link name="b"/><link name="c"/>\n'
+        '<joint name="j" type="revolute"><parent link="a"/><child link="b"/>\n'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        '<joint name="k" type="fixed"><parent link="b"/><child link="c"/></joint></robot>\n'
+    )
+    srdf = tmp_path / "bot.srdf"
+    srdf.write_text(
+        '<robot name="bot">\n'
+        '<disable_collisions link1="a" link2="b" reason="Adjacent"/>\n'
+        '<disable_collisions link1="a" link2="c" reason="Never"/>\n'
+        '<disable_collisions link1="a" link2="kinect" reason="Never"/>\n'
+        '<disable_collisions link1="kinect" link2="c" reason="Never"/>\n'
+        '<disable_collisions link1="prosilica" link2="kinect" reason="Never"/>\n'
+        "</robot>\n"
+    )
+    xrdf = tmp_path / "bot.xrdf"
+    xrdf.write_text(
+        "format: xrdf\nformat_version: 1.0\n"
+        "cspace: {joint_names: [j], acceleration_limits: [1.0], jerk_limits: [1.0]}\n"
+        "tool_frames: [c]\n"
+        "collision: {geometry: g}\n"
+        "self_collision: {geometry: g, ignore: {a: [b]}}\n"
+        "geometry: {g: {spheres: {a: [{center: [0, 0, 0], radius: 0.1}]}}}\n"
+    )
+    code, stdout, err = _export(runner, str(xrdf), "--merge", str(srdf), "--urdf", str(urdf))
+    assert code == 0, err
+    removed = [ln for ln in err.splitlines() if "export-srdf-removed" in ln]
+    assert removed == [
+        f"{srdf}:3: warning export-srdf-removed a/c (reason Never) is no longer ignored by the "
+        "XRDF: removed",
+        f"{srdf}:4: warning export-srdf-removed 'kinect' is not a link of the URDF 'bot': 3 "
+        "disable_collisions naming it removed (first a/kinect); no XRDF of this URDF can "
+        "ignore them",
+        f"{srdf}:6: warning export-srdf-removed 'prosilica' is not a link of the URDF 'bot': 1 "
+        "disable_collisions naming it removed (first prosilica/kinect); no XRDF of this URDF "
+        "can ignore them",
+    ]
+    assert [p[:2] for p in parse_srdf(stdout).disable_collisions] == [("a", "b")]

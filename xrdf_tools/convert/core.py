@@ -177,8 +177,8 @@ def complete(
             "the c-space is empty (no actuated joints in the chosen group)",
         )
 
-    accel = _limits("acceleration", cspace, draft.acceleration, options.acceleration, rep)
-    jerk = _limits("jerk", cspace, draft.jerk, options.jerk, rep)
+    accel = _limits("acceleration", cspace, draft.acceleration, options.acceleration, tree, rep)
+    jerk = _limits("jerk", cspace, draft.jerk, options.jerk, tree, rep)
     defaults = _default_positions(draft, tree, cspace, rep)
     tool_frames = _tool_frames(draft, tree, options, cspace, rep, collision_links, default_tool)
     geometry, world, self_c = _collision(draft, tree, options, rep)
@@ -207,7 +207,12 @@ _DEFAULT_LIMIT = {"acceleration": DEFAULT_ACCELERATION, "jerk": DEFAULT_JERK}
 
 
 def _limits(
-    kind: str, cspace: list[str], given: dict[str, float], cli: float | None, rep: Reporter
+    kind: str,
+    cspace: list[str],
+    given: dict[str, float],
+    cli: float | None,
+    tree: RobotTree,
+    rep: Reporter,
 ) -> list[float]:
     """One limit per c-space joint: the sources', else ``--KIND``, else the default (reported)."""
     missing = [j for j in cspace if j not in given]
@@ -215,7 +220,7 @@ def _limits(
     if missing:
         origin = f"--{kind}" if cli is not None else "the default"
         sev = Severity.INFO if cli is not None else Severity.WARNING
-        unit = "rad/s²" if kind == "acceleration" else "rad/s³"
+        unit = _limit_unit(kind, [tree.joints[j].type for j in missing])
         rep.report(
             f"convert-default-{kind}",
             f"no {kind} limit in the inputs for {name_list(missing, 12)}: using {origin} "
@@ -223,6 +228,17 @@ def _limits(
             severity=sev,
         )
     return [given.get(j, value) for j in cspace]
+
+
+def _limit_unit(kind: str, types: list[str]) -> str:
+    """The unit of an acceleration or jerk limit for joints of these types (a prismatic
+    joint's is in metres)."""
+    power = "²" if kind == "acceleration" else "³"
+    if all(t == "prismatic" for t in types):
+        return f"m/s{power}"
+    if any(t == "prismatic" for t in types):
+        return f"rad/s{power} (m/s{power} for the prismatic ones)"
+    return f"rad/s{power}"
 
 
 def _default_positions(

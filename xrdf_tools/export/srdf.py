@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Collection, Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -176,8 +176,7 @@ def sync_srdf(
     universe = _universe(x, urdf, doc.root)
     plan = _plan(doc.root, pairs, dict(reasons or {}), universe)
     plan.apply(doc.root)
-    for ch in plan.removed:
-        diags.append(_removed_diag(ch, srdf_path))
+    diags.extend(_removed_diags(plan.removed, urdf, srdf_path))
     if plan.added:
         diags.append(_added_diag(plan.added, srdf_path))
     return SrdfSync(
@@ -329,6 +328,37 @@ def _universe(x: Xrdf, urdf: RobotTree | None, root: Any) -> set[str]:
             if v:
                 names.add(v)
     return names
+
+
+def _removed_diags(
+    removed: Sequence[PairChange], urdf: RobotTree | None, path: str
+) -> list[Diagnostic]:
+    """A warning per removed pair; the pairs naming a link the URDF does not have (an SRDF
+    written for a variant with more sensors) one warning per such link, at its first pair:
+    no XRDF of this URDF can ignore them, so "no longer ignored" would not say why."""
+    missing: dict[str, list[PairChange]] = {}
+    out: list[Diagnostic] = []
+    for ch in removed:
+        absent = [n for n in (ch.link1, ch.link2) if urdf is not None and n not in urdf.links]
+        if absent and ch.element == "disable_collisions":
+            for link in absent:
+                missing.setdefault(link, []).append(ch)
+        else:
+            out.append(_removed_diag(ch, path))
+    for link, changes in missing.items():
+        first = changes[0]
+        out.append(
+            _diag(
+                path,
+                first.line,
+                "export-srdf-removed",
+                Severity.WARNING,
+                f"'{link}' is not a link of the URDF '{urdf.name if urdf else ''}': "
+                f"{len(changes)} disable_collisions naming it removed (first "
+                f"{first.link1}/{first.link2}); no XRDF of this URDF can ignore them",
+            )
+        )
+    return sorted(out, key=lambda d: d.line or 0)
 
 
 def _removed_diag(ch: PairChange, path: str) -> Diagnostic:

@@ -16,6 +16,8 @@ leaf, leaving out what a motion planner does not plan for:
   and so is a pan/tilt unit that carries a tool frame: a wrist).
 
 A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
+A joint whose limits hold it still (lower = upper: Toyota HSR's force-torque sensor frame) is
+no c-space joint; chains and tool-frame guesses go through it as through a fixed joint.
 Among equally long chains an arm wins over a leg (a humanoid's arm and leg can both have five).
 Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
 ``behead`` is not; a word that begins or ends with a wheel word, or ends with ``hand``,
@@ -48,6 +50,7 @@ __all__ = [
     "ToolFrameGuess",
     "default_cspace",
     "guess_tool_frame",
+    "is_held",
     "is_leg",
     "joint_roles",
     "leaf_chains",
@@ -285,9 +288,18 @@ def _chain(
     for jn in path:
         if jn in roles:
             return Chain(tree.root, leaf, path, tuple(cspace), jn)
-        if tree.is_actuated(jn) and jn not in passive:
+        if tree.is_actuated(jn) and jn not in passive and not is_held(tree, jn):
             cspace.append(jn)
     return Chain(tree.root, leaf, path, tuple(cspace))
+
+
+def is_held(tree: RobotTree, joint: str) -> bool:
+    """Whether ``joint`` is fixed, or revolute/prismatic with equal lower and upper limits (a
+    reversed pair is a mistake the c-space reports, not a joint held still)."""
+    j = tree.joints[joint]
+    if j.type == "fixed":
+        return True
+    return j.type in ("revolute", "prismatic") and j.lower is not None and j.lower == j.upper
 
 
 @dataclass(frozen=True)
@@ -303,26 +315,28 @@ class ToolFrameGuess:
 
 
 def _fixed_below(tree: RobotTree, link: str) -> list[tuple[str, int]]:
-    """``link`` and the links below it reached through fixed joints only, with their depth."""
+    """``link`` and the links below it reached through fixed (or held) joints only, with
+    their depth."""
     out = [(link, 0)]
     stack = [(link, 0)]
     while stack:
         cur, depth = stack.pop()
         for jn in reversed(tree.child_joints.get(cur, ())):
             j = tree.joints[jn]
-            if j.type == "fixed":
+            if is_held(tree, jn):
                 out.append((j.child, depth + 1))
                 stack.append((j.child, depth + 1))
     return out
 
 
 def _single_fixed_tip(tree: RobotTree, link: str) -> str:
-    """``link`` followed down a single chain of fixed joints (a flange, a tool frame)."""
+    """``link`` followed down a single chain of fixed (or held) joints (a flange, a tool
+    frame)."""
     while True:
-        kids = [tree.joints[j] for j in tree.child_joints.get(link, ())]
-        if len(kids) != 1 or kids[0].type != "fixed":
+        kids = tree.child_joints.get(link, ())
+        if len(kids) != 1 or not is_held(tree, kids[0]):
             return link
-        link = kids[0].child
+        link = tree.joints[kids[0]].child
 
 
 def guess_tool_frame(

@@ -29,6 +29,7 @@ from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
+from .xacro_args import ReadArgs, unread_arg_warnings
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
@@ -128,13 +129,16 @@ def expand_xacro(
     *,
     data: bytes | None = None,
     warnings: list[Diagnostic] | None = None,
+    warn_unread_args: bool = True,
 ) -> str:
     """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
 
     The file is read through the guarded reader (``data``: its bytes, when the caller has
     read them already) and decoded, so a bad byte is located; xacro then reads it itself.
     xacro's own warnings (an include's ignored body, a redefined symbol) are appended to
-    ``warnings`` as ``xacro-warning`` diagnostics, never printed."""
+    ``warnings`` as ``xacro-warning`` diagnostics, never printed; so is an argument of ``args``
+    the expansion never reads (``xacro-arg-unread``), unless ``warn_unread_args`` is false (an
+    SRDF xacro given the robot's arguments)."""
     import xacro
 
     p = Path(path)
@@ -143,7 +147,7 @@ def expand_xacro(
     decode_utf8(data, str(p), "xacro file", SourceError)
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
-    values = dict(mappings)  # xacro adds the defaults of the arguments it meets to it
+    values = ReadArgs(mappings)  # xacro adds the defaults of the arguments it meets to it
     said = warnings if warnings is not None else []
     unresolved: dict[str, SourceError] = {}
     try:
@@ -163,6 +167,8 @@ def expand_xacro(
             xacro.macrostack = None
         except AttributeError:  # pragma: no cover - older xacro
             pass
+    if warn_unread_args:
+        said.extend(unread_arg_warnings(str(p), mappings, values))
     return settle(doc, text, unresolved, said)
 
 

@@ -93,6 +93,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("urdf-limit-unbounded", W, "A limit beyond ±1e12 (no limit): dropped; turns freely."),
         ("xacro-package-unused", W, "A package not found, named only in <gazebo>, <ros2_control>."),
         ("xacro-warning", W, "A warning of xacro's while expanding (an include body it ignores)."),
+        ("xacro-arg-unread", W, "A --xacro-arg the expansion never reads: it changes nothing."),
         ("urdf-prefix-undeclared", W, "A namespace prefix without xmlns: read past, as ROS does."),
     ),
     "kinematics (lint, report, viz)": (

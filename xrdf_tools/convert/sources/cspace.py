@@ -2,7 +2,8 @@
 
 ``--joints j1,j2`` takes the actuated joints as given, in the given order. ``--chain BASE:TIP``
 walks up from ``TIP`` to ``BASE`` like an SRDF chain (``BASE``'s own parent joint excluded)
-and keeps the actuated joints in tree order; several chains are joined in the given order
+and keeps the actuated joints in tree order, but for a joint whose limits hold it still
+(lower = upper, as the default chain leaves it out); several chains are joined in the given order
 (a dual-arm c-space). Tool frames are the tips: each chain's ``TIP``, or for ``--joints`` the
 tool frame guessed below every joint with no other c-space joint below it.
 
@@ -17,7 +18,7 @@ from __future__ import annotations
 from collections.abc import Collection, Sequence
 from typing import TYPE_CHECKING
 
-from ...robot.chains import ToolFrameGuess, default_cspace, guess_tool_frame
+from ...robot.chains import ToolFrameGuess, default_cspace, guess_tool_frame, is_held
 from ...util.errors import SourceError, did_you_mean
 from ...util.text import name_list
 from . import Draft, Reporter, RobotTree
@@ -115,7 +116,7 @@ def apply_cspace_choice(
         raise SourceError("give either --joints or --chain, not both")
     if chains:
         names = [j for base, tip in chains for j in chain_joints(tree, base, tip)]
-        cspace = [j for j in dict.fromkeys(names) if tree.is_actuated(j)]
+        cspace = [j for j in dict.fromkeys(names) if tree.is_actuated(j) and not is_held(tree, j)]
         tips = [tip for _, tip in chains]
         what = "--chain " + ", ".join(f"{b}:{t}" for b, t in chains)
     elif joints:

@@ -213,7 +213,11 @@ def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
     if group is None:
         return []
     sizes = group_sizes(srdf, tree)
-    others = [f"{g} ({sizes[g]})" for g in srdf.groups if g != group]
+    others = [
+        f"{g} ({'does not match the URDF' if sizes[g] is None else sizes[g]})"
+        for g in srdf.groups
+        if g != group
+    ]
     rep.report(
         "convert-chosen-group",
         f"planning group '{group}' chosen: {why}"
@@ -273,7 +277,7 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
         )
         return False
     if not j.is_actuated or jname in srdf.passive_joints:
-        kind = "a mimic" if j.is_mimic else ("passive" if j.is_movable else j.type)
+        kind = "a mimic" if j.is_mimic else ("a passive" if j.is_movable else f"a {j.type}")
         rep.report(
             "convert-dropped-joint-value",
             f"group_state '{st.name}' sets '{jname}', which is {kind} joint; "

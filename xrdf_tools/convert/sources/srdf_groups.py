@@ -196,8 +196,14 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
 
 
 def _cspace_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
-    """``len(cspace_of(g))`` of every group, 0 when it does not resolve, in one pass over the
-    groups (children first), so thousands of nested groups stay linear."""
+    """``len(cspace_of(g))`` of every group, 0 when it does not resolve."""
+    return {g: n or 0 for g, n in group_sizes(srdf, tree).items()}
+
+
+def group_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int | None]:
+    """``len(cspace_of(g))`` of every group, None when it does not resolve (for messages
+    listing the alternatives), in one pass over the groups (children first), so thousands of
+    nested groups stay linear."""
     groups = srdf.groups
 
     def subs(g: str) -> list[str]:
@@ -218,7 +224,7 @@ def _cspace_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
         joints[g] = None if own is None or len(known) < len(parts) else own.union(*known)
     passive = set(srdf.passive_joints)
     return {
-        g: 0 if js is None else sum(1 for j in js if tree.is_actuated(j) and j not in passive)
+        g: None if js is None else sum(1 for j in js if tree.is_actuated(j) and j not in passive)
         for g, js in joints.items()
         if g in groups
     }
@@ -317,11 +323,6 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     return best, why
 
 
-def group_sizes(srdf: Srdf, tree: RobotTree) -> dict[str, int]:
-    """Actuated joints per group (for messages listing the alternatives)."""
-    return _cspace_sizes(srdf, tree)
-
-
 def choose_state(
     srdf: Srdf, group: str | None, cspace: list[str], requested: str | None
 ) -> tuple[GroupState | None, str]:
@@ -334,14 +335,19 @@ def choose_state(
             if s.name == requested:
                 return s, "requested"
         names = [s.name for s in srdf.group_states]
+        listed = [f"{s.name} ({s.group})" if s.group else s.name for s in srdf.group_states]
         raise SourceError(
             f"no group_state '{requested}'{did_you_mean(requested, names)} "
-            f"(states: {name_list(names, 12) or 'none'})",
+            f"(states: {name_list(dict.fromkeys(listed), 12) or 'none'})",
             path=srdf.path,
         )
     own = [s for s in srdf.group_states if group is not None and s.group == group]
+    # A group without c-space joints (a base holding only a planar virtual joint) is covered
+    # by no state: every state would "cover" its empty c-space.
     covering = [
-        s for s in srdf.group_states if s not in own and set(cspace) <= {n for n, _ in s.values}
+        s
+        for s in srdf.group_states
+        if cspace and s not in own and set(cspace) <= {n for n, _ in s.values}
     ]
     for cands, why in ((own, f"of group '{group}'"), (covering, "covering the c-space")):
         for pref in PREFERRED_STATES:

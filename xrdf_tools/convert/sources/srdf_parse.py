@@ -75,8 +75,9 @@ def load_srdf(
     """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used.
 
     An SRDF xacro (``robot.srdf.xacro``, as MoveIt configurations ship them) is expanded with
-    ``xacro_args`` and ``package_paths`` first, as MoveIt's launch files do; its elements are
-    then reported without a line (the expansion's lines are not the file's)."""
+    ``xacro_args`` and ``package_paths`` first, as MoveIt's launch files do (the robot's
+    arguments: one it does not read is no finding); its elements are then reported without a
+    line (the expansion's lines are not the file's)."""
     from ...robot.xacro_source import expand_xacro, uses_xacro
 
     p = os.fspath(path)
@@ -84,7 +85,9 @@ def load_srdf(
     if not (p.endswith(".xacro") or uses_xacro(data)):
         return parse_srdf(data, p)
     said: list[Diagnostic] = []
-    text = expand_xacro(p, xacro_args, package_paths, data=data, warnings=said)
+    text = expand_xacro(
+        p, xacro_args, package_paths, data=data, warnings=said, warn_unread_args=False
+    )
     return replace(parse_srdf(text, p, located=False), warnings=tuple(said))
 
 
