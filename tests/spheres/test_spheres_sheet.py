@@ -18,7 +18,14 @@ from xrdf_tools.spheres import sphere_metrics
 from xrdf_tools.spheres.fit import default_max_protrusion
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.spheres.robot_fit import CountPolicy, FitResult, fit_robot
-from xrdf_tools.spheres.sheet import SHEET_MAX_SPHERES, as_sheet, sheet_spheres
+from xrdf_tools.spheres.sheet import (
+    SHEET_MAX_CELLS,
+    SHEET_MAX_CELLS_BOUND,
+    SHEET_MAX_REACH,
+    SHEET_MAX_SPHERES,
+    as_sheet,
+    sheet_spheres,
+)
 
 #: a marker plate: 50 x 30 x 0.3 mm
 PLATE = (0.05, 0.03, 0.0003)
@@ -168,10 +175,48 @@ def test_a_bound_given_for_a_sheet_is_kept_by_a_grid_covering_it(plate_urdf: Pat
     assert _inside_some(_mid_plane_grid(PLATE), fit, "plate").all()
 
 
-def test_a_bound_a_sheet_cannot_keep_in_16_spheres_is_the_volume_fit(plate_urdf: Path) -> None:
-    fit = fit_robot(plate_urdf, max_protrusion=0.002)
-    assert [d.rule for d in fit.diagnostics] == ["spheres-target-missed"]
-    assert len(fit.spheres["plate"]) == 16
+def test_a_tight_bound_given_for_a_sheet_is_still_a_grid_covering_it(plate_urdf: Path) -> None:
+    """Within 2 mm the plate takes a grid of more than 16 cells: still a grid holding all of
+    it within the bound, not the volume fit (which covered a quarter of such a plate)."""
+    bound = 0.002
+    fit = fit_robot(plate_urdf, max_protrusion=bound)
+    assert [d.rule for d in fit.diagnostics] == ["spheres-sheet"]
+    spheres = fit.spheres["plate"]
+    assert 16 < len(spheres) <= SHEET_MAX_CELLS_BOUND
+    assert all(s.radius - PLATE[2] / 2 <= bound for s in spheres)
+    assert _inside_some(_mid_plane_grid(PLATE), fit, "plate").all()
+
+
+def test_a_bound_no_grid_of_the_most_cells_keeps_is_a_warning(plate_urdf: Path) -> None:
+    fit = fit_robot(plate_urdf, max_protrusion=0.0005)
+    (d,) = fit.diagnostics
+    assert (d.rule, d.severity.value) == ("spheres-sheet", "warning")
+    assert "past the bound" in d.message and f"more than {SHEET_MAX_CELLS_BOUND}" in d.message
+    assert len(fit.spheres["plate"]) <= SHEET_MAX_CELLS_BOUND
+    assert _inside_some(_mid_plane_grid(PLATE), fit, "plate").all()
+
+
+#: a mobile base's top plate: 932 x 790 x 6.35 mm
+TOP_PLATE = (0.932, 0.79, 0.00635)
+
+
+def test_a_big_plate_gets_finer_cells_reaching_no_further_than_the_cap(tmp_path: Path) -> None:
+    """Two rows of cells over a 0.8 m plate would reach 0.25 m past its faces (further than
+    an arm link sticks out): its cells are cut until the reach is within SHEET_MAX_REACH, or
+    the finest grid of SHEET_MAX_CELLS, whichever reaches less far."""
+    fit = fit_robot(_urdf(tmp_path, _plate(TOP_PLATE), "top"))
+    spheres = fit.spheres["top"]
+    assert SHEET_MAX_SPHERES < len(spheres) <= SHEET_MAX_CELLS
+    a, b, t = TOP_PLATE
+    # the least reach any grid of at most SHEET_MAX_CELLS cells has, by trying them all
+    least = min(
+        0.5 * math.sqrt((a / na) ** 2 + (b / nb) ** 2 + t**2) - t / 2
+        for na in range(1, SHEET_MAX_CELLS + 1)
+        for nb in range(1, SHEET_MAX_CELLS // na + 1)
+    )
+    reach = max(s.radius for s in spheres) - t / 2
+    assert reach <= max(SHEET_MAX_REACH, 1.1 * least) + 2e-4
+    assert _inside_some(_mid_plane_grid(TOP_PLATE), fit, "top").all()
 
 
 def test_the_metrics_name_a_sheet_and_its_whole_area_is_covered(plate_fit: FitResult) -> None:

@@ -36,7 +36,7 @@ from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
 from ..util.text import name_list
 from ..xrdf.model import Sphere
-from .fewest import AUTO_MAX_PER_LINK, fewest_reaching, past_the_bound
+from .fewest import fewest_reaching, past_the_bound
 
 if TYPE_CHECKING:
     import trimesh
@@ -284,15 +284,11 @@ def _sheet(geom: LinkGeometry, plan: LinkPlan, counts: CountPolicy) -> SheetPlan
         return None
     from .sheet import sheet_plan
 
-    return sheet_plan(geom.solid, plan[1], AUTO_MAX_PER_LINK)
+    return sheet_plan(geom.solid, plan[1])
 
 
 def _fit_sheet(
-    sheet: SheetPlan,
-    geom: LinkGeometry,
-    bound: float | None,
-    path: str,
-    diags: list[Diagnostic],
+    sheet: SheetPlan, geom: LinkGeometry, bound: float | None, path: str, diags: list[Diagnostic]
 ) -> tuple[Sphere, ...]:
     """A sheet's spheres (:func:`.sheet.sheet_spheres`), said once for the link; ``bound``:
     the link's own protrusion bound."""
@@ -301,8 +297,8 @@ def _fit_sheet(
 
     spheres = sheet_spheres(*sheet)
     tau = default_max_protrusion(geom.solid) if bound is None else bound
-    message = sheet_message(geom.link, sheet[0], spheres, tau, own=bound is not None)
-    diags.append(_info(path, geom.line, RULE_SHEET, message))
+    message, past = sheet_message(geom.link, sheet[0], spheres, tau, own=bound is not None)
+    diags.append(_info(path, geom.line, RULE_SHEET, message, warn=past))
     return spheres
 
 

@@ -19,10 +19,12 @@ the length, at most ``SHEET_MAX_SPHERES`` in all, the cells lengthening for a lo
 cell inside the smallest sphere containing it. So the whole sheet lies inside the spheres, and
 each reaches about a third of the sheet's width from its faces (``b / (2√2)``): a sphere per
 sheet would reach 0.7 of its width (43 mm over a 60 mm marker plate), more than the link it
-sits on. With a bound of the link's own (and no count),
-the sheet's box is cut into the fewest square cells whose spheres reach at most that bound
-past its faces, when they are at most ``AUTO_MAX_PER_LINK`` (else the volume fit under the
-bound, as for any solid).
+sits on. A big sheet's two rows would reach as far (a mobile base's top plate: 0.25 m), so
+when they would reach past ``SHEET_MAX_REACH`` the box is cut into the fewest square cells
+whose spheres reach at most that, at most ``SHEET_MAX_CELLS`` (else the finest grid of that
+many). With a bound of the link's own (and no count), the sheet's box is cut into the fewest
+square cells whose spheres reach at most that bound past its faces, at most
+``SHEET_MAX_CELLS_BOUND`` (else the finest grid of that many, said as reaching past the bound).
 """
 
 from __future__ import annotations
@@ -41,8 +43,16 @@ if TYPE_CHECKING:
 
 #: A sheet's thickness is at most this fraction's inverse of its width.
 SHEET_ASPECT = 10.0
-#: The most spheres a sheet gets by default.
+#: The most spheres a sheet gets by default, while they reach at most ``SHEET_MAX_REACH``.
 SHEET_MAX_SPHERES = 16
+#: How far past its faces the default spheres of a sheet may reach (metres): about an arm
+#: link's sphere. A bigger sheet (a mobile base's top plate) gets finer cells.
+SHEET_MAX_REACH = 0.05
+#: The most cells a sheet is cut into to keep its spheres within the default reach; past it
+#: the finest grid of this many is taken.
+SHEET_MAX_CELLS = 64
+#: The same under a protrusion bound the user gave for the sheet.
+SHEET_MAX_CELLS_BOUND = 256
 #: Cells across a sheet's width by default (square cells along its length).
 _ACROSS = 2
 #: Relative slack when the thickness is compared with the bound (a box made exactly as thick
@@ -68,9 +78,31 @@ class Sheet:
     @property
     def cells(self) -> tuple[int, int]:
         """Cells along the length and the width by default: :data:`_ACROSS` across, square
-        ones along (within ``_SQUARE_SLACK``), at most ``SHEET_MAX_SPHERES`` in all."""
+        ones along (within ``_SQUARE_SLACK``), at most ``SHEET_MAX_SPHERES`` in all; when
+        their spheres would reach past ``SHEET_MAX_REACH``, the fewest square cells within
+        it (at most ``SHEET_MAX_CELLS``, else the finest grid of that many)."""
         along = math.ceil(_ACROSS * self.length / self.width - _SQUARE_SLACK)
-        return max(1, min(SHEET_MAX_SPHERES // _ACROSS, along)), _ACROSS
+        shape = max(1, min(SHEET_MAX_SPHERES // _ACROSS, along)), _ACROSS
+        if self.reach(shape) <= SHEET_MAX_REACH:
+            return shape
+        return self.grid_within(SHEET_MAX_REACH, SHEET_MAX_CELLS) or self.finest_grid()
+
+    def reach(self, shape: tuple[int, int]) -> float:
+        """How far past the faces the spheres of ``shape`` cells reach (before rounding)."""
+        da, db = self.length / shape[0], self.width / shape[1]
+        return 0.5 * math.sqrt(da**2 + db**2 + self.thickness**2) - self.thickness / 2.0
+
+    def finest_grid(self, most: int = SHEET_MAX_CELLS) -> tuple[int, int]:
+        """The square cells of the smallest side that number at most ``most``."""
+        side = math.sqrt(self.length * self.width / most)
+        while True:
+            shape = (
+                max(1, math.ceil(self.length / side - 1e-9)),
+                max(1, math.ceil(self.width / side - 1e-9)),
+            )
+            if shape[0] * shape[1] <= most:
+                return shape
+            side *= 1.01
 
     def grid_within(self, bound: float, most: int) -> tuple[int, int] | None:
         """Cells along the length and the width: the fewest square ones whose spheres reach
@@ -111,17 +143,19 @@ def as_sheet(solid: trimesh.Trimesh, bound: float) -> Sheet | None:
 SheetPlan = tuple[Sheet, tuple[int, int] | None]
 
 
-def sheet_plan(solid: trimesh.Trimesh, own: float | None, most: int) -> SheetPlan | None:
+def sheet_plan(solid: trimesh.Trimesh, own: float | None) -> SheetPlan | None:
     """How the sheet rule fits ``solid`` when it is a sheet: its default cells under the
-    default bound (``own`` None), else the grid within the bound ``own`` if it takes at most
-    ``most`` spheres; None when the rule does not apply."""
+    default bound (``own`` None), else the grid within the bound ``own`` (at most
+    ``SHEET_MAX_CELLS_BOUND`` cells, else the finest grid of that many, which reaches past
+    the bound: :func:`sheet_message` says so); None when the rule does not apply. A fit by volume
+    is no fallback: on a sheet thinner than the distance grid's cells it places poor spheres."""
     from .fit import default_max_protrusion
 
     sheet = as_sheet(solid, default_max_protrusion(solid) if own is None else own)
     if sheet is None or own is None:
         return None if sheet is None else (sheet, None)
-    shape = sheet.grid_within(own, most)
-    return None if shape is None else (sheet, shape)
+    most = SHEET_MAX_CELLS_BOUND
+    return sheet, sheet.grid_within(own, most) or sheet.finest_grid(most)
 
 
 def sheet_spheres(sheet: Sheet, shape: tuple[int, int] | None = None) -> tuple[Sphere, ...]:
@@ -151,9 +185,9 @@ def sheet_spheres(sheet: Sheet, shape: tuple[int, int] | None = None) -> tuple[S
 
 def sheet_message(
     link: str, sheet: Sheet, spheres: tuple[Sphere, ...], bound: float, own: bool
-) -> str:
+) -> tuple[str, bool]:
     """What was done to a sheet (``own``: under a protrusion bound given for it), and the
-    options that change it."""
+    options that change it; True when its spheres reach past that bound (a warning)."""
     mm = 1000.0
     radius = max(s.radius for s in spheres)
     reach = radius - sheet.thickness / 2.0
@@ -162,10 +196,16 @@ def sheet_message(
     what = f"1 sphere of radius {radius * mm:.1f} mm covers" if n == 1 else ""
     what = what or f"{n} spheres of radius {radius * mm:.1f} mm cover"
     head = f"link '{link}' is a sheet ({size}, no thicker than its {bound * mm:.3g} mm protrusion "
+    if own and reach > bound:
+        return head + (
+            f"bound, given): {what} all of it, reaching {reach * mm:.1f} mm, past the bound: "
+            f"within it would take more than {SHEET_MAX_CELLS_BOUND} spheres; --per-link N "
+            "fits N spheres to its volume"
+        ), True
     if own:
-        return head + f"bound, given): {what} all of it, reaching {reach * mm:.1f} mm"
+        return head + f"bound, given): {what} all of it, reaching {reach * mm:.1f} mm", False
     return head + (
         f"bound): {what} all of it, reaching {reach * mm:.1f} mm from its faces; --per-link N "
         "fits N spheres to its volume, `xrdf spheres --max-protrusion M` covers it with "
         "spheres reaching at most M"
-    )
+    ), False
