@@ -562,13 +562,14 @@ def test_an_srdf_xacro_is_refused_and_its_expansion_merged(
     assert "export-srdf-robot-name" not in err
 
 
-def test_pairs_naming_a_link_the_urdf_lacks_are_one_warning_per_link(
+def test_pairs_naming_a_link_the_urdf_lacks_are_kept_and_said_once_per_link(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     """PR2's MoveIt SRDF disables pairs of its Kinect links, which the default pr2.urdf.xacro
     does not have: the sync removed each with "no longer ignored by the XRDF" (200 lines),
-    which no XRDF of that URDF could ever ignore. One warning per such link says so, at its
-    first pair; the pairs the XRDF stopped ignoring keep their own warning."""
+    though no XRDF of that URDF can say anything of them. They are kept as they are (the SRDF
+    may serve a variant with the Kinect), with one info per such link at its first pair; the
+    pairs the XRDF stopped ignoring are removed with their own warning."""
     urdf = tmp_path / "bot.urdf"
     urdf.write_text(
         '<robot name="bot"><link name="a"/><link name="b"/><link name="c"/>\n'
@@ -597,15 +598,20 @@ def test_pairs_naming_a_link_the_urdf_lacks_are_one_warning_per_link(
     )
     code, stdout, err = _export(runner, str(xrdf), "--merge", str(srdf), "--urdf", str(urdf))
     assert code == 0, err
-    removed = [ln for ln in err.splitlines() if "export-srdf-removed" in ln]
-    assert removed == [
+    said = [ln for ln in err.splitlines() if "export-srdf-" in ln]
+    assert said == [
         f"{srdf}:3: warning export-srdf-removed a/c (reason Never) is no longer ignored by the "
         "XRDF: removed",
-        f"{srdf}:4: warning export-srdf-removed 'kinect' is not a link of the URDF 'bot': 3 "
-        "disable_collisions naming it removed (first a/kinect); no XRDF of this URDF can "
-        "ignore them",
-        f"{srdf}:6: warning export-srdf-removed 'prosilica' is not a link of the URDF 'bot': 1 "
-        "disable_collisions naming it removed (first prosilica/kinect); no XRDF of this URDF "
-        "can ignore them",
+        f"{srdf}:4: info export-srdf-unknown-link 'kinect' is not a link of the URDF 'bot': 3 "
+        "disable_collisions naming it kept (first a/kinect); no XRDF of this URDF can say "
+        "whether to check them",
+        f"{srdf}:6: info export-srdf-unknown-link 'prosilica' is not a link of the URDF 'bot': "
+        "1 disable_collisions naming it kept (first prosilica/kinect); no XRDF of this URDF "
+        "can say whether to check them",
     ]
-    assert [p[:2] for p in parse_srdf(stdout).disable_collisions] == [("a", "b")]
+    assert [p[:2] for p in parse_srdf(stdout).disable_collisions] == [
+        ("a", "b"),
+        ("a", "kinect"),
+        ("kinect", "c"),
+        ("prosilica", "kinect"),
+    ]

@@ -59,6 +59,9 @@ _ALWAYS_RATE = 0.95  # same threshold as xrdf_tools.report.ALWAYS_RATE (not impo
 
 Pair = frozenset[str]
 
+#: Pairs of the merged SRDF naming a link the URDF does not have.
+RULE_FOREIGN = "export-srdf-unknown-link"
+
 
 @dataclass(frozen=True)
 class PairChange:
@@ -174,9 +177,12 @@ def sync_srdf(
     doc = XmlDocument.parse(_NEW if existing is None else existing, srdf_path)
     name = _sync_name(doc.root, urdf, robot_name, diags, srdf_path, new=new)
     universe = _universe(x, urdf, doc.root)
-    plan = _plan(doc.root, pairs, dict(reasons or {}), universe)
+    links = set(urdf.links) if urdf is not None else None
+    plan = _plan(doc.root, pairs, dict(reasons or {}), universe, links)
     plan.apply(doc.root)
-    diags.extend(_removed_diags(plan.removed, urdf, srdf_path))
+    diags.extend(_removed_diag(ch, srdf_path) for ch in plan.removed)
+    diags.extend(_foreign_diags(plan.foreign, urdf, srdf_path))
+    diags.sort(key=lambda d: (d.line is None, d.line or 0))
     if plan.added:
         diags.append(_added_diag(plan.added, srdf_path))
     return SrdfSync(
@@ -330,35 +336,30 @@ def _universe(x: Xrdf, urdf: RobotTree | None, root: Any) -> set[str]:
     return names
 
 
-def _removed_diags(
-    removed: Sequence[PairChange], urdf: RobotTree | None, path: str
+def _foreign_diags(
+    kept: Sequence[PairChange], urdf: RobotTree | None, path: str
 ) -> list[Diagnostic]:
-    """A warning per removed pair; the pairs naming a link the URDF does not have (an SRDF
-    written for a variant with more sensors) one warning per such link, at its first pair:
-    no XRDF of this URDF can ignore them, so "no longer ignored" would not say why."""
-    missing: dict[str, list[PairChange]] = {}
-    out: list[Diagnostic] = []
-    for ch in removed:
-        absent = [n for n in (ch.link1, ch.link2) if urdf is not None and n not in urdf.links]
-        if absent and ch.element == "disable_collisions":
-            for link in absent:
-                missing.setdefault(link, []).append(ch)
-        else:
-            out.append(_removed_diag(ch, path))
-    for link, changes in missing.items():
-        first = changes[0]
-        out.append(
-            _diag(
-                path,
-                first.line,
-                "export-srdf-removed",
-                Severity.WARNING,
-                f"'{link}' is not a link of the URDF '{urdf.name if urdf else ''}': "
-                f"{len(changes)} disable_collisions naming it removed (first "
-                f"{first.link1}/{first.link2}); no XRDF of this URDF can ignore them",
-            )
+    """An info per link the URDF does not have (an SRDF shared with a variant that has more
+    sensors), at its first pair, counting the pairs naming it: they are kept, since no XRDF of
+    this URDF can say whether to check them."""
+    named: dict[str, list[PairChange]] = {}
+    for ch in kept:
+        for link in (ch.link1, ch.link2):
+            if urdf is not None and link not in urdf.links:
+                named.setdefault(link, []).append(ch)
+    return [
+        _diag(
+            path,
+            changes[0].line,
+            RULE_FOREIGN,
+            Severity.INFO,
+            f"'{link}' is not a link of the URDF '{urdf.name if urdf else ''}': "
+            f"{len(changes)} disable_collisions naming it kept (first "
+            f"{changes[0].link1}/{changes[0].link2}); no XRDF of this URDF can say whether "
+            "to check them",
         )
-    return sorted(out, key=lambda d: d.line or 0)
+        for link, changes in named.items()
+    ]
 
 
 def _removed_diag(ch: PairChange, path: str) -> Diagnostic:
@@ -398,6 +399,8 @@ class _Plan:
     new_disabled: list[tuple[str, str, str]]
     new_enabled: list[tuple[str, str]]
     drop: list[Any]
+    #: Pairs naming a link the URDF does not have: kept as they are.
+    foreign: list[PairChange]
 
     def apply(self, root: Any) -> None:
         from lxml import etree
@@ -421,10 +424,15 @@ class _Plan:
 
 
 def _plan(
-    root: Any, pairs: list[tuple[str, str]], reasons: Mapping[Pair, str], universe: Collection[str]
+    root: Any,
+    pairs: list[tuple[str, str]],
+    reasons: Mapping[Pair, str],
+    universe: Collection[str],
+    links: Collection[str] | None,
 ) -> _Plan:
+    """What the merge changes; ``links``: the URDF's (a pair naming another link is kept)."""
     want = {frozenset(p) for p in pairs}
-    plan = _Plan([], [], [], [], [], [])
+    plan = _Plan([], [], [], [], [], [], [])
     present: set[Pair] = set()
     for el in root.iterchildren("disable_collisions"):
         pair = _pair_of(el)
@@ -432,6 +440,8 @@ def _plan(
         if pair in want:
             plan.kept.append(ch)
             present.add(pair)
+        elif links is not None and not all(n in links for n in pair):
+            plan.foreign.append(ch)
         else:
             plan.removed.append(ch)
             plan.drop.append(el)

@@ -81,6 +81,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-srdf-added", I, "Pairs added to the SRDF, with their reasons."),
         ("export-srdf-added-frame", W, "Ignore pairs on added frames MoveIt does not know."),
         ("export-srdf-removed", W, "A disabled pair the XRDF no longer ignores: removed."),
+        ("export-srdf-unknown-link", I, "Pairs naming a link the URDF lacks: kept as they are."),
         ("export-srdf-robot-name", W, "The SRDF robot name differs from the URDF's."),
     ),
     "robot loading (every command reading a URDF)": (
