@@ -276,6 +276,48 @@ def test_default_limits_name_the_unit_of_each_joint_kind(tmp_path: Path) -> None
         assert f"using the default 1000 {jerk_unit} (" in messages["convert-default-jerk"]
 
 
+def test_a_hand_on_a_wrist_plans_for_the_wrist_and_leaves_its_fingers_out(
+    tmp_path: Path,
+) -> None:
+    """The Shadow Hand's layout: two wrist joints with neutral names ('rh_WRJ2' into
+    'rh_wrist', 'rh_WRJ1' into 'rh_palm'), then fingers whose names say nothing ('rh_FFJ4'
+    into 'rh_ffknuckle', ...) on the palm. The joint into the palm moves the whole hand: a
+    wrist joint, not a gripper's, and the default plans for both wrist joints; the fingers
+    hanging from the palm are left out."""
+    links = ["world", "rh_forearm", "rh_wrist", "rh_palm", "rh_manipulator"]
+    joints = [
+        _j("rh_world_joint", "fixed", "world", "rh_forearm"),
+        _j("rh_WRJ2", "revolute", "rh_forearm", "rh_wrist"),
+        _j("rh_WRJ1", "revolute", "rh_wrist", "rh_palm"),
+        _j("rh_ee_fixed_joint", "fixed", "rh_palm", "rh_manipulator"),
+    ]
+    fingers = {"ff": 4, "mf": 4, "th": 5}
+    for finger, count in fingers.items():
+        parent = "rh_palm"
+        segments = ["base", "knuckle", "proximal", "middle", "distal"][-count:]
+        for k, segment in zip(range(count, 0, -1), segments, strict=True):
+            link = f"rh_{finger}{segment}"
+            links.append(link)
+            joints.append(_j(f"rh_{finger.upper()}J{k}", "revolute", parent, link))
+            parent = link
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    roles = joint_roles(robot.tree)
+    first_joints = {f"rh_{f.upper()}J{n}" for f, n in fingers.items()}
+    assert {j for j, role in roles.items() if role == "gripper"} == first_joints
+    choice = default_cspace(robot.tree, collision_links=set(links) - {"world", "rh_manipulator"})
+    assert choice.joints == ("rh_WRJ2", "rh_WRJ1")
+    assert choice.tool is not None and choice.tool.frame == "rh_manipulator"
+    assert set(choice.left_out["gripper"]) == first_joints
+
+    # a joint into a hand with nothing moving below it is still a gripper's
+    robot = _tree_urdf(
+        tmp_path,
+        _j("j1", "revolute", "base", "arm") + _j("j2", "revolute", "arm", "palm"),
+        ["base", "arm", "palm"],
+    )
+    assert joint_roles(robot.tree) == {"j2": "gripper"}
+
+
 def test_jaws_without_gripper_names_are_left_out(tmp_path: Path) -> None:
     """The AgileX Piper's jaws are independent prismatic joints 'joint7'/'joint8' into
     'link7'/'link8' on 'gripper_base': the link they hang from names the gripper. Two

@@ -8,9 +8,11 @@ leaf, leaving out what a motion planner does not plan for:
   (no movable joint above them) with no movable joint below;
 * **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
   ``knuckle``/``palm``/``pinky`` (Valkyrie's ``leftPinkyPitch1``), every joint that a mimic
-  joint follows (a mimic joint itself is never a c-space joint), and jaws named otherwise: a
-  joint with nothing actuated below that hangs from a link named like a gripper, or two or
-  more such prismatic joints on one link;
+  joint follows (a mimic joint itself is never a c-space joint), and jaws and fingers named
+  otherwise: a joint into a link named like a gripper with nothing actuated below it, a joint
+  that hangs from such a link (a jaw on a gripper's base, a finger on a palm), or two or more
+  prismatic joints with nothing actuated below on one link. A joint into a hand or palm that
+  fingers hang from moves the whole hand: a wrist joint (the Shadow Hand's ``rh_WRJ1``);
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
   and so is a pan/tilt unit that carries a tool frame: a wrist).
@@ -140,6 +142,8 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
             role = None  # a pan/tilt unit with a tool on it is a wrist (Schunk PW70)
         if role is None and not set(name_words(name)) & _ARM and not carries_tool:
             role = _name_role(j.child)
+            if role == "gripper" and below.free[j.child]:
+                role = None  # it moves a hand that fingers hang from: a wrist joint
         coupled = j.is_mimic or name in leaders
         if role is None and coupled and not _coupling_moves_below(tree, below, name):
             role = "gripper"
@@ -197,15 +201,17 @@ class _Subtrees:
 
 
 def _is_jaw(tree: RobotTree, below: _Subtrees, joint: str) -> bool:
-    """A gripper's jaw whose own names say nothing: a joint with nothing actuated and no tool
-    frame below it that hangs from a link named like a gripper (the AgileX Piper's 'joint7'
-    on 'gripper_base'), or one of two or more such prismatic joints on one link (the jaws of
-    a parallel gripper)."""
+    """A gripper's jaw or finger whose own names say nothing: a joint with no tool frame
+    below it that hangs from a link named like a gripper (the AgileX Piper's 'joint7' on
+    'gripper_base', the Shadow Hand's 'rh_FFJ4' on 'rh_palm'), or one of two or more
+    prismatic joints with nothing actuated below on one link (a parallel gripper's jaws)."""
     j = tree.joints[joint]
-    if below.free[j.child] or below.tool[j.child]:
+    if below.tool[j.child]:
         return False
     if _name_role(j.parent) == "gripper":
-        return True
+        return True  # a jaw on a gripper's base, or a finger's first joint on a palm
+    if below.free[j.child]:
+        return False
     if j.type != "prismatic":
         return False
     jaws = [
