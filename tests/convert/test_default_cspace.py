@@ -453,7 +453,7 @@ def test_xacro_mobile_and_two_arm_robots(name: str) -> None:
 
 def test_a_humanoids_arm_wins_over_its_equally_long_leg(tmp_path: Path) -> None:
     """A humanoid (Unitree H1's layout): each leg and each arm (with the torso) has five
-    joints; the default plans for an arm and reports the rest as ties."""
+    joints; the default plans for an arm and names the leg it passed over."""
     limbs = {
         "left_leg": ["left_hip_yaw", "left_hip_roll", "left_hip_pitch", "left_knee", "left_ankle"],
         "left_arm": [
@@ -477,7 +477,8 @@ def test_a_humanoids_arm_wins_over_its_equally_long_leg(tmp_path: Path) -> None:
     arm = tuple(f"{n}_joint" for n in limbs["left_arm"])
     assert choice.joints == arm  # not the leg, which comes first in the tree
     assert choice.tool is not None and choice.tool.frame == "left_wrist_link"
-    assert [c.cspace for c, _ in choice.ties] == [tuple(f"{n}_joint" for n in limbs["left_leg"])]
+    assert [c.cspace for c, _ in choice.legs] == [tuple(f"{n}_joint" for n in limbs["left_leg"])]
+    assert not choice.ties
 
 
 @pytest.mark.parametrize("name", sorted(REAL))
@@ -522,3 +523,44 @@ def test_a_chain_of_thousands_of_joints_gets_short_messages(tmp_path: Path) -> N
     messages = [d.message for d in diagnostics]
     assert any(f"and {n - 12} more" in m for m in messages)
     assert max(len(m) for m in messages) < 600
+
+
+def test_a_humanoids_arm_wins_over_its_longer_leg(tmp_path: Path) -> None:
+    """NAO's layout: six leg joints and five arm joints in camelCase names ('LHipYawPitch',
+    'LShoulderPitch'), touch-sensor frames on the wrist. The default plans for the arm, not
+    the longer leg (named in the message with its --chain), and the tool frame is no touch
+    sensor; a robot made of legs only plans for its longest leg."""
+    leg = ["LHipYawPitch", "LHipRoll", "LHipPitch", "LKneePitch", "LAnklePitch", "LAnkleRoll"]
+    arm = ["LShoulderPitch", "LShoulderRoll", "LElbowYaw", "LElbowRoll", "LWristYaw"]
+    links, joints = ["base_link", "torso"], [_j("base_fixed", "fixed", "base_link", "torso")]
+    for chain, tip in ((leg, "l_ankle"), (arm, "l_wrist")):
+        parent = "torso"
+        for k, name in enumerate(chain):
+            child = tip if k == len(chain) - 1 else f"{name}_link"
+            links.append(child)
+            joints.append(_j(name, "revolute", parent, child))
+            parent = child
+    extra = {
+        "l_sole": "l_ankle",
+        "LFootBumperLeft_frame": "l_ankle",
+        "LHandTouchBack_frame": "l_wrist",
+        "LHandTouchLeft_frame": "l_wrist",
+    }
+    for child, parent in extra.items():
+        links.append(child)
+        joints.append(_j(f"{child}_joint", "fixed", parent, child))
+    links.append("l_gripper")
+    joints.append(_j("LHand", "revolute", "l_wrist", "l_gripper"))
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    geometry = {lk for lk in links if lk.endswith("_link")} | {"l_ankle", "l_wrist", "torso"}
+    choice = default_cspace(robot.tree, collision_links=geometry)
+    assert name_words("LHipYawPitch") == ("l", "hip", "yaw", "pitch")
+    assert choice.joints == tuple(arm)
+    assert choice.tool is not None and choice.tool.frame == "l_wrist"
+    assert [(c.cspace, t.frame) for c, t in choice.legs] == [(tuple(leg), "l_sole")]
+    assert "--chain base_link:l_sole" in choice.describe()
+
+    legs_only = [j for j in joints if not any(f'"{a}"' in j for a in arm)]
+    robot = _tree_urdf(tmp_path, "".join(legs_only), links)
+    choice = default_cspace(robot.tree, collision_links=geometry)
+    assert choice.joints == tuple(leg) and not choice.legs

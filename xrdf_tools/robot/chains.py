@@ -20,7 +20,9 @@ leaf, leaving out what a motion planner does not plan for:
 A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
 A joint whose limits hold it still (lower = upper: Toyota HSR's force-torque sensor frame) is
 no c-space joint; chains and tool-frame guesses go through it as through a fixed joint.
-Among equally long chains an arm wins over a leg (a humanoid's arm and leg can both have five).
+A leg is planned for only when every chain is a leg: a humanoid's arm wins over its legs, as
+long as each other (Unitree H1: five joints each) or shorter (NAO: five arm joints, six leg
+joints).
 Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
 ``behead`` is not; a word that begins or ends with a wheel word, or ends with ``hand``,
 ``gripper`` or ``finger``, counts too (``wheelfl``, ``qbhand``). The tool frame
@@ -99,13 +101,19 @@ _TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
 )
 #: Words of a frame a tool is mounted at (a grasp frame may sit between fingers).
 _TOOL_WORDS = frozenset().union(*(names for rank, names in _TOOL_RANKS if rank != "a grasp"))
-_SENSOR = _HEAD | {"optical", "depth", "rgb", "imu", "sensor", "accelerometer", "range", "sonar"}
+_SENSOR = _HEAD | {
+    *("optical", "depth", "rgb", "imu", "sensor", "accelerometer", "gyrometer", "gyro"),
+    *("range", "sonar", "infrared", "touch", "tactile", "skin", "bumper", "button", "fsr"),
+}
 
 
 @lru_cache(maxsize=65536)
 def name_words(name: str) -> tuple[str, ...]:
-    """Lower-case words of a link or joint name: split at non-letters and camelCase humps."""
+    """Lower-case words of a link or joint name: split at non-letters and camelCase humps
+    (an upper-case run before a capitalized word is a word: NAO's ``LHipPitch`` is l, hip,
+    pitch)."""
     spaced = re.sub(r"([a-z])([A-Z])", r"\1 \2", name)
+    spaced = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", spaced)
     return tuple(w.lower() for w in re.split(r"[^A-Za-z]+", spaced) if w)
 
 
@@ -397,6 +405,9 @@ class DefaultCSpace:
     #: Other chains with as many c-space joints and a different c-space (two arms), each
     #: with its tool frame.
     ties: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
+    #: Legs with at least as many c-space joints as the choice, passed over for it (a
+    #: humanoid's), each with its tool frame.
+    legs: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
 
     def describe(self) -> str:
         """One sentence: what was chosen, what was left out, and the flags that change it."""
@@ -423,6 +434,11 @@ class DefaultCSpace:
                 f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
             )
             text += f"; as long: {other}"
+        if self.legs:
+            legs = "; ".join(
+                f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.legs
+            )
+            text += f"; as long or longer but a leg, passed over: {legs}"
         return text + f"; change it with --chain {self.chain.base}:{tip}, --joints or --srdf"
 
 
@@ -433,10 +449,12 @@ def default_cspace(
 ) -> DefaultCSpace:
     """The longest serial chain of actuated joints from the root (see the module doc).
 
-    ``passive`` joints never enter the c-space. Among chains of equal length, one whose tool
-    frame has a tool-like name wins, then an arm (``shoulder``/``elbow``/``wrist`` names) over
-    a leg (``hip``/``knee``/``ankle`` names; a humanoid's arm and leg can be equally long),
-    then the first in depth-first order (siblings by name).
+    ``passive`` joints never enter the c-space. A leg (``hip``/``knee``/``ankle`` names and
+    no ``shoulder``/``elbow``/``wrist`` ones) is taken only when every chain is one (a
+    humanoid's leg can be longer than its arm: NAO's six leg joints, five arm joints). Among
+    chains of equal length, one whose tool frame has a tool-like name wins, then an arm over
+    a chain with neither arm nor leg names, then the first in depth-first order (siblings by
+    name).
     """
     roles = joint_roles(tree)
     chains = leaf_chains(tree, roles, passive)
@@ -446,17 +464,30 @@ def default_cspace(
         names = tuple(j for j in order if roles.get(j) == role)
         if names:
             left_out[role] = names
-    best_len = max((len(c.cspace) for c in chains), default=0)
+    legs = {c.cspace for c in chains if c.cspace and is_leg(tree, c.cspace)}
+    pool = [c for c in chains if c.cspace not in legs] or chains
+    best_len = max((len(c.cspace) for c in pool), default=0)
     if best_len == 0:
         return DefaultCSpace((), None, None, left_out)
-    longest = [c for c in chains if len(c.cspace) == best_len]
-    distinct: dict[tuple[str, ...], Chain] = {}
-    for c in longest:
-        distinct.setdefault(c.cspace, c)
+    distinct = _distinct([c for c in pool if len(c.cspace) == best_len])
     guesses = {cs: guess_tool_frame(tree, cs[-1], collision_links) for cs in distinct}
     pick = min(distinct, key=lambda cs: (not guesses[cs].named, *_limb_rank(tree, cs)))
     ties = tuple((c, guesses[cs]) for cs, c in distinct.items() if cs != pick)
-    return DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties)
+    long_legs = _distinct([c for c in chains if c.cspace in legs and len(c.cspace) >= best_len])
+    passed = tuple(
+        (c, guess_tool_frame(tree, cs[-1], collision_links))
+        for cs, c in long_legs.items()
+        if cs != pick
+    )
+    return DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties, passed)
+
+
+def _distinct(chains: Sequence[Chain]) -> dict[tuple[str, ...], Chain]:
+    """The first chain of each c-space, in order."""
+    out: dict[tuple[str, ...], Chain] = {}
+    for c in chains:
+        out.setdefault(c.cspace, c)
+    return out
 
 
 def _limb_words(tree: RobotTree, joints: Sequence[str]) -> set[str]:
