@@ -564,3 +564,25 @@ def test_a_humanoids_arm_wins_over_its_longer_leg(tmp_path: Path) -> None:
     robot = _tree_urdf(tmp_path, "".join(legs_only), links)
     choice = default_cspace(robot.tree, collision_links=geometry)
     assert choice.joints == tuple(leg) and not choice.legs
+
+
+def test_a_joint_that_rolls_the_hand_is_the_last_arm_joint(tmp_path: Path) -> None:
+    """Booster T1's seven-joint arm ends in 'Left_Hand_Roll' into 'left_hand_link': a joint
+    named like a hand with a roll/pitch/yaw word turns the whole hand, a wrist joint; a hand
+    joint with a finger word or no rotation word (NAO's 'LHand') stays a gripper's."""
+    arm = ["Left_Shoulder_Pitch", "Left_Elbow_Pitch", "Left_Wrist_Yaw", "Left_Hand_Roll"]
+    links, joints, parent = ["Trunk"], [], "Trunk"
+    for k, name in enumerate(arm):
+        child = "left_hand_link" if name == arm[-1] else f"AL{k + 1}"
+        links.append(child)
+        joints.append(_j(name, "revolute", parent, child))
+        parent = child
+    others = {"Left_Hand_Thumb_Roll": "thumb_link", "LHand": "l_gripper"}
+    for name, child in others.items():
+        links.append(child)
+        joints.append(_j(name, "revolute", "left_hand_link", child))
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    assert joint_roles(robot.tree) == {"Left_Hand_Thumb_Roll": "gripper", "LHand": "gripper"}
+    choice = default_cspace(robot.tree)
+    assert choice.joints == tuple(arm)
+    assert choice.tool is not None and choice.tool.frame == "left_hand_link"

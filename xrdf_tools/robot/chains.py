@@ -12,7 +12,9 @@ leaf, leaving out what a motion planner does not plan for:
   otherwise: a joint into a link named like a gripper with nothing actuated below it, a joint
   that hangs from such a link (a jaw on a gripper's base, a finger on a palm), or two or more
   prismatic joints with nothing actuated below on one link. A joint into a hand or palm that
-  fingers hang from moves the whole hand: a wrist joint (the Shadow Hand's ``rh_WRJ1``);
+  fingers hang from moves the whole hand: a wrist joint (the Shadow Hand's ``rh_WRJ1``), and
+  so does a joint named like a hand with a roll/pitch/yaw word (Booster T1's
+  ``Left_Hand_Roll``);
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
   and so is a pan/tilt unit that carries a tool frame: a wrist).
@@ -85,6 +87,8 @@ _HEAD = frozenset(
     {"head", "neck", "camera", "cam", "eye", "eyes", "laser", "lidar", "xtion", "kinect"}
 )
 _PAN_TILT = frozenset({"pan", "tilt"})
+_HAND = frozenset({"hand", "palm"})
+_ROTATION = frozenset({"roll", "pitch", "yaw"})
 _ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
 #: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
 _LEG = frozenset(
@@ -144,24 +148,33 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
     for name, j in tree.joints.items():
         if not j.is_movable:
             continue
-        role = _name_role(name)
+        words = set(name_words(name))
+        arm = bool(words & _ARM) or _turns_hand(words)
+        role = None if _turns_hand(words) else _name_role(name)
         carries_tool = below.tool[j.child]
-        if role == "head" and carries_tool and not set(name_words(name)) & _HEAD:
+        if role == "head" and carries_tool and not words & _HEAD:
             role = None  # a pan/tilt unit with a tool on it is a wrist (Schunk PW70)
-        if role is None and not set(name_words(name)) & _ARM and not carries_tool:
+        if role is None and not arm and not carries_tool:
             role = _name_role(j.child)
             if role == "gripper" and below.free[j.child]:
                 role = None  # it moves a hand that fingers hang from: a wrist joint
         coupled = j.is_mimic or name in leaders
         if role is None and coupled and not _coupling_moves_below(tree, below, name):
             role = "gripper"
-        if role is None and not set(name_words(name)) & _ARM and _is_jaw(tree, below, name):
+        if role is None and not arm and _is_jaw(tree, below, name):
             role = "gripper"
         if role is None and j.type == "continuous" and below.is_base_wheel(j.parent, j.child):
             role = "wheel"
         if role is not None:
             roles[name] = role
     return roles
+
+
+def _turns_hand(words: Collection[str]) -> bool:
+    """Whether a joint's name says it turns a whole hand about an axis (Booster T1's
+    'Left_Hand_Roll', its seventh arm joint): a wrist joint, not a finger's."""
+    words = set(words)
+    return bool(words & _HAND and words & _ROTATION and not words & (_GRIPPER - _HAND))
 
 
 class _Subtrees:
