@@ -586,3 +586,33 @@ def test_a_joint_that_rolls_the_hand_is_the_last_arm_joint(tmp_path: Path) -> No
     choice = default_cspace(robot.tree)
     assert choice.joints == tuple(arm)
     assert choice.tool is not None and choice.tool.frame == "left_hand_link"
+
+
+def test_a_group_of_two_branches_gets_a_tool_frame_on_each(tmp_path: Path) -> None:
+    """The Shadow Hand's SRDF group 'rh_little_finger_thumb' lists the joints of two fingers
+    and names no end effector: each finger's tip is a tool frame (only the thumb's was). A
+    serial chain keeps its one tool frame."""
+    links = ["palm", "lf1", "lf2", "lftip", "th1", "th2", "thtip"]
+    joints = "".join(
+        [
+            _j("LFJ2", "revolute", "palm", "lf1"),
+            _j("LFJ1", "revolute", "lf1", "lf2"),
+            _j("LFtip", "fixed", "lf2", "lftip"),
+            _j("THJ2", "revolute", "palm", "th1"),
+            _j("THJ1", "revolute", "th1", "th2"),
+            _j("thtip", "fixed", "th2", "thtip"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    srdf = tmp_path / "r.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="lf_th">'
+        + "".join(f'<joint name="{j}"/>' for j in ("LFJ2", "LFJ1", "THJ2", "THJ1"))
+        + "</group></robot>"
+    )
+    x, diags = convert(robot, ConvertOptions(srdf=srdf))
+    assert x.tool_frames == ("lftip", "thtip")
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-tool-frame"]
+    assert len(chosen) == 2 and "'lftip'" in chosen[0] and "'thtip'" in chosen[1]
+    x, _ = convert(robot, ConvertOptions(joints=("THJ2", "THJ1")))
+    assert x.tool_frames == ("thtip",)

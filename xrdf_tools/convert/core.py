@@ -304,8 +304,9 @@ def _tool_frames(
     collision_links: Collection[str] | None,
     default_tool: ToolFrameGuess | None,
 ) -> list[str]:
-    """``--tool-frame`` (checked), else the sources', else a guess at the end of the chain."""
-    from .sources.cspace import guessed_tool_frame
+    """``--tool-frame`` (checked), else the sources', else a guess at the end of each branch
+    of the c-space."""
+    from .sources.cspace import guessed_tool_frames
 
     frames = set(tree.links) | {m.frame_name for m in draft.modifiers if isinstance(m, AddFrame)}
     tool_frames = list(options.tool_frames) or list(draft.tool_frames)
@@ -315,7 +316,7 @@ def _tool_frames(
                 f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"
             )
     if not tool_frames and cspace:
-        tool_frames = [guessed_tool_frame(tree, cspace, rep, collision_links, default_tool)]
+        tool_frames = guessed_tool_frames(tree, cspace, rep, collision_links, default_tool)
     return tool_frames
 
 
