@@ -560,8 +560,11 @@ def test_a_humanoids_arm_wins_over_its_longer_leg(tmp_path: Path) -> None:
     assert [(c.cspace, t.frame) for c, t in choice.legs] == [(tuple(leg), "l_sole")]
     assert "--chain base_link:l_sole" in choice.describe()
 
+    # a robot of legs only (a quadruped, a biped whose arms are fixed): its longest leg, also
+    # beside a sensor frame on the body (a chain without joints)
     legs_only = [j for j in joints if not any(f'"{a}"' in j for a in arm)]
-    robot = _tree_urdf(tmp_path, "".join(legs_only), links)
+    legs_only.append(_j("imu_joint", "fixed", "torso", "imu"))
+    robot = _tree_urdf(tmp_path, "".join(legs_only), [*links, "imu"])
     choice = default_cspace(robot.tree, collision_links=geometry)
     assert choice.joints == tuple(leg) and not choice.legs
 
@@ -577,12 +580,16 @@ def test_a_joint_that_rolls_the_hand_is_the_last_arm_joint(tmp_path: Path) -> No
         links.append(child)
         joints.append(_j(name, "revolute", parent, child))
         parent = child
-    others = {"Left_Hand_Thumb_Roll": "thumb_link", "LHand": "l_gripper"}
+    others = {
+        "Left_Hand_Thumb_Roll": "thumb_link",
+        "LHand": "l_gripper",
+        "r2/left_arm/hand/index/yaw": "index_link",  # Robonaut 2's index finger
+    }
     for name, child in others.items():
         links.append(child)
         joints.append(_j(name, "revolute", "left_hand_link", child))
     robot = _tree_urdf(tmp_path, "".join(joints), links)
-    assert joint_roles(robot.tree) == {"Left_Hand_Thumb_Roll": "gripper", "LHand": "gripper"}
+    assert joint_roles(robot.tree) == dict.fromkeys(others, "gripper")
     choice = default_cspace(robot.tree)
     assert choice.joints == tuple(arm)
     assert choice.tool is not None and choice.tool.frame == "left_hand_link"
@@ -616,3 +623,33 @@ def test_a_group_of_two_branches_gets_a_tool_frame_on_each(tmp_path: Path) -> No
     assert len(chosen) == 2 and "'lftip'" in chosen[0] and "'thtip'" in chosen[1]
     x, _ = convert(robot, ConvertOptions(joints=("THJ2", "THJ1")))
     assert x.tool_frames == ("thtip",)
+
+
+def test_a_hand_alone_plans_for_its_longest_finger(tmp_path: Path) -> None:
+    """The Allegro hand's root is its palm and every joint is a finger's: the default is
+    the longest finger, said to be one; a gripper alone with one joint per jaw has no finger
+    to plan and says what it left out."""
+    links = ["palm_link", "f1a", "f1b", "f1c", "f2a", "f2b", "imu"]
+    joints = "".join(
+        [
+            _j("joint_0", "revolute", "palm_link", "f1a"),
+            _j("joint_1", "revolute", "f1a", "f1b"),
+            _j("joint_2", "revolute", "f1b", "f1c"),
+            _j("joint_4", "revolute", "palm_link", "f2a"),
+            _j("joint_5", "revolute", "f2a", "f2b"),
+            _j("imu_joint", "fixed", "palm_link", "imu"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("joint_0", "joint_1", "joint_2") and choice.hand_alone
+    assert choice.describe().startswith("the robot is a hand alone (only finger joints): ")
+    assert choice.tool is not None and choice.tool.frame == "f1c"
+
+    jaws = _j("left", "prismatic", "gripper_base", "l") + _j(
+        "right", "prismatic", "gripper_base", "r"
+    )
+    robot = _tree_urdf(tmp_path, jaws, ["gripper_base", "l", "r"])
+    choice = default_cspace(robot.tree)
+    assert choice.joints == () and not choice.hand_alone
+    assert "besides 2 gripper joint(s) (left, right)" in choice.describe()

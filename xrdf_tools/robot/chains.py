@@ -9,12 +9,10 @@ leaf, leaving out what a motion planner does not plan for:
 * **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
   ``knuckle``/``palm``/``pinky`` (Valkyrie's ``leftPinkyPitch1``), every joint that a mimic
   joint follows (a mimic joint itself is never a c-space joint), and jaws and fingers named
-  otherwise: a joint into a link named like a gripper with nothing actuated below it, a joint
-  that hangs from such a link (a jaw on a gripper's base, a finger on a palm), or two or more
-  prismatic joints with nothing actuated below on one link. A joint into a hand or palm that
-  fingers hang from moves the whole hand: a wrist joint (the Shadow Hand's ``rh_WRJ1``), and
-  so does a joint named like a hand with a roll/pitch/yaw word (Booster T1's
-  ``Left_Hand_Roll``);
+  otherwise: a joint on a link named like a gripper or into one with nothing actuated below,
+  or two or more prismatic joints with nothing actuated below on one link. A joint into a hand
+  that fingers hang from (Shadow's ``rh_WRJ1``) or named like a hand with a roll/pitch/yaw
+  word (Booster T1's ``Left_Hand_Roll``) turns the whole hand: a wrist joint;
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
   and so is a pan/tilt unit that carries a tool frame: a wrist).
@@ -22,9 +20,8 @@ leaf, leaving out what a motion planner does not plan for:
 A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
 A joint whose limits hold it still (lower = upper: Toyota HSR's force-torque sensor frame) is
 no c-space joint; chains and tool-frame guesses go through it as through a fixed joint.
-A leg is planned for only when every chain is a leg: a humanoid's arm wins over its legs, as
-long as each other (Unitree H1: five joints each) or shorter (NAO: five arm joints, six leg
-joints).
+A leg is planned for only when every chain is one: a humanoid's arm wins over a leg as long
+(Unitree H1) or longer (NAO); a hand alone plans for its longest finger.
 Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
 ``behead`` is not; a word that begins or ends with a wheel word, or ends with ``hand``,
 ``gripper`` or ``finger``, counts too (``wheelfl``, ``qbhand``). The tool frame
@@ -41,7 +38,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Collection, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from typing import Literal
 
@@ -88,6 +85,8 @@ _HEAD = frozenset(
 )
 _PAN_TILT = frozenset({"pan", "tilt"})
 _HAND = frozenset({"hand", "palm"})
+#: Finger words beside the gripper words (Robonaut 2's 'r2/left_arm/hand/index/yaw').
+_FINGER = frozenset({"index", "middle", "ring", "little", "mcp", "pip", "dip", "distal", "tip"})
 _ROTATION = frozenset({"roll", "pitch", "yaw"})
 _ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
 #: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
@@ -171,10 +170,9 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
 
 
 def _turns_hand(words: Collection[str]) -> bool:
-    """Whether a joint's name says it turns a whole hand about an axis (Booster T1's
-    'Left_Hand_Roll', its seventh arm joint): a wrist joint, not a finger's."""
+    """Whether a joint's name says it turns a whole hand about an axis: a wrist joint."""
     words = set(words)
-    return bool(words & _HAND and words & _ROTATION and not words & (_GRIPPER - _HAND))
+    return bool(words & _HAND and words & _ROTATION and not words & (_GRIPPER | _FINGER) - _HAND)
 
 
 class _Subtrees:
@@ -418,9 +416,9 @@ class DefaultCSpace:
     #: Other chains with as many c-space joints and a different c-space (two arms), each
     #: with its tool frame.
     ties: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
-    #: Legs with at least as many c-space joints as the choice, passed over for it (a
-    #: humanoid's), each with its tool frame.
+    #: Legs as long as the choice or longer, passed over for it, each with its tool frame.
     legs: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
+    hand_alone: bool = False  #: nothing but fingers to plan: the c-space is a finger
 
     def describe(self) -> str:
         """One sentence: what was chosen, what was left out, and the flags that change it."""
@@ -437,6 +435,8 @@ class DefaultCSpace:
             f"c-space is the longest serial chain of actuated joints from '{self.chain.base}' "
             f"({len(self.joints)}: {name_list(self.joints, 12)})"
         )
+        if self.hand_alone:
+            text = f"the robot is a hand alone (only finger joints): {text}, a finger"
         out = [
             f"{len(js)} {role} joint(s) ({name_list(js, 4)})" for role, js in self.left_out.items()
         ]
@@ -462,12 +462,10 @@ def default_cspace(
 ) -> DefaultCSpace:
     """The longest serial chain of actuated joints from the root (see the module doc).
 
-    ``passive`` joints never enter the c-space. A leg (``hip``/``knee``/``ankle`` names and
-    no ``shoulder``/``elbow``/``wrist`` ones) is taken only when every chain is one (a
-    humanoid's leg can be longer than its arm: NAO's six leg joints, five arm joints). Among
-    chains of equal length, one whose tool frame has a tool-like name wins, then an arm over
-    a chain with neither arm nor leg names, then the first in depth-first order (siblings by
-    name).
+    ``passive`` joints never enter the c-space. A leg (``hip``/``knee``/``ankle`` names, no
+    ``shoulder``/``elbow``/``wrist`` ones) is taken only when every chain is one. Among chains
+    of equal length, one whose tool frame has a tool-like name wins, then an arm, then the
+    first in depth-first order (siblings by name).
     """
     roles = joint_roles(tree)
     chains = leaf_chains(tree, roles, passive)
@@ -477,8 +475,12 @@ def default_cspace(
         names = tuple(j for j in order if roles.get(j) == role)
         if names:
             left_out[role] = names
+    hand = not any(c.cspace for c in chains) and "gripper" in left_out
+    if hand:  # a hand alone (its root the palm): its longest finger, if it has joints
+        fingers = leaf_chains(tree, {j: r for j, r in roles.items() if r != "gripper"}, passive)
+        chains = fingers if max((len(c.cspace) for c in fingers), default=0) >= 2 else chains
     legs = {c.cspace for c in chains if c.cspace and is_leg(tree, c.cspace)}
-    pool = [c for c in chains if c.cspace not in legs] or chains
+    pool = [c for c in chains if c.cspace and c.cspace not in legs] or chains
     best_len = max((len(c.cspace) for c in pool), default=0)
     if best_len == 0:
         return DefaultCSpace((), None, None, left_out)
@@ -492,7 +494,8 @@ def default_cspace(
         for cs, c in long_legs.items()
         if cs != pick
     )
-    return DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties, passed)
+    out = DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties, passed)
+    return replace(out, left_out={}, hand_alone=True) if hand else out
 
 
 def _distinct(chains: Sequence[Chain]) -> dict[tuple[str, ...], Chain]:
