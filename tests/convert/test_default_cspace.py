@@ -484,7 +484,8 @@ def test_a_humanoids_arm_wins_over_its_equally_long_leg(tmp_path: Path) -> None:
 @pytest.mark.parametrize("name", sorted(REAL))
 def test_what_lies_below_each_link_matches_a_walk_per_link(name: str) -> None:
     """The one-walk facts behind the joint roles against walking the tree from every link."""
-    from xrdf_tools.robot.chains import _TOOL_WORDS, _Subtrees
+    from xrdf_tools.robot.chains import _Subtrees
+    from xrdf_tools.robot.names import TOOL_WORDS
 
     tree = _robot(name).tree
     leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint is not None}
@@ -497,7 +498,7 @@ def test_what_lies_below_each_link_matches_a_walk_per_link(name: str) -> None:
             for n in [link, *tree.ancestors(link)]
             if n in tree.parent_joint
         ]
-        tool = any(set(name_words(n)) & _TOOL_WORDS for n in (link, *below))
+        tool = any(set(name_words(n)) & TOOL_WORDS for n in (link, *below))
         assert facts.tool[link] == tool, link
         assert facts.free[link] == any(j.is_actuated and j.name not in leaders for j in into)
         assert facts.movable[link] == any(j.is_movable for j in into), link

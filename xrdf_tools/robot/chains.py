@@ -36,14 +36,23 @@ converter reports each choice and ``xrdf inspect`` shows it.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
-from typing import Literal
 
 from ..util.graph import postorder
 from ..util.text import name_list
+from .names import (
+    ARM,
+    HEAD,
+    LEG,
+    SENSOR,
+    TOOL_RANKS,
+    TOOL_WORDS,
+    JointRole,
+    name_role,
+    name_words,
+    turns_hand,
+)
 from .tree import RobotTree
 
 __all__ = [
@@ -60,84 +69,6 @@ __all__ = [
     "name_words",
 ]
 
-#: Why a joint is left out of a default c-space.
-JointRole = Literal["wheel", "gripper", "head"]
-
-_WHEEL = frozenset({"wheel", "wheels", "caster", "castor", "tire", "tyre"})
-_GRIPPER = frozenset(
-    {
-        "gripper",
-        "grip",
-        "finger",
-        "fingers",
-        "hand",
-        "jaw",
-        "claw",
-        "thumb",
-        "knuckle",
-        "palm",
-        "pinky",
-        "pinkie",
-    }
-)
-_HEAD = frozenset(
-    {"head", "neck", "camera", "cam", "eye", "eyes", "laser", "lidar", "xtion", "kinect"}
-)
-_PAN_TILT = frozenset({"pan", "tilt"})
-_HAND = frozenset({"hand", "palm"})
-#: Finger words beside the gripper words (Robonaut 2's 'r2/left_arm/hand/index/yaw').
-_FINGER = frozenset({"index", "middle", "ring", "little", "mcp", "pip", "dip", "distal", "tip"})
-_ROTATION = frozenset({"roll", "pitch", "yaw"})
-_ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
-#: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
-_LEG = frozenset(
-    {"leg", "legs", "hip", "knee", "ankle", "foot", "feet", "toe", "thigh", "shin", "calf"}
-)
-
-#: Tool-frame name preferences, best first: (rank, words or exact name).
-_TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
-    ("a TCP", frozenset({"tcp"})),
-    ("a tool", frozenset({"tool", "tool0"})),
-    ("an end-effector", frozenset({"ee", "eef", "effector", "endeffector", "endpoint"})),
-    ("a flange", frozenset({"flange"})),
-    ("a grasp", frozenset({"grasp", "grasping"})),
-)
-#: Words of a frame a tool is mounted at (a grasp frame may sit between fingers).
-_TOOL_WORDS = frozenset().union(*(names for rank, names in _TOOL_RANKS if rank != "a grasp"))
-_SENSOR = _HEAD | {
-    *("optical", "depth", "rgb", "imu", "sensor", "accelerometer", "gyrometer", "gyro"),
-    *("range", "sonar", "infrared", "touch", "tactile", "skin", "bumper", "button", "fsr"),
-}
-
-
-@lru_cache(maxsize=65536)
-def name_words(name: str) -> tuple[str, ...]:
-    """Lower-case words of a link or joint name: split at non-letters and camelCase humps
-    (an upper-case run before a capitalized word is a word: NAO's ``LHipPitch`` is l, hip,
-    pitch)."""
-    spaced = re.sub(r"([a-z])([A-Z])", r"\1 \2", name)
-    spaced = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", spaced)
-    return tuple(w.lower() for w in re.split(r"[^A-Za-z]+", spaced) if w)
-
-
-#: Words that name a wheel or a hand inside a compound written as one word (``wheelfl``,
-#: ``qbhand``, ``lefthand``): a word beginning or ending with a wheel word, ending with these.
-_WHEEL_AFFIXES = ("wheel", "caster", "castor")
-_GRIPPER_ENDINGS = ("hand", "gripper", "finger", "fingers")
-
-
-def _name_role(name: str) -> JointRole | None:
-    words = set(name_words(name))
-    if words & _WHEEL or any(
-        w.startswith(_WHEEL_AFFIXES) or w.endswith(_WHEEL_AFFIXES) for w in words
-    ):
-        return "wheel"
-    if words & _GRIPPER or any(w.endswith(_GRIPPER_ENDINGS) for w in words):
-        return "gripper"
-    if words & _HEAD or (words & _PAN_TILT and not words & _ARM):
-        return "head"
-    return None
-
 
 def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
     """The movable joints a default c-space leaves out, with the reason (see module doc)."""
@@ -148,13 +79,13 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         if not j.is_movable:
             continue
         words = set(name_words(name))
-        arm = bool(words & _ARM) or _turns_hand(words)
-        role = None if _turns_hand(words) else _name_role(name)
+        arm = bool(words & ARM) or turns_hand(words)
+        role = None if turns_hand(words) else name_role(name)
         carries_tool = below.tool[j.child]
-        if role == "head" and carries_tool and not words & _HEAD:
+        if role == "head" and carries_tool and not words & HEAD:
             role = None  # a pan/tilt unit with a tool on it is a wrist (Schunk PW70)
         if role is None and not arm and not carries_tool:
-            role = _name_role(j.child)
+            role = name_role(j.child)
             if role == "gripper" and below.free[j.child]:
                 role = None  # it moves a hand that fingers hang from: a wrist joint
         coupled = j.is_mimic or name in leaders
@@ -167,12 +98,6 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         if role is not None:
             roles[name] = role
     return roles
-
-
-def _turns_hand(words: Collection[str]) -> bool:
-    """Whether a joint's name says it turns a whole hand about an axis: a wrist joint."""
-    words = set(words)
-    return bool(words & _HAND and words & _ROTATION and not words & (_GRIPPER | _FINGER) - _HAND)
 
 
 class _Subtrees:
@@ -195,7 +120,7 @@ class _Subtrees:
         self.movable: dict[str, bool] = {}
         for link in order:
             joints = [tree.joints[jn] for jn in tree.child_joints.get(link, ())]
-            self.tool[link] = bool(set(name_words(link)) & _TOOL_WORDS) or any(
+            self.tool[link] = bool(set(name_words(link)) & TOOL_WORDS) or any(
                 self.tool.get(k.child, False) for k in joints
             )
             self.free[link] = any(
@@ -227,7 +152,7 @@ def _is_jaw(tree: RobotTree, below: _Subtrees, joint: str) -> bool:
     j = tree.joints[joint]
     if below.tool[j.child]:
         return False
-    if _name_role(j.parent) == "gripper":
+    if name_role(j.parent) == "gripper":
         return True  # a jaw on a gripper's base, or a finger's first joint on a palm
     if below.free[j.child]:
         return False
@@ -378,9 +303,9 @@ def guess_tool_frame(
     exact = [n for n, _ in below if n == "tool0"]
     if exact:
         return ToolFrameGuess("tool0", "named tool0", names, named=True)
-    for rank, words in _TOOL_RANKS:
+    for rank, words in TOOL_RANKS:
         hits = [(d, n) for n, d in below if set(name_words(n)) & words]
-        hits = [(d, n) for d, n in hits if not set(name_words(n)) & _SENSOR]
+        hits = [(d, n) for d, n in hits if not set(name_words(n)) & SENSOR]
         if hits:
             frame = min(hits)[1]
             return ToolFrameGuess(
@@ -393,7 +318,7 @@ def guess_tool_frame(
             if d > 0
             and n not in collision_links
             and not tree.child_joints.get(n)
-            and not set(name_words(n)) & _SENSOR
+            and not set(name_words(n)) & SENSOR
         ]
         if frames:
             frame = min(frames)[1]
@@ -518,10 +443,10 @@ def is_leg(tree: RobotTree, joints: Sequence[str]) -> bool:
     """Whether ``joints`` are a leg's (or legs'): named like legs (hip, knee, ankle, foot …)
     and nothing like an arm. A planner plans arms, not legs."""
     words = _limb_words(tree, joints)
-    return bool(words & _LEG) and not words & _ARM
+    return bool(words & LEG) and not words & ARM
 
 
 def _limb_rank(tree: RobotTree, cspace: Sequence[str]) -> tuple[bool, bool]:
     """Sort key of a chain among equally long ones: an arm first, a leg last."""
-    arm = bool(_limb_words(tree, cspace) & _ARM)
+    arm = bool(_limb_words(tree, cspace) & ARM)
     return (is_leg(tree, cspace), not arm)
