@@ -13,20 +13,20 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...robot.kinematics.base import JointType
 from ..context import LintContext, Problem, Rule
-
-_UNLOADABLE = {JointType.FLOATING: "floating", JointType.PLANAR: "planar"}
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
     kin = ctx.kin
     if kin is None:
         return
+    from ...robot.kinematics.base import JointType  # numpy: lint without --urdf stays light
+
+    unloadable = {JointType.FLOATING: "floating", JointType.PLANAR: "planar"}
     for frame, joint, code in zip(
         kin.frame_names, kin.joint_of_frame, kin.joint_type.tolist(), strict=True
     ):
-        kind = _UNLOADABLE.get(JointType(code))
+        kind = unloadable.get(JointType(code))
         if kind is None or joint is None:
             continue
         yield ctx.problem(
