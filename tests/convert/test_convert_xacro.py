@@ -507,3 +507,36 @@ def test_a_xacro_arg_the_expansion_never_reads_is_a_warning(
     r = runner.invoke(app, ["convert", str(robot), "--srdf", str(srdf), *fine, *args[:2]])
     unread = [ln for ln in r.stderr.splitlines() if "xacro-arg-unread" in ln]
     assert len(unread) == 1 and unread[0].startswith(f"{robot}: warning"), r.stderr
+
+
+def test_an_unset_argument_names_the_others_the_files_use_without_a_default(
+    tmp_path: Path,
+) -> None:
+    """PAL's Talos needs six arguments its launch file passes: the error about the first
+    names the others its files use without a default (in the top file, an include found by
+    $(find), not in a comment), so one run finds them all."""
+    pkg = tmp_path / "robo_description"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>robo_description</name></package>")
+    (pkg / "urdf" / "parts.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="with_default" default="1"/>\n'
+        '  <link name="$(arg head_type)_$(arg with_default)"/>\n'
+        "  <!-- $(arg commented_out) -->\n</robot>\n"
+    )
+    top = pkg / "robot.urdf.xacro"
+    top.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:if value="$(arg enable_crane)"><link name="crane"/></xacro:if>\n'
+        '  <xacro:include filename="$(find robo_description)/urdf/parts.xacro"/>\n'
+        '  <link name="base_$(arg test)"/>\n</robot>\n'
+    )
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    assert e.value.line == 2 and "Undefined substitution argument enable_crane" in e.value.message
+    assert e.value.message.endswith(
+        "; used without a default too: --xacro-arg test:=VALUE --xacro-arg head_type:=VALUE"
+    )
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top, {"enable_crane": "false", "head_type": "a"})
+    assert e.value.message.endswith("(pass --xacro-arg test:=VALUE)")

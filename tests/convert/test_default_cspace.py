@@ -276,6 +276,48 @@ def test_default_limits_name_the_unit_of_each_joint_kind(tmp_path: Path) -> None
         assert f"using the default 1000 {jerk_unit} (" in messages["convert-default-jerk"]
 
 
+def test_a_hand_on_a_wrist_plans_for_the_wrist_and_leaves_its_fingers_out(
+    tmp_path: Path,
+) -> None:
+    """The Shadow Hand's layout: two wrist joints with neutral names ('rh_WRJ2' into
+    'rh_wrist', 'rh_WRJ1' into 'rh_palm'), then fingers whose names say nothing ('rh_FFJ4'
+    into 'rh_ffknuckle', ...) on the palm. The joint into the palm moves the whole hand: a
+    wrist joint, not a gripper's, and the default plans for both wrist joints; the fingers
+    hanging from the palm are left out."""
+    links = ["world", "rh_forearm", "rh_wrist", "rh_palm", "rh_manipulator"]
+    joints = [
+        _j("rh_world_joint", "fixed", "world", "rh_forearm"),
+        _j("rh_WRJ2", "revolute", "rh_forearm", "rh_wrist"),
+        _j("rh_WRJ1", "revolute", "rh_wrist", "rh_palm"),
+        _j("rh_ee_fixed_joint", "fixed", "rh_palm", "rh_manipulator"),
+    ]
+    fingers = {"ff": 4, "mf": 4, "th": 5}
+    for finger, count in fingers.items():
+        parent = "rh_palm"
+        segments = ["base", "knuckle", "proximal", "middle", "distal"][-count:]
+        for k, segment in zip(range(count, 0, -1), segments, strict=True):
+            link = f"rh_{finger}{segment}"
+            links.append(link)
+            joints.append(_j(f"rh_{finger.upper()}J{k}", "revolute", parent, link))
+            parent = link
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    roles = joint_roles(robot.tree)
+    first_joints = {f"rh_{f.upper()}J{n}" for f, n in fingers.items()}
+    assert {j for j, role in roles.items() if role == "gripper"} == first_joints
+    choice = default_cspace(robot.tree, collision_links=set(links) - {"world", "rh_manipulator"})
+    assert choice.joints == ("rh_WRJ2", "rh_WRJ1")
+    assert choice.tool is not None and choice.tool.frame == "rh_manipulator"
+    assert set(choice.left_out["gripper"]) == first_joints
+
+    # a joint into a hand with nothing moving below it is still a gripper's
+    robot = _tree_urdf(
+        tmp_path,
+        _j("j1", "revolute", "base", "arm") + _j("j2", "revolute", "arm", "palm"),
+        ["base", "arm", "palm"],
+    )
+    assert joint_roles(robot.tree) == {"j2": "gripper"}
+
+
 def test_jaws_without_gripper_names_are_left_out(tmp_path: Path) -> None:
     """The AgileX Piper's jaws are independent prismatic joints 'joint7'/'joint8' into
     'link7'/'link8' on 'gripper_base': the link they hang from names the gripper. Two
@@ -411,7 +453,7 @@ def test_xacro_mobile_and_two_arm_robots(name: str) -> None:
 
 def test_a_humanoids_arm_wins_over_its_equally_long_leg(tmp_path: Path) -> None:
     """A humanoid (Unitree H1's layout): each leg and each arm (with the torso) has five
-    joints; the default plans for an arm and reports the rest as ties."""
+    joints; the default plans for an arm and names the leg it passed over."""
     limbs = {
         "left_leg": ["left_hip_yaw", "left_hip_roll", "left_hip_pitch", "left_knee", "left_ankle"],
         "left_arm": [
@@ -435,13 +477,15 @@ def test_a_humanoids_arm_wins_over_its_equally_long_leg(tmp_path: Path) -> None:
     arm = tuple(f"{n}_joint" for n in limbs["left_arm"])
     assert choice.joints == arm  # not the leg, which comes first in the tree
     assert choice.tool is not None and choice.tool.frame == "left_wrist_link"
-    assert [c.cspace for c, _ in choice.ties] == [tuple(f"{n}_joint" for n in limbs["left_leg"])]
+    assert [c.cspace for c, _ in choice.legs] == [tuple(f"{n}_joint" for n in limbs["left_leg"])]
+    assert not choice.ties
 
 
 @pytest.mark.parametrize("name", sorted(REAL))
 def test_what_lies_below_each_link_matches_a_walk_per_link(name: str) -> None:
     """The one-walk facts behind the joint roles against walking the tree from every link."""
-    from xrdf_tools.robot.chains import _TOOL_WORDS, _Subtrees
+    from xrdf_tools.robot.chains import _Subtrees
+    from xrdf_tools.robot.names import TOOL_WORDS
 
     tree = _robot(name).tree
     leaders = {j.mimic_joint for j in tree.joints.values() if j.mimic_joint is not None}
@@ -454,7 +498,7 @@ def test_what_lies_below_each_link_matches_a_walk_per_link(name: str) -> None:
             for n in [link, *tree.ancestors(link)]
             if n in tree.parent_joint
         ]
-        tool = any(set(name_words(n)) & _TOOL_WORDS for n in (link, *below))
+        tool = any(set(name_words(n)) & TOOL_WORDS for n in (link, *below))
         assert facts.tool[link] == tool, link
         assert facts.free[link] == any(j.is_actuated and j.name not in leaders for j in into)
         assert facts.movable[link] == any(j.is_movable for j in into), link
@@ -480,3 +524,133 @@ def test_a_chain_of_thousands_of_joints_gets_short_messages(tmp_path: Path) -> N
     messages = [d.message for d in diagnostics]
     assert any(f"and {n - 12} more" in m for m in messages)
     assert max(len(m) for m in messages) < 600
+
+
+def test_a_humanoids_arm_wins_over_its_longer_leg(tmp_path: Path) -> None:
+    """NAO's layout: six leg joints and five arm joints in camelCase names ('LHipYawPitch',
+    'LShoulderPitch'), touch-sensor frames on the wrist. The default plans for the arm, not
+    the longer leg (named in the message with its --chain), and the tool frame is no touch
+    sensor; a robot made of legs only plans for its longest leg."""
+    leg = ["LHipYawPitch", "LHipRoll", "LHipPitch", "LKneePitch", "LAnklePitch", "LAnkleRoll"]
+    arm = ["LShoulderPitch", "LShoulderRoll", "LElbowYaw", "LElbowRoll", "LWristYaw"]
+    links, joints = ["base_link", "torso"], [_j("base_fixed", "fixed", "base_link", "torso")]
+    for chain, tip in ((leg, "l_ankle"), (arm, "l_wrist")):
+        parent = "torso"
+        for k, name in enumerate(chain):
+            child = tip if k == len(chain) - 1 else f"{name}_link"
+            links.append(child)
+            joints.append(_j(name, "revolute", parent, child))
+            parent = child
+    extra = {
+        "l_sole": "l_ankle",
+        "LFootBumperLeft_frame": "l_ankle",
+        "LHandTouchBack_frame": "l_wrist",
+        "LHandTouchLeft_frame": "l_wrist",
+    }
+    for child, parent in extra.items():
+        links.append(child)
+        joints.append(_j(f"{child}_joint", "fixed", parent, child))
+    links.append("l_gripper")
+    joints.append(_j("LHand", "revolute", "l_wrist", "l_gripper"))
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    geometry = {lk for lk in links if lk.endswith("_link")} | {"l_ankle", "l_wrist", "torso"}
+    choice = default_cspace(robot.tree, collision_links=geometry)
+    assert name_words("LHipYawPitch") == ("l", "hip", "yaw", "pitch")
+    assert choice.joints == tuple(arm)
+    assert choice.tool is not None and choice.tool.frame == "l_wrist"
+    assert [(c.cspace, t.frame) for c, t in choice.legs] == [(tuple(leg), "l_sole")]
+    assert "--chain base_link:l_sole" in choice.describe()
+
+    # a robot of legs only (a quadruped, a biped whose arms are fixed): its longest leg, also
+    # beside a sensor frame on the body (a chain without joints)
+    legs_only = [j for j in joints if not any(f'"{a}"' in j for a in arm)]
+    legs_only.append(_j("imu_joint", "fixed", "torso", "imu"))
+    robot = _tree_urdf(tmp_path, "".join(legs_only), [*links, "imu"])
+    choice = default_cspace(robot.tree, collision_links=geometry)
+    assert choice.joints == tuple(leg) and not choice.legs
+
+
+def test_a_joint_that_rolls_the_hand_is_the_last_arm_joint(tmp_path: Path) -> None:
+    """Booster T1's seven-joint arm ends in 'Left_Hand_Roll' into 'left_hand_link': a joint
+    named like a hand with a roll/pitch/yaw word turns the whole hand, a wrist joint; a hand
+    joint with a finger word or no rotation word (NAO's 'LHand') stays a gripper's."""
+    arm = ["Left_Shoulder_Pitch", "Left_Elbow_Pitch", "Left_Wrist_Yaw", "Left_Hand_Roll"]
+    links, joints, parent = ["Trunk"], [], "Trunk"
+    for k, name in enumerate(arm):
+        child = "left_hand_link" if name == arm[-1] else f"AL{k + 1}"
+        links.append(child)
+        joints.append(_j(name, "revolute", parent, child))
+        parent = child
+    others = {
+        "Left_Hand_Thumb_Roll": "thumb_link",
+        "LHand": "l_gripper",
+        "r2/left_arm/hand/index/yaw": "index_link",  # Robonaut 2's index finger
+    }
+    for name, child in others.items():
+        links.append(child)
+        joints.append(_j(name, "revolute", "left_hand_link", child))
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    assert joint_roles(robot.tree) == dict.fromkeys(others, "gripper")
+    choice = default_cspace(robot.tree)
+    assert choice.joints == tuple(arm)
+    assert choice.tool is not None and choice.tool.frame == "left_hand_link"
+
+
+def test_a_group_of_two_branches_gets_a_tool_frame_on_each(tmp_path: Path) -> None:
+    """The Shadow Hand's SRDF group 'rh_little_finger_thumb' lists the joints of two fingers
+    and names no end effector: each finger's tip is a tool frame (only the thumb's was). A
+    serial chain keeps its one tool frame."""
+    links = ["palm", "lf1", "lf2", "lftip", "th1", "th2", "thtip"]
+    joints = "".join(
+        [
+            _j("LFJ2", "revolute", "palm", "lf1"),
+            _j("LFJ1", "revolute", "lf1", "lf2"),
+            _j("LFtip", "fixed", "lf2", "lftip"),
+            _j("THJ2", "revolute", "palm", "th1"),
+            _j("THJ1", "revolute", "th1", "th2"),
+            _j("thtip", "fixed", "th2", "thtip"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    srdf = tmp_path / "r.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="lf_th">'
+        + "".join(f'<joint name="{j}"/>' for j in ("LFJ2", "LFJ1", "THJ2", "THJ1"))
+        + "</group></robot>"
+    )
+    x, diags = convert(robot, ConvertOptions(srdf=srdf))
+    assert x.tool_frames == ("lftip", "thtip")
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-tool-frame"]
+    assert len(chosen) == 2 and "'lftip'" in chosen[0] and "'thtip'" in chosen[1]
+    x, _ = convert(robot, ConvertOptions(joints=("THJ2", "THJ1")))
+    assert x.tool_frames == ("thtip",)
+
+
+def test_a_hand_alone_plans_for_its_longest_finger(tmp_path: Path) -> None:
+    """The Allegro hand's root is its palm and every joint is a finger's: the default is
+    the longest finger, said to be one; a gripper alone with one joint per jaw has no finger
+    to plan and says what it left out."""
+    links = ["palm_link", "f1a", "f1b", "f1c", "f2a", "f2b", "imu"]
+    joints = "".join(
+        [
+            _j("joint_0", "revolute", "palm_link", "f1a"),
+            _j("joint_1", "revolute", "f1a", "f1b"),
+            _j("joint_2", "revolute", "f1b", "f1c"),
+            _j("joint_4", "revolute", "palm_link", "f2a"),
+            _j("joint_5", "revolute", "f2a", "f2b"),
+            _j("imu_joint", "fixed", "palm_link", "imu"),
+        ]
+    )
+    robot = _tree_urdf(tmp_path, joints, links)
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("joint_0", "joint_1", "joint_2") and choice.hand_alone
+    assert choice.describe().startswith("the robot is a hand alone (only finger joints): ")
+    assert choice.tool is not None and choice.tool.frame == "f1c"
+
+    jaws = _j("left", "prismatic", "gripper_base", "l") + _j(
+        "right", "prismatic", "gripper_base", "r"
+    )
+    robot = _tree_urdf(tmp_path, jaws, ["gripper_base", "l", "r"])
+    choice = default_cspace(robot.tree)
+    assert choice.joints == () and not choice.hand_alone
+    assert "besides 2 gripper joint(s) (left, right)" in choice.describe()

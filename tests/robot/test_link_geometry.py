@@ -237,3 +237,39 @@ def test_a_package_uri_without_a_name_is_a_path_below_a_search_directory(tmp_pat
     assert given.resolve_uri(uri) == mesh
     with pytest.raises(XrdfToolsError, match="package:/// URI"):
         PackageResolver(elsewhere).resolve_uri("package:///nope/a.stl")
+
+
+def test_a_package_split_over_two_folders_finds_each_file(tmp_path: Path) -> None:
+    """iCub's manual models sit in a folder whose package.xml names 'iCub' and hold some of
+    the meshes; the others are in the sibling folder 'iCub' (both install into one package).
+    A file the nearest folder lacks is found in the farther one; a --package-path directory
+    is taken alone, as given."""
+    import trimesh
+
+    from xrdf_tools.robot.packages import PackageResolver
+
+    manual, generated = tmp_path / "models" / "manual", tmp_path / "models" / "robo"
+    for mesh in (manual / "meshes" / "hand.stl", generated / "meshes" / "torso.stl"):
+        mesh.parent.mkdir(parents=True)
+        trimesh.creation.box((0.1, 0.1, 0.1)).export(mesh)
+    (manual / "package.xml").write_text("<package><name>robo</name></package>")
+    urdf = manual / "robots" / "r.urdf"
+    urdf.parent.mkdir()
+    links = "".join(
+        f'<link name="{n}"><collision><geometry><mesh filename="package://robo/meshes/{n}.stl"/>'
+        "</geometry></collision></link>"
+        for n in ("hand", "torso")
+    )
+    joint = '<joint name="j" type="fixed"><parent link="torso"/><child link="hand"/></joint>'
+    urdf.write_text(f'<robot name="r">{links}{joint}</robot>')
+    found = PackageResolver(urdf)
+    assert found.resolve_uri("package://robo/meshes/hand.stl") == manual / "meshes" / "hand.stl"
+    assert found.resolve_uri("package://robo/meshes/torso.stl") == generated / "meshes/torso.stl"
+    assert found.resolve_uri("package://robo/meshes/none.stl") == manual / "meshes" / "none.stl"
+    given = PackageResolver(urdf, {"robo": str(manual)})
+    assert given.resolve_uri("package://robo/meshes/torso.stl") == manual / "meshes/torso.stl"
+    geometry = lg.link_geometry(load_robot(urdf), "collision")
+    assert {n: (len(g.parts), g.failures) for n, g in geometry.items()} == {
+        "hand": (1, ()),
+        "torso": (1, ()),
+    }

@@ -304,8 +304,9 @@ def _tool_frames(
     collision_links: Collection[str] | None,
     default_tool: ToolFrameGuess | None,
 ) -> list[str]:
-    """``--tool-frame`` (checked), else the sources', else a guess at the end of the chain."""
-    from .sources.cspace import guessed_tool_frame
+    """``--tool-frame`` (checked), else the sources', else a guess at the end of each branch
+    of the c-space."""
+    from .sources.cspace import guessed_tool_frames
 
     frames = set(tree.links) | {m.frame_name for m in draft.modifiers if isinstance(m, AddFrame)}
     tool_frames = list(options.tool_frames) or list(draft.tool_frames)
@@ -315,7 +316,7 @@ def _tool_frames(
                 f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"
             )
     if not tool_frames and cspace:
-        tool_frames = [guessed_tool_frame(tree, cspace, rep, collision_links, default_tool)]
+        tool_frames = guessed_tool_frames(tree, cspace, rep, collision_links, default_tool)
     return tool_frames
 
 
@@ -343,9 +344,12 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
     """The tree walked from the base the sources chose (``set_base_frame``), else the root.
 
     A URDF with disconnected parts (cuRobo ships some) is usable when a base is chosen; the
-    links it cannot reach are reported.
+    links it cannot reach are reported. A URDF whose root holds the robot by a floating or
+    planar joint gets the base below it (:func:`_floating_base`).
     """
     base = next((m.frame for m in draft.modifiers if isinstance(m, SetBaseFrame)), None)
+    if base is None and len(tree.roots) == 1:
+        base = _floating_base(tree, draft, rep)
     if base is None or base not in tree.links:
         if len(tree.roots) > 1:
             raise SourceError(
@@ -366,6 +370,33 @@ def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
             f"'{base}' and are not part of the robot ({shown})",
         )
     return based
+
+
+def _floating_base(tree: RobotTree, draft: Draft, rep: Reporter) -> str | None:
+    """The child of the lowest floating or planar joint on the single path down from the
+    root (a humanoid's 'world' to 'pelvis', a mobile base's 'odom' to 'base_footprint'), made
+    the XRDF's base with ``set_base_frame`` (reported), or None.
+
+    No reader moves such a joint and cuRobo cannot load a robot whose base is above one
+    ("Joint type not supported"); the robot below it is what a planner plans for.
+    """
+    link, found = tree.root, None
+    while len(kids := tree.child_joints.get(link, ())) == 1:
+        joint = tree.joints[kids[0]]
+        if joint.type in ("floating", "planar"):
+            found = joint
+        link = joint.child
+    if found is None:
+        return None
+    draft.modifiers.insert(0, SetBaseFrame(found.child))
+    above = list(reversed(tree.ancestors(found.child)))  # all of them: the path is single
+    rep.report(
+        "convert-floating-base",
+        f"'{found.name}' is a {found.type} joint above the robot, which no reader moves "
+        f"(cuRobo cannot load it): the XRDF's base is '{found.child}' (set_base_frame), "
+        f"without {name_list(above)} above it",
+    )
+    return found.child
 
 
 def _check_reachable(x: Xrdf, tree: RobotTree) -> None:

@@ -8,9 +8,11 @@ leaf, leaving out what a motion planner does not plan for:
   (no movable joint above them) with no movable joint below;
 * **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
   ``knuckle``/``palm``/``pinky`` (Valkyrie's ``leftPinkyPitch1``), every joint that a mimic
-  joint follows (a mimic joint itself is never a c-space joint), and jaws named otherwise: a
-  joint with nothing actuated below that hangs from a link named like a gripper, or two or
-  more such prismatic joints on one link;
+  joint follows (a mimic joint itself is never a c-space joint), and jaws and fingers named
+  otherwise: a joint on a link named like a gripper or into one with nothing actuated below,
+  or two or more prismatic joints with nothing actuated below on one link. A joint into a hand
+  that fingers hang from (Shadow's ``rh_WRJ1``) or named like a hand with a roll/pitch/yaw
+  word (Booster T1's ``Left_Hand_Roll``) turns the whole hand: a wrist joint;
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
   and so is a pan/tilt unit that carries a tool frame: a wrist).
@@ -18,7 +20,8 @@ leaf, leaving out what a motion planner does not plan for:
 A chain ends at its first left-out joint: what hangs below a gripper or a head is not arm.
 A joint whose limits hold it still (lower = upper: Toyota HSR's force-torque sensor frame) is
 no c-space joint; chains and tool-frame guesses go through it as through a fixed joint.
-Among equally long chains an arm wins over a leg (a humanoid's arm and leg can both have five).
+A leg is planned for only when every chain is one: a humanoid's arm wins over a leg as long
+(Unitree H1) or longer (NAO); a hand alone plans for its longest finger.
 Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
 ``behead`` is not; a word that begins or ends with a wheel word, or ends with ``hand``,
 ``gripper`` or ``finger``, counts too (``wheelfl``, ``qbhand``). The tool frame
@@ -33,14 +36,23 @@ converter reports each choice and ``xrdf inspect`` shows it.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Collection, Mapping, Sequence
-from dataclasses import dataclass, field
-from functools import lru_cache
-from typing import Literal
+from dataclasses import dataclass, field, replace
 
 from ..util.graph import postorder
 from ..util.text import name_list
+from .names import (
+    ARM,
+    HEAD,
+    LEG,
+    SENSOR,
+    TOOL_RANKS,
+    TOOL_WORDS,
+    JointRole,
+    name_role,
+    name_words,
+    turns_hand,
+)
 from .tree import RobotTree
 
 __all__ = [
@@ -57,74 +69,6 @@ __all__ = [
     "name_words",
 ]
 
-#: Why a joint is left out of a default c-space.
-JointRole = Literal["wheel", "gripper", "head"]
-
-_WHEEL = frozenset({"wheel", "wheels", "caster", "castor", "tire", "tyre"})
-_GRIPPER = frozenset(
-    {
-        "gripper",
-        "grip",
-        "finger",
-        "fingers",
-        "hand",
-        "jaw",
-        "claw",
-        "thumb",
-        "knuckle",
-        "palm",
-        "pinky",
-        "pinkie",
-    }
-)
-_HEAD = frozenset(
-    {"head", "neck", "camera", "cam", "eye", "eyes", "laser", "lidar", "xtion", "kinect"}
-)
-_PAN_TILT = frozenset({"pan", "tilt"})
-_ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
-#: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
-_LEG = frozenset(
-    {"leg", "legs", "hip", "knee", "ankle", "foot", "feet", "toe", "thigh", "shin", "calf"}
-)
-
-#: Tool-frame name preferences, best first: (rank, words or exact name).
-_TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
-    ("a TCP", frozenset({"tcp"})),
-    ("a tool", frozenset({"tool", "tool0"})),
-    ("an end-effector", frozenset({"ee", "eef", "effector", "endeffector", "endpoint"})),
-    ("a flange", frozenset({"flange"})),
-    ("a grasp", frozenset({"grasp", "grasping"})),
-)
-#: Words of a frame a tool is mounted at (a grasp frame may sit between fingers).
-_TOOL_WORDS = frozenset().union(*(names for rank, names in _TOOL_RANKS if rank != "a grasp"))
-_SENSOR = _HEAD | {"optical", "depth", "rgb", "imu", "sensor", "accelerometer", "range", "sonar"}
-
-
-@lru_cache(maxsize=65536)
-def name_words(name: str) -> tuple[str, ...]:
-    """Lower-case words of a link or joint name: split at non-letters and camelCase humps."""
-    spaced = re.sub(r"([a-z])([A-Z])", r"\1 \2", name)
-    return tuple(w.lower() for w in re.split(r"[^A-Za-z]+", spaced) if w)
-
-
-#: Words that name a wheel or a hand inside a compound written as one word (``wheelfl``,
-#: ``qbhand``, ``lefthand``): a word beginning or ending with a wheel word, ending with these.
-_WHEEL_AFFIXES = ("wheel", "caster", "castor")
-_GRIPPER_ENDINGS = ("hand", "gripper", "finger", "fingers")
-
-
-def _name_role(name: str) -> JointRole | None:
-    words = set(name_words(name))
-    if words & _WHEEL or any(
-        w.startswith(_WHEEL_AFFIXES) or w.endswith(_WHEEL_AFFIXES) for w in words
-    ):
-        return "wheel"
-    if words & _GRIPPER or any(w.endswith(_GRIPPER_ENDINGS) for w in words):
-        return "gripper"
-    if words & _HEAD or (words & _PAN_TILT and not words & _ARM):
-        return "head"
-    return None
-
 
 def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
     """The movable joints a default c-space leaves out, with the reason (see module doc)."""
@@ -134,16 +78,20 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
     for name, j in tree.joints.items():
         if not j.is_movable:
             continue
-        role = _name_role(name)
+        words = set(name_words(name))
+        arm = bool(words & ARM) or turns_hand(words)
+        role = None if turns_hand(words) else name_role(name)
         carries_tool = below.tool[j.child]
-        if role == "head" and carries_tool and not set(name_words(name)) & _HEAD:
+        if role == "head" and carries_tool and not words & HEAD:
             role = None  # a pan/tilt unit with a tool on it is a wrist (Schunk PW70)
-        if role is None and not set(name_words(name)) & _ARM and not carries_tool:
-            role = _name_role(j.child)
+        if role is None and not arm and not carries_tool:
+            role = name_role(j.child)
+            if role == "gripper" and below.free[j.child]:
+                role = None  # it moves a hand that fingers hang from: a wrist joint
         coupled = j.is_mimic or name in leaders
         if role is None and coupled and not _coupling_moves_below(tree, below, name):
             role = "gripper"
-        if role is None and not set(name_words(name)) & _ARM and _is_jaw(tree, below, name):
+        if role is None and not arm and _is_jaw(tree, below, name):
             role = "gripper"
         if role is None and j.type == "continuous" and below.is_base_wheel(j.parent, j.child):
             role = "wheel"
@@ -172,7 +120,7 @@ class _Subtrees:
         self.movable: dict[str, bool] = {}
         for link in order:
             joints = [tree.joints[jn] for jn in tree.child_joints.get(link, ())]
-            self.tool[link] = bool(set(name_words(link)) & _TOOL_WORDS) or any(
+            self.tool[link] = bool(set(name_words(link)) & TOOL_WORDS) or any(
                 self.tool.get(k.child, False) for k in joints
             )
             self.free[link] = any(
@@ -197,15 +145,17 @@ class _Subtrees:
 
 
 def _is_jaw(tree: RobotTree, below: _Subtrees, joint: str) -> bool:
-    """A gripper's jaw whose own names say nothing: a joint with nothing actuated and no tool
-    frame below it that hangs from a link named like a gripper (the AgileX Piper's 'joint7'
-    on 'gripper_base'), or one of two or more such prismatic joints on one link (the jaws of
-    a parallel gripper)."""
+    """A gripper's jaw or finger whose own names say nothing: a joint with no tool frame
+    below it that hangs from a link named like a gripper (the AgileX Piper's 'joint7' on
+    'gripper_base', the Shadow Hand's 'rh_FFJ4' on 'rh_palm'), or one of two or more
+    prismatic joints with nothing actuated below on one link (a parallel gripper's jaws)."""
     j = tree.joints[joint]
-    if below.free[j.child] or below.tool[j.child]:
+    if below.tool[j.child]:
         return False
-    if _name_role(j.parent) == "gripper":
-        return True
+    if name_role(j.parent) == "gripper":
+        return True  # a jaw on a gripper's base, or a finger's first joint on a palm
+    if below.free[j.child]:
+        return False
     if j.type != "prismatic":
         return False
     jaws = [
@@ -353,9 +303,9 @@ def guess_tool_frame(
     exact = [n for n, _ in below if n == "tool0"]
     if exact:
         return ToolFrameGuess("tool0", "named tool0", names, named=True)
-    for rank, words in _TOOL_RANKS:
+    for rank, words in TOOL_RANKS:
         hits = [(d, n) for n, d in below if set(name_words(n)) & words]
-        hits = [(d, n) for d, n in hits if not set(name_words(n)) & _SENSOR]
+        hits = [(d, n) for d, n in hits if not set(name_words(n)) & SENSOR]
         if hits:
             frame = min(hits)[1]
             return ToolFrameGuess(
@@ -368,7 +318,7 @@ def guess_tool_frame(
             if d > 0
             and n not in collision_links
             and not tree.child_joints.get(n)
-            and not set(name_words(n)) & _SENSOR
+            and not set(name_words(n)) & SENSOR
         ]
         if frames:
             frame = min(frames)[1]
@@ -391,6 +341,9 @@ class DefaultCSpace:
     #: Other chains with as many c-space joints and a different c-space (two arms), each
     #: with its tool frame.
     ties: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
+    #: Legs as long as the choice or longer, passed over for it, each with its tool frame.
+    legs: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
+    hand_alone: bool = False  #: nothing but fingers to plan: the c-space is a finger
 
     def describe(self) -> str:
         """One sentence: what was chosen, what was left out, and the flags that change it."""
@@ -407,6 +360,8 @@ class DefaultCSpace:
             f"c-space is the longest serial chain of actuated joints from '{self.chain.base}' "
             f"({len(self.joints)}: {name_list(self.joints, 12)})"
         )
+        if self.hand_alone:
+            text = f"the robot is a hand alone (only finger joints): {text}, a finger"
         out = [
             f"{len(js)} {role} joint(s) ({name_list(js, 4)})" for role, js in self.left_out.items()
         ]
@@ -417,6 +372,11 @@ class DefaultCSpace:
                 f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
             )
             text += f"; as long: {other}"
+        if self.legs:
+            legs = "; ".join(
+                f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.legs
+            )
+            text += f"; as long or longer but a leg, passed over: {legs}"
         return text + f"; change it with --chain {self.chain.base}:{tip}, --joints or --srdf"
 
 
@@ -427,10 +387,10 @@ def default_cspace(
 ) -> DefaultCSpace:
     """The longest serial chain of actuated joints from the root (see the module doc).
 
-    ``passive`` joints never enter the c-space. Among chains of equal length, one whose tool
-    frame has a tool-like name wins, then an arm (``shoulder``/``elbow``/``wrist`` names) over
-    a leg (``hip``/``knee``/``ankle`` names; a humanoid's arm and leg can be equally long),
-    then the first in depth-first order (siblings by name).
+    ``passive`` joints never enter the c-space. A leg (``hip``/``knee``/``ankle`` names, no
+    ``shoulder``/``elbow``/``wrist`` ones) is taken only when every chain is one. Among chains
+    of equal length, one whose tool frame has a tool-like name wins, then an arm, then the
+    first in depth-first order (siblings by name).
     """
     roles = joint_roles(tree)
     chains = leaf_chains(tree, roles, passive)
@@ -440,17 +400,35 @@ def default_cspace(
         names = tuple(j for j in order if roles.get(j) == role)
         if names:
             left_out[role] = names
-    best_len = max((len(c.cspace) for c in chains), default=0)
+    hand = not any(c.cspace for c in chains) and "gripper" in left_out
+    if hand:  # a hand alone (its root the palm): its longest finger, if it has joints
+        fingers = leaf_chains(tree, {j: r for j, r in roles.items() if r != "gripper"}, passive)
+        chains = fingers if max((len(c.cspace) for c in fingers), default=0) >= 2 else chains
+    legs = {c.cspace for c in chains if c.cspace and is_leg(tree, c.cspace)}
+    pool = [c for c in chains if c.cspace and c.cspace not in legs] or chains
+    best_len = max((len(c.cspace) for c in pool), default=0)
     if best_len == 0:
         return DefaultCSpace((), None, None, left_out)
-    longest = [c for c in chains if len(c.cspace) == best_len]
-    distinct: dict[tuple[str, ...], Chain] = {}
-    for c in longest:
-        distinct.setdefault(c.cspace, c)
+    distinct = _distinct([c for c in pool if len(c.cspace) == best_len])
     guesses = {cs: guess_tool_frame(tree, cs[-1], collision_links) for cs in distinct}
     pick = min(distinct, key=lambda cs: (not guesses[cs].named, *_limb_rank(tree, cs)))
     ties = tuple((c, guesses[cs]) for cs, c in distinct.items() if cs != pick)
-    return DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties)
+    long_legs = _distinct([c for c in chains if c.cspace in legs and len(c.cspace) >= best_len])
+    passed = tuple(
+        (c, guess_tool_frame(tree, cs[-1], collision_links))
+        for cs, c in long_legs.items()
+        if cs != pick
+    )
+    out = DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties, passed)
+    return replace(out, left_out={}, hand_alone=True) if hand else out
+
+
+def _distinct(chains: Sequence[Chain]) -> dict[tuple[str, ...], Chain]:
+    """The first chain of each c-space, in order."""
+    out: dict[tuple[str, ...], Chain] = {}
+    for c in chains:
+        out.setdefault(c.cspace, c)
+    return out
 
 
 def _limb_words(tree: RobotTree, joints: Sequence[str]) -> set[str]:
@@ -465,10 +443,10 @@ def is_leg(tree: RobotTree, joints: Sequence[str]) -> bool:
     """Whether ``joints`` are a leg's (or legs'): named like legs (hip, knee, ankle, foot …)
     and nothing like an arm. A planner plans arms, not legs."""
     words = _limb_words(tree, joints)
-    return bool(words & _LEG) and not words & _ARM
+    return bool(words & LEG) and not words & ARM
 
 
 def _limb_rank(tree: RobotTree, cspace: Sequence[str]) -> tuple[bool, bool]:
     """Sort key of a chain among equally long ones: an arm first, a leg last."""
-    arm = bool(_limb_words(tree, cspace) & _ARM)
+    arm = bool(_limb_words(tree, cspace) & ARM)
     return (is_leg(tree, cspace), not arm)

@@ -10,7 +10,8 @@ Where a package is looked for, in order:
    below holding a ``package.xml`` whose ``<name>`` is ``pkg``, else a sub-directory named
    ``pkg``, else the folder itself if so named. The nearest folder that has the package
    wins, so a ``package.xml`` of the same name under a far parent never shadows the package
-   the robot sits in.
+   the robot sits in; a file the nearest one lacks is looked for in the farther ones (a
+   package split over two source folders that install into one).
 
 An unresolved package is a :class:`SourceError` naming the package and the directories searched.
 """
@@ -128,6 +129,16 @@ class PackageResolver:
         self._cache[name] = found
         return found
 
+    def _elsewhere(self, name: str, sub: str) -> Iterator[Path]:
+        """``sub`` in the farther folders that also hold package ``name``, nearest first: a
+        package split over two source folders that install into one (iCub's manual models
+        beside the generated ones, both package 'iCub')."""
+        nearest = self.find(name)
+        for root, index in self._search_folders():
+            for folder in (index.get(name), root / name, root if root.name == name else None):
+                if folder is not None and folder != nearest and _is_dir(folder):
+                    yield folder / sub
+
     def resolve_uri(self, uri: str, relative_to: Path | None = None) -> Path:
         """A mesh or include URI as a local path (``package://``, ``file://`` or relative)."""
         if uri.startswith("package://"):
@@ -135,7 +146,10 @@ class PackageResolver:
             name, _, sub = rest.partition("/")
             if not name:  # package:///a/b: a path below a package search directory
                 return self.find_below_roots(unquote(sub))
-            return self.find(name) / unquote(sub)
+            path = self.find(name) / unquote(sub)
+            if name in self.package_paths or _is_file(path) or _is_dir(path):
+                return path
+            return next((c for c in self._elsewhere(name, unquote(sub)) if _is_file(c)), path)
         if uri.startswith("file://"):
             return Path(unquote(uri[len("file://") :]))
         p = Path(uri)

@@ -1,22 +1,33 @@
-"""The xacro arguments a command line gives that the expansion never reads.
+"""xacro arguments: those a command line gives that the expansion never reads, and those the
+files need that nobody set.
 
 xacro ignores a ``name:=value`` mapping that no ``<xacro:arg>`` declares and no ``$(arg)``
 reads, so a misspelt ``--xacro-arg ee_typ:=dd`` silently expands the default robot.
 :class:`ReadArgs` is the mapping xacro is given: it records every name xacro looks up (a
 declaration asks whether the name is given, ``$(arg)`` and ``xacro.arg()`` read it), and
 :func:`unread_arg_warnings` names each given argument xacro never asked for.
+
+xacro stops at the first ``$(arg x)`` that has no value; a robot whose launch file passes six
+arguments (PAL's Talos: ``enable_crane``, ``foot_collision``, ``head_type``, ...) would take six
+runs to find them one by one. :func:`unset_args` reads the top file and the files its
+``<xacro:include>`` tags name (a ``$(find pkg)`` resolved as the expansion does, other
+substitutions skipped) and lists every argument used without a ``<xacro:arg>`` default.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import re
+from collections.abc import Collection, Mapping
+from pathlib import Path
 from typing import Any
 
 from ..diagnostics import Diagnostic, Severity
-from ..util.errors import did_you_mean, shown_text
+from ..util.errors import XrdfToolsError, did_you_mean, shown_text
+from ..util.fileio import read_input_bytes
 from ..util.text import name_list
+from .packages import PackageResolver
 
-__all__ = ["RULE_UNREAD_ARG", "ReadArgs", "unread_arg_warnings"]
+__all__ = ["RULE_UNREAD_ARG", "ReadArgs", "unread_arg_warnings", "unset_args"]
 
 RULE_UNREAD_ARG = "xacro-arg-unread"
 
@@ -62,3 +73,46 @@ def unread_arg_warnings(path: str, given: Mapping[str, str], read: ReadArgs) -> 
         for name, value in given.items()
         if name not in read.asked
     ]
+
+
+_ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
+_DEFAULT = re.compile(r"<xacro:arg\b[^>]*?\bname\s*=\s*[\"']([^\"']+)[\"'][^>]*?\bdefault\s*=")
+_INCLUDE = re.compile(r"<xacro:include\b[^>]*?\bfilename\s*=\s*([\"'])(.*?)\1", re.DOTALL)
+_FIND = re.compile(r"\$\(find\s+([^\s)]+)\s*\)")
+#: Files read at most (a robot's description is tens of files).
+_MAX_FILES = 200
+
+
+def unset_args(top: Path, resolver: PackageResolver, given: Collection[str]) -> list[str]:
+    """Arguments the files use in ``$(arg x)`` with no ``<xacro:arg>`` default and not in
+    ``given``: the top file's first, then each include's (breadth first)."""
+    used: dict[str, None] = {}
+    defaults: set[str] = set()
+    queue, seen = [top], {top}
+    while queue and len(seen) <= _MAX_FILES:
+        path = queue.pop(0)
+        try:  # the guarded reader: a regular file within the size limit (never /dev/zero)
+            text = read_input_bytes(path, what="xacro file").decode("utf-8")
+        except (XrdfToolsError, UnicodeDecodeError):
+            continue
+        text = re.sub(r"<!--.*?-->", "", text, flags=re.DOTALL)
+        used.update(dict.fromkeys(_ARG_USE.findall(text)))
+        defaults.update(_DEFAULT.findall(text))
+        for m in _INCLUDE.finditer(text):
+            if (child := _included(m.group(2), path, resolver)) is not None and child not in seen:
+                seen.add(child)
+                queue.append(child)
+    return [a for a in used if a not in defaults and a not in given]
+
+
+def _included(name: str, at: Path, resolver: PackageResolver) -> Path | None:
+    """The file an include names: ``$(find pkg)`` resolved, relative to the including file;
+    None when it holds another substitution or an expression, or the package is unknown."""
+    try:
+        name = _FIND.sub(lambda m: str(resolver.find(m.group(1))), name)
+    except XrdfToolsError:
+        return None
+    if "$(" in name or "${" in name:
+        return None
+    path = Path(name)
+    return path if path.is_absolute() else at.parent / path

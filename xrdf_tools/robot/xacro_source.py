@@ -29,7 +29,7 @@ from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
-from .xacro_args import ReadArgs, unread_arg_warnings
+from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
@@ -160,7 +160,8 @@ def expand_xacro(
             raise placeholder from None
         filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
         macro = _innermost_macro(getattr(xacro, "macrostack", None))
-        raise _xacro_error(e, str(p), filestack, included, mappings, values, macro) from None
+        error = _xacro_error(e, str(p), filestack, included, mappings, values, macro)
+        raise _with_unset_args(error, p, resolver, mappings) from None
     finally:
         try:
             xacro.filestack = None
@@ -173,6 +174,26 @@ def expand_xacro(
 
 
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
+
+
+def _with_unset_args(
+    error: SourceError, top: Path, resolver: PackageResolver, given: Mapping[str, str]
+) -> SourceError:
+    """``error`` about one argument without a value, naming the others the files use
+    without a default, so that one run finds them all."""
+    m = _UNDEFINED_ARG.search(error.message)
+    if m is None:
+        return error
+    others = [a for a in unset_args(top, resolver, given) if a != m.group(1)]
+    if not others:
+        return error
+    more = " ".join(f"--xacro-arg {a}:=VALUE" for a in others)
+    return SourceError(
+        f"{error.message}; used without a default too: {more}",
+        path=error.path,
+        line=error.line,
+        col=error.col,
+    )
 
 
 def _innermost_macro(macrostack: Any) -> str | None:

@@ -43,6 +43,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-duplicate-key", W, "A key repeated in a cuRobo file: the last value is used."),
         ("convert-empty-cspace", W, "The c-space is empty."),
         ("convert-fitted-spheres", I, "--fit-spheres: spheres fitted per link, links left out."),
+        ("convert-floating-base", W, "A floating/planar joint above the robot: base below it."),
         ("convert-launch-substitution", I, "$(var NAME) in joint_limits: --xacro-arg or ''."),
         ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
         (

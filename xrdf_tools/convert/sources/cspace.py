@@ -30,7 +30,7 @@ __all__ = [
     "apply_cspace_choice",
     "apply_default_cspace",
     "chain_joints",
-    "guessed_tool_frame",
+    "guessed_tool_frames",
     "parse_chain",
     "report_unplannable_joints",
     "unplannable_joints",
@@ -142,7 +142,7 @@ def apply_default_cspace(
     """Set ``draft.cspace`` to the default chain and return the tool frame at its end.
 
     Reports the choice (``convert-chosen-group``) with what was left out and the flags that
-    change it; the tool frame is reported where it is used (:func:`guessed_tool_frame`).
+    change it; the tool frame is reported where it is used (:func:`guessed_tool_frames`).
     """
     choice = default_cspace(tree, draft.passive_joints, collision_links)
     draft.cspace = list(choice.joints)
@@ -157,20 +157,33 @@ def apply_default_cspace(
     return choice.tool
 
 
-def guessed_tool_frame(
+def guessed_tool_frames(
     tree: RobotTree,
     cspace: Sequence[str],
     rep: Reporter,
     collision_links: Collection[str] | None = None,
     guess: ToolFrameGuess | None = None,
-) -> str:
-    """``guess``, else the tool frame below the last c-space joint in tree order; reported."""
+) -> list[str]:
+    """``guess``, else a tool frame below each c-space joint that has no c-space joint below
+    it (one per branch: a group of two fingers or two arms given as joints gets two), in tree
+    order; each reported."""
+    guesses = [guess] if guess is not None else []
     if guess is None:
         order = tree.joint_order()
-        last = max(cspace, key=lambda j: order.get(j, -1))
-        guess = guess_tool_frame(tree, last, collision_links)
-    _report_tool(rep, guess.frame, guess.reason, guess.candidates)
-    return guess.frame
+        for tip in sorted(_branch_ends(tree, cspace), key=lambda j: order.get(j, -1)):
+            guesses.append(guess_tool_frame(tree, tip, collision_links))
+    for g in guesses:
+        _report_tool(rep, g.frame, g.reason, g.candidates)
+    return list(dict.fromkeys(g.frame for g in guesses))
+
+
+def _branch_ends(tree: RobotTree, cspace: Sequence[str]) -> list[str]:
+    """The c-space joints with no other c-space joint below them."""
+    above: set[str] = set()
+    for name in cspace:
+        parent = tree.joints[name].parent
+        above.update((parent, *tree.ancestors(parent)))
+    return [j for j in cspace if tree.joints[j].child not in above]
 
 
 def _report_tool(rep: Reporter, frame: str, reason: str, candidates: Sequence[str]) -> None:

@@ -1,0 +1,113 @@
+"""What the names of links and joints say: the words they are made of and the part of a robot
+they name (wheel, gripper, head, arm, leg, tool, sensor), as :mod:`.chains` reads them.
+
+Names are split into words at non-letters and camelCase humps; a word that begins or ends with
+a wheel word, or ends with ``hand``, ``gripper`` or ``finger``, counts too (``wheelfl``,
+``qbhand``).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Collection
+from functools import lru_cache
+from typing import Literal
+
+__all__ = [
+    "ARM",
+    "HEAD",
+    "LEG",
+    "SENSOR",
+    "TOOL_RANKS",
+    "TOOL_WORDS",
+    "JointRole",
+    "name_role",
+    "name_words",
+    "turns_hand",
+]
+
+#: Why a joint is left out of a default c-space.
+JointRole = Literal["wheel", "gripper", "head"]
+
+WHEEL = frozenset({"wheel", "wheels", "caster", "castor", "tire", "tyre"})
+GRIPPER = frozenset(
+    {
+        "gripper",
+        "grip",
+        "finger",
+        "fingers",
+        "hand",
+        "jaw",
+        "claw",
+        "thumb",
+        "knuckle",
+        "palm",
+        "pinky",
+        "pinkie",
+    }
+)
+HEAD = frozenset(
+    {"head", "neck", "camera", "cam", "eye", "eyes", "laser", "lidar", "xtion", "kinect"}
+)
+PAN_TILT = frozenset({"pan", "tilt"})
+HAND = frozenset({"hand", "palm"})
+#: Finger words beside the gripper words (Robonaut 2's 'r2/left_arm/hand/index/yaw').
+FINGER = frozenset({"index", "middle", "ring", "little", "mcp", "pip", "dip", "distal", "tip"})
+ROTATION = frozenset({"roll", "pitch", "yaw"})
+ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
+#: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
+LEG = frozenset(
+    {"leg", "legs", "hip", "knee", "ankle", "foot", "feet", "toe", "thigh", "shin", "calf"}
+)
+
+#: Tool-frame name preferences, best first: (rank, words or exact name).
+TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
+    ("a TCP", frozenset({"tcp"})),
+    ("a tool", frozenset({"tool", "tool0"})),
+    ("an end-effector", frozenset({"ee", "eef", "effector", "endeffector", "endpoint"})),
+    ("a flange", frozenset({"flange"})),
+    ("a grasp", frozenset({"grasp", "grasping"})),
+)
+#: Words of a frame a tool is mounted at (a grasp frame may sit between fingers).
+TOOL_WORDS = frozenset().union(*(names for rank, names in TOOL_RANKS if rank != "a grasp"))
+SENSOR = HEAD | {
+    *("optical", "depth", "rgb", "imu", "sensor", "accelerometer", "gyrometer", "gyro"),
+    *("range", "sonar", "infrared", "touch", "tactile", "skin", "bumper", "button", "fsr"),
+}
+
+
+@lru_cache(maxsize=65536)
+def name_words(name: str) -> tuple[str, ...]:
+    """Lower-case words of a link or joint name: split at non-letters and camelCase humps
+    (an upper-case run before a capitalized word is a word: NAO's ``LHipPitch`` is l, hip,
+    pitch)."""
+    spaced = re.sub(r"([a-z])([A-Z])", r"\1 \2", name)
+    spaced = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1 \2", spaced)
+    return tuple(w.lower() for w in re.split(r"[^A-Za-z]+", spaced) if w)
+
+
+#: Words that name a wheel or a hand inside a compound written as one word (``wheelfl``,
+#: ``qbhand``, ``lefthand``): a word beginning or ending with a wheel word, ending with these.
+WHEEL_AFFIXES = ("wheel", "caster", "castor")
+GRIPPER_ENDINGS = ("hand", "gripper", "finger", "fingers")
+
+
+def name_role(name: str) -> JointRole | None:
+    """Why a joint or link name is no arm's: a wheel, a gripper or a head (None: it says
+    none of these)."""
+    words = set(name_words(name))
+    if words & WHEEL or any(
+        w.startswith(WHEEL_AFFIXES) or w.endswith(WHEEL_AFFIXES) for w in words
+    ):
+        return "wheel"
+    if words & GRIPPER or any(w.endswith(GRIPPER_ENDINGS) for w in words):
+        return "gripper"
+    if words & HEAD or (words & PAN_TILT and not words & ARM):
+        return "head"
+    return None
+
+
+def turns_hand(words: Collection[str]) -> bool:
+    """Whether a joint's name says it turns a whole hand about an axis: a wrist joint."""
+    words = set(words)
+    return bool(words & HAND and words & ROTATION and not words & (GRIPPER | FINGER) - HAND)
