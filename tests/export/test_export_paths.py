@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -91,7 +92,13 @@ def test_xacro_gets_its_expanded_urdf_beside_the_output(runner: CliRunner, tmp_p
     assert expanded.read_text() == expand_xacro(xacro, package_paths=packages)
     assert load_urdf(expanded).robot.name == converted.robot.name
     kin = _kinematics(out)
-    assert kin["urdf_path"] == "px150.urdf" and kin["asset_root_path"] == "."
+    assert kin["urdf_path"] == "px150.urdf"
+    # cuRobo strips package:// from each mesh name and joins it to asset_root_path
+    meshes = re.findall(r'filename="([^"]+)"', expanded.read_text())
+    assert meshes and all(m.startswith("package://trossen_descriptions/") for m in meshes)
+    root = out.parent / kin["asset_root_path"]
+    assert all((root / m.replace("package://", "")).is_file() for m in meshes)
+    assert "export-mesh-paths" not in r.output
     # an explicit place for it; stdout alone has no "beside": a usage error
     other = tmp_path / "elsewhere.urdf"
     r = runner.invoke(app, [*base, "-o", str(out), "--expanded-urdf", str(other)])
@@ -102,3 +109,56 @@ def test_xacro_gets_its_expanded_urdf_beside_the_output(runner: CliRunner, tmp_p
     # never over an input
     r = runner.invoke(app, [*base, "-o", str(out), "--expanded-urdf", str(xrdf)])
     assert r.exit_code == 2 and "refusing to overwrite" in r.output
+
+
+def _workspace_robot(tmp_path: Path, relative_mesh: bool) -> Path:
+    """A package ``my_robot`` in ``ws/src``: its URDF names two meshes as
+    package://my_robot/…, and (``relative_mesh``) a third relative to the URDF's folder, which
+    no directory serves together with the others."""
+    import trimesh
+
+    pkg = tmp_path / "ws" / "src" / "my_robot"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    (pkg / "package.xml").write_text("<package><name>my_robot</name></package>")
+    for name in ("a.stl", "c.stl"):
+        trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(pkg / "meshes" / name)
+    second = '<collision><geometry><mesh filename="package://my_robot/meshes/c.stl"/></geometry>'
+    second += "</collision>"
+    if relative_mesh:
+        second += '<visual><geometry><mesh filename="parts/b.stl"/></geometry></visual>'
+        (pkg / "urdf" / "parts").mkdir()
+        trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(pkg / "urdf" / "parts" / "b.stl")
+    urdf = pkg / "urdf" / "r.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="base"><collision><geometry>'
+        '<mesh filename="package://my_robot/meshes/a.stl"/></geometry></collision></link>'
+        f'<link name="arm">{second}</link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    return urdf
+
+
+@pytest.mark.parametrize("relative_mesh", [False, True])
+def test_asset_root_path_is_where_curobo_finds_the_meshes(
+    runner: CliRunner, tmp_path: Path, relative_mesh: bool
+) -> None:
+    """cuRobo strips package:// from a mesh name and joins the rest to asset_root_path: the
+    export names the directory holding the package (ws/src), not the URDF's folder; a mesh no
+    one directory serves with the others is said (export-mesh-paths)."""
+    urdf = _workspace_robot(tmp_path, relative_mesh)
+    xrdf = tmp_path / "r.xrdf"
+    xrdf.write_text(convert_robot(urdf, ConvertOptions(), lint=False).text)
+    out = tmp_path / "cfg" / "r.yml"
+    out.parent.mkdir()
+    r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    root = (out.parent / str(_kinematics(out)["asset_root_path"])).resolve()
+    assert root == (tmp_path / "ws" / "src").resolve()
+    assert (root / "my_robot/meshes/a.stl").is_file()
+    said = [ln for ln in r.output.splitlines() if "export-mesh-paths" in ln]
+    if relative_mesh:
+        assert len(said) == 1 and "1 mesh file name(s)" in said[0] and "parts/b.stl" in said[0]
+    else:
+        assert said == []

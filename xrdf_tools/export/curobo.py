@@ -21,6 +21,7 @@ from ..util.errors import ConversionError
 from ..util.text import name_list
 from ..xrdf.io import format_float, format_str
 from ..xrdf.model import RemoveMimicAttributes, Xrdf
+from .curobo_assets import curobo_paths, expanded_urdf_path, mesh_root, unserved_note
 from .srdf import to_srdf
 
 if TYPE_CHECKING:
@@ -138,6 +139,7 @@ def to_curobo(
     file ``urdf_path`` names; default: the tree's) is written relative to the directory
     ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
     """
+    assets = None if isinstance(tree, RobotTree) else mesh_root(tree)
     if not isinstance(tree, RobotTree):
         tree = tree.tree
     _check_exportable(x, tree, layout)
@@ -152,9 +154,10 @@ def to_curobo(
     kin: dict[str, Any] = {}
     if layout == "2.0":
         kin["format_version"] = 2.0
-    kin["urdf_path"], kin["asset_root_path"] = curobo_paths(
-        Path(urdf_path) if urdf_path is not None else Path(tree.path), relative_to
-    )
+    upath = Path(urdf_path) if urdf_path is not None else Path(tree.path)
+    kin["urdf_path"], kin["asset_root_path"] = curobo_paths(upath, relative_to, assets)
+    if assets is not None and assets.unserved:
+        note("export-mesh-paths", unserved_note(assets))
     kin["base_link"] = base or tree.root
 
     tools = list(x.tool_frames or [])
@@ -280,35 +283,6 @@ _RELATIVE_NOTE = (
     "# robot_cfg.kinematics.external_asset_path to this file's directory, or export again",
     "# with --absolute-paths.",
 )
-
-
-def curobo_paths(
-    urdf: str | os.PathLike[str], relative_to: str | os.PathLike[str] | None
-) -> tuple[str, str]:
-    """``urdf_path`` and ``asset_root_path`` (the URDF's directory) as a cuRobo config holds
-    them: relative to the directory ``relative_to`` with ``/`` separators, or absolute when it
-    is None or no relative path exists (another drive). Symbolic links are kept as given."""
-    upath = Path(os.path.abspath(urdf))
-    if relative_to is not None:
-        try:
-            rel = Path(os.path.relpath(upath, os.path.abspath(relative_to)))
-        except ValueError:  # another drive: only an absolute path reaches it
-            pass
-        else:
-            root = rel.parent.as_posix()
-            return rel.as_posix(), "." if root in ("", ".") else root
-    return str(upath), str(upath.parent)
-
-
-def expanded_urdf_path(xacro: str | os.PathLike[str], output: str | os.PathLike[str]) -> Path:
-    """Where the expanded URDF of ``xacro`` goes beside ``output``: ``output``'s directory, the
-    xacro's name without ``.xacro``/``.urdf`` + ``.urdf`` (``px150.urdf.xacro`` →
-    ``px150.urdf``)."""
-    name = Path(xacro).name
-    for suffix in (".xacro", ".urdf"):
-        if name.endswith(suffix) and len(name) > len(suffix):
-            name = name[: -len(suffix)]
-    return Path(output).parent / f"{name}.urdf"
 
 
 def pairs_of(x: Xrdf) -> Sequence[frozenset[str]]:

@@ -79,6 +79,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-no-spheres", W, "No collision sphere to export: cuRobo checks no collision."),
     ),
     "export srdf": (
+        ("export-mesh-paths", W, "Mesh names cuRobo cannot find from asset_root_path."),
         ("export-srdf-added", I, "Pairs added to the SRDF, with their reasons."),
         ("export-srdf-added-frame", W, "Ignore pairs on added frames MoveIt does not know."),
         ("export-srdf-removed", W, "A disabled pair the XRDF no longer ignores: removed."),

@@ -1,0 +1,128 @@
+"""``asset_root_path`` of an exported cuRobo config: the directory cuRobo's mesh loader needs.
+
+cuRobo reads a URDF's mesh file names through its own handler: it strips ``package://`` and
+joins what is left to ``asset_root_path`` (an absolute name is kept). So a mesh
+``package://ur_description/meshes/base.stl`` is found only when ``asset_root_path`` is the
+directory that holds ``ur_description``, and a relative mesh ``meshes/base.stl`` only when it
+is the directory the URDF named it from. :func:`mesh_root` finds the one directory that serves
+every mesh of the robot, or says which meshes no directory serves with the others (kinematics
+and the sphere model do not need the meshes; cuRobo features that load them do).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..util.errors import SourceError
+from ..util.text import name_list
+
+if TYPE_CHECKING:
+    from ..robot.core import Robot
+    from ..robot.packages import PackageResolver
+
+__all__ = ["MeshRoot", "curobo_paths", "expanded_urdf_path", "mesh_root", "unserved_note"]
+
+
+@dataclass(frozen=True)
+class MeshRoot:
+    """The directory for ``asset_root_path`` (None: no mesh decides it) and, when no one
+    directory serves every mesh, the meshes that cuRobo will not find from it."""
+
+    directory: Path | None
+    unserved: tuple[str, ...] = ()
+
+
+def mesh_root(robot: Robot) -> MeshRoot:
+    """The directory that serves the most mesh file names of ``robot`` as cuRobo joins them
+    (ties: the URDF's own directory first, then the name), and the names it does not serve.
+
+    A package that cannot be found is left to the mesh checks of the other commands."""
+    from ..robot.packages import PackageResolver
+
+    resolver = PackageResolver(Path(robot.path), dict(robot.package_paths))
+    own = Path(robot.path).resolve().parent
+    serves: dict[Path | None, list[str]] = {}
+    for uri in dict.fromkeys(_mesh_names(robot)):
+        if Path(uri).is_absolute():  # cuRobo keeps an absolute name: any directory serves it
+            continue
+        try:
+            root = _root_for(uri, resolver, own)
+        except SourceError:
+            continue
+        serves.setdefault(root, []).append(uri)
+    roots = [r for r in serves if r is not None]
+    if not roots:
+        return MeshRoot(None, tuple(serves.get(None, ())))
+    best = min(roots, key=lambda r: (-len(serves[r]), r != own, str(r)))
+    unserved = [u for r, uris in serves.items() if r != best for u in uris]
+    return MeshRoot(best, tuple(unserved))
+
+
+def unserved_note(root: MeshRoot) -> str:
+    """One line on the meshes cuRobo will not find from ``root.directory``."""
+    return (
+        f"{len(root.unserved)} mesh file name(s) cannot be found from asset_root_path "
+        f"({name_list(root.unserved, 3)}): cuRobo joins each to that one directory "
+        "(package:// stripped); its kinematics and spheres do not need them, loading the "
+        "robot's meshes does"
+    )
+
+
+def _root_for(uri: str, resolver: PackageResolver, own: Path) -> Path | None:
+    """The directory cuRobo must join ``uri`` to, or None when no directory can serve it (a
+    ``file://`` name, a package in a folder not named after it)."""
+    if uri.startswith("package://"):
+        name, _, _sub = uri[len("package://") :].partition("/")
+        if not name:
+            return None
+        folder = resolver.find(name)
+        return folder.parent if folder.name == name else None
+    return None if uri.startswith("file://") else own
+
+
+def _mesh_names(robot: Robot) -> Iterator[str]:
+    """Every mesh file name of the robot's visual and collision elements, in URDF order."""
+    for link in robot.urdf.link_map.values():
+        for part in (*link.visuals, *link.collisions):
+            mesh = part.geometry.mesh if part.geometry is not None else None
+            if mesh is not None and mesh.filename:
+                yield str(mesh.filename)
+
+
+def curobo_paths(
+    urdf: str | os.PathLike[str],
+    relative_to: str | os.PathLike[str] | None,
+    assets: MeshRoot | None = None,
+) -> tuple[str, str]:
+    """``urdf_path`` and ``asset_root_path`` as a cuRobo config holds them: relative to the
+    directory ``relative_to`` with ``/`` separators, or absolute when it is None or no
+    relative path exists (another drive). ``asset_root_path`` is ``assets.directory`` when
+    the meshes decide it (:func:`mesh_root`), else the URDF's directory. Symbolic links are
+    kept as given."""
+    upath = Path(os.path.abspath(urdf))
+    root = assets.directory if assets is not None and assets.directory is not None else None
+    root = Path(os.path.abspath(root)) if root is not None else upath.parent
+    if relative_to is not None:
+        base = os.path.abspath(relative_to)
+        try:
+            rel, rel_root = os.path.relpath(upath, base), os.path.relpath(root, base)
+        except ValueError:  # another drive: only an absolute path reaches it
+            pass
+        else:
+            return Path(rel).as_posix(), Path(rel_root).as_posix()
+    return str(upath), str(root)
+
+
+def expanded_urdf_path(xacro: str | os.PathLike[str], output: str | os.PathLike[str]) -> Path:
+    """Where the expanded URDF of ``xacro`` goes beside ``output``: ``output``'s directory, the
+    xacro's name without ``.xacro``/``.urdf`` + ``.urdf`` (``px150.urdf.xacro`` →
+    ``px150.urdf``)."""
+    name = Path(xacro).name
+    for suffix in (".xacro", ".urdf"):
+        if name.endswith(suffix) and len(name) > len(suffix):
+            name = name[: -len(suffix)]
+    return Path(output).parent / f"{name}.urdf"
