@@ -646,6 +646,38 @@ def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_pa
     ]
 
 
+def test_a_state_of_a_group_inside_the_cspace_gives_its_joints_defaults(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Galaxea R1's mobile_both_arms: neither it nor its subgroups have a state, but the group
+    both_arms, whose joints are all in that c-space, has 'home'. Its values are taken for those
+    joints (and said); a state of a group reaching outside the c-space is not."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><joint name="j1"/><joint name="j2"/></group>
+        <group name="side"><joint name="zz"/></group>
+        <group name="body"><group name="arm"/><joint name="j3"/></group>
+        <group name="outside"><joint name="j3"/><joint name="aa"/></group>
+        <group name="lower"><joint name="j2"/><joint name="j3"/></group>
+        <group_state name="wide" group="outside"><joint name="j3" value="0.9"/>
+          <joint name="aa" value="0.1"/></group_state>
+        <group_state name="home" group="lower"><joint name="j2" value="-0.4"/>
+          <joint name="j3" value="0.75"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("body",)))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "j3")
+    assert dict(x.default_joint_positions) == {"j1": 0.0, "j2": -0.4, "j3": 0.75}
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    assert chosen == [
+        "default positions of j2, j3 from group_state 'home' (the state named 'home' of "
+        "group 'lower'; a group inside the c-space)"
+    ]
+
+
 def test_a_state_value_of_a_joint_that_is_no_cspace_coordinate_is_dropped_with_its_kind(
     tree: RobotTree, tmp_path: Path
 ) -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ...diagnostics import Severity
-from ...util.errors import did_you_mean
+from ...util.errors import SourceError, did_you_mean
 from ...util.text import name_list
 from ...xrdf.model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
@@ -260,10 +260,42 @@ def _defaults(
                 f"default positions from group_state '{st.name}' ({why})",
                 line=st.line,
             )
+    if state is None and groups:
+        chosen += _states_inside(srdf, tree, d.cspace or [], chosen, rep)
     for st in chosen:
         for jname, value in st.values:
             if _state_value_ok(srdf, tree, st, jname, rep) and jname not in d.defaults:
                 d.defaults[jname] = value
+
+
+def _states_inside(
+    srdf: Srdf, tree: RobotTree, cspace: list[str], chosen: list[GroupState], rep: Reporter
+) -> list[GroupState]:
+    """States of other groups whose c-space lies inside ``cspace``, for the c-space joints the
+    chosen states leave without a value (Galaxea R1's mobile_both_arms: its subgroups have no
+    state, its arms' 'home' is a state of the group both_arms), in SRDF order."""
+    inside = set(cspace)
+    given = {n for st in chosen for n, _ in st.values}
+    out: list[GroupState] = []
+    for g in srdf.groups:
+        try:
+            joints = cspace_of(srdf, g, tree)
+        except SourceError:  # a broken group: warned about where it is checked
+            continue
+        if not joints or not set(joints) <= inside or not set(joints) - given:
+            continue
+        st, why = choose_state(srdf, g, joints, None)
+        if st is None or st in chosen or st in out:
+            continue
+        out.append(st)
+        given |= {n for n, _ in st.values}
+        rep.report(
+            "convert-chosen-state",
+            f"default positions of {name_list(sorted(set(joints) & inside), 4)} from "
+            f"group_state '{st.name}' ({why}; a group inside the c-space)",
+            line=st.line,
+        )
+    return out
 
 
 def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep: Reporter) -> bool:
