@@ -540,3 +540,44 @@ def test_an_unset_argument_names_the_others_the_files_use_without_a_default(
     with pytest.raises(SourceError) as e:
         expand_xacro(top, {"enable_crane": "false", "head_type": "a"})
     assert e.value.message.endswith("(pass --xacro-arg test:=VALUE)")
+
+
+def test_a_yaml_file_named_by_an_arg_default_is_located_with_the_arg_to_pass(
+    tmp_path: Path,
+) -> None:
+    """Mitsubishi's MELFA xacros read `xacro.load_yaml(initial_positions_file)` inside
+    `<ros2_control>`, the argument defaulting to a bare file name that the launch file
+    replaces by a full path: without it every command failed with "[Errno 2] No such file or
+    directory" and no word of the argument. Now: located at the expression, the file named,
+    and the --xacro-arg to pass."""
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "initial_positions.yaml").write_text("initial_positions: {j1: 0.5}\n")
+    (tmp_path / "hardware.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="hardware" params="initial_positions_file">\n'
+        '    <xacro:property name="initial" value="${xacro.load_yaml(initial_positions_file)}"/>\n'
+        '    <ros2_control name="arm" type="system">\n'
+        '      <joint name="j1"><param name="initial_value">'
+        "${initial['initial_positions']['j1']}</param></joint>\n"
+        "    </ros2_control>\n"
+        "  </xacro:macro>\n</robot>\n"
+    )
+    top = tmp_path / "arm.urdf.xacro"
+    top.write_text(
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="initial_positions_file" default="initial_positions.yaml"/>\n'
+        '  <xacro:include filename="hardware.xacro"/>\n'
+        '  <link name="base"/>\n'
+        '  <xacro:hardware initial_positions_file="$(arg initial_positions_file)"/>\n'
+        "</robot>\n"
+    )
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    assert (e.value.path, e.value.line) == (str(tmp_path / "hardware.xacro"), 3), str(e.value)
+    message = str(e.value)
+    assert f"the file {tmp_path / 'initial_positions.yaml'} does not exist" in message
+    assert "Errno" not in message
+    assert "$(arg initial_positions_file), not given, so 'initial_positions.yaml'" in message
+    assert message.endswith("pass --xacro-arg initial_positions_file:=PATH)")
+    given = {"initial_positions_file": str(tmp_path / "config" / "initial_positions.yaml")}
+    assert '<param name="initial_value">0.5</param>' in expand_xacro(top, given)
