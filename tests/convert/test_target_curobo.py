@@ -132,7 +132,7 @@ def test_a_urdf_velocity_of_zero_stops_curobo_before_fitting(
     zero = [x for x in r.stderr.splitlines() if "curobo-zero-velocity" in x]
     assert len(zero) == 1 and " error " in zero[0], r.stderr
     # joint2 (velocity 2.0) and joint3 (no velocity: cuRobo assumes one) are fine
-    assert "'joint1'" in zero[0] and "(zero_velocity_arm.urdf:36)" in zero[0]
+    assert "'joint1' (line 36)" in zero[0] and "in zero_velocity_arm.urdf" in zero[0]
     assert "stopped before fitting" in r.stderr and "convert-fitted-spheres" not in r.stderr
     r = runner.invoke(app, args)
     assert r.exit_code == 0 and out.exists(), r.stderr

@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
+from ...yaml.io import YNode
 from ..context import LintContext, Problem, Rule
 
 
@@ -21,20 +22,29 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     robot = ctx.robot
     if robot is None:
         return
+    found: list[tuple[int, YNode, str, float]] = []
     for i, (n, node) in enumerate(ctx.cspace_joint_nodes()):
         j = robot.joints.get(n)
         if j is None or not j.is_actuated or j.velocity is None or j.velocity > 0:
             continue
-        fname = robot.path.replace("\\", "/").rsplit("/", 1)[-1]
-        where = f"{fname}:{j.line}" if j.line else fname
-        yield ctx.problem(
-            node,
-            f"c-space joint '{n}' has <limit velocity=\"{j.velocity:g}\"> in the URDF ({where}): "
-            "cuRobo reads velocity limits only from the URDF and cannot move this joint; "
-            "set its real velocity limit there (a joint_limits.yaml max_velocity does not "
-            "reach cuRobo)",
-            f"cspace.joint_names[{i}]",
-        )
+        found.append((i, node, f"'{n}'" + (f" (line {j.line})" if j.line else ""), j.velocity))
+    if not found:
+        return
+    fname = robot.path.replace("\\", "/").rsplit("/", 1)[-1]
+    values = {v for *_, v in found}
+    limit = f'velocity="{values.pop():g}"' if len(values) == 1 else "velocity <= 0"
+    names = ", ".join(text for _, _, text, _ in found)
+    if len(found) == 1:
+        what, them = f"c-space joint {names} has", "it"
+    else:
+        what, them = f"{len(found)} c-space joints ({names}) have", "them"
+    yield ctx.problem(
+        found[0][1],
+        f"{what} <limit {limit}> in {fname}: cuRobo reads velocity limits only from the "
+        f"URDF and cannot move {them}; set the real limits there (a joint_limits.yaml "
+        "max_velocity does not reach cuRobo)",
+        f"cspace.joint_names[{found[0][0]}]",
+    )
 
 
 RULE = Rule(
