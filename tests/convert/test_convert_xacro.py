@@ -549,7 +549,7 @@ def test_a_yaml_file_named_by_an_arg_default_is_located_with_the_arg_to_pass(
     `<ros2_control>`, the argument defaulting to a bare file name that the launch file
     replaces by a full path: without it every command failed with "[Errno 2] No such file or
     directory" and no word of the argument. Now: located at the expression, the file named,
-    and the --xacro-arg to pass."""
+    the --xacro-arg to pass and the file of that name in the robot's package."""
     (tmp_path / "config").mkdir()
     (tmp_path / "config" / "initial_positions.yaml").write_text("initial_positions: {j1: 0.5}\n")
     (tmp_path / "hardware.xacro").write_text(
@@ -578,6 +578,9 @@ def test_a_yaml_file_named_by_an_arg_default_is_located_with_the_arg_to_pass(
     assert f"the file {tmp_path / 'initial_positions.yaml'} does not exist" in message
     assert "Errno" not in message
     assert "$(arg initial_positions_file), not given, so 'initial_positions.yaml'" in message
-    assert message.endswith("pass --xacro-arg initial_positions_file:=PATH)")
+    found = tmp_path / "config" / "initial_positions.yaml"  # where the launch file points
+    assert message.endswith(
+        f"pass --xacro-arg initial_positions_file:=PATH; a file of that name: {found})"
+    )
     given = {"initial_positions_file": str(tmp_path / "config" / "initial_positions.yaml")}
     assert '<param name="initial_value">0.5</param>' in expand_xacro(top, given)

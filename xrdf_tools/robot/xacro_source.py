@@ -30,6 +30,7 @@ from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
+from .xacro_files import file_arg_hint, os_error
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
@@ -227,7 +228,7 @@ def _xacro_error(
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
-    unread = _os_error(e)
+    unread = os_error(e)
     missing = unread.filename if unread is not None else None
     if isinstance(missing, str) and unread is inner:
         return _missing_include_error(missing, where, included, given or {}, values or {})
@@ -235,7 +236,7 @@ def _xacro_error(
     if unread is not None and isinstance(missing, str):  # an expression's xacro.load_yaml()
         said = "does not exist" if isinstance(unread, FileNotFoundError) else "cannot be read"
         message = message.replace(str(unread), f"the file {missing} {said}")
-        message += _file_arg_hint(missing, given or {}, values or {})
+        message += file_arg_hint(missing, top, given or {}, values or {})
     if (call := _bad_macro_call(message, macro, [where, *included])) is not None:
         return SourceError(call[0], path=call[1], line=call[2], col=call[3])
     line, col = _find_culprit(where, message)
@@ -246,35 +247,6 @@ def _xacro_error(
             break
     hint = _unprefixed_hint(message, [where, *included]) + _late_default_hint(message, where, line)
     return SourceError(message + hint, path=where, line=line, col=col)
-
-
-def _os_error(e: BaseException) -> OSError | None:
-    """The OSError at the bottom of xacro's wrapped exceptions (``XacroException.exc``,
-    nested once per expression being evaluated), if any."""
-    seen: list[BaseException] = []
-    x: Any = e
-    while isinstance(x, BaseException) and all(x is not y for y in seen):
-        if isinstance(x, OSError):
-            return x
-        seen.append(x)
-        x = getattr(x, "exc", None)
-    return None
-
-
-def _file_arg_hint(missing: str, given: Mapping[str, str], values: Mapping[str, str]) -> str:
-    """What to pass when a file an expression reads (``xacro.load_yaml``) is named by an
-    ``$(arg X)`` the user did not give: its default is a bare name, which xacro reads from the
-    folder of the file it is processing, where a ROS launch file passes a full path."""
-    wanted = missing.replace("\\", "/")
-    for arg, value in values.items():
-        if arg in given or not value or not wanted.endswith(value.replace("\\", "/")):
-            continue
-        return (
-            f" (the file name is $(arg {arg}), not given, so {value!r}, read beside the xacro "
-            f"file being processed; a launch file passes a full path: pass --xacro-arg "
-            f"{arg}:=PATH)"
-        )
-    return ""
 
 
 def _late_default_hint(message: str, path: str, line: int | None) -> str:
