@@ -584,3 +584,43 @@ def test_a_yaml_file_named_by_an_arg_default_is_located_with_the_arg_to_pass(
     )
     given = {"initial_positions_file": str(tmp_path / "config" / "initial_positions.yaml")}
     assert '<param name="initial_value">0.5</param>' in expand_xacro(top, given)
+
+
+def test_an_error_in_an_element_an_included_macro_wrote_is_located_there(
+    tmp_path: Path,
+) -> None:
+    """HEBI's rosie.urdf.xacro calls the omnibase macro of urdf/components/omnibase.xacro,
+    whose wheel joints name child links no macro makes: the error named the top file without
+    a line. It is located at the included file's line that writes the child link; the "did you
+    mean" suggestion, a name written elsewhere in that file, is not taken for it."""
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    (tmp_path / "components").mkdir()
+    base = tmp_path / "components" / "base.xacro"
+    base.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="omnibase" params="child">\n'
+        '    <link name="omni_base"/>\n'
+        '    <joint name="base_child_joint" type="fixed">\n'
+        '      <parent link="omni_base"/><child link="${child}"/>\n'
+        "    </joint>\n"
+        '    <joint name="wheel_1_joint" type="fixed">\n'
+        '      <parent link="omni_base"/>\n'
+        '      <child link="wheel_1"/>\n'
+        "    </joint>\n"
+        '    <link name="wheel_1_end"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    top = tmp_path / "rosie.urdf.xacro"
+    top.write_text(
+        '<robot name="rosie" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="components/base.xacro"/>\n'
+        '  <link name="arm_base"/>\n'
+        '  <xacro:omnibase child="arm_base"/>\n'
+        "</robot>\n"
+    )
+    with pytest.raises(UrdfError) as e:
+        load_robot(top)
+    assert (e.value.path, e.value.line) == (str(base), 9), str(e.value)
+    assert "unknown child link 'wheel_1'; did you mean 'wheel_1_end'?" in str(e.value)

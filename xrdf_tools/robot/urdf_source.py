@@ -337,6 +337,7 @@ def _quoted_value_line(source: str, message: str) -> int | None:
     macro-made ``upper_joint``: the call that writes ``name="upper"``). Values are looked for
     as the text writes them too (``&amp;`` for ``&``), and a missing attribute (``'name'``) as
     one left empty (``name=""``: xacro drops it)."""
+    message = message.split("; did you mean ", 1)[0]  # a suggestion is not what is written
     wanted = [(f"{attr}=", value) for attr, value in _ATTRIBUTE.findall(message)]
     values = re.findall(r"'([^'\n]+)'", message)
     wanted += [("=", value) for value in reversed(values)]

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 
 from ..diagnostics import Diagnostic, Severity
-from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
+from ..util.errors import SourceError, UrdfError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
@@ -131,6 +131,7 @@ def expand_xacro(
     data: bytes | None = None,
     warnings: list[Diagnostic] | None = None,
     warn_unread_args: bool = True,
+    includes: list[str] | None = None,
 ) -> str:
     """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
 
@@ -139,7 +140,7 @@ def expand_xacro(
     xacro's own warnings (an include's ignored body, a redefined symbol) are appended to
     ``warnings`` as ``xacro-warning`` diagnostics, never printed; so is an argument of ``args``
     the expansion never reads (``xacro-arg-unread``), unless ``warn_unread_args`` is false (an
-    SRDF xacro given the robot's arguments)."""
+    SRDF xacro given the robot's arguments). ``includes`` receives the files it included."""
     import xacro
 
     p = Path(path)
@@ -156,6 +157,8 @@ def expand_xacro(
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
+            if includes is not None:
+                includes.extend(dict.fromkeys(str(f) for f in xacro.all_includes))
     except Exception as e:  # xacro's XacroException, ArgException, NameError, OSError…
         if (placeholder := error_for(e, unresolved)) is not None:  # a package not found
             raise placeholder from None
@@ -473,10 +476,14 @@ def load_robot(
             raise
     if data is None or uses_xacro(data):
         said: list[Diagnostic] = []
-        text = expand_xacro(path, xacro_args, pkg, data=data, warnings=said)
-        robot = parse_robot(
-            text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
-        )
+        included: list[str] = []
+        text = expand_xacro(path, xacro_args, pkg, data=data, warnings=said, includes=included)
+        try:
+            robot = parse_robot(
+                text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
+            )
+        except UrdfError as e:
+            raise _in_an_include(e, os.fspath(path), included) from None
         return replace(robot, warnings=(*said, *robot.warnings)) if said else robot
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
@@ -484,3 +491,22 @@ def load_robot(
 
 
 _NOT_XACRO = "--xacro-arg given but the robot file is not a xacro file"
+
+
+def _in_an_include(e: UrdfError, top: str, included: Sequence[str]) -> UrdfError:
+    """``e``, an error of the expansion that the top file does not locate, located in the
+    first included file that writes what it quotes: an element that a macro of that file made
+    (HEBI's omnibase.xacro: a wheel joint to a link no macro makes)."""
+    from .urdf_source import _quoted_value_line
+
+    if e.line is not None or e.path != top:
+        return e
+    for path in included:
+        try:
+            text = Path(path).read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            continue
+        if (line := _quoted_value_line(text, e.message)) is not None:
+            e.path, e.line = os.path.normpath(path), line
+            return e
+    return e
