@@ -624,3 +624,42 @@ def test_an_error_in_an_element_an_included_macro_wrote_is_located_there(
         load_robot(top)
     assert (e.value.path, e.value.line) == (str(base), 9), str(e.value)
     assert "unknown child link 'wheel_1'; did you mean 'wheel_1_end'?" in str(e.value)
+
+
+def test_a_link_two_includes_define_is_located_at_a_definition(tmp_path: Path) -> None:
+    """HEBI's rosie.urdf.xacro includes an arm kit that defines '$(arg prefix)base_link' and
+    calls an omnibase macro that defines 'base_link': with no prefix the link is defined twice,
+    and the error pointed at the top file's `<child link="base_link"/>`, the first place that
+    quotes the name, which defines nothing. It is located where a file defines it."""
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    (tmp_path / "kit.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="prefix" default=""/>\n'
+        '  <link name="$(arg prefix)base_link"/>\n'
+        "</robot>\n"
+    )
+    base = tmp_path / "base.xacro"
+    base.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="omnibase">\n'
+        '    <link name="base_link"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    top = tmp_path / "rosie.urdf.xacro"
+    top.write_text(
+        '<robot name="rosie" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="kit.xacro"/>\n'
+        '  <xacro:include filename="base.xacro"/>\n'
+        '  <link name="footprint"/>\n'
+        '  <joint name="base_joint" type="fixed">\n'
+        '    <parent link="footprint"/><child link="base_link"/>\n'
+        "  </joint>\n"
+        "  <xacro:omnibase/>\n"
+        "</robot>\n"
+    )
+    with pytest.raises(UrdfError) as e:
+        load_robot(top)
+    assert (e.value.path, e.value.line) == (str(base), 3), str(e.value)
+    assert "link 'base_link' is defined twice" in str(e.value)
