@@ -1,5 +1,6 @@
-"""A file that a xacro expression reads (``xacro.load_yaml``) and that is not there: the
-OSError xacro wrapped, and what to pass instead.
+"""The files of a xacro robot in its error messages: a file that an expression reads
+(``xacro.load_yaml``) and that is not there (the OSError xacro wrapped, and what to pass
+instead), and an error of the expansion located in the included file that writes it.
 
 ROS launch files hand such files to xacro as full paths through an ``<xacro:arg>`` whose
 default is a bare name (MELFA's ``initial_positions_file``); expanded without ROS, xacro looks
@@ -10,13 +11,14 @@ of that name lies in the robot's package, where it is.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..util.errors import UrdfError
 from .packages import _is_dir, _is_file
 
-__all__ = ["file_arg_hint", "os_error"]
+__all__ = ["file_arg_hint", "located_in_includes", "os_error"]
 
 #: How far up from the xacro file a package.xml is looked for, how deep below it the file.
 _UP, _DEPTH = 4, 3
@@ -82,3 +84,22 @@ def _shown(path: Path) -> str:
         return os.path.relpath(path) if path.is_relative_to(Path.cwd()) else str(path)
     except (OSError, ValueError):
         return str(path)
+
+
+def located_in_includes(e: UrdfError, top: str, included: Sequence[str]) -> UrdfError:
+    """``e``, an error of the expansion that the top file does not locate, located in the
+    first included file that writes what it quotes: an element that a macro of that file made
+    (HEBI's omnibase.xacro: a wheel joint to a link no macro makes)."""
+    from .urdf_source import _quoted_value_line
+
+    if e.line is not None or e.path != top:
+        return e
+    for path in included:
+        try:
+            text = Path(path).read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            continue
+        if (line := _quoted_value_line(text, e.message)) is not None:
+            e.path, e.line = os.path.normpath(path), line
+            return e
+    return e

@@ -30,7 +30,7 @@ from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
-from .xacro_files import file_arg_hint, os_error
+from .xacro_files import file_arg_hint, located_in_includes, os_error
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
@@ -483,7 +483,7 @@ def load_robot(
                 text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
             )
         except UrdfError as e:
-            raise _in_an_include(e, os.fspath(path), included) from None
+            raise located_in_includes(e, os.fspath(path), included) from None
         return replace(robot, warnings=(*said, *robot.warnings)) if said else robot
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
@@ -491,22 +491,3 @@ def load_robot(
 
 
 _NOT_XACRO = "--xacro-arg given but the robot file is not a xacro file"
-
-
-def _in_an_include(e: UrdfError, top: str, included: Sequence[str]) -> UrdfError:
-    """``e``, an error of the expansion that the top file does not locate, located in the
-    first included file that writes what it quotes: an element that a macro of that file made
-    (HEBI's omnibase.xacro: a wheel joint to a link no macro makes)."""
-    from .urdf_source import _quoted_value_line
-
-    if e.line is not None or e.path != top:
-        return e
-    for path in included:
-        try:
-            text = Path(path).read_text(encoding="utf-8", errors="replace")
-        except OSError:
-            continue
-        if (line := _quoted_value_line(text, e.message)) is not None:
-            e.path, e.line = os.path.normpath(path), line
-            return e
-    return e
