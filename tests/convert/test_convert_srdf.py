@@ -395,6 +395,32 @@ def _write(tmp_path: Path, text: str, name: str = "t.srdf") -> Path:
     return p
 
 
+def test_a_virtual_joint_to_a_link_the_urdf_lacks_is_warned(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Neuromeka's Indy7 SRDF attaches its virtual joint to 'world', which only
+    indy7_fixed.xacro has: with indy7.xacro it was an info "not represented", hiding that
+    the SRDF belongs to another URDF. A warning at its line names the link; a virtual joint
+    to a link of the URDF stays the info."""
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <virtual_joint name="FixedBase" type="fixed" parent_frame="global" child_link="world"/>
+        <virtual_joint name="odom" type="fixed" parent_frame="map" child_link="base"/>
+        </robot>""",
+    )
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    said = [(w.rule, w.line, w.severity.value, w.message) for w in d.diagnostics]
+    unknown = [s for s in said if s[0] == "convert-unknown-link"]
+    assert len(unknown) == 1 and unknown[0][1:3] == (3, "warning"), said
+    assert "virtual_joint 'FixedBase' attaches 'world'" in unknown[0][3]
+    assert "another URDF" in unknown[0][3]
+    assert [s[1] for s in said if s[0] == "convert-virtual-joint"] == [4]
+
+
 def test_a_passive_virtual_joint_is_no_unknown_joint(tree: RobotTree, tmp_path: Path) -> None:
     """A mobile manipulator's SRDF marks its planar virtual joint passive (MoveIt reads a
     virtual joint there): no warning; a passive joint naming nothing is warned at its line."""

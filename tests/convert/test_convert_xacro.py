@@ -540,3 +540,126 @@ def test_an_unset_argument_names_the_others_the_files_use_without_a_default(
     with pytest.raises(SourceError) as e:
         expand_xacro(top, {"enable_crane": "false", "head_type": "a"})
     assert e.value.message.endswith("(pass --xacro-arg test:=VALUE)")
+
+
+def test_a_yaml_file_named_by_an_arg_default_is_located_with_the_arg_to_pass(
+    tmp_path: Path,
+) -> None:
+    """Mitsubishi's MELFA xacros read `xacro.load_yaml(initial_positions_file)` inside
+    `<ros2_control>`, the argument defaulting to a bare file name that the launch file
+    replaces by a full path: without it every command failed with "[Errno 2] No such file or
+    directory" and no word of the argument. Now: located at the expression, the file named,
+    the --xacro-arg to pass and the file of that name in the robot's package."""
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "initial_positions.yaml").write_text("initial_positions: {j1: 0.5}\n")
+    (tmp_path / "hardware.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="hardware" params="initial_positions_file">\n'
+        '    <xacro:property name="initial" value="${xacro.load_yaml(initial_positions_file)}"/>\n'
+        '    <ros2_control name="arm" type="system">\n'
+        '      <joint name="j1"><param name="initial_value">'
+        "${initial['initial_positions']['j1']}</param></joint>\n"
+        "    </ros2_control>\n"
+        "  </xacro:macro>\n</robot>\n"
+    )
+    top = tmp_path / "arm.urdf.xacro"
+    top.write_text(
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="initial_positions_file" default="initial_positions.yaml"/>\n'
+        '  <xacro:include filename="hardware.xacro"/>\n'
+        '  <link name="base"/>\n'
+        '  <xacro:hardware initial_positions_file="$(arg initial_positions_file)"/>\n'
+        "</robot>\n"
+    )
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    assert (e.value.path, e.value.line) == (str(tmp_path / "hardware.xacro"), 3), str(e.value)
+    message = str(e.value)
+    assert f"the file {tmp_path / 'initial_positions.yaml'} does not exist" in message
+    assert "Errno" not in message
+    assert "$(arg initial_positions_file), not given, so 'initial_positions.yaml'" in message
+    found = tmp_path / "config" / "initial_positions.yaml"  # where the launch file points
+    assert message.endswith(
+        f"pass --xacro-arg initial_positions_file:=PATH; a file of that name: {found})"
+    )
+    given = {"initial_positions_file": str(tmp_path / "config" / "initial_positions.yaml")}
+    assert '<param name="initial_value">0.5</param>' in expand_xacro(top, given)
+
+
+def test_an_error_in_an_element_an_included_macro_wrote_is_located_there(
+    tmp_path: Path,
+) -> None:
+    """HEBI's rosie.urdf.xacro calls the omnibase macro of urdf/components/omnibase.xacro,
+    whose wheel joints name child links no macro makes: the error named the top file without
+    a line. It is located at the included file's line that writes the child link; the "did you
+    mean" suggestion, a name written elsewhere in that file, is not taken for it."""
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    (tmp_path / "components").mkdir()
+    base = tmp_path / "components" / "base.xacro"
+    base.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="omnibase" params="child">\n'
+        '    <link name="omni_base"/>\n'
+        '    <joint name="base_child_joint" type="fixed">\n'
+        '      <parent link="omni_base"/><child link="${child}"/>\n'
+        "    </joint>\n"
+        '    <joint name="wheel_1_joint" type="fixed">\n'
+        '      <parent link="omni_base"/>\n'
+        '      <child link="wheel_1"/>\n'
+        "    </joint>\n"
+        '    <link name="wheel_1_end"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    top = tmp_path / "rosie.urdf.xacro"
+    top.write_text(
+        '<robot name="rosie" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="components/base.xacro"/>\n'
+        '  <link name="arm_base"/>\n'
+        '  <xacro:omnibase child="arm_base"/>\n'
+        "</robot>\n"
+    )
+    with pytest.raises(UrdfError) as e:
+        load_robot(top)
+    assert (e.value.path, e.value.line) == (str(base), 9), str(e.value)
+    assert "unknown child link 'wheel_1'; did you mean 'wheel_1_end'?" in str(e.value)
+
+
+def test_a_link_two_includes_define_is_located_at_a_definition(tmp_path: Path) -> None:
+    """HEBI's rosie.urdf.xacro includes an arm kit that defines '$(arg prefix)base_link' and
+    calls an omnibase macro that defines 'base_link': with no prefix the link is defined twice,
+    and the error pointed at the top file's `<child link="base_link"/>`, the first place that
+    quotes the name, which defines nothing. It is located where a file defines it."""
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    (tmp_path / "kit.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="prefix" default=""/>\n'
+        '  <link name="$(arg prefix)base_link"/>\n'
+        "</robot>\n"
+    )
+    base = tmp_path / "base.xacro"
+    base.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="omnibase">\n'
+        '    <link name="base_link"/>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    top = tmp_path / "rosie.urdf.xacro"
+    top.write_text(
+        '<robot name="rosie" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="kit.xacro"/>\n'
+        '  <xacro:include filename="base.xacro"/>\n'
+        '  <link name="footprint"/>\n'
+        '  <joint name="base_joint" type="fixed">\n'
+        '    <parent link="footprint"/><child link="base_link"/>\n'
+        "  </joint>\n"
+        "  <xacro:omnibase/>\n"
+        "</robot>\n"
+    )
+    with pytest.raises(UrdfError) as e:
+        load_robot(top)
+    assert (e.value.path, e.value.line) == (str(base), 3), str(e.value)
+    assert "link 'base_link' is defined twice" in str(e.value)

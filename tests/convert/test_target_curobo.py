@@ -113,3 +113,27 @@ def test_a_planning_target_without_any_sphere_fails_and_writes_nothing(
     r = runner.invoke(app, [*args, "--target", "isaac-sim", "-o", str(out)])
     assert r.exit_code == 0 and out.exists()
     assert "warning empty-collision-group" not in r.stderr  # said once, by convert-no-spheres
+
+
+def test_a_urdf_velocity_of_zero_stops_curobo_before_fitting(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """AUBO's i5 URDF writes velocity="0" on every joint (the real limits are in MoveIt's
+    joint_limits.yaml, which cuRobo never reads): convert --target curobo exited 0 with an XRDF
+    whose arm cuRobo cannot move. It is an error for curobo, found before fitting, naming the
+    joint and its URDF line; without a target a warning, and the file is written."""
+    from tests.paths import FIXTURES
+
+    urdf = FIXTURES / "urdf" / "zero_velocity_arm.urdf"
+    out = tmp_path / "arm.xrdf"
+    args = ["convert", str(urdf), "--fit-spheres", "-o", str(out)]
+    r = runner.invoke(app, [*args, "--target", "curobo"])
+    assert r.exit_code == 1 and not out.exists(), r.stderr
+    zero = [x for x in r.stderr.splitlines() if "curobo-zero-velocity" in x]
+    assert len(zero) == 1 and " error " in zero[0], r.stderr
+    # joint2 (velocity 2.0) and joint3 (no velocity: cuRobo assumes one) are fine
+    assert "'joint1' (line 36)" in zero[0] and "in zero_velocity_arm.urdf" in zero[0]
+    assert "stopped before fitting" in r.stderr and "convert-fitted-spheres" not in r.stderr
+    r = runner.invoke(app, args)
+    assert r.exit_code == 0 and out.exists(), r.stderr
+    assert "warning curobo-zero-velocity" in r.stderr

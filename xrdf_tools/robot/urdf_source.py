@@ -337,6 +337,13 @@ def _quoted_value_line(source: str, message: str) -> int | None:
     macro-made ``upper_joint``: the call that writes ``name="upper"``). Values are looked for
     as the text writes them too (``&amp;`` for ``&``), and a missing attribute (``'name'``) as
     one left empty (``name=""``: xacro drops it)."""
+    message = message.split("; did you mean ", 1)[0]  # a suggestion is not what is written
+    if (twice := _DEFINED_TWICE.match(message)) is not None:  # only where it is defined
+        tag, name = twice.groups()
+        written = {name, escape(name, {'"': "&quot;", "'": "&apos;"})}
+        found = [source.find(f"<{tag} name={q}{v}{q}") for v in sorted(written) for q in "\"'"]
+        at = _line_of(source, min((i for i in found if i >= 0), default=-1))
+        return at if at is not None else _numeric_value_line(source, [name])  # ${1e308}
     wanted = [(f"{attr}=", value) for attr, value in _ATTRIBUTE.findall(message)]
     values = re.findall(r"'([^'\n]+)'", message)
     wanted += [("=", value) for value in reversed(values)]
@@ -378,6 +385,8 @@ def _as_number(text: str) -> float | None:
     return value if math.isfinite(value) else None
 
 
+#: A link or joint defined twice (by macros: the name is quoted where it is used, too).
+_DEFINED_TWICE = re.compile(r"^(link|joint) '([^'\n]+)' is defined twice")
 #: ``="value"`` or ``='value'`` in a xacro's text.
 _QUOTED_VALUE = re.compile(r"=([\"'])([^\"'\n<]*)\1")
 

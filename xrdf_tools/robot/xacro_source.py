@@ -25,11 +25,12 @@ from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
 
 from ..diagnostics import Diagnostic, Severity
-from ..util.errors import SourceError, UrdfReadError, XrdfToolsError
+from ..util.errors import SourceError, UrdfError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
+from .xacro_files import file_arg_hint, located_in_includes, os_error
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
@@ -130,6 +131,7 @@ def expand_xacro(
     data: bytes | None = None,
     warnings: list[Diagnostic] | None = None,
     warn_unread_args: bool = True,
+    includes: list[str] | None = None,
 ) -> str:
     """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
 
@@ -138,7 +140,7 @@ def expand_xacro(
     xacro's own warnings (an include's ignored body, a redefined symbol) are appended to
     ``warnings`` as ``xacro-warning`` diagnostics, never printed; so is an argument of ``args``
     the expansion never reads (``xacro-arg-unread``), unless ``warn_unread_args`` is false (an
-    SRDF xacro given the robot's arguments)."""
+    SRDF xacro given the robot's arguments). ``includes`` receives the files it included."""
     import xacro
 
     p = Path(path)
@@ -155,6 +157,8 @@ def expand_xacro(
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
+            if includes is not None:
+                includes.extend(dict.fromkeys(str(f) for f in xacro.all_includes))
     except Exception as e:  # xacro's XacroException, ArgException, NameError, OSError…
         if (placeholder := error_for(e, unresolved)) is not None:  # a package not found
             raise placeholder from None
@@ -227,10 +231,15 @@ def _xacro_error(
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
-    missing = getattr(inner, "filename", None) if isinstance(inner, OSError) else None
-    if isinstance(missing, str):
+    unread = os_error(e)
+    missing = unread.filename if unread is not None else None
+    if isinstance(missing, str) and unread is inner:
         return _missing_include_error(missing, where, included, given or {}, values or {})
     message = _xacro_message(e)
+    if unread is not None and isinstance(missing, str):  # an expression's xacro.load_yaml()
+        said = "does not exist" if isinstance(unread, FileNotFoundError) else "cannot be read"
+        message = message.replace(str(unread), f"the file {missing} {said}")
+        message += file_arg_hint(missing, top, given or {}, values or {})
     if (call := _bad_macro_call(message, macro, [where, *included])) is not None:
         return SourceError(call[0], path=call[1], line=call[2], col=call[3])
     line, col = _find_culprit(where, message)
@@ -467,10 +476,14 @@ def load_robot(
             raise
     if data is None or uses_xacro(data):
         said: list[Diagnostic] = []
-        text = expand_xacro(path, xacro_args, pkg, data=data, warnings=said)
-        robot = parse_robot(
-            text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
-        )
+        included: list[str] = []
+        text = expand_xacro(path, xacro_args, pkg, data=data, warnings=said, includes=included)
+        try:
+            robot = parse_robot(
+                text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
+            )
+        except UrdfError as e:
+            raise located_in_includes(e, os.fspath(path), included) from None
         return replace(robot, warnings=(*said, *robot.warnings)) if said else robot
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))

@@ -97,7 +97,7 @@ def read_srdf(
         d.tool_frames = _tool_frames(srdf, tree, groups, rep)
 
     _mask(srdf, tree, d, rep)
-    _virtual(srdf, rep)
+    _virtual(srdf, tree, rep)
     _spheres(srdf, tree, d, rep)
     d.diagnostics.extend(srdf.warnings)
     d.diagnostics.extend(rep.diagnostics)
@@ -155,8 +155,21 @@ def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
             d.ignore[l2].remove(l1)
 
 
-def _virtual(srdf: Srdf, rep: Reporter) -> None:
+def _virtual(srdf: Srdf, tree: RobotTree, rep: Reporter) -> None:
+    """Each virtual joint is reported as not represented; one whose ``child_link`` is no
+    link of the URDF (srdfdom skips it) says so: the SRDF was written for another URDF of the
+    robot (Neuromeka's MoveIt config loads ``indy7_fixed.xacro``, which adds ``world``)."""
     for name, vtype, line in srdf.virtual_joints:
+        child = srdf.virtual_children.get(name)
+        if child is not None and child not in tree.links:
+            rep.report(
+                "convert-unknown-link",
+                f"virtual_joint '{name}' attaches '{child}', which is not a link of the URDF "
+                f"(MoveIt skips it){did_you_mean(child, tree.links)}: is this the SRDF of "
+                "another URDF of the robot?",
+                line=line,
+            )
+            continue
         rep.report(
             "convert-virtual-joint",
             f"virtual_joint '{name}' ({vtype}) is not represented: XRDF is relative to the "

@@ -56,6 +56,8 @@ class Srdf:
     group_states: tuple[GroupState, ...] = ()
     end_effectors: tuple[EndEffector, ...] = ()
     virtual_joints: tuple[tuple[str, str, int | None], ...] = ()  # name, type, line
+    #: The ``child_link`` of each virtual joint, by the joint's name.
+    virtual_children: Mapping[str, str] = field(default_factory=dict)
     passive_joints: tuple[str, ...] = ()
     passive_joint_lines: tuple[int | None, ...] = ()  # the line of each passive_joints entry
     disable_collisions: tuple[tuple[str, str, str, int | None], ...] = ()  # l1, l2, reason, line
@@ -113,6 +115,7 @@ def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True)
         group_states=tuple(p.states),
         end_effectors=tuple(p.ees),
         virtual_joints=tuple(p.vjs),
+        virtual_children=dict(p.virtual_children),
         passive_joints=tuple(p.passive),
         passive_joint_lines=tuple(p.passive_lines),
         disable_collisions=tuple(p.disabled),
@@ -132,6 +135,7 @@ class _Parser:
         self.states: list[GroupState] = []
         self.ees: list[EndEffector] = []
         self.vjs: list[tuple[str, str, int | None]] = []
+        self.virtual_children: dict[str, str] = {}
         self.passive: list[str] = []
         self.passive_lines: list[int | None] = []
         self.disabled: list[tuple[str, str, str, int | None]] = []
@@ -205,7 +209,10 @@ def _end_effector(p: _Parser, el: Any) -> None:
 
 
 def _virtual_joint(p: _Parser, el: Any) -> None:
-    p.vjs.append((p.req(el, "name"), el.get("type") or "", p.line(el)))
+    name = p.req(el, "name")
+    p.vjs.append((name, el.get("type") or "", p.line(el)))
+    if el.get("child_link"):
+        p.virtual_children.setdefault(name, el.get("child_link"))
 
 
 def _passive_joint(p: _Parser, el: Any) -> None:

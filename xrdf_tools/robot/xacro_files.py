@@ -1,0 +1,105 @@
+"""The files of a xacro robot in its error messages: a file that an expression reads
+(``xacro.load_yaml``) and that is not there (the OSError xacro wrapped, and what to pass
+instead), and an error of the expansion located in the included file that writes it.
+
+ROS launch files hand such files to xacro as full paths through an ``<xacro:arg>`` whose
+default is a bare name (MELFA's ``initial_positions_file``); expanded without ROS, xacro looks
+for that name beside the file it is processing. The hint names the argument and, when a file
+of that name lies in the robot's package, where it is.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from ..util.errors import UrdfError
+from .packages import _is_dir, _is_file
+
+__all__ = ["file_arg_hint", "located_in_includes", "os_error"]
+
+#: How far up from the xacro file a package.xml is looked for, how deep below it the file.
+_UP, _DEPTH = 4, 3
+#: At most this many folders are listed per level (a package, not a workspace).
+_WIDTH = 500
+
+
+def os_error(e: BaseException) -> OSError | None:
+    """The OSError at the bottom of xacro's wrapped exceptions (``XacroException.exc``,
+    nested once per expression being evaluated), if any."""
+    seen: list[BaseException] = []
+    x: Any = e
+    while isinstance(x, BaseException) and all(x is not y for y in seen):
+        if isinstance(x, OSError):
+            return x
+        seen.append(x)
+        x = getattr(x, "exc", None)
+    return None
+
+
+def file_arg_hint(
+    missing: str, top: str, given: Mapping[str, str], values: Mapping[str, str]
+) -> str:
+    """What to pass when the file ``missing`` is named by an ``$(arg X)`` the user did not
+    give (``values``: the arguments xacro read, with their defaults), else ""."""
+    wanted = missing.replace("\\", "/")
+    for arg, value in values.items():
+        if arg in given or not value or not wanted.endswith(value.replace("\\", "/")):
+            continue
+        found = _in_package(Path(value).name, Path(top))
+        there = f"; a file of that name: {', '.join(found)}" if found else ""
+        return (
+            f" (the file name is $(arg {arg}), not given, so {value!r}, read beside the xacro "
+            f"file being processed; a launch file passes a full path: pass --xacro-arg "
+            f"{arg}:=PATH{there})"
+        )
+    return ""
+
+
+def _in_package(name: str, top: Path) -> list[str]:
+    """Files called ``name`` in the package of ``top`` (the nearest folder above it with a
+    package.xml, else its own folder), at most three levels down, in sorted order: shown
+    relative to the current directory when below it."""
+    folder = top.resolve().parent
+    root = next((d for d in [folder, *folder.parents][:_UP] if _is_file(d / "package.xml")), folder)
+    out: list[str] = []
+    frontier = [root]
+    for _ in range(_DEPTH + 1):
+        nxt: list[Path] = []
+        for d in frontier:
+            if _is_file(d / name):
+                out.append(_shown(d / name))
+            try:
+                nxt.extend(c for c in sorted(d.iterdir()) if _is_dir(c) and c.name[:1] != ".")
+            except OSError:
+                continue
+        frontier = nxt[:_WIDTH]
+    return out[:3]
+
+
+def _shown(path: Path) -> str:
+    try:
+        return os.path.relpath(path) if path.is_relative_to(Path.cwd()) else str(path)
+    except (OSError, ValueError):
+        return str(path)
+
+
+def located_in_includes(e: UrdfError, top: str, included: Sequence[str]) -> UrdfError:
+    """``e``, an error of the expansion that the top file does not locate, located in the
+    first included file that writes what it quotes: an element that a macro of that file made
+    (HEBI's omnibase.xacro: a wheel joint to a link no macro makes)."""
+    from .urdf_source import _quoted_value_line
+
+    if e.line is not None or e.path != top:
+        return e
+    for path in included:
+        try:
+            text = Path(path).read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            continue
+        if (line := _quoted_value_line(text, e.message)) is not None:
+            e.path, e.line = os.path.normpath(path), line
+            return e
+    return e
