@@ -601,6 +601,21 @@ def test_a_package_name_or_package_path_too_long_is_a_clear_input_error(
     assert code == 2 and "cannot be used: File name too long" in text and "Traceback" not in text
 
 
+@pytest.mark.parametrize("command", ["convert", "expand", "spheres"])
+def test_a_package_path_that_is_no_directory_is_an_input_error_even_if_unused(
+    runner: CliRunner, tmp_path: Path, command: str
+) -> None:
+    """A mistyped --package-path is said at once (exit 2), also when the robot turns out not
+    to use that package; it was accepted without a word."""
+    urdf = tmp_path / "r.urdf.xacro"
+    xacro = 'xmlns:xacro="http://www.ros.org/wiki/xacro" name="r"'
+    urdf.write_text(ROBOT.format(arm="").replace('name="r"', xacro, 1))
+    code, text = _run(runner, command, urdf, "--package-path", f"unused={tmp_path / 'nope'}")
+    assert code == 2 and "--package-path unused=" in text and "no such directory" in text
+    code, text = _run(runner, command, urdf, "--package-path", f"unused={urdf}")
+    assert code == 2 and "not a directory" in text and "Traceback" not in text
+
+
 def test_lint_fast_path_reads_allow_missing_meshes() -> None:
     from xrdf_tools.cli.commands.lint_core import parse_fast
 

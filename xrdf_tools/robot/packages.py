@@ -246,10 +246,14 @@ def _package_xmls(root: Path, depth: int) -> list[Path]:
 
 
 def parse_package_path(spec: str) -> tuple[str, str]:
-    """``NAME=DIR`` from the command line."""
+    """``NAME=DIR`` from the command line; ``DIR`` must be a directory (a mistyped one is
+    said at once, also when the robot turns out not to use the package)."""
     name, sep, directory = spec.partition("=")
     if not sep or not name or not directory:
         raise SourceError(f"--package-path expects NAME=DIR, got '{spec}'")
+    why = _not_a_directory(absolute(directory))
+    if why is not None:
+        raise SourceError(f"--package-path {name}={directory}: {why}")
     return name, directory
 
 
