@@ -683,3 +683,34 @@ def test_a_full_disk_is_one_clean_error_and_leaves_nothing(
     (line,) = [x for x in res.stderr.splitlines() if x.startswith("error:")]
     assert line.startswith(f"error: {out}: cannot write") and ".tmp" not in line
     assert list(out_dir.iterdir()) == []
+
+
+def test_png_draws_names_with_dollar_signs_as_written(runner: CliRunner, tmp_path: Path) -> None:
+    """A robot or link name with ``$`` signs (``r$x``, ``arm$\\undefinedcommand$``) is drawn
+    as written: matplotlib's math text would italicise what lies between two of them, or stop
+    at an unknown command."""
+    from xrdf_tools.viz.png import draw_png
+
+    name = "arm$\\undefinedcommand{$"
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r$x"><link name="base"><collision><geometry><box size=".2 .2 .1"/>'
+        f'</geometry></collision></link><link name="{name}"><collision><origin xyz="0 0 .2"/>'
+        '<geometry><box size=".06 .06 .3"/></geometry></collision></link>'
+        f'<joint name="j1" type="revolute"><parent link="base"/><child link="{name}"/>'
+        '<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>'
+    )
+    xrdf = tmp_path / "r.xrdf"
+    args = ["convert", str(urdf), "--fit-spheres", "--per-link", "1", "-n", "50", "-o", str(xrdf)]
+    assert runner.invoke(app, args).exit_code == 0
+    out = tmp_path / "r.png"
+    r = runner.invoke(app, ["viz", str(xrdf), "--urdf", str(urdf), "--png", str(out)])
+    assert r.exit_code == 0, r.output
+    assert out.stat().st_size > 0
+    scene = build_scene(load_urdf(urdf), load_xrdf(xrdf))
+    fig = draw_png(scene)
+    from matplotlib.text import Text
+
+    texts = [t for t in fig.findobj(Text) if "$" in t.get_text()]
+    assert {t.get_text() for t in texts} >= {name}
+    assert all(not t._parse_math for t in texts)

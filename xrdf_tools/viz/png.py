@@ -89,10 +89,20 @@ def draw_png(
     legend: Legend = "auto",
 ) -> Figure:
     """The figure of sample 0 (the default pose): ``size_px`` square, taller when a legend of
-    many links is placed below the picture."""
+    many links is placed below the picture. Names are drawn as they are written: a ``$`` in a
+    link or group name does not start matplotlib's math text."""
     from ..util.extras import VIZ, require
 
     require(VIZ, "viz", "a PNG picture")
+    from matplotlib import rc_context
+
+    with rc_context({"text.parse_math": False}):
+        return _draw(scene, buffered, size_px, view, legend)
+
+
+def _draw(
+    scene: Scene, buffered: bool, size_px: int, view: tuple[float, float], legend: Legend
+) -> Figure:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
