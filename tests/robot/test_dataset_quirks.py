@@ -325,3 +325,41 @@ def test_the_package_search_stops_below_the_temporary_and_home_folders(
     top = shared / "r.urdf"
     top.write_text("<robot name='r'><link name='a'/></robot>")
     assert PackageResolver(top).find("ur_description") == left.resolve()
+
+
+def test_a_plain_urdf_holding_xacro_substitutions_is_expanded_as_ros_does(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # pybullet's husky.urdf: an IMU mount at $(optenv HUSKY_IMU_XYZ 0.19 0 0.149), no xacro
+    # namespace; every command refused it ("is not a list of numbers"), expand said "not a
+    # xacro file (nothing to expand)"
+    imu = (
+        '<link name="imu_link"/>\n<joint name="imu_joint" type="fixed">\n'
+        '  <origin rpy="$(optenv XRDF_TEST_UNSET_IMU_RPY 0 0 0)" '
+        'xyz="$(optenv XRDF_TEST_UNSET_IMU_XYZ 0.19 0 0.149)"/>\n'
+        '  <parent link="base"/><child link="imu_link"/>\n</joint>\n'
+    )
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra=imu))
+    expanded = tmp_path / "expanded.urdf"
+    code, text = _run(runner, "expand", urdf, "-o", expanded)
+    assert code == 0, text
+    assert 'xyz="0.19 0 0.149"' in expanded.read_text()
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "--tool-frame", "imu_link", "-o", out)
+    assert code == 0, text
+    assert load_xrdf(out).tool_frames == ("imu_link",)
+
+
+def test_a_dollar_sign_that_is_no_substitution_leaves_a_urdf_plain(tmp_path: Path) -> None:
+    from xrdf_tools.robot.xacro_source import is_xacro
+
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        ARM.format(
+            attr="", extra='<!-- $(find x) -->\n<material name="$5"/>\n<material name="${m}"/>\n'
+        )
+    )
+    assert not is_xacro(urdf)
+    urdf.write_text(ARM.format(attr="", extra='<material name="m_$(arg tint)"/>\n'))
+    assert is_xacro(urdf)
