@@ -9,6 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
+from xrdf_tools.robot.chains import default_cspace
 from xrdf_tools.robot.tree import RobotTree
 from xrdf_tools.util.errors import SourceError
 from xrdf_tools.xrdf.io import load_xrdf
@@ -363,3 +364,22 @@ def test_a_dollar_sign_that_is_no_substitution_leaves_a_urdf_plain(tmp_path: Pat
     assert not is_xacro(urdf)
     urdf.write_text(ARM.format(attr="", extra='<material name="m_$(arg tint)"/>\n'))
     assert is_xacro(urdf)
+
+
+def test_a_wrist_joint_held_by_zero_limits_is_named_where_the_cspace_leaves_it_out(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # SolidWorks' exporter writes <limit lower="0" upper="0"> for limits never set: a
+    # PAROL6-like arm with such a wrist got a 5-joint c-space and no word of the sixth
+    links = ["base", "l1", "l2", "l3"]
+    held = _joint("j2", "l1", "l2").replace('lower="-1" upper="1"', 'lower="0" upper="0"')
+    joints = [_joint("j1", "base", "l1"), held, _joint("j3", "l2", "l3")]
+    chosen = default_cspace(_robot_tree(tmp_path, links, joints))
+    assert chosen.joints == ("j1", "j3")
+    assert chosen.held == ("j2",)
+    code, text = _run(runner, "inspect", _tree(tmp_path, links, joints))
+    assert code == 0, text
+    assert "left out, held still by equal lower and upper limits: j2 (a CAD exporter" in text
+    # a chain without such a joint says nothing of it
+    free = default_cspace(_robot_tree(tmp_path, links, [_joint("j1", "base", "l1")]))
+    assert free.held == () and "held still" not in free.describe()

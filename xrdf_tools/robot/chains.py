@@ -344,6 +344,8 @@ class DefaultCSpace:
     #: Legs as long as the choice or longer, passed over for it, each with its tool frame.
     legs: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
     hand_alone: bool = False  #: nothing but fingers to plan: the c-space is a finger
+    #: Revolute/prismatic joints on the chosen chain held still by equal limits, left out.
+    held: tuple[str, ...] = ()
 
     def describe(self) -> str:
         """One sentence: what was chosen, what was left out, and the flags that change it."""
@@ -367,6 +369,12 @@ class DefaultCSpace:
         ]
         if out:
             text += "; left out: " + ", ".join(out)
+        if self.held:
+            text += (
+                f"; left out, held still by equal lower and upper limits: {name_list(self.held, 4)}"
+                " (a CAD exporter writes 0 0 for limits never set: give the URDF the real ones "
+                "to plan them)"
+            )
         if self.ties:
             other = "; ".join(
                 f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
@@ -419,7 +427,14 @@ def default_cspace(
         for cs, c in long_legs.items()
         if cs != pick
     )
-    out = DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties, passed)
+    chosen = distinct[pick]
+    on_path = (
+        chosen.joints[: chosen.joints.index(chosen.stopped_at)]
+        if chosen.stopped_at
+        else chosen.joints
+    )
+    held = tuple(j for j in on_path if tree.joints[j].type != "fixed" and is_held(tree, j))
+    out = DefaultCSpace(pick, guesses[pick], chosen, left_out, ties, passed, held=held)
     return replace(out, left_out={}, hand_alone=True) if hand else out
 
 
