@@ -20,6 +20,7 @@ import math
 import os
 import re
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 from xml.sax.saxutils import escape
@@ -27,7 +28,7 @@ from xml.sax.saxutils import escape
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError, UrdfReadError
 from ..util.safe_xml import XmlSyntaxError
-from ..util.textpos import line_col
+from ..util.textpos import attribute_line, line_col
 from .urdf_check import JOINT_TYPES, RULE_PREFIX_UNDECLARED, XACRO_NS, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
 
@@ -257,7 +258,14 @@ def _parse_bytes(
     except UrdfError as e:
         if expanded and e.line is None:  # made by a macro: where the value it quotes is written
             e.line = _quoted_value_line(source, e.message)
+        elif not expanded and e.line is not None:
+            e.line = attribute_line(data, e.line, e.message)
         raise
+    if not expanded:
+        warnings = [
+            replace(w, line=attribute_line(data, w.line, w.message)) if w.line else w
+            for w in warnings
+        ]
     if expanded:  # 0: not written literally in the xacro file (see _relocate_expansion)
         link_lines = {k: v for k, v in link_lines.items() if v}
         joint_lines = {k: v for k, v in joint_lines.items() if v}
