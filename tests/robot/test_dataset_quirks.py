@@ -3,6 +3,7 @@ minimal robot, and read as ROS reads it (a located warning) or refused with a lo
 
 from __future__ import annotations
 
+import shlex
 from pathlib import Path
 
 import pytest
@@ -383,3 +384,23 @@ def test_a_wrist_joint_held_by_zero_limits_is_named_where_the_cspace_leaves_it_o
     # a chain without such a joint says nothing of it
     free = default_cspace(_robot_tree(tmp_path, links, [_joint("j1", "base", "l1")]))
     assert free.held == () and "held still" not in free.describe()
+
+
+def test_the_chain_flag_a_message_suggests_runs_as_written_for_names_with_spaces(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # onshape-to-robot and Fusion exports name links after CAD parts ("base link", "tip 2")
+    links = ["base link", "upper arm", 'tip "2"']
+    joints = [
+        _joint("shoulder #1", "base link", "upper arm"),
+        _joint("tip joint", "upper arm", "tip &quot;2&quot;", "fixed"),
+    ]
+    urdf = _tree(tmp_path, [name.replace('"', "&quot;") for name in links], joints)
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 0, text
+    (line,) = [t for t in text.splitlines() if "the same with a flag:" in t]
+    flag = shlex.split(line.split("the same with a flag:", 1)[1])
+    assert flag == ["--chain", 'base link:tip "2"']
+    code, text = _run(runner, "convert", urdf, *flag, "-o", tmp_path / "r.xrdf")
+    assert code == 0, text
+    assert load_xrdf(tmp_path / "r.xrdf").tool_frames == ('tip "2"',)

@@ -36,6 +36,7 @@ converter reports each choice and ``xrdf inspect`` shows it.
 
 from __future__ import annotations
 
+import shlex
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
@@ -60,6 +61,7 @@ __all__ = [
     "DefaultCSpace",
     "JointRole",
     "ToolFrameGuess",
+    "chain_flag",
     "default_cspace",
     "guess_tool_frame",
     "is_held",
@@ -174,6 +176,12 @@ def _coupling_moves_below(tree: RobotTree, below: _Subtrees, joint: str) -> bool
     leader = tree.joints.get(j.mimic_joint) if j.mimic_joint is not None else None
     links = [j.child] if leader is None else [j.child, leader.child]
     return any(below.free[link] for link in links)
+
+
+def chain_flag(base: str, tip: str) -> str:
+    """``--chain BASE:TIP`` as a shell takes it (quoted when a name has a space or a quote,
+    as CAD exports name links: ``'base link:tip 2'``)."""
+    return f"--chain {shlex.quote(f'{base}:{tip}')}"
 
 
 @dataclass(frozen=True)
@@ -377,15 +385,15 @@ class DefaultCSpace:
             )
         if self.ties:
             other = "; ".join(
-                f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
+                f"{name_list(c.cspace, 2)} ({chain_flag(c.base, t.frame)})" for c, t in self.ties
             )
             text += f"; as long: {other}"
         if self.legs:
             legs = "; ".join(
-                f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.legs
+                f"{name_list(c.cspace, 2)} ({chain_flag(c.base, t.frame)})" for c, t in self.legs
             )
             text += f"; as long or longer but a leg, passed over: {legs}"
-        return text + f"; change it with --chain {self.chain.base}:{tip}, --joints or --srdf"
+        return text + f"; change it with {chain_flag(self.chain.base, tip)}, --joints or --srdf"
 
 
 def default_cspace(
