@@ -89,3 +89,21 @@ def test_a_bad_value_in_a_tag_written_one_attribute_a_line_is_located_at_its_att
     code, out = run_cli(runner, "inspect", str(urdf))
     assert code == 0, out
     assert f"{urdf}:9: warning urdf-color-ignored" in out
+
+
+@pytest.mark.parametrize(
+    ("root", "said"),
+    [
+        ('<sdf version="1.6"><model name="m"/></sdf>', "an SDF model (Gazebo, pybullet)"),
+        ('<mujoco model="m"><worldbody/></mujoco>', "an MJCF model (MuJoCo)"),
+    ],
+)
+def test_a_simulator_model_given_as_the_robot_says_what_it_is(
+    runner: CliRunner, tmp_path: Path, root: str, said: str
+) -> None:
+    # pybullet ships kuka_with_gripper2.sdf beside model.urdf; onshape-to-robot writes MJCF
+    model = tmp_path / "robot.xml"
+    model.write_text(f'<?xml version="1.0"?>\n{root}\n')
+    code, out = run_cli(runner, "convert", str(model), "-o", str(tmp_path / "o.xrdf"))
+    assert code == 2, out
+    assert f"{model}:2: the root element must be <robot>" in out and said in out
