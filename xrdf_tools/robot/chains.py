@@ -429,7 +429,10 @@ def default_cspace(
     guesses = {cs: guess_tool_frame(tree, cs[-1], collision_links) for cs in distinct}
     pick = min(distinct, key=lambda cs: (not guesses[cs].named, *_limb_rank(tree, cs)))
     ties = tuple((c, guesses[cs]) for cs, c in distinct.items() if cs != pick)
-    long_legs = _distinct([c for c in chains if c.cspace in legs and len(c.cspace) >= best_len])
+    # legs passed over for an arm; when every chain is a leg the others are ties, said once
+    long_legs = _distinct(
+        [c for c in chains if c.cspace in legs and len(c.cspace) >= best_len and pick not in legs]
+    )
     passed = tuple(
         (c, guess_tool_frame(tree, cs[-1], collision_links))
         for cs, c in long_legs.items()
