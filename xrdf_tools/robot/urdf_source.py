@@ -403,6 +403,14 @@ _QUOTED_VALUE = re.compile(r"=([\"'])([^\"'\n<]*)\1")
 _ATTRIBUTE = re.compile(r"\b(\w+)='([^'\n]*)'")
 
 
+def _start_tag(source: str, tag: str, key: str, value: str | None = None) -> int:
+    """Where ``source`` first writes ``<tag key="value"`` (any value when None), the attribute
+    first, on the tag's line or the next (CAD exporters write one attribute a line); -1."""
+    written = "" if value is None else rf"\s*([\"']){re.escape(value)}\1"
+    found = re.search(rf"<{re.escape(tag)}\s+{re.escape(key)}\s*={written}", source)
+    return found.start() if found else -1
+
+
 def _relocate_expansion(root: Any, source: str) -> None:
     """Give the elements of an expanded xacro the lines of its xacro file's text ``source``.
 
@@ -416,10 +424,10 @@ def _relocate_expansion(root: Any, source: str) -> None:
         first = next(iter(el.attrib.items()), None) if isinstance(el.tag, str) else None
         if first is not None:  # its name, or what it has in place of one
             key, value = ("name", el.get("name")) if el.get("name") else first
-            found = [source.find(f"<{el.tag} {key}={q}{value}{q}") for q in "\"'"]
-            if key != "name" and not any(i >= 0 for i in found):  # a macro wrote the value
-                found = [source.find(f"<{el.tag} {key}=")]
-            line = _line_of(source, min((i for i in found if i >= 0), default=-1)) or 0
+            found = _start_tag(source, el.tag, key, value)
+            if key != "name" and found < 0:  # a macro wrote the value
+                found = _start_tag(source, el.tag, key)
+            line = _line_of(source, found) or 0
         for node in el.iter():
             node.sourceline = line
     tag = re.search(r"<robot[\s/>]", source)
