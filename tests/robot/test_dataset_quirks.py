@@ -404,3 +404,30 @@ def test_the_chain_flag_a_message_suggests_runs_as_written_for_names_with_spaces
     code, text = _run(runner, "convert", urdf, *flag, "-o", tmp_path / "r.xrdf")
     assert code == 0, text
     assert load_xrdf(tmp_path / "r.xrdf").tool_frames == ('tip "2"',)
+
+
+def test_a_renamed_package_is_named_with_the_package_path_that_finds_its_meshes(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # SolidWorks writes package://<assembly name>/meshes/...; the Moveo's package.xml says
+    # moveo_urdf while its URDFs name moveo_urdf_4: the error said only "pass --package-path"
+    pkg = tmp_path / "arm_description"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    (pkg / "package.xml").write_text("<package><name>arm_description</name></package>")
+    (pkg / "meshes" / "arm.STL").write_text(
+        "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.1 0 0\n"
+        "vertex 0 0.1 0\nendloop\nendfacet\nendsolid a\n"
+    )
+    urdf = pkg / "urdf" / "arm.urdf"
+    mesh = '<mesh filename="package://arm_4/meshes/arm.STL"/>'
+    urdf.write_text(ARM.format(attr="", extra="").replace('<box size=".05 .05 .3"/>', mesh))
+    out = tmp_path / "o.xrdf"
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "10", "-o", out)
+    assert code == 2, text
+    hint = f"package 'arm_description' at {pkg} holds meshes/arm.STL: --package-path arm_4={pkg}"
+    assert hint in text
+    # the flag it names is the one that finds the mesh
+    flag = ["--package-path", f"arm_4={pkg}"]
+    code, text = _run(runner, "convert", urdf, *flag, "--fit-spheres", "-n", "10", "-o", out)
+    assert "cannot be found" not in text and "cannot find ROS package" not in text, text
