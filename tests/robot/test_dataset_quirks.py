@@ -431,3 +431,26 @@ def test_a_renamed_package_is_named_with_the_package_path_that_finds_its_meshes(
     flag = ["--package-path", f"arm_4={pkg}"]
     code, text = _run(runner, "convert", urdf, *flag, "--fit-spheres", "-n", "10", "-o", out)
     assert "cannot be found" not in text and "cannot find ROS package" not in text, text
+
+
+def test_a_cspace_joint_held_by_zero_limits_is_a_lint_warning(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # a MoveIt config made from a SolidWorks export keeps the [0, 0] wrist in its arm group
+    links = ["base", "l1", "l2", "l3"]
+    held = _joint("j2", "l1", "l2").replace('lower="-1" upper="1"', 'lower="0" upper="0"')
+    urdf = _tree(tmp_path, links, [_joint("j1", "base", "l1"), held, _joint("j3", "l2", "l3")])
+    srdf = tmp_path / "r.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="arm"><chain base_link="base" tip_link="l3"/></group></robot>'
+    )
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "--srdf", srdf, "-o", out)
+    assert code == 0, text
+    assert load_xrdf(out).cspace.joint_names == ("j1", "j2", "j3")
+    code, text = _run(runner, "lint", out, "--urdf", urdf)
+    (line,) = [t for t in text.splitlines() if "cspace-joint-held" in t]
+    assert "warning cspace-joint-held c-space joint 'j2'" in line and "[0, 0]" in line
+    # the free joints are no finding, and nothing without the URDF
+    code, text = _run(runner, "lint", out)
+    assert "cspace-joint-held" not in text
