@@ -663,3 +663,29 @@ def test_a_link_two_includes_define_is_located_at_a_definition(tmp_path: Path) -
         load_robot(top)
     assert (e.value.path, e.value.line) == (str(base), 3), str(e.value)
     assert "link 'base_link' is defined twice" in str(e.value)
+
+
+def test_a_link_written_one_attribute_a_line_is_located_in_a_xacro(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # a SolidWorks export renamed to .urdf.xacro: '<link\n    name="arm">' was not found in
+    # the xacro text, so what was said about the link had no line
+    x = tmp_path / "arm.urdf.xacro"
+    x.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:property name="s" value="0.1"/>\n'
+        '  <link\n    name="base"/>\n'
+        "  <link\n"
+        '    name="arm">\n'
+        '    <collision><geometry><mesh filename="meshes/arm.STL"/></geometry></collision>\n'
+        "  </link>\n"
+        '  <joint\n    name="j"\n    type="revolute">\n'
+        '    <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>\n'
+        '    <limit lower="-1" upper="1" effort="1" velocity="${s}"/></joint>\n'
+        "</robot>\n"
+    )
+    r = runner.invoke(
+        app, ["convert", str(x), "--fit-spheres", "-n", "10", "-o", str(tmp_path / "o")]
+    )
+    assert r.exit_code == 2, r.output
+    assert f"error: {x}:5: 1 mesh file(s) cannot be found: link 'arm' collision:" in r.output

@@ -654,3 +654,26 @@ def test_a_hand_alone_plans_for_its_longest_finger(tmp_path: Path) -> None:
     choice = default_cspace(robot.tree)
     assert choice.joints == () and not choice.hand_alone
     assert "besides 2 gripper joint(s) (left, right)" in choice.describe()
+
+
+def test_a_quadrupeds_other_legs_are_named_once_as_ties_not_as_passed_over(
+    tmp_path: Path,
+) -> None:
+    """onshape-to-robot's quadruped: four three-joint legs. One is planned for; the other
+    three are as long (each with its --chain), not 'passed over' legs as well."""
+    links, joints = ["body"], []
+    for k in range(1, 5):
+        parent = "body"
+        for part in "abc":
+            child = f"leg{k}_{part}_link"
+            links.append(child)
+            joints.append(_j(f"leg{k}_{part}", "revolute", parent, child))
+            parent = child
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    choice = default_cspace(robot.tree)
+    assert choice.joints == ("leg1_a", "leg1_b", "leg1_c")
+    assert [c.cspace[0] for c, _ in choice.ties] == ["leg2_a", "leg3_a", "leg4_a"]
+    assert choice.legs == ()
+    text = choice.describe()
+    assert "passed over" not in text
+    assert text.count("--chain body:leg2_c_link") == 1

@@ -134,6 +134,8 @@ def test_a_urdf_velocity_of_zero_stops_curobo_before_fitting(
     # joint2 (velocity 2.0) and joint3 (no velocity: cuRobo assumes one) are fine
     assert "'joint1' (line 36)" in zero[0] and "in zero_velocity_arm.urdf" in zero[0]
     assert "stopped before fitting" in r.stderr and "convert-fitted-spheres" not in r.stderr
+    # the closing line counts that one error, not the stop that reports it too
+    assert "has 1 lint error(s) against the URDF" in r.stderr.splitlines()[-1], r.stderr
     r = runner.invoke(app, args)
     assert r.exit_code == 0 and out.exists(), r.stderr
     assert "warning curobo-zero-velocity" in r.stderr

@@ -3,12 +3,14 @@ minimal robot, and read as ROS reads it (a located warning) or refused with a lo
 
 from __future__ import annotations
 
+import shlex
 from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
+from xrdf_tools.robot.chains import default_cspace
 from xrdf_tools.robot.tree import RobotTree
 from xrdf_tools.util.errors import SourceError
 from xrdf_tools.xrdf.io import load_xrdf
@@ -325,3 +327,130 @@ def test_the_package_search_stops_below_the_temporary_and_home_folders(
     top = shared / "r.urdf"
     top.write_text("<robot name='r'><link name='a'/></robot>")
     assert PackageResolver(top).find("ur_description") == left.resolve()
+
+
+def test_a_plain_urdf_holding_xacro_substitutions_is_expanded_as_ros_does(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # pybullet's husky.urdf: an IMU mount at $(optenv HUSKY_IMU_XYZ 0.19 0 0.149), no xacro
+    # namespace; every command refused it ("is not a list of numbers"), expand said "not a
+    # xacro file (nothing to expand)"
+    imu = (
+        '<link name="imu_link"/>\n<joint name="imu_joint" type="fixed">\n'
+        '  <origin rpy="$(optenv XRDF_TEST_UNSET_IMU_RPY 0 0 0)" '
+        'xyz="$(optenv XRDF_TEST_UNSET_IMU_XYZ 0.19 0 0.149)"/>\n'
+        '  <parent link="base"/><child link="imu_link"/>\n</joint>\n'
+    )
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(ARM.format(attr="", extra=imu))
+    expanded = tmp_path / "expanded.urdf"
+    code, text = _run(runner, "expand", urdf, "-o", expanded)
+    assert code == 0, text
+    assert 'xyz="0.19 0 0.149"' in expanded.read_text()
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "--tool-frame", "imu_link", "-o", out)
+    assert code == 0, text
+    assert load_xrdf(out).tool_frames == ("imu_link",)
+
+
+def test_a_dollar_sign_that_is_no_substitution_leaves_a_urdf_plain(tmp_path: Path) -> None:
+    from xrdf_tools.robot.xacro_source import is_xacro
+
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        ARM.format(
+            attr="", extra='<!-- $(find x) -->\n<material name="$5"/>\n<material name="${m}"/>\n'
+        )
+    )
+    assert not is_xacro(urdf)
+    urdf.write_text(ARM.format(attr="", extra='<material name="m_$(arg tint)"/>\n'))
+    assert is_xacro(urdf)
+
+
+def test_a_wrist_joint_held_by_zero_limits_is_named_where_the_cspace_leaves_it_out(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # SolidWorks' exporter writes <limit lower="0" upper="0"> for limits never set: a
+    # PAROL6-like arm with such a wrist got a 5-joint c-space and no word of the sixth
+    links = ["base", "l1", "l2", "l3"]
+    held = _joint("j2", "l1", "l2").replace('lower="-1" upper="1"', 'lower="0" upper="0"')
+    joints = [_joint("j1", "base", "l1"), held, _joint("j3", "l2", "l3")]
+    chosen = default_cspace(_robot_tree(tmp_path, links, joints))
+    assert chosen.joints == ("j1", "j3")
+    assert chosen.held == ("j2",)
+    code, text = _run(runner, "inspect", _tree(tmp_path, links, joints))
+    assert code == 0, text
+    assert "left out, held still by equal lower and upper limits: j2 (a CAD exporter" in text
+    # a chain without such a joint says nothing of it
+    free = default_cspace(_robot_tree(tmp_path, links, [_joint("j1", "base", "l1")]))
+    assert free.held == () and "held still" not in free.describe()
+
+
+def test_the_chain_flag_a_message_suggests_runs_as_written_for_names_with_spaces(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # onshape-to-robot and Fusion exports name links after CAD parts ("base link", "tip 2")
+    links = ["base link", "upper arm", 'tip "2"']
+    joints = [
+        _joint("shoulder #1", "base link", "upper arm"),
+        _joint("tip joint", "upper arm", "tip &quot;2&quot;", "fixed"),
+    ]
+    urdf = _tree(tmp_path, [name.replace('"', "&quot;") for name in links], joints)
+    code, text = _run(runner, "inspect", urdf)
+    assert code == 0, text
+    (line,) = [t for t in text.splitlines() if "the same with a flag:" in t]
+    flag = shlex.split(line.split("the same with a flag:", 1)[1])
+    assert flag == ["--chain", 'base link:tip "2"']
+    code, text = _run(runner, "convert", urdf, *flag, "-o", tmp_path / "r.xrdf")
+    assert code == 0, text
+    assert load_xrdf(tmp_path / "r.xrdf").tool_frames == ('tip "2"',)
+
+
+def test_a_renamed_package_is_named_with_the_package_path_that_finds_its_meshes(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # SolidWorks writes package://<assembly name>/meshes/...; the Moveo's package.xml says
+    # moveo_urdf while its URDFs name moveo_urdf_4: the error said only "pass --package-path"
+    pkg = tmp_path / "arm_description"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    (pkg / "package.xml").write_text("<package><name>arm_description</name></package>")
+    (pkg / "meshes" / "arm.STL").write_text(
+        "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.1 0 0\n"
+        "vertex 0 0.1 0\nendloop\nendfacet\nendsolid a\n"
+    )
+    urdf = pkg / "urdf" / "arm.urdf"
+    mesh = '<mesh filename="package://arm_4/meshes/arm.STL"/>'
+    urdf.write_text(ARM.format(attr="", extra="").replace('<box size=".05 .05 .3"/>', mesh))
+    out = tmp_path / "o.xrdf"
+    code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "10", "-o", out)
+    assert code == 2, text
+    hint = f"package 'arm_description' at {pkg} holds meshes/arm.STL: --package-path arm_4={pkg}"
+    assert hint in text
+    # the flag it names is the one that finds the mesh
+    flag = ["--package-path", f"arm_4={pkg}"]
+    code, text = _run(runner, "convert", urdf, *flag, "--fit-spheres", "-n", "10", "-o", out)
+    assert "cannot be found" not in text and "cannot find ROS package" not in text, text
+
+
+def test_a_cspace_joint_held_by_zero_limits_is_a_lint_warning(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # a MoveIt config made from a SolidWorks export keeps the [0, 0] wrist in its arm group
+    links = ["base", "l1", "l2", "l3"]
+    held = _joint("j2", "l1", "l2").replace('lower="-1" upper="1"', 'lower="0" upper="0"')
+    urdf = _tree(tmp_path, links, [_joint("j1", "base", "l1"), held, _joint("j3", "l2", "l3")])
+    srdf = tmp_path / "r.srdf"
+    srdf.write_text(
+        '<robot name="r"><group name="arm"><chain base_link="base" tip_link="l3"/></group></robot>'
+    )
+    out = tmp_path / "r.xrdf"
+    code, text = _run(runner, "convert", urdf, "--srdf", srdf, "-o", out)
+    assert code == 0, text
+    assert load_xrdf(out).cspace.joint_names == ("j1", "j2", "j3")
+    code, text = _run(runner, "lint", out, "--urdf", urdf)
+    (line,) = [t for t in text.splitlines() if "cspace-joint-held" in t]
+    assert "warning cspace-joint-held c-space joint 'j2'" in line and "[0, 0]" in line
+    # the free joints are no finding, and nothing without the URDF
+    code, text = _run(runner, "lint", out)
+    assert "cspace-joint-held" not in text

@@ -59,3 +59,51 @@ def test_bad_geometry_is_an_input_error(
     urdf = copy_replacing(MIMIC_URDF, tmp_path / "g.urdf", old, new)
     code, out = run_cli(runner, "report", str(MIMIC_XRDF), "--urdf", str(urdf), "-n", "10")
     assert code == 2 and message in out
+
+
+def test_a_bad_value_in_a_tag_written_one_attribute_a_line_is_located_at_its_attribute(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    # SolidWorks' exporter writes each attribute on a line of its own (CRLF line ends); the
+    # parser places an element where its start tag ends, so the error pointed at rpy's line
+    lines = [
+        '<robot name="r">',
+        '  <link name="base"><visual>',
+        "    <origin",
+        '      xyz="0 0 abc"',
+        '      rpy="0 0 0" />',
+        '    <geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>',
+        '  <link name="tip"><visual><geometry><box size="0.1 0.1 0.1"/></geometry>',
+        '    <material name="m"><color',
+        '      rgba="1 1 1 1 1" /></material></visual></link>',
+        '  <joint name="j" type="fixed"><parent link="base"/><child link="tip"/></joint>',
+        "</robot>",
+    ]
+    urdf = tmp_path / "r.urdf"
+    urdf.write_bytes("\r\n".join(lines).encode())
+    code, out = run_cli(runner, "inspect", str(urdf))
+    assert code == 2, out
+    assert f"{urdf}:4: link 'base' <visual> xyz='0 0 abc' is not a list of numbers" in out
+    # a warning about such a tag too: the colour's rgba line
+    urdf.write_bytes("\r\n".join(lines).replace("0 0 abc", "0 0 0").encode())
+    code, out = run_cli(runner, "inspect", str(urdf))
+    assert code == 0, out
+    assert f"{urdf}:9: warning urdf-color-ignored" in out
+
+
+@pytest.mark.parametrize(
+    ("root", "said"),
+    [
+        ('<sdf version="1.6"><model name="m"/></sdf>', "an SDF model (Gazebo, pybullet)"),
+        ('<mujoco model="m"><worldbody/></mujoco>', "an MJCF model (MuJoCo)"),
+    ],
+)
+def test_a_simulator_model_given_as_the_robot_says_what_it_is(
+    runner: CliRunner, tmp_path: Path, root: str, said: str
+) -> None:
+    # pybullet ships kuka_with_gripper2.sdf beside model.urdf; onshape-to-robot writes MJCF
+    model = tmp_path / "robot.xml"
+    model.write_text(f'<?xml version="1.0"?>\n{root}\n')
+    code, out = run_cli(runner, "convert", str(model), "-o", str(tmp_path / "o.xrdf"))
+    assert code == 2, out
+    assert f"{model}:2: the root element must be <robot>" in out and said in out

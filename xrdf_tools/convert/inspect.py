@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from ..robot.chains import Chain, default_cspace, joint_roles, leaf_chains
+from ..robot.chains import Chain, chain_flag, default_cspace, joint_roles, leaf_chains
 
 if TYPE_CHECKING:
     from ..robot.core import Robot
@@ -293,7 +293,7 @@ def _default_choice(robot: Robot, srdf: str | None) -> DefaultChoice:
     tools = tuple(x.tool_frames or ())
     flag = None
     if not by_group and cspace and tools:
-        flag = f"--chain {robot.tree.root}:{tools[0]}"
+        flag = chain_flag(robot.tree.root, tools[0])
     return DefaultChoice(cspace, tools, "srdf" if by_group else "chain", notes, chain_flag=flag)
 
 

@@ -36,6 +36,7 @@ converter reports each choice and ``xrdf inspect`` shows it.
 
 from __future__ import annotations
 
+import shlex
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
@@ -60,6 +61,7 @@ __all__ = [
     "DefaultCSpace",
     "JointRole",
     "ToolFrameGuess",
+    "chain_flag",
     "default_cspace",
     "guess_tool_frame",
     "is_held",
@@ -174,6 +176,12 @@ def _coupling_moves_below(tree: RobotTree, below: _Subtrees, joint: str) -> bool
     leader = tree.joints.get(j.mimic_joint) if j.mimic_joint is not None else None
     links = [j.child] if leader is None else [j.child, leader.child]
     return any(below.free[link] for link in links)
+
+
+def chain_flag(base: str, tip: str) -> str:
+    """``--chain BASE:TIP`` as a shell takes it (quoted when a name has a space or a quote,
+    as CAD exports name links: ``'base link:tip 2'``)."""
+    return f"--chain {shlex.quote(f'{base}:{tip}')}"
 
 
 @dataclass(frozen=True)
@@ -344,6 +352,8 @@ class DefaultCSpace:
     #: Legs as long as the choice or longer, passed over for it, each with its tool frame.
     legs: tuple[tuple[Chain, ToolFrameGuess], ...] = ()
     hand_alone: bool = False  #: nothing but fingers to plan: the c-space is a finger
+    #: Revolute/prismatic joints on the chosen chain held still by equal limits, left out.
+    held: tuple[str, ...] = ()
 
     def describe(self) -> str:
         """One sentence: what was chosen, what was left out, and the flags that change it."""
@@ -367,17 +377,23 @@ class DefaultCSpace:
         ]
         if out:
             text += "; left out: " + ", ".join(out)
+        if self.held:
+            text += (
+                f"; left out, held still by equal lower and upper limits: {name_list(self.held, 4)}"
+                " (a CAD exporter writes 0 0 for limits never set: give the URDF the real ones "
+                "to plan them)"
+            )
         if self.ties:
             other = "; ".join(
-                f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.ties
+                f"{name_list(c.cspace, 2)} ({chain_flag(c.base, t.frame)})" for c, t in self.ties
             )
             text += f"; as long: {other}"
         if self.legs:
             legs = "; ".join(
-                f"{name_list(c.cspace, 2)} (--chain {c.base}:{t.frame})" for c, t in self.legs
+                f"{name_list(c.cspace, 2)} ({chain_flag(c.base, t.frame)})" for c, t in self.legs
             )
             text += f"; as long or longer but a leg, passed over: {legs}"
-        return text + f"; change it with --chain {self.chain.base}:{tip}, --joints or --srdf"
+        return text + f"; change it with {chain_flag(self.chain.base, tip)}, --joints or --srdf"
 
 
 def default_cspace(
@@ -413,13 +429,23 @@ def default_cspace(
     guesses = {cs: guess_tool_frame(tree, cs[-1], collision_links) for cs in distinct}
     pick = min(distinct, key=lambda cs: (not guesses[cs].named, *_limb_rank(tree, cs)))
     ties = tuple((c, guesses[cs]) for cs, c in distinct.items() if cs != pick)
-    long_legs = _distinct([c for c in chains if c.cspace in legs and len(c.cspace) >= best_len])
+    # legs passed over for an arm; when every chain is a leg the others are ties, said once
+    long_legs = _distinct(
+        [c for c in chains if c.cspace in legs and len(c.cspace) >= best_len and pick not in legs]
+    )
     passed = tuple(
         (c, guess_tool_frame(tree, cs[-1], collision_links))
         for cs, c in long_legs.items()
         if cs != pick
     )
-    out = DefaultCSpace(pick, guesses[pick], distinct[pick], left_out, ties, passed)
+    chosen = distinct[pick]
+    on_path = (
+        chosen.joints[: chosen.joints.index(chosen.stopped_at)]
+        if chosen.stopped_at
+        else chosen.joints
+    )
+    held = tuple(j for j in on_path if tree.joints[j].type != "fixed" and is_held(tree, j))
+    out = DefaultCSpace(pick, guesses[pick], chosen, left_out, ties, passed, held=held)
     return replace(out, left_out={}, hand_alone=True) if hand else out
 
 

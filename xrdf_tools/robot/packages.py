@@ -139,6 +139,21 @@ class PackageResolver:
                 if folder is not None and folder != nearest and _is_dir(folder):
                     yield folder / sub
 
+    def _holder_hint(self, name: str, sub: str) -> str:
+        """A package of another name found in the search that holds ``sub`` (a package
+        renamed after the export wrote its URIs: SolidWorks' ``moveo_urdf_4`` in a folder whose
+        package.xml says ``moveo_urdf``), as the --package-path to give; else ""."""
+        if not sub:
+            return ""
+        for _, index in self._scanned:
+            for other, folder in sorted(index.items()):
+                if other != name and _is_file(folder / sub):
+                    return (
+                        f"; package '{other}' at {folder} holds {sub}: "
+                        f"--package-path {name}={folder}"
+                    )
+        return ""
+
     def resolve_uri(self, uri: str, relative_to: Path | None = None) -> Path:
         """A mesh or include URI as a local path (``package://``, ``file://`` or relative)."""
         if uri.startswith("package://"):
@@ -146,7 +161,10 @@ class PackageResolver:
             name, _, sub = rest.partition("/")
             if not name:  # package:///a/b: a path below a package search directory
                 return self.find_below_roots(unquote(sub))
-            path = self.find(name) / unquote(sub)
+            try:
+                path = self.find(name) / unquote(sub)
+            except SourceError as e:
+                raise SourceError(e.message + self._holder_hint(name, unquote(sub))) from None
             if name in self.package_paths or _is_file(path) or _is_dir(path):
                 return path
             return next((c for c in self._elsewhere(name, unquote(sub)) if _is_file(c)), path)

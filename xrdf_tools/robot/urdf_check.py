@@ -57,6 +57,13 @@ class _ColorIgnored(UrdfError):
     """A material colour that is not four finite numbers (a warning, not a failure)."""
 
 
+#: Robot formats a URDF is sometimes mistaken for, by their root element.
+_OTHER_FORMATS = {
+    "sdf": ": an SDF model (Gazebo, pybullet), not a URDF; give the robot's URDF",
+    "mujoco": ": an MJCF model (MuJoCo), not a URDF; give the robot's URDF",
+}
+
+
 def check_urdf_tree(
     root: Any, path: str, warnings: list[Diagnostic] | None = None
 ) -> tuple[dict[str, int], dict[str, int]]:
@@ -74,7 +81,9 @@ def check_urdf_tree(
 
     tag = etree.QName(root).localname if isinstance(root.tag, str) else str(root.tag)
     if tag != "robot":
-        raise fail(f"the root element must be <robot>, not <{tag}>", root)
+        raise fail(
+            f"the root element must be <robot>, not <{tag}>{_OTHER_FORMATS.get(tag, '')}", root
+        )
     for el in root.iter():
         if isinstance(el.tag, str) and etree.QName(el).namespace == XACRO_NS:
             raise fail(

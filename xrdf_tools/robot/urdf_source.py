@@ -20,6 +20,7 @@ import math
 import os
 import re
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 from xml.sax.saxutils import escape
@@ -27,7 +28,7 @@ from xml.sax.saxutils import escape
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError, UrdfReadError
 from ..util.safe_xml import XmlSyntaxError
-from ..util.textpos import line_col
+from ..util.textpos import attribute_line, line_col
 from .urdf_check import JOINT_TYPES, RULE_PREFIX_UNDECLARED, XACRO_NS, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
 
@@ -257,7 +258,14 @@ def _parse_bytes(
     except UrdfError as e:
         if expanded and e.line is None:  # made by a macro: where the value it quotes is written
             e.line = _quoted_value_line(source, e.message)
+        elif not expanded and e.line is not None:
+            e.line = attribute_line(data, e.line, e.message)
         raise
+    if not expanded:
+        warnings = [
+            replace(w, line=attribute_line(data, w.line, w.message)) if w.line else w
+            for w in warnings
+        ]
     if expanded:  # 0: not written literally in the xacro file (see _relocate_expansion)
         link_lines = {k: v for k, v in link_lines.items() if v}
         joint_lines = {k: v for k, v in joint_lines.items() if v}
@@ -395,6 +403,14 @@ _QUOTED_VALUE = re.compile(r"=([\"'])([^\"'\n<]*)\1")
 _ATTRIBUTE = re.compile(r"\b(\w+)='([^'\n]*)'")
 
 
+def _start_tag(source: str, tag: str, key: str, value: str | None = None) -> int:
+    """Where ``source`` first writes ``<tag key="value"`` (any value when None), the attribute
+    first, on the tag's line or the next (CAD exporters write one attribute a line); -1."""
+    written = "" if value is None else rf"\s*([\"']){re.escape(value)}\1"
+    found = re.search(rf"<{re.escape(tag)}\s+{re.escape(key)}\s*={written}", source)
+    return found.start() if found else -1
+
+
 def _relocate_expansion(root: Any, source: str) -> None:
     """Give the elements of an expanded xacro the lines of its xacro file's text ``source``.
 
@@ -408,10 +424,10 @@ def _relocate_expansion(root: Any, source: str) -> None:
         first = next(iter(el.attrib.items()), None) if isinstance(el.tag, str) else None
         if first is not None:  # its name, or what it has in place of one
             key, value = ("name", el.get("name")) if el.get("name") else first
-            found = [source.find(f"<{el.tag} {key}={q}{value}{q}") for q in "\"'"]
-            if key != "name" and not any(i >= 0 for i in found):  # a macro wrote the value
-                found = [source.find(f"<{el.tag} {key}=")]
-            line = _line_of(source, min((i for i in found if i >= 0), default=-1)) or 0
+            found = _start_tag(source, el.tag, key, value)
+            if key != "name" and found < 0:  # a macro wrote the value
+                found = _start_tag(source, el.tag, key)
+            line = _line_of(source, found) or 0
         for node in el.iter():
             node.sourceline = line
     tag = re.search(r"<robot[\s/>]", source)

@@ -30,6 +30,7 @@ from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
+from .xacro_detect import uses_xacro
 from .xacro_files import file_arg_hint, located_in_includes, os_error
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
@@ -51,11 +52,6 @@ def is_xacro(path: str | os.PathLike[str]) -> bool:
     except XrdfToolsError:
         return False  # not readable: the URDF reader says why
     return uses_xacro(data)
-
-
-def uses_xacro(data: bytes) -> bool:
-    """The bytes of a robot (or SRDF) file declare the xacro namespace and use it."""
-    return b"xmlns:xacro" in data[:4096] and b"<xacro:" in data
 
 
 def parse_xacro_arg(spec: str) -> tuple[str, str]:

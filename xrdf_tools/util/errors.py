@@ -108,8 +108,20 @@ def did_you_mean(name: str, choices: Iterable[str]) -> str:
     """Return ``"; did you mean 'x'?"`` for the closest choice, or ``""`` when none is close."""
     import difflib  # here: a message that needs it is rare, every command imports this module
 
-    matches = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
-    return f"; did you mean '{matches[0]}'?" if matches else ""
+    for match in difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6):
+        own, other = _without_common_suffix(name, match)
+        if not own or not other or difflib.SequenceMatcher(None, own, other).ratio() >= 0.5:
+            return f"; did you mean '{match}'?"
+    return ""
+
+
+def _without_common_suffix(a: str, b: str) -> tuple[str, str]:
+    """``a`` and ``b`` without the ending they share: 'gripper_joint' is not close to
+    'base_joint' for their common '_joint'."""
+    n = 0
+    while n < min(len(a), len(b)) and a[-1 - n] == b[-1 - n]:
+        n += 1
+    return a[: len(a) - n], b[: len(b) - n]
 
 
 def shown_text(text: str, limit: int = 60) -> str:

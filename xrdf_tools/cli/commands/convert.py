@@ -410,7 +410,10 @@ def _fail_on_errors(
             "above); a planner would not see what is missing. Fix or replace those meshes",
             EXIT_FINDINGS,
         )
-    errors = [d for d in lint_diags if d.severity is Severity.ERROR]
+    from ...convert.targets import RULE_STOPPED
+
+    # the stop before fitting says that these errors were found: it is not one of them
+    errors = [d for d in lint_diags if d.severity is Severity.ERROR and d.rule != RULE_STOPPED]
     if errors:
         bare = sum(1 for d in errors if d.rule == "mesh-without-spheres")
         remedy = "fix the inputs or pass the missing values on the command line"
