@@ -643,6 +643,17 @@ def test_a_group_of_subgroups_without_states_takes_its_subgroups_states(
     assert len(chosen) == 2 and "'side_neutral'" in chosen[0] and "'arm_neutral'" in chosen[1]
 
 
+def _body_states(tree: RobotTree, srdf: Path) -> tuple[dict[str, float], list[str]]:
+    """Convert the group 'body' (c-space j1, j2, j3): its default positions and the
+    convert-chosen-state messages."""
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("body",)))
+    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "j3")
+    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    return dict(x.default_joint_positions), chosen
+
+
 def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_path: Path) -> None:
     """PR2's whole_body: its 'base' subgroup holds only the planar virtual joint (no c-space
     joint). No state is chosen for it: an empty c-space is not "covered" by every state, so
@@ -661,12 +672,8 @@ def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_pa
           <joint name="j2" value="-0.4"/></group_state>
         </robot>""",
     )
-    from xrdf_tools.convert.core import convert
-
-    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("body",)))
-    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "j3")
-    assert dict(x.default_joint_positions) == {"j1": 0.2, "j2": -0.4, "j3": 0.75}
-    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    defaults, chosen = _body_states(tree, srdf)
+    assert defaults == {"j1": 0.2, "j2": -0.4, "j3": 0.75}
     assert chosen == [
         "default positions from group_state 'arm_neutral' (the first state of group 'arm')"
     ]
@@ -692,12 +699,8 @@ def test_a_state_of_a_group_inside_the_cspace_gives_its_joints_defaults(
           <joint name="j3" value="0.75"/></group_state>
         </robot>""",
     )
-    from xrdf_tools.convert.core import convert
-
-    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("body",)))
-    assert x.cspace is not None and x.cspace.joint_names == ("j1", "j2", "j3")
-    assert dict(x.default_joint_positions) == {"j1": 0.0, "j2": -0.4, "j3": 0.75}
-    chosen = [d.message for d in diags if d.rule == "convert-chosen-state"]
+    defaults, chosen = _body_states(tree, srdf)
+    assert defaults == {"j1": 0.0, "j2": -0.4, "j3": 0.75}
     assert chosen == [
         "default positions of j2, j3 from group_state 'home' (the state named 'home' of "
         "group 'lower'; a group inside the c-space)"
