@@ -70,7 +70,7 @@ def _semantic(s: Srdf) -> tuple[object, ...]:
         strip({k: dataclasses.replace(g, line=None) for k, g in s.groups.items()}),
         strip(s.group_states),
         strip(s.end_effectors),
-        tuple((n, t) for n, t, _ in s.virtual_joints),
+        tuple((v.name, v.type) for v in s.virtual_joints),
         s.passive_joints,
     )
 

@@ -104,8 +104,8 @@ def curobo_paths(
     the meshes decide it (:func:`mesh_root`), else the URDF's directory. Symbolic links are
     kept as given."""
     upath = Path(os.path.abspath(urdf))
-    root = assets.directory if assets is not None and assets.directory is not None else None
-    root = Path(os.path.abspath(root)) if root is not None else upath.parent
+    found = assets.directory if assets is not None else None
+    root = Path(os.path.abspath(found)) if found is not None else upath.parent
     if relative_to is not None:
         base = os.path.abspath(relative_to)
         try:

@@ -252,12 +252,9 @@ def _chain(
 
 
 def is_held(tree: RobotTree, joint: str) -> bool:
-    """Whether ``joint`` is fixed, or revolute/prismatic with equal lower and upper limits (a
-    reversed pair is a mistake the c-space reports, not a joint held still)."""
+    """Whether ``joint`` is fixed or held still by its limits (:attr:`JointInfo.is_held`)."""
     j = tree.joints[joint]
-    if j.type == "fixed":
-        return True
-    return j.type in ("revolute", "prismatic") and j.lower is not None and j.lower == j.upper
+    return j.type == "fixed" or j.is_held
 
 
 @dataclass(frozen=True)
@@ -431,7 +428,9 @@ def default_cspace(
     ties = tuple((c, guesses[cs]) for cs, c in distinct.items() if cs != pick)
     # legs passed over for an arm; when every chain is a leg the others are ties, said once
     long_legs = _distinct(
-        [c for c in chains if c.cspace in legs and len(c.cspace) >= best_len and pick not in legs]
+        [c for c in chains if c.cspace in legs and len(c.cspace) >= best_len]
+        if pick not in legs
+        else []
     )
     passed = tuple(
         (c, guess_tool_frame(tree, cs[-1], collision_links))
@@ -444,7 +443,7 @@ def default_cspace(
         if chosen.stopped_at
         else chosen.joints
     )
-    held = tuple(j for j in on_path if tree.joints[j].type != "fixed" and is_held(tree, j))
+    held = tuple(j for j in on_path if tree.joints[j].is_held)
     out = DefaultCSpace(pick, guesses[pick], chosen, left_out, ties, passed, held=held)
     return replace(out, left_out={}, hand_alone=True) if hand else out
 
@@ -474,5 +473,6 @@ def is_leg(tree: RobotTree, joints: Sequence[str]) -> bool:
 
 def _limb_rank(tree: RobotTree, cspace: Sequence[str]) -> tuple[bool, bool]:
     """Sort key of a chain among equally long ones: an arm first, a leg last."""
-    arm = bool(_limb_words(tree, cspace) & ARM)
-    return (is_leg(tree, cspace), not arm)
+    words = _limb_words(tree, cspace)
+    arm = bool(words & ARM)
+    return (bool(words & LEG) and not arm, not arm)

@@ -99,6 +99,11 @@ class Robot:
         return str(self.urdf.robot.name)
 
     @property
+    def file_name(self) -> str:
+        """The robot file's name without its folders, for messages (``/`` and ``\\`` alike)."""
+        return self.path.replace("\\", "/").rsplit("/", 1)[-1]
+
+    @property
     def xacro_text(self) -> str | None:
         """The expanded URDF text when the robot was read from a xacro file, else ``None``."""
         return self.text if self.expanded else None

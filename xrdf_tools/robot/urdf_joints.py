@@ -67,6 +67,14 @@ class JointInfo:
         return self.mimic_joint is not None
 
     @property
+    def is_held(self) -> bool:
+        """Revolute or prismatic with equal lower and upper limits: it cannot move (a CAD
+        exporter writes 0 0 for limits never set). Reversed limits are a mistake, not this."""
+        return self.type in ("revolute", "prismatic") and (
+            self.lower is not None and self.lower == self.upper
+        )
+
+    @property
     def is_actuated(self) -> bool:
         """Movable and not a mimic follower: a coordinate of the configuration."""
         return self.is_movable and not self.is_mimic

@@ -253,29 +253,31 @@ def _parse_bytes(
     warnings = [_undeclared_prefix_warning(e, path) for e in undeclared]
     if undeclared:
         _drop_prefixed_names(root)
+    text = data.decode("utf-8", errors="replace")
     try:
         link_lines, joint_lines = check_urdf_tree(root, path, warnings)
     except UrdfError as e:
         if expanded and e.line is None:  # made by a macro: where the value it quotes is written
             e.line = _quoted_value_line(source, e.message)
         elif not expanded and e.line is not None:
-            e.line = attribute_line(data, e.line, e.message)
+            e.line = attribute_line(text.splitlines(), e.line, e.message)
         raise
-    if not expanded:
-        warnings = [
-            replace(w, line=attribute_line(data, w.line, w.message)) if w.line else w
-            for w in warnings
-        ]
     if expanded:  # 0: not written literally in the xacro file (see _relocate_expansion)
         link_lines = {k: v for k, v in link_lines.items() if v}
         joint_lines = {k: v for k, v in joint_lines.items() if v}
+    elif warnings:
+        lines = text.splitlines()
+        warnings = [
+            replace(w, line=attribute_line(lines, w.line, w.message)) if w.line else w
+            for w in warnings
+        ]
     etree.cleanup_namespaces(root)
     capsules = capsules_as_cylinders(root)  # yourdfpy knows no <capsule>
 
     return Robot(
         document=root,
         path=path,
-        text=data.decode("utf-8", errors="replace"),
+        text=text,
         expanded=expanded,
         link_lines=FrozenMap(link_lines),
         joint_lines=FrozenMap(joint_lines),

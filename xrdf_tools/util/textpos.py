@@ -4,6 +4,7 @@ attribute a message quotes."""
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 
 __all__ = ["attribute_line", "line_col"]
 
@@ -16,16 +17,14 @@ def line_col(text: str, offset: int) -> tuple[int, int]:
 _QUOTED_ATTRIBUTE = re.compile(r"(?<![\w'])([A-Za-z_][\w:.-]*)='")
 
 
-def attribute_line(data: bytes | str, line: int, message: str) -> int:
+def attribute_line(lines: Sequence[str], line: int, message: str) -> int:
     """The line of the attribute ``message`` quotes (``xyz='0 0 abc'``) in the start tag that
-    ends on ``line``: an XML parser places an element at the line its start tag ends on, and
-    CAD exporters (SolidWorks') write one attribute a line. ``line`` when the message quotes
-    no attribute or the tag's lines do not write it."""
+    ends on ``line`` of the text's ``lines``: an XML parser places an element at the line its
+    start tag ends on, and CAD exporters (SolidWorks') write one attribute a line. ``line``
+    when the message quotes no attribute or the tag's lines do not write it."""
     found = _QUOTED_ATTRIBUTE.search(message)
     if found is None:
         return line
-    text = data.decode("utf-8", errors="replace") if isinstance(data, bytes) else data
-    lines = text.splitlines()
     written = re.compile(rf"(?<![\w:.-]){re.escape(found.group(1))}\s*=")
     for n in range(min(line, len(lines)), 0, -1):  # from the tag's end back to its '<'
         if written.search(lines[n - 1]):

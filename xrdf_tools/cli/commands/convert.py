@@ -396,6 +396,8 @@ def _fail_on_errors(
     diags: list[Diagnostic], lint_diags: list[Diagnostic], fit_spheres: bool
 ) -> None:
     """Exit 1 when the conversion or the lint of its result has an error (nothing written)."""
+    from ...convert.targets import RULE_STOPPED
+
     if any(d.rule == "convert-no-spheres" and d.severity is Severity.ERROR for d in diags):
         fail(
             "--fit-spheres fitted no sphere: no link has collision geometry it could read "
@@ -410,8 +412,6 @@ def _fail_on_errors(
             "above); a planner would not see what is missing. Fix or replace those meshes",
             EXIT_FINDINGS,
         )
-    from ...convert.targets import RULE_STOPPED
-
     # the stop before fitting says that these errors were found: it is not one of them
     errors = [d for d in lint_diags if d.severity is Severity.ERROR and d.rule != RULE_STOPPED]
     if errors:
@@ -422,14 +422,12 @@ def _fail_on_errors(
                 f"{bare} of them are moving links with collision geometry and no spheres "
                 "(--fit-spheres fits spheres to the links the inputs leave without); " + remedy
             )
-        if any(d.rule == "empty-collision-group" for d in errors):
-            why = (
-                "no link had collision geometry to fit (--allow-missing-meshes leaves out "
-                "the meshes not found; --from visual fits the visual meshes)"
-                if fit_spheres
-                else "--fit-spheres fits them to the links' collision geometry"
+        if not fit_spheres and any(d.rule == "empty-collision-group" for d in errors):
+            # (a fit that fitted nothing stopped above, as convert-no-spheres)
+            remedy = (
+                "the XRDF has no collision spheres at all: --fit-spheres fits them to the "
+                "links' collision geometry; " + remedy
             )
-            remedy = f"the XRDF has no collision spheres at all: {why}; " + remedy
         fail(
             f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
             f"above); {remedy}",

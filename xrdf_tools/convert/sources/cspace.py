@@ -178,11 +178,15 @@ def guessed_tool_frames(
 
 
 def _branch_ends(tree: RobotTree, cspace: Sequence[str]) -> list[str]:
-    """The c-space joints with no other c-space joint below them."""
+    """The c-space joints with no other c-space joint below them (each link above a c-space
+    joint is marked once: a long chain costs its length, not its length squared)."""
     above: set[str] = set()
     for name in cspace:
-        parent = tree.joints[name].parent
-        above.update((parent, *tree.ancestors(parent)))
+        link: str | None = tree.joints[name].parent
+        while link is not None and link not in above:
+            above.add(link)
+            up = tree.parent_joint.get(link)
+            link = tree.joints[up].parent if up is not None else None
     return [j for j in cspace if tree.joints[j].child not in above]
 
 
@@ -216,7 +220,7 @@ def unplannable_joints(
 ) -> list[tuple[str, str, str]]:
     """``(group, joint, type)`` of the planar and floating joints the groups (or their
     subgroups) name: URDF joints and SRDF virtual joints, each once, in group order."""
-    virtual = {name: kind for name, kind, _ in srdf.virtual_joints}
+    virtual = {vj.name: vj.type for vj in srdf.virtual_joints}
     out: list[tuple[str, str, str]] = []
     seen: set[str] = set()
     for top in groups:

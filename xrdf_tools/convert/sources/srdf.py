@@ -159,23 +159,22 @@ def _virtual(srdf: Srdf, tree: RobotTree, rep: Reporter) -> None:
     """Each virtual joint is reported as not represented; one whose ``child_link`` is no
     link of the URDF (srdfdom skips it) says so: the SRDF was written for another URDF of the
     robot (Neuromeka's MoveIt config loads ``indy7_fixed.xacro``, which adds ``world``)."""
-    for name, vtype, line in srdf.virtual_joints:
-        child = srdf.virtual_children.get(name)
-        if child is not None and child not in tree.links:
+    for vj in srdf.virtual_joints:
+        if vj.child and vj.child not in tree.links:
             rep.report(
                 "convert-unknown-link",
-                f"virtual_joint '{name}' attaches '{child}', which is not a link of the URDF "
-                f"(MoveIt skips it){did_you_mean(child, tree.links)}: is this the SRDF of "
-                "another URDF of the robot?",
-                line=line,
+                f"virtual_joint '{vj.name}' attaches '{vj.child}', which is not a link of the "
+                f"URDF (MoveIt skips it){did_you_mean(vj.child, tree.links)}: is this the SRDF "
+                "of another URDF of the robot?",
+                line=vj.line,
             )
             continue
         rep.report(
             "convert-virtual-joint",
-            f"virtual_joint '{name}' ({vtype}) is not represented: XRDF is relative to the "
-            "URDF root",
+            f"virtual_joint '{vj.name}' ({vj.type}) is not represented: XRDF is relative to "
+            "the URDF root",
             severity=Severity.INFO,
-            line=line,
+            line=vj.line,
         )
 
 
@@ -204,7 +203,7 @@ def _passive_joints(srdf: Srdf, tree: RobotTree, rep: Reporter) -> set[str]:
     be passive too (as MoveIt reads it; it is no c-space joint anyway); the others are
     reported at their line."""
     out: set[str] = set()
-    virtual = {name for name, _, _ in srdf.virtual_joints}
+    virtual = {vj.name for vj in srdf.virtual_joints}
     lines = srdf.passive_joint_lines or (None,) * len(srdf.passive_joints)
     for name, line in zip(srdf.passive_joints, lines, strict=True):
         if name in tree.joints:

@@ -46,7 +46,7 @@ def group_named(srdf: Srdf, name: str) -> SrdfGroup:
 
 
 def _virtual_joints(srdf: Srdf) -> set[str]:
-    return {name for name, _type, _line in srdf.virtual_joints}
+    return {vj.name for vj in srdf.virtual_joints}
 
 
 def _own_problems(srdf: Srdf, g: SrdfGroup, tree: RobotTree) -> list[str]:

@@ -18,7 +18,15 @@ from ...util.fileio import read_input_bytes
 from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
 from ...xrdf.model import Sphere
 
-__all__ = ["EndEffector", "GroupState", "Srdf", "SrdfGroup", "load_srdf", "parse_srdf"]
+__all__ = [
+    "EndEffector",
+    "GroupState",
+    "Srdf",
+    "SrdfGroup",
+    "VirtualJoint",
+    "load_srdf",
+    "parse_srdf",
+]
 
 
 @dataclass(frozen=True)
@@ -40,6 +48,16 @@ class GroupState:
 
 
 @dataclass(frozen=True)
+class VirtualJoint:
+    """A ``<virtual_joint>``: its name, type and ``child_link`` (empty when not given)."""
+
+    name: str
+    type: str
+    child: str
+    line: int | None = None
+
+
+@dataclass(frozen=True)
 class EndEffector:
     name: str
     parent_link: str
@@ -55,9 +73,7 @@ class Srdf:
     groups: dict[str, SrdfGroup] = field(default_factory=dict)
     group_states: tuple[GroupState, ...] = ()
     end_effectors: tuple[EndEffector, ...] = ()
-    virtual_joints: tuple[tuple[str, str, int | None], ...] = ()  # name, type, line
-    #: The ``child_link`` of each virtual joint, by the joint's name.
-    virtual_children: Mapping[str, str] = field(default_factory=dict)
+    virtual_joints: tuple[VirtualJoint, ...] = ()
     passive_joints: tuple[str, ...] = ()
     passive_joint_lines: tuple[int | None, ...] = ()  # the line of each passive_joints entry
     disable_collisions: tuple[tuple[str, str, str, int | None], ...] = ()  # l1, l2, reason, line
@@ -115,7 +131,6 @@ def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True)
         group_states=tuple(p.states),
         end_effectors=tuple(p.ees),
         virtual_joints=tuple(p.vjs),
-        virtual_children=dict(p.virtual_children),
         passive_joints=tuple(p.passive),
         passive_joint_lines=tuple(p.passive_lines),
         disable_collisions=tuple(p.disabled),
@@ -134,8 +149,7 @@ class _Parser:
         self.groups: dict[str, SrdfGroup] = {}
         self.states: list[GroupState] = []
         self.ees: list[EndEffector] = []
-        self.vjs: list[tuple[str, str, int | None]] = []
-        self.virtual_children: dict[str, str] = {}
+        self.vjs: list[VirtualJoint] = []
         self.passive: list[str] = []
         self.passive_lines: list[int | None] = []
         self.disabled: list[tuple[str, str, str, int | None]] = []
@@ -209,10 +223,11 @@ def _end_effector(p: _Parser, el: Any) -> None:
 
 
 def _virtual_joint(p: _Parser, el: Any) -> None:
-    name = p.req(el, "name")
-    p.vjs.append((name, el.get("type") or "", p.line(el)))
-    if el.get("child_link"):
-        p.virtual_children.setdefault(name, el.get("child_link"))
+    p.vjs.append(
+        VirtualJoint(
+            p.req(el, "name"), el.get("type") or "", el.get("child_link") or "", p.line(el)
+        )
+    )
 
 
 def _passive_joint(p: _Parser, el: Any) -> None:

@@ -1,15 +1,44 @@
-"""Shared by the joint rules: why a joint name cannot take a position (or None)."""
+"""Shared by the joint rules: why a joint name cannot take a position (or None), and the
+c-space joints whose URDF joint has some defect."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
 from ...util.errors import did_you_mean
+from ...yaml.io import YNode
 from ..context import LintContext
+
+if TYPE_CHECKING:  # numpy: lint without --urdf stays light
+    from ...robot.urdf_joints import JointInfo
+
+
+def cspace_joints_where(
+    ctx: LintContext, defect: Callable[[JointInfo], bool]
+) -> list[tuple[int, YNode, JointInfo]]:
+    """The c-space joints of the ``--urdf`` robot whose URDF joint has ``defect``: each with
+    its index in ``cspace.joint_names`` and its node."""
+    robot = ctx.robot
+    if robot is None:
+        return []
+    out = []
+    for i, (n, node) in enumerate(ctx.cspace_joint_nodes()):
+        j = robot.joints.get(n)
+        if j is not None and defect(j):
+            out.append((i, node, j))
+    return out
+
+
+def joint_at(j: JointInfo) -> str:
+    """``'name' (line N)`` of a URDF joint, for a message."""
+    return f"'{j.name}'" + (f" (line {j.line})" if j.line else "")
 
 
 def joint_problem(ctx: LintContext, joint: str, what: str) -> str | None:
     kin = ctx.kin
     assert kin is not None and ctx.robot is not None
-    fname = ctx.robot.path.replace("\\", "/").rsplit("/", 1)[-1]
+    fname = ctx.robot.file_name
     if joint in kin.actuated_joints:
         why = kin.cspace_reason(joint)
         return f"{what} '{joint}' {why}" if why else None

@@ -14,31 +14,22 @@ from collections.abc import Iterator
 
 from ...diagnostics import Severity
 from ..context import LintContext, Problem, Rule
+from ._joints import cspace_joints_where, joint_at
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    robot = ctx.robot
-    if robot is None:
+    found = cspace_joints_where(ctx, lambda j: j.is_held)
+    if not found or ctx.robot is None:
         return
-    found = []
-    for i, (n, node) in enumerate(ctx.cspace_joint_nodes()):
-        j = robot.joints.get(n)
-        if j is None or j.type not in ("revolute", "prismatic") or j.lower is None:
-            continue
-        if j.lower == j.upper:
-            where = f" (line {j.line})" if j.line else ""
-            found.append((i, node, f"'{n}'{where} [{j.lower:g}, {j.upper:g}]"))
-    if not found:
-        return
-    fname = robot.path.replace("\\", "/").rsplit("/", 1)[-1]
-    names = ", ".join(text for *_, text in found)
+    names = ", ".join(f"{joint_at(j)} [{j.lower:g}, {j.upper:g}]" for *_, j in found)
     what = f"c-space joint {names} is" if len(found) == 1 else f"c-space joints {names} are"
+    index, node, _ = found[0]
     yield ctx.problem(
-        found[0][1],
-        f"{what} held still by equal lower and upper limits in {fname}: no plan can move "
-        f"{'it' if len(found) == 1 else 'them'} (a CAD exporter writes 0 0 for limits never "
-        "set); give the URDF the real limits, or leave such a joint out of the c-space",
-        f"cspace.joint_names[{found[0][0]}]",
+        node,
+        f"{what} held still by equal lower and upper limits in {ctx.robot.file_name}: no plan "
+        f"can move {'it' if len(found) == 1 else 'them'} (a CAD exporter writes 0 0 for limits "
+        "never set); give the URDF the real limits, or leave such a joint out of the c-space",
+        f"cspace.joint_names[{index}]",
     )
 
 

@@ -12,38 +12,38 @@ the joint's real velocity limit in the URDF. A ``<limit>`` without ``velocity`` 
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
-from ...yaml.io import YNode
 from ..context import LintContext, Problem, Rule
+from ._joints import cspace_joints_where, joint_at
+
+if TYPE_CHECKING:  # numpy: lint without --urdf stays light
+    from ...robot.urdf_joints import JointInfo
+
+
+def _still(j: JointInfo) -> bool:
+    return j.is_actuated and j.velocity is not None and j.velocity <= 0
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    robot = ctx.robot
-    if robot is None:
+    found = cspace_joints_where(ctx, _still)
+    if not found or ctx.robot is None:
         return
-    found: list[tuple[int, YNode, str, float]] = []
-    for i, (n, node) in enumerate(ctx.cspace_joint_nodes()):
-        j = robot.joints.get(n)
-        if j is None or not j.is_actuated or j.velocity is None or j.velocity > 0:
-            continue
-        found.append((i, node, f"'{n}'" + (f" (line {j.line})" if j.line else ""), j.velocity))
-    if not found:
-        return
-    fname = robot.path.replace("\\", "/").rsplit("/", 1)[-1]
-    values = {v for *_, v in found}
+    values = {j.velocity for *_, j in found}
     limit = f'velocity="{values.pop():g}"' if len(values) == 1 else "velocity <= 0"
-    names = ", ".join(text for _, _, text, _ in found)
+    names = ", ".join(joint_at(j) for *_, j in found)
     if len(found) == 1:
         what, them = f"c-space joint {names} has", "it"
     else:
         what, them = f"{len(found)} c-space joints ({names}) have", "them"
+    index, node, _ = found[0]
     yield ctx.problem(
-        found[0][1],
-        f"{what} <limit {limit}> in {fname}: cuRobo reads velocity limits only from the "
-        f"URDF and cannot move {them}; set the real limits there (a joint_limits.yaml "
+        node,
+        f"{what} <limit {limit}> in {ctx.robot.file_name}: cuRobo reads velocity limits only "
+        f"from the URDF and cannot move {them}; set the real limits there (a joint_limits.yaml "
         "max_velocity does not reach cuRobo)",
-        f"cspace.joint_names[{found[0][0]}]",
+        f"cspace.joint_names[{index}]",
     )
 
 

@@ -214,7 +214,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     missing = {k: v for k, v in expected.items() if k not in cache}
     if missing:
         cache.update(_load_boxes(robot, missing))
-    urdf_name = os.path.basename(robot.path)
+    urdf_name = robot.file_name
     skipped: dict[str, SphereRef] = {}
     for s, center, radius in todo:
         box = cache.get(s.frame)

@@ -20,7 +20,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         return
     frames = set(kin.frame_names)
     pruned = set(kin.pruned_frames)
-    fname = ctx.robot.path.replace("\\", "/").rsplit("/", 1)[-1]
+    fname = ctx.robot.file_name
     for frame, node, kp, what in ctx.frame_references():
         if frame in frames:
             continue
