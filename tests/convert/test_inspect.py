@@ -142,3 +142,56 @@ def test_reads_no_geometry_library() -> None:
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stderr.strip().splitlines()[-1] == "[]"
     assert "arm_tool_link" in done.stdout
+
+
+def _parents_from_tree(text: str) -> dict[str, str]:
+    """Read the tree back: each joint's parent joint ('' at the root), from columns alone."""
+    lines = text.split("\n\n")[1].splitlines()[2:]
+    parents: dict[str, str] = {}
+    above: list[tuple[int, str]] = []  # (label column, joint) of the lines read so far
+    for line in lines:
+        label = len(line) - len(line.lstrip(" │├└─"))
+        name = line[label:].split(" ", 1)[0]
+        if line[label - 3 : label] in ("└─ ", "├─ "):
+            column = label - 3
+            parents[name] = next((j for c, j in reversed(above) if c == column), "")
+        else:  # a chain carried on at the same depth: the line above is its parent
+            parents[name] = above[-1][1]
+        above.append((label, name))
+    return parents
+
+
+def test_deep_chain_tree_stays_narrow_and_readable(runner: CliRunner, tmp_path: Path) -> None:
+    """A 300-joint chain that forks halfway: the text grows with the joints, not their square,
+    and every joint's parent can still be read from the columns."""
+    from xrdf_tools.convert.inspect_text import MAX_TREE_INDENT
+
+    links = ['<link name="l0"/>']
+    joints: dict[str, str] = {}  # joint -> parent joint
+    parent_of_link = {"l0": ""}
+
+    def add(name: str, parent: str, child: str) -> None:
+        links.append(f'<link name="{child}"/>')
+        links.append(
+            f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
+            f'<child link="{child}"/><axis xyz="0 0 1"/>'
+            '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
+        )
+        joints[name] = parent_of_link[parent]
+        parent_of_link[child] = name
+
+    for i in range(1, 151):
+        add(f"j{i}", f"l{i - 1}", f"l{i}")
+    for side in ("a", "b"):
+        add(f"{side}1", "l150", f"{side}l1")
+        for i in range(2, 76):
+            add(f"{side}{i}", f"{side}l{i - 1}", f"{side}l{i}")
+    urdf = tmp_path / "snake.urdf"
+    urdf.write_text('<robot name="snake">' + "".join(links) + "</robot>")
+    result = runner.invoke(app, ["inspect", str(urdf)])
+    assert result.exit_code == 0, result.output
+    tree = result.stdout.split("\n\n")[1].splitlines()[2:]
+    assert len(tree) == len(joints)
+    widest = max(len(line) - len(line.lstrip(" │├└─")) for line in tree)
+    assert widest <= 3 * (MAX_TREE_INDENT + 2)
+    assert _parents_from_tree(result.stdout) == joints

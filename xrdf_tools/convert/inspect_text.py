@@ -7,7 +7,15 @@ from collections.abc import Sequence
 
 from .inspect import Inspection, JointView, chain_summary
 
-__all__ = ["render_inspection"]
+__all__ = ["MAX_TREE_INDENT", "render_inspection"]
+
+#: Levels of indentation the tree grows to; below that, a serial chain continues at the same
+#: depth (a line without a connector is the child of the line above), so the text of a chain
+#: of n joints grows with n, not n².
+MAX_TREE_INDENT = 24
+
+#: What a line's connector leaves for the lines below it.
+_CARRIED = {"└─ ": "   ", "├─ ": "│  "}
 
 
 def render_inspection(ins: Inspection) -> str:
@@ -84,21 +92,25 @@ def _subtree(
     seen: set[str],
 ) -> list[str]:
     out: list[str] = []
-    stack: list[tuple[str, str, bool]] = [
-        (name, "", i == 0) for i, name in enumerate(reversed(sorted(children.get(root, []))))
+    stack: list[tuple[str, str, str]] = [
+        (name, "", "└─ " if i == 0 else "├─ ")
+        for i, name in enumerate(reversed(sorted(children.get(root, []))))
     ]
     while stack:
-        name, prefix, last = stack.pop()
+        name, prefix, connector = stack.pop()
         if name in seen:
             continue
         seen.add(name)
         j = joints[name]
         mark = "" if collision.get(j.child) else " ·"
-        branch = "└─ " if last else "├─ "
-        out.append(f"{prefix}{branch}{_joint_label(j, cspace_index)} → {j.child}{mark}")
+        out.append(f"{prefix}{connector}{_joint_label(j, cspace_index)} → {j.child}{mark}")
         below = sorted(children.get(j.child, []))
-        inner = prefix + ("   " if last else "│  ")
-        stack.extend((n, inner, i == 0) for i, n in enumerate(reversed(below)))
+        carried = _CARRIED.get(connector, connector)
+        if len(below) == 1 and len(prefix) >= 3 * MAX_TREE_INDENT:
+            stack.append((below[0], prefix, carried))
+            continue
+        inner = prefix + carried
+        stack.extend((n, inner, "└─ " if i == 0 else "├─ ") for i, n in enumerate(reversed(below)))
     return out
 
 
