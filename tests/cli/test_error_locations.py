@@ -549,3 +549,57 @@ def test_a_macro_call_with_a_parameter_the_macro_lacks_points_at_that_call(
         f'error: {inc}:8:5: xacro failed: Invalid parameter "gripper" in a call of macro '
         "'load_arm', which has no parameter 'gripper'"
     )
+
+
+def _macro_robot(tmp_path: Path) -> tuple[Path, Path]:
+    """A xacro robot whose links a macro of an included file makes, one with a missing mesh."""
+    top = tmp_path / "robot.urdf.xacro"
+    inc = tmp_path / "arm_macro.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="arm_macro.xacro"/>\n  <link name="world"/>\n'
+        '  <xacro:arm prefix="left_" parent="world"/>\n</robot>\n'
+    )
+    inc.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:macro name="arm" params="prefix parent">\n'
+        '  <link name="${prefix}base"><collision><geometry><box size="0.1 0.1 0.1"/>'
+        "</geometry></collision></link>\n"
+        '  <joint name="${prefix}j1" type="revolute"><parent link="${parent}"/>'
+        '<child link="${prefix}base"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+        "</joint>\n"
+        '  <link\n    name="${prefix}base_link">\n'
+        '    <collision><geometry><mesh filename="meshes/gone.stl"/></geometry></collision>\n'
+        "  </link>\n"
+        '  <joint name="${prefix}j2" type="revolute"><parent link="${prefix}base"/>'
+        '<child link="${prefix}base_link"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+        "</joint>\n"
+        "</xacro:macro>\n</robot>\n"
+    )
+    return top, inc
+
+
+def test_links_a_macro_makes_are_located_in_the_file_that_writes_them(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Errors and warnings about a link made by a macro of an included file point at the
+    macro's ``<link name="${prefix}…">`` (the closest template: ``${prefix}base_link`` for
+    left_base_link, not ``${prefix}base``), not at the top file without a line."""
+    from xrdf_tools.robot.xacro_source import load_robot
+
+    top, inc = _macro_robot(tmp_path)
+    robot = load_robot(top)
+    assert robot.place("link", "world") == (str(top), 4)
+    assert robot.place("link", "left_base") == (str(inc), 4)
+    assert robot.place("link", "left_base_link") == (str(inc), 6)
+    assert robot.place("joint", "left_j2") == (str(inc), 10)
+    out = tmp_path / "out.xrdf"
+    err = _error(runner, "convert", str(top), "--fit-spheres", "-o", str(out))
+    assert err.startswith(f"error: {inc}:6: 1 mesh file(s) cannot be found: link 'left_base_link'")
+    assert not out.exists()
+    result = runner.invoke(
+        app, ["convert", str(top), "--fit-spheres", "--allow-missing-meshes", "-o", str(out)]
+    )
+    assert result.exit_code == 0, result.output
+    warned = [line for line in result.output.splitlines() if "spheres-mesh-unreadable" in line]
+    assert warned and all(line.startswith(f"{inc}:6: ") for line in warned), result.output

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot, as_robot
 from ..robot.link_geometry import require_meshes
+from ..robot.xacro_places import located_at_elements
 from ..util.frozen import FrozenMap
 from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
@@ -305,7 +306,8 @@ def fit_missing_spheres(
     errors = unfitted_links(
         robot.path, todo, fitted, diags, allowed_missing=missing, lines=robot.link_lines
     )
-    return with_spheres(x, dict(merged)), counts, [*diags, summary, *errors]
+    said = located_at_elements([*diags, summary, *errors], robot.path, robot.include_places)
+    return with_spheres(x, dict(merged)), counts, said
 
 
 def _check_frame_ceiling(path: str, frames: int) -> None:

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic
+from ..robot.xacro_places import located_at_elements
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -125,6 +126,9 @@ def fit_spheres(
         allowed_missing=missing,
         lines=robot.link_lines,
     )
+    places = robot.include_places
+    diags = located_at_elements(diags, robot.path, places)
+    unfitted = located_at_elements(unfitted, robot.path, places)
     return SpheresFit(merged, result, diags, unfitted)
 
 

@@ -61,6 +61,10 @@ class Robot:
     expanded: bool = False
     link_lines: Mapping[str, int] = field(default_factory=FrozenMap)
     joint_lines: Mapping[str, int] = field(default_factory=FrozenMap)
+    #: ``(kind, name) -> (file, line)`` of the links and joints of a xacro robot that a macro
+    #: of an included file writes (not in :attr:`link_lines`/:attr:`joint_lines`, which are
+    #: lines of :attr:`path`): see :mod:`xrdf_tools.robot.xacro_places`.
+    include_places: Mapping[tuple[str, str], tuple[str, int]] = field(default_factory=FrozenMap)
     package_paths: Mapping[str, str] = field(default_factory=FrozenMap)
     #: The xacro arguments a xacro robot was expanded with (an SRDF xacro takes the same).
     xacro_args: Mapping[str, str] = field(default_factory=FrozenMap)
@@ -149,6 +153,14 @@ class Robot:
     def source_line(self, kind: Literal["link", "joint"], name: str) -> int | None:
         """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""
         return (self.link_lines if kind == "link" else self.joint_lines).get(name)
+
+    def place(self, kind: Literal["link", "joint"], name: str) -> tuple[str, int | None]:
+        """File and line where the ``<link>``/``<joint>`` named ``name`` is written: a line of
+        :attr:`path`, else of the included xacro file that writes it, else ``(path, None)``."""
+        line = self.source_line(kind, name)
+        if line is None and (kind, name) in self.include_places:
+            return self.include_places[(kind, name)]
+        return self.path, line
 
     def root_link(self) -> str:
         """The one link that is no joint's child; :class:`UrdfError` when not exactly one."""

@@ -272,9 +272,8 @@ def require_meshes(
         message += f"; also meshes of {name_list(others, _NAMED)}"
     message += unfound_packages_note((f.uri, f.reason) for f in failures)
     message += "; pass --allow-missing-meshes to go on without them"
-    raise MissingMeshError(
-        message, failures, path=loaded.path, line=loaded.link_lines.get(first.link)
-    )
+    path, line = loaded.place("link", first.link)
+    raise MissingMeshError(message, failures, path=path, line=line)
 
 
 def capsules_as_cylinders(root: Any) -> frozenset[tuple[str, GeometrySource, int]]:

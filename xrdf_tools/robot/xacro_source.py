@@ -32,6 +32,7 @@ from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
 from .xacro_detect import uses_xacro
 from .xacro_files import file_arg_hint, located_in_includes, os_error
+from .xacro_places import placed_in_includes
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
@@ -480,6 +481,7 @@ def load_robot(
             )
         except UrdfError as e:
             raise located_in_includes(e, os.fspath(path), included) from None
+        robot = placed_in_includes(robot, [os.fspath(path), *included])
         return replace(robot, warnings=(*said, *robot.warnings)) if said else robot
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
