@@ -9,6 +9,10 @@ The ``joint_limits`` mapping is the file's top level, or, in a ROS 2 parameter f
 ``ros__parameters`` (its ``robot_description_planning``, else itself). A launch substitution
 ``$(var NAME)`` in a joint name (a ``tf_prefix``) takes ``--xacro-arg NAME``'s value, else the
 empty string; both are reported.
+
+An XRDF holds no velocity or position limits (its readers take them from the URDF), so a
+``max_velocity`` or ``min_position``/``max_position`` tighter than the URDF's is recorded in
+``Draft.uncarried_limits``; :mod:`~xrdf_tools.convert.core` reports those of c-space joints.
 """
 
 from __future__ import annotations
@@ -17,7 +21,8 @@ import os
 import re
 from collections.abc import Mapping
 
-from ...diagnostics import Severity
+from ...diagnostics import Diagnostic, Severity
+from ...robot.urdf_joints import JointInfo
 from ...util.errors import SourceError
 from ...util.numbers import bound_problem
 from ...yaml.io import YamlDocument, YMap, YScalar, load_yaml, positions_of, to_python
@@ -58,6 +63,11 @@ def read_joint_limits(
             )
             continue
         values = to_python(node)
+        if tighter := _tighter_than_urdf(values, tree.joints[jname]):
+            line, col = rep.position(kp)
+            d.uncarried_limits[jname] = Diagnostic(
+                rep.path, line, col, "convert-limit-not-carried", Severity.WARNING, tighter, kp
+            )
         for kind, target in (("acceleration", d.acceleration), ("jerk", d.jerk)):
             raw = values.get(f"max_{kind}")
             has = values.get(f"has_{kind}_limits")
@@ -104,6 +114,41 @@ def read_joint_limits(
         )
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _number(values: Mapping[str, object], key: str) -> float | None:
+    """``values[key]`` when it is a usable number (not a bool), else None."""
+    raw = values.get(key)
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or bound_problem(raw):
+        return None
+    return float(raw)
+
+
+def _tighter_than_urdf(values: Mapping[str, object], joint: JointInfo) -> str:
+    """What of a joint's MoveIt velocity and position limits is tighter than its URDF's
+    (``"max_velocity 0.75 (URDF 1.5)"``), '' when nothing is.
+
+    MoveIt applies ``max_velocity`` when ``has_velocity_limits`` is true (or absent and the
+    value > 0), ``min_position``/``max_position`` when ``has_position_limits`` is true. A URDF
+    velocity of 0 or less is lint's ``curobo-zero-velocity``, not compared here."""
+    found = []
+    velocity = _number(values, "max_velocity")
+    has = values.get("has_velocity_limits")
+    if velocity is not None and (has is True or (has is None and velocity > 0)):
+        urdf = joint.velocity
+        if urdf is None or (urdf > 0 and abs(velocity) < urdf):
+            found.append(f"max_velocity {abs(velocity):g} (URDF {_shown(urdf)})")
+    if values.get("has_position_limits") is True:
+        low, high = _number(values, "min_position"), _number(values, "max_position")
+        if low is not None and (joint.lower is None or low > joint.lower):
+            found.append(f"min_position {low:g} (URDF {_shown(joint.lower)})")
+        if high is not None and (joint.upper is None or high < joint.upper):
+            found.append(f"max_position {high:g} (URDF {_shown(joint.upper)})")
+    return ", ".join(found)
+
+
+def _shown(value: float | None) -> str:
+    return "none" if value is None else f"{value:g}"
 
 
 def _limits_holder(doc: YamlDocument, rep: Reporter) -> tuple[YMap, str]:
