@@ -6,8 +6,10 @@ import re
 from pathlib import Path
 
 import pytest
+from typer.testing import CliRunner
 
 from tests.robots import robots_dir
+from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.convert.sources import RobotTree
 from xrdf_tools.convert.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
@@ -871,3 +873,42 @@ def test_example_robot_data_b1_with_z1_plans_the_arm() -> None:
     assert x.cspace is not None
     assert x.cspace.joint_names[:6] == tuple(f"joint{i}" for i in range(1, 7))
     assert not any("hip" in j or "thigh" in j or "calf" in j for j in x.cspace.joint_names)
+
+
+_TWO_LINKS = """<?xml version="1.0"?>
+<robot name="arm">
+  <link name="base"/>
+  <link name="l1"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_urdf_given_as_the_srdf_is_refused_where_it_defines_a_link(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """The URDF and the SRDF of a MoveIt config share the root <robot>: one passed for the
+    other read as an SRDF without groups, and convert then said 'no planning group given ...
+    change it with --srdf' with exit 0; export srdf --merge wrote disable_collisions into the
+    URDF's copy. Both now stop (exit 2) at the first <link>; an SRDF that also carries URDF
+    elements is still read."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_TWO_LINKS)
+    out = tmp_path / "arm.xrdf"
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(urdf), "-o", str(out)])
+    assert r.exit_code == 2, r.output
+    assert r.stderr.startswith(f"error: {urdf}:3: a URDF, not a MoveIt SRDF: it defines <link ")
+    assert not out.exists()
+    x = tmp_path / "arm_default.xrdf"
+    assert runner.invoke(app, ["convert", str(urdf), "-q", "-o", str(x)]).exit_code == 0
+    r = runner.invoke(app, ["export", "srdf", str(x), "--merge", str(urdf), "-o", str(out)])
+    assert r.exit_code == 2, r.output
+    assert f"{urdf}:3: a URDF, not a MoveIt SRDF" in r.stderr and not out.exists()
+    both = tmp_path / "both.srdf"
+    both.write_text(
+        _TWO_LINKS.replace("</robot>", '<group name="arm"><joint name="j1"/></group></robot>')
+    )
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(both), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "planning group 'arm' chosen" in r.stderr
