@@ -162,3 +162,35 @@ def test_asset_root_path_is_where_curobo_finds_the_meshes(
         assert len(said) == 1 and "1 mesh file name(s)" in said[0] and "parts/b.stl" in said[0]
     else:
         assert said == []
+
+
+def test_a_package_in_a_folder_of_another_name_says_how_curobo_finds_its_meshes(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A clone named after its repository (``Universal_Robots_ROS2_Description`` holds
+    ``ur_description``) serves no mesh to cuRobo, which joins ``my_robot/meshes/…`` to
+    asset_root_path: the warning names the package, its folder and the link that fixes it,
+    and following it leaves nothing to say."""
+    urdf = _workspace_robot(tmp_path, relative_mesh=False)
+    clone = urdf.parent.parent.rename(tmp_path / "ws" / "src" / "My_Robot_Repo")
+    urdf = clone / "urdf" / "r.urdf"
+    xrdf = tmp_path / "r.xrdf"
+    xrdf.write_text(convert_robot(urdf, ConvertOptions(), lint=False).text)
+    out = tmp_path / "cfg" / "r.yml"
+    export = ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)]
+    r = runner.invoke(app, [*export, "--package-path", f"my_robot={clone}"])
+    assert r.exit_code == 0, r.output
+    said = [ln for ln in r.output.splitlines() if "export-mesh-paths" in ln]
+    assert len(said) == 1 and "2 mesh file name(s)" in said[0]
+    assert (
+        f"Package 'my_robot' is the folder {clone}, which is not named after it, so no "
+        f"directory serves its meshes: make a link named 'my_robot' to it (ln -s {clone} "
+        "DIR/my_robot) and export again with --package-path my_robot=DIR/my_robot"
+    ) in said[0]
+    links = tmp_path / "links"
+    links.mkdir()
+    (links / "my_robot").symlink_to(clone)
+    r = runner.invoke(app, [*export, "--package-path", f"my_robot={links / 'my_robot'}"])
+    assert r.exit_code == 0 and "export-mesh-paths" not in r.output, r.output
+    root = out.parent / str(_kinematics(out)["asset_root_path"])
+    assert (root / "my_robot/meshes/a.stl").is_file()
