@@ -912,3 +912,73 @@ def test_a_urdf_given_as_the_srdf_is_refused_where_it_defines_a_link(
     r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(both), "-o", str(out)])
     assert r.exit_code == 0, r.output
     assert "planning group 'arm' chosen" in r.stderr
+
+
+def _arm_with_sandia_hand(tmp_path: Path) -> tuple[Path, Path]:
+    """Atlas with Sandia hands, in small: a 2-joint arm whose hand link carries a palm, and on
+    it two finger bases with accelerometer frames (``f0_fixed_accel``) and fingers of three
+    and one joints named ``f0_j0`` … (nothing says finger); the SRDF has ``arm`` and a bigger
+    ``right_hand`` group (its end effector commented out, as Atlas' is)."""
+
+    def joint(name: str, kind: str, parent: str, child: str) -> str:
+        limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>' if kind != "fixed" else ""
+        return (
+            f'<joint name="{name}" type="{kind}"><parent link="{parent}"/>'
+            f'<child link="{child}"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>{limit}</joint>'
+        )
+
+    links = ["torso", "upper", "r_hand", "right_palm", "f0_base", "f0_fixed_accel"]
+    links += ["f0_0", "f0_1", "f0_2", "f0_2_accel", "f1_base", "f1_fixed_accel", "f1_0"]
+    joints = [
+        joint("r_arm_shy", "revolute", "torso", "upper"),
+        joint("r_arm_wrx", "revolute", "upper", "r_hand"),
+        joint("right_hand_joint", "fixed", "r_hand", "right_palm"),
+        joint("f0_base_joint", "fixed", "right_palm", "f0_base"),
+        joint("f0_fixed_accel_joint", "fixed", "f0_base", "f0_fixed_accel"),
+        joint("f0_j0", "revolute", "f0_base", "f0_0"),
+        joint("f0_j1", "revolute", "f0_0", "f0_1"),
+        joint("f0_j2", "revolute", "f0_1", "f0_2"),
+        joint("f0_2_accel_joint", "fixed", "f0_2", "f0_2_accel"),
+        joint("f1_base_joint", "fixed", "right_palm", "f1_base"),
+        joint("f1_fixed_accel_joint", "fixed", "f1_base", "f1_fixed_accel"),
+        joint("f1_j0", "revolute", "f1_base", "f1_0"),
+    ]
+    urdf = tmp_path / "atlas.urdf"
+    urdf.write_text(
+        '<robot name="atlas">'
+        + "".join(f'<link name="{n}"/>' for n in links)
+        + "".join(joints)
+        + "</robot>"
+    )
+    srdf = tmp_path / "atlas.srdf"
+    srdf.write_text(
+        '<robot name="atlas">'
+        '<group name="arm"><joint name="r_arm_shy"/><joint name="r_arm_wrx"/></group>'
+        '<group name="right_hand"><joint name="f0_j0"/><joint name="f0_j1"/>'
+        '<joint name="f0_j2"/><joint name="f1_j0"/></group></robot>'
+    )
+    return urdf, srdf
+
+
+def test_a_group_named_like_a_hand_is_not_planned_over_a_smaller_arm(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Atlas' SRDF: 'right_hand' (12 finger joints, no end effector naming it) was chosen over
+    the 6-joint arms, and its tool frame was a finger's accelerometer frame. A group named
+    like a hand, head or wheels now comes after the others (said in the message), and the arm's
+    tool frame is the palm, not an accelerometer frame on a finger base."""
+    urdf, srdf = _arm_with_sandia_hand(tmp_path)
+    out = tmp_path / "atlas.xrdf"
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    x = parse_xrdf(out.read_text())
+    assert x.cspace.joint_names == ("r_arm_shy", "r_arm_wrx")
+    assert x.tool_frames == ("right_palm",)
+    assert (
+        "planning group 'arm' chosen: the group without subgroups with the most actuated "
+        "joints (2) (passed over, named like a hand, head or wheels: right_hand)"
+    ) in r.stderr
+    r = runner.invoke(
+        app, ["convert", str(urdf), "--srdf", str(srdf), "--group", "right_hand", "-q"]
+    )
+    assert r.exit_code == 0 and "f0_j2" in r.stdout  # asked for by name, the hand is planned
