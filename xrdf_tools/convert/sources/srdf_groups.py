@@ -315,9 +315,7 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
 
     legs = {g: is_leg(tree, cspace_of(srdf, g, tree)) for g in cands}
     parts = {g: _named_like_a_part(g) for g in cands}
-    best = min(
-        cands, key=lambda g: (parts[g], legs[g], -sizes[g], ee_rank(g)[0], order.index(g))
-    )
+    best = min(cands, key=lambda g: (parts[g], legs[g], -sizes[g], ee_rank(g)[0], order.index(g)))
     kind = "group without subgroups" if best in plain else "group"
     why = f"the {kind} with the most actuated joints ({sizes[best]})"
     if any(legs[g] and sizes[g] > sizes[best] for g in cands):
