@@ -92,7 +92,8 @@ _SRDF = """<robot name="arm">
 """
 
 #: A MoveIt 1 joint_limits.yaml that halves j1's velocity and narrows j2's range (Baxter's
-#: halves every arm joint's), and a finger outside the c-space limited alike.
+#: halves every arm joint's), rounds j2's velocity (Fetch's 1.57 for 1.571), and limits a
+#: finger outside the c-space alike.
 _TIGHTER = """joint_limits:
   j1:
     has_velocity_limits: true
@@ -101,7 +102,7 @@ _TIGHTER = """joint_limits:
     max_acceleration: 2
   j2:
     has_velocity_limits: true
-    max_velocity: 1.5
+    max_velocity: 0.995
     has_position_limits: true
     min_position: -1.0
     max_position: 2
@@ -115,8 +116,8 @@ def test_velocity_and_position_limits_tighter_than_the_urdf_are_reported_as_lost
     runner: CliRunner, tmp_path: Path
 ) -> None:
     """An XRDF carries only acceleration and jerk: a tighter MoveIt velocity or range of a
-    c-space joint is one located warning naming each value (a looser one, or one of a joint
-    outside the c-space, is not)."""
+    c-space joint is one located warning naming each value (a looser or rounded one, or one of
+    a joint outside the c-space, is not)."""
     arm = tmp_path / "arm.urdf"
     arm.write_text(
         _ARM.replace("${p}", "").replace(

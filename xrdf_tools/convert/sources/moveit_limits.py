@@ -33,6 +33,11 @@ __all__ = ["read_joint_limits"]
 #: A ROS 2 launch substitution in a parameter file: ``$(var tf_prefix)``.
 _LAUNCH_VAR = re.compile(r"\$\(var\s+([^)\s]+)\s*\)")
 
+#: How much tighter than the URDF's a MoveIt limit must be to be reported: a velocity by this
+#: share (Fetch's config rounds 1.571 to 1.57), a position by this many rad or m.
+_VELOCITY_SLACK = 0.01
+_POSITION_SLACK = 1e-3
+
 
 def read_joint_limits(
     path: str | os.PathLike[str],
@@ -126,7 +131,8 @@ def _number(values: Mapping[str, object], key: str) -> float | None:
 
 def _tighter_than_urdf(values: Mapping[str, object], joint: JointInfo) -> str:
     """What of a joint's MoveIt velocity and position limits is tighter than its URDF's
-    (``"max_velocity 0.75 (URDF 1.5)"``), '' when nothing is.
+    (``"max_velocity 0.75 (URDF 1.5)"``), '' when nothing is. A value rounded from the URDF's
+    (a velocity less than 1 % below it, a position within 1e-3) is no tighter.
 
     MoveIt applies ``max_velocity`` when ``has_velocity_limits`` is true (or absent and the
     value > 0), ``min_position``/``max_position`` when ``has_position_limits`` is true. A URDF
@@ -136,13 +142,13 @@ def _tighter_than_urdf(values: Mapping[str, object], joint: JointInfo) -> str:
     has = values.get("has_velocity_limits")
     if velocity is not None and (has is True or (has is None and velocity > 0)):
         urdf = joint.velocity
-        if urdf is None or (urdf > 0 and abs(velocity) < urdf):
+        if urdf is None or (urdf > 0 and abs(velocity) < urdf * (1 - _VELOCITY_SLACK)):
             found.append(f"max_velocity {abs(velocity):g} (URDF {_shown(urdf)})")
     if values.get("has_position_limits") is True:
         low, high = _number(values, "min_position"), _number(values, "max_position")
-        if low is not None and (joint.lower is None or low > joint.lower):
+        if low is not None and (joint.lower is None or low > joint.lower + _POSITION_SLACK):
             found.append(f"min_position {low:g} (URDF {_shown(joint.lower)})")
-        if high is not None and (joint.upper is None or high < joint.upper):
+        if high is not None and (joint.upper is None or high < joint.upper - _POSITION_SLACK):
             found.append(f"max_position {high:g} (URDF {_shown(joint.upper)})")
     return ", ".join(found)
 
