@@ -38,6 +38,9 @@ class MeshRoot:
     #: ``Universal_Robots_ROS2_Description`` holds ``ur_description``): cuRobo finds none of its
     #: meshes, whatever ``asset_root_path`` is.
     misnamed: tuple[tuple[str, str], ...] = ()
+    #: ``(package, folder)`` of every package with meshes when they are in different
+    #: directories (two workspaces): no one ``asset_root_path`` serves them all.
+    scattered: tuple[tuple[str, str], ...] = ()
 
 
 def mesh_root(robot: Robot) -> MeshRoot:
@@ -64,7 +67,23 @@ def mesh_root(robot: Robot) -> MeshRoot:
         return MeshRoot(None, tuple(serves.get(None, ())), tuple(misnamed.items()))
     best = min(roots, key=lambda r: (-len(serves[r]), r != own, str(r)))
     unserved = [u for r, uris in serves.items() if r != best for u in uris]
-    return MeshRoot(best, tuple(unserved), tuple(misnamed.items()))
+    packages = {
+        name: str(root / name)
+        for root, uris in serves.items()
+        if root is not None
+        for u in uris
+        if (name := _package_of(u))
+    }
+    homes = {str(Path(folder).parent) for folder in packages.values()}
+    scattered = tuple(sorted(packages.items())) if len(homes) > 1 else ()
+    return MeshRoot(best, tuple(unserved), tuple(misnamed.items()), scattered)
+
+
+def _package_of(uri: str) -> str:
+    """The package a ``package://`` mesh name is in, '' for another name."""
+    if not uri.startswith("package://"):
+        return ""
+    return uri[len("package://") :].partition("/")[0]
 
 
 def unserved_note(root: MeshRoot) -> str:
@@ -75,6 +94,15 @@ def unserved_note(root: MeshRoot) -> str:
         "(package:// stripped); its kinematics and spheres do not need them, loading the "
         "robot's meshes does"
     )
+    if root.scattered:
+        note += (
+            ". The packages are in different folders ("
+            + ", ".join(f"{p} in {Path(f).parent}" for p, f in root.scattered)
+            + "): link them side by side (mkdir DIR; ln -s "
+            + " ".join(f for _, f in root.scattered)
+            + " DIR/) and export again with "
+            + " ".join(f"--package-path {p}=DIR/{p}" for p, _ in root.scattered)
+        )
     for package, folder in root.misnamed:
         note += (
             f". Package '{package}' is the folder {folder}, which is not named after it, so no "
