@@ -982,3 +982,25 @@ def test_a_group_named_like_a_hand_is_not_planned_over_a_smaller_arm(
         app, ["convert", str(urdf), "--srdf", str(srdf), "--group", "right_hand", "-q"]
     )
     assert r.exit_code == 0 and "f0_j2" in r.stdout  # asked for by name, the hand is planned
+
+
+def test_a_state_named_home_in_capitals_is_the_default_state(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Interbotix's gripper group lists Closed, Open, Home (Kinova writes Home, Retract): the
+    preferred names matched only in lower case, so the gripper defaulted to 'Closed'."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_TWO_LINKS)
+    srdf = tmp_path / "arm.srdf"
+    srdf.write_text(
+        '<robot name="arm"><group name="arm"><joint name="j1"/></group>'
+        + "".join(
+            f'<group_state name="{n}" group="arm"><joint name="j1" value="{v}"/></group_state>'
+            for n, v in (("Closed", -1.5), ("Open", 1.5), ("Home", 0.25))
+        )
+        + "</robot>"
+    )
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 0, r.output
+    assert parse_xrdf(r.stdout).default_joint_positions["j1"] == 0.25
+    assert "group_state 'Home' (the state named 'Home' of group 'arm')" in r.stderr

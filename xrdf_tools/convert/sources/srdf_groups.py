@@ -365,8 +365,8 @@ def choose_state(
     for cands, why in ((own, f"of group '{group}'"), (covering, "covering the c-space")):
         for pref in PREFERRED_STATES:
             for s in cands:
-                if s.name == pref:
-                    return s, f"the state named '{pref}' {why}"
+                if s.name.lower() == pref:  # Interbotix and Kinova write 'Home'
+                    return s, f"the state named '{s.name}' {why}"
         if cands:
             return cands[0], f"the first state {why}"
     return None, ""
