@@ -982,6 +982,13 @@ def test_a_group_named_like_a_hand_is_not_planned_over_a_smaller_arm(
         app, ["convert", str(urdf), "--srdf", str(srdf), "--group", "right_hand", "-q"]
     )
     assert r.exit_code == 0 and "f0_j2" in r.stdout  # asked for by name, the hand is planned
+    # a group naming a hand with an arm is no hand: the biggest group wins again
+    joints = "".join(f'<joint name="{j}"/>' for j in ("r_arm_shy", "r_arm_wrx", "f0_j0", "f0_j1"))
+    whole = f'<group name="manipulator_with_hand">{joints}</group></robot>'
+    srdf.write_text(srdf.read_text().replace("</robot>", whole))
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "planning group 'manipulator_with_hand' chosen" in r.stderr
 
 
 def test_a_state_named_home_in_capitals_is_the_default_state(

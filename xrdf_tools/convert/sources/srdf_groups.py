@@ -329,11 +329,17 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     return best, why
 
 
+#: Words that make a group name more than a part: an arm, or a whole of several parts
+#: (``manipulator_with_hand``, ``robot_with_gripper``, ``upper_body_and_head``).
+_WHOLE = ARM | {"manipulator", "with", "and", "body", "robot", "whole", "upper", "torso", "all"}
+
+
 def _named_like_a_part(group: str) -> bool:
-    """Whether a group's name says it moves a hand, a head or wheels and nothing like an arm
-    (``right_hand``, ``neck``; not ``arm_hand``): what a planner does not plan for, however many
-    joints it has (the Sandia hands of Atlas have twelve, named ``f0_j0`` …)."""
-    return name_role(group) is not None and not set(name_words(group)) & ARM
+    """Whether a group's name says it moves a hand, a head or wheels and nothing more
+    (``right_hand``, ``neck``; not ``arm_hand`` or ``manipulator_with_hand``): what a planner
+    does not plan for, however many joints it has (the Sandia hands of Atlas have twelve,
+    named ``f0_j0`` …)."""
+    return name_role(group) is not None and not set(name_words(group)) & _WHOLE
 
 
 def choose_state(
