@@ -1011,3 +1011,23 @@ def test_a_state_named_home_in_capitals_is_the_default_state(
     assert r.exit_code == 0, r.output
     assert parse_xrdf(r.stdout).default_joint_positions["j1"] == 0.25
     assert "group_state 'Home' (the state named 'Home' of group 'arm')" in r.stderr
+
+
+def test_the_only_group_of_an_srdf_is_a_note_not_a_guess(runner: CliRunner, tmp_path: Path) -> None:
+    """UR's, Fanuc's and ABB's MoveIt configs have one planning group: taking it was a warning
+    (a guess, counted by --strict) though there was nothing to choose; with a second group it
+    is one."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_TWO_LINKS)
+    srdf = tmp_path / "arm.srdf"
+    one = '<robot name="arm"><group name="manipulator"><joint name="j1"/></group></robot>'
+    srdf.write_text(one)
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 0, r.output
+    assert f"{srdf}:1: info convert-chosen-group planning group 'manipulator' chosen" in r.stderr
+    srdf.write_text(
+        one.replace("</robot>", '<group name="other"><joint name="j1"/></group></robot>')
+    )
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 0, r.output
+    assert f"{srdf}:1: warning convert-chosen-group planning group 'manipulator'" in r.stderr
