@@ -148,3 +148,26 @@ def test_velocity_and_position_limits_tighter_than_the_urdf_are_reported_as_lost
     r = runner.invoke(app, [*args, "-o", str(out), "--group", "arm"])
     lost = [line for line in r.stderr.splitlines() if "convert-limit-not-carried" in line]
     assert len(lost) == 1 and "1 c-space joint(s): j1: max_velocity 0.5 (URDF 1)." in lost[0]
+
+
+def test_joints_the_urdf_lacks_are_one_warning(runner: CliRunner, tmp_path: Path) -> None:
+    """REEM-C's joint_limits.yaml limits 14 finger joints its URDF lacks: a warning each made
+    fourteen lines; now one at the first entry names them all (one alone gets a did-you-mean)."""
+    arm = tmp_path / "arm.urdf"
+    arm.write_text(_ARM.replace("${p}", ""))
+    limits = tmp_path / "joint_limits.yaml"
+    fingers = "".join(f"  finger_{i}:\n    max_acceleration: 1.0\n" for i in range(3))
+    limits.write_text(f"joint_limits:\n  j1:\n    max_acceleration: 2.0\n{fingers}")
+    r = runner.invoke(app, ["convert", str(arm), "--joint-limits", str(limits)])
+    assert r.exit_code == 0, r.output
+    unknown = [ln for ln in r.stderr.splitlines() if "convert-unknown-joint" in ln]
+    assert unknown == [
+        f"{limits}:4:3: warning convert-unknown-joint joint_limits names 3 joints the URDF does "
+        "not have (finger_0, finger_1, finger_2); ignored"
+    ]
+    limits.write_text("joint_limits:\n  j11:\n    max_acceleration: 2.0\n")
+    r = runner.invoke(app, ["convert", str(arm), "--joint-limits", str(limits)])
+    assert (
+        f"{limits}:2:3: warning convert-unknown-joint joint_limits names 'j11', which is not a "
+        "joint of the URDF; did you mean 'j1'?; ignored"
+    ) in r.stderr

@@ -23,8 +23,9 @@ from collections.abc import Mapping
 
 from ...diagnostics import Diagnostic, Severity
 from ...robot.urdf_joints import JointInfo
-from ...util.errors import SourceError
+from ...util.errors import SourceError, did_you_mean
 from ...util.numbers import bound_problem
+from ...util.text import name_list
 from ...yaml.io import YamlDocument, YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 
@@ -55,17 +56,14 @@ def read_joint_limits(
     limits = root.get("joint_limits")
     assert isinstance(limits, YMap)
     unset: dict[str, str] = {}
+    unknown: dict[str, str] = {}  # joint name -> key path of its entry
     for jname, node in limits.items():
         kp = f"{prefix}joint_limits.{jname}"
         if not isinstance(node, YMap):
             continue
         jname = _substituted(str(jname), substitutions or {}, unset, kp)
         if jname not in tree.joints:
-            rep.report(
-                "convert-unknown-joint",
-                f"joint_limits names '{jname}', which is not a joint of the URDF; ignored",
-                kp,
-            )
+            unknown.setdefault(jname, kp)
             continue
         values = to_python(node)
         if tighter := _tighter_than_urdf(values, tree.joints[jname]):
@@ -110,6 +108,7 @@ def read_joint_limits(
             "default_acceleration_scaling_factor",
         ) and not isinstance(node, YScalar):
             rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent", f"{prefix}{key}")
+    _report_unknown(rep, unknown, tree)
     for name, kp in unset.items():
         rep.report(
             "convert-launch-substitution",
@@ -119,6 +118,21 @@ def read_joint_limits(
         )
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _report_unknown(rep: Reporter, unknown: Mapping[str, str], tree: RobotTree) -> None:
+    """One warning for the entries naming joints the URDF lacks, at the first (REEM-C's config
+    limits 14 finger joints its URDF does not have: one line, not fourteen)."""
+    if not unknown:
+        return
+    names = list(unknown)
+    if len(names) == 1:
+        what = (
+            f"'{names[0]}', which is not a joint of the URDF{did_you_mean(names[0], tree.joints)}"
+        )
+    else:
+        what = f"{len(names)} joints the URDF does not have ({name_list(names, 8)})"
+    rep.report("convert-unknown-joint", f"joint_limits names {what}; ignored", unknown[names[0]])
 
 
 def _number(values: Mapping[str, object], key: str) -> float | None:
