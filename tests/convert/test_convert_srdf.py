@@ -6,8 +6,10 @@ import re
 from pathlib import Path
 
 import pytest
+from typer.testing import CliRunner
 
 from tests.robots import robots_dir
+from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.convert.sources import RobotTree
 from xrdf_tools.convert.sources.srdf import cspace_of, group_joints, load_srdf, parse_srdf
@@ -871,3 +873,161 @@ def test_example_robot_data_b1_with_z1_plans_the_arm() -> None:
     assert x.cspace is not None
     assert x.cspace.joint_names[:6] == tuple(f"joint{i}" for i in range(1, 7))
     assert not any("hip" in j or "thigh" in j or "calf" in j for j in x.cspace.joint_names)
+
+
+_TWO_LINKS = """<?xml version="1.0"?>
+<robot name="arm">
+  <link name="base"/>
+  <link name="l1"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_urdf_given_as_the_srdf_is_refused_where_it_defines_a_link(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """The URDF and the SRDF of a MoveIt config share the root <robot>: one passed for the
+    other read as an SRDF without groups, and convert then said 'no planning group given ...
+    change it with --srdf' with exit 0; export srdf --merge wrote disable_collisions into the
+    URDF's copy. Both now stop (exit 2) at the first <link>; an SRDF that also carries URDF
+    elements is still read."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_TWO_LINKS)
+    out = tmp_path / "arm.xrdf"
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(urdf), "-o", str(out)])
+    assert r.exit_code == 2, r.output
+    assert r.stderr.startswith(f"error: {urdf}:3: a URDF, not a MoveIt SRDF: it defines <link ")
+    assert not out.exists()
+    x = tmp_path / "arm_default.xrdf"
+    assert runner.invoke(app, ["convert", str(urdf), "-q", "-o", str(x)]).exit_code == 0
+    r = runner.invoke(app, ["export", "srdf", str(x), "--merge", str(urdf), "-o", str(out)])
+    assert r.exit_code == 2, r.output
+    assert f"{urdf}:3: a URDF, not a MoveIt SRDF" in r.stderr and not out.exists()
+    both = tmp_path / "both.srdf"
+    both.write_text(
+        _TWO_LINKS.replace("</robot>", '<group name="arm"><joint name="j1"/></group></robot>')
+    )
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(both), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "planning group 'arm' chosen" in r.stderr
+
+
+def _arm_with_sandia_hand(tmp_path: Path) -> tuple[Path, Path]:
+    """Atlas with Sandia hands, in small: a 2-joint arm whose hand link carries a palm, and on
+    it two finger bases with accelerometer frames (``f0_fixed_accel``) and fingers of three
+    and one joints named ``f0_j0`` … (nothing says finger); the SRDF has ``arm`` and a bigger
+    ``right_hand`` group (its end effector commented out, as Atlas' is)."""
+
+    def joint(name: str, kind: str, parent: str, child: str) -> str:
+        limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>' if kind != "fixed" else ""
+        return (
+            f'<joint name="{name}" type="{kind}"><parent link="{parent}"/>'
+            f'<child link="{child}"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>{limit}</joint>'
+        )
+
+    links = ["torso", "upper", "r_hand", "right_palm", "f0_base", "f0_fixed_accel"]
+    links += ["f0_0", "f0_1", "f0_2", "f0_2_accel", "f1_base", "f1_fixed_accel", "f1_0"]
+    joints = [
+        joint("r_arm_shy", "revolute", "torso", "upper"),
+        joint("r_arm_wrx", "revolute", "upper", "r_hand"),
+        joint("right_hand_joint", "fixed", "r_hand", "right_palm"),
+        joint("f0_base_joint", "fixed", "right_palm", "f0_base"),
+        joint("f0_fixed_accel_joint", "fixed", "f0_base", "f0_fixed_accel"),
+        joint("f0_j0", "revolute", "f0_base", "f0_0"),
+        joint("f0_j1", "revolute", "f0_0", "f0_1"),
+        joint("f0_j2", "revolute", "f0_1", "f0_2"),
+        joint("f0_2_accel_joint", "fixed", "f0_2", "f0_2_accel"),
+        joint("f1_base_joint", "fixed", "right_palm", "f1_base"),
+        joint("f1_fixed_accel_joint", "fixed", "f1_base", "f1_fixed_accel"),
+        joint("f1_j0", "revolute", "f1_base", "f1_0"),
+    ]
+    urdf = tmp_path / "atlas.urdf"
+    urdf.write_text(
+        '<robot name="atlas">'
+        + "".join(f'<link name="{n}"/>' for n in links)
+        + "".join(joints)
+        + "</robot>"
+    )
+    srdf = tmp_path / "atlas.srdf"
+    srdf.write_text(
+        '<robot name="atlas">'
+        '<group name="arm"><joint name="r_arm_shy"/><joint name="r_arm_wrx"/></group>'
+        '<group name="right_hand"><joint name="f0_j0"/><joint name="f0_j1"/>'
+        '<joint name="f0_j2"/><joint name="f1_j0"/></group></robot>'
+    )
+    return urdf, srdf
+
+
+def test_a_group_named_like_a_hand_is_not_planned_over_a_smaller_arm(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Atlas' SRDF: 'right_hand' (12 finger joints, no end effector naming it) was chosen over
+    the 6-joint arms, and its tool frame was a finger's accelerometer frame. A group named
+    like a hand, head or wheels now comes after the others (said in the message), and the arm's
+    tool frame is the palm, not an accelerometer frame on a finger base."""
+    urdf, srdf = _arm_with_sandia_hand(tmp_path)
+    out = tmp_path / "atlas.xrdf"
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    x = parse_xrdf(out.read_text())
+    assert x.cspace.joint_names == ("r_arm_shy", "r_arm_wrx")
+    assert x.tool_frames == ("right_palm",)
+    assert (
+        "planning group 'arm' chosen: the group without subgroups with the most actuated "
+        "joints (2) (passed over, named like a hand, head or wheels: right_hand)"
+    ) in r.stderr
+    r = runner.invoke(
+        app, ["convert", str(urdf), "--srdf", str(srdf), "--group", "right_hand", "-q"]
+    )
+    assert r.exit_code == 0 and "f0_j2" in r.stdout  # asked for by name, the hand is planned
+    # a group naming a hand with an arm is no hand: the biggest group wins again
+    joints = "".join(f'<joint name="{j}"/>' for j in ("r_arm_shy", "r_arm_wrx", "f0_j0", "f0_j1"))
+    whole = f'<group name="manipulator_with_hand">{joints}</group></robot>'
+    srdf.write_text(srdf.read_text().replace("</robot>", whole))
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "planning group 'manipulator_with_hand' chosen" in r.stderr
+
+
+def test_a_state_named_home_in_capitals_is_the_default_state(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Interbotix's gripper group lists Closed, Open, Home (Kinova writes Home, Retract): the
+    preferred names matched only in lower case, so the gripper defaulted to 'Closed'."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_TWO_LINKS)
+    srdf = tmp_path / "arm.srdf"
+    srdf.write_text(
+        '<robot name="arm"><group name="arm"><joint name="j1"/></group>'
+        + "".join(
+            f'<group_state name="{n}" group="arm"><joint name="j1" value="{v}"/></group_state>'
+            for n, v in (("Closed", -1.5), ("Open", 1.5), ("Home", 0.25))
+        )
+        + "</robot>"
+    )
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 0, r.output
+    assert parse_xrdf(r.stdout).default_joint_positions["j1"] == 0.25
+    assert "group_state 'Home' (the state named 'Home' of group 'arm')" in r.stderr
+
+
+def test_the_only_group_of_an_srdf_is_a_note_not_a_guess(runner: CliRunner, tmp_path: Path) -> None:
+    """UR's, Fanuc's and ABB's MoveIt configs have one planning group: taking it was a warning
+    (a guess, counted by --strict) though there was nothing to choose; with a second group it
+    is one."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_TWO_LINKS)
+    srdf = tmp_path / "arm.srdf"
+    one = '<robot name="arm"><group name="manipulator"><joint name="j1"/></group></robot>'
+    srdf.write_text(one)
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 0, r.output
+    assert f"{srdf}:1: info convert-chosen-group planning group 'manipulator' chosen" in r.stderr
+    srdf.write_text(
+        one.replace("</robot>", '<group name="other"><joint name="j1"/></group></robot>')
+    )
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 0, r.output
+    assert f"{srdf}:1: warning convert-chosen-group planning group 'manipulator'" in r.stderr

@@ -84,3 +84,90 @@ def test_the_prefix_takes_the_xacro_argument(runner: CliRunner, tmp_path: Path) 
     assert cspace.joint_names == ("left_j1", "left_j2")
     assert cspace.acceleration_limits == (0.5, 0.75)
     assert "convert-launch-substitution" not in err and "convert-unknown-joint" not in err
+
+
+_SRDF = """<robot name="arm">
+  <group name="arm"><joint name="j1"/><joint name="j2"/></group>
+</robot>
+"""
+
+#: A MoveIt 1 joint_limits.yaml that halves j1's velocity and narrows j2's range (Baxter's
+#: halves every arm joint's), rounds j2's velocity (Fetch's 1.57 for 1.571), and limits a
+#: finger outside the c-space alike.
+_TIGHTER = """joint_limits:
+  j1:
+    has_velocity_limits: true
+    max_velocity: 0.5
+    has_acceleration_limits: true
+    max_acceleration: 2
+  j2:
+    has_velocity_limits: true
+    max_velocity: 0.995
+    has_position_limits: true
+    min_position: -1.0
+    max_position: 2
+  finger:
+    has_velocity_limits: true
+    max_velocity: 0.01
+"""
+
+
+def test_velocity_and_position_limits_tighter_than_the_urdf_are_reported_as_lost(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """An XRDF carries only acceleration and jerk: a tighter MoveIt velocity or range of a
+    c-space joint is one located warning naming each value (a looser or rounded one, or one of
+    a joint outside the c-space, is not)."""
+    arm = tmp_path / "arm.urdf"
+    arm.write_text(
+        _ARM.replace("${p}", "").replace(
+            "</robot>",
+            '<link name="f"/><joint name="finger" type="prismatic"><parent link="l2"/>'
+            '<child link="f"/><limit lower="0" upper="0.04" effort="1" velocity="0.1"/>'
+            "</joint></robot>",
+        )
+    )
+    srdf = tmp_path / "arm.srdf"
+    srdf.write_text(_SRDF)
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(_TIGHTER)
+    out = tmp_path / "arm.xrdf"
+    args = ["convert", str(arm), "--srdf", str(srdf), "--joint-limits", str(limits)]
+    r = runner.invoke(app, [*args, "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert load_xrdf(out).cspace.acceleration_limits == (2.0, 10.0)
+    lost = [line for line in r.stderr.splitlines() if "convert-limit-not-carried" in line]
+    assert lost == [
+        f"{limits}:2:3: warning convert-limit-not-carried MoveIt limits tighter than the URDF's "
+        "are lost for 2 c-space joint(s): j1: max_velocity 0.5 (URDF 1); j2: min_position -1 "
+        "(URDF -2). An XRDF holds no velocity or position limits and its readers take the "
+        "URDF's, so the planner may move these joints faster or farther than MoveIt does; to "
+        "keep them, set them in the URDF's <limit>"
+    ]
+    limits.write_text(_TIGHTER.replace("has_position_limits: true", "has_position_limits: false"))
+    r = runner.invoke(app, [*args, "-o", str(out), "--group", "arm"])
+    lost = [line for line in r.stderr.splitlines() if "convert-limit-not-carried" in line]
+    assert len(lost) == 1 and "1 c-space joint(s): j1: max_velocity 0.5 (URDF 1)." in lost[0]
+
+
+def test_joints_the_urdf_lacks_are_one_warning(runner: CliRunner, tmp_path: Path) -> None:
+    """REEM-C's joint_limits.yaml limits 14 finger joints its URDF lacks: a warning each made
+    fourteen lines; now one at the first entry names them all (one alone gets a did-you-mean)."""
+    arm = tmp_path / "arm.urdf"
+    arm.write_text(_ARM.replace("${p}", ""))
+    limits = tmp_path / "joint_limits.yaml"
+    fingers = "".join(f"  finger_{i}:\n    max_acceleration: 1.0\n" for i in range(3))
+    limits.write_text(f"joint_limits:\n  j1:\n    max_acceleration: 2.0\n{fingers}")
+    r = runner.invoke(app, ["convert", str(arm), "--joint-limits", str(limits)])
+    assert r.exit_code == 0, r.output
+    unknown = [ln for ln in r.stderr.splitlines() if "convert-unknown-joint" in ln]
+    assert unknown == [
+        f"{limits}:4:3: warning convert-unknown-joint joint_limits names 3 joints the URDF does "
+        "not have (finger_0, finger_1, finger_2); ignored"
+    ]
+    limits.write_text("joint_limits:\n  j11:\n    max_acceleration: 2.0\n")
+    r = runner.invoke(app, ["convert", str(arm), "--joint-limits", str(limits)])
+    assert (
+        f"{limits}:2:3: warning convert-unknown-joint joint_limits names 'j11', which is not a "
+        "joint of the URDF; did you mean 'j1'?; ignored"
+    ) in r.stderr

@@ -97,3 +97,21 @@ def test_report_sarif_and_github_list_the_findings(runner: CliRunner, tmp_path: 
     lines = g.output.splitlines()
     assert len(lines) == len(run["results"])
     assert any(x.startswith(f"::warning file={xrdf},line=") for x in lines)
+
+
+def test_rule_descriptions_show_no_rst_markup() -> None:
+    """Code scanning shows a rule's shortDescription text verbatim: the summaries' RST
+    literals (``format: xrdf``) were shown with their double backquotes; the text quotes them
+    and a markdown form makes them code."""
+    from xrdf_tools.diagnostics import RuleInfo
+
+    info = RuleInfo("format-key", Severity.ERROR, "lacks ``format: xrdf`` or ``a``.", "lint")
+    plain = RuleInfo("sphere-radius", Severity.ERROR, "A sphere radius is not positive.", "lint")
+    d = Diagnostic("a.xrdf", 1, 1, "format-key", Severity.ERROR, "m")
+    log = check_sarif(render_sarif([d], [info, plain]))
+    rules = log["runs"][0]["tool"]["driver"]["rules"]
+    assert rules[0]["shortDescription"] == {
+        "text": "lacks 'format: xrdf' or 'a'.",
+        "markdown": "lacks `format: xrdf` or `a`.",
+    }
+    assert rules[1]["shortDescription"] == {"text": "A sphere radius is not positive."}

@@ -148,6 +148,10 @@ def test_convert_cli_stdout_output_check_strict(runner: CliRunner, tmp_path: Pat
     out.write_text(out.read_text().replace("jerk_limits: [500.0", "jerk_limits: [501.0"))
     r = runner.invoke(app, [*base, "-o", str(out), "--check"])
     assert r.exit_code == 1 and "jerk" in r.stdout and "out of date" in r.stderr
+    # the two sides: the committed file and what the sources give now (was '<document>')
+    assert r.stdout.startswith(
+        f"--- {out} (XRDF 1.0)\n+++ (converted from the sources now) (XRDF 1.0)\n"
+    )
     missing = runner.invoke(app, [*base, "-o", str(tmp_path / "nope.xrdf"), "--check"])
     assert missing.exit_code == 1 and "does not exist" in missing.stderr
     # --strict: the dropped keys are a failure, nothing is written

@@ -162,3 +162,90 @@ def test_asset_root_path_is_where_curobo_finds_the_meshes(
         assert len(said) == 1 and "1 mesh file name(s)" in said[0] and "parts/b.stl" in said[0]
     else:
         assert said == []
+
+
+def test_a_package_in_a_folder_of_another_name_says_how_curobo_finds_its_meshes(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A clone named after its repository (``Universal_Robots_ROS2_Description`` holds
+    ``ur_description``) serves no mesh to cuRobo, which joins ``my_robot/meshes/…`` to
+    asset_root_path: the warning names the package, its folder and the link that fixes it,
+    and following it leaves nothing to say."""
+    urdf = _workspace_robot(tmp_path, relative_mesh=False)
+    clone = urdf.parent.parent.rename(tmp_path / "ws" / "src" / "My_Robot_Repo")
+    urdf = clone / "urdf" / "r.urdf"
+    xrdf = tmp_path / "r.xrdf"
+    xrdf.write_text(convert_robot(urdf, ConvertOptions(), lint=False).text)
+    out = tmp_path / "cfg" / "r.yml"
+    export = ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)]
+    r = runner.invoke(app, [*export, "--package-path", f"my_robot={clone}"])
+    assert r.exit_code == 0, r.output
+    said = [ln for ln in r.output.splitlines() if "export-mesh-paths" in ln]
+    assert len(said) == 1 and "2 mesh file name(s)" in said[0]
+    assert (
+        f"Package 'my_robot' is the folder {clone}, which is not named after it, so no "
+        f"directory serves its meshes: make a link named 'my_robot' to it (ln -s {clone} "
+        "DIR/my_robot) and export again with --package-path my_robot=DIR/my_robot"
+    ) in said[0]
+    links = tmp_path / "links"
+    links.mkdir()
+    (links / "my_robot").symlink_to(clone)
+    r = runner.invoke(app, [*export, "--package-path", f"my_robot={links / 'my_robot'}"])
+    assert r.exit_code == 0 and "export-mesh-paths" not in r.output, r.output
+    root = out.parent / str(_kinematics(out)["asset_root_path"])
+    assert (root / "my_robot/meshes/a.stl").is_file()
+
+
+def test_packages_in_two_workspaces_say_how_to_put_them_side_by_side(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A Kinova arm from one checkout with a Robotiq gripper from another: cuRobo reads every
+    mesh from one asset_root_path, so the meshes of one package are not found; the warning
+    names both packages' folders and the links that put them side by side, and following it
+    leaves nothing to say."""
+    import trimesh
+
+    urdf = _workspace_robot(tmp_path, relative_mesh=False)
+    gripper = tmp_path / "other" / "src" / "my_gripper"
+    (gripper / "meshes").mkdir(parents=True)
+    (gripper / "package.xml").write_text("<package><name>my_gripper</name></package>")
+    for name in ("jaw.stl", "palm.stl", "pad.stl"):
+        trimesh.creation.box(extents=(0.05, 0.05, 0.05)).export(gripper / "meshes" / name)
+    parts = "".join(
+        f'<collision><geometry><mesh filename="package://my_gripper/meshes/{n}"/></geometry>'
+        "</collision>"
+        for n in ("jaw.stl", "palm.stl", "pad.stl")
+    )
+    urdf.write_text(
+        urdf.read_text().replace(
+            "</robot>",
+            f'<link name="hand">{parts}</link><joint name="g" type="fixed"><parent link="arm"/>'
+            '<child link="hand"/></joint></robot>',
+        )
+    )
+    xrdf = tmp_path / "r.xrdf"
+    xrdf.write_text(convert_robot(urdf, ConvertOptions(), lint=False).text)
+    out = tmp_path / "cfg" / "r.yml"
+    export = ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)]
+    robot_pkg = urdf.parent.parent
+    r = runner.invoke(app, [*export, "--package-path", f"my_gripper={gripper}"])
+    assert r.exit_code == 0, r.output
+    said = [ln for ln in r.output.splitlines() if "export-mesh-paths" in ln]
+    assert len(said) == 1 and "2 mesh file name(s)" in said[0]  # my_robot's: my_gripper wins
+    assert (
+        f"The packages are in different folders (my_gripper in {gripper.parent}, my_robot in "
+        f"{robot_pkg.parent}): link them side by side (mkdir DIR; ln -s {gripper} {robot_pkg} "
+        "DIR/) and export again with --package-path my_gripper=DIR/my_gripper --package-path "
+        "my_robot=DIR/my_robot"
+    ) in said[0]
+    side = tmp_path / "assets"
+    side.mkdir()
+    for folder in (gripper, robot_pkg):
+        (side / folder.name).symlink_to(folder)
+    links = [f"--package-path=my_gripper={side / 'my_gripper'}"]
+    links.append(f"--package-path=my_robot={side / 'my_robot'}")
+    r = runner.invoke(app, [*export, *links])
+    assert r.exit_code == 0 and "export-mesh-paths" not in r.output, r.output
+    root = out.parent / str(_kinematics(out)["asset_root_path"])
+    assert (root / "my_gripper/meshes/jaw.stl").is_file()
+    assert (root / "my_robot/meshes/a.stl").is_file()

@@ -253,3 +253,69 @@ def test_the_cli_repeats_the_diff_tolerance_it_does_not_import() -> None:
     from xrdf_tools.diff import DEFAULT_TOLERANCE
 
     assert cli_default == DEFAULT_TOLERANCE
+
+
+_IGNORES = """format: xrdf
+format_version: 1.0
+cspace:
+  joint_names: [j1]
+  acceleration_limits: [10.0]
+  jerk_limits: [1000.0]
+collision:
+  geometry: g
+self_collision:
+  geometry: g
+  ignore:
+    base: [upper, forarm, wrist]
+    upper: [forarm, wrist]
+    forarm: [wrist]
+geometry:
+  g:
+    spheres:
+{spheres}
+"""
+
+
+def test_undefined_frames_are_one_finding_each_and_one_for_a_group_without_spheres(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """An XRDF converted from an SRDF without --fit-spheres has ignore pairs and no spheres:
+    `xrdf lint` without --urdf said undefined-frame for every name of every entry (Baxter: 250
+    lines). A frame is now said once, with its count, and an empty group once."""
+    f = tmp_path / "arm.xrdf"
+    sphere = "        - center: [0.0, 0.0, 0.0]\n          radius: 0.05\n"
+    f.write_text(
+        _IGNORES.format(
+            spheres="".join(f"      {n}:\n{sphere}" for n in ("base", "upper", "forearm"))
+        )
+    )
+    r = runner.invoke(app, ["lint", str(f), "--format", "json"])
+    found = [d for d in json.loads(r.stdout)["diagnostics"] if d["rule"] == "undefined-frame"]
+    assert [(d["line"], d["message"]) for d in found] == [
+        (
+            12,
+            "self_collision.ignore names frame 'forarm' (and in 2 more entries), which has no "
+            "spheres in group 'g' and is not added by add_frame; did you mean 'forearm'?; lint "
+            "with --urdf to check it exists",
+        ),
+        (
+            12,
+            "self_collision.ignore names frame 'wrist' (and in 2 more entries), which has no "
+            "spheres in group 'g' and is not added by add_frame; lint with --urdf to check it "
+            "exists",
+        ),
+    ]
+    f.write_text(
+        _IGNORES.format(spheres="      {}").replace("    spheres:\n      {}", "    spheres: {}")
+    )
+    r = runner.invoke(app, ["lint", str(f), "--format", "json"])
+    found = [d for d in json.loads(r.stdout)["diagnostics"] if d["rule"] == "undefined-frame"]
+    assert [(d["line"], d["col"], d["message"]) for d in found] == [
+        (
+            12,
+            5,
+            "group 'g' holds no spheres, so the 4 frame(s) its buffer and ignore entries name "
+            "(base, upper, forarm, wrist) cannot be checked without the URDF; lint with --urdf "
+            "to check they exist",
+        )
+    ]

@@ -12,6 +12,7 @@ from typer.testing import CliRunner
 from tests.diagnostics.test_sarif_schema import check_sarif
 from tests.paths import FIXTURES, REPO, UR10E_URDF
 from xrdf_tools.cli import app
+from xrdf_tools.diagnostics import sarif_description
 from xrdf_tools.rules.registry import all_rules
 
 PACKAGE = REPO / "xrdf_tools"
@@ -94,7 +95,8 @@ def test_convert_sarif_describes_its_rules_from_the_registry(
     level = {"error": "error", "warning": "warning", "info": "note"}
     for rid, rule in rules.items():
         info = registry[rid]
-        assert rule["shortDescription"]["text"] == info.summary
+        assert rule["shortDescription"] == sarif_description(info.summary)
+        assert "``" not in rule["shortDescription"]["text"]  # no RST shown verbatim
         assert rule["defaultConfiguration"]["level"] == level[info.severity.value]
     assert "convert-unknown-link" in rules and "convert-default-jerk" in rules
 

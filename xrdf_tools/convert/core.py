@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Collection, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -177,6 +177,7 @@ def complete(
             "the c-space is empty (no actuated joints in the chosen group)",
         )
 
+    diags.extend(_uncarried_limits(draft, cspace))
     accel = _limits("acceleration", cspace, draft.acceleration, options.acceleration, tree, rep)
     jerk = _limits("jerk", cspace, draft.jerk, options.jerk, tree, rep)
     defaults = _default_positions(draft, tree, cspace, rep)
@@ -228,6 +229,25 @@ def _limits(
             severity=sev,
         )
     return [given.get(j, value) for j in cspace]
+
+
+def _uncarried_limits(draft: Draft, cspace: list[str]) -> list[Diagnostic]:
+    """One warning, at the first such joint of the joint limits file, naming the c-space joints
+    whose MoveIt velocity or position limits are tighter than the URDF's: the XRDF cannot
+    carry them and its readers take the URDF's."""
+    found = [(j, draft.uncarried_limits[j]) for j in cspace if j in draft.uncarried_limits]
+    if not found:
+        return []
+    first = min((d for _, d in found), key=lambda d: (d.line or 0, d.col or 0))
+    listed = "; ".join(f"{j}: {d.message}" for j, d in found[:8])
+    more = f"; and {len(found) - 8} more" if len(found) > 8 else ""
+    message = (
+        f"MoveIt limits tighter than the URDF's are lost for {len(found)} c-space joint(s): "
+        f"{listed}{more}. An XRDF holds no velocity or position limits and its readers take the "
+        "URDF's, so the planner may move these joints faster or farther than MoveIt does; to "
+        "keep them, set them in the URDF's <limit>"
+    )
+    return [replace(first, message=message)]
 
 
 def _limit_unit(kind: str, types: list[str]) -> str:

@@ -7,6 +7,7 @@ return strings; only the CLI prints them.
 from __future__ import annotations
 
 import functools
+import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
@@ -159,6 +160,20 @@ def artifact_uri(path: str) -> str | None:
     return quote(p.as_posix(), safe="/")
 
 
+#: A reStructuredText literal in a rule summary: ````format: xrdf````.
+_RST_LITERAL = re.compile(r"``(.+?)``")
+
+
+def sarif_description(summary: str) -> dict[str, str]:
+    """A rule summary as a SARIF multiformat message: plain ``text`` (an RST literal
+    ````x```` in quotes, as code scanning shows text verbatim) and, when it has literals,
+    ``markdown`` with them as code."""
+    text = _RST_LITERAL.sub(r"'\1'", summary)
+    if text == summary:
+        return {"text": summary}
+    return {"text": text, "markdown": _RST_LITERAL.sub(r"`\1`", summary)}
+
+
 def render_sarif(
     diagnostics: Sequence[Diagnostic],
     rules: Sequence[RuleInfo] = (),
@@ -183,7 +198,7 @@ def render_sarif(
         "rules": [
             {
                 "id": rid,
-                "shortDescription": {"text": descr.get(rid, (rid, Severity.WARNING))[0]},
+                "shortDescription": sarif_description(descr.get(rid, (rid, Severity.WARNING))[0]),
                 "defaultConfiguration": {
                     "level": level[descr.get(rid, (rid, Severity.WARNING))[1]]
                 },

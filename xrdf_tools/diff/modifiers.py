@@ -90,6 +90,10 @@ def _base_frame(a: Xrdf, b: Xrdf, root_frame: str | None) -> list[Change]:
         )
         return change("base-frame-changed", message, Level.MINOR, base_a, base_b)
     message = f"set_base_frame {ea or '(none, URDF root)'} -> {eb or '(none, URDF root)'}"
+    if root_frame is None and (ea is None or eb is None):
+        # cuRobo configs name their base even when it is the root: a round trip through one
+        # gains a set_base_frame that only the URDF can show to be no change.
+        message += f" (with --urdf: none if '{ea or eb}' is the URDF's root link)"
     return change("base-frame-changed", message, Level.MAJOR, ea, eb)
 
 

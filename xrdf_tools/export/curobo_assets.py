@@ -34,6 +34,13 @@ class MeshRoot:
 
     directory: Path | None
     unserved: tuple[str, ...] = ()
+    #: ``(package, folder)`` of each package found in a folder of another name (a clone of
+    #: ``Universal_Robots_ROS2_Description`` holds ``ur_description``): cuRobo finds none of its
+    #: meshes, whatever ``asset_root_path`` is.
+    misnamed: tuple[tuple[str, str], ...] = ()
+    #: ``(package, folder)`` of every package with meshes when they are in different
+    #: directories (two workspaces): no one ``asset_root_path`` serves them all.
+    scattered: tuple[tuple[str, str], ...] = ()
 
 
 def mesh_root(robot: Robot) -> MeshRoot:
@@ -46,41 +53,80 @@ def mesh_root(robot: Robot) -> MeshRoot:
     resolver = PackageResolver(Path(robot.path), dict(robot.package_paths))
     own = Path(robot.path).resolve().parent
     serves: dict[Path | None, list[str]] = {}
+    misnamed: dict[str, str] = {}
     for uri in dict.fromkeys(_mesh_names(robot)):
         if Path(uri).is_absolute():  # cuRobo keeps an absolute name: any directory serves it
             continue
         try:
-            root = _root_for(uri, resolver, own)
+            root = _root_for(uri, resolver, own, misnamed)
         except SourceError:
             continue
         serves.setdefault(root, []).append(uri)
     roots = [r for r in serves if r is not None]
     if not roots:
-        return MeshRoot(None, tuple(serves.get(None, ())))
+        return MeshRoot(None, tuple(serves.get(None, ())), tuple(misnamed.items()))
     best = min(roots, key=lambda r: (-len(serves[r]), r != own, str(r)))
     unserved = [u for r, uris in serves.items() if r != best for u in uris]
-    return MeshRoot(best, tuple(unserved))
+    packages = {
+        name: str(root / name)
+        for root, uris in serves.items()
+        if root is not None
+        for u in uris
+        if (name := _package_of(u))
+    }
+    homes = {str(Path(folder).parent) for folder in packages.values()}
+    scattered = tuple(sorted(packages.items())) if len(homes) > 1 else ()
+    return MeshRoot(best, tuple(unserved), tuple(misnamed.items()), scattered)
+
+
+def _package_of(uri: str) -> str:
+    """The package a ``package://`` mesh name is in, '' for another name."""
+    if not uri.startswith("package://"):
+        return ""
+    return uri[len("package://") :].partition("/")[0]
 
 
 def unserved_note(root: MeshRoot) -> str:
     """One line on the meshes cuRobo will not find from ``root.directory``."""
-    return (
+    note = (
         f"{len(root.unserved)} mesh file name(s) cannot be found from asset_root_path "
         f"({name_list(root.unserved, 3)}): cuRobo joins each to that one directory "
         "(package:// stripped); its kinematics and spheres do not need them, loading the "
         "robot's meshes does"
     )
+    if root.scattered:
+        note += (
+            ". The packages are in different folders ("
+            + ", ".join(f"{p} in {Path(f).parent}" for p, f in root.scattered)
+            + "): link them side by side (mkdir DIR; ln -s "
+            + " ".join(f for _, f in root.scattered)
+            + " DIR/) and export again with "
+            + " ".join(f"--package-path {p}=DIR/{p}" for p, _ in root.scattered)
+        )
+    for package, folder in root.misnamed:
+        note += (
+            f". Package '{package}' is the folder {folder}, which is not named after it, so no "
+            f"directory serves its meshes: make a link named '{package}' to it (ln -s "
+            f"{folder} DIR/{package}) and export again with --package-path {package}=DIR/"
+            f"{package}"
+        )
+    return note
 
 
-def _root_for(uri: str, resolver: PackageResolver, own: Path) -> Path | None:
+def _root_for(
+    uri: str, resolver: PackageResolver, own: Path, misnamed: dict[str, str]
+) -> Path | None:
     """The directory cuRobo must join ``uri`` to, or None when no directory can serve it (a
-    ``file://`` name, a package in a folder not named after it)."""
+    ``file://`` name, a package in a folder not named after it: recorded in ``misnamed``)."""
     if uri.startswith("package://"):
         name, _, _sub = uri[len("package://") :].partition("/")
         if not name:
             return None
         folder = resolver.find(name)
-        return folder.parent if folder.name == name else None
+        if folder.name != name:
+            misnamed.setdefault(name, str(folder))
+            return None
+        return folder.parent
     return None if uri.startswith("file://") else own
 
 

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..convert.sources.srdf_parse import refuse_urdf
 from ..diagnostics import Diagnostic, Severity
 from ..robot.tree import RobotTree
 from ..util.errors import ConversionError, SourceError
@@ -175,6 +176,7 @@ def sync_srdf(
     pairs = _wanted_pairs(x, urdf, diags, srdf_path)
     new = existing is None
     doc = XmlDocument.parse(_NEW if existing is None else existing, srdf_path)
+    refuse_urdf(doc.root, srdf_path)
     name = _sync_name(doc.root, urdf, robot_name, diags, srdf_path, new=new)
     universe = _universe(x, urdf, doc.root)
     links = set(urdf.links) if urdf is not None else None

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..diagnostics import Diagnostic, Severity, sort_key
-from ..util.errors import UrdfReadError, XrdfToolsError, YamlError, did_you_mean
+from ..util.errors import SourceError, UrdfReadError, XrdfToolsError, YamlError, did_you_mean
 from ..util.fileio import STDIN
 from ..yaml.io import read_text
 from .config import LintConfig
@@ -246,14 +246,15 @@ def _model_loader(model: Any) -> UrdfLoader:
 
 
 def _urdf_loader(urdf: str | os.PathLike[str], cache: dict[str, Robot]) -> UrdfLoader:
-    """A loader of the URDF file ``urdf``, read once for all the files that use it."""
+    """A loader of the URDF (or xacro, expanded) file ``urdf``, read once for all the files
+    that use it."""
     upath = os.fspath(urdf)
 
     def load() -> Robot:
         if upath not in cache:
-            from ..robot.urdf_source import read_robot
+            from ..robot.xacro_source import load_robot
 
-            cache[upath] = read_robot(upath)
+            cache[upath] = load_robot(upath)
         return cache[upath]
 
     return load
@@ -270,6 +271,16 @@ def _named_by(loader: UrdfLoader, where: tuple[str | None, int | None, int | Non
         except UrdfReadError as e:
             raise UrdfReadError(
                 f"the URDF this entry names cannot be read: {e}", path=path, line=line, col=col
+            ) from None
+        except SourceError as e:  # a xacro that does not expand without arguments
+            raise UrdfReadError(
+                f"the xacro this entry names cannot be expanded: {e}; "
+                "the urdf map passes no xacro arguments: map the expanded URDF (xrdf expand "
+                "XACRO --xacro-arg NAME:=VALUE -o ROBOT.urdf) or lint with --urdf XACRO "
+                "--xacro-arg NAME:=VALUE",
+                path=path,
+                line=line,
+                col=col,
             ) from None
 
     return load

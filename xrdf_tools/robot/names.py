@@ -71,7 +71,7 @@ TOOL_RANKS: tuple[tuple[str, frozenset[str]], ...] = (
 #: Words of a frame a tool is mounted at (a grasp frame may sit between fingers).
 TOOL_WORDS = frozenset().union(*(names for rank, names in TOOL_RANKS if rank != "a grasp"))
 SENSOR = HEAD | {
-    *("optical", "depth", "rgb", "imu", "sensor", "accelerometer", "gyrometer", "gyro"),
+    *("optical", "depth", "rgb", "imu", "sensor", "accelerometer", "accel", "gyrometer", "gyro"),
     *("range", "sonar", "infrared", "touch", "tactile", "skin", "bumper", "button", "fsr"),
 }
 

@@ -37,6 +37,9 @@ class Draft:
     geometry_name: str | None = None
     group: str | None = None
     passive_joints: set[str] = field(default_factory=set)
+    #: Joint → a finding (``convert-limit-not-carried``) for MoveIt velocity or position limits
+    #: tighter than the URDF's, which no XRDF reader sees; reported for c-space joints only.
+    uncarried_limits: dict[str, Diagnostic] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
     def add_ignore(self, a: str, b: str) -> None:

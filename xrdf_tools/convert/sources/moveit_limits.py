@@ -9,6 +9,10 @@ The ``joint_limits`` mapping is the file's top level, or, in a ROS 2 parameter f
 ``ros__parameters`` (its ``robot_description_planning``, else itself). A launch substitution
 ``$(var NAME)`` in a joint name (a ``tf_prefix``) takes ``--xacro-arg NAME``'s value, else the
 empty string; both are reported.
+
+An XRDF holds no velocity or position limits (its readers take them from the URDF), so a
+``max_velocity`` or ``min_position``/``max_position`` tighter than the URDF's is recorded in
+``Draft.uncarried_limits``; :mod:`~xrdf_tools.convert.core` reports those of c-space joints.
 """
 
 from __future__ import annotations
@@ -17,9 +21,11 @@ import os
 import re
 from collections.abc import Mapping
 
-from ...diagnostics import Severity
-from ...util.errors import SourceError
+from ...diagnostics import Diagnostic, Severity
+from ...robot.urdf_joints import JointInfo
+from ...util.errors import SourceError, did_you_mean
 from ...util.numbers import bound_problem
+from ...util.text import name_list
 from ...yaml.io import YamlDocument, YMap, YScalar, load_yaml, positions_of, to_python
 from . import Draft, Reporter, RobotTree
 
@@ -27,6 +33,11 @@ __all__ = ["read_joint_limits"]
 
 #: A ROS 2 launch substitution in a parameter file: ``$(var tf_prefix)``.
 _LAUNCH_VAR = re.compile(r"\$\(var\s+([^)\s]+)\s*\)")
+
+#: How much tighter than the URDF's a MoveIt limit must be to be reported: a velocity by this
+#: share (Fetch's config rounds 1.571 to 1.57), a position by this many rad or m.
+_VELOCITY_SLACK = 0.01
+_POSITION_SLACK = 1e-3
 
 
 def read_joint_limits(
@@ -45,19 +56,21 @@ def read_joint_limits(
     limits = root.get("joint_limits")
     assert isinstance(limits, YMap)
     unset: dict[str, str] = {}
+    unknown: dict[str, str] = {}  # joint name -> key path of its entry
     for jname, node in limits.items():
         kp = f"{prefix}joint_limits.{jname}"
         if not isinstance(node, YMap):
             continue
         jname = _substituted(str(jname), substitutions or {}, unset, kp)
         if jname not in tree.joints:
-            rep.report(
-                "convert-unknown-joint",
-                f"joint_limits names '{jname}', which is not a joint of the URDF; ignored",
-                kp,
-            )
+            unknown.setdefault(jname, kp)
             continue
         values = to_python(node)
+        if tighter := _tighter_than_urdf(values, tree.joints[jname]):
+            line, col = rep.position(kp)
+            d.uncarried_limits[jname] = Diagnostic(
+                rep.path, line, col, "convert-limit-not-carried", Severity.WARNING, tighter, kp
+            )
         for kind, target in (("acceleration", d.acceleration), ("jerk", d.jerk)):
             raw = values.get(f"max_{kind}")
             has = values.get(f"has_{kind}_limits")
@@ -95,6 +108,7 @@ def read_joint_limits(
             "default_acceleration_scaling_factor",
         ) and not isinstance(node, YScalar):
             rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent", f"{prefix}{key}")
+    _report_unknown(rep, unknown, tree)
     for name, kp in unset.items():
         rep.report(
             "convert-launch-substitution",
@@ -104,6 +118,57 @@ def read_joint_limits(
         )
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _report_unknown(rep: Reporter, unknown: Mapping[str, str], tree: RobotTree) -> None:
+    """One warning for the entries naming joints the URDF lacks, at the first (REEM-C's config
+    limits 14 finger joints its URDF does not have: one line, not fourteen)."""
+    if not unknown:
+        return
+    names = list(unknown)
+    if len(names) == 1:
+        what = (
+            f"'{names[0]}', which is not a joint of the URDF{did_you_mean(names[0], tree.joints)}"
+        )
+    else:
+        what = f"{len(names)} joints the URDF does not have ({name_list(names, 8)})"
+    rep.report("convert-unknown-joint", f"joint_limits names {what}; ignored", unknown[names[0]])
+
+
+def _number(values: Mapping[str, object], key: str) -> float | None:
+    """``values[key]`` when it is a usable number (not a bool), else None."""
+    raw = values.get(key)
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or bound_problem(raw):
+        return None
+    return float(raw)
+
+
+def _tighter_than_urdf(values: Mapping[str, object], joint: JointInfo) -> str:
+    """What of a joint's MoveIt velocity and position limits is tighter than its URDF's
+    (``"max_velocity 0.75 (URDF 1.5)"``), '' when nothing is. A value rounded from the URDF's
+    (a velocity less than 1 % below it, a position within 1e-3) is no tighter.
+
+    MoveIt applies ``max_velocity`` when ``has_velocity_limits`` is true (or absent and the
+    value > 0), ``min_position``/``max_position`` when ``has_position_limits`` is true. A URDF
+    velocity of 0 or less is lint's ``curobo-zero-velocity``, not compared here."""
+    found = []
+    velocity = _number(values, "max_velocity")
+    has = values.get("has_velocity_limits")
+    if velocity is not None and (has is True or (has is None and velocity > 0)):
+        urdf = joint.velocity
+        if urdf is None or (urdf > 0 and abs(velocity) < urdf * (1 - _VELOCITY_SLACK)):
+            found.append(f"max_velocity {abs(velocity):g} (URDF {_shown(urdf)})")
+    if values.get("has_position_limits") is True:
+        low, high = _number(values, "min_position"), _number(values, "max_position")
+        if low is not None and (joint.lower is None or low > joint.lower + _POSITION_SLACK):
+            found.append(f"min_position {low:g} (URDF {_shown(joint.lower)})")
+        if high is not None and (joint.upper is None or high < joint.upper - _POSITION_SLACK):
+            found.append(f"max_position {high:g} (URDF {_shown(joint.upper)})")
+    return ", ".join(found)
+
+
+def _shown(value: float | None) -> str:
+    return "none" if value is None else f"{value:g}"
 
 
 def _limits_holder(doc: YamlDocument, rep: Reporter) -> tuple[YMap, str]:

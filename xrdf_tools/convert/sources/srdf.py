@@ -236,6 +236,8 @@ def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
         + (f"; others (actuated joints): {name_list(others)}" if others else "")
         + "; use --group (repeatable for several groups)",
         line=srdf.groups[group].line,
+        # the only group of the SRDF (UR's ur_manipulator) is no guess: a note, not a warning
+        severity=Severity.WARNING if others else Severity.INFO,
     )
     return [group]
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from ...robot.chains import is_leg
+from ...robot.names import ARM, name_role, name_words
 from ...util.errors import SourceError, did_you_mean
 from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
 from ...util.text import name_list
@@ -294,7 +295,8 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     groups when none of those has a movable joint); the one with the most actuated joints
     wins, ties going to the group carrying the earliest end effector, then SRDF order. Legs
     (:func:`~xrdf_tools.robot.chains.is_leg`) come after every other group: a legged
-    manipulator's arm is what a planner plans, however many joints its legs have.
+    manipulator's arm is what a planner plans, however many joints its legs have; groups named
+    like a hand, head or wheels (:func:`_named_like_a_part`) come after those.
     """
     order = list(srdf.groups)
     sizes = _cspace_sizes(srdf, tree)
@@ -312,15 +314,32 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
         return len(srdf.end_effectors), ""
 
     legs = {g: is_leg(tree, cspace_of(srdf, g, tree)) for g in cands}
-    best = min(cands, key=lambda g: (legs[g], -sizes[g], ee_rank(g)[0], order.index(g)))
+    parts = {g: _named_like_a_part(g) for g in cands}
+    best = min(cands, key=lambda g: (parts[g], legs[g], -sizes[g], ee_rank(g)[0], order.index(g)))
     kind = "group without subgroups" if best in plain else "group"
     why = f"the {kind} with the most actuated joints ({sizes[best]})"
     if any(legs[g] and sizes[g] > sizes[best] for g in cands):
         why += " that are not a leg's"
+    named = [g for g in cands if parts[g] and not parts[best] and sizes[g] > sizes[best]]
+    if named:
+        why += f" (passed over, named like a hand, head or wheels: {name_list(named, 3)})"
     ee_name = ee_rank(best)[1]
     if ee_name:
         why += f", carrying end effector '{ee_name}'"
     return best, why
+
+
+#: Words that make a group name more than a part: an arm, or a whole of several parts
+#: (``manipulator_with_hand``, ``robot_with_gripper``, ``upper_body_and_head``).
+_WHOLE = ARM | {"manipulator", "with", "and", "body", "robot", "whole", "upper", "torso", "all"}
+
+
+def _named_like_a_part(group: str) -> bool:
+    """Whether a group's name says it moves a hand, a head or wheels and nothing more
+    (``right_hand``, ``neck``; not ``arm_hand`` or ``manipulator_with_hand``): what a planner
+    does not plan for, however many joints it has (the Sandia hands of Atlas have twelve,
+    named ``f0_j0`` …)."""
+    return name_role(group) is not None and not set(name_words(group)) & _WHOLE
 
 
 def choose_state(
@@ -352,8 +371,8 @@ def choose_state(
     for cands, why in ((own, f"of group '{group}'"), (covering, "covering the c-space")):
         for pref in PREFERRED_STATES:
             for s in cands:
-                if s.name == pref:
-                    return s, f"the state named '{pref}' {why}"
+                if s.name.lower() == pref:  # Interbotix and Kinova write 'Home'
+                    return s, f"the state named '{s.name}' {why}"
         if cands:
             return cands[0], f"the first state {why}"
     return None, ""

@@ -26,6 +26,7 @@ __all__ = [
     "VirtualJoint",
     "load_srdf",
     "parse_srdf",
+    "refuse_urdf",
 ]
 
 
@@ -120,6 +121,7 @@ def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True)
         raise SourceError(f"malformed SRDF XML: {e.verbatim}", path=path, line=e.line) from None
     if root is None or root.tag != "robot":
         raise SourceError("the root element of an SRDF must be <robot>", path=path, line=1)
+    refuse_urdf(root, path, located=located)
     p = _Parser(path, located)
     for el in root:
         if isinstance(el.tag, str) and el.tag in _ELEMENTS:
@@ -137,6 +139,26 @@ def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True)
         disable_default=tuple(p.disable_default),
         enable_collisions=tuple(p.enabled),
         spheres=tuple(p.spheres),
+    )
+
+
+def refuse_urdf(root: Any, path: str, *, located: bool = True) -> None:
+    """:class:`SourceError` when the ``<robot>`` element ``root`` is a URDF's: it has
+    ``<link>``/``<joint>`` children and none of the elements an SRDF defines (the URDF and the
+    SRDF of a MoveIt configuration share the root tag, so one passed for the other would
+    otherwise read as an SRDF that says nothing)."""
+    kids = [el for el in root if isinstance(el.tag, str)]
+    if any(el.tag in _ELEMENTS for el in kids):
+        return
+    urdf = next((el for el in kids if el.tag in ("link", "joint")), None)
+    if urdf is None:
+        return
+    raise SourceError(
+        f"a URDF, not a MoveIt SRDF: it defines <{urdf.tag} name='{urdf.get('name') or ''}'> "
+        "and no SRDF element (group, group_state, disable_collisions, ...); give the MoveIt "
+        "configuration's .srdf (or .srdf.xacro)",
+        path=path,
+        line=int(urdf.sourceline) if located and urdf.sourceline is not None else None,
     )
 
 
