@@ -16,6 +16,7 @@ import pytest
 
 from tests.collision_reference import count_chunk
 from xrdf_tools.report import Report, self_collision_report
+from xrdf_tools.report.results import ConfigsError
 from xrdf_tools.robot.binding import cspace_indices
 from xrdf_tools.robot.kinematics import build_kinematic_model, default_configuration
 from xrdf_tools.robot.urdf_source import load_urdf
@@ -191,3 +192,50 @@ def test_a_one_joint_grid_whose_body_pair_holds_an_unsampled_frame_pair(tmp_path
     report = report_against_reference(path, _xrdf(["j1"], spheres, {"l3": ["base"]}), 20_000)
     l6 = next(p for p in report.pairs if {p.frame_a, p.frame_b} == {"base", "l6"})
     assert l6.hits and l6.min_clearance is not None and l6.min_clearance < 0
+
+
+def test_given_configurations_outside_the_joint_limits_are_counted(tmp_path: Path) -> None:
+    """A recorded trajectory may leave the limits: a slide of [0.5, 1.0] m at 0 puts the
+    carriage on the base. The engine proved at build time, over the limits, that the two
+    never come near and counted none of the 54 collisions."""
+    slide = '<axis xyz="1 0 0"/><limit lower="0.5" upper="1.0" effort="1" velocity="1"/>'
+    path = _urdf(
+        tmp_path,
+        ["base", "carriage", "arm"],
+        [
+            _joint("slide", "prismatic", "base", "carriage", "0 0 0", slide),
+            _joint("turn", "revolute", "carriage", "arm", "0 0 0.1", _revolute("0 0 1")),
+        ],
+    )
+    spheres: Spheres = {
+        "base": [(0, 0, 0, 0.1)],
+        "carriage": [(0, 0, 0, 0.05)],
+        "arm": [(0.2, 0, 0, 0.05)],
+    }
+    urdf, xrdf = load_urdf(path), parse_xrdf(_xrdf(["slide", "turn"], spheres), "robot.xrdf")
+    rng = np.random.default_rng(0)
+    configs = np.column_stack([rng.uniform(-0.5, 1.0, 300), rng.uniform(-9.0, 9.0, 300)])
+    report = self_collision_report(urdf, xrdf, configs=configs, clearance_margin=MARGIN)
+    kin, _ = build_kinematic_model(urdf, xrdf)
+    spheres_set, _ = build_sphere_set(kin, xrdf, include_masked=True)
+    ref = count_chunk(kin, spheres_set, configs, margin=MARGIN)
+    stats = {(p.frame_a, p.frame_b): p for p in report.pairs}
+    for k, name in enumerate(spheres_set.frame_pair_names()):
+        assert stats[name].hits == int(ref.hits[k].sum()), name
+    carriage = stats[("base", "carriage")]
+    assert carriage.hits and carriage.hits == sum(
+        any({c.frame_a, c.frame_b} == {"base", "carriage"} for c in t.contacts)
+        for t in report.trajectory or ()
+    )
+
+
+def test_given_configurations_must_be_finite(tmp_path: Path) -> None:
+    path = _urdf(
+        tmp_path,
+        ["base", "arm"],
+        [_joint("turn", "revolute", "base", "arm", "0 0 0.1", _revolute("0 0 1"))],
+    )
+    spheres: Spheres = {"base": [(0, 0, 0, 0.1)], "arm": [(0.2, 0, 0, 0.05)]}
+    urdf, xrdf = load_urdf(path), parse_xrdf(_xrdf(["turn"], spheres), "robot.xrdf")
+    with pytest.raises(ConfigsError, match="configuration 1: turn is nan"):
+        self_collision_report(urdf, xrdf, configs=[[0.0], [np.nan]])
