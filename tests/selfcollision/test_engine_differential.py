@@ -239,3 +239,60 @@ def test_given_configurations_must_be_finite(tmp_path: Path) -> None:
     urdf, xrdf = load_urdf(path), parse_xrdf(_xrdf(["turn"], spheres), "robot.xrdf")
     with pytest.raises(ConfigsError, match="configuration 1: turn is nan"):
         self_collision_report(urdf, xrdf, configs=[[0.0], [np.nan]])
+
+
+_AXES = ("0 0 1", "0 0 -1", "0.7071 0.7071 0", "1 1 0", "0 2 1", "0.3 -0.2 0.9")
+
+
+def _random_robot(rng: np.random.Generator, n_links: int) -> tuple[list[str], list[str], list[str]]:
+    """A random tree: links, joints (revolute, continuous, prismatic, fixed; odd and
+    non-normalised axes, rpy origins, some mimic joints) and the joints that can be c-space."""
+    links, joints, movable = ["base"], [], []
+    for i in range(1, n_links):
+        parent = links[int(rng.integers(max(0, len(links) - 3), len(links)))]
+        kind = str(
+            rng.choice(["revolute", "revolute", "continuous", "prismatic", "fixed", "fixed"])
+        )
+        xyz = " ".join(f"{v:.3f}" for v in (*rng.uniform(-0.15, 0.15, 2), rng.uniform(0.05, 0.2)))
+        rpy = " ".join(f"{v:.3f}" for v in rng.uniform(-3.2, 3.2, 3))
+        extra = "" if kind == "fixed" else f'<axis xyz="{rng.choice(_AXES)}"/>'
+        if kind in ("revolute", "prismatic"):
+            span = 3.5 if kind == "revolute" else float(rng.choice([0.05, 0.5]))
+            lo, hi = sorted(rng.uniform(-span, span, 2))
+            extra += f'<limit lower="{lo:.4f}" upper="{hi:.4f}" effort="1" velocity="1"/>'
+        if kind != "fixed" and movable and rng.random() < 0.2:
+            extra += f'<mimic joint="{rng.choice(movable)}" multiplier="-1.5" offset="0.2"/>'
+        elif kind != "fixed":
+            movable.append(f"j{i}")
+        joints.append(_joint(f"j{i}", kind, parent, f"l{i}", xyz, extra, rpy))
+        links.append(f"l{i}")
+    return links, joints, movable
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_random_robots_agree_with_the_reference_counter(tmp_path: Path, seed: int) -> None:
+    """Random trees, a random c-space (joints held in between), spheres on most links and
+    every parent/child pair with spheres masked, as a converted XRDF masks adjacent links."""
+    rng = np.random.default_rng(seed)
+    links, joints, movable = _random_robot(rng, int(rng.integers(4, 12)))
+    if not movable:
+        pytest.skip("no joint to move")
+    path = _urdf(tmp_path, links, joints)
+    cspace = [j for j in movable if rng.random() < 0.5] or movable[:1]
+    spheres: Spheres = {
+        link: [
+            (
+                *(float(v) for v in rng.uniform(-0.08, 0.08, 3).round(4)),
+                float(rng.uniform(0.01, 0.05)),
+            )
+            for _ in range(int(rng.integers(1, 5)))
+        ]
+        for link in links
+        if rng.random() < 0.85
+    }
+    ignore: dict[str, list[str]] = {}
+    for link, joint in zip(links[1:], joints, strict=True):
+        parent = joint.split('<parent link="')[1].split('"')[0]
+        if link in spheres and parent in spheres:
+            ignore.setdefault(parent, []).append(link)
+    report_against_reference(path, _xrdf(cspace, spheres, ignore), 1500, seed=seed)
