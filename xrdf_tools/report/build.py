@@ -10,6 +10,7 @@ adjacent pairs are not sampled (their verdict does not depend on it).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Literal
@@ -129,15 +130,11 @@ def self_collision_report(
     work = spheres_all.select_frame_pairs(sampled)
     work_index = np.flatnonzero(sampled)
 
-    engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
+    qc = _given_configurations(configs, cspace)
+    # given configurations may leave the joint limits, over which the engine proves things
+    engine = CountEngine(_covering(kin, idx, qc), work, idx, q_default, margin=clearance_margin)
     trajectory: list[TrajectoryHit] | None = None
-    if configs is not None:
-        qc = np.asarray(configs, dtype=np.float64)
-        if qc.ndim != 2 or qc.shape[1] != len(cspace):
-            raise ConfigsError(
-                f"configurations must be [N, {len(cspace)}] in c-space order "
-                f"({', '.join(cspace)}), got {list(qc.shape)}"
-            )
+    if qc is not None:
         n_total = qc.shape[0]
         chunk = min(chunk, engine.chunk_limit(flags=True))
         totals, trajectory = _count_configs(engine, qc, chunk, progress)
@@ -167,6 +164,8 @@ def self_collision_report(
     )
     w_of = {int(k): i for i, k in enumerate(work_index)}
     if certify is not None:
+        if engine.kin is not kin:  # over the joint limits, not the configurations' range
+            engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
         stats = _certify(engine, stats, w_of, cspace, certify, certify_progress)
     diags.extend(pair_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
     if (unchecked := unchecked_finding(xrdf, spheres_all.n_spheres, len(stats))) is not None:
@@ -202,6 +201,45 @@ def self_collision_report(
         elapsed_s=time.perf_counter() - t0,
         coverage=cov,
     )
+
+
+def _given_configurations(
+    configs: npt.ArrayLike | None, cspace: Sequence[str]
+) -> FloatArray | None:
+    """The given configurations as a float array [N, n_c] (None when sampling). Raises
+    :class:`ConfigsError` when they do not fit the c-space or are not finite."""
+    if configs is None:
+        return None
+    qc = np.asarray(configs, dtype=np.float64)
+    if qc.ndim != 2 or qc.shape[1] != len(cspace):
+        raise ConfigsError(
+            f"configurations must be [N, {len(cspace)}] in c-space order "
+            f"({', '.join(cspace)}), got {list(qc.shape)}"
+        )
+    if not np.isfinite(qc).all():
+        row, col = (int(v) for v in np.argwhere(~np.isfinite(qc))[0])
+        raise ConfigsError(
+            f"configuration {row}: {cspace[col]} is {qc[row, col]}; values must be finite"
+        )
+    return qc
+
+
+def _covering(kin: KinematicModel, idx: npt.ArrayLike, qc: FloatArray | None) -> KinematicModel:
+    """``kin`` with the c-space limits widened to hold the given configurations ``qc``.
+
+    The engine decides at build time, over the joint limits, which sphere pairs can never
+    come near (a prismatic joint's travel), its float32 error bounds and its cell grids; a
+    recorded trajectory can leave those limits, and its configurations must still be counted
+    exactly."""
+    if qc is None or not len(qc):
+        return kin
+    cols = np.asarray(idx, dtype=np.intp)
+    lower, upper = kin.lower.copy(), kin.upper.copy()
+    lower[cols] = np.minimum(lower[cols], qc.min(axis=0))
+    upper[cols] = np.maximum(upper[cols], qc.max(axis=0))
+    if np.array_equal(lower, kin.lower) and np.array_equal(upper, kin.upper):
+        return kin
+    return dataclasses.replace(kin, lower=lower, upper=upper)
 
 
 def _default_clearances(

@@ -243,8 +243,8 @@ class _CellTest:
                 d2_far = d2.min(axis=0, where=far[:, None, None], initial=np.inf)
                 np.minimum(nearest, d2_far, out=nearest)
         if out.any():  # the smallest centre distance minus reach, over far cells
-            reach = np.where(np.isfinite(thr), thr, np.inf)
-            gap = np.sqrt(np.maximum(nearest, 0.0)) - reach
+            # of the counted sphere pairs only: the others (thr −inf) have no gap to give
+            gap = np.where(self.relevant.T, np.sqrt(np.maximum(nearest, 0.0)) - thr, np.inf)
             self.low[0] = min(self.low[0], float(gap.min()))
         return out
 

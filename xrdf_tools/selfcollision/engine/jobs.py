@@ -99,6 +99,8 @@ def count_sampled(
         done += part.configurations
         if progress is not None:
             progress(done, n)
+    if totals.configurations != n:  # never a silently partial count
+        raise RuntimeError(f"{totals.configurations:,} of {n:,} samples were counted")
     return totals
 
 
@@ -147,9 +149,11 @@ def _in_workers(
             # the first `workers` submissions start the processes
             for s0, m in islice(tasks, workers):
                 pending.add(pool.submit(_worker_rows, lo, hi, s0, m, method, seed))
-        while pending:
+        while True:
             for s0, m in islice(tasks, 2 * workers - len(pending)):
                 pending.add(pool.submit(_worker_rows, lo, hi, s0, m, method, seed))
+            if not pending:  # every task submitted and its result given
+                break
             # a short timeout: a signal delivered to another thread (BLAS's) does not wake a
             # blocked wait, and Python runs its handler only when the wait returns
             finished, pending = wait(pending, timeout=_POLL_S, return_when=FIRST_COMPLETED)
