@@ -156,6 +156,43 @@ def test_sigterm_while_writing_leaves_no_temporary_file(tmp_path: Path) -> None:
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_that_leaves_a_library_half_imported_still_ends_quietly(
+    tmp_path: Path, signum: int
+) -> None:
+    """A signal landing while a library imports can be swallowed by that import, which then
+    fails on a name it never bound (scipy.ndimage under a SIGTERM: NameError, exit 1 and a
+    traceback). The command still ends as the signal says: 128 + signum, no traceback."""
+    (tmp_path / "halfway.py").write_text(
+        "import os, time\n"
+        "try:\n"
+        f"    os.kill(os.getpid(), {int(signum)})\n"
+        "    time.sleep(0.2)\n"
+        "    bound = 1\n"
+        "except BaseException:\n"
+        "    pass\n"
+        "del bound\n"
+    )
+    code = (
+        "import sys\n"
+        "import xrdf_tools.cli as cli\n"
+        "def run():\n    import halfway\n"
+        "cli._run = run\n"
+        "cli.main()\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": f"{tmp_path}{os.pathsep}{Path.cwd()}"},
+        capture_output=True,
+        text=True,
+        timeout=60,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    assert done.returncode == 128 + signum, done.stderr
+    assert "Traceback" not in done.stderr and "NameError" not in done.stderr, done.stderr
+
+
 # ---------------------------------------------------------------------------------------------
 # Standard output
 # ---------------------------------------------------------------------------------------------

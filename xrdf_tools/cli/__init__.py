@@ -82,6 +82,13 @@ def main() -> None:
         _run()
     except KeyboardInterrupt:  # said by _on_signal
         sys.exit(130)
+    except Exception:
+        # A signal that lands while a library imports can leave that library half imported:
+        # the import swallows the interrupt and fails on a name it never bound (scipy.ndimage:
+        # NameError). The command was ended on purpose: exit as the signal says, no traceback.
+        if _WATCHDOG:
+            sys.exit(128 + _WATCHDOG[0])
+        raise
 
 
 #: The thread-count variables of the BLAS libraries numpy may use.
