@@ -45,6 +45,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-fitted-spheres", I, "--fit-spheres: spheres fitted per link, links left out."),
         ("convert-floating-base", W, "A floating/planar joint above the robot: base below it."),
         ("convert-launch-substitution", I, "$(var NAME) in joint_limits: --xacro-arg or ''."),
+        (
+            "convert-mask-default-pose",
+            W,
+            "--fit-spheres: pairs masked for colliding at a default pose, apart elsewhere.",
+        ),
         ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
         (
             "convert-no-spheres",
