@@ -58,7 +58,8 @@ RULE_SHEET = "spheres-sheet"
 RULE_PAST_BOUND = "spheres-past-bound"
 RULE_URDF_SPHERES = "spheres-from-urdf"
 
-#: ``progress(link, i, n)``: called before link ``i`` of ``n`` is fitted.
+#: ``progress(link, i, n)``: called before step ``i`` of ``n``, two per link (each link is
+#: prepared in steps ``0 … n/2 - 1``, then fitted in the same order).
 Progress = Callable[[str, int, int], None]
 
 
@@ -213,9 +214,9 @@ def fit_robot(
     sheets: dict[str, SheetPlan] = {}
     seconds: dict[str, float] = {}
     first_of: dict[tuple[object, ...], str] = {}
+    step: Progress = progress if progress is not None else (lambda _link, _i, _n: None)
     for i, (name, (key, tau, planes, fit_seed)) in enumerate(plans.items()):
-        if progress is not None:
-            progress(name, i, len(plans))
+        step(name, i, 2 * len(plans))
         if key in first_of:
             seconds[name] = 0.0
             continue
@@ -236,7 +237,8 @@ def fit_robot(
         seconds[name] = time.perf_counter() - t0
     ks = _counts(fitters, geoms, counts)
     spheres: dict[str, tuple[Sphere, ...]] = {}
-    for name, (key, *_rest) in plans.items():
+    for i, (name, (key, *_rest)) in enumerate(plans.items(), start=len(plans)):
+        step(name, i, 2 * len(plans))
         owner = first_of[key]
         if owner != name:
             spheres[name] = spheres[owner]
