@@ -267,6 +267,36 @@ def test_ur5_count_is_shared_over_every_link_with_geometry() -> None:
     assert len(fitted["upper_arm_link"]) > len(fitted["wrist_3_link"])
 
 
+TWINS_URDF = """<robot name="twins">
+  <link name="base"><collision><geometry><box size="0.3 0.2 0.1"/></geometry></collision></link>
+  <link name="left"><collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision></link>
+  <link name="right"><collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>
+  </link>
+  <link name="foot"><collision><geometry><sphere radius="0.02"/></geometry></collision>
+    <collision><origin xyz="0.05 0 0"/><geometry><sphere radius="0.02"/></geometry></collision>
+  </link>
+  <joint name="a" type="fixed"><parent link="base"/><child link="left"/></joint>
+  <joint name="b" type="fixed"><parent link="base"/><child link="right"/></joint>
+  <joint name="c" type="fixed"><parent link="base"/><child link="foot"/></joint>
+</robot>
+"""
+
+
+def test_a_total_count_holds_shared_solids_and_the_urdfs_own_spheres(tmp_path: Path) -> None:
+    """Unitree G1 with --sphere-budget 120 got 132 spheres: the total was split over the
+    distinct solids only, while two links sharing a solid (left and right fingers) each carry
+    its spheres and the URDF's own <sphere> collisions (the ankles' 4) come on top. The total
+    holds them all; one too few for a sphere per link is an error."""
+    urdf = tmp_path / "twins.urdf"
+    urdf.write_text(TWINS_URDF)
+    for total in (5, 9, 12):
+        fitted, _ = fit_link_spheres(urdf, count=total)
+        assert sum(len(s) for s in fitted.values()) == total
+        assert len(fitted["foot"]) == 2 and fitted["left"] == fitted["right"]
+    with pytest.raises(XrdfToolsError, match="one sphere per link to fit \\(3\\)"):
+        fit_link_spheres(urdf, count=4)
+
+
 def test_fitting_is_deterministic_for_a_seed() -> None:
     a, _ = fit_link_spheres(needs(PANDA), links=["panda_link3"], per_link=3, seed=7)
     b, _ = fit_link_spheres(PANDA, links=["panda_link3"], per_link=3, seed=7)
