@@ -462,7 +462,40 @@ def test_what_xacro_prints_becomes_warnings_in_the_chosen_format(
     assert r.exit_code == 0 and r.stderr == ""
     r = runner.invoke(app, ["expand", str(arm)])
     assert r.exit_code == 0 and r.stdout.lstrip().startswith("<?xml")
-    assert r.stderr.startswith(f"{arm}: warning xacro-warning xacro: Using load_yaml()")
+    assert r.stderr.startswith(f"{arm}:3:35: warning xacro-warning xacro: Using load_yaml()")
+
+
+def test_a_xacro_warning_names_the_line_of_the_included_file_that_causes_it(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Every MoveIt 2 configuration's ros2_control.xacro reads its initial positions with the
+    deprecated ``${load_yaml(...)}`` inside a macro the top file calls: xacro warns while it
+    expands the top file, and the warning named that file without a line. It names the
+    included file and the line that calls load_yaml()."""
+    (tmp_path / "initial_positions.yaml").write_text("initial_positions: {j1: 0.25}\n")
+    control = tmp_path / "arm.ros2_control.xacro"
+    control.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="arm_control" params="file">\n'
+        '    <xacro:property name="init" value="${load_yaml(file)[\'initial_positions\']}"/>\n'
+        '    <ros2_control name="fake" type="system"><joint name="j1">\n'
+        '      <state_interface name="position"><param name="initial_value">${init[\'j1\']}'
+        "</param></state_interface></joint></ros2_control>\n"
+        "  </xacro:macro>\n</robot>\n"
+    )
+    arm = tmp_path / "arm.urdf.xacro"
+    arm.write_text(
+        '<?xml version="1.0"?>\n<robot name="arm" xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="arm.ros2_control.xacro"/>\n'
+        '  <link name="base"/><link name="l1"/>\n'
+        '  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>\n'
+        '    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        f'  <xacro:arm_control file="{tmp_path / "initial_positions.yaml"}"/>\n</robot>\n'
+    )
+    r = runner.invoke(app, ["expand", str(arm)])
+    assert r.exit_code == 0 and "<ros2_control" in r.stdout
+    assert r.stderr.startswith(f"{control}:4:"), r.stderr
+    assert "warning xacro-warning xacro: Using load_yaml() directly is deprecated" in r.stderr
 
 
 def test_a_xacro_arg_the_expansion_never_reads_is_a_warning(

@@ -596,6 +596,42 @@ def test_a_joint_that_rolls_the_hand_is_the_last_arm_joint(tmp_path: Path) -> No
     assert choice.tool is not None and choice.tool.frame == "left_hand_link"
 
 
+def test_a_joint_named_hand_above_free_fingers_is_the_last_arm_joint(tmp_path: Path) -> None:
+    """Unitree H1 with its hands: 'left_hand_joint' (elbow to 'left_hand_link') turns the
+    hand whose fingers hang below it, each moving on its own with a mimic follower: a wrist
+    joint, and the tool frame is the hand's base. A hand joint whose fingers all follow it
+    as mimics (NAO's 'LHand') closes the hand: a gripper's."""
+    arm = ["left_shoulder_pitch_joint", "left_elbow_joint", "left_hand_joint"]
+    links = ["pelvis", "shoulder", "elbow", "left_hand_link", "L_hand_base_link"]
+    joints = [
+        _j(arm[0], "revolute", "pelvis", "shoulder"),
+        _j(arm[1], "revolute", "shoulder", "elbow"),
+        _j(arm[2], "revolute", "elbow", "left_hand_link"),
+        _j("L_base_link_joint", "fixed", "left_hand_link", "L_hand_base_link"),
+    ]
+    for finger in ("index", "thumb"):
+        prox, inter = f"L_{finger}_proximal", f"L_{finger}_intermediate"
+        links += [prox, inter]
+        joints += [
+            _j(f"{prox}_joint", "revolute", "L_hand_base_link", prox),
+            _j(f"{inter}_joint", "revolute", prox, inter, f'<mimic joint="{prox}_joint"/>'),
+        ]
+    links += ["r_hand", "r_finger_1", "r_finger_2"]
+    joints += [  # a hand that closes: both fingers follow 'RHand'
+        _j("RHand", "revolute", "pelvis", "r_hand"),
+        _j("r_f1", "revolute", "r_hand", "r_finger_1", '<mimic joint="RHand"/>'),
+        _j("r_f2", "revolute", "r_hand", "r_finger_2", '<mimic joint="RHand"/>'),
+    ]
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    roles = joint_roles(robot.tree)
+    assert "left_hand_joint" not in roles
+    assert roles["RHand"] == "gripper"
+    assert roles["L_index_proximal_joint"] == roles["L_thumb_intermediate_joint"] == "gripper"
+    choice = default_cspace(robot.tree)
+    assert choice.joints == tuple(arm)
+    assert choice.tool is not None and choice.tool.frame == "L_hand_base_link"
+
+
 def test_a_group_of_two_branches_gets_a_tool_frame_on_each(tmp_path: Path) -> None:
     """The Shadow Hand's SRDF group 'rh_little_finger_thumb' lists the joints of two fingers
     and names no end effector: each finger's tip is a tool frame (only the thumb's was). A

@@ -408,3 +408,57 @@ def test_more_links_with_geometry_than_the_mask_checks_stop_before_the_fit(
     line = res.output.strip().splitlines()[-1]
     assert f"{n + 3:,} links would carry spheres" in line and f"at most {n:,}" in line
     assert "fitted" not in res.output and not out.exists()
+
+
+# The second link folds back over the base: at the SRDF's 'folded' home it passes through it.
+FOLDING = """<robot name="folding">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="upper">
+    <collision><origin xyz="0 0 0.05"/><geometry><box size="0.04 0.04 0.1"/></geometry></collision>
+  </link>
+  <link name="lower">
+    <collision><origin xyz="0 0 0.15"/><geometry><box size="0.04 0.04 0.3"/></geometry></collision>
+  </link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="upper"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="upper"/><child link="lower"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>
+"""
+FOLDED_HOME = """<robot name="folding">
+  <group name="arm"><joint name="j1"/><joint name="j2"/></group>
+  <group_state name="home" group="arm"><joint name="j1" value="0"/><joint name="j2" value="3"/>
+  </group_state>
+</robot>
+"""
+
+
+def test_a_pair_masked_for_colliding_at_a_colliding_home_is_a_warning(tmp_path: Path) -> None:
+    """A default pose in self-collision (a folded home, spheres reaching past a mesh) makes
+    the Setup Assistant's rule ignore a pair that collides only there and near it: the
+    planner no longer sees it. Convert says so, naming the pair; a home free of collision
+    gives no such warning."""
+    urdf, srdf = tmp_path / "folding.urdf", tmp_path / "folding.srdf"
+    urdf.write_text(FOLDING)
+    srdf.write_text(FOLDED_HOME)
+
+    def run(home: str) -> tuple[Xrdf, dict[str, str]]:
+        srdf.write_text(FOLDED_HOME.replace('value="3"', f'value="{home}"'))
+        result = convert_robot(
+            urdf,
+            ConvertOptions(srdf=str(srdf)),
+            fit=FitOptions(per_link=4),
+            mask=MaskOptions(samples=400),
+        )
+        return result.xrdf, {d.rule: d.message for d in result.diagnostics}
+
+    folded, rules = run("3")
+    assert folded.self_collision is not None and folded.self_collision.is_ignored("base", "lower")
+    warning = rules["convert-mask-default-pose"]
+    assert "base/lower (apart in" in warning and "--state" in warning
+    upright, rules = run("0")
+    assert upright.self_collision is not None
+    assert not upright.self_collision.is_ignored("base", "lower")
+    assert "convert-mask-default-pose" not in rules

@@ -147,6 +147,23 @@ def test_primitives_become_solids_in_the_link_frame(prims: Path) -> None:
     assert geoms["ball"].solid.center_mass == pytest.approx([0.0, 0.0, 1.0], abs=1e-6)
 
 
+def test_progress_announces_the_fit_of_each_link_not_only_its_preparation(prims: Path) -> None:
+    """Preparing every link (measuring its solid) comes before fitting any: progress counts
+    both, two steps a link, so it does not say n/n while the fitting (most of a big robot's
+    time: 29 of 45 s on Unitree G1) has yet to start. The sphere primitive is taken as it
+    is, without steps."""
+    from xrdf_tools.spheres.robot_fit import CountPolicy, fit_robot
+
+    calls: list[tuple[str, int, int]] = []
+    fitted = fit_robot(
+        prims, counts=CountPolicy(per_link=2), progress=lambda *call: calls.append(call)
+    )
+    links = ["base", "cyl", "cap"]
+    assert set(fitted.spheres) == {*links, "ball"}
+    assert [i for _, i, _ in calls] == list(range(6)) and {n for *_, n in calls} == {6}
+    assert [link for link, *_ in calls] == links + links  # prepared, then fitted
+
+
 def test_one_sphere_for_a_sphere_primitive_is_centred_and_within_budget(prims: Path) -> None:
     fitted, _ = fit_link_spheres(prims, links=["ball"], per_link=1)
     (s,) = fitted["ball"]
@@ -248,6 +265,36 @@ def test_ur5_count_is_shared_over_every_link_with_geometry() -> None:
     assert all(len(s) >= 1 for s in fitted.values())
     # the long arm links get more spheres than the small wrist links
     assert len(fitted["upper_arm_link"]) > len(fitted["wrist_3_link"])
+
+
+TWINS_URDF = """<robot name="twins">
+  <link name="base"><collision><geometry><box size="0.3 0.2 0.1"/></geometry></collision></link>
+  <link name="left"><collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision></link>
+  <link name="right"><collision><geometry><box size="0.05 0.05 0.3"/></geometry></collision>
+  </link>
+  <link name="foot"><collision><geometry><sphere radius="0.02"/></geometry></collision>
+    <collision><origin xyz="0.05 0 0"/><geometry><sphere radius="0.02"/></geometry></collision>
+  </link>
+  <joint name="a" type="fixed"><parent link="base"/><child link="left"/></joint>
+  <joint name="b" type="fixed"><parent link="base"/><child link="right"/></joint>
+  <joint name="c" type="fixed"><parent link="base"/><child link="foot"/></joint>
+</robot>
+"""
+
+
+def test_a_total_count_holds_shared_solids_and_the_urdfs_own_spheres(tmp_path: Path) -> None:
+    """Unitree G1 with --sphere-budget 120 got 132 spheres: the total was split over the
+    distinct solids only, while two links sharing a solid (left and right fingers) each carry
+    its spheres and the URDF's own <sphere> collisions (the ankles' 4) come on top. The total
+    holds them all; one too few for a sphere per link is an error."""
+    urdf = tmp_path / "twins.urdf"
+    urdf.write_text(TWINS_URDF)
+    for total in (5, 9, 12):
+        fitted, _ = fit_link_spheres(urdf, count=total)
+        assert sum(len(s) for s in fitted.values()) == total
+        assert len(fitted["foot"]) == 2 and fitted["left"] == fitted["right"]
+    with pytest.raises(XrdfToolsError, match="one sphere per link to fit \\(3\\)"):
+        fit_link_spheres(urdf, count=4)
 
 
 def test_fitting_is_deterministic_for_a_seed() -> None:

@@ -72,7 +72,7 @@ def fit_spheres(
 ) -> SpheresFit:
     """Fit spheres to the links of ``robot`` and merge them into ``base`` (None: an XRDF
     drafted as ``xrdf convert`` drafts one, with adjacent links added to the ignore mask).
-    ``progress(link, i, n)`` is called per link. Raises
+    ``progress(link, i, n)`` is called per step, two per link (prepared, then fitted). Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` (a mesh file that cannot be found unless
     ``allow_missing_meshes``, a malformed clip plane)."""
     from ..robot.link_geometry import require_meshes

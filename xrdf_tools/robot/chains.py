@@ -11,8 +11,9 @@ leaf, leaving out what a motion planner does not plan for:
   joint follows (a mimic joint itself is never a c-space joint), and jaws and fingers named
   otherwise: a joint on a link named like a gripper or into one with nothing actuated below,
   or two or more prismatic joints with nothing actuated below on one link. A joint into a hand
-  that fingers hang from (Shadow's ``rh_WRJ1``) or named like a hand with a roll/pitch/yaw
-  word (Booster T1's ``Left_Hand_Roll``) turns the whole hand: a wrist joint;
+  that fingers hang from (Shadow's ``rh_WRJ1``), named like a hand with a roll/pitch/yaw
+  word (Booster T1's ``Left_Hand_Roll``), or named like a hand and carrying fingers that move
+  on their own (Unitree H1's ``left_hand_joint``) turns the whole hand: a wrist joint;
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
   and so is a pan/tilt unit that carries a tool frame: a wrist).
@@ -52,6 +53,8 @@ from .names import (
     JointRole,
     name_role,
     name_words,
+    says_finger,
+    says_hand,
     turns_hand,
 )
 from .tree import RobotTree
@@ -81,8 +84,9 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         if not j.is_movable:
             continue
         words = set(name_words(name))
-        arm = bool(words & ARM) or turns_hand(words)
-        role = None if turns_hand(words) else name_role(name)
+        wrist = turns_hand(words) or _moves_hand(tree, below, name, words)
+        arm = bool(words & ARM) or wrist
+        role = None if wrist else name_role(name)
         carries_tool = below.tool[j.child]
         if role == "head" and carries_tool and not words & HEAD:
             role = None  # a pan/tilt unit with a tool on it is a wrist (Schunk PW70)
@@ -108,8 +112,9 @@ class _Subtrees:
 
     ``tool``: a TCP, tool, end-effector or flange frame is the link or below it (the joint
     into the link is then a wrist joint, whatever the link is called, as fingers carry no
-    tool frame). ``free``: an actuated joint that no mimic joint follows lies below the link.
-    ``movable``: a movable joint lies below it; ``movable_above``: one lies above it.
+    tool frame). ``free``: an actuated joint that no mimic joint follows lies below the link;
+    ``fingers``: an actuated joint named like a finger's, followed or not. ``movable``: a
+    movable joint lies below it; ``movable_above``: one lies above it.
     """
 
     def __init__(self, tree: RobotTree, leaders: Collection[str]) -> None:
@@ -119,6 +124,7 @@ class _Subtrees:
         order = postorder(tree.links, kids)
         self.tool: dict[str, bool] = {}
         self.free: dict[str, bool] = {}
+        self.fingers: dict[str, bool] = {}
         self.movable: dict[str, bool] = {}
         for link in order:
             joints = [tree.joints[jn] for jn in tree.child_joints.get(link, ())]
@@ -127,6 +133,11 @@ class _Subtrees:
             )
             self.free[link] = any(
                 (k.is_actuated and k.name not in leaders) or self.free.get(k.child, False)
+                for k in joints
+            )
+            self.fingers[link] = any(
+                (k.is_actuated and says_finger(name_words(k.name)))
+                or self.fingers.get(k.child, False)
                 for k in joints
             )
             self.movable[link] = any(
@@ -144,6 +155,15 @@ class _Subtrees:
         """A joint from ``parent`` to ``child`` on the base (nothing movable above) with
         nothing movable below."""
         return not self.movable_above[parent] and not self.movable[child]
+
+
+def _moves_hand(tree: RobotTree, below: _Subtrees, joint: str, words: set[str]) -> bool:
+    """A joint named like a whole hand (no finger word) that carries finger joints moving on
+    their own, off a link that is no gripper's: it moves the hand they hang from, a wrist
+    joint (Unitree H1's 'left_hand_joint' above 'L_index_proximal_joint'). A hand joint that
+    the fingers follow as mimics (NAO's 'LHand') closes the hand: a gripper's."""
+    j = tree.joints[joint]
+    return says_hand(words) and below.fingers[j.child] and name_role(j.parent) != "gripper"
 
 
 def _is_jaw(tree: RobotTree, below: _Subtrees, joint: str) -> bool:

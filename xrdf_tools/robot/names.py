@@ -23,6 +23,8 @@ __all__ = [
     "JointRole",
     "name_role",
     "name_words",
+    "says_finger",
+    "says_hand",
     "turns_hand",
 ]
 
@@ -53,6 +55,8 @@ PAN_TILT = frozenset({"pan", "tilt"})
 HAND = frozenset({"hand", "palm"})
 #: Finger words beside the gripper words (Robonaut 2's 'r2/left_arm/hand/index/yaw').
 FINGER = frozenset({"index", "middle", "ring", "little", "mcp", "pip", "dip", "distal", "tip"})
+#: Words of a finger's joint: a finger, a thumb or one of their parts.
+FINGERS = FINGER | {"finger", "fingers", "thumb", "knuckle", "pinky", "pinkie"}
 ROTATION = frozenset({"roll", "pitch", "yaw"})
 ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
 #: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
@@ -107,7 +111,19 @@ def name_role(name: str) -> JointRole | None:
     return None
 
 
+def says_hand(words: Collection[str]) -> bool:
+    """Whether a name speaks of a whole hand (``hand``, ``palm``, ``lefthand``) and of no
+    finger, jaw or gripper."""
+    words = set(words)
+    hand = words & HAND or any(w.endswith("hand") for w in words)
+    return bool(hand) and not words & (GRIPPER | FINGER) - HAND
+
+
+def says_finger(words: Collection[str]) -> bool:
+    """Whether a joint's name speaks of a finger or a thumb (``L_index_proximal_joint``)."""
+    return bool(set(words) & FINGERS)
+
+
 def turns_hand(words: Collection[str]) -> bool:
     """Whether a joint's name says it turns a whole hand about an axis: a wrist joint."""
-    words = set(words)
-    return bool(words & HAND and words & ROTATION and not words & (GRIPPER | FINGER) - HAND)
+    return says_hand(words) and bool(set(words) & ROTATION)

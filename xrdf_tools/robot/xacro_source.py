@@ -94,10 +94,13 @@ def _patched_xacro(
     def warning(*args: Any, **_: Any) -> None:
         stack = [str(f) for f in getattr(xacro, "filestack", None) or () if f]
         text = " ".join(" ".join(str(a) for a in args).split())
+        # a lazy property is evaluated in the file that uses it, not the one that writes it
+        written = [stack[-1] if stack else top, *(getattr(xacro, "all_includes", None) or ())]
+        where, line, col = _culprit_in([str(f) for f in written], text)
         found = Diagnostic(
-            stack[-1] if stack else top,
-            None,
-            None,
+            where,
+            line,
+            col,
             RULE_XACRO_WARNING,
             Severity.WARNING,
             f"xacro: {text}",
@@ -239,12 +242,7 @@ def _xacro_error(
         message += file_arg_hint(missing, top, given or {}, values or {})
     if (call := _bad_macro_call(message, macro, [where, *included])) is not None:
         return SourceError(call[0], path=call[1], line=call[2], col=call[3])
-    line, col = _find_culprit(where, message)
-    for other in () if line is not None else dict.fromkeys(included):
-        line, col = _find_culprit(other, message)
-        if line is not None:
-            where = other
-            break
+    where, line, col = _culprit_in([where, *included], message)
     hint = _unprefixed_hint(message, [where, *included]) + _late_default_hint(message, where, line)
     return SourceError(message + hint, path=where, line=line, col=col)
 
@@ -390,9 +388,20 @@ _CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
     (re.compile(r"cannot find ROS package '([^']+)'"), ("$(find {})", "$(find {}")),
     (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
     (re.compile(r"invalid expression: (.+)$"), ("{}",)),
+    (re.compile(r"Using (\w+)\(\) directly is deprecated"), ("${{{}(",)),
 )
 #: "xacro:macro: missing attribute 'name'": the first ``<xacro:macro>`` tag without it.
 _MISSING_ATTRIBUTE = re.compile(r"^xacro failed: (xacro:\w+): missing attribute '(\w+)'")
+
+
+def _culprit_in(paths: Sequence[str], message: str) -> tuple[str, int | None, int | None]:
+    """The first of ``paths`` that writes what ``message`` quotes, and where (the first path,
+    without a position, when none does)."""
+    for path in dict.fromkeys(paths):
+        line, col = _find_culprit(path, message)
+        if line is not None:
+            return path, line, col
+    return paths[0], None, None
 
 
 def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:

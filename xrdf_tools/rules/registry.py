@@ -50,6 +50,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             W,
             "joint_limits velocity/position limits tighter than the URDF: no XRDF carries them.",
         ),
+        (
+            "convert-mask-default-pose",
+            W,
+            "--fit-spheres: pairs masked for colliding at a default pose, apart elsewhere.",
+        ),
         ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
         (
             "convert-no-spheres",

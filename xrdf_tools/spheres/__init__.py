@@ -81,7 +81,8 @@ def fit_link_spheres(
     normal points to: ``n . centre - radius >= d``. ``source`` chooses the geometry as in
     :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs and ``seed`` give
     the same spheres; links with identical geometry are fitted once and get the same spheres.
-    ``progress(link, i, n)`` is called before each link. ``method="morphit"`` fits each
+    ``progress(link, i, n)`` is called before each of the ``n`` steps, two per link
+    (prepared, then fitted). ``method="morphit"`` fits each
     link's solid with MorphIt (the optional ``morphit-rs``; :mod:`xrdf_tools.spheres.morphit`)
     at the same counts and bounds instead of our fitter. ``urdf_path`` may be a loaded
     :class:`~xrdf_tools.robot.core.Robot`. Returns ``({link: spheres}, diagnostics)`` in URDF

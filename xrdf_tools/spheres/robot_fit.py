@@ -4,8 +4,9 @@
 planned; :func:`xrdf_tools.spheres.fit_link_spheres` is its two-value form.
 
 * Counts, at most one of ``per_link`` (``n`` or ``{link: n}``), ``count`` (a total, also the
-  ``--sphere-budget`` of ``xrdf convert``: one per link, then each further sphere to the link
-  whose covered volume grows most), ``density`` (per litre); by default the fewest spheres
+  ``--sphere-budget`` of ``xrdf convert``: every sphere of the result, split by :mod:`.budget`:
+  one per link, then each further sphere to the link whose covered volume grows most),
+  ``density`` (per litre); by default the fewest spheres
   (up to ``AUTO_MAX_PER_LINK``) that cover ``target_coverage`` of the link's volume at the
   protrusion bound.
 * With a count given and no protrusion bound of the link's own, the greedy spheres are
@@ -25,6 +26,7 @@ import hashlib
 import math
 import os
 import time
+from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -36,6 +38,7 @@ from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
 from ..util.text import name_list
 from ..xrdf.model import Sphere
+from .budget import allocate
 from .fewest import fewest_reaching, past_the_bound
 
 if TYPE_CHECKING:
@@ -58,7 +61,8 @@ RULE_SHEET = "spheres-sheet"
 RULE_PAST_BOUND = "spheres-past-bound"
 RULE_URDF_SPHERES = "spheres-from-urdf"
 
-#: ``progress(link, i, n)``: called before link ``i`` of ``n`` is fitted.
+#: ``progress(link, i, n)``: called before step ``i`` of ``n``, two per link (each link is
+#: prepared in steps ``0 … n/2 - 1``, then fitted in the same order).
 Progress = Callable[[str, int, int], None]
 
 
@@ -110,28 +114,6 @@ def check_counts(
         raise XrdfToolsError(f"count must be at least 1, got {count}")
     if density is not None and not (density > 0 and math.isfinite(density)):
         raise XrdfToolsError(f"density must be a positive number, got {density}")
-
-
-def allocate(
-    curves: Mapping[str, Sequence[float]], volumes: Mapping[str, float], total: int
-) -> dict[str, int]:
-    """Split ``total`` spheres over links: one each, then by largest covered-volume gain."""
-    alloc = dict.fromkeys(curves, 1)
-    left = total - len(alloc)
-    while left > 0:
-        best, best_gain = None, -1.0
-        for link, curve in curves.items():
-            k = alloc[link]
-            if k >= len(curve):
-                continue
-            gain = (curve[k] - curve[k - 1]) * volumes[link]
-            if gain > best_gain:
-                best, best_gain = link, gain
-        if best is None:
-            break
-        alloc[best] += 1
-        left -= 1
-    return alloc
 
 
 @dataclass(frozen=True)
@@ -213,9 +195,9 @@ def fit_robot(
     sheets: dict[str, SheetPlan] = {}
     seconds: dict[str, float] = {}
     first_of: dict[tuple[object, ...], str] = {}
+    step: Progress = progress if progress is not None else (lambda _link, _i, _n: None)
     for i, (name, (key, tau, planes, fit_seed)) in enumerate(plans.items()):
-        if progress is not None:
-            progress(name, i, len(plans))
+        step(name, i, 2 * len(plans))
         if key in first_of:
             seconds[name] = 0.0
             continue
@@ -234,9 +216,11 @@ def fit_robot(
             room=_refine_room(geoms[name].solid, tau, counts),
         )
         seconds[name] = time.perf_counter() - t0
-    ks = _counts(fitters, geoms, counts)
+    copies = Counter(first_of[key] for key, *_rest in plans.values())
+    ks = _counts(fitters, counts, copies, taken=sum(len(w) for w in exact.values()))
     spheres: dict[str, tuple[Sphere, ...]] = {}
-    for name, (key, *_rest) in plans.items():
+    for i, (name, (key, *_rest)) in enumerate(plans.items(), start=len(plans)):
+        step(name, i, 2 * len(plans))
         owner = first_of[key]
         if owner != name:
             spheres[name] = spheres[owner]
@@ -350,9 +334,11 @@ def _plan(
 
 
 def _counts(
-    fitters: Mapping[str, SphereFitter], geoms: Mapping[str, LinkGeometry], counts: CountPolicy
+    fitters: Mapping[str, SphereFitter], counts: CountPolicy, copies: Mapping[str, int], taken: int
 ) -> dict[str, int]:
-    """Spheres per fitted link for the explicit counting options (empty: by target)."""
+    """Spheres per fitted solid for the explicit counting options (empty: by target); a total
+    ``count`` holds the ``taken`` spheres of the URDF and each solid once per link sharing it
+    (``copies``: :mod:`.budget`)."""
     if isinstance(counts.per_link, Mapping):
         return {n: int(counts.per_link.get(n, 0)) for n in fitters}
     if counts.per_link is not None:
@@ -364,9 +350,14 @@ def _counts(
             for n, f in fitters.items()
         }
     if counts.count is not None:
-        cap = min(MAX_PER_LINK, counts.count - len(geoms) + 1)
-        curves = {n: f.greedy(cap)[1] for n, f in fitters.items()}
-        return allocate(curves, {n: f.volume for n, f in fitters.items()}, counts.count)
+        budget, least = counts.count - taken, sum(copies[n] for n in fitters)
+        if budget < least:
+            raise XrdfToolsError(
+                f"count {counts.count} is less than one sphere per link to fit ({least}) and "
+                f"the URDF's own {taken} sphere(s)"
+            )
+        curves = {n: f.greedy(min(MAX_PER_LINK, budget - least + 1))[1] for n, f in fitters.items()}
+        return allocate(curves, {n: f.volume for n, f in fitters.items()}, budget, copies)
     return {}
 
 

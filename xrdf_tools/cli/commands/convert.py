@@ -48,7 +48,7 @@ if TYPE_CHECKING:
     from .typer_common import ProgressUpdate
 
 #: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
-_STAGES = {"fitting": "fitting spheres (links)", "sampling": "sampling the mask"}
+_STAGES = {"fitting": "fitting spheres (2 steps a link)", "sampling": "sampling the mask"}
 
 
 class GeometryFrom(str, Enum):

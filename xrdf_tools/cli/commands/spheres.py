@@ -224,11 +224,11 @@ def command(
 
 def per_link_progress(bar: ProgressUpdate | None, label: str) -> Callable[[str, int, int], None]:
     """``progress(link, i, n)``: drawn on the common bar on a terminal; with ``-v`` elsewhere
-    (CI logs), one line per link on stderr."""
+    (CI logs), one line per step on stderr (two per link: prepared, then fitted)."""
 
     def update(link: str, i: int, n: int) -> None:
         if bar is not None:
-            bar(f"{label} (links)", i, n)
+            bar(f"{label} (2 steps a link)", i, n)
         elif not stderr_is_terminal():
             detail(f"{label}: {i + 1}/{n} {link}")
 
