@@ -268,7 +268,8 @@ def test_a_disc_its_default_bound_cannot_cover_is_refined_past_it(tmp_path: Path
     urdf = _urdf(tmp_path, disc, "disc")
     fit = fit_robot(urdf)
     assert [d.rule for d in fit.diagnostics] == ["spheres-past-bound"]
-    assert "within its 2.21 mm default bound cover 49% of it" in fit.diagnostics[0].message
+    # judged on samples held out of the fit (its own samples said 49 %)
+    assert "within its 2.21 mm default bound cover 42% of it" in fit.diagnostics[0].message
     solid = fit.geometry["disc"].solid
     m = sphere_metrics(solid, fit.spheres["disc"], samples=8000)
     assert m.coverage >= 0.9 and len(fit.spheres["disc"]) <= 16

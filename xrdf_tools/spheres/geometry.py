@@ -150,6 +150,24 @@ def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
     return box if is_volume(box) else None
 
 
+def repaired(part: trimesh.Trimesh) -> trimesh.Trimesh:
+    """``part`` itself when it encloses a volume, else a copy that does once its zero-area
+    faces are dropped (a CAD export's slivers, each leaving an edge shared by four faces) and
+    its faces turned outward when they all point inward (a closed mesh of negative volume),
+    else ``part`` unchanged. Nothing else is mended: a mesh open after that is open."""
+    if is_volume(part):
+        return part
+    mesh = part.copy()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mesh.update_faces(mesh.nondegenerate_faces())
+        mesh.remove_unreferenced_vertices()
+        mesh.merge_vertices()
+        closed = len(mesh.faces) and mesh.is_watertight and mesh.is_winding_consistent
+        if closed and float(mesh.volume) < 0.0:
+            mesh.invert()
+    return mesh if is_volume(mesh) else part
+
+
 def _closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
     """The part as a closed solid: itself, else its hull, else its bounding box."""
     if is_volume(part):
@@ -192,7 +210,7 @@ def _solidify(
 ) -> tuple[trimesh.Trimesh, SolidKind] | None:
     import trimesh
 
-    bodies = [body for whole in parts for body in _overlapping_bodies(whole)]
+    bodies = [body for whole in parts for body in _overlapping_bodies(repaired(whole))]
     made: list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]] = []  # (body, its solid, how)
     for body in bodies:
         with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts

@@ -36,7 +36,7 @@ from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
 from ..util.text import name_list
 from ..xrdf.model import Sphere
-from .fewest import fewest_reaching, past_the_bound
+from .fewest import HeldOut, fewest_reaching, past_the_bound
 
 if TYPE_CHECKING:
     import trimesh
@@ -438,13 +438,14 @@ def _fit_one(
         return refined_fit(fitter, k)
     if k is not None:
         return fitter.fit(k)
-    spheres, share = fewest_reaching(fitter, counts.target_coverage)
+    judge = HeldOut(fitter)
+    spheres, share = fewest_reaching(fitter, counts.target_coverage, judge)
     if share < counts.target_coverage and not own_bound and counts.refine:
         within = (
             f"{len(spheres)} spheres within its {fitter.tau * 1000:.3g} mm default bound cover "
             f"{_short_of(share)} of it (target {counts.target_coverage:.0%})"
         )
-        spheres, share = past_the_bound(fitter, len(spheres))
+        spheres, share = past_the_bound(fitter, len(spheres), judge)
         if share >= counts.target_coverage:
             said = f"refined past the bound (as --per-link is) they cover {share:.0%}"
             tail = f"{said}; --max-protrusion keeps a hard bound"
