@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -70,6 +71,21 @@ def test_an_inside_out_closed_part_is_turned_outward(tmp_path: Path) -> None:
     assert geoms["part"].kind == "mesh" and geoms["part"].solid.volume > 0
     assert geoms["part"].solid.volume == pytest.approx(-inside_out.volume, rel=1e-9)
     assert not [d for d in diags if d.rule == "spheres-convex-hull"]
+
+
+def test_a_textured_mesh_cut_open_at_its_seams_is_closed(tmp_path: Path) -> None:
+    """An OBJ with a texture coordinate per face corner (a Blender export: Unitree B2's lidar)
+    is read with a vertex per corner: every edge is a seam and the part read as open."""
+    box = trimesh.creation.box((0.1, 0.05, 0.03))
+    box.unmerge_vertices()
+    uv = np.random.default_rng(0).uniform(size=(len(box.vertices), 2))
+    box.visual = trimesh.visual.TextureVisuals(uv=uv)
+    export: Any = trimesh.exchange.obj.export_obj
+    (tmp_path / "box.obj").write_text(export(box, include_texture=True))
+    geoms, diags = load_link_geometry(_urdf(tmp_path, "box.obj"))
+    assert geoms["part"].kind == "mesh"
+    assert not [d for d in diags if d.rule == "spheres-convex-hull"]
+    assert geoms["part"].solid.volume == pytest.approx(0.1 * 0.05 * 0.03, rel=1e-6)
 
 
 def test_an_open_mesh_is_not_mended_but_hulled() -> None:

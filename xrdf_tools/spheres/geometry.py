@@ -151,21 +151,33 @@ def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
 
 
 def repaired(part: trimesh.Trimesh) -> trimesh.Trimesh:
-    """``part`` itself when it encloses a volume, else a copy that does once its zero-area
-    faces are dropped (a CAD export's slivers, each leaving an edge shared by four faces) and
-    its faces turned outward when they all point inward (a closed mesh of negative volume),
-    else ``part`` unchanged. Nothing else is mended: a mesh open after that is open."""
+    """``part`` itself when it encloses a volume, else the first of these mended copies that
+    does: its vertices merged across texture and normal seams (an OBJ or COLLADA file
+    repeats a vertex for each texture coordinate it has, and trimesh keeps those copies
+    apart: the surface is cut open along every seam); then also its zero-area faces dropped
+    (a CAD export's slivers, each leaving an edge shared by four faces). Either is turned
+    outward when all its faces point inward (closed, of negative volume). Else ``part``
+    unchanged: nothing else is mended, a mesh open after that is open."""
     if is_volume(part):
         return part
     mesh = part.copy()
     with np.errstate(invalid="ignore", divide="ignore"):
+        mesh.merge_vertices(merge_tex=True, merge_norm=True)
+        if _outward(mesh):
+            return mesh
         mesh.update_faces(mesh.nondegenerate_faces())
         mesh.remove_unreferenced_vertices()
-        mesh.merge_vertices()
-        closed = len(mesh.faces) and mesh.is_watertight and mesh.is_winding_consistent
-        if closed and float(mesh.volume) < 0.0:
-            mesh.invert()
-    return mesh if is_volume(mesh) else part
+        mesh.merge_vertices(merge_tex=True, merge_norm=True)
+        return mesh if _outward(mesh) else part
+
+
+def _outward(mesh: trimesh.Trimesh) -> bool:
+    """Whether ``mesh`` encloses a volume, once turned outward if it is closed and all its
+    faces point inward (``mesh`` is inverted in place then)."""
+    closed = len(mesh.faces) and mesh.is_watertight and mesh.is_winding_consistent
+    if closed and float(mesh.volume) < 0.0:
+        mesh.invert()
+    return is_volume(mesh)
 
 
 def _closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
