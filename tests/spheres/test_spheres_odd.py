@@ -163,3 +163,29 @@ def test_a_non_finite_vertex_is_said_without_numpy_warnings(tmp_path: Path, bad:
     assert result.exit_code == 1, result.output
     assert "part.stl: a vertex is not finite or beyond ±1e+06 m" in result.output
     assert "Warning" not in result.output
+
+
+def test_a_target_missed_past_the_bound_says_so_and_what_helps(tmp_path: Path) -> None:
+    """Sigmaban's knee (its four collision boxes: a block and two 3 mm plates 55 mm apart,
+    0.29 of their hull): 16 spheres refined past the default bound still fall short. The
+    warning said "16 spheres cover 87% ... raise --max-protrusion", as if they kept the
+    bound, and a bound given keeps it hard: it covers less, not more."""
+    boxes = (
+        ("0 -0.125 0.026", "0 0 0", "0.03 0.055 0.04"),
+        ("0 -0.0825 0.026", "-1.5708 1.5708 0", "0.047 0.0275 0.006"),
+        ("0 -0.0395 0.0535", "0 0 0", "0.04 0.09 0.003"),
+        ("0 -0.0395 -0.0015", "0 0 0", "0.04 0.09 0.003"),
+    )
+    parts = "".join(
+        f'<collision><origin xyz="{xyz}" rpy="{rpy}"/><geometry><box size="{size}"/>'
+        "</geometry></collision>"
+        for xyz, rpy, size in boxes
+    )
+    (tmp_path / "knee.urdf").write_text(f'<robot name="r"><link name="knee">{parts}</link></robot>')
+    result = fit_robot(tmp_path / "knee.urdf")
+    (missed,) = [d for d in result.diagnostics if d.rule == "spheres-target-missed"]
+    assert "16 spheres within its" in missed.message and "default bound cover" in missed.message
+    assert "and refined past the bound" in missed.message
+    assert "give --per-link (up to 64) for more" in missed.message
+    assert "--max-protrusion" not in missed.message
+    assert len(result.spheres["knee"]) == 16

@@ -283,6 +283,6 @@ def test_a_coverage_short_of_its_target_never_reads_as_the_target() -> None:
     """Staubli RX160's link_6: 16 spheres covered 89.96 % under the default bound, said as
     'cover 90% of it (target 90%)' and then refined past the bound. A coverage below the
     target is rounded down."""
-    from xrdf_tools.spheres.robot_fit import _short_of
+    from xrdf_tools.spheres.fewest import short_of
 
-    assert [_short_of(s) for s in (0.8996, 0.9, 0.43, 0.0)] == ["89%", "90%", "43%", "0%"]
+    assert [short_of(s) for s in (0.8996, 0.9, 0.43, 0.0)] == ["89%", "90%", "43%", "0%"]

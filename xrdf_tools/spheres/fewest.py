@@ -27,7 +27,14 @@ from ..xrdf.model import Sphere
 if TYPE_CHECKING:
     from .fit import SphereFitter
 
-__all__ = ["AUTO_MAX_PER_LINK", "HeldOut", "fewest_reaching", "past_the_bound"]
+__all__ = [
+    "AUTO_MAX_PER_LINK",
+    "HeldOut",
+    "default_fit",
+    "fewest_reaching",
+    "past_the_bound",
+    "short_of",
+]
 
 #: The most spheres a link gets by default.
 AUTO_MAX_PER_LINK = 16
@@ -104,3 +111,36 @@ def past_the_bound(
     fitter.widen(max(START_BOUNDS) * default_max_protrusion(fitter.solid))
     spheres = refined_fit(fitter, k)
     return spheres, (judge or HeldOut(fitter)).share(spheres)
+
+
+def default_fit(
+    fitter: SphereFitter, target: float, *, past: bool, most: int
+) -> tuple[tuple[Sphere, ...], tuple[bool, str] | None]:
+    """A link's spheres without a count: the fewest reaching ``target`` within the fitter's
+    bound, else (``past``: the bound is the default, not the user's) as many refined past
+    it. Also what to say, when something is: ``(missed, text)``, ``missed`` when the target
+    is not reached (``most``: the largest --per-link, named in the advice)."""
+    judge = HeldOut(fitter)
+    spheres, share = fewest_reaching(fitter, target, judge)
+    what = f"{len(spheres)} spheres cover {short_of(share)} of its volume (target {target:.0%})"
+    advice = "raise --max-protrusion or give --per-link for more"
+    if share < target and past:
+        within = (
+            f"{len(spheres)} spheres within its {fitter.tau * 1000:.3g} mm default bound cover "
+            f"{short_of(share)} of it (target {target:.0%})"
+        )
+        spheres, share = past_the_bound(fitter, len(spheres), judge)
+        if share >= target:
+            said = f"refined past the bound (as --per-link is) they cover {share:.0%}"
+            return spheres, (False, f"{within}; {said}; --max-protrusion keeps a hard bound")
+        what = f"{within}, and refined past the bound {short_of(share)}"
+        advice = f"give --per-link (up to {most}) for more"
+    if share < target:
+        return spheres, (True, f"{what}; {advice}")
+    return spheres, None
+
+
+def short_of(share: float) -> str:
+    """A coverage below its target as a whole percentage rounded down: 89.96 % is '89%', never
+    the '90%' that reads as the target met."""
+    return f"{math.floor(share * 100)}%"
