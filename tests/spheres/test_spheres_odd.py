@@ -189,3 +189,16 @@ def test_a_target_missed_past_the_bound_says_so_and_what_helps(tmp_path: Path) -
     assert "give --per-link (up to 64) for more" in missed.message
     assert "--max-protrusion" not in missed.message
     assert len(result.spheres["knee"]) == 16
+
+
+def test_a_huge_primitive_is_not_called_a_mesh_without_its_scale(tmp_path: Path) -> None:
+    """A <sphere radius="100000"> (a size written in millimetres, and more) was told to set
+    <mesh scale="0.001 ...">, which a primitive does not have."""
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="ball"><collision><geometry><sphere radius="1e5"/>'
+        "</geometry></collision></link></robot>"
+    )
+    _, diags = load_link_geometry(tmp_path / "r.urdf")
+    (said,) = [d for d in diags if d.rule == "spheres-mesh-scale"]
+    assert "spans 2e+05 m" in said.message and "<mesh scale" not in said.message
+    assert "sizes look like millimetres; URDF lengths are metres" in said.message

@@ -432,12 +432,20 @@ def _link_solid(
                 path,
                 link.line,
                 RULE_MESH_SCALE,
-                f"link '{name}' {link.source} geometry spans {span:.4g} m: a mesh exported in "
-                'millimetres needs <mesh scale="0.001 0.001 0.001"> (spheres fitted as it is)',
+                f"link '{name}' {link.source} geometry spans {span:.4g} m: {_scale_hint(link)} "
+                "(spheres fitted as it is)",
             )
         )
     exact = _sphere_parts(link)
     return LinkGeometry(name, solid[0], solid[1], link.source, len(parts), link.line, exact)
+
+
+def _scale_hint(link: LinkParts) -> str:
+    """What most likely makes a link too large: a mesh file in millimetres without its scale,
+    or (no mesh file among its parts) primitive sizes written in millimetres."""
+    if any(part.file for part in link.parts):
+        return 'a mesh exported in millimetres needs <mesh scale="0.001 0.001 0.001">'
+    return "its <box>/<cylinder>/<sphere> sizes look like millimetres; URDF lengths are metres"
 
 
 def _sphere_parts(link: LinkParts) -> tuple[Sphere, ...]:
