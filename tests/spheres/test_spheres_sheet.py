@@ -268,7 +268,8 @@ def test_a_disc_its_default_bound_cannot_cover_is_refined_past_it(tmp_path: Path
     urdf = _urdf(tmp_path, disc, "disc")
     fit = fit_robot(urdf)
     assert [d.rule for d in fit.diagnostics] == ["spheres-past-bound"]
-    assert "within its 2.21 mm default bound cover 49% of it" in fit.diagnostics[0].message
+    # judged on samples held out of the fit (its own samples said 49 %)
+    assert "within its 2.21 mm default bound cover 42% of it" in fit.diagnostics[0].message
     solid = fit.geometry["disc"].solid
     m = sphere_metrics(solid, fit.spheres["disc"], samples=8000)
     assert m.coverage >= 0.9 and len(fit.spheres["disc"]) <= 16
@@ -282,6 +283,6 @@ def test_a_coverage_short_of_its_target_never_reads_as_the_target() -> None:
     """Staubli RX160's link_6: 16 spheres covered 89.96 % under the default bound, said as
     'cover 90% of it (target 90%)' and then refined past the bound. A coverage below the
     target is rounded down."""
-    from xrdf_tools.spheres.robot_fit import _short_of
+    from xrdf_tools.spheres.fewest import short_of
 
-    assert [_short_of(s) for s in (0.8996, 0.9, 0.43, 0.0)] == ["89%", "90%", "43%", "0%"]
+    assert [short_of(s) for s in (0.8996, 0.9, 0.43, 0.0)] == ["89%", "90%", "43%", "0%"]

@@ -22,7 +22,16 @@ __all__ = ["load_mesh_scene", "unreadable", "without_broken_material_bindings"]
 
 
 def load_mesh_scene(path: Path) -> Any:
-    """The file at ``path`` as an unprocessed ``trimesh.Scene``, in metres for COLLADA."""
+    """The file at ``path`` as an unprocessed ``trimesh.Scene``, in metres for COLLADA.
+    numpy's warnings on a file with non-finite vertices are not printed: the caller checks
+    the vertices and says which file."""
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        return _load_scene(path)
+
+
+def _load_scene(path: Path) -> Any:
     import trimesh
 
     scene: Any = trimesh.load(str(path), force="scene", process=False)

@@ -200,7 +200,7 @@ class SphereFitter:
         self.solid = solid
         self.volume = float(abs(solid.volume))
         tau = default_max_protrusion(solid) if max_protrusion is None else float(max_protrusion)
-        self._seed = seed
+        self.seed = seed
         self.room = 0.0
         if room is not None and room > tau:
             cell = (float(np.max(solid.extents)) + 2.0 * self._margin(tau)) / _GRID_CELLS
@@ -209,16 +209,16 @@ class SphereFitter:
             self.room = float(room)
         else:
             self.widen(tau, rng)
-        vol = self._kept(sample_volume(solid, volume_samples, rng))
-        surf = self._kept(sample_surface(solid, surface_samples, rng))
+        vol = self.kept(sample_volume(solid, volume_samples, rng))
+        surf = self.kept(sample_surface(solid, surface_samples, rng))
         self.points = np.concatenate([vol, surf])
         self._xyz = (self.points[None, :, 0], self.points[None, :, 1], self.points[None, :, 2])
         self.n_volume = len(vol)
         self.w_volume = VOLUME_WEIGHT / max(len(vol), 1)
         self.w_surface = (1.0 - VOLUME_WEIGHT) / max(len(surf), 1)
-        cand = self._kept(sample_volume(solid, candidates, rng))
+        cand = self.kept(sample_volume(solid, candidates, rng))
         if len(cand) == 0:
-            cand = self._kept(np.asarray(solid.vertices, dtype=np.float64).mean(0, keepdims=True))
+            cand = self.kept(np.asarray(solid.vertices, dtype=np.float64).mean(0, keepdims=True))
         self.empty = len(cand) == 0 or len(self.points) == 0
         self.cand_c = cand
         self.scale = self.volume ** (1.0 / 3.0)
@@ -233,7 +233,7 @@ class SphereFitter:
         around the solid grows with it, and its cells with the margin). The grid is built from
         a generator seeded as the fitter's first, so the same room gives the same grid."""
         margin = self._margin(room)
-        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self._seed))
+        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self.seed))
         #: the largest bound the distance grid reaches past (see :meth:`rebound`)
         self.room = float(room)
 
@@ -286,7 +286,7 @@ class SphereFitter:
             points[:, 0] * plane[0] + points[:, 1] * plane[1] + points[:, 2] * plane[2] - plane[3]
         )
 
-    def _kept(self, points: FloatArray) -> FloatArray:
+    def kept(self, points: FloatArray) -> FloatArray:
         """The points on the kept side of every clip plane."""
         keep = np.ones(len(points), dtype=bool)
         for plane in self.clips:

@@ -150,6 +150,36 @@ def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
     return box if is_volume(box) else None
 
 
+def repaired(part: trimesh.Trimesh) -> trimesh.Trimesh:
+    """``part`` itself when it encloses a volume, else the first of these mended copies that
+    does: its vertices merged across texture and normal seams (an OBJ or COLLADA file
+    repeats a vertex for each texture coordinate it has, and trimesh keeps those copies
+    apart: the surface is cut open along every seam); then also its zero-area faces dropped
+    (a CAD export's slivers, each leaving an edge shared by four faces). Either is turned
+    outward when all its faces point inward (closed, of negative volume). Else ``part``
+    unchanged: nothing else is mended, a mesh open after that is open."""
+    if is_volume(part):
+        return part
+    mesh = part.copy()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mesh.merge_vertices(merge_tex=True, merge_norm=True)
+        if _outward(mesh):
+            return mesh
+        mesh.update_faces(mesh.nondegenerate_faces())
+        mesh.remove_unreferenced_vertices()
+        mesh.merge_vertices(merge_tex=True, merge_norm=True)
+        return mesh if _outward(mesh) else part
+
+
+def _outward(mesh: trimesh.Trimesh) -> bool:
+    """Whether ``mesh`` encloses a volume, once turned outward if it is closed and all its
+    faces point inward (``mesh`` is inverted in place then)."""
+    closed = len(mesh.faces) and mesh.is_watertight and mesh.is_winding_consistent
+    if closed and float(mesh.volume) < 0.0:
+        mesh.invert()
+    return is_volume(mesh)
+
+
 def _closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
     """The part as a closed solid: itself, else its hull, else its bounding box."""
     if is_volume(part):
@@ -192,7 +222,7 @@ def _solidify(
 ) -> tuple[trimesh.Trimesh, SolidKind] | None:
     import trimesh
 
-    bodies = [body for whole in parts for body in _overlapping_bodies(whole)]
+    bodies = [body for whole in parts for body in _overlapping_bodies(repaired(whole))]
     made: list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]] = []  # (body, its solid, how)
     for body in bodies:
         with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
@@ -402,12 +432,20 @@ def _link_solid(
                 path,
                 link.line,
                 RULE_MESH_SCALE,
-                f"link '{name}' {link.source} geometry spans {span:.4g} m: a mesh exported in "
-                'millimetres needs <mesh scale="0.001 0.001 0.001"> (spheres fitted as it is)',
+                f"link '{name}' {link.source} geometry spans {span:.4g} m: {_scale_hint(link)} "
+                "(spheres fitted as it is)",
             )
         )
     exact = _sphere_parts(link)
     return LinkGeometry(name, solid[0], solid[1], link.source, len(parts), link.line, exact)
+
+
+def _scale_hint(link: LinkParts) -> str:
+    """What most likely makes a link too large: a mesh file in millimetres without its scale,
+    or (no mesh file among its parts) primitive sizes written in millimetres."""
+    if any(part.file for part in link.parts):
+        return 'a mesh exported in millimetres needs <mesh scale="0.001 0.001 0.001">'
+    return "its <box>/<cylinder>/<sphere> sizes look like millimetres; URDF lengths are metres"
 
 
 def _sphere_parts(link: LinkParts) -> tuple[Sphere, ...]:

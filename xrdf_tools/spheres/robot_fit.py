@@ -39,7 +39,7 @@ from ..util.errors import XrdfToolsError
 from ..util.text import name_list
 from ..xrdf.model import Sphere
 from .budget import allocate
-from .fewest import fewest_reaching, past_the_bound
+from .fewest import default_fit, fewest_reaching
 
 if TYPE_CHECKING:
     import trimesh
@@ -429,39 +429,13 @@ def _fit_one(
         return refined_fit(fitter, k)
     if k is not None:
         return fitter.fit(k)
-    spheres, share = fewest_reaching(fitter, counts.target_coverage)
-    if share < counts.target_coverage and not own_bound and counts.refine:
-        within = (
-            f"{len(spheres)} spheres within its {fitter.tau * 1000:.3g} mm default bound cover "
-            f"{_short_of(share)} of it (target {counts.target_coverage:.0%})"
-        )
-        spheres, share = past_the_bound(fitter, len(spheres))
-        if share >= counts.target_coverage:
-            said = f"refined past the bound (as --per-link is) they cover {share:.0%}"
-            tail = f"{said}; --max-protrusion keeps a hard bound"
-            diags.append(
-                _info(path, geom.line, RULE_PAST_BOUND, f"link '{geom.link}': {within}; {tail}")
-            )
-            return spheres
-    if share < counts.target_coverage:
-        diags.append(
-            _info(
-                path,
-                geom.line,
-                RULE_TARGET_MISSED,
-                f"link '{geom.link}': {len(spheres)} spheres cover {_short_of(share)} of its "
-                f"volume (target {counts.target_coverage:.0%}); raise --max-protrusion or give "
-                "--per-link for more",
-                warn=True,
-            )
-        )
+    past = not own_bound and counts.refine
+    spheres, note = default_fit(fitter, counts.target_coverage, past=past, most=MAX_PER_LINK)
+    if note is not None:
+        missed, text = note
+        rule = RULE_TARGET_MISSED if missed else RULE_PAST_BOUND
+        diags.append(_info(path, geom.line, rule, f"link '{geom.link}': {text}", warn=missed))
     return spheres
-
-
-def _short_of(share: float) -> str:
-    """A coverage below its target as a whole percentage rounded down: 89.96 % is '89%', never
-    the '90%' that reads as the target met."""
-    return f"{math.floor(share * 100)}%"
 
 
 def _report_shared(

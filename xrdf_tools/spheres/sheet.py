@@ -132,7 +132,10 @@ def as_sheet(solid: trimesh.Trimesh, bound: float) -> Sheet | None:
     if area <= 0.0 or 2.0 * volume / area > bound * (1.0 + _BOUND_SLACK):
         return None
     oriented: Any = trimesh.bounds.oriented_bounds
-    to_box, extents = oriented(np.asarray(solid.vertices, dtype=np.float64), ordered=True)
+    try:
+        to_box, extents = oriented(np.asarray(solid.vertices, dtype=np.float64), ordered=True)
+    except Exception:  # qhull fails on a solid below its tolerances (a part scaled to 0.1 µm)
+        return None
     t, b, a = (float(e) for e in extents)
     if not (t <= b / SHEET_ASPECT and t <= bound * (1.0 + _BOUND_SLACK)):
         return None
