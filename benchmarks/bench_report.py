@@ -271,6 +271,7 @@ def big_robots(cache: Path) -> list[tuple[str, Path, Path]]:
                     str(robots / "talos_data/srdf/talos.srdf"),
                     "--group",
                     "l_arm",
+                    *pkg,  # two ankle meshes are package://example-robot-data/… URIs
                 ],
             ),
         ),
