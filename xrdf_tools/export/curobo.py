@@ -133,8 +133,9 @@ def to_curobo(
     """A cuRobo robot configuration (``robot_cfg: {kinematics: ...}``) for ``x`` and its URDF.
 
     ``layout`` is ``"2.0"`` (``tool_frames``, ``default_joint_position``) or ``"classic"``
-    (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). Joints that have a default
-    position but are not in the c-space become ``lock_joints``. ``tree`` is the URDF's
+    (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). The actuated URDF
+    joints outside the c-space become ``lock_joints``, held at their default position (0.0 without
+    one), as cuRobo's XRDF reader holds them. ``tree`` is the URDF's
     :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`. ``urdf_path`` (the
     file ``urdf_path`` names; default: the tree's) is written relative to the directory
     ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
@@ -199,7 +200,10 @@ def to_curobo(
 
     cs = x.cspace
     defaults = dict(x.default_joint_positions or {})
-    locks = {j: v for j, v in defaults.items() if j not in cs.joint_names and tree.is_actuated(j)}
+    # cuRobo's XRDF reader holds every actuated URDF joint outside the c-space at its default
+    # position (0.0 without one); its config loader raises on a joint that is in neither list
+    outside = [j for j in tree.actuated_joints() if j not in cs.joint_names]
+    locks = {j: defaults.get(j, 0.0) for j in outside}
     for j in defaults:
         if j not in cs.joint_names and j not in locks:
             note("export-dropped-joint", f"default position of '{j}' is not an actuated joint")
