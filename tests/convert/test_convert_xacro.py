@@ -698,6 +698,31 @@ def test_a_link_two_includes_define_is_located_at_a_definition(tmp_path: Path) -
     assert "link 'base_link' is defined twice" in str(e.value)
 
 
+def test_a_link_the_file_and_a_macro_both_define_says_so(tmp_path: Path) -> None:
+    """A robot on a lift defines 'base_link' and calls UR's macro with an empty prefix, which
+    defines 'base_link' again: the macro's copy took the line of the file's literal tag, and
+    the error read ':4: link 'base_link' is defined twice (first on line 4)'."""
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    top = tmp_path / "lift.urdf.xacro"
+    top.write_text(
+        '<robot name="lift" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="arm" params="prefix">\n'
+        '    <link name="${prefix}base_link"/>\n'
+        "  </xacro:macro>\n"
+        '  <link name="base_link"/>\n'
+        '  <xacro:arm prefix=""/>\n'
+        "</robot>\n"
+    )
+    with pytest.raises(UrdfError) as e:
+        load_robot(top)
+    assert (e.value.path, e.value.line) == (str(top), 5), str(e.value)
+    assert str(e.value).endswith(
+        "link 'base_link' is defined twice (on line 5, and again by a xacro macro or include)"
+    )
+
+
 def test_a_link_written_one_attribute_a_line_is_located_in_a_xacro(
     runner: CliRunner, tmp_path: Path
 ) -> None:

@@ -614,6 +614,42 @@ def test_set_base_frame_on_the_urdf_root_is_no_change() -> None:
     ]
 
 
+def test_a_default_written_at_its_unset_value_is_no_change_with_the_urdf(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """An unset default is 0 clamped to the joint's limits. A round trip through export curobo
+    and convert --curobo writes 0.0 for a gripper finger cuRobo locks (ARX R5a's joint7,
+    limits [0, 0.044]): with --urdf that is no change; 0.0 on a joint whose limits exclude 0,
+    or another value, still is."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(
+        '<robot name="arm"><link name="a"/><link name="b"/><link name="c"/>'
+        '<joint name="finger" type="prismatic"><parent link="a"/><child link="b"/>'
+        '<limit lower="0" upper="0.044" effort="1" velocity="1"/></joint>'
+        '<joint name="lifted" type="prismatic"><parent link="a"/><child link="c"/>'
+        '<limit lower="0.2" upper="0.5" effort="1" velocity="1"/></joint></robot>'
+    )
+    head = "format: xrdf\nformat_version: 1.0\n"
+    unset = tmp_path / "unset.xrdf"
+    unset.write_text(head)
+    zero = tmp_path / "zero.xrdf"
+    zero.write_text(head + "default_joint_positions: {finger: 0.0}\n")
+    r = runner.invoke(app, ["diff", str(unset), str(zero), "--urdf", str(urdf)])
+    assert r.exit_code == 0, r.output
+    assert "finger = 0.0 added: the value it has unset" in r.output
+    r = runner.invoke(app, ["diff", str(zero), str(unset), "--format", "json", "--urdf", str(urdf)])
+    assert r.exit_code == 0, r.output
+    notes = json.loads(r.output[r.output.index("{") :])["notes"]
+    assert [n["kind"] for n in notes] == ["default-as-unset"]
+    assert runner.invoke(app, ["diff", str(unset), str(zero)]).exit_code == 1  # no URDF
+    for text in ("{finger: 0.01}", "{lifted: 0.0}"):
+        other = tmp_path / "other.xrdf"
+        other.write_text(head + f"default_joint_positions: {text}\n")
+        r = runner.invoke(app, ["diff", str(unset), str(other), "--urdf", str(urdf)])
+        assert r.exit_code == 1 and "default-added" not in r.output, r.output
+        assert "added (was unset: 0 clamped to the limits)" in r.output
+
+
 def test_every_diff_format_is_one_entry_of_the_renderer_table() -> None:
     from xrdf_tools.cli.commands.diff import DiffFormat
     from xrdf_tools.diff.render import RENDERERS

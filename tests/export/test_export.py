@@ -8,6 +8,7 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
+from tests.curobo_loader import from_config, from_xrdf
 from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions, convert_files
@@ -237,3 +238,112 @@ def test_round_trip_panda_without_set_base_frame(tmp_path: Path) -> None:
     assert {c.kind for c in result.minor_changes} <= {"group-renamed"}, [
         c.message for c in result.minor_changes
     ]
+
+
+_GRIPPER_URDF = """<robot name="arm_with_gripper">
+  <link name="base"/><link name="upper"/><link name="hand"/><link name="left"/><link name="right"/>
+  <link name="tool"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="wrist" type="revolute"><parent link="upper"/><child link="hand"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/>
+  </joint>
+  <joint name="finger" type="prismatic"><parent link="hand"/><child link="left"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="1" velocity="0.1"/></joint>
+  <joint name="finger_mirror" type="prismatic"><parent link="hand"/><child link="right"/>
+    <axis xyz="0 -1 0"/><mimic joint="finger"/>
+    <limit lower="0" upper="0.04" effort="1" velocity="0.1"/></joint>
+  <joint name="tool_joint" type="fixed"><parent link="hand"/><child link="tool"/></joint>
+</robot>
+"""
+
+_GRIPPER_XRDF = """format: xrdf
+format_version: 1.0
+default_joint_positions: {shoulder: 0.5, wrist: 0.25}
+cspace:
+  joint_names: [shoulder]
+  acceleration_limits: [10.0]
+  jerk_limits: [500.0]
+tool_frames: [tool]
+collision:
+  geometry: g
+self_collision:
+  geometry: g
+  ignore: {}
+geometry:
+  g:
+    spheres:
+      left:
+        - {center: [0.0, 0.0, 0.0], radius: 0.01}
+"""
+
+
+def test_curobo_export_locks_every_actuated_joint_outside_the_cspace(tmp_path: Path) -> None:
+    """cuRobo's XRDF reader holds a finger outside the c-space at 0.0 when it has no default;
+    its config loader raises on a joint of the robot it builds that is neither active nor
+    locked, so the export lists it in lock_joints (the mimic follows its leader, not locked)."""
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(_GRIPPER_URDF)
+    x = parse_xrdf(_GRIPPER_XRDF, "robot.xrdf")
+    text, diags = to_curobo(x, as_robot(load_urdf(urdf)).tree, urdf_path=urdf)
+    assert diags == []
+    kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
+    assert kin["lock_joints"] == {"wrist": 0.25, "finger": 0.0}
+    cs = kin["cspace"]
+    assert cs["joint_names"] == ["shoulder", "wrist", "finger"]
+    assert cs["default_joint_position"] == [0.5, 0.25, 0.0]
+    assert len(cs["max_acceleration"]) == len(cs["max_jerk"]) == 3
+    cfg = tmp_path / "robot.yml"
+    cfg.write_text(text)
+    assert from_config(cfg, urdf) == from_xrdf(_GRIPPER_XRDF, urdf)
+
+
+_TWO_LINK_URDF = """<robot name="two_link">
+  <link name="base"/><link name="link0"/><link name="link1"/><link name="tip"/>
+  <joint name="joint0" type="revolute"><parent link="base"/><child link="link0"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="joint1" type="revolute"><parent link="link0"/><child link="link1"/>
+    <origin xyz="1 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/>
+  </joint>
+  <joint name="tip_joint" type="fixed"><parent link="link1"/><child link="tip"/>
+    <origin xyz="1 0 0"/></joint>
+</robot>
+"""
+
+
+def _two_link_xrdf(section: str) -> str:
+    return (
+        "format: xrdf\nformat_version: 2.0\n"
+        "default_joint_positions: {joint0: 0.0, joint1: 0.0}\n"
+        "cspace: {joint_names: [joint0, joint1], acceleration_limits: [10.0, 10.0], "
+        "jerk_limits: [100.0, 100.0]}\n"
+        f"tool_frames: [tip]\n{section}:\n  geometry: g\n"
+        "geometry:\n  g:\n    spheres:\n"
+        "      base: [{center: [0.0, 0.0, 0.0], radius: 0.1}]\n"
+        "      link0: [{center: [1.0, 0.0, 0.0], radius: 0.1}]\n"
+        "      link1: [{center: [0.0, 0.0, 0.0], radius: 0.1}]\n"
+    )
+
+
+def test_curobo_export_of_world_collision_only_checks_no_pair(tmp_path: Path) -> None:
+    """cuMotion's two_link_arm.xrdf has world_collision and no self_collision: its spheres are
+    never checked against each other, and link0's last sphere sits on link1's first. cuRobo
+    checks every pair its config does not ignore, so the export ignores every pair (it wrote
+    self_collision_ignore: {}, and cuRobo saw the arm in self-collision everywhere)."""
+    urdf = tmp_path / "two_link.urdf"
+    urdf.write_text(_TWO_LINK_URDF)
+    tree = as_robot(load_urdf(urdf)).tree
+    x = parse_xrdf(_two_link_xrdf("world_collision"), "two_link.xrdf")
+    text, diags = to_curobo(x, tree, urdf_path=urdf)
+    kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
+    ignored = {frozenset((a, b)) for a, bs in kin["self_collision_ignore"].items() for b in bs}
+    frames = kin["collision_link_names"]
+    assert frames == ["base", "link0", "link1"]
+    assert ignored == {frozenset((a, b)) for a in frames for b in frames if a != b}
+    assert [(d.rule, d.severity.value) for d in diags] == [("export-no-self-collision", "info")]
+
+    self_only = parse_xrdf(_two_link_xrdf("self_collision"), "two_link.xrdf")
+    text, diags = to_curobo(self_only, tree, urdf_path=urdf)
+    kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
+    assert kin["self_collision_ignore"] == {} and len(kin["collision_spheres"]) == 3
+    assert [d.rule for d in diags] == ["export-self-only"]

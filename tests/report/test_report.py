@@ -134,6 +134,22 @@ def test_a_robot_with_spheres_on_fewer_than_two_frames_is_said_to_be_unchecked()
     assert "report-nothing-checked" not in {d.rule for d in r.diagnostics}
 
 
+def test_a_robot_with_world_collision_only_is_not_said_to_have_no_sphere() -> None:
+    """cuMotion's two_link_arm.xrdf has world-collision spheres and no self_collision section
+    (here a 1.0 file with collision only): the report checks nothing, and said 'the XRDF holds
+    no collision sphere' and to fit some."""
+    text = THREE_LINK_XRDF[: THREE_LINK_XRDF.index("self_collision:")]
+    text += THREE_LINK_XRDF[THREE_LINK_XRDF.index("geometry:\n") :]
+    xrdf = parse_xrdf(text, "x.xrdf")
+    assert xrdf.self_collision is None and xrdf.world_collision is not None
+    n_world = sum(len(s) for s in xrdf.world_collision_spheres().values())
+    r = self_collision_report(load_urdf(THREE_LINK), xrdf, samples=100, seed=1)
+    (found,) = [d for d in r.diagnostics if d.rule == "report-no-spheres"]
+    assert f"no self_collision section: its {n_world} world-collision spheres" in found.message
+    assert "fit spheres" not in found.message and found.key_path == "collision"
+    assert found.line is not None
+
+
 def test_trajectory_check_names_colliding_configurations(tmp_path: Path) -> None:
     xrdf = parse_xrdf(THREE_LINK_XRDF, "three_link.xrdf")
     urdf = load_urdf(THREE_LINK)

@@ -69,3 +69,23 @@ def test_different_groups_warned_on_1_0() -> None:
 def test_same_version_is_identity() -> None:
     x = load_xrdf(SEED_XRDF)
     assert to_version(x, "1.0") == (x, [])
+
+
+def test_world_collision_only_says_what_curobo_needs_on_1_0() -> None:
+    """cuMotion's two_link_arm.xrdf (2.0) has world_collision and no self_collision; written as
+    1.0 for cuRobo, whose loader raises 'self_collision key not found' once collision is there,
+    the missing section was not mentioned (missing tool_frames and defaults were)."""
+    text = (
+        "format: xrdf\nformat_version: 2.0\n"
+        "default_joint_positions: {j: 0.0}\n"
+        "cspace: {joint_names: [j], acceleration_limits: [1.0], jerk_limits: [1.0]}\n"
+        "tool_frames: [tip]\n"
+        "world_collision:\n  geometry: g\n"
+        "geometry:\n  g:\n    spheres:\n      link: [{center: [0.0, 0.0, 0.0], radius: 0.1}]\n"
+    )
+    out, diags = to_1_0(parse_xrdf(text, "arm.xrdf"))
+    assert out.self_collision is None and out.world_collision is not None
+    assert [(d.rule, d.line, d.key_path) for d in diags] == [
+        ("missing-for-curobo", 7, "world_collision")
+    ]
+    assert "self_collision" in diags[0].message

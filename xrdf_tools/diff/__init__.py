@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Mapping
 
 from ..xrdf.io import load_xrdf
 from ..xrdf.model import Xrdf
@@ -98,11 +99,15 @@ def diff_xrdf(
     tolerance: float = DEFAULT_TOLERANCE,
     *,
     root_frame: str | None = None,
+    unset_defaults: Mapping[str, float] | None = None,
 ) -> XrdfDiff:
     """Semantic difference from ``a`` to ``b`` (see the module docstring for the rules).
 
     ``root_frame`` is the URDF's root link when known: ``set_base_frame`` on it is a no-op, so
-    a file that has it and one that does not are equal (a note says so).
+    a file that has it and one that does not are equal (a note says so). ``unset_defaults``
+    (:func:`~xrdf_tools.robot.kinematics.unset_defaults` of the URDF) is the value each
+    joint's default has when it is not written: a default added or removed at that value is
+    no change either (a note says so).
 
     Raises :class:`ValueError` for a negative or non-finite ``tolerance`` and
     :class:`~xrdf_tools.util.errors.GeometryGroupError` when a collision section's group (or a
@@ -115,7 +120,7 @@ def diff_xrdf(
     found = [
         *diff_format(a, b, tol),
         *diff_modifiers(a, b, tol, root_frame),
-        *diff_defaults(a, b, tol),
+        *diff_defaults(a, b, tol, unset_defaults),
         *diff_cspace(a, b, tol),
         *diff_tool_frames(a, b, tol),
         *diff_collision_sections(a, b, tol),

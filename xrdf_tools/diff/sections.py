@@ -8,8 +8,8 @@ two documents and return the changes in document order.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
 
 from ..util.frozen import FrozenMap
 from ..xrdf.model import CollisionSection, CSpace, SelfCollisionSection, Xrdf
@@ -63,11 +63,34 @@ _DEFAULTS = MappingRule[str, float](
 )
 
 
-def diff_defaults(a: Xrdf, b: Xrdf, tol: float) -> list[Change]:
-    """Default positions: a map of joints (absent and empty are the same)."""
+def diff_defaults(
+    a: Xrdf, b: Xrdf, tol: float, unset: Mapping[str, float] | None = None
+) -> list[Change]:
+    """Default positions: a map of joints (absent and empty are the same).
+
+    ``unset`` is the value a joint's default has when it is not written (0 clamped to its
+    URDF limits), when the URDF is known: a default added or removed at that value changes
+    nothing, and a note says so (a round trip through a cuRobo config writes a 0.0 for every
+    joint it locks)."""
     da = a.default_joint_positions or FrozenMap()
     db = b.default_joint_positions or FrozenMap()
-    return diff_mapping(_DEFAULTS, da, db, tol)
+    out: list[Change] = []
+    for c in diff_mapping(_DEFAULTS, da, db, tol):
+        value = c.after if c.kind == "default-added" else c.before
+        if (
+            unset is not None
+            and c.kind in ("default-added", "default-removed")
+            and c.subject in unset
+            and close(value, unset[c.subject], tol)
+        ):
+            done = "added" if c.kind == "default-added" else "removed"
+            message = (
+                f"{c.subject} = {num(value)} {done}: the value it has unset (0 clamped to its "
+                "limits), so this changes nothing"
+            )
+            c = replace(c, kind="default-as-unset", message=message, level=Level.INFO)
+        out.append(c)
+    return out
 
 
 # --- cspace ----------------------------------------------------------------------------------

@@ -133,8 +133,9 @@ def to_curobo(
     """A cuRobo robot configuration (``robot_cfg: {kinematics: ...}``) for ``x`` and its URDF.
 
     ``layout`` is ``"2.0"`` (``tool_frames``, ``default_joint_position``) or ``"classic"``
-    (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). Joints that have a default
-    position but are not in the c-space become ``lock_joints``. ``tree`` is the URDF's
+    (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). The actuated URDF
+    joints outside the c-space become ``lock_joints``, held at their default position (0.0 without
+    one), as cuRobo's XRDF reader holds them. ``tree`` is the URDF's
     :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`. ``urdf_path`` (the
     file ``urdf_path`` names; default: the tree's) is written relative to the directory
     ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
@@ -199,7 +200,10 @@ def to_curobo(
 
     cs = x.cspace
     defaults = dict(x.default_joint_positions or {})
-    locks = {j: v for j, v in defaults.items() if j not in cs.joint_names and tree.is_actuated(j)}
+    # cuRobo's XRDF reader holds every actuated URDF joint outside the c-space at its default
+    # position (0.0 without one); its config loader raises on a joint that is in neither list
+    outside = [j for j in tree.actuated_joints() if j not in cs.joint_names]
+    locks = {j: defaults.get(j, 0.0) for j in outside}
     for j in defaults:
         if j not in cs.joint_names and j not in locks:
             note("export-dropped-joint", f"default position of '{j}' is not an actuated joint")
@@ -235,7 +239,7 @@ def to_curobo(
     return "\n".join(lines) + "\n", diags
 
 
-def _collision_keys(x: Xrdf, note: Callable[[str, str], None]) -> dict[str, Any]:
+def _collision_keys(x: Xrdf, note: Callable[[str, str, Severity], None]) -> dict[str, Any]:
     """The spheres, buffers and ignore pairs of a cuRobo config (one sphere set: the world
     group's; a different self group is reported through ``note``)."""
     world = dict(x.world_collision_spheres())
@@ -248,9 +252,17 @@ def _collision_keys(x: Xrdf, note: Callable[[str, str], None]) -> dict[str, Any]
             "export-different-groups",
             f"world and self collision use different groups; cuRobo has one sphere set, the "
             f"world group '{x.world_collision.geometry}' is written",
+            Severity.WARNING,
         )
     if not world and x.self_collision is not None:
         world = dict(x.self_collision_spheres())
+        if any(world.values()):
+            note(
+                "export-self-only",
+                "the XRDF checks its spheres for self-collision only; cuRobo has one sphere set "
+                "and checks it against the world too",
+                Severity.WARNING,
+            )
     spheres = {
         f: [{"center": list(s.center), "radius": s.radius} for s in ss]
         for f, ss in sorted(world.items())
@@ -270,6 +282,17 @@ def _collision_keys(x: Xrdf, note: Callable[[str, str], None]) -> dict[str, Any]
                 if b not in ignore.get(a, []) and a not in ignore.get(b, []):
                     ignore.setdefault(a, []).append(b)
         sbuf = {f: v for f, v in sorted(x.self_collision.buffer_distance.items())}
+    elif len(spheres) > 1:  # world collision only: cuRobo can only be told to skip every pair
+        frames = list(spheres)
+        ignore = {a: frames[i + 1 :] for i, a in enumerate(frames[:-1])}
+        note(
+            "export-no-self-collision",
+            "the XRDF has no self_collision section (its spheres are never checked against "
+            "each other); cuRobo checks every pair not in self_collision_ignore, so every pair "
+            f"of the {len(frames)} sphere frames is written there",
+            Severity.INFO,
+        )
+        sbuf = {}
     else:
         sbuf = {}
     kin["self_collision_ignore"] = {a: ignore[a] for a in sorted(ignore)}

@@ -218,6 +218,14 @@ def unchecked_finding(xrdf: Xrdf, n_spheres: int, n_pairs: int) -> Diagnostic | 
     sc = xrdf.self_collision
     where = "self_collision.geometry" if sc is not None else "self_collision"
     fit = "fit spheres: xrdf convert --fit-spheres, or xrdf spheres"
+    world = sum(len(s) for s in xrdf.world_collision_spheres().values()) if sc is None else 0
+    if n_spheres == 0 and world and xrdf.world_collision is not None:
+        message = (
+            f"the XRDF has no self_collision section: its {world} world-collision spheres are "
+            "never checked against each other, so the report checks nothing (to check them, add "
+            f"self_collision: {{geometry: {xrdf.world_collision.geometry}, ignore: {{}}}})"
+        )
+        return _diag(xrdf, "report-no-spheres", message, xrdf.collision_key)
     if n_spheres == 0:
         what = f"self-collision group '{sc.geometry}'" if sc is not None else "XRDF"
         message = (

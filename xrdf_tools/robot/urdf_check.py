@@ -184,8 +184,14 @@ def _named_lines(root: Any, tag: str, fail: Fail) -> dict[str, int]:
         if not name.strip():
             raise fail(f"<{tag}> has an empty name (name='{name}')", el)
         if name in lines:
-            first = f" (first on line {lines[name]})" if lines[name] else ""
-            raise fail(f"{tag} '{name}' is defined twice{first}", el)
+            first, again = lines[name], el.sourceline or 0
+            if first and again:
+                where = f" (first on line {first})"
+            elif first or again:  # a xacro: one written in the file, one by a macro or include
+                where = f" (on line {first or again}, and again by a xacro macro or include)"
+            else:
+                where = ""
+            raise fail(f"{tag} '{name}' is defined twice{where}", el)
         lines[name] = el.sourceline or 0
     return lines
 

@@ -405,12 +405,17 @@ _QUOTED_VALUE = re.compile(r"=([\"'])([^\"'\n<]*)\1")
 _ATTRIBUTE = re.compile(r"\b(\w+)='([^'\n]*)'")
 
 
-def _start_tag(source: str, tag: str, key: str, value: str | None = None) -> int:
+def _start_tag(
+    source: str, tag: str, key: str, value: str | None = None, taken: set[int] | None = None
+) -> int:
     """Where ``source`` first writes ``<tag key="value"`` (any value when None), the attribute
-    first, on the tag's line or the next (CAD exporters write one attribute a line); -1."""
+    first, on the tag's line or the next (CAD exporters write one attribute a line), at an offset
+    not in ``taken`` (a tag written once defines one element); -1."""
     written = "" if value is None else rf"\s*([\"']){re.escape(value)}\1"
-    found = re.search(rf"<{re.escape(tag)}\s+{re.escape(key)}\s*={written}", source)
-    return found.start() if found else -1
+    for found in re.finditer(rf"<{re.escape(tag)}\s+{re.escape(key)}\s*={written}", source):
+        if taken is None or found.start() not in taken:
+            return found.start()
+    return -1
 
 
 def _relocate_expansion(root: Any, source: str) -> None:
@@ -419,16 +424,21 @@ def _relocate_expansion(root: Any, source: str) -> None:
     The expansion's own lines are not the file's. A top-level ``<link>``/``<joint>`` written
     literally in the file (``<joint name="j1"``, or its first attribute when it has no name)
     takes that line, and so does everything inside it; one that a macro or a ``$(arg)`` made
-    has no line (lxml reads 0 as no line). The ``<robot>`` takes the line of its tag.
+    has no line (lxml reads 0 as no line), also when the file writes the same tag literally
+    for another element (a link the file defines and a macro defines again). The ``<robot>``
+    takes the line of its tag.
     """
+    taken: set[int] = set()
     for el in root:
         line = 0
         first = next(iter(el.attrib.items()), None) if isinstance(el.tag, str) else None
         if first is not None:  # its name, or what it has in place of one
             key, value = ("name", el.get("name")) if el.get("name") else first
-            found = _start_tag(source, el.tag, key, value)
+            found = _start_tag(source, el.tag, key, value, taken)
             if key != "name" and found < 0:  # a macro wrote the value
-                found = _start_tag(source, el.tag, key)
+                found = _start_tag(source, el.tag, key, None, taken)
+            if found >= 0:
+                taken.add(found)
             line = _line_of(source, found) or 0
         for node in el.iter():
             node.sourceline = line

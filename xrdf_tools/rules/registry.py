@@ -87,6 +87,8 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-dropped-key", W, "Top-level keys that have no cuRobo equivalent."),
         ("export-expanded-urdf", I, "A xacro --urdf: the expanded URDF written beside the YAML."),
         ("export-no-spheres", W, "No collision sphere to export: cuRobo checks no collision."),
+        ("export-no-self-collision", I, "No self_collision: every sphere frame pair is ignored."),
+        ("export-self-only", W, "Self-collision spheres only: cuRobo checks the world too."),
     ),
     "export srdf": (
         ("export-mesh-paths", W, "Mesh names cuRobo cannot find from asset_root_path."),

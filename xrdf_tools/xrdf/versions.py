@@ -105,7 +105,8 @@ def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
 
     Raises :class:`ConversionError` for ``remove_mimic_attributes`` (1.0 cannot express it).
     Warns when world and self collision use different groups (cuRobo rejects that in 1.0) and
-    when ``tool_frames``/``default_joint_positions`` are absent (cuRobo requires them).
+    when ``tool_frames``/``default_joint_positions``, or ``self_collision`` beside a world
+    collision section, are absent (cuRobo requires them).
     """
     diags: list[Diagnostic] = []
     for i, m in enumerate(x.modifiers):
@@ -169,6 +170,17 @@ def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
                 Severity.INFO,
                 "no default_joint_positions: cuRobo's 1.0 loader requires them",
                 "",
+            )
+        )
+    if x.world_collision is not None and x.self_collision is None:
+        diags.append(
+            _diag(
+                x,
+                "missing-for-curobo",
+                Severity.INFO,
+                "world collision without self_collision: cuRobo's 1.0 loader requires "
+                "self_collision (with ignore) once collision is there",
+                "world_collision",
             )
         )
     return x.replace(format_version="1.0", geometry=geometry), diags

@@ -88,14 +88,23 @@ def command(
         fail(f"--tolerance must be a finite number >= 0, not {tolerance}")
     refuse_two_stdin({"A.xrdf": [a], "B.xrdf": [b]})
     try:
-        root = None
+        root, unset = None, None
         if urdf is not None:
+            from ...robot.kinematics import build_kinematic_model, unset_defaults
             from ...robot.urdf_source import root_link
 
-            root = root_link(load_robot_option(urdf, xacro_arg, package_path))
+            robot = load_robot_option(urdf, xacro_arg, package_path)
+            root = root_link(robot)
+            unset = unset_defaults(build_kinematic_model(robot, None)[0])
         from ...diff import diff_xrdf
 
-        result = diff_xrdf(load_xrdf_input(a), load_xrdf_input(b), tolerance, root_frame=root)
+        result = diff_xrdf(
+            load_xrdf_input(a),
+            load_xrdf_input(b),
+            tolerance,
+            root_frame=root,
+            unset_defaults=unset,
+        )
     except XrdfToolsError as exc:
         fail(exc)
     from ...diff.render import RENDERERS

@@ -36,7 +36,12 @@ from .base import FrameSelection as FrameSelection
 from .base import JointType
 from .batch_fk import fk, fk_batch_last, fk_rt
 from .build import build_kinematic_model
-from .configurations import default_configuration, full_configuration, moveit_default_configuration
+from .configurations import (
+    default_configuration,
+    full_configuration,
+    moveit_default_configuration,
+    unset_defaults,
+)
 from .mimic import MimicLink as MimicLink
 from .mimic import resolve_mimic
 from .model import KinematicModel
@@ -53,4 +58,5 @@ __all__ = [
     "fk_rt",
     "full_configuration",
     "moveit_default_configuration",
+    "unset_defaults",
 ]

@@ -29,6 +29,13 @@ def default_configuration(
     return q
 
 
+def unset_defaults(model: KinematicModel) -> dict[str, float]:
+    """The default each actuated joint has when ``default_joint_positions`` does not name it:
+    zero clamped to its position limits (:func:`default_configuration` without defaults)."""
+    q = default_configuration(model)
+    return {name: float(v) for name, v in zip(model.actuated_joints, q, strict=True)}
+
+
 def moveit_default_configuration(model: KinematicModel) -> FloatArray:
     """The default state as MoveIt's Setup Assistant computes it: each joint at 0 when 0 is
     within its limits, else the middle of its limits."""
