@@ -273,3 +273,30 @@ def test_disconnected_urdf_converts_from_the_chosen_base(runner: CliRunner, tmp_
     srdf.write_text('<robot name="ur10e"/>')
     r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
     assert r.exit_code == 2 and "not one tree" in r.output
+
+
+@pytest.mark.parametrize("drop", [None, "tool_frames", "self_collision"])
+def test_export_xrdf_for_curobo_writes_only_what_curobo_loads(
+    runner: CliRunner, tmp_path: Path, drop: str | None
+) -> None:
+    """``export xrdf --target curobo`` writes the file exactly when cuRobo loads the rewrite as
+    written; otherwise it lists the errors, writes nothing and exits 1. Without --target the
+    rewrite is written as asked."""
+    doc = yaml.safe_load(UR10E_XRDF.read_text())
+    if drop is not None:
+        del doc[drop]
+    source = tmp_path / "source.xrdf"
+    source.write_text(yaml.safe_dump(doc, sort_keys=False))
+    plain = tmp_path / "plain.xrdf"
+    r = runner.invoke(
+        app, ["export", "xrdf", str(source), "--format-version", "1.0", "-o", str(plain)]
+    )
+    assert r.exit_code == 0, r.output
+    loads = loads_as_written(plain.read_text(), UR10E_URDF)
+    assert loads == (drop is None)
+    out = tmp_path / "for_curobo.xrdf"
+    r = runner.invoke(app, ["export", "xrdf", str(source), "--target", "curobo", "-o", str(out)])
+    assert (r.exit_code == 0) == loads, r.output
+    assert out.exists() == loads
+    if not loads:
+        assert r.exit_code == 1 and "not written" in r.output and "curobo-" in r.output

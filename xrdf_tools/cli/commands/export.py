@@ -10,7 +10,7 @@ import typer
 
 from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
-from .plain import OutputFormat, is_stdio
+from .plain import EXIT_FINDINGS, OutputFormat, is_stdio
 from .typer_common import (
     PackagePathOption,
     QuietOption,
@@ -281,7 +281,10 @@ def xrdf_for_target(
     """Rewrite an XRDF for the reader that will load it (e.g. a 2.0 file as 1.0 for cuRobo).
 
     Everything the version change cannot carry over is reported; the input is never
-    overwritten.
+    overwritten. With --target the result is also linted for that reader (as `xrdf lint
+    --target`, without a URDF): when the reader would refuse it or silently load something
+    else (cuRobo: no tool_frames, no self_collision), its errors are listed, nothing is
+    written and the exit code is 1.
     """
     from ...export.curobo import for_target
     from ...xrdf.io import dump_xrdf
@@ -292,5 +295,22 @@ def xrdf_for_target(
         x, diags = for_target(load_xrdf_input(xrdf), target, format_version)
     except XrdfToolsError as e:
         fail(e)
-    echo_diagnostics(diags, fmt)
-    write_output(dump_xrdf(x), output)
+    text = dump_xrdf(x)
+    refused = _reader_errors(text, target, output) if target is not None else []
+    echo_diagnostics([*diags, *refused], fmt)
+    if refused:
+        fail(
+            f"not written: {target} would not load it as it is ({len(refused)} error(s) listed "
+            "above); fix the input, or rewrite it without --target",
+            EXIT_FINDINGS,
+        )
+    write_output(text, output)
+
+
+def _reader_errors(text: str, target: str, output: Path | None) -> list[Diagnostic]:
+    """The errors of linting the rewritten ``text`` for ``target`` (no URDF)."""
+    from ...lint import lint_text
+
+    label = str(output) if output is not None and not is_stdio(output) else "<stdout>"
+    found = lint_text(text, label, target=target)
+    return [d for d in found if d.severity is Severity.ERROR]
