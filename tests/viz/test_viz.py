@@ -584,6 +584,26 @@ def test_cli_never_overwrites_an_input(runner: CliRunner, panda_urdf: Path, tmp_
     assert copy.read_bytes() == PANDA_XRDF.read_bytes()
 
 
+def test_cli_never_overwrites_a_mesh_of_the_robot(
+    runner: CliRunner, panda_urdf: Path, tmp_path: Path
+) -> None:
+    """A mesh file the URDF names is an input too: an output on it is refused."""
+    desc = tmp_path / "robots" / "panda_description"
+    mesh = desc / "meshes" / "visual" / "link0.dae"
+    mesh.parent.mkdir(parents=True)
+    mesh.write_bytes((panda_urdf.parents[1] / "meshes" / "visual" / "link0.dae").read_bytes())
+    urdf = desc / "urdf" / "panda.urdf"
+    urdf.parent.mkdir()
+    urdf.write_bytes(panda_urdf.read_bytes())
+    before = mesh.read_bytes()
+    args = ["--urdf", str(urdf), "--package-path", f"example-robot-data={tmp_path}"]
+    r = runner.invoke(app, ["viz", str(PANDA_XRDF), *args, "--png", str(mesh)])
+    assert r.exit_code == 2, r.output
+    assert f"{mesh}: refusing to overwrite an input" in r.output
+    assert mesh.read_bytes() == before
+    assert sorted(p.name for p in mesh.parent.iterdir()) == ["link0.dae"]  # no temporary left
+
+
 @pytest.mark.parametrize(("flag", "module"), [("--rrd", "rerun"), ("--mcap", "mcap")])
 def test_cli_missing_viz_extra_says_how_to_install(
     runner: CliRunner,
