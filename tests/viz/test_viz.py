@@ -205,6 +205,42 @@ def test_another_group_is_drawn_without_collision_colours(
     assert [d.rule for d in s.diagnostics] == ["viz-collisions-not-drawn"]
 
 
+def test_a_small_negative_radius_is_drawn_like_the_check_sees_it_and_a_slot_is_not(
+    panda: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    """XRDF 1.0: a sphere of radius -0.01 is a real sphere once buffered (the self-collision
+    check uses it), so it is drawn and turns red when it collides; an attached-object slot
+    (radius -10) is neither checked nor drawn."""
+    urdf, base = panda
+    kin, _ = build_kinematic_model(urdf, base)
+    plain = build_scene(urdf, base, None, kinematic_model=kin, meshes="none")
+    link0, link3 = (plain.frame_names.index(f) for f in ("panda_link0", "panda_link3"))
+    world = plain.poses[0, link3] @ np.append(
+        base.resolved_spheres("panda_spheres")["panda_link3"][0].center, 1.0
+    )
+    at = (np.linalg.inv(plain.poses[0, link0]) @ world)[:3].tolist()
+    text = PANDA_XRDF.read_text().replace("format_version: 2.0", "format_version: 1.0")
+    text = text.replace("world_collision:", "collision:").replace(
+        "      panda_link0:\n",
+        "      panda_link0:\n"
+        f"        - center: [{at[0]!r}, {at[1]!r}, {at[2]!r}]\n          radius: -0.01\n"
+        "        - center: [0.0, 0.0, 0.0]\n          radius: -10.0\n",
+        1,
+    )
+    path = tmp_path / "panda_1_0.xrdf"
+    path.write_text(text)
+    xrdf = load_xrdf(path)
+    scene = build_scene(urdf, xrdf, None, meshes="none")
+    drawn = scene.link("panda_link0")
+    assert drawn.sphere_ids == (0, 2, 3)  # the slot (index 1) is left out
+    assert drawn.radii[0] == 0.0 and drawn.buffered_radii[0] == pytest.approx(0.09)
+    assert ("panda_link0", "panda_link3") in scene.samples[0].colliding_pairs()
+    assert scene.colors(0)["panda_link0"][0] == COLLISION_RGBA
+    notes = [d.message for d in scene.diagnostics if d.rule == "viz-placeholder-spheres"]
+    assert notes == ["1 attached-object slot(s) (radius <= -1) in group 'panda_spheres' not drawn"]
+    assert sphere_counts(xrdf, "panda_spheres")["panda_link0"] == 3
+
+
 # ------------------------------------------------------------------------------------------
 # rerun
 # ------------------------------------------------------------------------------------------
