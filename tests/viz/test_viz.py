@@ -498,6 +498,51 @@ def test_png_shows_the_spheres_in_their_link_colours(scene: Scene, tmp_path: Pat
     assert present >= 8  # most links are visible from the default view
 
 
+def test_png_sphere_polygons_match_a_simple_loop_over_the_grid(scene: Scene) -> None:
+    """The PNG's spheres are quadrilaterals on a longitude × latitude grid: checked against a
+    per-sphere loop, and the figure holds one polygon per quadrilateral."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from xrdf_tools.viz.png import draw_png, sphere_quads
+
+    centres, radii = [], []
+    for link in scene.links:
+        T = scene.poses[0, link.frame_index]
+        centres.extend(link.centers @ T[:3, :3].T + T[:3, 3])
+        radii.extend(link.radii)
+    u, v = np.linspace(0.0, 2.0 * np.pi, 18), np.linspace(0.0, np.pi, 10)
+
+    def point(c: Any, r: float, i: int, j: int) -> Any:
+        return c + r * np.array(
+            [np.cos(u[i]) * np.sin(v[j]), np.sin(u[i]) * np.sin(v[j]), np.cos(v[j])]
+        )
+
+    want = [
+        [point(c, r, i, j), point(c, r, i + 1, j), point(c, r, i + 1, j + 1), point(c, r, i, j + 1)]
+        for c, r in zip(centres, radii, strict=True)
+        for i in range(17)
+        for j in range(9)
+    ]
+    got = sphere_quads(np.array(centres), np.array(radii))
+    np.testing.assert_allclose(got, np.array(want), atol=1e-12)
+    fig = draw_png(scene, legend="off")
+    (coll,) = [c for c in fig.axes[0].collections if isinstance(c, Poly3DCollection)]
+    assert len(coll.get_facecolor()) == len(want) == 61 * 153
+
+
+def test_png_of_10000_spheres_uses_coarser_spheres_within_the_polygon_budget() -> None:
+    from xrdf_tools.viz.png import MAX_POLYGONS, sphere_quads
+
+    rng = np.random.default_rng(0)
+    centres, radii = rng.uniform(-0.5, 0.5, (10_000, 3)), rng.uniform(0.005, 0.03, 10_000)
+    quads = sphere_quads(centres, radii)
+    assert len(quads) % 10_000 == 0 and 10_000 < len(quads) <= MAX_POLYGONS
+    per = len(quads) // 10_000
+    # every corner of sphere k lies on its surface
+    dist = np.linalg.norm(quads.reshape(10_000, per * 4, 3) - centres[:, None], axis=2)
+    np.testing.assert_allclose(dist, np.repeat(radii[:, None], per * 4, axis=1), rtol=1e-12)
+
+
 def test_png_is_framed_by_the_picture_given_to_render(scene: Scene, tmp_path: Path) -> None:
     from matplotlib.image import imread
 
