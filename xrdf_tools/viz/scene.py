@@ -217,6 +217,13 @@ def choose_group(xrdf: Xrdf, group: str | None = None) -> str:
         return xrdf.world_collision.geometry
     if len(defined) == 1:
         return defined[0]
+    if not defined:
+        raise GeometryGroupError(
+            "no collision section names a geometry group and none is defined: the XRDF has no "
+            "spheres to draw; fit them with `xrdf spheres ROBOT.urdf --xrdf THIS.xrdf -o OUT` "
+            "or `xrdf convert --fit-spheres`",
+            **xrdf.source.locate(""),
+        )
     raise GeometryGroupError(
         "no collision section names a geometry group; choose one with --group "
         f"(defined: {', '.join(defined) or 'none'})",
