@@ -22,7 +22,7 @@ __all__ = ["robot_input_files"]
 
 
 def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
-    """The robot file, the xacro files its links and joints were written by, and every mesh
+    """The robot file, the files its xacro expansion included, and every mesh
     file its links name that can be found (no mesh is read; a URI that resolves to nothing is
     left out, there is nothing to overwrite there), each once, in document order."""
     from .core import as_robot
@@ -32,6 +32,8 @@ def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
     files: dict[Path, None] = {}
     if loaded.path and not loaded.path.startswith("<"):
         files[Path(loaded.path)] = None
+    for file in loaded.included_files:
+        files[Path(file)] = None
     for file, _line in loaded.include_places.values():
         files[Path(file)] = None
     base = Path(loaded.path).resolve().parent
