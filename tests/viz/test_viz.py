@@ -665,6 +665,17 @@ def test_cli_never_overwrites_an_input(runner: CliRunner, panda_urdf: Path, tmp_
     assert copy.read_bytes() == PANDA_XRDF.read_bytes()
 
 
+def test_cli_output_on_a_symlink_loop_is_one_line_not_a_traceback(
+    runner: CliRunner, panda_urdf: Path, tmp_path: Path
+) -> None:
+    (tmp_path / "a.png").symlink_to("b.png")
+    (tmp_path / "b.png").symlink_to("a.png")
+    r = _viz(runner, panda_urdf, "--png", str(tmp_path / "a.png"))
+    assert r.exit_code == 2, r.output
+    assert r.output.strip().splitlines()[-1].startswith(f"error: {tmp_path / 'a.png'}: ")
+    assert "Traceback" not in r.output and "symbolic links" in r.output
+
+
 def test_cli_never_overwrites_a_mesh_of_the_robot(
     runner: CliRunner, panda_urdf: Path, tmp_path: Path
 ) -> None:
