@@ -426,6 +426,7 @@ def test_fuzz_seed0_case7652_viz_without_a_collision_section_names_the_xrdf(
     x.write_text(text[: text.index("world_collision:")])
     err = _error(runner, "viz", str(x), "--urdf", str(UR10E_URDF), "--png", str(tmp_path / "v.png"))
     assert err.startswith(f"error: {x}:1: no collision section names a geometry group"), err
+    assert "no spheres to draw; fit them with `xrdf spheres" in err and "--group" not in err
 
 
 @pytest.mark.parametrize(

@@ -60,3 +60,19 @@ def test_demo_arm_one_command_result_passes_report_lint_and_curobo(
     assert report.exit_code == 0, report.output
     lint = runner.invoke(app, ["lint", str(out), "--urdf", str(urdf), "--target", "curobo"])
     assert lint.exit_code == 0, lint.output
+
+
+def test_output_may_not_be_a_mesh_of_the_robot(runner: CliRunner, tmp_path: Path) -> None:
+    """-o on a mesh the URDF names would replace the mesh with the XRDF: refused."""
+    (tmp_path / "meshes").mkdir()
+    for stl in (DEMO / "meshes").glob("*.stl"):
+        (tmp_path / "meshes" / stl.name).write_bytes(stl.read_bytes())
+    urdf = tmp_path / "demo_arm.urdf"
+    urdf.write_text((DEMO / "demo_arm.urdf").read_text())
+    mesh = tmp_path / "meshes" / "base.stl"
+    r = runner.invoke(
+        app, ["convert", str(urdf), "--srdf", str(DEMO / "demo_arm.srdf"), "-o", str(mesh)]
+    )
+    assert r.exit_code == 2, r.output
+    assert f"{mesh}: refusing to overwrite an input" in r.output
+    assert mesh.read_bytes() == (DEMO / "meshes" / "base.stl").read_bytes()

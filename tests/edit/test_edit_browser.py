@@ -304,3 +304,31 @@ def test_names_from_the_files_are_shown_as_text_never_as_html(browser: Any, tmp_
         page.close()
     finally:
         editor.close()
+
+
+def test_a_diff_shows_in_the_page_line_by_line_and_literally(browser: Any) -> None:
+    """The Save… diff in viser's markdown: one line per line, monospace, names shown as
+    written (no HTML from a name reaches the page)."""
+    import viser
+
+    from xrdf_tools.edit.markup import pre
+
+    diff = (
+        "--- a.xrdf (XRDF 2.0)\n+++ b.xrdf (XRDF 2.0)\ndefault_joint_positions: 1 change\n"
+        "  ~ j1 = 0.0 -> 0.5\n"
+        "  + x`<img src=x onerror=\"document.title='PWNED'\">`y {1+1} <b>b</b>\n```\nend"
+    )
+    port = free_port()
+    server = viser.ViserServer(host="127.0.0.1", port=port, verbose=False)
+    try:
+        server.gui.add_markdown(pre(diff))
+        page = browser.new_page()
+        page.goto(f"http://127.0.0.1:{port}")
+        shown = page.locator("pre")
+        shown.wait_for(timeout=30_000)
+        assert shown.inner_text().rstrip("\n") == diff
+        assert page.locator("img[src=x]").count() == 0 and page.locator("pre b").count() == 0
+        assert page.title() != "PWNED"
+        page.close()
+    finally:
+        server.stop()

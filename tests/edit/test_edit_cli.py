@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -76,6 +77,24 @@ def test_output_may_not_be_an_input(runner: CliRunner, tmp_path: Path) -> None:
         str(DEMO / "demo_arm.urdf"),
     )
     assert r.exit_code == 2 and "demo_arm.urdf" in r.output
+
+
+@needs_viser
+def test_output_may_not_be_a_mesh_of_the_robot(tmp_path: Path) -> None:
+    """Save would write over the mesh: refused before anything is served."""
+    panda = robot_urdf("panda").parents[1]
+    shutil.copytree(panda, tmp_path / "robots" / "panda_description")
+    urdf = tmp_path / "robots" / "panda_description" / "urdf" / "panda.urdf"
+    mesh = urdf.parents[1] / "meshes" / "visual" / "link0.dae"
+    args = [str(PANDA_XRDF), "--urdf", str(urdf), "-o", str(mesh), "--port", str(free_port())]
+    args += ["--package-path", f"example-robot-data={tmp_path}", NO_BROWSER]
+    cli = [sys.executable, "-c", "from xrdf_tools.cli import main; main()", "edit", *args]
+    try:  # the page would be served until stopped: a bounded wait
+        r = subprocess.run(cli, capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("xrdf edit served a page that would save over a mesh of the robot")
+    assert r.returncode == 2 and f"{mesh}: refusing to overwrite an input" in r.stderr, r.stderr
+    assert mesh.read_bytes() == (panda / "meshes" / "visual" / "link0.dae").read_bytes()
 
 
 def serve(

@@ -39,5 +39,6 @@ def test_code_wraps_escaped_text() -> None:
 
 def test_pre_keeps_lines_and_escapes_html() -> None:
     md = pre(HOSTILE[5])
-    assert md.startswith("<pre>") and md.endswith("</pre>")
-    assert "<b>" not in md and html.unescape(md[5:-6]) == HOSTILE[5]
+    head, tail = "<pre><code>", "</code></pre>"
+    assert md.startswith(head) and md.endswith(tail)
+    assert "<b>" not in md and html.unescape(md[len(head) : -len(tail)]) == HOSTILE[5]

@@ -589,6 +589,35 @@ def test_a_relative_package_path_is_taken_from_the_current_directory(
     assert load_xrdf(out).world_collision_spheres()["base"]
 
 
+@pytest.mark.parametrize("victim", ["urdf/part.xacro", "urdf/props.xacro", "meshes/base.stl"])
+def test_expand_never_writes_over_a_file_the_robot_is_read_from(
+    runner: CliRunner, tmp_path: Path, victim: str
+) -> None:
+    """An included file (with links, or only properties) or a mesh is an input of the
+    expansion: ``-o`` on it is refused and the file kept."""
+    pkg = tmp_path / "mypkg"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "meshes").mkdir()
+    (pkg / "urdf" / "part.xacro").write_text(PART)
+    (pkg / "urdf" / "props.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:property name="r" '
+        'value="r"/></robot>'
+    )
+    (pkg / "meshes" / "base.stl").write_bytes(b"solid x\nendsolid x\n")
+    top = tmp_path / "robot.urdf.xacro"
+    top.write_text(
+        TOP.replace(
+            "<xacro:arm/>",
+            '<xacro:include filename="$(find mypkg)/urdf/props.xacro"/>\n  <xacro:arm/>',
+        )
+    )
+    out = pkg / victim
+    before = out.read_bytes()
+    code, text = _run(runner, "expand", top, "--package-path", f"mypkg={pkg}", "-o", out)
+    assert code == 2 and f"{out}: refusing to overwrite an input" in text, text
+    assert out.read_bytes() == before
+
+
 def test_a_package_name_or_package_path_too_long_is_a_clear_input_error(
     runner: CliRunner, tmp_path: Path
 ) -> None:

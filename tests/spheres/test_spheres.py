@@ -467,3 +467,23 @@ def test_surface_gap_on_a_cube_face_matches_a_quadrature() -> None:
     assert m.surface_gap_mean == pytest.approx(float(gap.mean()), abs=0.0015)
     assert m.max_uncovered_gap == pytest.approx(math.sqrt(0.75) - 0.6, abs=0.003)
     assert m.surface_gap_p95 == pytest.approx(float(np.quantile(gap, 0.95)), abs=0.003)
+
+
+def test_cli_refuses_to_overwrite_a_mesh_of_the_robot(runner: CliRunner, tmp_path: Path) -> None:
+    """A mesh file the URDF names is an input too: ``-o`` on it is refused, the mesh kept."""
+    panda = needs(PANDA)
+    desc = tmp_path / "robots" / "panda_description"
+    mesh = desc / "meshes" / "collision" / "link0.stl"
+    mesh.parent.mkdir(parents=True)
+    mesh.write_bytes((panda.parents[1] / "meshes" / "collision" / "link0.stl").read_bytes())
+    urdf = desc / "urdf" / "panda.urdf"
+    urdf.parent.mkdir()
+    urdf.write_bytes(panda.read_bytes())
+    before = mesh.read_bytes()
+    pkg = ["--package-path", f"example-robot-data={tmp_path}", "--allow-missing-meshes"]
+    res = runner.invoke(
+        app, ["spheres", str(urdf), *pkg, "--links", "panda_link0", "-o", str(mesh)]
+    )
+    assert res.exit_code == 2, res.output
+    assert f"{mesh}: refusing to overwrite an input" in res.output
+    assert mesh.read_bytes() == before

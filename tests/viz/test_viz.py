@@ -205,6 +205,42 @@ def test_another_group_is_drawn_without_collision_colours(
     assert [d.rule for d in s.diagnostics] == ["viz-collisions-not-drawn"]
 
 
+def test_a_small_negative_radius_is_drawn_like_the_check_sees_it_and_a_slot_is_not(
+    panda: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    """XRDF 1.0: a sphere of radius -0.01 is a real sphere once buffered (the self-collision
+    check uses it), so it is drawn and turns red when it collides; an attached-object slot
+    (radius -10) is neither checked nor drawn."""
+    urdf, base = panda
+    kin, _ = build_kinematic_model(urdf, base)
+    plain = build_scene(urdf, base, None, kinematic_model=kin, meshes="none")
+    link0, link3 = (plain.frame_names.index(f) for f in ("panda_link0", "panda_link3"))
+    world = plain.poses[0, link3] @ np.append(
+        base.resolved_spheres("panda_spheres")["panda_link3"][0].center, 1.0
+    )
+    at = (np.linalg.inv(plain.poses[0, link0]) @ world)[:3].tolist()
+    text = PANDA_XRDF.read_text().replace("format_version: 2.0", "format_version: 1.0")
+    text = text.replace("world_collision:", "collision:").replace(
+        "      panda_link0:\n",
+        "      panda_link0:\n"
+        f"        - center: [{at[0]!r}, {at[1]!r}, {at[2]!r}]\n          radius: -0.01\n"
+        "        - center: [0.0, 0.0, 0.0]\n          radius: -10.0\n",
+        1,
+    )
+    path = tmp_path / "panda_1_0.xrdf"
+    path.write_text(text)
+    xrdf = load_xrdf(path)
+    scene = build_scene(urdf, xrdf, None, meshes="none")
+    drawn = scene.link("panda_link0")
+    assert drawn.sphere_ids == (0, 2, 3)  # the slot (index 1) is left out
+    assert drawn.radii[0] == 0.0 and drawn.buffered_radii[0] == pytest.approx(0.09)
+    assert ("panda_link0", "panda_link3") in scene.samples[0].colliding_pairs()
+    assert scene.colors(0)["panda_link0"][0] == COLLISION_RGBA
+    notes = [d.message for d in scene.diagnostics if d.rule == "viz-placeholder-spheres"]
+    assert notes == ["1 attached-object slot(s) (radius <= -1) in group 'panda_spheres' not drawn"]
+    assert sphere_counts(xrdf, "panda_spheres")["panda_link0"] == 3
+
+
 # ------------------------------------------------------------------------------------------
 # rerun
 # ------------------------------------------------------------------------------------------
@@ -462,6 +498,51 @@ def test_png_shows_the_spheres_in_their_link_colours(scene: Scene, tmp_path: Pat
     assert present >= 8  # most links are visible from the default view
 
 
+def test_png_sphere_polygons_match_a_simple_loop_over_the_grid(scene: Scene) -> None:
+    """The PNG's spheres are quadrilaterals on a longitude × latitude grid: checked against a
+    per-sphere loop, and the figure holds one polygon per quadrilateral."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from xrdf_tools.viz.png import draw_png, sphere_quads
+
+    centres, radii = [], []
+    for link in scene.links:
+        T = scene.poses[0, link.frame_index]
+        centres.extend(link.centers @ T[:3, :3].T + T[:3, 3])
+        radii.extend(link.radii)
+    u, v = np.linspace(0.0, 2.0 * np.pi, 18), np.linspace(0.0, np.pi, 10)
+
+    def point(c: Any, r: float, i: int, j: int) -> Any:
+        return c + r * np.array(
+            [np.cos(u[i]) * np.sin(v[j]), np.sin(u[i]) * np.sin(v[j]), np.cos(v[j])]
+        )
+
+    want = [
+        [point(c, r, i, j), point(c, r, i + 1, j), point(c, r, i + 1, j + 1), point(c, r, i, j + 1)]
+        for c, r in zip(centres, radii, strict=True)
+        for i in range(17)
+        for j in range(9)
+    ]
+    got = sphere_quads(np.array(centres), np.array(radii))
+    np.testing.assert_allclose(got, np.array(want), atol=1e-12)
+    fig = draw_png(scene, legend="off")
+    (coll,) = [c for c in fig.axes[0].collections if isinstance(c, Poly3DCollection)]
+    assert len(coll.get_facecolor()) == len(want) == 61 * 153
+
+
+def test_png_of_10000_spheres_uses_coarser_spheres_within_the_polygon_budget() -> None:
+    from xrdf_tools.viz.png import MAX_POLYGONS, sphere_quads
+
+    rng = np.random.default_rng(0)
+    centres, radii = rng.uniform(-0.5, 0.5, (10_000, 3)), rng.uniform(0.005, 0.03, 10_000)
+    quads = sphere_quads(centres, radii)
+    assert len(quads) % 10_000 == 0 and 10_000 < len(quads) <= MAX_POLYGONS
+    per = len(quads) // 10_000
+    # every corner of sphere k lies on its surface
+    dist = np.linalg.norm(quads.reshape(10_000, per * 4, 3) - centres[:, None], axis=2)
+    np.testing.assert_allclose(dist, np.repeat(radii[:, None], per * 4, axis=1), rtol=1e-12)
+
+
 def test_png_is_framed_by_the_picture_given_to_render(scene: Scene, tmp_path: Path) -> None:
     from matplotlib.image import imread
 
@@ -582,6 +663,37 @@ def test_cli_never_overwrites_an_input(runner: CliRunner, panda_urdf: Path, tmp_
     r = runner.invoke(app, ["viz", str(copy), "--urdf", str(panda_urdf), "--png", str(copy)])
     assert r.exit_code == 2 and "refusing to overwrite an input" in r.output
     assert copy.read_bytes() == PANDA_XRDF.read_bytes()
+
+
+def test_cli_output_on_a_symlink_loop_is_one_line_not_a_traceback(
+    runner: CliRunner, panda_urdf: Path, tmp_path: Path
+) -> None:
+    (tmp_path / "a.png").symlink_to("b.png")
+    (tmp_path / "b.png").symlink_to("a.png")
+    r = _viz(runner, panda_urdf, "--png", str(tmp_path / "a.png"))
+    assert r.exit_code == 2, r.output
+    assert r.output.strip().splitlines()[-1].startswith(f"error: {tmp_path / 'a.png'}: ")
+    assert "Traceback" not in r.output and "symbolic links" in r.output
+
+
+def test_cli_never_overwrites_a_mesh_of_the_robot(
+    runner: CliRunner, panda_urdf: Path, tmp_path: Path
+) -> None:
+    """A mesh file the URDF names is an input too: an output on it is refused."""
+    desc = tmp_path / "robots" / "panda_description"
+    mesh = desc / "meshes" / "visual" / "link0.dae"
+    mesh.parent.mkdir(parents=True)
+    mesh.write_bytes((panda_urdf.parents[1] / "meshes" / "visual" / "link0.dae").read_bytes())
+    urdf = desc / "urdf" / "panda.urdf"
+    urdf.parent.mkdir()
+    urdf.write_bytes(panda_urdf.read_bytes())
+    before = mesh.read_bytes()
+    args = ["--urdf", str(urdf), "--package-path", f"example-robot-data={tmp_path}"]
+    r = runner.invoke(app, ["viz", str(PANDA_XRDF), *args, "--png", str(mesh)])
+    assert r.exit_code == 2, r.output
+    assert f"{mesh}: refusing to overwrite an input" in r.output
+    assert mesh.read_bytes() == before
+    assert sorted(p.name for p in mesh.parent.iterdir()) == ["link0.dae"]  # no temporary left
 
 
 @pytest.mark.parametrize(("flag", "module"), [("--rrd", "rerun"), ("--mcap", "mcap")])

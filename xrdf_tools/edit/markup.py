@@ -33,6 +33,7 @@ def code(value: object) -> str:
 
 
 def pre(value: str) -> str:
-    """A block of preformatted text (a diff), literally: an HTML ``<pre>`` block, whose
-    content markdown leaves alone, with the text HTML-escaped."""
-    return f"<pre>{html.escape(value)}</pre>"
+    """A block of preformatted text (a diff), literally: the text HTML-escaped in a
+    ``<pre><code>`` block. The page's markdown renders a bare ``<pre>`` as a paragraph (lines
+    run together); with ``<code>`` inside it keeps every line, in monospace."""
+    return f"<pre><code>{html.escape(value)}</code></pre>"

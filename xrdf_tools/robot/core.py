@@ -65,6 +65,8 @@ class Robot:
     #: of an included file writes (not in :attr:`link_lines`/:attr:`joint_lines`, which are
     #: lines of :attr:`path`): see :mod:`xrdf_tools.robot.xacro_places`.
     include_places: Mapping[tuple[str, str], tuple[str, int]] = field(default_factory=FrozenMap)
+    #: Every file a xacro robot's expansion included (empty for a plain URDF).
+    included_files: tuple[str, ...] = ()
     package_paths: Mapping[str, str] = field(default_factory=FrozenMap)
     #: The xacro arguments a xacro robot was expanded with (an SRDF xacro takes the same).
     xacro_args: Mapping[str, str] = field(default_factory=FrozenMap)

@@ -491,7 +491,7 @@ def load_robot(
         except UrdfError as e:
             raise located_in_includes(e, os.fspath(path), included) from None
         robot = placed_in_includes(robot, [os.fspath(path), *included])
-        return replace(robot, warnings=(*said, *robot.warnings)) if said else robot
+        return replace(robot, warnings=(*said, *robot.warnings), included_files=tuple(included))
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
     return read_robot(path, package_paths=pkg, data=data)

@@ -141,7 +141,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("mesh-not-loaded", W, "A link mesh that cannot be loaded is not drawn."),
         ("viz-collisions-not-drawn", I, "Too many configurations: contacts logged, not coloured."),
         ("viz-frame-unknown", W, "Spheres on a frame the robot does not have: not drawn."),
-        ("viz-placeholder-spheres", I, "Spheres with a negative radius are not drawn."),
+        ("viz-placeholder-spheres", I, "Attached-object slots (radius ≤ −1) are not drawn."),
     ),
 }
 

@@ -51,7 +51,7 @@ def sphere_contacts(
     from ..selfcollision.collision import (
         build_sphere_set,
         colliding_sphere_pairs,
-        contacts,
+        contacts_of_pairs,
         sphere_world_centers,
     )
 
@@ -79,7 +79,7 @@ def sphere_contacts(
                 for _, i, j, clr in found
             ]
             pairs.sort(key=lambda sp: sp.clearance)
-            out.append((tuple(pairs), tuple(contacts(spheres, centers[b]))))
+            out.append((tuple(pairs), tuple(contacts_of_pairs(spheres, found))))
         if progress is not None:
             progress(min(start + chunk, total), total)
     return out, checked, ignored

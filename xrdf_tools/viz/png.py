@@ -71,13 +71,27 @@ def png_title(scene: Scene) -> str:
     return f"{first}\n{second}"
 
 
-_U = np.linspace(0.0, 2.0 * np.pi, 18)
-_V = np.linspace(0.0, np.pi, 10)
-_UNIT = (
-    np.outer(np.cos(_U), np.sin(_V)),
-    np.outer(np.sin(_U), np.sin(_V)),
-    np.outer(np.ones_like(_U), np.cos(_V)),
-)
+def _unit_sphere_quads(n_around: int = 18, n_down: int = 10) -> np.ndarray:
+    """The quadrilaterals [F, 4, 3] of a unit sphere on a longitude × latitude grid (the
+    grid ``plot_surface`` would draw)."""
+    u = np.linspace(0.0, 2.0 * np.pi, n_around)
+    v = np.linspace(0.0, np.pi, n_down)
+    grid = np.stack(
+        [
+            np.outer(np.cos(u), np.sin(v)),
+            np.outer(np.sin(u), np.sin(v)),
+            np.outer(np.ones_like(u), np.cos(v)),
+        ],
+        axis=-1,
+    )
+    corners = (grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:], grid[:-1, 1:])
+    return np.stack(corners, axis=2).reshape(-1, 4, 3)
+
+
+#: Unit spheres, finest first; a picture uses the finest whose polygons for all its spheres
+#: stay within :data:`MAX_POLYGONS` (a sphere a few pixels across needs no 153 faces).
+_UNIT_SPHERES = (_unit_sphere_quads(), _unit_sphere_quads(12, 7), _unit_sphere_quads(8, 5))
+MAX_POLYGONS = 300_000
 
 
 def draw_png(
@@ -114,32 +128,24 @@ def _draw(
     fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.94)
     poses = scene.poses[0]
     colors = scene.colors(0)
-    lo = np.full(3, np.inf)
-    hi = np.full(3, -np.inf)
     handles = []
+    centers: list[np.ndarray] = []
+    radii: list[np.ndarray] = []
+    rgb: list[np.ndarray] = []
     for link in scene.links:
         if not link.n_spheres:
             continue
         T = poses[link.frame_index]
-        world = link.centers @ T[:3, :3].T + T[:3, 3]
-        radii = link.buffered_radii if buffered else link.radii
-        for c, r, col in zip(world, radii, colors[link.name], strict=True):
-            ax.plot_surface(
-                c[0] + r * _UNIT[0],
-                c[1] + r * _UNIT[1],
-                c[2] + r * _UNIT[2],
-                color=col[:3],
-                alpha=0.85,
-                linewidth=0,
-                shade=True,
-                antialiased=False,
-            )
-            lo = np.minimum(lo, c - r)
-            hi = np.maximum(hi, c + r)
+        centers.append(link.centers @ T[:3, :3].T + T[:3, 3])
+        radii.append(link.buffered_radii if buffered else link.radii)
+        rgb.append(np.array([col[:3] for col in colors[link.name]], dtype=np.float64))
         handles.append(
             Line2D([], [], marker="o", linestyle="", color=link.color[:3], label=link.name)
         )
-    if np.all(np.isfinite(lo)):
+    if centers:
+        c, r = np.concatenate(centers), np.concatenate(radii)
+        _add_spheres(ax, c, r, np.concatenate(rgb))
+        lo, hi = (c - r[:, None]).min(axis=0), (c + r[:, None]).max(axis=0)
         mid = (lo + hi) / 2.0
         half = float(np.max(hi - lo)) / 2.0 or 0.1
         ax.set_xlim(mid[0] - half, mid[0] + half)
@@ -165,6 +171,32 @@ def _draw(
         else:
             _legend_below(fig, ax, handles, size_px)
     return fig
+
+
+def sphere_quads(centers: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """The quadrilaterals [N × F, 4, 3] of spheres ``centers`` [N, 3], ``radii`` [N], sphere
+    by sphere, on the finest unit sphere whose N × F polygons stay within
+    :data:`MAX_POLYGONS`."""
+    unit = next(
+        (u for u in _UNIT_SPHERES if len(u) * len(radii) <= MAX_POLYGONS), _UNIT_SPHERES[-1]
+    )
+    verts: np.ndarray = centers[:, None, None, :] + radii[:, None, None, None] * unit[None]
+    return verts.reshape(-1, 4, 3)
+
+
+def _add_spheres(ax: Any, centers: np.ndarray, radii: np.ndarray, rgb: np.ndarray) -> None:
+    """Every sphere as one shaded, translucent polygon collection: the polygons of all spheres
+    are depth-sorted together (spheres of different links overlap correctly), and thousands
+    of spheres draw in seconds with coarser spheres (:data:`MAX_POLYGONS`)."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
+
+    quads = sphere_quads(centers, radii)
+    per_sphere = len(quads) // len(radii)
+    alpha = np.full((len(quads), 1), 0.85)
+    faces = np.concatenate([np.repeat(rgb, per_sphere, axis=0), alpha], axis=1)
+    ax.add_collection3d(
+        Poly3DCollection(quads, facecolors=faces, linewidths=0.0, shade=True, antialiased=False)
+    )
 
 
 def _legend_below(fig: Any, ax: Any, handles: list[Any], size_px: int) -> None:

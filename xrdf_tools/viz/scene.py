@@ -22,6 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
+from ..selfcollision.collision.spheres import is_slot, self_radius
 from ..util.arrays import FloatArray
 from ..util.errors import GeometryGroupError, SourceError
 from ..xrdf.model import Xrdf
@@ -78,7 +79,9 @@ class LinkScene:
     ``centers`` [S, 3] and ``radii`` [S] are the drawable spheres of the chosen group in the
     link frame; ``buffered_radii`` [S] add the frame's self-collision buffer; ``sphere_ids``
     [S] are their indices in the frame's resolved sphere list of the XRDF (they differ only
-    when placeholder spheres with radius <= 0 were skipped).
+    when attached-object slots, radius <= -1, were skipped). A small negative radius (XRDF
+    1.0) is drawn as 0 with the buffered radius the self-collision check gives it
+    (:func:`~xrdf_tools.selfcollision.collision.spheres.self_radius`).
     """
 
     name: str
@@ -214,6 +217,13 @@ def choose_group(xrdf: Xrdf, group: str | None = None) -> str:
         return xrdf.world_collision.geometry
     if len(defined) == 1:
         return defined[0]
+    if not defined:
+        raise GeometryGroupError(
+            "no collision section names a geometry group and none is defined: the XRDF has no "
+            "spheres to draw; fit them with `xrdf spheres ROBOT.urdf --xrdf THIS.xrdf -o OUT` "
+            "or `xrdf convert --fit-spheres`",
+            **xrdf.source.locate(""),
+        )
     raise GeometryGroupError(
         "no collision section names a geometry group; choose one with --group "
         f"(defined: {', '.join(defined) or 'none'})",
@@ -315,16 +325,16 @@ def build_scene(
                 diags.append(_unknown_frame(xrdf, kin, chosen, frame))
             continue
         fi = kin.frame_index(frame)
-        ids = tuple(i for i, s in enumerate(frame_spheres) if s.radius >= 0)
+        ids = tuple(i for i, s in enumerate(frame_spheres) if not is_slot(s.radius))
         skipped += len(frame_spheres) - len(ids)
         buffer = 0.0
         if xrdf.self_collision is not None:
             buffer = float(xrdf.self_collision.buffer_distance.get(frame, 0.0))
+        raw = [frame_spheres[i].radius for i in ids]
         centers = np.array([frame_spheres[i].center for i in ids], dtype=np.float64).reshape(-1, 3)
-        radii = np.array([frame_spheres[i].radius for i in ids], dtype=np.float64)
-        links.append(
-            LinkScene(frame, fi, link_color(len(links)), centers, radii, radii + buffer, ids)
-        )
+        radii = np.maximum(np.array(raw, dtype=np.float64), 0.0)
+        buffered = np.array([self_radius(r, buffer) or 0.0 for r in raw], dtype=np.float64)
+        links.append(LinkScene(frame, fi, link_color(len(links)), centers, radii, buffered, ids))
     if skipped:
         diags.append(
             Diagnostic(
@@ -333,8 +343,7 @@ def build_scene(
                 None,
                 "viz-placeholder-spheres",
                 Severity.INFO,
-                f"{skipped} placeholder sphere(s) with negative radius in group '{chosen}' "
-                "not drawn",
+                f"{skipped} attached-object slot(s) (radius <= -1) in group '{chosen}' not drawn",
             )
         )
 
@@ -406,9 +415,9 @@ def _unknown_frame(xrdf: Xrdf, kin: KinematicModel, group: str, frame: str) -> D
 
 
 def sphere_counts(xrdf: Xrdf, group: str) -> dict[str, int]:
-    """Drawable spheres (radius >= 0, not placeholders) per frame of ``group``."""
+    """Drawable spheres (all but attached-object slots) per frame of ``group``."""
     return {
-        frame: sum(1 for s in spheres if s.radius >= 0)
+        frame: sum(1 for s in spheres if not is_slot(s.radius))
         for frame, spheres in xrdf.resolved_spheres(group).items()
     }
 

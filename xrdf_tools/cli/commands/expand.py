@@ -58,9 +58,10 @@ def command(
           --package-path trossen_descriptions=../trossen_descriptions
       xrdf expand wx250s.srdf.xacro --xacro-arg robot_name:=wx250s -o wx250s.srdf
     """
+    from ...robot.input_files import robot_input_files
     from ...robot.urdf_source import urdf_text
     from ...robot.xacro_source import is_xacro
-    from .plain import load_robot_option
+    from .plain import check_input_overwrite, load_robot_option
 
     if output is not None:
         refuse_input_overwrite(output, [robot])
@@ -68,13 +69,17 @@ def command(
         fail(f"{robot}: not a xacro file (nothing to expand)")
     try:
         with timed("expand"):
+            loaded = None
             try:
-                text = urdf_text(load_robot_option(robot, xacro_arg, package_path)) or ""
+                loaded = load_robot_option(robot, xacro_arg, package_path)
+                text = urdf_text(loaded) or ""
             except XrdfToolsError as not_urdf:
                 srdf = _expanded_srdf(robot, xacro_arg, package_path)
                 if srdf is None:
                     raise not_urdf from None
                 text = srdf
+        if loaded is not None and output is not None:  # an included file is an input too
+            check_input_overwrite(output, robot_input_files(loaded))
     except XrdfToolsError as e:
         fail(e)
     write_output(text, output)

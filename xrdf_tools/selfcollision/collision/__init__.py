@@ -34,6 +34,7 @@ from .distances import (
     colliding_frame_pairs,
     colliding_sphere_pairs,
     contacts,
+    contacts_of_pairs,
     frame_pair_clearances,
     frame_pair_verdicts,
     pair_clearance,
@@ -51,6 +52,7 @@ from .spheres import (
     SphereSet,
     bounding_sphere,
     build_sphere_set,
+    is_slot,
     self_radius,
 )
 
@@ -67,8 +69,10 @@ __all__ = [
     "colliding_frame_pairs",
     "colliding_sphere_pairs",
     "contacts",
+    "contacts_of_pairs",
     "frame_pair_clearances",
     "frame_pair_verdicts",
+    "is_slot",
     "pair_clearance",
     "pair_hits",
     "self_radius",

@@ -15,7 +15,7 @@ sr_j)²`` (:func:`touching`, squared so that no square root rounds a verdict) an
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +31,7 @@ __all__ = [
     "colliding_frame_pairs",
     "colliding_sphere_pairs",
     "contacts",
+    "contacts_of_pairs",
     "frame_pair_clearances",
     "frame_pair_verdicts",
     "pair_clearance",
@@ -372,8 +373,16 @@ def contacts(spheres: SphereSet, centers: npt.ArrayLike) -> list[Contact]:
     was built with ``include_masked=True``), worst (most negative clearance) first. Memory
     stays bounded whatever the number of spheres per frame.
     """
+    return contacts_of_pairs(spheres, colliding_sphere_pairs(spheres, centers))
+
+
+def contacts_of_pairs(
+    spheres: SphereSet, found: Sequence[tuple[int, int, int, float]]
+) -> list[Contact]:
+    """The :func:`contacts` of one configuration from its :func:`colliding_sphere_pairs`
+    ``found`` (for a caller that needs both: the pairs are computed once)."""
     worst: dict[int, tuple[float, int, int, int]] = {}
-    for k, i, j, clr in colliding_sphere_pairs(spheres, centers):
+    for k, i, j, clr in found:
         old = worst.get(k)
         if old is None:
             worst[k] = (clr, i, j, 1)

@@ -36,6 +36,7 @@ __all__ = [
     "SphereSet",
     "bounding_sphere",
     "build_sphere_set",
+    "is_slot",
     "self_radius",
 ]
 
@@ -260,11 +261,17 @@ class SphereSet:
 MIN_BUFFERED_RADIUS = 0.001
 
 
+def is_slot(radius: float) -> bool:
+    """Whether a raw sphere ``radius`` marks an attached-object slot (≤ −1: cuRobo's
+    ``extra_collision_spheres``), which is no geometry until an object is attached."""
+    return radius <= -1.0
+
+
 def self_radius(radius: float, buffer: float) -> float | None:
     """The self-collision radius of a sphere with raw ``radius`` and its frame's ``buffer``,
-    or None for an attached-object slot (raw radius ≤ −1, cuRobo's ``extra_collision_spheres``)
-    or a sphere buffered out of existence (buffered radius ≤ −1)."""
-    if radius <= -1.0:
+    or None for an attached-object slot (:func:`is_slot`) or a sphere buffered out of
+    existence (buffered radius ≤ −1)."""
+    if is_slot(radius):
         return None
     buffered = radius + buffer
     if buffered > 0.0:
