@@ -55,7 +55,15 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         assert "not done" in page.message and not page.state.dirty
         assert page.apply(SetRadius("panda_link4", 1, 0.05))
         assert target.read_bytes() == PANDA_XRDF.read_bytes()
+        # the review goes from the file read to the file Confirm writes (-o: another file)
+        page.panels.review()
+        shown = page.panels.diff.content
+        assert f"--- {PANDA_XRDF}" in shown and f"+++ {target}" in shown, shown
         assert page.save() and not page.state.dirty
+        page.apply(SetRadius("panda_link4", 1, 0.04))
+        page.panels.review()
+        assert f"--- {target}" in page.panels.diff.content  # now the saved file
+        page.undo()
         saved = load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][1]
         assert saved.radius == 0.05
         page.readonly = True

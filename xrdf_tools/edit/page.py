@@ -61,6 +61,8 @@ class EditorPage:
         self.robot = EditRobot(robot, state.xrdf)
         self.state = state
         self.target = Path(target)
+        #: The file the saved document was read from or last written to (the diff's old side).
+        self.saved_path = state.saved.source.path or str(self.target)
         self.readonly = readonly
         self.configs: np.ndarray[Any, Any] | None = None
         if configs is not None:
@@ -173,6 +175,7 @@ class EditorPage:
             except (XrdfToolsError, OSError) as e:
                 self.say(f"not saved: {e}")
                 return False
+            self.saved_path = str(self.target)
             self.say(f"saved {self.target}")
             self.refresh(document=True)
             return True

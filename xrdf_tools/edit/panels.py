@@ -8,6 +8,7 @@ the page can set their values without triggering edits. The mask panel is
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
@@ -87,6 +88,9 @@ class Panels:
         """Show the semantic diff of the change and the button that saves it."""
         with self.page.lock:
             d = self.page.state.diff()
+            # from the file as it is to the file Confirm writes (-o may name another file)
+            d = replace(d, a=replace(d.a, path=self.page.saved_path))
+            d = replace(d, b=replace(d.b, path=str(self.page.target)))
             text = render_text(d).rstrip()
             self.diff.content = "**No changes** to save." if d.is_equal else pre(text)
             self.confirm.visible = not self.page.readonly

@@ -37,6 +37,7 @@ class PageSurface(Protocol):
     robot: EditRobot
     state: EditState
     target: Path
+    saved_path: str
     readonly: bool
     configs: np.ndarray[Any, Any] | None
     q: np.ndarray[Any, Any]
