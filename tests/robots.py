@@ -59,3 +59,18 @@ def robot_urdf(name: str) -> Path:
     if not path.is_file():
         pytest.skip(f"{path} not found in example-robot-data")
     return path
+
+
+def panda_copy_with_mesh(tmp_path: Path, mesh: str) -> tuple[Path, Path]:
+    """The example-robot-data Panda URDF copied under ``tmp_path`` (its package found with
+    ``--package-path example-robot-data=tmp_path``) with one of its meshes, ``mesh`` (e.g.
+    ``"visual/link0.dae"``), beside it: ``(urdf, mesh file)``; the other meshes are absent."""
+    panda = robot_urdf("panda")
+    desc = tmp_path / "robots" / "panda_description"
+    copied = desc / "meshes" / mesh
+    copied.parent.mkdir(parents=True)
+    copied.write_bytes((panda.parents[1] / "meshes" / mesh).read_bytes())
+    urdf = desc / "urdf" / "panda.urdf"
+    urdf.parent.mkdir()
+    urdf.write_bytes(panda.read_bytes())
+    return urdf, copied

@@ -11,6 +11,7 @@ import trimesh
 from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
+from tests.robots import panda_copy_with_mesh
 from xrdf_tools.cli import app
 from xrdf_tools.spheres import coverage_for_xrdf, fit_link_spheres, sphere_metrics
 from xrdf_tools.spheres.fit import default_max_protrusion
@@ -471,14 +472,8 @@ def test_surface_gap_on_a_cube_face_matches_a_quadrature() -> None:
 
 def test_cli_refuses_to_overwrite_a_mesh_of_the_robot(runner: CliRunner, tmp_path: Path) -> None:
     """A mesh file the URDF names is an input too: ``-o`` on it is refused, the mesh kept."""
-    panda = needs(PANDA)
-    desc = tmp_path / "robots" / "panda_description"
-    mesh = desc / "meshes" / "collision" / "link0.stl"
-    mesh.parent.mkdir(parents=True)
-    mesh.write_bytes((panda.parents[1] / "meshes" / "collision" / "link0.stl").read_bytes())
-    urdf = desc / "urdf" / "panda.urdf"
-    urdf.parent.mkdir()
-    urdf.write_bytes(panda.read_bytes())
+    needs(PANDA)
+    urdf, mesh = panda_copy_with_mesh(tmp_path, "collision/link0.stl")
     before = mesh.read_bytes()
     pkg = ["--package-path", f"example-robot-data={tmp_path}", "--allow-missing-meshes"]
     res = runner.invoke(

@@ -19,7 +19,7 @@ import pytest
 from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
-from tests.robots import robot_urdf
+from tests.robots import panda_copy_with_mesh, robot_urdf
 from xrdf_tools.cli import app
 from xrdf_tools.robot.kinematics import build_kinematic_model
 from xrdf_tools.robot.urdf_source import load_urdf
@@ -680,13 +680,7 @@ def test_cli_never_overwrites_a_mesh_of_the_robot(
     runner: CliRunner, panda_urdf: Path, tmp_path: Path
 ) -> None:
     """A mesh file the URDF names is an input too: an output on it is refused."""
-    desc = tmp_path / "robots" / "panda_description"
-    mesh = desc / "meshes" / "visual" / "link0.dae"
-    mesh.parent.mkdir(parents=True)
-    mesh.write_bytes((panda_urdf.parents[1] / "meshes" / "visual" / "link0.dae").read_bytes())
-    urdf = desc / "urdf" / "panda.urdf"
-    urdf.parent.mkdir()
-    urdf.write_bytes(panda_urdf.read_bytes())
+    urdf, mesh = panda_copy_with_mesh(tmp_path, "visual/link0.dae")
     before = mesh.read_bytes()
     args = ["--urdf", str(urdf), "--package-path", f"example-robot-data={tmp_path}"]
     r = runner.invoke(app, ["viz", str(PANDA_XRDF), *args, "--png", str(mesh)])

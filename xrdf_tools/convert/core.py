@@ -239,11 +239,10 @@ def _uncarried_limits(draft: Draft, cspace: list[str]) -> list[Diagnostic]:
     if not found:
         return []
     first = min((d for _, d in found), key=lambda d: (d.line or 0, d.col or 0))
-    listed = "; ".join(f"{j}: {d.message}" for j, d in found[:8])
-    more = f"; and {len(found) - 8} more" if len(found) > 8 else ""
+    listed = name_list((f"{j}: {d.message}" for j, d in found), 8, sep="; ")
     message = (
         f"MoveIt limits tighter than the URDF's are lost for {len(found)} c-space joint(s): "
-        f"{listed}{more}. An XRDF holds no velocity or position limits and its readers take the "
+        f"{listed}. An XRDF holds no velocity or position limits and its readers take the "
         "URDF's, so the planner may move these joints faster or farther than MoveIt does; to "
         "keep them, set them in the URDF's <limit>"
     )

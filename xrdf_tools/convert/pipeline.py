@@ -455,7 +455,7 @@ def default_pose_pairs(report: Report) -> list[Diagnostic]:
     if not pairs:
         return []
     shown = name_list(
-        (f"{p.frame_a}/{p.frame_b} (apart in {1 - p.rate:.0%})" for p in pairs if p.rate), 6
+        (f"{p.frame_a}/{p.frame_b} (apart in {1 - (p.rate or 0.0):.0%})" for p in pairs), 6
     )
     msg = (
         f"{len(pairs)} pair(s) ignored because they collide at the default configuration, "

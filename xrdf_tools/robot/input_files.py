@@ -34,8 +34,6 @@ def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
         files[Path(loaded.path)] = None
     for file in loaded.included_files:
         files[Path(file)] = None
-    for file, _line in loaded.include_places.values():
-        files[Path(file)] = None
     base = Path(loaded.path).resolve().parent
     resolver = PackageResolver(Path(loaded.path), dict(loaded.package_paths))
     for link in loaded.urdf.link_map.values():

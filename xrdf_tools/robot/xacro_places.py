@@ -44,14 +44,14 @@ class _Template:
     pattern: re.Pattern[str]
 
 
-def placed_in_includes(robot: Robot, files: Sequence[str]) -> Robot:
+def placed_in_includes(robot: Robot) -> Robot:
     """``robot`` (an expanded xacro file) with its macro-made links and joints placed in the
-    ``files`` that write them (the xacro file itself first, then its includes)."""
+    files that write them (the xacro file itself first, then :attr:`Robot.included_files`)."""
     unplaced = {
         kind: [n for e in robot.document.findall(kind) if (n := e.get("name")) and n not in lines]
         for kind, lines in (("link", robot.link_lines), ("joint", robot.joint_lines))
     }
-    places = included_places(unplaced, files)
+    places = included_places(unplaced, [robot.path, *robot.included_files])
     return replace(robot, include_places=FrozenMap(places)) if places else robot
 
 

@@ -490,8 +490,8 @@ def load_robot(
             )
         except UrdfError as e:
             raise located_in_includes(e, os.fspath(path), included) from None
-        robot = placed_in_includes(robot, [os.fspath(path), *included])
-        return replace(robot, warnings=(*said, *robot.warnings), included_files=tuple(included))
+        robot = replace(robot, warnings=(*said, *robot.warnings), included_files=tuple(included))
+        return placed_in_includes(robot)
     if xacro_args:
         raise SourceError(_NOT_XACRO, path=str(path))
     return read_robot(path, package_paths=pkg, data=data)

@@ -7,9 +7,10 @@ from collections.abc import Iterable
 __all__ = ["name_list"]
 
 
-def name_list(names: Iterable[object], limit: int = 8) -> str:
-    """``a, b, c and 5 more``: the first ``limit`` names, then how many were left out."""
+def name_list(names: Iterable[object], limit: int = 8, sep: str = ", ") -> str:
+    """``a, b, c and 5 more``: the first ``limit`` names, then how many were left out
+    (``sep`` between them: ``"; "`` for items that hold commas themselves)."""
     shown = [str(n) for n in names]
     if len(shown) <= limit:
-        return ", ".join(shown)
-    return ", ".join(shown[:limit]) + f" and {len(shown) - limit} more"
+        return sep.join(shown)
+    return sep.join(shown[:limit]) + f" and {len(shown) - limit} more"

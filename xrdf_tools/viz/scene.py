@@ -226,7 +226,7 @@ def choose_group(xrdf: Xrdf, group: str | None = None) -> str:
         )
     raise GeometryGroupError(
         "no collision section names a geometry group; choose one with --group "
-        f"(defined: {', '.join(defined) or 'none'})",
+        f"(defined: {', '.join(defined)})",
         **xrdf.source.locate(""),
     )
 

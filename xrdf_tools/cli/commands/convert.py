@@ -19,6 +19,7 @@ from .plain import (
     EXIT_FINDINGS,
     OutputFormat,
     Verbosity,
+    check_robot_overwrite,
     detail,
     has_failures,
     is_stdio,
@@ -328,18 +329,11 @@ def command(
         assert output is not None
         _check(output, x, result.robot.root_link())
         return
-    _refuse_robot_files(output, result.robot)
+    try:  # a xacro file its macros came from or a mesh of a link is an input too
+        check_robot_overwrite(output, result.robot)
+    except XrdfToolsError as e:
+        fail(e)
     write_output(text, output)
-
-
-def _refuse_robot_files(output: Path | None, robot: Any) -> None:
-    """Exit 2 when ``output`` is a file the robot was read from: a xacro file its macros came
-    from, or a mesh of one of its links (checked once the robot is loaded)."""
-    if output is None or is_stdio(output):
-        return
-    from ...robot.input_files import robot_input_files
-
-    refuse_input_overwrite(output, robot_input_files(robot))
 
 
 def _check(output: Path, x: Xrdf, root_frame: str) -> None:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -11,7 +11,7 @@ from ...util.errors import XrdfToolsError
 from ...util.extras import FIT, require
 from .plain import (
     OutputFormat,
-    check_input_overwrite,
+    check_robot_overwrite,
     detail,
     is_stdio,
     load_robot_option,
@@ -153,7 +153,7 @@ def command(
         from ...xrdf.model import Xrdf
 
         robot = load_robot_option(urdf, xacro_arg, package_path)
-        _refuse_robot_files(output, robot)
+        check_robot_overwrite(output, robot)
         if xrdf_file is None:
             with timed("draft"):
                 note(f"drafting {output} from {urdf} (fitting spheres, sampling the mask)")
@@ -192,12 +192,3 @@ def command(
         page.close()
     if page.state.dirty:
         note(f"stopped; unsaved changes to {target} were discarded")
-
-
-def _refuse_robot_files(output: Path | None, robot: Any) -> None:
-    """Raise XrdfToolsError when ``output`` (where Save writes) is a file the robot is read
-    from: its URDF or xacro files, or a mesh of one of its links."""
-    if output is not None:
-        from ...robot.input_files import robot_input_files
-
-        check_input_overwrite(output, robot_input_files(robot))

@@ -58,10 +58,9 @@ def command(
           --package-path trossen_descriptions=../trossen_descriptions
       xrdf expand wx250s.srdf.xacro --xacro-arg robot_name:=wx250s -o wx250s.srdf
     """
-    from ...robot.input_files import robot_input_files
     from ...robot.urdf_source import urdf_text
     from ...robot.xacro_source import is_xacro
-    from .plain import check_input_overwrite, load_robot_option
+    from .plain import check_robot_overwrite, load_robot_option
 
     if output is not None:
         refuse_input_overwrite(output, [robot])
@@ -78,8 +77,8 @@ def command(
                 if srdf is None:
                     raise not_urdf from None
                 text = srdf
-        if loaded is not None and output is not None:  # an included file is an input too
-            check_input_overwrite(output, robot_input_files(loaded))
+        if loaded is not None:  # an included file is an input too
+            check_robot_overwrite(output, loaded)
     except XrdfToolsError as e:
         fail(e)
     write_output(text, output)

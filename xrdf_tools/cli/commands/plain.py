@@ -343,6 +343,17 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
         return False
 
 
+def check_robot_overwrite(output: Path | None, robot: Any) -> None:
+    """:func:`check_input_overwrite` against every file ``robot`` (a loaded
+    :class:`~xrdf_tools.robot.core.Robot`) is read from: its URDF or xacro files and the mesh
+    files of its links (:func:`~xrdf_tools.robot.input_files.robot_input_files`)."""
+    if output is None or is_stdio(output):
+        return
+    from ...robot.input_files import robot_input_files
+
+    check_input_overwrite(output, robot_input_files(robot))
+
+
 def check_input_overwrite(output: Path, inputs: Sequence[Path | str | None]) -> None:
     """Raise :class:`XrdfToolsError` when ``output`` names one of the inputs (nothing is ever
     lost), or cannot be an output at all (a directory, device, FIFO or socket; symlinks are

@@ -16,7 +16,7 @@ from ...util.errors import XrdfToolsError
 from .plain import (
     EXIT_FINDINGS,
     OutputFormat,
-    check_input_overwrite,
+    check_robot_overwrite,
     detail,
     is_stdio,
     load_robot_option,
@@ -177,7 +177,6 @@ def command(
         metrics_json,
         metrics_table,
     )
-    from ...robot.input_files import robot_input_files
     from ...robot.packages import parse_package_path
     from ...spheres.morphit import check_method
     from ...spheres.robot_fit import CountPolicy
@@ -205,8 +204,7 @@ def command(
             method=method.value,
         )
         model = load_robot_option(robot, xacro_arg, package_path)
-        if output is not None:
-            check_input_overwrite(output, robot_input_files(model))
+        check_robot_overwrite(output, model)
         base = load_xrdf_input(xrdf) if xrdf is not None else None
         with progress_bar() as bar, timed("fitting"):
             fitted = fit_spheres(

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from ...util.errors import XrdfToolsError
-from .plain import OutputFormat, check_input_overwrite, detail, is_stdio, load_robot_option, timed
+from .plain import OutputFormat, check_robot_overwrite, detail, is_stdio, load_robot_option, timed
 from .typer_common import (
     AllowMissingMeshesOption,
     PackagePathOption,
@@ -144,7 +144,6 @@ def command(
         fail(e)
 
     try:
-        from ...robot.input_files import robot_input_files
         from ...robot.kinematics import build_kinematic_model
         from ...robot.packages import parse_package_path
         from ...viz import (
@@ -164,8 +163,7 @@ def command(
         pkgs = dict(parse_package_path(p) for p in package_path or ())
         x = load_xrdf_input(xrdf_file)
         u = load_robot_option(urdf, xacro_arg, package_path)
-        if out is not None:
-            check_input_overwrite(out, robot_input_files(u))
+        check_robot_overwrite(out, u)
         kin, kdiags = build_kinematic_model(u, x)
         drawn = "none" if target == "png" else meshes.value
         _require_meshes(u, drawn, kin.frame_names, pkgs, allow_missing_meshes)
