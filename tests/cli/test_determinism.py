@@ -4,6 +4,7 @@ processes with different hash seeds and BLAS/OpenMP thread counts, on real robot
 from __future__ import annotations
 
 import os
+import platform
 import subprocess
 import sys
 from pathlib import Path
@@ -154,3 +155,55 @@ def test_inside_matches_the_winding_number_on_a_real_mesh_with_several_shells() 
     expected = np.array([_winding_reference(mesh, p) for p in points])
     assert 10 < expected.sum() < 140
     assert np.array_equal(points_inside(mesh, points), expected)
+
+
+def _machine_like_another() -> dict[str, str]:
+    """Process settings under which numpy and its BLAS compute as another x86-64 machine
+    would: OpenBLAS' kernels of an SSE4.2 CPU (no FMA, other blocking) and none of numpy's
+    dispatched SIMD loops (AVX2, AVX-512); empty when this is not such a machine."""
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return {}
+    from numpy._core import _multiarray_umath as umath
+
+    return {
+        "OPENBLAS_CORETYPE": "Nehalem",
+        "NPY_DISABLE_CPU_FEATURES": " ".join(umath.__cpu_dispatch__),
+    }
+
+
+def _bytes_of(args: list[str], env_extra: dict[str, str], out: Path | None = None) -> bytes:
+    """What ``xrdf ARGS -q`` writes: the file ``out`` when given, else standard output."""
+    env = {**os.environ, **env_extra}
+    cmd = [sys.executable, "-m", "xrdf_tools", *args, "-q"]
+    done = subprocess.run(cmd, env=env, capture_output=True, timeout=600)
+    assert done.returncode == 0, done.stderr.decode()
+    return out.read_bytes() if out is not None else done.stdout
+
+
+@pytest.mark.slow
+def test_outputs_do_not_depend_on_the_machines_blas_or_simd(tmp_path: Path) -> None:
+    """The report's JSON, an MCAP recording and a fit on the example-robot-data Panda, computed
+    with this machine's BLAS and numpy's SIMD loops and again as an SSE4.2 machine computes
+    them: the same bytes. (The report's clearance bounds came from float32 products, whose
+    last bits follow the BLAS kernel.)"""
+    other = _machine_like_another()
+    if not other:
+        pytest.skip("emulating another machine needs x86-64 (OpenBLAS core types)")
+    urdf = robot_urdf("panda")
+    xrdf = Path(__file__).parents[2] / "fixtures" / "panda" / "panda.xrdf"
+    robot = [str(xrdf), "--urdf", str(urdf)]
+    for i, env in enumerate(({}, other)):
+        mcap, fit = tmp_path / f"{i}.mcap", tmp_path / f"{i}.xrdf"
+        got = (
+            _bytes_of(["report", *robot, "-n", "20000", "--format", "json"], env),
+            _bytes_of(["viz", *robot, "--samples", "20", "--mcap", str(mcap)], env, mcap),
+            _bytes_of(
+                ["spheres", str(urdf), "--links", "panda_link3,panda_hand", "-o", str(fit)],
+                env,
+                fit,
+            ),
+        )
+        assert all(got)
+        if i == 0:
+            first = got
+    assert got == first

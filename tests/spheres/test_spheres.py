@@ -17,8 +17,12 @@ from xrdf_tools.spheres import coverage_for_xrdf, fit_link_spheres, sphere_metri
 from xrdf_tools.spheres.fit import default_max_protrusion
 from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.util.errors import XrdfToolsError
+from xrdf_tools.util.fixed_order import QUANTUM
 from xrdf_tools.xrdf.io import load_xrdf
 from xrdf_tools.xrdf.model import Sphere
+
+#: Relative error of a volume whose vertices lie on the fitting grid (``util.fixed_order``).
+ON_GRID = 1e-5
 
 ROBOTS = (
     Path(trimesh.__file__).resolve().parents[1] / "cmeel.prefix/share/example-robot-data/robots"
@@ -139,8 +143,8 @@ def prims(tmp_path: Path) -> Path:
 def test_primitives_become_solids_in_the_link_frame(prims: Path) -> None:
     geoms, diags = load_link_geometry(prims)
     assert list(geoms) == ["base", "cyl", "cap", "ball"] and diags == []
-    assert geoms["base"].solid.volume == pytest.approx(0.2 * 0.1 * 0.05, rel=1e-6)
-    assert geoms["base"].solid.center_mass == pytest.approx([0.5, 0.0, 0.0], abs=1e-9)
+    assert geoms["base"].solid.volume == pytest.approx(0.2 * 0.1 * 0.05, rel=ON_GRID)
+    assert geoms["base"].solid.center_mass == pytest.approx([0.5, 0.0, 0.0], abs=QUANTUM)
     assert geoms["cyl"].solid.volume == pytest.approx(math.pi * 0.05**2 * 0.3, rel=0.01)
     cap = math.pi * 0.04**2 * 0.2 + 4 / 3 * math.pi * 0.04**3
     assert geoms["cap"].solid.volume == pytest.approx(cap, rel=0.01)

@@ -19,6 +19,7 @@ from xrdf_tools.spheres.geometry import load_link_geometry
 from xrdf_tools.spheres.inside import grid_inside, points_inside
 from xrdf_tools.spheres.robot_fit import fit_robot
 from xrdf_tools.util.errors import XrdfToolsError
+from xrdf_tools.util.fixed_order import QUANTUM
 
 
 def _robot(rel: str) -> Path:
@@ -117,7 +118,9 @@ def test_open_box_without_volume_falls_back_to_its_bounding_box(tmp_path: Path) 
     result = fit_robot(tmp_path / "r.urdf")
     assert result.kinds["plate"] == "bounding_box"
     assert any(d.rule == "spheres-bounding-box" for d in result.diagnostics)
-    assert np.allclose(sorted(result.geometry["plate"].solid.extents), [0.002, 0.1, 0.1])
+    assert np.allclose(
+        sorted(result.geometry["plate"].solid.extents), [0.002, 0.1, 0.1], atol=QUANTUM
+    )
     assert result.spheres["plate"]
 
 

@@ -5,6 +5,7 @@ solid that is not a sheet is not touched."""
 from __future__ import annotations
 
 import math
+import re
 import warnings
 from pathlib import Path
 
@@ -26,6 +27,7 @@ from xrdf_tools.spheres.sheet import (
     as_sheet,
     sheet_spheres,
 )
+from xrdf_tools.util.fixed_order import QUANTUM
 
 #: a marker plate: 50 x 30 x 0.3 mm
 PLATE = (0.05, 0.03, 0.0003)
@@ -222,7 +224,7 @@ def test_a_big_plate_gets_finer_cells_reaching_no_further_than_the_cap(tmp_path:
 def test_the_metrics_name_a_sheet_and_its_whole_area_is_covered(plate_fit: FitResult) -> None:
     per, overall = fit_metrics(plate_fit)
     m = per["plate"]
-    assert m.sheet_thickness == pytest.approx(PLATE[2], rel=1e-6)
+    assert m.sheet_thickness == pytest.approx(PLATE[2], abs=QUANTUM)
     assert m.coverage == 1.0 and m.surface_coverage == 1.0
     assert m.max_uncovered_gap == 0.0
     assert m.to_dict()["sheet_thickness"] == m.sheet_thickness
@@ -269,7 +271,10 @@ def test_a_disc_its_default_bound_cannot_cover_is_refined_past_it(tmp_path: Path
     fit = fit_robot(urdf)
     assert [d.rule for d in fit.diagnostics] == ["spheres-past-bound"]
     # judged on samples held out of the fit (its own samples said 49 %)
-    assert "within its 2.21 mm default bound cover 42% of it" in fit.diagnostics[0].message
+    said = re.search(
+        r"within its 2\.21 mm default bound cover (\d+)% of it", fit.diagnostics[0].message
+    )
+    assert said is not None and int(said.group(1)) < 50, fit.diagnostics[0].message
     solid = fit.geometry["disc"].solid
     m = sphere_metrics(solid, fit.spheres["disc"], samples=8000)
     assert m.coverage >= 0.9 and len(fit.spheres["disc"]) <= 16

@@ -160,7 +160,15 @@ def self_collision_report(
         source = "sampled"
     def_clear, def_contacts = _default_clearances(kin, spheres_all, q_default)
     stats = _pair_stats(
-        kin, spheres_all, adj, work_index, totals, def_clear, n_total, source, frozenset(cspace)
+        kin,
+        spheres_all,
+        adj,
+        work_index,
+        (totals.hits, *engine.reported_clearance(totals)),
+        def_clear,
+        n_total,
+        source,
+        frozenset(cspace),
     )
     w_of = {int(k): i for i, k in enumerate(work_index)}
     if certify is not None:
@@ -257,18 +265,18 @@ def _pair_stats(
     spheres: SphereSet,
     adj: npt.NDArray[np.bool_],
     work_index: npt.NDArray[np.intp],
-    totals: EngineTotals,
+    counted: tuple[npt.NDArray[np.int64], FloatArray, npt.NDArray[np.bool_]],
     def_clear: FloatArray,
     n_total: int,
     source: str,
     cspace: frozenset[str],
 ) -> list[PairStat]:
     """One :class:`PairStat` per frame pair of ``spheres``; ``work_index`` [W] lists the
-    sampled frame pairs, whose counts and clearances are ``totals`` [W]. ``joints_on_path``
-    counts the c-space joints between the two frames: 0 means the pair's relative pose is
-    constant in this report (decided once, at the default configuration)."""
-    hits = totals.hits
-    min_clear, is_bound_w = totals.clearance()
+    sampled frame pairs, whose collision counts, minimum clearances and whether each is
+    only a bound are ``counted`` ([W] each). ``joints_on_path`` counts the c-space joints
+    between the two frames: 0 means the pair's relative pose is constant in this report
+    (decided once, at the default configuration)."""
+    hits, min_clear, is_bound_w = counted
     masked = spheres.frame_pair_masked
     counts = spheres.sphere_counts()
     ub = never_upper_bound(n_total)

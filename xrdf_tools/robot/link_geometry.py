@@ -37,6 +37,7 @@ import numpy as np
 from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit
+from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import MAX_LENGTH
 from ..util.text import name_list
 from .mesh_files import load_mesh_scene, unreadable
@@ -110,10 +111,20 @@ class GeometryPart:
         return mesh
 
     def in_link_frame(self) -> trimesh.Trimesh:
-        """A copy of :attr:`mesh` moved into the link frame by :attr:`origin`."""
+        """A copy of :attr:`mesh` moved into the link frame by :attr:`origin`, its vertices
+        on the grid of :func:`link_frame_vertices`."""
         out = self.mesh.copy()
-        out.apply_transform(self.origin)
+        out.vertices = link_frame_vertices(out.vertices, self.origin)
         return out
+
+
+def link_frame_vertices(vertices: Any, origin: FloatArray) -> FloatArray:
+    """Element-frame ``vertices`` [N, 3] placed in the link frame by ``origin`` (4x4), with
+    the same bits on every machine: the transform is summed term by term, and the result is
+    rounded to a 1 µm grid, which also absorbs the last-bit differences a mesh loader's own
+    transforms (a COLLADA node's matrix) leave on another machine's BLAS
+    (:mod:`xrdf_tools.util.fixed_order`)."""
+    return quantized(transform_points(origin, vertices))
 
 
 @dataclass(frozen=True)
@@ -411,7 +422,9 @@ class _MeshReader:
             raise _PartError(f"{uri}: cannot read mesh ({why})", uri=uri)
         if not np.array_equal(factors, np.ones(3)):
             for piece in pieces:  # scene.dump() made copies: scaling them in place is safe
-                piece.apply_transform(np.diag([*factors, 1.0]))
+                piece.vertices = np.asarray(piece.vertices, dtype=np.float64) * factors
+                if np.prod(factors) < 0:  # a mirror: keep the faces turned outward
+                    piece.faces = np.ascontiguousarray(np.fliplr(piece.faces))
         if bad or not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces):
             raise _PartError(f"{uri}: a vertex is not finite or beyond ±{MAX_LENGTH:g} m")
         return pieces, str(path)

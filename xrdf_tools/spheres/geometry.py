@@ -31,6 +31,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..robot.link_geometry import GeometryChoice, GeometrySource, LinkParts
 from ..util.errors import UrdfError
+from ..util.fixed_order import quantized
 from ..xrdf.model import Sphere
 
 if TYPE_CHECKING:
@@ -266,6 +267,19 @@ def _solidify(
     return hull, "convex_hull"
 
 
+def _on_grid(
+    made: tuple[trimesh.Trimesh, SolidKind] | None,
+) -> tuple[trimesh.Trimesh, SolidKind] | None:
+    """The solid with its vertices rounded to the grid its parts are on: a hull, a box or a
+    union computed with a machine's BLAS (trimesh's oriented bounds and transforms) can differ
+    from another machine's in the last bits, and the fit would carry that into its spheres."""
+    if made is None:
+        return None
+    solid = made[0].copy()
+    solid.vertices = quantized(solid.vertices)
+    return solid, made[1]
+
+
 _KIND: dict[str, SolidKind] = {
     "mesh": "mesh",
     "thin_shell": "convex_hull",
@@ -420,7 +434,7 @@ def _link_solid(
     key = (name, link.source)
     if key not in made:
         said: list[Diagnostic] = []
-        made[key] = (_solidify(name, parts, path, link.line, said), said)
+        made[key] = (_on_grid(_solidify(name, parts, path, link.line, said)), said)
     solid, said = made[key]
     diags.extend(said)
     if solid is None:

@@ -92,6 +92,8 @@ def quat_xyzw_from_matrix(rotation: Any) -> Quat:
     ``w >= 0``."""
     import numpy as np
 
+    from .fixed_order import norm
+
     m = np.asarray(rotation, dtype=np.float64)
     tr = m[0, 0] + m[1, 1] + m[2, 2]
     if tr > 0:
@@ -111,7 +113,7 @@ def quat_xyzw_from_matrix(rotation: Any) -> Quat:
         w, x = (m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s
         y, z = (m[1, 2] + m[2, 1]) / s, 0.25 * s
     q = np.array([x, y, z, w])
-    q /= np.linalg.norm(q)
+    q /= norm(q)
     if q[3] < 0:
         q = -q
     return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
@@ -130,6 +132,8 @@ def axis_angle_matrix(axis: FloatArray, angle: float) -> FloatArray:
     ``I + sin θ · K + (1 − cos θ) · K²``)."""
     import numpy as np
 
+    from .fixed_order import matmul
+
     K = skew(axis)
-    out: FloatArray = np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * (K @ K)
+    out: FloatArray = np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * matmul(K, K)
     return out

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
-from ..robot.link_geometry import Rgba
+from ..robot.link_geometry import Rgba, link_frame_vertices
 from ..util.arrays import FloatArray
 from ..util.arrays import Int64Array as IntArray
 
@@ -100,7 +100,7 @@ def _drawn(part: GeometryPart) -> list[MeshPart]:
     origin = part.origin
     out: list[MeshPart] = []
     for piece in part.pieces:
-        v = np.asarray(piece.vertices, dtype=np.float64) @ origin[:3, :3].T + origin[:3, 3]
+        v = link_frame_vertices(piece.vertices, origin)
         f = np.array(piece.faces, dtype=np.int64)
         color = part.material or _trimesh_color(piece) or DEFAULT_MESH_COLOR
         v.flags.writeable = False

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from ..util.errors import XrdfToolsError
+from ..util.fixed_order import transform_points
 from . import DEFAULT_PICTURE, Picture, atomic_path
 from .scene import Progress, Scene
 
@@ -136,7 +137,7 @@ def _draw(
         if not link.n_spheres:
             continue
         T = poses[link.frame_index]
-        centers.append(link.centers @ T[:3, :3].T + T[:3, 3])
+        centers.append(transform_points(T, link.centers))
         radii.append(link.buffered_radii if buffered else link.radii)
         rgb.append(np.array([col[:3] for col in colors[link.name]], dtype=np.float64))
         handles.append(

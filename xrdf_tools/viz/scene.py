@@ -25,6 +25,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..selfcollision.collision.spheres import is_slot, self_radius
 from ..util.arrays import FloatArray
 from ..util.errors import GeometryGroupError, SourceError
+from ..util.fixed_order import matmul, rigid_inverse
 from ..xrdf.model import Xrdf
 from .contacts import SpherePair, sphere_contacts
 from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
@@ -184,7 +185,7 @@ class Scene:
         T = self.poses[step, frame]
         if p < 0:
             return np.array(T)
-        return np.asarray(np.linalg.inv(self.poses[step, p]) @ T)
+        return matmul(rigid_inverse(self.poses[step, p]), T)
 
     def colors(self, step: int) -> dict[str, list[Rgba]]:
         """Colour of every drawn sphere per link at sample ``step`` (red when colliding)."""

@@ -140,7 +140,8 @@ REPORT_OPTIONS = OptionTable(
         Option(
             "clearance_margin",
             ("--clearance-margin",),
-            "Minimum clearances below this (metres) are exact; above, lower bounds.",
+            "Minimum clearances below this (metres) are exact; a pair that never comes "
+            "closer shows \u2265 it.",
             number,
             bounds=(0.0, None),
         ),

@@ -18,6 +18,7 @@ import numpy as np
 from ...diagnostics import Diagnostic, Severity
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ...util.errors import UrdfError, did_you_mean
+from ...util.fixed_order import norm
 from ...util.frozen import FrozenMap
 from ...util.graph import reachable
 from ...xrdf.model import Xrdf
@@ -258,10 +259,10 @@ def _frame_arrays(
 def _unit_axis(j: JointInfo, report: _Report) -> FloatArray:
     """The joint's axis scaled to unit length; an error for a zero or non-finite one."""
     a = np.asarray(j.axis, dtype=np.float64)
-    norm = float(np.linalg.norm(a))
-    if not norm > 1e-12 or not math.isfinite(norm):
+    length = norm(a)
+    if not length > 1e-12 or not math.isfinite(length):
         raise report.error(f"joint '{j.name}' has a zero or invalid axis {j.axis}", j.line)
-    unit: FloatArray = a / norm
+    unit: FloatArray = a / length
     return unit
 
 

@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...util.arrays import FloatArray, IntArray
+from ...util.fixed_order import matmul
 from ...util.rotations import axis_angle_matrix, skew
 from .base import MOVING_TYPES, JointType
 
@@ -95,7 +96,7 @@ def make_plan(model: FrameArrays) -> FkPlan:
         a = model.axis[i]
         movable = jt in MOVING_TYPES
         if movable and model.q_index[i] < 0:
-            T = T @ joint_transform(jt, a, float(model.mimic_offset[i]))
+            T = matmul(T, joint_transform(jt, a, float(model.mimic_offset[i])))
             movable = False
         A, t = T[:3, :3], T[:3, 3:4]
         if not movable:
@@ -106,13 +107,14 @@ def make_plan(model: FrameArrays) -> FkPlan:
         if jt == JointType.PRISMATIC:
             rows.append(len(row_q))
             kinds.append(KIND_PRISM)
-            consts.append(np.ascontiguousarray(np.hstack([A, t, (A @ a)[:, None]])))
+            consts.append(np.ascontiguousarray(np.hstack([A, t, matmul(A, a)[:, None]])))
         else:
             rows.append(len(rot_rows))
             rot_rows.append(len(row_q))
             kinds.append(KIND_ROT)
             K = skew(a)
-            consts.append(np.ascontiguousarray(np.hstack([A, A @ K, A @ np.outer(a, a) - A, t])))
+            aa = matmul(A, np.outer(a, a)) - A
+            consts.append(np.ascontiguousarray(np.hstack([A, matmul(A, K), aa, t])))
         row_q.append(int(model.q_index[i]))
         row_mult.append(float(model.mimic_multiplier[i]))
         row_off.append(float(model.mimic_offset[i]))

@@ -213,6 +213,21 @@ class CountEngine:
         per += 16 * len(self.cspace) + _CHUNK_SLACK + (self.K if flags else 0)
         return int(np.clip(CHUNK_BYTES // per // 1024 * 1024, 4096, 65536))
 
+    def reported_clearance(self, totals: EngineTotals) -> tuple[FloatArray, BoolArray]:
+        """Per frame pair: the minimum clearance a report shows, and whether it is a bound.
+
+        Exact (float64) below the margin, and for the pairs decided once (their clearance is
+        the same in every configuration). Every other pair is only known to stay at least the
+        margin apart, and the margin is its bound: the gaps the float32 passes leave behind
+        depend on the machine (its BLAS kernels and SIMD width) in their last bits, and on
+        which configurations they skipped, so a bound taken from them would not give the same
+        bytes on every machine; the margin does.
+        """
+        value, bound = totals.clearance()
+        exact = ~bound & (value < self.margin)
+        exact[self.const_k] = True
+        return np.where(exact, value, self.margin), ~exact
+
     def _constant_pairs(self) -> tuple[IntArray, BoolArray, FloatArray]:
         """Frame pairs on one body: decided once, exactly, at the base configuration."""
         s = self.spheres
