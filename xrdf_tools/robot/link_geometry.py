@@ -121,7 +121,7 @@ class GeometryPart:
 def link_frame_vertices(vertices: Any, origin: FloatArray) -> FloatArray:
     """Element-frame ``vertices`` [N, 3] placed in the link frame by ``origin`` (4x4), with
     the same bits on every machine: the transform is summed term by term, and the result is
-    rounded to a 1 µm grid, which also absorbs the last-bit differences a mesh loader's own
+    rounded to a 0.14 µm grid, which also absorbs the last-bit differences a mesh loader's own
     transforms (a COLLADA node's matrix) leave on another machine's BLAS
     (:mod:`xrdf_tools.util.fixed_order`)."""
     return quantized(transform_points(origin, vertices))
