@@ -61,9 +61,9 @@ class PairStat:
     """Statistics and verdict for one pair of frames that carry spheres.
 
     ``hits``/``rate`` are None when the pair was not sampled (masked and adjacent).
-    ``min_clearance`` is the smallest clearance seen (negative: deepest penetration); when
-    ``min_clearance_is_bound`` it is only a lower bound (culling skipped the closest
-    configurations, all of them farther apart than this). ``rate_upper_95`` is the 95 %
+    ``min_clearance`` is the smallest clearance seen (negative: deepest penetration), exact
+    below the report's clearance margin; when ``min_clearance_is_bound`` the pair never came
+    closer than the margin, and ``min_clearance`` is the margin. ``rate_upper_95`` is the 95 %
     upper bound of the collision rate when ``hits == 0``.
     """
 
