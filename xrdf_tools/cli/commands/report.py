@@ -73,7 +73,19 @@ def command(
     verbose: VerboseOption = False,
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
-    ignore mask treats it and what to do about it."""
+    ignore mask treats it and what to do about it.
+
+    Exit codes: 0 no error finding, 1 an error finding (or a warning with --strict), 2 usage
+    or input error.
+
+    \b
+    Examples:
+      xrdf report robot.xrdf --urdf robot.urdf
+      xrdf report robot.xrdf --urdf robot.urdf -n 1000000 --plot matrix.png \\
+          --write-mask robot.masked.xrdf
+      xrdf report robot.xrdf --urdf robot.urdf --certify --mask-policy proven -f json -o report.json
+      xrdf report robot.xrdf --urdf robot.urdf --configs trajectory.csv
+    """
     args = ReportArgs(
         xrdf_file,
         urdf,
