@@ -210,3 +210,45 @@ def test_worker_environment_is_restored_when_counts_overlap_in_threads(
     assert seen["after the first left"] == dict.fromkeys(_BLAS_VARS, "1")
     assert os.environ.get("OMP_NUM_THREADS") == "7"
     assert "MKL_NUM_THREADS" not in os.environ
+
+
+def test_xacro_expansions_in_two_threads_give_the_serial_results(tmp_path: Path) -> None:
+    """xacro keeps its file stack and includes in module globals: a failing expansion in one
+    thread must neither reset them under another's nor take its location from another's."""
+    from xrdf_tools.robot.xacro_source import expand_xacro
+    from xrdf_tools.util.errors import XrdfToolsError
+
+    (tmp_path / "part.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:macro name="box_link" params="name"><link name="${name}"><collision><geometry>'
+        '<box size="0.1 0.1 0.1"/></geometry></collision></link></xacro:macro></robot>'
+    )
+    links = "".join(f'<xacro:box_link name="l{i}"/>' for i in range(40))
+    good = tmp_path / "good.urdf.xacro"
+    good.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        f'<xacro:include filename="part.xacro"/>{links}</robot>'
+    )
+    bad = tmp_path / "bad.urdf.xacro"
+    bad.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:include filename="part.xacro"/>\n<xacro:box_link name="${no_such_name}"/>\n'
+        "</robot>\n"
+    )
+
+    def expand(path: Path) -> str:
+        try:
+            return expand_xacro(path)
+        except XrdfToolsError as e:
+            return f"error: {e}"
+
+    serial = {path: expand(path) for path in (good, bad)}
+    assert serial[bad].startswith(f"error: {bad}:3")
+    switch = sys.getswitchinterval()
+    sys.setswitchinterval(1e-5)  # threads take turns often: an unguarded global shows
+    try:
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            results = list(pool.map(expand, [good, bad] * 100))
+    finally:
+        sys.setswitchinterval(switch)
+    assert results == [serial[good], serial[bad]] * 100
