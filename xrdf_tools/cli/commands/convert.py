@@ -70,6 +70,7 @@ def command(
     robot: Annotated[
         Path,
         typer.Argument(
+            metavar="ROBOT.urdf|xacro",
             help="The robot: ROBOT.urdf, ROBOT.urdf.xacro or ROBOT.xacro (xacro is expanded "
             "without ROS; it evaluates Python, so only convert files you trust).",
             show_default=False,

@@ -58,7 +58,8 @@ OutputOption = Annotated[
     typer.Option("-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."),
 ]
 XrdfArgument = Annotated[
-    Path, typer.Argument(help="The XRDF file ('-': stdin).", show_default=False)
+    Path,
+    typer.Argument(metavar="ROBOT.xrdf", help="The XRDF file ('-': stdin).", show_default=False),
 ]
 FormatOption = Annotated[
     OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")

@@ -32,7 +32,9 @@ def _option(name: str) -> Any:
 def command(
     files: Annotated[
         list[Path],
-        typer.Argument(help="XRDF files to check ('-': stdin).", show_default=False),
+        typer.Argument(
+            metavar="FILE.xrdf...", help="XRDF files to check ('-': stdin).", show_default=False
+        ),
     ],
     urdf: Annotated[Path | None, _option("urdf")] = None,
     xacro_arg: XacroArgOption = None,

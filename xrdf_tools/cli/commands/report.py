@@ -44,7 +44,10 @@ def _option(name: str, **typer_only: Any) -> Any:
 
 def command(
     xrdf_file: Annotated[
-        Path, typer.Argument(help="The XRDF to check ('-': stdin).", show_default=False)
+        Path,
+        typer.Argument(
+            metavar="ROBOT.xrdf", help="The XRDF to check ('-': stdin).", show_default=False
+        ),
     ],
     urdf: Annotated[Path, _option("urdf", show_default=False)],
     samples: Annotated[int, _option("samples")] = 100_000,
