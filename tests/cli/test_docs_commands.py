@@ -1,9 +1,9 @@
-"""What the docs, the ``--help`` texts and the messages tell a user to type exists.
+"""What the docs, the ``--help`` texts and the messages tell a user to type or follow exists.
 
 Every ``xrdf COMMAND … --option`` written in README.md, docs/*.md or the package's sources
 (help texts, diagnostics, rule docs) names an option of that command, and every ``--option``
 named anywhere there is an option of some command or of a benchmark script. Every option of
-every command says what it does."""
+every command says what it does. Every link of the docs reaches a file and heading."""
 
 from __future__ import annotations
 
@@ -115,3 +115,31 @@ def test_convert_help_gives_the_default_limits_convert_uses() -> None:
     helps = {p.name: p.help for p in _commands()[("convert",)].params}
     assert f"Default: {DEFAULT_ACCELERATION:g}," in helps["acceleration"]
     assert f"Default: {DEFAULT_JERK:g}," in helps["jerk"]
+
+
+_FENCED = re.compile(r"^```.*?^```", re.S | re.M)
+
+
+def _headings(doc: Path) -> set[str]:
+    """The anchors of ``doc``'s headings, spelled as the Markdown renderers make them."""
+    text = _FENCED.sub("", doc.read_text(encoding="utf-8"))
+    return {
+        re.sub(r"[^\w\- ]", "", m.group(1).strip().lower()).replace(" ", "-")
+        for m in re.finditer(r"^#+\s+(.*)$", text, re.M)
+    }
+
+
+def test_every_link_in_the_docs_points_at_a_file_and_heading_that_exist() -> None:
+    broken = []
+    for doc in [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]:
+        text = _FENCED.sub("", doc.read_text(encoding="utf-8"))
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if re.match(r"[a-z]+:", target):  # a web address
+                continue
+            path, _, anchor = target.partition("#")
+            linked = doc.parent / path if path else doc
+            if not linked.exists():
+                broken.append(f"{doc.name}: {target}: no such file")
+            elif anchor and linked.suffix == ".md" and anchor not in _headings(linked):
+                broken.append(f"{doc.name}: {target}: no such heading")
+    assert broken == []
