@@ -59,3 +59,42 @@ def test_report_errors_name_the_output_not_the_temporary(
         str(mask),
     )
     assert code == 2 and f"{mask}: " in out and ".tmp" not in out and "No space left" in out
+
+
+def test_plot_draws_frame_names_with_dollar_signs_as_written(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Frame names with ``$`` signs are drawn as written on the matrix: matplotlib's math text
+    would stop at an unknown command (a traceback) or italicise what lies between two."""
+    pytest.importorskip("matplotlib")
+    pytest.importorskip("trimesh")
+    name = "arm$\\undefinedcommand{$"
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r$x"><link name="base"><collision><geometry><box size=".2 .2 .1"/>'
+        f'</geometry></collision></link><link name="{name}"><collision><origin xyz="0 0 .2"/>'
+        '<geometry><box size=".06 .06 .3"/></geometry></collision></link>'
+        f'<joint name="j1" type="revolute"><parent link="base"/><child link="{name}"/>'
+        '<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>'
+    )
+    xrdf = tmp_path / "r.xrdf"
+    code, out = run_cli(
+        runner,
+        "convert",
+        str(urdf),
+        "--fit-spheres",
+        "--per-link",
+        "1",
+        "-n",
+        "50",
+        "-o",
+        str(xrdf),
+    )
+    assert code == 0, out
+    png = tmp_path / "matrix.png"
+    code, out = run_cli(
+        runner, "report", str(xrdf), "--urdf", str(urdf), "-n", "50", "--plot", str(png)
+    )
+    assert code in (0, 1), out
+    assert "Traceback" not in out
+    assert png.read_bytes().startswith(b"\x89PNG")

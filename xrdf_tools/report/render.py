@@ -400,12 +400,10 @@ def write_heatmap(r: Report, path: str | Path) -> None:
     from ..util.extras import VIZ, require
 
     require(VIZ, "viz", "--plot")
-    import matplotlib
-
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
     import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
     frames = list(r.frames)
@@ -417,7 +415,11 @@ def write_heatmap(r: Report, path: str | Path) -> None:
             i, j = pos[p.frame_a], pos[p.frame_b]
             rate[i, j] = rate[j, i] = p.rate
     size = max(4.0, 0.45 * n + 2.5)
-    fig, ax = plt.subplots(figsize=(size + 1.5, size), dpi=110)
+    # a figure of its own (no pyplot): the caller's backend and figures are left alone, and
+    # names are drawn as written (a '$' in a frame name starts no math text)
+    fig = Figure(figsize=(size + 1.5, size), dpi=110)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
     floor = 0.5 / max(r.samples, 1)
     shown = np.where(np.isnan(rate), np.nan, np.maximum(rate, floor))
     im = ax.imshow(shown, cmap="magma_r", norm=LogNorm(vmin=floor, vmax=1.0))
@@ -438,12 +440,11 @@ def write_heatmap(r: Report, path: str | Path) -> None:
                     fontsize=6,
                     color="white" if p.rate > 0.05 else "black",
                 )
-    ax.set_xticks(range(n), frames, rotation=90, fontsize=7)
-    ax.set_yticks(range(n), frames, fontsize=7)
+    ax.set_xticks(range(n), frames, rotation=90, fontsize=7, parse_math=False)
+    ax.set_yticks(range(n), frames, fontsize=7, parse_math=False)
     ax.set_title(f"self-collision rate over {r.samples} configurations (x = ignored)", fontsize=9)
     fig.colorbar(im, ax=ax, label="collision rate")
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
-    plt.close(fig)
     write_atomic(path, buf.getvalue())

@@ -19,7 +19,7 @@ import re
 import threading
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from xml.parsers.expat import ExpatError
@@ -30,6 +30,7 @@ from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
+from .xacro_culprits import UNDEFINED_ARG, culprit_in
 from .xacro_detect import uses_xacro
 from .xacro_files import file_arg_hint, located_in_includes, os_error
 from .xacro_places import placed_in_includes
@@ -96,7 +97,7 @@ def _patched_xacro(
         text = " ".join(" ".join(str(a) for a in args).split())
         # a lazy property is evaluated in the file that uses it, not the one that writes it
         written = [stack[-1] if stack else top, *(getattr(xacro, "all_includes", None) or ())]
-        where, line, col = _culprit_in([str(f) for f in written], text)
+        where, line, col = culprit_in([str(f) for f in written], text)
         found = Diagnostic(
             where,
             line,
@@ -152,29 +153,53 @@ def expand_xacro(
     values = ReadArgs(mappings)  # xacro adds the defaults of the arguments it meets to it
     said = warnings if warnings is not None else []
     unresolved: dict[str, SourceError] = {}
-    try:
-        with _patched_xacro(resolver, str(p), said, unresolved):
+    # xacro's module globals (its file and macro stacks, the included files) are read and
+    # reset inside the lock _patched_xacro holds: another thread may be expanding next
+    failure: _Failure | None = None
+    with _patched_xacro(resolver, str(p), said, unresolved):
+        try:
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
             if includes is not None:
                 includes.extend(dict.fromkeys(str(f) for f in xacro.all_includes))
-    except Exception as e:  # xacro's XacroException, ArgException, NameError, OSError…
-        if (placeholder := error_for(e, unresolved)) is not None:  # a package not found
-            raise placeholder from None
-        filestack, included = getattr(xacro, "filestack", None), list(xacro.all_includes)
-        macro = _innermost_macro(getattr(xacro, "macrostack", None))
-        error = _xacro_error(e, str(p), filestack, included, mappings, values, macro)
-        raise _with_unset_args(error, p, resolver, mappings) from None
-    finally:
-        try:
+        except Exception as e:  # xacro's XacroException, ArgException, NameError, OSError…
+            filestack = getattr(xacro, "filestack", None)
+            failure = _Failure(
+                e,
+                list(filestack) if filestack is not None else None,
+                list(xacro.all_includes),
+                _innermost_macro(getattr(xacro, "macrostack", None)),
+            )
+        finally:
             xacro.filestack = None
             xacro.macrostack = None
-        except AttributeError:  # pragma: no cover - older xacro
-            pass
+    if failure is not None:
+        if (placeholder := error_for(failure.error, unresolved)) is not None:  # no package
+            raise placeholder from None
+        error = _xacro_error(
+            failure.error,
+            str(p),
+            failure.filestack,
+            failure.included,
+            mappings,
+            values,
+            failure.macro,
+        )
+        raise _with_unset_args(error, p, resolver, mappings) from None
     if warn_unread_args:
         said.extend(unread_arg_warnings(str(p), mappings, values))
     return settle(doc, text, unresolved, said)
+
+
+@dataclass(frozen=True)
+class _Failure:
+    """An expansion that raised, with xacro's state at that moment (copied under the lock)."""
+
+    error: Exception
+    filestack: list[Any] | None
+    included: list[Any]
+    macro: str | None
 
 
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
@@ -185,7 +210,7 @@ def _with_unset_args(
 ) -> SourceError:
     """``error`` about one argument without a value, naming the others the files use
     without a default, so that one run finds them all."""
-    m = _UNDEFINED_ARG.search(error.message)
+    m = UNDEFINED_ARG.search(error.message)
     if m is None:
         return error
     others = [a for a in unset_args(top, resolver, given) if a != m.group(1)]
@@ -242,7 +267,7 @@ def _xacro_error(
         message += file_arg_hint(missing, top, given or {}, values or {})
     if (call := _bad_macro_call(message, macro, [where, *included])) is not None:
         return SourceError(call[0], path=call[1], line=call[2], col=call[3])
-    where, line, col = _culprit_in([where, *included], message)
+    where, line, col = culprit_in([where, *included], message)
     hint = _unprefixed_hint(message, [where, *included]) + _late_default_hint(message, where, line)
     return SourceError(message + hint, path=where, line=line, col=col)
 
@@ -251,7 +276,7 @@ def _late_default_hint(message: str, path: str, line: int | None) -> str:
     """What to know when the undefined ``$(arg x)`` of ``message`` has a ``<xacro:arg>``
     default below its use at ``line`` (Flexiv's ``<robot name="$(arg name)">`` with the
     default inside ``<robot>``): xacro has not read it yet, the launch file passes it."""
-    m = _UNDEFINED_ARG.search(message)
+    m = UNDEFINED_ARG.search(message)
     if m is None or line is None:
         return ""
     tag = re.compile(rf"<xacro:arg\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"'][^>]*default=")
@@ -374,65 +399,6 @@ def _unprefixed_hint(message: str, files: Sequence[str]) -> str:
     )
 
 
-#: ``$(arg x)`` of an ``<xacro:arg>`` without a default, not given.
-_UNDEFINED_ARG = re.compile(r"Undefined substitution argument ([^\s;()]+)")
-#: What xacro's messages name, and the text that names it in the file:
-#: (pattern of the message, template of the source text).
-_CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
-    (re.compile(r"when evaluating expression '([^']*)'"), ("${{{}}}", "${{{}")),
-    (re.compile(r"unknown macro name: (xacro:\S+)"), ("<{}",)),
-    (re.compile(r"Property names must be valid python identifiers:\s*(.*)$"), ('name="{}"',)),
-    (_UNDEFINED_ARG, ("$(arg {}",)),
-    (re.compile(r"Unknown substitution command \[([^\]]*)\]"), ("$({})", "$({}")),
-    (re.compile(r"may only specify one arg \[([^\]]*)\]"), ("$({})", "$({}")),
-    (re.compile(r"cannot find ROS package '([^']+)'"), ("$(find {})", "$(find {}")),
-    (re.compile(r'Invalid parameter "([^"]+)"'), ('{}="',)),
-    (re.compile(r"invalid expression: (.+)$"), ("{}",)),
-    (re.compile(r"Using (\w+)\(\) directly is deprecated"), ("${{{}(",)),
-)
-#: "xacro:macro: missing attribute 'name'": the first ``<xacro:macro>`` tag without it.
-_MISSING_ATTRIBUTE = re.compile(r"^xacro failed: (xacro:\w+): missing attribute '(\w+)'")
-
-
-def _culprit_in(paths: Sequence[str], message: str) -> tuple[str, int | None, int | None]:
-    """The first of ``paths`` that writes what ``message`` quotes, and where (the first path,
-    without a position, when none does)."""
-    for path in dict.fromkeys(paths):
-        line, col = _find_culprit(path, message)
-        if line is not None:
-            return path, line, col
-    return paths[0], None, None
-
-
-def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
-    """Where in ``path`` the name or expression a xacro error quotes is first written (xacro
-    itself keeps no positions); ``(None, None)`` when it is not found."""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):  # a file that cannot be read again: no position
-        return None, None
-    # xacro works in document order: the first use failed first; the file may write the
-    # quoted text with XML escapes ('&' as '&amp;')
-    at = next((i for n in _needles(message) if (i := text.find(n)) >= 0), -1)
-    if (m := _MISSING_ATTRIBUTE.search(message)) is not None:
-        tags = re.finditer(rf"<{m.group(1)}\b[^>]*>", text)
-        at = next((t.start() for t in tags if f"{m.group(2)}=" not in t.group(0)), -1)
-    if at < 0:
-        return None, None
-    return line_col(text, at)
-
-
-def _needles(message: str) -> list[str]:
-    """The texts that may write what ``message`` quotes, most specific first."""
-    from xml.sax.saxutils import escape  # an error's path only: it imports urllib and http
-
-    for pattern, templates in _CULPRITS:
-        if (m := pattern.search(message)) is not None:
-            raw = [t.format(m.group(1)) for t in templates]
-            return [*raw, *(escape(n) for n in raw)]
-    return []
-
-
 def _xacro_message(e: BaseException) -> str:
     if isinstance(e, XrdfToolsError):  # ours: a $(find) of a package that cannot be found
         return e.message
@@ -450,7 +416,7 @@ def _xacro_message(e: BaseException) -> str:
     twice = f"{inner_text} {inner_text}"
     while inner_text and twice in msg:  # xacro repeats its cause after its own text
         msg = msg.replace(twice, inner_text)
-    if (m := _UNDEFINED_ARG.search(msg)) is not None:
+    if (m := UNDEFINED_ARG.search(msg)) is not None:
         return f"xacro failed: {msg} (pass --xacro-arg {m.group(1)}:=VALUE)"
     return f"xacro failed: {msg}"
 

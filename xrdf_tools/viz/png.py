@@ -109,10 +109,14 @@ def draw_png(
     from ..util.extras import VIZ, require
 
     require(VIZ, "viz", "a PNG picture")
-    from matplotlib import rc_context
+    return _draw(scene, buffered, size_px, view, legend)
 
-    with rc_context({"text.parse_math": False}):
-        return _draw(scene, buffered, size_px, view, legend)
+
+def _as_written(texts: Any) -> None:
+    """Draw ``texts`` as written, not as math text: set on each text, never through
+    matplotlib's global ``rcParams`` (another thread may be drawing)."""
+    for text in texts:
+        text.set_parse_math(False)
 
 
 def _draw(
@@ -158,10 +162,10 @@ def _draw(
     ax.set_ylabel("y (m)", fontsize=7)
     ax.set_zlabel("z (m)", fontsize=7)
     ax.tick_params(labelsize=6)
-    ax.set_title(png_title(scene), fontsize=8)
+    ax.set_title(png_title(scene), fontsize=8, parse_math=False)
     if handles and legend != "off":
         if len(handles) < LEGEND_COLUMNS_FROM:
-            fig.legend(
+            leg = fig.legend(
                 handles=handles,
                 loc="upper left",
                 bbox_to_anchor=(0.01, 0.92),
@@ -169,6 +173,7 @@ def _draw(
                 frameon=False,
                 handletextpad=0.2,
             )
+            _as_written(leg.get_texts())
         else:
             _legend_below(fig, ax, handles, size_px)
     return fig
@@ -219,6 +224,7 @@ def _legend_below(fig: Any, ax: Any, handles: list[Any], size_px: int) -> None:
             labelspacing=0.25,
             borderaxespad=0.0,
         )
+        _as_written(leg.get_texts())
         box = leg.get_window_extent(renderer)
         if box.width <= size_px - 8 or ncol == 1:
             break

@@ -70,6 +70,7 @@ def command(
     robot: Annotated[
         Path,
         typer.Argument(
+            metavar="ROBOT.urdf|xacro",
             help="The robot: ROBOT.urdf, ROBOT.urdf.xacro or ROBOT.xacro (xacro is expanded "
             "without ROS; it evaluates Python, so only convert files you trust).",
             show_default=False,
@@ -91,24 +92,43 @@ def command(
         typer.Option(
             "--group",
             help="SRDF planning group (repeatable: the c-space is the union, in the given "
-            "order; default: see docs).",
+            "order). Default: the group without subgroups that has the most actuated joints "
+            "(a warning names it).",
         ),
     ] = None,
     state: Annotated[
-        str | None, typer.Option("--state", help="SRDF group_state for default positions.")
+        str | None,
+        typer.Option(
+            "--state",
+            help="SRDF group_state for default positions. Default: the group's state named "
+            "home, ready or default, else its first one; without one, 0 (mid-limits when 0 "
+            "is outside them).",
+        ),
     ] = None,
     tool_frame: Annotated[
         list[str] | None,
         typer.Option(
-            "--tool-frame", help="Tool frame (repeatable; the first is the end effector)."
+            "--tool-frame",
+            help="Tool frame (repeatable; the first is the end effector). Default: the SRDF "
+            "end effector's link, else a frame below the last c-space joint named like a tool "
+            "(tool0, a TCP), else the chain's tip (a warning names it).",
         ),
     ] = None,
     acceleration: Annotated[
         float | None,
-        typer.Option("--acceleration", help="Acceleration limit for joints the inputs lack."),
+        typer.Option(
+            "--acceleration",
+            help="Acceleration limit (rad/s² or m/s²) for joints the inputs lack. Default: 10, "
+            "with a warning.",
+        ),
     ] = None,
     jerk: Annotated[
-        float | None, typer.Option("--jerk", help="Jerk limit for joints the inputs lack.")
+        float | None,
+        typer.Option(
+            "--jerk",
+            help="Jerk limit (rad/s³ or m/s³) for joints the inputs lack. Default: 1000, with "
+            "a warning.",
+        ),
     ] = None,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
@@ -127,7 +147,8 @@ def command(
             "--target",
             help="The program that will load the XRDF: curobo (cuRobo, Isaac ROS cuMotion; "
             "1.0 only), cumotion (cuMotion library) or isaac-sim (Robot Description Editor). "
-            "Chooses the version and lints the result for that reader.",
+            "Chooses the version and lints the result for that reader. Default: none (XRDF "
+            "1.0, the readers' checks as warnings).",
             show_default=False,
         ),
     ] = None,
@@ -247,6 +268,16 @@ def command(
     Every link with that geometry gets spheres or the command fails (exit 1, naming each
     link and why); a mesh file that cannot be found is an input error (exit 2) unless
     --allow-missing-meshes.
+
+    \b
+    Examples:
+      xrdf convert robot.urdf --srdf robot.srdf --fit-spheres -o robot.xrdf
+      xrdf convert robot.urdf --srdf robot.srdf --group left_arm --group right_arm \\
+          --fit-spheres --target curobo -o robot.xrdf
+      xrdf convert robot.urdf --chain base_link:tool0 --fit-spheres -o robot.xrdf
+      xrdf convert robot.urdf.xacro --srdf robot.srdf --joint-limits joint_limits.yaml \\
+          --package-path my_robot_description=../my_robot_description -o robot.xrdf
+      xrdf convert robot.urdf --srdf robot.srdf --fit-spheres -o robot.xrdf --check
     """
     from ...convert.core import ConvertOptions
     from ...convert.pipeline import FitOptions, MaskOptions, convert_robot

@@ -58,7 +58,8 @@ OutputOption = Annotated[
     typer.Option("-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."),
 ]
 XrdfArgument = Annotated[
-    Path, typer.Argument(help="The XRDF file ('-': stdin).", show_default=False)
+    Path,
+    typer.Argument(metavar="ROBOT.xrdf", help="The XRDF file ('-': stdin).", show_default=False),
 ]
 FormatOption = Annotated[
     OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
@@ -111,7 +112,7 @@ def curobo(
     \b
     Examples:
       xrdf export curobo ur5.xrdf --urdf ur5.urdf -o ur5.yml
-      xrdf export curobo px150.xrdf --urdf px150.urdf.xacro \\
+      xrdf export curobo px150.xrdf --urdf px150.urdf.xacro --xacro-arg robot_name:=px150 \\
           --package-path trossen_descriptions=DIR -o cfg/px150.yml   # + cfg/px150.urdf
     """
     from ...export.curobo import CUROBO_LAYOUTS, to_curobo
@@ -261,7 +262,8 @@ def xrdf_for_target(
         typer.Option(
             "--target",
             help="The program that will load it: curobo (cuRobo, Isaac ROS cuMotion: 1.0 "
-            "only), cumotion or isaac-sim. Chooses the version.",
+            "only), cumotion or isaac-sim. Chooses the version and lints the result for that "
+            "reader. Default: none (XRDF 1.0, not linted).",
             show_default=False,
         ),
     ] = None,
@@ -269,7 +271,8 @@ def xrdf_for_target(
         str | None,
         typer.Option(
             "--format-version",
-            help="XRDF version to write (default: what the target loads).",
+            help="XRDF version to write: 1.0 or 2.0. Default: what the target loads; without "
+            "--target, 1.0 (every reader loads it).",
             show_default=False,
         ),
     ] = None,

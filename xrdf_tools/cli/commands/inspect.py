@@ -26,6 +26,7 @@ def command(
     robot: Annotated[
         Path,
         typer.Argument(
+            metavar="ROBOT.urdf|xacro",
             help="The robot: ROBOT.urdf, ROBOT.urdf.xacro or ROBOT.xacro (xacro is expanded "
             "without ROS; it evaluates Python, so only inspect files you trust).",
             show_default=False,

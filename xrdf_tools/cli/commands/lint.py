@@ -15,7 +15,6 @@ import typer
 from .lint_core import LINT_OPTIONS
 from .plain import OutputFormat
 from .typer_common import (
-    AllowMissingMeshesOption,
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -33,7 +32,9 @@ def _option(name: str) -> Any:
 def command(
     files: Annotated[
         list[Path],
-        typer.Argument(help="XRDF files to check ('-': stdin).", show_default=False),
+        typer.Argument(
+            metavar="FILE.xrdf...", help="XRDF files to check ('-': stdin).", show_default=False
+        ),
     ],
     urdf: Annotated[Path | None, _option("urdf")] = None,
     xacro_arg: XacroArgOption = None,
@@ -44,7 +45,7 @@ def command(
     target: Annotated[str | None, _option("target")] = None,
     strict: Annotated[bool, _option("strict")] = False,
     config: Annotated[Path | None, _option("config")] = None,
-    allow_missing_meshes: AllowMissingMeshesOption = False,
+    allow_missing_meshes: Annotated[bool, _option("allow_missing_meshes")] = False,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
@@ -53,6 +54,12 @@ def command(
     Exit codes: 0 clean, 1 errors (or warnings with --strict), 2 usage or input error.
     With --urdf, collision meshes that cannot be found or read are warnings (the check that
     needs them is skipped); --allow-missing-meshes makes the ones not found an info.
+
+    \b
+    Examples:
+      xrdf lint robot.xrdf --urdf robot.urdf --target curobo
+      xrdf lint robots/*.xrdf --format github
+      xrdf convert robot.urdf --srdf robot.srdf -q | xrdf lint - --urdf robot.urdf
     """
     from ...util.errors import XrdfToolsError
     from .lint_core import LintArgs, run

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 from ...util.errors import one_line
 from .options import (
-    ALLOW_MISSING_MESHES,
+    LINT_ALLOW_MISSING_MESHES,
     PACKAGE_PATH,
     QUIET,
     VERBOSE,
@@ -170,7 +170,7 @@ LINT_OPTIONS = OptionTable(
             ".xrdf-lint.yaml or [tool.xrdf.lint] from the current directory upwards.",
             path,
         ),
-        ALLOW_MISSING_MESHES,
+        LINT_ALLOW_MISSING_MESHES,
         QUIET,
         VERBOSE,
     )

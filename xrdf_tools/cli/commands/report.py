@@ -44,7 +44,10 @@ def _option(name: str, **typer_only: Any) -> Any:
 
 def command(
     xrdf_file: Annotated[
-        Path, typer.Argument(help="The XRDF to check ('-': stdin).", show_default=False)
+        Path,
+        typer.Argument(
+            metavar="ROBOT.xrdf", help="The XRDF to check ('-': stdin).", show_default=False
+        ),
     ],
     urdf: Annotated[Path, _option("urdf", show_default=False)],
     samples: Annotated[int, _option("samples")] = 100_000,
@@ -73,7 +76,19 @@ def command(
     verbose: VerboseOption = False,
 ) -> None:
     """Sample the c-space and report, per frame pair, how often it self-collides, how the
-    ignore mask treats it and what to do about it."""
+    ignore mask treats it and what to do about it.
+
+    Exit codes: 0 no error finding, 1 an error finding (or a warning with --strict), 2 usage
+    or input error.
+
+    \b
+    Examples:
+      xrdf report robot.xrdf --urdf robot.urdf
+      xrdf report robot.xrdf --urdf robot.urdf -n 1000000 --plot matrix.png \\
+          --write-mask robot.masked.xrdf
+      xrdf report robot.xrdf --urdf robot.urdf --certify --mask-policy proven -f json -o report.json
+      xrdf report robot.xrdf --urdf robot.urdf --configs trajectory.csv
+    """
     args = ReportArgs(
         xrdf_file,
         urdf,

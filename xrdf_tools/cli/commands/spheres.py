@@ -88,14 +88,28 @@ def command(
         typer.Option("--links", help="Links to fit (repeatable or comma-separated; default: all)."),
     ] = None,
     count: Annotated[
-        int | None, typer.Option("--count", help="Total number of spheres over all links.")
+        int | None,
+        typer.Option(
+            "--count",
+            help="Total number of spheres over all links (at least 1 per link). Default: per "
+            "link, the fewest that reach --target-coverage.",
+        ),
     ] = None,
     per_link: Annotated[
-        int | None, typer.Option("--per-link", help="Number of spheres for each link.")
+        int | None,
+        typer.Option(
+            "--per-link",
+            help="Number of spheres for each link, 1 to 64. Default: per link, the fewest that "
+            "reach --target-coverage.",
+        ),
     ] = None,
     density: Annotated[
         float | None,
-        typer.Option("--density", help="Spheres per litre of link volume (at least 1 per link)."),
+        typer.Option(
+            "--density",
+            help="Spheres per litre of link volume (1 to 64 per link). Default: per link, the "
+            "fewest that reach --target-coverage.",
+        ),
     ] = None,
     max_protrusion: Annotated[
         float | None,
@@ -169,6 +183,12 @@ def command(
     goes to stdout with -o FILE, else to stderr (not with -q). Every link with geometry
     gets spheres, or the command fails (exit 1, nothing written) naming each link and why; a
     mesh file that cannot be found is an input error (exit 2) unless --allow-missing-meshes.
+
+    \b
+    Examples:
+      xrdf spheres robot.urdf -o robot.xrdf
+      xrdf spheres robot.urdf --xrdf robot.xrdf --links gripper_link --per-link 6 -o robot2.xrdf
+      xrdf spheres robot.urdf --count 60 --clip base_link:0,0,1,0 -o robot.xrdf
     """
     from ...convert.spheres_job import (
         SpheresRequest,

@@ -124,9 +124,15 @@ def command(
 
     Exactly one of --rrd, --mcap, --spawn, --png (spheres only: --meshes does not apply).
     Step 0 is the default pose, then one step per configuration from --samples or --configs.
-    rerun and MCAP need the viz extra: pip install "xrdf-tools[viz]". A mesh file that cannot
+    Every output needs the viz extra: pip install "xrdf-tools[viz]". A mesh file that cannot
     be found is an input error (exit 2) unless --allow-missing-meshes; one that cannot be read
     is left out of the drawing with a warning.
+
+    \b
+    Examples:
+      xrdf viz robot.xrdf --urdf robot.urdf --png robot.png --view front
+      xrdf viz robot.xrdf --urdf robot.urdf --rrd robot.rrd --samples 500 --colliding-only
+      xrdf viz robot.xrdf --urdf robot.urdf --mcap robot.mcap --configs trajectory.csv
     """
     target, out = _one_output(rrd, mcap, spawn, png)
     _require_viz_extra(target)

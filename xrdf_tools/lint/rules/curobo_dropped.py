@@ -22,7 +22,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
                 gnode.key_node("clone") if isinstance(gnode, YMap) else clone,
                 f"cuRobo ignores 'clone': group '{gname}' would lose the spheres of "
                 f"{len(clone)} cloned group{'s' if len(clone) != 1 else ''} "
-                "(xrdf convert --to 1.0 flattens them)",
+                "(xrdf export xrdf FILE --target curobo writes 1.0 with them flattened)",
                 f"geometry.{gname}.clone",
             )
     for i, kind, knode, _ in ctx.modifier_items:

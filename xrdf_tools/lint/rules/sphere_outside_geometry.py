@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -94,6 +95,7 @@ class Skipped:
 #: Per URDF file (path, mtime, size): link -> its box, or why its geometry could not be loaded.
 _CACHE: dict[tuple[str, int, int, int], dict[str, Box | Skipped]] = {}
 _CACHE_SIZE = 8
+_CACHE_LOCK = threading.Lock()
 
 
 def _cache_for(robot: Robot) -> dict[str, Box | Skipped]:
@@ -103,11 +105,13 @@ def _cache_for(robot: Robot) -> dict[str, Box | Skipped]:
         key = (os.path.realpath(path), st.st_mtime_ns, st.st_size, hash(text))
     except OSError:
         key = (os.path.realpath(path), -1, -1, hash(text))
-    if key not in _CACHE:
-        while len(_CACHE) >= _CACHE_SIZE:
-            del _CACHE[next(iter(_CACHE))]
-        _CACHE[key] = {}
-    return _CACHE[key]
+    with _CACHE_LOCK:  # lint may run in several threads at once
+        boxes = _CACHE.get(key)
+        if boxes is None:
+            while len(_CACHE) >= _CACHE_SIZE:
+                del _CACHE[next(iter(_CACHE))]
+            boxes = _CACHE[key] = {}
+    return boxes
 
 
 def _first_line(text: str, limit: int = 160) -> str:

@@ -6,7 +6,8 @@ world-collision section are present.
 * ``clone`` (geometry groups built from other groups) and the ``remove_mimic_attributes``
   modifier exist only in 2.0.
 
-Fix: change ``format_version``, or rename the key (``xrdf convert --to 2.0`` does it).
+Fix: change ``format_version``, or rename the key (``xrdf export xrdf FILE --format-version
+2.0`` does it).
 """
 
 from __future__ import annotations

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import signal
+import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
 from itertools import islice
@@ -253,16 +254,43 @@ def _worker_rows(
     return _count_rows(_WORKER["engine"], lo, hi, start, m, method, seed, _KNOWN["clearance"])
 
 
+class _BlasEnvironment:
+    """The BLAS/OpenMP variables set to one thread while any count in this process starts
+    workers, and put back as they were when the last one is done: counts started from
+    several threads at once share the change instead of restoring each other's values."""
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.users = 0
+        self.saved: dict[str, str | None] = {}
+
+    def enter(self) -> None:
+        with self.lock:
+            if self.users == 0:
+                self.saved = {v: os.environ.get(v) for v in _BLAS_VARS}
+                os.environ.update(dict.fromkeys(_BLAS_VARS, "1"))
+            self.users += 1
+
+    def leave(self) -> None:
+        with self.lock:
+            self.users -= 1
+            if self.users:
+                return
+            for v, old in self.saved.items():
+                if old is None:
+                    os.environ.pop(v, None)
+                else:
+                    os.environ[v] = old
+
+
+_BLAS_ENV = _BlasEnvironment()
+
+
 @contextmanager
 def _one_blas_thread() -> Iterator[None]:
     """Worker processes inherit this environment: one BLAS/OpenMP thread each."""
-    saved = {v: os.environ.get(v) for v in _BLAS_VARS}
-    os.environ.update(dict.fromkeys(_BLAS_VARS, "1"))
+    _BLAS_ENV.enter()
     try:
         yield
     finally:
-        for v, old in saved.items():
-            if old is None:
-                os.environ.pop(v, None)
-            else:
-                os.environ[v] = old
+        _BLAS_ENV.leave()

@@ -1,0 +1,145 @@
+"""What the docs, the ``--help`` texts and the messages tell a user to type or follow exists.
+
+Every ``xrdf COMMAND … --option`` written in README.md, docs/*.md or the package's sources
+(help texts, diagnostics, rule docs) names an option of that command, and every ``--option``
+named anywhere there is an option of some command or of a benchmark script. Every option of
+every command says what it does. Every link of the docs reaches a file and heading."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import typer.main
+
+from tests.paths import REPO
+from xrdf_tools.cli import app
+
+#: ``xrdf CMD`` (``xrdf export SUB``) and the rest of its command line in one piece of text: up
+#: to the end of a code span, a quote, a pipe, ``;``, ``&`` or the end of the line.
+_COMMAND = re.compile(r"\bxrdf ((?:export )?[a-z]+)\b([^`|;&\n'\"]*)")
+_OPTION = re.compile(r"(?<![\w/.-])(--[a-z][a-z0-9-]*|-[a-zA-Z])(?![\w-])")
+_ARGPARSE = re.compile(r"add_argument\(\s*\"(--[a-z][a-z0-9-]*)\"")
+
+
+def _walk(command: Any, path: tuple[str, ...]) -> Iterator[tuple[tuple[str, ...], Any]]:
+    if hasattr(command, "commands"):
+        for name, sub in command.commands.items():
+            yield from _walk(sub, (*path, name))
+    else:
+        yield path, command
+
+
+@cache
+def _commands() -> dict[tuple[str, ...], Any]:
+    return dict(_walk(typer.main.get_command(app), ()))
+
+
+@cache
+def _options() -> dict[tuple[str, ...], frozenset[str]]:
+    return {
+        path: frozenset(
+            {"--help"}
+            | {o for p in cmd.params for o in (*p.opts, *p.secondary_opts) if o.startswith("-")}
+        )
+        for path, cmd in _commands().items()
+    }
+
+
+def _sources() -> list[Path]:
+    docs = [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
+    return docs + sorted((REPO / "xrdf_tools").rglob("*.py"))
+
+
+def _unknown_options_of_commands(text: str) -> Iterator[tuple[int, str, str]]:
+    """``(line, command, option)`` for each option a written ``xrdf`` command line does not
+    have (shell line continuations joined)."""
+    options = _options()
+    joined = re.sub(r"\\\n\s*", " ", text)
+    for m in _COMMAND.finditer(joined):
+        words = tuple(m.group(1).split())
+        if words not in options:
+            continue  # "xrdf export" alone, or prose such as "xrdf files"
+        for option in _OPTION.findall(m.group(2)):
+            if option not in options[words]:
+                yield joined[: m.start()].count("\n") + 1, " ".join(words), option
+
+
+def test_the_checker_finds_an_option_a_command_lacks() -> None:
+    text = "run `xrdf convert robot.urdf --to 2.0` or\nxrdf lint a.xrdf \\\n    --urdf u.urdf -z"
+    assert list(_unknown_options_of_commands(text)) == [
+        (1, "convert", "--to"),
+        (2, "lint", "-z"),
+    ]
+
+
+def test_every_written_command_line_uses_options_the_command_has() -> None:
+    found = [
+        f"{path.relative_to(REPO)}:{n}: xrdf {command} has no {option}"
+        for path in _sources()
+        for n, command, option in _unknown_options_of_commands(path.read_text(encoding="utf-8"))
+    ]
+    assert found == []
+
+
+def test_every_option_named_in_the_docs_and_messages_exists() -> None:
+    known = set().union(*_options().values())
+    known |= {o for p in typer.main.get_command(app).params for o in p.opts}
+    for script in (REPO / "benchmarks").glob("*.py"):
+        known |= set(_ARGPARSE.findall(script.read_text(encoding="utf-8")))
+    unknown = []
+    for path in _sources():
+        for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            for option in re.findall(r"(?<![\w/.-])(--[a-z][a-z0-9-]*)", line):
+                if option not in known:
+                    unknown.append(f"{path.relative_to(REPO)}:{n}: {option}")
+    assert unknown == []
+
+
+def test_every_option_says_what_it_does() -> None:
+    silent = [
+        f"xrdf {' '.join(path)} {param.opts[0]}"
+        for path, cmd in _commands().items()
+        for param in cmd.params
+        if param.param_type_name == "option" and not (param.help or "").strip()
+    ]
+    assert silent == []
+
+
+def test_convert_help_gives_the_default_limits_convert_uses() -> None:
+    from xrdf_tools.convert.core import DEFAULT_ACCELERATION, DEFAULT_JERK
+
+    helps = {p.name: p.help for p in _commands()[("convert",)].params}
+    assert f"Default: {DEFAULT_ACCELERATION:g}," in helps["acceleration"]
+    assert f"Default: {DEFAULT_JERK:g}," in helps["jerk"]
+
+
+_FENCED = re.compile(r"^```.*?^```", re.S | re.M)
+
+
+def _headings(doc: Path) -> set[str]:
+    """The anchors of ``doc``'s headings, spelled as the Markdown renderers make them."""
+    text = _FENCED.sub("", doc.read_text(encoding="utf-8"))
+    return {
+        re.sub(r"[^\w\- ]", "", m.group(1).strip().lower()).replace(" ", "-")
+        for m in re.finditer(r"^#+\s+(.*)$", text, re.M)
+    }
+
+
+def test_every_link_in_the_docs_points_at_a_file_and_heading_that_exist() -> None:
+    broken = []
+    for doc in [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]:
+        text = _FENCED.sub("", doc.read_text(encoding="utf-8"))
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if re.match(r"[a-z]+:", target):  # a web address
+                continue
+            path, _, anchor = target.partition("#")
+            linked = doc.parent / path if path else doc
+            if not linked.exists():
+                broken.append(f"{doc.name}: {target}: no such file")
+            elif anchor and linked.suffix == ".md" and anchor not in _headings(linked):
+                broken.append(f"{doc.name}: {target}: no such heading")
+    assert broken == []
