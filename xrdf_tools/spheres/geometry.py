@@ -33,6 +33,7 @@ from ..robot.link_geometry import GeometryChoice, GeometrySource, LinkParts
 from ..util.errors import UrdfError
 from ..util.fixed_order import quantized
 from ..xrdf.model import Sphere
+from .obb import oriented_box
 
 if TYPE_CHECKING:
     import trimesh
@@ -135,18 +136,17 @@ def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
     if len(mesh.vertices) == 0:
         return None
     try:
-        oriented: Any = trimesh.bounds.oriented_bounds
-        transform, extents = oriented(np.asarray(mesh.vertices))
+        to_link, extents = oriented_box(mesh.vertices)
     except Exception:  # a single point or a degenerate set: use the axis-aligned box
         # of the vertices (trimesh's bounds are None when no face uses a vertex: a
         # <cylinder length="0" radius="0"/> placeholder)
         points = np.asarray(mesh.vertices, dtype=np.float64)
         lo, hi = points.min(axis=0), points.max(axis=0)
-        transform, extents = np.eye(4), hi - lo
-        transform[:3, 3] = -(lo + hi) / 2.0
+        to_link, extents = np.eye(4), hi - lo
+        to_link[:3, 3] = (lo + hi) / 2.0
     box = trimesh.creation.box(
         extents=np.maximum(np.asarray(extents, dtype=np.float64), MIN_THICKNESS),
-        transform=np.linalg.inv(transform),
+        transform=to_link,
     )
     return box if is_volume(box) else None
 
