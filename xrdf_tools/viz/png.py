@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from ..util.errors import XrdfToolsError
-from ..util.fixed_order import matmul, transform_points
+from ..util.fixed_order import transform_points
 from . import DEFAULT_PICTURE, Picture, atomic_path
 from .scene import Progress, Scene
 
@@ -211,9 +211,17 @@ def depth_ranks(quads: np.ndarray, projection: np.ndarray) -> np.ndarray:
     3-D axes' ``M``; a larger rank is farther and drawn first), equal depths ranked by index:
     the same on every machine (the product summed term by term, a stable sort)."""
     points = np.asarray(quads, dtype=np.float64).reshape(-1, 3)
-    homogeneous = np.concatenate([points.T, np.ones((1, len(points)))])
-    projected = matmul(projection, homogeneous)
-    depth = (projected[2] / projected[3]).reshape(len(quads), -1).mean(axis=1)
+    m = np.asarray(projection, dtype=np.float64)
+
+    def row(r: int) -> np.ndarray:
+        """Row ``r`` of ``M (x, y, z, 1)``, summed in index order as ``fixed_order`` does
+        (its ``transform_points`` would compute three rows, in arrays 5x slower to read)."""
+        out: np.ndarray = points[:, 0] * m[r, 0] + points[:, 1] * m[r, 1]
+        out = out + points[:, 2] * m[r, 2] + m[r, 3]
+        return out
+
+    z, w = row(2), row(3)
+    depth = (z / w).reshape(len(quads), -1).mean(axis=1)
     ranks = np.empty(len(depth), dtype=np.float64)
     ranks[np.argsort(depth, kind="stable")] = np.arange(len(depth), dtype=np.float64)
     return ranks
