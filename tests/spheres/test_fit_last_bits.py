@@ -40,3 +40,34 @@ def test_a_last_bit_in_the_mesh_changes_no_sphere(
         noisy, _ = fit_link_spheres(urdf, links=links)
         assert noisy == exact, (robot, seed)
     assert all(exact[name] for name in links)
+
+
+def _components_in_another_order(seed: int) -> Any:
+    """``trimesh.graph.connected_components`` as another machine's sort leaves it: each
+    component's faces in another order (numpy's unstable argsort breaks ties one way with
+    its AVX-512 sort and another way without)."""
+    import trimesh
+
+    found = trimesh.graph.connected_components
+    rng = np.random.default_rng(seed)
+
+    def shuffled(*args: Any, **kwargs: Any) -> list[np.ndarray]:
+        return [rng.permutation(np.asarray(c)) for c in found(*args, **kwargs)]
+
+    return shuffled
+
+
+def test_the_order_a_sort_leaves_a_parts_bodies_in_changes_no_sphere(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """UR5's visual shoulder mesh (COLLADA) is overlapping bodies, unioned: the order of each
+    body's faces must not follow the tie-breaking of the machine's sort."""
+    import trimesh
+
+    urdf = robot_urdf("ur5")
+    links = ["shoulder_link"]
+    exact, _ = fit_link_spheres(urdf, links=links, source="visual")
+    monkeypatch.setattr(trimesh.graph, "connected_components", _components_in_another_order(1))
+    shuffled, _ = fit_link_spheres(urdf, links=links, source="visual")
+    assert shuffled == exact
+    assert exact["shoulder_link"]

@@ -33,6 +33,7 @@ from ..robot.link_geometry import GeometryChoice, GeometrySource, LinkParts
 from ..util.errors import UrdfError
 from ..util.fixed_order import quantized
 from ..xrdf.model import Sphere
+from .obb import oriented_box
 
 if TYPE_CHECKING:
     import trimesh
@@ -135,18 +136,17 @@ def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
     if len(mesh.vertices) == 0:
         return None
     try:
-        oriented: Any = trimesh.bounds.oriented_bounds
-        transform, extents = oriented(np.asarray(mesh.vertices))
+        to_link, extents = oriented_box(mesh.vertices)
     except Exception:  # a single point or a degenerate set: use the axis-aligned box
         # of the vertices (trimesh's bounds are None when no face uses a vertex: a
         # <cylinder length="0" radius="0"/> placeholder)
         points = np.asarray(mesh.vertices, dtype=np.float64)
         lo, hi = points.min(axis=0), points.max(axis=0)
-        transform, extents = np.eye(4), hi - lo
-        transform[:3, 3] = -(lo + hi) / 2.0
+        to_link, extents = np.eye(4), hi - lo
+        to_link[:3, 3] = (lo + hi) / 2.0
     box = trimesh.creation.box(
         extents=np.maximum(np.asarray(extents, dtype=np.float64), MIN_THICKNESS),
-        transform=np.linalg.inv(transform),
+        transform=to_link,
     )
     return box if is_volume(box) else None
 
@@ -202,7 +202,7 @@ def _overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
     are unioned instead, like the parts of a link."""
     if not is_volume(part):
         return [part]
-    bodies = part.split(only_watertight=False)
+    bodies = connected_bodies(part)
     if len(bodies) < 2 or not all(is_volume(b) for b in bodies):
         return [part]
     lo = np.array([b.bounds[0] for b in bodies])
@@ -212,6 +212,22 @@ def _overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
     )
     np.fill_diagonal(touch, False)
     return list(bodies) if touch.any() else [part]
+
+
+def connected_bodies(mesh: trimesh.Trimesh) -> list[trimesh.Trimesh]:
+    """The bodies of ``mesh`` (faces joined by shared edges) in the order of their first
+    faces, each keeping the faces in the mesh's own order (``mesh.split(only_watertight=
+    False)``, made machine-independent: trimesh groups the faces by an unstable sort, whose
+    ties numpy's SIMD sort (AVX-512) and its portable one break differently, and a fit
+    follows the order of the faces)."""
+    import trimesh
+
+    found = trimesh.graph.connected_components(
+        mesh.face_adjacency, nodes=np.arange(len(mesh.faces)), min_len=1
+    )
+    bodies = sorted((np.sort(np.asarray(c, dtype=np.intp)) for c in found), key=lambda c: c[0])
+    out: Any = mesh.submesh(bodies, only_watertight=False, repair=True)  # a list for a list
+    return list(out)
 
 
 def _solidify(

@@ -36,6 +36,7 @@ import numpy as np
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
+from ..util.fixed_order import norm
 from ..util.text import name_list
 from ..xrdf.model import Sphere
 from .budget import allocate
@@ -296,7 +297,7 @@ def _fit_mode(tau: float | None, counts: CountPolicy) -> str:
 def _across(geom: LinkGeometry) -> float:
     """The bounding-box diagonal of a link's solid: under :data:`PLACEHOLDER_SIZE`, a
     placeholder."""
-    return float(np.linalg.norm(np.asarray(geom.solid.extents, dtype=np.float64)))
+    return norm(np.asarray(geom.solid.extents, dtype=np.float64))  # not a BLAS dot product
 
 
 def _refines(tau: float | None, counts: CountPolicy) -> bool:

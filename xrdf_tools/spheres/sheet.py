@@ -31,12 +31,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..util.arrays import FloatArray
 from ..xrdf.model import Sphere
+from .obb import oriented_box
 
 if TYPE_CHECKING:
     import trimesh
@@ -123,7 +124,6 @@ class Sheet:
 def as_sheet(solid: trimesh.Trimesh, bound: float) -> Sheet | None:
     """The sheet ``solid`` is under the protrusion bound ``bound``, or None when it is not one
     (see the module docstring)."""
-    import trimesh
 
     volume, area = float(abs(solid.volume)), float(solid.area)
     # twice the volume over the area is at most the thickness of any solid lying in a slab
@@ -131,15 +131,14 @@ def as_sheet(solid: trimesh.Trimesh, bound: float) -> Sheet | None:
     # thickness): a cheap test that rules out every solid but a thin one
     if area <= 0.0 or 2.0 * volume / area > bound * (1.0 + _BOUND_SLACK):
         return None
-    oriented: Any = trimesh.bounds.oriented_bounds
     try:
-        to_box, extents = oriented(np.asarray(solid.vertices, dtype=np.float64), ordered=True)
+        to_link, extents = oriented_box(solid.vertices)
     except Exception:  # qhull fails on a solid below its tolerances (a part scaled to 0.1 µm)
         return None
     t, b, a = (float(e) for e in extents)
     if not (t <= b / SHEET_ASPECT and t <= bound * (1.0 + _BOUND_SLACK)):
         return None
-    return Sheet(t, b, a, np.linalg.inv(np.asarray(to_box, dtype=np.float64)))
+    return Sheet(t, b, a, to_link)
 
 
 #: A sheet and its cells along its length and width (None: its default :attr:`Sheet.cells`).

@@ -200,9 +200,36 @@ def _add_spheres(ax: Any, centers: np.ndarray, radii: np.ndarray, rgb: np.ndarra
     per_sphere = len(quads) // len(radii)
     alpha = np.full((len(quads), 1), 0.85)
     faces = np.concatenate([np.repeat(rgb, per_sphere, axis=0), alpha], axis=1)
-    ax.add_collection3d(
-        Poly3DCollection(quads, facecolors=faces, linewidths=0.0, shade=True, antialiased=False)
+    polygons = Poly3DCollection(
+        quads, facecolors=faces, linewidths=0.0, shade=True, antialiased=False
     )
+    # matplotlib's own order: depths from a BLAS product, ranked by numpy's unstable sort,
+    # whose ties (a sphere's symmetric quads often have equal depths) numpy's AVX-512 sort
+    # and its portable one break differently; translucent quads drawn in another order are
+    # other pixels
+    polygons._zsortfunc = lambda _projected, axis=-1: depth_ranks(quads, ax.M)
+    ax.add_collection3d(polygons)
+
+
+def depth_ranks(quads: np.ndarray, projection: np.ndarray) -> np.ndarray:
+    """Each quad's rank [F] by its mean depth under the 4x4 ``projection`` (matplotlib's
+    3-D axes' ``M``; a larger rank is farther and drawn first), equal depths ranked by index:
+    the same on every machine (the product summed term by term, a stable sort)."""
+    points = np.asarray(quads, dtype=np.float64).reshape(-1, 3)
+    m = np.asarray(projection, dtype=np.float64)
+
+    def row(r: int) -> np.ndarray:
+        """Row ``r`` of ``M (x, y, z, 1)``, summed in index order as ``fixed_order`` does
+        (its ``transform_points`` would compute three rows, in arrays 5x slower to read)."""
+        out: np.ndarray = points[:, 0] * m[r, 0] + points[:, 1] * m[r, 1]
+        out = out + points[:, 2] * m[r, 2] + m[r, 3]
+        return out
+
+    z, w = row(2), row(3)
+    depth = (z / w).reshape(len(quads), -1).mean(axis=1)
+    ranks = np.empty(len(depth), dtype=np.float64)
+    ranks[np.argsort(depth, kind="stable")] = np.arange(len(depth), dtype=np.float64)
+    return ranks
 
 
 def _legend_below(fig: Any, ax: Any, handles: list[Any], size_px: int) -> None:
