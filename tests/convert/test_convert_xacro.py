@@ -723,6 +723,40 @@ def test_a_link_the_file_and_a_macro_both_define_says_so(tmp_path: Path) -> None
     )
 
 
+@pytest.mark.parametrize(
+    ("name", "defined"), [("lower", "link 'lower'"), ("-1", "joint '-1_joint'")]
+)
+def test_a_macro_call_pasted_twice_is_located_at_the_second_call(
+    tmp_path: Path, name: str, defined: str
+) -> None:
+    """A macro call line pasted twice defines its link (or a joint whose name the macro
+    composes from the one passed) twice; no line of the file writes the tag, and the error had
+    no location. It points at the second call."""
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    link = '    <link name="${name}"/>\n' if name == "lower" else ""
+    top = tmp_path / "arm.urdf.xacro"
+    top.write_text(
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="segment" params="name parent">\n'
+        f"{link}"
+        '    <joint name="${name}_joint" type="fixed">\n'
+        '      <parent link="${parent}"/><child link="tip_${name}"/>\n'
+        "    </joint>\n"
+        "  </xacro:macro>\n"
+        '  <link name="base"/>\n'
+        f'  <xacro:segment name="{name}" parent="base"/>\n'
+        f'  <xacro:segment name="{name}" parent="base"/>\n'
+        "</robot>\n"
+    )
+    second = top.read_text().splitlines().index(f'  <xacro:segment name="{name}" parent="base"/>')
+    with pytest.raises(UrdfError) as e:
+        load_robot(top)
+    assert f"{defined} is defined twice" in str(e.value)
+    assert (e.value.path, e.value.line) == (str(top), second + 2), str(e.value)
+
+
 def test_a_link_written_one_attribute_a_line_is_located_in_a_xacro(
     runner: CliRunner, tmp_path: Path
 ) -> None:

@@ -353,6 +353,8 @@ def _quoted_value_line(source: str, message: str) -> int | None:
         written = {name, escape(name, {'"': "&quot;", "'": "&apos;"})}
         found = [source.find(f"<{tag} name={q}{v}{q}") for v in sorted(written) for q in "\"'"]
         at = _line_of(source, min((i for i in found if i >= 0), default=-1))
+        if at is None:  # made by macros: the second call that writes its name
+            at = _second_call_line(source, name)
         return at if at is not None else _numeric_value_line(source, [name])  # ${1e308}
     wanted = [(f"{attr}=", value) for attr, value in _ATTRIBUTE.findall(message)]
     values = re.findall(r"'([^'\n]+)'", message)
@@ -369,6 +371,23 @@ def _quoted_value_line(source: str, message: str) -> int | None:
         if line is not None:
             return line
     return _numeric_value_line(source, list(reversed(values)))
+
+
+def _second_call_line(source: str, name: str) -> int | None:
+    """Where ``source`` writes ``name`` (or, for a name a macro composes, such as
+    ``lower_joint``, its longest part: ``name="lower"``) as a quoted value the second time, else
+    the first: a link or joint that macros define twice comes from two calls that pass the same
+    name, and the second is the one to look at (a pasted line)."""
+    parts = {*name.split("_"), *re.split(r"[\W_]+", name)}
+    pieces = sorted((p for p in parts if len(p) > 1 and p != name), key=lambda p: (-len(p), p))
+    for value in (name, *pieces):
+        written = {value, escape(value, {'"': "&quot;", "'": "&apos;"})}
+        starts = sorted(
+            m.start() for v in written for m in re.finditer(rf"=\s*([\"']){re.escape(v)}\1", source)
+        )
+        if starts:
+            return _line_of(source, starts[min(1, len(starts) - 1)])
+    return None
 
 
 def _numeric_value_line(source: str, values: list[str]) -> int | None:
