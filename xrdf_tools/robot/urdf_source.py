@@ -374,17 +374,16 @@ def _quoted_value_line(source: str, message: str) -> int | None:
 
 
 def _second_call_line(source: str, name: str) -> int | None:
-    """Where ``source`` writes ``name`` (or, for a name a macro composes, such as
-    ``lower_joint``, its longest part: ``name="lower"``) as a quoted value the second time, else
-    the first: a link or joint that macros define twice comes from two calls that pass the same
-    name, and the second is the one to look at (a pasted line)."""
+    """Where ``source`` passes ``name`` (or, for a name a macro composes, such as
+    ``lower_joint``, its longest part: ``name="lower"``) to a xacro macro call the second time,
+    else the first: a link or joint that macros define twice comes from two calls that pass the
+    same name, and the second is the one to look at (a pasted line)."""
     parts = {*name.split("_"), *re.split(r"[\W_]+", name)}
     pieces = sorted((p for p in parts if len(p) > 1 and p != name), key=lambda p: (-len(p), p))
     for value in (name, *pieces):
         written = {value, escape(value, {'"': "&quot;", "'": "&apos;"})}
-        starts = sorted(
-            m.start() for v in written for m in re.finditer(rf"=\s*([\"']){re.escape(v)}\1", source)
-        )
+        calls = (rf"<xacro:[^>]*?=\s*([\"'])({re.escape(v)})\1" for v in written)
+        starts = sorted(m.start(2) for c in calls for m in re.finditer(c, source))
         if starts:
             return _line_of(source, starts[min(1, len(starts) - 1)])
     return None
