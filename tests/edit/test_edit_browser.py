@@ -22,6 +22,7 @@ from contextlib import suppress
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from tests.browser import CHROMIUM, CHROMIUM_ARGS, free_port
@@ -261,6 +262,61 @@ def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
         set_number_until(page, "Radius", 0.08, lambda: editor.state.dirty, "the edit")
         assert not editor.save()
         assert target.read_bytes() == PANDA_XRDF.read_bytes()
+        page.close()
+    finally:
+        editor.close()
+
+
+def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> None:
+    """Numbers typed past a field's bounds or a file's: the page uses the value in bounds (and
+    shows it) or refuses the edit and shows the document's value again; nothing the saved
+    file could not hold reaches it, and a configuration row past the end poses the last."""
+    from xrdf_tools.edit.page import EditorPage
+
+    expect = sync_api.expect
+    robot = load_robot(robot_urdf("panda"))
+    target = tmp_path / "panda.xrdf"
+    shutil.copy(PANDA_XRDF, target)
+    configs = tmp_path / "q.npy"
+    np.save(configs, np.array([[0.0] * 7, [0.1] * 7, [0.2] * 7]))
+    editor = EditorPage(
+        robot, EditState.start(load_xrdf(target)), target=target, port=free_port(), configs=configs
+    )
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 900})
+        page.set_default_timeout(TIMEOUT_MS)
+        page.goto(editor.url)
+        expect(page.get_by_text("Default pose")).to_be_visible()
+        choose(page, "Link", "panda_link3")
+        settle(editor, page)
+        choose(page, "Sphere", "0")
+        settle(editor, page)
+        before = editor.state.xrdf
+
+        def buffer() -> float:
+            sc = editor.state.xrdf.self_collision
+            return -1.0 if sc is None else float(sc.buffer_distance.get("panda_link3", 0.0))
+
+        set_number(page, "Buffer (m)", 5)  # the field's maximum is 0.5
+        settle(editor, page)
+        wait_for(lambda: buffer() == 0.5, "the buffer held at the field's maximum")
+        expect(row(page, "Buffer (m)").locator("input").first).to_have_value("0.5")
+        # a centre past the readers' bound (1e6 m) is refused; the field shows the document
+        set_number(page, "Center x (m)", 2000000)
+        settle(editor, page)
+        wait_for(lambda: "not done" in editor.message, "the refusal")
+        x = editor.state.xrdf.resolved_spheres(editor.state.group)["panda_link3"][0].center[0]
+        expect(row(page, "Center x (m)").locator("input").first).to_have_value(f"{x:g}")
+        assert editor.state.xrdf.resolved_spheres(editor.state.group) == before.resolved_spheres(
+            editor.state.group
+        )
+        set_number(page, "Configuration", 99)  # 3 rows
+        settle(editor, page)
+        page.get_by_role("button", name=re.compile("Pose configuration")).click()
+        wait_for(lambda: np.allclose(editor.q[:7], 0.2), "the last row posed")
+        expect(row(page, "Configuration").locator("input").first).to_have_value("2")
+        assert editor.save()
+        assert load_xrdf(target).self_collision == editor.state.xrdf.self_collision
         page.close()
     finally:
         editor.close()

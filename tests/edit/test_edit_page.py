@@ -53,6 +53,11 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         assert page.view.colors["panda_link4"][1] == SELECTED_RGB
         assert not page.apply(SetRadius("panda_link4", 1, -1.0))
         assert "not done" in page.message and not page.state.dirty
+        # a sphere larger than the slider's usual end is shown as it is, not clamped to it
+        assert page.apply(SetRadius("panda_link4", 1, 0.45))
+        assert page.panels.radius.value == 0.45 and page.panels.radius.max >= 0.45
+        page.undo()
+        assert not page.state.dirty
         assert page.apply(SetRadius("panda_link4", 1, 0.05))
         assert target.read_bytes() == PANDA_XRDF.read_bytes()
         # the review goes from the file read to the file Confirm writes (-o: another file)

@@ -7,6 +7,7 @@ Real inputs: the example-robot-data Panda URDF with fixtures/panda/panda.xrdf.
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -139,6 +140,59 @@ def test_refused_edits(panda: tuple[Any, Xrdf]) -> None:
         st.apply(SetBuffer("panda_link1", -0.1))
     with pytest.raises(EditError, match="two different frames"):
         st.apply(SetIgnored("panda_link1", "panda_link1", True))
+
+
+@pytest.mark.parametrize(
+    "edit",
+    [
+        MoveSphere("panda_link1", 0, (float("nan"), 0.0, 0.0)),
+        MoveSphere("panda_link1", 0, (0.0, float("inf"), 0.0)),
+        MoveSphere("panda_link1", 0, (0.0, 0.0, 1e9)),
+        SetRadius("panda_link1", 0, float("nan")),
+        SetRadius("panda_link1", 0, float("inf")),
+        SetRadius("panda_link1", 0, 1e9),
+        SetRadius("panda_link1", 0, 0.0),
+        AddSphere("panda_link1", Sphere((0.0, 0.0, 0.0), 0.0)),
+        SetBuffer("panda_link1", float("nan")),
+        SetBuffer("panda_link1", float("inf")),
+        SetBuffer("panda_link1", 1e9),
+        SetDefaults({"panda_joint1": float("nan")}),
+    ],
+    ids=lambda e: e.describe(),
+)
+def test_values_a_saved_file_cannot_hold_are_refused(panda: tuple[Any, Xrdf], edit: Any) -> None:
+    """A value the reader would refuse on loading the saved file (NaN, infinite, past its
+    bounds) or lint calls an error (radius 0) is refused before it reaches the document."""
+    with pytest.raises(EditError, match=r"cannot be saved|more than 0"):
+        EditState.start(panda[1]).apply(edit)
+
+
+def test_the_smallest_radius_the_page_offers_saves_and_reads_back(
+    panda: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    st = save(
+        EditState.start(panda[1]).apply(SetRadius("panda_link1", 0, 0.0005)), tmp_path / "a.xrdf"
+    )
+    assert load_xrdf(tmp_path / "a.xrdf").resolved_spheres(st.group) == st.xrdf.resolved_spheres(
+        st.group
+    )
+
+
+def test_an_attach_slot_keeps_its_negative_radius_when_moved(panda: tuple[Any, Xrdf]) -> None:
+    """A 1.0 file's attach slots (radius -10, what cuRobo reads as attached-object slots) can
+    be moved and duplicated; only a radius the edit sets must be more than 0."""
+    st = EditState.start(panda[1])
+    group = st.group
+    geo = dict(panda[1].geometry or {})
+    spheres = dict(geo[group].spheres)
+    spheres["panda_hand"] = (*spheres["panda_hand"], Sphere((0.0, 0.0, 0.0), -10.0))
+    geo[group] = replace(geo[group], spheres=FrozenMap(spheres))
+    st = EditState.start(panda[1].replace(geometry=FrozenMap(geo)))
+    k = len(spheres["panda_hand"]) - 1
+    moved = st.apply(MoveSphere("panda_hand", k, (0.0, 0.0, 0.05)))
+    assert spheres_of(moved.xrdf, "panda_hand")[k] == Sphere((0.0, 0.0, 0.05), -10.0)
+    copied = moved.apply(DuplicateSphere("panda_hand", k))
+    assert spheres_of(copied.xrdf, "panda_hand")[-1].radius == -10.0
     bare = panda[1].replace(self_collision=None)
     with pytest.raises(EditError, match="no self_collision"):
         EditState.start(bare).apply(SetIgnored("panda_link1", "panda_link5", True))

@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
+from ..util.numbers import bound_reason
 from ..xrdf.model import GeometryGroup, SelfCollisionSection, Sphere, Vec3, Xrdf, clone_order
 
 __all__ = [
@@ -169,14 +170,20 @@ Edit = (
 def apply_edit(xrdf: Xrdf, group: str, edit: Edit) -> Xrdf:
     """``xrdf`` with ``edit`` made; sphere edits act on geometry group ``group``.
 
-    Raises :class:`EditError` for a sphere that does not exist, a negative radius or buffer,
-    or a mask edit without a ``self_collision`` section.
+    Raises :class:`EditError` for a sphere that does not exist, a radius set to 0 or less, a
+    negative buffer, a number a saved file cannot hold (NaN, infinite, past the readers'
+    bounds), or a mask edit without a ``self_collision`` section.
     """
     if isinstance(edit, (SetIgnored, SetMask, SetBuffer)):
         return _edit_self_collision(xrdf, edit)
     if isinstance(edit, SetDefaults):
         merged = dict(xrdf.default_joint_positions or {})
-        merged.update({k: float(v) for k, v in edit.positions.items()})
+        merged.update(
+            {
+                k: _number(f"default position of {k}", v, metres=False)
+                for k, v in edit.positions.items()
+            }
+        )
         return xrdf.replace(default_joint_positions=FrozenMap(merged))
     return _edit_spheres(xrdf, group, edit)
 
@@ -222,11 +229,27 @@ def _with_group_spheres(
     return xrdf.replace(geometry=FrozenMap(geometry))
 
 
-def _check_sphere(sphere: Sphere) -> Sphere:
-    if not sphere.radius >= 0:
-        raise EditError(f"a sphere radius must be 0 or more, not {sphere.radius}")
-    c = tuple(float(v) for v in sphere.center)
-    return Sphere((c[0], c[1], c[2]), float(sphere.radius))
+def _number(what: str, value: float, *, metres: bool = True) -> float:
+    """``value`` as a float, or :class:`EditError` when a saved file could not hold it
+    (not finite, or past the bound every reader applies: see :mod:`xrdf_tools.util.numbers`)."""
+    v = float(value)
+    reason = bound_reason(v, metres=metres)
+    if reason is not None:
+        raise EditError(f"{what} {v:g} cannot be saved: {reason}")
+    return v
+
+
+def _check_sphere(sphere: Sphere, *, new_radius: bool = True) -> Sphere:
+    """``sphere`` with plain float values, or :class:`EditError`. A radius the edit sets
+    (``new_radius``) must be more than 0 (XRDF 2.0 and lint refuse 0); a sphere that only
+    moves keeps its radius, even the negative one of a 1.0 attach slot."""
+    c = tuple(
+        _number(f"sphere centre {axis}", v) for axis, v in zip("xyz", sphere.center, strict=True)
+    )
+    radius = _number("sphere radius", sphere.radius)
+    if new_radius and not radius > 0:
+        raise EditError(f"a sphere radius must be more than 0, not {radius:g}")
+    return Sphere((c[0], c[1], c[2]), radius)
 
 
 def _edit_spheres(
@@ -253,13 +276,14 @@ def _edit_spheres(
     items = list(geometry[name].spheres[edit.frame])
     old = items[k]
     if isinstance(edit, MoveSphere):
-        items[k] = _check_sphere(Sphere(edit.center, old.radius))
+        items[k] = _check_sphere(Sphere(edit.center, old.radius), new_radius=False)
     elif isinstance(edit, SetRadius):
         items[k] = _check_sphere(Sphere(old.center, edit.radius))
     elif isinstance(edit, DuplicateSphere):
         shift = max(old.radius, 0.0) * 0.5
         x, y, z = old.center
-        items.append(Sphere((round(x + shift, 6), y, z), old.radius))
+        copy = Sphere((round(x + shift, 6), y, z), old.radius)
+        items.append(_check_sphere(copy, new_radius=False))
     else:  # DeleteSphere
         del items[k]
     return _with_group_spheres(xrdf, name, edit.frame, tuple(items))
@@ -284,12 +308,13 @@ def _edit_self_collision(xrdf: Xrdf, edit: SetIgnored | SetMask | SetBuffer) -> 
         ignore = FrozenMap((a, tuple(bs)) for a, bs in edit.ignore.items())
         return xrdf.replace(self_collision=replace(sc, ignore=ignore))
     if isinstance(edit, SetBuffer):
-        if not edit.distance >= 0:
-            raise EditError(f"a buffer distance must be 0 or more, not {edit.distance}")
+        distance = _number("buffer distance", edit.distance)
+        if not distance >= 0:
+            raise EditError(f"a buffer distance must be 0 or more, not {distance:g}")
         buffers = dict(sc.buffer_distance)
-        if edit.distance == 0 and edit.frame not in buffers:
+        if distance == 0 and edit.frame not in buffers:
             return xrdf
-        buffers[edit.frame] = float(edit.distance)
+        buffers[edit.frame] = distance
         return xrdf.replace(self_collision=replace(sc, buffer_distance=FrozenMap(buffers)))
     a, b = edit.frame_a, edit.frame_b
     if a == b:

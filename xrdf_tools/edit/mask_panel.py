@@ -15,7 +15,7 @@ from ..report.results import CertifyOptions, PairStat
 from ..util.errors import XrdfToolsError
 from .edits import SetBuffer, SetIgnored, SetMask
 from .markup import code, text
-from .surface import PageSurface, from_browser
+from .surface import PageSurface, bounded, from_browser
 
 if TYPE_CHECKING:
     from ..xrdf.model import Xrdf
@@ -79,15 +79,16 @@ class MaskPanel:
         if sel is None:
             self.page.say("select a link first")
             return
-        self.page.apply(SetBuffer(sel[0], float(self.buffer.value)), merge_key=("buffer", sel[0]))
+        distance = bounded(self.buffer)
+        self.page.apply(SetBuffer(sel[0], distance), merge_key=("buffer", sel[0]))
 
     # --- report ----------------------------------------------------------------------------
     def run_report(self) -> None:
         """Run a report on the current document (in the GUI callback's thread)."""
         page = self.page
         xrdf = page.state.xrdf
-        budget = float(self.budget.value)
-        n = int(self.samples.value)
+        budget = bounded(self.budget)
+        n = int(bounded(self.samples, integer=True))
         self.summary.content = f"_sampling {n} configurations…_"
         try:
             report = self_collision_report(

@@ -126,6 +126,8 @@ class EditorPage:
                 new = self.state.apply(edit, merge_key=merge_key)
             except XrdfToolsError as e:
                 self.say(f"not done: {e}")
+                if self.selected is not None:  # the fields show the document, not the refusal
+                    self.panels.sync_selection()
                 return False
             changed = new is not self.state
             self.state = new

@@ -8,6 +8,7 @@ the page can set their values without triggering edits. The mask panel is
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, cast
 
@@ -19,7 +20,7 @@ from . import markup
 from .edits import AddSphere, DeleteSphere, DuplicateSphere, MoveSphere, SetDefaults, SetRadius
 from .markup import code, pre
 from .mask_panel import MaskPanel
-from .surface import PageSurface, from_browser
+from .surface import PageSurface, bounded, from_browser
 from .view import node
 
 if TYPE_CHECKING:
@@ -29,6 +30,10 @@ if TYPE_CHECKING:
 __all__ = ["Panels", "from_browser"]
 
 NONE = "none"
+#: The radius slider's step (its smallest value: XRDF 2.0 needs a radius above 0) and its
+#: usual end (moved out for a larger sphere), metres.
+RADIUS_STEP = 0.0005
+RADIUS_MAX = 0.3
 
 
 def _link_tree(page: PageSurface) -> str:
@@ -173,7 +178,7 @@ class Panels:
                 go = gui.add_button(f"Pose configuration (of {n})")
                 go.on_click(
                     lambda e: (
-                        page.set_pose(page.configs[int(row.value)])  # type: ignore[index]
+                        page.set_pose(page.configs[int(bounded(row, integer=True))])  # type: ignore[index]
                         if from_browser(e) and page.configs is not None
                         else None
                     )
@@ -209,7 +214,9 @@ class Panels:
             self.center: list[Any] = [
                 gui.add_number(f"Center {axis} (m)", 0.0, step=0.0005) for axis in "xyz"
             ]
-            self.radius: Any = gui.add_slider("Radius", 0.0, 0.3, step=0.0005, initial_value=0.0)
+            self.radius: Any = gui.add_slider(
+                "Radius", RADIUS_STEP, RADIUS_MAX, step=RADIUS_STEP, initial_value=RADIUS_STEP
+            )
             add = gui.add_button("Add sphere")
             dup = gui.add_button("Duplicate sphere")
             delete = gui.add_button("Delete sphere")
@@ -285,7 +292,9 @@ class Panels:
             s = spheres[k]
             for box, v in zip(self.center, s.center, strict=True):
                 box.value = v
-            self.radius.value = float(min(max(s.radius, 0.0), 0.3))
+            # the slider reaches every radius it shows (a 0.4 m base sphere is not shown 0.3)
+            self.radius.max = max(RADIUS_MAX, math.ceil(s.radius * 10) / 10)
+            self.radius.value = float(min(max(s.radius, RADIUS_STEP), self.radius.max))
         self.mask.sync_selection(frame)
         self._place_gizmo(frame, None if k is None or k >= len(spheres) else spheres[k], k)
 
@@ -351,7 +360,7 @@ class Panels:
 
         page = self.page
         frame = self.link.value
-        target = float(self.fit_target.value)
+        target = bounded(self.fit_target)
         current = page.state.xrdf.resolved_spheres(page.state.group).get(frame, ())
         self.fit_result.content = f"_fitting {markup.text(frame)}…_"
         try:
@@ -359,7 +368,7 @@ class Panels:
                 page.robot.robot,
                 frame,
                 current,
-                count=None if target > 0 else int(self.fit_count.value),
+                count=None if target > 0 else int(bounded(self.fit_count, integer=True)),
                 coverage=target if target > 0 else None,
             )
         except XrdfToolsError as e:
