@@ -99,5 +99,7 @@ def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
         mask._apply_mask()
         assert page.state.xrdf == recommended_xrdf(x, report)
         assert page.state.undo_label == "apply the report's recommended mask"
+        mask._apply_mask()  # again: the page says so rather than keep the last message
+        assert page.message.startswith("no change: apply the report's recommended mask")
     finally:
         page.close()

@@ -134,6 +134,8 @@ class EditorPage:
             if changed:
                 self.say(f"done: {edit.describe()}")
                 self.refresh(document=True)
+            elif merge_key is None:  # a button, not a drag or a slider passing the same value
+                self.say(f"no change: {edit.describe()} (the document has it already)")
             return changed
 
     def undo(self) -> None:
