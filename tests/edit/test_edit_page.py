@@ -14,7 +14,7 @@ from tests.browser import free_port
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.edit import EditRobot, EditState, SetRadius
-from xrdf_tools.edit.markup import code
+from xrdf_tools.edit.markup import code, text
 from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.xrdf.io import load_xrdf
@@ -64,10 +64,19 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         page.panels.review()
         shown = page.panels.diff.content
         assert f"--- {PANDA_XRDF}" in shown and f"+++ {target}" in shown, shown
+        warning = page.overwrite_warning()  # -o names another file, which exists
+        assert warning == f"{target} exists; saving replaces it" and text(warning) in shown
         assert page.save() and not page.state.dirty
         page.apply(SetRadius("panda_link4", 1, 0.04))
         page.panels.review()
         assert f"--- {target}" in page.panels.diff.content  # now the saved file
+        assert "Warning" not in page.panels.diff.content
+        # another program rewrites the file: the review says Save would replace its change
+        target.write_text("# tuned by hand\n" + target.read_text())
+        page.panels.review()
+        warning = page.overwrite_warning()
+        assert warning == f"{target} changed on disk since the page read it; saving replaces it"
+        assert text(warning) in page.panels.diff.content
         page.undo()
         saved = load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][1]
         assert saved.radius == 0.05

@@ -64,6 +64,9 @@ class EditorPage:
         #: The file the saved document was read from or last written to (the diff's old side).
         self.saved_path = state.saved.source.path or str(self.target)
         self.readonly = readonly
+        #: The target's bytes as last read or written (None: it did not exist), to tell when
+        #: another program changed it since.
+        self.on_disk = _read_bytes(self.target)
         self.configs: np.ndarray[Any, Any] | None = None
         if configs is not None:
             from ..selfcollision.configurations import load_configurations
@@ -180,9 +183,26 @@ class EditorPage:
                 self.say(f"not saved: {e}")
                 return False
             self.saved_path = str(self.target)
+            self.on_disk = _read_bytes(self.target)
             self.say(f"saved {self.target}")
             self.refresh(document=True)
             return True
+
+    def overwrite_warning(self) -> str | None:
+        """What Save would replace that the page has not shown: the target changed on disk
+        since it was read or saved (another program wrote it), or it is another existing file
+        (``-o``). None when Save only replaces what the page read."""
+        now = _read_bytes(self.target)
+        if now is None or (now == self.on_disk and self.saved_path == str(self.target)):
+            return None
+        if self.on_disk is None:
+            return (
+                f"{self.target} was written by another program since the page started; "
+                "saving replaces it"
+            )
+        if now != self.on_disk:
+            return f"{self.target} changed on disk since the page read it; saving replaces it"
+        return f"{self.target} exists; saving replaces it"
 
     def say(self, message: str) -> None:
         self.message = message
@@ -224,3 +244,10 @@ class EditorPage:
         self._stop.set()
         with contextlib.redirect_stdout(io.StringIO()):
             self.server.stop()
+
+
+def _read_bytes(path: Path) -> bytes | None:
+    try:
+        return path.read_bytes()
+    except OSError:
+        return None

@@ -97,7 +97,11 @@ class Panels:
             d = replace(d, a=replace(d.a, path=self.page.saved_path))
             d = replace(d, b=replace(d.b, path=str(self.page.target)))
             text = render_text(d).rstrip()
-            self.diff.content = "**No changes** to save." if d.is_equal else pre(text)
+            shown = "**No changes** to save." if d.is_equal else pre(text)
+            warning = self.page.overwrite_warning()
+            if warning is not None:
+                shown = f"**Warning**: {markup.text(warning)}.\n\n{shown}"
+            self.diff.content = shown
             self.confirm.visible = not self.page.readonly
 
     def _confirm(self) -> None:
