@@ -112,3 +112,66 @@ def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
         assert page.message.startswith("no change: apply the report's recommended mask")
     finally:
         page.close()
+
+
+#: Links whose names only differ by the scene tree's separator, and names with spaces, a colon
+#: and a non-ASCII letter (URDF allows any string).
+ODD_URDF = """<?xml version="1.0"?>
+<robot name="odd">
+  <link name="base"/>
+  <link name="a/b"/>
+  <link name="a_b"/>
+  <link name="ü link"/>
+  <joint name="j 1" type="revolute"><parent link="base"/><child link="a/b"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/>
+    <limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
+  <joint name="j:2" type="revolute"><parent link="a/b"/><child link="a_b"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="j3" type="fixed"><parent link="a_b"/><child link="ü link"/>
+    <origin xyz="0 0 0.32"/></joint>
+</robot>
+"""
+ODD_XRDF = """format: xrdf
+format_version: 1.0
+cspace:
+  joint_names: ["j 1", "j:2"]
+  acceleration_limits: [10.0, 10.0]
+  jerk_limits: [1000.0, 1000.0]
+tool_frames: ["ü link"]
+collision:
+  geometry: s
+self_collision:
+  geometry: s
+  ignore: {base: [a/b]}
+geometry:
+  s:
+    spheres:
+      a/b: [{center: [0.0, 0.0, 0.1], radius: 0.04}]
+      a_b: [{center: [0.0, 0.0, 0.1], radius: 0.04}, {center: [0.0, 0.0, 0.2], radius: 0.04}]
+      "ü link": [{center: [0.0, 0.0, 0.0], radius: 0.05}]
+"""
+
+
+def test_frames_named_like_the_scene_tree_keep_their_own_spheres(tmp_path: Path) -> None:
+    """``a/b`` and ``a_b`` are two links: each keeps its spheres, pose and gizmo on the page
+    (one scene node for both lost a link's spheres and stopped the page at start)."""
+    from xrdf_tools.edit.page import EditorPage
+
+    (tmp_path / "odd.urdf").write_text(ODD_URDF, encoding="utf-8")
+    (tmp_path / "odd.xrdf").write_text(ODD_XRDF, encoding="utf-8")
+    robot = load_robot(tmp_path / "odd.urdf")
+    x = load_xrdf(tmp_path / "odd.xrdf")
+    page = EditorPage(robot, EditState.start(x), target=tmp_path / "odd.xrdf", port=free_port())
+    try:
+        drawn = {frame: len(handles) for frame, handles in page.view.spheres.items()}
+        assert drawn == {"a/b": 1, "a_b": 2, "ü link": 1}
+        names = {h.name for handles in page.view.spheres.values() for h in handles}
+        assert len(names) == 4
+        page.pick("a/b", 0)
+        assert page.panels.gizmo is not None and page.panels.gizmo_for == ("a/b", 0)
+        assert page.apply(SetRadius("a/b", 0, 0.03)) and page.save()
+        saved = load_xrdf(tmp_path / "odd.xrdf").resolved_spheres("s")
+        assert [s.radius for s in saved["a/b"]] == [0.03] and len(saved["a_b"]) == 2
+    finally:
+        page.close()

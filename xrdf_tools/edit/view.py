@@ -43,8 +43,10 @@ def _rgb(color: tuple[float, ...]) -> Rgb:
 
 
 def node(frame: str) -> str:
-    """Scene-tree name of a frame (``/`` is the tree separator, so it is replaced)."""
-    return "/robot/" + frame.replace("/", "_")
+    """Scene-tree name of a frame. ``/`` is the tree's separator, so it is written ``~s`` (and
+    ``~`` itself ``~~``): two frames never share a node (``a/b`` and ``a_b`` are both links of
+    one robot, and a shared node would take the other's spheres and pose)."""
+    return "/robot/" + frame.replace("~", "~~").replace("/", "~s")
 
 
 class RobotView:
