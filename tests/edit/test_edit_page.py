@@ -110,6 +110,11 @@ def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
         assert page.state.undo_label == "apply the report's recommended mask"
         mask._apply_mask()  # again: the page says so rather than keep the last message
         assert page.message.startswith("no change: apply the report's recommended mask")
+        page.undo()
+        page.apply(SetRadius("panda_link4", 1, 0.05))  # the report is of an earlier version
+        mask._apply_mask()
+        assert page.message.startswith("done: apply the report's recommended mask")
+        assert "earlier version" in page.message
     finally:
         page.close()
 

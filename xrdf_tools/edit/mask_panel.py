@@ -115,9 +115,10 @@ class MaskPanel:
         r = self.report
         if r is None:
             return
-        if self.report_for is not self.page.state.xrdf:
-            self.page.say("the document changed since the report; applying its mask anyway")
-        self.page.apply(SetMask(r.recommended_ignore, "apply the report's recommended mask"))
+        label = "apply the report's recommended mask"
+        if self.report_for is not self.page.state.xrdf:  # said in the message that follows
+            label += " (the report is of an earlier version: run it again to check)"
+        self.page.apply(SetMask(r.recommended_ignore, label))
 
     def _pose_witness(self) -> None:
         r = self.report
