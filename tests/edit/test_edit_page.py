@@ -13,7 +13,7 @@ import pytest
 from tests.browser import free_port
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
-from xrdf_tools.edit import EditRobot, EditState, SetRadius
+from xrdf_tools.edit import EditRobot, EditState, SetBuffer, SetRadius
 from xrdf_tools.edit.markup import code, text
 from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
 from xrdf_tools.robot.xacro_source import load_robot
@@ -58,6 +58,16 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         assert page.panels.radius.value == 0.45 and page.panels.radius.max >= 0.45
         page.undo()
         assert not page.state.dirty
+        # the buffered radii shown follow a buffer edit (and its undo)
+        page.view.set_buffered(True, page.state.xrdf, page.state.group)
+        assert x.self_collision is not None
+        b0 = x.self_collision.buffer_distance.get("panda_link4", 0.0)
+        r = page.state.xrdf.resolved_spheres("panda_spheres")["panda_link4"][1].radius
+        assert page.apply(SetBuffer("panda_link4", b0 + 0.02))
+        assert page.view.buffers["panda_link4"][1].radius == pytest.approx(r + b0 + 0.02)
+        page.undo()
+        assert page.view.buffers["panda_link4"][1].radius == pytest.approx(r + b0)
+        page.view.set_buffered(False, page.state.xrdf, page.state.group)
         assert page.apply(SetRadius("panda_link4", 1, 0.05))
         assert target.read_bytes() == PANDA_XRDF.read_bytes()
         # the review goes from the file read to the file Confirm writes (-o: another file)

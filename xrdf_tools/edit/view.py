@@ -67,6 +67,8 @@ class RobotView:
         self.frames: dict[str, Any] = {}
         self.spheres: dict[str, list[Any]] = {}
         self.drawn: dict[str, tuple[Sphere, ...]] = {}
+        #: The buffer distance each frame's buffered spheres are drawn with.
+        self.drawn_buffer: dict[str, float] = {}
         self.buffers: dict[str, list[Any]] = {}
         self.meshes: list[Any] = []
         self.preview: list[Any] = []
@@ -163,7 +165,12 @@ class RobotView:
             self._clear(frame)
         buffers = xrdf.self_collision.buffer_distance if xrdf.self_collision else {}
         for frame, items in spheres.items():
-            if self.drawn.get(frame) == items and (frame in self.buffers) == self.show_buffered:
+            b = float(buffers.get(frame, 0.0))
+            if (
+                self.drawn.get(frame) == items
+                and (frame in self.buffers) == self.show_buffered
+                and (not self.show_buffered or self.drawn_buffer.get(frame) == b)
+            ):
                 continue
             self._clear(frame)
             rgb = self.link_rgb[frame]
@@ -183,7 +190,7 @@ class RobotView:
             self.colors[frame] = [rgb] * len(items)
             self.drawn[frame] = items
             if self.show_buffered:
-                b = float(buffers.get(frame, 0.0))
+                self.drawn_buffer[frame] = b
                 self.buffers[frame] = [
                     self.server.scene.add_icosphere(
                         f"{node(frame)}/buffered_{k}",
@@ -201,6 +208,7 @@ class RobotView:
         for h in self.spheres.pop(frame, []) + self.buffers.pop(frame, []):
             h.remove()
         self.drawn.pop(frame, None)
+        self.drawn_buffer.pop(frame, None)
         self.colors.pop(frame, None)
 
     def set_buffered(self, show: bool, xrdf: Xrdf, group: str) -> None:
