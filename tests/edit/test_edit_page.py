@@ -40,6 +40,14 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
     page = EditorPage(robot, EditState.start(x), target=target, port=free_port(), configs=configs)
     try:
         assert page.url.startswith("http://127.0.0.1:")
+        # the link the page shows is the one a buffer is typed for
+        assert page.selected == (page.panels.link.value, None)
+        first = page.panels.link.value
+        page.panels.mask.buffer.value = 0.01
+        page.panels.mask._set_buffer()
+        sc = page.state.xrdf.self_collision
+        assert sc is not None and sc.buffer_distance[first] == 0.01
+        page.undo()
         assert page.configs is not None  # 7 arm joints and the finger, defaults filled in
         assert page.configs.shape == (2, len(page.robot.kin.actuated_joints))
         reference = EditRobot(robot, x)

@@ -74,7 +74,8 @@ class EditorPage:
             self.configs = load_configurations(configs, self.robot.kin, state.xrdf)
         self.q = self.robot.default_pose(state.xrdf)
         self.collisions = Collisions()
-        self.selected: tuple[str, int | None] | None = None
+        # the link the Spheres panel shows first is selected: a buffer typed for it is set
+        self.selected: tuple[str, int | None] | None = (self.robot.frame_names[0], None)
         self.message = ""
         self._stop = threading.Event()
         with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner
