@@ -198,3 +198,31 @@ def test_frames_named_like_the_scene_tree_keep_their_own_spheres(tmp_path: Path)
         assert [s.radius for s in saved["a/b"]] == [0.03] and len(saved["a_b"]) == 2
     finally:
         page.close()
+
+
+@pytest.mark.slow
+def test_review_of_a_draft_says_what_it_writes(tmp_path: Path) -> None:
+    """A draft (never saved: an empty saved document) has no old file to diff against: the
+    review names the new file and its contents, not a change from an 'XRDF 2.0' that is not
+    there."""
+    from xrdf_tools.edit.page import EditorPage
+    from xrdf_tools.xrdf.model import Xrdf
+
+    robot = load_robot(robot_urdf("panda"))
+    x = load_xrdf(PANDA_XRDF)
+    target = tmp_path / "new.xrdf"
+    page = EditorPage(robot, EditState.start(x, saved=Xrdf()), target=target, port=free_port())
+    try:
+        page.panels.review()
+        shown = page.panels.diff.content
+        n = sum(len(v) for v in x.resolved_spheres("panda_spheres").values())
+        assert shown.startswith(f"**New file** {code(target)}: ")
+        assert text(f"XRDF {x.format_version}, 7 c-space joint(s), {n} sphere(s)") in shown
+        assert "---" not in shown and page.panels.confirm.visible
+        target.write_text("x")  # another program creates the file meanwhile
+        page.panels.review()
+        assert page.panels.diff.content.startswith("**Warning**: ")
+        page.panels._confirm()
+        assert load_xrdf(target) == x and not page.state.dirty
+    finally:
+        page.close()

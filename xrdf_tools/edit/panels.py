@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from ..diff.render import render_text
-from ..xrdf.model import Sphere
+from ..xrdf.model import Sphere, Xrdf
 from . import markup
 from .edits import AddSphere, DeleteSphere, DuplicateSphere, MoveSphere, SetDefaults, SetRadius
 from .markup import code, pre
@@ -90,8 +90,12 @@ class Panels:
             self.diff = gui.add_markdown("")
 
     def review(self) -> None:
-        """Show the semantic diff of the change and the button that saves it."""
+        """Show the semantic diff of the change (a summary for a draft never saved) and the
+        button that saves it."""
         with self.page.lock:
+            if self.page.state.saved == Xrdf():
+                self._review_new()
+                return
             d = self.page.state.diff()
             # from the file as it is to the file Confirm writes (-o may name another file)
             d = replace(d, a=replace(d.a, path=self.page.saved_path))
@@ -103,6 +107,26 @@ class Panels:
                 shown = f"**Warning**: {markup.text(warning)}.\n\n{shown}"
             self.diff.content = shown
             self.confirm.visible = not self.page.readonly
+
+    def _review_new(self) -> None:
+        """A draft has no old side to compare with: say what Confirm writes."""
+        page = self.page
+        x = page.state.xrdf
+        spheres = x.resolved_spheres(page.state.group)
+        pairs = sum(len(v) for v in x.self_collision.ignore.values()) if x.self_collision else 0
+        joints = len(x.cspace.joint_names) if x.cspace else 0
+        summary = (
+            f"XRDF {x.format_version}, {joints} c-space joint(s), "
+            f"{sum(len(v) for v in spheres.values())} sphere(s) on {len(spheres)} link(s), "
+            f"{pairs} ignored pair(s)"
+        )
+        warning = page.overwrite_warning()
+        head = f"**Warning**: {markup.text(warning)}.\n\n" if warning else ""
+        self.diff.content = (
+            f"{head}**New file** {code(page.target)}: {markup.text(summary)}. Confirm save "
+            "writes it."
+        )
+        self.confirm.visible = not page.readonly
 
     def _confirm(self) -> None:
         if self.page.save():
