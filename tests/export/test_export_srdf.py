@@ -615,3 +615,21 @@ def test_pairs_naming_a_link_the_urdf_lacks_are_kept_and_said_once_per_link(
         ("kinect", "c"),
         ("prosilica", "kinect"),
     ]
+
+
+def test_every_pair_of_a_big_mask_is_added_once_and_replaces_an_enable() -> None:
+    """PR2's 1163 pairs synced into an SRDF that enables one of them: each pair is added once
+    (as a ``disable_collisions``, the ``enable_collisions`` dropped), in the XRDF's order."""
+    x = _convert(robot_urdf("pr2"), _srdf("pr2"))
+    sc = x.self_collision
+    assert sc is not None
+    wanted = sc.ignore_pairs()
+    a, b = sorted(next(iter(sorted(wanted, key=sorted))))
+    existing = f'<robot name="pr2">\n  <enable_collisions link1="{b}" link2="{a}" reason="User"/>\n'
+    result = sync_srdf(x, existing + "</robot>\n")
+    added = [frozenset((c.link1, c.link2)) for c in result.added]
+    assert len(added) == len(wanted) > 1000 and set(added) == wanted
+    assert all(c.element == "disable_collisions" for c in result.added)
+    assert "enable_collisions" not in result.text
+    fresh = [frozenset((c.link1, c.link2)) for c in sync_srdf(x).added]
+    assert added == fresh  # the enabled pair keeps its place in the XRDF's order

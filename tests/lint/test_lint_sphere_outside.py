@@ -87,13 +87,13 @@ def test_a_partly_loadable_link_is_skipped_not_checked_against_the_parts_that_lo
 
 
 def test_a_failing_geometry_loader_never_crashes_the_rule(monkeypatch: pytest.MonkeyPatch) -> None:
-    import xrdf_tools.spheres.geometry as geometry
+    import xrdf_tools.robot.link_geometry as geometry
 
     def boom(*args: object, **kwargs: object) -> object:
         raise RuntimeError("no trimesh today")
 
     monkeypatch.setattr(rule, "_CACHE", {})
-    monkeypatch.setattr(geometry, "load_link_geometry", boom)
+    monkeypatch.setattr(geometry, "link_geometry", boom)
     (d,) = _run((FIXTURES / "lint" / "sphere-outside-geometry" / "fail.xrdf").read_text(), ARM_URDF)
     assert d.severity.value == "info" and "no trimesh today" in d.message
 
@@ -113,3 +113,24 @@ def test_the_rule_module_imports_no_mesh_library() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("name", ["kinova", "romeo", "pr2"])
+def test_boxes_of_closed_parts_are_the_bounds_of_the_fitters_solids(name: str) -> None:
+    """Links whose parts each enclose a volume take the parts' own bounds (no hulls, no
+    union); the others the fitter's solid. Both give the boxes of the fitter's solids of
+    every link (robots with closed and open meshes, several parts per link)."""
+    from xrdf_tools.robot.xacro_source import load_robot
+
+    fast = load_robot(robot_urdf(name))
+    expected = dict(fast.collision_counts)
+    boxes = rule._load_boxes(fast, expected)
+    solids = load_robot(robot_urdf(name))
+    solids.derived["link_solids"] = {}  # as after a fit: every box from the fitter's solids
+    assert boxes == rule._load_boxes(solids, expected)
+    from xrdf_tools.robot.link_geometry import link_geometry
+
+    closed = rule._closed_part_boxes(link_geometry(fast, "auto"), expected)
+    assert 0 < len(closed) <= len(expected) and all(
+        isinstance(b, rule.Box) for b in closed.values()
+    )

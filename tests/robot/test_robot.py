@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import pytest
 
 from tests.paths import UR10E_URDF, UR10E_XRDF
+from tests.robots import robot_urdf
 from xrdf_tools.export.curobo import to_curobo
 from xrdf_tools.lint import lint_text
 from xrdf_tools.robot.core import Robot, as_robot
+from xrdf_tools.robot.input_files import robot_input_files
 from xrdf_tools.robot.kinematics import build_kinematic_model
 from xrdf_tools.robot.urdf_source import joints_of, load_urdf, source_line, urdf_path, urdf_text
 from xrdf_tools.robot.xacro_source import load_robot
@@ -97,18 +100,20 @@ def test_the_own_parse_reads_every_real_urdf_as_yourdfpy_does() -> None:
     assert compared >= 30
 
 
-def test_a_command_that_reads_no_geometry_imports_no_geometry_library() -> None:
+def test_a_command_that_reads_no_geometry_imports_no_geometry_library(tmp_path: Path) -> None:
     """`xrdf report` and `xrdf convert` (without spheres) build the Robot from the project's
-    own parse: yourdfpy, trimesh and scipy are never imported (most of a short run's time)."""
+    own parse: yourdfpy, trimesh and scipy are never imported (most of a short run's time),
+    also when ``-o`` names a file (checked against the robot's mesh files)."""
     import subprocess
     import sys
 
+    out = tmp_path / "ur10e.xrdf"
     code = (
         "import sys\n"
         "from xrdf_tools.cli import main\n"
-        f"xrdf, urdf = {str(UR10E_XRDF)!r}, {str(UR10E_URDF)!r}\n"
+        f"xrdf, urdf, out = {str(UR10E_XRDF)!r}, {str(UR10E_URDF)!r}, {str(out)!r}\n"
         "for argv in (['report', xrdf, '--urdf', urdf, '--samples', '200', '-q'],\n"
-        "             ['convert', urdf, '-q', '-o', '-']):\n"
+        "             ['convert', urdf, '-q', '-o', '-'], ['convert', urdf, '-q', '-o', out]):\n"
         "    sys.argv = ['xrdf', *argv]\n"
         "    try:\n"
         "        main()\n"
@@ -121,3 +126,15 @@ def test_a_command_that_reads_no_geometry_imports_no_geometry_library() -> None:
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert "HEAVY []" in done.stdout, done.stdout + done.stderr
     assert "EXIT 2" not in done.stdout, done.stdout + done.stderr
+
+
+@pytest.mark.parametrize("name", ["pr2", "talos"])
+def test_input_files_from_the_xml_are_those_yourdfpy_names(name: str) -> None:
+    """The mesh files an output is checked against, read from the checked XML tree, are the
+    ones of the yourdfpy object (same files, same order), on robots with hundreds of meshes."""
+    robot = load_robot(robot_urdf(name))
+    bare = load_urdf(robot_urdf(name))
+    bare_robot = Robot(prebuilt=bare, path=robot.path, package_paths=robot.package_paths)
+    from_xml = robot_input_files(robot)
+    assert len(from_xml) > 20 and all(p.is_file() for p in from_xml)
+    assert from_xml == robot_input_files(bare_robot)

@@ -456,14 +456,17 @@ def _plan(
             plan.drop.append(el)
         else:
             enabled.add(pair)
+    new_added: dict[Pair, PairChange] = {}  # a pair listed twice: its last entry, last
     for a, b in pairs:
         pair = frozenset((a, b))
         if pair in present or (pair & defaults and pair not in enabled):
             continue
         reason = reasons.get(pair, USER)
         plan.new_disabled.append((a, b, reason))
-        plan.added = [c for c in plan.added if frozenset((c.link1, c.link2)) != pair]
-        plan.added.append(PairChange(a, b, reason))
+        new_added.pop(pair, None)
+        new_added[pair] = PairChange(a, b, reason)
+    plan.added = [c for c in plan.added if frozenset((c.link1, c.link2)) not in new_added]
+    plan.added.extend(new_added.values())
     _re_enable(plan, sorted(d for d in defaults if d), universe, want, enabled)
     return plan
 

@@ -36,16 +36,31 @@ def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
         files[Path(file)] = None
     base = Path(loaded.path).resolve().parent
     resolver = PackageResolver(Path(loaded.path), dict(loaded.package_paths))
-    for link in loaded.urdf.link_map.values():
-        for uri in _mesh_uris(link):
-            try:
-                files[resolver.resolve_uri(uri, base)] = None
-            except XrdfToolsError:
-                continue  # not found: nothing on disk that an output could replace
+    for uri in _mesh_uris(loaded):
+        try:
+            files[resolver.resolve_uri(uri, base)] = None
+        except XrdfToolsError:
+            continue  # not found: nothing on disk that an output could replace
     return list(files)
 
 
-def _mesh_uris(link: Any) -> list[str]:
+def _mesh_uris(robot: Robot) -> list[str]:
+    """The mesh file names of the links' visual and collision elements, in document order.
+
+    Read from the checked XML tree when the robot has one, so that checking an output path
+    imports no geometry library (yourdfpy and trimesh take about a second to import)."""
+    if robot.document is None:
+        return [uri for link in robot.urdf.link_map.values() for uri in _yourdfpy_mesh_uris(link)]
+    uris: list[str] = []
+    for link in robot.document.findall("link"):
+        for element in [*link.findall("visual"), *link.findall("collision")]:
+            mesh = element.find("geometry/mesh")
+            if mesh is not None and mesh.get("filename"):
+                uris.append(str(mesh.get("filename")))
+    return uris
+
+
+def _yourdfpy_mesh_uris(link: Any) -> list[str]:
     """The mesh file names of one yourdfpy link's visual and collision elements."""
     uris: list[str] = []
     for element in [*(link.visuals or ()), *(link.collisions or ())]:

@@ -38,7 +38,7 @@ from .obb import oriented_box
 if TYPE_CHECKING:
     import trimesh
 
-__all__ = ["LinkGeometry", "is_volume", "load_link_geometry"]
+__all__ = ["LinkGeometry", "is_volume", "link_solids", "load_link_geometry"]
 
 SolidKind = Literal["mesh", "union", "convex_hull", "bounding_box"]
 
@@ -382,6 +382,23 @@ def load_link_geometry(
                     path=robot.path,
                 )
     loaded = link_geometry(robot, source, links=links, package_paths=package_paths)
+    return link_solids(
+        robot, loaded, source=source, requested=links is not None, package_paths=package_paths
+    )
+
+
+def link_solids(
+    robot: Robot,
+    loaded: Mapping[str, LinkParts],
+    *,
+    source: GeometryChoice = "auto",
+    requested: bool = True,
+    package_paths: Mapping[str, str] | None = None,
+) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
+    """:func:`load_link_geometry` of links already read by
+    :func:`~xrdf_tools.robot.link_geometry.link_geometry` (with the same ``source`` and
+    ``package_paths``); ``requested``: the links were named (a link without geometry is
+    reported)."""
     # a link's solid is made once per loaded robot: convert fits the links, then lints them
     same = package_paths is None or dict(package_paths) == dict(robot.package_paths)
     made = robot.derived.setdefault("link_solids", {}) if same else {}
@@ -389,7 +406,7 @@ def load_link_geometry(
     diags: list[Diagnostic] = []
     for name, link in loaded.items():
         if not link.elements:
-            if links is not None:
+            if requested:
                 diags.append(
                     _warning(
                         robot.path,

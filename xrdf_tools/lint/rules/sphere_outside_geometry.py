@@ -40,7 +40,7 @@ from __future__ import annotations
 import math
 import os
 import threading
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -51,6 +51,7 @@ from ..context import LintContext, Problem, Rule, SphereRef, length_number
 
 if TYPE_CHECKING:
     from ...robot.core import Robot
+    from ...robot.link_geometry import LinkParts
 
 RULE_ID = "sphere-outside-geometry"
 
@@ -133,21 +134,28 @@ def _reason(link: str, messages: list[str]) -> str:
 def _load_boxes(robot: Robot, expected: dict[str, int]) -> dict[str, Box | Skipped]:
     """Boxes of the links in ``expected`` (link -> number of its ``<collision>`` elements).
 
-    The geometry is read from the loaded robot (an expanded xacro keeps its arguments) with
-    its package paths, and not parsed as a URDF again. A link whose geometry
+    The geometry is read once from the loaded robot (an expanded xacro keeps its arguments)
+    with its package paths, and not parsed as a URDF again. A link whose geometry
     is not loaded in full gets the reason instead; nothing raises.
     """
     try:
-        from ...robot.link_geometry import missing_meshes
-        from ...spheres.geometry import load_link_geometry
+        from ...robot.link_geometry import link_geometry, missing_meshes
+        from ...spheres.geometry import link_solids
 
         gone = {f.link for f in missing_meshes(robot, "collision", links=list(expected))}
-        geoms, diags = load_link_geometry(robot, links=list(expected))
+        loaded = link_geometry(robot, "auto", links=list(expected))
+        made = "link_solids" in robot.derived  # the fitter made the solids: their bounds
+        boxes = {} if made else _closed_part_boxes(loaded, expected)
+        rest = {name: parts for name, parts in loaded.items() if name not in boxes}
+        geoms, diags = link_solids(robot, rest)
     except Exception as exc:  # an unreadable URDF, a missing trimesh: skip, do not crash
         why = _first_line(str(exc) or type(exc).__name__)
         return dict.fromkeys(expected, Skipped(why))
     out: dict[str, Box | Skipped] = {}
     for link, count in expected.items():
+        if link in boxes:
+            out[link] = boxes[link]
+            continue
         g = geoms.get(link)
         if g is None or g.source != "collision" or g.parts < count:
             why = _reason(link, [d.message for d in diags])
@@ -164,6 +172,34 @@ def _load_boxes(robot: Robot, expected: dict[str, int]) -> dict[str, Box | Skipp
             )
             continue
         out[link] = Box((b[0][0], b[0][1], b[0][2]), (b[1][0], b[1][1], b[1][2]))
+    return out
+
+
+def _closed_part_boxes(loaded: Mapping[str, LinkParts], expected: dict[str, int]) -> dict[str, Box]:
+    """Boxes of the links in ``expected`` whose collision parts all load and each enclose a
+    volume. The solid the sphere fitter makes of such parts (each part, its convex hull when
+    it is a thin shell, or the union of the parts and of overlapping bodies) has the bounds of
+    the parts themselves, so they are taken without making it: the hulls and the union of a
+    mesh of a million triangles take seconds and gigabytes. Other links are left to the
+    fitter's solids (which say why a link cannot be loaded)."""
+    import numpy as np
+
+    from ...spheres.geometry import is_volume
+
+    out: dict[str, Box] = {}
+    for name, link in loaded.items():
+        if link.source != "collision" or link.failures or len(link.parts) < expected[name]:
+            continue
+        parts = [part.in_link_frame() for part in link.parts]
+        if not parts or not all(is_volume(part) for part in parts):
+            continue
+        lo = np.min([part.bounds[0] for part in parts], axis=0)
+        hi = np.max([part.bounds[1] for part in parts], axis=0)
+        if np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)):
+            out[name] = Box(
+                (float(lo[0]), float(lo[1]), float(lo[2])),
+                (float(hi[0]), float(hi[1]), float(hi[2])),
+            )
     return out
 
 
