@@ -74,3 +74,21 @@ def panda_copy_with_mesh(tmp_path: Path, mesh: str) -> tuple[Path, Path]:
     urdf.parent.mkdir()
     urdf.write_bytes(panda.read_bytes())
     return urdf, copied
+
+
+#: A link name that matplotlib's math text would stop at (an unknown command between ``$``).
+DOLLAR_LINK = "arm$\\undefinedcommand{$"
+
+
+def dollar_robot(tmp_path: Path) -> tuple[Path, str]:
+    """A two-link URDF ``r.urdf`` named ``r$x`` whose moving link is :data:`DOLLAR_LINK`
+    (collision boxes, one revolute joint); returns its path and that link name."""
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r$x"><link name="base"><collision><geometry><box size=".2 .2 .1"/>'
+        f'</geometry></collision></link><link name="{DOLLAR_LINK}"><collision>'
+        '<origin xyz="0 0 .2"/><geometry><box size=".06 .06 .3"/></geometry></collision></link>'
+        f'<joint name="j1" type="revolute"><parent link="base"/><child link="{DOLLAR_LINK}"/>'
+        '<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>'
+    )
+    return urdf, DOLLAR_LINK

@@ -11,6 +11,7 @@ from typer.testing import CliRunner
 
 from tests.cli_checks import run_cli
 from tests.paths import UR10E_URDF, UR10E_XRDF
+from tests.robots import dollar_robot
 
 
 @pytest.mark.parametrize(
@@ -68,15 +69,7 @@ def test_plot_draws_frame_names_with_dollar_signs_as_written(
     would stop at an unknown command (a traceback) or italicise what lies between two."""
     pytest.importorskip("matplotlib")
     pytest.importorskip("trimesh")
-    name = "arm$\\undefinedcommand{$"
-    urdf = tmp_path / "r.urdf"
-    urdf.write_text(
-        '<robot name="r$x"><link name="base"><collision><geometry><box size=".2 .2 .1"/>'
-        f'</geometry></collision></link><link name="{name}"><collision><origin xyz="0 0 .2"/>'
-        '<geometry><box size=".06 .06 .3"/></geometry></collision></link>'
-        f'<joint name="j1" type="revolute"><parent link="base"/><child link="{name}"/>'
-        '<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>'
-    )
+    urdf, _ = dollar_robot(tmp_path)
     xrdf = tmp_path / "r.xrdf"
     code, out = run_cli(
         runner,

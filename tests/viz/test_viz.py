@@ -19,7 +19,7 @@ import pytest
 from typer.testing import CliRunner
 
 from tests.paths import FIXTURES
-from tests.robots import panda_copy_with_mesh, robot_urdf
+from tests.robots import dollar_robot, panda_copy_with_mesh, robot_urdf
 from xrdf_tools.cli import app
 from xrdf_tools.robot.kinematics import build_kinematic_model
 from xrdf_tools.robot.urdf_source import load_urdf
@@ -797,15 +797,7 @@ def test_png_draws_names_with_dollar_signs_as_written(runner: CliRunner, tmp_pat
     at an unknown command."""
     from xrdf_tools.viz.png import draw_png
 
-    name = "arm$\\undefinedcommand{$"
-    urdf = tmp_path / "r.urdf"
-    urdf.write_text(
-        '<robot name="r$x"><link name="base"><collision><geometry><box size=".2 .2 .1"/>'
-        f'</geometry></collision></link><link name="{name}"><collision><origin xyz="0 0 .2"/>'
-        '<geometry><box size=".06 .06 .3"/></geometry></collision></link>'
-        f'<joint name="j1" type="revolute"><parent link="base"/><child link="{name}"/>'
-        '<axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>'
-    )
+    urdf, name = dollar_robot(tmp_path)
     xrdf = tmp_path / "r.xrdf"
     args = ["convert", str(urdf), "--fit-spheres", "--per-link", "1", "-n", "50", "-o", str(xrdf)]
     assert runner.invoke(app, args).exit_code == 0
