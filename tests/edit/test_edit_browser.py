@@ -118,6 +118,12 @@ def wait_for(condition: Any, what: str, timeout: float = 60.0) -> None:
 
 
 # --- the scenario ----------------------------------------------------------------------------
+def _locked(editor: Any, name: str) -> Any:
+    """An attribute of the page read under its lock: not between a pose and its collisions."""
+    with editor.lock:
+        return getattr(editor, name)
+
+
 def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
     from xrdf_tools.edit.page import EditorPage
 
@@ -152,8 +158,9 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         colliding = page.get_by_text("COLLIDING").first
         for value in (round(hit - 0.1, 2), hit):
             set_number(page, "panda_joint2", value)
-            wait_for(lambda v=value: abs(editor.q[1] - v) < 1e-9, "the pose")
-            assert bool(editor.collisions.checked) == (value == hit)
+            wait_for(lambda v=value: abs(_locked(editor, "q")[1] - v) < 1e-9, "the pose")
+            # the page sets the pose and then its collisions, both under its lock
+            assert bool(_locked(editor, "collisions").checked) == (value == hit)
         want = reference.collisions(original, editor.q)
         expect(colliding).to_be_visible()
         first = want.checked[0]
