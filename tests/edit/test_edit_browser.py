@@ -18,7 +18,7 @@ import re
 import shutil
 import time
 from collections.abc import Iterator
-from contextlib import suppress
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import Any
 
@@ -124,21 +124,35 @@ def _locked(editor: Any, name: str) -> Any:
         return getattr(editor, name)
 
 
-def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
+@contextmanager
+def panda_page(browser: Any, target: Path, **options: Any) -> Iterator[tuple[Any, Any]]:
+    """The editor on a copy of the bundled Panda XRDF at ``target`` (``options``: the
+    page's, e.g. ``readonly``), and a browser tab on it; both closed after."""
     from xrdf_tools.edit.page import EditorPage
 
-    expect = sync_api.expect
-    robot = load_robot(robot_urdf("panda"))
-    original = load_xrdf(PANDA_XRDF)
-    target = tmp_path / "panda.xrdf"
     shutil.copy(PANDA_XRDF, target)
-    shots = shots_dir(tmp_path)
-    t0 = time.perf_counter()
-    editor = EditorPage(robot, EditState.start(load_xrdf(target)), target=target, port=free_port())
+    robot = load_robot(robot_urdf("panda"))
+    editor = EditorPage(
+        robot, EditState.start(load_xrdf(target)), target=target, port=free_port(), **options
+    )
     try:
         page = browser.new_page(viewport={"width": 1400, "height": 900})
         page.set_default_timeout(TIMEOUT_MS)
         page.goto(editor.url)
+        yield editor, page
+        page.close()
+    finally:
+        editor.close()
+
+
+def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
+    expect = sync_api.expect
+    robot = load_robot(robot_urdf("panda"))
+    original = load_xrdf(PANDA_XRDF)
+    target = tmp_path / "panda.xrdf"
+    shots = shots_dir(tmp_path)
+    t0 = time.perf_counter()
+    with panda_page(browser, target) as (editor, page):
         expect(page.get_by_text("Default pose")).to_be_visible()
         print(f"page up in {time.perf_counter() - t0:.2f} s")
         # the software-rendering notice of a GPU-less browser would cover the screenshots
@@ -241,25 +255,12 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         save(expected, expected_path)
         assert diff_files(expected_path, target).is_equal
         assert not diff_xrdf(original, load_xrdf(target)).is_equal
-        page.close()
-    finally:
-        editor.close()
 
 
 def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
-    from xrdf_tools.edit.page import EditorPage
-
     expect = sync_api.expect
-    robot = load_robot(robot_urdf("panda"))
     target = tmp_path / "panda.xrdf"
-    shutil.copy(PANDA_XRDF, target)
-    editor = EditorPage(
-        robot, EditState.start(load_xrdf(target)), target=target, port=free_port(), readonly=True
-    )
-    try:
-        page = browser.new_page(viewport={"width": 1400, "height": 900})
-        page.set_default_timeout(TIMEOUT_MS)
-        page.goto(editor.url)
+    with panda_page(browser, target, readonly=True) as (editor, page):
         expect(page.get_by_role("button", name="Save…")).to_be_disabled()
         expect(page.get_by_text("read-only")).to_be_visible()
         choose(page, "Link", "panda_link2")
@@ -269,30 +270,17 @@ def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
         set_number_until(page, "Radius", 0.08, lambda: editor.state.dirty, "the edit")
         assert not editor.save()
         assert target.read_bytes() == PANDA_XRDF.read_bytes()
-        page.close()
-    finally:
-        editor.close()
 
 
 def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> None:
     """Numbers typed past a field's bounds or a file's: the page uses the value in bounds (and
     shows it) or refuses the edit and shows the document's value again; nothing the saved
     file could not hold reaches it, and a configuration row past the end poses the last."""
-    from xrdf_tools.edit.page import EditorPage
-
     expect = sync_api.expect
-    robot = load_robot(robot_urdf("panda"))
-    target = tmp_path / "panda.xrdf"
-    shutil.copy(PANDA_XRDF, target)
     configs = tmp_path / "q.npy"
     np.save(configs, np.array([[0.0] * 7, [0.1] * 7, [0.2] * 7]))
-    editor = EditorPage(
-        robot, EditState.start(load_xrdf(target)), target=target, port=free_port(), configs=configs
-    )
-    try:
-        page = browser.new_page(viewport={"width": 1400, "height": 900})
-        page.set_default_timeout(TIMEOUT_MS)
-        page.goto(editor.url)
+    target = tmp_path / "panda.xrdf"
+    with panda_page(browser, target, configs=configs) as (editor, page):
         expect(page.get_by_text("Default pose")).to_be_visible()
         choose(page, "Link", "panda_link3")
         settle(editor, page)
@@ -324,9 +312,6 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
         expect(row(page, "Configuration").locator("input").first).to_have_value("2")
         assert editor.save()
         assert load_xrdf(target).self_collision == editor.state.xrdf.self_collision
-        page.close()
-    finally:
-        editor.close()
 
 
 #: A link name that is HTML inside a code span: written into the page's markdown as it is, the
