@@ -4,8 +4,8 @@ Playwright, on the example-robot-data Panda with fixtures/panda/panda.xrdf.
 The page is served in this process (a viser server runs in its own threads), so the test can
 compare what the browser shows with the page's state and the library's answers. One scenario
 walks through the editor as a user would: pose until a known pair collides, move and resize a
-sphere, undo/redo, refit a link, toggle a mask pair, save, and compare the file with the
-expected change via the semantic diff.
+sphere, undo/redo, refit a link, toggle a mask pair, take a joint into the c-space, save, and
+compare the file with the expected change via the semantic diff.
 
 Screenshots go to ``$XRDF_EDIT_SCREENSHOTS`` when set (docs/images for docs/edit.md), else to
 the test's temporary directory. Skipped only when Playwright or chromium is missing.
@@ -34,6 +34,7 @@ from xrdf_tools.edit import (
     EditState,
     MoveSphere,
     ReplaceSpheres,
+    SetCspace,
     SetIgnored,
     SetRadius,
     save,
@@ -234,7 +235,21 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         page.get_by_label(label, exact=True).click()
         wait_for(ignored, "the mask toggle")
 
-        # 5. save: the diff first, then the file
+        # 5. take the finger joint into the c-space: the Pose panel gets its slider
+        settle(editor, page)
+        page.get_by_text("C-space", exact=True).click()  # the folder starts closed
+        choose(page, "Joint", "panda_finger_joint1")
+        page.get_by_label("In c-space", exact=True).click()
+
+        def finger_in() -> bool:
+            cs = editor.state.xrdf.cspace
+            return cs is not None and "panda_finger_joint1" in cs.joint_names
+
+        wait_for(finger_in, "the c-space edit")
+        slider = row(page, "panda_finger_joint1").locator("input.mantine-NumberInput-input")
+        expect(slider).to_have_value("0.04")  # the finger's default position
+
+        # 6. save: the diff first, then the file
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing written yet
         page.get_by_role("button", name="Save…").click()
         expect(page.get_by_text("geometry", exact=False).first).to_be_visible()
@@ -251,6 +266,10 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
             SetIgnored(first.frame_a, first.frame_b, True),
         ):
             expected = expected.apply(edit)
+        finger = reference.cspace_with(
+            expected.xrdf, "panda_finger_joint1", included=True, acceleration=10.0, jerk=1000.0
+        )
+        expected = expected.apply(SetCspace(finger))
         expected_path = tmp_path / "expected.xrdf"
         save(expected, expected_path)
         assert diff_files(expected_path, target).is_equal

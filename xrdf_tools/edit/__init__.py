@@ -1,9 +1,11 @@
-"""``xrdf edit``: edit spheres, the self-collision mask and default positions in a browser.
+"""``xrdf edit``: edit spheres, the self-collision mask, the c-space and default positions in a
+browser.
 
 The editing logic is library code, usable from Python and tested without a browser:
 
 * :mod:`.edits` -- the edits (move/resize/add/delete spheres, refit a link, mask pairs,
-  buffers, default positions) as frozen values, and :func:`apply_edit`;
+  buffers, default positions, c-space joints and limits, tool frames) as frozen values, and
+  :func:`apply_edit`;
 * :mod:`.state` -- :class:`EditState`: the document, undo/redo, the diff against what was
   saved, and :func:`save` (canonical, atomic);
 * :mod:`.robot` -- :class:`EditRobot`: poses, forward kinematics and the self-collisions at a
@@ -24,10 +26,12 @@ from .edits import (
     MoveSphere,
     ReplaceSpheres,
     SetBuffer,
+    SetCspace,
     SetDefaults,
     SetIgnored,
     SetMask,
     SetRadius,
+    SetToolFrames,
     apply_edit,
 )
 from .robot import Collisions, EditRobot
@@ -45,10 +49,12 @@ __all__ = [
     "MoveSphere",
     "ReplaceSpheres",
     "SetBuffer",
+    "SetCspace",
     "SetDefaults",
     "SetIgnored",
     "SetMask",
     "SetRadius",
+    "SetToolFrames",
     "apply_edit",
     "save",
 ]

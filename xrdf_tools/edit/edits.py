@@ -15,7 +15,15 @@ from dataclasses import dataclass, replace
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
 from ..util.numbers import bound_reason
-from ..xrdf.model import GeometryGroup, SelfCollisionSection, Sphere, Vec3, Xrdf, clone_order
+from ..xrdf.model import (
+    CSpace,
+    GeometryGroup,
+    SelfCollisionSection,
+    Sphere,
+    Vec3,
+    Xrdf,
+    clone_order,
+)
 
 __all__ = [
     "AddSphere",
@@ -26,10 +34,12 @@ __all__ = [
     "MoveSphere",
     "ReplaceSpheres",
     "SetBuffer",
+    "SetCspace",
     "SetDefaults",
     "SetIgnored",
     "SetMask",
     "SetRadius",
+    "SetToolFrames",
     "apply_edit",
 ]
 
@@ -153,6 +163,32 @@ class SetDefaults:
         return f"default positions of {len(self.positions)} joint(s)"
 
 
+@dataclass(frozen=True)
+class SetCspace:
+    """Replace the c-space: its joints (in order) with their acceleration and jerk limits.
+
+    Which joints a robot can have in its c-space is the robot's to say
+    (:meth:`xrdf_tools.edit.robot.EditRobot.cspace_joint_choices`); the edit itself checks
+    what any document needs: at least one joint, no joint twice, one positive finite limit of
+    each kind per joint. ``label`` says what changed (shown in the undo history)."""
+
+    cspace: CSpace
+    label: str = "set the c-space"
+
+    def describe(self) -> str:
+        return self.label
+
+
+@dataclass(frozen=True)
+class SetToolFrames:
+    """Replace ``tool_frames`` (the frames a planner can put a goal on), in order."""
+
+    frames: tuple[str, ...]
+
+    def describe(self) -> str:
+        return f"tool frames to {', '.join(self.frames) or '(none)'}"
+
+
 Edit = (
     MoveSphere
     | SetRadius
@@ -164,6 +200,8 @@ Edit = (
     | SetMask
     | SetBuffer
     | SetDefaults
+    | SetCspace
+    | SetToolFrames
 )
 
 
@@ -185,7 +223,39 @@ def apply_edit(xrdf: Xrdf, group: str, edit: Edit) -> Xrdf:
             }
         )
         return xrdf.replace(default_joint_positions=FrozenMap(merged))
+    if isinstance(edit, SetCspace):
+        return xrdf.replace(cspace=_checked_cspace(edit.cspace))
+    if isinstance(edit, SetToolFrames):
+        if len(set(edit.frames)) != len(edit.frames):
+            raise EditError("a tool frame is named twice")
+        return xrdf.replace(tool_frames=tuple(edit.frames))
     return _edit_spheres(xrdf, group, edit)
+
+
+def _checked_cspace(cspace: CSpace) -> CSpace:
+    """``cspace`` with plain float limits, or :class:`EditError`: no joint, a joint named
+    twice, lists of other lengths, or a limit that is not a positive number a file can hold."""
+    names = tuple(cspace.joint_names)
+    if not names:
+        raise EditError("the c-space needs at least one joint (every reader refuses an empty one)")
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise EditError(f"c-space joint '{twice[0]}' is named twice")
+    limits: list[tuple[float, ...]] = []
+    for kind, values in (
+        ("acceleration", cspace.acceleration_limits),
+        ("jerk", cspace.jerk_limits),
+    ):
+        if len(values) != len(names):
+            raise EditError(f"{len(values)} {kind} limit(s) for {len(names)} c-space joint(s)")
+        checked = []
+        for name, value in zip(names, values, strict=True):
+            v = _number(f"{kind} limit of {name}", value, metres=False)
+            if not v > 0:
+                raise EditError(f"the {kind} limit of {name} must be more than 0, not {v:g}")
+            checked.append(v)
+        limits.append(tuple(checked))
+    return CSpace(names, limits[0], limits[1])
 
 
 # --------------------------------------------------------------------------------------------

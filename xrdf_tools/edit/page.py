@@ -215,6 +215,7 @@ class EditorPage:
         """Bring the view and the panels up to date after a pose and/or document change."""
         with self.lock:
             if document:
+                self._follow_document()
                 self.view.set_spheres(self.state.xrdf, self.state.group)
                 sel = self.selected
                 if sel is not None and sel[1] is not None:
@@ -226,6 +227,21 @@ class EditorPage:
             self.collisions = self.robot.collisions(self.state.xrdf, self.q)
             self.view.color_spheres(self.collisions, self.selected)
             self.panels.update(document=document)
+
+    def _follow_document(self) -> None:
+        """After an edit, undo or redo: the sliders follow the c-space (a joint left out goes
+        back to its default position, as every reader holds it) and the view the tool
+        frames."""
+        x = self.state.xrdf
+        if self.robot.follow(x):
+            q = self.robot.default_pose(x)
+            q[self.robot.cspace_index] = self.q[self.robot.cspace_index]
+            self.q = q
+            self.panels.rebuild_sliders()
+            self.view.set_pose(self.q)
+        tools = tuple(x.tool_frames or ())
+        if tools != self.view.shown_tool_frames:
+            self.view.set_tool_frames(tools)
 
     # --- running ---------------------------------------------------------------------------
     def serve_forever(self) -> None:

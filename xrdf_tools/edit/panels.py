@@ -2,8 +2,8 @@
 
 Each control calls one :class:`~xrdf_tools.edit.page.PageSurface` method; :meth:`Panels.update`
 shows the page's state again. Controls answer only to the browser (``event.client`` set), so
-the page can set their values without triggering edits. The mask panel is
-:mod:`xrdf_tools.edit.mask_panel`.
+the page can set their values without triggering edits. The c-space and mask panels are
+:mod:`xrdf_tools.edit.cspace_panel` and :mod:`xrdf_tools.edit.mask_panel`.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ import numpy as np
 from ..diff.render import render_text
 from ..xrdf.model import Sphere, Xrdf
 from . import markup
+from .cspace_panel import CspacePanel
 from .edits import AddSphere, DeleteSphere, DuplicateSphere, MoveSphere, SetDefaults, SetRadius
 from .markup import code, pre
 from .mask_panel import MaskPanel
@@ -66,6 +67,7 @@ class Panels:
         self._document_panel()
         self._view_panel()
         self._pose_panel()
+        self.cspace = CspacePanel(page, gui)
         self._sphere_panel()
         self._fit_panel()
         self.mask = MaskPanel(page, gui)
@@ -178,12 +180,8 @@ class Panels:
         gui, page, robot = self.gui, self.page, self.page.robot
         self.sliders: list[Any] = []
         with gui.add_folder("Pose"):
-            for k, (name, i) in enumerate(zip(robot.cspace, robot.cspace_index, strict=True)):
-                lo, hi = float(robot.lower[k]), float(robot.upper[k])
-                value = float(np.clip(page.q[i], lo, hi))
-                s = gui.add_slider(name, lo, hi, step=0.001, initial_value=value)
-                s.on_update(self._slider_moved(int(i), s))
-                self.sliders.append(s)
+            self.joint_folder = gui.add_folder("Joints")
+            self.rebuild_sliders()
             default = gui.add_button("Default pose")
             default.on_click(
                 lambda e: (
@@ -213,6 +211,20 @@ class Panels:
                 )
             with gui.add_folder("Collisions"):
                 self.contacts = gui.add_markdown("")
+
+    def rebuild_sliders(self) -> None:
+        """One slider per c-space joint (again, after the c-space changed)."""
+        page, robot = self.page, self.page.robot
+        for s in self.sliders:
+            s.remove()
+        self.sliders = []
+        with self.joint_folder:
+            for k, (name, i) in enumerate(zip(robot.cspace, robot.cspace_index, strict=True)):
+                lo, hi = float(robot.lower[k]), float(robot.upper[k])
+                value = float(np.clip(page.q[i], lo, hi))
+                s = self.gui.add_slider(name, lo, hi, step=0.001, initial_value=value)
+                s.on_update(self._slider_moved(int(i), s))
+                self.sliders.append(s)
 
     def _slider_moved(self, index: int, slider: Any) -> Any:
         def moved(e: Any) -> None:
@@ -445,6 +457,7 @@ class Panels:
             self.tree.content = _link_tree(page) if hasattr(self, "tree") else ""
             if page.selected is not None:
                 self.sync_selection()
+            self.cspace.sync()
         self.contacts.content = _contacts_text(page)
         self.mask.update(document=document)
 

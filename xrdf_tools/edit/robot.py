@@ -1,8 +1,9 @@
 """The robot side of ``xrdf edit``: poses, forward kinematics and live self-collisions.
 
 :class:`EditRobot` holds what does not change while a document is edited (the loaded URDF,
-its kinematic model with the XRDF's modifiers, the c-space) and answers, for any version of
-the document, which frame pairs touch at a pose -- with the project's collision engine
+its kinematic model with the XRDF's modifiers) and the document's c-space (which follows the
+document: :meth:`EditRobot.follow`), and answers, for any version of the document, which frame
+pairs touch at a pose -- with the project's collision engine
 (:mod:`xrdf_tools.selfcollision.collision`: buffered radii, the ``ignore`` mask).
 """
 
@@ -28,7 +29,7 @@ from ..selfcollision.collision import (
 )
 from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
-from ..xrdf.model import Xrdf
+from ..xrdf.model import CSpace, Xrdf
 
 if TYPE_CHECKING:
     from ..robot.core import Robot
@@ -71,22 +72,66 @@ class Collisions:
 
 
 class EditRobot:
-    """A loaded robot for editing one XRDF (its modifiers and c-space must stay fixed)."""
+    """A loaded robot for editing one XRDF (its modifiers must stay fixed; the c-space
+    follows the document)."""
 
     def __init__(self, robot: Robot, xrdf: Xrdf) -> None:
         self.robot = robot
         kin, diags = build_kinematic_model(robot, xrdf)
         self.kin: KinematicModel = kin
         self.diagnostics: tuple[Diagnostic, ...] = tuple(diags)
-        names, idx = cspace_indices(kin, xrdf)
+        self._cache: tuple[Xrdf, SphereSet] | None = None
+        self._use_cspace(xrdf)
+
+    def _use_cspace(self, xrdf: Xrdf) -> None:
+        names, idx = cspace_indices(self.kin, xrdf)
         self.cspace: tuple[str, ...] = names
         self.cspace_index = idx
-        lo = np.array(kin.lower[idx], dtype=np.float64)
-        hi = np.array(kin.upper[idx], dtype=np.float64)
+        lo = np.array(self.kin.lower[idx], dtype=np.float64)
+        hi = np.array(self.kin.upper[idx], dtype=np.float64)
         # continuous joints: one turn either way
         self.lower: FloatArray = np.where(np.isfinite(lo), lo, -math.pi)
         self.upper: FloatArray = np.where(np.isfinite(hi), hi, math.pi)
-        self._cache: tuple[Xrdf, SphereSet] | None = None
+
+    def follow(self, xrdf: Xrdf) -> bool:
+        """Take ``xrdf``'s c-space (after an edit, undo or redo); True when it changed."""
+        names = xrdf.cspace.joint_names if xrdf.cspace is not None else ()
+        if tuple(names) == self.cspace:
+            return False
+        self._use_cspace(xrdf)
+        return True
+
+    # --- the c-space -----------------------------------------------------------------------
+    def cspace_joint_choices(self) -> tuple[str, ...]:
+        """Every joint the c-space can hold, in URDF order: actuated (not fixed, not a mimic
+        joint unless the document's modifiers freed it), with limits some position fits."""
+        actuated = set(self.kin.actuated_joints)
+        return tuple(
+            name
+            for name in self.robot.joints
+            if name in actuated and not self.kin.cspace_reason(name)
+        )
+
+    def cspace_with(
+        self, xrdf: Xrdf, joint: str, *, included: bool, acceleration: float, jerk: float
+    ) -> CSpace:
+        """``xrdf``'s c-space with ``joint`` taken in (at its place in URDF order, with these
+        limits; a joint already in keeps its place and gets them) or left out."""
+        cs = xrdf.cspace or CSpace((), (), ())
+        rows = list(zip(cs.joint_names, cs.acceleration_limits, cs.jerk_limits, strict=True))
+        names = [r[0] for r in rows]
+        if not included:
+            rows = [r for r in rows if r[0] != joint]
+        elif joint in names:
+            rows[names.index(joint)] = (joint, acceleration, jerk)
+        else:
+            order = {n: k for k, n in enumerate(self.cspace_joint_choices())}
+            rank = order.get(joint, len(order))
+            at = sum(1 for n in names if order.get(n, len(order)) < rank)
+            rows.insert(at, (joint, acceleration, jerk))
+        return CSpace(
+            tuple(r[0] for r in rows), tuple(r[1] for r in rows), tuple(r[2] for r in rows)
+        )
 
     @property
     def frame_names(self) -> tuple[str, ...]:

@@ -73,6 +73,7 @@ class RobotView:
         self.meshes: list[Any] = []
         self.preview: list[Any] = []
         self.tool_frames: list[Any] = []
+        self.shown_tool_frames: tuple[str, ...] = ()
         self.colors: dict[str, list[Rgb]] = {}
         self.link_rgb: dict[str, Rgb] = {}
         self.show_buffered = False
@@ -105,7 +106,9 @@ class RobotView:
             handle.show_axes = show
 
     def set_tool_frames(self, frames: tuple[str, ...]) -> None:
-        for h in self.tool_frames:
+        """Axes and a label on each of ``frames`` (those the robot has)."""
+        self.shown_tool_frames = tuple(frames)
+        for h in reversed(self.tool_frames):  # a label before the frame it hangs from
             h.remove()
         self.tool_frames = []
         for frame in frames:

@@ -1,0 +1,196 @@
+"""The c-space and tool frames in ``xrdf edit``: which joints the planner moves, their limits,
+and the frames a goal can be put on -- as edits, in the robot the page poses and in the page.
+
+Real inputs: the example-robot-data Panda URDF with fixtures/panda/panda.xrdf (seven arm joints
+in the c-space; ``panda_finger_joint1`` held at its default, ``panda_finger_joint2`` mimics it).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from tests.paths import FIXTURES
+from tests.robots import robot_urdf
+from xrdf_tools.diff import diff_xrdf
+from xrdf_tools.edit import EditError, EditRobot, EditState, SetCspace, SetToolFrames, save
+from xrdf_tools.edit.markup import code
+from xrdf_tools.lint import lint_text
+from xrdf_tools.robot.xacro_source import load_robot
+from xrdf_tools.xrdf.io import load_xrdf
+from xrdf_tools.xrdf.model import CSpace, Xrdf
+
+PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
+ARM = tuple(f"panda_joint{k}" for k in range(1, 8))
+
+
+@pytest.fixture(scope="module")
+def panda() -> tuple[Any, Xrdf]:
+    return load_robot(robot_urdf("panda")), load_xrdf(PANDA_XRDF)
+
+
+def errors(text: str, robot: Any) -> list[str]:
+    return [
+        d.message
+        for d in lint_text(text, "panda.xrdf", urdf_model=robot)
+        if d.severity.name == "ERROR"
+    ]
+
+
+def test_choices_are_the_joints_a_cspace_can_hold_in_urdf_order(panda: tuple[Any, Xrdf]) -> None:
+    robot, x = panda
+    er = EditRobot(robot, x)
+    choices = er.cspace_joint_choices()
+    # the mimic finger is no coordinate; every other movable joint is, in the URDF's order
+    urdf_order = [n for n, j in robot.joints.items() if j.is_actuated]
+    assert choices == tuple(urdf_order) == (*ARM, "panda_finger_joint1")
+    assert "panda_finger_joint2" not in choices
+
+
+def test_a_joint_taken_in_goes_to_its_urdf_place_with_its_limits(panda: tuple[Any, Xrdf]) -> None:
+    robot, x = panda
+    er = EditRobot(robot, x)
+    without3 = er.cspace_with(x, "panda_joint3", included=False, acceleration=1, jerk=1)
+    assert without3.joint_names == tuple(n for n in ARM if n != "panda_joint3")
+    st = EditState.start(x).apply(SetCspace(without3))
+    back = er.cspace_with(st.xrdf, "panda_joint3", included=True, acceleration=7.5, jerk=250.0)
+    assert back.joint_names == ARM  # between joint2 and joint4, not at the end
+    k = ARM.index("panda_joint3")
+    assert back.acceleration_limits[k] == 7.5 and back.jerk_limits[k] == 250.0
+    others = [i for i in range(7) if i != k]
+    assert x.cspace is not None
+    assert [back.acceleration_limits[i] for i in others] == [
+        x.cspace.acceleration_limits[i] for i in others
+    ]
+    finger = er.cspace_with(x, "panda_finger_joint1", included=True, acceleration=2, jerk=20)
+    assert finger.joint_names == (*ARM, "panda_finger_joint1")
+    # a joint already in keeps its place and takes the new limits
+    again = er.cspace_with(x, "panda_joint5", included=True, acceleration=3, jerk=30)
+    assert again.joint_names == ARM and again.acceleration_limits[4] == 3
+
+
+def test_cspace_edit_saves_lints_and_undoes(panda: tuple[Any, Xrdf], tmp_path: Path) -> None:
+    robot, x = panda
+    er = EditRobot(robot, x)
+    cs = er.cspace_with(x, "panda_finger_joint1", included=True, acceleration=2.0, jerk=20.0)
+    st = EditState.start(x).apply(SetCspace(cs, "take the finger in"))
+    st = st.apply(SetToolFrames(("panda_hand", "panda_link7")))
+    assert st.undo_label == "tool frames to panda_hand, panda_link7"
+    target = tmp_path / "panda.xrdf"
+    save(st, target)
+    back = load_xrdf(target)
+    assert back.cspace == cs and back.tool_frames == ("panda_hand", "panda_link7")
+    assert errors(target.read_text(), robot) == []
+    sections = {c.section for c in diff_xrdf(x, back).changes}
+    assert sections == {"cspace", "tool_frames"}
+    assert st.undo().undo().xrdf == x
+
+
+@pytest.mark.parametrize(
+    ("cspace", "message"),
+    [
+        (CSpace((), (), ()), "at least one joint"),
+        (CSpace(("panda_joint1", "panda_joint1"), (1.0, 1.0), (1.0, 1.0)), "named twice"),
+        (CSpace(("panda_joint1",), (0.0,), (1.0,)), "more than 0"),
+        (CSpace(("panda_joint1",), (1.0,), (-5.0,)), "more than 0"),
+        (CSpace(("panda_joint1",), (float("nan"),), (1.0,)), "cannot be saved"),
+        (CSpace(("panda_joint1",), (1.0,), (float("inf"),)), "cannot be saved"),
+        (CSpace(("panda_joint1", "panda_joint2"), (1.0,), (1.0, 1.0)), "1 acceleration limit"),
+    ],
+)
+def test_a_cspace_no_reader_can_take_is_refused(
+    panda: tuple[Any, Xrdf], cspace: CSpace, message: str
+) -> None:
+    with pytest.raises(EditError, match=message):
+        EditState.start(panda[1]).apply(SetCspace(cspace))
+
+
+def test_a_tool_frame_named_twice_is_refused(panda: tuple[Any, Xrdf]) -> None:
+    with pytest.raises(EditError, match="named twice"):
+        EditState.start(panda[1]).apply(SetToolFrames(("panda_hand", "panda_hand")))
+
+
+def test_the_robot_follows_the_documents_cspace(panda: tuple[Any, Xrdf]) -> None:
+    """After a c-space edit the poses move exactly the new c-space: as a robot built from the
+    edited document would."""
+    robot, x = panda
+    er = EditRobot(robot, x)
+    cs = er.cspace_with(x, "panda_joint7", included=False, acceleration=1, jerk=1)
+    cs = er.cspace_with(
+        x.replace(cspace=cs), "panda_finger_joint1", included=True, acceleration=1, jerk=1
+    )
+    edited = EditState.start(x).apply(SetCspace(cs)).xrdf
+    assert er.follow(edited) and not er.follow(edited)
+    fresh = EditRobot(robot, edited)
+    assert er.cspace == fresh.cspace == (*ARM[:6], "panda_finger_joint1")
+    assert np.array_equal(er.cspace_index, fresh.cspace_index)
+    q = er.random_pose(edited, seed=3)
+    assert np.array_equal(q, fresh.random_pose(edited, seed=3))
+    j7 = er.kin.actuated_index("panda_joint7")
+    assert q[j7] == er.default_pose(edited)[j7] == 0.8  # held at its default
+    finger = er.kin.actuated_index("panda_finger_joint1")
+    lo, hi = er.kin.lower[finger], er.kin.upper[finger]
+    assert lo <= q[finger] <= hi and set(er.cspace_values(q)) == set(fresh.cspace)
+
+
+@pytest.mark.slow
+def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
+    panda: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+    from tests.browser import free_port
+    from xrdf_tools.edit.page import EditorPage
+
+    robot, x = panda
+    target = tmp_path / "panda.xrdf"
+    target.write_bytes(PANDA_XRDF.read_bytes())
+    page = EditorPage(robot, EditState.start(x), target=target, port=free_port())
+    try:
+        panel = page.panels.cspace
+        assert [s.label for s in page.panels.sliders] == list(ARM)
+        panel.joint.value = "panda_finger_joint1"
+        panel.sync()
+        assert panel.member.value is False and panel.acceleration.value == 10.0
+        panel.acceleration.value = 3.0
+        panel.member.value = True
+        panel._set_member()
+        cs = page.state.xrdf.cspace
+        assert cs is not None and cs.joint_names == (*ARM, "panda_finger_joint1")
+        assert cs.acceleration_limits[-1] == 3.0 and cs.jerk_limits[-1] == 1000.0
+        assert [s.label for s in page.panels.sliders] == [*ARM, "panda_finger_joint1"]
+        assert code("panda_finger_joint1") in panel.table.content
+        # the new slider poses the finger
+        finger = page.robot.kin.actuated_index("panda_finger_joint1")
+        q = page.q.copy()
+        q[finger] = 0.01
+        page.set_pose(q)
+        assert page.panels.sliders[-1].value == pytest.approx(0.01)
+        # a limit typed for a joint in the c-space is one undo step per joint
+        panel.jerk.value = 50.0
+        panel._set_limits()
+        panel.jerk.value = 60.0
+        panel._set_limits()
+        cs = page.state.xrdf.cspace
+        assert cs is not None and cs.jerk_limits[-1] == 60.0
+        page.undo()
+        cs = page.state.xrdf.cspace
+        assert cs is not None and cs.jerk_limits[-1] == 1000.0
+        # undoing the membership: the slider goes and the finger is back at its default
+        page.undo()
+        assert [s.label for s in page.panels.sliders] == list(ARM)
+        assert page.q[finger] == page.robot.default_pose(page.state.xrdf)[finger]
+        assert panel.member.value is False
+        # tool frames: added and removed with the view's axes following
+        panel.frame.value = "panda_link7"
+        panel._tool_frames(add=True)
+        assert page.state.xrdf.tool_frames == ("panda_hand", "panda_link7")
+        assert page.view.shown_tool_frames == ("panda_hand", "panda_link7")
+        panel.frame.value = "panda_hand"
+        panel._tool_frames(add=False)
+        assert page.view.shown_tool_frames == ("panda_link7",)
+        assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing saved
+    finally:
+        page.close()

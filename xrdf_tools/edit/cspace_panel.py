@@ -1,0 +1,155 @@
+"""The c-space panel of the ``xrdf edit`` page: which joints the planner moves, their
+acceleration and jerk limits, and the tool frames.
+
+A joint is picked from the joints the c-space can hold (:meth:`EditRobot.cspace_joint_choices`,
+URDF order); **In c-space** takes it in at its place in URDF order (cuRobo fills default
+positions in URDF order, so that order keeps them right) or leaves it out, and the limits
+fields set its limits. A joint taken in gets the limits shown, which for a joint not in the
+c-space are ``xrdf convert``'s defaults. The Pose panel's sliders follow the c-space.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from ..convert.core import DEFAULT_ACCELERATION, DEFAULT_JERK
+from .edits import SetCspace, SetToolFrames
+from .markup import code
+from .surface import PageSurface, bounded, from_browser
+
+if TYPE_CHECKING:
+    from ..xrdf.model import CSpace
+
+__all__ = ["CspacePanel", "cspace_table"]
+
+#: The limits fields' range: above 0 (every reader refuses 0) and below the numbers a saved
+#: file holds.
+MIN_LIMIT = 1e-3
+MAX_LIMIT = 1e6
+
+
+def cspace_table(cspace: CSpace | None) -> str:
+    """The c-space as a markdown table (joint, acceleration, jerk), in its order."""
+    if cspace is None or not cspace.joint_names:
+        return "No c-space joints."
+    rows = [
+        f"| {code(n)} | {a:g} | {j:g} |"
+        for n, a, j in zip(
+            cspace.joint_names, cspace.acceleration_limits, cspace.jerk_limits, strict=True
+        )
+    ]
+    head = f"{len(rows)} joint(s), in the order planners use:\n\n"
+    return head + "| joint | acceleration | jerk |\n|---|---:|---:|\n" + "\n".join(rows)
+
+
+class CspacePanel:
+    """Joint picker, membership toggle, limits and tool frames."""
+
+    def __init__(self, page: PageSurface, gui: Any) -> None:
+        self.page = page
+        choices = page.robot.cspace_joint_choices() or ("(none)",)
+        frames = page.robot.frame_names
+        with gui.add_folder("C-space", expand_by_default=False):
+            self.table = gui.add_markdown("")
+            self.joint = gui.add_dropdown("Joint", choices, initial_value=choices[0])
+            self.member = gui.add_checkbox(
+                "In c-space",
+                False,
+                hint="Planned joints; one left out is held at its default position",
+            )
+            self.acceleration = gui.add_number(
+                "Acceleration limit",
+                DEFAULT_ACCELERATION,
+                min=MIN_LIMIT,
+                max=MAX_LIMIT,
+                step=0.1,
+                hint="rad/s² (m/s² for a prismatic joint)",
+            )
+            self.jerk = gui.add_number(
+                "Jerk limit",
+                DEFAULT_JERK,
+                min=MIN_LIMIT,
+                max=MAX_LIMIT,
+                step=1.0,
+                hint="rad/s³ (m/s³ for a prismatic joint)",
+            )
+            self.tools = gui.add_markdown("")
+            self.frame = gui.add_dropdown("Frame", frames, initial_value=frames[-1])
+            add = gui.add_button("Add tool frame")
+            remove = gui.add_button("Remove tool frame")
+        self.joint.on_update(lambda e: self.sync() if from_browser(e) else None)
+        self.member.on_update(lambda e: self._set_member() if from_browser(e) else None)
+        for box in (self.acceleration, self.jerk):
+            box.on_update(lambda e: self._set_limits() if from_browser(e) else None)
+        add.on_click(lambda e: self._tool_frames(add=True) if from_browser(e) else None)
+        remove.on_click(lambda e: self._tool_frames(add=False) if from_browser(e) else None)
+        self.sync()
+
+    # --- edits -----------------------------------------------------------------------------
+    def _limits(self) -> tuple[float, float]:
+        return bounded(self.acceleration), bounded(self.jerk)
+
+    def _set_member(self) -> None:
+        page = self.page
+        joint = str(self.joint.value)
+        if joint not in page.robot.cspace_joint_choices():
+            page.say("this robot has no joint the c-space can hold")
+            self.sync()
+            return
+        included = bool(self.member.value)
+        acceleration, jerk = self._limits()
+        with page.lock:
+            cspace = page.robot.cspace_with(
+                page.state.xrdf, joint, included=included, acceleration=acceleration, jerk=jerk
+            )
+            verb = "take" if included else "leave"
+            page.apply(
+                SetCspace(cspace, f"{verb} {joint} {'into' if included else 'out of'} the c-space")
+            )
+            self.sync()
+
+    def _set_limits(self) -> None:
+        page = self.page
+        joint = str(self.joint.value)
+        with page.lock:
+            cs = page.state.xrdf.cspace
+            if cs is None or joint not in cs.joint_names:
+                return  # the limits shown are the ones the joint gets when taken in
+            acceleration, jerk = self._limits()
+            cspace = page.robot.cspace_with(
+                page.state.xrdf, joint, included=True, acceleration=acceleration, jerk=jerk
+            )
+            page.apply(
+                SetCspace(cspace, f"limits of {joint} to {acceleration:g}, {jerk:g}"),
+                merge_key=("limits", joint),
+            )
+
+    def _tool_frames(self, *, add: bool) -> None:
+        page = self.page
+        frame = str(self.frame.value)
+        with page.lock:
+            now = tuple(page.state.xrdf.tool_frames or ())
+            if add:
+                frames = now if frame in now else (*now, frame)
+            else:
+                frames = tuple(f for f in now if f != frame)
+            page.apply(SetToolFrames(frames))
+
+    # --- showing the document --------------------------------------------------------------
+    def sync(self) -> None:
+        """Show the document's c-space and tool frames, and the picked joint's values."""
+        x = self.page.state.xrdf
+        self.table.content = cspace_table(x.cspace)
+        joint = str(self.joint.value)
+        names = x.cspace.joint_names if x.cspace is not None else ()
+        self.member.value = joint in names
+        if x.cspace is not None and joint in names:
+            k = names.index(joint)
+            self.acceleration.value = float(x.cspace.acceleration_limits[k])
+            self.jerk.value = float(x.cspace.jerk_limits[k])
+        else:
+            self.acceleration.value, self.jerk.value = DEFAULT_ACCELERATION, DEFAULT_JERK
+        tools = x.tool_frames or ()
+        self.tools.content = (
+            "Tool frames: " + ", ".join(code(f) for f in tools) if tools else "No tool frames."
+        )
