@@ -6,6 +6,7 @@ Real inputs: the example-robot-data Panda URDF with fixtures/panda/panda.xrdf. N
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -41,8 +42,8 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
     try:
         assert page.url.startswith("http://127.0.0.1:")
         # the link the page shows is the one a buffer is typed for
-        assert page.selected == (page.panels.link.value, None)
-        first = page.panels.link.value
+        assert page.selected == (page.panels.spheres.link.value, None)
+        first = page.panels.spheres.link.value
         page.panels.mask.buffer.value = 0.01
         page.panels.mask._set_buffer()
         sc = page.state.xrdf.self_collision
@@ -63,7 +64,7 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         assert "not done" in page.message and not page.state.dirty
         # a sphere larger than the slider's usual end is shown as it is, not clamped to it
         assert page.apply(SetRadius("panda_link4", 1, 0.45))
-        assert page.panels.radius.value == 0.45 and page.panels.radius.max >= 0.45
+        assert page.panels.spheres.radius.value == 0.45 and page.panels.spheres.radius.max >= 0.45
         page.undo()
         assert not page.state.dirty
         # the buffered radii shown follow a buffer edit (and its undo)
@@ -102,6 +103,25 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         page.apply(SetRadius("panda_link4", 1, 0.06))
         assert not page.save() and "read-only" in page.message
         assert load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][1] == saved
+        # connect the selected sphere to another with a chain; scale the link's spheres
+        spheres = page.panels.spheres
+
+        def link4() -> tuple[Any, ...]:
+            return tuple(page.state.xrdf.resolved_spheres("panda_spheres")["panda_link4"])
+
+        n = len(link4())
+        page.pick("panda_link4", 0)
+        spheres.other.value, spheres.between.value = 2, 3
+        spheres._connect()
+        assert len(link4()) == n + 3 and "connect panda_link4[0]" in page.message
+        assert page.selected == ("panda_link4", 0)
+        radii = [s.radius for s in link4()]
+        spheres.factor.value = 0.5
+        spheres._scale()
+        assert [s.radius for s in link4()] == pytest.approx([r * 0.5 for r in radii], abs=1e-6)
+        page.pick("panda_link4", None)
+        spheres._connect()
+        assert "select a sphere first" in page.message
     finally:
         page.close()
 
@@ -192,7 +212,7 @@ def test_frames_named_like_the_scene_tree_keep_their_own_spheres(tmp_path: Path)
         names = {h.name for handles in page.view.spheres.values() for h in handles}
         assert len(names) == 4
         page.pick("a/b", 0)
-        assert page.panels.gizmo is not None and page.panels.gizmo_for == ("a/b", 0)
+        assert page.panels.spheres.gizmo is not None and page.panels.spheres.gizmo_for == ("a/b", 0)
         assert page.apply(SetRadius("a/b", 0, 0.03)) and page.save()
         saved = load_xrdf(tmp_path / "odd.xrdf").resolved_spheres("s")
         assert [s.radius for s in saved["a/b"]] == [0.03] and len(saved["a_b"]) == 2

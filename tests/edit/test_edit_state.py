@@ -19,6 +19,7 @@ from tests.robots import robot_urdf
 from xrdf_tools.diff import diff_files, diff_xrdf
 from xrdf_tools.edit import (
     AddSphere,
+    ConnectSpheres,
     DeleteSphere,
     DuplicateSphere,
     EditError,
@@ -26,6 +27,7 @@ from xrdf_tools.edit import (
     EditState,
     MoveSphere,
     ReplaceSpheres,
+    ScaleSpheres,
     SetBuffer,
     SetDefaults,
     SetIgnored,
@@ -219,6 +221,60 @@ def test_sphere_edits_land_in_the_group_that_owns_the_sphere() -> None:
     geo = st.xrdf.geometry
     assert geo is not None and "a" not in geo["base"].spheres
     assert st.xrdf.resolved_spheres("top")["a"] == (Sphere((0.0, 0.0, 0.5), 0.05),)
+
+
+def test_connect_puts_a_chain_between_two_spheres() -> None:
+    """Closed form: the new centres split the segment between the two into equal parts and
+    the radii change linearly; the two spheres stay where they were."""
+    a, b = Sphere((0.0, 0.0, 0.0), 0.02), Sphere((0.0, 0.09, 0.03), 0.05)
+    x = Xrdf(
+        geometry=FrozenMap({"g": GeometryGroup(spheres=FrozenMap({"finger": (a, b)}))}),
+        self_collision=SelfCollisionSection("g"),
+    )
+    st = EditState.start(x).apply(ConnectSpheres("finger", 1, 0, 2))
+    got = st.xrdf.resolved_spheres("g")["finger"]
+    assert got[:2] == (a, b) and len(got) == 4
+    # from sphere 1 (b) towards sphere 0 (a): thirds of the way
+    for k, s in enumerate(got[2:], start=1):
+        t = k / 3
+        want = [bc + t * (ac - bc) for ac, bc in zip(a.center, b.center, strict=True)]
+        assert s.center == pytest.approx(want, abs=1e-6)
+        assert s.radius == pytest.approx(b.radius + t * (a.radius - b.radius), abs=1e-6)
+    assert st.undo_label == "connect finger[1] and finger[0] with 2 sphere(s)"
+
+
+def test_scale_multiplies_every_radius_of_the_link_in_every_group_holding_them() -> None:
+    base = GeometryGroup(spheres=FrozenMap({"a": (Sphere((0.0, 0.0, 0.0), 0.1),)}))
+    top = GeometryGroup(
+        spheres=FrozenMap({"a": (Sphere((1.0, 0.0, 0.0), 0.2),), "b": (Sphere((0, 0, 0), 0.3),)}),
+        clone=("base",),
+    )
+    x = Xrdf(geometry=FrozenMap({"top": top, "base": base}))
+    st = EditState.start(x, group="top").apply(ScaleSpheres("a", 1.5))
+    got = st.xrdf.resolved_spheres("top")
+    assert [s.radius for s in got["a"]] == pytest.approx([0.3, 0.15])
+    assert [s.center for s in got["a"]] == [(1.0, 0.0, 0.0), (0.0, 0.0, 0.0)]
+    assert got["b"] == top.spheres["b"]  # other links keep theirs
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (ConnectSpheres("panda_link1", 0, 0, 2), "two different spheres"),
+        (ConnectSpheres("panda_link1", 0, 99, 2), "no sphere 99"),
+        (ConnectSpheres("panda_link1", 0, 1, 0), "1 to 32"),
+        (ConnectSpheres("panda_link1", 0, 1, 33), "1 to 32"),
+        (ScaleSpheres("panda_link1", 0.0), "more than 0"),
+        (ScaleSpheres("panda_link1", float("nan")), "cannot be saved"),
+        (ScaleSpheres("no_such_link", 2.0), "no spheres to scale"),
+    ],
+    ids=lambda e: e if isinstance(e, str) else e.describe(),
+)
+def test_connect_and_scale_refuse_what_does_not_fit(
+    panda: tuple[Any, Xrdf], edit: Any, message: str
+) -> None:
+    with pytest.raises(EditError, match=message):
+        EditState.start(panda[1]).apply(edit)
 
 
 # --- saving ----------------------------------------------------------------------------------

@@ -3,9 +3,9 @@ browser.
 
 The editing logic is library code, usable from Python and tested without a browser:
 
-* :mod:`.edits` -- the edits (move/resize/add/delete spheres, refit a link, mask pairs,
-  buffers, default positions, c-space joints and limits, tool frames) as frozen values, and
-  :func:`apply_edit`;
+* :mod:`.edits` -- the edits (move/resize/add/delete/connect/scale spheres and refit a link:
+  :mod:`.sphere_edits`; mask pairs, buffers, default positions, c-space joints and limits,
+  tool frames) as frozen values, and :func:`apply_edit`;
 * :mod:`.state` -- :class:`EditState`: the document, undo/redo, the diff against what was
   saved, and :func:`save` (canonical, atomic);
 * :mod:`.robot` -- :class:`EditRobot`: poses, forward kinematics and the self-collisions at a
@@ -19,12 +19,14 @@ from __future__ import annotations
 
 from .edits import (
     AddSphere,
+    ConnectSpheres,
     DeleteSphere,
     DuplicateSphere,
     Edit,
     EditError,
     MoveSphere,
     ReplaceSpheres,
+    ScaleSpheres,
     SetBuffer,
     SetCspace,
     SetDefaults,
@@ -40,6 +42,7 @@ from .state import EditState, save
 __all__ = [
     "AddSphere",
     "Collisions",
+    "ConnectSpheres",
     "DeleteSphere",
     "DuplicateSphere",
     "Edit",
@@ -48,6 +51,7 @@ __all__ = [
     "EditState",
     "MoveSphere",
     "ReplaceSpheres",
+    "ScaleSpheres",
     "SetBuffer",
     "SetCspace",
     "SetDefaults",

@@ -1,10 +1,9 @@
 """The edits ``xrdf edit`` makes to a document: small frozen values and one pure function.
 
 :func:`apply_edit` turns an :class:`~xrdf_tools.xrdf.model.Xrdf` and an :data:`Edit` into a new
-``Xrdf`` (the model is frozen; nothing is changed in place). Sphere edits name a sphere by its
-frame and its position in the frame's *resolved* list of the edited geometry group (clones
-included, the order every reader and :mod:`xrdf_tools.viz.scene` use); the sphere is changed in
-the group that owns it, so a group cloned from another is edited where its spheres are written.
+``Xrdf`` (the model is frozen; nothing is changed in place). The sphere edits are
+:mod:`xrdf_tools.edit.sphere_edits` (re-exported here); the mask, buffer, default position,
+c-space and tool frame edits are here.
 """
 
 from __future__ import annotations
@@ -12,27 +11,32 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
-from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
-from ..util.numbers import bound_reason
-from ..xrdf.model import (
-    CSpace,
-    GeometryGroup,
-    SelfCollisionSection,
-    Sphere,
-    Vec3,
-    Xrdf,
-    clone_order,
+from ..xrdf.model import CSpace, SelfCollisionSection, Xrdf
+from .checks import EditError, checked_number
+from .sphere_edits import (
+    AddSphere,
+    ConnectSpheres,
+    DeleteSphere,
+    DuplicateSphere,
+    MoveSphere,
+    ReplaceSpheres,
+    ScaleSpheres,
+    SetRadius,
+    SphereEdit,
+    edit_spheres,
 )
 
 __all__ = [
     "AddSphere",
+    "ConnectSpheres",
     "DeleteSphere",
     "DuplicateSphere",
     "Edit",
     "EditError",
     "MoveSphere",
     "ReplaceSpheres",
+    "ScaleSpheres",
     "SetBuffer",
     "SetCspace",
     "SetDefaults",
@@ -42,80 +46,6 @@ __all__ = [
     "SetToolFrames",
     "apply_edit",
 ]
-
-
-class EditError(XrdfToolsError):
-    """An edit that does not fit the document (unknown sphere, no self_collision section)."""
-
-
-@dataclass(frozen=True)
-class MoveSphere:
-    """Move sphere ``index`` of ``frame`` to ``center`` (frame coordinates, metres)."""
-
-    frame: str
-    index: int
-    center: Vec3
-
-    def describe(self) -> str:
-        x, y, z = self.center
-        return f"move {self.frame}[{self.index}] to ({x:.4f}, {y:.4f}, {z:.4f})"
-
-
-@dataclass(frozen=True)
-class SetRadius:
-    """Set the radius of sphere ``index`` of ``frame`` (metres)."""
-
-    frame: str
-    index: int
-    radius: float
-
-    def describe(self) -> str:
-        return f"radius of {self.frame}[{self.index}] to {self.radius:.4f}"
-
-
-@dataclass(frozen=True)
-class AddSphere:
-    """Append ``sphere`` to ``frame``'s spheres."""
-
-    frame: str
-    sphere: Sphere
-
-    def describe(self) -> str:
-        return f"add a sphere to {self.frame}"
-
-
-@dataclass(frozen=True)
-class DuplicateSphere:
-    """Append a copy of sphere ``index`` of ``frame``, shifted by half its radius along x so
-    that it can be seen and grabbed."""
-
-    frame: str
-    index: int
-
-    def describe(self) -> str:
-        return f"duplicate {self.frame}[{self.index}]"
-
-
-@dataclass(frozen=True)
-class DeleteSphere:
-    """Remove sphere ``index`` of ``frame``."""
-
-    frame: str
-    index: int
-
-    def describe(self) -> str:
-        return f"delete {self.frame}[{self.index}]"
-
-
-@dataclass(frozen=True)
-class ReplaceSpheres:
-    """Replace every sphere of ``frame`` (a refit)."""
-
-    frame: str
-    spheres: tuple[Sphere, ...]
-
-    def describe(self) -> str:
-        return f"replace the spheres of {self.frame} ({len(self.spheres)} sphere(s))"
 
 
 @dataclass(frozen=True)
@@ -189,20 +119,7 @@ class SetToolFrames:
         return f"tool frames to {', '.join(self.frames) or '(none)'}"
 
 
-Edit = (
-    MoveSphere
-    | SetRadius
-    | AddSphere
-    | DuplicateSphere
-    | DeleteSphere
-    | ReplaceSpheres
-    | SetIgnored
-    | SetMask
-    | SetBuffer
-    | SetDefaults
-    | SetCspace
-    | SetToolFrames
-)
+Edit = SphereEdit | SetIgnored | SetMask | SetBuffer | SetDefaults | SetCspace | SetToolFrames
 
 
 def apply_edit(xrdf: Xrdf, group: str, edit: Edit) -> Xrdf:
@@ -218,7 +135,7 @@ def apply_edit(xrdf: Xrdf, group: str, edit: Edit) -> Xrdf:
         merged = dict(xrdf.default_joint_positions or {})
         merged.update(
             {
-                k: _number(f"default position of {k}", v, metres=False)
+                k: checked_number(f"default position of {k}", v, metres=False)
                 for k, v in edit.positions.items()
             }
         )
@@ -229,7 +146,7 @@ def apply_edit(xrdf: Xrdf, group: str, edit: Edit) -> Xrdf:
         if len(set(edit.frames)) != len(edit.frames):
             raise EditError("a tool frame is named twice")
         return xrdf.replace(tool_frames=tuple(edit.frames))
-    return _edit_spheres(xrdf, group, edit)
+    return edit_spheres(xrdf, group, edit)
 
 
 def _checked_cspace(cspace: CSpace) -> CSpace:
@@ -250,113 +167,12 @@ def _checked_cspace(cspace: CSpace) -> CSpace:
             raise EditError(f"{len(values)} {kind} limit(s) for {len(names)} c-space joint(s)")
         checked = []
         for name, value in zip(names, values, strict=True):
-            v = _number(f"{kind} limit of {name}", value, metres=False)
+            v = checked_number(f"{kind} limit of {name}", value, metres=False)
             if not v > 0:
                 raise EditError(f"the {kind} limit of {name} must be more than 0, not {v:g}")
             checked.append(v)
         limits.append(tuple(checked))
     return CSpace(names, limits[0], limits[1])
-
-
-# --------------------------------------------------------------------------------------------
-# Spheres
-# --------------------------------------------------------------------------------------------
-def _owner(xrdf: Xrdf, group: str, frame: str, index: int) -> tuple[str, int]:
-    """The group that holds sphere ``index`` of ``frame``'s resolved list, and its position
-    in that group's own list."""
-    geometry = xrdf.geometry or FrozenMap()
-    offset = index
-    for name in clone_order(geometry, group):
-        own = geometry[name].spheres.get(frame, ())
-        if offset < len(own):
-            return name, offset
-        offset -= len(own)
-    raise EditError(f"no sphere {index} on frame '{frame}' in geometry group '{group}'")
-
-
-def _holder(xrdf: Xrdf, group: str, frame: str) -> str:
-    """The group new spheres of ``frame`` go into: the first one (in clone order) that already
-    has spheres on the frame, else ``group`` itself."""
-    geometry = xrdf.geometry or FrozenMap()
-    for name in clone_order(geometry, group):
-        if frame in geometry[name].spheres:
-            return name
-    return group
-
-
-def _with_group_spheres(
-    xrdf: Xrdf, name: str, frame: str, spheres: tuple[Sphere, ...] | None
-) -> Xrdf:
-    """``xrdf`` with group ``name``'s spheres of ``frame`` set (None: the entry removed)."""
-    geometry = dict(xrdf.geometry or {})
-    old = geometry.get(name, GeometryGroup())
-    per = dict(old.spheres)
-    if spheres is None:
-        per.pop(frame, None)
-    else:
-        per[frame] = spheres
-    geometry[name] = replace(old, spheres=FrozenMap(per))
-    return xrdf.replace(geometry=FrozenMap(geometry))
-
-
-def _number(what: str, value: float, *, metres: bool = True) -> float:
-    """``value`` as a float, or :class:`EditError` when a saved file could not hold it
-    (not finite, or past the bound every reader applies: see :mod:`xrdf_tools.util.numbers`)."""
-    v = float(value)
-    reason = bound_reason(v, metres=metres)
-    if reason is not None:
-        raise EditError(f"{what} {v:g} cannot be saved: {reason}")
-    return v
-
-
-def _check_sphere(sphere: Sphere, *, new_radius: bool = True) -> Sphere:
-    """``sphere`` with plain float values, or :class:`EditError`. A radius the edit sets
-    (``new_radius``) must be more than 0 (XRDF 2.0 and lint refuse 0); a sphere that only
-    moves keeps its radius, even the negative one of a 1.0 attach slot."""
-    c = tuple(
-        _number(f"sphere centre {axis}", v) for axis, v in zip("xyz", sphere.center, strict=True)
-    )
-    radius = _number("sphere radius", sphere.radius)
-    if new_radius and not radius > 0:
-        raise EditError(f"a sphere radius must be more than 0, not {radius:g}")
-    return Sphere((c[0], c[1], c[2]), radius)
-
-
-def _edit_spheres(
-    xrdf: Xrdf,
-    group: str,
-    edit: MoveSphere | SetRadius | AddSphere | DuplicateSphere | DeleteSphere | ReplaceSpheres,
-) -> Xrdf:
-    geometry = xrdf.geometry or FrozenMap()
-    if group not in geometry:
-        raise EditError(f"geometry group '{group}' is not defined")
-    if isinstance(edit, AddSphere):
-        name = _holder(xrdf, group, edit.frame)
-        own = geometry[name].spheres.get(edit.frame, ()) if name in geometry else ()
-        return _with_group_spheres(xrdf, name, edit.frame, (*own, _check_sphere(edit.sphere)))
-    if isinstance(edit, ReplaceSpheres):
-        name = _holder(xrdf, group, edit.frame)
-        out = xrdf
-        for other in clone_order(geometry, group):
-            if other != name and edit.frame in geometry[other].spheres:
-                out = _with_group_spheres(out, other, edit.frame, None)
-        new = tuple(_check_sphere(s) for s in edit.spheres)
-        return _with_group_spheres(out, name, edit.frame, new)
-    name, k = _owner(xrdf, group, edit.frame, edit.index)
-    items = list(geometry[name].spheres[edit.frame])
-    old = items[k]
-    if isinstance(edit, MoveSphere):
-        items[k] = _check_sphere(Sphere(edit.center, old.radius), new_radius=False)
-    elif isinstance(edit, SetRadius):
-        items[k] = _check_sphere(Sphere(old.center, edit.radius))
-    elif isinstance(edit, DuplicateSphere):
-        shift = max(old.radius, 0.0) * 0.5
-        x, y, z = old.center
-        copy = Sphere((round(x + shift, 6), y, z), old.radius)
-        items.append(_check_sphere(copy, new_radius=False))
-    else:  # DeleteSphere
-        del items[k]
-    return _with_group_spheres(xrdf, name, edit.frame, tuple(items))
 
 
 # --------------------------------------------------------------------------------------------
@@ -378,7 +194,7 @@ def _edit_self_collision(xrdf: Xrdf, edit: SetIgnored | SetMask | SetBuffer) -> 
         ignore = FrozenMap((a, tuple(bs)) for a, bs in edit.ignore.items())
         return xrdf.replace(self_collision=replace(sc, ignore=ignore))
     if isinstance(edit, SetBuffer):
-        distance = _number("buffer distance", edit.distance)
+        distance = checked_number("buffer distance", edit.distance)
         if not distance >= 0:
             raise EditError(f"a buffer distance must be 0 or more, not {distance:g}")
         buffers = dict(sc.buffer_distance)

@@ -1,40 +1,34 @@
-"""The GUI panels of the ``xrdf edit`` page (viser): document, view, pose, spheres, refit.
+"""The GUI panels of the ``xrdf edit`` page (viser): document, view, pose, refit, link tree.
 
 Each control calls one :class:`~xrdf_tools.edit.page.PageSurface` method; :meth:`Panels.update`
 shows the page's state again. Controls answer only to the browser (``event.client`` set), so
-the page can set their values without triggering edits. The c-space and mask panels are
-:mod:`xrdf_tools.edit.cspace_panel` and :mod:`xrdf_tools.edit.mask_panel`.
+the page can set their values without triggering edits. The c-space, spheres and mask panels
+are :mod:`xrdf_tools.edit.cspace_panel`, :mod:`xrdf_tools.edit.sphere_panel` and
+:mod:`xrdf_tools.edit.mask_panel`.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from ..diff.render import render_text
-from ..xrdf.model import Sphere, Xrdf
+from ..xrdf.model import Xrdf
 from . import markup
 from .cspace_panel import CspacePanel
-from .edits import AddSphere, DeleteSphere, DuplicateSphere, MoveSphere, SetDefaults, SetRadius
+from .edits import SetDefaults
 from .markup import code, pre
 from .mask_panel import MaskPanel
+from .sphere_panel import SpherePanel
 from .surface import PageSurface, bounded, from_browser
-from .view import node
 
 if TYPE_CHECKING:
     from ..viz.meshes import MeshKind
     from .fit import FitProposal
 
 __all__ = ["Panels", "from_browser"]
-
-NONE = "none"
-#: The radius slider's step (its smallest value: XRDF 2.0 needs a radius above 0) and its
-#: usual end (moved out for a larger sphere), metres.
-RADIUS_STEP = 0.0005
-RADIUS_MAX = 0.3
 
 
 def _link_tree(page: PageSurface) -> str:
@@ -62,13 +56,11 @@ class Panels:
         gui = page.server.gui
         self.gui = gui
         self.proposal: FitProposal | None = None
-        self.gizmo: Any = None
-        self.gizmo_for: tuple[str, int] | None = None
         self._document_panel()
         self._view_panel()
         self._pose_panel()
         self.cspace = CspacePanel(page, gui)
-        self._sphere_panel()
+        self.spheres = SpherePanel(page, gui)
         self._fit_panel()
         self.mask = MaskPanel(page, gui)
         with gui.add_folder("Link tree", expand_by_default=False):
@@ -244,134 +236,12 @@ class Panels:
         for s, i in zip(self.sliders, self.page.robot.cspace_index, strict=True):
             s.value = float(np.clip(self.page.q[i], s.min, s.max))
 
-    # --- spheres ---------------------------------------------------------------------------
-    def _sphere_panel(self) -> None:
-        gui, page = self.gui, self.page
-        frames = page.robot.frame_names
-        with gui.add_folder("Spheres"):
-            self.link: Any = gui.add_dropdown("Link", frames, initial_value=frames[0])
-            self.sphere: Any = gui.add_dropdown("Sphere", (NONE,), initial_value=NONE)
-            self.center: list[Any] = [
-                gui.add_number(f"Center {axis} (m)", 0.0, step=0.0005) for axis in "xyz"
-            ]
-            self.radius: Any = gui.add_slider(
-                "Radius", RADIUS_STEP, RADIUS_MAX, step=RADIUS_STEP, initial_value=RADIUS_STEP
-            )
-            add = gui.add_button("Add sphere")
-            dup = gui.add_button("Duplicate sphere")
-            delete = gui.add_button("Delete sphere")
-        self.link.on_update(lambda e: page.pick(self.link.value, None) if from_browser(e) else None)
-        self.sphere.on_update(lambda e: self._pick_sphere() if from_browser(e) else None)
-        for axis, box in enumerate(self.center):
-            box.on_update(self._center_moved(axis, box))
-        self.radius.on_update(lambda e: self._resize() if from_browser(e) else None)
-        add.on_click(lambda e: self._add() if from_browser(e) else None)
-        dup.on_click(lambda e: self._on_sphere(DuplicateSphere) if from_browser(e) else None)
-        delete.on_click(lambda e: self._on_sphere(DeleteSphere) if from_browser(e) else None)
-
-    def _selected_sphere(self) -> tuple[str, int] | None:
-        sel = self.page.selected
-        if sel is None or sel[1] is None:
-            return None
-        return sel[0], sel[1]
-
-    def _pick_sphere(self) -> None:
-        value = self.sphere.value
-        self.page.pick(self.link.value, None if value == NONE else int(value))
-
-    def _center_moved(self, axis: int, box: Any) -> Any:
-        def moved(e: Any) -> None:
-            sel = self._selected_sphere()
-            if from_browser(e) and sel is not None:
-                s = self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]][sel[1]]
-                c = list(s.center)
-                c[axis] = float(box.value)
-                self._move((c[0], c[1], c[2]))
-
-        return moved
-
-    def _move(self, center: tuple[float, float, float]) -> None:
-        sel = self._selected_sphere()
-        if sel is not None:
-            c = (float(center[0]), float(center[1]), float(center[2]))
-            self.page.apply(MoveSphere(sel[0], sel[1], c), merge_key=("move", *sel))
-
-    def _resize(self) -> None:
-        sel = self._selected_sphere()
-        if sel is not None:
-            edit = SetRadius(sel[0], sel[1], float(self.radius.value))
-            self.page.apply(edit, merge_key=("radius", *sel))
-
-    def _add(self) -> None:
-        frame = self.link.value
-        if self.page.apply(AddSphere(frame, Sphere((0.0, 0.0, 0.0), 0.03))):
-            n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[frame])
-            self.page.pick(frame, n - 1)
-
-    def _on_sphere(self, kind: type[DuplicateSphere] | type[DeleteSphere]) -> None:
-        sel = self._selected_sphere()
-        if sel is None:
-            self.page.say("select a sphere first (click it, or choose it under Spheres)")
-            return
-        if self.page.apply(kind(sel[0], sel[1])) and kind is DuplicateSphere:
-            n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]])
-            self.page.pick(sel[0], n - 1)
-
     def sync_selection(self) -> None:
-        """Show the selected link and sphere in the controls and put the gizmo on it."""
-        page = self.page
-        sel = page.selected
-        if sel is None:
-            return
-        frame, k = sel
-        spheres = page.state.xrdf.resolved_spheres(page.state.group).get(frame, ())
-        self.link.value = frame
-        self.sphere.options = (NONE, *(str(i) for i in range(len(spheres))))
-        self.sphere.value = NONE if k is None else str(k)
-        if k is not None and k < len(spheres):
-            s = spheres[k]
-            for box, v in zip(self.center, s.center, strict=True):
-                box.value = v
-            # the slider reaches every radius it shows (a 0.4 m base sphere is not shown 0.3)
-            self.radius.max = max(RADIUS_MAX, math.ceil(s.radius * 10) / 10)
-            self.radius.value = float(min(max(s.radius, RADIUS_STEP), self.radius.max))
-        self.mask.sync_selection(frame)
-        self._place_gizmo(frame, None if k is None or k >= len(spheres) else spheres[k], k)
-
-    def _place_gizmo(self, frame: str, sphere: Sphere | None, k: int | None) -> None:
-        if sphere is None or k is None:
-            if self.gizmo is not None:
-                self.gizmo.remove()
-                self.gizmo, self.gizmo_for = None, None
-            return
-        if self.gizmo_for != (frame, k):
-            if self.gizmo is not None:
-                self.gizmo.remove()
-            self.gizmo = self.page.server.scene.add_transform_controls(
-                f"{node(frame)}/gizmo",
-                scale=max(0.12, 3 * sphere.radius),
-                disable_rotations=True,
-                depth_test=False,
-                position=sphere.center,
-            )
-            self.gizmo_for = (frame, k)
-            gizmo = self.gizmo
-
-            dragging = [False]  # only a drag moves the sphere
-
-            def dragged(e: Any) -> None:
-                phase = getattr(e, "phase", "update")
-                if phase == "start":
-                    dragging[0] = True
-                if dragging[0] and from_browser(e) and self.gizmo is gizmo:
-                    p = gizmo.position
-                    self._move((float(p[0]), float(p[1]), float(p[2])))
-                if phase == "end":
-                    dragging[0] = False
-
-            gizmo.on_update(dragged)
-        elif not np.allclose(self.gizmo.position, sphere.center):
-            self.gizmo.position = sphere.center
+        """Show the selected link and sphere in the Spheres and Mask panels."""
+        sel = self.page.selected
+        if sel is not None:
+            self.spheres.sync_selection()
+            self.mask.sync_selection(sel[0])
 
     # --- refit -----------------------------------------------------------------------------
     def _fit_panel(self) -> None:
@@ -399,7 +269,7 @@ class Panels:
         from .fit import propose_fit
 
         page = self.page
-        frame = self.link.value
+        frame = self.spheres.link.value
         target = bounded(self.fit_target)
         current = page.state.xrdf.resolved_spheres(page.state.group).get(frame, ())
         self.fit_result.content = f"_fitting {markup.text(frame)}…_"
