@@ -107,7 +107,7 @@ FIXED = settings(
 
 
 @pytest.mark.slow
-@settings(FIXED, max_examples=2000)
+@settings(FIXED, max_examples=1000)
 @given(mutated())
 def test_lint_never_raises_on_mutated_documents(text: str) -> None:
     diags = lint_text(text, "fuzz.xrdf")

@@ -141,7 +141,15 @@ def test_a_nan_mesh_vertex_is_reported_not_dropped(runner: CliRunner, tmp_path: 
     (tmp_path / "arm.urdf").write_text((ARM / "arm.urdf").read_text())
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        _, out = _cli(runner, "spheres", str(tmp_path / "arm.urdf"), "-o", str(tmp_path / "s.xrdf"))
+        _, out = _cli(
+            runner,
+            "spheres",
+            str(tmp_path / "arm.urdf"),
+            "--links",
+            "camera",
+            "-o",
+            str(tmp_path / "s.xrdf"),
+        )
     assert "camera.stl: a vertex is not finite or beyond ±1e+06 m" in out, out
 
 
