@@ -92,7 +92,6 @@ def test_cspace_edit_saves_lints_and_undoes(panda: tuple[Any, Xrdf], tmp_path: P
 @pytest.mark.parametrize(
     ("cspace", "message"),
     [
-        (CSpace((), (), ()), "at least one joint"),
         (CSpace(("panda_joint1", "panda_joint1"), (1.0, 1.0), (1.0, 1.0)), "named twice"),
         (CSpace(("panda_joint1",), (0.0,), (1.0,)), "more than 0"),
         (CSpace(("panda_joint1",), (1.0,), (-5.0,)), "more than 0"),
@@ -106,6 +105,15 @@ def test_a_cspace_no_reader_can_take_is_refused(
 ) -> None:
     with pytest.raises(EditError, match=message):
         EditState.start(panda[1]).apply(SetCspace(cspace))
+
+
+def test_an_empty_cspace_is_valid_xrdf_and_saves(panda: tuple[Any, Xrdf], tmp_path: Path) -> None:
+    """The spec reads an empty c-space (joint_names null or []); the library does not refuse
+    what lint accepts."""
+    robot, x = panda
+    st = EditState.start(x).apply(SetCspace(CSpace((), (), ())))
+    save(st, tmp_path / "empty.xrdf")
+    assert errors((tmp_path / "empty.xrdf").read_text(), robot) == []
 
 
 def test_a_tool_frame_named_twice_is_refused(panda: tuple[Any, Xrdf]) -> None:
@@ -191,6 +199,17 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         panel.frame.value = "panda_hand"
         panel._tool_frames(add=False)
         assert page.view.shown_tool_frames == ("panda_link7",)
+        # the page keeps one joint: an empty c-space is valid XRDF, but moves nothing
+        for joint in ARM[:-1]:
+            panel.joint.value = joint
+            panel.member.value = False
+            panel._set_member()
+        assert page.robot.cspace == ARM[-1:] and len(page.panels.sliders) == 1
+        panel.joint.value = ARM[-1]
+        panel.member.value = False
+        panel._set_member()
+        assert "last c-space joint" in page.message and page.robot.cspace == ARM[-1:]
+        assert panel.member.value is True
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing saved
     finally:
         page.close()

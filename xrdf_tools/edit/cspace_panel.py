@@ -5,7 +5,8 @@ A joint is picked from the joints the c-space can hold (:meth:`EditRobot.cspace_
 URDF order); **In c-space** takes it in at its place in URDF order (cuRobo fills default
 positions in URDF order, so that order keeps them right) or leaves it out, and the limits
 fields set its limits. A joint taken in gets the limits shown, which for a joint not in the
-c-space are ``xrdf convert``'s defaults. The Pose panel's sliders follow the c-space.
+c-space are ``xrdf convert``'s defaults. The Pose panel's sliders follow the c-space. The
+last joint is not left out: an empty c-space is valid XRDF but gives a planner nothing to move.
 """
 
 from __future__ import annotations
@@ -99,6 +100,11 @@ class CspacePanel:
         included = bool(self.member.value)
         acceleration, jerk = self._limits()
         with page.lock:
+            cs = page.state.xrdf.cspace
+            if not included and cs is not None and tuple(cs.joint_names) == (joint,):
+                page.say(f"not done: {joint} is the last c-space joint; take another in first")
+                self.sync()
+                return
             cspace = page.robot.cspace_with(
                 page.state.xrdf, joint, included=included, acceleration=acceleration, jerk=jerk
             )

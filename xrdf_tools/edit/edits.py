@@ -99,8 +99,8 @@ class SetCspace:
 
     Which joints a robot can have in its c-space is the robot's to say
     (:meth:`xrdf_tools.edit.robot.EditRobot.cspace_joint_choices`); the edit itself checks
-    what any document needs: at least one joint, no joint twice, one positive finite limit of
-    each kind per joint. ``label`` says what changed (shown in the undo history)."""
+    what any document needs: no joint twice, one positive finite limit of each kind per
+    joint. ``label`` says what changed (shown in the undo history)."""
 
     cspace: CSpace
     label: str = "set the c-space"
@@ -150,11 +150,11 @@ def apply_edit(xrdf: Xrdf, group: str, edit: Edit) -> Xrdf:
 
 
 def _checked_cspace(cspace: CSpace) -> CSpace:
-    """``cspace`` with plain float limits, or :class:`EditError`: no joint, a joint named
-    twice, lists of other lengths, or a limit that is not a positive number a file can hold."""
+    """``cspace`` with plain float limits, or :class:`EditError`: a joint named twice, lists
+    of other lengths, or a limit that is not a positive number a file can hold. An empty
+    c-space is valid XRDF (the page does not leave its last joint out: see
+    :mod:`xrdf_tools.edit.cspace_panel`)."""
     names = tuple(cspace.joint_names)
-    if not names:
-        raise EditError("the c-space needs at least one joint (every reader refuses an empty one)")
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise EditError(f"c-space joint '{twice[0]}' is named twice")
