@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from xrdf_tools.spheres.geometry import bounding_box
+from xrdf_tools.spheres.mesh_solids import bounding_box
 from xrdf_tools.spheres.obb import oriented_box
 from xrdf_tools.spheres.robot_fit import fit_robot
 from xrdf_tools.util.fixed_order import quantized

@@ -264,7 +264,7 @@ def test_hull_faces_are_turned_outward_as_trimesh_fix_normals_turns_them() -> No
 
     from xrdf_tools.robot.link_geometry import link_geometry
     from xrdf_tools.robot.xacro_source import load_robot
-    from xrdf_tools.spheres.geometry import _turn_outward
+    from xrdf_tools.spheres.mesh_solids import _turn_outward
 
     robot = load_robot(_robot("so_arm_description/urdf/so101.urdf"))
     meshes = [

@@ -17,7 +17,8 @@ from xrdf_tools.cli import app
 from xrdf_tools.spheres import sphere_metrics
 from xrdf_tools.spheres.fewest import HeldOut
 from xrdf_tools.spheres.fit import SphereFitter
-from xrdf_tools.spheres.geometry import load_link_geometry, repaired
+from xrdf_tools.spheres.geometry import load_link_geometry
+from xrdf_tools.spheres.mesh_solids import repaired
 from xrdf_tools.spheres.robot_fit import fit_robot
 
 #: Relative error of a volume whose vertices lie on the fitting grid (``util.fixed_order``).

@@ -248,7 +248,7 @@ def test_panda_links_are_not_sheets_and_say_nothing_of_it() -> None:
 def test_a_closed_flat_mesh_is_no_volume_without_a_numpy_warning() -> None:
     """Four coplanar points closed into a tetrahedron (a marker plate exported as a closed
     shell of no thickness): no volume, and trimesh's 0/0 centre of mass prints nothing."""
-    from xrdf_tools.spheres.geometry import is_volume
+    from xrdf_tools.spheres.mesh_solids import is_volume
 
     flat = trimesh.Trimesh(
         vertices=[[0, 0, 0], [0.03, 0, 0], [0, 0.03, 0], [0.03, 0.03, 0]],

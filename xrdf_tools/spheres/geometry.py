@@ -33,19 +33,20 @@ from ..robot.link_geometry import GeometryChoice, GeometrySource, LinkParts
 from ..util.errors import UrdfError
 from ..util.fixed_order import quantized
 from ..xrdf.model import Sphere
-from .obb import oriented_box
+from .mesh_solids import (
+    closed_part,
+    convex_hull,
+    is_volume,
+    overlapping_bodies,
+    repaired,
+)
 
 if TYPE_CHECKING:
     import trimesh
 
-__all__ = ["LinkGeometry", "is_volume", "link_solids", "load_link_geometry"]
+__all__ = ["LinkGeometry", "link_solids", "load_link_geometry"]
 
 SolidKind = Literal["mesh", "union", "convex_hull", "bounding_box"]
-
-#: A closed solid with less than this share of its convex hull's volume is a thin shell.
-THIN_SHELL_RATIO = 0.4
-#: The thinnest bounding box a flat part becomes (metres).
-MIN_THICKNESS = 0.002
 
 RULE_VISUAL_FALLBACK = "spheres-visual-fallback"
 RULE_CONVEX_HULL = "spheres-convex-hull"
@@ -79,157 +80,6 @@ class LinkGeometry:
     exact: tuple[Sphere, ...] = ()
 
 
-def is_volume(mesh: trimesh.Trimesh) -> bool:
-    """True when ``mesh`` encloses a positive volume (watertight, consistently wound). A flat
-    closed mesh has a centre of mass of 0/0: trimesh's numpy warning is not printed."""
-    try:
-        with np.errstate(invalid="ignore", divide="ignore"):
-            return bool(mesh.is_volume) and float(mesh.volume) > 0.0
-    except Exception:  # trimesh's volume checks raise assorted errors on degenerate meshes
-        return False
-
-
-def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
-    """The convex hull of ``mesh`` as a closed solid, or None when it is flat or degenerate.
-
-    Built from qhull's triangulated facets turned outward (trimesh's own hull, tried second,
-    merges facets into a non-manifold surface on some dense CAD meshes)."""
-    import trimesh
-
-    try:
-        from scipy.spatial import ConvexHull
-
-        ch = ConvexHull(np.asarray(mesh.vertices, dtype=np.float64), qhull_options="Qt")
-        rebuilt = trimesh.Trimesh(mesh.vertices, ch.simplices, process=True)
-        rebuilt.remove_unreferenced_vertices()
-        _turn_outward(rebuilt)
-        if is_volume(rebuilt):
-            return rebuilt
-    except Exception:  # flat, collinear or too few points: try trimesh's hull below
-        pass
-    try:
-        hull: trimesh.Trimesh = mesh.convex_hull
-    except Exception:  # qhull fails on flat or degenerate parts: no hull
-        return None
-    return hull if is_volume(hull) else None
-
-
-def _turn_outward(hull: trimesh.Trimesh) -> None:
-    """Reverse the faces of a convex hull whose normal points inward (towards the mean of its
-    vertices, inside a hull that is not flat): the faces trimesh's ``fix_normals`` gives, 20×
-    faster (it walks the faces one by one: 0.2 s for a hull of 5,000)."""
-    v = np.asarray(hull.vertices, dtype=np.float64)
-    f = np.asarray(hull.faces)
-    tri = v[f]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    inward = np.einsum("ij,ij->i", normal, tri.mean(axis=1) - v.mean(axis=0)) < 0.0
-    if inward.any():
-        faces = f.copy()
-        faces[inward] = faces[inward][:, ::-1]
-        hull.faces = faces
-
-
-def bounding_box(mesh: trimesh.Trimesh) -> trimesh.Trimesh | None:
-    """The oriented bounding box of ``mesh``, at least ``MIN_THICKNESS`` along each axis."""
-    import trimesh
-
-    if len(mesh.vertices) == 0:
-        return None
-    try:
-        to_link, extents = oriented_box(mesh.vertices)
-    except Exception:  # a single point or a degenerate set: use the axis-aligned box
-        # of the vertices (trimesh's bounds are None when no face uses a vertex: a
-        # <cylinder length="0" radius="0"/> placeholder)
-        points = np.asarray(mesh.vertices, dtype=np.float64)
-        lo, hi = points.min(axis=0), points.max(axis=0)
-        to_link, extents = np.eye(4), hi - lo
-        to_link[:3, 3] = (lo + hi) / 2.0
-    box = trimesh.creation.box(
-        extents=np.maximum(np.asarray(extents, dtype=np.float64), MIN_THICKNESS),
-        transform=to_link,
-    )
-    return box if is_volume(box) else None
-
-
-def repaired(part: trimesh.Trimesh) -> trimesh.Trimesh:
-    """``part`` itself when it encloses a volume, else the first of these mended copies that
-    does: its vertices merged across texture and normal seams (an OBJ or COLLADA file
-    repeats a vertex for each texture coordinate it has, and trimesh keeps those copies
-    apart: the surface is cut open along every seam); then also its zero-area faces dropped
-    (a CAD export's slivers, each leaving an edge shared by four faces). Either is turned
-    outward when all its faces point inward (closed, of negative volume). Else ``part``
-    unchanged: nothing else is mended, a mesh open after that is open."""
-    if is_volume(part):
-        return part
-    mesh = part.copy()
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mesh.merge_vertices(merge_tex=True, merge_norm=True)
-        if _outward(mesh):
-            return mesh
-        mesh.update_faces(mesh.nondegenerate_faces())
-        mesh.remove_unreferenced_vertices()
-        mesh.merge_vertices(merge_tex=True, merge_norm=True)
-        return mesh if _outward(mesh) else part
-
-
-def _outward(mesh: trimesh.Trimesh) -> bool:
-    """Whether ``mesh`` encloses a volume, once turned outward if it is closed and all its
-    faces point inward (``mesh`` is inverted in place then)."""
-    closed = len(mesh.faces) and mesh.is_watertight and mesh.is_winding_consistent
-    if closed and float(mesh.volume) < 0.0:
-        mesh.invert()
-    return is_volume(mesh)
-
-
-def _closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
-    """The part as a closed solid: itself, else its hull, else its bounding box."""
-    if is_volume(part):
-        hull = convex_hull(part)
-        if hull is not None and float(part.volume) < THIN_SHELL_RATIO * float(hull.volume):
-            return hull, "thin_shell"
-        return part, "mesh"
-    hull = convex_hull(part)
-    if hull is not None:
-        return hull, "convex_hull"
-    box = bounding_box(part)
-    return (box, "bounding_box") if box is not None else None
-
-
-def _overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
-    """The closed bodies of one mesh when some of them overlap (a CAD export of a link as
-    intersecting shells in one file), else the mesh itself. A point inside two shells crosses
-    an even number of faces, so an inside test of the whole file calls it outside: the bodies
-    are unioned instead, like the parts of a link."""
-    if not is_volume(part):
-        return [part]
-    bodies = connected_bodies(part)
-    if len(bodies) < 2 or not all(is_volume(b) for b in bodies):
-        return [part]
-    lo = np.array([b.bounds[0] for b in bodies])
-    hi = np.array([b.bounds[1] for b in bodies])
-    touch = np.all(lo[:, None, :] < hi[None, :, :], axis=2) & np.all(
-        lo[None, :, :] < hi[:, None, :], axis=2
-    )
-    np.fill_diagonal(touch, False)
-    return list(bodies) if touch.any() else [part]
-
-
-def connected_bodies(mesh: trimesh.Trimesh) -> list[trimesh.Trimesh]:
-    """The bodies of ``mesh`` (faces joined by shared edges) in the order of their first
-    faces, each keeping the faces in the mesh's own order (``mesh.split(only_watertight=
-    False)``, made machine-independent: trimesh groups the faces by an unstable sort, whose
-    ties numpy's SIMD sort (AVX-512) and its portable one break differently, and a fit
-    follows the order of the faces)."""
-    import trimesh
-
-    found = trimesh.graph.connected_components(
-        mesh.face_adjacency, nodes=np.arange(len(mesh.faces)), min_len=1
-    )
-    bodies = sorted((np.sort(np.asarray(c, dtype=np.intp)) for c in found), key=lambda c: c[0])
-    out: Any = mesh.submesh(bodies, only_watertight=False, repair=True)  # a list for a list
-    return list(out)
-
-
 def _solidify(
     link: str,
     parts: list[trimesh.Trimesh],
@@ -239,11 +89,11 @@ def _solidify(
 ) -> tuple[trimesh.Trimesh, SolidKind] | None:
     import trimesh
 
-    bodies = [body for whole in parts for body in _overlapping_bodies(repaired(whole))]
+    bodies = [body for whole in parts for body in overlapping_bodies(repaired(whole))]
     made: list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]] = []  # (body, its solid, how)
     for body in bodies:
         with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
-            got = _closed_part(body)
+            got = closed_part(body)
         if got is not None:
             made.append((body, *got))
     closed = [solid for _, solid, _ in made]

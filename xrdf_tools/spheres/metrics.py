@@ -93,7 +93,7 @@ def sphere_arrays(spheres: Sequence[Sphere]) -> tuple[FloatArray, FloatArray]:
 
 def as_solid(mesh: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str]:
     """The mesh if it encloses a volume, else its convex hull."""
-    from .geometry import is_volume
+    from .mesh_solids import is_volume
 
     if is_volume(mesh):
         return mesh, "mesh"

@@ -184,7 +184,7 @@ def _closed_part_boxes(loaded: Mapping[str, LinkParts], expected: dict[str, int]
     fitter's solids (which say why a link cannot be loaded)."""
     import numpy as np
 
-    from ...spheres.geometry import is_volume
+    from ...spheres.mesh_solids import is_volume
 
     out: dict[str, Box] = {}
     for name, link in loaded.items():
