@@ -110,9 +110,11 @@ def command(
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
-    """Edit an XRDF in the browser: move, resize, add, delete and refit spheres; pose the
-    robot and see its self-collisions live; toggle mask pairs, run a report and apply its mask;
-    set buffers and default positions. Undo/redo; Save shows the `xrdf diff` first.
+    """Edit an XRDF in the browser: move, resize, add, delete, connect, scale and refit
+    spheres; pose the robot and see its self-collisions live; toggle mask pairs, run a report
+    and apply its mask; set buffers and default positions; choose the c-space joints, their
+    acceleration and jerk limits, and the tool frames. Undo/redo; Save shows the `xrdf diff`
+    first.
 
     Nothing is written until you press Save, and only to ROBOT.xrdf (or -o). Stop with Ctrl-C.
     Needs the edit extra: pip install "xrdf-tools[edit]".
