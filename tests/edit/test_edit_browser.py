@@ -248,6 +248,8 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         wait_for(finger_in, "the c-space edit")
         slider = row(page, "panda_finger_joint1").locator("input.mantine-NumberInput-input")
         expect(slider).to_have_value("0.04")  # the finger's default position
+        page.get_by_text("In c-space", exact=True).scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / "edit_cspace.png"))
 
         # 6. save: the diff first, then the file
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing written yet
