@@ -356,8 +356,10 @@ def test_srdf_xacro_is_expanded_with_the_robots_arguments(
     assert list(x.default_joint_positions.values()) == [0.25, -0.5]  # the SRDF's home state
     assert x.self_collision is not None
     assert tuple(x.self_collision.ignore.get("z_l0", ())) == ("z_l2",)  # kept
-    # the expansion's lines are not the file's: diagnostics about the SRDF name no line
-    assert f"{srdf}: info convert-chosen-group" in result.output  # its only group
+    # the expansion's lines are not the file's: an element is located where the xacro file
+    # writes it
+    assert f"{srdf}:5: info convert-chosen-group" in result.output  # its only group
+    assert f"{srdf}:6: warning convert-chosen-state" in result.output
     shown = runner.invoke(app, ["inspect", str(robot), "--srdf", str(srdf)])
     assert shown.exit_code == 0, shown.output
     assert "arm: 2 c-space joint(s): a_j0, a_j1" in shown.output
