@@ -483,6 +483,44 @@ def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
         assert "\n" not in msg
 
 
+def test_an_srdf_xacros_groups_are_located_in_the_xacro_file(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Trossen's wxai.srdf.xacro: a group naming a joint the URDF lacks was reported without a
+    line ('bad.srdf.xacro: warning ...'), and as '(line None)' when used. A group written
+    literally in the xacro file is located at its line there; one a macro makes has no line
+    and the message names none."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t" xmlns:xacro="http://www.ros.org/wiki/xacro">
+        <xacro:arg name="variant" default="base"/>
+        <xacro:macro name="hand" params="name">
+          <group name="${name}"><joint name="ghost"/></group>
+        </xacro:macro>
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="typo"><joint name="j22"/></group>
+        <xacro:hand name="made"/>
+        </robot>""",
+        "t.srdf.xacro",
+    )
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    loaded = load_srdf(srdf)
+    assert (loaded.groups["arm"].line, loaded.groups["typo"].line) == (6, 7)
+    assert loaded.groups["made"].line is None
+    d = read_srdf(loaded, tree, group="arm")
+    warned = {w.message.split("'")[1]: w.line for w in d.diagnostics if "unused-group" in w.rule}
+    assert warned == {"typo": 7, "made": None}
+    with pytest.raises(SourceError) as err:
+        read_srdf(loaded, tree, group="made")
+    msg = str(err.value)
+    assert "group 'made': unknown joint 'ghost'" in msg and "None" not in msg
+    with pytest.raises(SourceError) as err:
+        read_srdf(loaded, tree, group="typo")
+    assert err.value.line == 7
+    assert "group 'typo' (line 7): unknown joint 'j22' (did you mean 'j2'?)" in str(err.value)
+
+
 def test_groups_that_include_themselves_warn_unless_used(tree: RobotTree, tmp_path: Path) -> None:
     """Subgroups that include each other in groups the conversion does not use are located
     warnings naming the loop (they were ignored without a word); a used one is an error."""

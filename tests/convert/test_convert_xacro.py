@@ -356,8 +356,10 @@ def test_srdf_xacro_is_expanded_with_the_robots_arguments(
     assert list(x.default_joint_positions.values()) == [0.25, -0.5]  # the SRDF's home state
     assert x.self_collision is not None
     assert tuple(x.self_collision.ignore.get("z_l0", ())) == ("z_l2",)  # kept
-    # the expansion's lines are not the file's: diagnostics about the SRDF name no line
-    assert f"{srdf}: info convert-chosen-group" in result.output  # its only group
+    # the expansion's lines are not the file's: an element is located where the xacro file
+    # writes it
+    assert f"{srdf}:5: info convert-chosen-group" in result.output  # its only group
+    assert f"{srdf}:6: warning convert-chosen-state" in result.output
     shown = runner.invoke(app, ["inspect", str(robot), "--srdf", str(srdf)])
     assert shown.exit_code == 0, shown.output
     assert "arm: 2 c-space joint(s): a_j0, a_j1" in shown.output
@@ -573,6 +575,43 @@ def test_an_unset_argument_names_the_others_the_files_use_without_a_default(
     with pytest.raises(SourceError) as e:
         expand_xacro(top, {"enable_crane": "false", "head_type": "a"})
     assert e.value.message.endswith("(pass --xacro-arg test:=VALUE)")
+
+
+def test_an_unknown_package_names_the_others_the_files_name(tmp_path: Path) -> None:
+    """Reachy 2's reachy.urdf.xacro names four packages beside its own (orbita2d/3d,
+    dynamixel, zuuu); the error about the first was all a run said, so finding them took four
+    runs. It names the others its files name (the top file and the includes found by
+    $(find), not a comment), with the flag for each; a found package is not named."""
+    pkg = tmp_path / "robo_description"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>robo_description</name></package>")
+    (pkg / "urdf" / "arm.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="$(find wrist_description)/urdf/wrist.xacro"/>\n'
+        "  <!-- $(find commented_description) -->\n</robot>\n"
+    )
+    top = pkg / "robot.urdf.xacro"
+    top.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="$(find head_description)/urdf/head.xacro"/>\n'
+        '  <xacro:include filename="$(find robo_description)/urdf/arm.xacro"/>\n'
+        '  <link name="base"/>\n</robot>\n'
+    )
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top)
+    msg = e.value.message
+    assert e.value.line == 2 and "cannot find ROS package 'head_description'" in msg
+    assert msg.endswith(": --package-path wrist_description=DIR"), msg
+    assert "robo_description=DIR" not in msg and "commented" not in msg
+    head = tmp_path / "head_description"
+    (head / "urdf").mkdir(parents=True)
+    (head / "urdf" / "head.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="head"/></robot>'
+    )
+    with pytest.raises(SourceError) as e:
+        expand_xacro(top, package_paths={"head_description": str(head)})
+    assert "cannot find ROS package 'wrist_description'" in e.value.message
+    assert "either" not in e.value.message  # the only one left
 
 
 def test_a_yaml_file_named_by_an_arg_default_is_located_with_the_arg_to_pass(

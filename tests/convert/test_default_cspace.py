@@ -713,3 +713,35 @@ def test_a_quadrupeds_other_legs_are_named_once_as_ties_not_as_passed_over(
     text = choice.describe()
     assert "passed over" not in text
     assert text.count("--chain body:leg2_c_link") == 1
+
+
+def test_a_grippers_frame_wins_over_a_wrist_cameras_frame(tmp_path: Path) -> None:
+    """SO-101 with a wrist camera: two frames without geometry hang from the gripper,
+    'gripper_frame_link' and 'd405_link' (a RealSense D405, its model in digits). The tool
+    frame is the gripper's, whatever the names' order; a camera's frame is never chosen, and
+    with no other frame the guess falls back to the link the chain ends at."""
+    box = "<collision><geometry><box size='0.02 0.02 0.02'/></geometry></collision>"
+    solid = ["base_link", "upper", "gripper_link", "jaw"]
+
+    def urdf(frames: list[str]) -> Robot:
+        links = "".join(f'<link name="{n}">{box}</link>' for n in solid)
+        links += "".join(f'<link name="{n}"/>' for n in frames)
+        joints = "".join(
+            [
+                _j("shoulder", "revolute", "base_link", "upper"),
+                _j("wrist_roll", "revolute", "upper", "gripper_link"),
+                _j("gripper", "revolute", "gripper_link", "jaw"),
+                *(_j(f"to_{n}", "fixed", "gripper_link", n) for n in frames),
+            ]
+        )
+        p = tmp_path / "so101.urdf"
+        p.write_text(f'<robot name="so101">{links}{joints}</robot>')
+        return as_robot(load_urdf(p))
+
+    for frames in (["gripper_frame_link", "d405_link"], ["d405_link", "gripper_frame_link"]):
+        x, _ = convert(urdf(frames), ConvertOptions())
+        assert x.cspace is not None and x.cspace.joint_names == ("shoulder", "wrist_roll")
+        assert x.tool_frames == ("gripper_frame_link",)
+    for camera in ("d405_link", "camera_d435i_link", "wrist_L515", "realsense_link"):
+        x, _ = convert(urdf([camera]), ConvertOptions())
+        assert x.tool_frames == ("gripper_link",), camera

@@ -171,3 +171,27 @@ def test_joints_the_urdf_lacks_are_one_warning(runner: CliRunner, tmp_path: Path
         f"{limits}:2:3: warning convert-unknown-joint joint_limits names 'j11', which is not a "
         "joint of the URDF; did you mean 'j1'?; ignored"
     ) in r.stderr
+
+
+def test_a_templates_joint_names_say_the_file_is_a_template(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Clearpath's kinova_gen3_7dof/joint_limits.yaml names '${name}_joint_1': a template its
+    generator fills in. The one warning about the unknown joints says so and what to give."""
+    arm = tmp_path / "arm.urdf"
+    arm.write_text(_ARM.replace("${p}", "arm_0_"))
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  ${name}_j1:\n    max_acceleration: 1.0\n"
+        "  ${name}_j2:\n    max_acceleration: 1.0\n"
+    )
+    r = runner.invoke(app, ["convert", str(arm), "--joint-limits", str(limits)])
+    assert r.exit_code == 0, r.output
+    (unknown,) = [ln for ln in r.stderr.splitlines() if "convert-unknown-joint" in ln]
+    assert unknown.startswith(f"{limits}:2:3: warning convert-unknown-joint joint_limits names 2")
+    assert unknown.endswith(
+        "; ignored: ${name} in a joint name is a template's expression that a generator or "
+        "xacro fills in: give the file it writes"
+    )
+    assert "convert-default-acceleration" in r.stderr  # nothing was taken from it

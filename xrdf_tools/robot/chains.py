@@ -29,7 +29,9 @@ Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand
 (:func:`guess_tool_frame`) is a link below the last c-space joint
 reached through fixed joints only, preferring ``tool0``, then ``tcp``, ``tool``, ``ee``/``eef``/
 ``end_effector``, ``flange``, ``grasp`` names, then a frame without collision geometry at the end
-of a fixed branch, then the link where a single chain of fixed joints ends.
+of a fixed branch (one named like a gripper first: SO-101's ``gripper_frame_link`` over its
+``d405_link``), then the link where a single chain of fixed joints ends. A frame named like a
+sensor or a camera (``camera_link``, ``d435i_link``) is never a tool frame.
 
 Everything here is a pure function of the :class:`~xrdf_tools.robot.tree.RobotTree`; the
 converter reports each choice and ``xrdf inspect`` shows it.
@@ -47,14 +49,15 @@ from .names import (
     ARM,
     HEAD,
     LEG,
-    SENSOR,
     TOOL_RANKS,
     TOOL_WORDS,
     JointRole,
     name_role,
     name_words,
     says_finger,
+    says_gripper,
     says_hand,
+    says_sensor,
     turns_hand,
 )
 from .tree import RobotTree
@@ -330,7 +333,7 @@ def guess_tool_frame(
         return ToolFrameGuess("tool0", "named tool0", names, named=True)
     for rank, words in TOOL_RANKS:
         hits = [(d, n) for n, d in below if set(name_words(n)) & words]
-        hits = [(d, n) for d, n in hits if not set(name_words(n)) & SENSOR]
+        hits = [(d, n) for d, n in hits if not says_sensor(n)]
         if hits:
             frame = min(hits)[1]
             return ToolFrameGuess(
@@ -338,15 +341,12 @@ def guess_tool_frame(
             )
     if collision_links is not None:
         frames = [
-            (d, n)
+            (not says_gripper(n), d, n)  # a gripper's frame first, then the shallowest
             for n, d in below
-            if d > 0
-            and n not in collision_links
-            and not tree.child_joints.get(n)
-            and not set(name_words(n)) & SENSOR
+            if d > 0 and n not in collision_links and not tree.child_joints.get(n)
         ]
-        if frames:
-            frame = min(frames)[1]
+        if frames := [f for f in frames if not says_sensor(f[2])]:
+            frame = min(frames)[2]
             return ToolFrameGuess(
                 frame, f"a frame without geometry at the end of '{last_joint}'", names
             )

@@ -24,7 +24,9 @@ __all__ = [
     "name_role",
     "name_words",
     "says_finger",
+    "says_gripper",
     "says_hand",
+    "says_sensor",
     "turns_hand",
 ]
 
@@ -77,7 +79,11 @@ TOOL_WORDS = frozenset().union(*(names for rank, names in TOOL_RANKS if rank != 
 SENSOR = HEAD | {
     *("optical", "depth", "rgb", "imu", "sensor", "accelerometer", "accel", "gyrometer", "gyro"),
     *("range", "sonar", "infrared", "touch", "tactile", "skin", "bumper", "button", "fsr"),
+    *("realsense", "zed", "orbbec", "astra", "femto"),
 }
+#: Depth camera models whose names hold digits, which :func:`name_words` drops (``d405_link``
+#: is the words d, link): Intel RealSense D4xx, L515 and SR30x.
+_CAMERA_MODEL = re.compile(r"(?<![A-Za-z0-9])(?:[dD]4\d\d[iI]?|[lL]515|[sS][rR]30\d)(?![0-9])")
 
 
 @lru_cache(maxsize=65536)
@@ -109,6 +115,18 @@ def name_role(name: str) -> JointRole | None:
     if words & HEAD or (words & PAN_TILT and not words & ARM):
         return "head"
     return None
+
+
+def says_sensor(name: str) -> bool:
+    """Whether a link or joint name speaks of a sensor or a camera (``camera_color_optical_frame``,
+    ``d405_link``): a frame no tool is mounted at."""
+    return bool(set(name_words(name)) & SENSOR) or _CAMERA_MODEL.search(name) is not None
+
+
+def says_gripper(name: str) -> bool:
+    """Whether a link name speaks of a gripper or a hand (``gripper_frame_link``)."""
+    words = set(name_words(name))
+    return bool(words & GRIPPER) or any(w.endswith(GRIPPER_ENDINGS) for w in words)
 
 
 def says_hand(words: Collection[str]) -> bool:

@@ -49,6 +49,7 @@ __all__ = [
     "parse_robot",
     "parse_urdf_string",
     "read_robot",
+    "relocate_expansion",
     "source_line",
     "urdf_path",
 ]
@@ -249,7 +250,7 @@ def _parse_bytes(
     etree.strip_tags(root, etree.Comment)
     source = _xacro_source(path) if expanded else ""
     if expanded:
-        _relocate_expansion(root, source)
+        relocate_expansion(root, source)
     warnings = [_undeclared_prefix_warning(e, path) for e in undeclared]
     if undeclared:
         _drop_prefixed_names(root)
@@ -262,7 +263,7 @@ def _parse_bytes(
         elif not expanded and e.line is not None:
             e.line = attribute_line(text.splitlines(), e.line, e.message)
         raise
-    if expanded:  # 0: not written literally in the xacro file (see _relocate_expansion)
+    if expanded:  # 0: not written literally in the xacro file (see relocate_expansion)
         link_lines = {k: v for k, v in link_lines.items() if v}
         joint_lines = {k: v for k, v in joint_lines.items() if v}
     elif warnings:
@@ -436,10 +437,11 @@ def _start_tag(
     return -1
 
 
-def _relocate_expansion(root: Any, source: str) -> None:
+def relocate_expansion(root: Any, source: str) -> None:
     """Give the elements of an expanded xacro the lines of its xacro file's text ``source``.
 
-    The expansion's own lines are not the file's. A top-level ``<link>``/``<joint>`` written
+    The expansion's own lines are not the file's. A top-level element (a URDF's ``<link>``/
+    ``<joint>``, an SRDF's ``<group>``/``<group_state>``/``<disable_collisions>``) written
     literally in the file (``<joint name="j1"``, or its first attribute when it has no name)
     takes that line, and so does everything inside it; one that a macro or a ``$(arg)`` made
     has no line (lxml reads 0 as no line), also when the file writes the same tag literally

@@ -11,13 +11,15 @@ xacro stops at the first ``$(arg x)`` that has no value; a robot whose launch fi
 arguments (PAL's Talos: ``enable_crane``, ``foot_collision``, ``head_type``, ...) would take six
 runs to find them one by one. :func:`unset_args` reads the top file and the files its
 ``<xacro:include>`` tags name (a ``$(find pkg)`` resolved as the expansion does, other
-substitutions skipped) and lists every argument used without a ``<xacro:arg>`` default.
+substitutions skipped) and lists every argument used without a ``<xacro:arg>`` default;
+:func:`unknown_packages` lists, from the same files, every ``$(find pkg)`` package that cannot
+be found (Reachy 2's description needs four packages besides its own).
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +29,13 @@ from ..util.fileio import read_input_bytes
 from ..util.text import name_list
 from .packages import PackageResolver
 
-__all__ = ["RULE_UNREAD_ARG", "ReadArgs", "unread_arg_warnings", "unset_args"]
+__all__ = [
+    "RULE_UNREAD_ARG",
+    "ReadArgs",
+    "unknown_packages",
+    "unread_arg_warnings",
+    "unset_args",
+]
 
 RULE_UNREAD_ARG = "xacro-arg-unread"
 
@@ -88,6 +96,31 @@ def unset_args(top: Path, resolver: PackageResolver, given: Collection[str]) -> 
     ``given``: the top file's first, then each include's (breadth first)."""
     used: dict[str, None] = {}
     defaults: set[str] = set()
+    for text in _texts(top, resolver):
+        used.update(dict.fromkeys(_ARG_USE.findall(text)))
+        defaults.update(_DEFAULT.findall(text))
+    return [a for a in used if a not in defaults and a not in given]
+
+
+def unknown_packages(top: Path, resolver: PackageResolver) -> list[str]:
+    """The packages the files name in ``$(find pkg)`` that ``resolver`` cannot find, in the
+    order they are first named (the top file's first, then each include's that can be read:
+    an unknown package's own files cannot)."""
+    named: dict[str, None] = {}
+    for text in _texts(top, resolver):
+        named.update(dict.fromkeys(_FIND.findall(text)))
+    out = []
+    for name in named:
+        try:
+            resolver.find(name)
+        except XrdfToolsError:
+            out.append(name)
+    return out
+
+
+def _texts(top: Path, resolver: PackageResolver) -> Iterator[str]:
+    """The text of the top file, then of each file its includes name (breadth first), without
+    comments; a file that cannot be read or found is passed over."""
     queue, seen = [top], {top}
     while queue and len(seen) <= _MAX_FILES:
         path = queue.pop(0)
@@ -96,13 +129,11 @@ def unset_args(top: Path, resolver: PackageResolver, given: Collection[str]) -> 
         except (XrdfToolsError, UnicodeDecodeError):
             continue
         text = re.sub(r"<!--.*?-->", "", text, flags=re.DOTALL)
-        used.update(dict.fromkeys(_ARG_USE.findall(text)))
-        defaults.update(_DEFAULT.findall(text))
+        yield text
         for m in _INCLUDE.finditer(text):
             if (child := _included(m.group(2), path, resolver)) is not None and child not in seen:
                 seen.add(child)
                 queue.append(child)
-    return [a for a in used if a not in defaults and a not in given]
 
 
 def _included(name: str, at: Path, resolver: PackageResolver) -> Path | None:

@@ -1,7 +1,7 @@
 """Where a xacro robot's macro-made links and joints are written.
 
 An expanded xacro file locates the ``<link>``/``<joint>`` elements it writes literally (see
-``urdf_source._relocate_expansion``); the ones a macro of an included file makes
+``urdf_source.relocate_expansion``); the ones a macro of an included file makes
 (``<link name="${prefix}link_3">`` in ``kr6_macro.xacro``) have no line in it. Such a name is
 placed at the element of an included file whose ``name`` template it fits: the template's
 ``${…}`` and ``$(…)`` stand for any text, and of the templates that fit, the one with the

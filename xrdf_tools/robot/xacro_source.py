@@ -29,7 +29,7 @@ from ..util.errors import SourceError, UrdfError, UrdfReadError, XrdfToolsError
 from ..util.fileio import decode_utf8, read_input_bytes
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
-from .xacro_args import ReadArgs, unread_arg_warnings, unset_args
+from .xacro_args import ReadArgs, unknown_packages, unread_arg_warnings, unset_args
 from .xacro_culprits import UNDEFINED_ARG, culprit_in
 from .xacro_detect import uses_xacro
 from .xacro_files import file_arg_hint, located_in_includes, os_error
@@ -176,7 +176,7 @@ def expand_xacro(
             xacro.macrostack = None
     if failure is not None:
         if (placeholder := error_for(failure.error, unresolved)) is not None:  # no package
-            raise placeholder from None
+            raise _naming_the_others(placeholder, p, resolver, mappings) from None
         error = _xacro_error(
             failure.error,
             str(p),
@@ -186,7 +186,7 @@ def expand_xacro(
             values,
             failure.macro,
         )
-        raise _with_unset_args(error, p, resolver, mappings) from None
+        raise _naming_the_others(error, p, resolver, mappings) from None
     if warn_unread_args:
         said.extend(unread_arg_warnings(str(p), mappings, values))
     return settle(doc, text, unresolved, said)
@@ -205,24 +205,31 @@ class _Failure:
 _EXPAT_WHERE = re.compile(r":\s*line \d+, column \d+$")
 
 
-def _with_unset_args(
+def _naming_the_others(
     error: SourceError, top: Path, resolver: PackageResolver, given: Mapping[str, str]
 ) -> SourceError:
     """``error`` about one argument without a value, naming the others the files use
-    without a default, so that one run finds them all."""
-    m = UNDEFINED_ARG.search(error.message)
-    if m is None:
+    without a default, or about one package that cannot be found, naming the others the
+    files name, so that one run finds them all."""
+    if m := UNDEFINED_ARG.search(error.message):
+        others = [a for a in unset_args(top, resolver, given) if a != m.group(1)]
+        more = " ".join(f"--xacro-arg {a}:=VALUE" for a in others)
+        what = "used without a default too"
+    elif m := _UNKNOWN_PACKAGE.search(error.message):
+        others = [n for n in unknown_packages(top, resolver) if n != m.group(1)]
+        more = " ".join(f"--package-path {n}=DIR" for n in others)
+        what = "the files name these packages that cannot be found either (a part the "
+        what += "expansion skips may be the one naming some)"
+    else:
         return error
-    others = [a for a in unset_args(top, resolver, given) if a != m.group(1)]
     if not others:
         return error
-    more = " ".join(f"--xacro-arg {a}:=VALUE" for a in others)
     return SourceError(
-        f"{error.message}; used without a default too: {more}",
-        path=error.path,
-        line=error.line,
-        col=error.col,
+        f"{error.message}; {what}: {more}", path=error.path, line=error.line, col=error.col
     )
+
+
+_UNKNOWN_PACKAGE = re.compile(r"cannot find ROS package '([^']+)'")
 
 
 def _innermost_macro(macrostack: Any) -> str | None:

@@ -31,6 +31,8 @@ from . import Draft, Reporter, RobotTree
 
 __all__ = ["read_joint_limits"]
 
+#: A xacro expression in a joint name of a template's joint limits: ``${name}_joint_1``.
+_XACRO_EXPRESSION = re.compile(r"\$\{[^}]*\}")
 #: A ROS 2 launch substitution in a parameter file: ``$(var tf_prefix)``.
 _LAUNCH_VAR = re.compile(r"\$\(var\s+([^)\s]+)\s*\)")
 
@@ -132,7 +134,15 @@ def _report_unknown(rep: Reporter, unknown: Mapping[str, str], tree: RobotTree) 
         )
     else:
         what = f"{len(names)} joints the URDF does not have ({name_list(names, 8)})"
-    rep.report("convert-unknown-joint", f"joint_limits names {what}; ignored", unknown[names[0]])
+    templated = sorted({m for n in names for m in _XACRO_EXPRESSION.findall(n)})
+    if templated:  # Clearpath's kinova_gen3_7dof/joint_limits.yaml: '${name}_joint_1'
+        what += (
+            f"; ignored: {name_list(templated, 3)} in a joint name is a template's expression "
+            "that a generator or xacro fills in: give the file it writes"
+        )
+    else:
+        what += "; ignored"
+    rep.report("convert-unknown-joint", f"joint_limits names {what}", unknown[names[0]])
 
 
 def _number(values: Mapping[str, object], key: str) -> float | None:

@@ -76,7 +76,8 @@ def _unknown(what: str, names: list[str], pool: Iterable[str]) -> str:
     shown = name_list((f"'{n}'" for n in names), 6)
     plural = "s" if len(names) > 1 else ""
     hint = did_you_mean(names[0], pool).removeprefix("; ").removesuffix("?")
-    hint = f" ({hint} for '{names[0]}'?)" if hint else ""
+    about = f" for '{names[0]}'" if len(names) > 1 else ""
+    hint = f" ({hint}{about}?)" if hint else ""
     return f"unknown {what}{plural} {shown}{hint}"
 
 
@@ -113,7 +114,7 @@ def check_groups(
     broken = group_problems(srdf, tree)
     fatal = [(g, p) for g, p in broken if g.name in members]
     if fatal:
-        parts = [f"group '{g.name}' (line {g.line}): {'; '.join(p)}" for g, p in fatal]
+        parts = [f"group '{g.name}'{_at(g.line)}: {'; '.join(p)}" for g, p in fatal]
         raise SourceError(
             f"{len(fatal)} SRDF group(s) used for the conversion do not match the URDF: "
             + " | ".join(parts),
@@ -121,6 +122,11 @@ def check_groups(
             line=fatal[0][0].line,
         )
     return [(g, p) for g, p in broken if g.name not in members]
+
+
+def _at(line: int | None) -> str:
+    """`` (line N)`` after a group's name, nothing when it has no line."""
+    return f" (line {line})" if line else ""
 
 
 def unused_cycles(srdf: Srdf, used: Iterable[str]) -> list[tuple[SrdfGroup, str]]:

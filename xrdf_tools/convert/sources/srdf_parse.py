@@ -95,8 +95,8 @@ def load_srdf(
 
     An SRDF xacro (``robot.srdf.xacro``, as MoveIt configurations ship them) is expanded with
     ``xacro_args`` and ``package_paths`` first, as MoveIt's launch files do (the robot's
-    arguments: one it does not read is no finding); its elements are then reported without a
-    line (the expansion's lines are not the file's)."""
+    arguments: one it does not read is no finding); an element written literally in the xacro
+    file is reported at its line there, one a macro or an argument made without a line."""
     from ...robot.xacro_source import expand_xacro, uses_xacro
 
     p = os.fspath(path)
@@ -107,20 +107,33 @@ def load_srdf(
     text = expand_xacro(
         p, xacro_args, package_paths, data=data, warnings=said, warn_unread_args=False
     )
-    return replace(parse_srdf(text, p, located=False), warnings=tuple(said))
+    source = data.decode("utf-8", errors="replace")
+    return replace(parse_srdf(text, p, xacro_source=source), warnings=tuple(said))
 
 
-def parse_srdf(data: bytes | str, path: str = "<srdf>", *, located: bool = True) -> Srdf:
+def parse_srdf(
+    data: bytes | str,
+    path: str = "<srdf>",
+    *,
+    located: bool = True,
+    xacro_source: str | None = None,
+) -> Srdf:
     """Parse SRDF text; raises :class:`SourceError` (with the line) for malformed XML, a root
     that is not ``<robot>``, a missing attribute, a value that is not a number, or a group
     defined twice. Elements other than those MoveIt defines are ignored. ``located=False``:
-    the text is not the file at ``path`` (a xacro's expansion), so no element has a line."""
+    the text is not the file at ``path``, so no element has a line; ``xacro_source``: the text
+    is the expansion of the xacro file at ``path`` whose text this is, so an element has the
+    line it is written at there (none when a macro made it)."""
+    from ...robot.urdf_source import relocate_expansion
+
     try:
         root = parse_xml(utf8_xml_bytes(data), keep_comments=False)
     except XmlSyntaxError as e:
         raise SourceError(f"malformed SRDF XML: {e.verbatim}", path=path, line=e.line) from None
     if root is None or root.tag != "robot":
         raise SourceError("the root element of an SRDF must be <robot>", path=path, line=1)
+    if xacro_source is not None:
+        relocate_expansion(root, xacro_source)
     refuse_urdf(root, path, located=located)
     p = _Parser(path, located)
     for el in root:
