@@ -338,11 +338,11 @@ def test_overlapping_thin_shells_in_one_file_are_hulled_unioned_and_said_once(
     """Kinova Gen3's arm covers: one mesh file of several overlapping bodies, each a thin
     shell. Each body is replaced by its hull, the hulls are unioned, and one note says so
     (this crashed with an index error once bodies were split)."""
-    arm_x = trimesh.creation.box(extents=(0.2, 0.015, 0.05))
-    arm_x.apply_translation([0.1, 0.0075, 0.025])
-    arm_y = trimesh.creation.box(extents=(0.015, 0.2, 0.05))
-    arm_y.apply_translation([0.0075, 0.1, 0.025])
-    a = trimesh.boolean.union([arm_x, arm_y], engine="manifold")  # an L: a thin shell
+    arm_x = trimesh.creation.box(extents=(0.2, 0.003, 0.05))
+    arm_x.apply_translation([0.1, 0.0015, 0.025])
+    arm_y = trimesh.creation.box(extents=(0.003, 0.2, 0.05))
+    arm_y.apply_translation([0.0015, 0.1, 0.025])
+    a = trimesh.boolean.union([arm_x, arm_y], engine="manifold")  # an L of 3 mm walls
     assert a.is_volume and a.volume < 0.4 * a.convex_hull.volume
     b = a.copy()
     b.apply_translation([0.01, 0.01, 0.02])
@@ -396,3 +396,51 @@ def test_a_link_made_of_urdf_spheres_keeps_them_exactly(tmp_path: Path) -> None:
     ]
     clipped = fit_robot(urdf, clips={"a": [parse_clip("a:0,0,1,0.05")[1]]})
     assert all(s.center[2] - s.radius >= 0.05 - 1e-9 for s in clipped.spheres["a"])
+
+
+FORK_URDF = """<robot name="r">
+<link name="base"/>
+<link name="fork"><collision><geometry><mesh filename="fork.stl"/></geometry></collision></link>
+<joint name="j" type="revolute"><parent link="base"/><child link="fork"/>
+<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_fork_is_a_concave_solid_not_a_thin_shell(tmp_path: Path) -> None:
+    """A clevis (two 15 mm prongs 7 cm apart on a plate, the slot where the next link turns)
+    has 36 % of its hull's volume, like a moulded cover, but walls a tenth of its size: it is
+    fitted as the solid it is, and no sphere fills the slot (its hull's spheres did, and
+    collided with the link turning in it)."""
+    from xrdf_tools.spheres.mesh_solids import is_thin_shell, wall_thickness
+
+    plate = trimesh.creation.box(extents=(0.1, 0.06, 0.015))
+    plate.apply_translation([0.0, 0.0, 0.0075])
+    prongs = []
+    for x in (-0.0425, 0.0425):
+        prong = trimesh.creation.box(extents=(0.015, 0.06, 0.16))
+        prong.apply_translation([x, 0.0, 0.015 + 0.08])
+        prongs.append(prong)
+    fork = trimesh.boolean.union([plate, *prongs], engine="manifold")
+    hull = fork.convex_hull
+    assert fork.is_volume and fork.volume < 0.4 * hull.volume
+    assert wall_thickness(fork) > 0.08 * np.cbrt(hull.volume) and not is_thin_shell(fork, hull)
+    fork.export(tmp_path / "fork.stl")
+    (tmp_path / "r.urdf").write_text(FORK_URDF)
+    geoms, diags = load_link_geometry(tmp_path / "r.urdf", links=["fork"])
+    assert geoms["fork"].kind == "mesh"
+    assert not [d for d in diags if d.rule == "spheres-thin-shell"]
+    spheres, _ = fit_link_spheres(tmp_path / "r.urdf", links=["fork"])
+    slot = np.array([[0.0, 0.0, z] for z in (0.05, 0.1, 0.15)])  # the middle of the slot
+    for s in spheres["fork"]:
+        gap = np.linalg.norm(slot - np.asarray(s.center), axis=1) - s.radius
+        assert (gap > 0.01).all(), (s, gap)
+
+
+def test_a_thin_shell_note_gives_its_wall_thickness() -> None:
+    """TIAGo's base cover: the note says how thin its walls are, the reason it is hulled."""
+    _, diags = load_link_geometry(
+        _robot("tiago_description/robots/tiago.urdf"), links=["base_link"]
+    )
+    (note,) = [d for d in diags if d.rule == "spheres-thin-shell"]
+    assert "its walls about" in note.message and "mm thick" in note.message

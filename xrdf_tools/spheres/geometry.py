@@ -13,7 +13,8 @@ flat or degenerate by its oriented bounding box, at least ``MIN_THICKNESS`` thic
 (``spheres-bounding-box``). Several parts of one link are merged into one solid by a boolean
 union (manifold3d); if that fails, the convex hull of all parts is used, again with a warning.
 A thin shell -- a closed solid whose volume is less than ``THIN_SHELL_RATIO`` of its convex
-hull's, like a moulded base cover -- is fitted as its convex hull (``spheres-thin-shell``):
+hull's and whose walls are thin beside its size (``THIN_WALL_RATIO``), like a moulded base
+cover -- is fitted as its convex hull (``spheres-thin-shell``):
 covering the shell itself needs spheres thinner than the wall, and the hollow inside is not
 reachable free space for a planner. Nothing here touches ROS.
 """
@@ -39,6 +40,7 @@ from .mesh_solids import (
     is_volume,
     overlapping_bodies,
     repaired,
+    wall_thickness,
 )
 
 if TYPE_CHECKING:
@@ -186,8 +188,9 @@ def _report_parts(
     if not shares:
         return
     if len(shares) == 1:
-        what = f"a thin shell (its volume is {shares[0]:.0%} of its convex hull's); spheres "
-        what += "fitted to the convex hull"
+        walls = next(wall_thickness(part) for part, _, h in made if h == "thin_shell")
+        what = f"a thin shell (its volume is {shares[0]:.0%} of its convex hull's, its walls "
+        what += f"about {walls * 1000:.1f} mm thick); spheres fitted to the convex hull"
     else:
         what = f"{len(shares)} thin shells (each {min(shares):.0%}–{max(shares):.0%} of its "
         what += "hull's); spheres fitted to the convex hulls"

@@ -17,17 +17,22 @@ if TYPE_CHECKING:
 __all__ = [
     "MIN_THICKNESS",
     "THIN_SHELL_RATIO",
+    "THIN_WALL_RATIO",
     "bounding_box",
     "closed_part",
     "connected_bodies",
     "convex_hull",
+    "is_thin_shell",
     "is_volume",
     "overlapping_bodies",
     "repaired",
+    "wall_thickness",
 ]
 
-#: A closed solid with less than this share of its convex hull's volume is a thin shell.
+#: A closed solid with less than this share of its convex hull's volume, and walls thinner
+#: than ``THIN_WALL_RATIO`` of the hull's size, is a thin shell (:func:`is_thin_shell`).
 THIN_SHELL_RATIO = 0.4
+THIN_WALL_RATIO = 0.08
 #: The thinnest bounding box a flat part becomes (metres).
 MIN_THICKNESS = 0.002
 
@@ -134,11 +139,30 @@ def _outward(mesh: trimesh.Trimesh) -> bool:
     return is_volume(mesh)
 
 
+def wall_thickness(mesh: trimesh.Trimesh) -> float:
+    """The mean wall thickness of a closed mesh, 2 · volume / area: ``w`` for a plate of
+    thickness ``w`` (each side is half the area), two thirds of the radius for a ball."""
+    area = float(mesh.area)
+    return 2.0 * float(mesh.volume) / area if area > 0 else 0.0
+
+
+def is_thin_shell(part: trimesh.Trimesh, hull: trimesh.Trimesh) -> bool:
+    """A closed part that is a thin shell: less than ``THIN_SHELL_RATIO`` of its hull's volume
+    *and* walls thinner than ``THIN_WALL_RATIO`` of its hull's size (the cube root of its
+    volume). A moulded cover (TIAGo's base: walls 2 % of its size) is one; a fork or clevis
+    (a wrist link whose prongs hold the next joint: 10-15 %) is a concave solid, and its
+    hull would fill the slot where the next link turns."""
+    hull_volume = float(hull.volume)
+    if not float(part.volume) < THIN_SHELL_RATIO * hull_volume:
+        return False
+    return wall_thickness(part) < THIN_WALL_RATIO * float(np.cbrt(hull_volume))
+
+
 def closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
     """The part as a closed solid: itself, else its hull, else its bounding box."""
     if is_volume(part):
         hull = convex_hull(part)
-        if hull is not None and float(part.volume) < THIN_SHELL_RATIO * float(hull.volume):
+        if hull is not None and is_thin_shell(part, hull):
             return hull, "thin_shell"
         return part, "mesh"
     hull = convex_hull(part)
