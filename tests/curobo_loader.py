@@ -61,6 +61,8 @@ class _Urdf:
     root: str
     #: child link -> (parent link, the joint that moves it: a mimic's leader, None when fixed)
     up: Mapping[str, tuple[str, str | None]]
+    #: moving joints whose axis is not along x, y or z (cuRobo raises on them in its tree)
+    tilted: frozenset[str]
 
 
 def _urdf(path: Path) -> _Urdf:
@@ -71,7 +73,10 @@ def _urdf(path: Path) -> _Urdf:
         j.child: (j.parent, None if j.type == "fixed" else (j.mimic_joint or n))
         for n, j in joints.items()
     }
-    return _Urdf(controlled, frozenset(links_of(u)), root_link(u), up)
+    tilted = frozenset(
+        j.child for j in joints.values() if j.type != "fixed" and 1.0 not in map(abs, j.axis)
+    )
+    return _Urdf(controlled, frozenset(links_of(u)), root_link(u), up, tilted)
 
 
 def tree_joints(urdf: _Urdf, base: str, targets: list[str], extra: Mapping[str, str]) -> list[str]:
@@ -95,6 +100,8 @@ def tree_joints(urdf: _Urdf, base: str, targets: list[str], extra: Mapping[str, 
             if link in seen:
                 continue
             seen.append(link)
+            if link in urdf.tilted:
+                raise CuroboRejects(f"the joint moving {link} has an axis not along x, y or z")
             moved_by = None if link in extra else urdf.up[link][1]
             if moved_by is not None and moved_by not in joints:
                 joints.append(moved_by)

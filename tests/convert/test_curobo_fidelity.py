@@ -8,6 +8,7 @@ benchmarks/check_curobo_loader.py; these tests never run cuRobo.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -333,3 +334,27 @@ def test_export_xrdf_for_curobo_writes_only_what_curobo_loads(
     assert out.exists() == loads
     if not loads:
         assert r.exit_code == 1 and "not written" in r.output and "curobo-" in r.output
+
+
+@pytest.mark.parametrize(
+    "rule",
+    ["curobo-joint-axis", "curobo-joint-outside-tree", "curobo-no-pair", "curobo-self-buffer"],
+)
+def test_the_rules_learnt_from_curobos_loader_agree_with_the_model(rule: str) -> None:
+    """Each failing fixture of these rules is a file cuRobo's loader raises on (checked with
+    cuRobo itself, benchmarks/check_curobo_loader.py), each passing one a file it loads."""
+    for f in sorted((FIXTURES / "lint" / rule).glob("*.xrdf")):
+        text = f.read_text()
+        given = re.search(r"^# urdf: (.+)$", text, re.M)
+        urdf = (f.parent / given.group(1)).resolve() if given else UR10E_URDF
+        found = [
+            d.rule
+            for d in lint_text(text, str(f), urdf=urdf, target="curobo")
+            if d.rule == rule and d.severity.value == "error"
+        ]
+        try:
+            from_xrdf(text, urdf)
+        except CuroboRejects:
+            assert f.name.startswith("fail") and found, f
+        else:
+            assert f.name.startswith("pass") and not found, f

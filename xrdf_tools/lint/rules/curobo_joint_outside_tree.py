@@ -14,39 +14,17 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...yaml.io import YMap, YSeq
-from ..context import LintContext, Problem, Rule, name
-
-
-def _targets(ctx: LintContext) -> set[str]:
-    out = set(ctx.added_frames)
-    tools = ctx.get("tool_frames")
-    if isinstance(tools, YSeq):
-        out.update(n for item in tools.items if (n := name(item)) is not None)
-    world = ctx.get(ctx.world_key())
-    group = ctx.group_name(world) if isinstance(world, YMap) else None
-    if group is not None and group in ctx.groups:
-        out.update(ctx.sphere_frames(group) or ())
-    return out
+from ..context import LintContext, Problem, Rule
+from ._curobo_tree import curobo_tree_joints
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    kin = ctx.kin
-    if kin is None:
+    joints = curobo_tree_joints(ctx)
+    if joints is None or ctx.kin is None:
         return
-    moving: set[str] = set()
-    for frame in _targets(ctx):
-        if frame not in kin.frame_names:
-            continue  # an unknown frame is another rule's finding
-        i = kin.frame_index(frame)
-        while i > 0:
-            joint = kin.joint_of_frame[i]
-            info = kin.joints.get(joint) if joint is not None else None
-            if info is not None and info.type != "fixed":
-                moving.add(info.mimic_joint or info.name)
-            i = int(kin.parent[i])
+    moving = {j.mimic_joint or j.name for j in joints}
     for index, (joint, node) in enumerate(ctx.cspace_joint_nodes()):
-        if joint in kin.joints and joint not in moving:
+        if joint in ctx.kin.joints and joint not in moving:
             yield ctx.problem(
                 node,
                 f"c-space joint '{joint}' moves no tool frame, sphere frame or added frame: "
