@@ -10,7 +10,7 @@ reproduces what cuRobo silently does (defaults in URDF order, joints in kinemati
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -63,6 +63,9 @@ class _Urdf:
     up: Mapping[str, tuple[str, str | None]]
     #: moving joints whose axis is not along x, y or z (cuRobo raises on them in its tree)
     tilted: frozenset[str]
+    #: joints whose URDF velocity limit is <= 0 or whose lower limit is not below the upper:
+    #: cuRobo raises when one of them is a joint it plans for
+    stuck: frozenset[str]
 
 
 def _urdf(path: Path) -> _Urdf:
@@ -76,15 +79,24 @@ def _urdf(path: Path) -> _Urdf:
     tilted = frozenset(
         j.child for j in joints.values() if j.type != "fixed" and 1.0 not in map(abs, j.axis)
     )
-    return _Urdf(controlled, frozenset(links_of(u)), root_link(u), up, tilted)
+    stuck = frozenset(
+        n
+        for n, j in joints.items()
+        if (j.velocity is not None and j.velocity <= 0)
+        or (j.type != "continuous" and None not in (j.lower, j.upper) and j.lower >= j.upper)
+    )
+    return _Urdf(controlled, frozenset(links_of(u)), root_link(u), up, tilted, stuck)
 
 
-def tree_joints(urdf: _Urdf, base: str, targets: list[str], extra: Mapping[str, str]) -> list[str]:
-    """The moving joints cuRobo meets building its tree, in its order: the chain from ``base``
-    to ``targets[0]`` (the end effector), then the chains to the other targets (tool frames,
-    then sphere frames, then added frames' parents). A mimic follower counts as its leader.
-    ``extra`` maps an added frame to its parent. Raises when a target is not below ``base``."""
-    seen: list[str] = []
+def tree(
+    urdf: _Urdf, base: str, targets: list[str], extra: Mapping[str, str]
+) -> tuple[list[str], list[str]]:
+    """The links and the moving joints cuRobo meets building its tree, in its order: the chain
+    from ``base`` to ``targets[0]`` (the end effector), then the chains to the other targets
+    (tool frames, then sphere frames, then added frames' parents). A mimic follower counts as
+    its leader. ``extra`` maps an added frame to its parent. Raises when a target is not below
+    ``base`` or a joint on the way moves about an axis cuRobo has no joint type for."""
+    seen: list[str] = [base]
     joints: list[str] = []
     for target in targets:
         chain, link = [], target
@@ -105,7 +117,25 @@ def tree_joints(urdf: _Urdf, base: str, targets: list[str], extra: Mapping[str, 
             moved_by = None if link in extra else urdf.up[link][1]
             if moved_by is not None and moved_by not in joints:
                 joints.append(moved_by)
-    return joints
+    return seen, joints
+
+
+def _ee(tools: list[str], links: list[str], tree_joints: list[str], locked: Iterable[str]) -> str:
+    """cuRobo's first tool frame: with no joint of its tree locked it reorders the tool frames
+    as it met them building the tree (an ancestor of ``tools[0]`` then comes first); locking a
+    joint of the tree restores the order given."""
+    if any(j in tree_joints for j in locked):
+        return tools[0]
+    return min(tools, key=links.index)
+
+
+def _limits_ok(urdf: _Urdf, active: tuple[str, ...], *limits: Mapping[str, float] | None) -> None:
+    """Raise where cuRobo's joint limits check does: a velocity, position, acceleration or jerk
+    range that is empty for a joint it plans for."""
+    bad = [j for j in active if j in urdf.stuck]
+    bad += [j for lim in limits if lim for j in active if lim.get(j, 1.0) <= 0]
+    if bad:
+        raise CuroboRejects(f"lower limits must be less than upper limits: {bad}")
 
 
 def _active(tree: list[str], cspace: list[str], locked: Mapping[str, float]) -> tuple[str, ...]:
@@ -197,16 +227,19 @@ def from_config(config: Path, urdf_path: Path) -> CuroboRobot:
     }
     tools = kin.get("tool_frames") or [kin["ee_link"], *(kin.get("link_names") or [])]
     base = kin.get("base_link") or urdf.root
-    tree = tree_joints(urdf, base, _targets(tools, allowed, parents), parents)
-    active = _active(tree, names, locks)
+    links, joints = tree(urdf, base, _targets(tools, allowed, parents), parents)
+    active = _active(joints, names, locks)
+    acc = _per_joint(cs.get("max_acceleration"), names, list(active))
+    jerk = _per_joint(cs.get("max_jerk"), names, list(active))
+    _limits_ok(urdf, active, acc, jerk)
     return CuroboRobot(
         active_joints=active,
         locked={j: float(locks.get(j, 0.0)) for j in urdf.controlled if j not in active},
         defaults={j: by_name[j] for j in active},
-        acceleration=_per_joint(cs.get("max_acceleration"), names, list(active)),
-        jerk=_per_joint(cs.get("max_jerk"), names, list(active)),
+        acceleration=acc,
+        jerk=jerk,
         base_link=base,
-        ee_link=tools[0],
+        ee_link=_ee(tools, links, joints, locks),
         link_names=frozenset(tools),
         extra_links={
             e.get("link_name", n): (
@@ -305,10 +338,11 @@ def from_xrdf(text: str, urdf_path: Path) -> CuroboRobot:
     base, extra = _added_frames(x, urdf.root)
     locked = {j: float(defaults.get(j, 0.0)) for j in urdf.controlled if j not in names}
     parents = {k: v[0] for k, v in extra.items()}
-    tree = tree_joints(urdf, base, _targets(tools, col.frames, parents), parents)
-    active = _active(tree, [*names, *locked], locked)
+    links, joints = tree(urdf, base, _targets(tools, col.frames, parents), parents)
+    active = _active(joints, [*names, *locked], locked)
     acc = dict(zip(names, map(float, _require(cs, "acceleration_limits")), strict=True))
     jerk = dict(zip(names, map(float, _require(cs, "jerk_limits")), strict=True))
+    _limits_ok(urdf, active, acc, jerk)
     return CuroboRobot(
         active_joints=active,
         locked=locked,
@@ -316,7 +350,7 @@ def from_xrdf(text: str, urdf_path: Path) -> CuroboRobot:
         acceleration={j: acc[j] for j in active},
         jerk={j: jerk[j] for j in active},
         base_link=base,
-        ee_link=tools[0],
+        ee_link=_ee(tools, links, joints, locked),
         link_names=frozenset(tools),
         extra_links=extra,
         spheres=col.spheres,

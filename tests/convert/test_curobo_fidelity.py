@@ -358,3 +358,44 @@ def test_the_rules_learnt_from_curobos_loader_agree_with_the_model(rule: str) ->
             assert f.name.startswith("fail") and found, f
         else:
             assert f.name.startswith("pass") and not found, f
+
+
+def _three_link(tools: str, cspace: list[str]) -> str:
+    """The curobo-joint-outside-tree passing fixture (three_link_mimic.urdf) with these tool
+    frames and c-space joints."""
+    text = (FIXTURES / "lint" / "curobo-joint-outside-tree" / "pass.xrdf").read_text()
+    x = yaml.safe_load(text.replace("tool_frames: [tool]", f"tool_frames: {tools}"))
+    n = len(cspace)
+    x["cspace"] = {
+        "joint_names": cspace,
+        "acceleration_limits": [10.0] * n,
+        "jerk_limits": [1e3] * n,
+    }
+    return yaml.safe_dump(x, sort_keys=False)
+
+
+def test_curobo_puts_a_tool_frame_on_the_chain_to_the_first_first_unless_a_joint_is_locked() -> (
+    None
+):
+    """Checked with cuRobo main: with every joint on its chains in the c-space it reorders the
+    tool frames from the base outwards; a locked joint there keeps the order written."""
+    urdf = FIXTURES / "urdf" / "three_link_mimic.urdf"
+    free = from_xrdf(_three_link("[tool, link1]", ["joint1", "joint2", "joint3"]), urdf)
+    assert free.ee_link == "link1" and free.link_names == {"tool", "link1"}
+    locked = from_xrdf(_three_link("[tool, link1]", ["joint1", "joint2"]), urdf)
+    assert locked.ee_link == "tool" and locked.locked == {"joint3": 0.1}
+    assert from_xrdf(
+        _three_link("[tool, base_link]", ["joint1", "joint2", "joint3"]), urdf
+    ).ee_link == ("base_link")
+
+
+def test_a_joint_curobo_plans_for_needs_a_velocity_range() -> None:
+    """Checked with cuRobo main: a planned joint with URDF velocity 0 makes its loader raise;
+    held outside the c-space (locked) it loads, and lint says so."""
+    urdf = FIXTURES / "urdf" / "zero_velocity_arm.urdf"
+    text = _three_link("[link3]", ["joint1", "joint2", "joint3"])
+    with pytest.raises(CuroboRejects, match="joint1"):
+        from_xrdf(text, urdf)
+    rules = {d.rule for d in lint_text(text, "x.xrdf", urdf=urdf, target="curobo")}
+    assert "curobo-zero-velocity" in rules
+    assert from_xrdf(_three_link("[link3]", ["joint2", "joint3"]), urdf).locked == {"joint1": 0.0}
