@@ -39,15 +39,15 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     pairs = {frozenset((a, b)) for i, a in enumerate(frames) for b in frames[i + 1 :]}
     if pairs - _masked(ctx):
         return
-    what = (
-        f"spheres on {len(frames)} frame(s) only"
-        if len(frames) < 2
-        else f"all {len(pairs)} pairs of its {len(frames)} sphere frames are masked"
-    )
+    if len(frames) < 2:
+        what, fix = f"spheres on {len(frames)} frame(s) only", "give a second frame spheres"
+    else:
+        what = f"all {len(pairs)} pairs of its {len(frames)} sphere frames are masked"
+        fix = "leave a pair that can collide unmasked"
     yield ctx.problem(
         ctx.get("self_collision") or world,
         f"no pair of sphere frames is left to check for self-collision ({what}): cuRobo's "
-        "loader raises (ZeroDivisionError) when there is none; leave a pair unmasked",
+        f"loader raises (ZeroDivisionError) when there is none; {fix}",
         "self_collision.ignore",
     )
 
