@@ -1,15 +1,16 @@
 """What cuRobo builds from a robot config or an XRDF, as a plain value, for comparing the two.
 
 Written from the reader facts in docs/format.md ("Who reads an XRDF") and the config mapping in
-docs/convert.md, rule by rule (no cuRobo code): the tests convert a real cuRobo config with
+docs/convert.md, rule by rule (no cuRobo code), and checked against cuRobo's own loader on real
+robots by ``benchmarks/check_curobo_loader.py``: the tests convert a real cuRobo config with
 ``xrdf convert`` and check that cuRobo, reading our XRDF, would build the robot the config
 describes. :func:`from_xrdf` raises :class:`CuroboRejects` where cuRobo's loader raises; it
-reproduces what cuRobo silently does (2.0 → no collision, defaults in URDF order).
+reproduces what cuRobo silently does (defaults in URDF order, joints in kinematic-tree order).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -43,18 +44,135 @@ class CuroboRobot:
     ignore: frozenset[frozenset[str]]
 
 
+#: The radius cuRobo (main) gives an attached-object slot (``extra_collision_spheres``; 0.7.x
+#: used -10). Any radius <= -1 is such a slot; the model writes every slot with this radius.
+SLOT = -100.0
+
+#: The ``joint_type`` names cuRobo's ``add_frame`` accepts (its JointType members).
+JOINT_TYPES = frozenset(
+    f"{a}_{k}{s}" for a in "XYZ" for k in ("PRISM", "ROT") for s in ("", "_NEG")
+) | {"FIXED"}
+
+
 @dataclass(frozen=True)
 class _Urdf:
     controlled: tuple[str, ...]  # non-fixed, non-mimic joints in URDF order
     links: frozenset[str]
     root: str
+    #: child link -> (parent link, the joint that moves it: a mimic's leader, None when fixed)
+    up: Mapping[str, tuple[str, str | None]]
+    #: moving joints whose axis is not along x, y or z (cuRobo raises on them in its tree)
+    tilted: frozenset[str]
+    #: joints whose URDF velocity limit is <= 0 or whose lower limit is not below the upper:
+    #: cuRobo raises when one of them is a joint it plans for
+    stuck: frozenset[str]
 
 
 def _urdf(path: Path) -> _Urdf:
     u = load_urdf(path)
     joints = joints_of(u)
     controlled = tuple(n for n, j in joints.items() if j.type != "fixed" and not j.is_mimic)
-    return _Urdf(controlled, frozenset(links_of(u)), root_link(u))
+    up = {
+        j.child: (j.parent, None if j.type == "fixed" else (j.mimic_joint or n))
+        for n, j in joints.items()
+    }
+    tilted = frozenset(
+        j.child for j in joints.values() if j.type != "fixed" and 1.0 not in map(abs, j.axis)
+    )
+    stuck = frozenset(
+        n
+        for n, j in joints.items()
+        if (j.velocity is not None and j.velocity <= 0)
+        or (j.type != "continuous" and None not in (j.lower, j.upper) and j.lower >= j.upper)
+    )
+    return _Urdf(controlled, frozenset(links_of(u)), root_link(u), up, tilted, stuck)
+
+
+def tree(
+    urdf: _Urdf, base: str, targets: list[str], extra: Mapping[str, str]
+) -> tuple[list[str], list[str]]:
+    """The links and the moving joints cuRobo meets building its tree, in its order: the chain
+    from ``base`` to ``targets[0]`` (the end effector), then the chains to the other targets
+    (tool frames, then sphere frames, then added frames' parents). A mimic follower counts as
+    its leader. ``extra`` maps an added frame to its parent. Raises when a target is not below
+    ``base`` or a joint on the way moves about an axis cuRobo has no joint type for."""
+    seen: list[str] = [base]
+    joints: list[str] = []
+    for target in targets:
+        chain, link = [], target
+        while link != base:
+            chain.append(link)
+            if link in extra:
+                link = extra[link]
+            elif link in urdf.up:
+                link = urdf.up[link][0]
+            else:
+                raise CuroboRejects(f"Link {target} not found in parent map (below {base})")
+        for link in reversed(chain):
+            if link in seen:
+                continue
+            seen.append(link)
+            if link in urdf.tilted:
+                raise CuroboRejects(f"the joint moving {link} has an axis not along x, y or z")
+            moved_by = None if link in extra else urdf.up[link][1]
+            if moved_by is not None and moved_by not in joints:
+                joints.append(moved_by)
+    return seen, joints
+
+
+def _ee(tools: list[str], links: list[str], tree_joints: list[str], locked: Iterable[str]) -> str:
+    """cuRobo's first tool frame: with no joint of its tree locked it reorders the tool frames
+    as it met them building the tree (an ancestor of ``tools[0]`` then comes first); locking a
+    joint of the tree restores the order given."""
+    if any(j in tree_joints for j in locked):
+        return tools[0]
+    return min(tools, key=links.index)
+
+
+def _limits_ok(urdf: _Urdf, active: tuple[str, ...], *limits: Mapping[str, float] | None) -> None:
+    """Raise where cuRobo's joint limits check does: a velocity, position, acceleration or jerk
+    range that is empty for a joint it plans for."""
+    bad = [j for j in active if j in urdf.stuck]
+    bad += [j for lim in limits if lim for j in active if lim.get(j, 1.0) <= 0]
+    if bad:
+        raise CuroboRejects(f"lower limits must be less than upper limits: {bad}")
+
+
+def _active(tree: list[str], cspace: list[str], locked: Mapping[str, float]) -> tuple[str, ...]:
+    """The joints cuRobo plans for, in its tree order; raises where its c-space check does."""
+    if len(set(cspace)) != len(cspace):
+        raise CuroboRejects("cspace contains duplicate joint names")
+    outside = [j for j in cspace if j not in tree and j not in locked]
+    if outside:
+        raise CuroboRejects(
+            f"cspace contains joints that are not active in the configured tree and are not "
+            f"explicitly locked: {outside}"
+        )
+    missing = [j for j in tree if j not in cspace and j not in locked]
+    if missing:
+        raise CuroboRejects(f"cspace is missing active tree joints: {missing}")
+    unknown = [j for j in locked if j not in tree and j not in cspace]
+    if unknown:
+        raise CuroboRejects(f"lock_joints contains joints not in the tree or cspace: {unknown}")
+    return tuple(j for j in tree if j not in locked)
+
+
+def _targets(tools: list[str], sphere_links: list[str], extra: Mapping[str, str]) -> list[str]:
+    out = list(tools)
+    out += [f for f in sphere_links if f not in out]
+    out += [p for p in extra.values() if p not in out]
+    return out
+
+
+def _mask(ignore: set[frozenset[str]], spheres: Spheres, built: bool) -> frozenset[frozenset[str]]:
+    """The ignored pairs cuRobo acts on: both frames carry spheres (either direction). When it
+    builds its collision model (``built``: some frame is named for spheres) and no pair of
+    spheres on two frames is left to check, its loader divides by zero."""
+    mask = frozenset(p for p in ignore if len(p) == 2 and all(f in spheres for f in p))
+    pairs = {frozenset((a, b)) for a in spheres for b in spheres if a != b}
+    if built and not pairs - mask:
+        raise CuroboRejects("no sphere pair left to check: ZeroDivisionError")
+    return mask
 
 
 def _per_joint(value: Any, names: list[str], active: list[str]) -> dict[str, float] | None:
@@ -69,8 +187,12 @@ def _nonzero(buffers: Mapping[str, Any]) -> dict[str, float]:
     return {k: float(v) for k, v in buffers.items() if float(v) != 0.0}
 
 
+def _radius(r: Any) -> float:
+    return SLOT if float(r) <= -1.0 else float(r)
+
+
 def _sphere_tuple(items: list[Mapping[str, Any]]) -> tuple[tuple[tuple[float, ...], float], ...]:
-    return tuple((tuple(float(c) for c in s["center"]), float(s["radius"])) for s in items)
+    return tuple((tuple(float(c) for c in s["center"]), _radius(s["radius"])) for s in items)
 
 
 def from_config(config: Path, urdf_path: Path) -> CuroboRobot:
@@ -80,22 +202,21 @@ def from_config(config: Path, urdf_path: Path) -> CuroboRobot:
     cs = kin["cspace"]
     names = list(cs["joint_names"])
     locks = kin.get("lock_joints") or {}
-    active = [n for n in names if n not in locks]
     retract = cs.get("default_joint_position", cs.get("retract_config"))
     by_name = dict(zip(names, (float(v) for v in retract), strict=True))
     extra = kin.get("extra_links") or {}
-    frames = urdf.links | {e.get("link_name", n) for n, e in extra.items()}
+    parents = {e.get("link_name", n): e["parent_link_name"] for n, e in extra.items()}
+    frames = urdf.links | set(parents)
     spheres_src = kin.get("collision_spheres") or {}
     if isinstance(spheres_src, str):
         spheres_src = yaml.safe_load((config.parent / spheres_src).read_text())["collision_spheres"]
-    allowed = kin.get("collision_link_names")
-    spheres: Spheres = {}
-    for link, items in spheres_src.items():
-        if link in frames and (allowed is None or link in allowed) and items:
-            spheres[link] = spheres.get(link, ()) + _sphere_tuple(items)
+    spheres_src = dict(spheres_src)
     for link, n in (kin.get("extra_collision_spheres") or {}).items():
-        if n:
-            spheres[link] = spheres.get(link, ()) + (((0.0, 0.0, 0.0), -10.0),) * n
+        spheres_src[link] = [{"center": [0.0, 0.0, 0.0], "radius": SLOT}] * n  # replaces
+    allowed = list(kin.get("collision_link_names") or [])  # none named: no spheres loaded
+    spheres: Spheres = {
+        link: _sphere_tuple(spheres_src[link]) for link in allowed if spheres_src.get(link)
+    }
     buf = kin.get("collision_sphere_buffer") or 0.0
     world = dict.fromkeys(spheres, buf) if isinstance(buf, (int, float)) else buf
     ignore = {
@@ -105,14 +226,20 @@ def from_config(config: Path, urdf_path: Path) -> CuroboRobot:
         if a in frames and b in frames and a != b
     }
     tools = kin.get("tool_frames") or [kin["ee_link"], *(kin.get("link_names") or [])]
+    base = kin.get("base_link") or urdf.root
+    links, joints = tree(urdf, base, _targets(tools, allowed, parents), parents)
+    active = _active(joints, names, locks)
+    acc = _per_joint(cs.get("max_acceleration"), names, list(active))
+    jerk = _per_joint(cs.get("max_jerk"), names, list(active))
+    _limits_ok(urdf, active, acc, jerk)
     return CuroboRobot(
-        active_joints=tuple(active),
+        active_joints=active,
         locked={j: float(locks.get(j, 0.0)) for j in urdf.controlled if j not in active},
         defaults={j: by_name[j] for j in active},
-        acceleration=_per_joint(cs.get("max_acceleration"), names, active),
-        jerk=_per_joint(cs.get("max_jerk"), names, active),
-        base_link=kin.get("base_link") or urdf.root,
-        ee_link=tools[0],
+        acceleration=acc,
+        jerk=jerk,
+        base_link=base,
+        ee_link=_ee(tools, links, joints, locks),
         link_names=frozenset(tools),
         extra_links={
             e.get("link_name", n): (
@@ -125,7 +252,7 @@ def from_config(config: Path, urdf_path: Path) -> CuroboRobot:
         spheres=spheres,
         world_buffer=_nonzero({k: v for k, v in world.items() if k in spheres}),
         self_buffer=_nonzero(kin.get("self_collision_buffer") or {}),
-        ignore=frozenset(ignore),
+        ignore=_mask(ignore, spheres, bool(allowed) and kin.get("collision_spheres") is not None),
     )
 
 
@@ -133,6 +260,63 @@ def _require(data: Mapping[str, Any], key: str) -> Any:
     if key not in data:
         raise CuroboRejects(f"{key} key not found in xrdf")
     return data[key]
+
+
+@dataclass
+class _Collision:
+    spheres: Spheres
+    frames: list[str]  # every frame the geometry group names (cuRobo builds a chain to each)
+    world: Mapping[str, Any]
+    self_buffer: Mapping[str, Any]
+    ignore: set[frozenset[str]]
+
+
+def _collision(x: Mapping[str, Any]) -> _Collision:
+    """The collision part of an XRDF as cuRobo reads it; raises where it raises."""
+    if "collision" not in x:
+        # its converter only warns, but its robot loader then looks up collision_spheres
+        raise CuroboRejects("no collision section: KeyError 'collision_spheres'")
+    group = _require(x["collision"], "geometry")
+    raw = _require(x["geometry"][group], "spheres")
+    spheres = {f: _sphere_tuple(items) for f, items in raw.items() if items}
+    buf = x["collision"].get("buffer_distance", 0.0)
+    if isinstance(buf, int) and not isinstance(buf, bool):
+        raise CuroboRejects("a scalar buffer must be a float to be broadcast")
+    world = dict.fromkeys(spheres, buf) if isinstance(buf, float) else buf
+    sc = _require(x, "self_collision")
+    if sc["geometry"] != group:
+        raise CuroboRejects("self_collision geometry does not match collision geometry")
+    mask = _require(sc, "ignore")
+    self_buffer = sc.get("buffer_distance") or {}
+    if raw:  # the checks of its collision-model builder
+        if not isinstance(mask, Mapping) or any(v is None for v in mask.values()):
+            raise CuroboRejects("self_collision.ignore must map each frame to a list")
+        if not isinstance(self_buffer, Mapping):
+            raise CuroboRejects("a scalar self_collision buffer_distance cannot be copied")
+    ignore = {frozenset((a, b)) for a, bs in (mask or {}).items() for b in bs or ()}
+    return _Collision(spheres, list(raw), world, self_buffer, ignore)
+
+
+def _added_frames(x: Mapping[str, Any], base: str) -> tuple[str, dict[str, Any]]:
+    """The base frame and the added frames (name -> (parent, joint, transform)) of ``x``."""
+    extra: dict[str, Any] = {}
+    for m in x.get("modifiers") or []:
+        if "set_base_frame" in m:
+            base = m["set_base_frame"]
+        elif "add_frame" in m:
+            f = m["add_frame"]
+            if _require(f, "joint_type") not in JOINT_TYPES:
+                raise CuroboRejects(f"joint_type {f['joint_type']!r}: KeyError")
+            t = f["fixed_transform"]
+            extra[f["frame_name"]] = (
+                f["parent_frame_name"],
+                f["joint_name"],
+                tuple(
+                    float(v)
+                    for v in [*t["position"], t["orientation"]["w"], *t["orientation"]["xyz"]]
+                ),
+            )
+    return base, extra
 
 
 def from_xrdf(text: str, urdf_path: Path) -> CuroboRobot:
@@ -143,73 +327,46 @@ def from_xrdf(text: str, urdf_path: Path) -> CuroboRobot:
         raise CuroboRejects("format is not xrdf")
     if not isinstance(_require(x, "format_version"), (int, float)):
         raise CuroboRejects("format_version is compared with 1.0 as a number")
-    spheres: Spheres = {}
-    world: Mapping[str, Any] = {}
-    self_buffer: Mapping[str, Any] = {}
-    ignore: set[frozenset[str]] = set()
-    if "collision" in x:  # a 2.0 file has world_collision: no collision at all
-        group = _require(x["collision"], "geometry")
-        raw = _require(x["geometry"][group], "spheres")
-        spheres = {f: _sphere_tuple(items) for f, items in raw.items() if items}
-        buf = x["collision"].get("buffer_distance", 0.0)
-        if isinstance(buf, int) and not isinstance(buf, bool):
-            raise CuroboRejects("a scalar buffer must be a float to be broadcast")
-        world = dict.fromkeys(spheres, buf) if isinstance(buf, float) else buf
-        sc = _require(x, "self_collision")
-        if sc["geometry"] != group:
-            raise CuroboRejects("self_collision geometry does not match collision geometry")
-        ignore = {frozenset((a, b)) for a, bs in _require(sc, "ignore").items() for b in bs}
-        self_buffer = sc.get("buffer_distance") or {}
+    col = _collision(x)
     tools = _require(x, "tool_frames")
     cs = _require(x, "cspace")
-    active = list(_require(cs, "joint_names"))
+    names = list(_require(cs, "joint_names"))
     defaults = _require(x, "default_joint_positions")
     # cuRobo's bug: the retract values are collected in URDF order, paired in c-space order
-    in_urdf_order = [float(defaults.get(j, 0.0)) for j in urdf.controlled if j in active]
-    base, extra = urdf.root, {}
-    for m in x.get("modifiers") or []:
-        if "set_base_frame" in m:
-            base = m["set_base_frame"]
-        elif "add_frame" in m:
-            f = m["add_frame"]
-            t = f["fixed_transform"]
-            extra[f["frame_name"]] = (
-                f["parent_frame_name"],
-                f["joint_name"],
-                tuple(
-                    float(v)
-                    for v in [*t["position"], t["orientation"]["w"], *t["orientation"]["xyz"]]
-                ),
-            )
-            _require(f, "joint_type")
+    in_urdf_order = [float(defaults.get(j, 0.0)) for j in urdf.controlled if j in names]
+    by_name = dict(zip(names, in_urdf_order, strict=False))
+    base, extra = _added_frames(x, urdf.root)
+    locked = {j: float(defaults.get(j, 0.0)) for j in urdf.controlled if j not in names}
+    parents = {k: v[0] for k, v in extra.items()}
+    links, joints = tree(urdf, base, _targets(tools, col.frames, parents), parents)
+    active = _active(joints, [*names, *locked], locked)
+    acc = dict(zip(names, map(float, _require(cs, "acceleration_limits")), strict=True))
+    jerk = dict(zip(names, map(float, _require(cs, "jerk_limits")), strict=True))
+    _limits_ok(urdf, active, acc, jerk)
     return CuroboRobot(
-        active_joints=tuple(active),
-        locked={j: float(defaults.get(j, 0.0)) for j in urdf.controlled if j not in active},
-        defaults=dict(zip(active, in_urdf_order, strict=False)),
-        acceleration=dict(
-            zip(active, map(float, _require(cs, "acceleration_limits")), strict=True)
-        ),
-        jerk=dict(zip(active, map(float, _require(cs, "jerk_limits")), strict=True)),
+        active_joints=active,
+        locked=locked,
+        defaults={j: by_name[j] for j in active if j in by_name},
+        acceleration={j: acc[j] for j in active},
+        jerk={j: jerk[j] for j in active},
         base_link=base,
-        ee_link=tools[0],
+        ee_link=_ee(tools, links, joints, locked),
         link_names=frozenset(tools),
         extra_links=extra,
-        spheres=spheres,
-        world_buffer=_nonzero({k: v for k, v in world.items() if k in spheres}),
-        self_buffer=_nonzero(self_buffer),
-        ignore=frozenset(p for p in ignore if len(p) == 2),
+        spheres=col.spheres,
+        world_buffer=_nonzero({k: v for k, v in col.world.items() if k in col.spheres}),
+        self_buffer=_nonzero(col.self_buffer),
+        ignore=_mask(col.ignore, col.spheres, bool(col.frames)),
     )
 
 
 def loads_as_written(text: str, urdf_path: Path) -> bool:
     """True when cuRobo loads ``text`` without raising and builds the robot it says: no
-    collision lost to the version, no defaults scrambled by the URDF-order bug."""
+    defaults scrambled by the URDF-order bug."""
     try:
         robot = from_xrdf(text, urdf_path)
     except (CuroboRejects, KeyError, TypeError, IndexError):
         return False
     x = yaml.safe_load(text)
-    if "world_collision" in x and "collision" not in x:
-        return False  # collision silently disabled
     defaults = x.get("default_joint_positions") or {}
     return all(robot.defaults[j] == float(defaults.get(j, 0.0)) for j in robot.active_joints)

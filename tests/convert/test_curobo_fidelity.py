@@ -2,18 +2,21 @@
 with what cuRobo's loader does.
 
 The model of cuRobo's loader (tests/curobo_loader.py) is written from the reader facts in
-docs/format.md, rule by rule; these tests never run cuRobo itself.
+docs/format.md, rule by rule, and checked against cuRobo itself on real robots by
+benchmarks/check_curobo_loader.py; these tests never run cuRobo.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
+from typing import Any
 
 import pytest
 import yaml
 from typer.testing import CliRunner
 
-from tests.curobo_loader import from_config, from_xrdf, loads_as_written
+from tests.curobo_loader import SLOT, CuroboRejects, from_config, from_xrdf, loads_as_written
 from tests.paths import FIXTURES, SEED_XRDF, SHARED, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions, convert_files
@@ -42,14 +45,27 @@ def _pair(config: Path, urdf: Path) -> tuple[Path, Path]:
 @pytest.mark.parametrize(("config", "urdf"), CONFIGS, ids=lambda p: p.name)
 def test_curobo_loads_the_converted_config_as_the_same_robot(config: Path, urdf: Path) -> None:
     config, urdf = _pair(config, urdf)
-    x, _, _ = convert_files(urdf, ConvertOptions(curobo=config))  # default options
+    x, diags, _ = convert_files(urdf, ConvertOptions(curobo=config))  # default options
     text = dump_xrdf(x)
     assert x.format_version == "1.0"
-    expected = from_config(config, urdf)
     loaded = from_xrdf(text, urdf)
+    try:
+        expected = from_config(config, urdf)
+    except CuroboRejects:  # cuRobo cannot load the config itself (a misspelt collision link)
+        assert [d for d in diags if d.rule == "convert-unknown-link"]
+        assert loads_as_written(text, urdf)  # the XRDF, without the unknown link, loads
+        return
+    kin = yaml.safe_load(config.read_text())["robot_cfg"]["kinematics"]
+    # without collision_link_names cuRobo loads none of the config's spheres; the XRDF keeps
+    # them (every XRDF sphere frame is checked) and the converter says so
+    unlisted = kin.get("collision_link_names") is None and bool(kin.get("collision_spheres"))
+    said = [d for d in diags if "no collision_link_names" in d.message]
+    assert len(said) == unlisted and (not unlisted or expected.spheres == {})
     # field by field, so a failure names what cuRobo would get wrong; a value the config does
     # not give (None) is a reported fallback of the converter
     for field in expected.__dataclass_fields__:
+        if unlisted and field in ("spheres", "world_buffer", "ignore"):
+            continue
         if getattr(expected, field) is not None:
             assert getattr(loaded, field) == getattr(expected, field), field
     assert loads_as_written(text, urdf)
@@ -67,18 +83,24 @@ def test_curobo_loads_the_converted_config_as_the_same_robot(config: Path, urdf:
 def test_the_attached_object_slots_survive_for_curobo() -> None:
     config, urdf = _pair(REFERENCE / "franka.yml", REFERENCE / "franka_panda.urdf")
     x, _, _ = convert_files(urdf, ConvertOptions(curobo=config))
-    loaded = from_xrdf(dump_xrdf(x), urdf)
-    assert loaded.spheres["attached_object"] == (((0.0, 0.0, 0.0), -10.0),) * 4
+    text = dump_xrdf(x)
+    doc = yaml.safe_load(text)
+    written = doc["geometry"][doc["collision"]["geometry"]]["spheres"]
+    assert [s["radius"] for s in written["attached_object"]] == [-10.0] * 4  # as cuMotion's
+    loaded = from_xrdf(text, urdf)  # four slots, as cuRobo makes from the config
+    assert loaded.spheres["attached_object"] == (((0.0, 0.0, 0.0), SLOT),) * 4
+    assert from_config(config, urdf).spheres["attached_object"] == loaded.spheres["attached_object"]
 
 
-def test_a_2_0_file_loads_in_curobo_with_no_collision_and_lint_says_so(
+def test_a_2_0_file_does_not_load_in_curobo_and_lint_says_so(
     runner: CliRunner, tmp_path: Path
 ) -> None:
     x, diags, _ = convert_files(
         UR10E_URDF, ConvertOptions(curobo=CLASSIC / "ur10e_classic.yml", format_version="2.0")
     )
     text = dump_xrdf(x)
-    assert from_xrdf(text, UR10E_URDF).spheres == {}  # what cuRobo builds: no spheres at all
+    with pytest.raises(CuroboRejects, match="collision_spheres"):  # its robot loader stops
+        from_xrdf(text, UR10E_URDF)
     (version_note,) = [d for d in diags if d.rule == "convert-version"]
     assert "cuRobo and Isaac ROS cuMotion" in version_note.message
     out = tmp_path / "ur10e.xrdf"
@@ -150,6 +172,10 @@ def _mutations(text: str) -> dict[str, str]:
     variant("integer scalar buffer", lambda d: d["collision"].update(buffer_distance=0))
     variant("reordered c-space", lambda d: _reorder(d))
     variant("other self group", lambda d: d["self_collision"].update(geometry="other"))
+    variant("no collision", lambda d: d.pop("collision"))
+    variant("ignore as a list", lambda d: d["self_collision"].update(ignore=[]))
+    variant("scalar self buffer", lambda d: d["self_collision"].update(buffer_distance=0.01))
+    variant("joints below every frame", _only_the_upper_arm)
     # accepted by cuRobo: integers in per-frame buffers and lists, a float scalar buffer
     variant(
         "integer per-frame buffer",
@@ -162,6 +188,14 @@ def _mutations(text: str) -> dict[str, str]:
     )
     assert data  # the source itself loads
     return out
+
+
+def _only_the_upper_arm(d: dict[str, Any]) -> None:
+    """Tool frame and spheres on the upper arm only: the joints past it move none of them."""
+    d["tool_frames"] = ["upper_arm_link"]
+    spheres = d["geometry"][d["collision"]["geometry"]]["spheres"]
+    for frame in [f for f in spheres if f not in ("shoulder_link", "upper_arm_link")]:
+        del spheres[frame]
 
 
 def _reorder(d: dict[str, object]) -> None:
@@ -300,3 +334,68 @@ def test_export_xrdf_for_curobo_writes_only_what_curobo_loads(
     assert out.exists() == loads
     if not loads:
         assert r.exit_code == 1 and "not written" in r.output and "curobo-" in r.output
+
+
+@pytest.mark.parametrize(
+    "rule",
+    ["curobo-joint-axis", "curobo-joint-outside-tree", "curobo-no-pair", "curobo-self-buffer"],
+)
+def test_the_rules_learnt_from_curobos_loader_agree_with_the_model(rule: str) -> None:
+    """Each failing fixture of these rules is a file cuRobo's loader raises on (checked with
+    cuRobo itself, benchmarks/check_curobo_loader.py), each passing one a file it loads."""
+    for f in sorted((FIXTURES / "lint" / rule).glob("*.xrdf")):
+        text = f.read_text()
+        given = re.search(r"^# urdf: (.+)$", text, re.M)
+        urdf = (f.parent / given.group(1)).resolve() if given else UR10E_URDF
+        found = [
+            d.rule
+            for d in lint_text(text, str(f), urdf=urdf, target="curobo")
+            if d.rule == rule and d.severity.value == "error"
+        ]
+        try:
+            from_xrdf(text, urdf)
+        except CuroboRejects:
+            assert f.name.startswith("fail") and found, f
+        else:
+            assert f.name.startswith("pass") and not found, f
+
+
+def _three_link(tools: str, cspace: list[str]) -> str:
+    """The curobo-joint-outside-tree passing fixture (three_link_mimic.urdf) with these tool
+    frames and c-space joints."""
+    text = (FIXTURES / "lint" / "curobo-joint-outside-tree" / "pass.xrdf").read_text()
+    x = yaml.safe_load(text.replace("tool_frames: [tool]", f"tool_frames: {tools}"))
+    n = len(cspace)
+    x["cspace"] = {
+        "joint_names": cspace,
+        "acceleration_limits": [10.0] * n,
+        "jerk_limits": [1e3] * n,
+    }
+    return yaml.safe_dump(x, sort_keys=False)
+
+
+def test_curobo_puts_a_tool_frame_on_the_chain_to_the_first_first_unless_a_joint_is_locked() -> (
+    None
+):
+    """Checked with cuRobo main: with every joint on its chains in the c-space it reorders the
+    tool frames from the base outwards; a locked joint there keeps the order written."""
+    urdf = FIXTURES / "urdf" / "three_link_mimic.urdf"
+    free = from_xrdf(_three_link("[tool, link1]", ["joint1", "joint2", "joint3"]), urdf)
+    assert free.ee_link == "link1" and free.link_names == {"tool", "link1"}
+    locked = from_xrdf(_three_link("[tool, link1]", ["joint1", "joint2"]), urdf)
+    assert locked.ee_link == "tool" and locked.locked == {"joint3": 0.1}
+    assert from_xrdf(
+        _three_link("[tool, base_link]", ["joint1", "joint2", "joint3"]), urdf
+    ).ee_link == ("base_link")
+
+
+def test_a_joint_curobo_plans_for_needs_a_velocity_range() -> None:
+    """Checked with cuRobo main: a planned joint with URDF velocity 0 makes its loader raise;
+    held outside the c-space (locked) it loads, and lint says so."""
+    urdf = FIXTURES / "urdf" / "zero_velocity_arm.urdf"
+    text = _three_link("[link3]", ["joint1", "joint2", "joint3"])
+    with pytest.raises(CuroboRejects, match="joint1"):
+        from_xrdf(text, urdf)
+    rules = {d.rule for d in lint_text(text, "x.xrdf", urdf=urdf, target="curobo")}
+    assert "curobo-zero-velocity" in rules
+    assert from_xrdf(_three_link("[link3]", ["joint2", "joint3"]), urdf).locked == {"joint1": 0.0}

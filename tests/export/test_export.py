@@ -275,6 +275,8 @@ geometry:
     spheres:
       left:
         - {center: [0.0, 0.0, 0.0], radius: 0.01}
+      upper:
+        - {center: [0.0, 0.0, 0.1], radius: 0.05}
 """
 
 
@@ -329,7 +331,8 @@ def test_curobo_export_of_world_collision_only_checks_no_pair(tmp_path: Path) ->
     """cuMotion's two_link_arm.xrdf has world_collision and no self_collision: its spheres are
     never checked against each other, and link0's last sphere sits on link1's first. cuRobo
     checks every pair its config does not ignore, so the export ignores every pair (it wrote
-    self_collision_ignore: {}, and cuRobo saw the arm in self-collision everywhere)."""
+    self_collision_ignore: {}, and cuRobo saw the arm in self-collision everywhere); cuRobo's
+    loader then finds no pair to check and raises, which the export says."""
     urdf = tmp_path / "two_link.urdf"
     urdf.write_text(_TWO_LINK_URDF)
     tree = as_robot(load_urdf(urdf)).tree
@@ -340,7 +343,12 @@ def test_curobo_export_of_world_collision_only_checks_no_pair(tmp_path: Path) ->
     frames = kin["collision_link_names"]
     assert frames == ["base", "link0", "link1"]
     assert ignored == {frozenset((a, b)) for a in frames for b in frames if a != b}
-    assert [(d.rule, d.severity.value) for d in diags] == [("export-no-self-collision", "info")]
+    # and cuRobo's loader raises when no pair is left to check: said, with what to do
+    assert [(d.rule, d.severity.value) for d in diags] == [
+        ("export-no-self-collision", "info"),
+        ("export-no-pair", "warning"),
+    ]
+    assert "ZeroDivisionError" in diags[1].message
 
     self_only = parse_xrdf(_two_link_xrdf("self_collision"), "two_link.xrdf")
     text, diags = to_curobo(self_only, tree, urdf_path=urdf)

@@ -297,7 +297,30 @@ def _collision_keys(x: Xrdf, note: Callable[[str, str, Severity], None]) -> dict
         sbuf = {}
     kin["self_collision_ignore"] = {a: ignore[a] for a in sorted(ignore)}
     kin["self_collision_buffer"] = sbuf
+    _say_if_no_pair_left(list(spheres), ignore, note)
     return kin
+
+
+def _say_if_no_pair_left(
+    frames: list[str],
+    ignore: Mapping[str, list[str]],
+    note: Callable[[str, str, Severity], None],
+) -> None:
+    """Warn when cuRobo would have no pair of sphere frames to check for self-collision: its
+    loader divides by that number and raises."""
+    if not frames:
+        return
+    masked = {frozenset((a, b)) for a, bs in ignore.items() for b in bs}
+    if any(frozenset((a, b)) not in masked for i, a in enumerate(frames) for b in frames[i + 1 :]):
+        return
+    note(
+        "export-no-pair",
+        f"no pair of the {len(frames)} sphere frame(s) is left for self-collision: cuRobo's "
+        "loader raises on this config (ZeroDivisionError); remove a pair that can collide "
+        "from self_collision_ignore (and turn self-collision checking off in cuRobo's planner "
+        "configuration if the robot should not check it)",
+        Severity.WARNING,
+    )
 
 
 _RELATIVE_NOTE = (

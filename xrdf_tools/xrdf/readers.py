@@ -106,6 +106,6 @@ def choose_version(x: Xrdf, requested: str | None, target: Target | None) -> tup
     reason = f" because {needs[0]}" if needs else ""
     return requested, (
         f"writing XRDF {requested}{reason}: {' and '.join(t.label for t in dropping)} read only "
-        "1.0 and would load this file with NO collision spheres (pass --target to say who "
-        "reads it)"
+        "1.0: cuRobo's robot loader stops on this file (no 'collision' section), and its XRDF "
+        "converter alone loads it with NO collision spheres (pass --target to say who reads it)"
     )

@@ -74,7 +74,13 @@ def curobo(
     ],
     layout: Annotated[
         str,
-        typer.Option("--layout", help="cuRobo config layout: 2.0 (tool_frames) or classic."),
+        typer.Option(
+            "--layout",
+            help=(
+                "cuRobo config layout: 2.0 (tool_frames; cuRobo main) or classic "
+                "(ee_link; cuRobo 0.7.x, which main does not load)."
+            ),
+        ),
     ] = "2.0",
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,

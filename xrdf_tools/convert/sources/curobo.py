@@ -411,6 +411,13 @@ def _read_sphere_source(k: _Kin) -> None:
     if raw is None:
         return
     k.d.spheres = read_sphere_map(raw, k.frames, srep, sprefix, allowed)
+    if allowed is None and any(k.d.spheres.values()):
+        k.rep.report(
+            "convert-unused-spheres",
+            "no collision_link_names: cuRobo loads none of these spheres from this config "
+            "(it checks no collision for it); the XRDF keeps them, so its readers check them",
+            k.kp("collision_spheres"),
+        )
     if srep is not k.rep:
         k.d.diagnostics.extend(srep.diagnostics)
     for i, c in enumerate(coll_links or []):

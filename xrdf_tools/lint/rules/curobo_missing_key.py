@@ -1,11 +1,14 @@
-"""A key that cuRobo's XRDF loader requires is missing.
+"""A key that cuRobo's XRDF loader requires is missing (or is a list where it needs a map).
 
 cuRobo (and Isaac ROS cuMotion) raise while loading when ``tool_frames`` is missing or empty
 (the first is taken as the end effector), when ``default_joint_positions`` is missing, when a
 ``collision`` section has no ``self_collision`` beside it, or when ``self_collision`` has no
-``ignore`` (write ``ignore: {}`` for none). A 1.0 file without ``collision`` loads with
-collision avoidance disabled (a log line only). The spec makes these keys optional, and the
-cuMotion library loads such files; 11 of cuMotion's 20 example XRDFs have no ``tool_frames``.
+``ignore`` (write ``ignore: {}`` for none). ``ignore: []`` (what cuRobo's own XRDF writer emits
+when nothing is masked) makes its loader raise as well: it looks the frames up as map keys. A 1.0
+file without ``collision`` does not load either: cuRobo's XRDF converter only logs that
+collision avoidance is disabled, but its robot loader then fails on the missing
+``collision_spheres`` (KeyError). The spec makes these keys optional, and the cuMotion library
+loads such files; 11 of cuMotion's 20 example XRDFs have no ``tool_frames``.
 """
 
 from __future__ import annotations
@@ -41,7 +44,8 @@ def _collision(ctx: LintContext) -> Iterator[Problem]:
     if ctx.version == "1.0" and not isinstance(world, YMap):
         yield ctx.problem(
             None,
-            "no collision section: cuRobo loads this robot with collision avoidance disabled",
+            "no collision section: cuRobo's robot loader raises (KeyError 'collision_spheres'; "
+            "its XRDF converter alone would load the robot with collision avoidance disabled)",
             "collision",
         )
         return
@@ -60,6 +64,13 @@ def _collision(ctx: LintContext) -> Iterator[Problem]:
             ctx.top.key_node("self_collision") if ctx.top is not None else None,
             "self_collision has no ignore: cuRobo's loader raises ('ignore key not found'); "
             "write ignore: {} for none",
+            "self_collision.ignore",
+        )
+    elif isinstance(self_c.get("ignore"), YSeq):
+        yield ctx.problem(
+            self_c.get("ignore"),
+            "self_collision.ignore is a list: cuRobo's loader raises (it looks frames up as "
+            "keys of a map); write ignore: {} for none",
             "self_collision.ignore",
         )
 

@@ -2,11 +2,12 @@
 
 cuRobo takes joint velocity limits from the URDF only (an XRDF has none, and a MoveIt
 ``joint_limits.yaml`` ``max_velocity`` never reaches it): it bounds the joint's velocity to
-``[-velocity, velocity]``, so a joint whose URDF says ``velocity="0"`` cannot move and every
-plan that needs it fails. Vendors ship such URDFs when the real limits live in
-``joint_limits.yaml`` (AUBO's ``aubo_i5.urdf`` writes ``velocity="0"`` on every joint). Set
-the joint's real velocity limit in the URDF. A ``<limit>`` without ``velocity`` is no finding
-(cuRobo assumes 100 rad/s or m/s with a warning of its own).
+``[-velocity, velocity]``, and its loader raises ("lower velocity limits must be less than
+upper velocity limits") when that range is empty for a joint it plans for. Vendors ship such
+URDFs when the real limits live in ``joint_limits.yaml`` (AUBO's ``aubo_i5.urdf`` writes
+``velocity="0"`` on every joint). Set the joint's real velocity limit in the URDF. A
+``<limit>`` without ``velocity`` is no finding (cuRobo assumes 100 rad/s or m/s with a warning
+of its own).
 """
 
 from __future__ import annotations
@@ -41,8 +42,8 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     yield ctx.problem(
         node,
         f"{what} <limit {limit}> in {ctx.robot.file_name}: cuRobo reads velocity limits only "
-        f"from the URDF and cannot move {them}; set the real limits there (a joint_limits.yaml "
-        "max_velocity does not reach cuRobo)",
+        f"from the URDF and its loader raises on {them} (an empty velocity range); set the real "
+        "limits there (a joint_limits.yaml max_velocity does not reach cuRobo)",
         f"cspace.joint_names[{index}]",
     )
 
