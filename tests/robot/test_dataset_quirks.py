@@ -7,6 +7,7 @@ import shlex
 from pathlib import Path
 
 import pytest
+import yaml
 from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
@@ -365,6 +366,31 @@ def test_a_dollar_sign_that_is_no_substitution_leaves_a_urdf_plain(tmp_path: Pat
     assert not is_xacro(urdf)
     urdf.write_text(ARM.format(attr="", extra='<material name="m_$(arg tint)"/>\n'))
     assert is_xacro(urdf)
+
+
+def test_a_urdf_written_by_xacro_with_a_macro_call_commented_out_is_plain(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Talos' talos_full_v2.urdf keeps xacro's namespace and a ``<xacro:...>`` call inside a
+    comment: it is a plain URDF, and ``export curobo`` names it, not an expanded copy."""
+    from xrdf_tools.robot.xacro_source import is_xacro
+
+    urdf = tmp_path / "r.urdf"
+    text = ARM.format(attr="", extra="<!-- <xacro:transmission name='${n}'/> -->\n")
+    urdf.write_text(text.replace('<robot name="r">', '<robot name="r" xmlns:xacro="x">'))
+    assert not is_xacro(urdf)
+    xrdf = tmp_path / "r.xrdf"
+    code, out = _run(runner, "convert", urdf, "--fit-spheres", "-o", xrdf)
+    assert code == 0, out
+    code, out = _run(runner, "export", "curobo", xrdf, "--urdf", urdf, "-o", tmp_path / "c.yml")
+    assert code == 0, out
+    assert "export-expanded-urdf" not in out and not (tmp_path / "c_r.urdf").exists()
+    assert (
+        yaml.safe_load((tmp_path / "c.yml").read_text())["robot_cfg"]["kinematics"]["urdf_path"]
+        == "r.urdf"
+    )
+    urdf.write_text(text.replace("<!-- <xacro:", "<xacro:").replace(" -->", ""))
+    assert not is_xacro(urdf)  # no namespace: not xacro's element
 
 
 def test_a_wrist_joint_held_by_zero_limits_is_named_where_the_cspace_leaves_it_out(

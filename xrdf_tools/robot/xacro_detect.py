@@ -22,9 +22,14 @@ _COMMENT = re.compile(rb"<!--.*?-->", re.DOTALL)
 
 def uses_xacro(data: bytes) -> bool:
     """The bytes of a robot (or SRDF) file declare the xacro namespace and use it, or hold a
-    xacro substitution in an attribute (comments left out), which only xacro can evaluate."""
-    if b"xmlns:xacro" in data[:4096] and b"<xacro:" in data:
-        return True
-    if b"$" not in data:
+    xacro substitution in an attribute, which only xacro can evaluate; comments left out (a
+    URDF written by xacro keeps ``xmlns:xacro`` and may keep a ``<xacro:...>`` element
+    commented out: Talos' ``talos_full_v2.urdf``)."""
+    if b"<xacro:" not in data and b"$" not in data:
         return False
-    return _SUBSTITUTION_IN_ATTRIBUTE.search(_COMMENT.sub(b"", data)) is not None
+    text = _COMMENT.sub(b"", data)
+    if b"xmlns:xacro" in data[:4096] and b"<xacro:" in text:
+        return True
+    if b"$" not in text:
+        return False
+    return _SUBSTITUTION_IN_ATTRIBUTE.search(text) is not None
