@@ -63,7 +63,8 @@ class _Urdf:
     up: Mapping[str, tuple[str, str | None]]
     #: moving joints whose axis is not along x, y or z (cuRobo raises on them in its tree)
     tilted: frozenset[str]
-    #: joints whose URDF velocity limit is <= 0 or whose lower limit is not below the upper:
+    #: joints whose URDF velocity or effort limit is <= 0 or whose lower limit is not below the
+    #: upper:
     #: cuRobo raises when one of them is a joint it plans for
     stuck: frozenset[str]
 
@@ -83,6 +84,7 @@ def _urdf(path: Path) -> _Urdf:
         n
         for n, j in joints.items()
         if (j.velocity is not None and j.velocity <= 0)
+        or (j.effort is not None and j.effort <= 0)
         or (j.type != "continuous" and None not in (j.lower, j.upper) and j.lower >= j.upper)
     )
     return _Urdf(controlled, frozenset(links_of(u)), root_link(u), up, tilted, stuck)
@@ -130,8 +132,8 @@ def _ee(tools: list[str], links: list[str], tree_joints: list[str], locked: Iter
 
 
 def _limits_ok(urdf: _Urdf, active: tuple[str, ...], *limits: Mapping[str, float] | None) -> None:
-    """Raise where cuRobo's joint limits check does: a velocity, position, acceleration or jerk
-    range that is empty for a joint it plans for."""
+    """Raise where cuRobo's joint limits check does: a velocity, effort, position, acceleration
+    or jerk range that is empty for a joint it plans for."""
     bad = [j for j in active if j in urdf.stuck]
     bad += [j for lim in limits if lim for j in active if lim.get(j, 1.0) <= 0]
     if bad:

@@ -389,6 +389,23 @@ def test_curobo_puts_a_tool_frame_on_the_chain_to_the_first_first_unless_a_joint
     ).ee_link == ("base_link")
 
 
+def test_a_joint_curobo_plans_for_needs_an_effort_range(tmp_path: Path) -> None:
+    """Checked with cuRobo main: a URDF ``effort="0"`` on a planned joint makes its loader
+    raise as velocity 0 does; lint names the attribute."""
+    text = (FIXTURES / "urdf" / "zero_velocity_arm.urdf").read_text()
+    urdf = tmp_path / "effort.urdf"
+    urdf.write_text(text.replace('effort="0" velocity="0"', 'effort="0" velocity="2.0"'))
+    xrdf = _three_link("[link3]", ["joint1", "joint2", "joint3"])
+    with pytest.raises(CuroboRejects, match="joint1"):
+        from_xrdf(xrdf, urdf)
+    (found,) = [
+        d
+        for d in lint_text(xrdf, "x.xrdf", urdf=urdf, target="curobo")
+        if d.rule == "curobo-zero-velocity"
+    ]
+    assert 'effort="0"' in found.message and "velocity=" not in found.message
+
+
 def test_a_joint_curobo_plans_for_needs_a_velocity_range() -> None:
     """Checked with cuRobo main: a planned joint with URDF velocity 0 makes its loader raise;
     held outside the c-space (locked) it loads, and lint says so."""

@@ -30,8 +30,8 @@ class JointInfo:
 
     ``origin`` is the (4, 4) read-only transform from the parent link to the joint frame (which
     is also the child link frame at joint value 0). ``axis`` is the axis as written (default
-    ``(1, 0, 0)``, not normalised). ``lower``/``upper``/``velocity`` are ``None`` when the URDF
-    does not give them. A mimic follower has ``mimic_joint`` set and moves as
+    ``(1, 0, 0)``, not normalised). ``lower``/``upper``/``velocity``/``effort`` are ``None``
+    when the URDF does not give them. A mimic follower has ``mimic_joint`` set and moves as
     ``mimic_multiplier * q[mimic_joint] + mimic_offset``. ``line`` is the line of the
     ``<joint>`` element when known.
     """
@@ -45,6 +45,7 @@ class JointInfo:
     lower: float | None = None
     upper: float | None = None
     velocity: float | None = None
+    effort: float | None = None
     mimic_joint: str | None = None
     mimic_multiplier: float = 1.0
     mimic_offset: float = 0.0
@@ -93,6 +94,7 @@ class JointInfo:
             self.lower,
             self.upper,
             self.velocity,
+            self.effort,
             self.mimic_joint,
             self.mimic_multiplier,
             self.mimic_offset,
@@ -124,6 +126,7 @@ def joint_info(j: Any, line: int | None) -> JointInfo:
         lower=_opt_float(limit.lower) if limit is not None else None,
         upper=_opt_float(limit.upper) if limit is not None else None,
         velocity=_opt_float(limit.velocity) if limit is not None else None,
+        effort=_opt_float(limit.effort) if limit is not None else None,
         mimic_joint=str(mimic.joint) if mimic is not None else None,
         mimic_multiplier=(
             1.0 if mimic is None or mimic.multiplier is None else float(mimic.multiplier)
@@ -154,6 +157,7 @@ def joint_from_xml(e: Any, line: int | None) -> JointInfo:
         lower=_opt_float(limit.get("lower")) if limit is not None else None,
         upper=_opt_float(limit.get("upper")) if limit is not None else None,
         velocity=_opt_float(limit.get("velocity")) if limit is not None else None,
+        effort=_opt_float(limit.get("effort")) if limit is not None else None,
         mimic_joint=str(mimic.get("joint")) if mimic is not None else None,
         mimic_multiplier=1.0 if mimic is None else float(mimic.get("multiplier", 1.0)),
         mimic_offset=0.0 if mimic is None else float(mimic.get("offset", 0.0)),
