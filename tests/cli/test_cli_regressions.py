@@ -124,3 +124,30 @@ def test_fuzz_seed_641_case_227_a_joint_limit_no_float_holds(
     assert cspace is not None
     accel = dict(zip(cspace.joint_names, cspace.acceleration_limits, strict=True))
     assert accel["shoulder_lift_joint"] == 5.0 and accel["shoulder_pan_joint"] != float(value)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("lint", str(MIMIC_XRDF)),  # the lint configuration is searched from there
+        ("export", "curobo", str(MIMIC_XRDF), "--urdf", str(MIMIC_URDF)),  # paths relative to it
+    ],
+)
+def test_a_removed_working_directory_is_one_line_exit_2(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    args: tuple[str, ...],
+) -> None:
+    from xrdf_tools import cli
+
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    monkeypatch.chdir(gone)
+    gone.rmdir()
+    monkeypatch.setattr("sys.argv", ["xrdf", *args])
+    with pytest.raises(SystemExit) as exc:
+        cli._run()
+    err = capsys.readouterr().err
+    assert exc.value.code == 2, err
+    assert err.count("\n") == 1 and "current directory" in err and "Traceback" not in err
