@@ -209,6 +209,43 @@ def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
         load_cspace_configurations(tmp_path / "bad.csv", kin, xrdf)
 
 
+@pytest.mark.parametrize(
+    ("name", "content", "line"),
+    [
+        ("none.csv", "", None),
+        ("header.csv", "joint1 joint2 joint3\n", 1),
+        ("comments.txt", "# nothing yet\n\n", None),
+        ("none.yaml", "[]\n", None),
+        ("none.npy", None, None),
+    ],
+)
+def test_a_configurations_file_without_a_row_is_an_input_error(
+    runner: CliRunner, tmp_path: Path, name: str, content: str | None, line: int | None
+) -> None:
+    """No configuration checked would classify every pair as never colliding (and
+    ``--write-mask`` would ignore them all): a file without a row is refused."""
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.selfcollision.configurations import load_configurations
+    from xrdf_tools.util.errors import SourceError
+
+    configs = tmp_path / name
+    if content is None:
+        np.save(configs, np.zeros((0, 3)))
+    else:
+        configs.write_text(content)
+    urdf, xrdf = load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF)
+    kin, _ = build_kinematic_model(urdf, xrdf)
+    with pytest.raises(SourceError, match="holds no configuration") as exc:
+        load_configurations(configs, kin, xrdf)
+    assert exc.value.line == line
+    xfile = tmp_path / "r.xrdf"
+    xfile.write_text(THREE_LINK_XRDF)
+    mask = tmp_path / "masked.xrdf"
+    args = [str(xfile), "--urdf", str(THREE_LINK), "--configs", str(configs)]
+    r = runner.invoke(app, ["report", *args, "--write-mask", str(mask)])
+    assert r.exit_code == 2 and not mask.exists()
+
+
 def test_renderers_agree_on_content() -> None:
     _, r = three_link_report(samples=1000)
     text, md, page = render_text(r), render_markdown(r), render_html(r)
