@@ -258,6 +258,27 @@ def test_renderers_agree_on_content() -> None:
     json.dumps(d, allow_nan=False)  # strict JSON: no NaN or Infinity
 
 
+def test_markdown_shows_names_as_text(tmp_path: Path) -> None:
+    """A link name holding a table separator, a line break or HTML stays one cell of one row,
+    shown as written (and no markup) where the Markdown is rendered."""
+    name = "<img src=x onerror=alert(1)> a|b\nc"
+    attr = name.replace("<", "&lt;").replace(">", "&gt;").replace("\n", "&#10;")
+    urdf = tmp_path / "odd.urdf"
+    urdf.write_text(THREE_LINK.read_text().replace('"link2"', f'"{attr}"'))
+    x = parse_xrdf(THREE_LINK_XRDF.replace("link2", "placeholder"), "odd.xrdf")
+    doc = dump_xrdf(x).replace("placeholder", json.dumps(name))
+    r = self_collision_report(load_urdf(urdf), parse_xrdf(doc, "odd.xrdf"), samples=50)
+    assert name in r.sphere_counts
+    md = render_markdown(r)
+    prose = [line for line in md.splitlines() if not line.startswith("    ")]  # code blocks: as is
+    assert not any("<img" in line for line in prose)
+    assert "&lt;img src=x onerror=alert(1)&gt; a\\|b c" in md
+    header = next(line for line in md.splitlines() if line.startswith("| frame A"))
+    cells = header.count(" | ")
+    rows = [line for line in md.splitlines() if line.startswith("| ") and "&lt;img" in line]
+    assert rows and all(row.replace("\\|", "").count(" | ") in (1, cells) for row in rows)
+
+
 def _validate(doc: object) -> None:
     jsonschema = pytest.importorskip("jsonschema")
     jsonschema.validate(doc, json.loads(SCHEMA.read_text()))
