@@ -212,11 +212,11 @@ def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("name", "content", "line"),
     [
-        ("none.csv", "", None),
-        ("header.csv", "joint1 joint2 joint3\n", 1),
-        ("comments.txt", "# nothing yet\n\n", None),
-        ("none.yaml", "[]\n", None),
-        ("none.npy", None, None),
+        ("none.csv", "", 1),
+        ("header.csv", "\njoint1 joint2 joint3\n", 2),
+        ("comments.txt", "# nothing yet\n\n", 1),
+        ("none.yaml", "[]\n", 1),
+        ("none.npy", None, None),  # binary: no line
     ],
 )
 def test_a_configurations_file_without_a_row_is_an_input_error(

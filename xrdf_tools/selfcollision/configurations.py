@@ -213,7 +213,7 @@ def _assemble(
             "the file holds no configuration (one per row"
             + (", below the header of joint names)" if header is not None else ")"),
             path=spath,
-            line=header_line,
+            line=header_line if header_line is not None else 1 if lines is not None else None,
         )
     q0 = default_configuration(kin, xrdf.default_joint_positions)
     cspace, _ = cspace_indices(kin, xrdf)
