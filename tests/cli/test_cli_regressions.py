@@ -124,3 +124,66 @@ def test_fuzz_seed_641_case_227_a_joint_limit_no_float_holds(
     assert cspace is not None
     accel = dict(zip(cspace.joint_names, cspace.acceleration_limits, strict=True))
     assert accel["shoulder_lift_joint"] == 5.0 and accel["shoulder_pan_joint"] != float(value)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("lint", str(MIMIC_XRDF)),  # the lint configuration is searched from there
+        ("export", "curobo", str(MIMIC_XRDF), "--urdf", str(MIMIC_URDF)),  # paths relative to it
+    ],
+)
+def test_a_removed_working_directory_is_one_line_exit_2(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    args: tuple[str, ...],
+) -> None:
+    from xrdf_tools import cli
+
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    monkeypatch.chdir(gone)
+    gone.rmdir()
+    monkeypatch.setattr("sys.argv", ["xrdf", *args])
+    with pytest.raises(SystemExit) as exc:
+        cli._run()
+    err = capsys.readouterr().err
+    assert exc.value.code == 2, err
+    assert err.count("\n") == 1 and "current directory" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("report", str(MIMIC_XRDF), "--urdf", str(MIMIC_URDF), "-n", "8", "--clearance-margin"),
+        ("report", str(MIMIC_XRDF), "--urdf", str(MIMIC_URDF), "-n", "8", "--min-rate"),
+        ("report", str(MIMIC_XRDF), "--urdf", str(MIMIC_URDF), "--certify", "--certify-budget"),
+        ("spheres", str(MIMIC_URDF), "--links", "finger", "--max-protrusion"),
+        ("spheres", str(MIMIC_URDF), "--links", "finger", "--target-coverage"),
+        ("convert", str(MIMIC_URDF), "--acceleration"),
+        ("convert", str(MIMIC_URDF), "--jerk"),
+    ],
+    ids=lambda a: a[-1],
+)
+@pytest.mark.parametrize("value", ["nan", "inf"])
+def test_a_number_option_refuses_nan_and_inf(
+    runner: CliRunner, args: tuple[str, ...], value: str
+) -> None:
+    """typer reads 'nan' as a float that passes every range check: with --clearance-margin nan
+    the report saw no pair collide (every pair 'never'), --max-protrusion nan crashed the fit."""
+    code, out = run_cli(runner, *args, value)
+    said = (f"{value} is not a finite number", f"{value} is not in the range")  # inf > a max
+    assert code == 2 and any(s in out for s in said), out
+
+
+def test_a_huge_sphere_density_is_the_per_link_ceiling(runner: CliRunner) -> None:
+    """--density 1e308 times a link volume overflows to inf (it raised OverflowError): the
+    count is capped at the per-link ceiling instead."""
+    from xrdf_tools.spheres.robot_fit import MAX_PER_LINK
+
+    args = ("spheres", str(MIMIC_URDF), "--links", "finger", "--seed", "1", "-q")
+    code, huge = run_cli(runner, *args, "--density", "1e308")
+    assert code == 0, huge
+    code, most = run_cli(runner, *args, "--per-link", str(MAX_PER_LINK))
+    assert code == 0 and huge == most

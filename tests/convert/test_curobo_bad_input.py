@@ -3,6 +3,7 @@ range, an output that would overwrite the spheres file the configuration reads."
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -80,3 +81,33 @@ def test_convert_refuses_to_overwrite_the_spheres_file_its_config_reads(
     )
     assert code == 2 and "refusing to overwrite an input file" in out
     assert spheres.read_bytes() == before
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+@pytest.mark.parametrize(
+    ("kind", "said"),
+    [
+        ("dir", "is a directory"),
+        ("fifo", "is a FIFO (named pipe), not a regular file"),
+        ("missing", "not found (looked in"),
+    ],
+)
+def test_a_spheres_file_that_is_no_file_says_what_it_is(
+    runner: CliRunner, tmp_path: Path, kind: str, said: str
+) -> None:
+    """A collision_spheres path naming a directory or a FIFO is not "not found": the error
+    says what is there, at the configuration's line."""
+    cfg = copy_replacing(
+        CUROBO_CLASSIC,
+        tmp_path / "cfg.yml",
+        "collision_spheres: spheres/ur10e.yml",
+        "collision_spheres: odd.yml",
+    )
+    if kind == "dir":
+        (tmp_path / "odd.yml").mkdir()
+    elif kind == "fifo":
+        os.mkfifo(tmp_path / "odd.yml")
+    code, out = run_cli(runner, "convert", str(UR10E_URDF), "--curobo", str(cfg))
+    line = CUROBO_CLASSIC.read_text().split("collision_spheres: spheres/")[0].count("\n") + 1
+    assert code == 2 and f"{cfg}:{line}: collision_spheres file 'odd.yml'" in out, out
+    assert said in out, out

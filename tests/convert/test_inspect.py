@@ -126,6 +126,37 @@ def test_disconnected_parts_are_shown_not_hidden(runner: CliRunner, tmp_path: Pa
     assert "c ·  (not connected to 'a')" in text and "nothing, it fails" in text
 
 
+@pytest.mark.parametrize(
+    ("joint_extra", "axis", "error"),
+    [
+        ('<mimic joint="k"/>', "0 0 1", "mimic joints form a loop: j -> k -> j"),
+        ('<mimic joint="nope"/>', "0 0 1", "mimics 'nope', which is not a joint"),
+        ("", "0 0 0", "zero or invalid axis"),
+    ],
+)
+def test_a_robot_convert_refuses_has_no_default_choice(
+    runner: CliRunner, tmp_path: Path, joint_extra: str, axis: str, error: str
+) -> None:
+    """What `xrdf convert` would pick is an error when convert fails on the robot's
+    kinematics, not a c-space it would never write."""
+    limit = '<limit lower="-1" upper="1" velocity="1" effort="1"/>'
+    urdf = tmp_path / "bad.urdf"
+    urdf.write_text(
+        '<robot name="bad"><link name="a"/><link name="b"/><link name="c"/>'
+        f'<joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+        f'<axis xyz="{axis}"/>{limit}{joint_extra}</joint>'
+        '<joint name="k" type="revolute"><parent link="b"/><child link="c"/>'
+        f'{limit}<mimic joint="j"/></joint></robot>'
+    )
+    result = runner.invoke(app, ["inspect", str(urdf), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    default = json.loads(result.stdout)["default"]
+    assert default["source"] == "error" and error in default["error"], default
+    assert default["cspace"] == []
+    convert = runner.invoke(app, ["convert", str(urdf)])
+    assert convert.exit_code == 2 and error in convert.output
+
+
 def test_reads_no_geometry_library() -> None:
     """A light install (no [fit] extra) inspects: neither yourdfpy nor trimesh is imported."""
     import subprocess

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 import yaml
@@ -355,3 +356,41 @@ def test_curobo_export_of_world_collision_only_checks_no_pair(tmp_path: Path) ->
     kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
     assert kin["self_collision_ignore"] == {} and len(kin["collision_spheres"]) == 3
     assert [d.rule for d in diags] == ["export-self-only"]
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (
+            lambda t: t + "modifiers:\n  - set_base_frame: nope\n",
+            "set_base_frame: frame 'nope' is not a frame of",
+        ),
+        (
+            lambda t: t.replace("    - joint3\n", "    - finger_joint\n"),
+            "c-space joint 'finger_joint' is a mimic joint",
+        ),
+        (
+            lambda t: t.replace("    - joint3\n", "    - tool_joint\n"),
+            "c-space joint 'tool_joint' is",
+        ),
+    ],
+    ids=["unknown-base", "mimic-in-cspace", "fixed-in-cspace"],
+)
+def test_curobo_export_refuses_what_no_command_can_pose(
+    runner: CliRunner, tmp_path: Path, edit: Any, message: str
+) -> None:
+    """An XRDF that report and viz refuse against its URDF (a modifier that cannot be applied,
+    a c-space joint that is no coordinate) is not exported as a cuRobo config cuRobo cannot
+    load: exit 2 at the XRDF's line, nothing written."""
+    from tests.cli_checks import MIMIC_URDF, MIMIC_XRDF
+
+    xrdf = tmp_path / "r.xrdf"
+    xrdf.write_text(edit(MIMIC_XRDF.read_text()))
+    out = tmp_path / "robot.yml"
+    r = runner.invoke(
+        app, ["export", "curobo", str(xrdf), "--urdf", str(MIMIC_URDF), "-o", str(out)]
+    )
+    assert r.exit_code == 2 and message in r.output and f"{xrdf}:" in r.output, r.output
+    assert not out.exists()
+    report = runner.invoke(app, ["report", str(xrdf), "--urdf", str(MIMIC_URDF), "-n", "8"])
+    assert report.exit_code == 2, report.output

@@ -209,6 +209,43 @@ def test_cspace_configs_from_npy_and_csv_with_header(tmp_path: Path) -> None:
         load_cspace_configurations(tmp_path / "bad.csv", kin, xrdf)
 
 
+@pytest.mark.parametrize(
+    ("name", "content", "line"),
+    [
+        ("none.csv", "", 1),
+        ("header.csv", "\njoint1 joint2 joint3\n", 2),
+        ("comments.txt", "# nothing yet\n\n", 1),
+        ("none.yaml", "[]\n", 1),
+        ("none.npy", None, None),  # binary: no line
+    ],
+)
+def test_a_configurations_file_without_a_row_is_an_input_error(
+    runner: CliRunner, tmp_path: Path, name: str, content: str | None, line: int | None
+) -> None:
+    """No configuration checked would classify every pair as never colliding (and
+    ``--write-mask`` would ignore them all): a file without a row is refused."""
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.selfcollision.configurations import load_configurations
+    from xrdf_tools.util.errors import SourceError
+
+    configs = tmp_path / name
+    if content is None:
+        np.save(configs, np.zeros((0, 3)))
+    else:
+        configs.write_text(content)
+    urdf, xrdf = load_urdf(THREE_LINK), parse_xrdf(THREE_LINK_XRDF)
+    kin, _ = build_kinematic_model(urdf, xrdf)
+    with pytest.raises(SourceError, match="holds no configuration") as exc:
+        load_configurations(configs, kin, xrdf)
+    assert exc.value.line == line
+    xfile = tmp_path / "r.xrdf"
+    xfile.write_text(THREE_LINK_XRDF)
+    mask = tmp_path / "masked.xrdf"
+    args = [str(xfile), "--urdf", str(THREE_LINK), "--configs", str(configs)]
+    r = runner.invoke(app, ["report", *args, "--write-mask", str(mask)])
+    assert r.exit_code == 2 and not mask.exists()
+
+
 def test_renderers_agree_on_content() -> None:
     _, r = three_link_report(samples=1000)
     text, md, page = render_text(r), render_markdown(r), render_html(r)
@@ -219,6 +256,27 @@ def test_renderers_agree_on_content() -> None:
     d = report_to_dict(r)
     assert d["samples"] == 1000 and len(d["pairs"]) == len(r.pairs)
     json.dumps(d, allow_nan=False)  # strict JSON: no NaN or Infinity
+
+
+def test_markdown_shows_names_as_text(tmp_path: Path) -> None:
+    """A link name holding a table separator, a line break or HTML stays one cell of one row,
+    shown as written (and no markup) where the Markdown is rendered."""
+    name = "<img src=x onerror=alert(1)> a|b\nc"
+    attr = name.replace("<", "&lt;").replace(">", "&gt;").replace("\n", "&#10;")
+    urdf = tmp_path / "odd.urdf"
+    urdf.write_text(THREE_LINK.read_text().replace('"link2"', f'"{attr}"'))
+    x = parse_xrdf(THREE_LINK_XRDF.replace("link2", "placeholder"), "odd.xrdf")
+    doc = dump_xrdf(x).replace("placeholder", json.dumps(name))
+    r = self_collision_report(load_urdf(urdf), parse_xrdf(doc, "odd.xrdf"), samples=50)
+    assert name in r.sphere_counts
+    md = render_markdown(r)
+    prose = [line for line in md.splitlines() if not line.startswith("    ")]  # code blocks: as is
+    assert not any("<img" in line for line in prose)
+    assert "&lt;img src=x onerror=alert(1)&gt; a\\|b c" in md
+    header = next(line for line in md.splitlines() if line.startswith("| frame A"))
+    cells = header.count(" | ")
+    rows = [line for line in md.splitlines() if line.startswith("| ") and "&lt;img" in line]
+    assert rows and all(row.replace("\\|", "").count(" | ") in (1, cells) for row in rows)
 
 
 def _validate(doc: object) -> None:

@@ -273,3 +273,30 @@ def test_a_package_split_over_two_folders_finds_each_file(tmp_path: Path) -> Non
         "hand": (1, ()),
         "torso": (1, ()),
     }
+
+
+def test_a_zero_radius_sphere_is_a_point_like_a_zero_box(runner: CliRunner, tmp_path: Path) -> None:
+    """A URDF ``<sphere radius="0">`` (the check allows zero sizes) loads as the point a
+    ``<box size="0 0 0">`` is: finite vertices, and no numpy warning printed by every command
+    that reads geometry (a RuntimeWarning is an error in this suite)."""
+    parts = {}
+    for shape in ('<sphere radius="0"/>', '<box size="0 0 0"/>'):
+        path = tmp_path / "z.urdf"
+        path.write_text(
+            f'<robot name="z"><link name="a"><collision><geometry>{shape}</geometry>'
+            "</collision></link></robot>"
+        )
+        (part,) = lg.link_geometry(load_robot(path), "collision")["a"].parts
+        parts[part.shape] = part
+        vertices = np.asarray(part.mesh.vertices)
+        assert len(vertices) and np.isfinite(vertices).all() and not vertices.any()
+    assert parts["sphere"].radius == 0.0
+    xrdf = tmp_path / "z.xrdf"
+    xrdf.write_text(
+        "format: xrdf\nformat_version: 1.0\ncspace:\n  joint_names: []\n"
+        "  acceleration_limits: []\n  jerk_limits: []\ncollision:\n  geometry: g\n"
+        "geometry:\n  g:\n    spheres:\n      a:\n        - center: [0.0, 0.0, 0.0]\n"
+        "          radius: 0.01\n"
+    )
+    lint = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(tmp_path / "z.urdf")])
+    assert lint.exit_code == 0 and "Warning" not in lint.output, lint.output

@@ -444,3 +444,33 @@ def test_a_thin_shell_note_gives_its_wall_thickness() -> None:
     )
     (note,) = [d for d in diags if d.rule == "spheres-thin-shell"]
     assert "its walls about" in note.message and "mm thick" in note.message
+
+
+@pytest.mark.parametrize(
+    ("text", "plane"),
+    [
+        ("a:1e300,0,0,1e300", ((1.0, 0.0, 0.0), 1.0)),  # the squares overflow
+        ("a:0,1e-200,0,0", ((0.0, 1.0, 0.0), 0.0)),  # the squares underflow
+        ("a:0,0,2,0.04", ((0.0, 0.0, 1.0), 0.02)),
+    ],
+)
+def test_a_clip_normal_of_any_finite_size_is_normalised(
+    text: str, plane: tuple[tuple[float, float, float], float]
+) -> None:
+    """A normal whose squared length leaves float range was divided by inf (a zero normal,
+    a plane no sphere can keep) or refused as zero."""
+    assert parse_clip(text) == ("a", plane)
+
+
+@pytest.mark.parametrize(
+    ("text", "said"),
+    [
+        ("a:0,0,1,inf", "must be finite numbers"),
+        ("a:nan,0,1,0", "must be finite numbers"),
+        ("a:0,0,0,1", "the normal (nx, ny, nz) must be non-zero"),
+    ],
+)
+def test_a_clip_that_is_no_plane_says_why(text: str, said: str) -> None:
+    with pytest.raises(XrdfToolsError) as exc:
+        parse_clip(text)
+    assert said in str(exc.value)

@@ -110,6 +110,7 @@ def _run() -> None:
 
     one_blas_thread_for(sys.argv[1:], os.environ)
     try:
+        check_working_directory()
         code = _fast(sys.argv[1:])
         if code is not None:
             sys.exit(code)
@@ -120,6 +121,21 @@ def _run() -> None:
     except XrdfToolsError as exc:
         echo(f"error: {exc}", err=True)
         sys.exit(2)
+
+
+def check_working_directory() -> None:
+    """Raise :class:`XrdfToolsError` when the current directory was removed: relative paths,
+    the lint configuration search and the paths written relative to it cannot be resolved
+    (``os.getcwd`` fails in every command that asks)."""
+    from ..util.errors import XrdfToolsError
+
+    try:
+        os.getcwd()
+    except OSError as e:
+        raise XrdfToolsError(
+            f"the current directory cannot be read ({e.strerror or e}); it may have been "
+            "removed: change to an existing directory"
+        ) from None
 
 
 def _fast(argv: list[str]) -> int | None:

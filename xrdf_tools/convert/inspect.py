@@ -277,12 +277,16 @@ def _plain(e: Exception) -> str:
 
 
 def _default_choice(robot: Robot, srdf: str | None) -> DefaultChoice:
-    """Run ``convert`` as ``xrdf convert ROBOT [--srdf S]`` would and keep what it chose."""
+    """Run ``convert`` as ``xrdf convert ROBOT [--srdf S]`` would and keep what it chose;
+    an error when the command would fail (the robot's kinematics included: a mimic loop, a
+    zero axis)."""
+    from ..robot.kinematics import build_kinematic_model
     from ..util.errors import XrdfToolsError
     from .core import ConvertOptions, convert
 
     try:
         x, diags = convert(robot, ConvertOptions(srdf=srdf))
+        build_kinematic_model(robot, x)
     except XrdfToolsError as e:
         return DefaultChoice((), (), "error", (), error=_plain(e))
     cspace = tuple(x.cspace.joint_names) if x.cspace is not None else ()

@@ -100,10 +100,12 @@ def _located(x: Xrdf, key_path: str, message: str) -> ConversionError:
     return ConversionError(message, **x.source.locate(key_path))
 
 
-def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
+def _check_exportable(x: Xrdf, tree: RobotTree, layout: str, robot: Robot | None) -> None:
     """Raise :class:`ConversionError` / :class:`SourceError` when ``x`` cannot become a cuRobo
-    config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot."""
-    from ..robot.binding import check_belongs
+    config for ``tree``: unknown layout, no c-space, 2.0-only modifiers, another robot; with the
+    loaded ``robot``, also what every command that poses it refuses (a modifier that cannot be
+    applied, a c-space joint that is mimic, fixed or pruned)."""
+    from ..robot.binding import check_belongs, cspace_indices
 
     if layout not in CUROBO_LAYOUTS:
         raise ConversionError(
@@ -120,6 +122,10 @@ def _check_exportable(x: Xrdf, tree: RobotTree, layout: str) -> None:
             )
     base = x.base_frame()
     check_belongs(x, tree.with_root(base) if base in tree.links else tree)
+    if robot is not None:
+        from ..robot.kinematics import build_kinematic_model
+
+        cspace_indices(build_kinematic_model(robot, x)[0], x)
 
 
 def to_curobo(
@@ -140,10 +146,12 @@ def to_curobo(
     file ``urdf_path`` names; default: the tree's) is written relative to the directory
     ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
     """
-    assets = None if isinstance(tree, RobotTree) else mesh_root(tree)
-    if not isinstance(tree, RobotTree):
-        tree = tree.tree
-    _check_exportable(x, tree, layout)
+    robot = None if isinstance(tree, RobotTree) else tree
+    assets = None if robot is None else mesh_root(robot)
+    if robot is not None:
+        tree = robot.tree
+    assert isinstance(tree, RobotTree)
+    _check_exportable(x, tree, layout, robot)
     assert x.cspace is not None
     diags: list[Diagnostic] = []
     path = x.source.path

@@ -289,14 +289,17 @@ def _pair_table_lines(r: Report, view: ReportView) -> list[str]:
 
 
 def _md_cell(s: str) -> str:
-    return s.replace("|", "\\|")
+    """Text as Markdown shows it, in a table cell or a list item: a name from the robot
+    files may hold ``|`` (a new cell), a line break (a new row) or HTML (``<img ...>``)."""
+    text = html.escape(" ".join(s.splitlines()), quote=False)
+    return text.replace("|", "\\|")
 
 
 def render_markdown(r: Report, view: ReportView = ReportView()) -> str:
     out = ["# Self-collision report", ""]
     out += [f"- {_md_cell(s)}" for s in _summary_lines(r, view)]
     out += ["", "## Spheres per frame", "", "| frame | spheres |", "|---|---:|"]
-    out += [f"| {f} | {n} |" for f, n in r.sphere_counts.items()]
+    out += [f"| {_md_cell(f)} | {n} |" for f, n in r.sphere_counts.items()]
     out += ["", "## Frame pairs", ""]
     out.append("| " + " | ".join(_HEADER) + " |")
     out.append("|" + "---|" * len(_HEADER))

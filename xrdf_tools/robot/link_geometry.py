@@ -378,7 +378,10 @@ def _part(
     elif geometry.sphere is not None:
         shape = "sphere"
         radius = float(geometry.sphere.radius)
-        pieces = (trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=radius),)
+        if radius > 0:
+            pieces = (trimesh.creation.icosphere(subdivisions=SPHERE_SUBDIVISIONS, radius=radius),)
+        else:  # trimesh divides by the radius: a point, as a box of zero size is
+            pieces = (trimesh.creation.box(extents=np.zeros(3)),)
     else:  # a yourdfpy object built in code; the robot loader refuses unknown shapes
         raise _PartError(_UNSUPPORTED, unsupported=True)
     return GeometryPart(link, kind, index, shape, origin, pieces, file, material, radius)

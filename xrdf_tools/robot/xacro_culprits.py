@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from pathlib import Path
 
+from ..util.fileio import reread_text
 from ..util.textpos import line_col
 
 #: ``$(arg x)`` of an ``<xacro:arg>`` without a default, not given.
@@ -42,9 +42,8 @@ def culprit_in(paths: Sequence[str], message: str) -> tuple[str, int | None, int
 def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
     """Where in ``path`` the name or expression a xacro error quotes is first written (xacro
     itself keeps no positions); ``(None, None)`` when it is not found."""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):  # a file that cannot be read again: no position
+    text = reread_text(path)
+    if text is None:  # a file that cannot be read again: no position
         return None, None
     # xacro works in document order: the first use failed first; the file may write the
     # quoted text with XML escapes ('&' as '&amp;')

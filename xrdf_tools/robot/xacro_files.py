@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from ..util.errors import UrdfError
+from ..util.fileio import reread_text
 from .packages import _is_dir, _is_file
 
 __all__ = ["file_arg_hint", "located_in_includes", "os_error"]
@@ -95,9 +96,8 @@ def located_in_includes(e: UrdfError, top: str, included: Sequence[str]) -> Urdf
     if e.line is not None or e.path != top:
         return e
     for path in included:
-        try:
-            text = Path(path).read_text(encoding="utf-8", errors="replace")
-        except OSError:
+        text = reread_text(path, errors="replace")
+        if text is None:
             continue
         if (line := _quoted_value_line(text, e.message)) is not None:
             e.path, e.line = os.path.normpath(path), line

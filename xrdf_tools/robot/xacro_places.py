@@ -14,9 +14,9 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..util.fileio import reread_text
 from ..util.frozen import FrozenMap
 from ..util.textpos import line_col
 
@@ -81,9 +81,8 @@ def included_places(
 
 
 def _templates(path: str) -> list[tuple[str, _Template]]:
-    try:
-        text = Path(path).read_text(encoding="utf-8", errors="replace")
-    except OSError:
+    text = reread_text(path, errors="replace")
+    if text is None:
         return []
     out: list[tuple[str, _Template]] = []
     for m in _ELEMENT.finditer(text):

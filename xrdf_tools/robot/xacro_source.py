@@ -8,8 +8,8 @@ directories searched.
 
 **Security:** xacro evaluates Python expressions (``${...}``) and reads any file it is told to
 include. Treat a xacro file like code: only expand files you trust. The top-level file is
-checked like every input (a regular file within the size limit); files it includes are opened
-by xacro itself.
+checked like every input (a regular file within the size limit); files it includes (and
+``load_yaml`` files) are opened by xacro itself, after the same check.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from xml.parsers.expat import ExpatError
 
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import SourceError, UrdfError, UrdfReadError, XrdfToolsError
-from ..util.fileio import decode_utf8, read_input_bytes
+from ..util.fileio import check_input_file, decode_utf8, read_input_bytes, reread_text
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unknown_packages, unread_arg_warnings, unset_args
@@ -116,12 +116,23 @@ def _patched_xacro(
         sa._eval_find = find
         sa._eval_dict["find"] = find
         xacro.warning, xacro.print_location = warning, lambda: None
+        xacro.open = _guarded_open  # the name xacro's own open() calls resolve to
         try:
             yield
         finally:
             sa._eval_find = old_find
             sa._eval_dict["find"] = old_dict
             xacro.warning, xacro.print_location = old_warning, old_location
+            del xacro.open
+
+
+def _guarded_open(file: Any, *args: Any, **kwargs: Any) -> Any:
+    """``open`` for the files xacro opens itself (includes, ``load_yaml``): a FIFO, a device,
+    a directory or a file over the size limit is refused before it is opened (a FIFO would
+    block forever); a name that does not exist is left to ``open`` and xacro's own message."""
+    if isinstance(file, (str, os.PathLike)) and os.path.exists(file):
+        check_input_file(file, what="file included by the xacro", error=SourceError)
+    return open(file, *args, **kwargs)
 
 
 def expand_xacro(
@@ -320,9 +331,8 @@ def _missing_include_error(
     message = f"xacro failed: the included file {missing} does not exist"
     best: tuple[int, str, str, re.Match[str]] | None = None
     for path in dict.fromkeys([where, *included]):
-        try:
-            text = Path(path).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError):
+        text = reread_text(path)
+        if text is None:
             continue
         for m in _INCLUDE.finditer(text):
             literal = _SUBSTITUTION.split(m.group(2))
@@ -371,9 +381,8 @@ def _first_match(
     """The first of ``files`` (unreadable ones skipped) whose text ``pattern`` matches: its
     path, its text and the match."""
     for path in dict.fromkeys(files):
-        try:
-            text = Path(path).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError):
+        text = reread_text(path)
+        if text is None:
             continue
         if (found := pattern.search(text)) is not None:
             return path, text, found

@@ -208,6 +208,13 @@ def _assemble(
 
     if max_rows is not None and len(rows) > max_rows:
         raise SourceError(f"too many configurations ({len(rows)} > {max_rows})", path=spath)
+    if not rows:  # nothing checked would read as "never colliding" for every pair
+        raise SourceError(
+            "the file holds no configuration (one per row"
+            + (", below the header of joint names)" if header is not None else ")"),
+            path=spath,
+            line=header_line if header_line is not None else 1 if lines is not None else None,
+        )
     q0 = default_configuration(kin, xrdf.default_joint_positions)
     cspace, _ = cspace_indices(kin, xrdf)
     out = np.repeat(q0[None, :], len(rows), axis=0)

@@ -84,9 +84,13 @@ def parse_clip(text: str) -> tuple[str, Plane]:
         values = [float(v) for v in parts]
     except ValueError:
         raise XrdfToolsError(f"clip '{text}': nx, ny, nz and d must be numbers") from None
+    if not all(math.isfinite(v) for v in values):
+        raise XrdfToolsError(f"clip '{text}': nx, ny, nz and d must be finite numbers")
     norm = math.sqrt(sum(v * v for v in values[:3]))
-    if not all(math.isfinite(v) for v in values) or norm == 0.0:
-        raise XrdfToolsError(f"clip '{text}': the normal must be finite and non-zero")
+    if not 0.0 < norm < math.inf:  # the squares over- or underflowed (1e300, 1e-200)
+        norm = math.hypot(*values[:3])
+    if not 0.0 < norm < math.inf:
+        raise XrdfToolsError(f"clip '{text}': the normal (nx, ny, nz) must be non-zero")
     nx, ny, nz = (v / norm for v in values[:3])
     return link, ((nx, ny, nz), values[3] / norm)
 

@@ -346,8 +346,8 @@ def _counts(
         return dict.fromkeys(fitters, counts.per_link)
     if counts.density is not None:
         d = counts.density
-        return {
-            n: min(MAX_PER_LINK, max(1, math.ceil(d * f.volume * 1000.0 - 1e-9)))
+        return {  # capped before ceil: a density of 1e308 times a volume is inf
+            n: max(1, math.ceil(min(d * f.volume * 1000.0, MAX_PER_LINK) - 1e-9))
             for n, f in fitters.items()
         }
     if counts.count is not None:

@@ -193,6 +193,20 @@ def read_input_text(
     return decode_utf8(data, os.fspath(path), what, error)
 
 
+def reread_text(path: str | os.PathLike[str], *, errors: str = "strict") -> str | None:
+    """The text of a file read again to place a message (a file a library opened itself: a
+    xacro include), through the guarded reader: None when it cannot be read (gone, a FIFO or
+    device, over the size limit, not UTF-8 when ``errors`` is ``"strict"``)."""
+    try:
+        data = read_input_bytes(path)
+    except XrdfToolsError:
+        return None
+    try:
+        return data.decode("utf-8", errors=errors)
+    except UnicodeDecodeError:
+        return None
+
+
 def check_input_file(
     path: str | os.PathLike[str],
     *,

@@ -35,6 +35,7 @@ from .typer_common import (
     XacroArgOption,
     echo_diagnostics,
     fail,
+    finite,
     note,
     progress_bar,
     refuse_input_overwrite,
@@ -118,6 +119,7 @@ def command(
         float | None,
         typer.Option(
             "--acceleration",
+            callback=finite,
             help="Acceleration limit (rad/s² or m/s²) for joints the inputs lack. Default: 10, "
             "with a warning.",
         ),
@@ -126,6 +128,7 @@ def command(
         float | None,
         typer.Option(
             "--jerk",
+            callback=finite,
             help="Jerk limit (rad/s³ or m/s³) for joints the inputs lack. Default: 1000, with "
             "a warning.",
         ),

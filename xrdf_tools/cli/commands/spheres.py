@@ -30,6 +30,7 @@ from .typer_common import (
     XacroArgOption,
     echo_diagnostics,
     fail,
+    finite,
     load_xrdf_input,
     note,
     progress_bar,
@@ -107,6 +108,7 @@ def command(
         float | None,
         typer.Option(
             "--density",
+            callback=finite,
             help="Spheres per litre of link volume (1 to 64 per link). Default: per link, the "
             "fewest that reach --target-coverage.",
         ),
@@ -115,6 +117,7 @@ def command(
         float | None,
         typer.Option(
             "--max-protrusion",
+            callback=finite,
             help="How far (m) a sphere may reach outside its link: a hard bound on every "
             "sphere. Without it: 6 % of the cube root of the link volume when the count is "
             "chosen per link; with --count/--per-link/--density the spheres are refined "
@@ -125,6 +128,7 @@ def command(
         float,
         typer.Option(
             "--target-coverage",
+            callback=finite,
             min=0.01,
             max=1.0,
             help="Without --count/--per-link/--density: per link, the fewest spheres (up to "

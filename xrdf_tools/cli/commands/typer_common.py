@@ -6,6 +6,7 @@ What needs no typer lives in :mod:`xrdf_tools.cli.commands.plain`.
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from collections.abc import Iterator, Mapping, Sequence
@@ -24,6 +25,7 @@ from .options import (
     VERBOSE,
     XACRO_ARG,
     Option,
+    number,
 )
 from .plain import (
     EXIT_USAGE,
@@ -47,11 +49,22 @@ if TYPE_CHECKING:
     pass
 
 
+def finite(value: float | None) -> float | None:
+    """Typer callback of a number option: ``nan`` and ``inf`` (which typer reads as floats,
+    and a ``nan`` passes every range check) are refused."""
+    if value is not None and not math.isfinite(value):
+        raise typer.BadParameter(f"{value} is not a finite number")
+    return value
+
+
 def typer_option(option: Option, **typer_only: Any) -> Any:
     """The ``typer.Option`` of ``option`` (its table entry: spellings, help, bounds);
-    ``typer_only``: what only typer uses (an option's callback)."""
+    ``typer_only``: what only typer uses (an option's callback). A number option refuses
+    ``nan`` and ``inf`` (:func:`finite`)."""
     low, high = option.bounds
     settings: dict[str, Any] = {"help": option.help, "min": low, "max": high}
+    if option.convert is number:
+        settings["callback"] = finite
     settings.update(option.typer_extra)
     settings.update(typer_only)
     return typer.Option(*option.flags, **settings)

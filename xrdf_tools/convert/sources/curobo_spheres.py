@@ -11,6 +11,7 @@ from typing import Any, TypeGuard
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError
+from ...util.fileio import check_input_file
 from ...util.text import name_list
 from ...xrdf.model import Sphere
 from ...yaml.io import is_finite
@@ -32,6 +33,16 @@ def find_spheres_file(value: str, config_path: Path, rep: Reporter, where: str) 
     for c in candidates:
         if c.is_file():
             return c
+    for c in candidates:
+        if c.exists():  # a directory, FIFO or device: say what it is, not "not found"
+            try:
+                check_input_file(c, what="cuRobo spheres file", error=SourceError)
+            except SourceError as e:
+                raise SourceError(
+                    f"collision_spheres file '{value}' ({c}) {e.message}",
+                    path=rep.path,
+                    line=rep.position(where)[0],
+                ) from None
     raise SourceError(
         f"collision_spheres file '{value}' not found (looked in "
         f"{', '.join(str(c.parent) for c in candidates)})",
