@@ -21,7 +21,14 @@ from xrdf_tools.edit.markup import code
 from xrdf_tools.lint import lint_text
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.xrdf.io import load_xrdf
-from xrdf_tools.xrdf.model import CSpace, Xrdf
+from xrdf_tools.xrdf.model import (
+    CSpace,
+    FrozenMap,
+    GeometryGroup,
+    SelfCollisionSection,
+    Sphere,
+    Xrdf,
+)
 
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 ARM = tuple(f"panda_joint{k}" for k in range(1, 8))
@@ -211,5 +218,120 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         assert "last c-space joint" in page.message and page.robot.cspace == ARM[-1:]
         assert panel.member.value is True
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing saved
+    finally:
+        page.close()
+
+
+#: PR2's arms as ``xrdf convert --group left_arm --group right_arm`` writes them: the left arm
+#: first, where the URDF has the right arm first.
+PR2_ARM = (
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "upper_arm_roll_joint",
+    "forearm_roll_joint",
+    "elbow_flex_joint",
+    "wrist_flex_joint",
+    "wrist_roll_joint",
+)
+
+
+@pytest.fixture(scope="module")
+def pr2_two_arms() -> tuple[Any, Xrdf]:
+    """The PR2 with both arms in the c-space, left before right, each joint with its own
+    limits and default (so cuRobo's URDF-order filling would pair them wrongly)."""
+    robot = load_robot(robot_urdf("pr2"))
+    names = tuple(f"{side}_{j}" for side in "lr" for j in PR2_ARM)
+    er = EditRobot(robot, Xrdf())
+    defaults = {}
+    for k, n in enumerate(names):
+        i = er.kin.actuated_index(n)
+        lo, hi = er.kin.lower[i], er.kin.upper[i]
+        defaults[n] = round(float(lo + (hi - lo) * (k + 1) / 16), 4) if np.isfinite(lo) else k / 10
+    cspace = CSpace(names, tuple(1.0 + k for k in range(14)), tuple(100.0 + k for k in range(14)))
+    ball = (Sphere((0.0, 0.0, 0.0), 0.05),)
+    spheres = {f"{side}_forearm_link": ball for side in "lr"}
+    return robot, Xrdf(
+        format_version="1.0",
+        cspace=cspace,
+        default_joint_positions=FrozenMap(defaults),
+        tool_frames=("l_wrist_roll_link", "r_wrist_roll_link"),
+        self_collision=SelfCollisionSection("arms"),
+        geometry=FrozenMap({"arms": GeometryGroup(FrozenMap(spheres))}),
+    )
+
+
+def test_a_joint_taken_back_in_stays_with_its_arm_in_a_cspace_not_in_urdf_order(
+    pr2_two_arms: tuple[Any, Xrdf],
+) -> None:
+    """Left out and taken in again, a joint goes back next to the joints before it in URDF
+    order: in a two-arm c-space listed left arm first, the right wrist goes back to the end
+    of the right arm, not into the left arm."""
+    robot, x = pr2_two_arms
+    assert x.cspace is not None
+    er = EditRobot(robot, x)
+    for joint in ("r_wrist_roll_joint", "r_shoulder_pan_joint", "l_elbow_flex_joint"):
+        out = er.cspace_with(x, joint, included=False, acceleration=1, jerk=1)
+        k = x.cspace.joint_names.index(joint)
+        a, j = x.cspace.acceleration_limits[k], x.cspace.jerk_limits[k]
+        back = er.cspace_with(x.replace(cspace=out), joint, included=True, acceleration=a, jerk=j)
+        assert back == x.cspace, joint
+    # a joint with no c-space joint before it in URDF order goes before the one after it
+    torso = er.cspace_with(x, "torso_lift_joint", included=True, acceleration=1, jerk=1)
+    at = torso.joint_names.index("torso_lift_joint")
+    assert torso.joint_names[at + 1] == "r_shoulder_pan_joint"  # the URDF: torso, right arm
+    ordered = er.urdf_ordered(x.replace(cspace=torso))
+    assert ordered is not None and ordered.joint_names[:2] == (
+        "torso_lift_joint",
+        "r_shoulder_pan_joint",
+    )
+
+
+def test_a_cspace_put_in_urdf_order_keeps_its_limits_and_lints_clean(
+    pr2_two_arms: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    robot, x = pr2_two_arms
+    assert x.cspace is not None
+    er = EditRobot(robot, x)
+    st = EditState.start(x)
+    save(st, tmp_path / "left_first.xrdf")
+    found = lint_text((tmp_path / "left_first.xrdf").read_text(), "a.xrdf", urdf_model=robot)
+    assert "curobo-default-order" in {d.rule for d in found}
+    ordered = er.urdf_ordered(x)
+    assert ordered is not None
+    urdf = [n for n, j in robot.joints.items() if n in x.cspace.joint_names]
+    assert list(ordered.joint_names) == urdf and urdf[0] == "r_shoulder_pan_joint"
+    limits = dict(zip(x.cspace.joint_names, x.cspace.acceleration_limits, strict=True))
+    jerks = dict(zip(x.cspace.joint_names, x.cspace.jerk_limits, strict=True))
+    assert ordered.acceleration_limits == tuple(limits[n] for n in urdf)
+    assert ordered.jerk_limits == tuple(jerks[n] for n in urdf)
+    st = st.apply(SetCspace(ordered))
+    assert er.urdf_ordered(st.xrdf) is None
+    save(st, tmp_path / "ordered.xrdf")
+    found = lint_text((tmp_path / "ordered.xrdf").read_text(), "b.xrdf", urdf_model=robot)
+    assert "curobo-default-order" not in {d.rule for d in found}
+    assert not [c for c in diff_xrdf(x, st.xrdf).changes if "default" in str(c).lower()]
+
+
+@pytest.mark.slow
+def test_page_says_a_cspace_is_not_in_urdf_order_and_orders_it(
+    pr2_two_arms: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+    from tests.browser import free_port
+    from xrdf_tools.edit.page import EditorPage
+
+    robot, x = pr2_two_arms
+    page = EditorPage(robot, EditState.start(x), target=tmp_path / "pr2.xrdf", port=free_port())
+    try:
+        panel = page.panels.cspace
+        assert panel.order.visible and "Not in URDF order" in panel.table.content
+        panel._urdf_order()
+        cs = page.state.xrdf.cspace
+        assert cs is not None and cs.joint_names[0] == "r_shoulder_pan_joint"
+        assert not panel.order.visible and "Not in URDF order" not in panel.table.content
+        assert [s.label for s in page.panels.sliders] == list(cs.joint_names)
+        page.undo()
+        assert panel.order.visible and page.state.xrdf == x
+        assert [s.label for s in page.panels.sliders] == list(x.cspace.joint_names)  # type: ignore[union-attr]
     finally:
         page.close()

@@ -5,8 +5,10 @@ A joint is picked from the joints the c-space can hold (:meth:`EditRobot.cspace_
 URDF order); **In c-space** takes it in at its place in URDF order (cuRobo fills default
 positions in URDF order, so that order keeps them right) or leaves it out, and the limits
 fields set its limits. A joint taken in gets the limits shown, which for a joint not in the
-c-space are ``xrdf convert``'s defaults. The Pose panel's sliders follow the c-space. The
-last joint is not left out: an empty c-space is valid XRDF but gives a planner nothing to move.
+c-space are ``xrdf convert``'s defaults. A c-space not in URDF order (a file written so) is
+said under the table, with a button that puts it in that order. The Pose panel's sliders
+follow the c-space. The last joint is not left out: an empty c-space is valid XRDF but gives
+a planner nothing to move.
 """
 
 from __future__ import annotations
@@ -27,6 +29,14 @@ __all__ = ["CspacePanel", "cspace_table"]
 #: file holds.
 MIN_LIMIT = 1e-3
 MAX_LIMIT = 1e6
+
+
+#: Under the table of a c-space not in URDF order.
+UNORDERED = (
+    "\n\n**Not in URDF order**: cuRobo fills default positions in URDF order, so joints "
+    "whose defaults differ would start at each other's (`xrdf lint --target curobo` names "
+    "them: curobo-default-order). **Put in URDF order** fixes it."
+)
 
 
 def cspace_table(cspace: CSpace | None) -> str:
@@ -74,6 +84,11 @@ class CspacePanel:
                 step=1.0,
                 hint="rad/s³ (m/s³ for a prismatic joint)",
             )
+            self.order = gui.add_button(
+                "Put in URDF order",
+                visible=False,
+                hint="cuRobo fills default positions in URDF order: keep the c-space in it",
+            )
             self.tools = gui.add_markdown("")
             self.frame = gui.add_dropdown("Frame", frames, initial_value=frames[-1])
             add = gui.add_button("Add tool frame")
@@ -82,6 +97,7 @@ class CspacePanel:
         self.member.on_update(lambda e: self._set_member() if from_browser(e) else None)
         for box in (self.acceleration, self.jerk):
             box.on_update(lambda e: self._set_limits() if from_browser(e) else None)
+        self.order.on_click(lambda e: self._urdf_order() if from_browser(e) else None)
         add.on_click(lambda e: self._tool_frames(add=True) if from_browser(e) else None)
         remove.on_click(lambda e: self._tool_frames(add=False) if from_browser(e) else None)
         self.sync()
@@ -130,6 +146,16 @@ class CspacePanel:
                 merge_key=("limits", joint),
             )
 
+    def _urdf_order(self) -> None:
+        page = self.page
+        with page.lock:
+            ordered = page.robot.urdf_ordered(page.state.xrdf)
+            if ordered is None:
+                page.say("no change: the c-space is in URDF order already")
+            else:
+                page.apply(SetCspace(ordered, "put the c-space in URDF order"))
+            self.sync()
+
     def _tool_frames(self, *, add: bool) -> None:
         page = self.page
         frame = str(self.frame.value)
@@ -145,7 +171,9 @@ class CspacePanel:
     def sync(self) -> None:
         """Show the document's c-space and tool frames, and the picked joint's values."""
         x = self.page.state.xrdf
-        self.table.content = cspace_table(x.cspace)
+        unordered = self.page.robot.urdf_ordered(x) is not None
+        self.table.content = cspace_table(x.cspace) + (UNORDERED if unordered else "")
+        self.order.visible = unordered
         joint = str(self.joint.value)
         names = x.cspace.joint_names if x.cspace is not None else ()
         self.member.value = joint in names
