@@ -335,3 +335,36 @@ def test_page_says_a_cspace_is_not_in_urdf_order_and_orders_it(
         assert [s.label for s in page.panels.sliders] == list(x.cspace.joint_names)  # type: ignore[union-attr]
     finally:
         page.close()
+
+
+@pytest.mark.slow
+def test_page_tool_frames_keep_an_end_effector(panda: tuple[Any, Xrdf], tmp_path: Path) -> None:
+    """The first tool frame is the end effector: the page says which, can make another one
+    first, and does not remove the last one (cuRobo's loader raises without it)."""
+    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+    from tests.browser import free_port
+    from xrdf_tools.edit.page import EditorPage
+
+    robot, x = panda
+    page = EditorPage(robot, EditState.start(x), target=tmp_path / "p.xrdf", port=free_port())
+    try:
+        panel = page.panels.cspace
+        assert x.tool_frames == ("panda_hand",)
+        assert "(end effector)" in panel.tools.content
+        panel.frame.value = "panda_link7"
+        panel._tool_frames(add=True)
+        panel._tool_frames(add=True, first=True)
+        assert page.state.xrdf.tool_frames == ("panda_link7", "panda_hand")
+        assert panel.tools.content.startswith(f"Tool frames: {code('panda_link7')} (end effector)")
+        panel._tool_frames(add=False)
+        panel.frame.value = "panda_hand"
+        panel._tool_frames(add=False)
+        assert page.state.xrdf.tool_frames == ("panda_hand",)
+        assert "last tool frame" in page.message
+        save(page.state, tmp_path / "p.xrdf")
+        found = lint_text((tmp_path / "p.xrdf").read_text(), "p.xrdf", urdf_model=robot)
+        assert "curobo-missing-key" not in {d.rule for d in found}
+        page.undo()
+        assert page.state.xrdf.tool_frames == ("panda_link7", "panda_hand")
+    finally:
+        page.close()

@@ -23,7 +23,7 @@ from .surface import PageSurface, bounded, from_browser
 if TYPE_CHECKING:
     from ..xrdf.model import CSpace
 
-__all__ = ["CspacePanel", "cspace_table"]
+__all__ = ["CspacePanel", "cspace_table", "tool_frames_text"]
 
 #: The limits fields' range: above 0 (every reader refuses 0) and below the numbers a saved
 #: file holds.
@@ -51,6 +51,14 @@ def cspace_table(cspace: CSpace | None) -> str:
     ]
     head = f"{len(rows)} joint(s), in the order planners use:\n\n"
     return head + "| joint | acceleration | jerk |\n|---|---:|---:|\n" + "\n".join(rows)
+
+
+def tool_frames_text(tools: tuple[str, ...] | list[str]) -> str:
+    """The tool frames in order, the first marked as the end effector."""
+    if not tools:
+        return "No tool frames: cuRobo and cuMotion need one (the end effector)."
+    rest = "".join(f", {code(f)}" for f in tools[1:])
+    return f"Tool frames: {code(tools[0])} (end effector){rest}"
 
 
 class CspacePanel:
@@ -93,6 +101,10 @@ class CspacePanel:
             self.frame = gui.add_dropdown("Frame", frames, initial_value=frames[-1])
             add = gui.add_button("Add tool frame")
             remove = gui.add_button("Remove tool frame")
+            end = gui.add_button(
+                "Make end effector",
+                hint="The first tool frame: cuRobo's ee_link, the frame a goal pose is for",
+            )
         self.joint.on_update(lambda e: self.sync() if from_browser(e) else None)
         self.member.on_update(lambda e: self._set_member() if from_browser(e) else None)
         for box in (self.acceleration, self.jerk):
@@ -100,6 +112,7 @@ class CspacePanel:
         self.order.on_click(lambda e: self._urdf_order() if from_browser(e) else None)
         add.on_click(lambda e: self._tool_frames(add=True) if from_browser(e) else None)
         remove.on_click(lambda e: self._tool_frames(add=False) if from_browser(e) else None)
+        end.on_click(lambda e: self._tool_frames(add=True, first=True) if from_browser(e) else None)
         self.sync()
 
     # --- edits -----------------------------------------------------------------------------
@@ -156,16 +169,29 @@ class CspacePanel:
                 page.apply(SetCspace(ordered, "put the c-space in URDF order"))
             self.sync()
 
-    def _tool_frames(self, *, add: bool) -> None:
+    def _tool_frames(self, *, add: bool, first: bool = False) -> None:
+        """Add the picked frame (at the end, or ``first``: the end effector) or remove it.
+        The last tool frame is not removed: cuRobo and cuMotion take the first as the end
+        effector and refuse a file without one."""
         page = self.page
         frame = str(self.frame.value)
         with page.lock:
             now = tuple(page.state.xrdf.tool_frames or ())
-            if add:
+            if first:
+                frames = (frame, *(f for f in now if f != frame))
+            elif add:
                 frames = now if frame in now else (*now, frame)
             else:
                 frames = tuple(f for f in now if f != frame)
-            page.apply(SetToolFrames(frames))
+                if now and not frames:
+                    page.say(
+                        f"not done: {frame} is the last tool frame (cuRobo and cuMotion take the "
+                        "first as the end effector and refuse a file without one); add another "
+                        "first"
+                    )
+                    return
+            label = f"make {frame} the end effector (first tool frame)" if first else ""
+            page.apply(SetToolFrames(frames, label))
 
     # --- showing the document --------------------------------------------------------------
     def sync(self) -> None:
@@ -184,6 +210,4 @@ class CspacePanel:
         else:
             self.acceleration.value, self.jerk.value = DEFAULT_ACCELERATION, DEFAULT_JERK
         tools = x.tool_frames or ()
-        self.tools.content = (
-            "Tool frames: " + ", ".join(code(f) for f in tools) if tools else "No tool frames."
-        )
+        self.tools.content = tool_frames_text(tools)
