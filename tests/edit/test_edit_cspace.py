@@ -170,6 +170,9 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         panel.sync()
         assert panel.member.value is False and panel.acceleration.value == 10.0
         panel.acceleration.value = 3.0
+        before = page.state
+        panel._set_limits()  # not in the c-space: said, kept for when it is taken in
+        assert page.state is before and "gets these limits when taken in" in page.message
         panel.member.value = True
         panel._set_member()
         cs = page.state.xrdf.cspace

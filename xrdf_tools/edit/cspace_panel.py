@@ -149,7 +149,11 @@ class CspacePanel:
         with page.lock:
             cs = page.state.xrdf.cspace
             if cs is None or joint not in cs.joint_names:
-                return  # the limits shown are the ones the joint gets when taken in
+                page.say(
+                    f"{joint} is not in the c-space: it gets these limits when taken in "
+                    "(tick In c-space)"
+                )
+                return
             acceleration, jerk = self._limits()
             cspace = page.robot.cspace_with(
                 page.state.xrdf, joint, included=True, acceleration=acceleration, jerk=jerk
