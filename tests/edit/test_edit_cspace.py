@@ -22,6 +22,7 @@ from xrdf_tools.lint import lint_text
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.xrdf.io import load_xrdf
 from xrdf_tools.xrdf.model import (
+    CollisionSection,
     CSpace,
     FrozenMap,
     GeometryGroup,
@@ -335,6 +336,17 @@ def test_page_says_a_cspace_is_not_in_urdf_order_and_orders_it(
         assert [s.label for s in page.panels.sliders] == list(cs.joint_names)
         page.undo()
         assert panel.order.visible and page.state.xrdf == x
+        # a joint cuRobo would not find in its robot is taken in, with a word why
+        panel.joint.value = "head_pan_joint"
+        panel.member.value = True
+        panel._set_member()
+        assert "head_pan_joint" in page.robot.cspace and "moves no tool frame" in page.message
+        panel.joint.value = "torso_lift_joint"
+        panel.member.value = True
+        panel._set_member()
+        assert page.message == "done: take torso_lift_joint into the c-space"
+        page.undo()
+        page.undo()
         assert [s.label for s in page.panels.sliders] == list(x.cspace.joint_names)  # type: ignore[union-attr]
     finally:
         page.close()
@@ -371,3 +383,32 @@ def test_page_tool_frames_keep_an_end_effector(panda: tuple[Any, Xrdf], tmp_path
         assert page.state.xrdf.tool_frames == ("panda_link7", "panda_hand")
     finally:
         page.close()
+
+
+def test_the_joints_cuRobo_would_refuse_are_the_ones_lint_names(
+    pr2_two_arms: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    """A joint moving no tool frame, world-collision sphere frame or added frame: the page's
+    answer for every joint the c-space can hold agrees with ``xrdf lint``
+    (curobo-joint-outside-tree) on the saved file holding them all."""
+    robot, x = pr2_two_arms
+    world = CollisionSection("arms")
+    x = x.replace(world_collision=world, tool_frames=("r_wrist_roll_link",))
+    er = EditRobot(robot, x)
+    every = er.cspace_joint_choices()
+    cs = CSpace(every, (1.0,) * len(every), (100.0,) * len(every))
+    save(EditState.start(x).apply(SetCspace(cs)), tmp_path / "all.xrdf")
+    found = lint_text((tmp_path / "all.xrdf").read_text(), "all.xrdf", urdf_model=robot)
+    named = {
+        n
+        for d in found
+        if d.rule == "curobo-joint-outside-tree"
+        for n in every
+        if f"'{n}'" in d.message
+    }
+    refused = {n for n in every if not er.moves_curobo_frames(x, n)}
+    assert refused == named
+    # the head and the laser move nothing cuRobo builds; the left arm moves its forearm's
+    # spheres only up to the elbow; the right arm moves the tool frame
+    assert {"head_pan_joint", "laser_tilt_mount_joint", "l_wrist_roll_joint"} <= refused
+    assert not {"torso_lift_joint", "r_wrist_roll_joint", "l_shoulder_pan_joint"} & refused

@@ -138,9 +138,15 @@ class CspacePanel:
                 page.state.xrdf, joint, included=included, acceleration=acceleration, jerk=jerk
             )
             verb = "take" if included else "leave"
-            page.apply(
+            done = page.apply(
                 SetCspace(cspace, f"{verb} {joint} {'into' if included else 'out of'} the c-space")
             )
+            if done and included and not page.robot.moves_curobo_frames(page.state.xrdf, joint):
+                page.say(
+                    f"done: took {joint} into the c-space, but it moves no tool frame, sphere "
+                    "frame or added frame: cuRobo builds its robot from those and would refuse "
+                    "it (add a tool frame or spheres below it)"
+                )
             self.sync()
 
     def _set_limits(self) -> None:

@@ -160,6 +160,22 @@ class EditRobot:
             tuple(r[0] for r in ranked), tuple(r[1] for r in ranked), tuple(r[2] for r in ranked)
         )
 
+    def moves_curobo_frames(self, xrdf: Xrdf, joint: str) -> bool:
+        """Whether ``joint`` moves a frame cuRobo builds its robot from: a tool frame, a frame
+        with world-collision spheres or an added frame (a mimic joint counts as its master).
+        A c-space joint that moves none is not in that robot, and cuRobo's loader raises
+        (``xrdf lint --target curobo``: curobo-joint-outside-tree)."""
+        kin = self.kin
+        frames = {
+            *(xrdf.tool_frames or ()),
+            *xrdf.world_collision_spheres(),
+            *(a.frame_name for a in xrdf.added_frames()),
+        }
+        root = kin.frame_names[0]
+        return any(
+            joint in kin.joints_on_path(root, f) for f in sorted(frames) if f in kin.frame_names
+        )
+
     @property
     def frame_names(self) -> tuple[str, ...]:
         return self.kin.frame_names
