@@ -188,5 +188,7 @@ def test_draft_from_the_urdf_is_not_written_without_save(tmp_path: Path) -> None
     code, _, err = stop(proc)
     assert code == 0, err
     assert f"drafting {out}" in seen
+    # the guess's message names convert's options; the page's C-space panel is the way here
+    assert "convert-chosen-group" in seen and "change them in the page's C-space panel" in seen
     assert "unsaved changes" in err
     assert not out.exists()

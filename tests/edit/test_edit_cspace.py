@@ -21,7 +21,15 @@ from xrdf_tools.edit.markup import code
 from xrdf_tools.lint import lint_text
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.xrdf.io import load_xrdf
-from xrdf_tools.xrdf.model import CSpace, Xrdf
+from xrdf_tools.xrdf.model import (
+    CollisionSection,
+    CSpace,
+    FrozenMap,
+    GeometryGroup,
+    SelfCollisionSection,
+    Sphere,
+    Xrdf,
+)
 
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 ARM = tuple(f"panda_joint{k}" for k in range(1, 8))
@@ -163,6 +171,9 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         panel.sync()
         assert panel.member.value is False and panel.acceleration.value == 10.0
         panel.acceleration.value = 3.0
+        before = page.state
+        panel._set_limits()  # not in the c-space: said, kept for when it is taken in
+        assert page.state is before and "gets these limits when taken in" in page.message
         panel.member.value = True
         panel._set_member()
         cs = page.state.xrdf.cspace
@@ -213,3 +224,191 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing saved
     finally:
         page.close()
+
+
+#: PR2's arms as ``xrdf convert --group left_arm --group right_arm`` writes them: the left arm
+#: first, where the URDF has the right arm first.
+PR2_ARM = (
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "upper_arm_roll_joint",
+    "forearm_roll_joint",
+    "elbow_flex_joint",
+    "wrist_flex_joint",
+    "wrist_roll_joint",
+)
+
+
+@pytest.fixture(scope="module")
+def pr2_two_arms() -> tuple[Any, Xrdf]:
+    """The PR2 with both arms in the c-space, left before right, each joint with its own
+    limits and default (so cuRobo's URDF-order filling would pair them wrongly)."""
+    robot = load_robot(robot_urdf("pr2"))
+    names = tuple(f"{side}_{j}" for side in "lr" for j in PR2_ARM)
+    er = EditRobot(robot, Xrdf())
+    defaults = {}
+    for k, n in enumerate(names):
+        i = er.kin.actuated_index(n)
+        lo, hi = er.kin.lower[i], er.kin.upper[i]
+        defaults[n] = round(float(lo + (hi - lo) * (k + 1) / 16), 4) if np.isfinite(lo) else k / 10
+    cspace = CSpace(names, tuple(1.0 + k for k in range(14)), tuple(100.0 + k for k in range(14)))
+    ball = (Sphere((0.0, 0.0, 0.0), 0.05),)
+    spheres = {f"{side}_forearm_link": ball for side in "lr"}
+    return robot, Xrdf(
+        format_version="1.0",
+        cspace=cspace,
+        default_joint_positions=FrozenMap(defaults),
+        tool_frames=("l_wrist_roll_link", "r_wrist_roll_link"),
+        self_collision=SelfCollisionSection("arms"),
+        geometry=FrozenMap({"arms": GeometryGroup(FrozenMap(spheres))}),
+    )
+
+
+def test_a_joint_taken_back_in_stays_with_its_arm_in_a_cspace_not_in_urdf_order(
+    pr2_two_arms: tuple[Any, Xrdf],
+) -> None:
+    """Left out and taken in again, a joint goes back next to the joints before it in URDF
+    order: in a two-arm c-space listed left arm first, the right wrist goes back to the end
+    of the right arm, not into the left arm."""
+    robot, x = pr2_two_arms
+    assert x.cspace is not None
+    er = EditRobot(robot, x)
+    for joint in ("r_wrist_roll_joint", "r_shoulder_pan_joint", "l_elbow_flex_joint"):
+        out = er.cspace_with(x, joint, included=False, acceleration=1, jerk=1)
+        k = x.cspace.joint_names.index(joint)
+        a, j = x.cspace.acceleration_limits[k], x.cspace.jerk_limits[k]
+        back = er.cspace_with(x.replace(cspace=out), joint, included=True, acceleration=a, jerk=j)
+        assert back == x.cspace, joint
+    # a joint with no c-space joint before it in URDF order goes before the one after it
+    torso = er.cspace_with(x, "torso_lift_joint", included=True, acceleration=1, jerk=1)
+    at = torso.joint_names.index("torso_lift_joint")
+    assert torso.joint_names[at + 1] == "r_shoulder_pan_joint"  # the URDF: torso, right arm
+    ordered = er.urdf_ordered(x.replace(cspace=torso))
+    assert ordered is not None and ordered.joint_names[:2] == (
+        "torso_lift_joint",
+        "r_shoulder_pan_joint",
+    )
+
+
+def test_a_cspace_put_in_urdf_order_keeps_its_limits_and_lints_clean(
+    pr2_two_arms: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    robot, x = pr2_two_arms
+    assert x.cspace is not None
+    er = EditRobot(robot, x)
+    st = EditState.start(x)
+    save(st, tmp_path / "left_first.xrdf")
+    found = lint_text((tmp_path / "left_first.xrdf").read_text(), "a.xrdf", urdf_model=robot)
+    assert "curobo-default-order" in {d.rule for d in found}
+    ordered = er.urdf_ordered(x)
+    assert ordered is not None
+    urdf = [n for n, j in robot.joints.items() if n in x.cspace.joint_names]
+    assert list(ordered.joint_names) == urdf and urdf[0] == "r_shoulder_pan_joint"
+    limits = dict(zip(x.cspace.joint_names, x.cspace.acceleration_limits, strict=True))
+    jerks = dict(zip(x.cspace.joint_names, x.cspace.jerk_limits, strict=True))
+    assert ordered.acceleration_limits == tuple(limits[n] for n in urdf)
+    assert ordered.jerk_limits == tuple(jerks[n] for n in urdf)
+    st = st.apply(SetCspace(ordered))
+    assert er.urdf_ordered(st.xrdf) is None
+    save(st, tmp_path / "ordered.xrdf")
+    found = lint_text((tmp_path / "ordered.xrdf").read_text(), "b.xrdf", urdf_model=robot)
+    assert "curobo-default-order" not in {d.rule for d in found}
+    assert not [c for c in diff_xrdf(x, st.xrdf).changes if "default" in str(c).lower()]
+
+
+@pytest.mark.slow
+def test_page_says_a_cspace_is_not_in_urdf_order_and_orders_it(
+    pr2_two_arms: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+    from tests.browser import free_port
+    from xrdf_tools.edit.page import EditorPage
+
+    robot, x = pr2_two_arms
+    page = EditorPage(robot, EditState.start(x), target=tmp_path / "pr2.xrdf", port=free_port())
+    try:
+        panel = page.panels.cspace
+        assert panel.order.visible and "Not in URDF order" in panel.table.content
+        panel._urdf_order()
+        cs = page.state.xrdf.cspace
+        assert cs is not None and cs.joint_names[0] == "r_shoulder_pan_joint"
+        assert not panel.order.visible and "Not in URDF order" not in panel.table.content
+        assert [s.label for s in page.panels.sliders] == list(cs.joint_names)
+        page.undo()
+        assert panel.order.visible and page.state.xrdf == x
+        # a joint cuRobo would not find in its robot is taken in, with a word why
+        panel.joint.value = "head_pan_joint"
+        panel.member.value = True
+        panel._set_member()
+        assert "head_pan_joint" in page.robot.cspace and "moves no tool frame" in page.message
+        panel.joint.value = "torso_lift_joint"
+        panel.member.value = True
+        panel._set_member()
+        assert page.message == "done: take torso_lift_joint into the c-space"
+        page.undo()
+        page.undo()
+        assert [s.label for s in page.panels.sliders] == list(x.cspace.joint_names)  # type: ignore[union-attr]
+    finally:
+        page.close()
+
+
+@pytest.mark.slow
+def test_page_tool_frames_keep_an_end_effector(panda: tuple[Any, Xrdf], tmp_path: Path) -> None:
+    """The first tool frame is the end effector: the page says which, can make another one
+    first, and does not remove the last one (cuRobo's loader raises without it)."""
+    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+    from tests.browser import free_port
+    from xrdf_tools.edit.page import EditorPage
+
+    robot, x = panda
+    page = EditorPage(robot, EditState.start(x), target=tmp_path / "p.xrdf", port=free_port())
+    try:
+        panel = page.panels.cspace
+        assert x.tool_frames == ("panda_hand",)
+        assert "(end effector)" in panel.tools.content
+        panel.frame.value = "panda_link7"
+        panel._tool_frames(add=True)
+        panel._tool_frames(add=True, first=True)
+        assert page.state.xrdf.tool_frames == ("panda_link7", "panda_hand")
+        assert panel.tools.content.startswith(f"Tool frames: {code('panda_link7')} (end effector)")
+        panel._tool_frames(add=False)
+        panel.frame.value = "panda_hand"
+        panel._tool_frames(add=False)
+        assert page.state.xrdf.tool_frames == ("panda_hand",)
+        assert "last tool frame" in page.message
+        save(page.state, tmp_path / "p.xrdf")
+        found = lint_text((tmp_path / "p.xrdf").read_text(), "p.xrdf", urdf_model=robot)
+        assert "curobo-missing-key" not in {d.rule for d in found}
+        page.undo()
+        assert page.state.xrdf.tool_frames == ("panda_link7", "panda_hand")
+    finally:
+        page.close()
+
+
+def test_the_joints_cuRobo_would_refuse_are_the_ones_lint_names(
+    pr2_two_arms: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    """A joint moving no tool frame, world-collision sphere frame or added frame: the page's
+    answer for every joint the c-space can hold agrees with ``xrdf lint``
+    (curobo-joint-outside-tree) on the saved file holding them all."""
+    robot, x = pr2_two_arms
+    world = CollisionSection("arms")
+    x = x.replace(world_collision=world, tool_frames=("r_wrist_roll_link",))
+    er = EditRobot(robot, x)
+    every = er.cspace_joint_choices()
+    cs = CSpace(every, (1.0,) * len(every), (100.0,) * len(every))
+    save(EditState.start(x).apply(SetCspace(cs)), tmp_path / "all.xrdf")
+    found = lint_text((tmp_path / "all.xrdf").read_text(), "all.xrdf", urdf_model=robot)
+    named = {
+        n
+        for d in found
+        if d.rule == "curobo-joint-outside-tree"
+        for n in every
+        if f"'{n}'" in d.message
+    }
+    refused = {n for n in every if not er.moves_curobo_frames(x, n)}
+    assert refused == named
+    # the head and the laser move nothing cuRobo builds; the left arm moves its forearm's
+    # spheres only up to the elbow; the right arm moves the tool frame
+    assert {"head_pan_joint", "laser_tilt_mount_joint", "l_wrist_roll_joint"} <= refused
+    assert not {"torso_lift_joint", "r_wrist_roll_joint", "l_shoulder_pan_joint"} & refused

@@ -5,8 +5,10 @@ A joint is picked from the joints the c-space can hold (:meth:`EditRobot.cspace_
 URDF order); **In c-space** takes it in at its place in URDF order (cuRobo fills default
 positions in URDF order, so that order keeps them right) or leaves it out, and the limits
 fields set its limits. A joint taken in gets the limits shown, which for a joint not in the
-c-space are ``xrdf convert``'s defaults. The Pose panel's sliders follow the c-space. The
-last joint is not left out: an empty c-space is valid XRDF but gives a planner nothing to move.
+c-space are ``xrdf convert``'s defaults. A c-space not in URDF order (a file written so) is
+said under the table, with a button that puts it in that order. The Pose panel's sliders
+follow the c-space. The last joint is not left out: an empty c-space is valid XRDF but gives
+a planner nothing to move.
 """
 
 from __future__ import annotations
@@ -21,12 +23,20 @@ from .surface import PageSurface, bounded, from_browser
 if TYPE_CHECKING:
     from ..xrdf.model import CSpace
 
-__all__ = ["CspacePanel", "cspace_table"]
+__all__ = ["CspacePanel", "cspace_table", "tool_frames_text"]
 
 #: The limits fields' range: above 0 (every reader refuses 0) and below the numbers a saved
 #: file holds.
 MIN_LIMIT = 1e-3
 MAX_LIMIT = 1e6
+
+
+#: Under the table of a c-space not in URDF order.
+UNORDERED = (
+    "\n\n**Not in URDF order**: cuRobo fills default positions in URDF order, so joints "
+    "whose defaults differ would start at each other's (`xrdf lint --target curobo` names "
+    "them: curobo-default-order). **Put in URDF order** fixes it."
+)
 
 
 def cspace_table(cspace: CSpace | None) -> str:
@@ -41,6 +51,14 @@ def cspace_table(cspace: CSpace | None) -> str:
     ]
     head = f"{len(rows)} joint(s), in the order planners use:\n\n"
     return head + "| joint | acceleration | jerk |\n|---|---:|---:|\n" + "\n".join(rows)
+
+
+def tool_frames_text(tools: tuple[str, ...] | list[str]) -> str:
+    """The tool frames in order, the first marked as the end effector."""
+    if not tools:
+        return "No tool frames: cuRobo and cuMotion need one (the end effector)."
+    rest = "".join(f", {code(f)}" for f in tools[1:])
+    return f"Tool frames: {code(tools[0])} (end effector){rest}"
 
 
 class CspacePanel:
@@ -74,16 +92,27 @@ class CspacePanel:
                 step=1.0,
                 hint="rad/s³ (m/s³ for a prismatic joint)",
             )
+            self.order = gui.add_button(
+                "Put in URDF order",
+                visible=False,
+                hint="cuRobo fills default positions in URDF order: keep the c-space in it",
+            )
             self.tools = gui.add_markdown("")
             self.frame = gui.add_dropdown("Frame", frames, initial_value=frames[-1])
             add = gui.add_button("Add tool frame")
             remove = gui.add_button("Remove tool frame")
+            end = gui.add_button(
+                "Make end effector",
+                hint="The first tool frame: cuRobo's ee_link, the frame a goal pose is for",
+            )
         self.joint.on_update(lambda e: self.sync() if from_browser(e) else None)
         self.member.on_update(lambda e: self._set_member() if from_browser(e) else None)
         for box in (self.acceleration, self.jerk):
             box.on_update(lambda e: self._set_limits() if from_browser(e) else None)
+        self.order.on_click(lambda e: self._urdf_order() if from_browser(e) else None)
         add.on_click(lambda e: self._tool_frames(add=True) if from_browser(e) else None)
         remove.on_click(lambda e: self._tool_frames(add=False) if from_browser(e) else None)
+        end.on_click(lambda e: self._tool_frames(add=True, first=True) if from_browser(e) else None)
         self.sync()
 
     # --- edits -----------------------------------------------------------------------------
@@ -109,9 +138,15 @@ class CspacePanel:
                 page.state.xrdf, joint, included=included, acceleration=acceleration, jerk=jerk
             )
             verb = "take" if included else "leave"
-            page.apply(
+            done = page.apply(
                 SetCspace(cspace, f"{verb} {joint} {'into' if included else 'out of'} the c-space")
             )
+            if done and included and not page.robot.moves_curobo_frames(page.state.xrdf, joint):
+                page.say(
+                    f"done: took {joint} into the c-space, but it moves no tool frame, sphere "
+                    "frame or added frame: cuRobo builds its robot from those and would refuse "
+                    "it (add a tool frame or spheres below it)"
+                )
             self.sync()
 
     def _set_limits(self) -> None:
@@ -120,7 +155,11 @@ class CspacePanel:
         with page.lock:
             cs = page.state.xrdf.cspace
             if cs is None or joint not in cs.joint_names:
-                return  # the limits shown are the ones the joint gets when taken in
+                page.say(
+                    f"{joint} is not in the c-space: it gets these limits when taken in "
+                    "(tick In c-space)"
+                )
+                return
             acceleration, jerk = self._limits()
             cspace = page.robot.cspace_with(
                 page.state.xrdf, joint, included=True, acceleration=acceleration, jerk=jerk
@@ -130,22 +169,47 @@ class CspacePanel:
                 merge_key=("limits", joint),
             )
 
-    def _tool_frames(self, *, add: bool) -> None:
+    def _urdf_order(self) -> None:
+        page = self.page
+        with page.lock:
+            ordered = page.robot.urdf_ordered(page.state.xrdf)
+            if ordered is None:
+                page.say("no change: the c-space is in URDF order already")
+            else:
+                page.apply(SetCspace(ordered, "put the c-space in URDF order"))
+            self.sync()
+
+    def _tool_frames(self, *, add: bool, first: bool = False) -> None:
+        """Add the picked frame (at the end, or ``first``: the end effector) or remove it.
+        The last tool frame is not removed: cuRobo and cuMotion take the first as the end
+        effector and refuse a file without one."""
         page = self.page
         frame = str(self.frame.value)
         with page.lock:
             now = tuple(page.state.xrdf.tool_frames or ())
-            if add:
+            if first:
+                frames = (frame, *(f for f in now if f != frame))
+            elif add:
                 frames = now if frame in now else (*now, frame)
             else:
                 frames = tuple(f for f in now if f != frame)
-            page.apply(SetToolFrames(frames))
+                if now and not frames:
+                    page.say(
+                        f"not done: {frame} is the last tool frame (cuRobo and cuMotion take the "
+                        "first as the end effector and refuse a file without one); add another "
+                        "first"
+                    )
+                    return
+            label = f"make {frame} the end effector (first tool frame)" if first else ""
+            page.apply(SetToolFrames(frames, label))
 
     # --- showing the document --------------------------------------------------------------
     def sync(self) -> None:
         """Show the document's c-space and tool frames, and the picked joint's values."""
         x = self.page.state.xrdf
-        self.table.content = cspace_table(x.cspace)
+        unordered = self.page.robot.urdf_ordered(x) is not None
+        self.table.content = cspace_table(x.cspace) + (UNORDERED if unordered else "")
+        self.order.visible = unordered
         joint = str(self.joint.value)
         names = x.cspace.joint_names if x.cspace is not None else ()
         self.member.value = joint in names
@@ -156,6 +220,4 @@ class CspacePanel:
         else:
             self.acceleration.value, self.jerk.value = DEFAULT_ACCELERATION, DEFAULT_JERK
         tools = x.tool_frames or ()
-        self.tools.content = (
-            "Tool frames: " + ", ".join(code(f) for f in tools) if tools else "No tool frames."
-        )
+        self.tools.content = tool_frames_text(tools)

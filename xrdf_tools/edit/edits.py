@@ -114,9 +114,10 @@ class SetToolFrames:
     """Replace ``tool_frames`` (the frames a planner can put a goal on), in order."""
 
     frames: tuple[str, ...]
+    label: str = ""
 
     def describe(self) -> str:
-        return f"tool frames to {', '.join(self.frames) or '(none)'}"
+        return self.label or f"tool frames to {', '.join(self.frames) or '(none)'}"
 
 
 Edit = SphereEdit | SetIgnored | SetMask | SetBuffer | SetDefaults | SetCspace | SetToolFrames

@@ -125,12 +125,55 @@ class EditRobot:
         elif joint in names:
             rows[names.index(joint)] = (joint, acceleration, jerk)
         else:
-            order = {n: k for k, n in enumerate(self.cspace_joint_choices())}
-            rank = order.get(joint, len(order))
-            at = sum(1 for n in names if order.get(n, len(order)) < rank)
-            rows.insert(at, (joint, acceleration, jerk))
+            rows.insert(self._place(names, joint), (joint, acceleration, jerk))
         return CSpace(
             tuple(r[0] for r in rows), tuple(r[1] for r in rows), tuple(r[2] for r in rows)
+        )
+
+    def _place(self, names: list[str], joint: str) -> int:
+        """Where ``joint`` goes in the c-space ``names``: next to its nearest neighbour in URDF
+        order among them -- after the one before it, or before the one after it when that is
+        nearer. In a c-space in URDF order that is its URDF place; in one that is not (two
+        arms, the second in the URDF listed first), the joint goes back into its own arm."""
+        order = {n: k for k, n in enumerate(self.cspace_joint_choices())}
+        rank = order.get(joint, len(order))
+        ranked = [(order.get(n, len(order)), k) for k, n in enumerate(names)]
+        before = max((r for r in ranked if r[0] < rank), default=None)
+        after = min((r for r in ranked if r[0] > rank), default=None)
+        if after is not None and (before is None or after[0] - rank < rank - before[0]):
+            return after[1]
+        return before[1] + 1 if before is not None else len(names)
+
+    def urdf_ordered(self, xrdf: Xrdf) -> CSpace | None:
+        """``xrdf``'s c-space in URDF order (each joint keeping its limits); None when it is
+        in that order already. cuRobo fills default positions in URDF order: a c-space in
+        another order gets them scrambled."""
+        cs = xrdf.cspace
+        if cs is None:
+            return None
+        order = {n: k for k, n in enumerate(self.cspace_joint_choices())}
+        rows = list(zip(cs.joint_names, cs.acceleration_limits, cs.jerk_limits, strict=True))
+        ranked = sorted(rows, key=lambda r: order.get(r[0], len(order)))
+        if ranked == rows:
+            return None
+        return CSpace(
+            tuple(r[0] for r in ranked), tuple(r[1] for r in ranked), tuple(r[2] for r in ranked)
+        )
+
+    def moves_curobo_frames(self, xrdf: Xrdf, joint: str) -> bool:
+        """Whether ``joint`` moves a frame cuRobo builds its robot from: a tool frame, a frame
+        with world-collision spheres or an added frame (a mimic joint counts as its master).
+        A c-space joint that moves none is not in that robot, and cuRobo's loader raises
+        (``xrdf lint --target curobo``: curobo-joint-outside-tree)."""
+        kin = self.kin
+        frames = {
+            *(xrdf.tool_frames or ()),
+            *xrdf.world_collision_spheres(),
+            *(a.frame_name for a in xrdf.added_frames()),
+        }
+        root = kin.frame_names[0]
+        return any(
+            joint in kin.joints_on_path(root, f) for f in sorted(frames) if f in kin.frame_names
         )
 
     @property

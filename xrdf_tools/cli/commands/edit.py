@@ -36,6 +36,10 @@ if TYPE_CHECKING:
 
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
 
+#: The draft's diagnostics that say the c-space or the tool frame was guessed (their messages
+#: name ``xrdf convert``'s options, which ``xrdf edit`` does not have).
+GUESSED = frozenset({"convert-chosen-group", "convert-chosen-tool-frame"})
+
 
 def _draft(robot: Robot, srdf: Path | None, seed: int, samples: int) -> Xrdf:
     """The one-command draft: ``xrdf convert URDF [--srdf S] --fit-spheres``."""
@@ -52,6 +56,12 @@ def _draft(robot: Robot, srdf: Path | None, seed: int, samples: int) -> Xrdf:
     echo_diagnostics(
         [d for d in result.diagnostics if d.severity.name != "INFO"], OutputFormat.text
     )
+    if {d.rule for d in result.diagnostics} & GUESSED:
+        note(
+            "the draft's c-space and tool frames were guessed: change them in the page's "
+            "C-space panel (--group, --chain, --joints and --tool-frame are `xrdf convert`'s: "
+            "draft with it and edit that file to use them)"
+        )
     return result.xrdf
 
 
