@@ -7,6 +7,8 @@ in the c-space; ``panda_finger_joint1`` held at its default, ``panda_finger_join
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -46,6 +48,20 @@ def errors(text: str, robot: Any) -> list[str]:
         for d in lint_text(text, "panda.xrdf", urdf_model=robot)
         if d.severity.name == "ERROR"
     ]
+
+
+@contextmanager
+def served(robot: Any, x: Xrdf, target: Path) -> Iterator[Any]:
+    """The editor page on ``x`` (Save would write ``target``), closed after; needs viser."""
+    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+    from tests.browser import free_port
+    from xrdf_tools.edit.page import EditorPage
+
+    page = EditorPage(robot, EditState.start(x), target=target, port=free_port())
+    try:
+        yield page
+    finally:
+        page.close()
 
 
 def test_choices_are_the_joints_a_cspace_can_hold_in_urdf_order(panda: tuple[Any, Xrdf]) -> None:
@@ -156,15 +172,10 @@ def test_the_robot_follows_the_documents_cspace(panda: tuple[Any, Xrdf]) -> None
 def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
     panda: tuple[Any, Xrdf], tmp_path: Path
 ) -> None:
-    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
-    from tests.browser import free_port
-    from xrdf_tools.edit.page import EditorPage
-
     robot, x = panda
     target = tmp_path / "panda.xrdf"
     target.write_bytes(PANDA_XRDF.read_bytes())
-    page = EditorPage(robot, EditState.start(x), target=target, port=free_port())
-    try:
+    with served(robot, x, target) as page:
         panel = page.panels.cspace
         assert [s.label for s in page.panels.sliders] == list(ARM)
         panel.joint.value = "panda_finger_joint1"
@@ -222,8 +233,6 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         assert "last c-space joint" in page.message and page.robot.cspace == ARM[-1:]
         assert panel.member.value is True
         assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing saved
-    finally:
-        page.close()
 
 
 #: PR2's arms as ``xrdf convert --group left_arm --group right_arm`` writes them: the left arm
@@ -320,13 +329,8 @@ def test_a_cspace_put_in_urdf_order_keeps_its_limits_and_lints_clean(
 def test_page_says_a_cspace_is_not_in_urdf_order_and_orders_it(
     pr2_two_arms: tuple[Any, Xrdf], tmp_path: Path
 ) -> None:
-    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
-    from tests.browser import free_port
-    from xrdf_tools.edit.page import EditorPage
-
     robot, x = pr2_two_arms
-    page = EditorPage(robot, EditState.start(x), target=tmp_path / "pr2.xrdf", port=free_port())
-    try:
+    with served(robot, x, tmp_path / "pr2.xrdf") as page:
         panel = page.panels.cspace
         assert panel.order.visible and "Not in URDF order" in panel.table.content
         panel._urdf_order()
@@ -348,21 +352,14 @@ def test_page_says_a_cspace_is_not_in_urdf_order_and_orders_it(
         page.undo()
         page.undo()
         assert [s.label for s in page.panels.sliders] == list(x.cspace.joint_names)  # type: ignore[union-attr]
-    finally:
-        page.close()
 
 
 @pytest.mark.slow
 def test_page_tool_frames_keep_an_end_effector(panda: tuple[Any, Xrdf], tmp_path: Path) -> None:
     """The first tool frame is the end effector: the page says which, can make another one
     first, and does not remove the last one (cuRobo's loader raises without it)."""
-    pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
-    from tests.browser import free_port
-    from xrdf_tools.edit.page import EditorPage
-
     robot, x = panda
-    page = EditorPage(robot, EditState.start(x), target=tmp_path / "p.xrdf", port=free_port())
-    try:
+    with served(robot, x, tmp_path / "p.xrdf") as page:
         panel = page.panels.cspace
         assert x.tool_frames == ("panda_hand",)
         assert "(end effector)" in panel.tools.content
@@ -381,8 +378,6 @@ def test_page_tool_frames_keep_an_end_effector(panda: tuple[Any, Xrdf], tmp_path
         assert "curobo-missing-key" not in {d.rule for d in found}
         page.undo()
         assert page.state.xrdf.tool_frames == ("panda_link7", "panda_hand")
-    finally:
-        page.close()
 
 
 def test_the_joints_cuRobo_would_refuse_are_the_ones_lint_names(
