@@ -407,3 +407,32 @@ def test_the_joints_cuRobo_would_refuse_are_the_ones_lint_names(
     # spheres only up to the elbow; the right arm moves the tool frame
     assert {"head_pan_joint", "laser_tilt_mount_joint", "l_wrist_roll_joint"} <= refused
     assert not {"torso_lift_joint", "r_wrist_roll_joint", "l_shoulder_pan_joint"} & refused
+
+
+@pytest.mark.slow
+def test_use_pose_as_default_warns_on_a_pose_in_self_collision(
+    panda: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    """The default is written either way; a colliding pose (a checked pair touching, as the
+    library finds it) is said, a free one is not."""
+    robot, x = panda
+    reference = EditRobot(robot, x)
+    free = reference.default_pose(x)
+    assert not reference.collisions(x, free).checked
+    hit = free.copy()
+    j2 = reference.kin.actuated_index("panda_joint2")
+    for k in range(18):  # raise joint 2 until a checked pair touches
+        hit[j2] = round(0.1 * k, 2)
+        if reference.collisions(x, hit).checked:
+            break
+    first = reference.collisions(x, hit).checked[0]
+    with served(robot, x, tmp_path / "p.xrdf") as page:
+        page.set_pose(hit)
+        page.panels.use_pose_as_default()
+        defaults = page.state.xrdf.default_joint_positions
+        assert defaults is not None and defaults["panda_joint2"] == hit[j2]
+        assert "warning: this pose is in self-collision" in page.message
+        assert f"{first.frame_a} ↔ {first.frame_b}" in page.message
+        page.set_pose(free)
+        page.panels.use_pose_as_default()
+        assert "warning" not in page.message and page.message.startswith("done:")

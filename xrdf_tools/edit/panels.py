@@ -185,11 +185,7 @@ class Panels:
             rand.on_click(lambda e: self._random() if from_browser(e) else None)
             as_default = gui.add_button("Use pose as default", disabled=False)
 
-            def use_as_default(e: Any) -> None:
-                if from_browser(e):
-                    page.apply(SetDefaults(robot.cspace_values(page.q)))
-
-            as_default.on_click(use_as_default)
+            as_default.on_click(lambda e: self.use_pose_as_default() if from_browser(e) else None)
             if page.configs is not None:
                 n = len(page.configs)
                 row = gui.add_number("Configuration", 0, min=0, max=max(n - 1, 0), step=1)
@@ -227,6 +223,23 @@ class Panels:
                     self.page.set_pose(q, sliders=False)
 
         return moved
+
+    def use_pose_as_default(self) -> None:
+        """Write the pose's c-space values as the default positions; a pose in self-collision
+        is taken, with a warning (readers start there, and a mask computed from the file
+        ignores the pairs that collide at its default)."""
+        page = self.page
+        with page.lock:
+            if not page.apply(SetDefaults(page.robot.cspace_values(page.q))):
+                return
+            hits = page.collisions.checked
+            if hits:
+                first = hits[0]
+                page.say(
+                    f"{page.message}; warning: this pose is in self-collision "
+                    f"({len(hits)} pair(s), first {first.frame_a} ↔ {first.frame_b}): readers "
+                    "start there, and a mask computed from the file would ignore those pairs"
+                )
 
     def _random(self) -> None:
         self.seed += 1

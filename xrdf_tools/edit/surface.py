@@ -64,6 +64,7 @@ class PageSurface(Protocol):
     q: np.ndarray[Any, Any]
     collisions: Collisions
     selected: tuple[str, int | None] | None
+    message: str
     server: Any
     view: RobotView
 
