@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..util.errors import XrdfToolsError
+from ..util.fileio import read_input_bytes
 from .edits import Edit
 from .robot import Collisions, EditRobot
 from .state import EditState, save
@@ -264,7 +265,9 @@ class EditorPage:
 
 
 def _read_bytes(path: Path) -> bytes | None:
+    """The target's bytes through the guarded reader (a FIFO or device put there is not
+    opened), None when there is no file to read."""
     try:
-        return path.read_bytes()
-    except OSError:
+        return read_input_bytes(path)
+    except XrdfToolsError:
         return None
