@@ -578,6 +578,26 @@ def test_a_link_missing_from_many_disable_collisions_is_reported_once(
     assert d.ignore == {"a": ["b"]}
 
 
+def test_a_link_disabled_against_itself_is_said_not_dropped_silently(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """``<disable_collisions link1="a" link2="a"/>`` holds no pair (a link is never checked
+    against itself): it is said at its line, and the other pairs are kept."""
+    srdf = _write(
+        tmp_path,
+        '<robot name="t">\n<group name="arm"><chain base_link="base" tip_link="tip"/></group>\n'
+        '<disable_collisions link1="a" link2="a" reason="Never"/>\n'
+        '<disable_collisions link1="a" link2="b" reason="Adjacent"/>\n</robot>\n',
+    )
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    said = [w for w in d.diagnostics if "twice" in w.message]
+    assert [(w.rule, w.line) for w in said] == [("convert-dropped-key", 3)]
+    assert "'a'" in said[0].message
+    assert d.ignore == {"a": ["b"]}
+
+
 def test_an_srdf_naming_thousands_of_missing_links_says_ten_and_counts_the_rest(
     tree: RobotTree, tmp_path: Path
 ) -> None:

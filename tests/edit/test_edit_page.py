@@ -18,6 +18,7 @@ from xrdf_tools.edit import EditRobot, EditState, SetBuffer, SetRadius
 from xrdf_tools.edit.markup import code, text
 from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
 from xrdf_tools.robot.xacro_source import load_robot
+from xrdf_tools.util.numbers import REPORT_SAMPLES
 from xrdf_tools.xrdf.io import load_xrdf
 
 pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
@@ -136,6 +137,7 @@ def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
     page = EditorPage(robot, EditState.start(x), target=tmp_path / "out.xrdf", port=free_port())
     try:
         mask = page.panels.mask
+        assert mask.samples.value == REPORT_SAMPLES  # as `xrdf report` samples
         mask.samples.value = 300
         mask.run_report()
         report = mask.report
@@ -145,7 +147,14 @@ def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
         assert f"{code(top.frame_a)} ↔ {code(top.frame_b)}" in mask.summary.content
         mask._apply_mask()
         assert page.state.xrdf == recommended_xrdf(x, report)
-        assert page.state.undo_label == "apply the report's recommended mask"
+        # 300 samples leave pairs "never seen" that collide rarely: said with the mask
+        never = sum(p.classification == "never" for p in report.pairs)
+        assert never > 0
+        assert page.state.undo_label == (
+            "apply the report's recommended mask (from 300 samples: "
+            f"{never} pair(s) never seen colliding may collide rarely; xrdf report samples "
+            f"{REPORT_SAMPLES:,})"
+        )
         mask._apply_mask()  # again: the page says so rather than keep the last message
         assert page.message.startswith("no change: apply the report's recommended mask")
         page.undo()

@@ -34,6 +34,7 @@ from ..robot.core import Robot, as_robot
 from ..robot.link_geometry import require_meshes
 from ..robot.xacro_places import located_at_elements
 from ..util.frozen import FrozenMap
+from ..util.numbers import REPORT_SAMPLES
 from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
 from .fit_check import RULE_UNFITTED, unfitted_links
@@ -77,7 +78,7 @@ class FitOptions:
 class MaskOptions:
     """How the self-collision mask is computed (``xrdf report`` sampling options)."""
 
-    samples: int = 100_000
+    samples: int = REPORT_SAMPLES
     seed: int = 0
     sampler: Sampler = "uniform"
 

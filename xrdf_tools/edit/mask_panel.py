@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 from ..report import Report, self_collision_report
 from ..report.results import CertifyOptions, PairStat
 from ..util.errors import XrdfToolsError
+from ..util.numbers import REPORT_SAMPLES
 from .edits import SetBuffer, SetIgnored, SetMask
 from .markup import code, text
 from .surface import PageSurface, bounded, from_browser
@@ -26,6 +27,9 @@ __all__ = ["MAX_ROWS", "MaskPanel", "pair_label"]
 MAX_ROWS = 24
 #: Pairs of the report's table (highest collision rate first).
 TABLE_ROWS = 12
+#: The most samples the page's report takes (it runs while the page waits: about 10 s on a
+#: TIAGo arm; ``xrdf report`` takes more, in worker processes).
+MAX_PAGE_SAMPLES = 1_000_000
 
 
 def pair_label(a: str, b: str) -> str:
@@ -56,7 +60,13 @@ class MaskPanel:
             self.filter = gui.add_text("Filter pairs", "")
             self.summary = gui.add_markdown("")
             self.pairs = gui.add_folder("Pairs (ignored when ticked)")
-            self.samples = gui.add_number("Report samples", 2000, min=10, max=100000, step=10)
+            self.samples = gui.add_number(
+                "Report samples",
+                min(page.report_samples, MAX_PAGE_SAMPLES),
+                min=1,
+                max=MAX_PAGE_SAMPLES,
+                step=1000,
+            )
             self.budget = gui.add_number("Certify budget (s)", 0.0, min=0.0, max=120.0, step=1.0)
             run = gui.add_button("Run report")
             self.apply_mask = gui.add_button("Apply recommended mask", visible=False)
@@ -118,6 +128,12 @@ class MaskPanel:
         label = "apply the report's recommended mask"
         if self.report_for is not self.page.state.xrdf:  # said in the message that follows
             label += " (the report is of an earlier version: run it again to check)"
+        unproven = [p for p in r.pairs if p.classification == "never" and not _proven(p)]
+        if unproven and r.samples < REPORT_SAMPLES:
+            label += (
+                f" (from {r.samples:,} samples: {len(unproven)} pair(s) never seen colliding may "
+                f"collide rarely; xrdf report samples {REPORT_SAMPLES:,})"
+            )
         self.page.apply(SetMask(r.recommended_ignore, label))
 
     def _pose_witness(self) -> None:
@@ -217,3 +233,8 @@ class MaskPanel:
 
         box.on_update(toggled)
         return box
+
+
+def _proven(pair: PairStat) -> bool:
+    """The pair's "never" is proven over its whole joint box (``--certify``), not only sampled."""
+    return pair.certificate == "proven"

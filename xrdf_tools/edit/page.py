@@ -21,6 +21,7 @@ import numpy as np
 
 from ..util.errors import XrdfToolsError
 from ..util.fileio import read_input_bytes
+from ..util.numbers import REPORT_SAMPLES
 from .edits import Edit
 from .robot import Collisions, EditRobot
 from .state import EditState, save
@@ -53,6 +54,7 @@ class EditorPage:
         configs: str | os.PathLike[str] | None = None,
         package_paths: Mapping[str, str] | None = None,
         meshes: str = "collision",
+        report_samples: int = REPORT_SAMPLES,
     ) -> None:
         import viser
 
@@ -65,6 +67,8 @@ class EditorPage:
         #: The file the saved document was read from or last written to (the diff's old side).
         self.saved_path = state.saved.source.path or str(self.target)
         self.readonly = readonly
+        #: The samples the page's report starts with (``xrdf report``'s default).
+        self.report_samples = report_samples
         #: The target's bytes as last read or written (None: it did not exist), to tell when
         #: another program changed it since.
         self.on_disk = _read_bytes(self.target)

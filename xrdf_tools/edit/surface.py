@@ -60,6 +60,7 @@ class PageSurface(Protocol):
     target: Path
     saved_path: str
     readonly: bool
+    report_samples: int
     configs: np.ndarray[Any, Any] | None
     q: np.ndarray[Any, Any]
     collisions: Collisions

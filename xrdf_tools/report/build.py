@@ -38,6 +38,7 @@ from ..selfcollision.engine import CountEngine, EngineTotals, ProgressFn, count_
 from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..util.frozen import FrozenMap
+from ..util.numbers import REPORT_SAMPLES
 from ..xrdf.model import Xrdf
 from .mask import recommend_ignore
 from .results import (
@@ -77,7 +78,7 @@ def self_collision_report(
     urdf: Robot | yourdfpy.URDF,
     xrdf: Xrdf,
     *,
-    samples: int = 100_000,
+    samples: int = REPORT_SAMPLES,
     seed: int | None = 0,
     sampler: Sampler = "uniform",
     configs: npt.ArrayLike | None = None,

@@ -13,6 +13,7 @@ import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ..util.numbers import REPORT_SAMPLES
 from .build import ProgressFn, self_collision_report
 from .mask import recommended_xrdf
 from .results import CertifyOptions, Report, Sampler
@@ -30,7 +31,7 @@ class ReportRequest:
     ``jobs`` worker processes, ``certify`` the "never" pairs, and the default pose as MoveIt
     takes it (``moveit``); see :func:`~xrdf_tools.report.self_collision_report`."""
 
-    samples: int = 100_000
+    samples: int = REPORT_SAMPLES
     seed: int = 0
     sampler: Sampler = "uniform"
     coverage: bool = False

@@ -22,6 +22,7 @@ __all__ = [
     "MAX_LENGTH",
     "MAX_NUMBER",
     "MAX_SAMPLES",
+    "REPORT_SAMPLES",
     "bound_problem",
     "bound_reason",
     "within",
@@ -37,6 +38,10 @@ MAX_SAMPLES = 10_000_000_000
 #: The work ``report --certify`` does by default, in joint boxes: about a minute on one core
 #: for pairs of Panda-size links.
 CERTIFY_BOXES = 4_000_000
+#: Configurations a self-collision report samples by default: ``xrdf report``, the mask
+#: ``convert --fit-spheres`` computes and the report of ``xrdf edit``. A recommended mask
+#: ignores pairs never seen colliding, so fewer samples miss more of the rare collisions.
+REPORT_SAMPLES = 100_000
 
 
 def within(v: int | float, bound: float = MAX_NUMBER) -> bool:

@@ -14,7 +14,7 @@ import typer
 
 from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
-from ...util.numbers import MAX_SAMPLES
+from ...util.numbers import MAX_SAMPLES, REPORT_SAMPLES
 from .plain import (
     EXIT_FINDINGS,
     OutputFormat,
@@ -187,7 +187,7 @@ def command(
             help="With --fit-spheres: configurations sampled for the self-collision mask "
             "(as `xrdf report --samples`; at most 10,000,000,000).",
         ),
-    ] = 100_000,
+    ] = REPORT_SAMPLES,
     seed: Annotated[
         int, typer.Option("--seed", help="With --fit-spheres: seed of the fit and the sampler.")
     ] = 0,

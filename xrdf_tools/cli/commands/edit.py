@@ -9,6 +9,7 @@ import typer
 
 from ...util.errors import XrdfToolsError
 from ...util.extras import FIT, require
+from ...util.numbers import REPORT_SAMPLES
 from .plain import (
     OutputFormat,
     check_robot_overwrite,
@@ -112,8 +113,13 @@ def command(
     ] = False,
     samples: Annotated[
         int,
-        typer.Option("--samples", min=1, help="Samples of the draft's mask (-o without XRDF)."),
-    ] = 20_000,
+        typer.Option(
+            "--samples",
+            min=1,
+            help="Configurations sampled for the draft's mask (-o without XRDF) and, to start "
+            "with, by the page's report (as `xrdf report --samples`).",
+        ),
+    ] = REPORT_SAMPLES,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of fits and samples.")] = 0,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
@@ -185,6 +191,7 @@ def command(
                 readonly=readonly,
                 configs=configs,
                 package_paths=pairs(package_path, parse_package_path),
+                report_samples=samples,
             )
     except XrdfToolsError as e:
         fail(e)

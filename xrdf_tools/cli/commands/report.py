@@ -17,7 +17,7 @@ from typing import Annotated, Any
 import typer
 
 from ...util.errors import XrdfToolsError
-from ...util.numbers import CERTIFY_BOXES
+from ...util.numbers import CERTIFY_BOXES, REPORT_SAMPLES
 from .report_core import (
     REPORT_OPTIONS,
     MaskPolicy,
@@ -50,7 +50,7 @@ def command(
         ),
     ],
     urdf: Annotated[Path, _option("urdf", show_default=False)],
-    samples: Annotated[int, _option("samples")] = 100_000,
+    samples: Annotated[int, _option("samples")] = REPORT_SAMPLES,
     seed: Annotated[int, _option("seed")] = 0,
     sampler: Annotated[SamplerChoice, _option("sampler")] = SamplerChoice.uniform,
     configs: Annotated[Path | None, _option("configs")] = None,

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...util.errors import XrdfToolsError, one_line
-from ...util.numbers import CERTIFY_BOXES, MAX_SAMPLES
+from ...util.numbers import CERTIFY_BOXES, MAX_SAMPLES, REPORT_SAMPLES
 from .options import (
     PACKAGE_PATH,
     QUIET,
@@ -230,7 +230,7 @@ class ReportArgs:
 
     xrdf_file: Path
     urdf: Path
-    samples: int = 100_000
+    samples: int = REPORT_SAMPLES
     seed: int = 0
     sampler: SamplerChoice = SamplerChoice.uniform
     configs: Path | None = None

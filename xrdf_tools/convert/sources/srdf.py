@@ -119,7 +119,15 @@ def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
         for link, key in ((l1, "link1"), (l2, "link2")):
             if link not in tree.links:
                 unknown.setdefault(link, []).append((key, line))
-        if l1 in tree.links and l2 in tree.links:
+        if l1 == l2 and l1 in tree.links:
+            rep.report(
+                "convert-dropped-key",
+                f"disable_collisions names '{l1}' twice: a link is never checked against "
+                "itself, so there is no pair to carry",
+                severity=Severity.INFO,
+                line=line,
+            )
+        elif l1 in tree.links and l2 in tree.links:
             d.add_ignore(l1, l2)
     named = list(unknown.items())
     for link, uses in named[:_UNKNOWN_NAMED]:
