@@ -48,6 +48,29 @@ geometry:
     assert z.self_collision_spheres() == x.self_collision_spheres()
 
 
+def test_to_1_0_warns_at_each_2_0_radius_that_is_not_positive() -> None:
+    """2.0 forbids radius ≤ 0; written into 1.0 as it is, the sphere means something there
+    (a slot, a buffered sphere), so each is warned at its radius; a clone's spheres once."""
+    text = """format: xrdf
+format_version: 2.0
+world_collision: {geometry: all}
+geometry:
+  all:
+    clone: [arm]
+    spheres:
+      hand: [{center: [0, 0, 0], radius: 0.05}, {center: [0, 0, 0], radius: -10}]
+  arm:
+    spheres:
+      link: [{center: [0, 0, 0], radius: 0.0}]
+"""
+    _, diags = to_1_0(parse_xrdf(text, "robot.xrdf"))
+    bad = [d for d in diags if d.rule == "invalid-radius-written"]
+    assert [(d.line, d.col) for d in bad] == [(8, 77), (11, 42)]
+    assert "sphere 1 on 'hand' has radius -10" in bad[0].message
+    assert "attached-object slot" in bad[0].message
+    assert "sphere 0 on 'link' has radius 0" in bad[1].message
+
+
 def test_remove_mimic_cannot_go_to_1_0() -> None:
     x = parse_xrdf(
         "format: xrdf\nformat_version: 2.0\nmodifiers:\n  - remove_mimic_attributes:\n"

@@ -77,6 +77,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("different-collision-groups", W, "World and self collision use different groups."),
         ("dropped-nonpositive-sphere", W, "Writing 2.0: a sphere with radius ≤ 0 is dropped."),
         ("flattened-clone", I, "Writing 1.0: a cloned geometry group, flattened."),
+        ("invalid-radius-written", W, "Writing 1.0: a 2.0 sphere with radius ≤ 0 (invalid)."),
         ("missing-for-curobo", I, "Writing 1.0: a key cuRobo's loader requires is absent."),
         ("export-version", W, "Exported as 2.0: the readers that load it with no collision."),
     ),

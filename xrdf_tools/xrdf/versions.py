@@ -108,7 +108,7 @@ def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
     when ``tool_frames``/``default_joint_positions``, or ``self_collision`` beside a world
     collision section, are absent (cuRobo requires them).
     """
-    diags: list[Diagnostic] = []
+    diags: list[Diagnostic] = _invalid_radii(x)
     for i, m in enumerate(x.modifiers):
         if isinstance(m, RemoveMimicAttributes):
             line, col = x.source.position(f"modifiers[{i}]")
@@ -184,3 +184,28 @@ def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
             )
         )
     return x.replace(format_version="1.0", geometry=geometry), diags
+
+
+def _invalid_radii(x: Xrdf) -> list[Diagnostic]:
+    """A warning at each sphere of a 2.0 file whose radius is ≤ 0 (2.0 forbids it): written
+    into 1.0 as it is, it means something there (an attached-object slot, or a sphere once
+    buffered) that the 2.0 file never said."""
+    out = []
+    for gname, group in (x.geometry or {}).items():
+        for frame, spheres in group.spheres.items():
+            for i, s in enumerate(spheres):
+                if s.radius > 0:
+                    continue
+                meaning = (
+                    "a cuRobo attached-object slot"
+                    if s.radius <= -1
+                    else "a sphere of that radius plus its buffer"
+                )
+                message = (
+                    f"sphere {i} on '{frame}' has radius {s.radius:g}, invalid in XRDF 2.0 "
+                    f"(radius > 0); written as it is, 1.0 readers take it as {meaning}: fix the "
+                    "radius"
+                )
+                kp = f"geometry.{gname}.spheres.{frame}[{i}].radius"
+                out.append(_diag(x, "invalid-radius-written", Severity.WARNING, message, kp))
+    return out
