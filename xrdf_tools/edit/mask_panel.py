@@ -27,7 +27,7 @@ __all__ = ["MAX_ROWS", "MaskPanel", "pair_label"]
 MAX_ROWS = 24
 #: Pairs of the report's table (highest collision rate first).
 TABLE_ROWS = 12
-#: The most samples the page's report takes (it runs while the page waits: about 10 s on a
+#: The most samples the page's report takes (it runs while the page waits: about 5 s on a
 #: TIAGo arm; ``xrdf report`` takes more, in worker processes).
 MAX_PAGE_SAMPLES = 1_000_000
 
