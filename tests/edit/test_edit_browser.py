@@ -401,3 +401,64 @@ def test_a_diff_shows_in_the_page_line_by_line_and_literally(browser: Any) -> No
         page.close()
     finally:
         server.stop()
+
+
+OPEN_WEBSOCKET = """async ([url, protocol]) => await new Promise((done) => {
+    const ws = new WebSocket(url, protocol);
+    ws.onopen = () => { ws.close(); done("open"); };
+    ws.onerror = () => done("refused");
+})"""
+
+
+@contextmanager
+def other_site(root: Path) -> Iterator[str]:
+    """Another web server on this machine (a dev server, a notebook) serving ``root``."""
+    import functools
+    import http.server
+    import threading
+
+    (root / "index.html").write_text("<p>another site</p>")
+    handler = functools.partial(http.server.SimpleHTTPRequestHandler, directory=str(root))
+    handler.log_message = lambda *_: None  # type: ignore[attr-defined]
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", free_port()), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}"
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+def test_another_site_in_the_browser_cannot_reach_the_editor(browser: Any, tmp_path: Path) -> None:
+    """A page of another local site opens a websocket to the editor, as the editor's own page
+    does: Chromium sends the page's Origin and the editor refuses it; from the editor's page
+    the same call opens. (A public site's page, http://evil.example, Chromium itself keeps
+    from loopback addresses -- its Local Network Access checks -- other browsers do not.)"""
+    import viser
+
+    from xrdf_tools.edit.page import EditorPage
+
+    shutil.copy(PANDA_XRDF, tmp_path / "panda.xrdf")
+    heard: list[str] = []
+    editor = EditorPage(
+        load_robot(robot_urdf("panda")),
+        EditState.start(load_xrdf(tmp_path / "panda.xrdf")),
+        target=tmp_path / "panda.xrdf",
+        port=free_port(),
+        on_refused=heard.append,
+    )
+    ws = [editor.url.replace("http://", "ws://"), f"viser-v{viser.__version__}"]
+    try:
+        with other_site(tmp_path) as site:
+            page = browser.new_page()
+            page.goto(site)
+            assert page.evaluate(OPEN_WEBSOCKET, ws) == "refused"
+            page.goto(editor.url)
+            assert page.evaluate(OPEN_WEBSOCKET, ws) == "open"
+            page.close()
+    finally:
+        editor.close()
+    assert heard == [
+        f"refused a connection from a page at {site}: only the editor's own page may drive it"
+    ]

@@ -5,6 +5,7 @@ The served page itself is tested in a browser by tests/edit/test_edit_browser.py
 
 from __future__ import annotations
 
+import http.client
 import importlib.util
 import os
 import shutil
@@ -132,6 +133,16 @@ def serve(
     return proc, seen, time.perf_counter() - t0
 
 
+def status(port: int, address: str, headers: dict[str, str]) -> int:
+    """The HTTP status of the page's index at ``address`` (``headers``: a Host of its own)."""
+    conn = http.client.HTTPConnection(address, port, timeout=10)
+    try:
+        conn.request("GET", "/", headers=headers)
+        return conn.getresponse().status
+    finally:
+        conn.close()
+
+
 def stop(proc: subprocess.Popen[str]) -> tuple[int, str, str]:
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=30)
@@ -150,9 +161,12 @@ def test_serves_the_page_and_stops_cleanly_on_ctrl_c(tmp_path: Path) -> None:
         assert "warning" not in seen
         with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=10) as page:
             assert page.status == 200 and b"<html" in page.read().lower()
+        for _ in range(2):  # a DNS-rebinding page: refused, and said once
+            assert status(port, "127.0.0.1", {"Host": f"evil.example:{port}"}) == 403
     finally:
         code, out, err = stop(proc)
     assert code == 0, err
+    assert err.count("warning: refused a request for evil.example") == 1, err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err
     assert out == ""  # viser's own banner is not printed
     assert target.read_bytes() == PANDA_XRDF.read_bytes()  # nothing saved without Save
@@ -173,9 +187,13 @@ def test_another_host_warns_that_anyone_can_edit(tmp_path: Path) -> None:
             "127.0.0.2",
         ]
     )
-    code, _, _ = stop(proc)
+    try:  # the page at the address it listens on is served
+        assert status(port, "127.0.0.2", {}) == 200
+    finally:
+        code, _, err = stop(proc)
     assert code == 0
     assert "warning: listening on 127.0.0.2: anyone who can reach port" in seen
+    assert "refused" not in err
 
 
 @needs_viser

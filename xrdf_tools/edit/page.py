@@ -13,7 +13,7 @@ import contextlib
 import io
 import os
 import threading
-from collections.abc import Hashable, Mapping
+from collections.abc import Callable, Hashable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +23,7 @@ from ..util.errors import XrdfToolsError
 from ..util.fileio import read_input_bytes
 from ..util.numbers import REPORT_SAMPLES
 from .edits import Edit
+from .guard import RequestGuard, start_guarded
 from .robot import Collisions, EditRobot
 from .state import EditState, save
 from .view import RobotView
@@ -39,7 +40,9 @@ class EditorPage:
     """A running editor: viser server, 3D view and GUI panels over one document.
 
     ``target`` is the only file :meth:`save` writes; ``readonly`` disables saving.
-    ``configs`` is a configurations file whose rows can be posed from the page.
+    ``configs`` is a configurations file whose rows can be posed from the page. Only the
+    page this server serves may drive it (:mod:`.guard`); ``on_refused`` hears why another
+    request was refused.
     """
 
     def __init__(
@@ -55,6 +58,7 @@ class EditorPage:
         package_paths: Mapping[str, str] | None = None,
         meshes: str = "collision",
         report_samples: int = REPORT_SAMPLES,
+        on_refused: Callable[[str], None] | None = None,
     ) -> None:
         import viser
 
@@ -83,8 +87,14 @@ class EditorPage:
         self.selected: tuple[str, int | None] | None = (self.robot.frame_names[0], None)
         self.message = ""
         self._stop = threading.Event()
+        #: What every request passes before viser sees it: only this server's own page.
+        self.guard = RequestGuard(host, on_refused)
         with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner
-            self.server = viser.ViserServer(host=host, port=port, verbose=False)
+            self.server = start_guarded(
+                lambda: viser.ViserServer(host=host, port=port, verbose=False),
+                self.guard,
+                close=_stop_server,
+            )
         try:
             self._configure()
             self.view = RobotView(
@@ -264,8 +274,12 @@ class EditorPage:
 
     def close(self) -> None:
         self._stop.set()
-        with contextlib.redirect_stdout(io.StringIO()):
-            self.server.stop()
+        _stop_server(self.server)
+
+
+def _stop_server(server: Any) -> None:
+    with contextlib.redirect_stdout(io.StringIO()):  # viser says it stopped
+        server.stop()
 
 
 def _read_bytes(path: Path) -> bytes | None:

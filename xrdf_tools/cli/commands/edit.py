@@ -14,6 +14,7 @@ from .plain import (
     OutputFormat,
     check_robot_overwrite,
     detail,
+    echo,
     is_stdio,
     load_robot_option,
     pairs,
@@ -64,6 +65,12 @@ def _draft(robot: Robot, srdf: Path | None, seed: int, samples: int) -> Xrdf:
             "draft with it and edit that file to use them)"
         )
     return result.xrdf
+
+
+def _warn_refused(why: str) -> None:
+    """A request the page refused (another web page, a rebinding name): said even with -q,
+    once per kind."""
+    echo(f"warning: {why}", err=True)
 
 
 def command(
@@ -192,6 +199,7 @@ def command(
                 configs=configs,
                 package_paths=pairs(package_path, parse_package_path),
                 report_samples=samples,
+                on_refused=_warn_refused,
             )
     except XrdfToolsError as e:
         fail(e)
