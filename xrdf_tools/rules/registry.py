@@ -36,7 +36,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         (
             "convert-dropped-joint-value",
             I,
-            "A non-actuated joint's state/lock value; a locked joint's default.",
+            "A state/lock value not used: non-actuated joint, several numbers; a lock's default.",
         ),
         ("convert-dropped-key", W, "A source key without XRDF equivalent: dropped."),
         ("convert-duplicate-frame", W, "An extra link that already exists in the URDF."),
