@@ -31,6 +31,7 @@ from ..util.safe_xml import XmlSyntaxError
 from ..util.textpos import attribute_line, line_col
 from .urdf_check import JOINT_TYPES, RULE_PREFIX_UNDECLARED, XACRO_NS, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
+from .urdfdom_refusals import urdfdom_refusals
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -257,6 +258,7 @@ def _parse_bytes(
     text = data.decode("utf-8", errors="replace")
     try:
         link_lines, joint_lines = check_urdf_tree(root, path, warnings)
+        warnings.extend(urdfdom_refusals(root, path))
     except UrdfError as e:
         if expanded and e.line is None:  # made by a macro: where the value it quotes is written
             e.line = _quoted_value_line(source, e.message)

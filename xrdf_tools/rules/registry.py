@@ -36,7 +36,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         (
             "convert-dropped-joint-value",
             I,
-            "A non-actuated joint's state/lock value; a locked joint's default.",
+            "A state/lock value not used: non-actuated joint, several numbers; a lock's default.",
         ),
         ("convert-dropped-key", W, "A source key without XRDF equivalent: dropped."),
         ("convert-duplicate-frame", W, "An extra link that already exists in the URDF."),
@@ -108,6 +108,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             "A limit whose lower is above its upper: an error in a c-space.",
         ),
         ("urdf-limit-unbounded", W, "A limit beyond ±1e12 (no limit): dropped; turns freely."),
+        ("urdf-ros-refuses", W, "What ROS's URDF parser refuses the robot for: read anyway."),
         ("xacro-package-unused", W, "A package not found, named only in <gazebo>, <ros2_control>."),
         ("xacro-warning", W, "A warning of xacro's while expanding (an include body it ignores)."),
         ("xacro-arg-unread", W, "A --xacro-arg the expansion never reads: it changes nothing."),

@@ -340,6 +340,15 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
             line=st.line,
         )
         return False
+    if jname in st.multi:
+        rep.report(
+            "convert-dropped-joint-value",
+            f"group_state '{st.name}' gives '{jname}' several numbers; a {j.type} joint takes "
+            "one, so MoveIt and pinocchio ignore the value; dropped",
+            severity=Severity.INFO,
+            line=st.line,
+        )
+        return False
     return True
 
 

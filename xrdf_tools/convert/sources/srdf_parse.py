@@ -46,6 +46,10 @@ class GroupState:
     group: str | None
     values: tuple[tuple[str, float], ...]
     line: int | None = None
+    #: The joints whose ``value`` holds more than one number (``value="0 0 0"``: a planar
+    #: joint's); ``values`` has the first. MoveIt and pinocchio use a value only when it has
+    #: one number per variable of the joint.
+    multi: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -241,8 +245,10 @@ def _group(p: _Parser, el: Any) -> None:
 
 
 def _group_state(p: _Parser, el: Any) -> None:
-    values = tuple((p.req(j, "name"), p.num(j, "value")) for j in el if j.tag == "joint")
-    p.states.append(GroupState(p.req(el, "name"), el.get("group"), values, p.line(el)))
+    joints = [j for j in el if j.tag == "joint"]
+    values = tuple((p.req(j, "name"), p.num(j, "value")) for j in joints)
+    multi = tuple(str(j.get("name")) for j in joints if len(j.get("value").split()) > 1)
+    p.states.append(GroupState(p.req(el, "name"), el.get("group"), values, p.line(el), multi))
 
 
 def _end_effector(p: _Parser, el: Any) -> None:
