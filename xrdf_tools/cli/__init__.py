@@ -68,6 +68,9 @@ def _watchdog(signum: int) -> None:
     jobs = sys.modules.get("xrdf_tools.selfcollision.engine.jobs")
     if jobs is not None:
         jobs.stop_workers()
+    xacro_child = sys.modules.get("xrdf_tools.robot.xacro_child")
+    if xacro_child is not None:
+        xacro_child.stop_children()
     os._exit(128 + signum)
 
 

@@ -11,15 +11,17 @@ of that name lies in the robot's package, where it is.
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..util.errors import UrdfError
+from ..util.errors import SourceError, UrdfError
 from ..util.fileio import reread_text
+from ..util.textpos import line_col
 from .packages import _is_dir, _is_file
 
-__all__ = ["file_arg_hint", "located_in_includes", "os_error"]
+__all__ = ["file_arg_hint", "located_in_includes", "missing_include_error", "os_error"]
 
 #: How far up from the xacro file a package.xml is looked for, how deep below it the file.
 _UP, _DEPTH = 4, 3
@@ -103,3 +105,48 @@ def located_in_includes(e: UrdfError, top: str, included: Sequence[str]) -> Urdf
             e.path, e.line = os.path.normpath(path), line
             return e
     return e
+
+
+#: ``$(arg NAME)`` in an attribute: the group is the name.
+_ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
+#: ``<xacro:include filename="...">``: the group is the file name as written.
+_INCLUDE = re.compile(r"<xacro:include\b[^>]*?\bfilename\s*=\s*([\"'])(.*?)\1", re.DOTALL)
+#: A substitution (``$(...)``) or an expression (``${...}``) inside an attribute.
+_SUBSTITUTION = re.compile(r"\$\([^)]*\)|\$\{[^}]*\}")
+
+
+def missing_include_error(
+    missing: str,
+    where: str,
+    included: Sequence[str],
+    given: Mapping[str, str],
+    values: Mapping[str, str],
+) -> SourceError:
+    """A file that an ``<xacro:include>`` names and that does not exist, located at the
+    include whose ``filename`` (substitutions as wildcards) gives that path, the one with the
+    most literal text when several do; when the name is made from an ``$(arg X)`` the user
+    did not pass (``given``), the hint names the argument and the default it took
+    (``values``)."""
+    message = f"xacro failed: the included file {missing} does not exist"
+    best: tuple[int, str, str, re.Match[str]] | None = None
+    for path in dict.fromkeys([where, *included]):
+        text = reread_text(path)
+        if text is None:
+            continue
+        for m in _INCLUDE.finditer(text):
+            literal = _SUBSTITUTION.split(m.group(2))
+            pattern = r"(?:.*/)?" + ".*".join(re.escape(t) for t in literal)
+            score = sum(len(t) for t in literal)
+            if re.fullmatch(pattern, missing, re.DOTALL) and (best is None or score > best[0]):
+                best = (score, path, text, m)
+    if best is None:
+        return SourceError(message, path=where)
+    _, path, text, m = best
+    unset = [a for a in _ARG_USE.findall(m.group(2)) if a not in given]
+    hint = "".join(
+        f" (the name uses $(arg {a}), not given, so {values.get(a, '')!r}: pass "
+        f"--xacro-arg {a}:=VALUE)"
+        for a in dict.fromkeys(unset)
+    )
+    line, col = line_col(text, m.start(2))
+    return SourceError(message + hint, path=path, line=line, col=col)

@@ -30,9 +30,10 @@ from ..util.fileio import check_input_file, decode_utf8, read_input_bytes, rerea
 from ..util.textpos import line_col
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unknown_packages, unread_arg_warnings, unset_args
+from .xacro_child import out_of_memory
 from .xacro_culprits import UNDEFINED_ARG, culprit_in
 from .xacro_detect import uses_xacro
-from .xacro_files import file_arg_hint, located_in_includes, os_error
+from .xacro_files import file_arg_hint, located_in_includes, missing_include_error, os_error
 from .xacro_places import placed_in_includes
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
@@ -152,7 +153,69 @@ def expand_xacro(
     xacro's own warnings (an include's ignored body, a redefined symbol) are appended to
     ``warnings`` as ``xacro-warning`` diagnostics, never printed; so is an argument of ``args``
     the expansion never reads (``xacro-arg-unread``), unless ``warn_unread_args`` is false (an
-    SRDF xacro given the robot's arguments). ``includes`` receives the files it included."""
+    SRDF xacro given the robot's arguments). ``includes`` receives the files it included.
+
+    The expansion runs in a child process bounded in time and memory
+    (:mod:`.xacro_child`: ``XRDF_XACRO_TIMEOUT``, ``XRDF_XACRO_MEMORY``); past either bound
+    it is a :class:`SourceError` naming the variable that raises it."""
+    from .xacro_child import run_bounded
+
+    said = warnings if warnings is not None else []
+    known = list(said)  # xacro's warnings are said once: the child knows those said before
+    expansion = (path, args, package_paths, data, known, warn_unread_args)
+    done = run_bounded(_expansion, expansion, path, preload=_PRELOAD)
+    said.extend(done.warnings)
+    if includes is not None:
+        includes.extend(done.included)
+    if done.error is not None:
+        raise done.error
+    return done.text
+
+
+#: What every expansion imports (xacro's ``$(...)`` and YAML support; ``toprettyxml``'s escaping):
+#: imported before the child starts, so no child imports them again.
+_PRELOAD = ("xacro", "xacro.substitution_args", "xml.dom.expatbuilder", "xml.sax.saxutils")
+
+
+@dataclass(frozen=True)
+class _Expansion:
+    """What an expansion gave: its text or its error, the warnings it added (before an error
+    too, as in this process) and the files it included."""
+
+    text: str
+    error: XrdfToolsError | None
+    warnings: list[Diagnostic]
+    included: list[str]
+
+
+def _expansion(
+    path: str | os.PathLike[str],
+    args: Mapping[str, str] | None,
+    package_paths: Mapping[str, str | os.PathLike[str]] | None,
+    data: bytes | None,
+    said: list[Diagnostic],
+    warn_unread_args: bool,
+) -> _Expansion:
+    """:func:`_expand_here` as one value (run in the child)."""
+    before, included = len(said), list[str]()
+    try:
+        text = _expand_here(path, args, package_paths, data, said, warn_unread_args, included)
+    except XrdfToolsError as e:
+        return _Expansion("", e, said[before:], included)
+    return _Expansion(text, None, said[before:], included)
+
+
+def _expand_here(
+    path: str | os.PathLike[str],
+    args: Mapping[str, str] | None,
+    package_paths: Mapping[str, str | os.PathLike[str]] | None,
+    data: bytes | None,
+    said: list[Diagnostic],
+    warn_unread_args: bool,
+    includes: list[str],
+) -> str:
+    """:func:`expand_xacro` in this process (xacro's globals held under a lock). A
+    ``MemoryError``, which xacro wraps in its own exception, is raised as one."""
     import xacro
 
     p = Path(path)
@@ -162,7 +225,6 @@ def expand_xacro(
     resolver = PackageResolver(p, dict(package_paths or {}))
     mappings = {str(k): str(v) for k, v in (args or {}).items()}
     values = ReadArgs(mappings)  # xacro adds the defaults of the arguments it meets to it
-    said = warnings if warnings is not None else []
     unresolved: dict[str, SourceError] = {}
     # xacro's module globals (its file and macro stacks, the included files) are read and
     # reset inside the lock _patched_xacro holds: another thread may be expanding next
@@ -172,9 +234,10 @@ def expand_xacro(
             xacro.all_includes = []
             doc = xacro.process_file(str(p), mappings=values)
             text: str = doc.toprettyxml(indent="  ")
-            if includes is not None:
-                includes.extend(dict.fromkeys(str(f) for f in xacro.all_includes))
+            includes.extend(dict.fromkeys(str(f) for f in xacro.all_includes))
         except Exception as e:  # xacro's XacroException, ArgException, NameError, OSError…
+            if out_of_memory(e):
+                raise MemoryError from None
             filestack = getattr(xacro, "filestack", None)
             failure = _Failure(
                 e,
@@ -277,7 +340,7 @@ def _xacro_error(
     unread = os_error(e)
     missing = unread.filename if unread is not None else None
     if isinstance(missing, str) and unread is inner:
-        return _missing_include_error(missing, where, included, given or {}, values or {})
+        return missing_include_error(missing, where, included, given or {}, values or {})
     message = _xacro_message(e)
     if unread is not None and isinstance(missing, str):  # an expression's xacro.load_yaml()
         said = "does not exist" if isinstance(unread, FileNotFoundError) else "cannot be read"
@@ -308,49 +371,6 @@ def _late_default_hint(message: str, path: str, line: int | None) -> str:
         f"; line {declared} declares a default for it, but xacro evaluates it here before "
         "reading that declaration"
     )
-
-
-#: ``<xacro:include filename="...">``: the group is the file name as written.
-_INCLUDE = re.compile(r"<xacro:include\b[^>]*?\bfilename\s*=\s*([\"'])(.*?)\1", re.DOTALL)
-#: A substitution (``$(...)``) or an expression (``${...}``) inside an attribute.
-_SUBSTITUTION = re.compile(r"\$\([^)]*\)|\$\{[^}]*\}")
-
-
-def _missing_include_error(
-    missing: str,
-    where: str,
-    included: Sequence[str],
-    given: Mapping[str, str],
-    values: Mapping[str, str],
-) -> SourceError:
-    """A file that an ``<xacro:include>`` names and that does not exist, located at the
-    include whose ``filename`` (substitutions as wildcards) gives that path, the one with the
-    most literal text when several do; when the name is made from an ``$(arg X)`` the user
-    did not pass (``given``), the hint names the argument and the default it took
-    (``values``)."""
-    message = f"xacro failed: the included file {missing} does not exist"
-    best: tuple[int, str, str, re.Match[str]] | None = None
-    for path in dict.fromkeys([where, *included]):
-        text = reread_text(path)
-        if text is None:
-            continue
-        for m in _INCLUDE.finditer(text):
-            literal = _SUBSTITUTION.split(m.group(2))
-            pattern = r"(?:.*/)?" + ".*".join(re.escape(t) for t in literal)
-            score = sum(len(t) for t in literal)
-            if re.fullmatch(pattern, missing, re.DOTALL) and (best is None or score > best[0]):
-                best = (score, path, text, m)
-    if best is None:
-        return SourceError(message, path=where)
-    _, path, text, m = best
-    unset = [a for a in _ARG_USE.findall(m.group(2)) if a not in given]
-    hint = "".join(
-        f" (the name uses $(arg {a}), not given, so {values.get(a, '')!r}: pass "
-        f"--xacro-arg {a}:=VALUE)"
-        for a in dict.fromkeys(unset)
-    )
-    line, col = line_col(text, m.start(2))
-    return SourceError(message + hint, path=path, line=line, col=col)
 
 
 #: xacro's message for a macro call with an attribute the macro has no parameter for.
@@ -387,10 +407,6 @@ def _first_match(
         if (found := pattern.search(text)) is not None:
             return path, text, found
     return None
-
-
-#: ``$(arg NAME)`` in an attribute: the group is the name.
-_ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
 
 
 #: ``name 'x' is not defined``: a property xacro never defined.

@@ -59,6 +59,7 @@ def command(
       xrdf expand wx250s.srdf.xacro --xacro-arg robot_name:=wx250s -o wx250s.srdf
     """
     from ...robot.urdf_source import urdf_text
+    from ...robot.xacro_child import XacroBoundError
     from ...robot.xacro_source import is_xacro
     from .plain import check_robot_overwrite, load_robot_option
 
@@ -73,6 +74,8 @@ def command(
                 loaded = load_robot_option(robot, xacro_arg, package_path)
                 text = urdf_text(loaded) or ""
             except XrdfToolsError as not_urdf:
+                if isinstance(not_urdf, XacroBoundError):  # an SRDF would not do better
+                    raise
                 srdf = _expanded_srdf(robot, xacro_arg, package_path)
                 if srdf is None:
                     raise not_urdf from None

@@ -22,6 +22,7 @@ import numpy.typing as npt
 
 from ...util.arrays import FloatArray
 from ...util.numbers import MAX_SAMPLES
+from ...util.processes import sigint_held
 from ..sampling import Method, sample_rows
 from .core import CountEngine, EngineTotals
 
@@ -144,7 +145,7 @@ def _in_workers(
     pending: set[Future[EngineTotals]] = set()
     _LIVE.add(pool)
     try:
-        with _one_blas_thread(), _sigint_held():
+        with _one_blas_thread(), sigint_held():
             for _ in range(workers):
                 engines.put(engine)
             # the first `workers` submissions start the processes
@@ -194,29 +195,6 @@ def _kill(pool: ProcessPoolExecutor) -> None:
             proc.join(0.2)
     if manager is not None:
         manager.join(_MANAGER_JOIN_S)
-
-
-@contextmanager
-def _sigint_held() -> Iterator[None]:
-    """SIGINT held back in this thread while worker processes start: a process or thread started
-    meanwhile inherits the mask, so a Ctrl-C at the terminal, which reaches the whole process
-    group, never prints a worker's traceback; a Ctrl-C meanwhile is raised when the block
-    ends. (multiprocessing's resource tracker, which unblocks SIGINT after starting, is
-    started before.)"""
-    if not hasattr(signal, "pthread_sigmask"):  # not on POSIX
-        yield
-        return
-    from multiprocessing import resource_tracker
-
-    resource_tracker.ensure_running()
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        held = signal.SIGINT in signal.sigpending()
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-        if held:
-            signal.raise_signal(signal.SIGINT)
 
 
 def _count_rows(
