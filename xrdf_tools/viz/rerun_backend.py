@@ -16,8 +16,7 @@ configuration. Spheres of a colliding pair are red at that step, in the link col
 The timeline is sent as columns, :data:`BLOCK` samples at a time (``send_columns`` with
 ``TimeColumn`` and the archetypes' ``columns()``): one batch per entity and block instead of a
 ``log`` call per entity and sample. Uses only APIs present in rerun-sdk 0.23 … 0.41
-(``TimeColumn`` and ``set_time(..., sequence=)`` came with 0.23). rerun is imported lazily;
-without it a
+(``TimeColumn`` came with 0.23). rerun is imported lazily; without it a
 :class:`~xrdf_tools.util.errors.MissingDependencyError` says how to install it.
 """
 
@@ -90,7 +89,7 @@ def _stream_through_pipe(
     rr: Any, rec: Any, scene: Scene, tmp: Path, *, buffered: bool, progress: Progress | None
 ) -> None:
     """Log ``scene`` to ``rec`` with rerun's file sink on a pipe that :class:`_PipeToFile`
-    copies into ``tmp``; raises the copy's ``OSError`` once the recording is closed."""
+    copies into ``tmp``; raises the copy's error (``OSError``) once the recording is closed."""
     read_end, write_end = os.pipe()
     try:
         rec.save(str(_FD_DIR / str(write_end)))  # rerun opens its own descriptor of the pipe
@@ -112,14 +111,14 @@ def _stream_through_pipe(
 
 
 class _PipeToFile(threading.Thread):
-    """Copies a pipe into a file until the pipe's end. A failed write (a full disk) is kept
-    in :attr:`error` and the rest of the pipe is read and dropped, so the writer on the other
-    end never waits."""
+    """Copies a pipe into a file until the pipe's end. A failure (a full disk) is kept in
+    :attr:`error` and the rest of the pipe is read and dropped, so the writer on the other end
+    never waits."""
 
     def __init__(self, read_end: int, path: Path) -> None:
         super().__init__(name="xrdf-rrd-writer", daemon=True)
         self.read_end, self.path = read_end, path
-        self.error: OSError | None = None
+        self.error: Exception | None = None
 
     def run(self) -> None:
         with open(self.read_end, "rb", buffering=0) as pipe:
@@ -127,7 +126,7 @@ class _PipeToFile(threading.Thread):
                 with open(self.path, "wb") as out:
                     while chunk := pipe.read(1 << 20):
                         out.write(chunk)
-            except OSError as e:
+            except Exception as e:  # kept for the caller; the pipe is still read to its end
                 self.error = e
                 while pipe.read(1 << 20):
                     pass
