@@ -1,6 +1,7 @@
 """The PNG's translucent sphere polygons are drawn in an order that is the same on every
-machine: by a depth computed term by term, equal depths by index (the example-robot-data
-Panda with fixtures/panda/panda.xrdf, from the front, where many depths are equal)."""
+machine: projected and sorted by the tool (a depth computed term by term, equal depths by
+index), not by matplotlib (the example-robot-data Panda with fixtures/panda/panda.xrdf, from
+the front, where many depths are equal)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from tests.robots import robot_urdf
 from xrdf_tools.robot.kinematics import build_kinematic_model
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.viz import Picture, Scene, build_scene, render, sample_configurations
-from xrdf_tools.viz.png import VIEWS, depth_ranks, draw_png, sphere_quads
+from xrdf_tools.viz.png import VIEWS, draw_png, sphere_quads
 from xrdf_tools.xrdf.io import load_xrdf
 
 
@@ -53,27 +54,63 @@ def test_the_picture_does_not_follow_how_the_sort_breaks_ties(
     assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
 
 
-def test_depth_ranks_match_a_plain_loop_and_matplotlibs_depths(scene: Scene) -> None:
+def _scene_quads(scene: Scene) -> np.ndarray:
+    """The quads of every sphere at the default pose, link by link (the order drawn)."""
+    centres, radii = [], []
+    for link in scene.links:
+        T = scene.poses[0, link.frame_index]
+        centres.extend(link.centers @ T[:3, :3].T + T[:3, 3])
+        radii.extend(link.radii)
+    return sphere_quads(np.array(centres), np.array(radii))
+
+
+def test_polygons_are_drawn_farthest_first_as_a_plain_loop_projects_and_sorts_them(
+    scene: Scene,
+) -> None:
+    """The picture's polygons are one 2-D collection of the figure (no private matplotlib
+    hook orders them): the quads projected with the axes' camera, farthest first, equal depths
+    by descending index, checked against a plain loop."""
+    from matplotlib.collections import PolyCollection
+
     fig = draw_png(scene, legend="off", view=VIEWS["front"])
     ax: Any = fig.axes[0]
+    M = np.asarray(ax.get_proj(), dtype=np.float64)
     fig.canvas.draw()
-    M = np.asarray(ax.M, dtype=np.float64)
-    collection: Any
-    (collection,) = ax.collections
-    quads = np.asarray(collection._faces, dtype=np.float64)  # the quads drawn, in order
-    assert len(quads) == len(sphere_quads(np.zeros((61, 3)), np.ones(61)))
-    depth = []
+    np.testing.assert_array_equal(ax.get_proj(), M)  # drawing keeps the camera used
+    (collection,) = fig.artists
+    assert isinstance(collection, PolyCollection) and not ax.collections
+    quads = _scene_quads(scene)
+    projected, depth = [], []
     for quad in quads:
-        zs = []
+        corners, zs = [], []
         for x, y, z in quad:
-            row = [x * M[k, 0] + y * M[k, 1] + z * M[k, 2] + M[k, 3] for k in (2, 3)]
-            zs.append(row[0] / row[1])
+            row = [x * M[k, 0] + y * M[k, 1] + z * M[k, 2] + M[k, 3] for k in range(4)]
+            corners.append((row[0] / row[3], row[1] / row[3]))
+            zs.append(row[2] / row[3])
+        projected.append(corners)
         depth.append(((zs[0] + zs[1]) + zs[2] + zs[3]) / 4.0)
-    expected = np.empty(len(depth))
-    for rank, i in enumerate(sorted(range(len(depth)), key=lambda i: (depth[i], i))):
-        expected[i] = rank
-    got = depth_ranks(quads, M)
-    assert np.array_equal(got, expected)
+    order = sorted(range(len(depth)), key=lambda i: (-depth[i], -i))
+    paths = collection.get_paths()
+    assert len(paths) == len(quads) == 61 * 153
+    drawn = np.array([p.vertices[:4] for p in paths])
+    np.testing.assert_allclose(drawn, np.array(projected)[order], rtol=0, atol=1e-12)
     assert len(set(depth)) < len(depth)  # equal depths, the ties a sort breaks
-    # matplotlib draws the largest rank first: a farthest quad
-    assert depth[int(np.argmax(got))] == max(depth)
+
+
+def test_polygons_are_shaded_as_matplotlib_shades_a_3d_surface() -> None:
+    """The tool's own shading gives the colours matplotlib's ``shade=True`` gives the same
+    quads (compared as sets: matplotlib returns them in its drawing order)."""
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from xrdf_tools.viz.png import shaded
+
+    rng = np.random.default_rng(3)
+    quads = sphere_quads(rng.uniform(-1, 1, (5, 3)), np.array([0.1, 0.2, 0.0, 0.3, 0.05]))
+    rgb = np.repeat(rng.uniform(0, 1, (5, 3)), len(quads) // 5, axis=0)
+    ax: Any = Figure().add_subplot(projection="3d")
+    theirs = Poly3DCollection(quads, facecolors=np.c_[rgb, np.full(len(rgb), 0.85)], shade=True)
+    ax.add_collection3d(theirs)
+    want = np.asarray(theirs.get_facecolor())[:, :3]
+    got = shaded(rgb, quads)
+    np.testing.assert_allclose(got[np.lexsort(got.T)], want[np.lexsort(want.T)], atol=1e-12)

@@ -501,7 +501,7 @@ def test_png_shows_the_spheres_in_their_link_colours(scene: Scene, tmp_path: Pat
 def test_png_sphere_polygons_match_a_simple_loop_over_the_grid(scene: Scene) -> None:
     """The PNG's spheres are quadrilaterals on a longitude × latitude grid: checked against a
     per-sphere loop, and the figure holds one polygon per quadrilateral."""
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    from matplotlib.collections import PolyCollection
 
     from xrdf_tools.viz.png import draw_png, sphere_quads
 
@@ -526,7 +526,7 @@ def test_png_sphere_polygons_match_a_simple_loop_over_the_grid(scene: Scene) -> 
     got = sphere_quads(np.array(centres), np.array(radii))
     np.testing.assert_allclose(got, np.array(want), atol=1e-12)
     fig = draw_png(scene, legend="off")
-    (coll,) = [c for c in fig.axes[0].collections if isinstance(c, Poly3DCollection)]
+    (coll,) = [c for c in fig.artists if isinstance(c, PolyCollection)]
     assert len(coll.get_facecolor()) == len(want) == 61 * 153
 
 

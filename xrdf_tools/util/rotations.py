@@ -31,6 +31,7 @@ __all__ = [
     "matrix_from_rpy",
     "quat_from_rpy",
     "quat_xyzw_from_matrix",
+    "quats_xyzw_from_matrices",
     "skew",
     "unit_quat",
 ]
@@ -87,36 +88,49 @@ def matrix_from_rpy(roll: float, pitch: float, yaw: float) -> Matrix3:
 
 
 def quat_xyzw_from_matrix(rotation: Any) -> Quat:
-    """Unit quaternion ``(x, y, z, w)`` of a rotation matrix [3, 3] (Shepperd's method: the
-    largest of ``w, x, y, z`` is computed first, so no division by a small number), with
-    ``w >= 0``."""
+    """Unit quaternion ``(x, y, z, w)`` of a rotation matrix [3, 3]: one matrix of
+    :func:`quats_xyzw_from_matrices`."""
     import numpy as np
 
-    from .fixed_order import norm
-
-    m = np.asarray(rotation, dtype=np.float64)
-    tr = m[0, 0] + m[1, 1] + m[2, 2]
-    if tr > 0:
-        s = 2.0 * np.sqrt(tr + 1.0)
-        w, x = 0.25 * s, (m[2, 1] - m[1, 2]) / s
-        y, z = (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s
-    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
-        w, x = (m[2, 1] - m[1, 2]) / s, 0.25 * s
-        y, z = (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s
-    elif m[1, 1] > m[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
-        w, x = (m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s
-        y, z = 0.25 * s, (m[1, 2] + m[2, 1]) / s
-    else:
-        s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
-        w, x = (m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s
-        y, z = (m[1, 2] + m[2, 1]) / s, 0.25 * s
-    q = np.array([x, y, z, w])
-    q /= norm(q)
-    if q[3] < 0:
-        q = -q
+    q = quats_xyzw_from_matrices(np.asarray(rotation, dtype=np.float64)[None])[0]
     return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
+
+
+def quats_xyzw_from_matrices(rotations: Any) -> FloatArray:
+    """Unit quaternions ``(x, y, z, w)`` [..., 4] of rotation matrices [..., 3, 3] (Shepperd's
+    method: the largest of ``w, x, y, z`` is computed first, so no division by a small number),
+    with ``w >= 0``. Elementwise arithmetic and a norm summed in order: each quaternion has the
+    same bits on every machine and in any batch."""
+    import numpy as np
+
+    m = np.asarray(rotations, dtype=np.float64)
+    d0, d1, d2 = m[..., 0, 0], m[..., 1, 1], m[..., 2, 2]
+    tr = d0 + d1 + d2
+    case = np.where(tr > 0, 0, np.where((d0 > d1) & (d0 > d2), 1, np.where(d1 > d2, 2, 3)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = 2.0 * np.sqrt(
+            np.choose(case, [tr + 1.0, 1.0 + d0 - d1 - d2, 1.0 + d1 - d0 - d2, 1.0 + d2 - d0 - d1])
+        )
+        a21, a02, a10 = (
+            m[..., 2, 1] - m[..., 1, 2],
+            m[..., 0, 2] - m[..., 2, 0],
+            m[..., 1, 0] - m[..., 0, 1],
+        )
+        b01, b02, b12 = (
+            m[..., 0, 1] + m[..., 1, 0],
+            m[..., 0, 2] + m[..., 2, 0],
+            m[..., 1, 2] + m[..., 2, 1],
+        )
+        quarter = 0.25 * s
+        w = np.choose(case, [quarter, a21 / s, a02 / s, a10 / s])
+        x = np.choose(case, [a21 / s, quarter, b01 / s, b02 / s])
+        y = np.choose(case, [a02 / s, b01 / s, quarter, b12 / s])
+        z = np.choose(case, [a10 / s, b02 / s, b12 / s, quarter])
+    length = np.sqrt(((x * x + y * y) + z * z) + w * w)
+    q = np.stack([x, y, z, w], axis=-1) / length[..., None]
+    q = np.where(q[..., 3:] < 0, -q, q)
+    result: FloatArray = q
+    return result
 
 
 def skew(axis: FloatArray) -> FloatArray:

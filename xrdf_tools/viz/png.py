@@ -149,7 +149,6 @@ def _draw(
         )
     if centers:
         c, r = np.concatenate(centers), np.concatenate(radii)
-        _add_spheres(ax, c, r, np.concatenate(rgb))
         lo, hi = (c - r[:, None]).min(axis=0), (c + r[:, None]).max(axis=0)
         mid = (lo + hi) / 2.0
         half = float(np.max(hi - lo)) / 2.0 or 0.1
@@ -158,6 +157,8 @@ def _draw(
         ax.set_zlim(mid[2] - half, mid[2] + half)
         ax.set_box_aspect((1.0, 1.0, 1.0))
     ax.view_init(elev=view[0], azim=view[1])
+    if centers:  # projected with the camera and limits just set
+        _add_spheres(fig, ax, c, r, np.concatenate(rgb))
     ax.set_xlabel("x (m)", fontsize=7)
     ax.set_ylabel("y (m)", fontsize=7)
     ax.set_zlabel("z (m)", fontsize=7)
@@ -190,46 +191,83 @@ def sphere_quads(centers: np.ndarray, radii: np.ndarray) -> np.ndarray:
     return verts.reshape(-1, 4, 3)
 
 
-def _add_spheres(ax: Any, centers: np.ndarray, radii: np.ndarray, rgb: np.ndarray) -> None:
-    """Every sphere as one shaded, translucent polygon collection: the polygons of all spheres
-    are depth-sorted together (spheres of different links overlap correctly), and thousands
-    of spheres draw in seconds with coarser spheres (:data:`MAX_POLYGONS`)."""
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
+def _add_spheres(
+    fig: Any, ax: Any, centers: np.ndarray, radii: np.ndarray, rgb: np.ndarray
+) -> None:
+    """Every sphere as shaded, translucent polygons, projected here with the axes' camera
+    (``ax.get_proj()``: the view and limits must be set) and drawn as one 2-D collection in
+    painter's order, farthest first (:func:`painter_order`): the polygons of all spheres are
+    sorted together (spheres of different links overlap correctly), and thousands of spheres
+    draw in seconds with coarser spheres (:data:`MAX_POLYGONS`). The collection is the
+    figure's, drawn over the 3-D axes in their data coordinates and clipped to them, as the
+    axes would draw a 3-D collection of theirs (after the panes, the grid and the axis lines)."""
+    from matplotlib.collections import PolyCollection
 
     quads = sphere_quads(centers, radii)
     per_sphere = len(quads) // len(radii)
-    alpha = np.full((len(quads), 1), 0.85)
-    faces = np.concatenate([np.repeat(rgb, per_sphere, axis=0), alpha], axis=1)
-    polygons = Poly3DCollection(
-        quads, facecolors=faces, linewidths=0.0, shade=True, antialiased=False
+    colors = shaded(np.repeat(rgb, per_sphere, axis=0), quads)
+    faces = np.concatenate([colors, np.full((len(quads), 1), SPHERE_ALPHA)], axis=1)
+    xy, depth = project(quads, ax.get_proj())
+    order = painter_order(depth)
+    polygons = PolyCollection(xy[order], facecolors=faces[order], linewidths=0.0, antialiased=False)
+    polygons.set_transform(ax.transData)
+    polygons.set_clip_path(ax.patch)
+    fig.add_artist(polygons)
+
+
+#: Opacity of the sphere polygons.
+SPHERE_ALPHA = 0.85
+#: Where the light comes from (degrees): matplotlib's default for shaded 3-D surfaces.
+LIGHT_AZIMUTH, LIGHT_ALTITUDE = 225.0, 19.4712
+
+
+def shaded(rgb: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """The colours ``rgb`` [F, 3] of the quads [F, 4, 3] lit by :data:`LIGHT_AZIMUTH` /
+    :data:`LIGHT_ALTITUDE`: scaled from 0.3 (facing away) to 1 (facing the light), 0.65 for a
+    quad without area (a pole's, or a sphere of radius 0), as matplotlib shades a 3-D surface.
+    Sums term by term: the same bits on every machine."""
+    az, alt = math.radians(LIGHT_AZIMUTH), math.radians(LIGHT_ALTITUDE)
+    light = (math.cos(alt) * math.cos(az), math.cos(alt) * math.sin(az), math.sin(alt))
+    a, b = quads[:, 0] - quads[:, 1], quads[:, 1] - quads[:, 2]
+    normal = (
+        a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
+        a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+        a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
     )
-    # matplotlib's own order: depths from a BLAS product, ranked by numpy's unstable sort,
-    # whose ties (a sphere's symmetric quads often have equal depths) numpy's AVX-512 sort
-    # and its portable one break differently; translucent quads drawn in another order are
-    # other pixels
-    polygons._zsortfunc = lambda _projected, axis=-1: depth_ranks(quads, ax.M)
-    ax.add_collection3d(polygons)
+    length = np.sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2])
+    facing = normal[0] * light[0] + normal[1] * light[1] + normal[2] * light[2]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cosine = np.where(length > 0.0, facing / length, 0.0)
+    factor = 0.3 + 0.7 * ((cosine + 1.0) / 2.0)
+    colors: np.ndarray = rgb * factor[:, None]
+    return colors
 
 
-def depth_ranks(quads: np.ndarray, projection: np.ndarray) -> np.ndarray:
-    """Each quad's rank [F] by its mean depth under the 4x4 ``projection`` (matplotlib's
-    3-D axes' ``M``; a larger rank is farther and drawn first), equal depths ranked by index:
-    the same on every machine (the product summed term by term, a stable sort)."""
+def project(quads: np.ndarray, projection: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The quads [F, 4, 3] under the 4x4 ``projection`` (a 3-D axes' ``get_proj()``): their
+    2-D corners [F, 4, 2] in the axes' data coordinates and each quad's mean depth [F] (larger
+    is farther). Each row of ``M (x, y, z, 1)`` is summed term by term in index order, as
+    ``fixed_order`` does: the same bits on every machine."""
     points = np.asarray(quads, dtype=np.float64).reshape(-1, 3)
     m = np.asarray(projection, dtype=np.float64)
 
     def row(r: int) -> np.ndarray:
-        """Row ``r`` of ``M (x, y, z, 1)``, summed in index order as ``fixed_order`` does
-        (its ``transform_points`` would compute three rows, in arrays 5x slower to read)."""
         out: np.ndarray = points[:, 0] * m[r, 0] + points[:, 1] * m[r, 1]
         out = out + points[:, 2] * m[r, 2] + m[r, 3]
         return out
 
-    z, w = row(2), row(3)
-    depth = (z / w).reshape(len(quads), -1).mean(axis=1)
-    ranks = np.empty(len(depth), dtype=np.float64)
-    ranks[np.argsort(depth, kind="stable")] = np.arange(len(depth), dtype=np.float64)
-    return ranks
+    w = row(3)
+    xy = np.stack([row(0) / w, row(1) / w], axis=-1).reshape(len(quads), -1, 2)
+    depth = (row(2) / w).reshape(len(quads), -1).mean(axis=1)
+    return xy, depth
+
+
+def painter_order(depth: np.ndarray) -> np.ndarray:
+    """The quads' drawing order [F]: farthest first, equal depths in descending index order
+    (a stable sort reversed): the same on every machine, where an unstable sort breaks the
+    ties of a sphere's symmetric quads one way with numpy's AVX-512 sort and another without."""
+    order: np.ndarray = np.argsort(depth, kind="stable")[::-1]
+    return order
 
 
 def _legend_below(fig: Any, ax: Any, handles: list[Any], size_px: int) -> None:

@@ -13,13 +13,17 @@ Entities (``<link>`` escaped as a rerun path part)::
 Step 0 of the ``sample`` timeline is the default pose; each further step is one
 configuration. Spheres of a colliding pair are red at that step, in the link colour otherwise.
 
-Uses only APIs present in rerun-sdk 0.22 … 0.41 (``set_time(..., sequence=)``, not the removed
-``set_time_sequence``). rerun is imported lazily; without it a
+The timeline is sent as columns, :data:`BLOCK` samples at a time (``send_columns`` with
+``TimeColumn`` and the archetypes' ``columns()``): one batch per entity and block instead of a
+``log`` call per entity and sample. Uses only APIs present in rerun-sdk 0.23 … 0.41
+(``TimeColumn`` came with 0.23). rerun is imported lazily; without it a
 :class:`~xrdf_tools.util.errors.MissingDependencyError` says how to install it.
 """
 
 from __future__ import annotations
 
+import os
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +35,8 @@ from .scene import Progress, Scene
 
 TIMELINE = "sample"
 ROOT = "robot"
+#: Samples sent as one block of columns.
+BLOCK = 128
 
 
 def _rerun() -> Any:
@@ -59,20 +65,84 @@ def write_rrd(
 ) -> None:
     """Write ``scene`` to the rerun file ``path`` (atomically).
 
-    The recording is encoded into memory (a rerun binary stream) and written by our own
-    atomic writer: a full disk or a refused path is then an ordinary ``OSError`` naming
-    ``path``, never rerun's background file sink failing (or waiting) on its own."""
+    Every byte is written by our own atomic writer, so a full disk or a refused path is an
+    ordinary ``OSError`` naming ``path``, never rerun's file sink failing (or waiting) on its
+    own. Where the system names open files in ``/dev/fd`` (Linux, macOS), rerun's file sink
+    writes into a pipe that a thread of ours empties into the temporary file as the recording
+    is made (:class:`_PipeToFile`): memory does not grow with the samples. Elsewhere the
+    recording is encoded into memory (a rerun binary stream) and written at the end."""
     rr = _rerun()
     assert path is not None
     rec = rr.RecordingStream("xrdf_tools", recording_id=f"xrdf-{scene.robot_name}")
+    with atomic_path(path) as tmp:
+        if _FD_DIR.is_dir():
+            _stream_through_pipe(rr, rec, scene, tmp, buffered=buffered, progress=progress)
+        else:
+            _encode_in_memory(rr, rec, scene, tmp, buffered=buffered, progress=progress)
+
+
+#: Where the system names a process's open files (``/dev/fd/N``).
+_FD_DIR = Path("/dev/fd")
+
+
+def _stream_through_pipe(
+    rr: Any, rec: Any, scene: Scene, tmp: Path, *, buffered: bool, progress: Progress | None
+) -> None:
+    """Log ``scene`` to ``rec`` with rerun's file sink on a pipe that :class:`_PipeToFile`
+    copies into ``tmp``; raises the copy's error (``OSError``) once the recording is closed."""
+    read_end, write_end = os.pipe()
+    try:
+        rec.save(str(_FD_DIR / str(write_end)))  # rerun opens its own descriptor of the pipe
+    except BaseException:
+        os.close(read_end)
+        raise
+    finally:
+        os.close(write_end)
+    copy = _PipeToFile(read_end, tmp)
+    copy.start()
+    try:
+        _log_scene(rr, rec, scene, buffered=buffered, progress=progress)
+        rec.flush()
+    finally:
+        rec.disconnect()  # rerun writes the stream's end and closes the pipe
+        copy.join()
+    if copy.error is not None:
+        raise copy.error
+
+
+class _PipeToFile(threading.Thread):
+    """Copies a pipe into a file until the pipe's end. A failure (a full disk) is kept in
+    :attr:`error` and the rest of the pipe is read and dropped, so the writer on the other end
+    never waits."""
+
+    def __init__(self, read_end: int, path: Path) -> None:
+        super().__init__(name="xrdf-rrd-writer", daemon=True)
+        self.read_end, self.path = read_end, path
+        self.error: Exception | None = None
+
+    def run(self) -> None:
+        with open(self.read_end, "rb", buffering=0) as pipe:
+            try:
+                with open(self.path, "wb") as out:
+                    while chunk := pipe.read(1 << 20):
+                        out.write(chunk)
+            except Exception as e:  # kept for the caller; the pipe is still read to its end
+                self.error = e
+                while pipe.read(1 << 20):
+                    pass
+
+
+def _encode_in_memory(
+    rr: Any, rec: Any, scene: Scene, tmp: Path, *, buffered: bool, progress: Progress | None
+) -> None:
+    """Log ``scene`` into a rerun binary stream in memory, then write it to ``tmp``."""
     stream = rec.binary_stream()
     try:
         _log_scene(rr, rec, scene, buffered=buffered, progress=progress)
         data = stream.read()
     finally:
         rec.disconnect()
-    with atomic_path(path) as tmp:
-        tmp.write_bytes(data or b"")
+    tmp.write_bytes(data or b"")
 
 
 def spawn(
@@ -95,8 +165,15 @@ def spawn(
 
 
 def _log_scene(
-    rr: Any, rec: Any, scene: Scene, *, buffered: bool, progress: Progress | None
+    rr: Any,
+    rec: Any,
+    scene: Scene,
+    *,
+    buffered: bool,
+    progress: Progress | None,
 ) -> None:
+    """Log ``scene`` to ``rec``: the static robot, then the timeline in blocks of
+    :data:`BLOCK` samples, each sent as columns (one batch per entity)."""
     rec.log(ROOT, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
     solid = rr.components.FillMode.Solid
     wire = rr.components.FillMode.MajorWireframe
@@ -134,35 +211,70 @@ def _log_scene(
 
     previous: dict[str, list[Rgba]] = {}
     total = len(scene.samples)
-    for step, sample in enumerate(scene.samples):
-        rec.set_time(TIMELINE, sequence=step)
-        poses = scene.poses[step]
-        for link in scene.links:
-            T = poses[link.frame_index]
-            rec.log(
-                link_entity(rr, link.name),
-                rr.Transform3D(translation=T[:3, 3], mat3x3=T[:3, :3]),
-            )
+    for start in range(0, total, BLOCK):
+        stop = min(start + BLOCK, total)
+        _send_transforms(rr, rec, scene, start, stop)
+        _send_colors(rr, rec, scene, start, stop, previous)
+        _send_logs(rr, rec, scene, start, stop)
+        if progress is not None:
+            progress(stop, total)
+
+
+def _steps(rr: Any, steps: list[int]) -> list[Any]:
+    """The ``sample`` timeline column of ``steps``."""
+    return [rr.TimeColumn(TIMELINE, sequence=steps)]
+
+
+def _send_transforms(rr: Any, rec: Any, scene: Scene, start: int, stop: int) -> None:
+    """Every link's pose in the base frame at steps ``start`` to ``stop``: one column each."""
+    steps = _steps(rr, list(range(start, stop)))
+    poses = scene.poses[start:stop]
+    for link in scene.links:
+        T = poses[:, link.frame_index]
+        columns = rr.Transform3D.columns(translation=T[:, :3, 3], mat3x3=T[:, :3, :3])
+        rec.send_columns(link_entity(rr, link.name), indexes=steps, columns=columns)
+
+
+def _send_colors(
+    rr: Any, rec: Any, scene: Scene, start: int, stop: int, previous: dict[str, list[Rgba]]
+) -> None:
+    """The spheres' colours of each link at the steps where they change (``previous``: the
+    colours last sent, updated)."""
+    changes: dict[str, tuple[list[int], list[list[int]]]] = {}
+    for step in range(start, stop):
         for name, colors in scene.colors(step).items():
             if colors and previous.get(name) != colors:
-                rec.log(
-                    f"{link_entity(rr, name)}/spheres",
-                    rr.Ellipsoids3D.from_fields(colors=[_rgba8(c) for c in colors]),
-                )
+                steps, rgba = changes.setdefault(name, ([], []))
+                steps.append(step)
+                rgba.extend(_rgba8(c) for c in colors)
                 previous[name] = colors
+    for name, (steps, rgba) in changes.items():
+        per_step = [len(rgba) // len(steps)] * len(steps)
+        columns = rr.Ellipsoids3D.columns(colors=rgba).partition(per_step)
+        rec.send_columns(
+            f"{link_entity(rr, name)}/spheres", indexes=_steps(rr, steps), columns=columns
+        )
+
+
+def _send_logs(rr: Any, rec: Any, scene: Scene, start: int, stop: int) -> None:
+    """The text logs of steps ``start`` to ``stop``: what each step is (``samples``) and one
+    line per colliding frame pair (``collisions``)."""
+    texts, hits, lines = [], [], []
+    for step in range(start, stop):
+        sample = scene.samples[step]
         q = ", ".join(f"{v:.4f}" for v in sample.q)
-        rec.log(
-            "samples",
-            rr.TextLog(
-                f"step {step}: {sample.label}, {len(sample.frame_contacts)} colliding frame "
-                f"pair(s), {len(sample.contacts)} sphere pair(s); q = [{q}]",
-                level="INFO",
-            ),
+        texts.append(
+            f"step {step}: {sample.label}, {len(sample.frame_contacts)} colliding frame "
+            f"pair(s), {len(sample.contacts)} sphere pair(s); q = [{q}]"
         )
         for line in sample.describe_contacts():
-            rec.log("collisions", rr.TextLog(f"step {step}: {line}", level="WARN"))
-        if progress is not None:
-            progress(step + 1, total)
+            hits.append(step)
+            lines.append(f"step {step}: {line}")
+    columns = rr.TextLog.columns(text=texts, level=["INFO"] * len(texts))
+    rec.send_columns("samples", indexes=_steps(rr, list(range(start, stop))), columns=columns)
+    if lines:
+        columns = rr.TextLog.columns(text=lines, level=["WARN"] * len(lines))
+        rec.send_columns("collisions", indexes=_steps(rr, hits), columns=columns)
 
 
 def _mesh3d(rr: Any, vertices: Any, faces: Any, color: Rgba) -> Any:

@@ -181,15 +181,29 @@ class Scene:
 
     def relative_pose(self, step: int, frame: int) -> FloatArray:
         """Transform [4, 4] of ``frame`` in its parent frame at sample ``step``."""
-        p = self.parent[frame]
-        T = self.poses[step, frame]
-        if p < 0:
-            return np.array(T)
-        return matmul(rigid_inverse(self.poses[step, p]), T)
+        pose: FloatArray = self.relative_poses(step, step + 1)[0, frame]
+        return pose
+
+    def relative_poses(self, start: int, stop: int) -> FloatArray:
+        """Transforms [stop - start, F, 4, 4] of every frame in its parent frame (a root: in
+        the base frame) at samples ``start`` to ``stop``, composed term by term: the same
+        bits as one pose at a time."""
+        poses = self.poses[start:stop]
+        parent = np.asarray(self.parent)
+        rooted = parent < 0
+        inverse = rigid_inverse(poses[:, np.where(rooted, 0, parent)])
+        out = matmul(inverse, poses)
+        out[:, rooted] = poses[:, rooted]
+        return out
+
+    def red_spheres(self, step: int) -> dict[str, set[int]]:
+        """``{link: {sphere index in the XRDF list}}`` drawn red at sample ``step``: the
+        spheres of its colliding pairs, none when collisions are not shown."""
+        return self.samples[step].colliding_spheres() if self.collisions_shown else {}
 
     def colors(self, step: int) -> dict[str, list[Rgba]]:
         """Colour of every drawn sphere per link at sample ``step`` (red when colliding)."""
-        hit = self.samples[step].colliding_spheres() if self.collisions_shown else {}
+        hit = self.red_spheres(step)
         out: dict[str, list[Rgba]] = {}
         for link in self.links:
             ids = hit.get(link.name, set())
