@@ -123,6 +123,14 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         page.pick("panda_link4", None)
         spheres._connect()
         assert "select a sphere first" in page.message
+        # a typed centre past twice the robot's reach is a dropped exponent (1e-3 → 13)
+        page.pick("panda_link4", 1)
+        before = link4()[1].center
+        spheres.set_center(0, 13.0)
+        assert link4()[1].center == before and page.message.startswith("not moved: 13 m")
+        assert spheres.center[0].value == before[0]
+        spheres.set_center(0, 0.001)
+        assert link4()[1].center == (0.001, *before[1:])
     finally:
         page.close()
 

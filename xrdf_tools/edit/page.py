@@ -119,7 +119,7 @@ class EditorPage:
         server.request_share_url = no_share  # type: ignore[method-assign]
         server.scene.set_up_direction("+z")
         server.scene.add_grid("/ground", width=2.0, height=2.0, cell_size=0.1)
-        reach = float(np.linalg.norm(self.robot.poses(self.q)[:, :3, 3], axis=1).max())
+        reach = self.robot.reach(self.q)
         d = max(reach, 0.5) * 1.6
         server.initial_camera.position = (d, d * 0.8, d * 0.7)
         server.initial_camera.look_at = (0.0, 0.0, reach * 0.4)

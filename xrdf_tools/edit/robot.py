@@ -207,6 +207,10 @@ class EditRobot:
         """The c-space joints of ``q`` by name."""
         return {n: float(q[i]) for n, i in zip(self.cspace, self.cspace_index, strict=True)}
 
+    def reach(self, q: FloatArray) -> float:
+        """The largest distance of a frame from the base at pose ``q`` (metres)."""
+        return float(np.linalg.norm(self.poses(q)[:, :3, 3], axis=1).max())
+
     def poses(self, q: FloatArray) -> FloatArray:
         """Frame-to-base transforms [F, 4, 4] of every frame at ``q``."""
         return np.asarray(fk(self.kin, np.asarray(q, dtype=np.float64)[None, :])[0])

@@ -42,6 +42,8 @@ class SpherePanel:
         self.gizmo: Any = None
         self.gizmo_for: tuple[str, int] | None = None
         frames = page.robot.frame_names
+        #: How far from its link a sphere's centre may be typed (twice the robot's reach).
+        self.far = 2.0 * max(page.robot.reach(page.q), 0.5)
         with gui.add_folder("Spheres"):
             self.link: Any = gui.add_dropdown("Link", frames, initial_value=frames[0])
             self.sphere: Any = gui.add_dropdown("Sphere", (NONE,), initial_value=NONE)
@@ -88,14 +90,31 @@ class SpherePanel:
 
     def _center_moved(self, axis: int, box: Any) -> Any:
         def moved(e: Any) -> None:
-            sel = self._selected_sphere()
-            if from_browser(e) and sel is not None:
-                s = self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]][sel[1]]
-                c = list(s.center)
-                c[axis] = float(box.value)
-                self._move((c[0], c[1], c[2]))
+            if from_browser(e):
+                self.set_center(axis, float(box.value))
 
         return moved
+
+    def set_center(self, axis: int, value: float) -> None:
+        """Move the selected sphere's centre along ``axis`` to ``value`` (link frame, metres).
+
+        A centre farther from its link than twice the robot's reach at the page's start is
+        refused: the browser's number field drops an exponent (``1e-3`` arrives as 13)."""
+        sel = self._selected_sphere()
+        if sel is None:
+            return
+        s = self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]][sel[1]]
+        c = list(s.center)
+        c[axis] = value
+        if math.isfinite(value) and math.dist(c, (0.0, 0.0, 0.0)) > self.far:
+            self.center[axis].value = s.center[axis]
+            self.page.say(
+                f"not moved: {value:g} m puts the sphere farther from '{sel[0]}' than twice the "
+                f"robot's reach ({self.far:.2f} m); a number field drops an exponent (1e-3 "
+                "arrives as 13): type 0.001"
+            )
+            return
+        self._move((c[0], c[1], c[2]))
 
     def _move(self, center: tuple[float, float, float]) -> None:
         sel = self._selected_sphere()
