@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -576,6 +577,30 @@ def test_a_link_missing_from_many_disable_collisions_is_reported_once(
         (8, "'wheel' (disable_collisions link1) is not a link of the URDF; dropped"),
     ]
     assert d.ignore == {"a": ["b"]}
+
+
+def test_a_revolute_default_a_full_turn_outside_its_limits_is_turned_in_not_clamped(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """A state written as 6 rad for a joint limited to [-1, 1] is the pose of 6 − 2π: taken
+    (clamping would give another pose); where no whole turn lands inside, or on a prismatic
+    joint, the value is clamped; each is said."""
+    from xrdf_tools.convert.core import convert
+
+    srdf = _write(
+        tmp_path,
+        '<robot name="t">\n<group name="arm"><chain base_link="base" tip_link="tip"/></group>\n'
+        '<group_state name="home" group="arm"><joint name="j1" value="6"/>'
+        '<joint name="j2" value="3"/><joint name="j3" value="5"/></group_state>\n</robot>\n',
+    )
+    x, diags = convert(tree, ConvertOptions(srdf=srdf))
+    defaults = dict(x.default_joint_positions or {})
+    assert defaults["j1"] == pytest.approx(6 - 2 * math.pi)
+    assert (defaults["j2"], defaults["j3"]) == (1.0, 1.0)
+    said = [d.message for d in diags if d.rule == "convert-clamped-default"]
+    assert len(said) == 3
+    assert "'j1' is outside its URDF limits [-1, 1]; the same angle a full turn away" in said[0]
+    assert "clamped to 1" in said[1] and "clamped to 1" in said[2]
 
 
 def test_a_link_disabled_against_itself_is_said_not_dropped_silently(

@@ -8,6 +8,7 @@ rules and behaviour: ``docs/convert.md``; the readers: ``docs/format.md``.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass, replace
@@ -305,6 +306,15 @@ def _clamped(tree: RobotTree, joint: str, value: float, rep: Reporter) -> float:
         return value
     if low <= value <= high:
         return value
+    turned = _turned_into(value, low, high) if info.type == "revolute" else None
+    if turned is not None:
+        rep.report(
+            "convert-clamped-default",
+            f"default position {value:g} of '{joint}' is outside its URDF limits [{low:g}, "
+            f"{high:g}]; the same angle a full turn away, {turned:g}, is inside them: taken "
+            "(the same pose)",
+        )
+        return turned
     clamped = min(max(value, low), high)
     rep.report(
         "convert-clamped-default",
@@ -312,6 +322,16 @@ def _clamped(tree: RobotTree, joint: str, value: float, rep: Reporter) -> float:
         f"{high:g}]; clamped to {clamped:g}",
     )
     return clamped
+
+
+def _turned_into(value: float, low: float, high: float) -> float | None:
+    """``value`` turned by whole turns into ``[low, high]`` (the nearest such angle), or None
+    when no whole turn lands there: a revolute joint at ``value`` and at the result has the
+    same pose (an SRDF state written as -90° for a joint limited to [0.33, 5.95] rad)."""
+    turn = 2.0 * math.pi
+    k = math.ceil((low - value) / turn) if value < low else math.floor((high - value) / turn)
+    turned = value + k * turn
+    return turned if low <= turned <= high else None
 
 
 def _tool_frames(

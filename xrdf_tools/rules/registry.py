@@ -26,7 +26,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-chosen-group", W, "No planning group given: the one chosen, why, the others."),
         ("convert-chosen-state", W, "No group state given: the one used for default positions."),
         ("convert-chosen-tool-frame", W, "No tool frame in the inputs: the one guessed, why."),
-        ("convert-clamped-default", W, "A default position outside the URDF limits, clamped."),
+        ("convert-clamped-default", W, "A default outside the URDF limits: turned or clamped in."),
         ("convert-computed-mask", I, "--fit-spheres: the mask computed, pairs per reason."),
         ("convert-cspace-order", W, "--target curobo: c-space put in URDF order (defaults kept)."),
         ("convert-default-acceleration", W, "No acceleration limit: a default or --acceleration."),
