@@ -173,7 +173,8 @@ def state_differences(model: Any, srdf_path: Path) -> tuple[int, list[str]]:
 def default_differences(model: Any, xrdf: Path, srdf_path: Path, stderr: str) -> list[str]:
     """The XRDF's default positions against pinocchio's reading of the states convert chose
     (``convert-chosen-state``): a joint's value is that of the first chosen state setting it,
-    clamped into its URDF limits (``convert-clamped-default``, as MoveIt's enforceBounds)."""
+    brought into its URDF limits (``convert-clamped-default``: a revolute joint's turned by
+    whole turns where that lands inside, the same pose; else clamped)."""
     chosen = re.findall(
         r"convert-chosen-state default positions (?:of .*? )?from group_state '([^']+)'", stderr
     )
@@ -196,6 +197,9 @@ def default_differences(model: Any, xrdf: Path, srdf_path: Path, stderr: str) ->
             lo, hi = model.lowerPositionLimit[j.idx_q], model.upperPositionLimit[j.idx_q]
             if not lo <= v <= hi and value == min(max(v, lo), hi):
                 NOTES.append(f"{joint}: {v} of '{state}' clamped to {value}")
+                continue
+            if not lo <= v <= hi and lo <= value <= hi and same_angle(value, v, True):
+                NOTES.append(f"{joint}: {v} of '{state}' turned by whole turns to {value}")
                 continue
         if not same_angle(value, v, cont):
             out.append(f"default {joint}: XRDF {value}, pinocchio {v} (state {state})")
