@@ -296,6 +296,22 @@ def test_removing_the_last_pairs_keeps_the_layout() -> None:
     )
 
 
+def test_names_with_spaces_around_are_the_links_moveit_reads() -> None:
+    """MoveIt's SRDF reader trims names: ``link1=" a"`` is link ``a``, so the pair is kept
+    (not removed as another pair and added again)."""
+    src = (
+        '<robot name="r">\n'
+        '  <disable_collisions link1=" a" link2="b " reason="Adjacent"/>\n'
+        '  <disable_collisions link1="a" link2=" d" reason="Never"/>\n'
+        '  <disable_collisions link1="c\t" link2="a" reason="Never"/>\n'
+        "</robot>\n"
+    )
+    result = sync_srdf(XRDF_ABCD, src)
+    assert result.text == src
+    pairs = parse_srdf(src).disable_collisions
+    assert [(a, b) for a, b, _, _ in pairs] == [("a", "b"), ("a", "d"), ("c", "a")]
+
+
 # ------------------------------------------------------------------------------------------
 # disable_default_collisions
 # ------------------------------------------------------------------------------------------

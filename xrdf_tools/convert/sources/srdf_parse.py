@@ -201,13 +201,14 @@ class _Parser:
         return int(el.sourceline) if self.located and el.sourceline is not None else None
 
     def req(self, el: Any, attr: str) -> str:
-        """A required, non-empty attribute."""
-        v = el.get(attr)
+        """A required, non-empty attribute, trimmed of surrounding spaces as MoveIt's SRDF
+        reader trims names (``link1=" a"`` names link ``a``)."""
+        v = _trimmed(el, attr)
         if not v:
             raise SourceError(
                 f"<{el.tag}> needs a '{attr}' attribute", path=self.path, line=self.line(el)
             )
-        return str(v)
+        return v
 
     def num(self, el: Any, attr: str) -> float:
         """A required number attribute (its first word, as MoveIt reads it)."""
@@ -218,6 +219,12 @@ class _Parser:
             raise SourceError(
                 f"<{el.tag}> {attr}='{raw_v}' is not a number", path=self.path, line=self.line(el)
             ) from None
+
+
+def _trimmed(el: Any, attr: str) -> str | None:
+    """Attribute ``attr`` of ``el`` without surrounding spaces (None when absent)."""
+    v = el.get(attr)
+    return None if v is None else str(v).strip()
 
 
 def _group(p: _Parser, el: Any) -> None:
@@ -247,8 +254,8 @@ def _group(p: _Parser, el: Any) -> None:
 def _group_state(p: _Parser, el: Any) -> None:
     joints = [j for j in el if j.tag == "joint"]
     values = tuple((p.req(j, "name"), p.num(j, "value")) for j in joints)
-    multi = tuple(str(j.get("name")) for j in joints if len(j.get("value").split()) > 1)
-    p.states.append(GroupState(p.req(el, "name"), el.get("group"), values, p.line(el), multi))
+    multi = tuple(p.req(j, "name") for j in joints if len(j.get("value").split()) > 1)
+    p.states.append(GroupState(p.req(el, "name"), _trimmed(el, "group"), values, p.line(el), multi))
 
 
 def _end_effector(p: _Parser, el: Any) -> None:
@@ -256,8 +263,8 @@ def _end_effector(p: _Parser, el: Any) -> None:
         EndEffector(
             p.req(el, "name"),
             p.req(el, "parent_link"),
-            el.get("group"),
-            el.get("parent_group"),
+            _trimmed(el, "group"),
+            _trimmed(el, "parent_group"),
             p.line(el),
         )
     )
@@ -266,7 +273,10 @@ def _end_effector(p: _Parser, el: Any) -> None:
 def _virtual_joint(p: _Parser, el: Any) -> None:
     p.vjs.append(
         VirtualJoint(
-            p.req(el, "name"), el.get("type") or "", el.get("child_link") or "", p.line(el)
+            p.req(el, "name"),
+            _trimmed(el, "type") or "",
+            _trimmed(el, "child_link") or "",
+            p.line(el),
         )
     )
 
