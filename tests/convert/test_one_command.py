@@ -158,10 +158,16 @@ def test_cli_summary_and_options(runner: CliRunner, boxes: Path, tmp_path: Path)
     out = tmp_path / "boxes.xrdf"
     r = runner.invoke(
         app,
-        ["convert", str(boxes), "--joints", "j1,j2", "--fit-spheres", "-n", "300", "-o", str(out)],
+        [
+            *("convert", str(boxes), "--joints", "j1,j2", "--fit-spheres", "-n", "300"),
+            *("-o", str(out), "-v"),
+        ],
     )
     assert r.exit_code == 0, r.output
     assert "convert-fitted-spheres" in r.output and "convert-computed-mask" in r.output
+    # -v without a terminal (a CI log): a line per step of the fit, naming its link
+    steps = [ln for ln in r.stderr.splitlines() if ln.startswith("fitting spheres (2 steps")]
+    assert steps and steps[-1].endswith(f": {len(steps)}/{len(steps)} lower")
     x = load_xrdf(out)
     assert x.cspace is not None and list(x.cspace.joint_names) == ["j1", "j2"]
     assert x.tool_frames == ("lower",)

@@ -53,8 +53,9 @@ RULE_FITTED = "convert-fitted-spheres"
 RULE_MASK = "convert-computed-mask"
 RULE_MASK_DEFAULT = "convert-mask-default-pose"
 
-#: ``progress(stage, done, total)``; ``stage`` is ``"fitting"`` or ``"sampling"``.
-Progress = Callable[[str, int, int], None]
+#: ``progress(stage, done, total, item)``; ``stage`` is ``"fitting"`` (``item``: the link
+#: being fitted) or ``"sampling"`` (``item``: "").
+Progress = Callable[[str, int, int, str], None]
 
 
 @dataclass(frozen=True)
@@ -284,7 +285,7 @@ def fit_missing_spheres(
 
     def step(link: str, i: int, n: int) -> None:
         if progress is not None:
-            progress("fitting", i, n)
+            progress("fitting", i, n, link)
 
     robot = as_robot(urdf)
     # before the work: a mesh that cannot be found is an input error (or, allowed, a warning)
@@ -388,7 +389,7 @@ def compute_mask(
 
     def step(done: int, total: int) -> None:
         if progress is not None:
-            progress("sampling", done, total)
+            progress("sampling", done, total, "")
 
     report = self_collision_report(
         urdf,

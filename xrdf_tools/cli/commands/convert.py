@@ -419,16 +419,17 @@ def _clips(values: list[str] | None) -> dict[str, list[Plane]]:
 
 
 def _staged(bar: ProgressUpdate | None) -> Progress | None:
-    """The assistant's ``progress(stage, done, total)`` drawn on the common bar; with ``-v``
-    and no terminal (CI logs), one line per fitted link and per tenth of the sampling."""
+    """The assistant's ``progress(stage, done, total, item)`` drawn on the common bar; with
+    ``-v`` and no terminal (CI logs), one line per step of the fit, naming its link, and per
+    tenth of the sampling."""
     if bar is not None:
-        return lambda stage, done, total: bar(_STAGES.get(stage, stage), done, total)
+        return lambda stage, done, total, _item: bar(_STAGES.get(stage, stage), done, total)
     if stderr_is_terminal() or verbosity() < Verbosity.VERBOSE:
         return None
 
-    def line(stage: str, done: int, total: int) -> None:
+    def line(stage: str, done: int, total: int, item: str) -> None:
         if stage == "fitting":
-            detail(f"{_STAGES[stage]}: {done + 1}/{total}")
+            detail(f"{_STAGES[stage]}: {done + 1}/{total} {item}".rstrip())
         elif total and (done * 10 // total) != ((done - 1) * 10 // total) and done:
             detail(f"{_STAGES.get(stage, stage)}: {done}/{total}")
 
