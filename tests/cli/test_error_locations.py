@@ -274,6 +274,25 @@ def test_a_bad_byte_in_a_xacro_file_is_located(runner: CliRunner, tmp_path: Path
     )
 
 
+def test_a_bad_byte_in_an_included_xacro_file_is_located(runner: CliRunner, tmp_path: Path) -> None:
+    """A Fusion 360 export (fusion2urdf's Assem1) writes its joint names in GBK in the top
+    file and in the included Assem1.trans: the top file's byte was located, the include's was
+    Python's "'utf-8' codec can't decode byte 0xd0 in position 114" without a line."""
+    top = tmp_path / "arm.xacro"
+    top.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        ' <xacro:include filename="arm.trans"/>\n <link name="a"/>\n</robot>\n'
+    )
+    (tmp_path / "arm.trans").write_bytes(
+        b'<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        b' <transmission name="\xd0\xfd1_tran"/>\n</robot>\n'
+    )
+    inc = tmp_path / "arm.trans"
+    assert _error(runner, "expand", str(top)) == (
+        f"error: {inc}:2:22: xacro file is not UTF-8 text (byte 0xd0: invalid continuation byte)"
+    )
+
+
 def test_write_mask_without_a_self_collision_section_names_the_xrdf(
     runner: CliRunner, tmp_path: Path
 ) -> None:

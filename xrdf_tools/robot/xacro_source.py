@@ -32,7 +32,7 @@ from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unknown_packages, unread_arg_warnings, unset_args
 from .xacro_culprits import UNDEFINED_ARG, culprit_in
 from .xacro_detect import uses_xacro
-from .xacro_files import file_arg_hint, located_in_includes, os_error
+from .xacro_files import file_arg_hint, located_in_includes, not_utf8_error, os_error
 from .xacro_places import placed_in_includes
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
@@ -274,6 +274,8 @@ def _xacro_error(
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
+    if (undecoded := not_utf8_error(e, where)) is not None:
+        return undecoded
     unread = os_error(e)
     missing = unread.filename if unread is not None else None
     if isinstance(missing, str) and unread is inner:
