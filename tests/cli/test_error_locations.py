@@ -222,6 +222,28 @@ def test_a_macro_body_error_points_into_the_include_and_names_an_unprefixed_prop
     assert runner.invoke(app, ["expand", str(top)]).exit_code == 0
 
 
+def test_an_unprefixed_macro_is_named_where_its_parameter_is_undefined(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A ROS 1 ``<macro>`` without the ``xacro:`` prefix is plain XML to xacro 2: its body's
+    ``${joint}`` names a parameter nothing defines (Toyota HSR's description). The error says
+    which macro takes it and what to write."""
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="base"/>\n'
+        '  <macro name="wheel" params="joint parent">\n'
+        '    <link name="${joint}_link"/>\n'
+        "  </macro>\n</robot>\n"
+    )
+    err = _error(runner, "expand", str(robot))
+    assert "name 'joint' is not defined" in err, err
+    assert err.endswith(
+        f"({robot}:4 takes it as a <macro> parameter without the xacro: prefix, which xacro 2 "
+        "no longer reads: write <xacro:macro> there)"
+    ), err
+
+
 def _urdf_with(tmp_path: Path, old: str, new: str) -> Path:
     text = UR10E_URDF.read_text()
     assert old in text
@@ -271,6 +293,25 @@ def test_a_bad_byte_in_a_xacro_file_is_located(runner: CliRunner, tmp_path: Path
     x.write_bytes(b'<robot name="r">\n <link name="\xff"/>\n</robot>\n')
     assert _error(runner, "expand", str(x)) == (
         f"error: {x}:2:14: xacro file is not UTF-8 text (byte 0xff: invalid start byte)"
+    )
+
+
+def test_a_bad_byte_in_an_included_xacro_file_is_located(runner: CliRunner, tmp_path: Path) -> None:
+    """A Fusion 360 export (fusion2urdf's Assem1) writes its joint names in GBK in the top
+    file and in the included Assem1.trans: the top file's byte was located, the include's was
+    Python's "'utf-8' codec can't decode byte 0xd0 in position 114" without a line."""
+    top = tmp_path / "arm.xacro"
+    top.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        ' <xacro:include filename="arm.trans"/>\n <link name="a"/>\n</robot>\n'
+    )
+    (tmp_path / "arm.trans").write_bytes(
+        b'<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        b' <transmission name="\xd0\xfd1_tran"/>\n</robot>\n'
+    )
+    inc = tmp_path / "arm.trans"
+    assert _error(runner, "expand", str(top)) == (
+        f"error: {inc}:2:22: xacro file is not UTF-8 text (byte 0xd0: invalid continuation byte)"
     )
 
 

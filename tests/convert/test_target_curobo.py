@@ -134,6 +134,10 @@ def test_a_urdf_velocity_of_zero_stops_curobo_before_fitting(
     # joint2 (velocity 2.0) and joint3 (no velocity: cuRobo assumes one) are fine
     assert "'joint1' (line 36)" in zero[0] and "in zero_velocity_arm.urdf" in zero[0]
     assert "stopped before fitting" in r.stderr and "convert-fitted-spheres" not in r.stderr
+    # the stop has no line, so it is printed before the errors it counts: it said "above"
+    lines = r.stderr.splitlines()
+    stop = next(i for i, x in enumerate(lines) if "stopped before fitting" in x)
+    assert stop < lines.index(zero[0]) and "above" not in lines[stop], r.stderr
     # the closing line counts that one error, not the stop that reports it too
     assert "has 1 lint error(s) against the URDF" in r.stderr.splitlines()[-1], r.stderr
     r = runner.invoke(app, args)

@@ -166,6 +166,37 @@ def test_links_that_share_a_mesh_are_fitted_once(tmp_path: Path) -> None:
     assert len(shared) == 1 and "b, c" in shared[0].message
 
 
+def test_a_shared_mesh_of_macro_made_links_is_located_in_the_macro(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Robotiq 2F-85's fingers are made by a macro (``${prefix}${fingerprefix}_inner_finger``):
+    every note about one of them was placed at that template in the macro file, but the
+    shared-mesh note ("links right_… share the geometry of 'left_…'") had no line."""
+    (tmp_path / "finger.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="finger" params="side">\n'
+        '    <link name="${side}_finger"><collision><geometry><box size="0.06 0.02 0.02"/>'
+        "</geometry></collision></link>\n"
+        '    <joint name="${side}_joint" type="fixed"><parent link="palm"/>'
+        '<child link="${side}_finger"/></joint>\n'
+        "  </xacro:macro>\n</robot>\n"
+    )
+    top = tmp_path / "hand.urdf.xacro"
+    top.write_text(
+        '<robot name="hand" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="finger.xacro"/>\n  <link name="palm"/>\n'
+        '  <xacro:finger side="left"/>\n  <xacro:finger side="right"/>\n</robot>\n'
+    )
+    out = str(tmp_path / "hand.xrdf")
+    r = runner.invoke(app, ["spheres", str(top), "--per-link", "2", "--format", "json", "-o", out])
+    assert r.exit_code == 0, r.output
+    diags = json.loads(r.stderr)["diagnostics"]
+    shared = [d for d in diags if d["rule"] == "spheres-shared-mesh"]
+    assert len(shared) == 1, diags
+    assert shared[0]["path"].endswith("finger.xacro") and shared[0]["line"] == 3, shared
+    assert "'left_finger'" in shared[0]["message"] and "right_finger" in shared[0]["message"]
+
+
 def _per_link(n: int) -> object:
     from xrdf_tools.spheres.robot_fit import CountPolicy
 

@@ -85,8 +85,8 @@ def target_errors(text: str, robot: Robot, target: str | None, label: str) -> li
         None,
         RULE_STOPPED,
         Severity.ERROR,
-        f"the XRDF would fail --target {chosen.id} ({len(found)} error(s) above) whatever "
-        "spheres are fitted: stopped before fitting",
+        f"the XRDF would fail --target {chosen.id} whatever spheres are fitted "
+        f"({len(found)} error(s), each on its own line): stopped before fitting",
         "",
     )
     return [*found, stop]

@@ -16,12 +16,18 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..util.errors import SourceError, UrdfError
-from ..util.fileio import reread_text
+from ..util.errors import SourceError, UrdfError, XrdfToolsError
+from ..util.fileio import decode_utf8, read_input_bytes, reread_text
 from ..util.textpos import line_col
 from .packages import _is_dir, _is_file
 
-__all__ = ["file_arg_hint", "located_in_includes", "missing_include_error", "os_error"]
+__all__ = [
+    "file_arg_hint",
+    "located_in_includes",
+    "missing_include_error",
+    "not_utf8_error",
+    "os_error",
+]
 
 #: How far up from the xacro file a package.xml is looked for, how deep below it the file.
 _UP, _DEPTH = 4, 3
@@ -40,6 +46,23 @@ def os_error(e: BaseException) -> OSError | None:
         seen.append(x)
         x = getattr(x, "exc", None)
     return None
+
+
+def not_utf8_error(e: BaseException, path: str) -> SourceError | None:
+    """The located error for a xacro file that is not UTF-8 text, when ``e`` (xacro's error,
+    its cause in ``exc``) is a decoding error and ``path``, the file xacro was reading, is
+    not UTF-8: an include written in a legacy encoding (a Fusion 360 export's GBK comments)
+    gets its line and column, as the top file does, instead of Python's byte offset."""
+    inner: Any = getattr(e, "exc", None) or e
+    if not isinstance(inner, UnicodeDecodeError):
+        return None
+    try:
+        decode_utf8(read_input_bytes(path), path, "xacro file", SourceError)
+    except SourceError as located:
+        return located
+    except XrdfToolsError:  # gone or unreadable now: the generic message stands
+        return None
+    return None  # the file decodes: something else xacro read (a YAML file) did not
 
 
 def file_arg_hint(

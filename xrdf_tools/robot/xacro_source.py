@@ -26,14 +26,20 @@ from xml.parsers.expat import ExpatError
 
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import SourceError, UrdfError, UrdfReadError, XrdfToolsError
-from ..util.fileio import check_input_file, decode_utf8, read_input_bytes, reread_text
-from ..util.textpos import line_col
+from ..util.fileio import check_input_file, decode_utf8, read_input_bytes
 from .packages import PackageResolver, absolute
 from .xacro_args import ReadArgs, unknown_packages, unread_arg_warnings, unset_args
 from .xacro_child import out_of_memory
 from .xacro_culprits import UNDEFINED_ARG, culprit_in
 from .xacro_detect import uses_xacro
-from .xacro_files import file_arg_hint, located_in_includes, missing_include_error, os_error
+from .xacro_files import (
+    file_arg_hint,
+    located_in_includes,
+    missing_include_error,
+    not_utf8_error,
+    os_error,
+)
+from .xacro_hints import bad_macro_call, late_default_hint, unprefixed_hint
 from .xacro_places import placed_in_includes
 from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
@@ -337,6 +343,8 @@ def _xacro_error(
         return SourceError(
             f"xacro failed: not valid XML: {what}", path=where, line=line, col=offset + 1
         )
+    if (undecoded := not_utf8_error(e, where)) is not None:
+        return undecoded
     unread = os_error(e)
     missing = unread.filename if unread is not None else None
     if isinstance(missing, str) and unread is inner:
@@ -346,89 +354,11 @@ def _xacro_error(
         said = "does not exist" if isinstance(unread, FileNotFoundError) else "cannot be read"
         message = message.replace(str(unread), f"the file {missing} {said}")
         message += file_arg_hint(missing, top, given or {}, values or {})
-    if (call := _bad_macro_call(message, macro, [where, *included])) is not None:
+    if (call := bad_macro_call(message, macro, [where, *included])) is not None:
         return SourceError(call[0], path=call[1], line=call[2], col=call[3])
     where, line, col = culprit_in([where, *included], message)
-    hint = _unprefixed_hint(message, [where, *included]) + _late_default_hint(message, where, line)
+    hint = unprefixed_hint(message, [where, *included]) + late_default_hint(message, where, line)
     return SourceError(message + hint, path=where, line=line, col=col)
-
-
-def _late_default_hint(message: str, path: str, line: int | None) -> str:
-    """What to know when the undefined ``$(arg x)`` of ``message`` has a ``<xacro:arg>``
-    default below its use at ``line`` (Flexiv's ``<robot name="$(arg name)">`` with the
-    default inside ``<robot>``): xacro has not read it yet, the launch file passes it."""
-    m = UNDEFINED_ARG.search(message)
-    if m is None or line is None:
-        return ""
-    tag = re.compile(rf"<xacro:arg\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"'][^>]*default=")
-    if (hit := _first_match(tag, [path])) is None:
-        return ""
-    _, text, found = hit
-    declared, _ = line_col(text, found.start())
-    if declared <= line:
-        return ""
-    return (
-        f"; line {declared} declares a default for it, but xacro evaluates it here before "
-        "reading that declaration"
-    )
-
-
-#: xacro's message for a macro call with an attribute the macro has no parameter for.
-_INVALID_PARAMETER = re.compile(r'Invalid parameter "([^"]+)"')
-
-
-def _bad_macro_call(
-    message: str, macro: str | None, files: Sequence[str]
-) -> tuple[str, str, int, int] | None:
-    """The message and position of a call of ``macro`` that passes a parameter the macro
-    lacks: the first ``<xacro:MACRO …>`` tag in ``files`` that sets it (a call inside another
-    macro's body, which the generic search would look for in the top file)."""
-    m = _INVALID_PARAMETER.search(message)
-    if m is None or macro is None:
-        return None
-    call = re.compile(rf"<xacro:{re.escape(macro)}\b[^>]*?\s{re.escape(m.group(1))}\s*=")
-    if (hit := _first_match(call, files)) is None:
-        return None
-    path, text, found = hit
-    line, col = line_col(text, found.start())
-    why = f" in a call of macro '{macro}', which has no parameter '{m.group(1)}'"
-    return message + why, path, line, col
-
-
-def _first_match(
-    pattern: re.Pattern[str], files: Sequence[str]
-) -> tuple[str, str, re.Match[str]] | None:
-    """The first of ``files`` (unreadable ones skipped) whose text ``pattern`` matches: its
-    path, its text and the match."""
-    for path in dict.fromkeys(files):
-        text = reread_text(path)
-        if text is None:
-            continue
-        if (found := pattern.search(text)) is not None:
-            return path, text, found
-    return None
-
-
-#: ``name 'x' is not defined``: a property xacro never defined.
-_UNDEFINED_NAME = re.compile(r"name '(\w+)' is not defined")
-
-
-def _unprefixed_hint(message: str, files: Sequence[str]) -> str:
-    """What to change when the undefined name of ``message`` is defined by a ``<property>``
-    without the ``xacro:`` prefix, which ROS 1's xacro read (with a deprecation warning) and
-    xacro 2 ignores."""
-    m = _UNDEFINED_NAME.search(message)
-    if m is None:
-        return ""
-    tag = re.compile(rf"<property\s[^>]*name\s*=\s*[\"']{re.escape(m.group(1))}[\"']")
-    if (hit := _first_match(tag, files)) is None:
-        return ""
-    path, text, found = hit
-    line, _ = line_col(text, found.start())
-    return (
-        f" ({path}:{line} defines it by <property> without the xacro: prefix, which "
-        "xacro 2 no longer reads: write <xacro:property> there)"
-    )
 
 
 def _xacro_message(e: BaseException) -> str:

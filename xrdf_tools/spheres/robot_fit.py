@@ -458,6 +458,7 @@ def _report_shared(
                 path,
                 geoms[owner].line,
                 RULE_SHARED_MESH,
-                f"links {name_list(others)} share the geometry of '{owner}': fitted once",
+                f"link '{owner}' has the same geometry as {name_list(others)}: fitted once, "
+                "the same spheres",
             )
         )
