@@ -328,6 +328,8 @@ def _turned_into(value: float, low: float, high: float) -> float | None:
     """``value`` turned by whole turns into ``[low, high]`` (the nearest such angle), or None
     when no whole turn lands there: a revolute joint at ``value`` and at the result has the
     same pose (an SRDF state written as -90° for a joint limited to [0.33, 5.95] rad)."""
+    if not math.isfinite(value):
+        return None
     turn = 2.0 * math.pi
     k = math.ceil((low - value) / turn) if value < low else math.floor((high - value) / turn)
     turned = value + k * turn
