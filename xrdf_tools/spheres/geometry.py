@@ -187,13 +187,17 @@ def _report_parts(
     ]
     if not shares:
         return
+    # of several bodies, say how many are shells: the note is about those, not the whole link
+    whole = f"of its {n} bodies, " if n > 1 else ""
     if len(shares) == 1:
         walls = next(wall_thickness(part) for part, _, h in made if h == "thin_shell")
-        what = f"a thin shell (its volume is {shares[0]:.0%} of its convex hull's, its walls "
-        what += f"about {walls * 1000:.1f} mm thick); spheres fitted to the convex hull"
+        what = f"{'one' if whole else 'a'} thin shell (its volume is {shares[0]:.0%} of its "
+        what += f"convex hull's, its walls about {walls * 1000:.1f} mm thick); spheres fitted to "
+        what += "its convex hull"
     else:
         what = f"{len(shares)} thin shells (each {min(shares):.0%}–{max(shares):.0%} of its "
         what += "hull's); spheres fitted to the convex hulls"
+    what = whole + what
     diags.append(
         Diagnostic(path, line, None, RULE_THIN_SHELL, Severity.INFO, f"link '{link}': {what}")
     )
