@@ -401,6 +401,33 @@ def test_overlapping_thin_shells_in_one_file_are_hulled_unioned_and_said_once(
     assert note.message.startswith("link 'arm': of its 2 bodies, one thin shell (its volume")
 
 
+def test_separate_plates_in_one_file_are_not_filled_in_as_one_shell(tmp_path: Path) -> None:
+    """Two 3 mm plates 60 mm apart in one STL (a gripper's jaws): as a whole they are a small
+    share of their common hull, with thin walls, but each plate is a solid. Each body is
+    judged alone: the plates are kept, the gap between them stays empty (it was filled by the
+    hull of both)."""
+    plates = []
+    for y in (-0.03, 0.03):
+        plate = trimesh.creation.box(extents=(0.08, 0.003, 0.04))
+        plate.apply_translation([0.0, y, 0.0])
+        plates.append(plate)
+    trimesh.util.concatenate(plates).export(tmp_path / "jaws.stl")
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r">\n<link name="base"/>\n<link name="jaws">\n'
+        '<collision><geometry><mesh filename="jaws.stl"/></geometry></collision>\n'
+        '</link>\n<joint name="j" type="revolute"><parent link="base"/><child link="jaws"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        "</robot>\n"
+    )
+    geoms, diags = load_link_geometry(urdf, links=["jaws"])
+    g = geoms["jaws"]
+    assert g.kind == "union"
+    assert g.solid.volume == pytest.approx(2 * 0.08 * 0.003 * 0.04, rel=1e-3)
+    assert not g.solid.contains([[0.0, 0.0, 0.0]])[0]  # the gap between the jaws is free
+    assert not [d for d in diags if d.rule == "spheres-thin-shell"]
+
+
 SPHERE_LINK_URDF = """<robot name="r">
   <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
   <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>

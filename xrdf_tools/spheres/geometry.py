@@ -40,6 +40,7 @@ from .mesh_solids import (
     is_volume,
     overlapping_bodies,
     repaired,
+    shell_pieces,
     wall_thickness,
 )
 
@@ -93,11 +94,12 @@ def _solidify(
 
     bodies = [body for whole in parts for body in overlapping_bodies(repaired(whole))]
     made: list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]] = []  # (body, its solid, how)
-    for body in bodies:
-        with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
+    with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
+        bodies = [piece for body in bodies for piece in shell_pieces(body)]
+        for body in bodies:
             got = closed_part(body)
-        if got is not None:
-            made.append((body, *got))
+            if got is not None:
+                made.append((body, *got))
     closed = [solid for _, solid, _ in made]
     how = [kind for _, _, kind in made]
     if not closed:

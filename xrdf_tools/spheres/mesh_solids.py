@@ -26,6 +26,7 @@ __all__ = [
     "is_volume",
     "overlapping_bodies",
     "repaired",
+    "shell_pieces",
     "wall_thickness",
 ]
 
@@ -170,6 +171,21 @@ def closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
         return hull, "convex_hull"
     box = bounding_box(part)
     return (box, "bounding_box") if box is not None else None
+
+
+def shell_pieces(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
+    """The part, or its bodies when it is a thin shell only as a whole: closed bodies far
+    apart in one file (a block beside a bracket) have a small share of their common hull's
+    volume, and that hull would fill the gaps between them. Each body is then judged alone."""
+    if not is_volume(part):
+        return [part]
+    hull = convex_hull(part)
+    if hull is None or not is_thin_shell(part, hull):
+        return [part]
+    bodies = connected_bodies(part)
+    if len(bodies) < 2 or not all(is_volume(b) for b in bodies):
+        return [part]
+    return bodies
 
 
 def overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
