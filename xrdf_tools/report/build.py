@@ -283,6 +283,7 @@ def _pair_stats(
     ub = never_upper_bound(n_total)
     stats: list[PairStat] = []
     w_of = {int(k): i for i, k in enumerate(work_index)}
+    on_path = _cspace_joints_on_paths(kin, spheres, cspace)
     for k, (a, b) in enumerate(spheres.frame_pair_names()):
         w = w_of.get(k)
         h = int(hits[w]) if w is not None else None
@@ -313,10 +314,20 @@ def _pair_stats(
                 classification=cls,
                 recommendation=rec,
                 note=note,
-                joints_on_path=len(cspace.intersection(kin.joints_on_path(a, b))),
+                joints_on_path=on_path[k],
             )
         )
     return stats
+
+
+def _cspace_joints_on_paths(
+    kin: KinematicModel, spheres: SphereSet, cspace: frozenset[str]
+) -> list[int]:
+    """Per frame pair of ``spheres``: how many joints of ``cspace`` lie between its frames."""
+    mask = sum(1 << i for i, name in enumerate(kin.actuated_joints) if name in cspace)
+    kf = spheres.frame_kin_index
+    bits = kin.joint_paths.between(kf[spheres.frame_pair_a], kf[spheres.frame_pair_b])
+    return [(b & mask).bit_count() for b in bits]
 
 
 def _count_configs(

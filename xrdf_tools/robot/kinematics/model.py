@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -15,6 +16,7 @@ from ...util.errors import UrdfError, did_you_mean
 from ...util.frozen import FrozenMap
 from ..urdf_source import JointInfo
 from .base import FrameSelection
+from .paths import JointPaths
 from .plan import FkPlan, make_plan
 
 
@@ -120,14 +122,16 @@ class KinematicModel:
     def joints_on_path(self, frame_a: str, frame_b: str) -> tuple[str, ...]:
         """The actuated joints whose values change the pose of ``frame_b`` relative to
         ``frame_a`` (the joints between each frame and their common ancestor; a mimic joint
-        counts as its master)."""
+        counts as its master), in configuration order."""
         a, b = self.frame_index(frame_a), self.frame_index(frame_b)
-        up_a = self.ancestors(a)
-        up_b = self.ancestors(b)
-        common = set(up_a) & set(up_b)
-        moving = [f for f in (*up_a, *up_b) if f not in common]
-        found = {int(self.q_index[f]) for f in moving if int(self.q_index[f]) >= 0}
-        return tuple(self.actuated_joints[i] for i in sorted(found))
+        bits = self.joint_paths.between([a], [b])[0]
+        return tuple(name for i, name in enumerate(self.actuated_joints) if bits >> i & 1)
+
+    @cached_property
+    def joint_paths(self) -> JointPaths:
+        """The actuated joints between frames, for many frame pairs at once
+        (:meth:`JointPaths.between`: bit ``i`` of a mask is ``q[i]``)."""
+        return JointPaths(self.parent, self.q_index)
 
     def frame_index(self, name: str) -> int:
         """Index of frame ``name``; :class:`UrdfError` with a suggestion when unknown."""

@@ -41,6 +41,7 @@ class Bodies:
     """
 
     parent: tuple[int, ...]
+    depth: tuple[int, ...]  # joints between the root and each body
     kind: tuple[int, ...]
     consts: FloatArray
     consts_t: tuple[F32, ...]  # (4, 4): C_j transposed, for the stacked matmul
@@ -141,7 +142,7 @@ def build_bodies(
     """``T`` [F, 4, 4]: kinematic frames at the base configuration."""
     col_of = {int(c): i for i, c in enumerate(varying.tolist())}
     G = _axis_frames(kin, roots)
-    parent, kind, consts = [-1], [ROOT], [np.eye(4)]
+    parent, depth, kind, consts = [-1], [0], [ROOT], [np.eye(4)]
     cols, mult, off = [-1], [1.0], [0.0]
     lever = max_local
     for j, f in enumerate(roots[1:], start=1):
@@ -151,6 +152,7 @@ def build_bodies(
         C[:3, 3] = G[pb].T @ C[:3, 3]
         C[:3, :3] = G[pb].T @ C[:3, :3] @ G[j]
         parent.append(pb)
+        depth.append(depth[pb] + 1)
         kind.append(PRISM if int(kin.joint_type[f]) == JointType.PRISMATIC else ROT)
         consts.append(C)
         cols.append(col_of[int(kin.q_index[f])])
@@ -162,6 +164,7 @@ def build_bodies(
             lever += abs(mult[-1]) * max(abs(kin.lower[q]), abs(kin.upper[q])) + abs(off[-1])
     return Bodies(
         parent=tuple(parent),
+        depth=tuple(depth),
         kind=tuple(kind),
         consts=np.array(consts),
         consts_t=tuple(np.ascontiguousarray(c.T, dtype=np.float32) for c in consts),
@@ -241,15 +244,17 @@ def _body_fk_block(bodies: Bodies, q_var: FloatArray, T: F32) -> None:
 
 def body_chains(bodies: Bodies, a: int, b: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """The bodies from the lowest common ancestor of ``a`` and ``b`` (excluded) down to ``a``
-    and down to ``b``, top first."""
-    up_a = [a]
-    while up_a[-1] != 0:
-        up_a.append(bodies.parent[up_a[-1]])
-    chain_b = [b]
-    while chain_b[-1] not in up_a:
-        chain_b.append(bodies.parent[chain_b[-1]])
-    lca = chain_b.pop()
-    return tuple(up_a[: up_a.index(lca)][::-1]), tuple(chain_b[::-1])
+    and down to ``b``, top first (a walk up from both as long as the path between them)."""
+    up_a, up_b = [], []
+    depth = bodies.depth
+    while a != b:
+        if depth[a] >= depth[b]:
+            up_a.append(a)
+            a = bodies.parent[a]
+        else:
+            up_b.append(b)
+            b = bodies.parent[b]
+    return tuple(up_a[::-1]), tuple(up_b[::-1])
 
 
 def chain_pose(bodies: Bodies, chain: tuple[int, ...], vals: F32) -> F32:

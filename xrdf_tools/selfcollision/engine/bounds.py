@@ -16,14 +16,15 @@ from ...util.arrays import FloatArray
 from .bodies import EPS32
 
 
-def energy_error(p_a: FloatArray, r_max: float, err: float) -> float:
-    """Bound on |float32 − exact| of ``d² − R²`` wherever that value is near zero.
+def energy_error(pmax: float, r_max: float, err: float) -> float:
+    """Bound on |float32 − exact| of ``d² − R²`` wherever that value is near zero, for sphere
+    centres of side ``a`` at most ``pmax`` from its body origin and radius sums up to
+    ``r_max``.
 
     Near zero ``d ≤ R + err``: a position error ``err`` moves ``d²`` by at most
     ``2 (R + err) err``; the GEMM's own rounding is bounded by a few float32 ulps of the
     largest term, ``(2|p| + R)²``. Doubled for safety.
     """
-    pmax = float(np.max(np.linalg.norm(p_a, axis=1))) if len(p_a) else 0.0
     return 2.0 * (2.0 * (r_max + err) * err + 16.0 * EPS32 * (2.0 * pmax + r_max + err) ** 2)
 
 

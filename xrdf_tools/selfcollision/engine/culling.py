@@ -184,7 +184,8 @@ class Culler:
             if grid is not None and grid.far_fraction >= _GRID_MIN_FAR:
                 out.append(replace(bp, grid=grid))
                 continue
-            out.append(replace(bp, cull=near < _CULL_FRACTION))
+            cull = near < _CULL_FRACTION
+            out.append(bp if bp.cull == cull else replace(bp, cull=cull))
         return out
 
     def _grid_for(self, bp: BodyPair) -> PairGrid | None:

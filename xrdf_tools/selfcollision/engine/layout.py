@@ -17,10 +17,10 @@ import numpy as np
 
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ..collision import CULL_SLACK, SphereSet, bounding_sphere
-from .bodies import EPS32, body_chains, chain_error
+from .bodies import EPS32, F32, body_chains, chain_error
 from .bounds import energy_error
 from .pairs import BodyPair
-from .reach import Reach
+from .reach import Meet, Reach
 
 #: Body pairs at most this many joints apart have their relative pose composed from those
 #: joints (a float32 error that follows the pair, not the whole robot).
@@ -73,8 +73,9 @@ def body_pairs(
         ba, bb = int(frame_body[s.frame_pair_a[k]]), int(frame_body[s.frame_pair_b[k]])
         groups.setdefault((min(ba, bb), max(ba, bb)), []).append(k)
     out = Layout()
-    for key, ks in groups.items():
-        out.pairs.extend(_split_pair(s, frame_body, local, err, reach, limit, key, ks, out))
+    sides: dict[bytes, _Side] = {}
+    for meet, ks in zip(reach.meets(list(groups)), groups.values(), strict=True):
+        out.pairs.extend(_split_pair(s, frame_body, local, err, reach, limit, meet, ks, out, sides))
     return out
 
 
@@ -85,11 +86,12 @@ def _split_pair(
     err: float,
     reach: Reach,
     limit: float,
-    key: tuple[int, int],
+    meet: Meet,
     ks: list[int],
     layout: Layout,
+    sides: dict[bytes, _Side],
 ) -> list[BodyPair]:
-    a, b = key
+    a, b = meet.a, meet.b
     side: dict[int, list[int]] = {a: [], b: []}
     for k in ks:
         for f in (int(s.frame_pair_a[k]), int(s.frame_pair_b[k])):
@@ -98,7 +100,7 @@ def _split_pair(
     ia, wa = _side_rows(s, side[a])
     ib, wb = _side_rows(s, side[b])
     r = s.self_radii
-    pa, pb = reach.prune(a, b, local[ia], r[ia], local[ib], r[ib], limit)
+    pa, pb = reach.prune(meet, local[ia], r[ia], local[ib], r[ib], limit)
     fixed_a, fixed_b = reach.on_axis(a, b, local[ia], local[ib])
     sampled_a, sampled_b = pa.keep & ~fixed_a, pb.keep & ~fixed_b
     fix_a, fix_b = pa.keep & fixed_a, pb.keep & fixed_b
@@ -130,7 +132,8 @@ def _split_pair(
         for at_a in part_of_a[fa]:
             for at_b in part_of_b[fb]:
                 by_parts.setdefault((at_a, at_b), []).append((k, fa, fb))
-    return _assemble_parts(s, local, err, reach, (a, b), (parts_a, parts_b), by_parts)
+    made = (parts_a, parts_b)
+    return _assemble_parts(s, local, err, reach, meet, made, by_parts, sides)
 
 
 def _assemble_parts(
@@ -138,26 +141,25 @@ def _assemble_parts(
     local: FloatArray,
     err: float,
     reach: Reach,
-    key: tuple[int, int],
+    meet: Meet,
     parts: tuple[list[tuple[set[int], set[int]]], list[tuple[set[int], set[int]]]],
     by_parts: dict[tuple[int, int], list[tuple[int, int, int]]],
+    sides: dict[bytes, _Side],
 ) -> list[BodyPair]:
     """One body pair per (part of ``a``, part of ``b``) with frame pairs between them; each
-    part's side is made once, however many body pairs it is in."""
-    made: dict[tuple[int, int], _Side] = {}
+    side (the same spheres of the same frames) is made once, however many body pairs it is
+    in (``sides``: those made so far, shared by every body pair of the layout)."""
 
     def side(which: int, at: int) -> _Side:
-        if (which, at) not in made:
-            frames, keep = parts[which][at]
-            made[which, at] = _side(s, local, frames, keep)
-        return made[which, at]
+        frames, keep = parts[which][at]
+        return _side(s, local, frames, keep, sides)
 
     out = []
     for at_a in range(len(parts[0])):
         for at_b in range(len(parts[1])):
             mine = by_parts.get((at_a, at_b))
             if mine:
-                out.append(_assemble(err, reach, key, (side(0, at_a), side(1, at_b)), mine))
+                out.append(_assemble(err, reach, meet, (side(0, at_a), side(1, at_b)), mine))
     return out
 
 
@@ -239,78 +241,116 @@ def _parts(
 
 @dataclass(frozen=True, eq=False)
 class _Side:
-    """One side of a body pair: its spheres (``idx``, each frame's slice of them in
-    ``where``), their centres in the body frame and radii, and its bounding sphere."""
+    """One side of body pairs: its spheres (``idx``, each frame's slice of them in ``where``,
+    the first row of each frame in ``starts``), their centres in the body frame and radii,
+    its bounding sphere, and what :class:`BodyPair` holds of it as either side: ``p_aug``
+    and ``p32`` as side ``a``, ``q_aug``, ``r32`` and ``r2_32`` as side ``b``
+    (:class:`~.pairs.BodyPair`); ``reach`` is the largest distance of a centre from the body
+    origin."""
 
     idx: IntArray
     where: dict[int, slice]
+    starts: IntArray
     centres: FloatArray
     radii: FloatArray
     bound: FloatArray
+    p_aug: F32
+    p32: F32
+    q_aug: F32
+    r32: F32
+    r2_32: F32
+    reach: float
+    r_max: float
 
 
-def _side(s: SphereSet, local: FloatArray, frames: set[int], keep: set[int]) -> _Side:
-    """The spheres of ``frames`` that are in ``keep``, as one side of body pairs."""
+def _side(
+    s: SphereSet,
+    local: FloatArray,
+    frames: set[int],
+    keep: set[int],
+    made: dict[bytes, _Side],
+) -> _Side:
+    """The spheres of ``frames`` that are in ``keep``, as one side of body pairs (from
+    ``made`` when a body pair before had the same side)."""
     idx, where = _side_rows(s, sorted(frames), keep)
-    centres, radii = local[idx], s.self_radii[idx]
-    return _Side(idx, where, centres, radii, _bound(centres, radii))
+    key = idx.tobytes()  # the spheres give their frames' slices
+    if key not in made:
+        made[key] = _new_side(s, local, idx, where)
+        for value in vars(made[key]).values():  # shared by body pairs: never written
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+    return made[key]
+
+
+def _new_side(s: SphereSet, local: FloatArray, idx: IntArray, where: dict[int, slice]) -> _Side:
+    p, r = local[idx], s.self_radii[idx]
+    p_aug = np.hstack(
+        [
+            -2.0 * p,
+            np.ones((len(p), 1)),
+            (np.sum(p * p, axis=1) - r * r)[:, None],
+            -2.0 * r[:, None],
+        ]
+    )
+    return _Side(
+        idx=idx,
+        where=where,
+        starts=np.array(sorted(sl.start for sl in where.values()), dtype=np.intp),
+        centres=p,
+        radii=r,
+        bound=_bound(p, r),
+        p_aug=p_aug.astype(np.float32),
+        p32=p.astype(np.float32),
+        q_aug=np.hstack([p, np.ones((len(p), 1))]).astype(np.float32),
+        r32=r[:, None].astype(np.float32),
+        r2_32=(r * r)[:, None].astype(np.float32),
+        reach=float(np.max(np.linalg.norm(p, axis=1))) if len(p) else 0.0,
+        r_max=float(r.max()) if len(r) else 0.0,
+    )
 
 
 def _assemble(
     err: float,
     reach: Reach,
-    key: tuple[int, int],
+    meet: Meet,
     sides: tuple[_Side, _Side],
     kept: list[tuple[int, int, int]],
 ) -> BodyPair:
-    a, b = key
+    a, b = meet.a, meet.b
     sa, sb = sides
     blocks = [(k, sa.where[fa], sb.where[fb]) for k, fa, fb in kept]
     if len(sb.idx) > len(sa.idx):  # the side with more spheres stays put (fewer to transform)
         sa, sb, a, b = sb, sa, b, a
         blocks = [(k, cols, rows) for k, rows, cols in blocks]
-    p, ra = sa.centres, sa.radii
-    q, rb = sb.centres, sb.radii
-    p_aug = np.hstack(
-        [
-            -2.0 * p,
-            np.ones((len(p), 1)),
-            (np.sum(p * p, axis=1) - ra * ra)[:, None],
-            -2.0 * ra[:, None],
-        ]
-    )
-    path: tuple[tuple[int, ...], tuple[int, ...]] | None = body_chains(reach.bodies, a, b)
     tau = 2.0 * err + 8.0 * EPS32 * reach.bodies.lever  # through the world frame
-    if path is not None and len(path[0]) + len(path[1]) <= _LOCAL_JOINTS:
-        reach_max = float(np.max(np.linalg.norm(np.vstack([p, q]), axis=1)))
+    path: tuple[tuple[int, ...], tuple[int, ...]] | None = None
+    if meet.joints <= _LOCAL_JOINTS:
+        path = body_chains(reach.bodies, a, b)
+        reach_max = max(sa.reach, sb.reach)
         err_path, lever = chain_error(reach.bodies, path, reach.travel(), reach_max)
         tau_path = 2.0 * err_path + 8.0 * EPS32 * lever
         if tau_path < tau:
             err, tau = err_path, tau_path
         else:
             path = None
-    else:
-        path = None
-    row_starts = np.array(sorted(sl.start for sl in sa.where.values()), dtype=np.intp)
-    col_starts = np.array(sorted(sl.start for sl in sb.where.values()), dtype=np.intp)
     return BodyPair(
         a=a,
         b=b,
         ia=sa.idx,
         ib=sb.idx,
-        p_aug=p_aug.astype(np.float32),
-        q_aug=np.hstack([q, np.ones((len(q), 1))]).astype(np.float32),
-        ra64=ra,
-        rb64=rb,
-        r_b=rb[:, None].astype(np.float32),
-        r2_b=(rb * rb)[:, None].astype(np.float32),
+        p_aug=sa.p_aug,
+        q_aug=sb.q_aug,
+        ra64=sa.radii,
+        rb64=sb.radii,
+        r_b=sb.r32,
+        r2_b=sb.r2_32,
         blocks=tuple(blocks),
-        row_starts=row_starts,
-        col_starts=col_starts,
-        seg_a=np.searchsorted(row_starts, [rw.start for _, rw, _ in blocks]).astype(np.intp),
-        seg_b=np.searchsorted(col_starts, [cl.start for _, _, cl in blocks]).astype(np.intp),
-        p32=p.astype(np.float32),
-        delta=energy_error(p, float(ra.max() + rb.max()), err),
+        row_starts=sa.starts,
+        col_starts=sb.starts,
+        seg_a=np.searchsorted(sa.starts, [rw.start for _, rw, _ in blocks]).astype(np.intp),
+        seg_b=np.searchsorted(sb.starts, [cl.start for _, _, cl in blocks]).astype(np.intp),
+        p32=sa.p32,
+        delta=energy_error(sa.reach, sa.r_max + sb.r_max, err),
         bound_a=sa.bound,
         bound_b=sb.bound,
         path=path,

@@ -20,15 +20,16 @@ evaluated.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ...robot.kinematics import KinematicModel
+from ...util.ancestry import Ancestry
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from .bodies import PRISM, Bodies
 
-__all__ = ["Reach", "SidePrune"]
+__all__ = ["Meet", "Reach", "SidePrune"]
 
 
 @dataclass(frozen=True)
@@ -41,14 +42,33 @@ class SidePrune:
     gap: FloatArray
 
 
+@dataclass(frozen=True)
+class Meet:
+    """Where the chains of bodies ``a`` and ``b`` meet: their lowest common ancestor ``lca``,
+    the child of ``lca`` on the path to each (``top_a``, ``top_b``; -1 for a body that is the
+    ancestor) and the number of bodies on the two chains below ``lca`` (``joints``)."""
+
+    a: int
+    b: int
+    lca: int
+    top_a: int
+    top_b: int
+    joints: int
+
+
 @dataclass(frozen=True, eq=False)
 class Reach:
     """The bodies of an engine with the range ``[lo, hi]`` of every body's joint value
-    (``θ = mult · q + off`` over the joint limits; body 0 has none)."""
+    (``θ = mult · q + off`` over the joint limits; body 0 has none) and their ancestry."""
 
     bodies: Bodies
     lo: FloatArray
     hi: FloatArray
+    tree: Ancestry
+    #: the length of each body's joint translation ``|C_j t|`` (m)
+    shift: tuple[float, ...]
+    #: ``_ball``'s extra radius for (top, body), filled by :meth:`meets`
+    _ext: dict[tuple[int, int], float] = field(default_factory=dict, repr=False)
 
     @classmethod
     def of(cls, kin: KinematicModel, varying: IntArray, bodies: Bodies) -> Reach:
@@ -59,32 +79,73 @@ class Reach:
             with np.errstate(invalid="ignore", over="ignore"):
                 ends = bodies.mult[j] * np.array([kin.lower[v], kin.upper[v]]) + bodies.off[j]
             lo[j], hi[j] = float(np.min(ends)), float(np.max(ends))
-        return cls(bodies, lo, hi)
+        shift = tuple(float(np.linalg.norm(c[:3, 3])) for c in bodies.consts)
+        return cls(bodies, lo, hi, Ancestry(bodies.parent), shift)
 
     def travel(self) -> FloatArray:
         """Each body's prismatic travel (largest |joint value|; 0 for revolute joints) [nb]."""
         prism = np.array([k == PRISM for k in self.bodies.kind])
         return np.where(prism, np.maximum(np.abs(self.lo), np.abs(self.hi)), 0.0)
 
-    def _up(self, b: int) -> list[int]:
-        """``b`` and its ancestors, ``b`` first, body 0 last."""
-        out = [b]
-        while out[-1] != 0:
-            out.append(self.bodies.parent[out[-1]])
+    def meets(self, keys: list[tuple[int, int]]) -> list[Meet]:
+        """Where the chains of each body pair ``(a, b)`` of ``keys`` meet, all at once; the
+        reach balls :meth:`prune` needs for them are computed here, one walk up per body."""
+        if not keys:
+            return []
+        a = np.array([k[0] for k in keys], dtype=np.intp)
+        b = np.array([k[1] for k in keys], dtype=np.intp)
+        depth = self.tree.depth
+        lca = self.tree.lca(a, b)
+        below = depth[lca] + 1
+        top_a = np.where(a == lca, -1, self.tree.ancestor(a, np.minimum(below, depth[a])))
+        top_b = np.where(b == lca, -1, self.tree.ancestor(b, np.minimum(below, depth[b])))
+        joints = depth[a] + depth[b] - 2 * depth[lca]
+        out = [
+            Meet(*row)
+            for row in zip(
+                a.tolist(),
+                b.tolist(),
+                lca.tolist(),
+                top_a.tolist(),
+                top_b.tolist(),
+                joints.tolist(),
+                strict=True,
+            )
+        ]
+        wanted: dict[int, set[int]] = {}
+        for m in out:
+            for top, d in ((m.top_a, m.a), (m.top_b, m.b)):
+                if top >= 0:
+                    wanted.setdefault(d, set()).add(top)
+        for d, tops in wanted.items():
+            self._walk_up(d, tops)
         return out
+
+    def _walk_up(self, d: int, tops: set[int]) -> None:
+        """The extra radius of :meth:`_ball` for body ``d`` below each of ``tops`` (``d`` or
+        its ancestors), in one walk from ``d`` up, summed in the order of that walk."""
+        b = self.bodies
+        left = set(tops) - {top for top in tops if (top, d) in self._ext}
+        ext = 0.0
+        k = d
+        while left and k >= 0:
+            if k in left:
+                self._ext[k, d] = ext
+                left.discard(k)
+            ext += self.shift[k]
+            if b.kind[k] == PRISM:
+                ext += max(abs(float(self.lo[k])), abs(float(self.hi[k])))
+            k = b.parent[k]
 
     def _ball(self, top: int, d: int) -> tuple[FloatArray, float]:
         """Centre (in the frame of ``top``'s parent) and extra radius of a ball that holds a
         point of body ``d`` at distance ``ρ`` from its body origin within ``ρ + extra`` for
-        every value of the joints from ``top`` down to ``d``."""
+        every value of the joints from ``top`` down to ``d``: the extra radius adds up the
+        translations of those joints and their prismatic travel."""
         b = self.bodies
-        ext = 0.0
-        k = d
-        while k != top:
-            ext += float(np.linalg.norm(b.consts[k][:3, 3]))
-            if b.kind[k] == PRISM:
-                ext += max(abs(self.lo[k]), abs(self.hi[k]))
-            k = b.parent[k]
+        if (top, d) not in self._ext:
+            self._walk_up(d, {top})
+        ext = self._ext[top, d]
         C = b.consts[top]
         centre = C[:3, 3].copy()
         if b.kind[top] == PRISM:
@@ -94,31 +155,28 @@ class Reach:
 
     def prune(
         self,
-        a: int,
-        b: int,
+        meet: Meet,
         xa: FloatArray,
         ra: FloatArray,
         xb: FloatArray,
         rb: FloatArray,
         limit: float,
     ) -> tuple[SidePrune, SidePrune]:
-        """Which spheres of bodies ``a`` and ``b`` (centres in their body frames, radii) can
-        come within ``limit`` of a sphere of the other body; the rest are dropped."""
-        up_a, up_b = self._up(a), self._up(b)
-        common = set(up_a) & set(up_b)
-        lca = next(x for x in up_a if x in common)
+        """Which spheres of bodies ``meet.a`` and ``meet.b`` (centres in their body frames,
+        radii) can come within ``limit`` of a sphere of the other body; the rest are dropped."""
+        a, b, lca = meet.a, meet.b, meet.lca
         with np.errstate(invalid="ignore", over="ignore"):
             if lca not in (a, b):
-                ca, ea = self._ball(up_a[up_a.index(lca) - 1], a)
-                cb, eb = self._ball(up_b[up_b.index(lca) - 1], b)
+                ca, ea = self._ball(meet.top_a, a)
+                cb, eb = self._ball(meet.top_b, b)
                 far = float(np.linalg.norm(ca - cb)) - ea - eb
                 ga = far - (np.linalg.norm(xa, axis=1) + ra) - float(np.max(_extent(xb, rb)))
                 gb = far - (np.linalg.norm(xb, axis=1) + rb) - float(np.max(_extent(xa, ra)))
                 return _side(ga, limit), _side(gb, limit)
             swap = lca == b
+            top = meet.top_a if swap else meet.top_b
             if swap:  # the ancestor side first
-                a, b, xa, ra, xb, rb, up_b = b, a, xb, rb, xa, ra, up_a
-            top = up_b[up_b.index(a) - 1]
+                a, b, xa, ra, xb, rb = b, a, xb, rb, xa, ra
             if top == b and self.bodies.kind[b] != PRISM:
                 g_anc, g_desc = self._circles(b, xa, ra, xb, rb)
             else:
