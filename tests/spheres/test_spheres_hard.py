@@ -394,7 +394,7 @@ def test_overlapping_thin_shells_in_one_file_are_hulled_unioned_and_said_once(
     assert "link 'arm': of its 2 bodies, 2 thin shells" in note.message and note.line == 3
     # one shell beside a solid block: the note is about that body, not the whole link
     block = trimesh.creation.box(extents=(0.05, 0.05, 0.05))
-    block.apply_translation([0.3, 0.0, 0.0])
+    block.apply_translation([0.6, 0.6, 0.3])  # far: their hulls fill little of the whole
     trimesh.util.concatenate([a, block]).export(tmp_path / "covers.stl")
     _, diags = load_link_geometry(urdf, links=["arm"])
     (note,) = [d for d in diags if d.rule == "spheres-thin-shell"]

@@ -175,8 +175,10 @@ def closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
 
 def shell_pieces(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
     """The part, or its bodies when it is a thin shell only as a whole: closed bodies far
-    apart in one file (a block beside a bracket) have a small share of their common hull's
-    volume, and that hull would fill the gaps between them. Each body is then judged alone."""
+    apart in one file (two jaw plates, a robot's masts) have a small share of their common
+    hull's volume, and that hull would fill the space between them. When even the bodies'
+    own hulls fill less than ``THIN_SHELL_RATIO`` of the common hull, each body is judged
+    alone; bodies that close up to most of it (the two halves of a cover) stay one shell."""
     if not is_volume(part):
         return [part]
     hull = convex_hull(part)
@@ -185,7 +187,9 @@ def shell_pieces(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
     bodies = connected_bodies(part)
     if len(bodies) < 2 or not all(is_volume(b) for b in bodies):
         return [part]
-    return bodies
+    hulls = [convex_hull(b) for b in bodies]
+    closed_up = sum(float(h.volume) for h in hulls if h is not None)
+    return bodies if closed_up < THIN_SHELL_RATIO * float(hull.volume) else [part]
 
 
 def overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
