@@ -317,10 +317,10 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
         settle(editor, page)
         wait_for(lambda: buffer() == 0.5, "the buffer held at the field's maximum")
         expect(row(page, "Buffer (m)").locator("input").first).to_have_value("0.5")
-        # a centre past the readers' bound (1e6 m) is refused; the field shows the document
+        # a centre past twice the robot's reach is refused; the field shows the document
         set_number(page, "Center x (m)", 2000000)
         settle(editor, page)
-        wait_for(lambda: "not done" in editor.message, "the refusal")
+        wait_for(lambda: "not moved" in editor.message, "the refusal")
         x = editor.state.xrdf.resolved_spheres(editor.state.group)["panda_link3"][0].center[0]
         expect(row(page, "Center x (m)").locator("input").first).to_have_value(f"{x:g}")
         assert editor.state.xrdf.resolved_spheres(editor.state.group) == before.resolved_spheres(

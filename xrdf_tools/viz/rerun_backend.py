@@ -116,7 +116,7 @@ class _PipeToFile(threading.Thread):
     never waits."""
 
     def __init__(self, read_end: int, path: Path) -> None:
-        super().__init__(name="xrdf-rrd-writer", daemon=True)
+        super().__init__(name="rrd writer", daemon=True)
         self.read_end, self.path = read_end, path
         self.error: Exception | None = None
 
