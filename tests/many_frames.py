@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from tests.sphere_xrdf import sphere_xrdf
+
 _AXES = ("0 1 0", "1 0 0", "0 0 1")
 
 
@@ -32,29 +34,6 @@ def _urdf(links: list[str], joints: list[str]) -> str:
     return f'<?xml version="1.0"?><robot name="many">{body}</robot>\n'
 
 
-def _xrdf(cspace: list[str], spheres: dict[str, list[tuple[float, float, float, float]]]) -> str:
-    n = len(cspace)
-    lines = [
-        "format: xrdf",
-        "format_version: 1.0",
-        "cspace:",
-        f"  joint_names: [{', '.join(cspace)}]",
-        f"  acceleration_limits: [{', '.join(['10.0'] * n)}]",
-        f"  jerk_limits: [{', '.join(['100.0'] * n)}]",
-        "collision:",
-        "  geometry: body",
-        "self_collision:",
-        "  geometry: body",
-        "geometry:",
-        "  body:",
-        "    spheres:",
-    ]
-    for frame, items in spheres.items():
-        lines.append(f"      {frame}:")
-        lines += [f"        - {{center: [{x}, {y}, {z}], radius: {r}}}" for x, y, z, r in items]
-    return "\n".join(lines) + "\n"
-
-
 def chain_robot(n: int) -> tuple[str, str]:
     """(URDF, XRDF) of a serial chain of ``n`` revolute joints 5 cm apart, each link one
     sphere of 2 cm radius, every joint in the c-space."""
@@ -71,7 +50,7 @@ def chain_robot(n: int) -> tuple[str, str]:
         for i in range(1, n + 1)
     ]
     spheres = {name: [(0.0, 0.0, 0.025, 0.02)] for name in links}
-    return _urdf(links, joints), _xrdf([f"j{i}" for i in range(1, n + 1)], spheres)
+    return _urdf(links, joints), sphere_xrdf([f"j{i}" for i in range(1, n + 1)], spheres)
 
 
 def tree_robot(links: int, seed: int = 0) -> tuple[str, str]:
@@ -114,4 +93,4 @@ def tree_robot(links: int, seed: int = 0) -> tuple[str, str]:
             (*(round(float(v), 3) for v in rng.uniform(-0.02, 0.02, 2)), 0.03, 0.02)
             for _ in range(count)
         ]
-    return _urdf(names, joints), _xrdf(cspace, spheres)
+    return _urdf(names, joints), sphere_xrdf(cspace, spheres)

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from tests.collision_reference import count_chunk
+from tests.sphere_xrdf import Spheres, sphere_xrdf
 from xrdf_tools.report import Report, self_collision_report
 from xrdf_tools.report.results import ConfigsError
 from xrdf_tools.robot.binding import cspace_indices
@@ -25,10 +26,9 @@ from xrdf_tools.selfcollision.sampling import sample_rows
 from xrdf_tools.xrdf.io import parse_xrdf
 
 MARGIN = 0.01
+
+
 #: frame -> spheres (x, y, z, radius)
-Spheres = dict[str, list[tuple[float, float, float, float]]]
-
-
 def _joint(
     name: str, kind: str, parent: str, child: str, xyz: str, extra: str = "", rpy: str = "0 0 0"
 ) -> str:
@@ -47,34 +47,6 @@ def _urdf(tmp_path: Path, links: list[str], joints: list[str]) -> Path:
     body = "".join(f'<link name="{n}"/>' for n in links) + "".join(joints)
     path.write_text(f'<?xml version="1.0"?><robot name="r">{body}</robot>\n')
     return path
-
-
-def _xrdf(
-    cspace: list[str],
-    spheres: Spheres,
-    ignore: dict[str, list[str]] | None = None,
-) -> str:
-    n = len(cspace)
-    lines = [
-        "format: xrdf",
-        "format_version: 1.0",
-        "cspace:",
-        f"  joint_names: [{', '.join(cspace)}]",
-        f"  acceleration_limits: [{', '.join(['10.0'] * n)}]",
-        f"  jerk_limits: [{', '.join(['100.0'] * n)}]",
-        "collision:",
-        "  geometry: body",
-        "self_collision:",
-        "  geometry: body",
-    ]
-    if ignore:
-        lines.append("  ignore:")
-        lines += [f"    {a}: [{', '.join(bs)}]" for a, bs in ignore.items()]
-    lines += ["geometry:", "  body:", "    spheres:"]
-    for frame, items in spheres.items():
-        lines.append(f"      {frame}:")
-        lines += [f"        - {{center: [{x}, {y}, {z}], radius: {r}}}" for x, y, z, r in items]
-    return "\n".join(lines) + "\n"
 
 
 def report_against_reference(
@@ -136,7 +108,9 @@ def test_a_two_joint_grid_whose_body_pair_holds_an_unsampled_frame_pair(tmp_path
         "b2": [(0, 0, 0, 0.05)],
         "tool": [(0, 0, 0, 0.05)],
     }
-    report = report_against_reference(path, _xrdf(["j1", "j2"], spheres, {"base": ["l2"]}), 20_000)
+    report = report_against_reference(
+        path, sphere_xrdf(["j1", "j2"], spheres, {"base": ["l2"]}), 20_000
+    )
     tool = next(p for p in report.pairs if {p.frame_a, p.frame_b} == {"base", "tool"})
     assert tool.hits and tool.classification == "sometimes"
 
@@ -189,7 +163,7 @@ def test_a_one_joint_grid_whose_body_pair_holds_an_unsampled_frame_pair(tmp_path
             (0.0463, -0.0486, 0.0289, 0.0464),
         ],
     }
-    report = report_against_reference(path, _xrdf(["j1"], spheres, {"l3": ["base"]}), 20_000)
+    report = report_against_reference(path, sphere_xrdf(["j1"], spheres, {"l3": ["base"]}), 20_000)
     l6 = next(p for p in report.pairs if {p.frame_a, p.frame_b} == {"base", "l6"})
     assert l6.hits and l6.min_clearance is not None and l6.min_clearance < 0
 
@@ -212,7 +186,7 @@ def test_given_configurations_outside_the_joint_limits_are_counted(tmp_path: Pat
         "carriage": [(0, 0, 0, 0.05)],
         "arm": [(0.2, 0, 0, 0.05)],
     }
-    urdf, xrdf = load_urdf(path), parse_xrdf(_xrdf(["slide", "turn"], spheres), "robot.xrdf")
+    urdf, xrdf = load_urdf(path), parse_xrdf(sphere_xrdf(["slide", "turn"], spheres), "robot.xrdf")
     rng = np.random.default_rng(0)
     configs = np.column_stack([rng.uniform(-0.5, 1.0, 300), rng.uniform(-9.0, 9.0, 300)])
     report = self_collision_report(urdf, xrdf, configs=configs, clearance_margin=MARGIN)
@@ -236,7 +210,7 @@ def test_given_configurations_must_be_finite(tmp_path: Path) -> None:
         [_joint("turn", "revolute", "base", "arm", "0 0 0.1", _revolute("0 0 1"))],
     )
     spheres: Spheres = {"base": [(0, 0, 0, 0.1)], "arm": [(0.2, 0, 0, 0.05)]}
-    urdf, xrdf = load_urdf(path), parse_xrdf(_xrdf(["turn"], spheres), "robot.xrdf")
+    urdf, xrdf = load_urdf(path), parse_xrdf(sphere_xrdf(["turn"], spheres), "robot.xrdf")
     with pytest.raises(ConfigsError, match="configuration 1: turn is nan"):
         self_collision_report(urdf, xrdf, configs=[[0.0], [np.nan]])
 
@@ -295,4 +269,4 @@ def test_random_robots_agree_with_the_reference_counter(tmp_path: Path, seed: in
         parent = joint.split('<parent link="')[1].split('"')[0]
         if link in spheres and parent in spheres:
             ignore.setdefault(parent, []).append(link)
-    report_against_reference(path, _xrdf(cspace, spheres, ignore), 1500, seed=seed)
+    report_against_reference(path, sphere_xrdf(cspace, spheres, ignore), 1500, seed=seed)

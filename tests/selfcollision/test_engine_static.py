@@ -17,6 +17,7 @@ from tests.collision_reference import count_chunk
 from tests.robots import robot_urdf
 from tests.selfcollision.test_collision import fixed_configs, panda
 from tests.selfcollision.test_engine import check_against_brute_force, engine_for
+from tests.sphere_xrdf import Spheres, sphere_xrdf
 from xrdf_tools.robot.kinematics import KinematicModel, build_kinematic_model
 from xrdf_tools.robot.urdf_source import load_urdf
 from xrdf_tools.xrdf.io import parse_xrdf
@@ -28,30 +29,14 @@ ARM = [f"arm_left_{i}_joint" for i in range(1, 8)]
 def _talos_xrdf(kin: KinematicModel, per_link: int) -> str:
     """Spheres around every frame of Talos (seeded), the left arm as the c-space."""
     rng = np.random.default_rng(3)
-    lines = [
-        "format: xrdf",
-        "format_version: 1.0",
-        "cspace:",
-        f"  joint_names: [{', '.join(ARM)}]",
-        f"  acceleration_limits: [{', '.join(['10.0'] * len(ARM))}]",
-        f"  jerk_limits: [{', '.join(['100.0'] * len(ARM))}]",
-        "collision:",
-        "  geometry: body",
-        "self_collision:",
-        "  geometry: body",
-        "geometry:",
-        "  body:",
-        "    spheres:",
-    ]
+    spheres: Spheres = {}
     for name in kin.frame_names[1:]:
-        lines.append(f"      {name}:")
+        spheres[name] = []
         for _ in range(per_link):
             c = rng.uniform(-0.08, 0.08, 3)
             r = rng.uniform(0.02, 0.06)
-            lines.append(
-                f"        - {{center: [{c[0]:.4f}, {c[1]:.4f}, {c[2]:.4f}], radius: {r:.4f}}}"
-            )
-    return "\n".join(lines) + "\n"
+            spheres[name].append((round(c[0], 4), round(c[1], 4), round(c[2], 4), round(r, 4)))
+    return sphere_xrdf(ARM, spheres)
 
 
 def talos_left_arm(per_link: int) -> tuple[KinematicModel, Xrdf]:
