@@ -19,13 +19,13 @@ from typing import Any
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError, XrdfToolsError, did_you_mean
-from ...xrdf.model import AddFrame, Orientation, SetBaseFrame, Sphere
+from ...xrdf.model import AddFrame, Orientation, SetBaseFrame
 from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
 from ...yaml.shape import check_shape
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
-from .curobo_spheres import find_spheres_file, is_num, read_sphere_map
+from .curobo_spheres import find_spheres_file, is_num, read_slots, read_sphere_map
 
 __all__ = ["detect_layout", "read_curobo", "referenced_files"]
 
@@ -194,7 +194,7 @@ def _read_kinematics(
     _read_base_and_tools(k)
     _read_cspace(k)
     _read_sphere_source(k)
-    _read_slots(
+    read_slots(
         kin.get("extra_collision_spheres"), k.frames, d, rep, k.kp("extra_collision_spheres")
     )
     _read_buffers(k)
@@ -455,38 +455,6 @@ def _read_ignore(k: _Kin) -> None:
         for i, b in enumerate(others or []):
             if known_frame(str(b), k.frames, k.rep, f"{w}[{i}]", f"ignored with '{a}'"):
                 k.d.add_ignore(str(a), str(b))
-
-
-#: Radius cuRobo gives the spheres of ``extra_collision_spheres`` (attached-object slots).
-SLOT_RADIUS = -10.0
-
-
-def _read_slots(value: Any, frames: list[str], d: Draft, rep: Reporter, where: str) -> None:
-    """``extra_collision_spheres: {link: n}`` → n spheres of radius −10 at the link origin.
-
-    This is how cuRobo builds them and how cuMotion's own ``franka_curobo.xrdf`` (1.0) keeps
-    them; XRDF 2.0 cannot express them (the version converter reports that).
-    """
-    if value is None:
-        return
-    if not isinstance(value, Mapping):
-        raise SourceError(
-            "extra_collision_spheres must map links to a number of spheres",
-            path=rep.path,
-            line=rep.position(where)[0],
-        )
-    for link, n in value.items():
-        w = f"{where}.{link}"
-        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 0):
-            raise SourceError(
-                f"extra_collision_spheres.{link} must be a whole number of spheres, not {n!r}",
-                path=rep.path,
-                line=rep.position(w)[0],
-            )
-        if n and known_frame(str(link), frames, rep, w, "extra_collision_spheres link"):
-            slots = [Sphere((0.0, 0.0, 0.0), SLOT_RADIUS)] * n
-            d.spheres = d.spheres if d.spheres is not None else {}
-            d.spheres.setdefault(str(link), []).extend(slots)
 
 
 def referenced_files(path: str | os.PathLike[str]) -> list[Path]:

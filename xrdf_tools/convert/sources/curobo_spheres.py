@@ -15,9 +15,16 @@ from ...util.fileio import check_input_file
 from ...util.text import name_list
 from ...xrdf.model import Sphere
 from ...yaml.io import is_finite
-from . import Reporter, known_frame
+from . import Draft, Reporter, known_frame
 
-__all__ = ["find_spheres_file", "is_num", "read_sphere_map", "spheres_of"]
+__all__ = [
+    "SLOT_RADIUS",
+    "find_spheres_file",
+    "is_num",
+    "read_slots",
+    "read_sphere_map",
+    "spheres_of",
+]
 
 
 def is_num(v: Any) -> TypeGuard[float]:
@@ -118,3 +125,35 @@ def spheres_of(items: Any, rep: Reporter, where: str) -> list[Sphere]:
             )
         out.append(Sphere((float(c[0]), float(c[1]), float(c[2])), float(r)))
     return out
+
+
+#: Radius cuRobo gives the spheres of ``extra_collision_spheres`` (attached-object slots).
+SLOT_RADIUS = -10.0
+
+
+def read_slots(value: Any, frames: list[str], d: Draft, rep: Reporter, where: str) -> None:
+    """``extra_collision_spheres: {link: n}`` → n spheres of radius −10 at the link origin.
+
+    This is how cuRobo builds them and how cuMotion's own ``franka_curobo.xrdf`` (1.0) keeps
+    them; XRDF 2.0 cannot express them (the version converter reports that).
+    """
+    if value is None:
+        return
+    if not isinstance(value, Mapping):
+        raise SourceError(
+            "extra_collision_spheres must map links to a number of spheres",
+            path=rep.path,
+            line=rep.position(where)[0],
+        )
+    for link, n in value.items():
+        w = f"{where}.{link}"
+        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 0):
+            raise SourceError(
+                f"extra_collision_spheres.{link} must be a whole number of spheres, not {n!r}",
+                path=rep.path,
+                line=rep.position(w)[0],
+            )
+        if n and known_frame(str(link), frames, rep, w, "extra_collision_spheres link"):
+            slots = [Sphere((0.0, 0.0, 0.0), SLOT_RADIUS)] * n
+            d.spheres = d.spheres if d.spheres is not None else {}
+            d.spheres.setdefault(str(link), []).extend(slots)
