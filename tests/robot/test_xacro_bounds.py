@@ -165,3 +165,21 @@ def test_a_limit_that_is_no_number_is_an_input_error(
     assert out.strip().splitlines()[-1] == (
         f"error: {name}='soon' must be a number of {unit} (0: no limit)"
     )
+
+
+def test_a_child_that_cannot_start_is_said_at_the_xacro_file(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A process limit or a sandbox that refuses new processes: one located line naming the
+    file and how to expand in this process instead, not an error without a place."""
+    import multiprocessing.process
+
+    def refuse(_self: object) -> None:
+        raise OSError(11, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(multiprocessing.process.BaseProcess, "start", refuse)
+    with pytest.raises(SourceError) as caught:
+        expand_xacro(ARM)
+    assert caught.value.path == str(ARM)
+    assert "cannot start the process that expands xacro (Resource temporarily" in str(caught.value)
+    assert "XRDF_XACRO_TIMEOUT=0" in caught.value.message

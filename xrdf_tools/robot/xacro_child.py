@@ -142,7 +142,12 @@ def run_bounded(
             return fn(*args)
         except MemoryError:
             raise XacroBoundError(_no_memory(None), path=os.fspath(path)) from None
-    kind, value = _in_child(fn, args, limits, preload)
+    try:
+        kind, value = _in_child(fn, args, limits, preload)
+    except SourceError as e:  # no process could be started: said at the file it was for
+        if e.path is None:
+            e.path = os.fspath(path)
+        raise
     if kind == "value":
         return value  # type: ignore[no-any-return]
     if kind == "raised":
