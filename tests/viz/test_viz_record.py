@@ -89,6 +89,29 @@ def test_rrd_reaches_the_disk_while_it_is_recorded(
     assert [p.name for p in tmp_path.iterdir()] == ["panda.rrd"]
 
 
+@pytest.mark.skipif(not Path("/proc/self/fd").is_dir(), reason="counts open descriptors")
+def test_rrd_whose_copy_thread_cannot_start_closes_its_pipe(
+    scene: Scene, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A process out of threads: the recording fails with the thread's error, and neither end
+    of the pipe nor a temporary file is left behind (the read end leaked, one per attempt)."""
+    pytest.importorskip("rerun")
+    from xrdf_tools.viz import rerun_backend
+
+    render(scene, "rrd", tmp_path / "first.rrd")  # rerun's own descriptors are open from here
+    open_before = len(list(Path("/proc/self/fd").iterdir()))
+
+    def no_thread(self: object) -> None:
+        raise RuntimeError("can't start new thread")
+
+    monkeypatch.setattr(rerun_backend._PipeToFile, "start", no_thread)
+    for _ in range(3):
+        with pytest.raises(RuntimeError, match="can't start new thread"):
+            render(scene, "rrd", tmp_path / "panda.rrd")
+    assert len(list(Path("/proc/self/fd").iterdir())) == open_before
+    assert [p.name for p in tmp_path.iterdir()] == ["first.rrd"]
+
+
 def test_rrd_without_dev_fd_is_encoded_in_memory_with_the_same_content(
     scene: Scene, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

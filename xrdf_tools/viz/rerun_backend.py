@@ -91,15 +91,17 @@ def _stream_through_pipe(
     """Log ``scene`` to ``rec`` with rerun's file sink on a pipe that :class:`_PipeToFile`
     copies into ``tmp``; raises the copy's error (``OSError``) once the recording is closed."""
     read_end, write_end = os.pipe()
+    copy = _PipeToFile(read_end, tmp)
     try:
-        rec.save(str(_FD_DIR / str(write_end)))  # rerun opens its own descriptor of the pipe
-    except BaseException:
+        try:
+            rec.save(str(_FD_DIR / str(write_end)))  # rerun opens its own descriptor of it
+        finally:
+            os.close(write_end)
+        copy.start()  # from here on the thread owns the read end
+    except BaseException:  # nothing logged yet: the stream's few bytes fit in the pipe
+        rec.disconnect()
         os.close(read_end)
         raise
-    finally:
-        os.close(write_end)
-    copy = _PipeToFile(read_end, tmp)
-    copy.start()
     try:
         _log_scene(rr, rec, scene, buffered=buffered, progress=progress)
         rec.flush()
