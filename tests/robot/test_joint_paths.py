@@ -4,6 +4,7 @@ joint counted as its master, on robots with mimic joints on one branch and acros
 
 from __future__ import annotations
 
+import random
 from itertools import combinations
 
 import pytest
@@ -68,3 +69,38 @@ def test_every_frame_pair_of_a_branched_tree_with_mimics() -> None:
 def test_every_frame_pair_of_real_robots_with_mimics(name: str) -> None:
     kin, _ = build_kinematic_model(load_urdf(robot_urdf(name)))
     _check_every_pair(kin)
+
+
+def _random_tree_urdf(seed: int, links: int) -> str:
+    """A seeded tree mixing chains and stars, with fixed, revolute, prismatic and continuous
+    joints and mimics whose master is anywhere: above, below, on another branch."""
+    rng = random.Random(seed)
+    spec = []
+    for i in range(1, links):
+        shape = rng.choice(["chain", "star", "any"])
+        parent = i - 1 if shape == "chain" else (0 if shape == "star" else rng.randrange(i))
+        spec.append((i, parent, rng.choice(["revolute", "prismatic", "continuous", "fixed"])))
+    masters = [f"j{i}" for i, _, kind in spec if kind != "fixed"]
+    joints = []
+    for i, parent, kind in spec:
+        extra = ""
+        if kind != "fixed":
+            extra = '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+            if rng.random() < 0.3 and len(masters) > 1:
+                master = rng.choice([m for m in masters if m != f"j{i}"])
+                extra += f'<mimic joint="{master}" multiplier="-1"/>'
+                masters.remove(f"j{i}")
+        joints.append(
+            f'<joint name="j{i}" type="{kind}"><parent link="l{parent}"/>'
+            f'<child link="l{i}"/>{extra}</joint>'
+        )
+    body = "".join(f'<link name="l{i}"/>' for i in range(links)) + "".join(joints)
+    return f'<robot name="r">{body}</robot>'
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_every_frame_pair_of_random_trees_with_mimics_anywhere(seed: int) -> None:
+    for k in range(10):
+        text = _random_tree_urdf(100 * seed + k, 5 + (7 * k) % 30)
+        kin, _ = build_kinematic_model(parse_urdf_string(text, "r.urdf"))
+        _check_every_pair(kin)
