@@ -162,6 +162,12 @@ def test_each_refusal_is_heard_once(page: Any) -> None:
         (["[::1]:8080"], ["http://[::1]:8080"], None),
         (["localhost"], ["http://localhost"], None),
         (["localhost"], ["http://localhost:80"], None),
+        # a fully qualified name, an address written long: a browser at the editor's page
+        (["localhost.:8080"], ["http://LOCALHOST.:8080"], None),
+        (["[0:0:0:0:0:0:0:1]:8080"], ["http://[::1]:8080"], None),
+        (["[::ffff:7f00:1]:8080"], ["http://[::ffff:7f00:1]:8080"], None),
+        (["localhost..:8080"], [], "refused a request for localhost..:"),
+        (["[1:2]:8080"], [], "refused a request without one valid Host"),
         (["127.0.0.1:8080"], ["http://127.0.0.1:8081"], "refused a connection from a page"),
         (["127.0.0.1:8080"], ["http://evil.example:8080"], "refused a connection from a page"),
         (["127.0.0.1:8080"], ["http://127.0.0.1:8080/x"], "refused a connection from a page"),
@@ -189,6 +195,8 @@ def test_own_names_are_the_loopback_names_and_the_host_listened_on() -> None:
 
     assert own_names("127.0.0.1") == {"127.0.0.1", "localhost", "::1"}
     assert own_names("Robot-PC.lan") == {"127.0.0.1", "localhost", "::1", "robot-pc.lan"}
+    assert own_names("Robot-PC.lan.") == own_names("Robot-PC.lan")
+    assert own_names("[0::1]") == own_names("127.0.0.1")
     assert own_names("[::]") == {"127.0.0.1", "localhost", "::1", socket.gethostname().lower()}
 
 

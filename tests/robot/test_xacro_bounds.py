@@ -183,3 +183,80 @@ def test_a_child_that_cannot_start_is_said_at_the_xacro_file(
     assert caught.value.path == str(ARM)
     assert "cannot start the process that expands xacro (Resource temporarily" in str(caught.value)
     assert "XRDF_XACRO_TIMEOUT=0" in caught.value.message
+
+
+def _script(tmp_path: Path, body: str) -> Path:
+    script = tmp_path / "caller.py"
+    script.write_text(body, encoding="utf-8")
+    return script
+
+
+def test_a_child_does_not_run_the_callers_script_again(tmp_path: Path) -> None:
+    """Another thread running (the fork server): the child imports none of the caller's main
+    script, which here has no ``__main__`` guard and says each time it runs."""
+    script = _script(
+        tmp_path,
+        "import sys, threading\nprint('script ran', flush=True)\n"
+        "from xrdf_tools.robot.xacro_source import expand_xacro\n"
+        "stop = threading.Event()\nthreading.Thread(target=stop.wait).start()\n"
+        f"try:\n    print(len(expand_xacro({str(ARM)!r})) > 0)\nfinally:\n    stop.set()\n",
+    )
+    done = subprocess.run(
+        [sys.executable, str(script)],
+        cwd=REPO,
+        env={**os.environ, "PYTHONPATH": str(REPO)},
+        capture_output=True,
+        text=True,
+        timeout=HANG_S,
+    )
+    assert (done.returncode, done.stdout, done.stderr) == (0, "script ran\nTrue\n", "")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
+def test_a_child_ends_with_a_parent_killed_outright(tmp_path: Path) -> None:
+    """SIGKILL (the OOM killer, a cancelled CI job) gives the parent no time to stop its child:
+    the child ends with it, not a minute later by its CPU-time limit."""
+    import signal
+    import time
+
+    path = _xacro(tmp_path, '  <link name="${9**9**9}"/>\n')
+    script = _script(
+        tmp_path,
+        f"from xrdf_tools.robot.xacro_source import expand_xacro\nexpand_xacro({str(path)!r})\n",
+    )
+    parent = subprocess.Popen(
+        [sys.executable, str(script)], cwd=REPO, env={**os.environ, "PYTHONPATH": str(REPO)}
+    )
+    try:
+        child = _first_child(parent.pid)
+    finally:
+        parent.kill()
+        parent.wait()
+    end = time.monotonic() + 5
+    while _running(child) and time.monotonic() < end:
+        time.sleep(0.05)
+    alive = _running(child)
+    if alive:
+        os.kill(child, signal.SIGKILL)
+    assert not alive
+
+
+def _first_child(pid: int) -> int:
+    import time
+
+    end = time.monotonic() + HANG_S
+    while time.monotonic() < end:
+        found = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
+        if found:
+            return int(found[0])
+        time.sleep(0.05)
+    raise AssertionError("the expansion never started its child")
+
+
+def _running(pid: int) -> bool:
+    """Whether ``pid`` is a live process (a zombie no parent reaps is not)."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"

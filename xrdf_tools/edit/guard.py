@@ -58,10 +58,22 @@ def own_names(bind_host: str) -> frozenset[str]:
     names = set(LOOPBACK_NAMES)
     host = bind_host.strip("[]").lower()
     if host in WILDCARD_HOSTS:
-        names.add(socket.gethostname().lower())
+        names.add(_canonical(socket.gethostname()))
     else:
-        names.add(host)
+        names.add(_canonical(host))
     return frozenset(names)
+
+
+def _canonical(name: str) -> str:
+    """``name`` as compared: lower case, without the trailing dot of a fully qualified name
+    (``localhost.``), an IP address in its short form (an IPv4-mapped one as IPv4)."""
+    name = name.lower().removesuffix(".")
+    try:
+        ip = ipaddress.ip_address(name)
+    except ValueError:
+        return name
+    mapped = ip.ipv4_mapped if isinstance(ip, ipaddress.IPv6Address) else None
+    return str(mapped or ip)
 
 
 def _host_port(text: str) -> tuple[str, int | None] | None:
@@ -72,7 +84,12 @@ def _host_port(text: str) -> tuple[str, int | None] | None:
     port = int(m["port"]) if m["port"] else None
     if port is not None and port > 65535:
         return None
-    return (m["v6"] or m["name"]).lower(), port
+    if m["v6"] is not None:
+        try:
+            ipaddress.IPv6Address(m["v6"])
+        except ValueError:
+            return None
+    return _canonical(m["v6"] or m["name"]), port
 
 
 def refusal(hosts: Sequence[str], origins: Sequence[str], names: Collection[str]) -> str | None:
@@ -147,8 +164,7 @@ def _arrived_at(connection: ServerConnection) -> frozenset[str]:
         ip = ipaddress.ip_address(str(local[0]).split("%")[0])
     except ValueError:
         return frozenset()
-    mapped = ip.ipv4_mapped if isinstance(ip, ipaddress.IPv6Address) else None
-    return frozenset({str(mapped or ip)})
+    return frozenset({_canonical(str(ip))})
 
 
 _PATCHING = threading.Lock()

@@ -12,7 +12,9 @@ second, in tens of MiB.
 The child is a fork of this process when no other Python thread runs (Linux; nothing is
 imported again: a few milliseconds); where another thread might hold a lock that ``fork``
 would leave held forever, it is forked from multiprocessing's fork server (started once,
-about 0.3 s), or spawned where there is none. The value or the exception comes back pickled
+about 0.3 s), or spawned where there is none; such a child does not import the caller's
+main script again. On Linux the child is killed with its parent, even one killed outright.
+The value or the exception comes back pickled
 through a pipe, so the caller gets what an expansion in this process would give. Both
 variables ``0``: the expansion runs in this process, unbounded, as it does in a daemonic
 multiprocessing worker (which may not start processes).
@@ -58,6 +60,10 @@ _EXIT_GRACE_S = 1.0
 #: The exit code of a child that ran out of memory even to say so.
 _EXIT_NO_MEMORY = 86
 _BUDGET_HINT = "an expression such as ${SAMPLE} or a macro fan-out?"
+#: The name of the expanding child (its preparation imports no main script).
+_CHILD_NAME = "xrdf-xacro-expansion"
+#: prctl(2): the signal a process receives when its parent ends.
+_PR_SET_PDEATHSIG = 1
 
 T = TypeVar("T")
 
@@ -187,17 +193,24 @@ def _in_child(
 
     method = _start_method()
     ctx = multiprocessing.get_context(method)
-    if method == "forkserver":
-        ctx.set_forkserver_preload([fn.__module__, *preload])
-    elif method == "fork":
+    preload = (*preload, "ctypes")  # _end_with_parent's
+    if method == "fork":
         for name in preload:
             importlib.import_module(name)
+    else:
+        _without_main_module()
+    if method == "forkserver":
+        ctx.set_forkserver_preload([fn.__module__, *preload])
     receive, send = ctx.Pipe(duplex=False)
     answered = False
     # a forked child shares this process's directory and environment; another is given them
     here = None if method == "fork" else (_working_directory(), dict(os.environ))
+    parent = os.getpid() if method != "forkserver" else None
     child: Any = ctx.Process(  # type: ignore[attr-defined]
-        target=_child, args=(send, fn, args, limits, here), daemon=True
+        target=_child,
+        args=(send, fn, args, limits, here, parent),
+        daemon=True,
+        name=_CHILD_NAME,
     )
     try:
         try:
@@ -298,6 +311,29 @@ def _one_thread() -> bool:
     return threading.active_count() == 1
 
 
+def _without_main_module() -> None:
+    """A spawned or fork-server child of this module does not import the caller's main script
+    again, as multiprocessing's children do: the expansion needs none of it, and a script
+    without an ``if __name__ == "__main__"`` guard would run again in the child (and fail
+    there, starting a process while it is being imported). Installed once; it changes only
+    the children named :data:`_CHILD_NAME`."""
+    from multiprocessing import spawn
+
+    prepare = spawn.get_preparation_data
+    if getattr(prepare, "_xrdf_without_main", False):
+        return
+
+    def get_preparation_data(name: str) -> dict[str, Any]:
+        data: dict[str, Any] = prepare(name)
+        if name == _CHILD_NAME:
+            data.pop("init_main_from_name", None)
+            data.pop("init_main_from_path", None)
+        return data
+
+    get_preparation_data._xrdf_without_main = True  # type: ignore[attr-defined]
+    spawn.get_preparation_data = get_preparation_data
+
+
 def _working_directory() -> str | None:
     try:
         return os.getcwd()
@@ -311,9 +347,11 @@ def _child(
     args: tuple[Any, ...],
     limits: Bounds,
     here: tuple[str | None, dict[str, str]] | None,
+    parent: int | None,
 ) -> None:
-    """The child: a terminal's signals are the parent's to handle; the limits set; ``fn`` run
-    and what came of it sent."""
+    """The child: it ends with its parent; a terminal's signals are the parent's to handle;
+    the limits set; ``fn`` run and what came of it sent."""
+    _end_with_parent(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     for name in ("SIGTERM", "SIGHUP"):  # not the parent's handler: no second message
         if (sig := getattr(signal, name, None)) is not None:
@@ -338,6 +376,24 @@ def _child(
     except Exception as e:  # an exception that cannot be pickled: a bug, said as one line
         with suppress(Exception):
             send.send(("raised", RuntimeError(f"{type(e).__name__}: {e}")))
+
+
+def _end_with_parent(parent: int | None) -> None:
+    """Linux: this child is killed when its parent ends, even killed outright (SIGKILL, the
+    OOM killer), so that no expansion computes on, holding the caller's output pipes, after
+    the command is gone. ``parent``: the process that started it (None: the fork server,
+    which ends with the process it serves); already gone, the child ends at once."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):  # no C library to ask: the CPU-time backstop stays
+        return
+    prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    if parent is not None and os.getppid() != parent:
+        os._exit(1)
 
 
 def _limit_resources(limits: Bounds) -> None:
