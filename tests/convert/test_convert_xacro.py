@@ -820,3 +820,37 @@ def test_a_link_written_one_attribute_a_line_is_located_in_a_xacro(
     )
     assert r.exit_code == 2, r.output
     assert f"error: {x}:5: 1 mesh file(s) cannot be found: link 'arm' collision:" in r.output
+
+
+@pytest.mark.parametrize(
+    ("tag", "defined"),
+    [
+        ('<joint name="${1e308}_joint" type="fixed"><parent link="base"/>', "joint '1e+308_joint'"),
+        ('<link name="${nan}"/><joint name="j${seg}" type="fixed"><parent link="base"/>', "'nan'"),
+    ],
+)
+def test_a_name_an_expression_makes_twice_is_located_at_the_expression(
+    tmp_path: Path, tag: str, defined: str
+) -> None:
+    """A macro whose element name is an expression (``${1e308}_joint``, ``${nan}``) defines it
+    on every call: no text writes ``1e+308_joint`` or ``nan`` as it is, and the error had no
+    line. It points at the attribute whose expression can make the name."""
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    top = tmp_path / "r.urdf.xacro"
+    top.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="base"/>\n'
+        '  <xacro:macro name="seg" params="seg">\n'
+        '    <link name="l${seg}"/>\n'
+        f'    {tag}<child link="l${{seg}}"/></joint>\n'
+        "  </xacro:macro>\n"
+        '  <xacro:seg seg="1"/>\n'
+        '  <xacro:seg seg="2"/>\n'
+        "</robot>\n"
+    )
+    with pytest.raises(UrdfError) as e:
+        load_robot(top)
+    assert defined in str(e.value) and "defined twice" in str(e.value), str(e.value)
+    assert (e.value.path, e.value.line) == (str(top), 5), str(e.value)

@@ -358,7 +358,10 @@ def _quoted_value_line(source: str, message: str) -> int | None:
         at = _line_of(source, min((i for i in found if i >= 0), default=-1))
         if at is None:  # made by macros: the second call that writes its name
             at = _second_call_line(source, name)
-        return at if at is not None else _numeric_value_line(source, [name])  # ${1e308}
+        if at is None:  # a value written by an expression: name="${1e308}_joint", "${nan}"
+            at = _template_line(source, name)
+        # a number written another way: name="1e308" makes 1e+308 and 1e+308_joint
+        return at if at is not None else _numeric_value_line(source, [name, *name.split("_")])
     wanted = [(f"{attr}=", value) for attr, value in _ATTRIBUTE.findall(message)]
     values = re.findall(r"'([^'\n]+)'", message)
     wanted += [("=", value) for value in reversed(values)]
@@ -390,6 +393,26 @@ def _second_call_line(source: str, name: str) -> int | None:
         if starts:
             return _line_of(source, starts[min(1, len(starts) - 1)])
     return None
+
+
+def _template_line(source: str, name: str) -> int | None:
+    """The line of the attribute value with a ``${...}`` expression that can make ``name``
+    (each expression standing for any text), the one with the most literal text first:
+    ``name="${1e308}_joint"`` for ``1e+308_joint``."""
+    best: tuple[int, int] | None = None  # (-literal characters, offset)
+    for m in _QUOTED_VALUE.finditer(source):
+        parts = [p for p in _EXPRESSION.split(m.group(2)) if p]
+        if not any(_EXPRESSION.fullmatch(p) for p in parts):
+            continue
+        pattern = "".join("(.+?)" if _EXPRESSION.fullmatch(p) else re.escape(p) for p in parts)
+        if re.fullmatch(pattern, name, flags=re.DOTALL):
+            literal = sum(len(p) for p in parts if not _EXPRESSION.fullmatch(p))
+            best = min(best or (0, 1 << 62), (-literal, m.start()))
+    return None if best is None else _line_of(source, best[1])
+
+
+#: One ``${...}`` expression of xacro.
+_EXPRESSION = re.compile(r"(\$\{[^}]*\})")
 
 
 def _numeric_value_line(source: str, values: list[str]) -> int | None:
