@@ -854,3 +854,29 @@ def test_a_name_an_expression_makes_twice_is_located_at_the_expression(
         load_robot(top)
     assert defined in str(e.value) and "defined twice" in str(e.value), str(e.value)
     assert (e.value.path, e.value.line) == (str(top), 5), str(e.value)
+
+
+def test_a_kinematic_error_of_a_macro_made_joint_is_placed_at_the_macro(tmp_path: Path) -> None:
+    """A joint a macro of the file itself makes (``${name}_joint``) with a zero axis: the
+    error named the joint but had no line; it points where the macro writes the joint."""
+    from xrdf_tools.robot.kinematics import build_kinematic_model
+    from xrdf_tools.robot.xacro_source import load_robot
+    from xrdf_tools.util.errors import UrdfError
+
+    top = tmp_path / "r.urdf.xacro"
+    top.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="base"/>\n'
+        '  <xacro:macro name="seg" params="name parent">\n'
+        '    <link name="${name}"/>\n'
+        '    <joint name="${name}_joint" type="revolute"><parent link="${parent}"/>\n'
+        '      <child link="${name}"/><axis xyz="0 0 0"/>\n'
+        '      <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        "  </xacro:macro>\n"
+        '  <xacro:seg name="upper" parent="base"/>\n'
+        "</robot>\n"
+    )
+    with pytest.raises(UrdfError) as e:
+        build_kinematic_model(load_robot(top))
+    assert "joint 'upper_joint' has a zero or invalid axis" in str(e.value)
+    assert (e.value.path, e.value.line) == (str(top), 5), str(e.value)

@@ -32,6 +32,7 @@ from ..util.textpos import attribute_line, line_col
 from .urdf_check import JOINT_TYPES, RULE_PREFIX_UNDECLARED, XACRO_NS, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
 from .urdfdom_refusals import urdfdom_refusals
+from .xacro_places import template_offset
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -358,8 +359,6 @@ def _quoted_value_line(source: str, message: str) -> int | None:
         at = _line_of(source, min((i for i in found if i >= 0), default=-1))
         if at is None:  # made by macros: the second call that writes its name
             at = _second_call_line(source, name)
-        if at is None:  # a value written by an expression: name="${1e308}_joint", "${nan}"
-            at = _template_line(source, name)
         # a number written another way: name="1e308" makes 1e+308 and 1e+308_joint
         return at if at is not None else _numeric_value_line(source, [name, *name.split("_")])
     wanted = [(f"{attr}=", value) for attr, value in _ATTRIBUTE.findall(message)]
@@ -379,6 +378,17 @@ def _quoted_value_line(source: str, message: str) -> int | None:
     return _numeric_value_line(source, list(reversed(values)))
 
 
+def template_line(source: str, message: str) -> int | None:
+    """For "link/joint 'X' is defined twice" that no file writes as it is: the line of the
+    element of ``source`` whose name template (``name="${1e308}_joint"``, ``"${nan}"``) can
+    make ``X``. The last resort, after every file was searched for the name itself."""
+    twice = _DEFINED_TWICE.match(message)
+    if twice is None:
+        return None
+    offset = template_offset(source, twice.group(1), twice.group(2))
+    return None if offset is None else _line_of(source, offset)
+
+
 def _second_call_line(source: str, name: str) -> int | None:
     """Where ``source`` passes ``name`` (or, for a name a macro composes, such as
     ``lower_joint``, its longest part: ``name="lower"``) to a xacro macro call the second time,
@@ -393,26 +403,6 @@ def _second_call_line(source: str, name: str) -> int | None:
         if starts:
             return _line_of(source, starts[min(1, len(starts) - 1)])
     return None
-
-
-def _template_line(source: str, name: str) -> int | None:
-    """The line of the attribute value with a ``${...}`` expression that can make ``name``
-    (each expression standing for any text), the one with the most literal text first:
-    ``name="${1e308}_joint"`` for ``1e+308_joint``."""
-    best: tuple[int, int] | None = None  # (-literal characters, offset)
-    for m in _QUOTED_VALUE.finditer(source):
-        parts = [p for p in _EXPRESSION.split(m.group(2)) if p]
-        if not any(_EXPRESSION.fullmatch(p) for p in parts):
-            continue
-        pattern = "".join("(.+?)" if _EXPRESSION.fullmatch(p) else re.escape(p) for p in parts)
-        if re.fullmatch(pattern, name, flags=re.DOTALL):
-            literal = sum(len(p) for p in parts if not _EXPRESSION.fullmatch(p))
-            best = min(best or (0, 1 << 62), (-literal, m.start()))
-    return None if best is None else _line_of(source, best[1])
-
-
-#: One ``${...}`` expression of xacro.
-_EXPRESSION = re.compile(r"(\$\{[^}]*\})")
 
 
 def _numeric_value_line(source: str, values: list[str]) -> int | None:

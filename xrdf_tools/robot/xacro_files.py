@@ -115,18 +115,20 @@ def _shown(path: Path) -> str:
 def located_in_includes(e: UrdfError, top: str, included: Sequence[str]) -> UrdfError:
     """``e``, an error of the expansion that the top file does not locate, located in the
     first included file that writes what it quotes: an element that a macro of that file made
-    (HEBI's omnibase.xacro: a wheel joint to a link no macro makes)."""
-    from .urdf_source import _quoted_value_line
+    (HEBI's omnibase.xacro: a wheel joint to a link no macro makes); last, a link or joint
+    defined twice that no file writes as it is, at the name template that makes it."""
+    from .urdf_source import _quoted_value_line, template_line
 
     if e.line is not None or e.path != top:
         return e
-    for path in included:
-        text = reread_text(path, errors="replace")
-        if text is None:
-            continue
-        if (line := _quoted_value_line(text, e.message)) is not None:
-            e.path, e.line = os.path.normpath(path), line
-            return e
+    for find, files in ((_quoted_value_line, included), (template_line, [top, *included])):
+        for path in files:
+            text = reread_text(path, errors="replace")
+            if text is None:
+                continue
+            if (line := find(text, e.message)) is not None:
+                e.path, e.line = os.path.normpath(path), line
+                return e
     return e
 
 

@@ -12,7 +12,7 @@ literal text fits nothing. Messages about the link then point where the user wou
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -22,9 +22,17 @@ from ..util.textpos import line_col
 
 if TYPE_CHECKING:
     from ..diagnostics import Diagnostic
+    from ..util.errors import UrdfError
     from .core import Robot
 
-__all__ = ["Place", "included_places", "located_at_elements", "placed_in_includes"]
+__all__ = [
+    "Place",
+    "included_places",
+    "located_at_elements",
+    "located_error",
+    "placed_in_includes",
+    "template_offset",
+]
 
 #: ``(kind, name)`` -> ``(file, line)``
 Place = tuple[str, int]
@@ -85,17 +93,48 @@ def _templates(path: str) -> list[tuple[str, _Template]]:
     if text is None:
         return []
     out: list[tuple[str, _Template]] = []
+    for kind, start, literal, pattern in _name_templates(text):
+        if literal:  # a template without literal text fits every name
+            out.append((kind, _Template(literal, path, line_col(text, start)[0], pattern)))
+            if len(out) >= _MAX_TEMPLATES:
+                break
+    return out
+
+
+def _name_templates(text: str) -> Iterator[tuple[str, int, int, re.Pattern[str]]]:
+    """``(kind, offset, literal characters, pattern)`` of each ``<link>``/``<joint>`` of
+    ``text`` whose name holds an expression (literal names are the top file's to place)."""
     for m in _ELEMENT.finditer(text):
         value = m.group(2) if m.group(2) is not None else m.group(3)
-        pieces = _EXPRESSION.split(value)
-        literal = sum(len(p) for p in pieces)
-        if not literal or "$" not in value:  # literal names are the top file's to place
+        if "$" not in value:
             continue
+        pieces = _EXPRESSION.split(value)
         pattern = re.compile(".*?".join(re.escape(p) for p in pieces), re.S)
-        out.append((m.group(1), _Template(literal, path, line_col(text, m.start())[0], pattern)))
-        if len(out) >= _MAX_TEMPLATES:
-            break
-    return out
+        yield m.group(1), m.start(), sum(len(p) for p in pieces), pattern
+
+
+def template_offset(text: str, kind: str, name: str) -> int | None:
+    """Where in the xacro ``text`` a ``<link>``/``<joint>`` (``kind``) whose name template
+    fits ``name`` starts, the one with the most literal text first; here a name that is one
+    expression (``name="${nan}"``) fits too: for a name no text writes as it is."""
+    fits = [
+        (-literal, start)
+        for k, start, literal, pattern in _name_templates(text)
+        if k == kind and pattern.fullmatch(name)
+    ]
+    return min(fits)[1] if fits else None
+
+
+def located_error(
+    error: UrdfError, path: str, places: Mapping[tuple[str, str], Place]
+) -> UrdfError:
+    """``error``, when it is about one link or joint (``joint 'X' …``) of the robot file
+    ``path`` and has no line, moved to where ``places`` says that element is written."""
+    m = _ABOUT.match(error.message) if error.path == path and error.line is None else None
+    place = places.get((m.group(1), m.group(2))) if m else None
+    if place is None:
+        return error
+    return type(error)(error.message, path=place[0], line=place[1])
 
 
 def located_at_elements(

@@ -70,10 +70,17 @@ def build_kinematic_model(
 def build_model(
     robot: Robot, xrdf: Xrdf | None, upath: str
 ) -> tuple[KinematicModel, list[Diagnostic]]:
-    """:func:`build_kinematic_model` without its cache (kept in :attr:`Robot.derived`)."""
+    """:func:`build_kinematic_model` without its cache (kept in :attr:`Robot.derived`). What
+    it says about a link or joint a xacro macro made is placed where the macro writes it."""
+    from ..xacro_places import located_at_elements, located_error
+
     diags: list[Diagnostic] = []
     report = _Report(upath, diags, robot.link_lines)
-    return _build(report, list(robot.links), dict(robot.joints), xrdf), diags
+    try:
+        kin = _build(report, list(robot.links), dict(robot.joints), xrdf)
+    except UrdfError as e:
+        raise located_error(e, robot.path, robot.include_places) from None
+    return kin, located_at_elements(diags, robot.path, robot.include_places)
 
 
 @dataclass(frozen=True)
