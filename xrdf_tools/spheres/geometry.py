@@ -35,12 +35,11 @@ from ..util.errors import UrdfError
 from ..util.fixed_order import quantized
 from ..xrdf.model import Sphere
 from .mesh_solids import (
-    closed_part,
+    closed_parts,
     convex_hull,
     is_volume,
     overlapping_bodies,
     repaired,
-    shell_pieces,
     wall_thickness,
 )
 
@@ -93,13 +92,10 @@ def _solidify(
     import trimesh
 
     bodies = [body for whole in parts for body in overlapping_bodies(repaired(whole))]
-    made: list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]] = []  # (body, its solid, how)
     with np.errstate(invalid="ignore", divide="ignore"):  # trimesh on flat parts
-        bodies = [piece for body in bodies for piece in shell_pieces(body)]
-        for body in bodies:
-            got = closed_part(body)
-            if got is not None:
-                made.append((body, *got))
+        pieces = [closed_parts(body) for body in bodies]  # (body, its solid, how) each
+    made = [piece for of_body in pieces for piece in of_body]
+    n_bodies = sum(max(len(of_body), 1) for of_body in pieces)  # unreadable ones too
     closed = [solid for _, solid, _ in made]
     how = [kind for _, _, kind in made]
     if not closed:
@@ -112,7 +108,7 @@ def _solidify(
             )
         )
         return None
-    _report_parts(link, len(bodies), made, path, line, diags)
+    _report_parts(link, n_bodies, made, path, line, diags)
     if len(closed) == 1:
         return closed[0], _KIND[how[0]]
     try:

@@ -20,13 +20,13 @@ __all__ = [
     "THIN_WALL_RATIO",
     "bounding_box",
     "closed_part",
+    "closed_parts",
     "connected_bodies",
     "convex_hull",
     "is_thin_shell",
     "is_volume",
     "overlapping_bodies",
     "repaired",
-    "shell_pieces",
     "wall_thickness",
 ]
 
@@ -173,23 +173,25 @@ def closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
     return (box, "bounding_box") if box is not None else None
 
 
-def shell_pieces(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
-    """The part, or its bodies when it is a thin shell only as a whole: closed bodies far
+def closed_parts(part: trimesh.Trimesh) -> list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]]:
+    """``(body, its closed solid, how)`` for one part (:func:`closed_part`, its hull computed
+    once), or for each of its bodies when it is a thin shell only as a whole: closed bodies far
     apart in one file (two jaw plates, a robot's masts) have a small share of their common
-    hull's volume, and that hull would fill the space between them. When even the bodies'
-    own hulls fill less than ``THIN_SHELL_RATIO`` of the common hull, each body is judged
-    alone; bodies that close up to most of it (the two halves of a cover) stay one shell."""
+    hull's volume, and that hull would fill the space between them. When even the bodies' own
+    hulls fill less than ``THIN_SHELL_RATIO`` of the common hull, each body is judged alone;
+    bodies that close up to most of it (the two halves of a cover) stay one shell."""
     if not is_volume(part):
-        return [part]
+        got = closed_part(part)
+        return [] if got is None else [(part, *got)]
     hull = convex_hull(part)
     if hull is None or not is_thin_shell(part, hull):
-        return [part]
+        return [(part, part, "mesh")]
     bodies = connected_bodies(part)
-    if len(bodies) < 2 or not all(is_volume(b) for b in bodies):
-        return [part]
-    hulls = [convex_hull(b) for b in bodies]
-    closed_up = sum(float(h.volume) for h in hulls if h is not None)
-    return bodies if closed_up < THIN_SHELL_RATIO * float(hull.volume) else [part]
+    if len(bodies) > 1 and all(is_volume(b) for b in bodies):
+        closed_up = sum(float(h.volume) for b in bodies if (h := convex_hull(b)) is not None)
+        if closed_up < THIN_SHELL_RATIO * float(hull.volume):
+            return [(b, *got) for b in bodies if (got := closed_part(b)) is not None]
+    return [(part, hull, "thin_shell")]
 
 
 def overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
