@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..convert.sources.srdf_parse import refuse_urdf
+from ..convert.sources.srdf_parse import refuse_urdf, trimmed
 from ..diagnostics import Diagnostic, Severity
 from ..robot.tree import RobotTree
 from ..util.errors import ConversionError, SourceError
@@ -332,7 +332,7 @@ def _universe(x: Xrdf, urdf: RobotTree | None, root: Any) -> set[str]:
     names -= {m.frame_name for m in x.added_frames()}
     for el in root:
         for attr in ("link", "link1", "link2"):
-            v = _name(el, attr) if isinstance(el.tag, str) else None
+            v = trimmed(el, attr) if isinstance(el.tag, str) else None
             if v:
                 names.add(v)
     return names
@@ -390,12 +390,7 @@ def _added_diag(added: Iterable[PairChange], path: str) -> Diagnostic:
 # Planning: what to keep, add and remove
 # ------------------------------------------------------------------------------------------
 def _pair_of(el: Any) -> Pair:
-    return frozenset((_name(el, "link1"), _name(el, "link2")))
-
-
-def _name(el: Any, attr: str) -> str:
-    """A link name of an SRDF element, trimmed as MoveIt's SRDF reader trims it ("" absent)."""
-    return (el.get(attr) or "").strip()
+    return frozenset((trimmed(el, "link1") or "", trimmed(el, "link2") or ""))
 
 
 @dataclass
@@ -452,7 +447,7 @@ def _plan(
         else:
             plan.removed.append(ch)
             plan.drop.append(el)
-    defaults = {_name(el, "link") for el in root.iterchildren("disable_default_collisions")}
+    defaults = {trimmed(el, "link") for el in root.iterchildren("disable_default_collisions")}
     enabled: set[Pair] = set()
     for el in root.iterchildren("enable_collisions"):
         pair = _pair_of(el)
@@ -492,5 +487,9 @@ def _re_enable(
 
 def _change(el: Any, element: str) -> PairChange:
     return PairChange(
-        _name(el, "link1"), _name(el, "link2"), el.get("reason"), el.sourceline, element
+        trimmed(el, "link1") or "",
+        trimmed(el, "link2") or "",
+        el.get("reason"),
+        el.sourceline,
+        element,
     )

@@ -27,6 +27,7 @@ __all__ = [
     "load_srdf",
     "parse_srdf",
     "refuse_urdf",
+    "trimmed",
 ]
 
 
@@ -203,7 +204,7 @@ class _Parser:
     def req(self, el: Any, attr: str) -> str:
         """A required, non-empty attribute, trimmed of surrounding spaces as MoveIt's SRDF
         reader trims names (``link1=" a"`` names link ``a``)."""
-        v = _trimmed(el, attr)
+        v = trimmed(el, attr)
         if not v:
             raise SourceError(
                 f"<{el.tag}> needs a '{attr}' attribute", path=self.path, line=self.line(el)
@@ -221,8 +222,9 @@ class _Parser:
             ) from None
 
 
-def _trimmed(el: Any, attr: str) -> str | None:
-    """Attribute ``attr`` of ``el`` without surrounding spaces (None when absent)."""
+def trimmed(el: Any, attr: str) -> str | None:
+    """Attribute ``attr`` of ``el`` without surrounding spaces, as MoveIt's SRDF reader
+    trims names (None when absent)."""
     v = el.get(attr)
     return None if v is None else str(v).strip()
 
@@ -255,7 +257,7 @@ def _group_state(p: _Parser, el: Any) -> None:
     joints = [j for j in el if j.tag == "joint"]
     values = tuple((p.req(j, "name"), p.num(j, "value")) for j in joints)
     multi = tuple(p.req(j, "name") for j in joints if len(j.get("value").split()) > 1)
-    p.states.append(GroupState(p.req(el, "name"), _trimmed(el, "group"), values, p.line(el), multi))
+    p.states.append(GroupState(p.req(el, "name"), trimmed(el, "group"), values, p.line(el), multi))
 
 
 def _end_effector(p: _Parser, el: Any) -> None:
@@ -263,8 +265,8 @@ def _end_effector(p: _Parser, el: Any) -> None:
         EndEffector(
             p.req(el, "name"),
             p.req(el, "parent_link"),
-            _trimmed(el, "group"),
-            _trimmed(el, "parent_group"),
+            trimmed(el, "group"),
+            trimmed(el, "parent_group"),
             p.line(el),
         )
     )
@@ -274,8 +276,8 @@ def _virtual_joint(p: _Parser, el: Any) -> None:
     p.vjs.append(
         VirtualJoint(
             p.req(el, "name"),
-            _trimmed(el, "type") or "",
-            _trimmed(el, "child_link") or "",
+            trimmed(el, "type") or "",
+            trimmed(el, "child_link") or "",
             p.line(el),
         )
     )
