@@ -183,3 +183,13 @@ def test_every_command_help_shows_an_example() -> None:
         if "Examples:" not in (cmd.help or "") or f"xrdf {' '.join(path)} " not in cmd.help
     ]
     assert missing == []
+
+
+def test_every_docs_page_is_linked_from_the_readme_or_the_docs_index() -> None:
+    linked = {
+        (doc.parent / target.partition("#")[0]).resolve()
+        for doc in (REPO / "README.md", REPO / "docs" / "index.md")
+        for target in re.findall(r"\]\(([^)\s#]+)", doc.read_text(encoding="utf-8"))
+    }
+    pages = {p.resolve() for p in (REPO / "docs").glob("*.md")} - {REPO / "docs" / "index.md"}
+    assert sorted(p.name for p in pages - linked) == []
