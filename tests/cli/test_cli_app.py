@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 from tests.paths import SEED_XRDF, UR10E_URDF, UR10E_XRDF
 from xrdf_tools.cli.commands.app import COMMANDS, GROUPS, app_for, build_app, full_app
 
-NAMES = [name for name, _ in (*COMMANDS, *GROUPS)]
+NAMES = [name for name, *_ in (*COMMANDS, *GROUPS)]
 
 
 def _lines(name: str) -> list[list[str]]:
@@ -51,4 +51,4 @@ def test_the_whole_app_lists_every_command_in_order(runner: CliRunner) -> None:
         for line in r.stdout.split("Commands:")[1].splitlines()
         if line.startswith("  ")
     ]
-    assert listed == [name for name, _ in COMMANDS] + [name for name, _ in GROUPS]
+    assert listed == [name for name, _ in COMMANDS] + [name for name, *_ in GROUPS]

@@ -1,5 +1,5 @@
 """Crashes found by the fuzz suite and tracebacks seen on bad input, kept as regression tests:
-sorted diagnostics, a negative seed, repeated and non-finite values in viz."""
+sorted diagnostics, a negative seed or protrusion, repeated and non-finite values in viz."""
 
 from __future__ import annotations
 
@@ -49,6 +49,20 @@ def test_negative_seed_is_a_usage_error(runner: CliRunner, tmp_path: Path, comma
         runner, command, str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "--seed", "-1", *extra
     )
     assert code == 2 and "--seed" in out
+
+
+def test_negative_seed_of_convert_is_a_usage_error(runner: CliRunner) -> None:
+    """``convert --fit-spheres --seed -1`` was taken, then the sampler raised a traceback."""
+    code, out = run_cli(
+        runner, "convert", str(MIMIC_URDF), "--fit-spheres", "--seed", "-1", "-n", "2"
+    )
+    assert code == 2 and "--seed" in out
+
+
+def test_negative_max_protrusion_is_a_usage_error(runner: CliRunner) -> None:
+    """``spheres --max-protrusion -1`` fitted spheres covering nothing and exited 0."""
+    code, out = run_cli(runner, "spheres", str(MIMIC_URDF), "--max-protrusion", "-1")
+    assert code == 2 and "--max-protrusion" in out
 
 
 # Crashes found by benchmarks/fuzz_cli.py (seed 0), kept as regression tests.

@@ -143,3 +143,53 @@ def test_every_link_in_the_docs_points_at_a_file_and_heading_that_exist() -> Non
             elif anchor and linked.suffix == ".md" and anchor not in _headings(linked):
                 broken.append(f"{doc.name}: {target}: no such heading")
     assert broken == []
+
+
+def _params_named(opt: str) -> dict[str, Any]:
+    """``{command: click parameter}`` of the option spelled ``opt`` in every command."""
+    return {
+        " ".join(path): p for path, cmd in _commands().items() for p in cmd.params if opt in p.opts
+    }
+
+
+def test_an_option_several_commands_share_reads_the_same_in_each() -> None:
+    from xrdf_tools.cli.commands import options
+
+    targets = _params_named("--target")
+    assert set(targets) == {"convert", "lint", "export xrdf"}
+    assert all(p.help.startswith(options.target("").help.strip()) for p in targets.values())
+    versions = _params_named("--format-version")
+    assert set(versions) == {"convert", "export xrdf"}
+    assert {p.metavar for p in (*targets.values(), *versions.values())} == {
+        "<curobo|cumotion|isaac-sim>",
+        "<1.0|2.0>",
+    }
+    seeds = _params_named("--seed")
+    assert set(seeds) == {"convert", "report", "viz", "spheres", "edit"}
+    assert all(p.type.min == 0 and "same seed" in p.help for p in seeds.values())
+    stdout_outputs = {k: p for k, p in _params_named("-o").items() if k != "edit"}
+    assert len(stdout_outputs) == 7  # convert, report, spheres, expand, export curobo|srdf|xrdf
+    assert all("to stdout" in p.help and "atomically" in p.help for p in stdout_outputs.values())
+    assert all("-f" in p.opts for p in _params_named("--format").values())
+    configs = _params_named("--configs")
+    assert set(configs) == {"report", "viz", "edit"}
+    assert all(".json/.yaml" in p.help for p in configs.values())
+
+
+def test_every_command_help_shows_an_example() -> None:
+    missing = [
+        " ".join(path)
+        for path, cmd in _commands().items()
+        if "Examples:" not in (cmd.help or "") or f"xrdf {' '.join(path)} " not in cmd.help
+    ]
+    assert missing == []
+
+
+def test_every_docs_page_is_linked_from_the_readme_or_the_docs_index() -> None:
+    linked = {
+        (doc.parent / target.partition("#")[0]).resolve()
+        for doc in (REPO / "README.md", REPO / "docs" / "index.md")
+        for target in re.findall(r"\]\(([^)\s#]+)", doc.read_text(encoding="utf-8"))
+    }
+    pages = {p.resolve() for p in (REPO / "docs").glob("*.md")} - {REPO / "docs" / "index.md"}
+    assert sorted(p.name for p in pages - linked) == []

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+import shlex
 from pathlib import Path
 
 import pytest
@@ -24,40 +26,38 @@ def test_readme_main_job_names_the_bundled_demo_arm() -> None:
         assert (DEMO / name).is_file()
 
 
+def _readme_setup_commands() -> list[list[str]]:
+    """The ``xrdf`` commands of README's set-up line, as written (the venv and pip install
+    before them left out): the arguments after ``xrdf``."""
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    line = next(m for m in re.findall(r"^```sh\n(.*?)\n```", readme, re.S | re.M) if "xrdf" in m)
+    words = [shlex.split(part) for part in line.split("&&")]
+    return [w[1:] for w in words if w[0] == ".venv/bin/xrdf"]
+
+
 @pytest.mark.slow
-def test_demo_arm_one_command_result_passes_report_lint_and_curobo(
-    runner: CliRunner, tmp_path: Path
+def test_readme_setup_commands_run_as_written_and_pass_lint_and_curobo(
+    runner: CliRunner, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    out = tmp_path / "demo_arm.xrdf"
-    urdf = DEMO / "demo_arm.urdf"
-    r = runner.invoke(
-        app,
-        [
-            "convert",
-            str(urdf),
-            "--srdf",
-            str(DEMO / "demo_arm.srdf"),
-            "--joint-limits",
-            str(DEMO / "joint_limits.yaml"),
-            "--fit-spheres",
-            "--target",
-            "curobo",
-            "--samples",
-            "10000",
-            "--per-link",
-            "8",
-            "-o",
-            str(out),
-        ],
-    )
-    assert r.exit_code == 0, r.output
-    assert "mesh file not found" not in r.output
-    assert "camera_link" in r.output  # the visual-only link is named, and gets no spheres
+    """README's main job, its commands exactly as written (run in a folder holding the
+    fixtures): a planning-ready XRDF that the report, lint and cuRobo's loader accept."""
+    commands = _readme_setup_commands()
+    assert [c[0] for c in commands] == ["convert", "report"]
+    (tmp_path / "fixtures").symlink_to(FIXTURES)
+    monkeypatch.chdir(tmp_path)
+    outputs = []
+    for args in commands:
+        r = runner.invoke(app, args)
+        assert r.exit_code == 0, f"xrdf {shlex.join(args)}\n{r.output}"
+        outputs.append(r.output)
+    converted, reported = outputs
+    assert "mesh file not found" not in converted
+    assert "camera_link" in converted  # the visual-only link is named, and gets no spheres
+    assert "findings: none" in reported
+    out, urdf = tmp_path / "out" / "demo_arm.xrdf", DEMO / "demo_arm.urdf"
     text = out.read_text()
     assert "camera_link:" not in text.split("geometry:", 1)[1]
     assert loads_as_written(text, urdf)
-    report = runner.invoke(app, ["report", str(out), "--urdf", str(urdf), "-n", "10000"])
-    assert report.exit_code == 0, report.output
     lint = runner.invoke(app, ["lint", str(out), "--urdf", str(urdf), "--target", "curobo"])
     assert lint.exit_code == 0, lint.output
 

@@ -20,9 +20,18 @@ from ... import __version__
 
 _HELP = (
     "Tools for XRDF robot descriptions (cuMotion / cuRobo / MoveIt).\n\n"
-    "Typical flow: inspect a URDF (+ SRDF), convert it (with an SRDF or a cuRobo config) to "
-    "XRDF, lint it, report on its self-collision mask, look at the spheres.\n\n"
-    "Exit codes: 0 success, 1 findings (lint errors, differences), 2 usage or input error."
+    "\b\n"
+    "Typical flow: look at the robot, convert it with fitted spheres and a computed mask,\n"
+    "lint it for its reader, report on its mask, look at the spheres:\n"
+    "  xrdf inspect robot.urdf --srdf robot.srdf\n"
+    "  xrdf convert robot.urdf --srdf robot.srdf --fit-spheres --target curobo -o robot.xrdf\n"
+    "  xrdf lint robot.xrdf --urdf robot.urdf --target curobo\n"
+    "  xrdf report robot.xrdf --urdf robot.urdf\n"
+    "  xrdf viz robot.xrdf --urdf robot.urdf --png robot.png\n\n"
+    "Every command takes -q/--quiet and -v/--verbose; '-' reads an XRDF from standard input "
+    "and -o - writes standard output. `xrdf COMMAND --help` gives its options and examples.\n\n"
+    "Exit codes: 0 success, 1 findings (lint errors, differences, collisions), 2 usage or "
+    "input error."
 )
 
 #: The commands in the order ``xrdf --help`` lists them: name and its one-line summary (each
@@ -39,10 +48,11 @@ COMMANDS: tuple[tuple[str, str], ...] = (
     ("edit", "Edit spheres, mask and defaults in the browser (viser)."),
     ("expand", "xacro → URDF, without ROS (as every command reads it)."),
 )
-#: Command groups (a Typer app of their own): name and help.
-GROUPS: tuple[tuple[str, str], ...] = (
+#: Command groups (a Typer app of their own): name, one-line summary and help.
+GROUPS: tuple[tuple[str, str, str], ...] = (
     (
         "export",
+        "XRDF → cuRobo YAML, MoveIt SRDF, or an XRDF for a reader.",
         "XRDF → cuRobo robot YAML, a MoveIt SRDF sync, or an XRDF for a reader (--target).",
     ),
 )
@@ -78,9 +88,9 @@ def build_app(names: Iterable[str] | None = None) -> typer.Typer:
     for name, summary in COMMANDS:
         if wanted is None or name in wanted:
             app.command(name, short_help=summary)(_module(name).command)
-    for name, help_ in GROUPS:
+    for name, summary, help_ in GROUPS:
         if wanted is None or name in wanted:
-            app.add_typer(_module(name).app, name=name, help=help_)
+            app.add_typer(_module(name).app, name=name, help=help_, short_help=summary)
     return app
 
 
@@ -91,7 +101,7 @@ def _module(name: str) -> Any:
 def app_for(words: list[str]) -> typer.Typer:
     """The app for the command line ``words`` (after ``xrdf``): only its command when the
     first word names one, else every command (``xrdf --help``, a mistyped command)."""
-    known = {name for name, _ in (*COMMANDS, *GROUPS)}
+    known = {name for name, *_ in (*COMMANDS, *GROUPS)}
     if words and words[0] in known:
         return build_app([words[0]])
     return full_app()

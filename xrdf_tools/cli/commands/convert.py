@@ -15,6 +15,10 @@ import typer
 from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
 from ...util.numbers import MAX_SAMPLES, REPORT_SAMPLES
+from .options import format_version as format_version_option
+from .options import output as output_option
+from .options import seed as seed_option
+from .options import target as target_option
 from .plain import (
     EXIT_FINDINGS,
     OutputFormat,
@@ -26,9 +30,10 @@ from .plain import (
     timed,
     verbosity,
 )
-from .spheres import FitMethod
+from .spheres import FitMethod, fit_method_help
 from .typer_common import (
     AllowMissingMeshesOption,
+    DiagnosticsFormatOption,
     PackagePathOption,
     QuietOption,
     VerboseOption,
@@ -40,6 +45,7 @@ from .typer_common import (
     progress_bar,
     refuse_input_overwrite,
     stderr_is_terminal,
+    typer_option,
     write_output,
 )
 
@@ -137,30 +143,23 @@ def command(
     package_path: PackagePathOption = None,
     format_version: Annotated[
         str | None,
-        typer.Option(
-            "--format-version",
-            help="XRDF version to write: 1.0 or 2.0. Default: 1.0, the version every reader "
-            "loads (2.0 only when the robot needs it; the message says which readers drop it).",
-            show_default=False,
+        typer_option(
+            format_version_option(
+                "1.0, the version every reader loads (2.0 only when the robot needs it; the "
+                "message says which readers drop it)."
+            )
         ),
     ] = None,
     target: Annotated[
         str | None,
-        typer.Option(
-            "--target",
-            help="The program that will load the XRDF: curobo (cuRobo, Isaac ROS cuMotion; "
-            "1.0 only), cumotion (cuMotion library) or isaac-sim (Robot Description Editor). "
-            "Chooses the version and lints the result for that reader. Default: none (XRDF "
-            "1.0, the readers' checks as warnings).",
-            show_default=False,
+        typer_option(
+            target_option(
+                "Chooses the version and lints the result for that reader (its checks become "
+                "errors). Default: none (XRDF 1.0, the readers' checks as warnings)."
+            )
         ),
     ] = None,
-    output: Annotated[
-        Path | None,
-        typer.Option(
-            "-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."
-        ),
-    ] = None,
+    output: Annotated[Path | None, typer_option(output_option("the XRDF"))] = None,
     check: Annotated[
         bool,
         typer.Option(
@@ -189,7 +188,7 @@ def command(
         ),
     ] = REPORT_SAMPLES,
     seed: Annotated[
-        int, typer.Option("--seed", help="With --fit-spheres: seed of the fit and the sampler.")
+        int, typer_option(seed_option("the fit and of the mask's samples (with --fit-spheres)"))
     ] = 0,
     geometry_from: Annotated[
         GeometryFrom,
@@ -223,7 +222,7 @@ def command(
         typer.Option(
             "--clip",
             help="With --fit-spheres: LINK:nx,ny,nz,d keeps LINK's spheres on the side of the "
-            "plane n.x = d that n points to (link frame; as `xrdf spheres --clip`).",
+            "plane n.x = d that n points to (link frame, metres; as `xrdf spheres --clip`).",
         ),
     ] = None,
     method: Annotated[
@@ -231,11 +230,9 @@ def command(
         typer.Option(
             "--method",
             case_sensitive=False,
-            help="With --fit-spheres: who fits each link's solid. ours (default): greedy "
-            "cover, then refined. morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) at "
-            "the same per-link counts (--per-link, --sphere-budget, else the count ours needs "
-            "to cover 90 %), seeded alike (same inputs, same bytes); --clip is enforced by "
-            'shrinking its spheres. Needs pip install "xrdf-tools[morphit]".',
+            help=fit_method_help(
+                "--per-link, --sphere-budget", "90 %", "--clip is enforced", "With --fit-spheres"
+            ),
         ),
     ] = FitMethod.ours,
     joints: Annotated[
@@ -258,9 +255,7 @@ def command(
     no_lint: Annotated[
         bool, typer.Option("--no-lint", help="Skip linting the result against the URDF.")
     ] = False,
-    fmt: Annotated[
-        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
-    ] = OutputFormat.text,
+    fmt: DiagnosticsFormatOption = OutputFormat.text,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:

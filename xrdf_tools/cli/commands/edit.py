@@ -10,6 +10,9 @@ import typer
 from ...util.errors import XrdfToolsError
 from ...util.extras import FIT, require
 from ...util.numbers import REPORT_SAMPLES
+from .options import ROBOT_URDF
+from .options import configs as configs_option
+from .options import seed as seed_option
 from .plain import (
     OutputFormat,
     check_robot_overwrite,
@@ -30,6 +33,7 @@ from .typer_common import (
     load_xrdf_input,
     note,
     refuse_input_overwrite,
+    typer_option,
 )
 
 if TYPE_CHECKING:
@@ -82,10 +86,7 @@ def command(
             show_default=False,
         ),
     ] = None,
-    urdf: Annotated[
-        Path | None,
-        typer.Option("--urdf", help="URDF (or xacro) of the robot.", show_default=False),
-    ] = None,
+    urdf: Annotated[Path | None, typer_option(ROBOT_URDF)] = None,
     output: Annotated[
         Path | None,
         typer.Option(
@@ -101,13 +102,16 @@ def command(
     ] = None,
     configs: Annotated[
         Path | None,
-        typer.Option(
-            "--configs",
-            help="Configurations to pose the robot in (.npy, .csv/.txt, .json/.yaml), picked "
-            "by number on the page.",
+        typer_option(
+            configs_option("Configurations to pose the robot in, picked by number on the page.")
         ),
     ] = None,
-    port: Annotated[int, typer.Option("--port", min=0, max=65535, help="TCP port.")] = 8080,
+    port: Annotated[
+        int,
+        typer.Option(
+            "--port", min=0, max=65535, help="TCP port; when it is taken, the next free one."
+        ),
+    ] = 8080,
     host: Annotated[
         str,
         typer.Option("--host", help="Address to listen on. Anyone who can reach it can edit."),
@@ -122,12 +126,13 @@ def command(
         int,
         typer.Option(
             "--samples",
+            "-n",
             min=1,
             help="Configurations sampled for the draft's mask (-o without XRDF) and, to start "
             "with, by the page's report (as `xrdf report --samples`).",
         ),
     ] = REPORT_SAMPLES,
-    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of fits and samples.")] = 0,
+    seed: Annotated[int, typer_option(seed_option("the draft's fit and samples"))] = 0,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
     quiet: QuietOption = False,
@@ -142,10 +147,9 @@ def command(
     Nothing is written until you press Save, and only to ROBOT.xrdf (or -o). Stop with Ctrl-C.
     Needs the edit extra: pip install "xrdf-tools[edit]".
 
+    \b
     Examples:
-
       xrdf edit robot.xrdf --urdf robot.urdf
-
       xrdf edit --urdf robot.urdf --srdf robot.srdf -o robot.xrdf
     """
     try:

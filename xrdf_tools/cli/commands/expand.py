@@ -12,6 +12,7 @@ import typer
 
 from ...diagnostics import Diagnostic
 from ...util.errors import XrdfToolsError
+from .options import output as output_option
 from .plain import timed
 from .typer_common import (
     PackagePathOption,
@@ -20,6 +21,7 @@ from .typer_common import (
     XacroArgOption,
     fail,
     refuse_input_overwrite,
+    typer_option,
     write_output,
 )
 
@@ -36,10 +38,7 @@ def command(
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
     output: Annotated[
-        Path | None,
-        typer.Option(
-            "-o", "--output", help="Write the URDF here (atomically); default or '-': stdout."
-        ),
+        Path | None, typer_option(output_option("the URDF (or the SRDF of an SRDF xacro)"))
     ] = None,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,

@@ -10,10 +10,15 @@ import typer
 
 from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
+from .options import format_version as format_version_option
+from .options import output as output_option
+from .options import target as target_option
 from .plain import EXIT_FINDINGS, OutputFormat, is_stdio
 from .typer_common import (
+    DiagnosticsFormatOption,
     PackagePathOption,
     QuietOption,
+    RobotUrdfOption,
     VerboseOption,
     XacroArgOption,
     echo_diagnostics,
@@ -21,6 +26,7 @@ from .typer_common import (
     load_xrdf_input,
     refuse_input_overwrite,
     refuse_two_stdin,
+    typer_option,
     write_output,
 )
 
@@ -53,29 +59,23 @@ def _load_tree(
     return _load_robot(urdf, package_path, xacro_arg).tree
 
 
-OutputOption = Annotated[
-    Path | None,
-    typer.Option("-o", "--output", help="Write here (atomically) instead of stdout ('-': stdout)."),
-]
 XrdfArgument = Annotated[
     Path,
     typer.Argument(metavar="ROBOT.xrdf", help="The XRDF file ('-': stdin).", show_default=False),
 ]
-FormatOption = Annotated[
-    OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
-]
+OutputOption = Annotated[Path | None, typer_option(output_option("the result"))]
+FormatOption = DiagnosticsFormatOption
 
 
-@app.command("curobo")
+@app.command("curobo", short_help="XRDF + URDF → cuRobo robot YAML (robot_cfg).")
 def curobo(
     xrdf: XrdfArgument,
-    urdf: Annotated[
-        Path, typer.Option("--urdf", help="The robot's URDF (or xacro).", show_default=False)
-    ],
+    urdf: RobotUrdfOption,
     layout: Annotated[
         str,
         typer.Option(
             "--layout",
+            metavar="<2.0|classic>",
             help=(
                 "cuRobo config layout: 2.0 (tool_frames; cuRobo main) or classic "
                 "(ee_link; cuRobo 0.7.x, which main does not load)."
@@ -183,7 +183,7 @@ def _expanded_note(urdf: Path, written: Path) -> Diagnostic:
     )
 
 
-@app.command("srdf")
+@app.command("srdf", short_help="Sync the ignore pairs into a MoveIt SRDF.")
 def srdf(
     xrdf: XrdfArgument,
     merge: Annotated[
@@ -220,7 +220,19 @@ def srdf(
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
-    """Sync the XRDF's ignore pairs into a MoveIt SRDF's disable_collisions."""
+    """Sync the XRDF's ignore pairs into a MoveIt SRDF's disable_collisions.
+
+    With --merge, the SRDF's disabled pairs become exactly the XRDF's ignore pairs: pairs
+    still ignored are kept untouched, pairs no longer ignored are removed (a warning each),
+    new ones are added (reasons from --report, else User); everything else in the file is
+    kept byte for byte. Without --merge a new SRDF holds only the disable_collisions.
+
+    \b
+    Examples:
+      xrdf report robot.xrdf --urdf robot.urdf -f json -o report.json --write-mask robot.masked.xrdf
+      xrdf export srdf robot.masked.xrdf --merge robot.srdf --urdf robot.urdf \\
+          --report report.json -o robot.synced.srdf
+    """
     from ...export.srdf import load_report_reasons, sync_srdf
 
     inputs = [xrdf, merge, report, urdf]
@@ -260,26 +272,24 @@ def _read_srdf(path: Path) -> bytes:
         fail(e)
 
 
-@app.command("xrdf")
+@app.command("xrdf", short_help="Rewrite an XRDF for its reader (e.g. 2.0 → 1.0).")
 def xrdf_for_target(
     xrdf: XrdfArgument,
     target: Annotated[
         str | None,
-        typer.Option(
-            "--target",
-            help="The program that will load it: curobo (cuRobo, Isaac ROS cuMotion: 1.0 "
-            "only), cumotion or isaac-sim. Chooses the version and lints the result for that "
-            "reader. Default: none (XRDF 1.0, not linted).",
-            show_default=False,
+        typer_option(
+            target_option(
+                "Chooses the version and lints the result for that reader (nothing is written "
+                "when it would refuse the file). Default: none (XRDF 1.0, not linted)."
+            )
         ),
     ] = None,
     format_version: Annotated[
         str | None,
-        typer.Option(
-            "--format-version",
-            help="XRDF version to write: 1.0 or 2.0. Default: what the target loads; without "
-            "--target, 1.0 (every reader loads it).",
-            show_default=False,
+        typer_option(
+            format_version_option(
+                "what the target loads; without --target, 1.0 (every reader loads it)."
+            )
         ),
     ] = None,
     output: OutputOption = None,
@@ -294,6 +304,11 @@ def xrdf_for_target(
     --target`, without a URDF): when the reader would refuse it or silently load something
     else (cuRobo: no tool_frames, no self_collision), its errors are listed, nothing is
     written and the exit code is 1.
+
+    \b
+    Examples:
+      xrdf export xrdf robot_2_0.xrdf --target curobo -o robot.xrdf
+      xrdf export xrdf robot.xrdf --format-version 2.0 -o robot_2_0.xrdf
     """
     from ...export.curobo import for_target
     from ...xrdf.io import dump_xrdf

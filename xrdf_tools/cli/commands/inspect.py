@@ -41,7 +41,9 @@ def command(
     fmt: Annotated[
         InspectFormat,
         typer.Option(
-            "--format", help="text (a tree for people) or json (stable keys, docs/inspect.md)."
+            "--format",
+            "-f",
+            help="text (a tree for people) or json (stable keys, docs/inspect.md).",
         ),
     ] = InspectFormat.text,
     quiet: QuietOption = False,
@@ -62,7 +64,7 @@ def command(
     Examples:
       xrdf inspect tiago.urdf
       xrdf inspect panda.urdf --srdf panda.srdf
-      xrdf inspect ur5.urdf --format json | jq '.default.cspace'
+      xrdf inspect ur5_robot.urdf --format json | jq '.default.cspace'
     """
     from ...convert.inspect import inspect_robot
     from ...convert.inspect_text import render_inspection

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 from ...util.errors import one_line
 from .options import (
+    FINDINGS_FORMAT,
     LINT_ALLOW_MISSING_MESHES,
     PACKAGE_PATH,
     QUIET,
@@ -25,9 +26,9 @@ from .options import (
     XACRO_ARG,
     Option,
     OptionTable,
-    choice,
     parse_command_line,
     path,
+    target,
     text,
 )
 from .plain import (
@@ -138,29 +139,26 @@ LINT_OPTIONS = OptionTable(
         ),
         XACRO_ARG,
         PACKAGE_PATH,
-        Option("output_format", ("--format", "-f"), "Output format.", choice(OutputFormat)),
+        FINDINGS_FORMAT,
         Option(
             "select",
             ("--select",),
-            "Only these rules (ids or prefixes like 'curobo-').",
+            "Only these rules: ids or prefixes ending in '-' like 'curobo-' (repeatable or "
+            "comma-separated).",
             text,
             multiple=True,
         ),
         Option(
             "ignore",
             ("--ignore",),
-            "Skip these rules (ids or prefixes like 'curobo-').",
+            "Skip these rules: ids or prefixes ending in '-' like 'curobo-' (repeatable or "
+            "comma-separated).",
             text,
             multiple=True,
         ),
-        Option(
-            "target",
-            ("--target",),
-            "The program that will load the files: curobo (cuRobo, Isaac ROS cuMotion), "
-            "cumotion (cuMotion library) or isaac-sim. That reader's silent failures become "
-            "errors; other readers' checks are off. Default: the configuration's 'target'.",
-            text,
-            typer_extra={"show_default": False},
+        target(
+            "Its silent failures become errors; the other readers' checks are off. Default: "
+            "the configuration's 'target' (else none: every reader's checks, as warnings)."
         ),
         Option("strict", ("--strict",), "Exit 1 on warnings too, not only errors."),
         Option(

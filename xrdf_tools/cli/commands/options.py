@@ -20,6 +20,8 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
+from .plain import OutputFormat
+
 #: Converts an option's text to its value; raises ValueError when typer would refuse it (the
 #: fast path then leaves the command line to typer, which says why).
 Convert = Callable[[str], Any]
@@ -140,6 +142,99 @@ LINT_ALLOW_MISSING_MESHES = Option(
     "Mesh files that cannot be found (unknown package, no such file) are expected, as in a CI "
     "job without the mesh packages: the check that needs them skips their links with an info "
     "instead of a warning. --package-path NAME=DIR points at them.",
+)
+#: ``--urdf`` of the commands that need the robot (``report``, ``viz``, ``export curobo``,
+#: ``edit``); ``lint``, ``diff`` and ``export srdf`` say what their optional one enables.
+ROBOT_URDF = Option(
+    "urdf",
+    ("--urdf",),
+    "The robot's URDF, or a xacro (expanded with --xacro-arg and --package-path).",
+    path,
+    typer_extra={"show_default": False},
+)
+#: What ``--target`` names, in every command that has it (``convert``, ``lint``,
+#: ``export xrdf``); each adds what it does with it.
+_TARGET_HELP = (
+    "The program that will load the XRDF: curobo (cuRobo and Isaac ROS cuMotion; XRDF 1.0 "
+    "only), cumotion (the cuMotion library) or isaac-sim (Isaac Sim's Robot Description "
+    "Editor)."
+)
+_FORMATS_HELP = "text, json, github (GitHub Actions annotations) or sarif (a SARIF 2.1.0 log)"
+
+
+def target(effect: str) -> Option:
+    """``--target READER``: the one help text of the readers, then ``effect`` (what the command
+    does with it, and its default)."""
+    return Option(
+        "target",
+        ("--target",),
+        f"{_TARGET_HELP} {effect}",
+        text,
+        typer_extra={"show_default": False, "metavar": "<curobo|cumotion|isaac-sim>"},
+    )
+
+
+def format_version(default: str) -> Option:
+    """``--format-version 1.0|2.0`` of the commands that write an XRDF; ``default`` says what
+    is written without it."""
+    return Option(
+        "format_version",
+        ("--format-version",),
+        f"XRDF version to write: 1.0 or 2.0. Default: {default}",
+        text,
+        typer_extra={"show_default": False, "metavar": "<1.0|2.0>"},
+    )
+
+
+def output(what: str) -> Option:
+    """``-o/--output FILE`` of a command whose output goes to stdout without it."""
+    return Option(
+        "output",
+        ("-o", "--output"),
+        f"Write {what} to this file (atomically, never over an input); without -o, or "
+        "with '-o -', to stdout.",
+        path,
+    )
+
+
+def seed(what: str) -> Option:
+    """``--seed S`` (an integer ≥ 0): the same seed and inputs give the same bytes."""
+    return Option(
+        "seed",
+        ("--seed",),
+        f"Seed of {what}: the same seed and inputs give the same output.",
+        integer,
+        bounds=(0, None),
+    )
+
+
+def configs(use: str) -> Option:
+    """``--configs FILE``: configurations read by one loader
+    (:func:`xrdf_tools.selfcollision.configurations.load_configurations`) in every command."""
+    return Option(
+        "configs",
+        ("--configs",),
+        f"{use} One per row: .npy, .csv/.txt (numbers, an optional header row of joint "
+        "names), or .json/.yaml (lists of numbers or {joint: value} maps); rows without names "
+        "in c-space order (or every actuated joint), radians and metres.",
+        path,
+    )
+
+
+#: ``--format`` of a command whose output is a file: how its diagnostics look on stderr.
+DIAGNOSTICS_FORMAT = Option(
+    "output_format",
+    ("--format", "-f"),
+    f"Format of the diagnostics on stderr: {_FORMATS_HELP}.",
+    choice(OutputFormat),
+)
+#: ``xrdf lint``'s: its findings are its output.
+FINDINGS_FORMAT = Option(
+    "output_format",
+    ("--format", "-f"),
+    "Format of the findings on stdout: text (path:line:col: severity rule message), json "
+    "(docs/lint.md), github (GitHub Actions annotations) or sarif (a SARIF 2.1.0 log).",
+    choice(OutputFormat),
 )
 QUIET = Option(
     "quiet",

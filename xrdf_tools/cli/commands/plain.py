@@ -183,7 +183,7 @@ def has_failures(diagnostics: Sequence[Diagnostic], *, strict: bool) -> bool:
 
 
 # --------------------------------------------------------------------------------------------
-# Verbosity: the level -q/--quiet and -v/--verbose set (their options live in common.py)
+# Verbosity: the level -q/--quiet and -v/--verbose set (their options: typer_common.py)
 # --------------------------------------------------------------------------------------------
 class Verbosity(IntEnum):
     QUIET = -1

@@ -23,15 +23,19 @@ from ...util.numbers import CERTIFY_BOXES, MAX_SAMPLES, REPORT_SAMPLES
 from .options import (
     PACKAGE_PATH,
     QUIET,
+    ROBOT_URDF,
     VERBOSE,
     XACRO_ARG,
     Option,
     OptionTable,
     choice,
+    configs,
     integer,
     number,
+    output,
     parse_command_line,
     path,
+    seed,
 )
 from .plain import (
     EXIT_FINDINGS,
@@ -94,7 +98,7 @@ class SamplerChoice(str, Enum):
 
 REPORT_OPTIONS = OptionTable(
     (
-        Option("urdf", ("--urdf",), "The robot's URDF (or xacro).", path),
+        ROBOT_URDF,
         Option(
             "samples",
             ("--samples", "-n"),
@@ -102,7 +106,7 @@ REPORT_OPTIONS = OptionTable(
             integer,
             bounds=(1, MAX_SAMPLES),
         ),
-        Option("seed", ("--seed",), "Random seed of the sampler.", integer, bounds=(0, None)),
+        seed("the sampler"),
         Option(
             "sampler",
             ("--sampler",),
@@ -110,12 +114,9 @@ REPORT_OPTIONS = OptionTable(
             "scrambled low-discrepancy points (better coverage, bound indicative).",
             choice(SamplerChoice),
         ),
-        Option(
-            "configs",
-            ("--configs",),
-            "Check these configurations instead of sampling: .npy or .csv, one joint "
-            "vector per row in c-space order (a CSV header of joint names is matched by name).",
-            path,
+        configs(
+            "Check these configurations instead of sampling (exactly, also outside the joint "
+            "limits)."
         ),
         Option(
             "output_format",
@@ -124,12 +125,7 @@ REPORT_OPTIONS = OptionTable(
             "findings as GitHub annotations or a SARIF 2.1.0 log (code scanning).",
             choice(ReportFormat),
         ),
-        Option(
-            "output",
-            ("--output", "-o"),
-            "Write the report here (atomically; '-': stdout, the default).",
-            path,
-        ),
+        output("the report"),
         Option("plot", ("--plot",), "Write a collision-matrix heatmap PNG.", path),
         Option(
             "write_mask",

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
+from .options import output as output_option
+from .options import seed as seed_option
 from .plain import (
     EXIT_FINDINGS,
     OutputFormat,
@@ -36,6 +38,7 @@ from .typer_common import (
     progress_bar,
     refuse_input_overwrite,
     stderr_is_terminal,
+    typer_option,
     write_output,
 )
 
@@ -50,18 +53,18 @@ class FitMethod(str, Enum):
     morphit = "morphit"
 
 
-#: ``--method`` of ``xrdf spheres`` and ``xrdf convert --fit-spheres``.
-FIT_METHOD_HELP = (
-    "Who fits each link's solid. ours (default): greedy cover, then refined (see "
-    "docs/spheres.md). morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) at the same "
-    "per-link counts (--count/--per-link/--density, else the count ours needs for "
-    "--target-coverage), seeded alike (same inputs, same bytes); --clip and "
-    "--max-protrusion are enforced by shrinking its spheres. Needs "
-    'pip install "xrdf-tools[morphit]".'
-)
-FitMethodOption = Annotated[
-    FitMethod, typer.Option("--method", help=FIT_METHOD_HELP, case_sensitive=False)
-]
+def fit_method_help(counts: str, coverage: str, enforced: str, when: str = "") -> str:
+    """The help of ``--method`` (``xrdf spheres`` and ``xrdf convert --fit-spheres``):
+    ``counts``, the options that set the per-link counts; ``coverage``, what the default count
+    covers; ``enforced``, the bounds MorphIt's spheres are shrunk to; ``when``, the option it
+    applies with."""
+    return (f"{when}: who" if when else "Who") + (
+        " fits each link's solid. ours (default): greedy cover, then refined "
+        "(docs/spheres.md). morphit: MorphIt (cuRobo v2's fitter, preset MorphIt-B) at the same "
+        f"per-link counts ({counts}, else the count ours needs to cover {coverage}), seeded "
+        f"alike (same inputs, same bytes); {enforced} by shrinking its spheres. Needs "
+        'pip install "xrdf-tools[morphit]".'
+    )
 
 
 def _split_links(values: list[str] | None) -> list[str] | None:
@@ -118,6 +121,7 @@ def command(
         typer.Option(
             "--max-protrusion",
             callback=finite,
+            min=0.0,
             help="How far (m) a sphere may reach outside its link: a hard bound on every "
             "sphere. Without it: 6 % of the cube root of the link volume when the count is "
             "chosen per link; with --count/--per-link/--density the spheres are refined "
@@ -146,18 +150,20 @@ def command(
             "above its z = 0 floor). Repeatable.",
         ),
     ] = None,
-    seed: Annotated[
-        int, typer.Option("--seed", min=0, help="Random seed (same seed, same spheres).")
-    ] = 0,
-    method: FitMethodOption = FitMethod.ours,
-    output: Annotated[
-        Path | None,
+    seed: Annotated[int, typer_option(seed_option("the fit"))] = 0,
+    method: Annotated[
+        FitMethod,
         typer.Option(
-            "-o",
-            "--output",
-            help="Write the XRDF here (atomically) instead of stdout ('-': stdout).",
+            "--method",
+            case_sensitive=False,
+            help=fit_method_help(
+                "--count/--per-link/--density",
+                "--target-coverage",
+                "--clip and --max-protrusion are enforced",
+            ),
         ),
-    ] = None,
+    ] = FitMethod.ours,
+    output: Annotated[Path | None, typer_option(output_option("the XRDF"))] = None,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
     allow_missing_meshes: AllowMissingMeshesOption = False,
@@ -165,8 +171,9 @@ def command(
         OutputFormat,
         typer.Option(
             "--format",
-            help="Format of the diagnostics and of the metrics (json: one object, lengths "
-            "in metres).",
+            "-f",
+            help="Format of the diagnostics (text, json, github or sarif) and of the metrics "
+            "(json: one object, lengths in metres).",
         ),
     ] = OutputFormat.text,
     timings: Annotated[

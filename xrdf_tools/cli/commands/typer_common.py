@@ -20,8 +20,10 @@ from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError, one_line
 from .options import (
     ALLOW_MISSING_MESHES,
+    DIAGNOSTICS_FORMAT,
     PACKAGE_PATH,
     QUIET,
+    ROBOT_URDF,
     VERBOSE,
     XACRO_ARG,
     Option,
@@ -237,3 +239,7 @@ XacroArgOption = Annotated[list[str] | None, typer_option(XACRO_ARG)]
 PackagePathOption = Annotated[list[str] | None, typer_option(PACKAGE_PATH)]
 #: ``--allow-missing-meshes`` of every command that reads link meshes (one definition).
 AllowMissingMeshesOption = Annotated[bool, typer_option(ALLOW_MISSING_MESHES)]
+#: ``--urdf`` of the commands that need the robot (one definition).
+RobotUrdfOption = Annotated[Path, typer_option(ROBOT_URDF)]
+#: ``-f/--format`` of the diagnostics on stderr, of every command whose output is a file.
+DiagnosticsFormatOption = Annotated[OutputFormat, typer_option(DIAGNOSTICS_FORMAT)]

@@ -9,11 +9,15 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from ...util.errors import XrdfToolsError
+from .options import configs as configs_option
+from .options import seed as seed_option
 from .plain import OutputFormat, check_robot_overwrite, detail, is_stdio, load_robot_option, timed
 from .typer_common import (
     AllowMissingMeshesOption,
+    DiagnosticsFormatOption,
     PackagePathOption,
     QuietOption,
+    RobotUrdfOption,
     VerboseOption,
     XacroArgOption,
     echo_diagnostics,
@@ -23,6 +27,7 @@ from .typer_common import (
     one_bar,
     progress_bar,
     refuse_input_overwrite,
+    typer_option,
 )
 
 if TYPE_CHECKING:
@@ -50,9 +55,7 @@ def command(
         Path,
         typer.Argument(metavar="ROBOT.xrdf", help="XRDF file ('-': stdin).", show_default=False),
     ],
-    urdf: Annotated[
-        Path, typer.Option("--urdf", help="URDF (or xacro) of the robot.", show_default=False)
-    ],
+    urdf: RobotUrdfOption,
     rrd: Annotated[
         Path | None, typer.Option("--rrd", help="Write a rerun recording (.rrd).")
     ] = None,
@@ -66,15 +69,16 @@ def command(
     ] = None,
     samples: Annotated[
         int,
-        typer.Option("--samples", "-n", min=0, help="Random c-space configurations to add."),
+        typer.Option(
+            "--samples",
+            "-n",
+            min=0,
+            help="Configurations drawn uniformly within the c-space joint limits, added after "
+            "the default pose (step 0).",
+        ),
     ] = 0,
     configs: Annotated[
-        Path | None,
-        typer.Option(
-            "--configs",
-            help="Configurations file (.npy, .csv/.txt with optional joint-name header, "
-            ".json/.yaml list), one per row.",
-        ),
+        Path | None, typer_option(configs_option("Configurations to add after the default pose."))
     ] = None,
     colliding_only: Annotated[
         bool,
@@ -88,13 +92,17 @@ def command(
     ] = MeshChoice.visual,
     group: Annotated[
         str | None,
-        typer.Option("--group", help="Geometry group to draw (default: the self-collision one)."),
+        typer.Option(
+            "--group",
+            help="Geometry group to draw. Default: the self-collision one, else the "
+            "world-collision one.",
+        ),
     ] = None,
     buffered: Annotated[
         bool,
         typer.Option("--buffered", help="Also draw the self-collision buffered radii."),
     ] = False,
-    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of --samples.")] = 0,
+    seed: Annotated[int, typer_option(seed_option("--samples"))] = 0,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
     allow_missing_meshes: AllowMissingMeshesOption = False,
@@ -113,9 +121,7 @@ def command(
             "21 links on) or off.",
         ),
     ] = LegendChoice.auto,
-    fmt: Annotated[
-        OutputFormat, typer.Option("--format", help="Diagnostics format (on stderr).")
-    ] = OutputFormat.text,
+    fmt: DiagnosticsFormatOption = OutputFormat.text,
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
