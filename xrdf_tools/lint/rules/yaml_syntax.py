@@ -2,7 +2,8 @@
 
 A syntax error (bad indentation, an unclosed bracket, a tab used for indentation, a second
 document) stops every other check: the error points at the line and column where the YAML parser
-gave up. Files must also be UTF-8 text.
+gave up and, for the usual hand edits, says what to check (the indentation, the tab to replace,
+the line of the ``[`` left open or of the key without ``:``). Files must also be UTF-8 text.
 """
 
 from __future__ import annotations
