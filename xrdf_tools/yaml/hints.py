@@ -4,12 +4,17 @@ to libyaml's own words (which stay, as people search for them).
 Hand edits break YAML in a few ways: a tab, a line indented one space off, a missing ``:``,
 an unclosed ``[``, a ``: `` inside a value. libyaml names the token it did not expect
 (``expected <block end>, but found '<block sequence start>'``); :func:`syntax_hint` says
-what that usually means.
+what that usually means. A URDF or SRDF given where YAML is read is named as such
+(:func:`looks_like_xml`), not reported as the YAML error its text happens to make.
 """
 
 from __future__ import annotations
 
 import yaml
+
+#: An XML file where YAML is read: a URDF or SRDF given in place of an XRDF or a YAML config
+#: (whether its text happens to be a YAML error or a valid YAML string).
+XML_NOT_YAML = "an XML document (a URDF, xacro or SRDF?), not YAML"
 
 _INDENT = "check the indentation of this line against the lines above (spaces only)"
 
@@ -28,6 +33,13 @@ _HINTS = (
 
 #: The context libyaml names for an unclosed bracket → the bracket.
 _OPENED = {"while parsing a flow sequence": "[", "while parsing a flow mapping": "{"}
+
+
+def looks_like_xml(text: object) -> bool:
+    """``text`` starts (after a byte-order mark and blank space) with ``<``: XML, not YAML."""
+    if isinstance(text, bytes):
+        text = text[:256].decode("utf-8", "replace")
+    return isinstance(text, str) and text[:256].lstrip("\ufeff \t\r\n").startswith("<")
 
 
 def syntax_hint(exc: yaml.MarkedYAMLError) -> str:
