@@ -43,7 +43,7 @@ COMMANDS: tuple[tuple[str, str], ...] = (
 GROUPS: tuple[tuple[str, str], ...] = (
     (
         "export",
-        "XRDF → cuRobo robot YAML, a MoveIt SRDF sync, or an XRDF for a reader (--target).",
+        "XRDF → cuRobo YAML, MoveIt SRDF sync, or an XRDF for a reader.",
     ),
 )
 

@@ -66,7 +66,7 @@ FormatOption = Annotated[
 ]
 
 
-@app.command("curobo")
+@app.command("curobo", short_help="A cuRobo robot YAML (2.0 or classic layout).")
 def curobo(
     xrdf: XrdfArgument,
     urdf: Annotated[
@@ -183,7 +183,7 @@ def _expanded_note(urdf: Path, written: Path) -> Diagnostic:
     )
 
 
-@app.command("srdf")
+@app.command("srdf", short_help="Sync the ignore pairs into a MoveIt SRDF.")
 def srdf(
     xrdf: XrdfArgument,
     merge: Annotated[
@@ -260,7 +260,7 @@ def _read_srdf(path: Path) -> bytes:
         fail(e)
 
 
-@app.command("xrdf")
+@app.command("xrdf", short_help="Rewrite for the reader that loads it (--target).")
 def xrdf_for_target(
     xrdf: XrdfArgument,
     target: Annotated[
