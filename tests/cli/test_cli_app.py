@@ -52,3 +52,14 @@ def test_the_whole_app_lists_every_command_in_order(runner: CliRunner) -> None:
         if line.startswith("  ")
     ]
     assert listed == [name for name, _ in COMMANDS] + [name for name, *_ in GROUPS]
+
+
+@pytest.mark.parametrize("words", [["--help"], ["export", "--help"]])
+def test_command_lists_show_each_summary_whole(runner: CliRunner, words: list[str]) -> None:
+    """`xrdf --help` cut export's summary to 'or an XRDF for a...', and `xrdf export --help`
+    all three of its commands' ('lists in c-space...', "MoveIt SRDF's..."): on an 80-column
+    terminal (the width click assumes off one) each command's summary is shown whole."""
+    r = runner.invoke(full_app(), words, terminal_width=80)
+    assert r.exit_code == 0
+    listed = [x for x in r.stdout.split("Commands:")[1].splitlines() if x.startswith("  ")]
+    assert listed and not any(x.rstrip().endswith("...") for x in listed), listed

@@ -1118,3 +1118,22 @@ def test_the_only_group_of_an_srdf_is_a_note_not_a_guess(runner: CliRunner, tmp_
     r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
     assert r.exit_code == 0, r.output
     assert f"{srdf}:1: warning convert-chosen-group planning group 'manipulator'" in r.stderr
+
+
+def test_an_srdf_without_groups_is_not_met_with_use_srdf(runner: CliRunner, tmp_path: Path) -> None:
+    """UR5's SRDF in example-robot-data has only disable_collisions: `convert --srdf` (and
+    `inspect --srdf`) took the longest chain and said 'no planning group given ... change it
+    with --chain world:tool0, --joints or --srdf', the flag just given. It says the SRDF has no
+    group and that one in it would change the choice."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_TWO_LINKS)
+    srdf = tmp_path / "arm.srdf"
+    srdf.write_text('<robot name="arm"><disable_collisions link1="base" link2="l1"/></robot>\n')
+    r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
+    assert r.exit_code == 0, r.output
+    (chosen,) = [x for x in r.stderr.splitlines() if "convert-chosen-group" in x]
+    assert "no planning group in the SRDF: c-space is the longest" in chosen, chosen
+    assert chosen.endswith("--joints or a planning group in the SRDF"), chosen
+    r = runner.invoke(app, ["convert", str(urdf)])
+    (chosen,) = [x for x in r.stderr.splitlines() if "convert-chosen-group" in x]
+    assert "no planning group given: " in chosen and chosen.endswith("--joints or --srdf")

@@ -134,6 +134,8 @@ def test_a_urdf_velocity_of_zero_stops_curobo_before_fitting(
     # joint2 (velocity 2.0) and joint3 (no velocity: cuRobo assumes one) are fine
     assert "'joint1' (line 36)" in zero[0] and "in zero_velocity_arm.urdf" in zero[0]
     assert "stopped before fitting" in r.stderr and "convert-fitted-spheres" not in r.stderr
+    # --fit-spheres was given: no "NO COLLISION SPHERES ... add spheres (--fit-spheres)"
+    assert "convert-no-spheres" not in r.stderr, r.stderr
     # the stop has no line, so it is printed before the errors it counts: it said "above"
     lines = r.stderr.splitlines()
     stop = next(i for i, x in enumerate(lines) if "stopped before fitting" in x)

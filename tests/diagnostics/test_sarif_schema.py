@@ -115,3 +115,26 @@ def test_rule_descriptions_show_no_rst_markup() -> None:
         "markdown": "lacks `format: xrdf` or `a`.",
     }
     assert rules[1]["shortDescription"] == {"text": "A sphere radius is not positive."}
+
+
+def test_every_result_in_a_file_has_a_start_line(runner: CliRunner, tmp_path: Path) -> None:
+    """Code scanning shows a result only when its region has a ``startLine``. convert's
+    findings about the URDF as a whole (no line: the chosen c-space, default limits) had a
+    location without a region; they are placed on the file's first line."""
+    urdf = tmp_path / "three_link.urdf"
+    urdf.write_bytes(THREE_LINK.read_bytes())
+    out = tmp_path / "three_link.xrdf"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.chdir(tmp_path)
+        r = runner.invoke(app, ["convert", urdf.name, "-o", out.name, "--format", "sarif"])
+    assert r.exit_code == 0, r.output
+    results = check_sarif(r.stderr)["runs"][0]["results"]
+    assert results
+    for result in results:
+        (loc,) = result["locations"]
+        assert loc["physicalLocation"]["region"]["startLine"] >= 1, result
+    whole_file = [res for res in results if res["ruleId"] == "convert-default-acceleration"]
+    assert whole_file[0]["locations"][0]["physicalLocation"] == {
+        "artifactLocation": {"uri": "three_link.urdf"},
+        "region": {"startLine": 1},
+    }

@@ -319,3 +319,21 @@ def test_undefined_frames_are_one_finding_each_and_one_for_a_group_without_spher
             "to check they exist",
         )
     ]
+
+
+@pytest.mark.parametrize("name", ["demo_arm.urdf", "demo_arm.srdf"])
+def test_a_urdf_given_to_lint_is_named_and_sent_to_urdf(runner: CliRunner, name: str) -> None:
+    """`xrdf lint robot.urdf` (the URDF where the XRDF goes) said 'YAML syntax error: mapping
+    values are not allowed here' at some line inside, or for the SRDF 'the top level must be
+    a mapping, not the string '<?xml ...''; it says what the file is and where it goes."""
+    path = FIXTURES / "demo_arm" / name
+    r = runner.invoke(app, ["lint", str(path)])
+    assert r.exit_code == 1
+    assert r.output.endswith(
+        ":1:1: error yaml-syntax an XML document (a URDF, xacro or SRDF?), not YAML; lint "
+        "reads XRDF files: give the robot's URDF with --urdf\n"
+    ) or r.output.endswith(
+        ":1:1: error format-key an XML document (a URDF, xacro or SRDF?), not YAML; lint "
+        "reads XRDF files: give the robot's URDF with --urdf\n"
+    ), r.output
+    assert len(r.output.splitlines()) == 1

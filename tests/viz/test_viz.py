@@ -812,3 +812,21 @@ def test_png_draws_names_with_dollar_signs_as_written(runner: CliRunner, tmp_pat
     texts = [t for t in fig.findobj(Text) if "$" in t.get_text()]
     assert {t.get_text() for t in texts} >= {name}
     assert all(not t._parse_math for t in texts)
+
+
+@pytest.mark.parametrize(("view", "depth"), [("front", "x"), ("side", "y"), ("top", "z")])
+def test_png_of_a_view_along_an_axis_draws_no_ticks_of_that_axis(
+    scene: Scene, view: str, depth: str
+) -> None:
+    """`--view front` drew the x axis end-on: its ticks and 'x (m)' piled up on one point at
+    the picture's edge, unreadable. The axis the camera looks along has no ticks or label; the
+    two others keep theirs, and the three-quarter view keeps all three."""
+    from xrdf_tools.viz.png import VIEWS, draw_png
+
+    ax = draw_png(scene, view=VIEWS[view], legend="off").axes[0]
+    for axis in "xyz":
+        ticks = getattr(ax, f"get_{axis}ticks")()
+        label = getattr(ax, f"get_{axis}label")()
+        assert (len(ticks) == 0 and label == "") if axis == depth else (len(ticks) and label)
+    iso = draw_png(scene, legend="off").axes[0]
+    assert all(len(getattr(iso, f"get_{a}ticks")()) for a in "xyz")

@@ -170,7 +170,9 @@ def complete(
     # --- c-space
     default_tool = None
     if draft.cspace is None:
-        default_tool = apply_default_cspace(tree, draft, rep, collision_links)
+        default_tool = apply_default_cspace(
+            tree, draft, rep, collision_links, srdf_given=options.srdf is not None
+        )
     cspace = order_for_target(list(draft.cspace or []), tree, options.target, rep)
     if not cspace:
         rep.report(

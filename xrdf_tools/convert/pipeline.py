@@ -143,8 +143,9 @@ def convert_robot(
     fitted: dict[str, int] = {}
     if fit is not None and lint:
         early = _checked_before_fitting(x, loaded, options, label)
-        if early is not None:
-            return ConvertResult(x, early[0], loaded, tuple(diags), tuple(early[1]))
+        if early is not None:  # nothing fitted yet: "add spheres (--fit-spheres)" misleads
+            kept = tuple(d for d in diags if d.rule != "convert-no-spheres")
+            return ConvertResult(x, early[0], loaded, kept, tuple(early[1]))
     if fit is not None:
         x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
         if fitted:

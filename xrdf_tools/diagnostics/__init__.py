@@ -174,6 +174,16 @@ def sarif_description(summary: str) -> dict[str, str]:
     return {"text": text, "markdown": _RST_LITERAL.sub(r"`\1`", summary)}
 
 
+def sarif_region(d: Diagnostic) -> dict[str, int]:
+    """Where ``d`` is, as a SARIF region. Code scanning shows a result only with a
+    ``startLine``: a finding about a whole file (no line) is placed on its first line."""
+    if d.line is None:
+        return {"startLine": 1}
+    if d.col is None:
+        return {"startLine": d.line}
+    return {"startLine": d.line, "startColumn": d.col}
+
+
 def render_sarif(
     diagnostics: Sequence[Diagnostic],
     rules: Sequence[RuleInfo] = (),
@@ -210,11 +220,6 @@ def render_sarif(
         driver["informationUri"] = information_uri
     results = []
     for d in sorted(diagnostics, key=sort_key):
-        region: dict[str, int] = {}
-        if d.line is not None:
-            region["startLine"] = d.line
-            if d.col is not None:
-                region["startColumn"] = d.col
         result: dict[str, Any] = {
             "ruleId": d.rule,
             "ruleIndex": rule_ids.index(d.rule),
@@ -223,9 +228,7 @@ def render_sarif(
         }
         uri = artifact_uri(d.path)
         if uri is not None:
-            location: dict[str, Any] = {"artifactLocation": {"uri": uri}}
-            if region:
-                location["region"] = region
+            location = {"artifactLocation": {"uri": uri}, "region": sarif_region(d)}
             result["locations"] = [{"physicalLocation": location}]
         results.append(result)
     log = {

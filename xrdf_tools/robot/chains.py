@@ -372,8 +372,9 @@ class DefaultCSpace:
     #: Revolute/prismatic joints on the chosen chain held still by equal limits, left out.
     held: tuple[str, ...] = ()
 
-    def describe(self) -> str:
-        """One sentence: what was chosen, what was left out, and the flags that change it."""
+    def describe(self, srdf_given: bool = False) -> str:
+        """One sentence: what was chosen, what was left out, and the flags that change it
+        (``srdf_given``: an SRDF was read, so the other way is a group in it, not --srdf)."""
         if self.chain is None or not self.joints:
             if not self.left_out:
                 return "no serial chain of actuated joints"
@@ -410,7 +411,8 @@ class DefaultCSpace:
                 f"{name_list(c.cspace, 2)} ({chain_flag(c.base, t.frame)})" for c, t in self.legs
             )
             text += f"; as long or longer but a leg, passed over: {legs}"
-        return text + f"; change it with {chain_flag(self.chain.base, tip)}, --joints or --srdf"
+        other = "a planning group in the SRDF" if srdf_given else "--srdf"
+        return text + f"; change it with {chain_flag(self.chain.base, tip)}, --joints or {other}"
 
 
 def default_cspace(

@@ -163,6 +163,7 @@ def _draw(
     ax.set_ylabel("y (m)", fontsize=7)
     ax.set_zlabel("z (m)", fontsize=7)
     ax.tick_params(labelsize=6)
+    _hide_depth_axis(ax, view)
     ax.set_title(png_title(scene), fontsize=8, parse_math=False)
     if handles and legend != "off":
         if len(handles) < LEGEND_COLUMNS_FROM:
@@ -178,6 +179,24 @@ def _draw(
         else:
             _legend_below(fig, ax, handles, size_px)
     return fig
+
+
+def depth_axis(view: tuple[float, float]) -> str | None:
+    """The axis a camera looks along (``front``: x, ``side``: y, ``top``: z), else None: its
+    ticks would all be drawn on one point, their labels over one another."""
+    elev, azim = view
+    if abs(elev) == 90.0:
+        return "z"
+    if elev == 0.0 and azim % 90.0 == 0.0:
+        return "x" if azim % 180.0 == 0.0 else "y"
+    return None
+
+
+def _hide_depth_axis(ax: Any, view: tuple[float, float]) -> None:
+    axis = depth_axis(view)
+    if axis is not None:
+        getattr(ax, f"set_{axis}ticks")([])
+        getattr(ax, f"set_{axis}label")("")
 
 
 def sphere_quads(centers: np.ndarray, radii: np.ndarray) -> np.ndarray:

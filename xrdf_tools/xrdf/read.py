@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 from ..util.errors import GeometryGroupError, SchemaError
 from ..util.frozen import FrozenMap
+from ..yaml.hints import XML_NOT_YAML, looks_like_xml
 from ..yaml.io import (
     YamlDocument,
     YMap,
@@ -90,6 +91,8 @@ def _read_header(r: NodeReader, root: YNode | None) -> tuple[YMap, str]:
             line=1,
             col=1,
         )
+    if isinstance(root, YScalar) and looks_like_xml(root.value):
+        raise SchemaError(XML_NOT_YAML, path=r.path, line=1, col=1)
     if not isinstance(root, YMap):
         raise r.fail(root, f"the top level of an XRDF must be a mapping, not {describe(root)}")
     fmt = root.get("format")

@@ -35,6 +35,7 @@ from ..util.fileio import decode_utf8, read_input_bytes, read_input_text
 from ..util.fileio import write_atomic as write_atomic
 from ..util.textpos import line_col
 from .build import read_document
+from .hints import XML_NOT_YAML, looks_like_xml, syntax_hint
 from .positions import NodePositions, node_positions, positions_of
 from .rules import MAX_ALIASES, MAX_AMPLIFICATION, MAX_DEPTH, MAX_EXPANDED_NODES
 from .tree import (
@@ -122,11 +123,14 @@ def parse_yaml(text: str | bytes, path: str = "<string>") -> YamlDocument:
     try:
         return read_document(source, path)
     except yaml.MarkedYAMLError as exc:
+        if looks_like_xml(source):
+            raise YamlError(XML_NOT_YAML, path=path, line=1, col=1) from None
         mark = exc.problem_mark or exc.context_mark
         problem = exc.problem or exc.context or "invalid YAML"
         context = f" ({exc.context})" if exc.context and exc.problem else ""
+        hint = syntax_hint(exc)
         raise YamlError(
-            f"YAML syntax error: {problem}{context}",
+            f"YAML syntax error: {problem}{context}{'; ' + hint if hint else ''}",
             path=path,
             line=mark.line + 1 if mark else None,
             col=mark.column + 1 if mark else None,

@@ -138,22 +138,27 @@ def apply_default_cspace(
     draft: Draft,
     rep: Reporter,
     collision_links: Collection[str] | None = None,
+    *,
+    srdf_given: bool = False,
 ) -> ToolFrameGuess | None:
     """Set ``draft.cspace`` to the default chain and return the tool frame at its end.
 
     Reports the choice (``convert-chosen-group``) with what was left out and the flags that
     change it; the tool frame is reported where it is used (:func:`guessed_tool_frames`).
+    ``srdf_given``: an SRDF was read and has no group that can be used (it is not the flag
+    to suggest).
     """
     choice = default_cspace(tree, draft.passive_joints, collision_links)
     draft.cspace = list(choice.joints)
+    why = "no planning group in the SRDF" if srdf_given else "no planning group given"
     if not choice.joints:
         rep.report(
             "convert-chosen-group",
-            f"no planning group given and {choice.describe()} in the URDF "
-            "(--joints, --chain or --srdf choose one)",
+            f"{why} and {choice.describe(srdf_given)} in the URDF "
+            f"(--joints, --chain or {'an SRDF group' if srdf_given else '--srdf'} choose one)",
         )
         return None
-    rep.report("convert-chosen-group", f"no planning group given: {choice.describe()}")
+    rep.report("convert-chosen-group", f"{why}: {choice.describe(srdf_given)}")
     return choice.tool
 
 
