@@ -159,17 +159,21 @@ def test_a_missing_include_is_located_at_its_include_and_names_the_unset_arg(
 def test_xacro_warnings_are_diagnostics_not_raw_stderr(runner: CliRunner, tmp_path: Path) -> None:
     """Sawyer's xacro passes <xacro:arg> children to an include, which xacro ignores with a
     warning it prints itself: that went to stderr past -q and --format json. It is now an
-    xacro-warning diagnostic of the file xacro was reading (robot and SRDF xacro alike)."""
+    xacro-warning diagnostic of the file xacro was reading (robot and SRDF xacro alike), placed
+    at the include with a body (it had no line)."""
     (tmp_path / "arm.xacro").write_text(
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="arm"/>\n'
         '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>\n'
         '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
     )
+    (tmp_path / "none.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"/>\n')
     include = '<xacro:include filename="arm.xacro"><xacro:arg name="x" value="1"/></xacro:include>'
     robot = tmp_path / "bot.urdf.xacro"
     robot.write_text(
         f'<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n<link name="base"/>\n'
-        f"{include}\n</robot>\n"
+        '<xacro:include filename="none.xacro"/> <xacro:include filename="none.xacro">\n'
+        "<!-- <link/> --></xacro:include>\n"
+        f"  {include}\n</robot>\n"
     )
     (tmp_path / "groups.xacro").write_text(
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
@@ -192,12 +196,16 @@ def test_xacro_warnings_are_diagnostics_not_raw_stderr(runner: CliRunner, tmp_pa
 
     found = [d for d in json.loads(loud.stderr)["diagnostics"] if d["rule"] == "xacro-warning"]
     assert sorted(d["path"] for d in found) == sorted([str(robot), str(srdf)])
+    # placed at the include with a body (not at one closed or holding only a comment)
+    assert sorted((d["path"], d["line"], d["col"]) for d in found) == sorted(
+        [(str(robot), 5, 3), (str(srdf), 2, 1)]
+    )
     assert {d["message"] for d in found} == {
         "xacro: Child elements of a <xacro:include> tag are ignored"
     }
     expand = runner.invoke(app, ["expand", str(robot), "-o", str(tmp_path / "bot.urdf")])
     assert expand.exit_code == 0
-    assert f"{robot}: warning xacro-warning xacro: Child elements" in expand.stderr
+    assert f"{robot}:5:3: warning xacro-warning xacro: Child elements" in expand.stderr
     assert "when processing file" not in expand.stderr
 
 

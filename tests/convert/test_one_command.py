@@ -471,3 +471,27 @@ def test_a_pair_masked_for_colliding_at_a_colliding_home_is_a_warning(tmp_path: 
     assert upright.self_collision is not None
     assert not upright.self_collision.is_ignored("base", "lower")
     assert "convert-mask-default-pose" not in rules
+
+
+def test_a_cspace_that_moves_no_part_against_another_is_said(tmp_path: Path) -> None:
+    """The Shadow Hand's default c-space is its two wrist joints: they turn the whole hand,
+    no finger moves, so every pair is masked (adjacent or never colliding) and cuRobo's
+    loader raises on the file. Convert only counted "0 pair(s) checked"; it now warns that
+    the c-space moves no part against another and names the flags that change it. A
+    c-space that folds the arm onto its base gives no such warning."""
+    urdf = tmp_path / "folding.urdf"
+    urdf.write_text(FOLDING)
+
+    def rules(joints: tuple[str, ...]) -> dict[str, str]:
+        result = convert_robot(
+            urdf,
+            ConvertOptions(joints=joints),
+            fit=FitOptions(per_link=4),
+            mask=MaskOptions(samples=400),
+        )
+        return {d.rule: d.message for d in result.diagnostics}
+
+    turning = rules(("j1",))["convert-mask-nothing-checked"]
+    assert "never collides in the 400 samples of the c-space (1: j1)" in turning
+    assert "(--joints, --chain or --group)" in turning
+    assert "convert-mask-nothing-checked" not in rules(("j1", "j2"))

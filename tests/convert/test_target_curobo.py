@@ -145,3 +145,30 @@ def test_a_urdf_velocity_of_zero_stops_curobo_before_fitting(
     r = runner.invoke(app, args)
     assert r.exit_code == 0 and out.exists(), r.stderr
     assert "warning curobo-zero-velocity" in r.stderr
+
+
+def test_a_zero_effort_written_by_an_included_macro_names_that_file(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """KUKA's LBR iiwa 14 xacro writes effort="0" on every joint in lbr_iiwa14_r820_macro.xacro:
+    convert --target curobo stopped at a line of the XRDF it did not write, naming only the
+    top xacro file; the joints are now placed where the macro writes them."""
+    (tmp_path / "arm_macro.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:macro name="arm" params="prefix">\n'
+        '<link name="${prefix}base"/><link name="${prefix}link1">\n'
+        '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>\n'
+        '<joint name="${prefix}joint_1" type="revolute">\n'
+        '<parent link="${prefix}base"/><child link="${prefix}link1"/>\n'
+        '<limit effort="0" lower="-1" upper="1" velocity="1"/></joint>\n'
+        "</xacro:macro></robot>\n"
+    )
+    robot = tmp_path / "arm.urdf.xacro"
+    robot.write_text(
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:include filename="arm_macro.xacro"/>\n<xacro:arm prefix=""/>\n</robot>\n'
+    )
+    r = runner.invoke(app, ["convert", str(robot), "--fit-spheres", "--target", "curobo"])
+    assert r.exit_code == 1, r.stderr
+    zero = [x for x in r.stderr.splitlines() if "curobo-zero-velocity" in x]
+    assert len(zero) == 1 and "'joint_1' (arm_macro.xacro:5)" in zero[0], r.stderr

@@ -38,6 +38,7 @@ from ..util.numbers import REPORT_SAMPLES
 from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
 from .fit_check import RULE_UNFITTED, unfitted_links
+from .mask_notes import default_pose_pairs, nothing_checked
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -51,7 +52,6 @@ __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_ro
 
 RULE_FITTED = "convert-fitted-spheres"
 RULE_MASK = "convert-computed-mask"
-RULE_MASK_DEFAULT = "convert-mask-default-pose"
 
 #: ``progress(stage, done, total, item)``; ``stage`` is ``"fitting"`` (``item``: the link
 #: being fitted) or ``"sampling"`` (``item``: "").
@@ -162,6 +162,7 @@ def convert_robot(
         x, report = compute_mask(x, loaded, mask, progress=progress)
         diags.append(mask_summary(report, x, mask))
         diags.extend(default_pose_pairs(report))
+        diags.extend(nothing_checked(report))
     text = dump_xrdf(x)
     lint_diags: list[Diagnostic] = []
     if lint:
@@ -435,45 +436,3 @@ def mask_summary(report: Report, x: Xrdf, mask: MaskOptions) -> Diagnostic:
     return Diagnostic(
         report.urdf_path, None, None, RULE_MASK, Severity.INFO, msg, "self_collision.ignore"
     )
-
-
-def default_pose_pairs(report: Report) -> list[Diagnostic]:
-    """A warning naming the pairs the mask ignores because they collide at the default
-    configuration although sampling finds them apart elsewhere (``convert-mask-default-pose``).
-
-    The Setup Assistant's rule takes such a pair for parts that always overlap; when the
-    default pose itself collides (a folded home pose, spheres that reach past a mesh), the
-    pair does collide in other configurations and the planner no longer sees it.
-    """
-    from ..report import ALWAYS_RATE
-
-    pairs = [
-        p
-        for p in report.pairs
-        if p.classification == "default"
-        and p.recommendation != "check"
-        and p.rate is not None
-        and p.rate <= ALWAYS_RATE
-    ]
-    if not pairs:
-        return []
-    shown = name_list(
-        (f"{p.frame_a}/{p.frame_b} (apart in {1 - (p.rate or 0.0):.0%})" for p in pairs), 6
-    )
-    msg = (
-        f"{len(pairs)} pair(s) ignored because they collide at the default configuration, "
-        f"though apart in some of the {report.samples} samples: {shown}; the planner will not "
-        "see them collide anywhere. Give a default configuration free of self-collision "
-        "(--state, default_joint_positions) or check these pairs (`xrdf report`)"
-    )
-    return [
-        Diagnostic(
-            report.urdf_path,
-            None,
-            None,
-            RULE_MASK_DEFAULT,
-            Severity.WARNING,
-            msg,
-            "self_collision.ignore",
-        )
-    ]

@@ -27,6 +27,12 @@ _CULPRITS: tuple[tuple[re.Pattern[str], tuple[str, ...]], ...] = (
 )
 #: "xacro:macro: missing attribute 'name'": the first ``<xacro:macro>`` tag without it.
 _MISSING_ATTRIBUTE = re.compile(r"^xacro failed: (xacro:\w+): missing attribute '(\w+)'")
+#: xacro's warning on an include with a body (Sawyer's ``<xacro:arg>`` children): the first
+#: ``<xacro:include>`` whose body holds an element.
+_INCLUDE_BODY = "Child elements of a <xacro:include> tag are ignored"
+_INCLUDE_TAG = re.compile(r"<xacro:include\b[^>]*>")
+_INCLUDE_END = re.compile(r"</xacro:include\s*>")
+_COMMENT = re.compile(r"<!--.*?-->", re.DOTALL)
 
 
 def culprit_in(paths: Sequence[str], message: str) -> tuple[str, int | None, int | None]:
@@ -51,9 +57,23 @@ def _find_culprit(path: str, message: str) -> tuple[int | None, int | None]:
     if (m := _MISSING_ATTRIBUTE.search(message)) is not None:
         tags = re.finditer(rf"<{m.group(1)}\b[^>]*>", text)
         at = next((t.start() for t in tags if f"{m.group(2)}=" not in t.group(0)), -1)
+    if _INCLUDE_BODY in message:
+        at = _include_with_body(text)
     if at < 0:
         return None, None
     return line_col(text, at)
+
+
+def _include_with_body(text: str) -> int:
+    """Where the first ``<xacro:include>`` with an element in its body starts (-1: none)."""
+    for tag in _INCLUDE_TAG.finditer(text):
+        if tag.group(0).endswith("/>"):
+            continue
+        end = _INCLUDE_END.search(text, tag.end())
+        body = text[tag.end() : end.start() if end is not None else len(text)]
+        if re.search(r"<[^/!?]", _COMMENT.sub("", body)):
+            return tag.start()
+    return -1
 
 
 def _needles(message: str) -> list[str]:

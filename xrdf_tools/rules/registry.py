@@ -55,6 +55,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             W,
             "--fit-spheres: pairs masked for colliding at a default pose, apart elsewhere.",
         ),
+        (
+            "convert-mask-nothing-checked",
+            W,
+            "--fit-spheres: no two sphere frames ever collide in the c-space: nothing to check.",
+        ),
         ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
         (
             "convert-no-spheres",

@@ -3,6 +3,7 @@ c-space joints whose URDF joint has some defect."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -11,6 +12,7 @@ from ...yaml.io import YNode
 from ..context import LintContext
 
 if TYPE_CHECKING:  # numpy: lint without --urdf stays light
+    from ...robot.core import Robot
     from ...robot.urdf_joints import JointInfo
 
 
@@ -30,9 +32,15 @@ def cspace_joints_where(
     return out
 
 
-def joint_at(j: JointInfo) -> str:
-    """``'name' (line N)`` of a URDF joint, for a message."""
-    return f"'{j.name}'" + (f" (line {j.line})" if j.line else "")
+def joint_at(j: JointInfo, robot: Robot | None = None) -> str:
+    """``'name' (line N)`` of a URDF joint, for a message; a joint that a macro of an included
+    xacro file writes is placed in that file (``'name' (arm_macro.xacro:12)``)."""
+    if j.line:
+        return f"'{j.name}' (line {j.line})"
+    place = robot.include_places.get(("joint", j.name)) if robot is not None else None
+    if place is None:
+        return f"'{j.name}'"
+    return f"'{j.name}' ({os.path.basename(place[0])}:{place[1]})"
 
 
 def joint_problem(ctx: LintContext, joint: str, what: str) -> str | None:

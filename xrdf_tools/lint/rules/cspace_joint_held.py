@@ -21,7 +21,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     found = cspace_joints_where(ctx, lambda j: j.is_held)
     if not found or ctx.robot is None:
         return
-    names = ", ".join(f"{joint_at(j)} [{j.lower:g}, {j.upper:g}]" for *_, j in found)
+    names = ", ".join(f"{joint_at(j, ctx.robot)} [{j.lower:g}, {j.upper:g}]" for *_, j in found)
     what = f"c-space joint {names} is" if len(found) == 1 else f"c-space joints {names} are"
     index, node, _ = found[0]
     yield ctx.problem(

@@ -30,8 +30,9 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         axis = " ".join(f"{a:g}" for a in j.axis)
         yield ctx.problem(
             nodes.get(j.mimic_joint or j.name),
-            f'joint {joint_at(j)} of {ctx.robot.file_name} has <axis xyz="{axis}">: cuRobo '
-            "moves joints about or along x, y or z only and its loader raises on this one; "
+            f"joint {joint_at(j, ctx.robot)} of {ctx.robot.file_name} has "
+            f'<axis xyz="{axis}">: cuRobo moves joints about or along x, y or z only and its '
+            "loader raises on this one; "
             "rotate the joint's origin so that its axis is a coordinate axis",
             "",
         )

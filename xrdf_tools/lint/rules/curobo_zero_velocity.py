@@ -41,7 +41,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         return
     written = {_empty(j) for *_, j in found}
     limit = " ".join(written.pop()) if len(written) == 1 else "velocity or effort <= 0"
-    names = ", ".join(joint_at(j) for *_, j in found)
+    names = ", ".join(joint_at(j, ctx.robot) for *_, j in found)
     if len(found) == 1:
         what, them = f"c-space joint {names} has", "it"
     else:

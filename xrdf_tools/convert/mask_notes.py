@@ -1,0 +1,88 @@
+"""Warnings on the self-collision mask ``xrdf convert --fit-spheres`` computed: pairs it ignores
+because they collide at the default configuration (``convert-mask-default-pose``), and a mask
+that leaves nothing to check (``convert-mask-nothing-checked``)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from ..diagnostics import Diagnostic, Severity
+from ..util.text import name_list
+
+if TYPE_CHECKING:
+    from ..report import Report
+
+__all__ = ["RULE_MASK_DEFAULT", "RULE_MASK_NOTHING", "default_pose_pairs", "nothing_checked"]
+
+RULE_MASK_DEFAULT = "convert-mask-default-pose"
+RULE_MASK_NOTHING = "convert-mask-nothing-checked"
+
+
+def default_pose_pairs(report: Report) -> list[Diagnostic]:
+    """A warning naming the pairs the mask ignores because they collide at the default
+    configuration although sampling finds them apart elsewhere (``convert-mask-default-pose``).
+
+    The Setup Assistant's rule takes such a pair for parts that always overlap; when the
+    default pose itself collides (a folded home pose, spheres that reach past a mesh), the
+    pair does collide in other configurations and the planner no longer sees it.
+    """
+    from ..report import ALWAYS_RATE
+
+    pairs = [
+        p
+        for p in report.pairs
+        if p.classification == "default"
+        and p.recommendation != "check"
+        and p.rate is not None
+        and p.rate <= ALWAYS_RATE
+    ]
+    if not pairs:
+        return []
+    shown = name_list(
+        (f"{p.frame_a}/{p.frame_b} (apart in {1 - (p.rate or 0.0):.0%})" for p in pairs), 6
+    )
+    msg = (
+        f"{len(pairs)} pair(s) ignored because they collide at the default configuration, "
+        f"though apart in some of the {report.samples} samples: {shown}; the planner will not "
+        "see them collide anywhere. Give a default configuration free of self-collision "
+        "(--state, default_joint_positions) or check these pairs (`xrdf report`)"
+    )
+    return [
+        Diagnostic(
+            report.urdf_path,
+            None,
+            None,
+            RULE_MASK_DEFAULT,
+            Severity.WARNING,
+            msg,
+            "self_collision.ignore",
+        )
+    ]
+
+
+def nothing_checked(report: Report) -> list[Diagnostic]:
+    """A warning when the mask ignores every pair of sphere frames because no two ever collide
+    as the c-space moves them (``convert-mask-nothing-checked``): the Shadow Hand's default
+    c-space is its two wrist joints, which move the whole hand and no finger, so nothing is
+    left to check and cuRobo's loader raises. The cause is the c-space, not the mask."""
+    if not report.pairs or any(p.recommendation == "check" for p in report.pairs):
+        return []
+    joints = report.cspace_joints
+    msg = (
+        f"no pair of the {len(report.frames)} sphere frames is left to check for "
+        f"self-collision: each is adjacent, or never collides in the {report.samples} samples "
+        f"of the c-space ({len(joints)}: {name_list(joints, 6)}), which moves no part against "
+        "another; cuRobo's loader raises on such a file. Plan for the joints that do "
+        "(--joints, --chain or --group)"
+    )
+    return [
+        Diagnostic(
+            report.urdf_path,
+            None,
+            None,
+            RULE_MASK_NOTHING,
+            Severity.WARNING,
+            msg,
+            "self_collision.ignore",
+        )
+    ]
