@@ -468,3 +468,29 @@ def test_every_report_format_is_one_renderer_of_the_report_or_of_its_findings() 
     findings_only = {f.value for f in ReportFormat} - set(RENDERERS)
     assert findings_only == {"github", "sarif"} <= {f.value for f in OutputFormat}
     assert set(RENDERERS) < {f.value for f in ReportFormat}
+
+
+def test_a_long_pair_table_ends_with_how_to_see_what_matters(tmp_path: Path) -> None:
+    """A report of a big robot scrolled its whole pair table past (TIAGo's arm: 1,830
+    lines) and ended without saying how to see less; past about a screen of pairs the text
+    ends with the options that do. A short table (the UR10e) and a filtered one do not."""
+    from tests.many_frames import chain_robot
+
+    urdf_text, xrdf_text = chain_robot(12)  # 13 frames, 78 frame pairs
+    urdf, xrdf = tmp_path / "chain.urdf", tmp_path / "chain.xrdf"
+    urdf.write_text(urdf_text)
+    xrdf.write_text(xrdf_text)
+    runner = CliRunner()
+    long = runner.invoke(app, ["report", str(xrdf), "--urdf", str(urdf), "-n", "200", "-q"])
+    assert long.exit_code in (0, 1), long.output
+    last = long.stdout.rstrip().splitlines()[-1]
+    assert last.startswith("(78 frame pairs in the table above: --only findings"), last
+    assert "--min-rate 0.001" in last
+    for args in (
+        [str(xrdf), "--urdf", str(urdf), "--min-rate", "0.5"],
+        [str(xrdf), "--urdf", str(urdf), "--only", "findings"],
+        [str(UR10E_XRDF), "--urdf", str(UR10E_URDF)],
+    ):
+        short = runner.invoke(app, ["report", *args, "-n", "200", "-q"])
+        assert short.exit_code in (0, 1), short.output
+        assert "in the table above" not in short.stdout

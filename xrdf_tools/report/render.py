@@ -34,6 +34,9 @@ __all__ = [
 
 SCHEMA_VERSION = 2
 _TEXT_TRAJECTORY_LIMIT = 20
+#: A full pair table longer than this (about a screen) ends the text report with how to see
+#: only what matters: a TIAGo arm's report lists 1,830 frame pairs.
+LONG_TABLE_PAIRS = 60
 
 
 def _mm(x: float | None, bound: bool = False) -> str:
@@ -273,7 +276,20 @@ def render_text(r: Report, view: ReportView = ReportView()) -> str:
         ]
     else:
         lines.append("findings: none")
+    lines += _long_table_hint(r, view)
     return "\n".join(lines) + "\n"
+
+
+def _long_table_hint(r: Report, view: ReportView) -> list[str]:
+    """Where the whole pair table scrolled past: the options that show what matters."""
+    if view.only != "all" or len(view.rows(r)) <= LONG_TABLE_PAIRS:
+        return []
+    return [
+        "",
+        f"({len(view.rows(r))} frame pairs in the table above: --only findings shows the "
+        "findings alone, --min-rate 0.001 the pairs that collide in 0.1 % of the samples or "
+        "more; --format json holds every pair)",
+    ]
 
 
 def _pair_table_lines(r: Report, view: ReportView) -> list[str]:
