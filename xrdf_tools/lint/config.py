@@ -236,11 +236,8 @@ def load_config(path: str | os.PathLike[str]) -> LintConfig:
 def _pyproject_table(p: Path) -> dict[str, Any] | None:
     if sys.version_info >= (3, 11):
         import tomllib
-    else:  # pragma: no cover - Python 3.10
-        try:
-            import tomli as tomllib
-        except ImportError:
-            return None
+    else:  # pragma: no cover - Python 3.10: tomli is a dependency there
+        import tomli as tomllib
     text = read_input_text(p, what="pyproject.toml", error=ConfigError)
     try:
         doc = tomllib.loads(text)
