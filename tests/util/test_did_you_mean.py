@@ -23,6 +23,15 @@ def test_a_shared_ending_alone_suggests_nothing() -> None:
     )
 
 
+def test_a_name_written_out_is_matched_to_its_abbreviation() -> None:
+    """Talos' SRDF names its arms l_arm and r_arm: --group left_arm was offered 'all_arms'
+    (its '_arm' ending is shared, and 'left' and 'l' have one letter in common)."""
+    talos_groups = ["all_arms", "arms", "l_arm", "r_arm", "l_gripper", "r_gripper"]
+    assert did_you_mean("left_arm", talos_groups) == "; did you mean 'l_arm'?"
+    assert did_you_mean("right_arm", talos_groups) == "; did you mean 'r_arm'?"
+    assert did_you_mean("gripper_joint", ["base_joint"]) == ""
+
+
 def test_an_srdf_group_of_a_gripper_the_urdf_lacks_is_not_matched_to_the_base(
     runner: CliRunner, tmp_path: Path
 ) -> None:

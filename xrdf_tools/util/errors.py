@@ -110,7 +110,9 @@ def did_you_mean(name: str, choices: Iterable[str]) -> str:
 
     for match in difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6):
         own, other = _without_common_suffix(name, match)
-        if not own or not other or difflib.SequenceMatcher(None, own, other).ratio() >= 0.5:
+        if own.startswith(other) or other.startswith(own):  # 'left' and 'l': an abbreviation
+            return f"; did you mean '{match}'?"
+        if difflib.SequenceMatcher(None, own, other).ratio() >= 0.5:
             return f"; did you mean '{match}'?"
     return ""
 
