@@ -150,6 +150,8 @@ def test_convert_cli_stdout_output_check_strict(runner: CliRunner, tmp_path: Pat
     out.write_text(out.read_text().replace("jerk_limits: [500.0", "jerk_limits: [501.0"))
     r = runner.invoke(app, [*base, "-o", str(out), "--check"])
     assert r.exit_code == 1 and "jerk" in r.stdout and "out of date" in r.stderr
+    # re-running writes the file anew: a user who edited it by hand is told the edit goes
+    assert "replaces any edit made to the file by hand" in " ".join(r.stderr.split())
     # the two sides: the committed file and what the sources give now (was '<document>')
     assert r.stdout.startswith(
         f"--- {out} (XRDF 1.0)\n+++ (converted from the sources now) (XRDF 1.0)\n"

@@ -386,7 +386,8 @@ def _check(output: Path, x: Xrdf, root_frame: str) -> None:
     write_output(_render_diff(result), None)
     fail(
         f"{output}: out of date ({len(result.changes)} semantic difference(s) listed above); "
-        "re-run without --check to update it",
+        "re-run without --check to write it anew, which replaces any edit made to the file "
+        "by hand: keep such edits in the sources or the convert options instead",
         EXIT_FINDINGS,
     )
 
