@@ -11,6 +11,12 @@ is an error when a c-space joint moves the link: the planner would move it throu
 c-space joint moves (a base bolted to the table) stays a warning: no plan can change its
 clearance. With ``--allow-missing-meshes`` a link whose collision geometry is only mesh files
 that cannot be found stays a warning too: the user said those are expected.
+
+Spheres written on a frame without collision geometry of its own (a fingertip frame, an added
+frame) stand for the first link above it, across fixed joints, that has geometry: NVIDIA's
+cuMotion ``franka.xrdf`` puts the finger spheres on ``panda_leftfingertip`` and
+``panda_rightfingertip``, fixed below ``panda_leftfinger`` and ``panda_rightfinger``, so the
+fingers are seen. Attached-object slots (radius <= -1) stand for nothing.
 """
 
 from __future__ import annotations
@@ -19,7 +25,7 @@ from collections import Counter
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ..context import LintContext, Problem, Rule
+from ..context import LintContext, Problem, Rule, finite_number
 
 #: The readers that plan with the spheres: a link they cannot see is an error for them.
 PLANNING_TARGETS = frozenset({"curobo", "cumotion"})
@@ -40,7 +46,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         frames = ctx.sphere_frames(g) if g is not None else None
         if frames is None:
             return  # an undefined group: undefined-group says so
-        used |= frames
+        used |= frames | _links_served(ctx, g)
     anchor, key = (sections[0][1], sections[0][0]) if sections else (None, "")
     where = "" if sections else " (the file has no collision section)"
     bare = [f for f in kin.frame_names if f in robot.collision_counts and f not in used]
@@ -56,6 +62,30 @@ def check(ctx: LintContext) -> Iterator[Problem]:
             key,
             severity,
         )
+
+
+def _links_served(ctx: LintContext, group: str | None) -> set[str]:
+    """The links whose geometry spheres on a geometry-less frame below them stand for: from
+    each such frame with a real sphere (not an attached-object slot), up across fixed joints
+    to the first link with collision geometry."""
+    from ...robot.kinematics.base import JointType  # numpy: only with --urdf
+
+    robot, kin = ctx.robot, ctx.kin
+    refs = ctx.resolved_spheres(group) if group is not None else None
+    if robot is None or kin is None or not refs:
+        return set()
+    real = {s.frame for s in refs if (r := finite_number(s.field("radius"))) is None or r > -1}
+    out: set[str] = set()
+    for frame in real - set(robot.collision_counts):
+        if not kin.has_frame(frame):
+            continue
+        i = kin.frame_index(frame)
+        while kin.joint_type[i] == JointType.FIXED and kin.parent[i] >= 0:
+            i = int(kin.parent[i])
+            if kin.frame_names[i] in robot.collision_counts:
+                out.add(kin.frame_names[i])
+                break
+    return out
 
 
 def _only_missing_meshes(ctx: LintContext, links: list[str]) -> set[str]:
