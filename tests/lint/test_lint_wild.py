@@ -123,3 +123,43 @@ def test_a_repeat_cuRobo_reads_as_meant_is_a_warning_for_curobo_only() -> None:
 def test_a_repeat_that_drops_an_earlier_item_stays_an_error_for_curobo() -> None:
     text = REPEATED_IGNORE.format(arm_again="[base]")  # 'hand' of line 15 would be lost
     assert _duplicates(text, "curobo") == [(16, "warning"), (17, "error")]
+
+
+def _with_links(extra_links: str) -> str:
+    """HAND_URDF with more links fixed to the hand."""
+    return HAND_URDF.replace("</robot>", extra_links + "</robot>")
+
+
+def test_a_placeholder_without_spheres_is_no_error_for_a_planner(tmp_path: Path) -> None:
+    """NVIDIA's UR XRDFs give ``ee_link`` (a 1 cm collision box in UR's URDF) no sphere;
+    ``lint --target curobo`` called the file's robot invisible there, an error. A placeholder
+    (collision primitives under 2 cm across, as the fitter judges one) is a warning that says
+    so; a part just past 2 cm, or two tiny boxes 3 cm apart, stay errors."""
+    ee = '<box size="0.01 0.01 0.01"/>'
+    links = (
+        f'<link name="ee_link"><collision><origin xyz="-0.01 0 0"/><geometry>{ee}</geometry>'
+        "</collision></link>"
+        '<joint name="ee" type="fixed"><parent link="hand"/><child link="ee_link"/></joint>'
+        '<link name="nub"><collision><origin rpy="0 1.5708 0"/><geometry>'
+        '<cylinder radius="0.005" length="0.008"/></geometry></collision></link>'
+        '<joint name="nub" type="fixed"><parent link="hand"/><child link="nub"/></joint>'
+        '<link name="plate"><collision><geometry><box size="0.012 0.012 0.012"/></geometry>'
+        "</collision></link>"
+        '<joint name="plate" type="fixed"><parent link="hand"/><child link="plate"/></joint>'
+        '<link name="pair"><collision><origin xyz="0.03 0 0"/><geometry>'
+        f"{ee}</geometry></collision><collision><geometry>{ee}</geometry></collision></link>"
+        '<joint name="pair" type="fixed"><parent link="hand"/><child link="pair"/></joint>'
+    )
+    found = _findings(tmp_path, HAND_XRDF, _with_links(links), "curobo")
+    unseen = {
+        line.split("link '")[1].split("'")[0]: line
+        for line in found
+        if "mesh-without-spheres" in line
+    }
+    assert (
+        unseen["ee_link"].startswith("warning")
+        and "placeholder, 17 mm across" in (unseen["ee_link"])
+    )
+    assert unseen["nub"].startswith("warning") and "16 mm across" in unseen["nub"]
+    assert unseen["plate"].startswith("error")  # a 12 mm cube: 20.8 mm across
+    assert unseen["pair"].startswith("error")  # two 1 cm boxes 3 cm apart: 4.3 cm across

@@ -172,10 +172,11 @@ def test_lint_for_a_planner_calls_moved_links_without_spheres_errors(
         "wrist_1_link",
         "wrist_2_link",
         "wrist_3_link",
-        "ee_link",
     }
-    # the base no joint moves stays a warning; without a planning target all are warnings
+    # the base no joint moves stays a warning, and so does ee_link, a 1 cm placeholder box;
+    # without a planning target all are warnings
     assert "warning mesh-without-spheres link 'base_link'" in text
+    assert re.search(r"warning mesh-without-spheres link 'ee_link'.*placeholder, 17 mm", text)
     code, text = _run(runner, "lint", out, "--urdf", urdf)
     assert code == 0 and "error" not in text and text.count("mesh-without-spheres") == 8
 
@@ -202,7 +203,9 @@ def test_allowed_missing_meshes_leave_a_planner_target_with_warnings(
     assert code == 1 and re.findall(r"error ([\w-]+)", text) == ["curobo-no-pair"], text
     warned = re.findall(r"warning mesh-without-spheres link '(\w+)'.*--allow-missing-meshes", text)
     assert len(warned) == 7 and "wrist_3_link" in warned
-    # the ee_link box is at hand: without its spheres it is an error still
+    # a box at hand, not a placeholder: without its spheres it is an error still (ee_link's
+    # 1 cm box made a 5 cm one)
+    urdf.write_text(urdf.read_text().replace('size="0.01 0.01 0.01"', 'size="0.05 0.05 0.05"'))
     x = out.read_text()
     stripped = tmp_path / "stripped.xrdf"
     stripped.write_text(re.sub(r"(?m)^      ee_link:\n(?:        .*\n)+", "", x, count=1))

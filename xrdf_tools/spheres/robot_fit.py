@@ -37,6 +37,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
 from ..util.fixed_order import norm
+from ..util.numbers import PLACEHOLDER_SIZE
 from ..util.text import name_list
 from ..xrdf.model import Sphere
 from .budget import allocate
@@ -52,8 +53,6 @@ if TYPE_CHECKING:
 
 MAX_PER_LINK = 64
 AUTO_COVERAGE_TARGET = 0.9
-#: A solid whose bounding-box diagonal is shorter than this (metres) is a placeholder.
-PLACEHOLDER_SIZE = 0.02
 
 RULE_SHARED_MESH = "spheres-shared-mesh"
 RULE_TARGET_MISSED = "spheres-target-missed"

@@ -22,12 +22,17 @@ __all__ = [
     "MAX_LENGTH",
     "MAX_NUMBER",
     "MAX_SAMPLES",
+    "PLACEHOLDER_SIZE",
     "REPORT_SAMPLES",
     "bound_problem",
     "bound_reason",
     "within",
 ]
 
+#: A link whose collision geometry spans less than this across (metres) is a placeholder, not
+#: a part: the fitter gives it one sphere, lint does not require one
+#: (:mod:`xrdf_tools.robot.placeholders`).
+PLACEHOLDER_SIZE = 0.02
 #: Largest magnitude of any number read (limits, positions, multipliers, weights, ...).
 MAX_NUMBER = 1e12
 #: Largest magnitude of a length or coordinate, in metres.

@@ -10,7 +10,9 @@ is an error when a c-space joint moves the link: the planner would move it throu
 (a file without any collision section is then reported too, once per such link). A link no
 c-space joint moves (a base bolted to the table) stays a warning: no plan can change its
 clearance. With ``--allow-missing-meshes`` a link whose collision geometry is only mesh files
-that cannot be found stays a warning too: the user said those are expected.
+that cannot be found stays a warning too: the user said those are expected. So does a
+placeholder, a link whose collision primitives span less than 2 cm (UR's ``ee_link``, a 1 cm
+box, which NVIDIA's own UR XRDFs give no sphere).
 
 Spheres written on a frame without collision geometry of its own (a fingertip frame, an added
 frame) stand for the first link above it, across fixed joints, that has geometry: NVIDIA's
@@ -23,9 +25,13 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
 from ..context import LintContext, Problem, Rule, finite_number
+
+if TYPE_CHECKING:
+    from ...robot.core import Robot
 
 #: The readers that plan with the spheres: a link they cannot see is an error for them.
 PLANNING_TARGETS = frozenset({"curobo", "cumotion"})
@@ -51,17 +57,33 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     where = "" if sections else " (the file has no collision section)"
     bare = [f for f in kin.frame_names if f in robot.collision_counts and f not in used]
     absent = _only_missing_meshes(ctx, bare) if planning and ctx.allow_missing_meshes else set()
+    tiny = _placeholders(robot) if planning and bare else {}
     for frame in bare:
         moved = planning and bool(cspace.intersection(kin.joints_on_path(kin.base_frame, frame)))
-        severity = Severity.ERROR if moved and frame not in absent else Severity.WARNING
-        why = " (its collision meshes cannot be found: --allow-missing-meshes)"
+        excused = frame in absent or frame in tiny
+        severity = Severity.ERROR if moved and not excused else Severity.WARNING
         yield ctx.problem(
             anchor,
             f"link '{frame}' has collision geometry in {robot.path.rsplit('/', 1)[-1]} but no "
-            f"collision spheres{where}{why if frame in absent else ''}; the planner cannot see it",
+            f"collision spheres{where}{_why(frame, absent, tiny)}; the planner cannot see it",
             key,
             severity,
         )
+
+
+def _placeholders(robot: Robot) -> dict[str, float]:
+    from ...robot.placeholders import placeholder_links  # with --urdf only: lint stays light
+
+    return placeholder_links(robot)
+
+
+def _why(frame: str, absent: set[str], tiny: dict[str, float]) -> str:
+    """Why a moved link without spheres is a warning, not an error, for a planner."""
+    if frame in absent:
+        return " (its collision meshes cannot be found: --allow-missing-meshes)"
+    if frame in tiny:
+        return f" (a placeholder, {tiny[frame] * 1000:.0f} mm across: nothing to plan around)"
+    return ""
 
 
 def _links_served(ctx: LintContext, group: str | None) -> set[str]:
