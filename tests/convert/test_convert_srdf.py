@@ -489,8 +489,8 @@ def test_an_srdf_xacros_groups_are_located_in_the_xacro_file(
 ) -> None:
     """Trossen's wxai.srdf.xacro: a group naming a joint the URDF lacks was reported without a
     line ('bad.srdf.xacro: warning ...'), and as '(line None)' when used. A group written
-    literally in the xacro file is located at its line there; one a macro makes has no line
-    and the message names none."""
+    literally in the xacro file is located at its line there; one a macro makes from its
+    arguments alone (name="${name}") at the macro call that makes it."""
     srdf = _write(
         tmp_path,
         """<robot name="t" xmlns:xacro="http://www.ros.org/wiki/xacro">
@@ -509,13 +509,15 @@ def test_an_srdf_xacros_groups_are_located_in_the_xacro_file(
     loaded = load_srdf(srdf)
     assert (loaded.groups["arm"].line, loaded.groups["typo"].line) == (6, 7)
     assert loaded.groups["made"].line is None
+    assert loaded.at(loaded.groups["made"]) == (str(srdf), 8)
     d = read_srdf(loaded, tree, group="arm")
     warned = {w.message.split("'")[1]: w.line for w in d.diagnostics if "unused-group" in w.rule}
-    assert warned == {"typo": 7, "made": None}
+    assert warned == {"typo": 7, "made": 8}
     with pytest.raises(SourceError) as err:
         read_srdf(loaded, tree, group="made")
     msg = str(err.value)
-    assert "group 'made': unknown joint 'ghost'" in msg and "None" not in msg
+    assert "group 'made' (line 8): unknown joint 'ghost'" in msg and "None" not in msg
+    assert err.value.line == 8
     with pytest.raises(SourceError) as err:
         read_srdf(loaded, tree, group="typo")
     assert err.value.line == 7

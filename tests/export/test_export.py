@@ -346,12 +346,13 @@ def test_curobo_export_of_world_collision_only_checks_no_pair(tmp_path: Path) ->
     frames = kin["collision_link_names"]
     assert frames == ["base", "link0", "link1"]
     assert ignored == {frozenset((a, b)) for a in frames for b in frames if a != b}
-    # and cuRobo's loader raises when no pair is left to check: said, with what to do
-    assert [(d.rule, d.severity.value) for d in diags] == [
-        ("export-no-self-collision", "info"),
-        ("export-no-pair", "warning"),
+    # and cuRobo's loader raises when no pair is left to check: an error (the command writes
+    # nothing), at the world section, with what to do
+    assert [(d.rule, d.severity.value, d.line) for d in diags] == [
+        ("export-no-self-collision", "info", None),
+        ("export-no-pair", "error", 6),
     ]
-    assert "ZeroDivisionError" in diags[1].message
+    assert "ZeroDivisionError" in diags[1].message and "self_collision" in diags[1].message
 
     self_only = parse_xrdf(_two_link_xrdf("self_collision"), "two_link.xrdf")
     text, diags = to_curobo(self_only, tree, urdf_path=urdf)

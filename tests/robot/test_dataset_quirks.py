@@ -223,12 +223,14 @@ def test_a_curobo_export_without_spheres_warns_at_the_collision_group(
     code, text = _run(runner, "export", "curobo", xrdf, "--urdf", urdf, "-o", tmp_path / "r.yml")
     assert code == 0, text
     assert f"{xrdf}:{line}:13: warning export-no-spheres no collision sphere to export" in text
-    # with spheres there is nothing to say
+    # with spheres there is nothing to say about them; the arm's two sphere frames are
+    # adjacent, so their one pair is masked and cuRobo's loader would raise: nothing written
     fitted = tmp_path / "fitted.xrdf"
     code, text = _run(runner, "convert", urdf, "--fit-spheres", "-n", "50", "-o", fitted)
     assert code == 0, text
     code, text = _run(runner, "export", "curobo", fitted, "--urdf", urdf, "-o", tmp_path / "f.yml")
-    assert code == 0 and "export-no-spheres" not in text, text
+    assert "export-no-spheres" not in text, text
+    assert code == 1 and " error export-no-pair " in text and not (tmp_path / "f.yml").exists()
 
 
 def test_a_pinky_is_a_finger_so_a_humanoid_arm_ends_at_its_palm(tmp_path: Path) -> None:
@@ -382,6 +384,8 @@ def test_a_urdf_written_by_xacro_with_a_macro_call_commented_out_is_plain(
     xrdf = tmp_path / "r.xrdf"
     code, out = _run(runner, "convert", urdf, "--fit-spheres", "-o", xrdf)
     assert code == 0, out
+    # the arm's one pair is adjacent: unmasked, so that cuRobo has a pair to check
+    xrdf.write_text(xrdf.read_text().replace("  ignore:\n    base: [arm]\n", "  ignore: {}\n"))
     code, out = _run(runner, "export", "curobo", xrdf, "--urdf", urdf, "-o", tmp_path / "c.yml")
     assert code == 0, out
     assert "export-expanded-urdf" not in out and not (tmp_path / "c_r.urdf").exists()

@@ -5,7 +5,10 @@ The SRDF side lives in :mod:`xrdf_tools.export.srdf` (``to_srdf`` is re-exported
 Pure: functions return text and diagnostics. ``to_curobo`` writes what cuRobo's loader accepts:
 every number a float (``0.0``, never ``0``: cuRobo broadcasts Python floats only), ``FIXED``
 joint types in upper case, lists in c-space order looked up *by joint name* (cuRobo's own XRDF
-reader fills defaults in URDF order — a bug we do not copy), buffers per link.
+reader fills defaults in URDF order — a bug we do not copy), buffers per link. What cuRobo's
+loader would still raise on is an error diagnostic (``export-no-pair`` here, the ``curobo-*``
+lint findings the YAML carries in :mod:`xrdf_tools.export.curobo_loader`): the command then
+writes nothing.
 """
 
 from __future__ import annotations
@@ -145,6 +148,7 @@ def to_curobo(
     :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`. ``urdf_path`` (the
     file ``urdf_path`` names; default: the tree's) is written relative to the directory
     ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
+    A diagnostic of severity error says that cuRobo's loader raises on the text.
     """
     robot = None if isinstance(tree, RobotTree) else tree
     assets = None if robot is None else mesh_root(robot)
@@ -181,6 +185,7 @@ def to_curobo(
         kin["link_names"] = tools
 
     kin.update(_collision_keys(x, note))
+    diags.extend(_no_pair_left(x, kin))
     if not kin["collision_spheres"]:
         where = "collision.geometry" if x.world_collision is not None else "geometry"
         line, col = x.source.position(where)
@@ -305,30 +310,35 @@ def _collision_keys(x: Xrdf, note: Callable[[str, str, Severity], None]) -> dict
         sbuf = {}
     kin["self_collision_ignore"] = {a: ignore[a] for a in sorted(ignore)}
     kin["self_collision_buffer"] = sbuf
-    _say_if_no_pair_left(list(spheres), ignore, note)
     return kin
 
 
-def _say_if_no_pair_left(
-    frames: list[str],
-    ignore: Mapping[str, list[str]],
-    note: Callable[[str, str, Severity], None],
-) -> None:
-    """Warn when cuRobo would have no pair of sphere frames to check for self-collision: its
-    loader divides by that number and raises."""
+def _no_pair_left(x: Xrdf, kin: Mapping[str, Any]) -> list[Diagnostic]:
+    """An ``export-no-pair`` error when cuRobo would have no pair of the sphere frames of
+    ``kin`` (the config written) to check for self-collision: its loader divides by that
+    number and raises. Located at the XRDF's mask (its collision section without one)."""
+    frames: list[str] = kin["collision_link_names"]
     if not frames:
-        return
+        return []
+    ignore: Mapping[str, list[str]] = kin["self_collision_ignore"]
     masked = {frozenset((a, b)) for a, bs in ignore.items() for b in bs}
     if any(frozenset((a, b)) not in masked for i, a in enumerate(frames) for b in frames[i + 1 :]):
-        return
-    note(
-        "export-no-pair",
+        return []
+    if x.self_collision is None:
+        fix = (
+            "give the XRDF a self_collision section that leaves the pairs that can collide "
+            "unmasked (xrdf report FILE --urdf URDF --write-mask OUT adds one)"
+        )
+    else:
+        fix = "remove a pair that can collide from self_collision.ignore"
+    where = "self_collision.ignore" if x.self_collision is not None else x.collision_key
+    line, col = x.source.position(f"{where}#key")
+    message = (
         f"no pair of the {len(frames)} sphere frame(s) is left for self-collision: cuRobo's "
-        "loader raises on this config (ZeroDivisionError); remove a pair that can collide "
-        "from self_collision_ignore (and turn self-collision checking off in cuRobo's planner "
-        "configuration if the robot should not check it)",
-        Severity.WARNING,
+        f"loader raises on this config (ZeroDivisionError); {fix} (and turn self-collision "
+        "checking off in cuRobo's planner configuration if the robot should not check it)"
     )
+    return [Diagnostic(x.source.path, line, col, "export-no-pair", Severity.ERROR, message, where)]
 
 
 _RELATIVE_NOTE = (

@@ -1,12 +1,18 @@
-"""Where a xacro robot's macro-made links and joints are written.
+"""Where the elements of an expanded xacro file that a macro makes are written.
 
-An expanded xacro file locates the ``<link>``/``<joint>`` elements it writes literally (see
+An expanded xacro file locates the elements it writes literally (see
 ``urdf_source.relocate_expansion``); the ones a macro of an included file makes
-(``<link name="${prefix}link_3">`` in ``kr6_macro.xacro``) have no line in it. Such a name is
-placed at the element of an included file whose ``name`` template it fits: the template's
-``${…}`` and ``$(…)`` stand for any text, and of the templates that fit, the one with the
-most literal text wins (``${prefix}link_3`` over ``${prefix}${name}``); a template without
-literal text fits nothing. Messages about the link then point where the user would edit it.
+(``<link name="${prefix}link_3">`` in ``kr6_macro.xacro``, ``<group name="ur_manipulator">``
+in UR's ``ur_macro.srdf.xacro``) have no line in it. Such an element is placed at the element
+of an included file whose identifying attributes (a link's ``name``, a group state's ``name``
+and ``group``, a ``disable_collisions``' ``link1`` and ``link2``: :data:`URDF_KEYS`,
+``SRDF_KEYS`` in the SRDF reader) it fits: a template's ``${…}`` and ``$(…)`` stand for any
+text, and of the templates that fit, the one with the most literal text wins
+(``${prefix}link_3`` over ``${prefix}${name}``). A template that is expressions only
+(``name="${name}"``) fits no name by itself: the element is then placed at the macro call that
+makes it, the call whose arguments (or the macro's defaults) give that name. Messages about the
+element then point where the user would edit it. One implementation for the URDF's links and
+joints and the SRDF's groups, states, end effectors and collision pairs.
 """
 
 from __future__ import annotations
@@ -26,6 +32,8 @@ if TYPE_CHECKING:
     from .core import Robot
 
 __all__ = [
+    "URDF_KEYS",
+    "ElementKey",
     "Place",
     "included_places",
     "located_at_elements",
@@ -34,11 +42,18 @@ __all__ = [
     "template_offset",
 ]
 
-#: ``(kind, name)`` -> ``(file, line)``
+#: ``(file, line)`` where an element is written.
 Place = tuple[str, int]
+#: An element: its tag, then the values of the attributes that tell it apart (``("joint",
+#: "j1")``, ``("disable_collisions", "a", "b")``).
+ElementKey = tuple[str, ...]
+#: The attributes that tell a URDF's links and joints apart.
+URDF_KEYS: Mapping[str, tuple[str, ...]] = FrozenMap({"link": ("name",), "joint": ("name",)})
 
-_ELEMENT = re.compile(r"<(link|joint)\b[^>]*?\bname\s*=\s*(?:\"([^\"]*)\"|'([^']*)')", re.S)
+_ATTRIBUTE = re.compile(r"([\w:.-]+)\s*=\s*(?:\"([^\"]*)\"|'([^']*)')")
 _EXPRESSION = re.compile(r"\$\{[^}]*\}|\$\([^)]*\)")
+_PARAMETER = re.compile(r"\$\{\s*([A-Za-z_]\w*)\s*\}")
+_MACRO = re.compile(r"<xacro:macro\b([^>]*)>(.*?)</xacro:macro\s*>", re.S)
 _ABOUT = re.compile(r"(link|joint) '([^']+)'")
 #: Templates read per file at most (a generated file of thousands of elements is no macro).
 _MAX_TEMPLATES = 5000
@@ -49,68 +64,172 @@ class _Template:
     literal: int  # characters of literal text: more is a closer fit
     path: str
     line: int
-    pattern: re.Pattern[str]
+    patterns: tuple[re.Pattern[str], ...]
+    values: tuple[str, ...]  # the attribute values as written
+    offset: int
 
 
 def placed_in_includes(robot: Robot) -> Robot:
     """``robot`` (an expanded xacro file) with its macro-made links and joints placed in the
     files that write them (the xacro file itself first, then :attr:`Robot.included_files`)."""
-    unplaced = {
-        kind: [n for e in robot.document.findall(kind) if (n := e.get("name")) and n not in lines]
+    unplaced = [
+        (kind, n)
         for kind, lines in (("link", robot.link_lines), ("joint", robot.joint_lines))
-    }
-    places = included_places(unplaced, [robot.path, *robot.included_files])
-    return replace(robot, include_places=FrozenMap(places)) if places else robot
+        for e in robot.document.findall(kind)
+        if (n := e.get("name")) and n not in lines
+    ]
+    places = included_places(unplaced, [robot.path, *robot.included_files], URDF_KEYS)
+    named = FrozenMap(((k[0], k[1]), place) for k, place in places.items())
+    return replace(robot, include_places=named) if places else robot
 
 
 def included_places(
-    unplaced: Mapping[str, Iterable[str]], files: Sequence[str]
-) -> dict[tuple[str, str], Place]:
-    """``(kind, name) -> (file, line)`` for the names of ``unplaced`` (``{"link": names,
-    "joint": names}``) that fit an element template of one of ``files`` (in include order:
-    on a tie the first file, then the first line, wins)."""
-    wanted = {kind: list(names) for kind, names in unplaced.items() if names}
+    unplaced: Iterable[ElementKey],
+    files: Sequence[str],
+    keys: Mapping[str, tuple[str, ...]],
+) -> dict[ElementKey, Place]:
+    """``key -> (file, line)`` for the elements ``unplaced`` (keys of the tags of ``keys``,
+    which names the identifying attributes of each tag) that fit an element template of one
+    of ``files`` (in include order: on a tie the first file, then the first line, wins), else
+    that a macro call of those files makes from a template of expressions only."""
+    wanted = list(dict.fromkeys(k for k in unplaced if k and k[0] in keys))
     if not wanted:
         return {}
-    templates: dict[str, list[_Template]] = {kind: [] for kind in wanted}
-    for path in dict.fromkeys(files):
-        for kind, template in _templates(path):
-            if kind in templates:
-                templates[kind].append(template)
+    texts = {
+        path: text
+        for path in dict.fromkeys(files)
+        if (text := reread_text(path, errors="replace")) is not None
+    }
+    templates: dict[str, list[_Template]] = {tag: [] for tag in keys}
+    for path, text in texts.items():
+        for tag, template in _templates(path, text, keys):
+            templates[tag].append(template)
     for found in templates.values():  # the closest fit first; stable: file, then line order
         found.sort(key=lambda t: -t.literal)
-    out: dict[tuple[str, str], Place] = {}
-    for kind, names in wanted.items():
-        for name in names:
-            fit = next((t for t in templates[kind] if t.pattern.fullmatch(name)), None)
-            if fit is not None:
-                out[(kind, name)] = (fit.path, fit.line)
+    made = _call_places(templates, texts)
+    out: dict[ElementKey, Place] = {}
+    for key in wanted:
+        fit = next((t for t in templates[key[0]] if t.literal and _fits(t, key)), None)
+        place = (fit.path, fit.line) if fit else made.get(key)
+        if place is not None:
+            out[key] = place
     return out
 
 
-def _templates(path: str) -> list[tuple[str, _Template]]:
-    text = reread_text(path, errors="replace")
-    if text is None:
-        return []
+def _fits(template: _Template, key: ElementKey) -> bool:
+    return all(p.fullmatch(v) for p, v in zip(template.patterns, key[1:], strict=True))
+
+
+def _templates(
+    path: str, text: str, keys: Mapping[str, tuple[str, ...]]
+) -> list[tuple[str, _Template]]:
     out: list[tuple[str, _Template]] = []
-    for kind, start, literal, pattern in _name_templates(text):
-        if literal:  # a template without literal text fits every name
-            out.append((kind, _Template(literal, path, line_col(text, start)[0], pattern)))
-            if len(out) >= _MAX_TEMPLATES:
-                break
+    for tag, start, literal, patterns, values in _element_templates(text, keys):
+        line = line_col(text, start)[0]
+        out.append((tag, _Template(literal, path, line, patterns, values, start)))
+        if len(out) >= _MAX_TEMPLATES:
+            break
     return out
 
 
-def _name_templates(text: str) -> Iterator[tuple[str, int, int, re.Pattern[str]]]:
-    """``(kind, offset, literal characters, pattern)`` of each ``<link>``/``<joint>`` of
-    ``text`` whose name holds an expression (literal names are the top file's to place)."""
-    for m in _ELEMENT.finditer(text):
-        value = m.group(2) if m.group(2) is not None else m.group(3)
-        if "$" not in value:
+def _element_templates(
+    text: str, keys: Mapping[str, tuple[str, ...]]
+) -> Iterator[tuple[str, int, int, tuple[re.Pattern[str], ...], tuple[str, ...]]]:
+    """``(tag, offset, literal characters, patterns, values)`` of each start tag of ``text``
+    of a tag of ``keys`` that has its identifying attributes (one pattern per attribute; a
+    missing attribute is the empty text). A self-closing ``<group name="x"/>`` is a subgroup
+    named inside a group, not one written there."""
+    tags = "|".join(re.escape(t) for t in keys)
+    for m in re.finditer(rf"<({tags})\b((?:[^>\"']|\"[^\"]*\"|'[^']*')*?)(/?)>", text):
+        tag, attributes = m.group(1), _attributes(m.group(2))
+        if tag == "group" and m.group(3):
             continue
-        pieces = _EXPRESSION.split(value)
-        pattern = re.compile(".*?".join(re.escape(p) for p in pieces), re.S)
-        yield m.group(1), m.start(), sum(len(p) for p in pieces), pattern
+        values = tuple(attributes.get(a, "").strip() for a in keys[tag])
+        if not any(values):
+            continue
+        pieces = [_EXPRESSION.split(v) for v in values]
+        patterns = tuple(re.compile(".*?".join(re.escape(p) for p in ps), re.S) for ps in pieces)
+        yield tag, m.start(), sum(len(p) for ps in pieces for p in ps), patterns, values
+
+
+def _attributes(text: str) -> dict[str, str]:
+    return {
+        a.group(1): a.group(2) if a.group(2) is not None else a.group(3)
+        for a in _ATTRIBUTE.finditer(text)
+    }
+
+
+def _call_places(
+    templates: Mapping[str, Sequence[_Template]], texts: Mapping[str, str]
+) -> dict[ElementKey, Place]:
+    """``key -> (file, line)`` of the macro calls that make an element from a template of
+    expressions only: each ``${param}`` replaced by the call's argument, or the macro's
+    default, gives the element's values. The first template, then file, then call wins."""
+    macros = {path: _macros(text) for path, text in texts.items()}
+    calls: dict[str, list[tuple[Place, dict[str, str]]]] = {}
+    out: dict[ElementKey, Place] = {}
+    for tag, found in templates.items():
+        for t in found:
+            if t.literal or not all(_PARAMETER.fullmatch(p) for v in t.values for p in _parts(v)):
+                continue
+            macro = next((m for m in macros[t.path] if m[0] <= t.offset < m[1]), None)
+            if macro is None:
+                continue
+            if macro[2] not in calls:
+                calls[macro[2]] = list(_calls(macro[2], texts))
+            for place, given in calls[macro[2]]:
+                values = _made(t.values, {**macro[3], **given})
+                if values is not None:
+                    out.setdefault((tag, *values), place)
+    return out
+
+
+def _calls(name: str, texts: Mapping[str, str]) -> Iterator[tuple[Place, dict[str, str]]]:
+    """Each call of the macro ``name`` in ``texts`` (file, then line order) and its
+    arguments."""
+    for path, text in texts.items():
+        for call in re.finditer(rf"<xacro:{re.escape(name)}\b([^>]*)>", text):
+            yield (path, line_col(text, call.start())[0]), _attributes(call.group(1))
+
+
+def _parts(value: str) -> list[str]:
+    """The expressions of ``value`` (a template without literal text)."""
+    return _EXPRESSION.findall(value)
+
+
+def _made(values: tuple[str, ...], given: Mapping[str, str]) -> tuple[str, ...] | None:
+    """``values`` with each ``${param}`` replaced by its literal argument (None when one has
+    none: an expression or no value)."""
+    out = []
+    for value in values:
+        made = value
+        for expression in _parts(value):
+            param = _PARAMETER.fullmatch(expression)
+            arg = given.get(param.group(1)) if param else None
+            if arg is None or "$" in arg:
+                return None
+            made = made.replace(expression, arg, 1)
+        out.append(made)
+    return tuple(out)
+
+
+def _macros(text: str) -> list[tuple[int, int, str, dict[str, str]]]:
+    """The ``<xacro:macro>`` definitions of ``text``: where each body starts and ends, the
+    macro's name and the defaults of its parameters (``prefix:=''`` → ``{"prefix": ""}``)."""
+    out = []
+    for m in _MACRO.finditer(text):
+        head = _attributes(m.group(1))
+        out.append((m.start(2), m.end(2), head.get("name", ""), _defaults(head.get("params", ""))))
+    return out
+
+
+def _defaults(params: str) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for word in re.findall(r"[^\s=:]+:?=(?:'[^']*'|\"[^\"]*\"|\S*)", params):
+        name, _, value = word.partition("=")
+        value = value.removeprefix("^|").removeprefix("^")
+        out[name.rstrip(":").lstrip("*")] = value.strip("'\"")
+    return out
 
 
 def template_offset(text: str, kind: str, name: str) -> int | None:
@@ -119,7 +238,7 @@ def template_offset(text: str, kind: str, name: str) -> int | None:
     expression (``name="${nan}"``) fits too: for a name no text writes as it is."""
     fits = [
         (-literal, start)
-        for k, start, literal, pattern in _name_templates(text)
+        for k, start, literal, (pattern,), _ in _element_templates(text, URDF_KEYS)
         if k == kind and pattern.fullmatch(name)
     ]
     return min(fits)[1] if fits else None

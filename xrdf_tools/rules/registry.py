@@ -94,7 +94,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-expanded-urdf", I, "A xacro --urdf: the expanded URDF written beside the YAML."),
         ("export-no-spheres", W, "No collision sphere to export: cuRobo checks no collision."),
         ("export-no-self-collision", I, "No self_collision: every sphere frame pair is ignored."),
-        ("export-no-pair", W, "No sphere frame pair left to check: cuRobo's loader raises."),
+        ("export-no-pair", E, "No sphere pair left to check: cuRobo's loader raises; not written."),
         ("export-self-only", W, "Self-collision spheres only: cuRobo checks the world too."),
     ),
     "export srdf": (

@@ -24,6 +24,7 @@ from .typer_common import (
     echo_diagnostics,
     fail,
     load_xrdf_input,
+    read_xrdf_input,
     refuse_input_overwrite,
     refuse_two_stdin,
     typer_option,
@@ -122,21 +123,33 @@ def curobo(
           --package-path trossen_descriptions=DIR -o cfg/px150.yml   # + cfg/px150.urdf
     """
     from ...export.curobo import CUROBO_LAYOUTS, to_curobo
+    from ...export.curobo_loader import loader_errors
+    from ...xrdf.io import parse_xrdf
 
     if layout not in CUROBO_LAYOUTS:
         fail(f"--layout must be one of {', '.join(CUROBO_LAYOUTS)}, not '{layout}'")
     if output is not None:
         refuse_input_overwrite(output, [xrdf, urdf])
     try:
-        x = load_xrdf_input(xrdf)
+        source, label = read_xrdf_input(xrdf)
+        x = parse_xrdf(source, label)
         robot = _load_robot(urdf, package_path, xacro_arg)
         written = _expanded_target(robot, urdf, output, expanded_urdf, xrdf)
         to_dir = None if absolute_paths else _output_dir(output)
         text, diags = to_curobo(
             x, robot, layout=layout, urdf_path=written or urdf, relative_to=to_dir
         )
+        diags = [*loader_errors(source, label, robot), *diags]
     except XrdfToolsError as e:
         fail(e)
+    if any(d.severity is Severity.ERROR for d in diags):
+        echo_diagnostics(diags, fmt)
+        n = sum(d.severity is Severity.ERROR for d in diags)
+        fail(
+            f"cuRobo's loader would raise on the exported config ({n} error(s) above, in the "
+            "XRDF or the URDF): nothing written",
+            EXIT_FINDINGS,
+        )
     if written is not None:
         write_output(robot.text or "", written)
         diags.append(_expanded_note(urdf, written))

@@ -308,6 +308,18 @@ def one_bar(bar: ProgressUpdate | None, label: str) -> Callable[[int, int], None
     return lambda done, total: update(label, done, total)
 
 
+def read_xrdf_input(path: str | os.PathLike[str]) -> tuple[str, str]:
+    """The text of an XRDF input and the name messages give it (``<stdin>`` for ``-``), for
+    a command that lints it as well as reading it. Raises :class:`XrdfToolsError`."""
+    from ...util.errors import YamlError
+    from ...util.fileio import read_input_text
+
+    if not is_stdio(path):
+        return read_input_text(path, what="file", error=YamlError), os.fspath(path)
+    detail("reading the XRDF from standard input")
+    return read_input_text(STDIO, what="XRDF", error=YamlError, allow_stdin=True), "<stdin>"
+
+
 def load_xrdf_input(path: str | os.PathLike[str]) -> Xrdf:
     """An XRDF input of a command: a file, or standard input for ``-`` (read through the
     guarded reader, named ``<stdin>`` in messages). Raises :class:`XrdfToolsError`."""

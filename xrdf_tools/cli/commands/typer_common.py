@@ -46,6 +46,7 @@ from .plain import ProgressUpdate as ProgressUpdate
 from .plain import load_xrdf_input as load_xrdf_input  # the commands' helpers, shared here too
 from .plain import note as note
 from .plain import one_bar as one_bar
+from .plain import read_xrdf_input as read_xrdf_input
 
 if TYPE_CHECKING:
     pass

@@ -77,13 +77,19 @@ class Reporter:
         *,
         severity: Severity = Severity.WARNING,
         line: int | None = None,
+        at: tuple[str, int | None] | None = None,
     ) -> Diagnostic:
+        """A diagnostic at ``line`` of the file, else at ``at`` (a file and line: an SRDF
+        element a macro of an included file writes), else at ``key_path``."""
         key_path = str(key_path)  # a YAML key may be a number (``1: ...``)
+        path = self.path
+        if at is not None and line is None:
+            path, line = at
         if line is not None:
             pos: tuple[int | None, int | None] = (line, None)
         else:
             pos = self.position(key_path)
-        d = Diagnostic(self.path, pos[0], pos[1], rule, severity, message, key_path)
+        d = Diagnostic(path, pos[0], pos[1], rule, severity, message, key_path)
         self.diagnostics.append(d)
         return d
 
@@ -96,8 +102,10 @@ def known_frame(
     what: str,
     *,
     line: int | None = None,
+    at: tuple[str, int | None] | None = None,
 ) -> bool:
-    """True when ``name`` is a frame; otherwise report ``convert-unknown-link`` (did-you-mean)."""
+    """True when ``name`` is a frame; otherwise report ``convert-unknown-link`` (did-you-mean)
+    at ``line`` or ``at`` (see :meth:`Reporter.report`)."""
     frames = list(frames)
     if name in frames:
         return True
@@ -106,5 +114,6 @@ def known_frame(
         f"'{name}' ({what}) is not a link of the URDF; dropped{did_you_mean(name, frames)}",
         key_path,
         line=line,
+        at=at,
     )
     return False

@@ -215,7 +215,7 @@ def report_unplannable_joints(srdf: Srdf, groups: Sequence[str], tree: RobotTree
             f"group '{group}' holds the {kind} joint '{joint}': left out of the c-space (an "
             "XRDF c-space holds revolute, continuous and prismatic joints only); plan the base "
             "separately or model it as prismatic/revolute joints in the URDF",
-            line=srdf.groups[group].line,
+            at=srdf.at(srdf.groups[group]),
         )
     return rep
 

@@ -78,14 +78,14 @@ def read_srdf(
             RULE_UNUSED_GROUP,
             f"group '{broken.name}' does not match the URDF ({'; '.join(problems)}); it is not "
             "used for this conversion, so it is ignored",
-            line=broken.line,
+            at=srdf.at(broken),
         )
     for looped, cycle in unused_cycles(srdf, groups):
         rep.report(
             RULE_UNUSED_GROUP,
             f"group '{looped.name}' includes itself through its subgroups ({cycle}); it is not "
             "used for this conversion, so it is ignored",
-            line=looped.line,
+            at=srdf.at(looped),
         )
     d.group = "+".join(groups) or None
     d.passive_joints |= _passive_joints(srdf, tree, rep)
@@ -114,28 +114,29 @@ def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
     A link the URDF lacks is reported once, at its first entry, with the number of entries
     that name it (an SRDF written for another base names its links in dozens of pairs); past
     ten such links, the others are counted in one more warning."""
-    unknown: dict[str, list[tuple[str, int | None]]] = {}
+    unknown: dict[str, list[tuple[str, tuple[str, int | None]]]] = {}
     for l1, l2, _reason, line in srdf.disable_collisions:
+        at = srdf.where(("disable_collisions", l1, l2), line)
         for link, key in ((l1, "link1"), (l2, "link2")):
             if link not in tree.links:
-                unknown.setdefault(link, []).append((key, line))
+                unknown.setdefault(link, []).append((key, at))
         if l1 == l2 and l1 in tree.links:
             rep.report(
                 "convert-dropped-key",
                 f"disable_collisions names '{l1}' twice: a link is never checked against "
                 "itself, so there is no pair to carry",
                 severity=Severity.INFO,
-                line=line,
+                at=at,
             )
         elif l1 in tree.links and l2 in tree.links:
             d.add_ignore(l1, l2)
     named = list(unknown.items())
     for link, uses in named[:_UNKNOWN_NAMED]:
-        key, line = uses[0]
+        key, at = uses[0]
         what = f"disable_collisions {key}"
         if len(uses) > 1:
             what = f"in {len(uses)} disable_collisions entries, first as {key}"
-        known_frame(link, tree.links, rep, "", what, line=line)
+        known_frame(link, tree.links, rep, "", what, at=at)
     rest = named[_UNKNOWN_NAMED:]
     if rest:
         rep.report(
@@ -143,10 +144,11 @@ def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
             f"{len(rest):,} more links of disable_collisions entries are not links of the "
             f"URDF ({name_list((n for n, _ in rest), 4)}); dropped: was the SRDF written for "
             "another robot?",
-            line=rest[0][1][0][1],
+            at=rest[0][1][0][1],
         )
     for link, line in srdf.disable_default:
-        if known_frame(link, tree.links, rep, "", "disable_default_collisions", line=line):
+        at = srdf.where(("disable_default_collisions", link), line)
+        if known_frame(link, tree.links, rep, "", "disable_default_collisions", at=at):
             for other in tree.links:
                 d.add_ignore(link, other)
     for l1, l2, line in srdf.enable_collisions:
@@ -155,7 +157,7 @@ def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
             f"enable_collisions {l1}/{l2} re-enables a pair; XRDF has no override, so the pair "
             "is checked unless disabled above",
             severity=Severity.INFO,
-            line=line,
+            at=srdf.where(("enable_collisions", l1, l2), line),
         )
         if l2 in d.ignore.get(l1, []):
             d.ignore[l1].remove(l2)
@@ -174,7 +176,7 @@ def _virtual(srdf: Srdf, tree: RobotTree, rep: Reporter) -> None:
                 f"virtual_joint '{vj.name}' attaches '{vj.child}', which is not a link of the "
                 f"URDF (MoveIt skips it){did_you_mean(vj.child, tree.links)}: is this the SRDF "
                 "of another URDF of the robot?",
-                line=vj.line,
+                at=srdf.at(vj),
             )
             continue
         rep.report(
@@ -182,7 +184,7 @@ def _virtual(srdf: Srdf, tree: RobotTree, rep: Reporter) -> None:
             f"virtual_joint '{vj.name}' ({vj.type}) is not represented: XRDF is relative to "
             "the URDF root",
             severity=Severity.INFO,
-            line=vj.line,
+            at=srdf.at(vj),
         )
 
 
@@ -191,7 +193,8 @@ def _spheres(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
     if srdf.spheres:
         spheres: dict[str, list[Sphere]] = {}
         for link, ss, line in srdf.spheres:
-            if not known_frame(link, tree.links, rep, "", "link_sphere_approximation", line=line):
+            at = srdf.where(("link_sphere_approximation", link), line)
+            if not known_frame(link, tree.links, rep, "", "link_sphere_approximation", at=at):
                 continue
             kept = [s for s in ss if s.radius > 0]
             if len(kept) < len(ss) and kept:
@@ -199,7 +202,7 @@ def _spheres(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
                     "convert-placeholder-spheres",
                     f"{len(ss) - len(kept)} sphere(s) of radius ≤ 0 on '{link}' dropped",
                     severity=Severity.INFO,
-                    line=line,
+                    at=at,
                 )
             if kept:
                 spheres.setdefault(link, []).extend(kept)
@@ -223,7 +226,7 @@ def _passive_joints(srdf: Srdf, tree: RobotTree, rep: Reporter) -> set[str]:
             "convert-unknown-joint",
             f"passive_joint '{name}' is not a joint of the URDF{did_you_mean(name, tree.joints)}"
             "; ignored",
-            line=line,
+            at=srdf.where(("passive_joint", name), line),
         )
     return out
 
@@ -243,7 +246,7 @@ def _choose(srdf: Srdf, tree: RobotTree, rep: Reporter) -> list[str]:
         f"planning group '{group}' chosen: {why}"
         + (f"; others (actuated joints): {name_list(others)}" if others else "")
         + "; use --group (repeatable for several groups)",
-        line=srdf.groups[group].line,
+        at=srdf.at(srdf.groups[group]),
         # the only group of the SRDF (UR's ur_manipulator) is no guess: a note, not a warning
         severity=Severity.WARNING if others else Severity.INFO,
     )
@@ -280,7 +283,7 @@ def _defaults(
             rep.report(
                 "convert-chosen-state",
                 f"default positions from group_state '{st.name}' ({why})",
-                line=st.line,
+                at=srdf.at(st),
             )
     if state is None and groups:
         chosen += _states_inside(srdf, tree, d.cspace or [], chosen, rep)
@@ -315,7 +318,7 @@ def _states_inside(
             "convert-chosen-state",
             f"default positions of {name_list(sorted(set(joints) & inside), 4)} from "
             f"group_state '{st.name}' ({why}; a group inside the c-space)",
-            line=st.line,
+            at=srdf.at(st),
         )
     return out
 
@@ -327,7 +330,7 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
             "convert-unknown-joint",
             f"group_state '{st.name}' sets '{jname}', which is not a joint of the "
             f"URDF{did_you_mean(jname, tree.joints)}; dropped",
-            line=st.line,
+            at=srdf.at(st),
         )
         return False
     if not j.is_actuated or jname in srdf.passive_joints:
@@ -337,7 +340,7 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
             f"group_state '{st.name}' sets '{jname}', which is {kind} joint; "
             "XRDF default positions hold only actuated joints; dropped",
             severity=Severity.INFO,
-            line=st.line,
+            at=srdf.at(st),
         )
         return False
     if jname in st.multi:
@@ -346,7 +349,7 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
             f"group_state '{st.name}' gives '{jname}' several numbers; a {j.type} joint takes "
             "one, so MoveIt and pinocchio ignore the value; dropped",
             severity=Severity.INFO,
-            line=st.line,
+            at=srdf.at(st),
         )
         return False
     return True
@@ -363,7 +366,7 @@ def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) 
         for ee in srdf.end_effectors:
             owned = any(carries_end_effector(srdf, g, ee, tree) for g in members)
             if owned and known_frame(
-                ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", line=ee.line
+                ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", at=srdf.at(ee)
             ):
                 frames.append(ee.parent_link)
         for gname in members:

@@ -9,6 +9,7 @@ name). The c-space is the group's joints minus fixed, mimic and passive joints.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable
 
 from ...robot.chains import is_leg
@@ -114,19 +115,24 @@ def check_groups(
     broken = group_problems(srdf, tree)
     fatal = [(g, p) for g, p in broken if g.name in members]
     if fatal:
-        parts = [f"group '{g.name}'{_at(g.line)}: {'; '.join(p)}" for g, p in fatal]
+        parts = [f"group '{g.name}'{_at(srdf, g)}: {'; '.join(p)}" for g, p in fatal]
+        path, line = srdf.at(fatal[0][0])
         raise SourceError(
             f"{len(fatal)} SRDF group(s) used for the conversion do not match the URDF: "
             + " | ".join(parts),
-            path=srdf.path,
-            line=fatal[0][0].line,
+            path=path,
+            line=line,
         )
     return [(g, p) for g, p in broken if g.name not in members]
 
 
-def _at(line: int | None) -> str:
-    """`` (line N)`` after a group's name, nothing when it has no line."""
-    return f" (line {line})" if line else ""
+def _at(srdf: Srdf, g: SrdfGroup) -> str:
+    """`` (line N)`` after a group's name (`` (file.xacro:N)`` when an included file writes
+    it), nothing when it has no line."""
+    path, line = srdf.at(g)
+    if not line:
+        return ""
+    return f" (line {line})" if path == srdf.path else f" ({os.path.basename(path)}:{line})"
 
 
 def unused_cycles(srdf: Srdf, used: Iterable[str]) -> list[tuple[SrdfGroup, str]]:
@@ -154,7 +160,8 @@ def _own_joints(srdf: Srdf, gname: str, tree: RobotTree) -> set[str]:
     found: set[str] = set()
 
     def fail(msg: str) -> SourceError:
-        return SourceError(f"group '{g.name}': {msg}", path=srdf.path, line=g.line)
+        path, line = srdf.at(g)
+        return SourceError(f"group '{g.name}': {msg}", path=path, line=line)
 
     virtual = _virtual_joints(srdf)
     for j in g.joints:
@@ -191,11 +198,8 @@ def group_joints(srdf: Srdf, name: str, tree: RobotTree) -> list[str]:
     # subgroups: each visited once, without recursion (1,000s of nested groups are fine)
     members, cycle = reachable(name, lambda gname: group_named(srdf, gname).subgroups)
     if cycle is not None:
-        raise SourceError(
-            f"groups include each other: {show_path(cycle)}",
-            path=srdf.path,
-            line=srdf.groups[cycle[0]].line,
-        )
+        path, line = srdf.at(srdf.groups[cycle[0]])
+        raise SourceError(f"groups include each other: {show_path(cycle)}", path=path, line=line)
     found: set[str] = set()
     for gname in members:
         found |= _own_joints(srdf, gname, tree)

@@ -8,17 +8,20 @@ Group expansion and choice are in :mod:`.srdf_groups`, the mapping onto a Draft 
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, Protocol
 
 from ...diagnostics import Diagnostic
+from ...robot.xacro_places import ElementKey, Place, included_places
 from ...util.errors import SourceError
 from ...util.fileio import read_input_bytes
+from ...util.frozen import FrozenMap
 from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
 from ...xrdf.model import Sphere
 
 __all__ = [
+    "SRDF_KEYS",
     "EndEffector",
     "GroupState",
     "Srdf",
@@ -31,6 +34,23 @@ __all__ = [
 ]
 
 
+#: The attributes that tell the SRDF elements of each tag apart (their :data:`ElementKey`
+#: is the tag, then these values): where a macro writes them is found by them.
+SRDF_KEYS: Mapping[str, tuple[str, ...]] = FrozenMap(
+    {
+        "group": ("name",),
+        "group_state": ("name", "group"),
+        "end_effector": ("name",),
+        "virtual_joint": ("name",),
+        "passive_joint": ("name",),
+        "disable_collisions": ("link1", "link2"),
+        "disable_default_collisions": ("link",),
+        "enable_collisions": ("link1", "link2"),
+        "link_sphere_approximation": ("link",),
+    }
+)
+
+
 @dataclass(frozen=True)
 class SrdfGroup:
     name: str
@@ -39,6 +59,10 @@ class SrdfGroup:
     chains: tuple[tuple[str, str], ...] = ()
     subgroups: tuple[str, ...] = ()
     line: int | None = None
+
+    @property
+    def key(self) -> ElementKey:
+        return ("group", self.name)
 
 
 @dataclass(frozen=True)
@@ -52,6 +76,10 @@ class GroupState:
     #: one number per variable of the joint.
     multi: tuple[str, ...] = ()
 
+    @property
+    def key(self) -> ElementKey:
+        return ("group_state", self.name, self.group or "")
+
 
 @dataclass(frozen=True)
 class VirtualJoint:
@@ -62,6 +90,10 @@ class VirtualJoint:
     child: str
     line: int | None = None
 
+    @property
+    def key(self) -> ElementKey:
+        return ("virtual_joint", self.name)
+
 
 @dataclass(frozen=True)
 class EndEffector:
@@ -70,6 +102,18 @@ class EndEffector:
     group: str | None
     parent_group: str | None
     line: int | None = None
+
+    @property
+    def key(self) -> ElementKey:
+        return ("end_effector", self.name)
+
+
+class _Placed(Protocol):
+    @property
+    def key(self) -> ElementKey: ...
+
+    @property
+    def line(self) -> int | None: ...
 
 
 @dataclass(frozen=True)
@@ -88,6 +132,39 @@ class Srdf:
     spheres: tuple[tuple[str, tuple[Sphere, ...], int | None], ...] = ()
     #: What reading the file said that is no error (xacro's warnings for an SRDF xacro).
     warnings: tuple[Diagnostic, ...] = ()
+    #: ``key -> (file, line)`` of the elements of an SRDF xacro that a macro of an included
+    #: file writes (their ``line``, a line of :attr:`path`, is None): see
+    #: :mod:`xrdf_tools.robot.xacro_places`.
+    include_places: Mapping[ElementKey, Place] = field(default_factory=FrozenMap)
+
+    def where(self, key: ElementKey, line: int | None) -> tuple[str, int | None]:
+        """File and line of the element ``key`` whose line in :attr:`path` is ``line``: that
+        line, else where an included file writes it, else ``(path, None)``."""
+        if line is None and key in self.include_places:
+            return self.include_places[key]
+        return self.path, line
+
+    def at(self, element: _Placed) -> tuple[str, int | None]:
+        """File and line of a group, group state, end effector or virtual joint."""
+        return self.where(element.key, element.line)
+
+    def element_keys(self) -> Iterator[tuple[ElementKey, int | None]]:
+        """Every element read, by key, with its line in :attr:`path`."""
+        for g in self.groups.values():
+            yield g.key, g.line
+        elements: list[_Placed] = [*self.group_states, *self.end_effectors, *self.virtual_joints]
+        for el in elements:
+            yield el.key, el.line
+        for name, line in zip(self.passive_joints, self.passive_joint_lines, strict=False):
+            yield ("passive_joint", name), line
+        for l1, l2, _, line in self.disable_collisions:
+            yield ("disable_collisions", l1, l2), line
+        for link, line in self.disable_default:
+            yield ("disable_default_collisions", link), line
+        for l1, l2, line in self.enable_collisions:
+            yield ("enable_collisions", l1, l2), line
+        for link, _, line in self.spheres:
+            yield ("link_sphere_approximation", link), line
 
 
 def load_srdf(
@@ -101,7 +178,9 @@ def load_srdf(
     An SRDF xacro (``robot.srdf.xacro``, as MoveIt configurations ship them) is expanded with
     ``xacro_args`` and ``package_paths`` first, as MoveIt's launch files do (the robot's
     arguments: one it does not read is no finding); an element written literally in the xacro
-    file is reported at its line there, one a macro or an argument made without a line."""
+    file is reported at its line there, one a macro of an included file writes at its line in
+    that file (:attr:`Srdf.include_places`, :meth:`Srdf.where`), or at the macro call that
+    makes it when its name is all expressions."""
     from ...robot.xacro_source import expand_xacro, uses_xacro
 
     p = os.fspath(path)
@@ -109,11 +188,21 @@ def load_srdf(
     if not (p.endswith(".xacro") or uses_xacro(data)):
         return parse_srdf(data, p)
     said: list[Diagnostic] = []
+    included: list[str] = []
     text = expand_xacro(
-        p, xacro_args, package_paths, data=data, warnings=said, warn_unread_args=False
+        p,
+        xacro_args,
+        package_paths,
+        data=data,
+        warnings=said,
+        warn_unread_args=False,
+        includes=included,
     )
     source = data.decode("utf-8", errors="replace")
-    return replace(parse_srdf(text, p, xacro_source=source), warnings=tuple(said))
+    srdf = parse_srdf(text, p, xacro_source=source)
+    unplaced = [key for key, line in srdf.element_keys() if line is None]
+    places = included_places(unplaced, [p, *included], SRDF_KEYS)
+    return replace(srdf, warnings=tuple(said), include_places=FrozenMap(places))
 
 
 def parse_srdf(
