@@ -142,6 +142,11 @@ def test_a_urdf_velocity_of_zero_stops_curobo_before_fitting(
     assert stop < lines.index(zero[0]) and "above" not in lines[stop], r.stderr
     # the closing line counts that one error, not the stop that reports it too
     assert "has 1 lint error(s) against the URDF" in r.stderr.splitlines()[-1], r.stderr
+    # the error is placed at a line of arm.xrdf, which does not exist: the last line says so
+    assert zero[0].startswith(f"{out}:") and not out.exists()
+    assert "nothing was written: their lines are those of the XRDF convert would write" in (
+        " ".join(r.stderr.split())
+    )
     r = runner.invoke(app, args)
     assert r.exit_code == 0 and out.exists(), r.stderr
     assert "warning curobo-zero-velocity" in r.stderr

@@ -392,6 +392,14 @@ def _check(output: Path, x: Xrdf, root_frame: str) -> None:
     )
 
 
+def _at_unwritten_lines(errors: list[Diagnostic]) -> str:
+    """What the lines of findings in the converted XRDF mean when it is not written: the
+    file named there does not exist (or holds something else)."""
+    if not any(d.line is not None and d.path != "<stdout>" for d in errors):
+        return ""
+    return "; nothing was written: their lines are those of the XRDF convert would write"
+
+
 def _render_diff(result: Any) -> str:
     from ...diff.render import render_text
 
@@ -470,6 +478,6 @@ def _fail_on_errors(
             )
         fail(
             f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
-            f"above); {remedy}",
+            f"above{_at_unwritten_lines(errors)}); {remedy}",
             EXIT_FINDINGS,
         )
