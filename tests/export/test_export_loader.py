@@ -44,8 +44,14 @@ def _broken_urdf(tmp_path: Path, old: str, new: str) -> Path:
     [
         ('effort="330.0"', 'effort="0"', "curobo-zero-velocity", 'effort="0"'),
         ('<axis xyz="0 0 1"/>', '<axis xyz="0 0.6 0.8"/>', "curobo-joint-axis", "0 0.6 0.8"),
+        (
+            'lower="-6.283185307179586" upper="6.283185307179586"',
+            'lower="0" upper="0"',
+            "cspace-joint-held",
+            "[0, 0]",
+        ),
     ],
-    ids=["effort-0", "tilted-axis"],
+    ids=["effort-0", "tilted-axis", "held"],
 )
 def test_export_stops_where_curobos_loader_raises(
     tmp_path: Path, old: str, new: str, rule: str, said: str

@@ -481,6 +481,10 @@ def test_a_cspace_joint_held_by_zero_limits_is_a_lint_warning(
     code, text = _run(runner, "lint", out, "--urdf", urdf)
     (line,) = [t for t in text.splitlines() if "cspace-joint-held" in t]
     assert "warning cspace-joint-held c-space joint 'j2'" in line and "[0, 0]" in line
+    # cuRobo's loader raises on an empty position range: an error for that reader
+    code, text = _run(runner, "lint", out, "--urdf", urdf, "--target", "curobo")
+    (line,) = [t for t in text.splitlines() if "cspace-joint-held" in t]
+    assert code == 1 and "error cspace-joint-held" in line and "loader raises" in line
     # the free joints are no finding, and nothing without the URDF
     code, text = _run(runner, "lint", out)
     assert "cspace-joint-held" not in text

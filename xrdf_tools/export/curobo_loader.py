@@ -4,7 +4,8 @@ The ``curobo-*`` lint rules (``xrdf lint --target curobo``, which ``xrdf convert
 curobo`` runs too) say where cuRobo's loader raises on an XRDF. ``xrdf export curobo`` writes
 its own YAML from the XRDF, so some of those findings never reach cuRobo through it (the export
 writes every number as a float, ``FIXED``, lists by joint name, ...: :data:`WRITTEN_AWAY`);
-the others -- a URDF's empty limit range or tilted axis, a floating joint below the base, a
+the others -- a URDF's empty limit range (velocity, effort, or position:
+``cspace-joint-held``, :data:`RAISES_IN_CUROBO`) or tilted axis, a floating joint below the base, a
 c-space joint on no chain cuRobo builds, no sphere pair left to check -- would make cuRobo's
 loader raise on the export as on the XRDF: :func:`loader_errors` returns them, located in the
 XRDF (the messages name the URDF or xacro line of each joint), and the export writes nothing.
@@ -19,7 +20,7 @@ from ..diagnostics import Diagnostic, Severity
 if TYPE_CHECKING:
     from ..robot.core import Robot
 
-__all__ = ["WRITTEN_AWAY", "loader_errors"]
+__all__ = ["RAISES_IN_CUROBO", "WRITTEN_AWAY", "loader_errors"]
 
 #: The cuRobo reader's rules (``curobo-*``, ``reader-number``) whose finding about the XRDF the
 #: exported YAML does not carry, and why. A rule of that reader not listed here stops the export.
@@ -41,11 +42,20 @@ WRITTEN_AWAY: dict[str, str] = {
 }
 
 
+#: Rules of no one reader whose finding is an error for ``--target curobo`` because cuRobo's
+#: loader raises on it: they stop the export as the reader's own rules do.
+RAISES_IN_CUROBO = frozenset({"cspace-joint-held"})
+
+
 def loader_errors(text: str, label: str, robot: Robot) -> list[Diagnostic]:
     """The ``curobo-*`` lint errors of the XRDF ``text`` (the file ``label``) for ``robot``
     that the exported YAML would carry to cuRobo's loader, which raises on each."""
     from ..lint import RULES, lint_text
 
-    rules = [r for r in RULES if r.reader == "curobo" and r.id not in WRITTEN_AWAY]
+    rules = [
+        r
+        for r in RULES
+        if (r.reader == "curobo" and r.id not in WRITTEN_AWAY) or r.id in RAISES_IN_CUROBO
+    ]
     found = lint_text(text, label, urdf_model=robot, target="curobo", rules=rules)
     return [d for d in found if d.severity is Severity.ERROR]

@@ -6,6 +6,10 @@ coordinate no plan can use, and the arm plans as if that joint were welded. CAD 
 write ``<limit lower="0" upper="0">`` for limits never set (SolidWorks' exporter does), and a
 MoveIt configuration made from that URDF puts the joint in its arm group. Give the joint its
 real limits in the URDF, or leave it out of the c-space (a joint held on purpose).
+
+An error with ``--target curobo``: cuRobo's loader raises on an empty position range of a
+joint it plans for ("lower limits must be less than upper limits"), so ``xrdf export curobo``
+stops on it too.
 """
 
 from __future__ import annotations
@@ -24,12 +28,16 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     names = ", ".join(f"{joint_at(j, ctx.robot)} [{j.lower:g}, {j.upper:g}]" for *_, j in found)
     what = f"c-space joint {names} is" if len(found) == 1 else f"c-space joints {names} are"
     index, node, _ = found[0]
+    them = "it" if len(found) == 1 else "them"
+    curobo = ctx.target == "curobo"
     yield ctx.problem(
         node,
         f"{what} held still by equal lower and upper limits in {ctx.robot.file_name}: no plan "
-        f"can move {'it' if len(found) == 1 else 'them'} (a CAD exporter writes 0 0 for limits "
-        "never set); give the URDF the real limits, or leave such a joint out of the c-space",
+        f"can move {them} (a CAD exporter writes 0 0 for limits never set)"
+        + (f"; cuRobo's loader raises on {them} (an empty range)" if curobo else "")
+        + "; give the URDF the real limits, or leave such a joint out of the c-space",
         f"cspace.joint_names[{index}]",
+        Severity.ERROR if curobo else None,
     )
 
 
