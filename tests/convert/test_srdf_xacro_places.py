@@ -92,3 +92,17 @@ def test_the_places_of_an_srdf_xacro(tmp_path: Path) -> None:
     prefixed = load_srdf(top, xacro_args={"prefix": "left_"})
     assert prefixed.at(prefixed.groups["left_arm"]) == (str(macros), 4)
     assert prefixed.at(prefixed.group_states[0]) == (str(macros), 8)
+
+
+def test_inspect_json_names_the_file_that_writes_each_group(tmp_path: Path) -> None:
+    """`inspect --format json` gave a macro-written group `"line": null`; it now gives the
+    included file and its line, and the top file's line for a group the call names."""
+    import json
+
+    urdf, top, macros = _files(tmp_path)
+    r = CliRunner().invoke(app, ["inspect", str(urdf), "--srdf", str(top), "--format", "json"])
+    assert r.exit_code == 0, r.output
+    places = {g["name"]: (g["file"], g["line"]) for g in json.loads(r.stdout)["groups"]}
+    assert places["arm"] == (str(macros), 4)
+    assert places["wrist"] == (str(macros), 7)
+    assert places["hand"] == (str(top), 6)

@@ -82,6 +82,9 @@ class GroupView:
     problem: str | None = None
     #: Planar and floating joints the group names (no c-space can hold them).
     unplannable: tuple[str, ...] = ()
+    #: The file that writes the group: the SRDF, or the included xacro file whose macro
+    #: writes it (``line`` is a line of that file).
+    file: str | None = None
 
 
 @dataclass(frozen=True)
@@ -147,6 +150,7 @@ class Inspection:
             "groups": [
                 {
                     "name": g.name,
+                    "file": g.file,
                     "line": g.line,
                     "joints": list(g.joints),
                     "cspace": list(g.cspace),
@@ -268,7 +272,8 @@ def _groups(path: str, robot: Robot) -> tuple[GroupView, ...]:
         except XrdfToolsError as e:
             joints, cspace, problem = (), (), _plain(e)
         odd = tuple(j for _, j, _ in unplannable_joints(srdf, [g.name], robot.tree))
-        out.append(GroupView(g.name, joints, cspace, tuple(g.subgroups), g.line, problem, odd))
+        file, line = srdf.at(g)
+        out.append(GroupView(g.name, joints, cspace, tuple(g.subgroups), line, problem, odd, file))
     return tuple(out)
 
 
