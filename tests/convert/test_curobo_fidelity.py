@@ -307,6 +307,10 @@ def test_disconnected_urdf_converts_from_the_chosen_base(runner: CliRunner, tmp_
     srdf.write_text('<robot name="ur10e"/>')
     r = runner.invoke(app, ["convert", str(urdf), "--srdf", str(srdf)])
     assert r.exit_code == 2 and "not one tree" in r.output
+    # placed at the root of the smaller part, which it names (it had no line)
+    line = text[: text.rindex("</robot>")].count("\n") + 1
+    assert f"{urdf}:{line}: the URDF is not one tree" in r.stderr, r.stderr
+    assert "the smallest part starts at 'second_base'" in r.stderr
 
 
 @pytest.mark.parametrize("drop", [None, "tool_frames", "self_collision"])

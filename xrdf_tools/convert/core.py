@@ -12,6 +12,7 @@ import math
 import os
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -26,11 +27,11 @@ from ..xrdf.model import (
     CSpace,
     GeometryGroup,
     SelfCollisionSection,
-    SetBaseFrame,
     Xrdf,
 )
 from ..xrdf.readers import choose_version, parse_target
 from ..xrdf.versions import to_version
+from .base_frame import LinkPlace, based_tree, check_reachable
 from .sources import Draft, Reporter, RobotTree
 
 if TYPE_CHECKING:
@@ -148,7 +149,8 @@ def convert(
 
         xacro_args = None if robot is None else robot.xacro_args
         read_joint_limits(options.joint_limits, tree, draft, xacro_args)
-    return complete(draft, tree, options, collision_links)
+    place = None if robot is None else partial(robot.place, "link")
+    return complete(draft, tree, options, collision_links, place)
 
 
 def complete(
@@ -156,16 +158,18 @@ def complete(
     tree: RobotTree,
     options: ConvertOptions,
     collision_links: Collection[str] | None = None,
+    place: LinkPlace | None = None,
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Fill what the sources did not say (each fill reported) and build the model.
 
-    ``collision_links`` (the links with collision geometry) refine the tool-frame guess."""
+    ``collision_links`` (the links with collision geometry) refine the tool-frame guess;
+    ``place`` says where a link is written (for errors about the tree)."""
     from .sources.cspace import apply_default_cspace
     from .targets import order_for_target
 
     rep = Reporter(tree.path)
     diags = list(draft.diagnostics)
-    tree = _based_tree(tree, draft, rep)
+    tree = based_tree(tree, draft, rep, place)
 
     # --- c-space
     default_tool = None
@@ -199,7 +203,7 @@ def complete(
         self_collision=self_c,
         geometry=geometry,
     )
-    _check_reachable(x, tree)
+    check_reachable(x, tree)
     version, why = choose_version(x, options.format_version, parse_target(options.target))
     if why:
         rep.report("convert-version", why)
@@ -381,78 +385,6 @@ def _collision(
     world = CollisionSection(name, FrozenMap(draft.world_buffer))
     self_c = SelfCollisionSection(name, FrozenMap(draft.self_buffer), FrozenMap(ignore))
     return geometry, world, self_c
-
-
-def _based_tree(tree: RobotTree, draft: Draft, rep: Reporter) -> RobotTree:
-    """The tree walked from the base the sources chose (``set_base_frame``), else the root.
-
-    A URDF with disconnected parts (cuRobo ships some) is usable when a base is chosen; the
-    links it cannot reach are reported. A URDF whose root holds the robot by a floating or
-    planar joint gets the base below it (:func:`_floating_base`).
-    """
-    base = next((m.frame for m in draft.modifiers if isinstance(m, SetBaseFrame)), None)
-    if base is None and len(tree.roots) == 1:
-        base = _floating_base(tree, draft, rep)
-    if base is None or base not in tree.links:
-        if len(tree.roots) > 1:
-            raise SourceError(
-                f"the URDF is not one tree: {len(tree.roots)} links have no parent joint "
-                f"({name_list(tree.roots, 5)}); a cuRobo config's base_link chooses the part "
-                "to use",
-                path=tree.path,
-            )
-        return tree
-    based = tree.with_root(base)
-    reach = {base, *based.descendants(base)}
-    lost = [link for link in tree.links if link not in reach]
-    if len(tree.roots) > 1 and lost:
-        shown = name_list(lost)
-        rep.report(
-            "convert-unreachable-links",
-            f"the URDF is not one tree: {len(lost)} link(s) cannot be reached from the base "
-            f"'{base}' and are not part of the robot ({shown})",
-        )
-    return based
-
-
-def _floating_base(tree: RobotTree, draft: Draft, rep: Reporter) -> str | None:
-    """The child of the lowest floating or planar joint on the single path down from the
-    root (a humanoid's 'world' to 'pelvis', a mobile base's 'odom' to 'base_footprint'), made
-    the XRDF's base with ``set_base_frame`` (reported), or None.
-
-    No reader moves such a joint and cuRobo cannot load a robot whose base is above one
-    ("Joint type not supported"); the robot below it is what a planner plans for.
-    """
-    link, found = tree.root, None
-    while len(kids := tree.child_joints.get(link, ())) == 1:
-        joint = tree.joints[kids[0]]
-        if joint.type in ("floating", "planar"):
-            found = joint
-        link = joint.child
-    if found is None:
-        return None
-    draft.modifiers.insert(0, SetBaseFrame(found.child))
-    above = list(reversed(tree.ancestors(found.child)))  # all of them: the path is single
-    rep.report(
-        "convert-floating-base",
-        f"'{found.name}' is a {found.type} joint above the robot, which no reader moves "
-        f"(cuRobo cannot load it): the XRDF's base is '{found.child}' (set_base_frame), "
-        f"without {name_list(above)} above it",
-    )
-    return found.child
-
-
-def _check_reachable(x: Xrdf, tree: RobotTree) -> None:
-    """The sources name only frames below the chosen base (else :class:`SourceError`)."""
-    from ..robot.binding import unreachable_frames
-
-    lost = sorted({f for f, _ in unreachable_frames(x, tree)})
-    if lost:
-        raise SourceError(
-            f"frames used by the XRDF cannot be reached from the base '{tree.root}': "
-            f"{name_list(lost)}",
-            path=tree.path,
-        )
 
 
 def _cspace_choice(
