@@ -23,8 +23,9 @@ from ..robot.core import Robot
 from ..util.frozen import FrozenMap
 from ..util.text import name_list
 from ..xrdf.model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
+from .link_fit import MAX_PER_LINK
 from .metrics import SphereMetrics, sphere_metrics
-from .robot_fit import AUTO_COVERAGE_TARGET, MAX_PER_LINK, link_seed
+from .robot_fit import AUTO_COVERAGE_TARGET, link_seed
 
 if TYPE_CHECKING:
     from ..robot.link_geometry import GeometryChoice
