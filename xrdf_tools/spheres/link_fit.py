@@ -13,6 +13,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..util.fixed_order import norm
 from ..util.numbers import PLACEHOLDER_SIZE
 from ..xrdf.model import Sphere
+from .count_policy import MAX_PER_LINK, CountPolicy
 from .fewest import default_fit, fewest_reaching
 
 if TYPE_CHECKING:
@@ -20,11 +21,9 @@ if TYPE_CHECKING:
 
     from .fit import LinkPlan, SphereFitter
     from .geometry import LinkGeometry
-    from .robot_fit import CountPolicy
     from .sheet import SheetPlan
 
 __all__ = [
-    "MAX_PER_LINK",
     "fit_mode",
     "fit_note",
     "fit_one",
@@ -33,8 +32,6 @@ __all__ = [
     "morphit_one",
     "sheet_of",
 ]
-
-MAX_PER_LINK = 64
 
 RULE_TARGET_MISSED = "spheres-target-missed"
 RULE_PLACEHOLDER = "spheres-placeholder"

@@ -39,8 +39,8 @@ from ..util.errors import XrdfToolsError
 from ..util.text import name_list
 from ..xrdf.model import Sphere
 from .budget import allocate
+from .count_policy import BY_TARGET, MAX_PER_LINK, CountPolicy, check_policy
 from .link_fit import (
-    MAX_PER_LINK,
     fit_mode,
     fit_note,
     fit_one,
@@ -57,8 +57,6 @@ if TYPE_CHECKING:
     from .fit import LinkPlan, Plane, SphereFitter
     from .geometry import LinkGeometry
     from .sheet import SheetPlan
-
-AUTO_COVERAGE_TARGET = 0.9
 
 RULE_SHARED_MESH = "spheres-shared-mesh"
 RULE_URDF_SPHERES = "spheres-from-urdf"
@@ -96,56 +94,11 @@ def solid_key(solid: trimesh.Trimesh) -> str:
     return h.hexdigest()
 
 
-def check_counts(
-    per_link: int | Mapping[str, int] | None, count: int | None, density: float | None
-) -> None:
-    """Raise for more than one counting option or a value out of range."""
-    given = [
-        n
-        for n, v in (("per_link", per_link), ("count", count), ("density", density))
-        if v is not None
-    ]
-    if len(given) > 1:
-        raise XrdfToolsError(f"give at most one of count, per-link and density (got {given})")
-    for n in per_link.values() if isinstance(per_link, Mapping) else [per_link]:
-        if n is not None and not 0 <= n <= MAX_PER_LINK:
-            raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {n}")
-    if isinstance(per_link, int) and per_link < 1:
-        raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {per_link}")
-    if count is not None and count < 1:
-        raise XrdfToolsError(f"count must be at least 1, got {count}")
-    if density is not None and not (density > 0 and math.isfinite(density)):
-        raise XrdfToolsError(f"density must be a positive number, got {density}")
-
-
-@dataclass(frozen=True)
-class CountPolicy:
-    """How many spheres each link gets (see :func:`fit_robot`)."""
-
-    per_link: int | Mapping[str, int] | None = None
-    count: int | None = None
-    density: float | None = None
-    target_coverage: float = AUTO_COVERAGE_TARGET
-    #: With a count given and no protrusion bound of the link's own: its bound is the
-    #: smallest at which its spheres cover this share of its volume (None: the default
-    #: bound, :func:`~.fit.default_max_protrusion`).
-    count_coverage: float | None = None
-    #: With a count given and no protrusion bound of the link's own (and no
-    #: ``count_coverage``): the greedy spheres are refined on coverage and on the protrusion
-    #: of their union (:mod:`.refine`). False keeps every sphere within the default bound.
-    refine: bool = True
-
-    @property
-    def given(self) -> bool:
-        """Whether a count is given (per link, in total or by density)."""
-        return self.per_link is not None or self.count is not None or self.density is not None
-
-
 def fit_robot(
     robot: str | os.PathLike[str] | Robot,
     *,
     links: Sequence[str] | None = None,
-    counts: CountPolicy = CountPolicy(),
+    counts: CountPolicy = BY_TARGET,
     seed: int = 0,
     package_paths: Mapping[str, str] | None = None,
     max_protrusion: float | Mapping[str, float] | None = None,
@@ -162,7 +115,7 @@ def fit_robot(
     from .morphit import check_method
 
     check_method(method, searched_bound=counts.count_coverage is not None)
-    _check_policy(counts)
+    check_policy(counts)
     geoms, diags = _solids(robot, links, package_paths, source, geometry)
     _check_against_solids(counts, clips or {}, geoms)
     path = robot.path if isinstance(robot, Robot) else os.fspath(robot)
@@ -190,15 +143,6 @@ def fit_robot(
         {n: geoms[n] for n in fitted},
         diags,
     )
-
-
-def _check_policy(counts: CountPolicy) -> None:
-    """Raise for counting options out of range or together, or a coverage share out of
-    (0, 1]."""
-    check_counts(counts.per_link, counts.count, counts.density)
-    for what, share in (("target", counts.target_coverage), ("count", counts.count_coverage)):
-        if share is not None and not 0.0 < share <= 1.0:
-            raise XrdfToolsError(f"{what} coverage must be in (0, 1], got {share}")
 
 
 def _solids(
