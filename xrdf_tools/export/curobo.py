@@ -24,6 +24,7 @@ from ..util.errors import ConversionError
 from ..util.text import name_list
 from ..xrdf.io import format_float, format_str
 from ..xrdf.model import RemoveMimicAttributes, Xrdf
+from ..xrdf.versions import different_collision_groups
 from .curobo_assets import curobo_paths, expanded_urdf_path, mesh_root, unserved_note
 from .srdf import to_srdf
 
@@ -276,15 +277,11 @@ def _collision_keys(x: Xrdf, note: Callable[[str, str, Severity], None]) -> dict
     """The spheres, buffers and ignore pairs of a cuRobo config (one sphere set: the world
     group's; a different self group is reported through ``note``)."""
     world = dict(x.world_collision_spheres())
-    if (
-        x.self_collision is not None
-        and x.world_collision is not None
-        and x.self_collision.geometry != x.world_collision.geometry
-    ):
+    if (groups := different_collision_groups(x)) is not None:
         note(
             "export-different-groups",
             f"world and self collision use different groups; cuRobo has one sphere set, the "
-            f"world group '{x.world_collision.geometry}' is written",
+            f"world group '{groups[0]}' is written",
             Severity.WARNING,
         )
     if not world and x.self_collision is not None:
