@@ -136,7 +136,8 @@ def _ours(
     repeat: int = 1,
 ) -> tuple[Any, float]:
     """Our spheres and the seconds of the fastest of ``repeat`` identical fits."""
-    from xrdf_tools.spheres.robot_fit import CountPolicy, fit_robot
+    from xrdf_tools.spheres.count_policy import CountPolicy
+    from xrdf_tools.spheres.robot_fit import fit_robot
 
     policy = CountPolicy(per_link=counts, count_coverage=coverage, refine=refine)
     best = float("inf")

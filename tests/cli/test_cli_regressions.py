@@ -194,7 +194,7 @@ def test_a_number_option_refuses_nan_and_inf(
 def test_a_huge_sphere_density_is_the_per_link_ceiling(runner: CliRunner) -> None:
     """--density 1e308 times a link volume overflows to inf (it raised OverflowError): the
     count is capped at the per-link ceiling instead."""
-    from xrdf_tools.spheres.robot_fit import MAX_PER_LINK
+    from xrdf_tools.spheres.count_policy import MAX_PER_LINK
 
     args = ("spheres", str(MIMIC_URDF), "--links", "finger", "--seed", "1", "-q")
     code, huge = run_cli(runner, *args, "--density", "1e308")

@@ -17,7 +17,7 @@ def test_fit_spheres_merges_reports_and_measures() -> None:
         metrics_table,
     )
     from xrdf_tools.robot.xacro_source import load_robot
-    from xrdf_tools.spheres.robot_fit import CountPolicy
+    from xrdf_tools.spheres.count_policy import CountPolicy
 
     robot = load_robot(robot_urdf("ur5"))
     links = ["shoulder_link", "upper_arm_link"]
@@ -44,7 +44,7 @@ def test_fit_spheres_merges_reports_and_measures() -> None:
 def test_a_bad_clip_plane_is_an_input_error() -> None:
     from xrdf_tools.convert.spheres_job import SpheresRequest, fit_spheres
     from xrdf_tools.robot.xacro_source import load_robot
-    from xrdf_tools.spheres.robot_fit import CountPolicy
+    from xrdf_tools.spheres.count_policy import CountPolicy
     from xrdf_tools.util.errors import XrdfToolsError
 
     robot = load_robot(robot_urdf("ur5"))

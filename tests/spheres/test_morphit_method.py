@@ -14,10 +14,11 @@ from typer.testing import CliRunner
 from tests.robots import robot_urdf
 from tests.spheres.test_spheres_bound import _max_protrusion
 from xrdf_tools.cli import app
+from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.fit import SphereFitter, _rounded
 from xrdf_tools.spheres.geometry import LinkGeometry, load_link_geometry
 from xrdf_tools.spheres.morphit import PRESET, inscribed, morphit_seed, pack
-from xrdf_tools.spheres.robot_fit import CountPolicy, FitResult, fit_robot, solid_key
+from xrdf_tools.spheres.robot_fit import FitResult, fit_robot, solid_key
 from xrdf_tools.util.errors import MissingDependencyError, XrdfToolsError
 from xrdf_tools.xrdf.io import load_xrdf
 from xrdf_tools.xrdf.model import Sphere

@@ -157,7 +157,8 @@ def test_progress_announces_the_fit_of_each_link_not_only_its_preparation(prims:
     both, two steps a link, so it does not say n/n while the fitting (most of a big robot's
     time: 29 of 45 s on Unitree G1) has yet to start. The sphere primitive is taken as it
     is, without steps."""
-    from xrdf_tools.spheres.robot_fit import CountPolicy, fit_robot
+    from xrdf_tools.spheres.count_policy import CountPolicy
+    from xrdf_tools.spheres.robot_fit import fit_robot
 
     calls: list[tuple[str, int, int]] = []
     fitted = fit_robot(

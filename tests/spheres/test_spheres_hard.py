@@ -141,7 +141,7 @@ def test_default_count_is_the_fewest_reaching_the_target() -> None:
 
 
 def _policy(target: float, per_link: int | None = None) -> object:
-    from xrdf_tools.spheres.robot_fit import CountPolicy
+    from xrdf_tools.spheres.count_policy import CountPolicy
 
     return CountPolicy(per_link=per_link, target_coverage=target, refine=False)
 
@@ -198,7 +198,7 @@ def test_a_shared_mesh_of_macro_made_links_is_located_in_the_macro(
 
 
 def _per_link(n: int) -> object:
-    from xrdf_tools.spheres.robot_fit import CountPolicy
+    from xrdf_tools.spheres.count_policy import CountPolicy
 
     return CountPolicy(per_link=n)
 

@@ -12,6 +12,7 @@ import trimesh
 
 from tests.robots import robot_urdf
 from xrdf_tools.spheres import link_seed
+from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.fit import SphereFitter, default_max_protrusion
 from xrdf_tools.spheres.geometry import LinkGeometry, load_link_geometry
 from xrdf_tools.spheres.metrics import fibonacci_directions, sphere_metrics
@@ -25,7 +26,7 @@ from xrdf_tools.spheres.refine import (
     cluster_start,
     refined_fit,
 )
-from xrdf_tools.spheres.robot_fit import CountPolicy, fit_robot
+from xrdf_tools.spheres.robot_fit import fit_robot
 
 #: MorphIt's fits of these Panda links (``morphit-rs``, preset MorphIt-B, the per-link counts
 #: of ``benchmarks/bench_spheres.py`` for 57 spheres), as that benchmark scores them: count,

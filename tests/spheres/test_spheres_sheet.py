@@ -16,9 +16,10 @@ import trimesh
 from tests.robots import robot_urdf
 from xrdf_tools.convert.spheres_job import fit_metrics, metrics_table
 from xrdf_tools.spheres import sphere_metrics
+from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.fit import default_max_protrusion
 from xrdf_tools.spheres.geometry import load_link_geometry
-from xrdf_tools.spheres.robot_fit import CountPolicy, FitResult, fit_robot
+from xrdf_tools.spheres.robot_fit import FitResult, fit_robot
 from xrdf_tools.spheres.sheet import (
     SHEET_MAX_CELLS,
     SHEET_MAX_CELLS_BOUND,

@@ -129,14 +129,9 @@ def convert_robot(
     mesh files that cannot be found are expected (``fit`` has its own). Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
     """
-    from ..robot.xacro_source import load_robot
     from ..xrdf.io import dump_xrdf
 
-    pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
-    if isinstance(robot, Robot):
-        loaded = robot
-    else:
-        loaded = load_robot(robot, xacro_args=xacro_args, package_paths=pkgs)
+    loaded = robot if isinstance(robot, Robot) else _load(robot, xacro_args, package_paths)
     x, diags = convert(loaded, options)
     _check_kinematics(loaded, x)
     diags = [*loaded.warnings, *diags]
@@ -147,12 +142,7 @@ def convert_robot(
             kept = tuple(d for d in diags if d.rule != "convert-no-spheres")
             return ConvertResult(x, early[0], loaded, kept, tuple(early[1]))
     if fit is not None:
-        x, fitted, more = fit_missing_spheres(x, loaded, fit, progress=progress)
-        if fitted:
-            diags = [d for d in diags if d.rule != "convert-no-spheres"]
-        else:  # "add spheres (--fit-spheres ...)" would send the user round in a circle
-            diags = [_fitted_none(d) if d.rule == "convert-no-spheres" else d for d in diags]
-        diags = [*diags, *more]
+        x, fitted, diags = _with_fitted_spheres(x, loaded, fit, diags, progress)
         mask = mask or MaskOptions()
     unfitted = [d for d in diags if d.rule == RULE_UNFITTED]
     report = None
@@ -160,30 +150,78 @@ def convert_robot(
         mask = None  # the command fails: no point sampling a mask for an incomplete model
     if mask is not None and x.self_collision_spheres():
         x, report = compute_mask(x, loaded, mask, progress=progress)
-        diags.append(mask_summary(report, x, mask))
-        diags.extend(default_pose_pairs(report))
-        diags.extend(nothing_checked(report))
+        diags.extend(_mask_notes(report, x, mask))
     text = dump_xrdf(x)
     lint_diags: list[Diagnostic] = []
     if lint:
-        from ..lint import lint_text
-
-        lint_diags = lint_text(
-            text,
-            label,
-            urdf_model=loaded,
-            target=options.target,
-            allow_missing_meshes=allow_missing_meshes,
-        )
-        if any(d.rule == "convert-no-spheres" for d in diags):
-            # one loud "no spheres at all" says it; a line per link is noise. For a planning
-            # target the empty group stays the error it is (the file is not written, exit 1)
-            lint_diags = [d for d in lint_diags if not _said_by_no_spheres(d)]
-        said = tuple(d.message.split("'")[1] for d in unfitted)
-        lint_diags = [d for d in lint_diags if not _about_links(d, "mesh-without-spheres", said)]
+        lint_diags = _lint_findings(text, label, loaded, options, allow_missing_meshes, diags)
     return ConvertResult(
         x, text, loaded, tuple(diags), tuple(lint_diags), FrozenMap(fitted), report
     )
+
+
+def _load(
+    path: str | os.PathLike[str],
+    xacro_args: Mapping[str, str] | None,
+    package_paths: Mapping[str, str] | None,
+) -> Robot:
+    """The robot of the URDF or xacro at ``path`` (a xacro expanded with ``xacro_args``)."""
+    from ..robot.xacro_source import load_robot
+
+    pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
+    return load_robot(path, xacro_args=xacro_args, package_paths=pkgs)
+
+
+def _with_fitted_spheres(
+    x: Xrdf,
+    robot: Robot,
+    fit: FitOptions,
+    diags: Sequence[Diagnostic],
+    progress: Progress | None,
+) -> tuple[Xrdf, dict[str, int], list[Diagnostic]]:
+    """``x`` with spheres fitted to the links that have none, the spheres per fitted link,
+    and ``diags`` then the fit's: ``convert-no-spheres`` goes once spheres are fitted, and is
+    an error when none could be."""
+    x, fitted, more = fit_missing_spheres(x, robot, fit, progress=progress)
+    if fitted:
+        kept = [d for d in diags if d.rule != "convert-no-spheres"]
+    else:  # "add spheres (--fit-spheres ...)" would send the user round in a circle
+        kept = [_fitted_none(d) if d.rule == "convert-no-spheres" else d for d in diags]
+    return x, fitted, [*kept, *more]
+
+
+def _mask_notes(report: Report, x: Xrdf, mask: MaskOptions) -> list[Diagnostic]:
+    """What the computed mask says: its summary, the pairs ignored for colliding at the
+    default pose, and that nothing is left to check."""
+    return [mask_summary(report, x, mask), *default_pose_pairs(report), *nothing_checked(report)]
+
+
+def _lint_findings(
+    text: str,
+    label: str,
+    robot: Robot,
+    options: ConvertOptions,
+    allow_missing_meshes: bool,
+    diags: Sequence[Diagnostic],
+) -> list[Diagnostic]:
+    """Lint's findings on ``text`` against ``robot`` (for ``options.target``), without those
+    the conversion's ``diags`` already say: a link without spheres when no sphere was
+    fitted at all, a link the fit left without spheres."""
+    from ..lint import lint_text
+
+    found = lint_text(
+        text,
+        label,
+        urdf_model=robot,
+        target=options.target,
+        allow_missing_meshes=allow_missing_meshes,
+    )
+    if any(d.rule == "convert-no-spheres" for d in diags):
+        # one loud "no spheres at all" says it; a line per link is noise. For a planning
+        # target the empty group stays the error it is (the file is not written, exit 1)
+        found = [d for d in found if not _said_by_no_spheres(d)]
+    said = tuple(d.message.split("'")[1] for d in diags if d.rule == RULE_UNFITTED)
+    return [d for d in found if not _about_links(d, "mesh-without-spheres", said)]
 
 
 def _said_by_no_spheres(d: Diagnostic) -> bool:

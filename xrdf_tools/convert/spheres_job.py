@@ -24,8 +24,9 @@ if TYPE_CHECKING:
 
     from ..robot.core import Robot
     from ..spheres import SphereMetrics
+    from ..spheres.count_policy import CountPolicy
     from ..spheres.fit import Plane
-    from ..spheres.robot_fit import CountPolicy, FitResult
+    from ..spheres.robot_fit import FitResult
     from ..xrdf.model import Xrdf
 
 #: Samples per link of the fit metrics.

@@ -61,7 +61,8 @@ def propose_fit(
     Exactly one of ``count`` and ``coverage``. Raises :class:`XrdfToolsError` for a link
     without geometry or a bad count/target.
     """
-    from ..spheres.robot_fit import CountPolicy, fit_robot
+    from ..spheres.count_policy import CountPolicy
+    from ..spheres.robot_fit import fit_robot
 
     if (count is None) == (coverage is None):
         raise XrdfToolsError("give either a sphere count or a coverage target")

@@ -24,6 +24,7 @@ from ..util.errors import ConversionError
 from ..util.text import name_list
 from ..xrdf.io import format_float, format_str
 from ..xrdf.model import RemoveMimicAttributes, Xrdf
+from ..xrdf.versions import different_collision_groups
 from .curobo_assets import curobo_paths, expanded_urdf_path, mesh_root, unserved_note
 from .srdf import to_srdf
 
@@ -156,47 +157,59 @@ def to_curobo(
         tree = robot.tree
     assert isinstance(tree, RobotTree)
     _check_exportable(x, tree, layout, robot)
-    assert x.cspace is not None
     diags: list[Diagnostic] = []
-    path = x.source.path
 
     def note(rule: str, msg: str, sev: Severity = Severity.WARNING) -> None:
-        diags.append(Diagnostic(path, None, None, rule, sev, msg, ""))
+        diags.append(Diagnostic(x.source.path, None, None, rule, sev, msg, ""))
 
-    base = x.base_frame()
-    kin: dict[str, Any] = {}
-    if layout == "2.0":
-        kin["format_version"] = 2.0
+    kin: dict[str, Any] = {"format_version": 2.0} if layout == "2.0" else {}
     upath = Path(urdf_path) if urdf_path is not None else Path(tree.path)
     kin["urdf_path"], kin["asset_root_path"] = curobo_paths(upath, relative_to, assets)
     if assets is not None and assets.unserved:
         note("export-mesh-paths", unserved_note(assets))
-    kin["base_link"] = base or tree.root
+    kin["base_link"] = x.base_frame() or tree.root
+    kin.update(_tool_keys(x, layout))
+    kin.update(_collision_keys(x, note))
+    diags.extend(_no_pair_left(x, kin))
+    diags.extend(_no_spheres(x, kin))
+    kin["extra_links"] = _extra_links(x)
+    if x.extra:
+        note("export-dropped-key", f"top-level keys {name_list(x.extra)} are not exported")
+    kin.update(_joint_keys(x, tree, layout, note))
+    return _document(kin, layout, x.source.path), diags
 
+
+def _tool_keys(x: Xrdf, layout: str) -> dict[str, Any]:
+    """The end effector keys of ``layout``: ``tool_frames``, or classic ``ee_link`` (the
+    first tool frame) and ``link_names``. Raises when the XRDF has no tool frame."""
     tools = list(x.tool_frames or [])
     if not tools:
         raise _located(
             x, "tool_frames", "the XRDF has no tool_frames; cuRobo needs an end effector"
         )
     if layout == "2.0":
-        kin["tool_frames"] = tools
-    else:
-        kin["ee_link"] = tools[0]
-        kin["link_names"] = tools
+        return {"tool_frames": tools}
+    return {"ee_link": tools[0], "link_names": tools}
 
-    kin.update(_collision_keys(x, note))
-    diags.extend(_no_pair_left(x, kin))
-    if not kin["collision_spheres"]:
-        where = "collision.geometry" if x.world_collision is not None else "geometry"
-        line, col = x.source.position(where)
-        message = (
-            "no collision sphere to export: cuRobo checks no collision for this robot (fit "
-            "them: xrdf convert --fit-spheres)"
-        )
-        diags.append(
-            Diagnostic(path, line, col, "export-no-spheres", Severity.WARNING, message, where)
-        )
 
+def _no_spheres(x: Xrdf, kin: Mapping[str, Any]) -> list[Diagnostic]:
+    """An ``export-no-spheres`` warning when ``kin`` (the config written) has no collision
+    sphere, located at the XRDF's world collision group (its geometry without one)."""
+    if kin["collision_spheres"]:
+        return []
+    where = "collision.geometry" if x.world_collision is not None else "geometry"
+    line, col = x.source.position(where)
+    message = (
+        "no collision sphere to export: cuRobo checks no collision for this robot (fit "
+        "them: xrdf convert --fit-spheres)"
+    )
+    return [
+        Diagnostic(x.source.path, line, col, "export-no-spheres", Severity.WARNING, message, where)
+    ]
+
+
+def _extra_links(x: Xrdf) -> dict[str, Any] | None:
+    """cuRobo's ``extra_links``: one fixed link per frame the XRDF adds (None without)."""
     extra: dict[str, Any] = {}
     for m in x.added_frames():
         w, qx, qy, qz = m.orientation.as_wxyz()
@@ -207,14 +220,19 @@ def to_curobo(
             "joint_type": "FIXED",
             "fixed_transform": [*m.position, w, qx, qy, qz],
         }
-    kin["extra_links"] = extra or None
-    if x.extra:
-        note("export-dropped-key", f"top-level keys {name_list(x.extra)} are not exported")
+    return extra or None
 
+
+def _joint_keys(
+    x: Xrdf, tree: RobotTree, layout: str, note: Callable[[str, str], None]
+) -> dict[str, Any]:
+    """``lock_joints`` and ``cspace``: the c-space joints, then every other actuated joint of
+    ``tree`` locked at its default position (0.0 without one), as cuRobo's XRDF reader holds
+    them (its config loader raises on a joint that is in neither list); the locked joints'
+    limits are the c-space's largest. Default positions cuRobo cannot take are ``note``d."""
     cs = x.cspace
+    assert cs is not None
     defaults = dict(x.default_joint_positions or {})
-    # cuRobo's XRDF reader holds every actuated URDF joint outside the c-space at its default
-    # position (0.0 without one); its config loader raises on a joint that is in neither list
     outside = [j for j in tree.actuated_joints() if j not in cs.joint_names]
     locks = {j: defaults.get(j, 0.0) for j in outside}
     for j in defaults:
@@ -226,7 +244,6 @@ def to_curobo(
             "export-default-positions",
             f"no default position for {name_list(missing, 12)}: cuRobo needs one, 0.0 written",
         )
-    kin["lock_joints"] = locks or None
     names = [*cs.joint_names, *locks]
     acc = list(cs.acceleration_limits)
     jerk = list(cs.jerk_limits)
@@ -239,8 +256,12 @@ def to_curobo(
     cspace[key] = [defaults.get(j, 0.0) for j in names]
     cspace["max_acceleration"] = acc + [fill_a] * len(locks)
     cspace["max_jerk"] = jerk + [fill_j] * len(locks)
-    kin["cspace"] = cspace
+    return {"lock_joints": locks or None, "cspace": cspace}
 
+
+def _document(kin: Mapping[str, Any], layout: str, path: str) -> str:
+    """The YAML text of the config ``kin`` under ``robot_cfg.kinematics``, with a header
+    naming the XRDF ``path`` and saying how relative paths are read."""
     lines = [
         "# cuRobo robot configuration written by xrdf-tools (xrdf export curobo)",
         f"# from {Path(path).name if path else 'an XRDF'}; layout: {layout}",
@@ -249,22 +270,18 @@ def to_curobo(
         "  kinematics:",
         *_emit(kin, 2),
     ]
-    return "\n".join(lines) + "\n", diags
+    return "\n".join(lines) + "\n"
 
 
 def _collision_keys(x: Xrdf, note: Callable[[str, str, Severity], None]) -> dict[str, Any]:
     """The spheres, buffers and ignore pairs of a cuRobo config (one sphere set: the world
     group's; a different self group is reported through ``note``)."""
     world = dict(x.world_collision_spheres())
-    if (
-        x.self_collision is not None
-        and x.world_collision is not None
-        and x.self_collision.geometry != x.world_collision.geometry
-    ):
+    if (groups := different_collision_groups(x)) is not None:
         note(
             "export-different-groups",
             f"world and self collision use different groups; cuRobo has one sphere set, the "
-            f"world group '{x.world_collision.geometry}' is written",
+            f"world group '{groups[0]}' is written",
             Severity.WARNING,
         )
     if not world and x.self_collision is not None:

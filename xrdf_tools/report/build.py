@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
@@ -63,6 +64,7 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from ..robot.core import Robot
+    from ..spheres import CoverageSummary
 
 
 __all__ = ["DEFAULT_CHUNK", "ProgressFn", "self_collision_report"]
@@ -110,7 +112,6 @@ def self_collision_report(
     ``certify_progress(done, total)`` is called as each of those pairs is decided.
     """
     from ..robot.urdf_source import urdf_path as _urdf_path
-    from ..selfcollision.sampling import fresh_seed
 
     t0 = time.perf_counter()
     upath = urdf_path or _urdf_path(urdf)
@@ -118,82 +119,44 @@ def self_collision_report(
     spheres_all, sdiags = build_sphere_set(kin, xrdf, include_masked=True)
     diags: list[Diagnostic] = [*kin_diags, *sdiags]
     cspace, idx = cspace_indices(kin, xrdf)
-    if moveit:  # like MoveIt's Setup Assistant: 0 when within the limits, else mid-range
-        q_default = moveit_default_configuration(kin)
-    else:
-        q_default = default_configuration(kin, xrdf.default_joint_positions)
-
-    adjacent = adjacent_frame_pairs(kin, spheres_all.frame_names)
-    adj = np.array(
-        [frozenset(p) in adjacent for p in spheres_all.frame_pair_names()], dtype=np.bool_
-    )
-    sampled = ~(spheres_all.frame_pair_masked & adj)  # masked adjacent pairs need no samples
-    work = spheres_all.select_frame_pairs(sampled)
-    work_index = np.flatnonzero(sampled)
-
+    q_default = _default_pose(kin, xrdf, moveit)
+    pairs = _counted_pairs(kin, spheres_all)
     qc = _given_configurations(configs, cspace)
     # given configurations may leave the joint limits, over which the engine proves things
-    engine = CountEngine(_covering(kin, idx, qc), work, idx, q_default, margin=clearance_margin)
-    trajectory: list[TrajectoryHit] | None = None
+    engine = CountEngine(
+        _covering(kin, idx, qc), pairs.work, idx, q_default, margin=clearance_margin
+    )
     if qc is not None:
-        n_total = qc.shape[0]
-        chunk = min(chunk, engine.chunk_limit(flags=True))
-        totals, trajectory = _count_configs(engine, qc, chunk, progress)
-        source: Literal["sampled", "configs"] = "configs"
+        counted = _count_configs(engine, qc, chunk, progress)
     else:
-        if samples < 1:
-            raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
-        n_total = samples
-        chunk = min(chunk, engine.chunk_limit())  # bounded memory
-        if engine.steps_per_chunk < 10:  # progress per 10 %: from at least ten chunks
-            chunk = min(chunk, max(_MIN_CHUNK, -(-samples // 10)))
-        totals = count_sampled(
-            engine,
-            kin.lower[idx],
-            kin.upper[idx],
-            samples,
-            method=sampler,
-            seed=fresh_seed() if seed is None else seed,
-            chunk=chunk,
-            jobs=jobs,
-            progress=progress,
-        )
-        source = "sampled"
+        sampling = _Sampling(samples, sampler, seed, chunk, jobs)
+        counted = _count_samples(engine, kin.lower[idx], kin.upper[idx], sampling, progress)
     def_clear, def_contacts = _default_clearances(kin, spheres_all, q_default)
     stats = _pair_stats(
         kin,
-        spheres_all,
-        adj,
-        work_index,
-        (totals.hits, *engine.reported_clearance(totals)),
+        pairs,
+        (counted.totals.hits, *engine.reported_clearance(counted.totals)),
         def_clear,
-        n_total,
-        source,
+        counted.n_total,
+        counted.source,
         frozenset(cspace),
     )
-    w_of = {int(k): i for i, k in enumerate(work_index)}
     if certify is not None:
         if engine.kin is not kin:  # over the joint limits, not the configurations' range
-            engine = CountEngine(kin, work, idx, q_default, margin=clearance_margin)
-        stats = _certify(engine, stats, w_of, cspace, certify, certify_progress)
-    diags.extend(pair_findings(xrdf, kin, stats, def_contacts, trajectory, n_total))
-    if (unchecked := unchecked_finding(xrdf, spheres_all.n_spheres, len(stats))) is not None:
-        diags.append(unchecked)
+            engine = CountEngine(kin, pairs.work, idx, q_default, margin=clearance_margin)
+        stats = _certify(engine, stats, pairs.work_index, cspace, certify, certify_progress)
+    diags.extend(_pair_diagnostics(xrdf, kin, spheres_all, stats, def_contacts, counted))
     rec_ignore, change = recommend_ignore(xrdf, kin, spheres_all, stats)
-    cov = None
-    if coverage:
-        from ..robot.core import as_robot
-        from ..spheres import coverage_for_xrdf
-
-        cov = coverage_for_xrdf(as_robot(urdf), xrdf)  # the loaded robot: no second parse
+    cov = _coverage(urdf, xrdf) if coverage else None
+    if cov is not None:
         diags.extend(cov.diagnostics)  # meshes that could not be measured, and why
     return Report(
         xrdf_path=xrdf.source.path,
         urdf_path=upath,
-        source=source,
-        samples=n_total,
-        sampler=sampler if source == "sampled" else None,
-        seed=seed if source == "sampled" else None,
+        source=counted.source,
+        samples=counted.n_total,
+        sampler=sampler if counted.source == "sampled" else None,
+        seed=seed if counted.source == "sampled" else None,
         cspace_joints=tuple(cspace),
         frames=spheres_all.frame_names,
         sphere_counts=FrozenMap(spheres_all.sphere_counts()),
@@ -203,13 +166,118 @@ def self_collision_report(
             (j, float(v)) for j, v in zip(kin.actuated_joints, q_default, strict=True)
         ),
         default_contacts=tuple(def_contacts),
-        trajectory=tuple(trajectory) if trajectory is not None else None,
+        trajectory=tuple(counted.trajectory) if counted.trajectory is not None else None,
         recommended_ignore=rec_ignore,
         mask_change=change,
         diagnostics=tuple(sorted(diags, key=sort_key)),
         elapsed_s=time.perf_counter() - t0,
         coverage=cov,
     )
+
+
+def _default_pose(kin: KinematicModel, xrdf: Xrdf, moveit: bool) -> FloatArray:
+    """The default configuration: the XRDF's, or with ``moveit`` the one MoveIt's Setup
+    Assistant takes (0 when within the limits, else mid-range)."""
+    if moveit:
+        return moveit_default_configuration(kin)
+    return default_configuration(kin, xrdf.default_joint_positions)
+
+
+@dataclass(frozen=True)
+class _Pairs:
+    """The frame pairs of the report: ``every`` one (masked ones too), whether a joint joins
+    each (``adjacent`` [K]), and those the engine counts (``work``, their indices
+    ``work_index`` [W] in ``every``): all but the masked adjacent ones, which need no
+    samples."""
+
+    every: SphereSet
+    adjacent: npt.NDArray[np.bool_]
+    work: SphereSet
+    work_index: npt.NDArray[np.intp]
+
+
+def _counted_pairs(kin: KinematicModel, every: SphereSet) -> _Pairs:
+    """The frame pairs of ``every`` and those of them the engine counts."""
+    joined = adjacent_frame_pairs(kin, every.frame_names)
+    adj = np.array([frozenset(p) in joined for p in every.frame_pair_names()], dtype=np.bool_)
+    sampled = ~(every.frame_pair_masked & adj)  # masked adjacent pairs need no samples
+    return _Pairs(every, adj, every.select_frame_pairs(sampled), np.flatnonzero(sampled))
+
+
+@dataclass(frozen=True)
+class _Sampling:
+    """How the configurations are sampled: how many, how, from which seed (None: a fresh
+    one), in chunks of at most ``chunk``, over ``jobs`` processes."""
+
+    samples: int
+    sampler: Sampler
+    seed: int | None
+    chunk: int
+    jobs: int
+
+
+@dataclass(frozen=True)
+class _Counts:
+    """What counting gave: the engine's totals, the configurations counted and where they
+    came from; for given configurations, those where an unmasked pair collides."""
+
+    totals: EngineTotals
+    n_total: int
+    source: Literal["sampled", "configs"]
+    trajectory: list[TrajectoryHit] | None = None
+
+
+def _count_samples(
+    engine: CountEngine,
+    lower: FloatArray,
+    upper: FloatArray,
+    sampling: _Sampling,
+    progress: ProgressFn | None,
+) -> _Counts:
+    """Count ``sampling.samples`` configurations drawn within [``lower``, ``upper``]."""
+    from ..selfcollision.sampling import fresh_seed
+
+    samples = sampling.samples
+    if samples < 1:
+        raise XrdfToolsError(f"--samples must be at least 1, got {samples}")
+    chunk = min(sampling.chunk, engine.chunk_limit())  # bounded memory
+    if engine.steps_per_chunk < 10:  # progress per 10 %: from at least ten chunks
+        chunk = min(chunk, max(_MIN_CHUNK, -(-samples // 10)))
+    totals = count_sampled(
+        engine,
+        lower,
+        upper,
+        samples,
+        method=sampling.sampler,
+        seed=fresh_seed() if sampling.seed is None else sampling.seed,
+        chunk=chunk,
+        jobs=sampling.jobs,
+        progress=progress,
+    )
+    return _Counts(totals, samples, "sampled")
+
+
+def _pair_diagnostics(
+    xrdf: Xrdf,
+    kin: KinematicModel,
+    spheres: SphereSet,
+    stats: Sequence[PairStat],
+    def_contacts: Sequence[Contact],
+    counted: _Counts,
+) -> list[Diagnostic]:
+    """The findings on the pairs, then the one on a model with nothing to check."""
+    found = pair_findings(xrdf, kin, stats, def_contacts, counted.trajectory, counted.n_total)
+    if (unchecked := unchecked_finding(xrdf, spheres.n_spheres, len(stats))) is not None:
+        found.append(unchecked)
+    return found
+
+
+def _coverage(urdf: Robot | yourdfpy.URDF, xrdf: Xrdf) -> CoverageSummary:
+    """The sphere coverage metrics of ``xrdf`` on the loaded robot (no second parse)."""
+    from ..robot.core import as_robot
+    from ..spheres import coverage_for_xrdf
+
+    return coverage_for_xrdf(as_robot(urdf), xrdf)
 
 
 def _given_configurations(
@@ -263,26 +331,25 @@ def _default_clearances(
 
 def _pair_stats(
     kin: KinematicModel,
-    spheres: SphereSet,
-    adj: npt.NDArray[np.bool_],
-    work_index: npt.NDArray[np.intp],
+    pairs: _Pairs,
     counted: tuple[npt.NDArray[np.int64], FloatArray, npt.NDArray[np.bool_]],
     def_clear: FloatArray,
     n_total: int,
     source: str,
     cspace: frozenset[str],
 ) -> list[PairStat]:
-    """One :class:`PairStat` per frame pair of ``spheres``; ``work_index`` [W] lists the
-    sampled frame pairs, whose collision counts, minimum clearances and whether each is
-    only a bound are ``counted`` ([W] each). ``joints_on_path`` counts the c-space joints
-    between the two frames: 0 means the pair's relative pose is constant in this report
-    (decided once, at the default configuration)."""
+    """One :class:`PairStat` per frame pair of ``pairs``; the counted ones' collision
+    counts, minimum clearances and whether each is only a bound are ``counted`` ([W]
+    each). ``joints_on_path`` counts the c-space joints between the two frames: 0 means the
+    pair's relative pose is constant in this report (decided once, at the default
+    configuration)."""
     hits, min_clear, is_bound_w = counted
+    spheres, adj = pairs.every, pairs.adjacent
     masked = spheres.frame_pair_masked
     counts = spheres.sphere_counts()
     ub = never_upper_bound(n_total)
     stats: list[PairStat] = []
-    w_of = {int(k): i for i, k in enumerate(work_index)}
+    w_of = _work_positions(pairs.work_index)
     on_path = _cspace_joints_on_paths(kin, spheres, cspace)
     for k, (a, b) in enumerate(spheres.frame_pair_names()):
         w = w_of.get(k)
@@ -320,6 +387,11 @@ def _pair_stats(
     return stats
 
 
+def _work_positions(work_index: npt.NDArray[np.intp]) -> dict[int, int]:
+    """Frame pair index → its position among the engine's (sampled) pairs."""
+    return {int(k): i for i, k in enumerate(work_index)}
+
+
 def _cspace_joints_on_paths(
     kin: KinematicModel, spheres: SphereSet, cspace: frozenset[str]
 ) -> list[int]:
@@ -332,8 +404,9 @@ def _cspace_joints_on_paths(
 
 def _count_configs(
     engine: CountEngine, qc: FloatArray, chunk: int, progress: ProgressFn | None
-) -> tuple[EngineTotals, list[TrajectoryHit]]:
+) -> _Counts:
     """Count given c-space configurations and list those where an unmasked pair collides."""
+    chunk = min(chunk, engine.chunk_limit(flags=True))
     work = engine.spheres
     unmasked = ~work.frame_pair_masked
     checked = work.select_frame_pairs(unmasked)
@@ -352,21 +425,23 @@ def _count_configs(
                 trajectory.append(TrajectoryHit(start + b, tuple(contacts(checked, c))))
         if progress is not None:
             progress(min(start + chunk, n_total), n_total)
-    return totals, trajectory
+    return _Counts(totals, n_total, "configs", trajectory)
 
 
 def _certify(
     engine: CountEngine,
     stats: list[PairStat],
-    w_of: Mapping[int, int],
+    work_index: npt.NDArray[np.intp],
     cspace: Sequence[str],
     opts: CertifyOptions,
     progress: ProgressFn | None = None,
 ) -> list[PairStat]:
     """Certify the "never" pairs, sharing the box budget (and the optional wall-clock limit)
-    evenly among those still to do; ``progress(done, total)`` after each pair."""
+    evenly among those still to do; ``progress(done, total)`` after each pair. The engine
+    counts the pairs of ``work_index`` [W] (indices into ``stats``), in that order."""
     from ..selfcollision.certify import certify_pair  # only with --certify
 
+    w_of = _work_positions(work_index)
     todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
     start = time.perf_counter()
     boxes_left = opts.boxes

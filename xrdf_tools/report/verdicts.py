@@ -248,79 +248,108 @@ def pair_findings(
     trajectory: Sequence[TrajectoryHit] | None,
     n: int,
 ) -> list[Diagnostic]:
+    """The report's findings, in this order: per pair of ``stats``, an unmasked pair that
+    collides nearly always and a masked one that collides sometimes; each pair colliding at
+    the default configuration; each frame of the mask the robot lacks; each given
+    configuration in self-collision. ``n``: the configurations counted."""
     out: list[Diagnostic] = []
-    sc = xrdf.self_collision
     for p in stats:
-        pair = f"'{p.frame_a}' and '{p.frame_b}'"
-        if not p.masked and p.rate is not None and p.rate > ALWAYS_RATE:
-            out.append(
-                _diag(
-                    xrdf,
-                    "report-always-colliding",
-                    f"{pair} collide in {p.rate:.1%} of {n} configurations but are not in "
-                    "self_collision.ignore: a planner will find no valid configuration",
-                    "self_collision.ignore" if sc is not None else "self_collision",
-                )
-            )
-        if p.masked and p.classification == "sometimes":
-            seen = (
-                "collide at a configuration that --certify found (sampling missed it)"
-                if p.certificate == "witness"
-                else f"collide in {p.hits} of {n} configurations ({p.rate:.3%})"
-            )
-            out.append(
-                _diag(
-                    xrdf,
-                    "report-mask-hides-collision",
-                    f"{pair} are ignored but are not adjacent and {seen}: the mask hides real "
-                    "collisions",
-                    _ignore_key_path(sc, p.frame_a, p.frame_b),
-                )
-            )
-    for c in def_contacts:
-        out.append(
-            _diag(
-                xrdf,
-                "report-default-colliding",
-                f"'{c.frame_a}' and '{c.frame_b}' collide at the default configuration "
-                f"(clearance {c.clearance * 1000:.1f} mm, spheres {c.sphere_a} and "
-                f"{c.sphere_b}) but are not in self_collision.ignore",
-                "default_joint_positions",
-            )
-        )
-    if sc is not None:
-        for a, others in sc.ignore.items():
-            for i, name in enumerate((a, *others)):
-                if kin.has_frame(name):
-                    continue
-                kp = f"self_collision.ignore.{a}" + ("#key" if i == 0 else f"[{i - 1}]")
-                out.append(
-                    _diag(
-                        xrdf,
-                        "report-unknown-mask-frame",
-                        f"self_collision.ignore names unknown frame '{name}'"
-                        + did_you_mean(name, kin.frame_names)
-                        + "; the entry masks nothing",
-                        kp,
-                    )
-                )
-    for hit in trajectory or ():
-        worst = hit.contacts[0] if hit.contacts else None
-        detail = (
-            f"'{worst.frame_a}' and '{worst.frame_b}' (clearance {worst.clearance * 1000:.1f} mm)"
-            if worst
-            else "?"
-        )
-        more = f" and {len(hit.contacts) - 1} more pair(s)" if len(hit.contacts) > 1 else ""
-        out.append(
-            Diagnostic(
-                xrdf.source.path,
-                None,
-                None,
-                "report-trajectory-collision",
-                Severity.ERROR,
-                f"configuration {hit.index} is in self-collision: {detail}{more}",
-                f"configs[{hit.index}]",
-            )
-        )
+        for found in (_always_colliding(xrdf, p, n), _mask_hides_collision(xrdf, p, n)):
+            if found is not None:
+                out.append(found)
+    out.extend(_default_colliding(xrdf, c) for c in def_contacts)
+    out.extend(_unknown_mask_frames(xrdf, kin))
+    out.extend(_trajectory_collision(xrdf, hit) for hit in trajectory or ())
     return out
+
+
+def _always_colliding(xrdf: Xrdf, p: PairStat, n: int) -> Diagnostic | None:
+    """``report-always-colliding`` when the unmasked pair ``p`` collides in more than
+    :data:`ALWAYS_RATE` of the ``n`` configurations."""
+    if p.masked or p.rate is None or not p.rate > ALWAYS_RATE:
+        return None
+    return _diag(
+        xrdf,
+        "report-always-colliding",
+        f"'{p.frame_a}' and '{p.frame_b}' collide in {p.rate:.1%} of {n} configurations but "
+        "are not in self_collision.ignore: a planner will find no valid configuration",
+        "self_collision.ignore" if xrdf.self_collision is not None else "self_collision",
+    )
+
+
+def _mask_hides_collision(xrdf: Xrdf, p: PairStat, n: int) -> Diagnostic | None:
+    """``report-mask-hides-collision`` when the masked pair ``p`` collides sometimes (in the
+    samples, or at the witness --certify found)."""
+    if not p.masked or p.classification != "sometimes":
+        return None
+    seen = (
+        "collide at a configuration that --certify found (sampling missed it)"
+        if p.certificate == "witness"
+        else f"collide in {p.hits} of {n} configurations ({p.rate:.3%})"
+    )
+    return _diag(
+        xrdf,
+        "report-mask-hides-collision",
+        f"'{p.frame_a}' and '{p.frame_b}' are ignored but are not adjacent and {seen}: the "
+        "mask hides real collisions",
+        _ignore_key_path(xrdf.self_collision, p.frame_a, p.frame_b),
+    )
+
+
+def _default_colliding(xrdf: Xrdf, c: Contact) -> Diagnostic:
+    """``report-default-colliding``: the unmasked pair of ``c`` collides at the default
+    configuration."""
+    return _diag(
+        xrdf,
+        "report-default-colliding",
+        f"'{c.frame_a}' and '{c.frame_b}' collide at the default configuration "
+        f"(clearance {c.clearance * 1000:.1f} mm, spheres {c.sphere_a} and "
+        f"{c.sphere_b}) but are not in self_collision.ignore",
+        "default_joint_positions",
+    )
+
+
+def _unknown_mask_frames(xrdf: Xrdf, kin: KinematicModel) -> list[Diagnostic]:
+    """``report-unknown-mask-frame`` at each name of ``self_collision.ignore`` (a key or a
+    listed frame) that is not a frame of the robot."""
+    sc = xrdf.self_collision
+    if sc is None:
+        return []
+    out: list[Diagnostic] = []
+    for a, others in sc.ignore.items():
+        for i, name in enumerate((a, *others)):
+            if kin.has_frame(name):
+                continue
+            kp = f"self_collision.ignore.{a}" + ("#key" if i == 0 else f"[{i - 1}]")
+            out.append(
+                _diag(
+                    xrdf,
+                    "report-unknown-mask-frame",
+                    f"self_collision.ignore names unknown frame '{name}'"
+                    + did_you_mean(name, kin.frame_names)
+                    + "; the entry masks nothing",
+                    kp,
+                )
+            )
+    return out
+
+
+def _trajectory_collision(xrdf: Xrdf, hit: TrajectoryHit) -> Diagnostic:
+    """``report-trajectory-collision``: a given configuration is in self-collision, named
+    with its worst pair."""
+    worst = hit.contacts[0] if hit.contacts else None
+    detail = (
+        f"'{worst.frame_a}' and '{worst.frame_b}' (clearance {worst.clearance * 1000:.1f} mm)"
+        if worst
+        else "?"
+    )
+    more = f" and {len(hit.contacts) - 1} more pair(s)" if len(hit.contacts) > 1 else ""
+    return Diagnostic(
+        xrdf.source.path,
+        None,
+        None,
+        "report-trajectory-collision",
+        Severity.ERROR,
+        f"configuration {hit.index} is in self-collision: {detail}{more}",
+        f"configs[{hit.index}]",
+    )

@@ -74,10 +74,27 @@ def check_urdf_tree(
     appended there, instead of failing: what no command plans with does not stop one. So is a
     revolute joint's limit of ±1e16 (how exporters write "no limit"): the joint is read as
     continuous, with a located ``urdf-limit-unbounded`` warning."""
-    from lxml import etree
 
     def fail(msg: str, el: Any) -> UrdfError:
         return UrdfError(msg, path=path, line=getattr(el, "sourceline", None))
+
+    _check_root(root, fail)
+    link_lines = _named_lines(root, "link", fail)
+    if not link_lines:
+        raise fail("<robot> has no <link>; a URDF needs at least one link", root)
+    for el in root.findall("link"):
+        _check_geometry(el, fail)
+    _check_colors(root, path, fail, warnings)
+    _check_other_numbers(root, fail)
+    joint_lines = _named_lines(root, "joint", fail)
+    edges = [_checked_joint(el, link_lines, fail, path, warnings) for el in root.findall("joint")]
+    _check_is_tree(edges, joint_lines, fail)
+    return link_lines, joint_lines
+
+
+def _check_root(root: Any, fail: Fail) -> None:
+    """The root is a named <robot> and no element is xacro's (a xacro file not expanded)."""
+    from lxml import etree
 
     tag = etree.QName(root).localname if isinstance(root.tag, str) else str(root.tag)
     if tag != "robot":
@@ -94,51 +111,59 @@ def check_urdf_tree(
     if not root.get("name"):
         raise fail("<robot> has no 'name' attribute", root)
 
-    link_lines = _named_lines(root, "link", fail)
-    if not link_lines:
-        raise fail("<robot> has no <link>; a URDF needs at least one link", root)
-    for el in root.findall("link"):
-        _check_geometry(el, fail)
-    _check_colors(root, path, fail, warnings)
-    _check_other_numbers(root, fail)
 
-    joint_lines = _named_lines(root, "joint", fail)
-    edges: list[tuple[str, str, str, Any]] = []  # joint, parent, child, element
-    for el in root.findall("joint"):
-        name = el.get("name")
-        jtype = el.get("type")
-        if jtype not in JOINT_TYPES:
-            what = f"type '{jtype}'" if jtype else "no 'type'"
-            raise fail(
-                f"joint '{name}' has {what}; valid: {', '.join(JOINT_TYPES)}"
-                + (did_you_mean(jtype, JOINT_TYPES) if jtype else ""),
-                el,
-            )
-        for role in ("parent", "child"):
-            sub = el.find(role)
-            link = sub.get("link") if sub is not None else None
-            if not link:
-                raise fail(f"joint '{name}' has no <{role} link='...'/>", el)
-            if link not in link_lines:
-                raise fail(
-                    f"joint '{name}' refers to unknown {role} link '{link}'"
-                    + did_you_mean(link, link_lines),
-                    sub,
-                )
-        edges.append((name, el.find("parent").get("link"), el.find("child").get("link"), el))
-        _check_numbers(
-            el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail, metres=("xyz",)
+def _checked_joint(
+    el: Any,
+    link_lines: Mapping[str, int],
+    fail: Fail,
+    path: str,
+    warnings: list[Diagnostic] | None,
+) -> tuple[str, str, str, Any]:
+    """Check one <joint> (type, links, origin, axis, limit, mimic); its edge of the tree:
+    joint, parent, child, element."""
+    name = el.get("name")
+    jtype = _joint_type(el, name, fail)
+    parent, child = (_joint_link(el, name, role, link_lines, fail) for role in ("parent", "child"))
+    _check_numbers(
+        el.find("origin"), ("xyz", "rpy"), 3, f"joint '{name}' <origin>", fail, metres=("xyz",)
+    )
+    _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
+    jtype = _unless_unbounded(el, name, jtype, path, warnings)
+    _check_limit(el, name, jtype, fail, path, warnings)
+    mimic = el.find("mimic")
+    if mimic is not None:
+        if not mimic.get("joint"):
+            raise fail(f"joint '{name}' <mimic> has no 'joint' attribute", mimic)
+        _check_numbers(mimic, ("multiplier", "offset"), 1, f"joint '{name}' <mimic>", fail)
+    return name, parent, child, el
+
+
+def _joint_type(el: Any, name: str, fail: Fail) -> str:
+    """The joint's type, one of :data:`JOINT_TYPES`."""
+    jtype = el.get("type")
+    if jtype not in JOINT_TYPES:
+        what = f"type '{jtype}'" if jtype else "no 'type'"
+        raise fail(
+            f"joint '{name}' has {what}; valid: {', '.join(JOINT_TYPES)}"
+            + (did_you_mean(jtype, JOINT_TYPES) if jtype else ""),
+            el,
         )
-        _check_numbers(el.find("axis"), ("xyz",), 3, f"joint '{name}' <axis>", fail)
-        jtype = _unless_unbounded(el, name, jtype, path, warnings)
-        _check_limit(el, name, jtype, fail, path, warnings)
-        mimic = el.find("mimic")
-        if mimic is not None:
-            if not mimic.get("joint"):
-                raise fail(f"joint '{name}' <mimic> has no 'joint' attribute", mimic)
-            _check_numbers(mimic, ("multiplier", "offset"), 1, f"joint '{name}' <mimic>", fail)
-    _check_is_tree(edges, joint_lines, fail)
-    return link_lines, joint_lines
+    return str(jtype)
+
+
+def _joint_link(el: Any, name: str, role: str, link_lines: Mapping[str, int], fail: Fail) -> str:
+    """The link the joint's <parent> or <child> (``role``) names, a link of the robot."""
+    sub = el.find(role)
+    link = sub.get("link") if sub is not None else None
+    if not link:
+        raise fail(f"joint '{name}' has no <{role} link='...'/>", el)
+    if link not in link_lines:
+        raise fail(
+            f"joint '{name}' refers to unknown {role} link '{link}'"
+            + did_you_mean(link, link_lines),
+            sub,
+        )
+    return str(link)
 
 
 def _check_colors(root: Any, path: str, fail: Fail, warnings: list[Diagnostic] | None) -> None:

@@ -23,8 +23,9 @@ from ..robot.core import Robot
 from ..util.frozen import FrozenMap
 from ..util.text import name_list
 from ..xrdf.model import CollisionSection, GeometryGroup, SelfCollisionSection, Sphere, Xrdf
+from .count_policy import AUTO_COVERAGE_TARGET, MAX_PER_LINK
 from .metrics import SphereMetrics, sphere_metrics
-from .robot_fit import AUTO_COVERAGE_TARGET, MAX_PER_LINK, link_seed
+from .robot_fit import link_seed
 
 if TYPE_CHECKING:
     from ..robot.link_geometry import GeometryChoice
@@ -88,7 +89,8 @@ def fit_link_spheres(
     :class:`~xrdf_tools.robot.core.Robot`. Returns ``({link: spheres}, diagnostics)`` in URDF
     link order; :func:`~xrdf_tools.spheres.robot_fit.fit_robot` also gives times and solids.
     """
-    from .robot_fit import CountPolicy, fit_robot
+    from .count_policy import CountPolicy
+    from .robot_fit import fit_robot
 
     result = fit_robot(
         urdf_path,

@@ -1,5 +1,5 @@
 """A total sphere count (``--sphere-budget`` of ``xrdf convert``, ``count`` of
-:class:`~.robot_fit.CountPolicy`) split over the links to fit.
+:class:`~.count_policy.CountPolicy`) split over the links to fit.
 
 The total holds every sphere of the result: the URDF's own ``<sphere>`` collisions, taken as
 they are, come off it first, and a solid that several links share (fitted once) costs its

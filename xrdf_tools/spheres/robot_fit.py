@@ -33,15 +33,22 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..diagnostics import Diagnostic, Severity
+from ..diagnostics import Diagnostic
 from ..robot.core import Robot
 from ..util.errors import XrdfToolsError
-from ..util.fixed_order import norm
-from ..util.numbers import PLACEHOLDER_SIZE
 from ..util.text import name_list
 from ..xrdf.model import Sphere
 from .budget import allocate
-from .fewest import default_fit, fewest_reaching
+from .count_policy import BY_TARGET, MAX_PER_LINK, CountPolicy, check_policy
+from .link_fit import (
+    fit_mode,
+    fit_note,
+    fit_one,
+    fit_sheet,
+    link_fitter,
+    morphit_one,
+    sheet_of,
+)
 
 if TYPE_CHECKING:
     import trimesh
@@ -51,14 +58,7 @@ if TYPE_CHECKING:
     from .geometry import LinkGeometry
     from .sheet import SheetPlan
 
-MAX_PER_LINK = 64
-AUTO_COVERAGE_TARGET = 0.9
-
 RULE_SHARED_MESH = "spheres-shared-mesh"
-RULE_TARGET_MISSED = "spheres-target-missed"
-RULE_PLACEHOLDER = "spheres-placeholder"
-RULE_SHEET = "spheres-sheet"
-RULE_PAST_BOUND = "spheres-past-bound"
 RULE_URDF_SPHERES = "spheres-from-urdf"
 
 #: ``progress(link, i, n)``: called before step ``i`` of ``n``, two per link (each link is
@@ -94,60 +94,11 @@ def solid_key(solid: trimesh.Trimesh) -> str:
     return h.hexdigest()
 
 
-def check_counts(
-    per_link: int | Mapping[str, int] | None, count: int | None, density: float | None
-) -> None:
-    """Raise for more than one counting option or a value out of range."""
-    given = [
-        n
-        for n, v in (("per_link", per_link), ("count", count), ("density", density))
-        if v is not None
-    ]
-    if len(given) > 1:
-        raise XrdfToolsError(f"give at most one of count, per-link and density (got {given})")
-    for n in per_link.values() if isinstance(per_link, Mapping) else [per_link]:
-        if n is not None and not 0 <= n <= MAX_PER_LINK:
-            raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {n}")
-    if isinstance(per_link, int) and per_link < 1:
-        raise XrdfToolsError(f"per-link must be between 1 and {MAX_PER_LINK}, got {per_link}")
-    if count is not None and count < 1:
-        raise XrdfToolsError(f"count must be at least 1, got {count}")
-    if density is not None and not (density > 0 and math.isfinite(density)):
-        raise XrdfToolsError(f"density must be a positive number, got {density}")
-
-
-@dataclass(frozen=True)
-class CountPolicy:
-    """How many spheres each link gets (see :func:`fit_robot`)."""
-
-    per_link: int | Mapping[str, int] | None = None
-    count: int | None = None
-    density: float | None = None
-    target_coverage: float = AUTO_COVERAGE_TARGET
-    #: With a count given and no protrusion bound of the link's own: its bound is the
-    #: smallest at which its spheres cover this share of its volume (None: the default
-    #: bound, :func:`~.fit.default_max_protrusion`).
-    count_coverage: float | None = None
-    #: With a count given and no protrusion bound of the link's own (and no
-    #: ``count_coverage``): the greedy spheres are refined on coverage and on the protrusion
-    #: of their union (:mod:`.refine`). False keeps every sphere within the default bound.
-    refine: bool = True
-
-    @property
-    def given(self) -> bool:
-        """Whether a count is given (per link, in total or by density)."""
-        return self.per_link is not None or self.count is not None or self.density is not None
-
-
-def _info(path: str, line: int | None, rule: str, message: str, warn: bool = False) -> Diagnostic:
-    return Diagnostic(path, line, None, rule, Severity.WARNING if warn else Severity.INFO, message)
-
-
 def fit_robot(
     robot: str | os.PathLike[str] | Robot,
     *,
     links: Sequence[str] | None = None,
-    counts: CountPolicy = CountPolicy(),
+    counts: CountPolicy = BY_TARGET,
     seed: int = 0,
     package_paths: Mapping[str, str] | None = None,
     max_protrusion: float | Mapping[str, float] | None = None,
@@ -161,159 +112,154 @@ def fit_robot(
     :func:`xrdf_tools.spheres.fit_link_spheres`). ``clips`` keeps a link's spheres on the
     positive side of planes in its frame; ``geometry`` skips loading the solids; ``method``
     ``morphit`` fits each solid with MorphIt instead (:mod:`.morphit`)."""
-    from .fit import SphereFitter
-    from .geometry import load_link_geometry
     from .morphit import check_method
 
     check_method(method, searched_bound=counts.count_coverage is not None)
-    check_counts(counts.per_link, counts.count, counts.density)
-    for what, share in (("target", counts.target_coverage), ("count", counts.count_coverage)):
-        if share is not None and not 0.0 < share <= 1.0:
-            raise XrdfToolsError(f"{what} coverage must be in (0, 1], got {share}")
-    diags: list[Diagnostic] = []
-    if geometry is None:
-        geoms, diags = load_link_geometry(
-            robot, links=links, package_paths=package_paths, source=source
-        )
-    else:
-        geoms = dict(geometry)
-    if counts.count is not None and counts.count < len(geoms):
-        raise XrdfToolsError(
-            f"count {counts.count} is less than the number of links to fit ({len(geoms)})"
-        )
+    check_policy(counts)
+    geoms, diags = _solids(robot, links, package_paths, source, geometry)
+    _check_against_solids(counts, clips or {}, geoms)
     path = robot.path if isinstance(robot, Robot) else os.fspath(robot)
-    stray = [k for k in clips or {} if k not in geoms]
-    if stray:
-        raise XrdfToolsError(
-            f"clip plane(s) for link(s) without geometry to fit: {name_list(stray)}"
-        )
-    order = list(geoms)
     plans = _plan(geoms, max_protrusion, clips or {}, seed)
     exact = {n: geoms[n].exact for n, plan in plans.items() if geoms[n].exact and not plan[2]}
-    plans = {n: plan for n, plan in plans.items() if n not in exact}
-    fitters: dict[str, SphereFitter] = {}
-    sheets: dict[str, SheetPlan] = {}
-    seconds: dict[str, float] = {}
-    first_of: dict[tuple[object, ...], str] = {}
-    step: Progress = progress if progress is not None else (lambda _link, _i, _n: None)
-    for i, (name, (key, tau, planes, fit_seed)) in enumerate(plans.items()):
-        step(name, i, 2 * len(plans))
-        if key in first_of:
-            seconds[name] = 0.0
-            continue
-        first_of[key] = name
-        t0 = time.perf_counter()
-        sheet = _sheet(geoms[name], plans[name], counts)
-        if sheet is not None:
-            sheets[name] = sheet
-            seconds[name] = time.perf_counter() - t0
-            continue
-        fitters[name] = SphereFitter(
-            geoms[name].solid,
-            seed=fit_seed,
-            max_protrusion=tau,
-            clips=planes,
-            room=_refine_room(geoms[name].solid, tau, counts),
-        )
-        seconds[name] = time.perf_counter() - t0
-    copies = Counter(first_of[key] for key, *_rest in plans.values())
-    ks = _counts(fitters, counts, copies, taken=sum(len(w) for w in exact.values()))
-    spheres: dict[str, tuple[Sphere, ...]] = {}
-    for i, (name, (key, *_rest)) in enumerate(plans.items(), start=len(plans)):
-        step(name, i, 2 * len(plans))
-        owner = first_of[key]
-        if owner != name:
-            spheres[name] = spheres[owner]
-            continue
-        t0 = time.perf_counter()
-        if owner in sheets:
-            spheres[name] = _fit_sheet(sheets[owner], geoms[name], plans[name][1], path, diags)
-        elif method == "morphit":
-            spheres[name] = _morphit_one(
-                fitters[owner], ks.get(owner), counts, geoms[name], plans[name], path, diags
-            )
-        else:
-            own = plans[name][1] is not None
-            mode = _fit_mode(plans[name][1], counts)
-            spheres[name] = _fit_one(
-                fitters[owner], ks.get(owner), counts, geoms[name], path, diags, mode, own
-            )
-        seconds[name] += time.perf_counter() - t0
-    _report_shared(plans, first_of, path, geoms, diags)
-    for name, written in exact.items():  # the URDF's own spheres: nothing to fit
-        spheres[name], seconds[name] = written, 0.0
-        diags.append(
-            _info(
-                path,
-                geoms[name].line,
-                RULE_URDF_SPHERES,
-                f"link '{name}': its {geoms[name].source} geometry is {len(written)} <sphere> "
-                "element(s), taken as they are",
-            )
-        )
-    fitted = {n: spheres[n] for n in order if spheres.get(n)}
+    run = _Run(
+        geoms,
+        {n: plan for n, plan in plans.items() if n not in exact},
+        counts,
+        path,
+        progress if progress is not None else (lambda _link, _i, _n: None),
+        diags,
+    )
+    _prepare(run)
+    copies = Counter(run.first_of[key] for key, *_rest in run.plans.values())
+    ks = _counts(run.fitters, counts, copies, taken=sum(len(w) for w in exact.values()))
+    spheres = _fit_solids(run, ks, method)
+    _report_shared(run.plans, run.first_of, path, geoms, diags)
+    _take_urdf_spheres(run, exact, spheres)
+    fitted = {n: spheres[n] for n in geoms if spheres.get(n)}
     return FitResult(
         fitted,
-        {n: seconds[n] for n in fitted},
+        {n: run.seconds[n] for n in fitted},
         {n: geoms[n].kind for n in fitted},
         {n: geoms[n] for n in fitted},
         diags,
     )
 
 
-def _sheet(geom: LinkGeometry, plan: LinkPlan, counts: CountPolicy) -> SheetPlan | None:
-    """How the sheet rule fits a link (:func:`.sheet.sheet_plan`), when it applies: no count
-    given, no clip plane, not a placeholder."""
-    if counts.given or plan[2] or _across(geom) < PLACEHOLDER_SIZE:
-        return None
-    from .sheet import sheet_plan
+def _solids(
+    robot: str | os.PathLike[str] | Robot,
+    links: Sequence[str] | None,
+    package_paths: Mapping[str, str] | None,
+    source: GeometryChoice,
+    geometry: Mapping[str, LinkGeometry] | None,
+) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
+    """The solids to fit per link (URDF link order): ``geometry`` when given, else loaded
+    from ``robot`` with the diagnostics of loading them."""
+    if geometry is not None:
+        return dict(geometry), []
+    from .geometry import load_link_geometry
 
-    return sheet_plan(geom.solid, plan[1])
+    return load_link_geometry(robot, links=links, package_paths=package_paths, source=source)
 
 
-def _fit_sheet(
-    sheet: SheetPlan, geom: LinkGeometry, bound: float | None, path: str, diags: list[Diagnostic]
-) -> tuple[Sphere, ...]:
-    """A sheet's spheres (:func:`.sheet.sheet_spheres`), said once for the link; ``bound``:
-    the link's own protrusion bound."""
-    from .fit import default_max_protrusion
-    from .sheet import sheet_message, sheet_spheres
+def _check_against_solids(
+    counts: CountPolicy, clips: Mapping[str, Sequence[Plane]], geoms: Mapping[str, LinkGeometry]
+) -> None:
+    """Raise for a total count under one sphere per link, or a clip plane on a link without
+    a solid to fit."""
+    if counts.count is not None and counts.count < len(geoms):
+        raise XrdfToolsError(
+            f"count {counts.count} is less than the number of links to fit ({len(geoms)})"
+        )
+    stray = [k for k in clips if k not in geoms]
+    if stray:
+        raise XrdfToolsError(
+            f"clip plane(s) for link(s) without geometry to fit: {name_list(stray)}"
+        )
 
-    spheres = sheet_spheres(*sheet)
-    tau = default_max_protrusion(geom.solid) if bound is None else bound
-    message, past = sheet_message(geom.link, sheet[0], spheres, tau, own=bound is not None)
-    diags.append(_info(path, geom.line, RULE_SHEET, message, warn=past))
+
+@dataclass
+class _Run:
+    """One :func:`fit_robot` between its steps: the links to fit (``plans``, the URDF's own
+    spheres left out), their solids, the count policy, the URDF path the notes name, the
+    progress callback and the diagnostics; then what :func:`_prepare` fills in: the first
+    link of each distinct solid (``first_of``: plan key → link), its fitter or sheet plan,
+    and the seconds each link took."""
+
+    geoms: Mapping[str, LinkGeometry]
+    plans: dict[str, LinkPlan]
+    counts: CountPolicy
+    path: str
+    step: Progress
+    diags: list[Diagnostic]
+    first_of: dict[tuple[object, ...], str] = field(default_factory=dict)
+    fitters: dict[str, SphereFitter] = field(default_factory=dict)
+    sheets: dict[str, SheetPlan] = field(default_factory=dict)
+    seconds: dict[str, float] = field(default_factory=dict)
+
+
+def _prepare(run: _Run) -> None:
+    """Steps ``0 … n - 1``: the first link of each distinct solid gets a sheet plan when the
+    sheet rule applies, else our fitter; a link sharing an earlier one's solid takes 0 s."""
+    for i, (name, plan) in enumerate(run.plans.items()):
+        run.step(name, i, 2 * len(run.plans))
+        if plan[0] in run.first_of:
+            run.seconds[name] = 0.0
+            continue
+        run.first_of[plan[0]] = name
+        t0 = time.perf_counter()
+        sheet = sheet_of(run.geoms[name], plan, run.counts)
+        if sheet is not None:
+            run.sheets[name] = sheet
+        else:
+            run.fitters[name] = link_fitter(run.geoms[name], plan, run.counts)
+        run.seconds[name] = time.perf_counter() - t0
+
+
+def _fit_solids(run: _Run, ks: Mapping[str, int], method: str) -> dict[str, tuple[Sphere, ...]]:
+    """Steps ``n … 2n - 1``: each distinct solid fitted once (``ks``: its count, none by
+    target), its spheres shared by the links with the same solid."""
+    spheres: dict[str, tuple[Sphere, ...]] = {}
+    for i, (name, (key, *_rest)) in enumerate(run.plans.items(), start=len(run.plans)):
+        run.step(name, i, 2 * len(run.plans))
+        owner = run.first_of[key]
+        if owner != name:
+            spheres[name] = spheres[owner]
+            continue
+        t0 = time.perf_counter()
+        spheres[name] = _fit_solid(run, name, ks.get(name), method)
+        run.seconds[name] += time.perf_counter() - t0
     return spheres
 
 
-def _fit_mode(tau: float | None, counts: CountPolicy) -> str:
-    """How :func:`_fit_one` fits a link whose own bound is ``tau`` (None: the default)."""
-    if _refines(tau, counts):
-        return "refine"
-    return "search" if tau is None and counts.count_coverage is not None else "hard"
+def _fit_solid(run: _Run, name: str, k: int | None, method: str) -> tuple[Sphere, ...]:
+    """The spheres of link ``name``'s solid: by its sheet plan, by MorphIt, or by ours."""
+    geom, plan = run.geoms[name], run.plans[name]
+    if name in run.sheets:
+        return fit_sheet(run.sheets[name], geom, plan[1], run.path, run.diags)
+    fitter = run.fitters[name]
+    if method == "morphit":
+        return morphit_one(fitter, k, run.counts, geom, plan, run.path, run.diags)
+    mode = fit_mode(plan[1], run.counts)
+    return fit_one(fitter, k, run.counts, geom, run.path, run.diags, mode, plan[1] is not None)
 
 
-def _across(geom: LinkGeometry) -> float:
-    """The bounding-box diagonal of a link's solid: under :data:`PLACEHOLDER_SIZE`, a
-    placeholder."""
-    return norm(np.asarray(geom.solid.extents, dtype=np.float64))  # not a BLAS dot product
-
-
-def _refines(tau: float | None, counts: CountPolicy) -> bool:
-    """Whether a link's count-given fit is refined (:mod:`.refine`): a count is given, the
-    link has no bound of its own and no bound is searched for a coverage."""
-    return counts.given and tau is None and counts.refine and counts.count_coverage is None
-
-
-def _refine_room(solid: trimesh.Trimesh, tau: float | None, counts: CountPolicy) -> float | None:
-    """How far the distance grid of a refined fit reaches: past the loosest start's bound,
-    so that one grid serves every start (None: the fitter's own bound)."""
-    if not _refines(tau, counts):
-        return None
-    from .fit import default_max_protrusion
-    from .refine import START_BOUNDS
-
-    return max(START_BOUNDS) * default_max_protrusion(solid)
+def _take_urdf_spheres(
+    run: _Run, exact: Mapping[str, tuple[Sphere, ...]], spheres: dict[str, tuple[Sphere, ...]]
+) -> None:
+    """The links whose geometry is the URDF's own spheres get them as they are (0 s), said
+    once each."""
+    for name, written in exact.items():
+        spheres[name], run.seconds[name] = written, 0.0
+        geom = run.geoms[name]
+        run.diags.append(
+            fit_note(
+                run.path,
+                geom.line,
+                RULE_URDF_SPHERES,
+                f"link '{name}': its {geom.source} geometry is {len(written)} <sphere> "
+                "element(s), taken as they are",
+            )
+        )
 
 
 def _plan(
@@ -361,83 +307,6 @@ def _counts(
     return {}
 
 
-def _morphit_one(
-    fitter: SphereFitter,
-    k: int | None,
-    counts: CountPolicy,
-    geom: LinkGeometry,
-    plan: LinkPlan,
-    path: str,
-    diags: list[Diagnostic],
-) -> tuple[Sphere, ...]:
-    """One link's spheres by MorphIt (:mod:`.morphit`): ``k`` of them, or the count our fit
-    needs for the coverage target; an empty solid or a placeholder is handled as ours."""
-    from .morphit import fit_link
-
-    if fitter.empty or _across(geom) < PLACEHOLDER_SIZE:
-        return _fit_one(fitter, k, counts, geom, path, diags)
-    if k is None:
-        k = len(fewest_reaching(fitter, counts.target_coverage)[0])
-    return fit_link(fitter, k, geom, plan, path, diags)
-
-
-def _fit_one(
-    fitter: SphereFitter,
-    k: int | None,
-    counts: CountPolicy,
-    geom: LinkGeometry,
-    path: str,
-    diags: list[Diagnostic],
-    mode: str = "hard",
-    own_bound: bool = False,
-) -> tuple[Sphere, ...]:
-    """One link's spheres: ``k`` of them (``mode``: ``hard`` within the fitter's bound,
-    ``refine`` then refined on coverage and protrusion, ``search`` under the smallest bound
-    at which they cover ``counts.count_coverage``), or the fewest reaching the coverage
-    target (past the default bound when it cannot be reached within it, unless the link has
-    a bound of its own: :mod:`.fewest`)."""
-    if fitter.empty and k != 0:
-        diags.append(
-            _info(
-                path,
-                geom.line,
-                RULE_TARGET_MISSED,
-                f"link '{geom.link}': nothing of it lies on the kept side of its clip planes; "
-                "no spheres",
-                warn=True,
-            )
-        )
-        return ()
-    size = _across(geom)
-    if size < PLACEHOLDER_SIZE and (k is None or k > 1):
-        diags.append(
-            _info(
-                path,
-                geom.line,
-                RULE_PLACEHOLDER,
-                f"link '{geom.link}' is a placeholder ({size * 1000:.0f} mm across): one sphere",
-            )
-        )
-        return fitter.fit(1)
-    if k is not None and mode == "search" and counts.count_coverage is not None:
-        from .fit import bound_for_coverage
-
-        return bound_for_coverage(fitter, k, counts.count_coverage)
-    if k is not None and mode == "refine":
-        from .refine import refined_fit
-
-        return refined_fit(fitter, k)
-    if k is not None:
-        return fitter.fit(k)
-    past = not own_bound and counts.refine
-    spheres, note = default_fit(fitter, counts.target_coverage, past=past, most=MAX_PER_LINK)
-    if note is not None:
-        missed, text = note
-        rule = RULE_TARGET_MISSED if missed else RULE_PAST_BOUND
-        diags.append(_info(path, geom.line, rule, f"link '{geom.link}': {text}", warn=missed))
-    return spheres
-
-
 def _report_shared(
     plans: Mapping[str, LinkPlan],
     first_of: Mapping[tuple[object, ...], str],
@@ -453,7 +322,7 @@ def _report_shared(
             reused.setdefault(owner, []).append(name)
     for owner, others in reused.items():
         diags.append(
-            _info(
+            fit_note(
                 path,
                 geoms[owner].line,
                 RULE_SHARED_MESH,

@@ -22,13 +22,14 @@ import numpy as np
 import numpy.typing as npt
 
 from ..diagnostics import Diagnostic, Severity
-from ..selfcollision.collision.spheres import is_slot, self_radius
+from ..selfcollision.collision.spheres import is_slot
 from ..util.arrays import FloatArray
 from ..util.errors import GeometryGroupError, SourceError
 from ..util.fixed_order import matmul, rigid_inverse
-from ..xrdf.model import Xrdf
+from ..xrdf.model import Sphere, Xrdf
 from .contacts import SpherePair, sphere_contacts
-from .meshes import MeshKind, MeshPart, Rgba, load_link_meshes
+from .meshes import MeshKind, Rgba, load_link_meshes
+from .scene_links import LinkScene, link_color, sphere_links, with_meshes
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -41,62 +42,6 @@ Progress = Callable[[int, int], None]
 
 #: Colour of spheres in self-collision (and reserved: no link gets it).
 COLLISION_RGBA: Rgba = (0.95, 0.05, 0.05, 1.0)
-
-# Distinct, colour-blind friendly hues without pure red (red marks collisions).
-_PALETTE: tuple[tuple[int, int, int], ...] = (
-    (31, 119, 180),
-    (255, 127, 14),
-    (44, 160, 44),
-    (148, 103, 189),
-    (23, 190, 207),
-    (188, 189, 34),
-    (140, 86, 75),
-    (227, 119, 194),
-    (127, 127, 127),
-    (174, 199, 232),
-    (255, 187, 120),
-    (152, 223, 138),
-    (197, 176, 213),
-    (158, 218, 229),
-    (219, 219, 141),
-    (196, 156, 148),
-    (247, 182, 210),
-    (57, 59, 121),
-    (99, 121, 57),
-    (140, 109, 49),
-)
-
-
-def link_color(index: int) -> Rgba:
-    """Colour of the ``index``-th link with spheres (cycles through 20 hues)."""
-    r, g, b = _PALETTE[index % len(_PALETTE)]
-    return (r / 255.0, g / 255.0, b / 255.0, 1.0)
-
-
-@dataclass(frozen=True, eq=False)
-class LinkScene:
-    """One frame of the robot as drawn.
-
-    ``centers`` [S, 3] and ``radii`` [S] are the drawable spheres of the chosen group in the
-    link frame; ``buffered_radii`` [S] add the frame's self-collision buffer; ``sphere_ids``
-    [S] are their indices in the frame's resolved sphere list of the XRDF (they differ only
-    when attached-object slots, radius <= -1, were skipped). A small negative radius (XRDF
-    1.0) is drawn as 0 with the buffered radius the self-collision check gives it
-    (:func:`~xrdf_tools.selfcollision.collision.spheres.self_radius`).
-    """
-
-    name: str
-    frame_index: int
-    color: Rgba
-    centers: FloatArray
-    radii: FloatArray
-    buffered_radii: FloatArray
-    sphere_ids: tuple[int, ...]
-    meshes: tuple[MeshPart, ...] = ()
-
-    @property
-    def n_spheres(self) -> int:
-        return len(self.sphere_ids)
 
 
 @dataclass(frozen=True, eq=False)
@@ -273,160 +218,137 @@ def build_scene(
     """
     from ..robot.binding import cspace_indices
     from ..robot.core import as_robot
-    from ..robot.kinematics import build_kinematic_model, default_configuration, fk
+    from ..robot.kinematics import fk
 
     robot = as_robot(urdf)
     diags: list[Diagnostic] = []
-    if kinematic_model is None:
-        kin, kdiags = build_kinematic_model(robot, xrdf)
-        diags.extend(kdiags)
-    else:
-        kin = kinematic_model
+    kin = _kinematics(robot, xrdf, kinematic_model, diags)
     cspace_indices(kin, xrdf)  # the XRDF's c-space must match the URDF, samples or not
     chosen = choose_group(xrdf, group)
     spheres = xrdf.resolved_spheres(chosen)
-    xpath = xrdf.source.path or "<xrdf>"
-    if spheres and not any(frame in kin.frame_names for frame in spheres):
-        upath = urdf_path if urdf_path is not None else kin.source_path
-        raise SourceError(
-            f"none of the {len(spheres)} sphere frames of group '{chosen}' "
-            f"({', '.join(list(spheres)[:3])}{', …' if len(spheres) > 3 else ''}) is a frame of "
-            f"{os.fspath(upath) if upath else 'the URDF'}: is this the URDF the XRDF was written "
-            "for?",
-            path=xpath,
-        )
-
-    q0 = default_configuration(kin, xrdf.default_joint_positions)
-    if configurations is None:
-        Q = q0[None, :]
-    else:
-        qc = np.asarray(configurations, dtype=np.float64)
-        if qc.ndim != 2 or qc.shape[1] != kin.n_actuated:
-            raise ValueError(
-                f"configurations must have shape [B, {kin.n_actuated}], got {list(qc.shape)}"
-            )
-        Q = np.vstack([q0[None, :], qc])
-
-    self_group = xrdf.self_collision.geometry if xrdf.self_collision is not None else None
-    shown = self_group is not None and self_group == chosen
-    found: list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]] = [((), ())] * len(Q)
-    checked = ignored = 0
-    if self_group is not None:
-        found, checked, ignored = sphere_contacts(kin, xrdf, Q, progress, diags)
-    if self_group is not None and not shown:
-        diags.append(
-            Diagnostic(
-                xpath,
-                None,
-                None,
-                "viz-collisions-not-drawn",
-                Severity.INFO,
-                f"drawing group '{chosen}', but self-collision uses '{self_group}': colliding "
-                "pairs are logged, spheres are not coloured",
-            )
-        )
-
-    keep = [0] + [k for k in range(1, len(Q)) if not colliding_only or found[k][0]]
+    _require_a_robot_frame(kin, xrdf, chosen, spheres, urdf_path)
+    Q = _default_pose_then(kin, xrdf, configurations)
+    collisions = _self_collisions(kin, xrdf, Q, chosen, progress, diags)
+    keep = [0] + [k for k in range(1, len(Q)) if not colliding_only or collisions.found[k][0]]
     samples = tuple(
-        Sample(step, k - 1, np.array(Q[k]), found[k][0], found[k][1]) for step, k in enumerate(keep)
+        Sample(step, k - 1, np.array(Q[k]), *collisions.found[k]) for step, k in enumerate(keep)
     )
     poses = np.ascontiguousarray(fk(kin, Q[keep]))
-
-    links: list[LinkScene] = []
-    skipped = 0
-    for frame, frame_spheres in spheres.items():
-        if not kin.has_frame(frame):
-            if chosen != self_group:  # the collision module reports the self-collision group
-                diags.append(_unknown_frame(xrdf, kin, chosen, frame))
-            continue
-        fi = kin.frame_index(frame)
-        ids = tuple(i for i, s in enumerate(frame_spheres) if not is_slot(s.radius))
-        skipped += len(frame_spheres) - len(ids)
-        buffer = 0.0
-        if xrdf.self_collision is not None:
-            buffer = float(xrdf.self_collision.buffer_distance.get(frame, 0.0))
-        raw = [frame_spheres[i].radius for i in ids]
-        centers = np.array([frame_spheres[i].center for i in ids], dtype=np.float64).reshape(-1, 3)
-        radii = np.maximum(np.array(raw, dtype=np.float64), 0.0)
-        buffered = np.array([self_radius(r, buffer) or 0.0 for r in raw], dtype=np.float64)
-        links.append(LinkScene(frame, fi, link_color(len(links)), centers, radii, buffered, ids))
-    if skipped:
-        diags.append(
-            Diagnostic(
-                xpath,
-                None,
-                None,
-                "viz-placeholder-spheres",
-                Severity.INFO,
-                f"{skipped} attached-object slot(s) (radius <= -1) in group '{chosen}' not drawn",
-            )
-        )
-
+    links = sphere_links(xrdf, kin, chosen, spheres, diags)
     # Meshes: every URDF link kept in the tree, whether or not it has spheres.
     mesh_map, mdiags = load_link_meshes(
         robot, kin.frame_names, meshes, urdf_path=urdf_path, package_paths=package_paths
     )
     diags.extend(mdiags)
-    by_name = {link.name: link for link in links}
-    for name, parts in mesh_map.items():
-        if name in by_name:
-            old = by_name[name]
-            by_name[name] = LinkScene(
-                old.name,
-                old.frame_index,
-                old.color,
-                old.centers,
-                old.radii,
-                old.buffered_radii,
-                old.sphere_ids,
-                parts,
-            )
-        else:
-            empty = np.zeros((0, 3))
-            by_name[name] = LinkScene(
-                name,
-                kin.frame_index(name),
-                link_color(len(by_name)),
-                empty,
-                empty[:, 0],
-                empty[:, 0],
-                (),
-                parts,
-            )
-    ordered = tuple(sorted(by_name.values(), key=lambda link: link.frame_index))
-
     return Scene(
         robot_name=str(getattr(robot.urdf.robot, "name", "") or "robot"),
         group=chosen,
         frame_names=kin.frame_names,
         parent=tuple(int(p) for p in kin.parent),
         joint_names=kin.actuated_joints,
-        links=ordered,
+        links=with_meshes(links, mesh_map, kin),
         samples=samples,
         poses=poses,
         mesh_kind=meshes,
-        collisions_shown=shown,
+        collisions_shown=collisions.shown,
         diagnostics=tuple(sorted(diags)),
-        frame_pairs_checked=checked,
-        frame_pairs_ignored=ignored,
+        frame_pairs_checked=collisions.checked,
+        frame_pairs_ignored=collisions.ignored,
     )
 
 
-def _unknown_frame(xrdf: Xrdf, kin: KinematicModel, group: str, frame: str) -> Diagnostic:
-    from ..util.errors import did_you_mean
+def _kinematics(
+    robot: Robot, xrdf: Xrdf, given: KinematicModel | None, diags: list[Diagnostic]
+) -> KinematicModel:
+    """``given``, else the kinematic model of ``robot`` under ``xrdf``'s modifiers (its
+    diagnostics added to ``diags``)."""
+    if given is not None:
+        return given
+    from ..robot.kinematics import build_kinematic_model
 
-    kp = f"geometry.{group}.spheres.{frame}"
-    line, col = xrdf.source.position(kp + "#key")
-    return Diagnostic(
-        xrdf.source.path or "<xrdf>",
-        line,
-        col,
-        "viz-frame-unknown",
-        Severity.WARNING,
-        f"spheres on '{frame}' not drawn: not a frame of the robot"
-        + did_you_mean(frame, kin.frame_names),
-        kp,
+    kin, kdiags = build_kinematic_model(robot, xrdf)
+    diags.extend(kdiags)
+    return kin
+
+
+def _require_a_robot_frame(
+    kin: KinematicModel,
+    xrdf: Xrdf,
+    group: str,
+    spheres: Mapping[str, tuple[Sphere, ...]],
+    urdf_path: str | os.PathLike[str] | None,
+) -> None:
+    """Raise :class:`SourceError` when ``group`` has spheres but on no frame of the robot:
+    the XRDF was most likely written for another URDF."""
+    if not spheres or any(frame in kin.frame_names for frame in spheres):
+        return
+    upath = urdf_path if urdf_path is not None else kin.source_path
+    raise SourceError(
+        f"none of the {len(spheres)} sphere frames of group '{group}' "
+        f"({', '.join(list(spheres)[:3])}{', …' if len(spheres) > 3 else ''}) is a frame of "
+        f"{os.fspath(upath) if upath else 'the URDF'}: is this the URDF the XRDF was written "
+        "for?",
+        path=xrdf.source.path or "<xrdf>",
     )
+
+
+def _default_pose_then(
+    kin: KinematicModel, xrdf: Xrdf, configurations: npt.ArrayLike | None
+) -> FloatArray:
+    """The timeline's configurations [1 + B, n]: the default pose, then ``configurations``
+    [B, n] (a ``ValueError`` when their shape is not that)."""
+    from ..robot.kinematics import default_configuration
+
+    q0 = default_configuration(kin, xrdf.default_joint_positions)
+    if configurations is None:
+        return q0[None, :]
+    qc = np.asarray(configurations, dtype=np.float64)
+    if qc.ndim != 2 or qc.shape[1] != kin.n_actuated:
+        raise ValueError(
+            f"configurations must have shape [B, {kin.n_actuated}], got {list(qc.shape)}"
+        )
+    return np.vstack([q0[None, :], qc])
+
+
+@dataclass(frozen=True)
+class _SelfCollisions:
+    """Per configuration, its colliding sphere pairs and frame pairs; the frame pairs the
+    mask checks and ignores; whether the drawn group is the self-collision one (so colliding
+    spheres are coloured)."""
+
+    found: list[tuple[tuple[SpherePair, ...], tuple[Contact, ...]]]
+    checked: int
+    ignored: int
+    shown: bool
+
+
+def _self_collisions(
+    kin: KinematicModel,
+    xrdf: Xrdf,
+    Q: FloatArray,
+    drawn: str,
+    progress: Progress | None,
+    diags: list[Diagnostic],
+) -> _SelfCollisions:
+    """The self-collisions of every configuration of ``Q`` (none without a self-collision
+    section), with a note when the ``drawn`` group is not the one they are found with."""
+    if xrdf.self_collision is None:
+        return _SelfCollisions([((), ())] * len(Q), 0, 0, False)
+    self_group = xrdf.self_collision.geometry
+    found, checked, ignored = sphere_contacts(kin, xrdf, Q, progress, diags)
+    if self_group != drawn:
+        diags.append(
+            Diagnostic(
+                xrdf.source.path or "<xrdf>",
+                None,
+                None,
+                "viz-collisions-not-drawn",
+                Severity.INFO,
+                f"drawing group '{drawn}', but self-collision uses '{self_group}': colliding "
+                "pairs are logged, spheres are not coloured",
+            )
+        )
+    return _SelfCollisions(found, checked, ignored, self_group == drawn)
 
 
 def sphere_counts(xrdf: Xrdf, group: str) -> dict[str, int]:

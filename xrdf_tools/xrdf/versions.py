@@ -19,14 +19,9 @@ def _diag(x: Xrdf, rule: str, severity: Severity, message: str, key_path: str) -
 def needs_version_2(x: Xrdf) -> list[str]:
     """Why ``x`` cannot be written as XRDF 1.0 without changing the robot (empty: it can)."""
     why = []
-    if (
-        x.world_collision is not None
-        and x.self_collision is not None
-        and x.world_collision.geometry != x.self_collision.geometry
-    ):
+    if (groups := different_collision_groups(x)) is not None:
         why.append(
-            f"world and self collision use different geometry groups "
-            f"('{x.world_collision.geometry}', '{x.self_collision.geometry}')"
+            f"world and self collision use different geometry groups ('{groups[0]}', '{groups[1]}')"
         )
     why += [
         f"remove_mimic_attributes ('{m.joint_name}') has no 1.0 form"
@@ -109,6 +104,36 @@ def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
     collision section, are absent (cuRobo requires them).
     """
     diags: list[Diagnostic] = _invalid_radii(x)
+    _refuse_remove_mimic(x)
+    geometry = _flatten_clones(x, diags)
+    if (groups := different_collision_groups(x)) is not None:
+        diags.append(
+            _diag(
+                x,
+                "different-collision-groups",
+                Severity.WARNING,
+                f"world collision uses '{groups[0]}' and self collision '{groups[1]}'; XRDF 1.0 "
+                "consumers (cuRobo, Isaac Sim) need one group for both",
+                "self_collision.geometry",
+            )
+        )
+    diags.extend(_missing_for_curobo(x))
+    return x.replace(format_version="1.0", geometry=geometry), diags
+
+
+def different_collision_groups(x: Xrdf) -> tuple[str, str] | None:
+    """The world and the self collision groups when they differ (None: they do not, or a
+    section is missing)."""
+    if x.world_collision is None or x.self_collision is None:
+        return None
+    if x.world_collision.geometry == x.self_collision.geometry:
+        return None
+    return x.world_collision.geometry, x.self_collision.geometry
+
+
+def _refuse_remove_mimic(x: Xrdf) -> None:
+    """Raise :class:`ConversionError` at the first ``remove_mimic_attributes`` modifier: XRDF
+    1.0 cannot express it."""
     for i, m in enumerate(x.modifiers):
         if isinstance(m, RemoveMimicAttributes):
             line, col = x.source.position(f"modifiers[{i}]")
@@ -119,71 +144,52 @@ def to_1_0(x: Xrdf) -> tuple[Xrdf, list[Diagnostic]]:
                 line=line,
                 col=col,
             )
+
+
+def _flatten_clones(x: Xrdf, diags: list[Diagnostic]) -> FrozenMap[str, GeometryGroup] | None:
+    """The geometry of ``x`` with every clone resolved into its group's own spheres, a note
+    in ``diags`` per group that cloned (unchanged when no group clones)."""
     geometry = x.geometry
-    if geometry is not None and any(g.clone for g in geometry.values()):
-        flat = {}
-        for gname, group in geometry.items():
-            if group.clone:
-                diags.append(
-                    _diag(
-                        x,
-                        "flattened-clone",
-                        Severity.INFO,
-                        f"geometry group '{gname}' clones {', '.join(group.clone)}: flattened "
-                        f"(order: {', '.join(clone_order(geometry, gname))})",
-                        f"geometry.{gname}.clone",
-                    )
+    if geometry is None or not any(g.clone for g in geometry.values()):
+        return geometry
+    flat = {}
+    for gname, group in geometry.items():
+        if group.clone:
+            diags.append(
+                _diag(
+                    x,
+                    "flattened-clone",
+                    Severity.INFO,
+                    f"geometry group '{gname}' clones {', '.join(group.clone)}: flattened "
+                    f"(order: {', '.join(clone_order(geometry, gname))})",
+                    f"geometry.{gname}.clone",
                 )
-            flat[gname] = GeometryGroup(resolve_group(geometry, gname), ())
-        geometry = FrozenMap(flat)
-    if (
-        x.world_collision is not None
-        and x.self_collision is not None
-        and x.world_collision.geometry != x.self_collision.geometry
-    ):
-        diags.append(
-            _diag(
-                x,
-                "different-collision-groups",
-                Severity.WARNING,
-                f"world collision uses '{x.world_collision.geometry}' and self collision "
-                f"'{x.self_collision.geometry}'; XRDF 1.0 consumers (cuRobo, Isaac Sim) need one "
-                "group for both",
-                "self_collision.geometry",
             )
-        )
-    if x.tool_frames is None:
-        diags.append(
-            _diag(
-                x,
-                "missing-for-curobo",
-                Severity.INFO,
-                "no tool_frames: cuRobo's 1.0 loader requires them",
-                "",
-            )
-        )
-    if x.default_joint_positions is None:
-        diags.append(
-            _diag(
-                x,
-                "missing-for-curobo",
-                Severity.INFO,
-                "no default_joint_positions: cuRobo's 1.0 loader requires them",
-                "",
-            )
-        )
-    if x.world_collision is not None and x.self_collision is None:
-        diags.append(
-            _diag(
-                x,
-                "missing-for-curobo",
-                Severity.INFO,
-                "world collision without self_collision: cuRobo's 1.0 loader requires "
-                "self_collision (with ignore) once collision is there",
-                "world_collision",
-            )
-        )
-    return x.replace(format_version="1.0", geometry=geometry), diags
+        flat[gname] = GeometryGroup(resolve_group(geometry, gname), ())
+    return FrozenMap(flat)
+
+
+def _missing_for_curobo(x: Xrdf) -> list[Diagnostic]:
+    """A note for each section cuRobo's 1.0 loader requires that ``x`` lacks."""
+    missing: list[tuple[bool, str, str]] = [
+        (x.tool_frames is None, "no tool_frames: cuRobo's 1.0 loader requires them", ""),
+        (
+            x.default_joint_positions is None,
+            "no default_joint_positions: cuRobo's 1.0 loader requires them",
+            "",
+        ),
+        (
+            x.world_collision is not None and x.self_collision is None,
+            "world collision without self_collision: cuRobo's 1.0 loader requires "
+            "self_collision (with ignore) once collision is there",
+            "world_collision",
+        ),
+    ]
+    return [
+        _diag(x, "missing-for-curobo", Severity.INFO, message, key_path)
+        for lacking, message, key_path in missing
+        if lacking
+    ]
 
 
 def _invalid_radii(x: Xrdf) -> list[Diagnostic]:

@@ -8,11 +8,10 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError
 from ...util.numbers import MAX_SAMPLES, REPORT_SAMPLES
 from .options import format_version as format_version_option
@@ -20,13 +19,11 @@ from .options import output as output_option
 from .options import seed as seed_option
 from .options import target as target_option
 from .plain import (
-    EXIT_FINDINGS,
     OutputFormat,
     Verbosity,
-    check_robot_overwrite,
     detail,
-    has_failures,
     is_stdio,
+    pairs,
     timed,
     verbosity,
 )
@@ -38,21 +35,17 @@ from .typer_common import (
     QuietOption,
     VerboseOption,
     XacroArgOption,
-    echo_diagnostics,
     fail,
     finite,
-    note,
     progress_bar,
     refuse_input_overwrite,
     stderr_is_terminal,
     typer_option,
-    write_output,
 )
 
 if TYPE_CHECKING:
-    from ...convert.pipeline import Progress
+    from ...convert.pipeline import FitOptions, Progress
     from ...spheres.fit import Plane
-    from ...xrdf.model import Xrdf
     from .typer_common import ProgressUpdate
 
 #: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
@@ -63,14 +56,6 @@ class GeometryFrom(str, Enum):
     collision = "collision"
     visual = "visual"
     auto = "auto"
-
-
-def _pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for v in values or []:
-        k, val = parse(v)
-        out[k] = val
-    return out
 
 
 def command(
@@ -278,25 +263,19 @@ def command(
       xrdf convert robot.urdf --srdf robot.srdf --fit-spheres -o robot.xrdf --check
     """
     from ...convert.core import ConvertOptions
-    from ...convert.pipeline import FitOptions, MaskOptions, convert_robot
+    from ...convert.pipeline import MaskOptions, convert_robot
     from ...convert.sources.cspace import parse_chain
     from ...robot.packages import parse_package_path
     from ...robot.xacro_source import parse_xacro_arg
+    from .convert_outcome import check_against, report_findings, write_result
 
-    if format_version not in (None, "1.0", "2.0"):
-        fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
-    if check and (output is None or is_stdio(output)):
-        fail("--check needs -o FILE (the file to compare with)")
-    inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
-    if curobo is not None:
-        from ...convert.sources.curobo import referenced_files
-
-        inputs += referenced_files(curobo)  # the spheres file the config reads
+    _check_usage(format_version, check, output)
+    inputs = _input_files(robot, srdf, joint_limits, curobo)
     if output is not None and not check:
         refuse_input_overwrite(output, inputs)
     try:
-        pkgs = _pairs(package_path, parse_package_path)
-        xargs = _pairs(xacro_arg, parse_xacro_arg)
+        pkgs = pairs(package_path, parse_package_path)
+        xargs = pairs(xacro_arg, parse_xacro_arg)
         options = ConvertOptions(
             srdf=srdf,
             joint_limits=joint_limits,
@@ -311,24 +290,16 @@ def command(
             joints=tuple(_split(joints)),
             chains=tuple(parse_chain(c) for c in _split(chain)),
         )
-        fit = None
-        if per_link is not None and sphere_budget is not None:
-            fail("give --per-link or --sphere-budget, not both")
-        if method is not FitMethod.ours and not fit_spheres:
-            fail(f"--method {method.value} fits spheres: give --fit-spheres as well")
-        if fit_spheres:
-            from ...spheres.morphit import check_method
-
-            check_method(method.value)
-            fit = FitOptions(
-                source=geometry_from.value,
-                seed=seed,
-                per_link=per_link,
-                allow_missing_meshes=allow_missing_meshes,
-                sphere_budget=sphere_budget,
-                clips=_clips(clip),
-                method=method.value,
-            )
+        fit = _fit_options(
+            fit_spheres,
+            method,
+            per_link=per_link,
+            sphere_budget=sphere_budget,
+            geometry_from=geometry_from,
+            seed=seed,
+            allow_missing_meshes=allow_missing_meshes,
+            clip=clip,
+        )
         mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
         label = "<stdout>" if output is None or is_stdio(output) else str(output)
         with progress_bar(fit_spheres) as bar, timed("convert"):
@@ -346,64 +317,69 @@ def command(
             )
     except XrdfToolsError as e:
         fail(e)
-    x, text = result.xrdf, result.text
-    diags, lint_diags = list(result.diagnostics), list(result.lint)
-    echo_diagnostics([*diags, *lint_diags], fmt)
-    _fail_on_errors(diags, lint_diags, fit_spheres)
-    if strict and has_failures(diags, strict=True):
-        n = sum(1 for d in diags if d.severity is not Severity.INFO)
-        fail(f"--strict: {n} value(s) were guessed or dropped (listed above)", EXIT_FINDINGS)
-
+    report_findings(result, fmt, fit_spheres, strict)
     if check:
         assert output is not None
-        _check(output, x, result.robot.root_link())
+        check_against(output, result.xrdf, result.robot.root_link())
         return
-    try:  # a xacro file its macros came from or a mesh of a link is an input too
-        check_robot_overwrite(output, result.robot)
-    except XrdfToolsError as e:
-        fail(e)
-    write_output(text, output)
+    write_result(result, output)
 
 
-def _check(output: Path, x: Xrdf, root_frame: str) -> None:
-    from dataclasses import replace
+def _check_usage(format_version: str | None, check: bool, output: Path | None) -> None:
+    """Exit 2 on a --format-version that is no XRDF version, or --check without a file."""
+    if format_version not in (None, "1.0", "2.0"):
+        fail(f"--format-version must be 1.0 or 2.0, not '{format_version}'")
+    if check and (output is None or is_stdio(output)):
+        fail("--check needs -o FILE (the file to compare with)")
 
-    from ...diff import diff_xrdf
-    from ...xrdf.io import load_xrdf
 
-    if not output.exists():
-        fail(f"{output}: does not exist; run without --check to create it", EXIT_FINDINGS)
-    try:
-        existing = load_xrdf(output)
-    except XrdfToolsError as e:
-        fail(e, EXIT_FINDINGS)
-    result = diff_xrdf(existing, x, root_frame=root_frame)
-    # the side converted now has no file: name it by what it is, not '<document>'
-    result = replace(result, b=replace(result.b, path="(converted from the sources now)"))
-    if result.is_equal:
-        note(f"{output}: up to date")
-        return
-    write_output(_render_diff(result), None)
-    fail(
-        f"{output}: out of date ({len(result.changes)} semantic difference(s) listed above); "
-        "re-run without --check to write it anew, which replaces any edit made to the file "
-        "by hand: keep such edits in the sources or the convert options instead",
-        EXIT_FINDINGS,
+def _input_files(
+    robot: Path, srdf: Path | None, joint_limits: Path | None, curobo: Path | None
+) -> list[Path | None]:
+    """The files convert reads (the output may overwrite none of them): the robot, the SRDF,
+    the joint limits, the cuRobo config and the spheres file it reads."""
+    inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
+    if curobo is not None:
+        from ...convert.sources.curobo import referenced_files
+
+        inputs += referenced_files(curobo)  # the spheres file the config reads
+    return inputs
+
+
+def _fit_options(
+    fit_spheres: bool,
+    method: FitMethod,
+    *,
+    per_link: int | None,
+    sphere_budget: int | None,
+    geometry_from: GeometryFrom,
+    seed: int,
+    allow_missing_meshes: bool,
+    clip: list[str] | None,
+) -> FitOptions | None:
+    """What --fit-spheres and its options ask for (None without it); exit 2 on options
+    that contradict each other. Raises :class:`XrdfToolsError` for an unusable --method or
+    --clip."""
+    from ...convert.pipeline import FitOptions
+
+    if per_link is not None and sphere_budget is not None:
+        fail("give --per-link or --sphere-budget, not both")
+    if method is not FitMethod.ours and not fit_spheres:
+        fail(f"--method {method.value} fits spheres: give --fit-spheres as well")
+    if not fit_spheres:
+        return None
+    from ...spheres.morphit import check_method
+
+    check_method(method.value)
+    return FitOptions(
+        source=geometry_from.value,
+        seed=seed,
+        per_link=per_link,
+        allow_missing_meshes=allow_missing_meshes,
+        sphere_budget=sphere_budget,
+        clips=_clips(clip),
+        method=method.value,
     )
-
-
-def _at_unwritten_lines(errors: list[Diagnostic]) -> str:
-    """What the lines of findings in the converted XRDF mean when it is not written: the
-    file named there does not exist (or holds something else)."""
-    if not any(d.line is not None and d.path != "<stdout>" for d in errors):
-        return ""
-    return "; nothing was written: their lines are those of the XRDF convert would write"
-
-
-def _render_diff(result: Any) -> str:
-    from ...diff.render import render_text
-
-    return render_text(result)
 
 
 def _split(values: list[str] | None) -> list[str]:
@@ -438,46 +414,3 @@ def _staged(bar: ProgressUpdate | None) -> Progress | None:
             detail(f"{_STAGES.get(stage, stage)}: {done}/{total}")
 
     return line
-
-
-def _fail_on_errors(
-    diags: list[Diagnostic], lint_diags: list[Diagnostic], fit_spheres: bool
-) -> None:
-    """Exit 1 when the conversion or the lint of its result has an error (nothing written)."""
-    from ...convert.targets import RULE_STOPPED
-
-    if any(d.rule == "convert-no-spheres" and d.severity is Severity.ERROR for d in diags):
-        fail(
-            "--fit-spheres fitted no sphere: no link has collision geometry it could read "
-            "(listed above); make the meshes reachable (--package-path) or fit the visual "
-            "meshes (--from visual)",
-            EXIT_FINDINGS,
-        )
-    unfitted = [d for d in diags if d.severity is Severity.ERROR]
-    if unfitted:
-        fail(
-            f"{len(unfitted)} link(s) with geometry got no spheres or only some (listed "
-            "above); a planner would not see what is missing. Fix or replace those meshes",
-            EXIT_FINDINGS,
-        )
-    # the stop before fitting says that these errors were found: it is not one of them
-    errors = [d for d in lint_diags if d.severity is Severity.ERROR and d.rule != RULE_STOPPED]
-    if errors:
-        bare = sum(1 for d in errors if d.rule == "mesh-without-spheres")
-        remedy = "fix the inputs or pass the missing values on the command line"
-        if bare and not fit_spheres:
-            remedy = (
-                f"{bare} of them are moving links with collision geometry and no spheres "
-                "(--fit-spheres fits spheres to the links the inputs leave without); " + remedy
-            )
-        if not fit_spheres and any(d.rule == "empty-collision-group" for d in errors):
-            # (a fit that fitted nothing stopped above, as convert-no-spheres)
-            remedy = (
-                "the XRDF has no collision spheres at all: --fit-spheres fits them to the "
-                "links' collision geometry; " + remedy
-            )
-        fail(
-            f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
-            f"above{_at_unwritten_lines(errors)}); {remedy}",
-            EXIT_FINDINGS,
-        )

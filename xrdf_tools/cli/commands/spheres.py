@@ -209,8 +209,8 @@ def command(
         metrics_table,
     )
     from ...robot.packages import parse_package_path
+    from ...spheres.count_policy import CountPolicy
     from ...spheres.morphit import check_method
-    from ...spheres.robot_fit import CountPolicy
     from ...xrdf.io import dump_xrdf
 
     chosen = [

@@ -14,7 +14,7 @@ frame here and per moving body in the engine.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -292,32 +292,44 @@ def build_sphere_set(
     empty.
     """
     diags: list[Diagnostic] = []
+    per_frame, n_placeholders = _active_spheres(kin, xrdf, diags)
+    _check_ceilings(xrdf, per_frame)
+    kin_frames = sorted(per_frame)
+    names = tuple(kin.frame_names[k] for k in kin_frames)
+    rows = [(f, k, *entry) for f, k in enumerate(kin_frames) for entry in per_frame[k]]
+    fa, fb, masked = _frame_pairs(xrdf, names, include_masked)
+    sset = SphereSet(
+        frame_names=names,
+        frame_kin_index=np.array(kin_frames, dtype=np.intp),
+        frame_of_sphere=np.array([row[0] for row in rows], dtype=np.intp),
+        kin_frame=np.array([row[1] for row in rows], dtype=np.intp),
+        sphere_index=np.array([row[2] for row in rows], dtype=np.intp),
+        local_centers=np.array([row[3] for row in rows], dtype=np.float64).reshape(-1, 3),
+        radii=np.array([row[4] for row in rows], dtype=np.float64),
+        self_radii=np.array([row[5] for row in rows], dtype=np.float64),
+        frame_pair_a=np.array(fa, dtype=np.intp),
+        frame_pair_b=np.array(fb, dtype=np.intp),
+        frame_pair_masked=np.array(masked, dtype=np.bool_),
+        n_placeholders=n_placeholders,
+    )
+    return sset, diags
+
+
+#: One active sphere: its index in its frame's list, centre, raw radius and self radius.
+_Entry = tuple[int, tuple[float, float, float], float, float]
+
+
+def _active_spheres(
+    kin: KinematicModel, xrdf: Xrdf, diags: list[Diagnostic]
+) -> tuple[dict[int, list[_Entry]], int]:
+    """The self-collision group's spheres per kinematic frame index, and how many
+    attached-object slots were dropped; a frame the model lacks is a warning in ``diags``."""
     sc = xrdf.self_collision
-    spheres = xrdf.self_collision_spheres()
-    path = xrdf.source.path
-    per_frame: dict[int, list[tuple[int, tuple[float, float, float], float, float]]] = {}
+    per_frame: dict[int, list[_Entry]] = {}
     n_placeholders = 0
-    for frame, sph in spheres.items():
+    for frame, sph in xrdf.self_collision_spheres().items():
         if not kin.has_frame(frame):
-            group = _group_holding(xrdf, frame)
-            kp = f"geometry.{group}.spheres.{frame}"
-            line, col = xrdf.source.position(kp + "#key")
-            why = (
-                f"was removed by set_base_frame '{kin.base_frame}'"
-                if frame in kin.pruned_frames
-                else "is not a frame of the robot" + did_you_mean(frame, kin.frame_names)
-            )
-            diags.append(
-                Diagnostic(
-                    path,
-                    line,
-                    col,
-                    "sphere-frame-unknown",
-                    Severity.WARNING,
-                    f"spheres on frame '{frame}' are not checked: the frame {why}",
-                    kp,
-                )
-            )
+            diags.append(_unknown_frame(kin, xrdf, frame))
             continue
         k = kin.frame_index(frame)
         buf = float(sc.buffer_distance.get(frame, 0.0)) if sc is not None else 0.0
@@ -327,23 +339,36 @@ def build_sphere_set(
                 n_placeholders += 1
                 continue
             per_frame.setdefault(k, []).append((i, s.center, s.radius, r_self))
-    _check_ceilings(xrdf, per_frame)
-    kin_frames = sorted(per_frame)
-    names = tuple(kin.frame_names[k] for k in kin_frames)
-    fos: list[int] = []
-    kfs: list[int] = []
-    idx: list[int] = []
-    centers: list[tuple[float, float, float]] = []
-    radii: list[float] = []
-    self_radii: list[float] = []
-    for f, k in enumerate(kin_frames):
-        for i, c, r, sr in per_frame[k]:
-            fos.append(f)
-            kfs.append(k)
-            idx.append(i)
-            centers.append(c)
-            radii.append(r)
-            self_radii.append(sr)
+    return per_frame, n_placeholders
+
+
+def _unknown_frame(kin: KinematicModel, xrdf: Xrdf, frame: str) -> Diagnostic:
+    """``sphere-frame-unknown``: the spheres on ``frame`` are not checked, because
+    set_base_frame removed it or the robot has no such frame; at the frame's key."""
+    kp = f"geometry.{_group_holding(xrdf, frame)}.spheres.{frame}"
+    line, col = xrdf.source.position(kp + "#key")
+    why = (
+        f"was removed by set_base_frame '{kin.base_frame}'"
+        if frame in kin.pruned_frames
+        else "is not a frame of the robot" + did_you_mean(frame, kin.frame_names)
+    )
+    return Diagnostic(
+        xrdf.source.path,
+        line,
+        col,
+        "sphere-frame-unknown",
+        Severity.WARNING,
+        f"spheres on frame '{frame}' are not checked: the frame {why}",
+        kp,
+    )
+
+
+def _frame_pairs(
+    xrdf: Xrdf, names: Sequence[str], include_masked: bool
+) -> tuple[list[int], list[int], list[bool]]:
+    """Every pair ``a < b`` of the frames ``names`` in lexicographic order, the masked ones
+    only with ``include_masked``: the two indices and whether the mask ignores it."""
+    sc = xrdf.self_collision
     fa: list[int] = []
     fb: list[int] = []
     masked: list[bool] = []
@@ -355,21 +380,7 @@ def build_sphere_set(
             fa.append(a)
             fb.append(b)
             masked.append(m)
-    sset = SphereSet(
-        frame_names=names,
-        frame_kin_index=np.array(kin_frames, dtype=np.intp),
-        frame_of_sphere=np.array(fos, dtype=np.intp),
-        kin_frame=np.array(kfs, dtype=np.intp),
-        sphere_index=np.array(idx, dtype=np.intp),
-        local_centers=np.array(centers, dtype=np.float64).reshape(-1, 3),
-        radii=np.array(radii, dtype=np.float64),
-        self_radii=np.array(self_radii, dtype=np.float64),
-        frame_pair_a=np.array(fa, dtype=np.intp),
-        frame_pair_b=np.array(fb, dtype=np.intp),
-        frame_pair_masked=np.array(masked, dtype=np.bool_),
-        n_placeholders=n_placeholders,
-    )
-    return sset, diags
+    return fa, fb, masked
 
 
 class SphereLimitError(XrdfToolsError):

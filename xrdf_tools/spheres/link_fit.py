@@ -1,0 +1,193 @@
+"""How one link's solid is fitted, as :func:`~.robot_fit.fit_robot` plans it: a sheet's few
+spheres (:mod:`.sheet`), MorphIt's (:mod:`.morphit`), or ours (:class:`~.fit.SphereFitter`):
+``k`` spheres within a bound, refined or under a searched bound, the fewest reaching the
+coverage target, one for a placeholder; with the notes that say so."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..diagnostics import Diagnostic, Severity
+from ..util.fixed_order import norm
+from ..util.numbers import PLACEHOLDER_SIZE
+from ..xrdf.model import Sphere
+from .count_policy import MAX_PER_LINK, CountPolicy
+from .fewest import default_fit, fewest_reaching
+
+if TYPE_CHECKING:
+    import trimesh
+
+    from .fit import LinkPlan, SphereFitter
+    from .geometry import LinkGeometry
+    from .sheet import SheetPlan
+
+__all__ = [
+    "fit_mode",
+    "fit_note",
+    "fit_one",
+    "fit_sheet",
+    "link_fitter",
+    "morphit_one",
+    "sheet_of",
+]
+
+RULE_TARGET_MISSED = "spheres-target-missed"
+RULE_PLACEHOLDER = "spheres-placeholder"
+RULE_SHEET = "spheres-sheet"
+RULE_PAST_BOUND = "spheres-past-bound"
+
+
+def fit_note(
+    path: str, line: int | None, rule: str, message: str, warn: bool = False
+) -> Diagnostic:
+    """A fit's note on a link: info, or a warning with ``warn``."""
+    return Diagnostic(path, line, None, rule, Severity.WARNING if warn else Severity.INFO, message)
+
+
+def link_fitter(geom: LinkGeometry, plan: LinkPlan, counts: CountPolicy) -> SphereFitter:
+    """Our fitter of a link's solid, with the protrusion bound, clip planes and seed of its
+    ``plan``."""
+    from .fit import SphereFitter
+
+    _key, tau, planes, fit_seed = plan
+    return SphereFitter(
+        geom.solid,
+        seed=fit_seed,
+        max_protrusion=tau,
+        clips=planes,
+        room=_refine_room(geom.solid, tau, counts),
+    )
+
+
+def sheet_of(geom: LinkGeometry, plan: LinkPlan, counts: CountPolicy) -> SheetPlan | None:
+    """How the sheet rule fits a link (:func:`.sheet.sheet_plan`), when it applies: no count
+    given, no clip plane, not a placeholder."""
+    if counts.given or plan[2] or _across(geom) < PLACEHOLDER_SIZE:
+        return None
+    from .sheet import sheet_plan
+
+    return sheet_plan(geom.solid, plan[1])
+
+
+def fit_sheet(
+    sheet: SheetPlan, geom: LinkGeometry, bound: float | None, path: str, diags: list[Diagnostic]
+) -> tuple[Sphere, ...]:
+    """A sheet's spheres (:func:`.sheet.sheet_spheres`), said once for the link; ``bound``:
+    the link's own protrusion bound."""
+    from .fit import default_max_protrusion
+    from .sheet import sheet_message, sheet_spheres
+
+    spheres = sheet_spheres(*sheet)
+    tau = default_max_protrusion(geom.solid) if bound is None else bound
+    message, past = sheet_message(geom.link, sheet[0], spheres, tau, own=bound is not None)
+    diags.append(fit_note(path, geom.line, RULE_SHEET, message, warn=past))
+    return spheres
+
+
+def fit_mode(tau: float | None, counts: CountPolicy) -> str:
+    """How :func:`fit_one` fits a link whose own bound is ``tau`` (None: the default)."""
+    if _refines(tau, counts):
+        return "refine"
+    return "search" if tau is None and counts.count_coverage is not None else "hard"
+
+
+def _across(geom: LinkGeometry) -> float:
+    """The bounding-box diagonal of a link's solid: under :data:`PLACEHOLDER_SIZE`, a
+    placeholder."""
+    return norm(np.asarray(geom.solid.extents, dtype=np.float64))  # not a BLAS dot product
+
+
+def _refines(tau: float | None, counts: CountPolicy) -> bool:
+    """Whether a link's count-given fit is refined (:mod:`.refine`): a count is given, the
+    link has no bound of its own and no bound is searched for a coverage."""
+    return counts.given and tau is None and counts.refine and counts.count_coverage is None
+
+
+def _refine_room(solid: trimesh.Trimesh, tau: float | None, counts: CountPolicy) -> float | None:
+    """How far the distance grid of a refined fit reaches: past the loosest start's bound,
+    so that one grid serves every start (None: the fitter's own bound)."""
+    if not _refines(tau, counts):
+        return None
+    from .fit import default_max_protrusion
+    from .refine import START_BOUNDS
+
+    return max(START_BOUNDS) * default_max_protrusion(solid)
+
+
+def morphit_one(
+    fitter: SphereFitter,
+    k: int | None,
+    counts: CountPolicy,
+    geom: LinkGeometry,
+    plan: LinkPlan,
+    path: str,
+    diags: list[Diagnostic],
+) -> tuple[Sphere, ...]:
+    """One link's spheres by MorphIt (:mod:`.morphit`): ``k`` of them, or the count our fit
+    needs for the coverage target; an empty solid or a placeholder is handled as ours."""
+    from .morphit import fit_link
+
+    if fitter.empty or _across(geom) < PLACEHOLDER_SIZE:
+        return fit_one(fitter, k, counts, geom, path, diags)
+    if k is None:
+        k = len(fewest_reaching(fitter, counts.target_coverage)[0])
+    return fit_link(fitter, k, geom, plan, path, diags)
+
+
+def fit_one(
+    fitter: SphereFitter,
+    k: int | None,
+    counts: CountPolicy,
+    geom: LinkGeometry,
+    path: str,
+    diags: list[Diagnostic],
+    mode: str = "hard",
+    own_bound: bool = False,
+) -> tuple[Sphere, ...]:
+    """One link's spheres: ``k`` of them (``mode``: ``hard`` within the fitter's bound,
+    ``refine`` then refined on coverage and protrusion, ``search`` under the smallest bound
+    at which they cover ``counts.count_coverage``), or the fewest reaching the coverage
+    target (past the default bound when it cannot be reached within it, unless the link has
+    a bound of its own: :mod:`.fewest`)."""
+    if fitter.empty and k != 0:
+        diags.append(
+            fit_note(
+                path,
+                geom.line,
+                RULE_TARGET_MISSED,
+                f"link '{geom.link}': nothing of it lies on the kept side of its clip planes; "
+                "no spheres",
+                warn=True,
+            )
+        )
+        return ()
+    size = _across(geom)
+    if size < PLACEHOLDER_SIZE and (k is None or k > 1):
+        diags.append(
+            fit_note(
+                path,
+                geom.line,
+                RULE_PLACEHOLDER,
+                f"link '{geom.link}' is a placeholder ({size * 1000:.0f} mm across): one sphere",
+            )
+        )
+        return fitter.fit(1)
+    if k is not None and mode == "search" and counts.count_coverage is not None:
+        from .fit import bound_for_coverage
+
+        return bound_for_coverage(fitter, k, counts.count_coverage)
+    if k is not None and mode == "refine":
+        from .refine import refined_fit
+
+        return refined_fit(fitter, k)
+    if k is not None:
+        return fitter.fit(k)
+    past = not own_bound and counts.refine
+    spheres, note = default_fit(fitter, counts.target_coverage, past=past, most=MAX_PER_LINK)
+    if note is not None:
+        missed, text = note
+        rule = RULE_TARGET_MISSED if missed else RULE_PAST_BOUND
+        diags.append(fit_note(path, geom.line, rule, f"link '{geom.link}': {text}", warn=missed))
+    return spheres
