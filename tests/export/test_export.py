@@ -397,3 +397,30 @@ def test_curobo_export_refuses_what_no_command_can_pose(
     assert not out.exists()
     report = runner.invoke(app, ["report", str(xrdf), "--urdf", str(MIMIC_URDF), "-n", "8"])
     assert report.exit_code == 2, report.output
+
+
+@pytest.mark.parametrize("what", ["curobo", "srdf"])
+def test_export_says_the_urdfs_warnings_in_its_format(
+    runner: CliRunner, tmp_path: Path, what: str
+) -> None:
+    """A defect in a part no command uses (a material colour of five numbers) is a located
+    warning in every command that reads --urdf; export loaded the URDF with its own loader and
+    said nothing. It is said now, and in the --format asked for."""
+    import json
+
+    text = UR10E_URDF.read_text()
+    at = text.index('<link name="shoulder_link">')
+    odd = '<material name="odd"><color rgba="1 0 0 1 1"/></material>\n'
+    urdf = tmp_path / "ur10e.urdf"
+    urdf.write_text(text[:at] + odd + text[at:])
+    line = text[:at].count("\n") + 1
+    out = tmp_path / f"out.{what}"
+    args = ["export", what, str(UR10E_XRDF), "--urdf", str(urdf), "-o", str(out)]
+    r = runner.invoke(app, args)
+    assert r.exit_code == 0 and out.exists(), r.output
+    assert f"{urdf}:{line}: warning urdf-color-ignored" in r.stderr, r.stderr
+    r = runner.invoke(app, [*args, "-f", "json"])
+    found = json.loads(r.stderr)["diagnostics"]
+    assert [(d["rule"], d["line"]) for d in found if d["path"] == str(urdf)] == [
+        ("urdf-color-ignored", line)
+    ]

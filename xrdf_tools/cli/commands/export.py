@@ -13,7 +13,7 @@ from ...util.errors import XrdfToolsError
 from .options import format_version as format_version_option
 from .options import output as output_option
 from .options import target as target_option
-from .plain import EXIT_FINDINGS, OutputFormat, is_stdio
+from .plain import EXIT_FINDINGS, OutputFormat, is_stdio, pairs
 from .typer_common import (
     DiagnosticsFormatOption,
     PackagePathOption,
@@ -33,7 +33,6 @@ from .typer_common import (
 
 if TYPE_CHECKING:
     from ...robot.core import Robot
-    from ...robot.tree import RobotTree
 
 app = typer.Typer(
     help="Export an XRDF to a cuRobo robot YAML, sync its ignore pairs into a MoveIt SRDF, or "
@@ -44,20 +43,17 @@ app = typer.Typer(
 
 
 def _load_robot(urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None) -> Robot:
-    """The URDF (or expanded xacro); raises :class:`XrdfToolsError`."""
+    """The URDF (or expanded xacro), as every command loads ``--urdf``; its warnings (defects
+    in parts no command uses, xacro's own) go with the command's diagnostics, in its
+    ``--format``. Raises :class:`XrdfToolsError`."""
     from ...robot.packages import parse_package_path
     from ...robot.xacro_source import load_robot, parse_xacro_arg
 
-    pkgs = dict(parse_package_path(p) for p in package_path or [])
-    xargs = dict(parse_xacro_arg(a) for a in xacro_arg or [])
-    return load_robot(urdf, xacro_args=xargs, package_paths=pkgs)
-
-
-def _load_tree(
-    urdf: Path, package_path: list[str] | None, xacro_arg: list[str] | None
-) -> RobotTree:
-    """The URDF (or xacro) as a :class:`RobotTree`; raises :class:`XrdfToolsError`."""
-    return _load_robot(urdf, package_path, xacro_arg).tree
+    return load_robot(
+        urdf,
+        xacro_args=pairs(xacro_arg, parse_xacro_arg),
+        package_paths=pairs(package_path, parse_package_path),
+    )
 
 
 XrdfArgument = Annotated[
@@ -139,7 +135,7 @@ def curobo(
         text, diags = to_curobo(
             x, robot, layout=layout, urdf_path=written or urdf, relative_to=to_dir
         )
-        diags = [*loader_errors(source, label, robot), *diags]
+        diags = [*robot.warnings, *loader_errors(source, label, robot), *diags]
     except XrdfToolsError as e:
         fail(e)
     if any(d.severity is Severity.ERROR for d in diags):
@@ -254,7 +250,8 @@ def srdf(
         refuse_input_overwrite(output, inputs)
     try:
         x = load_xrdf_input(xrdf)
-        tree = _load_tree(urdf, package_path, xacro_arg) if urdf is not None else None
+        robot = _load_robot(urdf, package_path, xacro_arg) if urdf is not None else None
+        tree = None if robot is None else robot.tree
         reasons = load_report_reasons(report) if report is not None else None
         existing = _read_srdf(merge) if merge is not None else None
         result = sync_srdf(
@@ -267,7 +264,7 @@ def srdf(
         )
     except XrdfToolsError as e:
         fail(e)
-    echo_diagnostics(result.diagnostics, fmt)
+    echo_diagnostics([*(robot.warnings if robot is not None else ()), *result.diagnostics], fmt)
     write_output(result.data, output)
 
 
