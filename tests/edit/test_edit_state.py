@@ -472,3 +472,21 @@ def test_edit_a_draft_of_the_demo_arm_and_a_two_arm_robot(
         e for e in lint_text(text, str(target), urdf_model=robot) if e.severity.name == "ERROR"
     ]
     assert errors == []
+
+
+@pytest.mark.parametrize(
+    "edit",
+    [
+        MoveSphere("panda_link1", -1, (0.0, 0.0, 0.0)),
+        SetRadius("panda_link1", -1, 0.05),
+        DuplicateSphere("panda_link1", -1),
+        DeleteSphere("panda_link1", -2),
+        SetRadius("no_such_link", -2, 0.05),
+    ],
+    ids=lambda e: e.describe(),
+)
+def test_a_negative_sphere_index_names_no_sphere(panda: tuple[Any, Xrdf], edit: Any) -> None:
+    """Sphere -1 is refused, not the last sphere counted from the end (nor a KeyError for a
+    frame without spheres)."""
+    with pytest.raises(EditError, match="no sphere -"):
+        EditState.start(panda[1]).apply(edit)

@@ -146,10 +146,11 @@ SphereEdit = (
 
 def _owner(xrdf: Xrdf, group: str, frame: str, index: int) -> tuple[str, int]:
     """The group that holds sphere ``index`` of ``frame``'s resolved list, and its position
-    in that group's own list."""
+    in that group's own list. A negative ``index`` names no sphere (not one counted from the
+    end)."""
     geometry = xrdf.geometry or FrozenMap()
     offset = index
-    for name in clone_order(geometry, group):
+    for name in clone_order(geometry, group) if index >= 0 else ():
         own = geometry[name].spheres.get(frame, ())
         if offset < len(own):
             return name, offset
