@@ -29,10 +29,12 @@ from xrdf_tools.edit import (
     ReplaceSpheres,
     ScaleSpheres,
     SetBuffer,
+    SetCspace,
     SetDefaults,
     SetIgnored,
     SetMask,
     SetRadius,
+    SetToolFrames,
     save,
 )
 from xrdf_tools.lint import lint_text
@@ -490,3 +492,51 @@ def test_a_negative_sphere_index_names_no_sphere(panda: tuple[Any, Xrdf], edit: 
     frame without spheres)."""
     with pytest.raises(EditError, match="no sphere -"):
         EditState.start(panda[1]).apply(edit)
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (AddSphere("no_such_link", Sphere((0.0, 0.0, 0.0), 0.05)), "not a frame of the robot"),
+        (SetBuffer("no_such_link", 0.01), "not a frame of the robot"),
+        (SetIgnored("panda_link1", "panda_lnk5", True), "did you mean 'panda_link5'"),
+        (SetMask({"panda_link1": ("no_such_link",)}), "not a frame of the robot"),
+        (SetToolFrames(("panda_hand", "no_such_link")), "not a frame of the robot"),
+        (SetDefaults({"panda_joint4": 0.0}), r"outside its limits \[-3.0718, -0.0698\]"),
+        (SetDefaults({"panda_finger_joint2": 0.01}), "is a mimic joint"),
+        (SetDefaults({"panda_hand_joint": 0.0}), "is a fixed joint"),
+        (SetDefaults({"no_such_joint": 0.0}), "not a joint of the robot"),
+    ],
+    ids=lambda v: v.describe() if hasattr(v, "describe") else "",
+)
+def test_with_its_robot_an_edit_may_not_bring_in_what_lint_calls_an_error(
+    panda: tuple[Any, Xrdf], edit_robot: EditRobot, edit: Any, message: str
+) -> None:
+    """Names the robot does not have and defaults outside the joint's limits: the saved file
+    would fail ``xrdf lint --urdf`` (unknown-frame, default-position). Without a robot the
+    state takes them, as the pure edit does."""
+    with pytest.raises(EditError, match=message):
+        EditState.start(panda[1], robot=edit_robot).apply(edit)
+    assert EditState.start(panda[1]).apply(edit).xrdf != panda[1]
+
+
+def test_with_its_robot_a_cspace_joint_it_cannot_move_is_refused(
+    panda: tuple[Any, Xrdf], edit_robot: EditRobot
+) -> None:
+    """Before, the fixed joint went in, and the robot following the c-space raised a
+    UrdfError that the page does not show as a refusal."""
+    x = panda[1]
+    cs = edit_robot.cspace_with(x, "panda_hand_joint", included=True, acceleration=1, jerk=1)
+    with pytest.raises(EditError, match="'panda_hand_joint' is a fixed joint"):
+        EditState.start(x, robot=edit_robot).apply(SetCspace(cs))
+
+
+def test_a_file_naming_what_the_robot_lacks_can_still_be_edited(
+    panda: tuple[Any, Xrdf], edit_robot: EditRobot
+) -> None:
+    """Only what an edit brings in is checked: the file's own unknown tool frame stays (and
+    lint still says so) while other edits are made."""
+    x = panda[1].replace(tool_frames=("panda_hand", "ghost"))
+    st = EditState.start(x, robot=edit_robot).apply(SetBuffer("panda_link1", 0.02))
+    st = st.apply(SetDefaults({"panda_joint1": 0.5}))
+    assert st.xrdf.tool_frames == ("panda_hand", "ghost")

@@ -14,6 +14,7 @@ import io
 import os
 import threading
 from collections.abc import Callable, Hashable, Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -66,7 +67,7 @@ class EditorPage:
 
         self.lock = threading.RLock()
         self.robot = EditRobot(robot, state.xrdf)
-        self.state = state
+        self.state = replace(state, robot=self.robot)  # edits are checked against the robot
         self.target = Path(target)
         #: The file the saved document was read from or last written to (the diff's old side).
         self.saved_path = state.saved.source.path or str(self.target)

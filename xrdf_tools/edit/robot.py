@@ -30,6 +30,7 @@ from ..selfcollision.collision import (
 from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..xrdf.model import CSpace, Xrdf
+from .robot_checks import check_edited
 
 if TYPE_CHECKING:
     from ..robot.core import Robot
@@ -175,6 +176,12 @@ class EditRobot:
         return any(
             joint in kin.joints_on_path(root, f) for f in sorted(frames) if f in kin.frame_names
         )
+
+    def check_edit(self, before: Xrdf, after: Xrdf) -> None:
+        """:class:`~xrdf_tools.edit.checks.EditError` when the edit from ``before`` to ``after``
+        brings in a frame or joint this robot does not have, or a default position outside
+        its joint's limits (see :mod:`xrdf_tools.edit.robot_checks`)."""
+        check_edited(self.kin, before, after)
 
     @property
     def frame_names(self) -> tuple[str, ...]:

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import os
 from collections.abc import Hashable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 from ..diff import XrdfDiff, diff_xrdf
 from ..util.fileio import write_atomic
@@ -20,6 +21,9 @@ from ..viz.scene import choose_group
 from ..xrdf.io import dump_xrdf
 from ..xrdf.model import Xrdf
 from .edits import Edit, apply_edit
+
+if TYPE_CHECKING:
+    from .robot import EditRobot
 
 __all__ = ["EditState", "save"]
 
@@ -32,7 +36,9 @@ class EditState:
     ``group`` the geometry group sphere edits act on. ``undo_stack`` holds the earlier
     documents with the label of the edit made after each (most recent last); ``redo_stack``
     the undone ones. Consecutive edits with the same ``merge_key`` (a drag of one sphere, a
-    radius slider) make one undo step.
+    radius slider) make one undo step. With a ``robot``, an edit that brings in a frame or
+    joint the robot does not have, or a default position outside its joint's limits, is
+    refused (:meth:`EditRobot.check_edit <xrdf_tools.edit.robot.EditRobot.check_edit>`).
     """
 
     xrdf: Xrdf
@@ -41,21 +47,34 @@ class EditState:
     undo_stack: tuple[tuple[Xrdf, str], ...] = ()
     redo_stack: tuple[tuple[Xrdf, str], ...] = ()
     merge_key: Hashable | None = None
+    robot: EditRobot | None = field(default=None, compare=False, repr=False)
 
     @classmethod
-    def start(cls, xrdf: Xrdf, *, saved: Xrdf | None = None, group: str | None = None) -> EditState:
+    def start(
+        cls,
+        xrdf: Xrdf,
+        *,
+        saved: Xrdf | None = None,
+        group: str | None = None,
+        robot: EditRobot | None = None,
+    ) -> EditState:
         """A fresh state for ``xrdf``; ``saved`` is what is on disk (default: ``xrdf`` itself;
         pass an empty document for a draft that was never written). ``group`` defaults to
-        the self-collision group (see :func:`xrdf_tools.viz.scene.choose_group`)."""
-        return cls(xrdf, xrdf if saved is None else saved, choose_group(xrdf, group))
+        the self-collision group (see :func:`xrdf_tools.viz.scene.choose_group`); ``robot``
+        is the robot edits are checked against (the page's)."""
+        saved = xrdf if saved is None else saved
+        return cls(xrdf, saved, choose_group(xrdf, group), robot=robot)
 
     # --- history ---------------------------------------------------------------------------
     def apply(self, edit: Edit, *, merge_key: Hashable | None = None) -> EditState:
         """The state after ``edit``. An edit that changes nothing leaves the state as it is;
-        raises :class:`~xrdf_tools.edit.edits.EditError` for an edit that does not fit."""
+        raises :class:`~xrdf_tools.edit.edits.EditError` for an edit that does not fit the
+        document (or its ``robot``)."""
         new = apply_edit(self.xrdf, self.group, edit)
         if new == self.xrdf:
             return self
+        if self.robot is not None:
+            self.robot.check_edit(self.xrdf, new)
         label = edit.describe()
         if merge_key is not None and merge_key == self.merge_key and self.undo_stack:
             undo = (*self.undo_stack[:-1], (self.undo_stack[-1][0], label))
