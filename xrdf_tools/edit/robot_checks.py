@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from ..util.errors import did_you_mean
+from ..util.numbers import LIMIT_TOLERANCE
 from .checks import EditError
 
 if TYPE_CHECKING:
@@ -21,9 +22,6 @@ if TYPE_CHECKING:
     from ..xrdf.model import Xrdf
 
 __all__ = ["check_edited"]
-
-#: How far past a joint limit a default position may be (as ``xrdf lint``).
-TOLERANCE = 1e-9
 
 
 def check_edited(kin: KinematicModel, before: Xrdf, after: Xrdf) -> None:
@@ -73,7 +71,7 @@ def _check_default(kin: KinematicModel, joint: str, value: float) -> None:
     if bool(kin.continuous[k]):
         return
     lo, hi = float(kin.lower[k]), float(kin.upper[k])
-    if not lo - TOLERANCE <= value <= hi + TOLERANCE:
+    if not lo - LIMIT_TOLERANCE <= value <= hi + LIMIT_TOLERANCE:
         raise EditError(
             f"default position {value:g} of '{joint}' is outside its limits [{lo:g}, {hi:g}]"
         )

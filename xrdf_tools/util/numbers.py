@@ -19,6 +19,7 @@ import math
 
 __all__ = [
     "CERTIFY_BOXES",
+    "LIMIT_TOLERANCE",
     "MAX_LENGTH",
     "MAX_NUMBER",
     "MAX_SAMPLES",
@@ -29,6 +30,9 @@ __all__ = [
     "within",
 ]
 
+#: How far past a joint limit a default position may be and still be within it (radians or
+#: metres): the last bits of a value written in another unit or rounded by a tool.
+LIMIT_TOLERANCE = 1e-9
 #: A link whose collision geometry spans less than this across (metres) is a placeholder, not
 #: a part: the fitter gives it one sphere, lint does not require one
 #: (:mod:`xrdf_tools.robot.placeholders`).

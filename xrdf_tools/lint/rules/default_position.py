@@ -10,10 +10,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
+from ...util.numbers import LIMIT_TOLERANCE
 from ..context import LintContext, Problem, Rule, finite_number
 from ._joints import joint_problem
-
-TOLERANCE = 1e-9
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
@@ -31,7 +30,7 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         if v is None or bool(kin.continuous[k]):
             continue
         lo, hi = float(kin.lower[k]), float(kin.upper[k])
-        if v < lo - TOLERANCE or v > hi + TOLERANCE:
+        if v < lo - LIMIT_TOLERANCE or v > hi + LIMIT_TOLERANCE:
             yield ctx.problem(
                 vnode,
                 f"default position {v:g} of '{n}' is outside its limits [{lo:g}, {hi:g}]",
