@@ -540,3 +540,21 @@ def test_a_file_naming_what_the_robot_lacks_can_still_be_edited(
     st = EditState.start(x, robot=edit_robot).apply(SetBuffer("panda_link1", 0.02))
     st = st.apply(SetDefaults({"panda_joint1": 0.5}))
     assert st.xrdf.tool_frames == ("panda_hand", "ghost")
+
+
+def test_with_its_robot_the_last_joint_and_tool_frame_stay(
+    panda: tuple[Any, Xrdf], edit_robot: EditRobot
+) -> None:
+    """The page refused leaving the last c-space joint out and removing the last tool frame,
+    but the document took both from Python (a c-space of nothing to move; a file cuRobo and
+    cuMotion refuse): the document refuses them now, the page through it."""
+    from xrdf_tools.xrdf.model import CSpace
+
+    x = panda[1]
+    st = EditState.start(x, robot=edit_robot)
+    with pytest.raises(EditError, match="is the last tool frame"):
+        st.apply(SetToolFrames(()))
+    with pytest.raises(EditError, match="panda_joint1 is the last c-space joint"):
+        st.apply(SetCspace(CSpace((), (), ())))
+    one = edit_robot.cspace_with(x, "panda_joint1", included=True, acceleration=1, jerk=1)
+    assert st.apply(SetCspace(CSpace(one.joint_names[:1], (1.0,), (1.0,)))).xrdf.cspace

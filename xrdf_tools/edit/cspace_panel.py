@@ -7,8 +7,8 @@ positions in URDF order, so that order keeps them right) or leaves it out, and t
 fields set its limits. A joint taken in gets the limits shown, which for a joint not in the
 c-space are ``xrdf convert``'s defaults. A c-space not in URDF order (a file written so) is
 said under the table, with a button that puts it in that order. The Pose panel's sliders
-follow the c-space. The last joint is not left out: an empty c-space is valid XRDF but gives
-a planner nothing to move.
+follow the c-space. The last joint is not left out, nor the last tool frame removed: the
+document refuses both (:mod:`xrdf_tools.edit.robot_checks`).
 """
 
 from __future__ import annotations
@@ -129,11 +129,6 @@ class CspacePanel:
         included = bool(self.member.value)
         acceleration, jerk = self._limits()
         with page.lock:
-            cs = page.state.xrdf.cspace
-            if not included and cs is not None and tuple(cs.joint_names) == (joint,):
-                page.say(f"not done: {joint} is the last c-space joint; take another in first")
-                self.sync()
-                return
             cspace = page.robot.cspace_with(
                 page.state.xrdf, joint, included=included, acceleration=acceleration, jerk=jerk
             )
@@ -192,14 +187,7 @@ class CspacePanel:
             elif add:
                 frames = now if frame in now else (*now, frame)
             else:
-                frames = tuple(f for f in now if f != frame)
-                if now and not frames:
-                    page.say(
-                        f"not done: {frame} is the last tool frame (cuRobo and cuMotion take the "
-                        "first as the end effector and refuse a file without one); add another "
-                        "first"
-                    )
-                    return
+                frames = tuple(f for f in now if f != frame)  # not the last: the document's check
             label = f"make {frame} the end effector (first tool frame)" if first else ""
             page.apply(SetToolFrames(frames, label))
 

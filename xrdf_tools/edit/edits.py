@@ -153,8 +153,8 @@ def apply_edit(xrdf: Xrdf, group: str, edit: Edit) -> Xrdf:
 def _checked_cspace(cspace: CSpace) -> CSpace:
     """``cspace`` with plain float limits, or :class:`EditError`: a joint named twice, lists
     of other lengths, or a limit that is not a positive number a file can hold. An empty
-    c-space is valid XRDF (the page does not leave its last joint out: see
-    :mod:`xrdf_tools.edit.cspace_panel`)."""
+    c-space is valid XRDF (a document of a robot does not leave its last joint out: see
+    :mod:`xrdf_tools.edit.robot_checks`)."""
     names = tuple(cspace.joint_names)
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:

@@ -5,7 +5,8 @@ A frame the robot does not have (sphere frames, buffers, the mask, tool frames:
 ``unknown-frame``), a c-space joint it cannot move (unknown, fixed, a mimic joint, removed by
 ``set_base_frame``: ``cspace-joint``), a default position for such a joint or outside its
 joint's limits (``default-position``). Only what the edit brings in is checked: a file that
-had such an entry already can still be edited (and lint still says so).
+had such an entry already can still be edited (and lint still says so). Nor may an edit leave
+the c-space without a joint or the file without a tool frame (the page's refusals too).
 """
 
 from __future__ import annotations
@@ -26,7 +27,9 @@ __all__ = ["check_edited"]
 
 def check_edited(kin: KinematicModel, before: Xrdf, after: Xrdf) -> None:
     """:class:`EditError` when ``after`` names a frame or joint of the robot ``kin`` lacks,
-    or has a default position outside its joint's limits, that ``before`` did not."""
+    or has a default position outside its joint's limits, that ``before`` did not, or has
+    lost its last c-space joint or its last tool frame."""
+    _check_not_emptied(before, after)
     _check_frames(kin, _named_frames(after) - _named_frames(before))
     old = set(before.cspace.joint_names if before.cspace is not None else ())
     for joint in after.cspace.joint_names if after.cspace is not None else ():
@@ -37,6 +40,21 @@ def check_edited(kin: KinematicModel, before: Xrdf, after: Xrdf) -> None:
     for joint, value in (after.default_joint_positions or {}).items():
         if was.get(joint) != value:
             _check_default(kin, joint, value)
+
+
+def _check_not_emptied(before: Xrdf, after: Xrdf) -> None:
+    """The last c-space joint and the last tool frame stay: an empty c-space is valid XRDF
+    but gives a planner nothing to move, and cuRobo and cuMotion take the first tool frame as
+    the end effector and refuse a file without one."""
+    joints = before.cspace.joint_names if before.cspace is not None else ()
+    if joints and (after.cspace is None or not after.cspace.joint_names):
+        raise EditError(f"{joints[0]} is the last c-space joint; take another in first")
+    tools = before.tool_frames or ()
+    if tools and not after.tool_frames:
+        raise EditError(
+            f"{tools[0]} is the last tool frame (cuRobo and cuMotion take the first as the end "
+            "effector and refuse a file without one); add another first"
+        )
 
 
 def _named_frames(x: Xrdf) -> set[str]:
