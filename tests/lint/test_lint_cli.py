@@ -337,3 +337,21 @@ def test_a_urdf_given_to_lint_is_named_and_sent_to_urdf(runner: CliRunner, name:
         "reads XRDF files: give the robot's URDF with --urdf\n"
     ), r.output
     assert len(r.output.splitlines()) == 1
+
+
+def test_verbose_lint_says_what_it_checked_also_when_it_found_nothing(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A clean lint printed nothing even with -v (only timings): a user could not tell a
+    pass from a run that read no file. -v now counts the files and the findings by kind;
+    without -v a clean lint stays silent, as a pre-commit hook should."""
+    clean = tmp_path / "clean.xrdf"
+    clean.write_text(UR10E_XRDF.read_text())  # a 2.0 file: clean for cuMotion
+    quiet = runner.invoke(app, ["lint", str(clean), "--target", "cumotion"])
+    assert quiet.exit_code == 0 and quiet.stdout == "" and quiet.stderr == "", quiet.output
+    r = runner.invoke(app, ["lint", str(clean), "--target", "cumotion", "-v"])
+    assert r.exit_code == 0 and "1 file(s) checked: 0 error(s), 0 warning(s)" in r.stderr
+    r = runner.invoke(app, ["lint", str(UR10E_XRDF), str(SEED_XRDF), "-v", "-f", "json"])
+    found = json.loads(r.stdout)["diagnostics"]
+    errors = sum(d["severity"] == "error" for d in found)
+    assert f"2 file(s) checked: {errors} error(s)" in r.stderr, r.stderr

@@ -11,6 +11,7 @@ so help, usage errors and every message stay typer's.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,6 +49,7 @@ from .plain import (
 )
 
 if TYPE_CHECKING:
+    from ...diagnostics import Diagnostic
     from ...robot.core import Robot
     from ...util.errors import XrdfToolsError
 
@@ -117,6 +119,7 @@ def run(args: LintArgs) -> tuple[str, int]:
             urdf_model=model,
             allow_missing_meshes=args.allow_missing_meshes,
         )
+    detail(_tally(len(args.files), diagnostics))
     text = render_diagnostics(
         diagnostics,
         args.output_format,
@@ -124,6 +127,14 @@ def run(args: LintArgs) -> tuple[str, int]:
         rules=[r.info for r in RULES],
     )
     return text, EXIT_FINDINGS if has_failures(diagnostics, strict=args.strict) else EXIT_OK
+
+
+def _tally(files: int, diagnostics: Sequence[Diagnostic]) -> str:
+    """What ``-v`` says after linting, also when nothing was found: ``2 file(s) checked: 0
+    error(s), 1 warning(s), 0 info(s)``."""
+    counts = Counter(d.severity.value for d in diagnostics)
+    kinds = ", ".join(f"{counts[k]} {k}(s)" for k in ("error", "warning", "info"))
+    return f"{files} file(s) checked: {kinds}"
 
 
 # --------------------------------------------------------------------------------------------
