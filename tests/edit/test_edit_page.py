@@ -14,7 +14,7 @@ import pytest
 from tests.browser import free_port
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
-from xrdf_tools.edit import EditRobot, EditState, SetBuffer, SetRadius
+from xrdf_tools.edit import EditRobot, EditState, SetBuffer, SetDefaults, SetRadius
 from xrdf_tools.edit.markup import code, text
 from xrdf_tools.edit.view import CHECKED_RGB, SELECTED_RGB
 from xrdf_tools.robot.xacro_source import load_robot
@@ -97,6 +97,12 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
         warning = page.overwrite_warning()
         assert warning == f"{target} changed on disk since the page read it; saving replaces it"
         assert text(warning) in page.panels.diff.content
+        page.undo()
+        # a change below the diff's tolerance: unsaved, and the review says why it shows none
+        tiny = dict(page.state.xrdf.default_joint_positions or {}) | {"panda_joint1": 1e-320}
+        assert page.apply(SetDefaults(tiny)) and page.state.dirty
+        page.panels.review()
+        assert "No semantic change" in page.panels.diff.content
         page.undo()
         saved = load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][1]
         assert saved.radius == 0.05

@@ -95,7 +95,7 @@ class Panels:
             d = replace(d, a=replace(d.a, path=self.page.saved_path))
             d = replace(d, b=replace(d.b, path=str(self.page.target)))
             text = render_text(d).rstrip()
-            shown = "**No changes** to save." if d.is_equal else pre(text)
+            shown = pre(text) if not d.is_equal else _no_semantic_change(self.page.state.dirty)
             warning = self.page.overwrite_warning()
             if warning is not None:
                 shown = f"**Warning**: {markup.text(warning)}.\n\n{shown}"
@@ -363,3 +363,14 @@ def _contacts_text(page: PageSurface) -> str:
         if len(items) > MAX_CONTACTS:
             lines.append(f"- … and {len(items) - MAX_CONTACTS} more {kind.strip('*').lower()}")
     return "\n".join(lines)
+
+
+def _no_semantic_change(dirty: bool) -> str:
+    """The review of a document the semantic diff finds equal to the file: nothing to save,
+    or (``dirty``) a change below the diff's tolerance, which Confirm still writes."""
+    if not dirty:
+        return "**No changes** to save."
+    return (
+        "**No semantic change**: the document differs from the file only by less than the "
+        "diff's tolerance (or in how a value is written). Confirm writes it as it is."
+    )
