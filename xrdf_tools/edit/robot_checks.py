@@ -15,7 +15,6 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from ..util.errors import did_you_mean
-from ..util.numbers import LIMIT_TOLERANCE
 from .checks import EditError
 
 if TYPE_CHECKING:
@@ -85,11 +84,6 @@ def _check_default(kin: KinematicModel, joint: str, value: float) -> None:
     why = kin.cspace_reason(joint)
     if why:
         raise EditError(f"no default position for '{joint}': it {why}")
-    k = kin.actuated_index(joint)
-    if bool(kin.continuous[k]):
-        return
-    lo, hi = float(kin.lower[k]), float(kin.upper[k])
-    if not lo - LIMIT_TOLERANCE <= value <= hi + LIMIT_TOLERANCE:
-        raise EditError(
-            f"default position {value:g} of '{joint}' is outside its limits [{lo:g}, {hi:g}]"
-        )
+    outside = kin.outside_limits(joint, value)
+    if outside:
+        raise EditError(f"default position {value:g} of '{joint}' {outside}")

@@ -71,9 +71,9 @@ def check_against(output: Path, x: Xrdf, root_frame: str) -> None:
 
 
 def _at_unwritten_lines(errors: list[Diagnostic]) -> str:
-    """What the lines of findings in the converted XRDF mean when it is not written: the
-    file named there does not exist (or holds something else)."""
-    if not any(d.line is not None and d.path != "<stdout>" for d in errors):
+    """What the lines of findings in the converted XRDF mean when it is not written (to its
+    file or to stdout): the file named there does not exist, or holds something else."""
+    if not any(d.line is not None for d in errors):
         return ""
     return "; nothing was written: their lines are those of the XRDF convert would write"
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from ...diagnostics import Severity
-from ...util.numbers import LIMIT_TOLERANCE
 from ..context import LintContext, Problem, Rule, finite_number
 from ._joints import joint_problem
 
@@ -26,16 +25,9 @@ def check(ctx: LintContext) -> Iterator[Problem]:
             yield ctx.problem(knode, msg, kp)
             continue
         v = finite_number(vnode)
-        k = kin.actuated_joints.index(n)
-        if v is None or bool(kin.continuous[k]):
-            continue
-        lo, hi = float(kin.lower[k]), float(kin.upper[k])
-        if v < lo - LIMIT_TOLERANCE or v > hi + LIMIT_TOLERANCE:
-            yield ctx.problem(
-                vnode,
-                f"default position {v:g} of '{n}' is outside its limits [{lo:g}, {hi:g}]",
-                kp,
-            )
+        outside = "" if v is None else kin.outside_limits(n, v)
+        if outside:
+            yield ctx.problem(vnode, f"default position {v:g} of '{n}' {outside}", kp)
 
 
 RULE = Rule("default-position", Severity.ERROR, check, __doc__ or "", needs_urdf=True)

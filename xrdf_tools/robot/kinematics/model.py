@@ -14,6 +14,7 @@ import numpy.typing as npt
 from ...util.arrays import BoolArray, FloatArray, IntArray
 from ...util.errors import UrdfError, did_you_mean
 from ...util.frozen import FrozenMap
+from ...util.numbers import LIMIT_TOLERANCE
 from ..urdf_source import JointInfo
 from .base import FrameSelection
 from .paths import JointPaths
@@ -174,6 +175,18 @@ class KinematicModel:
                 "no position fits"
             )
         return ""
+
+    def outside_limits(self, name: str, value: float) -> str:
+        """Why the actuated joint ``name`` cannot be at ``value`` ("is outside its limits
+        [lo, hi]", past :data:`~xrdf_tools.util.numbers.LIMIT_TOLERANCE`); empty for a
+        position within them, and for a continuous joint."""
+        i = self._joint_idx[name]
+        if bool(self.continuous[i]):
+            return ""
+        lo, hi = float(self.lower[i]), float(self.upper[i])
+        if lo - LIMIT_TOLERANCE <= value <= hi + LIMIT_TOLERANCE:
+            return ""
+        return f"is outside its limits [{lo:g}, {hi:g}]"
 
     def not_actuated_reason(self, name: str) -> str:
         """Why ``name`` is no coordinate of ``q`` ("is a mimic joint (…)", "is not a joint of
