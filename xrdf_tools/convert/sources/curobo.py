@@ -13,16 +13,17 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError, XrdfToolsError, did_you_mean
-from ...xrdf.model import AddFrame, Orientation, SetBaseFrame
+from ...xrdf.model import SetBaseFrame
 from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
 from ...yaml.shape import check_shape
 from . import Draft, Reporter, RobotTree, known_frame
+from .curobo_extra_links import read_extra_links
+from .curobo_kin import KinSection
 from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
 from .curobo_spheres import find_spheres_file, is_num, read_slots, read_sphere_map
@@ -150,33 +151,6 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
     return d
 
 
-@dataclass
-class _Kin:
-    """One ``kinematics`` mapping being read: where it is, what it says, where it goes."""
-
-    data: Mapping[str, Any]
-    tree: RobotTree
-    d: Draft
-    rep: Reporter
-    prefix: str
-    config_path: Path
-    frames: list[str]
-
-    def kp(self, *parts: object) -> str:
-        return ".".join([self.prefix, *(str(p) for p in parts)])
-
-    def fail(self, message: str, *parts: object) -> SourceError:
-        """A :class:`SourceError` located at ``kinematics.<parts>``."""
-        return SourceError(message, path=self.rep.path, line=self.rep.position(self.kp(*parts))[0])
-
-    def mapping(self, key: str) -> Mapping[str, Any]:
-        """``kinematics.<key>`` as a mapping (absent or null: empty)."""
-        value = self.data.get(key) or {}
-        if not isinstance(value, Mapping):
-            raise self.fail(f"{key} must be a mapping", key)
-        return value
-
-
 def _read_kinematics(
     kin: Mapping[str, Any],
     layout: str,
@@ -186,11 +160,11 @@ def _read_kinematics(
     prefix: str,
     config_path: Path,
 ) -> None:
-    k = _Kin(kin, tree, d, rep, prefix, config_path, list(tree.links))
+    k = KinSection(kin, tree, d, rep, prefix, config_path, list(tree.links))
     for key in kin:
         if key not in SILENT_KEYS and key not in HANDLED_KEYS and not str(key).startswith("usd"):
             rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", k.kp(key))
-    _read_extra_links(k)  # first: they add frames the rest may refer to
+    read_extra_links(k)  # first: they add frames the rest may refer to
     _read_base_and_tools(k)
     _read_cspace(k)
     _read_sphere_source(k)
@@ -201,52 +175,7 @@ def _read_kinematics(
     _read_ignore(k)
 
 
-def _read_extra_links(k: _Kin) -> None:
-    for name, spec in k.mapping("extra_links").items():
-        w = k.kp("extra_links", name)
-        if not isinstance(spec, Mapping):
-            raise k.fail(f"extra_links.{name} must be a mapping", "extra_links", name)
-        parent = str(spec.get("parent_link_name", ""))
-        link = str(spec.get("link_name") or name)
-        if not known_frame(parent, k.frames, k.rep, f"{w}.parent_link_name", "extra link parent"):
-            continue
-        ft = spec.get("fixed_transform") or [0, 0, 0, 1, 0, 0, 0]
-        if not (isinstance(ft, list) and len(ft) == 7 and all(is_num(v) for v in ft)):
-            raise k.fail(
-                f"extra_links.{name}.fixed_transform must be [x, y, z, qw, qx, qy, qz]",
-                "extra_links",
-                name,
-                "fixed_transform",
-            )
-        jt = str(spec.get("joint_type", "FIXED"))
-        if jt.upper() != "FIXED":
-            k.rep.report(
-                "convert-dropped-key",
-                f"extra link '{name}' has joint_type '{jt}'; XRDF add_frame is always FIXED",
-                f"{w}.joint_type",
-            )
-        if link in k.frames:
-            k.rep.report(
-                "convert-duplicate-frame",
-                f"extra link '{link}' already exists in the URDF; not added",
-                w,
-            )
-            continue
-        x, y, z, qw, qx, qy, qz = (float(v) for v in ft)
-        k.d.modifiers.append(
-            AddFrame(
-                frame_name=link,
-                parent_frame_name=parent,
-                joint_name=str(spec.get("joint_name") or f"{link}_joint"),
-                position=(x, y, z),
-                orientation=Orientation.from_wxyz(qw, qx, qy, qz),
-                joint_type="FIXED",
-            )
-        )
-        k.frames.append(link)
-
-
-def _read_base_and_tools(k: _Kin) -> None:
+def _read_base_and_tools(k: KinSection) -> None:
     base = k.data.get("base_link")
     if base is not None and known_frame(str(base), k.frames, k.rep, k.kp("base_link"), "base_link"):
         k.d.modifiers.insert(0, SetBaseFrame(str(base)))  # also the root: cuRobo's XRDFs do
@@ -264,7 +193,7 @@ def _read_base_and_tools(k: _Kin) -> None:
             k.d.tool_frames.append(t)
 
 
-def _per_joint(k: _Kin, names: list[str], value: Any, key: str) -> dict[str, float]:
+def _per_joint(k: KinSection, names: list[str], value: Any, key: str) -> dict[str, float]:
     """A scalar (broadcast) or one value per c-space joint, by joint name."""
     if value is None:
         return {}
@@ -279,7 +208,7 @@ def _per_joint(k: _Kin, names: list[str], value: Any, key: str) -> dict[str, flo
     raise k.fail(f"cspace.{key} must be a number or a list of numbers", "cspace", key)
 
 
-def _read_cspace(k: _Kin) -> None:
+def _read_cspace(k: KinSection) -> None:
     cs = k.mapping("cspace")
     for key in cs:
         if key not in CSPACE_KEYS:
@@ -308,9 +237,17 @@ def _read_cspace(k: _Kin) -> None:
             if n in source:
                 target[n] = source[n]
     _read_locks(k, locks, def_map, names, default_key)
+    for n, v in def_map.items():
+        if n in k.moving_joints and v != 0.0 and n not in locks:
+            k.rep.report(
+                "convert-dropped-joint-value",
+                f"c-space joint '{n}' moves extra link '{k.moving_joints[n]}', which the XRDF "
+                f"holds at its zero pose; its {default_key} value {v!r} is not applied",
+                k.kp("cspace", default_key) + f"[{names.index(n)}]",
+            )
 
 
-def _cspace_joints(k: _Kin, names: list[str], locks: Mapping[str, Any]) -> list[str]:
+def _cspace_joints(k: KinSection, names: list[str], locks: Mapping[str, Any]) -> list[str]:
     """The actuated, unlocked c-space joints; the others reported. Raises when none of the
     names is a URDF joint: the config and the URDF describe different robots."""
     if names and not any(n in k.tree.joints for n in names):
@@ -325,6 +262,8 @@ def _cspace_joints(k: _Kin, names: list[str], locks: Mapping[str, Any]) -> list[
     for i, n in enumerate(names):
         where = k.kp("cspace", "joint_names") + f"[{i}]"
         j = k.tree.joints.get(n)
+        if j is None and n in k.moving_joints:
+            continue  # said with its extra link
         if j is None:
             k.rep.report(
                 "convert-unknown-joint",
@@ -346,13 +285,19 @@ def _cspace_joints(k: _Kin, names: list[str], locks: Mapping[str, Any]) -> list[
 
 
 def _read_locks(
-    k: _Kin, locks: Mapping[str, Any], defaults: Mapping[str, float], names: list[str], key: str
+    k: KinSection,
+    locks: Mapping[str, Any],
+    defaults: Mapping[str, float],
+    names: list[str],
+    key: str,
 ) -> None:
     """Lock values become defaults; a locked joint's other ``key`` value is said unused."""
     for n, v in locks.items():
         where = k.kp("lock_joints", n)
         j = k.tree.joints.get(str(n))
-        if j is None:
+        if j is None and str(n) in k.moving_joints:
+            _read_moving_lock(k, str(n), v, where)
+        elif j is None:
             k.rep.report(
                 "convert-unknown-joint",
                 f"locked joint '{n}' is not in the URDF{did_you_mean(str(n), k.tree.joints)}; "
@@ -380,7 +325,19 @@ def _read_locks(
             )
 
 
-def _read_sphere_source(k: _Kin) -> None:
+def _read_moving_lock(k: KinSection, joint: str, value: Any, where: str) -> None:
+    """A lock on a moving extra link's joint: that link is written at its zero pose."""
+    if is_num(value) and float(value) == 0.0:
+        return
+    k.rep.report(
+        "convert-dropped-joint-value",
+        f"locked joint '{joint}' moves extra link '{k.moving_joints[joint]}', which the XRDF "
+        f"holds at its zero pose; its lock value {value!r} is not applied",
+        where,
+    )
+
+
+def _read_sphere_source(k: KinSection) -> None:
     """``collision_spheres``: inline, or a file beside the config; restricted to
     ``collision_link_names`` as cuRobo does."""
     value = k.data.get("collision_spheres")
@@ -426,7 +383,7 @@ def _read_sphere_source(k: _Kin) -> None:
             known_frame(str(c), k.frames, k.rep, where, "collision link")
 
 
-def _read_buffers(k: _Kin) -> None:
+def _read_buffers(k: KinSection) -> None:
     """``collision_sphere_buffer`` (scalar: every sphere frame) and ``self_collision_buffer``;
     zero buffers are not written."""
     sphere_frames = list((k.d.spheres or {}).keys())
@@ -447,7 +404,7 @@ def _read_buffers(k: _Kin) -> None:
             raise k.fail(f"{key} must be a number or a mapping", key)
 
 
-def _read_ignore(k: _Kin) -> None:
+def _read_ignore(k: KinSection) -> None:
     for a, others in k.mapping("self_collision_ignore").items():
         w = k.kp("self_collision_ignore", a)
         if not known_frame(str(a), k.frames, k.rep, w, "self_collision_ignore key"):

@@ -21,6 +21,7 @@ _EXTRA_LINK = map_of(
         "joint_name": SCALAR,
         "joint_type": SCALAR,
         "fixed_transform": list_of(ANY),
+        "child_link_name": SCALAR,
     },
 )
 _BUFFER = one_of(SCALAR, map_of(ANY), what="a number or a mapping of link → number")

@@ -1,0 +1,145 @@
+"""cuRobo extra links an XRDF cannot hold: a moving virtual base, a re-parented URDF link.
+
+cuRobo's Unitree G1 config hangs a six-joint floating base (``X_PRISM`` … ``Z_ROT`` extra links,
+their joints in the c-space, ``base_j_z`` defaulting to 0.8 m) between ``base_link`` and the
+URDF's ``pelvis`` (``child_link_name``). The config below has the same shape on the UR10e.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from tests.cli_checks import run_cli
+from tests.paths import UR10E_URDF
+from xrdf_tools.convert.core import ConvertOptions, convert_files
+from xrdf_tools.diagnostics import Diagnostic, Severity
+from xrdf_tools.util.errors import SourceError
+from xrdf_tools.xrdf.model import AddFrame
+
+ARM = [
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "elbow_joint",
+    "wrist_1_joint",
+    "wrist_2_joint",
+    "wrist_3_joint",
+]
+
+
+def _config(tmp_path: Path, *, lift: str = "[0, 0, 0, 1, 0, 0, 0]", locks: str = "{}") -> Path:
+    names = ["base_j_x", "base_j_yaw", *ARM]
+    text = f"""kinematics:
+  base_link: base_link
+  tool_frames: [tool0]
+  lock_joints: {locks}
+  extra_links:
+    base_x:
+      parent_link_name: base_link
+      link_name: base_x
+      joint_name: base_j_x
+      joint_type: X_PRISM
+      fixed_transform: {lift}
+      joint_limits: [-10.0, 10.0]
+      joint_velocity_limits: [-1.0, 1.0]
+    base_yaw:
+      parent_link_name: base_x
+      child_link_name: base_link_inertia
+      link_name: base_yaw
+      joint_name: base_j_yaw
+      joint_type: Z_ROT
+      fixed_transform: [0, 0, 0, 1, 0, 0, 0]
+      link_mass: 0.01
+  cspace:
+    joint_names: [{", ".join(names)}]
+    default_joint_position: [0.0, 0.3, 0.0, -1.0, 1.0, 0.0, 0.0, 0.0]
+    max_acceleration: 10.0
+    max_jerk: 500.0
+"""
+    path = tmp_path / "floating_ur10e.yml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _line(path: Path, text: str) -> int:
+    return next(i for i, s in enumerate(path.read_text().splitlines(), 1) if text in s)
+
+
+def _by_rule(diags: list[Diagnostic]) -> dict[str, list[Diagnostic]]:
+    out: dict[str, list[Diagnostic]] = {}
+    for d in diags:
+        out.setdefault(d.rule, []).append(d)
+    return out
+
+
+def test_a_moving_virtual_base_is_written_fixed_and_said_once_per_link(tmp_path: Path) -> None:
+    cfg = _config(tmp_path)
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    rules = _by_rule(diags)
+    # the arm is the c-space; the base's joints are not "unknown joints" with a did-you-mean
+    assert x.cspace is not None and list(x.cspace.joint_names) == ARM
+    assert "convert-unknown-joint" not in rules
+    moving = {
+        d.line: d.message for d in rules["convert-dropped-key"] if "moves in cuRobo" in d.message
+    }
+    assert set(moving) == {_line(cfg, "X_PRISM"), _line(cfg, "Z_ROT")}
+    assert "joint 'base_j_x', X_PRISM, limits [-10.0, 10.0]" in moving[_line(cfg, "X_PRISM")]
+    assert "'base_j_yaw' is left out of the c-space" in moving[_line(cfg, "Z_ROT")]
+    # both frames are added, fixed, in order, so the tool frames and spheres may use them
+    frames = [m for m in x.modifiers if isinstance(m, AddFrame)]
+    assert [(f.frame_name, f.parent_frame_name, f.joint_type) for f in frames] == [
+        ("base_x", "base_link", "FIXED"),
+        ("base_yaw", "base_x", "FIXED"),
+    ]
+    # a default the XRDF cannot apply is said where it is written
+    (held,) = rules["convert-dropped-joint-value"]
+    assert held.line == _line(cfg, "default_joint_position")
+    assert "'base_j_yaw'" in held.message and "0.3 is not applied" in held.message
+    # the child link stays where the URDF puts it, which is where cuRobo puts it: an info
+    (child,) = [d for d in rules["convert-dropped-key"] if "child_link_name" in d.message]
+    assert child.severity is Severity.INFO and child.line == _line(cfg, "child_link_name")
+    assert "stays on 'base_link' (joint 'base_link-base_link_inertia')" in child.message
+    # a key no XRDF holds is said dropped; the motion keys go with the moving link's warning
+    dropped = [d.message for d in rules["convert-dropped-key"]]
+    assert any("extra_links.base_yaw.link_mass has no XRDF equivalent" in m for m in dropped)
+    assert not any("joint_limits" in m or "joint_velocity_limits" in m for m in dropped)
+
+
+def test_a_child_the_extra_links_move_is_refused_where_it_is_written(tmp_path: Path) -> None:
+    cfg = _config(tmp_path, lift="[0, 0, 0.1, 0.7071068, 0, 0, 0.7071068]")
+    with pytest.raises(SourceError) as err:
+        convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    assert err.value.path == str(cfg) and err.value.line == _line(cfg, "child_link_name")
+    assert "100 mm and 90° away" in err.value.message
+    assert "joint 'base_link-base_link_inertia'" in err.value.message
+
+
+def test_a_lock_on_a_moving_joint_is_said_unless_it_is_zero(tmp_path: Path) -> None:
+    for value, said in (("0.2", True), ("0.0", False)):
+        cfg = _config(tmp_path, locks=f"{{base_j_x: {value}}}")
+        _, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+        locks = [d for d in diags if "locked joint 'base_j_x'" in d.message]
+        assert bool(locks) is said, diags
+        assert not [d for d in diags if d.rule == "convert-unknown-joint"]
+        if said:
+            assert locks[0].line == _line(cfg, "lock_joints")
+            assert "its lock value 0.2 is not applied" in locks[0].message
+
+
+def test_the_written_xrdf_lints_clean_and_the_refusal_exits_2(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    out = tmp_path / "floating.xrdf"
+    cfg = _config(tmp_path)
+    code, text = run_cli(
+        runner, "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(out)
+    )
+    assert code == 0, text
+    code, text = run_cli(runner, "lint", str(out), "--urdf", str(UR10E_URDF))
+    assert code == 0, text
+    moved = _config(tmp_path, lift="[0, 0, 0.1, 1, 0, 0, 0]")
+    code, text = run_cli(runner, "convert", str(UR10E_URDF), "--curobo", str(moved))
+    assert code == 2 and f"{moved}:{_line(moved, 'child_link_name')}" in text, text
+    assert "100 mm and 0° away" in text
