@@ -133,9 +133,7 @@ def test_the_written_xrdf_lints_clean_and_the_refusal_exits_2(
 ) -> None:
     out = tmp_path / "floating.xrdf"
     cfg = _config(tmp_path)
-    code, text = run_cli(
-        runner, "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(out)
-    )
+    code, text = run_cli(runner, "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(out))
     assert code == 0, text
     code, text = run_cli(runner, "lint", str(out), "--urdf", str(UR10E_URDF))
     assert code == 0, text
