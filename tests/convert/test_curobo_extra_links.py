@@ -35,6 +35,9 @@ def _config(tmp_path: Path, *, lift: str = "[0, 0, 0, 1, 0, 0, 0]", locks: str =
   base_link: base_link
   tool_frames: [tool0]
   lock_joints: {locks}
+  load_meshes: false
+  use_external_assets: false
+  debug: null
   extra_links:
     base_x:
       parent_link_name: base_link
@@ -105,6 +108,8 @@ def test_a_moving_virtual_base_is_written_fixed_and_said_once_per_link(tmp_path:
     dropped = [d.message for d in rules["convert-dropped-key"]]
     assert any("extra_links.base_yaw.link_mass has no XRDF equivalent" in m for m in dropped)
     assert not any("joint_limits" in m or "joint_velocity_limits" in m for m in dropped)
+    # G1's loader settings (meshes for display, where assets are, debug) are not robot facts
+    assert not any(k in m for k in ("load_meshes", "use_external_assets", "debug") for m in dropped)
 
 
 def test_a_child_the_extra_links_move_is_refused_where_it_is_written(tmp_path: Path) -> None:

@@ -1,7 +1,8 @@
 """cuRobo robot configuration YAML → Draft: classic layout, 2.0 layout, Lula/Isaac Sim YAML.
 
 See docs/convert.md for the mapping. Every key without an XRDF equivalent is
-reported (``convert-dropped-key``) except visualisation/USD keys, which are ignored silently.
+reported (``convert-dropped-key``) except visualisation, USD and asset-location keys, which are
+ignored silently.
 Unknown link names (cuRobo ignores them silently; its own ``ur10e.yml`` has ``forarm_link``)
 are reported with a suggestion and dropped. Spheres are kept as written, negative radii included
 (cuRobo turns a small negative radius into a real sphere once buffered), and the
@@ -45,6 +46,9 @@ SILENT_KEYS = {
     "usd_robot_root",
     "usd_flip_joints",
     "usd_flip_joint_limits",
+    "load_meshes",  # whether cuRobo loads the link meshes (visualisation)
+    "use_external_assets",  # where cuRobo looks for the URDF, as external_asset_path
+    "debug",
 }
 HANDLED_KEYS = {
     "base_link",
