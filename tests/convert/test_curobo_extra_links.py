@@ -13,20 +13,15 @@ import pytest
 from typer.testing import CliRunner
 
 from tests.cli_checks import run_cli
-from tests.paths import UR10E_URDF
+from tests.paths import UR10E_URDF, UR10E_XRDF
 from xrdf_tools.convert.core import ConvertOptions, convert_files
 from xrdf_tools.diagnostics import Diagnostic, Severity
 from xrdf_tools.util.errors import SourceError
+from xrdf_tools.xrdf.io import parse_xrdf
 from xrdf_tools.xrdf.model import AddFrame
 
-ARM = [
-    "shoulder_pan_joint",
-    "shoulder_lift_joint",
-    "elbow_joint",
-    "wrist_1_joint",
-    "wrist_2_joint",
-    "wrist_3_joint",
-]
+#: The UR arm's six joints, as the fixture's own c-space lists them.
+ARM = list(parse_xrdf(UR10E_XRDF.read_text(), str(UR10E_XRDF)).cspace.joint_names)  # type: ignore[union-attr]
 
 
 def _config(tmp_path: Path, *, lift: str = "[0, 0, 0, 1, 0, 0, 0]", locks: str = "{}") -> Path:
