@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.paths import FIXTURES
+from tests.paths import FIXTURES, UR10E_URDF
 from xrdf_tools.lint import lint_text
 
 PASS = (FIXTURES / "lint" / "add-frame" / "pass.xrdf").read_text()
@@ -42,3 +42,20 @@ def test_a_quaternion_of_zeros_is_an_error_at_its_line(orientation: str) -> None
 )
 def test_other_orientations_are_no_finding_of_this_rule(orientation: str) -> None:
     assert _findings(orientation) == []
+
+
+def test_a_moving_added_frame_is_said_once_also_with_the_urdf() -> None:
+    """cuRobo's own XRDF writer turns its G1 config's floating base into add_frames of joint
+    type X_PRISM … Z_ROT: ``add-frame`` says so at each; building the robot from the URDF
+    fails on the first of them, which ``urdf-modifiers`` must not say a second time."""
+    fail = FIXTURES / "lint" / "add-frame" / "fail.xrdf"
+    text = fail.read_text()
+    diags = lint_text(text, str(fail), urdf=UR10E_URDF)
+    at_joint_type = [d.rule for d in diags if "joint_type must be FIXED" in d.message]
+    assert at_joint_type == ["add-frame"], diags
+    # a modifier the URDF refuses for another reason is still urdf-modifiers' finding
+    broken = text.replace("joint_type: revolute", "joint_type: FIXED").replace(
+        "parent_frame_name: tool0", "parent_frame_name: tool9"
+    )
+    (d,) = [d for d in lint_text(broken, str(fail), urdf=UR10E_URDF) if d.rule == "urdf-modifiers"]
+    assert "tool9" in d.message and "did you mean 'tool0'" in d.message
