@@ -141,3 +141,25 @@ def test_the_written_xrdf_lints_clean_and_the_refusal_exits_2(
     code, text = run_cli(runner, "convert", str(UR10E_URDF), "--curobo", str(moved))
     assert code == 2 and f"{moved}:{_line(moved, 'child_link_name')}" in text, text
     assert "100 mm and 0° away" in text
+
+
+def test_a_child_of_an_extra_link_that_is_not_added_is_not_called_unknown(tmp_path: Path) -> None:
+    cfg = _config(tmp_path)
+    text = cfg.read_text().replace("parent_link_name: base_x", "parent_link_name: base_q")
+    cfg.write_text(text)
+    _, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    said = [d.message for d in diags if "base_q" in d.message or "base_link_inertia" in d.message]
+    assert len(said) == 1 and "'base_q' (extra link parent) is not a link" in said[0], said
+    # a child that is no URDF link, or the URDF's root, is said dropped
+    for child, why in (
+        ("base_link_inertai", "did you mean 'base_link_inertia'"),
+        ("base_link", "root"),
+    ):
+        cfg.write_text(
+            _config(tmp_path)
+            .read_text()
+            .replace("child_link_name: base_link_inertia", f"child_link_name: {child}")
+        )
+        _, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+        (d,) = [d for d in diags if "child_link_name" in d.message]
+        assert why in d.message and d.line == _line(cfg, "child_link_name"), d

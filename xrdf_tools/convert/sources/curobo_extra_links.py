@@ -137,7 +137,9 @@ def _read_child(
     refused when it does not."""
     where = k.kp("extra_links", name, "child_link_name")
     joint = k.tree.parent_joint.get(child)
-    if link not in poses or joint is None:
+    if link not in poses:
+        return  # the extra link itself was not added, and that is said
+    if joint is None:
         why = (
             "is the URDF's root"
             if child in k.tree.links
