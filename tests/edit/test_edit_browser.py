@@ -239,6 +239,12 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         settle(editor, page)
         page.get_by_text("C-space", exact=True).click()  # the folder starts closed
         choose(page, "Joint", "panda_finger_joint1")
+        # the tick must reach the server after the choice (else it toggles the joint shown
+        # before, panda_joint1, out of the c-space): wait for the server to have the choice
+        wait_for(
+            lambda: editor.panels.cspace.joint.value == "panda_finger_joint1", "the joint choice"
+        )
+        settle(editor, page)
         page.get_by_label("In c-space", exact=True).click()
 
         def finger_in() -> bool:
