@@ -210,6 +210,15 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         settle(editor, page)
         choose(page, "Link", "panda_link3")
         set_number(page, "Fit spheres", 3)
+        # the click must reach the server after the link and the count (as in step 5)
+        wait_for(
+            lambda: (
+                (editor.selected or ("",))[0] == "panda_link3"
+                and editor.panels.fit_count.value == 3
+            ),
+            "the link and count to fit",
+        )
+        settle(editor, page)
         page.get_by_role("button", name="Fit link").click()
         expect(page.get_by_role("button", name="Accept fit")).to_be_visible(timeout=120_000)
         expect(page.get_by_text("protrusion p95")).to_be_visible()
