@@ -770,6 +770,36 @@ def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_pa
     ]
 
 
+def test_a_home_state_of_a_group_covering_the_cspace_wins_over_an_odd_first_state(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """The Husky dual-UR5 SRDF: its arm group's only state is 'right_aggressive' (a pose
+    reaching across the other arm), the two-arm group's is 'home_position'. The home state,
+    named home among its words and covering the c-space, is the default, and it holds the
+    joint outside the c-space there too; the arm's first state was taken before."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <group name="side"><joint name="zz"/></group>
+        <group name="both"><group name="arm"/><group name="side"/></group>
+        <group_state name="aggressive" group="arm"><joint name="j1" value="0.9"/>
+          <joint name="j2" value="0.9"/><joint name="j3" value="0.9"/></group_state>
+        <group_state name="home_position" group="both"><joint name="j1" value="0.1"/>
+          <joint name="j2" value="-0.2"/><joint name="j3" value="0.6"/>
+          <joint name="zz" value="0.4"/></group_state>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("arm",)))
+    assert dict(x.default_joint_positions) == {"j1": 0.1, "j2": -0.2, "j3": 0.6, "zz": 0.4}
+    assert [d.message for d in diags if d.rule == "convert-chosen-state"] == [
+        "default positions from group_state 'home_position' (the state named 'home_position' "
+        "covering the c-space)"
+    ]
+
+
 def test_a_state_of_a_group_inside_the_cspace_gives_its_joints_defaults(
     tree: RobotTree, tmp_path: Path
 ) -> None:

@@ -355,7 +355,10 @@ def _named_like_a_part(group: str) -> bool:
 def choose_state(
     srdf: Srdf, group: str | None, cspace: list[str], requested: str | None
 ) -> tuple[GroupState | None, str]:
-    """The group state giving default positions, and why it was chosen."""
+    """The group state giving default positions, and why it was chosen: the requested one;
+    else one named home, ready or default of the group, then of a group covering the
+    c-space; then one with such a word in its name (``home_position``), in that order; else
+    the first state of the group, then of a covering group."""
     if requested is not None:
         for s in srdf.group_states:
             if s.name == requested and (group is None or s.group in (group, None)):
@@ -378,11 +381,27 @@ def choose_state(
         for s in srdf.group_states
         if cspace and s not in own and set(cspace) <= {n for n, _ in s.values}
     ]
-    for cands, why in ((own, f"of group '{group}'"), (covering, "covering the c-space")):
-        for pref in PREFERRED_STATES:
-            for s in cands:
-                if s.name.lower() == pref:  # Interbotix and Kinova write 'Home'
-                    return s, f"the state named '{s.name}' {why}"
+    kinds = ((own, f"of group '{group}'"), (covering, "covering the c-space"))
+    for match in (_named_preferred, _named_like_preferred):
+        for cands, why in kinds:
+            for pref in PREFERRED_STATES:
+                for s in cands:
+                    if match(s.name, pref):
+                        return s, f"the state named '{s.name}' {why}"
+    for cands, why in kinds:
         if cands:
             return cands[0], f"the first state {why}"
     return None, ""
+
+
+def _named_preferred(name: str, pref: str) -> bool:
+    """``Home`` is ``home``: Interbotix and Kinova write it capitalized."""
+    return name.lower() == pref
+
+
+def _named_like_preferred(name: str, pref: str) -> bool:
+    """``home_position``, ``ReadyPose``: the preferred name is one of the state name's words.
+    Such a state, even of a larger group that covers the c-space (the Husky's two-arm
+    ``home_position``), is a better default than a group's first state named otherwise (its
+    ``right_aggressive``, a pose that reaches across the other arm)."""
+    return pref in name_words(name)
