@@ -467,6 +467,9 @@ def test_a_pair_masked_for_colliding_at_a_colliding_home_is_a_warning(tmp_path: 
     assert folded.self_collision is not None and folded.self_collision.is_ignored("base", "lower")
     warning = rules["convert-mask-default-pose"]
     assert "base/lower (apart in" in warning and "--state" in warning
+    # a robot without an SRDF (the Stretch) has no --state: the XRDF's default and
+    # `xrdf report --write-mask` are the way that works for it too
+    assert "default_joint_positions, then `xrdf report" in warning and "--write-mask" in warning
     upright, rules = run("0")
     assert upright.self_collision is not None
     assert not upright.self_collision.is_ignored("base", "lower")

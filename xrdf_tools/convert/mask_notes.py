@@ -45,7 +45,9 @@ def default_pose_pairs(report: Report) -> list[Diagnostic]:
         f"{len(pairs)} pair(s) ignored because they collide at the default configuration, "
         f"though apart in some of the {report.samples} samples: {shown}; the planner will not "
         "see them collide anywhere. Give a default configuration free of self-collision "
-        "(--state, default_joint_positions) or check these pairs (`xrdf report`)"
+        "(an SRDF group_state: --srdf, --state; or the XRDF's default_joint_positions, then "
+        "`xrdf report ROBOT.xrdf --urdf ROBOT.urdf --write-mask NEW.xrdf` computes the mask "
+        "again) or check these pairs (`xrdf report`)"
     )
     return [
         Diagnostic(
