@@ -195,3 +195,31 @@ def test_a_templates_joint_names_say_the_file_is_a_template(
         "xacro fills in: give the file it writes"
     )
     assert "convert-default-acceleration" in r.stderr  # nothing was taken from it
+
+
+def test_a_one_arm_file_given_for_two_prefixed_arms_says_so(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """xArm's dual-arm URDF names its joints L_joint1 … and R_joint1 …; the Lite 6's own
+    joint_limits.yaml (joint1 …) given for it was 'joints the URDF does not have; ignored',
+    which did not say why nor what to give."""
+    body = "".join(
+        _ARM.split("\n", 4)[4].replace("</robot>\n", "").replace("${p}", side)
+        + f'<joint name="{side}mount" type="fixed"><parent link="world"/>'
+        f'<child link="{side}base"/></joint>'
+        for side in ("L_", "R_")
+    )
+    dual = tmp_path / "dual.urdf"
+    dual.write_text(f'<robot name="dual"><link name="world"/>{body}</robot>')
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n  j1:\n    max_acceleration: 1.0\n  j2:\n    max_acceleration: 1.0\n"
+    )
+    r = runner.invoke(app, ["convert", str(dual), "--joint-limits", str(limits)])
+    assert r.exit_code == 0, r.output
+    (unknown,) = [ln for ln in r.stderr.splitlines() if "convert-unknown-joint" in ln]
+    assert unknown.endswith(
+        "names 2 joints the URDF does not have (j1, j2); ignored (the URDF has each of them "
+        "prefixed with 'L_', 'R_': a file for the robot without those prefixes; give one "
+        "naming this URDF's joints)"
+    ), unknown

@@ -25,6 +25,7 @@ from xrdf_tools.spheres.sheet import (
     SHEET_MAX_CELLS_BOUND,
     SHEET_MAX_REACH,
     SHEET_MAX_SPHERES,
+    as_plate,
     as_sheet,
     sheet_spheres,
 )
@@ -292,3 +293,30 @@ def test_a_coverage_short_of_its_target_never_reads_as_the_target() -> None:
     from xrdf_tools.spheres.fewest import short_of
 
     assert [short_of(s) for s in (0.8996, 0.9, 0.43, 0.0)] == ["89%", "90%", "43%", "0%"]
+
+
+#: the table top of Trossen's Stationary AI, both arms stand on it: 1219 x 749 x 20 mm
+TABLE = (1.219, 0.749, 0.02)
+
+
+def test_a_plate_thicker_than_its_bound_is_covered_as_a_sheet_not_by_huge_spheres(
+    tmp_path: Path,
+) -> None:
+    """Thicker (20 mm) than its 15.8 mm default bound, the table was no sheet; 16 spheres
+    within the bound covered 4 % of it, so they were refined past the bound, to 0.14 m radii
+    reaching 156 mm from its faces: every arm link near it collided with it. Its box is cut
+    into cells as a sheet's is when they reach less far, and a warning says so."""
+    from xrdf_tools.spheres.sheet import face_reach
+
+    fit = fit_robot(_urdf(tmp_path, _plate(TABLE), "table"))
+    spheres = fit.spheres["table"]
+    (note,) = fit.diagnostics
+    assert note.rule == "spheres-sheet" and note.severity.value == "warning", note
+    assert "is a plate (1219 × 749 × 20 mm), thicker than its 15.8 mm default" in note.message
+    said = re.search(r"16 spheres refined past the bound would reach (\d+) mm", note.message)
+    assert said is not None and int(said.group(1)) > 100, note.message
+    assert "world cuboid" in note.message
+    assert SHEET_MAX_SPHERES < len(spheres) <= SHEET_MAX_CELLS
+    assert _inside_some(_mid_plane_grid(TABLE), fit, "table").all()
+    plate = as_plate(fit.geometry["table"].solid)
+    assert plate is not None and face_reach(plate, spheres) < 0.08

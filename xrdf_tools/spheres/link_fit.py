@@ -186,8 +186,42 @@ def fit_one(
         return fitter.fit(k)
     past = not own_bound and counts.refine
     spheres, note = default_fit(fitter, counts.target_coverage, past=past, most=MAX_PER_LINK)
+    if past and note is not None and not len(fitter.clips):
+        plate = _plate_instead(fitter, geom, spheres, path, diags)
+        if plate is not None:
+            return plate
     if note is not None:
         missed, text = note
         rule = RULE_TARGET_MISSED if missed else RULE_PAST_BOUND
         diags.append(fit_note(path, geom.line, rule, f"link '{geom.link}': {text}", warn=missed))
     return spheres
+
+
+def _plate_instead(
+    fitter: SphereFitter,
+    geom: LinkGeometry,
+    spheres: tuple[Sphere, ...],
+    path: str,
+    diags: list[Diagnostic],
+) -> tuple[Sphere, ...] | None:
+    """A plate's sheet spheres (:func:`.sheet.sheet_spheres`) in place of ``spheres``, refined
+    past the default bound, when they reach less far from its faces; said once for the link.
+    A plate thicker than its bound is no sheet (:func:`.sheet.as_sheet`), and refining a few
+    spheres past the bound over a wide one makes them huge: 16 over the 1.2 m table of
+    Trossen's Stationary AI reached 156 mm above it, so every arm link near the table
+    collided with it."""
+    from .sheet import as_plate, face_reach, plate_message, sheet_spheres
+
+    plate = as_plate(geom.solid)
+    if plate is None:
+        return None
+    flat = sheet_spheres(plate)
+    past = face_reach(plate, spheres)
+    if face_reach(plate, flat) >= past:
+        return None
+    from .fit import default_max_protrusion
+
+    bound = default_max_protrusion(geom.solid)  # fitter.tau is widened past it by now
+    message, warn = plate_message(geom.link, plate, flat, bound, past, len(spheres))
+    diags.append(fit_note(path, geom.line, RULE_SHEET, message, warn=warn))
+    return flat

@@ -131,14 +131,35 @@ def as_sheet(solid: trimesh.Trimesh, bound: float) -> Sheet | None:
     # thickness): a cheap test that rules out every solid but a thin one
     if area <= 0.0 or 2.0 * volume / area > bound * (1.0 + _BOUND_SLACK):
         return None
+    sheet = as_plate(solid)
+    if sheet is None or sheet.thickness > bound * (1.0 + _BOUND_SLACK):
+        return None
+    return sheet
+
+
+def as_plate(solid: trimesh.Trimesh) -> Sheet | None:
+    """``solid`` as a sheet whatever its protrusion bound: its oriented box's thickness is at
+    most ``1 / SHEET_ASPECT`` of its width (a table top 20 mm thick under a 15.8 mm bound), or
+    None."""
     try:
         to_link, extents = oriented_box(solid.vertices)
     except Exception:  # qhull fails on a solid below its tolerances (a part scaled to 0.1 µm)
         return None
     t, b, a = (float(e) for e in extents)
-    if not (t <= b / SHEET_ASPECT and t <= bound * (1.0 + _BOUND_SLACK)):
-        return None
-    return Sheet(t, b, a, to_link)
+    return Sheet(t, b, a, to_link) if t <= b / SHEET_ASPECT else None
+
+
+def face_reach(sheet: Sheet, spheres: tuple[Sphere, ...]) -> float:
+    """How far ``spheres`` reach past the faces of ``sheet`` (metres, 0 for none): across its
+    thickness, the farthest a sphere's surface lies from its mid-plane, less half the
+    thickness."""
+    if not spheres:
+        return 0.0
+    normal, middle = sheet.to_link[:3, 0], sheet.to_link[:3, 3]
+    centres = np.array([s.center for s in spheres], dtype=np.float64)
+    radii = np.array([s.radius for s in spheres], dtype=np.float64)
+    across = np.abs((centres - middle) @ normal) + radii
+    return float(across.max()) - sheet.thickness / 2.0
 
 
 #: A sheet and its cells along its length and width (None: its default :attr:`Sheet.cells`).
@@ -211,3 +232,23 @@ def sheet_message(
         "fits N spheres to its volume, `xrdf spheres --max-protrusion M` covers it with "
         "spheres reaching at most M"
     ), False
+
+
+def plate_message(
+    link: str, plate: Sheet, spheres: tuple[Sphere, ...], bound: float, past: float, fitted: int
+) -> tuple[str, bool]:
+    """What was done to a plate thicker than its default bound whose ``fitted`` spheres,
+    refined past the bound, reached ``past`` metres from its faces; True when the sheet's
+    spheres still reach past ``SHEET_MAX_REACH`` (a warning)."""
+    mm = 1000.0
+    radius = max(s.radius for s in spheres)
+    reach = face_reach(plate, spheres)
+    size = f"{plate.length * mm:.4g} × {plate.width * mm:.4g} × {plate.thickness * mm:.3g} mm"
+    return (
+        f"link '{link}' is a plate ({size}), thicker than its {bound * mm:.3g} mm default "
+        f"protrusion bound and too wide to cover within it: {fitted} spheres refined past the "
+        f"bound would reach {past * mm:.0f} mm from its faces; {len(spheres)} spheres of radius "
+        f"{radius * mm:.1f} mm cover all of it, reaching {reach * mm:.1f} mm. A table or "
+        "plate the robot stands on is better given to the planner as a world cuboid; "
+        "--per-link N fits N spheres to its volume"
+    ), reach > SHEET_MAX_REACH

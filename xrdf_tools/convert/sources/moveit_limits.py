@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 from ...diagnostics import Diagnostic, Severity
 from ...robot.urdf_joints import JointInfo
@@ -141,8 +141,30 @@ def _report_unknown(rep: Reporter, unknown: Mapping[str, str], tree: RobotTree) 
             "that a generator or xacro fills in: give the file it writes"
         )
     else:
-        what += "; ignored"
+        what += "; ignored" + _prefixed_note(names, tree.joints)
     rep.report("convert-unknown-joint", f"joint_limits names {what}", unknown[names[0]])
+
+
+def _prefixed_note(names: list[str], joints: Iterable[str]) -> str:
+    """What to do when the URDF has every one of ``names`` behind the same prefixes: the
+    file is for the robot without them (xArm's single-arm ``joint_limits.yaml`` given for its
+    dual arm, whose joints are ``L_joint1`` … and ``R_joint1`` …)."""
+    have = set(joints)
+    first = names[0]
+    prefixes = sorted(
+        j[: -len(first)]
+        for j in have
+        if j.endswith(first)
+        and len(j) > len(first)
+        and all(j[: -len(first)] + n in have for n in names)
+    )
+    if not prefixes:
+        return ""
+    shown = name_list([f"'{p}'" for p in prefixes], 4)
+    return (
+        f" (the URDF has each of them prefixed with {shown}: a file for the robot without "
+        "those prefixes; give one naming this URDF's joints)"
+    )
 
 
 def _number(values: Mapping[str, object], key: str) -> float | None:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable
 
-from ...robot.chains import is_leg
+from ...robot.chains import is_leg, joint_roles
 from ...robot.names import ARM, name_role, name_words
 from ...util.errors import SourceError, did_you_mean
 from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
@@ -303,7 +303,9 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
 
     Candidates are the groups without subgroups that are not an end effector's gripper (all
     groups when none of those has a movable joint); the one with the most actuated joints
-    wins, ties going to the group carrying the earliest end effector, then SRDF order. Legs
+    wins, not counting the joints of a gripper it holds (:func:`_gripper_joints`), ties going
+    to the group with fewer of those, then the group carrying the earliest end effector, then
+    SRDF order. Legs
     (:func:`~xrdf_tools.robot.chains.is_leg`) come after every other group: a legged
     manipulator's arm is what a planner plans, however many joints its legs have; groups named
     like a hand, head or wheels (:func:`_named_like_a_part`) come after those.
@@ -325,11 +327,20 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
 
     legs = {g: is_leg(tree, cspace_of(srdf, g, tree)) for g in cands}
     parts = {g: _named_like_a_part(g) for g in cands}
-    best = min(cands, key=lambda g: (parts[g], legs[g], -sizes[g], ee_rank(g)[0], order.index(g)))
+    jaws = _gripper_joints(srdf, tree, cands)
+    arm = {g: sizes[g] - len(jaws[g]) for g in cands}
+    best = min(
+        cands,
+        key=lambda g: (parts[g], legs[g], -arm[g], len(jaws[g]), ee_rank(g)[0], order.index(g)),
+    )
     kind = "group without subgroups" if best in plain else "group"
     why = f"the {kind} with the most actuated joints ({sizes[best]})"
     if any(legs[g] and sizes[g] > sizes[best] for g in cands):
         why += " that are not a leg's"
+    held = [g for g in cands if jaws[g] and arm[g] == arm[best] and g != best]
+    if held:
+        shown = ", ".join(f"{g} (+{name_list(jaws[g], 3)})" for g in held[:3])
+        why += f" (passed over, the same arm joints and a gripper's: {shown})"
     named = [g for g in cands if parts[g] and not parts[best] and sizes[g] > sizes[best]]
     if named:
         why += f" (passed over, named like a hand, head or wheels: {name_list(named, 3)})"
@@ -337,6 +348,15 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     if ee_name:
         why += f", carrying end effector '{ee_name}'"
     return best, why
+
+
+def _gripper_joints(srdf: Srdf, tree: RobotTree, groups: list[str]) -> dict[str, list[str]]:
+    """The c-space joints of each group that move a gripper's jaw or finger
+    (:func:`~xrdf_tools.robot.chains.joint_roles`): a group that is an arm plus one jaw of its
+    gripper (the AgileX Piper's ``piper``, a chain down to a finger) plans no more of the arm
+    than the arm's own group, and a planner moves the jaws apart from the arm."""
+    roles = joint_roles(tree)
+    return {g: [j for j in cspace_of(srdf, g, tree) if roles.get(j) == "gripper"] for g in groups}
 
 
 #: Words that make a group name more than a part: an arm, or a whole of several parts
