@@ -226,3 +226,55 @@ def test_deep_chain_tree_stays_narrow_and_readable(runner: CliRunner, tmp_path: 
     widest = max(len(line) - len(line.lstrip(" │├└─")) for line in tree)
     assert widest <= 3 * (MAX_TREE_INDENT + 2)
     assert _parents_from_tree(result.stdout) == joints
+
+
+def test_convert_choice_flags_show_what_convert_picks_with_them(runner: CliRunner) -> None:
+    """A user copies convert's --group/--chain/--state/--tool-frame onto inspect: the last
+    section and the tree's c-space numbers are then what convert writes with those flags."""
+    urdf, srdf = _path(PR2[0]), _path(PR2[1])
+    flags = ["--group", "left_arm", "--group", "right_arm", "--tool-frame", "r_gripper_tool_frame"]
+    result = runner.invoke(
+        app, ["inspect", str(urdf), "--srdf", str(srdf), *flags, "--format", "json"]
+    )
+    assert result.exit_code == 0, result.output
+    default = json.loads(result.stdout)["default"]
+    robot = as_robot(load_urdf(urdf))
+    x, _ = convert(
+        robot,
+        ConvertOptions(
+            srdf=srdf, groups=("left_arm", "right_arm"), tool_frames=("r_gripper_tool_frame",)
+        ),
+    )
+    assert x.cspace is not None
+    assert default["cspace"] == list(x.cspace.joint_names)
+    assert default["tool_frames"] == list(x.tool_frames) == ["r_gripper_tool_frame"]
+    assert default["source"] == "flags" and default["chain_flag"] is None
+    assert default["flags"] == [
+        "--group left_arm",
+        "--group right_arm",
+        "--tool-frame r_gripper_tool_frame",
+    ]
+    text = runner.invoke(app, ["inspect", str(urdf), "--srdf", str(srdf), *flags]).stdout
+    head = "what `xrdf convert --group left_arm --group right_arm --tool-frame"
+    assert head in text
+    numbered = [line for line in text.splitlines() if "c-space #" in line]
+    assert len(numbered) == len(x.cspace.joint_names) == 14
+    # --chain without an SRDF, comma lists for --joints, as convert reads them
+    tiago = _path(TIAGO)
+    chain = runner.invoke(
+        app, ["inspect", str(tiago), "--chain", "base_footprint:arm_tool_link", "-f", "json"]
+    )
+    picked = json.loads(chain.stdout)["default"]
+    joints = runner.invoke(
+        app, ["inspect", str(tiago), "--joints", ",".join(picked["cspace"]), "-f", "json"]
+    )
+    assert json.loads(joints.stdout)["default"]["cspace"] == picked["cspace"]
+    assert picked["cspace"][0] == "torso_lift_joint" and picked["tool_frames"] == ["arm_tool_link"]
+
+
+def test_a_choice_flag_convert_refuses_is_one_line_exit_2(runner: CliRunner) -> None:
+    urdf, srdf = _path(PR2[0]), _path(PR2[1])
+    result = runner.invoke(app, ["inspect", str(urdf), "--srdf", str(srdf), "--group", "left_ram"])
+    assert result.exit_code == 2
+    assert "no group 'left_ram'" in result.output and "did you mean 'left_arm'" in result.output
+    assert "Traceback" not in result.output

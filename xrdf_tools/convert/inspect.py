@@ -12,13 +12,14 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 from ..robot.chains import Chain, chain_flag, default_cspace, joint_roles, leaf_chains
 
 if TYPE_CHECKING:
     from ..robot.core import Robot
+    from .core import ConvertOptions
 
 __all__ = [
     "DefaultChoice",
@@ -89,7 +90,8 @@ class GroupView:
 
 @dataclass(frozen=True)
 class DefaultChoice:
-    """What ``xrdf convert`` picks without ``--group``/``--chain``/``--joints``, and why."""
+    """What ``xrdf convert`` picks (without ``--group``/``--chain``/``--joints``, or with the
+    choice flags given), and why."""
 
     cspace: tuple[str, ...]
     tool_frames: tuple[str, ...]
@@ -99,6 +101,8 @@ class DefaultChoice:
     #: The ``--chain`` that gives the same c-space without an SRDF (None with an SRDF).
     chain_flag: str | None = None
     error: str | None = None
+    #: The choice flags given (``--group l_arm``): what convert picks with them.
+    flags: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -166,6 +170,7 @@ class Inspection:
                 "cspace": list(self.default.cspace),
                 "tool_frames": list(self.default.tool_frames),
                 "chain_flag": self.default.chain_flag,
+                "flags": list(self.default.flags),
                 "notes": list(self.default.notes),
                 "error": self.default.error,
             },
@@ -194,11 +199,18 @@ def _joint_dict(j: JointView) -> dict[str, Any]:
     }
 
 
-def inspect_robot(robot: Robot, srdf: str | os.PathLike[str] | None = None) -> Inspection:
-    """Inspect ``robot`` (and the SRDF at ``srdf``).
+def inspect_robot(
+    robot: Robot,
+    srdf: str | os.PathLike[str] | None = None,
+    choice: ConvertOptions | None = None,
+) -> Inspection:
+    """Inspect ``robot`` (and the SRDF at ``srdf``); ``choice``: the c-space, state and tool
+    frame flags of ``xrdf convert`` (groups, state, tool frames, joints, chains), whose pick is
+    shown instead of the default.
 
-    Raises :class:`~xrdf_tools.util.errors.XrdfToolsError` when the SRDF cannot be read; a
-    group that does not resolve, or a default choice that fails, is reported in the value.
+    Raises :class:`~xrdf_tools.util.errors.XrdfToolsError` when the SRDF cannot be read, or
+    when convert fails with the ``choice`` given (a group the SRDF lacks); a group that does
+    not resolve, or a default choice that fails, is reported in the value.
     """
     tree = robot.tree
     roles = joint_roles(tree)
@@ -240,7 +252,7 @@ def inspect_robot(robot: Robot, srdf: str | os.PathLike[str] | None = None) -> I
         joints=joints,
         chains=tuple(leaf_chains(tree, roles)),
         groups=groups,
-        default=_default_choice(robot, srdf_path),
+        default=_default_choice(robot, srdf_path, choice),
         srdf=srdf_path,
         left_out=tuple(chosen.left_out.items()),
         roots=tree.roots or (tree.root,),
@@ -281,18 +293,24 @@ def _plain(e: Exception) -> str:
     return str(getattr(e, "message", None) or e)
 
 
-def _default_choice(robot: Robot, srdf: str | None) -> DefaultChoice:
-    """Run ``convert`` as ``xrdf convert ROBOT [--srdf S]`` would and keep what it chose;
-    an error when the command would fail (the robot's kinematics included: a mimic loop, a
-    zero axis)."""
+def _default_choice(
+    robot: Robot, srdf: str | None, choice: ConvertOptions | None = None
+) -> DefaultChoice:
+    """Run ``convert`` as ``xrdf convert ROBOT [--srdf S] [choice flags]`` would and keep what
+    it chose. Without choice flags, an error when the command would fail (the robot's
+    kinematics included: a mimic loop, a zero axis) is the value; with them, it is raised."""
     from ..robot.kinematics import build_kinematic_model
     from ..util.errors import XrdfToolsError
     from .core import ConvertOptions, convert
 
+    flags = choice_flags(choice)
+    options = ConvertOptions(srdf=srdf) if choice is None else replace(choice, srdf=srdf)
     try:
-        x, diags = convert(robot, ConvertOptions(srdf=srdf))
+        x, diags = convert(robot, options)
         build_kinematic_model(robot, x)
     except XrdfToolsError as e:
+        if flags:
+            raise
         return DefaultChoice((), (), "error", (), error=_plain(e))
     cspace = tuple(x.cspace.joint_names) if x.cspace is not None else ()
     notes = tuple(d.message for d in diags if d.rule in _CHOICE_RULES)
@@ -300,10 +318,26 @@ def _default_choice(robot: Robot, srdf: str | None) -> DefaultChoice:
         d.rule == "convert-chosen-group" and d.path == srdf for d in diags
     )
     tools = tuple(x.tool_frames or ())
+    if flags:
+        return DefaultChoice(cspace, tools, "flags", notes, flags=flags)
     flag = None
     if not by_group and cspace and tools:
         flag = chain_flag(robot.tree.root, tools[0])
     return DefaultChoice(cspace, tools, "srdf" if by_group else "chain", notes, chain_flag=flag)
+
+
+def choice_flags(choice: ConvertOptions | None) -> tuple[str, ...]:
+    """The command-line flags of the c-space, state and tool-frame choice in ``choice``."""
+    if choice is None:
+        return ()
+    out = [f"--group {g}" for g in choice.planning_groups()]
+    if choice.joints:
+        out.append(f"--joints {','.join(choice.joints)}")
+    out += [f"--chain {base}:{tip}" for base, tip in choice.chains]
+    if choice.state is not None:
+        out.append(f"--state {choice.state}")
+    out += [f"--tool-frame {t}" for t in choice.tool_frames]
+    return tuple(out)
 
 
 def chain_summary(

@@ -151,7 +151,11 @@ def _groups(ins: Inspection) -> list[str]:
 
 def _default(ins: Inspection) -> list[str]:
     d = ins.default
-    head = "what `xrdf convert` picks without --group/--chain/--joints"
+    head = (
+        f"what `xrdf convert {' '.join(d.flags)}` picks"
+        if d.flags
+        else "what `xrdf convert` picks without --group/--chain/--joints"
+    )
     if d.error is not None:
         return [f"{head}: nothing, it fails: {d.error}"]
     out = [f"{head}:"]

@@ -17,6 +17,7 @@ from ...util.numbers import MAX_SAMPLES, REPORT_SAMPLES
 from .options import format_version as format_version_option
 from .options import output as output_option
 from .options import seed as seed_option
+from .options import split_values
 from .options import target as target_option
 from .plain import (
     OutputFormat,
@@ -30,9 +31,14 @@ from .plain import (
 from .spheres import FitMethod, fit_method_help
 from .typer_common import (
     AllowMissingMeshesOption,
+    ChainOption,
     DiagnosticsFormatOption,
+    GroupOption,
+    JointsOption,
     PackagePathOption,
     QuietOption,
+    StateOption,
+    ToolFrameOption,
     VerboseOption,
     XacroArgOption,
     fail,
@@ -79,33 +85,9 @@ def command(
         Path | None,
         typer.Option("--curobo", help="cuRobo robot YAML (classic or 2.0 layout) or Lula YAML."),
     ] = None,
-    group: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--group",
-            help="SRDF planning group (repeatable: the c-space is the union, in the given "
-            "order). Default: the group without subgroups that has the most actuated joints "
-            "(a warning names it).",
-        ),
-    ] = None,
-    state: Annotated[
-        str | None,
-        typer.Option(
-            "--state",
-            help="SRDF group_state for default positions. Default: the group's state named "
-            "home, ready or default, else its first one; without one, 0 (mid-limits when 0 "
-            "is outside them).",
-        ),
-    ] = None,
-    tool_frame: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--tool-frame",
-            help="Tool frame (repeatable; the first is the end effector). Default: the SRDF "
-            "end effector's link, else a frame below the last c-space joint named like a tool "
-            "(tool0, a TCP), else the chain's tip (a warning names it).",
-        ),
-    ] = None,
+    group: GroupOption = None,
+    state: StateOption = None,
+    tool_frame: ToolFrameOption = None,
     acceleration: Annotated[
         float | None,
         typer.Option(
@@ -220,22 +202,8 @@ def command(
             ),
         ),
     ] = FitMethod.ours,
-    joints: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--joints",
-            help="C-space without an SRDF group: these actuated joints in this order "
-            "(comma-separated or repeated).",
-        ),
-    ] = None,
-    chain: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--chain",
-            help="C-space without an SRDF group: the actuated joints from BASE_LINK to "
-            "TIP_LINK (BASE:TIP, repeatable for several arms).",
-        ),
-    ] = None,
+    joints: JointsOption = None,
+    chain: ChainOption = None,
     allow_missing_meshes: AllowMissingMeshesOption = False,
     no_lint: Annotated[
         bool, typer.Option("--no-lint", help="Skip linting the result against the URDF.")
@@ -287,8 +255,8 @@ def command(
             format_version=format_version,
             target=target,
             groups=tuple(group or ()),
-            joints=tuple(_split(joints)),
-            chains=tuple(parse_chain(c) for c in _split(chain)),
+            joints=tuple(split_values(joints)),
+            chains=tuple(parse_chain(c) for c in split_values(chain)),
         )
         fit = _fit_options(
             fit_spheres,
@@ -380,11 +348,6 @@ def _fit_options(
         clips=_clips(clip),
         method=method.value,
     )
-
-
-def _split(values: list[str] | None) -> list[str]:
-    """Comma-separated and repeated values, in order."""
-    return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
 
 
 def _clips(values: list[str] | None) -> dict[str, list[Plane]]:

@@ -13,8 +13,20 @@ from typing import Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
+from .options import split_values
 from .plain import echo, timed
-from .typer_common import PackagePathOption, QuietOption, VerboseOption, XacroArgOption, fail
+from .typer_common import (
+    ChainOption,
+    GroupOption,
+    JointsOption,
+    PackagePathOption,
+    QuietOption,
+    StateOption,
+    ToolFrameOption,
+    VerboseOption,
+    XacroArgOption,
+    fail,
+)
 
 
 class InspectFormat(str, Enum):
@@ -36,6 +48,11 @@ def command(
         Path | None,
         typer.Option("--srdf", help="MoveIt SRDF: its groups, and the default choice with it."),
     ] = None,
+    group: GroupOption = None,
+    chain: ChainOption = None,
+    joints: JointsOption = None,
+    state: StateOption = None,
+    tool_frame: ToolFrameOption = None,
     xacro_arg: XacroArgOption = None,
     package_path: PackagePathOption = None,
     fmt: Annotated[
@@ -58,22 +75,34 @@ def command(
     say so; '·' marks a link without collision geometry (it gets no spheres). The chains
     section lists, per leaf, the actuated joints from the root (the value for `--chain
     ROOT:LEAF`); the last section is exactly what `xrdf convert ROBOT [--srdf S]` would choose,
-    and why. Only the URDF/SRDF XML is read: no mesh is loaded.
+    and why. Give convert's --group, --chain, --joints, --state or --tool-frame to see what
+    it picks with them (the tree numbers that c-space). Only the URDF/SRDF XML is read: no
+    mesh is loaded.
 
     \b
     Examples:
       xrdf inspect tiago.urdf
       xrdf inspect panda.urdf --srdf panda.srdf
+      xrdf inspect talos.urdf --srdf talos.srdf --group l_arm --group r_arm
       xrdf inspect ur5_robot.urdf --format json | jq '.default.cspace'
     """
+    from ...convert.core import ConvertOptions
     from ...convert.inspect import inspect_robot
     from ...convert.inspect_text import render_inspection
+    from ...convert.sources.cspace import parse_chain
     from .plain import load_robot_option
 
     try:
+        choice = ConvertOptions(
+            groups=tuple(group or ()),
+            chains=tuple(parse_chain(c) for c in split_values(chain)),
+            joints=tuple(split_values(joints)),
+            state=state,
+            tool_frames=tuple(tool_frame or ()),
+        )
         with timed("inspect"):
             loaded = load_robot_option(robot, xacro_arg, package_path)
-            result = inspect_robot(loaded, srdf)
+            result = inspect_robot(loaded, srdf, choice)
     except XrdfToolsError as e:
         fail(e)
     if fmt is InspectFormat.json:

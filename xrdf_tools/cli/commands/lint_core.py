@@ -29,6 +29,7 @@ from .options import (
     OptionTable,
     parse_command_line,
     path,
+    split_values,
     target,
     text,
 )
@@ -86,10 +87,6 @@ def _robot_or_why_not(
         return exc
 
 
-def _split(values: list[str] | None) -> list[str]:
-    return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
-
-
 def run(args: LintArgs) -> tuple[str, int]:
     """Lint as ``xrdf lint`` does: the findings rendered in the chosen format and the exit
     code (0 clean, 1 errors, or warnings with ``strict``). Raises :class:`XrdfToolsError` for
@@ -113,8 +110,8 @@ def run(args: LintArgs) -> tuple[str, int]:
             args.files,
             urdf=args.urdf,
             config=cfg,
-            select=_split(args.select),
-            ignore=_split(args.ignore),
+            select=split_values(args.select),
+            ignore=split_values(args.ignore),
             target=args.target,
             urdf_model=model,
             allow_missing_meshes=args.allow_missing_meshes,

@@ -152,6 +152,55 @@ ROBOT_URDF = Option(
     path,
     typer_extra={"show_default": False},
 )
+#: The choice of c-space, defaults and tool frames, in ``convert`` (what it writes) and
+#: ``inspect`` (what convert would pick with them).
+GROUP = Option(
+    "group",
+    ("--group",),
+    "SRDF planning group (repeatable: the c-space is the union, in the given order). Default: "
+    "the group without subgroups that has the most actuated joints (a warning names it).",
+    text,
+    multiple=True,
+)
+STATE = Option(
+    "state",
+    ("--state",),
+    "SRDF group_state for default positions. Default: the group's state named home, ready or "
+    "default, else its first one; without one, 0 (mid-limits when 0 is outside them).",
+    text,
+)
+TOOL_FRAME = Option(
+    "tool_frame",
+    ("--tool-frame",),
+    "Tool frame (repeatable; the first is the end effector). Default: the SRDF end effector's "
+    "link, else a frame below the last c-space joint named like a tool (tool0, a TCP), else "
+    "the chain's tip (a warning names it).",
+    text,
+    multiple=True,
+)
+JOINTS = Option(
+    "joints",
+    ("--joints",),
+    "C-space without an SRDF group: these actuated joints in this order (comma-separated or "
+    "repeated).",
+    text,
+    multiple=True,
+)
+CHAIN = Option(
+    "chain",
+    ("--chain",),
+    "C-space without an SRDF group: the actuated joints from BASE_LINK to TIP_LINK "
+    "(BASE:TIP, repeatable for several arms).",
+    text,
+    multiple=True,
+)
+
+
+def split_values(values: Sequence[str] | None) -> list[str]:
+    """The values of a repeatable option that also takes comma-separated lists, in order."""
+    return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
+
+
 #: What ``--target`` names, in every command that has it (``convert``, ``lint``,
 #: ``export xrdf``); each adds what it does with it.
 _TARGET_HELP = (

@@ -20,10 +20,15 @@ from ...diagnostics import Diagnostic, Severity
 from ...util.errors import XrdfToolsError, one_line
 from .options import (
     ALLOW_MISSING_MESHES,
+    CHAIN,
     DIAGNOSTICS_FORMAT,
+    GROUP,
+    JOINTS,
     PACKAGE_PATH,
     QUIET,
     ROBOT_URDF,
+    STATE,
+    TOOL_FRAME,
     VERBOSE,
     XACRO_ARG,
     Option,
@@ -240,6 +245,12 @@ XacroArgOption = Annotated[list[str] | None, typer_option(XACRO_ARG)]
 PackagePathOption = Annotated[list[str] | None, typer_option(PACKAGE_PATH)]
 #: ``--allow-missing-meshes`` of every command that reads link meshes (one definition).
 AllowMissingMeshesOption = Annotated[bool, typer_option(ALLOW_MISSING_MESHES)]
+#: The c-space, defaults and tool frames chosen (``convert``, ``inspect``).
+GroupOption = Annotated[list[str] | None, typer_option(GROUP)]
+StateOption = Annotated[str | None, typer_option(STATE)]
+ToolFrameOption = Annotated[list[str] | None, typer_option(TOOL_FRAME)]
+JointsOption = Annotated[list[str] | None, typer_option(JOINTS)]
+ChainOption = Annotated[list[str] | None, typer_option(CHAIN)]
 #: ``--urdf`` of the commands that need the robot (one definition).
 RobotUrdfOption = Annotated[Path, typer_option(ROBOT_URDF)]
 #: ``-f/--format`` of the diagnostics on stderr, of every command whose output is a file.
