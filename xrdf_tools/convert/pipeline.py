@@ -26,7 +26,7 @@ from __future__ import annotations
 import os
 from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, Severity
@@ -39,6 +39,7 @@ from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
 from .fit_check import RULE_UNFITTED, unfitted_links
 from .mask_notes import default_pose_pairs, nothing_checked
+from .sources.curobo_lula import RULE_NO_MASK
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -119,12 +120,15 @@ def convert_robot(
     label: str = "<xrdf>",
     progress: Progress | None = None,
     allow_missing_meshes: bool = False,
+    missing_mask: MaskOptions | None = None,
 ) -> ConvertResult:
     """Load ``robot`` (or take it loaded), convert it and, with ``fit``, fit spheres and
     compute the mask.
 
     ``mask`` defaults to :class:`MaskOptions` when ``fit`` is given (a fitted sphere model
     needs its own mask); pass it without ``fit`` to recompute the mask of the inputs' spheres.
+    A source with spheres and no mask (a Lula description, ``convert-lula-no-mask``) gets
+    one computed with ``missing_mask`` (default :class:`MaskOptions`).
     ``label`` names the XRDF in lint diagnostics; ``allow_missing_meshes`` tells lint that
     mesh files that cannot be found are expected (``fit`` has its own). Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` for unusable inputs.
@@ -144,13 +148,18 @@ def convert_robot(
     if fit is not None:
         x, fitted, diags = _with_fitted_spheres(x, loaded, fit, diags, progress)
         mask = mask or MaskOptions()
+    no_mask = mask is None and any(d.rule == RULE_NO_MASK for d in diags)
+    if no_mask:
+        mask = missing_mask or MaskOptions()
     unfitted = [d for d in diags if d.rule == RULE_UNFITTED]
     report = None
     if unfitted:
         mask = None  # the command fails: no point sampling a mask for an incomplete model
     if mask is not None and x.self_collision_spheres():
         x, report = compute_mask(x, loaded, mask, progress=progress)
-        diags.extend(_mask_notes(report, x, mask))
+        if no_mask:  # the summary says what the warning asked for
+            diags = [d for d in diags if d.rule != RULE_NO_MASK]
+        diags.extend(_mask_notes(report, x, mask, lula=no_mask))
     text = dump_xrdf(x)
     lint_diags: list[Diagnostic] = []
     if lint:
@@ -190,10 +199,17 @@ def _with_fitted_spheres(
     return x, fitted, [*kept, *more]
 
 
-def _mask_notes(report: Report, x: Xrdf, mask: MaskOptions) -> list[Diagnostic]:
-    """What the computed mask says: its summary, the pairs ignored for colliding at the
-    default pose, and that nothing is left to check."""
-    return [mask_summary(report, x, mask), *default_pose_pairs(report), *nothing_checked(report)]
+def _mask_notes(
+    report: Report, x: Xrdf, mask: MaskOptions, *, lula: bool = False
+) -> list[Diagnostic]:
+    """What the computed mask says: its summary (``lula``: computed because the Lula
+    description has none), the pairs ignored for colliding at the default pose, and that
+    nothing is left to check."""
+    summary = mask_summary(report, x, mask)
+    if lula:
+        why = "the Lula robot description has no self-collision mask (Lula checks none), so "
+        summary = replace(summary, message=why + summary.message)
+    return [summary, *default_pose_pairs(report), *nothing_checked(report)]
 
 
 def _lint_findings(

@@ -27,7 +27,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-chosen-state", W, "No group state given: the one used for default positions."),
         ("convert-chosen-tool-frame", W, "No tool frame in the inputs: the one guessed, why."),
         ("convert-clamped-default", W, "A default outside the URDF limits: turned or clamped in."),
-        ("convert-computed-mask", I, "--fit-spheres: the mask computed, pairs per reason."),
+        (
+            "convert-computed-mask",
+            I,
+            "--fit-spheres or a Lula source: the mask computed, pairs per reason.",
+        ),
         ("convert-cspace-order", W, "--target curobo: c-space put in URDF order (defaults kept)."),
         ("convert-default-acceleration", W, "No acceleration limit: a default or --acceleration."),
         ("convert-default-jerk", W, "No jerk limit in the inputs: the default or --jerk."),
@@ -45,6 +49,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-fitted-spheres", I, "--fit-spheres: spheres fitted per link, links left out."),
         ("convert-floating-base", W, "A floating/planar joint above the robot: base below it."),
         ("convert-launch-substitution", I, "$(var NAME) in joint_limits: --xacro-arg or ''."),
+        (
+            "convert-lula-no-mask",
+            W,
+            "A Lula description has no self-collision mask: convert computes it, else this.",
+        ),
         (
             "convert-limit-not-carried",
             W,

@@ -150,12 +150,14 @@ def command(
             "-n",
             min=1,
             max=MAX_SAMPLES,
-            help="With --fit-spheres: configurations sampled for the self-collision mask "
+            help="With --fit-spheres or a Lula --curobo file (it has no mask): configurations "
+            "sampled for the self-collision mask "
             "(as `xrdf report --samples`; at most 10,000,000,000).",
         ),
     ] = REPORT_SAMPLES,
     seed: Annotated[
-        int, typer_option(seed_option("the fit and of the mask's samples (with --fit-spheres)"))
+        int,
+        typer_option(seed_option("the fit and of the mask's samples (--fit-spheres, a Lula file)")),
     ] = 0,
     geometry_from: Annotated[
         GeometryFrom,
@@ -282,6 +284,7 @@ def command(
                 label=label,
                 progress=_staged(bar),
                 allow_missing_meshes=allow_missing_meshes,
+                missing_mask=MaskOptions(samples=samples, seed=seed),
             )
     except XrdfToolsError as e:
         fail(e)

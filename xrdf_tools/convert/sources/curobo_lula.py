@@ -14,7 +14,10 @@ from ...xrdf.model import SetBaseFrame, Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_spheres import is_num, spheres_of
 
-__all__ = ["LULA_HANDLED", "read_lula"]
+__all__ = ["LULA_HANDLED", "RULE_NO_MASK", "read_lula"]
+
+#: A Lula description has spheres but no self-collision mask (Lula checks no self-collision).
+RULE_NO_MASK = "convert-lula-no-mask"
 
 #: The Lula keys read; others are reported as dropped.
 LULA_HANDLED = {
@@ -47,6 +50,21 @@ def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter)
     spheres = data.get("collision_spheres")
     if isinstance(spheres, list):
         d.spheres = _lula_spheres(spheres, frames, rep)
+        if len(d.spheres) > 1:
+            _report_no_mask(rep)
+
+
+def _report_no_mask(rep: Reporter) -> None:
+    """Lula checks no self-collision, so its description has no ignore list: as written,
+    cuRobo would check every pair of sphere frames, adjacent links included."""
+    rep.report(
+        RULE_NO_MASK,
+        "a Lula robot description has no self-collision mask (Lula checks no self-collision): "
+        "the XRDF ignores no pair, so cuRobo checks adjacent links against each other and may "
+        "find no valid configuration; compute one: xrdf report ROBOT.xrdf --urdf ROBOT.urdf "
+        "--write-mask MASKED.xrdf",
+        "collision_spheres",
+    )
 
 
 def _known_cspace(names: list[str], tree: RobotTree, rep: Reporter) -> list[str]:
