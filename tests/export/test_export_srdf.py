@@ -146,9 +146,14 @@ def test_panda_report_mask_synced_back(runner: CliRunner, tmp_path: Path) -> Non
     want = load_xrdf(masked).self_collision
     assert want is not None
 
-    # the disable set is exactly the XRDF's ignore set
+    # the disable set is exactly the XRDF's ignore set, less the pairs its mask could not
+    # judge: across the finger joints it held closed (link5/finger can collide: MoveIt's own
+    # panda.srdf checks it), said in one warning
+    held = _held(load_xrdf(masked), urdf) - set(_disabled(before))  # those already in stay
+    assert frozenset(("panda_link5", "panda_leftfinger")) in held
+    assert stderr.count("warning export-srdf-held-joint") == 1
     got = _disabled(after)
-    assert set(got) == want.ignore_pairs()
+    assert set(got) == want.ignore_pairs() - held
     assert len(after.disable_collisions) == len(got)  # no pair twice
     # removed pairs are gone and reported, one diagnostic each, with the SRDF line
     for pair in removed_by_report:
@@ -162,8 +167,8 @@ def test_panda_report_mask_synced_back(runner: CliRunner, tmp_path: Path) -> Non
         assert got[pair] == _disabled(before)[pair]
     # added pairs: the reason the report's classification gives
     classes = {frozenset((p["frame_a"], p["frame_b"])): p["classification"] for p in rep["pairs"]}
-    assert set(got) - set(_disabled(before)) == added_by_report
-    for pair in added_by_report:
+    assert set(got) - set(_disabled(before)) == added_by_report - held
+    for pair in added_by_report - held:
         assert got[pair][2] == REASON_OF_CLASS[classes[pair]]
     # everything else is kept
     assert _semantic(after) == _semantic(before)
@@ -177,11 +182,19 @@ def test_panda_report_mask_synced_back(runner: CliRunner, tmp_path: Path) -> Non
         for ln in difflib.unified_diff(original.decode().splitlines(), text.decode().splitlines())
         if ln[:1] in "+-" and not ln.startswith(("+++", "---"))
     ]
-    assert len(changed) == len(added_by_report) + len(removed_by_report)
+    assert len(changed) == len(added_by_report - held) + len(removed_by_report)
     assert all("<disable_collisions " in ln for ln in changed)
     # and MoveIt's mask read back by convert is the XRDF's mask
     back = _convert(urdf, out).self_collision
-    assert back is not None and back.ignore_pairs() == want.ignore_pairs()
+    assert back is not None and back.ignore_pairs() == want.ignore_pairs() - held
+
+
+def _held(x: Xrdf, urdf: Path) -> frozenset[frozenset[str]]:
+    from xrdf_tools.export.srdf import _ordered_pairs
+    from xrdf_tools.export.srdf_held import held_pairs
+    from xrdf_tools.robot.xacro_source import load_robot
+
+    return held_pairs(x, load_robot(urdf).tree, _ordered_pairs(x)).keys()
 
 
 # ------------------------------------------------------------------------------------------

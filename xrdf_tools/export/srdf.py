@@ -22,11 +22,8 @@ robot round-trips byte for byte. Pure: returns bytes and diagnostics, prints not
 
 from __future__ import annotations
 
-import json
-import os
 from collections.abc import Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 from ..convert.sources.srdf_parse import refuse_urdf, trimmed
@@ -35,6 +32,8 @@ from ..robot.tree import RobotTree
 from ..util.errors import ConversionError, SourceError
 from ..util.text import name_list
 from ..xrdf.model import Xrdf
+from .srdf_held import HeldPairs, held_pairs
+from .srdf_reasons import REPORT_REASONS, USER, Pair, load_report_reasons, reasons_from_report
 from .srdf_xml import XmlDocument, insert_after, last_child, remove_element
 
 __all__ = [
@@ -47,18 +46,7 @@ __all__ = [
     "to_srdf",
 ]
 
-USER = "User"
-#: ``xrdf report`` pair classification → SRDF ``reason`` (MoveIt Setup Assistant names).
-REPORT_REASONS: Mapping[str, str] = {
-    "adjacent": "Adjacent",
-    "default": "Default",
-    "always": "Always",
-    "never": "Never",
-}
 _NEW = b'<?xml version="1.0" encoding="UTF-8"?>\n<robot name=""/>\n'
-_ALWAYS_RATE = 0.95  # same threshold as xrdf_tools.report.ALWAYS_RATE (not imported: numpy)
-
-Pair = frozenset[str]
 
 #: Pairs of the merged SRDF naming a link the URDF does not have.
 RULE_FOREIGN = "export-srdf-unknown-link"
@@ -93,63 +81,6 @@ class SrdfSync:
 
 
 # ------------------------------------------------------------------------------------------
-# Reasons from an ``xrdf report --format json`` document
-# ------------------------------------------------------------------------------------------
-def _reason_of(p: Mapping[str, Any]) -> str:
-    """``classification`` when present, else derived from the same fields the report uses."""
-    cls = p.get("classification")
-    if isinstance(cls, str):
-        return REPORT_REASONS.get(cls, USER)
-    rate, hits = p.get("rate"), p.get("hits")
-    clearance = p.get("default_clearance")
-    if p.get("adjacent") is True:
-        return "Adjacent"
-    if isinstance(clearance, (int, float)) and clearance < 0:
-        return "Default"
-    if isinstance(rate, (int, float)) and rate > _ALWAYS_RATE:
-        return "Always"
-    if hits == 0:
-        return "Never"
-    return USER
-
-
-def reasons_from_report(data: Any, path: str = "<report>") -> dict[Pair, str]:
-    """SRDF reasons per frame pair from ``xrdf report --format json`` data.
-
-    ``classification`` adjacent/default/always/never → ``Adjacent``/``Default``/``Always``/
-    ``Never``; ``sometimes`` (ignored although seen colliding: a user decision) → ``User``.
-    Without ``classification`` the reason is derived in the report's own order: ``adjacent``
-    true, ``default_clearance`` < 0, ``rate`` > 0.95, ``hits`` == 0, else ``User``. Pairs the
-    report does not list (frames without spheres) get ``User`` from :func:`sync_srdf`.
-    """
-    pairs = data.get("pairs") if isinstance(data, Mapping) else None
-    if not isinstance(pairs, list):
-        raise SourceError(
-            "not an 'xrdf report --format json' document (no 'pairs' list)", path=path
-        )
-    out: dict[Pair, str] = {}
-    for p in pairs:
-        a = p.get("frame_a") if isinstance(p, Mapping) else None
-        b = p.get("frame_b") if isinstance(p, Mapping) else None
-        if not (isinstance(a, str) and isinstance(b, str)):
-            raise SourceError("a report pair lacks 'frame_a'/'frame_b'", path=path)
-        out[frozenset((a, b))] = _reason_of(p)
-    return out
-
-
-def load_report_reasons(path: str | os.PathLike[str]) -> dict[Pair, str]:
-    """:func:`reasons_from_report` of a JSON file; one-line :class:`SourceError` on failure."""
-    p = os.fspath(path)
-    try:
-        data = json.loads(Path(p).read_bytes())
-    except OSError as e:
-        raise SourceError(f"cannot read report: {e.strerror or e}", path=p) from None
-    except ValueError as e:
-        raise SourceError(f"the report is not JSON: {e}", path=p) from None
-    return reasons_from_report(data, p)
-
-
-# ------------------------------------------------------------------------------------------
 # The sync
 # ------------------------------------------------------------------------------------------
 def sync_srdf(
@@ -180,9 +111,12 @@ def sync_srdf(
     name = _sync_name(doc.root, urdf, robot_name, diags, srdf_path, new=new)
     universe = _universe(x, urdf, doc.root)
     links = set(urdf.links) if urdf is not None else None
-    plan = _plan(doc.root, pairs, dict(reasons or {}), universe, links)
+    held = held_pairs(x, urdf, pairs) if urdf is not None else HeldPairs(())
+    plan = _plan(doc.root, pairs, dict(reasons or {}), universe, links, held.keys())
     plan.apply(doc.root)
     diags.extend(_removed_diag(ch, srdf_path) for ch in plan.removed)
+    held_diag = held.diagnostic(srdf_path, plan.held)
+    diags.extend([held_diag] if held_diag is not None else [])
     diags.extend(_foreign_diags(plan.foreign, urdf, srdf_path))
     diags.sort(key=lambda d: (d.line is None, d.line or 0))
     if plan.added:
@@ -403,6 +337,8 @@ class _Plan:
     drop: list[Any]
     #: Pairs naming a link the URDF does not have: kept as they are.
     foreign: list[PairChange]
+    #: Pairs the XRDF ignores but not added: its mask held a joint between them.
+    held: set[Pair]
 
     def apply(self, root: Any) -> None:
         from lxml import etree
@@ -431,10 +367,12 @@ def _plan(
     reasons: Mapping[Pair, str],
     universe: Collection[str],
     links: Collection[str] | None,
+    held: Collection[Pair] = frozenset(),
 ) -> _Plan:
-    """What the merge changes; ``links``: the URDF's (a pair naming another link is kept)."""
+    """What the merge changes; ``links``: the URDF's (a pair naming another link is kept);
+    ``held``: pairs the XRDF ignores that are not added (:mod:`.srdf_held`)."""
     want = {frozenset(p) for p in pairs}
-    plan = _Plan([], [], [], [], [], [], [])
+    plan = _Plan([], [], [], [], [], [], [], set())
     present: set[Pair] = set()
     for el in root.iterchildren("disable_collisions"):
         pair = _pair_of(el)
@@ -451,7 +389,10 @@ def _plan(
     enabled: set[Pair] = set()
     for el in root.iterchildren("enable_collisions"):
         pair = _pair_of(el)
-        if pair in want:  # it would re-enable a pair the XRDF ignores
+        if pair in want and pair in held:
+            plan.held.add(pair)
+            enabled.add(pair)
+        elif pair in want:  # it would re-enable a pair the XRDF ignores
             plan.added.append(_change(el, "enable_collisions"))
             plan.drop.append(el)
         else:
@@ -460,6 +401,9 @@ def _plan(
     for a, b in pairs:
         pair = frozenset((a, b))
         if pair in present or (pair & defaults and pair not in enabled):
+            continue
+        if pair in held:
+            plan.held.add(pair)
             continue
         reason = reasons.get(pair, USER)
         plan.new_disabled.append((a, b, reason))

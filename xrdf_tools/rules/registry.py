@@ -110,6 +110,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-mesh-paths", W, "Mesh names cuRobo cannot find from asset_root_path."),
         ("export-srdf-added", I, "Pairs added to the SRDF, with their reasons."),
         ("export-srdf-added-frame", W, "Ignore pairs on added frames MoveIt does not know."),
+        (
+            "export-srdf-held-joint",
+            W,
+            "Ignore pairs not added: the mask held a joint between them that MoveIt moves.",
+        ),
         ("export-srdf-removed", W, "A disabled pair the XRDF no longer ignores: removed."),
         ("export-srdf-unknown-link", I, "Pairs naming a link the URDF lacks: kept as they are."),
         ("export-srdf-robot-name", W, "The SRDF robot name differs from the URDF's."),
