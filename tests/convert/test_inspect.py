@@ -278,3 +278,19 @@ def test_a_choice_flag_convert_refuses_is_one_line_exit_2(runner: CliRunner) -> 
     assert result.exit_code == 2
     assert "no group 'left_ram'" in result.output and "did you mean 'left_arm'" in result.output
     assert "Traceback" not in result.output
+
+
+def test_a_fixed_joint_shows_no_limits_even_with_a_limit_element(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Kinova's URDFs give fixed joints a <limit>: it limits nothing and is not shown."""
+    urdf = tmp_path / "r.urdf"
+    limit = '<limit lower="0" upper="0" effort="1" velocity="1"/>'
+    urdf.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
+        f'<joint name="mount" type="fixed"><parent link="a"/><child link="b"/>{limit}</joint>'
+        '<joint name="j" type="revolute"><parent link="b"/><child link="c"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    out = runner.invoke(app, ["inspect", str(urdf)]).stdout
+    assert "mount (fixed) → b" in out and "j (revolute [-1, 1], c-space #1) → c" in out, out

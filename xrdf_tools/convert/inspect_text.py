@@ -42,7 +42,11 @@ def _summary(ins: Inspection) -> str:
 
 
 def _limits(j: JointView) -> str:
-    if j.type == "continuous" or (j.lower is None and j.upper is None):
+    """`` [lower, upper]`` of a joint that moves between limits (a fixed joint's <limit>,
+    which Kinova writes, limits nothing)."""
+    if j.type in ("continuous", "fixed", "floating", "planar") or (
+        j.lower is None and j.upper is None
+    ):
         return ""
     lo = "?" if j.lower is None else f"{j.lower:g}"
     hi = "?" if j.upper is None else f"{j.upper:g}"
