@@ -343,7 +343,7 @@ def test_srdf_mapping_details(tree: RobotTree, tmp_path: Path) -> None:
         """<robot name="t">
         <virtual_joint name="world" type="fixed" parent_frame="world" child_link="base"/>
         <group name="arm"><chain base_link="base" tip_link="tip"/></group>
-        <group name="other"><joint name="zz"/></group>
+        <group name="other"><joint name="zz"/></group><group name="hand"><link name="c"/></group>
         <group_state name="first" group="arm"><joint name="j1" value="0.1"/></group_state>
         <group_state name="home" group="arm"><joint name="j1" value="0.2"/>
           <joint name="j3" value="5"/><joint name="mim" value="0.3"/>
@@ -1169,3 +1169,30 @@ def test_an_srdf_without_groups_is_not_met_with_use_srdf(runner: CliRunner, tmp_
     r = runner.invoke(app, ["convert", str(urdf)])
     (chosen,) = [x for x in r.stderr.splitlines() if "convert-chosen-group" in x]
     assert "no planning group given: " in chosen and chosen.endswith("--joints or --srdf")
+
+
+def test_an_end_effector_naming_a_group_the_srdf_lacks_is_dropped_as_moveit_does(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """MoveIt's dual-arm Panda SRDF has end effectors for groups 'left_hand'/'right_hand' it
+    does not define; srdfdom skips such an end effector. It picked a tool frame here and was
+    named as the reason for a group choice, silently."""
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+        <end_effector name="hand" parent_link="b" group="hnd"/>
+        <end_effector name="side" parent_link="tip" group="arm" parent_group="armm"/>
+        <end_effector name="ok" parent_link="c" group="arm"/>
+        </robot>""",
+    )
+    d = read_srdf(load_srdf(srdf), tree, group="arm")
+    said = [(w.line, w.message) for w in d.diagnostics if w.rule == "convert-srdf-end-effector"]
+    assert [line for line, _ in said] == [3, 4], d.diagnostics
+    assert "end_effector 'hand' names group 'hnd', which the SRDF does not define" in said[0][1]
+    assert "MoveIt skips it" in said[0][1]
+    assert "parent_group 'armm'" in said[1][1] and "did you mean 'arm'" in said[1][1]
+    # the skipped end effector's parent link is no tool frame; the kept one's is
+    assert d.tool_frames == ["c", "tip"]

@@ -77,6 +77,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ),
         ("convert-placeholder-spheres", W, "SRDF sphere approximation radii of zero, dropped."),
         ("convert-ros-parameters", I, "joint_limits read from a ROS 2 parameter file."),
+        (
+            "convert-srdf-end-effector",
+            W,
+            "An SRDF end effector naming a group it lacks: dropped, as MoveIt drops it.",
+        ),
         ("convert-srdf-unused-group", W, "An SRDF group the conversion does not use is broken."),
         ("convert-unknown-joint", W, "A joint name that is not in the URDF: dropped."),
         ("convert-unknown-link", W, "A link name that is not in the URDF: dropped."),

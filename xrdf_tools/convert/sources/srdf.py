@@ -9,6 +9,7 @@ names are re-exported here.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError, did_you_mean
@@ -68,6 +69,7 @@ def read_srdf(
     """
     d = draft or Draft()
     rep = Reporter(srdf.path)
+    srdf = _known_end_effectors(srdf, rep)
     groups = [group] if isinstance(group, str) else list(dict.fromkeys(group or ()))
     for g in groups:
         group_named(srdf, g)
@@ -102,6 +104,34 @@ def read_srdf(
     d.diagnostics.extend(srdf.warnings)
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _known_end_effectors(srdf: Srdf, rep: Reporter) -> Srdf:
+    """``srdf`` without the end effectors MoveIt drops: one without a ``group``, or naming a
+    ``group`` or ``parent_group`` the SRDF does not define (srdfdom logs an error and skips
+    it). Each is a located warning; kept, it would pick tool frames and rank groups (the
+    dual-arm Panda's ``left_hand``/``right_hand`` end effectors name groups it lacks)."""
+    kept = []
+    for ee in srdf.end_effectors:
+        problems = [] if ee.group else ["has no group"]
+        for attr, name in (("group", ee.group), ("parent_group", ee.parent_group)):
+            if name and name not in srdf.groups:
+                problems.append(
+                    f"names {attr} '{name}', which the SRDF does not define"
+                    f"{did_you_mean(name, srdf.groups)}"
+                )
+        if not problems:
+            kept.append(ee)
+            continue
+        rep.report(
+            "convert-srdf-end-effector",
+            f"end_effector '{ee.name}' {' and '.join(problems)}: MoveIt skips it, and so does "
+            "this conversion (no tool frame or group choice from it)",
+            at=srdf.at(ee),
+        )
+    if len(kept) == len(srdf.end_effectors):
+        return srdf
+    return replace(srdf, end_effectors=tuple(kept))
 
 
 #: Unknown links of disable_collisions entries named one by one; the rest are counted.
