@@ -223,3 +223,35 @@ def test_a_one_arm_file_given_for_two_prefixed_arms_says_so(
         "prefixed with 'L_', 'R_': a file for the robot without those prefixes; give one "
         "naming this URDF's joints)"
     ), unknown
+
+
+def test_limits_the_file_turns_off_are_said_at_the_file(tmp_path: Path) -> None:
+    """MoveIt Setup Assistant writes `has_acceleration_limits: false` for every joint: the
+    default acceleration is then said at the joint limits file, naming the joints it turns
+    off, not as if no file had been given."""
+    from tests.paths import UR10E_URDF
+    from xrdf_tools.convert.core import ConvertOptions, convert_files
+
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  shoulder_pan_joint:\n"
+        "    has_acceleration_limits: false\n"
+        "    max_acceleration: 0\n"
+        "  elbow_joint:\n"
+        "    has_acceleration_limits: true\n"
+        "    max_acceleration: 5\n"
+    )
+    x, diags, _ = convert_files(
+        UR10E_URDF, ConvertOptions(joint_limits=limits, chains=(("base_link", "tool0"),))
+    )
+    (d,) = [d for d in diags if d.rule == "convert-default-acceleration"]
+    assert (d.path, d.line) == (str(limits), 2), d
+    assert "turns it off (has_acceleration_limits: false) for shoulder_pan_joint" in d.message
+    assert "elbow_joint" not in d.message.split("for ")[1].split(":")[0]
+    assert x.cspace is not None
+    accel = dict(zip(x.cspace.joint_names, x.cspace.acceleration_limits, strict=True))
+    assert accel["elbow_joint"] == 5.0 and accel["shoulder_pan_joint"] == 10.0
+    # a joint the file does not mention is still just "no limit in the inputs"
+    (jerk,) = [d for d in diags if d.rule == "convert-default-jerk"]
+    assert jerk.line is None and "turns it off" not in jerk.message

@@ -185,8 +185,8 @@ def complete(
         )
 
     diags.extend(_uncarried_limits(draft, cspace))
-    accel = _limits("acceleration", cspace, draft.acceleration, options.acceleration, tree, rep)
-    jerk = _limits("jerk", cspace, draft.jerk, options.jerk, tree, rep)
+    accel = _limits("acceleration", cspace, draft, options.acceleration, tree, rep)
+    jerk = _limits("jerk", cspace, draft, options.jerk, tree, rep)
     defaults = _default_positions(draft, tree, cspace, rep)
     tool_frames = _tool_frames(draft, tree, options, cspace, rep, collision_links, default_tool)
     geometry, world, self_c = _collision(draft, tree, options, rep)
@@ -217,23 +217,33 @@ _DEFAULT_LIMIT = {"acceleration": DEFAULT_ACCELERATION, "jerk": DEFAULT_JERK}
 def _limits(
     kind: str,
     cspace: list[str],
-    given: dict[str, float],
+    draft: Draft,
     cli: float | None,
     tree: RobotTree,
     rep: Reporter,
 ) -> list[float]:
-    """One limit per c-space joint: the sources', else ``--KIND``, else the default (reported)."""
+    """One limit per c-space joint: the sources', else ``--KIND``, else the default (reported;
+    at the joint limits file when it turns the limit off for those joints)."""
+    given: dict[str, float] = draft.acceleration if kind == "acceleration" else draft.jerk
     missing = [j for j in cspace if j not in given]
     value = cli if cli is not None else _DEFAULT_LIMIT[kind]
     if missing:
         origin = f"--{kind}" if cli is not None else "the default"
         sev = Severity.INFO if cli is not None else Severity.WARNING
         unit = _limit_unit(kind, [tree.joints[j].type for j in missing])
+        turned_off = [j for j in missing if (kind, j) in draft.limits_off]
+        why = ""
+        if turned_off:
+            why = (
+                f"; the joint limits file turns it off (has_{kind}_limits: false) for "
+                f"{name_list(turned_off, 6)}, and an XRDF needs one"
+            )
         rep.report(
             f"convert-default-{kind}",
             f"no {kind} limit in the inputs for {name_list(missing, 12)}: using {origin} "
-            f"{value:g} {unit}" + ("" if cli is not None else f" (set --{kind})"),
+            f"{value:g} {unit}" + ("" if cli is not None else f" (set --{kind})") + why,
             severity=sev,
+            at=draft.limits_off[(kind, turned_off[0])] if turned_off else None,
         )
     return [given.get(j, value) for j in cspace]
 

@@ -40,6 +40,9 @@ class Draft:
     #: Joint → a finding (``convert-limit-not-carried``) for MoveIt velocity or position limits
     #: tighter than the URDF's, which no XRDF reader sees; reported for c-space joints only.
     uncarried_limits: dict[str, Diagnostic] = field(default_factory=dict)
+    #: ``(kind, joint)`` → where a joint_limits.yaml turns that limit off
+    #: (``has_acceleration_limits: false``, as MoveIt Setup Assistant writes): ``(file, line)``.
+    limits_off: dict[tuple[str, str], tuple[str, int | None]] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
     def add_ignore(self, a: str, b: str) -> None:

@@ -74,35 +74,7 @@ def read_joint_limits(
                 rep.path, line, col, "convert-limit-not-carried", Severity.WARNING, tighter, kp
             )
         for kind, target in (("acceleration", d.acceleration), ("jerk", d.jerk)):
-            raw = values.get(f"max_{kind}")
-            has = values.get(f"has_{kind}_limits")
-            if raw is None or isinstance(raw, bool) or not isinstance(raw, (int, float)):
-                if has is True:
-                    rep.report(
-                        "convert-dropped-key",
-                        f"'{jname}' has_{kind}_limits is true but max_{kind} is missing",
-                        kp,
-                    )
-                continue
-            if has is False or (has is None and raw <= 0):
-                continue
-            if raw == 0:
-                continue
-            if (problem := bound_problem(raw)) is not None:
-                rep.report(
-                    "convert-dropped-key",
-                    f"'{jname}' max_{kind} {problem}; dropped",
-                    f"{kp}.max_{kind}",
-                )
-                continue
-            if raw < 0:
-                rep.report(
-                    "convert-negative-limit",
-                    f"'{jname}' max_{kind} is {raw}; using its absolute value",
-                    f"{kp}.max_{kind}",
-                    severity=Severity.INFO,
-                )
-            target[jname] = abs(float(raw))
+            _read_limit(kind, jname, values, kp, target, d, rep)
     for key, node in root.items():
         if key not in (
             "joint_limits",
@@ -120,6 +92,51 @@ def read_joint_limits(
         )
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _read_limit(
+    kind: str,
+    jname: str,
+    values: Mapping[str, object],
+    kp: str,
+    target: dict[str, float],
+    d: Draft,
+    rep: Reporter,
+) -> None:
+    """``max_KIND`` of one joint into ``target`` when the file gives it (see the module), or
+    where it turns it off (``has_KIND_limits: false``) into ``d.limits_off``."""
+    raw = values.get(f"max_{kind}")
+    has = values.get(f"has_{kind}_limits")
+    if has is False:
+        d.limits_off[(kind, jname)] = (rep.path, rep.position(kp)[0])
+        return
+    if raw is None or isinstance(raw, bool) or not isinstance(raw, (int, float)):
+        if has is True:
+            rep.report(
+                "convert-dropped-key",
+                f"'{jname}' has_{kind}_limits is true but max_{kind} is missing",
+                kp,
+            )
+        return
+    if has is None and raw <= 0:
+        return
+    if raw == 0:
+        return
+    if (problem := bound_problem(raw)) is not None:
+        rep.report(
+            "convert-dropped-key",
+            f"'{jname}' max_{kind} {problem}; dropped",
+            f"{kp}.max_{kind}",
+        )
+        return
+    if raw < 0:
+        rep.report(
+            "convert-negative-limit",
+            f"'{jname}' max_{kind} is {raw}; using its absolute value",
+            f"{kp}.max_{kind}",
+            severity=Severity.INFO,
+        )
+    target[jname] = abs(float(raw))
 
 
 def _report_unknown(rep: Reporter, unknown: Mapping[str, str], tree: RobotTree) -> None:
