@@ -1196,3 +1196,38 @@ def test_an_end_effector_naming_a_group_the_srdf_lacks_is_dropped_as_moveit_does
     assert "parent_group 'armm'" in said[1][1] and "did you mean 'arm'" in said[1][1]
     # the skipped end effector's parent link is no tool frame; the kept one's is
     assert d.tool_frames == ["c", "tip"]
+
+
+def test_joints_outside_the_cspace_are_held_at_their_own_groups_home(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """MoveIt's dual-arm Panda converted for its left arm held the right arm at 0 although
+    the SRDF gives the right arm a 'ready' state: every reader holds a joint outside the
+    c-space at its default, and the mask is computed there. A group's home/ready/default
+    state is taken for such joints; any other pose of theirs ('reach') is not."""
+    from xrdf_tools.convert.sources.srdf import read_srdf
+
+    def defaults(side_states: str) -> tuple[dict[str, float], list[str]]:
+        srdf = _write(
+            tmp_path,
+            f"""<robot name="t">
+            <group name="arm"><chain base_link="base" tip_link="tip"/></group>
+            <group name="side"><joint name="zz"/></group>
+            <group_state name="ready" group="arm"><joint name="j1" value="0.1"/></group_state>
+            {side_states}
+            </robot>""",
+        )
+        d = read_srdf(load_srdf(srdf), tree, group="arm")
+        said = [w.message for w in d.diagnostics if w.rule == "convert-chosen-state"]
+        return d.defaults, said
+
+    held, said = defaults(
+        '<group_state name="reach" group="side"><joint name="zz" value="0.9"/></group_state>'
+        '<group_state name="Home" group="side"><joint name="zz" value="0.4"/></group_state>'
+    )
+    assert held == {"j1": 0.1, "zz": 0.4}
+    assert any("joints outside the c-space (zz) held at group_state 'Home'" in m for m in said)
+    held, said = defaults(
+        '<group_state name="reach" group="side"><joint name="zz" value="0.9"/></group_state>'
+    )
+    assert held == {"j1": 0.1} and not any("outside the c-space" in m for m in said)

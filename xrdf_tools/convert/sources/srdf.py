@@ -26,6 +26,7 @@ from .srdf_groups import (
     group_joints,
     group_named,
     group_sizes,
+    home_state,
     unused_cycles,
 )
 from .srdf_parse import EndEffector, GroupState, Srdf, SrdfGroup, load_srdf, parse_srdf
@@ -116,9 +117,11 @@ def _known_end_effectors(srdf: Srdf, rep: Reporter) -> Srdf:
         problems = [] if ee.group else ["has no group"]
         for attr, name in (("group", ee.group), ("parent_group", ee.parent_group)):
             if name and name not in srdf.groups:
+                # not the arm it hangs from: the end effector's own group is what is missing
+                others = [g for g in srdf.groups if g != ee.parent_group]
                 problems.append(
                     f"names {attr} '{name}', which the SRDF does not define"
-                    f"{did_you_mean(name, srdf.groups)}"
+                    f"{did_you_mean(name, others)}"
                 )
         if not problems:
             kept.append(ee)
@@ -317,6 +320,8 @@ def _defaults(
             )
     if state is None and groups:
         chosen += _states_inside(srdf, tree, d.cspace or [], chosen, rep)
+    if state is None:
+        chosen += _states_of_held(srdf, tree, d.cspace or [], chosen, rep)
     for st in chosen:
         for jname, value in st.values:
             if _state_value_ok(srdf, tree, st, jname, rep) and jname not in d.defaults:
@@ -348,6 +353,37 @@ def _states_inside(
             "convert-chosen-state",
             f"default positions of {name_list(sorted(set(joints) & inside), 4)} from "
             f"group_state '{st.name}' ({why}; a group inside the c-space)",
+            at=srdf.at(st),
+        )
+    return out
+
+
+def _states_of_held(
+    srdf: Srdf, tree: RobotTree, cspace: list[str], chosen: list[GroupState], rep: Reporter
+) -> list[GroupState]:
+    """The home states (:func:`home_state`) of groups outside the c-space, for their joints the
+    chosen states leave without a value: every reader holds those joints at their default, so
+    the other arm of a two-arm robot converted for one is held at its ``ready``, not at 0."""
+    outside = set(cspace)
+    given = {n for st in chosen for n, _ in st.values}
+    out: list[GroupState] = []
+    for g in srdf.groups:
+        try:
+            joints = cspace_of(srdf, g, tree)
+        except SourceError:  # a broken group: warned about where it is checked
+            continue
+        if not joints or set(joints) & outside or not set(joints) - given:
+            continue
+        st = home_state(srdf, g)
+        if st is None or st in chosen or st in out:
+            continue
+        out.append(st)
+        given |= {n for n, _ in st.values}
+        rep.report(
+            "convert-chosen-state",
+            f"joints outside the c-space ({name_list(joints, 4)}) held at group_state "
+            f"'{st.name}' of group '{g}', where every reader holds them",
+            severity=Severity.INFO,
             at=srdf.at(st),
         )
     return out

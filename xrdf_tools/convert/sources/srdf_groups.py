@@ -30,6 +30,7 @@ __all__ = [
     "group_joints",
     "group_problems",
     "group_sizes",
+    "home_state",
     "member_groups",
     "unused_cycles",
 ]
@@ -412,6 +413,20 @@ def choose_state(
         if cands:
             return cands[0], f"the first state {why}"
     return None, ""
+
+
+def home_state(srdf: Srdf, group: str) -> GroupState | None:
+    """The group's state named home, ready or default (in that order; ``Home`` too), else one
+    with such a word in its name (``home_position``), else None: a pose the SRDF's author
+    meant as the group's rest, not any pose it lists (an ``open`` hand, an ``aggressive``
+    reach)."""
+    own = [s for s in srdf.group_states if s.group == group]
+    for match in (_named_preferred, _named_like_preferred):
+        for pref in PREFERRED_STATES:
+            for s in own:
+                if match(s.name, pref):
+                    return s
+    return None
 
 
 def _named_preferred(name: str, pref: str) -> bool:
