@@ -52,6 +52,7 @@ SEEDS: dict[str, list[Path]] = {
         FIXTURES / "curobo_classic" / "ur10e_inline.yml",
         FIXTURES / "curobo_classic" / "ur10e_lula.yaml",
         FIXTURES / "curobo_classic" / "ur10e_real_patterns.yml",
+        FIXTURES / "curobo_classic" / "ur10e_floating_base.yml",
     ],
     "spheres": [FIXTURES / "curobo_classic" / "spheres" / "ur10e.yml"],
 }
