@@ -163,3 +163,84 @@ def test_a_child_of_an_extra_link_that_is_not_added_is_not_called_unknown(tmp_pa
         _, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
         (d,) = [d for d in diags if "child_link_name" in d.message]
         assert why in d.message and d.line == _line(cfg, "child_link_name"), d
+
+
+def _extra(tmp_path: Path, links: str) -> Path:
+    """A fixed-arm UR10e config with these ``extra_links`` (indented under the key)."""
+    path = tmp_path / "extra.yml"
+    path.write_text(
+        f"""kinematics:
+  base_link: base_link
+  tool_frames: [tool0]
+  extra_links:
+{links}  cspace:
+    joint_names: [{", ".join(ARM)}]
+    default_joint_position: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    max_acceleration: 10.0
+    max_jerk: 500.0
+""",
+        encoding="utf-8",
+    )
+    return path
+
+
+@pytest.mark.parametrize(
+    ("second", "said"),
+    [
+        ("joint_name: elbow_joint", "joint 'elbow_joint' is already a joint of the URDF"),
+        ("joint_name: tcp_joint", "joint 'tcp_joint' is already a joint of extra link 'tcp'"),
+    ],
+)
+def test_a_joint_name_already_taken_is_refused_in_the_config(
+    tmp_path: Path, second: str, said: str
+) -> None:
+    """Before: the URDF's line-less 'add_frame 'tip': joint name … already exists', naming a
+    modifier the user never wrote and not the config."""
+    cfg = _extra(
+        tmp_path,
+        f"""    tcp:
+      parent_link_name: tool0
+    tip:
+      parent_link_name: tcp
+      {second}
+""",
+    )
+    with pytest.raises(SourceError) as err:
+        convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    assert err.value.path == str(cfg) and err.value.line == _line(cfg, second)
+    assert said in err.value.message and "give this extra link a joint_name" in err.value.message
+
+
+def test_a_link_name_an_earlier_extra_link_has_is_said_so_and_not_called_moving(
+    tmp_path: Path,
+) -> None:
+    cfg = _extra(
+        tmp_path,
+        """    tcp:
+      parent_link_name: tool0
+    tcp_again:
+      parent_link_name: tool0
+      link_name: tcp
+      joint_name: tcp_again_joint
+      joint_type: Z_ROT
+""",
+    )
+    _, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    rules = _by_rule(diags)
+    (dup,) = rules["convert-duplicate-frame"]
+    assert "'tcp' already exists as an earlier extra link; not added" in dup.message
+    assert not any("moves in cuRobo" in d.message for d in rules.get("convert-dropped-key", []))
+
+
+def test_a_quaternion_of_zeros_is_refused_where_it_is_written(tmp_path: Path) -> None:
+    """Before: exit 1 on a lint error located in the XRDF convert did not write."""
+    cfg = _extra(
+        tmp_path,
+        """    tcp:
+      parent_link_name: tool0
+      fixed_transform: [0, 0, 0.1, 0, 0, 0, 0]
+""",
+    )
+    with pytest.raises(SourceError) as err:
+        convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    assert err.value.line == _line(cfg, "fixed_transform") and "all zeros" in err.value.message

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from tests.paths import UR10E_URDF
 from tests.robots import robots_dir
 from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions, convert
@@ -294,3 +295,16 @@ def test_a_fixed_joint_shows_no_limits_even_with_a_limit_element(
     )
     out = runner.invoke(app, ["inspect", str(urdf)]).stdout
     assert "mount (fixed) → b" in out and "j (revolute [-1, 1], c-space #1) → c" in out, out
+
+
+@pytest.mark.parametrize("flag", ["--joints", "--chain"])
+@pytest.mark.parametrize("command", ["inspect", "convert"])
+def test_a_joints_or_chain_flag_naming_nothing_is_refused(
+    runner: CliRunner, command: str, flag: str
+) -> None:
+    """``--joints ,,`` (an empty shell variable, a stray comma) was read as no flag: convert
+    wrote the SRDF's or the whole tree's c-space, exit 0, without a word."""
+    result = runner.invoke(app, [command, str(UR10E_URDF), flag, " , ,"])
+    assert result.exit_code == 2, result.output
+    assert f"{flag} ' , ,' names nothing; give {flag} " in result.output
+    assert "Traceback" not in result.output

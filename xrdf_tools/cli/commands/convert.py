@@ -17,7 +17,7 @@ from ...util.numbers import MAX_SAMPLES, REPORT_SAMPLES
 from .options import format_version as format_version_option
 from .options import output as output_option
 from .options import seed as seed_option
-from .options import split_values
+from .options import split_names
 from .options import target as target_option
 from .plain import (
     OutputFormat,
@@ -257,8 +257,10 @@ def command(
             format_version=format_version,
             target=target,
             groups=tuple(group or ()),
-            joints=tuple(split_values(joints)),
-            chains=tuple(parse_chain(c) for c in split_values(chain)),
+            joints=tuple(split_names(joints, "--joints", "JOINT[,JOINT...]")),
+            chains=tuple(
+                parse_chain(c) for c in split_names(chain, "--chain", "BASE_LINK:TIP_LINK[,...]")
+            ),
         )
         fit = _fit_options(
             fit_spheres,

@@ -13,7 +13,7 @@ from typing import Annotated
 import typer
 
 from ...util.errors import XrdfToolsError
-from .options import split_values
+from .options import split_names
 from .plain import echo, timed
 from .typer_common import (
     ChainOption,
@@ -95,8 +95,10 @@ def command(
     try:
         choice = ConvertOptions(
             groups=tuple(group or ()),
-            chains=tuple(parse_chain(c) for c in split_values(chain)),
-            joints=tuple(split_values(joints)),
+            chains=tuple(
+                parse_chain(c) for c in split_names(chain, "--chain", "BASE_LINK:TIP_LINK[,...]")
+            ),
+            joints=tuple(split_names(joints, "--joints", "JOINT[,JOINT...]")),
             state=state,
             tool_frames=tuple(tool_frame or ()),
         )

@@ -20,6 +20,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
+from ...util.errors import SourceError
 from .plain import OutputFormat
 
 #: Converts an option's text to its value; raises ValueError when typer would refuse it (the
@@ -199,6 +200,15 @@ CHAIN = Option(
 def split_values(values: Sequence[str] | None) -> list[str]:
     """The values of a repeatable option that also takes comma-separated lists, in order."""
     return [v.strip() for item in values or [] for v in item.split(",") if v.strip()]
+
+
+def split_names(values: Sequence[str] | None, flag: str, form: str) -> list[str]:
+    """:func:`split_values` of an option whose every use must name something: ``--joints ,,``
+    or ``--chain ''`` is refused (a SourceError) rather than read as the option not given."""
+    for item in values or []:
+        if not split_values([item]):
+            raise SourceError(f"{flag} '{item}' names nothing; give {flag} {form}")
+    return split_values(values)
 
 
 #: What ``--target`` names, in every command that has it (``convert``, ``lint``,

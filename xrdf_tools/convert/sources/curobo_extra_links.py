@@ -94,18 +94,26 @@ def _read_one(k: KinSection, name: str, spec: Any) -> AddFrame | None:
                 f"extra_links.{name}.{key} has no XRDF equivalent; dropped",
                 f"{w}.{key}",
             )
+    x, y, z, qw, qx, qy, qz = (float(v) for v in ft)
+    if qw == qx == qy == qz == 0.0:
+        raise k.fail(
+            f"extra_links.{name}.fixed_transform: the quaternion (qw, qx, qy, qz) is all "
+            "zeros, which is no rotation; write 1, 0, 0, 0 for none",
+            "extra_links",
+            name,
+            "fixed_transform",
+        )
+    if link in k.frames:
+        where = "in the URDF" if link in k.tree.links else "as an earlier extra link"
+        k.rep.report(
+            "convert-duplicate-frame", f"extra link '{link}' already exists {where}; not added", w
+        )
+        return None
     joint = str(spec.get("joint_name") or f"{link}_joint")
+    _check_joint_name(k, name, joint, "joint_name" in spec)
     joint_type = str(spec.get("joint_type", "FIXED"))
     if joint_type.upper() != "FIXED":
         _report_moving(k, name, joint, joint_type, spec.get("joint_limits"))
-    if link in k.frames:
-        k.rep.report(
-            "convert-duplicate-frame",
-            f"extra link '{link}' already exists in the URDF; not added",
-            w,
-        )
-        return None
-    x, y, z, qw, qx, qy, qz = (float(v) for v in ft)
     return AddFrame(
         frame_name=link,
         parent_frame_name=parent,
@@ -113,6 +121,23 @@ def _read_one(k: KinSection, name: str, spec: Any) -> AddFrame | None:
         position=(x, y, z),
         orientation=Orientation.from_wxyz(qw, qx, qy, qz),
         joint_type="FIXED",
+    )
+
+
+def _check_joint_name(k: KinSection, name: str, joint: str, written: bool) -> None:
+    """Refuse, where it is written, a joint name the URDF or an earlier extra link has."""
+    earlier = [
+        m.frame_name for m in k.d.modifiers if isinstance(m, AddFrame) and m.joint_name == joint
+    ]
+    if joint not in k.tree.joints and not earlier:
+        return
+    owner = f"of extra link '{earlier[0]}'" if earlier else "of the URDF"
+    raise k.fail(
+        f"extra_links.{name}: joint '{joint}' is already a joint {owner}; give this extra "
+        "link a joint_name of its own",
+        "extra_links",
+        name,
+        "joint_name" if written else "link_name",
     )
 
 
