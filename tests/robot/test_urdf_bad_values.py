@@ -107,3 +107,15 @@ def test_a_simulator_model_given_as_the_robot_says_what_it_is(
     code, out = run_cli(runner, "convert", str(model), "-o", str(tmp_path / "o.xrdf"))
     assert code == 2, out
     assert f"{model}:2: the root element must be <robot>" in out and said in out
+
+
+def test_a_xacro_whose_root_is_not_a_robot_is_located(runner: CliRunner, tmp_path: Path) -> None:
+    """A xacro file holding a lone <link> (the fuzzer cut arm.urdf.xacro so): the error
+    named the file without a line, since the expansion's lines are not the file's."""
+    xacro = tmp_path / "part.urdf.xacro"
+    xacro.write_text(
+        '<?xml version="1.0"?>\n<!-- a part -->\n'
+        "<link name='y'><collision><geometry><sphere radius='0.1'/></geometry></collision></link>\n"
+    )
+    code, out = run_cli(runner, "convert", str(xacro), "-o", str(tmp_path / "o.xrdf"))
+    assert code == 2 and f"{xacro}:3: the root element must be <robot>, not <link>" in out, out

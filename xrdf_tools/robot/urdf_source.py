@@ -461,7 +461,7 @@ def relocate_expansion(root: Any, source: str) -> None:
     takes that line, and so does everything inside it; one that a macro or a ``$(arg)`` made
     has no line (lxml reads 0 as no line), also when the file writes the same tag literally
     for another element (a link the file defines and a macro defines again). The ``<robot>``
-    takes the line of its tag.
+    (or the element a wrong file has in its place) takes the line of its tag.
     """
     taken: set[int] = set()
     for el in root:
@@ -477,5 +477,9 @@ def relocate_expansion(root: Any, source: str) -> None:
             line = _line_of(source, found) or 0
         for node in el.iter():
             node.sourceline = line
-    tag = re.search(r"<robot[\s/>]", source)
+    from lxml import etree
+
+    # the <robot> tag, or the one a wrong file has in its place (a lone <link>)
+    name = etree.QName(root).localname if isinstance(root.tag, str) else "robot"
+    tag = re.search(rf"<(?:\w+:)?{re.escape(name)}[\s/>]", source)
     root.sourceline = (_line_of(source, tag.start()) or 0) if tag else 0
