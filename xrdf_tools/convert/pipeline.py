@@ -24,7 +24,6 @@ and what was masked and why (``convert-computed-mask``, counts per reason).
 from __future__ import annotations
 
 import os
-from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
@@ -38,7 +37,7 @@ from ..util.numbers import REPORT_SAMPLES
 from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
 from .fit_check import RULE_UNFITTED, unfitted_links
-from .mask_notes import default_pose_pairs, nothing_checked
+from .mask_notes import default_pose_pairs, mask_summary, nothing_checked
 from .sources.curobo_lula import RULE_NO_MASK
 
 if TYPE_CHECKING:
@@ -52,7 +51,6 @@ if TYPE_CHECKING:
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
 
 RULE_FITTED = "convert-fitted-spheres"
-RULE_MASK = "convert-computed-mask"
 
 #: ``progress(stage, done, total, item)``; ``stage`` is ``"fitting"`` (``item``: the link
 #: being fitted) or ``"sampling"`` (``item``: "").
@@ -456,37 +454,3 @@ def compute_mask(
         progress=step if progress is not None else None,
     )
     return recommended_xrdf(x, report), report
-
-
-_REASONS = (
-    ("adjacent", "adjacent"),
-    ("default", "colliding at the default configuration"),
-    ("always", "colliding in more than 95 % of them"),
-    ("never", "never colliding"),
-)
-
-
-def mask_summary(report: Report, x: Xrdf, mask: MaskOptions) -> Diagnostic:
-    """Counts per reason of the computed mask (``convert-computed-mask``)."""
-    ignored: Counter[str] = Counter(
-        p.classification for p in report.pairs if p.recommendation != "check"
-    )
-    checked = sum(1 for p in report.pairs if p.recommendation == "check")
-    reasons = ", ".join(f"{ignored[c]} {what}" for c, what in _REASONS if ignored[c])
-    sc = x.self_collision
-    total = len(sc.ignore_pairs()) if sc is not None else 0
-    sampled = {frozenset((p.frame_a, p.frame_b)) for p in report.pairs}
-    kept = total - sum(ignored.values())
-    msg = (
-        f"self_collision.ignore computed from {report.samples} {mask.sampler} samples (seed "
-        f"{mask.seed}), like `xrdf report --write-mask`: {sum(ignored.values())} pair(s) "
-        f"ignored ({reasons or 'none'}); {checked} pair(s) checked (they sometimes collide)"
-    )
-    if kept:
-        msg += f"; {kept} pair(s) of the inputs kept (a frame without spheres)"
-    removed = [p for p in report.mask_change.removed if frozenset(p) in sampled]
-    if removed:
-        msg += f"; {len(removed)} pair(s) of the inputs removed (they sometimes collide)"
-    return Diagnostic(
-        report.urdf_path, None, None, RULE_MASK, Severity.INFO, msg, "self_collision.ignore"
-    )
