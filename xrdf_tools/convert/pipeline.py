@@ -36,7 +36,7 @@ from ..util.frozen import FrozenMap
 from ..util.numbers import REPORT_SAMPLES
 from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
-from .fit_check import RULE_UNFITTED, unfitted_links
+from .fit_check import RULE_UNFITTED, moving_links_without_spheres, unfitted_links
 from .mask_notes import default_pose_pairs, mask_summary, nothing_checked
 from .sources.curobo_lula import RULE_NO_MASK
 
@@ -364,8 +364,17 @@ def fit_missing_spheres(
     errors = unfitted_links(
         robot.path, todo, fitted, diags, allowed_missing=missing, lines=robot.link_lines
     )
+    if fit.source == "collision":
+        moved_by = _moved_by_cspace(robot, x)
+        errors += moving_links_without_spheres(robot.path, visual_only, moved_by, robot.link_lines)
     said = located_at_elements([*diags, summary, *errors], robot.path, robot.include_places)
     return with_spheres(x, dict(merged)), counts, said
+
+
+def _moved_by_cspace(robot: Robot, x: Xrdf) -> dict[str, str]:
+    """Child link -> joint, for each c-space joint of ``x``."""
+    cspace = set(x.cspace.joint_names) if x.cspace is not None else set()
+    return {j.child: name for name, j in robot.urdf.joint_map.items() if name in cspace}
 
 
 def _check_frame_ceiling(path: str, frames: int) -> None:
