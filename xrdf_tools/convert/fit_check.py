@@ -9,6 +9,11 @@ command: :func:`unfitted_links` turns it into one error per link, naming the lin
 Meshes the user allowed to be missing (``--allow-missing-meshes``) are the exception: their
 parts are left out with a warning each, and a link whose only geometry is such a mesh gets no
 spheres without an error.
+
+A link with visual geometry only is not fitted by default (``--from collision``): cameras and
+covers are usually not what a robot collides with. A link that a c-space joint moves directly
+is a moving body, though (Doosan's M1013 URDF gives its elbow and flange no ``<collision>``):
+:func:`moving_links_without_spheres` warns that the planner cannot see it.
 """
 
 from __future__ import annotations
@@ -18,9 +23,15 @@ from collections.abc import Mapping, Sequence
 from ..diagnostics import Diagnostic, Severity
 from ..robot.link_geometry import PartFailure
 
-__all__ = ["RULE_UNFITTED", "unfitted_links"]
+__all__ = [
+    "RULE_MOVING_UNFITTED",
+    "RULE_UNFITTED",
+    "moving_links_without_spheres",
+    "unfitted_links",
+]
 
 RULE_UNFITTED = "spheres-link-not-covered"
+RULE_MOVING_UNFITTED = "convert-moving-link-without-spheres"
 
 #: The fitting diagnostics that say a part or a link was dropped.
 _DROPPED_RULES = frozenset({"spheres-mesh-unreadable", "spheres-unsupported-geometry"})
@@ -76,3 +87,28 @@ def _reasons(link: str, messages: Sequence[str]) -> str:
     prefix = f"link '{link}'"
     parts = [m.removeprefix(prefix).lstrip(" :").removesuffix(_PART_DROPPED) for m in messages]
     return "; ".join(dict.fromkeys(parts))
+
+
+def moving_links_without_spheres(
+    path: str,
+    visual_only: Sequence[str],
+    moved_by: Mapping[str, str],
+    lines: Mapping[str, int] | None = None,
+) -> list[Diagnostic]:
+    """One warning per link of ``visual_only`` (left without spheres) that a c-space joint
+    moves directly (``moved_by``: child link -> c-space joint), located at the link."""
+    return [
+        Diagnostic(
+            path,
+            None if lines is None else lines.get(link),
+            None,
+            RULE_MOVING_UNFITTED,
+            Severity.WARNING,
+            f"link '{link}', moved by c-space joint '{moved_by[link]}', has visual geometry "
+            "only, so it gets no spheres and the planner sees it neither against obstacles nor "
+            "against the rest of the robot; --from auto fits spheres to its visual geometry "
+            "(or give it <collision> in the URDF)",
+        )
+        for link in visual_only
+        if link in moved_by
+    ]

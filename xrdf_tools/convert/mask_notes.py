@@ -1,9 +1,11 @@
-"""Warnings on the self-collision mask ``xrdf convert --fit-spheres`` computed: pairs it ignores
-because they collide at the default configuration (``convert-mask-default-pose``), and a mask
-that leaves nothing to check (``convert-mask-nothing-checked``)."""
+"""What ``xrdf convert --fit-spheres`` says of the self-collision mask it computed: its counts and
+the input's pairs it removed (``convert-computed-mask``), pairs it ignores because they collide
+at the default configuration (``convert-mask-default-pose``), and a mask that leaves nothing to
+check (``convert-mask-nothing-checked``)."""
 
 from __future__ import annotations
 
+from collections import Counter
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, Severity
@@ -11,9 +13,19 @@ from ..util.text import name_list
 
 if TYPE_CHECKING:
     from ..report import Report
+    from ..xrdf.model import Xrdf
+    from .pipeline import MaskOptions
 
-__all__ = ["RULE_MASK_DEFAULT", "RULE_MASK_NOTHING", "default_pose_pairs", "nothing_checked"]
+__all__ = [
+    "RULE_MASK",
+    "RULE_MASK_DEFAULT",
+    "RULE_MASK_NOTHING",
+    "default_pose_pairs",
+    "mask_summary",
+    "nothing_checked",
+]
 
+RULE_MASK = "convert-computed-mask"
 RULE_MASK_DEFAULT = "convert-mask-default-pose"
 RULE_MASK_NOTHING = "convert-mask-nothing-checked"
 
@@ -88,3 +100,51 @@ def nothing_checked(report: Report) -> list[Diagnostic]:
             "self_collision.ignore",
         )
     ]
+
+
+_REASONS = (
+    ("adjacent", "adjacent"),
+    ("default", "colliding at the default configuration"),
+    ("always", "colliding in more than 95 % of them"),
+    ("never", "never colliding"),
+)
+
+
+def mask_summary(report: Report, x: Xrdf, mask: MaskOptions) -> Diagnostic:
+    """Counts per reason of the computed mask (``convert-computed-mask``)."""
+    ignored: Counter[str] = Counter(
+        p.classification for p in report.pairs if p.recommendation != "check"
+    )
+    checked = sum(1 for p in report.pairs if p.recommendation == "check")
+    reasons = ", ".join(f"{ignored[c]} {what}" for c, what in _REASONS if ignored[c])
+    sc = x.self_collision
+    total = len(sc.ignore_pairs()) if sc is not None else 0
+    sampled = {frozenset((p.frame_a, p.frame_b)) for p in report.pairs}
+    kept = total - sum(ignored.values())
+    msg = (
+        f"self_collision.ignore computed from {report.samples} {mask.sampler} samples (seed "
+        f"{mask.seed}), like `xrdf report --write-mask`: {sum(ignored.values())} pair(s) "
+        f"ignored ({reasons or 'none'}); {checked} pair(s) checked (they sometimes collide)"
+    )
+    if kept:
+        msg += f"; {kept} pair(s) of the inputs kept (a frame without spheres)"
+    removed = [p for p in report.mask_change.removed if frozenset(p) in sampled]
+    if removed:
+        msg += (
+            f"; {len(removed)} pair(s) of the inputs removed (they sometimes collide): "
+            + _removed_pairs(report, removed)
+        )
+    return Diagnostic(
+        report.urdf_path, None, None, RULE_MASK, Severity.INFO, msg, "self_collision.ignore"
+    )
+
+
+def _removed_pairs(report: Report, removed: list[tuple[str, str]]) -> str:
+    """``a/b (in 3.3 % of samples)``: the input's ignored pairs the samples saw collide."""
+    rates = {frozenset((p.frame_a, p.frame_b)): p.rate for p in report.pairs}
+
+    def named(a: str, b: str) -> str:
+        rate = rates.get(frozenset((a, b)))
+        return f"{a}/{b} (in {rate:.1%} of samples)" if rate else f"{a}/{b}"
+
+    return name_list(named(a, b) for a, b in removed)

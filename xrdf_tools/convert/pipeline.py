@@ -24,7 +24,6 @@ and what was masked and why (``convert-computed-mask``, counts per reason).
 from __future__ import annotations
 
 import os
-from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
@@ -37,8 +36,8 @@ from ..util.frozen import FrozenMap
 from ..util.numbers import REPORT_SAMPLES
 from ..util.text import name_list
 from .core import ConvertOptions, convert, with_spheres
-from .fit_check import RULE_UNFITTED, unfitted_links
-from .mask_notes import default_pose_pairs, nothing_checked
+from .fit_check import RULE_UNFITTED, moving_links_without_spheres, unfitted_links
+from .mask_notes import default_pose_pairs, mask_summary, nothing_checked
 from .sources.curobo_lula import RULE_NO_MASK
 
 if TYPE_CHECKING:
@@ -52,7 +51,6 @@ if TYPE_CHECKING:
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
 
 RULE_FITTED = "convert-fitted-spheres"
-RULE_MASK = "convert-computed-mask"
 
 #: ``progress(stage, done, total, item)``; ``stage`` is ``"fitting"`` (``item``: the link
 #: being fitted) or ``"sampling"`` (``item``: "").
@@ -366,8 +364,17 @@ def fit_missing_spheres(
     errors = unfitted_links(
         robot.path, todo, fitted, diags, allowed_missing=missing, lines=robot.link_lines
     )
+    if fit.source == "collision":
+        moved_by = _moved_by_cspace(robot, x)
+        errors += moving_links_without_spheres(robot.path, visual_only, moved_by, robot.link_lines)
     said = located_at_elements([*diags, summary, *errors], robot.path, robot.include_places)
     return with_spheres(x, dict(merged)), counts, said
+
+
+def _moved_by_cspace(robot: Robot, x: Xrdf) -> dict[str, str]:
+    """Child link -> joint, for each c-space joint of ``x``."""
+    cspace = set(x.cspace.joint_names) if x.cspace is not None else set()
+    return {j.child: name for name, j in robot.urdf.joint_map.items() if name in cspace}
 
 
 def _check_frame_ceiling(path: str, frames: int) -> None:
@@ -456,37 +463,3 @@ def compute_mask(
         progress=step if progress is not None else None,
     )
     return recommended_xrdf(x, report), report
-
-
-_REASONS = (
-    ("adjacent", "adjacent"),
-    ("default", "colliding at the default configuration"),
-    ("always", "colliding in more than 95 % of them"),
-    ("never", "never colliding"),
-)
-
-
-def mask_summary(report: Report, x: Xrdf, mask: MaskOptions) -> Diagnostic:
-    """Counts per reason of the computed mask (``convert-computed-mask``)."""
-    ignored: Counter[str] = Counter(
-        p.classification for p in report.pairs if p.recommendation != "check"
-    )
-    checked = sum(1 for p in report.pairs if p.recommendation == "check")
-    reasons = ", ".join(f"{ignored[c]} {what}" for c, what in _REASONS if ignored[c])
-    sc = x.self_collision
-    total = len(sc.ignore_pairs()) if sc is not None else 0
-    sampled = {frozenset((p.frame_a, p.frame_b)) for p in report.pairs}
-    kept = total - sum(ignored.values())
-    msg = (
-        f"self_collision.ignore computed from {report.samples} {mask.sampler} samples (seed "
-        f"{mask.seed}), like `xrdf report --write-mask`: {sum(ignored.values())} pair(s) "
-        f"ignored ({reasons or 'none'}); {checked} pair(s) checked (they sometimes collide)"
-    )
-    if kept:
-        msg += f"; {kept} pair(s) of the inputs kept (a frame without spheres)"
-    removed = [p for p in report.mask_change.removed if frozenset(p) in sampled]
-    if removed:
-        msg += f"; {len(removed)} pair(s) of the inputs removed (they sometimes collide)"
-    return Diagnostic(
-        report.urdf_path, None, None, RULE_MASK, Severity.INFO, msg, "self_collision.ignore"
-    )

@@ -47,6 +47,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-duplicate-key", W, "A key repeated in a cuRobo file: the last value is used."),
         ("convert-empty-cspace", W, "The c-space is empty."),
         ("convert-fitted-spheres", I, "--fit-spheres: spheres fitted per link, links left out."),
+        (
+            "convert-moving-link-without-spheres",
+            W,
+            "--fit-spheres: a link a c-space joint moves has visual geometry only: no spheres.",
+        ),
         ("convert-floating-base", W, "A floating/planar joint above the robot: base below it."),
         ("convert-launch-substitution", I, "$(var NAME) in joint_limits: --xacro-arg or ''."),
         (
