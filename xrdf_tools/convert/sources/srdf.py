@@ -8,7 +8,7 @@ names are re-exported here.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import replace
 
 from ...diagnostics import Severity
@@ -328,6 +328,20 @@ def _defaults(
                 d.defaults[jname] = value
 
 
+def _groups_lacking(
+    srdf: Srdf, tree: RobotTree, given: set[str], fits: Callable[[set[str]], bool]
+) -> Iterator[tuple[str, list[str]]]:
+    """The groups, in SRDF order, whose c-space ``fits`` and has joints not in ``given`` (read
+    as the caller adds to it); broken groups are skipped (warned about where they are checked)."""
+    for g in srdf.groups:
+        try:
+            joints = cspace_of(srdf, g, tree)
+        except SourceError:
+            continue
+        if joints and fits(set(joints)) and set(joints) - given:
+            yield g, joints
+
+
 def _states_inside(
     srdf: Srdf, tree: RobotTree, cspace: list[str], chosen: list[GroupState], rep: Reporter
 ) -> list[GroupState]:
@@ -337,13 +351,7 @@ def _states_inside(
     inside = set(cspace)
     given = {n for st in chosen for n, _ in st.values}
     out: list[GroupState] = []
-    for g in srdf.groups:
-        try:
-            joints = cspace_of(srdf, g, tree)
-        except SourceError:  # a broken group: warned about where it is checked
-            continue
-        if not joints or not set(joints) <= inside or not set(joints) - given:
-            continue
+    for g, joints in _groups_lacking(srdf, tree, given, lambda js: js <= inside):
         st, why = choose_state(srdf, g, joints, None)
         if st is None or st in chosen or st in out:
             continue
@@ -364,16 +372,10 @@ def _states_of_held(
     """The home states (:func:`home_state`) of groups outside the c-space, for their joints the
     chosen states leave without a value: every reader holds those joints at their default, so
     the other arm of a two-arm robot converted for one is held at its ``ready``, not at 0."""
-    outside = set(cspace)
+    planned = set(cspace)
     given = {n for st in chosen for n, _ in st.values}
     out: list[GroupState] = []
-    for g in srdf.groups:
-        try:
-            joints = cspace_of(srdf, g, tree)
-        except SourceError:  # a broken group: warned about where it is checked
-            continue
-        if not joints or set(joints) & outside or not set(joints) - given:
-            continue
+    for g, joints in _groups_lacking(srdf, tree, given, lambda js: not js & planned):
         st = home_state(srdf, g)
         if st is None or st in chosen or st in out:
             continue
