@@ -14,7 +14,6 @@ from ..util.text import name_list
 if TYPE_CHECKING:
     from ..report import Report
     from ..xrdf.model import Xrdf
-    from .pipeline import MaskOptions
 
 __all__ = [
     "RULE_MASK",
@@ -110,7 +109,7 @@ _REASONS = (
 )
 
 
-def mask_summary(report: Report, x: Xrdf, mask: MaskOptions) -> Diagnostic:
+def mask_summary(report: Report, x: Xrdf) -> Diagnostic:
     """Counts per reason of the computed mask (``convert-computed-mask``)."""
     ignored: Counter[str] = Counter(
         p.classification for p in report.pairs if p.recommendation != "check"
@@ -122,8 +121,8 @@ def mask_summary(report: Report, x: Xrdf, mask: MaskOptions) -> Diagnostic:
     sampled = {frozenset((p.frame_a, p.frame_b)) for p in report.pairs}
     kept = total - sum(ignored.values())
     msg = (
-        f"self_collision.ignore computed from {report.samples} {mask.sampler} samples (seed "
-        f"{mask.seed}), like `xrdf report --write-mask`: {sum(ignored.values())} pair(s) "
+        f"self_collision.ignore computed from {report.samples} {report.sampler} samples (seed "
+        f"{report.seed}), like `xrdf report --write-mask`: {sum(ignored.values())} pair(s) "
         f"ignored ({reasons or 'none'}); {checked} pair(s) checked (they sometimes collide)"
     )
     if kept:

@@ -157,7 +157,7 @@ def convert_robot(
         x, report = compute_mask(x, loaded, mask, progress=progress)
         if no_mask:  # the summary says what the warning asked for
             diags = [d for d in diags if d.rule != RULE_NO_MASK]
-        diags.extend(_mask_notes(report, x, mask, lula=no_mask))
+        diags.extend(_mask_notes(report, x, lula=no_mask))
     text = dump_xrdf(x)
     lint_diags: list[Diagnostic] = []
     if lint:
@@ -197,13 +197,11 @@ def _with_fitted_spheres(
     return x, fitted, [*kept, *more]
 
 
-def _mask_notes(
-    report: Report, x: Xrdf, mask: MaskOptions, *, lula: bool = False
-) -> list[Diagnostic]:
+def _mask_notes(report: Report, x: Xrdf, *, lula: bool = False) -> list[Diagnostic]:
     """What the computed mask says: its summary (``lula``: computed because the Lula
     description has none), the pairs ignored for colliding at the default pose, and that
     nothing is left to check."""
-    summary = mask_summary(report, x, mask)
+    summary = mask_summary(report, x)
     if lula:
         why = "the Lula robot description has no self-collision mask (Lula checks none), so "
         summary = replace(summary, message=why + summary.message)
