@@ -308,3 +308,16 @@ def test_a_joints_or_chain_flag_naming_nothing_is_refused(
     assert result.exit_code == 2, result.output
     assert f"{flag} ' , ,' names nothing; give {flag} " in result.output
     assert "Traceback" not in result.output
+
+
+def test_a_tool_frame_given_twice_is_one_tool_frame(runner: CliRunner, tmp_path: Path) -> None:
+    """convert wrote `tool_frames: [tool0, tool0]` (lint's repeated-tool-frame warns on it)."""
+    urdf = _path(TIAGO)
+    out = tmp_path / "t.xrdf"
+    flags = ["--chain", "base_footprint:arm_tool_link"]
+    flags += ["--tool-frame", "arm_tool_link", "--tool-frame", "arm_tool_link"]
+    result = runner.invoke(app, ["convert", str(urdf), *flags, "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "tool_frames: [arm_tool_link]" in out.read_text()
+    lint = runner.invoke(app, ["lint", str(out), "--urdf", str(urdf)])
+    assert "repeated-tool-frame" not in lint.output

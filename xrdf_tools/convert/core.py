@@ -366,7 +366,8 @@ def _tool_frames(
     from .sources.cspace import guessed_tool_frames
 
     frames = set(tree.links) | {m.frame_name for m in draft.modifiers if isinstance(m, AddFrame)}
-    tool_frames = list(options.tool_frames) or list(draft.tool_frames)
+    # a frame given twice (--tool-frame tool0 --tool-frame tool0) is one tool frame
+    tool_frames = list(dict.fromkeys(options.tool_frames)) or list(draft.tool_frames)
     for t in options.tool_frames:
         if t not in frames:
             raise SourceError(
