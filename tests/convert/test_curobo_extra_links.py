@@ -244,3 +244,19 @@ def test_a_quaternion_of_zeros_is_refused_where_it_is_written(tmp_path: Path) ->
     with pytest.raises(SourceError) as err:
         convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
     assert err.value.line == _line(cfg, "fixed_transform") and "all zeros" in err.value.message
+
+
+def test_extra_links_in_any_order_are_added_parents_first(tmp_path: Path) -> None:
+    """cuRobo builds its tree from extra_links in any order; a child written before its parent
+    was called "not a link of the URDF" and dropped."""
+    cfg = _config(tmp_path)
+    text = cfg.read_text()
+    x_block = text[text.index("    base_x:\n") : text.index("    base_yaw:\n")]
+    yaw_end = text.index("  cspace:\n")
+    yaw_block = text[text.index("    base_yaw:\n") : yaw_end]
+    cfg.write_text(text.replace(x_block + yaw_block, yaw_block + x_block))
+    assert cfg.read_text().index("base_yaw:") < cfg.read_text().index("base_x:")
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    assert not [d for d in diags if d.rule == "convert-unknown-link"], diags
+    frames = [(m.frame_name, m.parent_frame_name) for m in x.modifiers if isinstance(m, AddFrame)]
+    assert frames == [("base_x", "base_link"), ("base_yaw", "base_x")]

@@ -18,7 +18,7 @@ that describe only how it moves (limits, axis, mimic) go with the moving link's 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from typing import Any
 
 from ...diagnostics import Severity
@@ -55,11 +55,11 @@ SAME_PLACE_RAD = 1e-9
 
 
 def read_extra_links(k: KinSection) -> None:
-    """Add a frame per extra link (parents first, as written); say what an XRDF cannot hold."""
+    """Add a frame per extra link, each after its parent; say what an XRDF cannot hold."""
     links = k.mapping("extra_links")
     poses: dict[str, tuple[str, Pose]] = {}  # added frame -> (parent, its fixed transform)
-    for name, spec in links.items():
-        added = _read_one(k, str(name), spec)
+    for name, spec in _parents_first(links, k.frames):
+        added = _read_one(k, name, spec)
         if added is not None:
             k.d.modifiers.append(added)
             k.frames.append(added.frame_name)
@@ -69,6 +69,27 @@ def read_extra_links(k: KinSection) -> None:
         if child is not None:
             link = str(spec.get("link_name") or name)
             _read_child(k, str(name), link, str(child), poses)
+
+
+def _parents_first(links: Mapping[str, Any], frames: Collection[str]) -> list[tuple[str, Any]]:
+    """The extra links, each after the extra link it hangs from (cuRobo builds its tree from
+    them in any order; an XRDF adds a frame only to one that exists), else in the file's order;
+    those whose parent never comes (no such frame, a loop) last, where they are said."""
+    known = set(frames)
+    pending = [(str(n), spec) for n, spec in links.items()]
+    out: list[tuple[str, Any]] = []
+    while pending:
+        ready = [
+            (n, spec)
+            for n, spec in pending
+            if not isinstance(spec, Mapping) or str(spec.get("parent_link_name", "")) in known
+        ]
+        if not ready:
+            break
+        out += ready
+        known |= {str(spec.get("link_name") or n) for n, spec in ready if isinstance(spec, Mapping)}
+        pending = [item for item in pending if item not in ready]
+    return out + pending
 
 
 def _read_one(k: KinSection, name: str, spec: Any) -> AddFrame | None:
