@@ -372,7 +372,7 @@ def fit_missing_spheres(
 def _moved_by_cspace(robot: Robot, x: Xrdf) -> dict[str, str]:
     """Child link -> joint, for each c-space joint of ``x``."""
     cspace = set(x.cspace.joint_names) if x.cspace is not None else set()
-    return {j.child: name for name, j in robot.urdf.joint_map.items() if name in cspace}
+    return {j.child: name for name, j in robot.tree.joints.items() if name in cspace}
 
 
 def _check_frame_ceiling(path: str, frames: int) -> None:

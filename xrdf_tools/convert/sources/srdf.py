@@ -8,7 +8,7 @@ names are re-exported here.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 from ...diagnostics import Severity
@@ -328,18 +328,32 @@ def _defaults(
                 d.defaults[jname] = value
 
 
-def _groups_lacking(
-    srdf: Srdf, tree: RobotTree, given: set[str], fits: Callable[[set[str]], bool]
-) -> Iterator[tuple[str, list[str]]]:
-    """The groups, in SRDF order, whose c-space ``fits`` and has joints not in ``given`` (read
-    as the caller adds to it); broken groups are skipped (warned about where they are checked)."""
+def _more_states(
+    srdf: Srdf,
+    tree: RobotTree,
+    chosen: list[GroupState],
+    fits: Callable[[set[str]], bool],
+    pick: Callable[[str, list[str]], tuple[GroupState | None, str]],
+) -> list[tuple[str, list[str], GroupState, str]]:
+    """``(group, its c-space, state, why)`` for the groups, in SRDF order, whose c-space
+    ``fits`` and still has joints without a value (after ``chosen`` and the states taken
+    before), and whose ``pick`` gives a state not taken yet; broken groups are skipped (warned
+    about where they are checked)."""
+    given = {n for st in chosen for n, _ in st.values}
+    taken: list[tuple[str, list[str], GroupState, str]] = []
     for g in srdf.groups:
         try:
             joints = cspace_of(srdf, g, tree)
         except SourceError:
             continue
-        if joints and fits(set(joints)) and set(joints) - given:
-            yield g, joints
+        if not (joints and fits(set(joints)) and set(joints) - given):
+            continue
+        st, why = pick(g, joints)
+        if st is None or st in chosen or st in [t[2] for t in taken]:
+            continue
+        taken.append((g, joints, st, why))
+        given |= {n for n, _ in st.values}
+    return taken
 
 
 def _states_inside(
@@ -349,21 +363,17 @@ def _states_inside(
     chosen states leave without a value (Galaxea R1's mobile_both_arms: its subgroups have no
     state, its arms' 'home' is a state of the group both_arms), in SRDF order."""
     inside = set(cspace)
-    given = {n for st in chosen for n, _ in st.values}
-    out: list[GroupState] = []
-    for g, joints in _groups_lacking(srdf, tree, given, lambda js: js <= inside):
-        st, why = choose_state(srdf, g, joints, None)
-        if st is None or st in chosen or st in out:
-            continue
-        out.append(st)
-        given |= {n for n, _ in st.values}
+    taken = _more_states(
+        srdf, tree, chosen, lambda js: js <= inside, lambda g, js: choose_state(srdf, g, js, None)
+    )
+    for _, joints, st, why in taken:
         rep.report(
             "convert-chosen-state",
             f"default positions of {name_list(sorted(set(joints) & inside), 4)} from "
             f"group_state '{st.name}' ({why}; a group inside the c-space)",
             at=srdf.at(st),
         )
-    return out
+    return [st for _, _, st, _ in taken]
 
 
 def _states_of_held(
@@ -373,14 +383,10 @@ def _states_of_held(
     chosen states leave without a value: every reader holds those joints at their default, so
     the other arm of a two-arm robot converted for one is held at its ``ready``, not at 0."""
     planned = set(cspace)
-    given = {n for st in chosen for n, _ in st.values}
-    out: list[GroupState] = []
-    for g, joints in _groups_lacking(srdf, tree, given, lambda js: not js & planned):
-        st = home_state(srdf, g)
-        if st is None or st in chosen or st in out:
-            continue
-        out.append(st)
-        given |= {n for n, _ in st.values}
+    taken = _more_states(
+        srdf, tree, chosen, lambda js: not js & planned, lambda g, _: (home_state(srdf, g), "")
+    )
+    for g, joints, st, _ in taken:
         rep.report(
             "convert-chosen-state",
             f"joints outside the c-space ({name_list(joints, 4)}) held at group_state "
@@ -388,7 +394,7 @@ def _states_of_held(
             severity=Severity.INFO,
             at=srdf.at(st),
         )
-    return out
+    return [st for _, _, st, _ in taken]
 
 
 def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep: Reporter) -> bool:

@@ -9,19 +9,17 @@ from collections.abc import Iterator
 
 from ...diagnostics import Severity
 from ..context import LintContext, Problem, Rule
+from ._repeats import repeats
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
-    first: dict[str, int] = {}
-    for i, (n, node) in enumerate(ctx.cspace_joint_nodes()):
-        if n in first:
-            yield ctx.problem(
-                node,
-                f"joint '{n}' is already c-space coordinate {first[n]}; each joint may appear once",
-                f"cspace.joint_names[{i}]",
-            )
-        else:
-            first[n] = i
+    named = ((n, (i, node)) for i, (n, node) in enumerate(ctx.cspace_joint_nodes()))
+    for n, (i, node), (first, _) in repeats(named):
+        yield ctx.problem(
+            node,
+            f"joint '{n}' is already c-space coordinate {first}; each joint may appear once",
+            f"cspace.joint_names[{i}]",
+        )
 
 
 RULE = Rule("repeated-cspace-joint", Severity.ERROR, check, __doc__ or "")

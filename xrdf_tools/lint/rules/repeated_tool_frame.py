@@ -12,25 +12,20 @@ from collections.abc import Iterator
 from ...diagnostics import Severity
 from ...yaml.io import YSeq
 from ..context import LintContext, Problem, Rule, name
+from ._repeats import repeats
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
     tools = ctx.get("tool_frames")
     if not isinstance(tools, YSeq):
         return
-    first: dict[str, int] = {}
-    for i, item in enumerate(tools.items):
-        n = name(item)
-        if n is None:
-            continue
-        if n in first:
-            yield ctx.problem(
-                item,
-                f"tool frame '{n}' is already tool_frames[{first[n]}]; each frame may appear once",
-                f"tool_frames[{i}]",
-            )
-        else:
-            first[n] = i
+    named = ((n, (i, item)) for i, item in enumerate(tools.items) if (n := name(item)) is not None)
+    for n, (i, item), (first, _) in repeats(named):
+        yield ctx.problem(
+            item,
+            f"tool frame '{n}' is already tool_frames[{first}]; each frame may appear once",
+            f"tool_frames[{i}]",
+        )
 
 
 RULE = Rule("repeated-tool-frame", Severity.WARNING, check, __doc__ or "")
