@@ -224,7 +224,7 @@ def _limits(
 ) -> list[float]:
     """One limit per c-space joint: the sources', else ``--KIND``, else the default (reported;
     at the joint limits file when it turns the limit off for those joints)."""
-    given: dict[str, float] = draft.acceleration if kind == "acceleration" else draft.jerk
+    given = draft.limits(kind)
     missing = [j for j in cspace if j not in given]
     value = cli if cli is not None else _DEFAULT_LIMIT[kind]
     if missing:

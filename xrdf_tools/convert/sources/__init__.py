@@ -45,6 +45,10 @@ class Draft:
     limits_off: dict[tuple[str, str], tuple[str, int | None]] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
+    def limits(self, kind: str) -> dict[str, float]:
+        """The ``acceleration`` or ``jerk`` limits, by joint."""
+        return self.acceleration if kind == "acceleration" else self.jerk
+
     def add_ignore(self, a: str, b: str) -> None:
         """Add the pair once (in either direction), folded under ``a``."""
         if a == b or b in self.ignore.get(a, ()) or a in self.ignore.get(b, ()):

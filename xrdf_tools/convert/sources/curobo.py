@@ -242,13 +242,9 @@ def _read_cspace(k: KinSection) -> None:
                 target[n] = source[n]
     _read_locks(k, locks, def_map, names, default_key)
     for n, v in def_map.items():
-        if n in k.moving_joints and v != 0.0 and n not in locks:
-            k.rep.report(
-                "convert-dropped-joint-value",
-                f"c-space joint '{n}' moves extra link '{k.moving_joints[n]}', which the XRDF "
-                f"holds at its zero pose; its {default_key} value {v!r} is not applied",
-                k.kp("cspace", default_key) + f"[{names.index(n)}]",
-            )
+        if n in k.moving_joints and n not in locks:
+            where = k.kp("cspace", default_key) + f"[{names.index(n)}]"
+            _moving_value_unused(k, f"c-space joint '{n}'", n, f"{default_key} value", v, where)
 
 
 def _cspace_joints(k: KinSection, names: list[str], locks: Mapping[str, Any]) -> list[str]:
@@ -300,7 +296,7 @@ def _read_locks(
         where = k.kp("lock_joints", n)
         j = k.tree.joints.get(str(n))
         if j is None and str(n) in k.moving_joints:
-            _read_moving_lock(k, str(n), v, where)
+            _moving_value_unused(k, f"locked joint '{n}'", str(n), "lock value", v, where)
         elif j is None:
             k.rep.report(
                 "convert-unknown-joint",
@@ -329,14 +325,17 @@ def _read_locks(
             )
 
 
-def _read_moving_lock(k: KinSection, joint: str, value: Any, where: str) -> None:
-    """A lock on a moving extra link's joint: that link is written at its zero pose."""
+def _moving_value_unused(
+    k: KinSection, who: str, joint: str, what: str, value: Any, where: str
+) -> None:
+    """A value given for a moving extra link's joint (its default, its lock): the XRDF holds
+    that link at its zero pose, so a value other than 0 is said not applied."""
     if is_num(value) and float(value) == 0.0:
         return
     k.rep.report(
         "convert-dropped-joint-value",
-        f"locked joint '{joint}' moves extra link '{k.moving_joints[joint]}', which the XRDF "
-        f"holds at its zero pose; its lock value {value!r} is not applied",
+        f"{who} moves extra link '{k.moving_joints[joint]}', which the XRDF holds at its zero "
+        f"pose; its {what} {value!r} is not applied",
         where,
     )
 

@@ -73,8 +73,8 @@ def read_joint_limits(
             d.uncarried_limits[jname] = Diagnostic(
                 rep.path, line, col, "convert-limit-not-carried", Severity.WARNING, tighter, kp
             )
-        for kind, target in (("acceleration", d.acceleration), ("jerk", d.jerk)):
-            _read_limit(kind, jname, values, kp, target, d, rep)
+        for kind in ("acceleration", "jerk"):
+            _read_limit(kind, jname, values, kp, d, rep)
     for key, node in root.items():
         if key not in (
             "joint_limits",
@@ -99,12 +99,11 @@ def _read_limit(
     jname: str,
     values: Mapping[str, object],
     kp: str,
-    target: dict[str, float],
     d: Draft,
     rep: Reporter,
 ) -> None:
-    """``max_KIND`` of one joint into ``target`` when the file gives it (see the module), or
-    where it turns it off (``has_KIND_limits: false``) into ``d.limits_off``."""
+    """``max_KIND`` of one joint into ``d.limits(kind)`` when the file gives it (see the
+    module), or where it turns it off (``has_KIND_limits: false``) into ``d.limits_off``."""
     raw = values.get(f"max_{kind}")
     has = values.get(f"has_{kind}_limits")
     if has is False:
@@ -136,7 +135,7 @@ def _read_limit(
             f"{kp}.max_{kind}",
             severity=Severity.INFO,
         )
-    target[jname] = abs(float(raw))
+    d.limits(kind)[jname] = abs(float(raw))
 
 
 def _report_unknown(rep: Reporter, unknown: Mapping[str, str], tree: RobotTree) -> None:

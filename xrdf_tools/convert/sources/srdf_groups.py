@@ -10,7 +10,7 @@ name). The c-space is the group's joints minus fixed, mimic and passive joints.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 from ...robot.chains import is_leg, joint_roles
 from ...robot.names import ARM, name_role, name_words
@@ -403,12 +403,9 @@ def choose_state(
         if cspace and s not in own and set(cspace) <= {n for n, _ in s.values}
     ]
     kinds = ((own, f"of group '{group}'"), (covering, "covering the c-space"))
-    for match in (_named_preferred, _named_like_preferred):
-        for cands, why in kinds:
-            for pref in PREFERRED_STATES:
-                for s in cands:
-                    if match(s.name, pref):
-                        return s, f"the state named '{s.name}' {why}"
+    if (named := _named_home([own, covering])) is not None:
+        s, k = named
+        return s, f"the state named '{s.name}' {kinds[k][1]}"
     for cands, why in kinds:
         if cands:
             return cands[0], f"the first state {why}"
@@ -420,12 +417,20 @@ def home_state(srdf: Srdf, group: str) -> GroupState | None:
     with such a word in its name (``home_position``), else None: a pose the SRDF's author
     meant as the group's rest, not any pose it lists (an ``open`` hand, an ``aggressive``
     reach)."""
-    own = [s for s in srdf.group_states if s.group == group]
+    named = _named_home([[s for s in srdf.group_states if s.group == group]])
+    return None if named is None else named[0]
+
+
+def _named_home(lists: Sequence[Sequence[GroupState]]) -> tuple[GroupState, int] | None:
+    """The first state named home, ready or default, and the index of its list: named so
+    exactly in any list first, then with such a word in its name; lists in order, then the
+    names in that order."""
     for match in (_named_preferred, _named_like_preferred):
-        for pref in PREFERRED_STATES:
-            for s in own:
-                if match(s.name, pref):
-                    return s
+        for k, cands in enumerate(lists):
+            for pref in PREFERRED_STATES:
+                for s in cands:
+                    if match(s.name, pref):
+                        return s, k
     return None
 
 
