@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -225,6 +226,27 @@ def test_a_locked_cspace_joint_keeps_its_lock_value_and_says_its_default_is_unus
     assert "lock value 0.5" in note.message and "retract_config value 0.25" in note.message
     line = cfg.read_text().splitlines()[7]
     assert (note.path, note.line, note.col) == (str(cfg), 8, line.index("0.25") + 1)
+
+
+def test_a_default_or_lock_outside_the_urdf_limits_is_clamped_and_said_at_its_value(
+    tmp_path: Path,
+) -> None:
+    """A retract_config value and a lock value outside the joint's URDF limits are brought inside
+    them, each said at the line that gives it (it was said with no position)."""
+    cfg = tmp_path / "ur.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    base_link: base_link\n    ee_link: tool0\n"
+        "    lock_joints: {wrist_1_joint: 9.0}\n"
+        "    cspace:\n      joint_names: [shoulder_pan_joint, elbow_joint]\n"
+        "      retract_config:\n        - 0.0\n        - 5.0\n"
+    )
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    defaults = dict(x.default_joint_positions or {})
+    assert defaults["elbow_joint"] == pytest.approx(5.0 - 2 * math.pi)  # the same pose
+    said = {d.message.split("'")[1]: d for d in _rules(diags)["convert-clamped-default"]}
+    assert set(said) == {"elbow_joint", "wrist_1_joint"}
+    assert (said["elbow_joint"].path, said["elbow_joint"].line) == (str(cfg), 10)
+    assert (said["wrist_1_joint"].path, said["wrist_1_joint"].line) == (str(cfg), 5)
 
 
 def test_a_target_refusing_links_without_spheres_names_fit_spheres(tmp_path: Path) -> None:

@@ -603,10 +603,15 @@ def test_a_revolute_default_a_full_turn_outside_its_limits_is_turned_in_not_clam
     assert len(said) == 3
     assert "'j1' is outside its URDF limits [-1, 1]; the same angle a full turn away" in said[0]
     assert "clamped to 1" in said[1] and "clamped to 1" in said[2]
+    # each said at the group_state that gives the value (line 3 of the SRDF)
+    places = {(d.path, d.line) for d in diags if d.rule == "convert-clamped-default"}
+    assert places == {(str(srdf), 3)}
     # an infinite state value turns by no whole turn: clamped (it raised OverflowError)
     inf = _write(tmp_path, srdf.read_text().replace('value="6"', 'value="inf"'), "inf.srdf")
-    x, _ = convert(tree, ConvertOptions(srdf=inf))
+    x, diags = convert(tree, ConvertOptions(srdf=inf))
     assert dict(x.default_joint_positions or {})["j1"] == 1.0
+    said_inf = [d for d in diags if d.rule == "convert-clamped-default" and "inf" in d.message]
+    assert [(d.path, d.line) for d in said_inf] == [(str(inf), 3)]
 
 
 def test_a_link_disabled_against_itself_is_said_not_dropped_silently(

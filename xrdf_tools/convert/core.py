@@ -300,7 +300,7 @@ def _default_positions(
             "middle of the limits when 0 is outside them)",
         )
     for j, v in list(defaults.items()):
-        defaults[j] = _clamped(tree, j, v, rep)
+        defaults[j] = _clamped(tree, j, v, rep, draft.default_at.get(j))
     order = tree.joint_order()
     aux = sorted((j for j in defaults if j not in cspace), key=lambda j: order.get(j, 1 << 30))
     return {j: defaults[j] for j in [*cspace, *aux]}
@@ -315,7 +315,15 @@ def _neutral_position(tree: RobotTree, joint: str) -> float:
     return 0.0
 
 
-def _clamped(tree: RobotTree, joint: str, value: float, rep: Reporter) -> float:
+def _clamped(
+    tree: RobotTree,
+    joint: str,
+    value: float,
+    rep: Reporter,
+    at: tuple[str, int | None] | None = None,
+) -> float:
+    """``value`` inside the joint's URDF limits, reported (at ``at``, where the value was read,
+    when known) when it was not."""
     info = tree.joints[joint]
     low, high = info.lower, info.upper
     if info.type == "continuous" or low is None or high is None or low > high:
@@ -329,6 +337,7 @@ def _clamped(tree: RobotTree, joint: str, value: float, rep: Reporter) -> float:
             f"default position {value:g} of '{joint}' is outside its URDF limits [{low:g}, "
             f"{high:g}]; the same angle a full turn away, {turned:g}, is inside them: taken "
             "(the same pose)",
+            at=at,
         )
         return turned
     clamped = min(max(value, low), high)
@@ -336,6 +345,7 @@ def _clamped(tree: RobotTree, joint: str, value: float, rep: Reporter) -> float:
         "convert-clamped-default",
         f"default position {value:g} of '{joint}' is outside its URDF limits [{low:g}, "
         f"{high:g}]; clamped to {clamped:g}",
+        at=at,
     )
     return clamped
 

@@ -28,6 +28,8 @@ class Draft:
     acceleration: dict[str, float] = field(default_factory=dict)
     jerk: dict[str, float] = field(default_factory=dict)
     defaults: dict[str, float] = field(default_factory=dict)
+    #: Joint → where its default position was read (file, line), when a source knows.
+    default_at: dict[str, tuple[str, int | None]] = field(default_factory=dict)
     tool_frames: list[str] = field(default_factory=list)
     spheres: dict[str, list[Sphere]] | None = None
     world_buffer: dict[str, float] = field(default_factory=dict)

@@ -240,6 +240,9 @@ def _read_cspace(k: KinSection) -> None:
         ):
             if n in source:
                 target[n] = source[n]
+        if n in def_map:
+            where = k.kp("cspace", default_key) + f"[{names.index(n)}]"
+            k.d.default_at[n] = (k.rep.path, k.rep.position(where)[0])
     _read_locks(k, locks, def_map, names, default_key)
     for n, v in def_map.items():
         if n in k.moving_joints and n not in locks:
@@ -308,6 +311,7 @@ def _read_locks(
             raise k.fail(f"lock_joints.{n} must be a number", "lock_joints", n)
         elif j.is_actuated:
             k.d.defaults[str(n)] = float(v)
+            k.d.default_at[str(n)] = (k.rep.path, k.rep.position(where)[0])
             if (other := defaults.get(str(n), float(v))) != float(v):
                 k.rep.report(
                     "convert-dropped-joint-value",

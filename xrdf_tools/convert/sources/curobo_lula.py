@@ -114,6 +114,7 @@ def _read_fixed_rules(rules: Any, tree: RobotTree, d: Draft, rep: Reporter) -> N
         n = str(rule.get("name"))
         if tree.is_actuated(n):
             d.defaults[n] = float(rule["value"])
+            d.default_at[n] = (rep.path, rep.position(f"cspace_to_urdf_rules[{i}]")[0])
         else:
             rep.report(
                 "convert-unknown-joint",

@@ -326,6 +326,7 @@ def _defaults(
         for jname, value in st.values:
             if _state_value_ok(srdf, tree, st, jname, rep) and jname not in d.defaults:
                 d.defaults[jname] = value
+                d.default_at[jname] = srdf.at(st)
 
 
 def _more_states(
