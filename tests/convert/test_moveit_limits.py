@@ -255,3 +255,37 @@ def test_limits_the_file_turns_off_are_said_at_the_file(tmp_path: Path) -> None:
     # a joint the file does not mention is still just "no limit in the inputs"
     (jerk,) = [d for d in diags if d.rule == "convert-default-jerk"]
     assert jerk.line is None and "turns it off" not in jerk.message
+
+
+def test_a_quoted_switch_is_said_at_its_line_and_read_as_absent(tmp_path: Path) -> None:
+    """`has_acceleration_limits: "false"` is a string, which MoveIt does not read as a switch:
+    said at its line and read as absent (the limit then follows its value, as without the
+    key); a negative value under it is no longer taken by its absolute value."""
+    from tests.paths import UR10E_URDF
+    from xrdf_tools.convert.core import ConvertOptions, convert_files
+
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  shoulder_pan_joint:\n"
+        '    has_acceleration_limits: "false"\n'
+        "    max_acceleration: -3\n"
+        "  elbow_joint:\n"
+        "    has_jerk_limits: 'true'\n"
+        "    max_jerk: 500\n"
+    )
+    x, diags, _ = convert_files(
+        UR10E_URDF, ConvertOptions(joint_limits=limits, chains=(("base_link", "tool0"),))
+    )
+    said = [d for d in diags if "not true or false" in d.message]
+    assert [(d.path, d.line, d.rule) for d in said] == [
+        (str(limits), 3, "convert-dropped-key"),
+        (str(limits), 6, "convert-dropped-key"),
+    ]
+    assert "has_acceleration_limits is 'false'" in said[0].message
+    assert x.cspace is not None
+    names = x.cspace.joint_names
+    accel = dict(zip(names, x.cspace.acceleration_limits, strict=True))
+    jerk = dict(zip(names, x.cspace.jerk_limits or (), strict=True))
+    assert accel["shoulder_pan_joint"] == 10.0  # -3 with no switch: no limit, the default
+    assert jerk["elbow_joint"] == 500.0  # > 0 with no switch: taken (MoveIt 1's reading)

@@ -67,7 +67,7 @@ def read_joint_limits(
         if jname not in tree.joints:
             unknown.setdefault(jname, kp)
             continue
-        values = to_python(node)
+        values = _switches_checked(to_python(node), jname, kp, rep)
         if tighter := _tighter_than_urdf(values, tree.joints[jname]):
             line, col = rep.position(kp)
             d.uncarried_limits[jname] = Diagnostic(
@@ -92,6 +92,25 @@ def read_joint_limits(
         )
     d.diagnostics.extend(rep.diagnostics)
     return d
+
+
+def _switches_checked(
+    values: Mapping[str, object], jname: str, kp: str, rep: Reporter
+) -> dict[str, object]:
+    """``values`` without the ``has_*_limits`` switches that are not booleans, each reported:
+    a quoted ``"false"`` is a string, which MoveIt does not read as a switch."""
+    kept: dict[str, object] = {}
+    for key, value in values.items():
+        if str(key).startswith("has_") and value is not None and not isinstance(value, bool):
+            rep.report(
+                "convert-dropped-key",
+                f"'{jname}' {key} is {value!r}, not true or false: MoveIt does not read it as "
+                "a switch; read as absent (write true or false, without quotes)",
+                f"{kp}.{key}",
+            )
+            continue
+        kept[str(key)] = value
+    return kept
 
 
 def _read_limit(
