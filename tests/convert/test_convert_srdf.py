@@ -1236,3 +1236,28 @@ def test_joints_outside_the_cspace_are_held_at_their_own_groups_home(
         '<group_state name="reach" group="side"><joint name="zz" value="0.9"/></group_state>'
     )
     assert held == {"j1": 0.1} and not any("outside the c-space" in m for m in said)
+
+
+def test_a_state_value_for_the_srdfs_virtual_joint_is_a_note_not_an_unknown_joint(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Legged robots' SRDFs (ANYmal, Go2, B1) give the floating virtual joint a value in their
+    states ('0 0 0.528 0 0 0 1'): the base's pose, which no XRDF holds. It is dropped with a
+    note naming it, not warned about as "not a joint of the URDF"."""
+    from xrdf_tools.convert.core import convert
+
+    srdf = _write(
+        tmp_path,
+        '<robot name="t">\n<group name="arm"><chain base_link="base" tip_link="tip"/></group>\n'
+        '<group_state name="standing" group="arm"><joint name="root_joint" '
+        'value="0 0 0.5 0 0 0 1"/><joint name="j1" value="0.5"/></group_state>\n'
+        '<virtual_joint name="root_joint" type="floating" parent_frame="world" '
+        'child_link="base"/>\n</robot>\n',
+    )
+    x, diags = convert(tree, ConvertOptions(srdf=srdf))
+    assert dict(x.default_joint_positions or {})["j1"] == 0.5
+    assert not [d for d in diags if d.rule == "convert-unknown-joint"]
+    (note,) = [d for d in diags if "root_joint" in d.message and "group_state" in d.message]
+    assert note.rule == "convert-dropped-joint-value" and note.severity.value == "info"
+    assert "floating virtual joint 'root_joint' (where 'base' stands)" in note.message
+    assert (note.path, note.line) == (str(srdf), 3)

@@ -400,6 +400,17 @@ def _states_of_held(
 
 def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep: Reporter) -> bool:
     j = tree.joints.get(jname)
+    virtual = next((v for v in srdf.virtual_joints if v.name == jname), None)
+    if j is None and virtual is not None:
+        rep.report(
+            "convert-dropped-joint-value",
+            f"group_state '{st.name}' sets the SRDF's {virtual.type} virtual joint '{jname}' "
+            f"(where '{virtual.child or 'the root link'}' stands): an XRDF places no base, so "
+            "it is not a default position; dropped",
+            severity=Severity.INFO,
+            at=srdf.at(st),
+        )
+        return False
     if j is None:
         rep.report(
             "convert-unknown-joint",
