@@ -48,3 +48,13 @@ def test_the_input_pairs_the_samples_see_collide_are_named(tmp_path: Path) -> No
     assert said.endswith("% of samples)")
     sc = result.xrdf.self_collision
     assert sc is not None and not sc.is_ignored("arm", "post")
+
+
+def test_a_rare_collision_rate_is_not_rounded_to_zero() -> None:
+    """Motoman SDA10F: 'torso_link_b1/arm_left_link_2_l (in 0.0% of samples)' said a pair
+    removed from the mask for colliding never collided; a rate under 0.1 % keeps two digits."""
+    from xrdf_tools.convert.mask_notes import _share
+
+    assert _share(0.00042) == "0.042%"
+    assert _share(0.00001) == "0.001%"
+    assert _share(0.033) == "3.3%"

@@ -157,7 +157,8 @@ def test_a_zero_effort_written_by_an_included_macro_names_that_file(
 ) -> None:
     """KUKA's LBR iiwa 14 xacro writes effort="0" on every joint in lbr_iiwa14_r820_macro.xacro:
     convert --target curobo stopped at a line of the XRDF it did not write, naming only the
-    top xacro file; the joints are now placed where the macro writes them."""
+    top xacro file; the joints are now placed where the macro writes them, and the message says
+    the limits are in that file."""
     (tmp_path / "arm_macro.xacro").write_text(
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
         '<xacro:macro name="arm" params="prefix">\n'
@@ -177,3 +178,5 @@ def test_a_zero_effort_written_by_an_included_macro_names_that_file(
     assert r.exit_code == 1, r.stderr
     zero = [x for x in r.stderr.splitlines() if "curobo-zero-velocity" in x]
     assert len(zero) == 1 and "'joint_1' (arm_macro.xacro:5)" in zero[0], r.stderr
+    # the <limit> to edit is in the macro file, not in the top file (Motoman SDA10F)
+    assert '<limit effort="0"> in arm_macro.xacro:' in zero[0], r.stderr

@@ -138,12 +138,17 @@ def mask_summary(report: Report, x: Xrdf) -> Diagnostic:
     )
 
 
+def _share(rate: float) -> str:
+    """``3.3%``; a rate under 0.1 % with two significant digits (``0.042%``), never ``0.0%``."""
+    return f"{rate:.1%}" if rate >= 0.001 else f"{rate * 100:.2g}%"
+
+
 def _removed_pairs(report: Report, removed: list[tuple[str, str]]) -> str:
     """``a/b (in 3.3 % of samples)``: the input's ignored pairs the samples saw collide."""
     rates = {frozenset((p.frame_a, p.frame_b)): p.rate for p in report.pairs}
 
     def named(a: str, b: str) -> str:
         rate = rates.get(frozenset((a, b)))
-        return f"{a}/{b} (in {rate:.1%} of samples)" if rate else f"{a}/{b}"
+        return f"{a}/{b} (in {_share(rate)} of samples)" if rate else f"{a}/{b}"
 
     return name_list(named(a, b) for a, b in removed)

@@ -163,12 +163,9 @@ def curobo_paths(
     return str(upath), str(root)
 
 
-def expanded_urdf_path(xacro: str | os.PathLike[str], output: str | os.PathLike[str]) -> Path:
-    """Where the expanded URDF of ``xacro`` goes beside ``output``: ``output``'s directory, the
-    xacro's name without ``.xacro``/``.urdf`` + ``.urdf`` (``px150.urdf.xacro`` →
-    ``px150.urdf``)."""
-    name = Path(xacro).name
-    for suffix in (".xacro", ".urdf"):
-        if name.endswith(suffix) and len(name) > len(suffix):
-            name = name[: -len(suffix)]
-    return Path(output).parent / f"{name}.urdf"
+def expanded_urdf_path(output: str | os.PathLike[str]) -> Path:
+    """Where the expanded URDF of a xacro goes beside ``output``: named after it
+    (``cfg/px150.yml`` → ``cfg/px150.urdf``), so that each exported config has its own; two
+    exports of one xacro with different ``--xacro-arg`` values (``ur_type:=ur3e``,
+    ``ur_type:=ur5e``) to one folder never share, and so never replace, each other's URDF."""
+    return Path(output).with_suffix(".urdf")

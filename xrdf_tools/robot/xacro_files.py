@@ -27,6 +27,7 @@ __all__ = [
     "missing_include_error",
     "not_utf8_error",
     "os_error",
+    "shown_path",
 ]
 
 #: How far up from the xacro file a package.xml is looked for, how deep below it the file.
@@ -96,7 +97,7 @@ def _in_package(name: str, top: Path) -> list[str]:
         nxt: list[Path] = []
         for d in frontier:
             if _is_file(d / name):
-                out.append(_shown(d / name))
+                out.append(shown_path(d / name))
             try:
                 nxt.extend(c for c in sorted(d.iterdir()) if _is_dir(c) and c.name[:1] != ".")
             except OSError:
@@ -105,7 +106,9 @@ def _in_package(name: str, top: Path) -> list[str]:
     return out[:3]
 
 
-def _shown(path: Path) -> str:
+def shown_path(path: Path) -> str:
+    """``path`` as a message names it: relative to the current directory when below it (a
+    file a ``$(find pkg)`` include reached is found by its absolute path), else as it is."""
     try:
         return os.path.relpath(path) if path.is_relative_to(Path.cwd()) else str(path)
     except (OSError, ValueError):

@@ -38,6 +38,7 @@ from .xacro_files import (
     missing_include_error,
     not_utf8_error,
     os_error,
+    shown_path,
 )
 from .xacro_hints import bad_macro_call, late_default_hint, unprefixed_hint
 from .xacro_places import placed_in_includes
@@ -172,7 +173,7 @@ def expand_xacro(
     done = run_bounded(_expansion, expansion, path, preload=_PRELOAD)
     said.extend(done.warnings)
     if includes is not None:
-        includes.extend(done.included)
+        includes.extend(shown_path(Path(f)) for f in done.included)
     if done.error is not None:
         raise done.error
     return done.text

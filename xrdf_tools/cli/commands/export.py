@@ -94,7 +94,7 @@ def curobo(
         typer.Option(
             "--expanded-urdf",
             help="With a xacro --urdf: where to write the expanded URDF that urdf_path names "
-            "(default: beside the output, named after the xacro).",
+            "(default: beside the output, named after it: cfg/ur3e.yml → cfg/ur3e.urdf).",
             show_default=False,
         ),
     ] = None,
@@ -170,12 +170,15 @@ def _expanded_target(
         if explicit is not None:
             fail(f"--expanded-urdf: {urdf} is not a xacro file (nothing to expand)")
         return None
-    if explicit is None and (output is None or is_stdio(output)):
+    if explicit is not None:
+        target = explicit
+    elif output is None or is_stdio(output):
         fail(
             f"{urdf} is a xacro, which cuRobo cannot load: pass -o FILE (the expanded URDF is "
-            "written beside it) or --expanded-urdf PATH"
+            "written beside it, named after it) or --expanded-urdf PATH"
         )
-    target = explicit if explicit is not None else expanded_urdf_path(urdf, output or ".")
+    else:
+        target = expanded_urdf_path(output)
     refuse_input_overwrite(target, [xrdf, urdf, *([output] if output is not None else [])])
     return target
 

@@ -4,7 +4,7 @@ c-space joints whose URDF joint has some defect."""
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 from ...util.errors import did_you_mean
@@ -41,6 +41,16 @@ def joint_at(j: JointInfo, robot: Robot | None = None) -> str:
     if place is None:
         return f"'{j.name}'"
     return f"'{j.name}' ({os.path.basename(place[0])}:{place[1]})"
+
+
+def written_in(joints: Sequence[JointInfo], robot: Robot) -> str:
+    """The name of the file that writes ``joints``: the included xacro file whose macro writes
+    them all (``arm_macro.xacro``, where their ``<limit>`` is edited), else the robot's file."""
+    files = {
+        None if j.line else robot.include_places.get(("joint", j.name), (None,))[0] for j in joints
+    }
+    only = files.pop() if len(files) == 1 else None
+    return os.path.basename(only) if only else robot.file_name
 
 
 def joint_problem(ctx: LintContext, joint: str, what: str) -> str | None:

@@ -18,7 +18,7 @@ from collections.abc import Iterator
 
 from ...diagnostics import Severity
 from ..context import LintContext, Problem, Rule
-from ._joints import cspace_joints_where, joint_at
+from ._joints import cspace_joints_where, joint_at, written_in
 
 
 def check(ctx: LintContext) -> Iterator[Problem]:
@@ -28,11 +28,12 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     names = ", ".join(f"{joint_at(j, ctx.robot)} [{j.lower:g}, {j.upper:g}]" for *_, j in found)
     what = f"c-space joint {names} is" if len(found) == 1 else f"c-space joints {names} are"
     index, node, _ = found[0]
+    where = written_in([j for *_, j in found], ctx.robot)
     them = "it" if len(found) == 1 else "them"
     curobo = ctx.target == "curobo"
     yield ctx.problem(
         node,
-        f"{what} held still by equal lower and upper limits in {ctx.robot.file_name}: no plan "
+        f"{what} held still by equal lower and upper limits in {where}: no plan "
         f"can move {them} (a CAD exporter writes 0 0 for limits never set)"
         + (f"; cuRobo's loader raises on {them} (an empty range)" if curobo else "")
         + "; give the URDF the real limits, or leave such a joint out of the c-space",

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
 from ..context import LintContext, Problem, Rule
-from ._joints import cspace_joints_where, joint_at
+from ._joints import cspace_joints_where, joint_at, written_in
 
 if TYPE_CHECKING:  # numpy: lint without --urdf stays light
     from ...robot.urdf_joints import JointInfo
@@ -47,9 +47,10 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     else:
         what, them = f"{len(found)} c-space joints ({names}) have", "them"
     index, node, _ = found[0]
+    where = written_in([j for *_, j in found], ctx.robot)
     yield ctx.problem(
         node,
-        f"{what} <limit {limit}> in {ctx.robot.file_name}: cuRobo reads velocity and effort "
+        f"{what} <limit {limit}> in {where}: cuRobo reads velocity and effort "
         f"limits only from the URDF and its loader raises on {them} (an empty range); set the "
         "real limits there (a joint_limits.yaml max_velocity does not reach cuRobo)",
         f"cspace.joint_names[{index}]",
