@@ -108,7 +108,7 @@ def _fail_on_errors(
     errors = [d for d in lint_diags if d.severity is Severity.ERROR and d.rule != RULE_STOPPED]
     if errors:
         bare = sum(1 for d in errors if d.rule == "mesh-without-spheres")
-        remedy = "fix the inputs or pass the missing values on the command line"
+        remedy = "fix what each one names, in the inputs or with a value on the command line"
         if bare and not fit_spheres:
             remedy = (
                 f"{bare} of them are moving links with collision geometry and no spheres "
