@@ -968,13 +968,48 @@ def _legged_arm(tmp_path: Path, with_arm: bool) -> tuple[RobotTree, str]:
     return as_robot(load_urdf(urdf)).tree, str(srdf)
 
 
+def test_a_humanoids_arm_wins_over_a_whole_body_joint_list_with_its_legs(tmp_path: Path) -> None:
+    """example-robot-data's simple humanoid: besides its arm chains, the SRDF lists all 29
+    joints, legs and arms, in one group for a controller (mapURDFToOpenHRP). Its arm joints
+    made it no leg's group, so it won as the biggest; a group that moves a leg now comes
+    after those that move none."""
+    from xrdf_tools.convert.sources.srdf import choose_group
+    from xrdf_tools.robot.urdf_source import load_urdf
+
+    limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    links, joints = ['<link name="torso"/>'], []
+    chains = {"r_leg": ("hip_y", "hip_p", "knee", "ankle_p"), "r_arm": ("shoulder", "elbow")}
+    for limb, parts in chains.items():
+        parent = "torso"
+        for part in parts:
+            name = f"{limb}_{part}"
+            links.append(f'<link name="{name}_link"/>')
+            joints.append(
+                f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
+                f'<child link="{name}_link"/><axis xyz="0 1 0"/>{limit}</joint>'
+            )
+            parent = f"{name}_link"
+    urdf = tmp_path / "humanoid.urdf"
+    urdf.write_text(f'<robot name="h">{"".join(links + joints)}</robot>')
+    every = "".join(f'<joint name="{limb}_{p}"/>' for limb, ps in chains.items() for p in ps)
+    srdf = tmp_path / "humanoid.srdf"
+    srdf.write_text(
+        '<robot name="h"><group name="r_arm"><chain base_link="torso" '
+        'tip_link="r_arm_elbow_link"/></group>'
+        f'<group name="mapToController">{every}</group></robot>'
+    )
+    group, why = choose_group(load_srdf(str(srdf)), as_robot(load_urdf(urdf)).tree)
+    assert group == "r_arm"
+    assert "(2) among the groups that move no leg" in why
+
+
 def test_a_legged_manipulators_arm_wins_over_its_bigger_legs_group(tmp_path: Path) -> None:
     from xrdf_tools.convert.sources.srdf import choose_group
 
     tree, path = _legged_arm(tmp_path, with_arm=True)
     group, why = choose_group(load_srdf(path), tree)
     assert group == "arm"
-    assert "(6) that are not a leg's" in why
+    assert "(6) among the groups that move no leg" in why
 
 
 def test_a_robot_of_legs_only_still_takes_its_biggest_group(tmp_path: Path) -> None:

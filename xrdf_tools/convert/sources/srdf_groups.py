@@ -306,9 +306,10 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     groups when none of those has a movable joint); the one with the most actuated joints
     wins, not counting the joints of a gripper it holds (:func:`_gripper_joints`), ties going
     to the group with fewer of those, then the group carrying the earliest end effector, then
-    SRDF order. Legs
-    (:func:`~xrdf_tools.robot.chains.is_leg`) come after every other group: a legged
-    manipulator's arm is what a planner plans, however many joints its legs have; groups named
+    SRDF order. Groups with a leg's joints
+    (:func:`~xrdf_tools.robot.chains.is_leg`), alone or in a whole body's joint list, come
+    after every other group: a legged manipulator's or a humanoid's arm is what a planner
+    plans, however many joints its legs have; groups named
     like a hand, head or wheels (:func:`_named_like_a_part`) come after those.
     """
     order = list(srdf.groups)
@@ -326,7 +327,7 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
                 return i, ee.name
         return len(srdf.end_effectors), ""
 
-    legs = {g: is_leg(tree, cspace_of(srdf, g, tree)) for g in cands}
+    legs = {g: any(is_leg(tree, [j]) for j in cspace_of(srdf, g, tree)) for g in cands}
     parts = {g: _named_like_a_part(g) for g in cands}
     jaws = _gripper_joints(srdf, tree, cands)
     arm = {g: sizes[g] - len(jaws[g]) for g in cands}
@@ -337,7 +338,7 @@ def choose_group(srdf: Srdf, tree: RobotTree) -> tuple[str | None, str]:
     kind = "group without subgroups" if best in plain else "group"
     why = f"the {kind} with the most actuated joints ({sizes[best]})"
     if any(legs[g] and sizes[g] > sizes[best] for g in cands):
-        why += " that are not a leg's"
+        why += " among the groups that move no leg"
     held = [g for g in cands if jaws[g] and arm[g] == arm[best] and g != best]
     if held:
         shown = ", ".join(f"{g} (+{name_list(jaws[g], 3)})" for g in held[:3])
