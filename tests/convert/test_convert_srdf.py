@@ -969,10 +969,10 @@ def _legged_arm(tmp_path: Path, with_arm: bool) -> tuple[RobotTree, str]:
 
 
 def test_a_humanoids_arm_wins_over_a_whole_body_joint_list_with_its_legs(tmp_path: Path) -> None:
-    """example-robot-data's simple humanoid: besides its arm chains, the SRDF lists all 29
-    joints, legs and arms, in one group for a controller (mapURDFToOpenHRP). Its arm joints
-    made it no leg's group, so it won as the biggest; a group that moves a leg now comes
-    after those that move none."""
+    """An SRDF with arm chains that also lists every joint, legs and arms, in one group for a
+    controller (example-robot-data's simple humanoid has such a 29-joint mapURDFToOpenHRP,
+    its arm groups commented out). Its arm joints made it no leg's group, so it won as the
+    biggest; a group that moves a leg now comes after those that move none."""
     from xrdf_tools.convert.sources.srdf import choose_group
     from xrdf_tools.robot.urdf_source import load_urdf
 
