@@ -474,13 +474,14 @@ def test_broken_groups_not_used_are_located_warnings_used_ones_errors(
     (why,) = [w.message for w in chosen.diagnostics if w.rule == "convert-chosen-group"]
     assert "others (actuated joints): typo (does not match the URDF), sub (does not match " in why
     assert "both (does not match the URDF)" in why
-    # a group that is used, or includes a broken one, stays an error naming every broken one
-    for used in ("typo", "both"):
+    # a group that is used, or includes a broken one, stays an error naming every broken one,
+    # and the group that includes it (HSR's --group whole_body named only its subgroup 'base')
+    for used, via in (("typo", ""), ("both", ", a subgroup of 'both'")):
         with pytest.raises(SourceError) as err:
             read_srdf(load_srdf(srdf), tree, group=used)
         msg = str(err.value)
         assert "1 SRDF group(s) used for the conversion do not match the URDF" in msg
-        assert "group 'typo' (line 3): unknown joints 'j22', 'j33'" in msg
+        assert f"group 'typo' (line 3){via}: unknown joints 'j22', 'j33'" in msg
         assert "\n" not in msg
 
 

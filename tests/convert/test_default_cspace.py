@@ -570,6 +570,43 @@ def test_a_humanoids_arm_wins_over_its_longer_leg(tmp_path: Path) -> None:
     assert choice.joints == tuple(leg) and not choice.legs
 
 
+def test_a_jaw_named_like_an_arm_joint_is_left_out_by_its_finger_link(tmp_path: Path) -> None:
+    """Boston Dynamics Spot with its arm: 'arm_f1x' opens the gripper, a revolute joint from
+    the wrist 'arm_link_wr1' into 'arm_link_fngr' (the jaw) with nothing below. Its name says
+    only 'arm', its link says finger ('fngr'): a gripper's joint, so the arm is the six
+    joints up to 'arm_wr1' and the tool frame the wrist link the jaw hangs from. A joint
+    into a finger link that carries further joints is no jaw."""
+    arm = ["arm_sh0", "arm_sh1", "arm_el0", "arm_el1", "arm_wr0", "arm_wr1"]
+    links, joints, parent = ["body"], [], "body"
+    for name in arm:
+        child = name.replace("arm_", "arm_link_")
+        links.append(child)
+        joints.append(_j(name, "revolute", parent, child))
+        parent = child
+    links.append("arm_link_fngr")
+    joints.append(_j("arm_f1x", "revolute", "arm_link_wr1", "arm_link_fngr"))
+    for leg in ("front_left", "front_right"):
+        links += [f"{leg}_hip", f"{leg}_upper_leg", f"{leg}_lower_leg"]
+        joints.append(_j(f"{leg}_hip_x", "revolute", "body", f"{leg}_hip"))
+        joints.append(_j(f"{leg}_hip_y", "revolute", f"{leg}_hip", f"{leg}_upper_leg"))
+        joints.append(_j(f"{leg}_knee", "revolute", f"{leg}_upper_leg", f"{leg}_lower_leg"))
+    robot = _tree_urdf(tmp_path, "".join(joints), links)
+    assert joint_roles(robot.tree) == {"arm_f1x": "gripper"}
+    choice = default_cspace(robot.tree)
+    assert choice.joints == tuple(arm)
+    assert choice.tool is not None and choice.tool.frame == "arm_link_wr1"
+
+    finger_base = [
+        _j("j1", "revolute", "base_link", "link1"),
+        _j("arm_j2", "revolute", "link1", "finger_mount"),
+        _j("j3", "revolute", "finger_mount", "link3"),
+    ]
+    robot = _tree_urdf(
+        tmp_path, "".join(finger_base), ["base_link", "link1", "finger_mount", "link3"]
+    )
+    assert "arm_j2" not in joint_roles(robot.tree)
+
+
 def test_a_joint_that_rolls_the_hand_is_the_last_arm_joint(tmp_path: Path) -> None:
     """Booster T1's seven-joint arm ends in 'Left_Hand_Roll' into 'left_hand_link': a joint
     named like a hand with a roll/pitch/yaw word turns the whole hand, a wrist joint; a hand

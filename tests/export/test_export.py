@@ -424,3 +424,26 @@ def test_export_says_the_urdfs_warnings_in_its_format(
     assert [(d["rule"], d["line"]) for d in found if d["path"] == str(urdf)] == [
         ("urdf-color-ignored", line)
     ]
+
+
+def test_a_locked_joint_whose_limits_exclude_zero_is_held_inside_them(tmp_path: Path) -> None:
+    """Spot's knees (limits [-2.79, -0.25]) outside an arm's c-space: an absent default is 0
+    clamped to the limits for the XRDF (and for the mask computed in that pose), but cuRobo's
+    XRDF reader locks a joint without a default at 0.0, outside them. convert writes the
+    clamped value as the joint's default and says so; export curobo locks a joint the XRDF
+    gives no default at the clamped value, so cuRobo plans in the pose that was checked."""
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_text(_GRIPPER_URDF.replace('lower="0" upper="0.04"', 'lower="0.01" upper="0.04"'))
+    robot = as_robot(load_urdf(urdf))
+    text, diags = to_curobo(parse_xrdf(_GRIPPER_XRDF, "robot.xrdf"), robot.tree, urdf_path=urdf)
+    assert diags == []
+    kin = yaml.safe_load(text)["robot_cfg"]["kinematics"]
+    assert kin["lock_joints"] == {"wrist": 0.25, "finger": 0.01}
+    assert kin["cspace"]["default_joint_position"] == [0.5, 0.25, 0.01]
+
+    x, diags, _ = convert_files(urdf, ConvertOptions(joints=("shoulder", "wrist")))
+    assert dict(x.default_joint_positions or {}) == {"shoulder": 0.0, "wrist": 0.0, "finger": 0.01}
+    (note,) = [d for d in diags if d.rule == "convert-locked-default"]
+    assert "finger = 0.01" in note.message and note.severity.name == "INFO"
+    text, _ = to_curobo(x, robot.tree, urdf_path=urdf)
+    assert yaml.safe_load(text)["robot_cfg"]["kinematics"]["lock_joints"] == {"finger": 0.01}

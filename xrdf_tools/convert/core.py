@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
 from functools import partial
 from pathlib import Path
@@ -301,9 +301,35 @@ def _default_positions(
         )
     for j, v in list(defaults.items()):
         defaults[j] = _clamped(tree, j, v, rep, draft.default_at.get(j))
+    defaults |= _locked_off_zero(tree, defaults, rep)
     order = tree.joint_order()
     aux = sorted((j for j in defaults if j not in cspace), key=lambda j: order.get(j, 1 << 30))
     return {j: defaults[j] for j in [*cspace, *aux]}
+
+
+def _locked_off_zero(
+    tree: RobotTree, defaults: Mapping[str, float], rep: Reporter
+) -> dict[str, float]:
+    """Defaults for the actuated joints outside the c-space whose limits exclude 0 (a leg's
+    knee, a lift's column): the XRDF means 0 clamped to the limits for them, but cuRobo's
+    reader locks a joint without a default at 0.0, outside its limits, a pose nothing was
+    checked in; written out, every reader holds them where the mask was computed."""
+    off = {
+        j: tree.joints[j].unset_position
+        for j in tree.actuated_joints()
+        if j not in defaults and tree.joints[j].unset_position != 0.0
+    }
+    if off:
+        values = [f"{j} = {v:g}" for j, v in off.items()]
+        rep.report(
+            "convert-locked-default",
+            f"{len(off)} joint(s) outside the c-space have limits that exclude 0: "
+            f"{name_list(values, 6)}; written as default positions (0 clamped to the limits, "
+            "what an absent default means), as cuRobo locks a joint without one at 0.0, "
+            "outside its limits",
+            severity=Severity.INFO,
+        )
+    return off
 
 
 def _neutral_position(tree: RobotTree, joint: str) -> float:

@@ -70,8 +70,8 @@ def diff_defaults(
 
     ``unset`` is the value a joint's default has when it is not written (0 clamped to its
     URDF limits), when the URDF is known: a default added or removed at that value changes
-    nothing, and a note says so (a round trip through a cuRobo config writes a 0.0 for every
-    joint it locks)."""
+    nothing, and a note says so (a round trip through a cuRobo config writes a default for
+    every joint it locks)."""
     da = a.default_joint_positions or FrozenMap()
     db = b.default_joint_positions or FrozenMap()
     out: list[Change] = []

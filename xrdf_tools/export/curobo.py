@@ -144,8 +144,9 @@ def to_curobo(
 
     ``layout`` is ``"2.0"`` (``tool_frames``, ``default_joint_position``) or ``"classic"``
     (``ee_link``, ``link_names``, ``retract_config``; cuRobo ≤ 0.7). The actuated URDF
-    joints outside the c-space become ``lock_joints``, held at their default position (0.0 without
-    one), as cuRobo's XRDF reader holds them. ``tree`` is the URDF's
+    joints outside the c-space become ``lock_joints``, held at their default position (without
+    one, at 0 clamped to their limits: what the XRDF means, where cuRobo's own XRDF reader would
+    lock them at 0.0, outside limits that exclude 0). ``tree`` is the URDF's
     :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`. ``urdf_path`` (the
     file ``urdf_path`` names; default: the tree's) is written relative to the directory
     ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
@@ -227,22 +228,25 @@ def _joint_keys(
     x: Xrdf, tree: RobotTree, layout: str, note: Callable[[str, str], None]
 ) -> dict[str, Any]:
     """``lock_joints`` and ``cspace``: the c-space joints, then every other actuated joint of
-    ``tree`` locked at its default position (0.0 without one), as cuRobo's XRDF reader holds
-    them (its config loader raises on a joint that is in neither list); the locked joints'
-    limits are the c-space's largest. Default positions cuRobo cannot take are ``note``d."""
+    ``tree`` locked at its default position (0 clamped to its limits without one), as cuRobo's
+    XRDF reader holds them (its config loader raises on a joint that is in neither list); the
+    locked joints' limits are the c-space's largest. Default positions cuRobo cannot take are
+    ``note``d."""
     cs = x.cspace
     assert cs is not None
-    defaults = dict(x.default_joint_positions or {})
+    given = dict(x.default_joint_positions or {})
+    defaults = {j: tree.joints[j].unset_position for j in tree.actuated_joints()} | given
     outside = [j for j in tree.actuated_joints() if j not in cs.joint_names]
-    locks = {j: defaults.get(j, 0.0) for j in outside}
-    for j in defaults:
+    locks = {j: defaults[j] for j in outside}
+    for j in given:
         if j not in cs.joint_names and j not in locks:
             note("export-dropped-joint", f"default position of '{j}' is not an actuated joint")
-    missing = [j for j in cs.joint_names if j not in defaults]
+    missing = [j for j in cs.joint_names if j not in given]
     if missing:
         note(
             "export-default-positions",
-            f"no default position for {name_list(missing, 12)}: cuRobo needs one, 0.0 written",
+            f"no default position for {name_list(missing, 12)}: cuRobo needs one, the XRDF's "
+            "(0 clamped to the joint's limits) written",
         )
     names = [*cs.joint_names, *locks]
     acc = list(cs.acceleration_limits)
@@ -253,7 +257,7 @@ def _joint_keys(
     fill_j = max(jerk, default=1000.0)
     cspace: dict[str, Any] = {"joint_names": names}
     key = "default_joint_position" if layout == "2.0" else "retract_config"
-    cspace[key] = [defaults.get(j, 0.0) for j in names]
+    cspace[key] = [defaults.get(j, 0.0) for j in names]  # 0.0: a c-space name not in the URDF
     cspace["max_acceleration"] = acc + [fill_a] * len(locks)
     cspace["max_jerk"] = jerk + [fill_j] * len(locks)
     return {"lock_joints": locks or None, "cspace": cspace}

@@ -9,11 +9,10 @@ leaf, leaving out what a motion planner does not plan for:
 * **grippers**: joints named like ``gripper``/``finger``/``hand``/``jaw``/``claw``/``thumb``/
   ``knuckle``/``palm``/``pinky`` (Valkyrie's ``leftPinkyPitch1``), every joint that a mimic
   joint follows (a mimic joint itself is never a c-space joint), and jaws and fingers named
-  otherwise: a joint on a link named like a gripper or into one with nothing actuated below,
-  or two or more prismatic joints with nothing actuated below on one link. A joint into a hand
-  that fingers hang from (Shadow's ``rh_WRJ1``), named like a hand with a roll/pitch/yaw
-  word (Booster T1's ``Left_Hand_Roll``), or named like a hand and carrying fingers that move
-  on their own (Unitree H1's ``left_hand_joint``) turns the whole hand: a wrist joint;
+  otherwise (:func:`_is_jaw`). A joint into a hand that fingers hang from (Shadow's
+  ``rh_WRJ1``), named like a hand with a roll/pitch/yaw word (Booster T1's
+  ``Left_Hand_Roll``), or named like a hand and carrying fingers that move on their own
+  (Unitree H1's ``left_hand_joint``) turns the whole hand: a wrist joint;
 * **heads and sensors**: joints named like ``head``/``neck``/``camera``/``eye``/``laser``/
   ``lidar``, and ``pan``/``tilt`` joints that are not arm joints (``shoulder_pan`` is an arm,
   and so is a pan/tilt unit that carries a tool frame: a wrist).
@@ -23,15 +22,12 @@ A joint whose limits hold it still (lower = upper: Toyota HSR's force-torque sen
 no c-space joint; chains and tool-frame guesses go through it as through a fixed joint.
 A leg is planned for only when every chain is one: a humanoid's arm wins over a leg as long
 (Unitree H1) or longer (NAO); a hand alone plans for its longest finger.
-Names are split into words at ``_``, ``-``, digits and camelCase, so ``rightHand`` is a hand and
-``behead`` is not; a word that begins or ends with a wheel word, or ends with ``hand``,
-``gripper`` or ``finger``, counts too (``wheelfl``, ``qbhand``). The tool frame
-(:func:`guess_tool_frame`) is a link below the last c-space joint
-reached through fixed joints only, preferring ``tool0``, then ``tcp``, ``tool``, ``ee``/``eef``/
-``end_effector``, ``flange``, ``grasp`` names, then a frame without collision geometry at the end
-of a fixed branch (one named like a gripper first: SO-101's ``gripper_frame_link`` over its
-``d405_link``), then the link where a single chain of fixed joints ends. A frame named like a
-sensor or a camera (``camera_link``, ``d435i_link``) is never a tool frame.
+How names are read into words: :mod:`.names`. The tool frame (:func:`guess_tool_frame`) is
+a link below the last c-space joint reached through fixed joints only, preferring ``tool0``,
+then ``tcp``, ``tool``, ``ee``/``eef``/``end_effector``, ``flange``, ``grasp`` names, then a
+frame without collision geometry at the end of a fixed branch (one named like a gripper first:
+SO-101's ``gripper_frame_link`` over its ``d405_link``), then the link where a single chain of
+fixed joints ends; never a frame named like a sensor or a camera (``d435i_link``).
 
 Everything here is a pure function of the :class:`~xrdf_tools.robot.tree.RobotTree`; the
 converter reports each choice and ``xrdf inspect`` shows it.
@@ -57,6 +53,7 @@ from .names import (
     says_finger,
     says_gripper,
     says_hand,
+    says_jaw,
     says_sensor,
     turns_hand,
 )
@@ -100,7 +97,7 @@ def joint_roles(tree: RobotTree) -> dict[str, JointRole]:
         coupled = j.is_mimic or name in leaders
         if role is None and coupled and not _coupling_moves_below(tree, below, name):
             role = "gripper"
-        if role is None and not arm and _is_jaw(tree, below, name):
+        if role is None and not wrist and _is_jaw(tree, below, name, arm):
             role = "gripper"
         if role is None and j.type == "continuous" and below.is_base_wheel(j.parent, j.child):
             role = "wheel"
@@ -169,19 +166,22 @@ def _moves_hand(tree: RobotTree, below: _Subtrees, joint: str, words: set[str]) 
     return says_hand(words) and below.fingers[j.child] and name_role(j.parent) != "gripper"
 
 
-def _is_jaw(tree: RobotTree, below: _Subtrees, joint: str) -> bool:
-    """A gripper's jaw or finger whose own names say nothing: a joint with no tool frame
-    below it that hangs from a link named like a gripper (the AgileX Piper's 'joint7' on
-    'gripper_base', the Shadow Hand's 'rh_FFJ4' on 'rh_palm'), or one of two or more
-    prismatic joints with nothing actuated below on one link (a parallel gripper's jaws)."""
+def _is_jaw(tree: RobotTree, below: _Subtrees, joint: str, arm: bool) -> bool:
+    """A jaw or finger whose own name says nothing, with no tool frame below: into a finger or
+    jaw link with nothing actuated below, even named like an arm's (Spot's 'arm_f1x' into
+    'arm_link_fngr'); not named like an arm's, on a link named like a gripper (the Piper's
+    'joint7' on 'gripper_base', the Shadow Hand's 'rh_FFJ4' on 'rh_palm') or one of two or
+    more prismatic joints with nothing actuated below on one link (a parallel gripper)."""
     j = tree.joints[joint]
     if below.tool[j.child]:
         return False
-    if name_role(j.parent) == "gripper":
+    if not arm and name_role(j.parent) == "gripper":
         return True  # a jaw on a gripper's base, or a finger's first joint on a palm
     if below.free[j.child]:
         return False
-    if j.type != "prismatic":
+    if says_jaw(j.child):
+        return True
+    if arm or j.type != "prismatic":
         return False
     jaws = [
         s

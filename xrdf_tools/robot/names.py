@@ -26,6 +26,7 @@ __all__ = [
     "says_finger",
     "says_gripper",
     "says_hand",
+    "says_jaw",
     "says_sensor",
     "turns_hand",
 ]
@@ -40,6 +41,7 @@ GRIPPER = frozenset(
         "grip",
         "finger",
         "fingers",
+        "fngr",
         "hand",
         "jaw",
         "claw",
@@ -58,7 +60,10 @@ HAND = frozenset({"hand", "palm"})
 #: Finger words beside the gripper words (Robonaut 2's 'r2/left_arm/hand/index/yaw').
 FINGER = frozenset({"index", "middle", "ring", "little", "mcp", "pip", "dip", "distal", "tip"})
 #: Words of a finger's joint: a finger, a thumb or one of their parts.
-FINGERS = FINGER | {"finger", "fingers", "thumb", "knuckle", "pinky", "pinkie"}
+FINGERS = FINGER | {"finger", "fingers", "fngr", "thumb", "knuckle", "pinky", "pinkie"}
+#: Words of a link that only a gripper's finger or jaw is (Spot's 'arm_link_fngr'): a joint
+#: into such a link moves a jaw, however the joint is named.
+JAW_LINK = frozenset({"finger", "fingers", "fngr", "jaw", "claw", "thumb", "pinky", "pinkie"})
 ROTATION = frozenset({"roll", "pitch", "yaw"})
 ARM = frozenset({"shoulder", "elbow", "wrist", "arm", "forearm", "upperarm"})
 #: Words of a leg's joints and links: a humanoid's leg is as long as its arm, but not planned.
@@ -135,6 +140,11 @@ def says_hand(words: Collection[str]) -> bool:
     words = set(words)
     hand = words & HAND or any(w.endswith("hand") for w in words)
     return bool(hand) and not words & (GRIPPER | FINGER) - HAND
+
+
+def says_jaw(name: str) -> bool:
+    """Whether a link name says the link is a finger or a jaw (``arm_link_fngr``)."""
+    return bool(set(name_words(name)) & JAW_LINK)
 
 
 def says_finger(words: Collection[str]) -> bool:

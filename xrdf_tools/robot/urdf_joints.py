@@ -76,6 +76,17 @@ class JointInfo:
         )
 
     @property
+    def unset_position(self) -> float:
+        """The position an XRDF gives this joint when ``default_joint_positions`` does not name
+        it: zero clamped to its limits (a limit not given is the URDF default 0, as the
+        kinematic model reads it; a continuous joint has none)."""
+        if self.type == "continuous":
+            return 0.0
+        low = 0.0 if self.lower is None else self.lower
+        high = 0.0 if self.upper is None else self.upper
+        return float(min(max(0.0, low), high))
+
+    @property
     def is_actuated(self) -> bool:
         """Movable and not a mimic follower: a coordinate of the configuration."""
         return self.is_movable and not self.is_mimic

@@ -42,6 +42,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             I,
             "A state/lock value not used: non-actuated joint, several numbers; a lock's default.",
         ),
+        (
+            "convert-locked-default",
+            I,
+            "A joint outside the c-space with 0 outside its limits: its clamped default written.",
+        ),
         ("convert-dropped-key", W, "A source key without XRDF equivalent: dropped."),
         ("convert-duplicate-frame", W, "An extra link that already exists in the URDF."),
         ("convert-duplicate-key", W, "A key repeated in a cuRobo file: the last value is used."),

@@ -112,11 +112,16 @@ def check_groups(
     group is named with its unknown names. Returns the broken groups that are not used,
     for the caller to warn about: a defect in a part the conversion does not use does not
     stop it, and is never skipped without a word."""
-    members = set(member_groups(srdf, srdf.groups if used is None else used))
+    used = None if used is None else tuple(used)
+    members = member_groups(srdf, srdf.groups if used is None else used)
     broken = group_problems(srdf, tree)
     fatal = [(g, p) for g, p in broken if g.name in members]
     if fatal:
-        parts = [f"group '{g.name}'{_at(srdf, g)}: {'; '.join(p)}" for g, p in fatal]
+        parts = [
+            f"group '{g.name}'{_at(srdf, g)}{_included_by(srdf, g.name, members, used)}: "
+            + "; ".join(p)
+            for g, p in fatal
+        ]
         path, line = srdf.at(fatal[0][0])
         raise SourceError(
             f"{len(fatal)} SRDF group(s) used for the conversion do not match the URDF: "
@@ -125,6 +130,15 @@ def check_groups(
             line=line,
         )
     return [(g, p) for g, p in broken if g.name not in members]
+
+
+def _included_by(srdf: Srdf, name: str, members: Iterable[str], used: Iterable[str] | None) -> str:
+    """``, a subgroup of 'G'`` when group ``name`` is used only as a subgroup of a group
+    ``G`` among ``members`` (HSR's 'base' inside 'whole_body'), nothing when it was asked for."""
+    if used is None or name in used:
+        return ""
+    parent = next((m for m in members if name in srdf.groups[m].subgroups), None)
+    return f", a subgroup of '{parent}'" if parent is not None else ""
 
 
 def _at(srdf: Srdf, g: SrdfGroup) -> str:
