@@ -321,3 +321,20 @@ def test_a_tool_frame_given_twice_is_one_tool_frame(runner: CliRunner, tmp_path:
     assert "tool_frames: [arm_tool_link]" in out.read_text()
     lint = runner.invoke(app, ["lint", str(out), "--urdf", str(urdf)])
     assert "repeated-tool-frame" not in lint.output
+
+
+def test_a_group_that_does_not_resolve_shows_every_unknown_name(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """Toyota HSR's `base` group names odom_x, odom_y and odom_t, none a URDF joint: inspect
+    named only the first; it names all three, as convert does."""
+    srdf = tmp_path / "ur.srdf"
+    srdf.write_text(
+        '<robot name="ur"><group name="base"><joint name="odom_x"/><joint name="odom_y"/>'
+        '<joint name="odom_t"/></group><group name="arm"><chain base_link="base_link" '
+        'tip_link="tool0"/></group></robot>'
+    )
+    r = runner.invoke(app, ["inspect", str(UR10E_URDF), "--srdf", str(srdf), "--format", "json"])
+    assert r.exit_code == 0, r.output
+    (base,) = [g for g in json.loads(r.stdout)["groups"] if g["name"] == "base"]
+    assert "unknown joints 'odom_x', 'odom_y', 'odom_t'" in base["problem"]

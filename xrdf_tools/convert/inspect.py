@@ -273,8 +273,11 @@ def _groups(path: str, robot: Robot) -> tuple[GroupView, ...]:
     from ..util.errors import XrdfToolsError
     from .sources.cspace import unplannable_joints
     from .sources.srdf import cspace_of, group_joints, load_srdf
+    from .sources.srdf_groups import group_problems
 
     srdf = load_srdf(path, xacro_args=robot.xacro_args, package_paths=robot.package_paths)
+    # every unknown name of a group, as convert names them (the walk stops at the first)
+    own = {g.name: "; ".join(p) for g, p in group_problems(srdf, robot.tree)}
     out: list[GroupView] = []
     for g in srdf.groups.values():
         try:
@@ -282,7 +285,8 @@ def _groups(path: str, robot: Robot) -> tuple[GroupView, ...]:
             cspace = tuple(cspace_of(srdf, g.name, robot.tree))
             problem = None
         except XrdfToolsError as e:
-            joints, cspace, problem = (), (), _plain(e)
+            joints, cspace = (), ()
+            problem = f"group '{g.name}': {own[g.name]}" if g.name in own else _plain(e)
         odd = tuple(j for _, j, _ in unplannable_joints(srdf, [g.name], robot.tree))
         file, line = srdf.at(g)
         out.append(GroupView(g.name, joints, cspace, tuple(g.subgroups), line, problem, odd, file))
