@@ -139,9 +139,16 @@ class SpherePanel:
         if sel is None:
             self.page.say("select a sphere first (click it, or choose it under Spheres)")
             return
-        if self.page.apply(kind(sel[0], sel[1])) and kind is DuplicateSphere:
-            n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]])
+        if not self.page.apply(kind(sel[0], sel[1])):
+            return
+        n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]])
+        if kind is DuplicateSphere:
             self.page.pick(sel[0], n - 1)
+        elif n == 0 and sel[0] in self.page.robot.robot.collision_counts:
+            self.page.say(
+                f"{self.page.message}; warning: '{sel[0]}' has collision geometry and no "
+                "spheres now: a planner cannot see it (xrdf lint: mesh-without-spheres)"
+            )
 
     def _connect(self) -> None:
         sel = self._selected_sphere()
