@@ -30,13 +30,13 @@ import threading
 from collections.abc import Callable, Collection, Sequence
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from ..util.errors import MissingDependencyError, shown_text
+from ..util.errors import InputError, MissingDependencyError, shown_text
 
 if TYPE_CHECKING:
     from websockets.asyncio.server import ServerConnection
     from websockets.http11 import Request, Response
 
-__all__ = ["RequestGuard", "own_names", "refusal", "start_guarded"]
+__all__ = ["RequestGuard", "check_address", "own_names", "refusal", "start_guarded"]
 
 T = TypeVar("T")
 
@@ -49,6 +49,29 @@ _HOST = re.compile(
 )
 #: Distinct refusals reported (a page retrying cannot flood the terminal).
 MAX_REPORTED = 32
+
+
+def check_address(host: str) -> None:
+    """Raise :class:`InputError` (one line) when no server can listen on ``host``: a name that
+    does not resolve, an address of another machine. viser tries the next port on any such
+    error, a thousand times, and then waits for a server that never started: the command
+    hung instead of saying why."""
+    try:
+        infos = socket.getaddrinfo(
+            host or None, 0, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE
+        )
+    except (OSError, UnicodeError) as e:
+        reason = getattr(e, "strerror", None) or str(e)
+        raise InputError(f"cannot serve on {shown_text(host)}: {reason}") from None
+    family, kind, proto, _, address = infos[0]
+    try:
+        with socket.socket(family, kind, proto) as probe:
+            probe.bind(address)
+    except OSError as e:
+        reason = e.strerror or str(e)
+        raise InputError(
+            f"cannot serve on {shown_text(host)}: {reason} (not an address of this machine?)"
+        ) from None
 
 
 def own_names(bind_host: str) -> frozenset[str]:

@@ -24,7 +24,7 @@ from ..util.errors import XrdfToolsError
 from ..util.fileio import read_input_bytes
 from ..util.numbers import REPORT_SAMPLES
 from .edits import Edit
-from .guard import RequestGuard, start_guarded
+from .guard import WILDCARD_HOSTS, RequestGuard, check_address, start_guarded
 from .robot import Collisions, EditRobot
 from .state import EditState, save
 from .view import RobotView
@@ -90,6 +90,7 @@ class EditorPage:
         self._stop = threading.Event()
         #: What every request passes before viser sees it: only this server's own page.
         self.guard = RequestGuard(host, on_refused)
+        check_address(host)
         with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner
             self.server = start_guarded(
                 lambda: viser.ViserServer(host=host, port=port, verbose=False),
@@ -129,7 +130,7 @@ class EditorPage:
     @property
     def url(self) -> str:
         host = self.server.get_host()
-        shown = "127.0.0.1" if host in ("0.0.0.0", "::") else host
+        shown = "127.0.0.1" if host in WILDCARD_HOSTS else host
         if ":" in shown:
             shown = f"[{shown}]"
         return f"http://{shown}:{self.server.get_port()}"
