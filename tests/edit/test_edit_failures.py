@@ -7,23 +7,34 @@ Real inputs: the example-robot-data Panda URDF with fixtures/panda/panda.xrdf.
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
+import shutil
 import subprocess
 import sys
+import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from tests.browser import free_port
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
+from xrdf_tools.edit import EditState
 from xrdf_tools.edit.guard import check_address
+from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.util.errors import InputError
+from xrdf_tools.xrdf.io import load_xrdf
 
 PANDA_XRDF = FIXTURES / "panda" / "panda.xrdf"
 #: An address of no machine here (TEST-NET-1, RFC 5737).
 ELSEWHERE = "192.0.2.1"
 
 pytest.importorskip("viser", reason="xrdf edit needs viser (the edit extra)")
+websockets_client = pytest.importorskip("websockets.asyncio.client")
+websockets_exceptions = pytest.importorskip("websockets.exceptions")
 
 
 @pytest.mark.parametrize(
@@ -54,3 +65,114 @@ def test_edit_on_another_machines_address_says_so_instead_of_hanging(tmp_path: P
         "(not an address of this machine?)"
     ]
     assert target.read_bytes() == PANDA_XRDF.read_bytes()
+
+
+# --- what a client may send ------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Any, list[str]]]:
+    """The editor on a copy of the Panda XRDF, and what it reported for the terminal."""
+    from xrdf_tools.edit.page import EditorPage
+
+    target = tmp_path_factory.mktemp("edit") / "panda.xrdf"
+    shutil.copy(PANDA_XRDF, target)
+    heard: list[str] = []
+    page = EditorPage(
+        load_robot(robot_urdf("panda")),
+        EditState.start(load_xrdf(target)),
+        target=target,
+        port=free_port(),
+        on_refused=heard.append,
+    )
+    try:
+        yield page, heard
+    finally:
+        page.close()
+
+
+def send(url: str, build: Callable[[dict[str, str]], bytes]) -> None:
+    """Connect as the page's client does (no Origin: a program), say "I am a client" (a
+    camera message), and send ``build(uuids of the controls by label)``."""
+    asyncio.run(_send(url.replace("http://", "ws://"), build))
+
+
+async def _send(url: str, build: Callable[[dict[str, str]], bytes]) -> None:
+    import msgspec
+    import viser
+    import zstandard
+    from viser import _messages
+
+    async with websockets_client.connect(
+        url,
+        subprotocols=[f"viser-v{viser.__version__}"],
+        open_timeout=10,  # type: ignore[list-item]
+    ) as ws:
+        uuids: dict[str, str] = {}
+        while True:  # the page's controls, until it has sent them all
+            try:
+                raw = await asyncio.wait_for(ws.recv(), 1 if "Scale factor" in uuids else 10)
+            except TimeoutError:
+                break
+            assert isinstance(raw, bytes)
+            size, packed = int.from_bytes(raw[:8], "little"), int.from_bytes(raw[8:16], "little")
+            inner = zstandard.ZstdDecompressor().decompress(raw[16 : 16 + packed], size)
+            for m in msgspec.msgpack.decode(inner)["messages"]:
+                if "label" in m.get("props", {}):
+                    uuids[m["props"]["label"]] = m["uuid"]
+        z, one = (0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 0.0)
+        camera = _messages.ViewerCameraMessage(one, (1, 1, 1), 1.0, 0.01, 9.0, 48, 64, z, z)
+        await ws.send(msgspec.msgpack.encode(camera.as_serializable_dict()))
+        with contextlib.suppress(websockets_exceptions.ConnectionClosed):
+            await ws.send(build(uuids))
+            await asyncio.sleep(0.3)
+
+
+def update(label: str, value: Any) -> Callable[[dict[str, str]], bytes]:
+    import msgspec
+    from viser import _messages
+
+    def build(uuids: dict[str, str]) -> bytes:
+        message = _messages.GuiUpdateMessage(uuids[label], {"value": value})
+        return msgspec.msgpack.encode(message.as_serializable_dict())
+
+    return build
+
+
+def unknown_message(_: dict[str, str]) -> bytes:
+    import msgspec
+
+    return msgspec.msgpack.encode({"type": "NoSuchMessage"})
+
+
+@pytest.mark.parametrize(
+    ("build", "said"),
+    [
+        (lambda _: b"garbage", "dropped a connection: connection handler failed: DecodeError"),
+        (unknown_message, "dropped a connection: connection handler failed: KeyError"),
+        (update("Center x (m)", "abc"), "ignored a message: ValueError"),
+        (update("Buffer (m)", [1, 2]), "ignored a message: TypeError"),
+        (update("Sphere", "not a number"), None),  # not an option: ignored
+        (update("Link", "no_such_link"), None),
+        (update("Meshes", "no_such_kind"), None),
+    ],
+)
+def test_a_malformed_message_is_one_line_and_changes_nothing(
+    served: tuple[Any, list[str]],
+    capfd: pytest.CaptureFixture[str],
+    build: Callable[[dict[str, str]], bytes],
+    said: str | None,
+) -> None:
+    """viser and websockets printed a traceback for each (and a dropdown value that is not
+    an option reached the page's code, which failed on it)."""
+    page, heard = served
+    before, document = len(heard), page.state.xrdf
+    send(page.url, build)
+    time.sleep(0.3)
+    err = capfd.readouterr().err
+    assert "Traceback" not in err and "Task failed" not in err, err
+    new = heard[before:]
+    if said is None:
+        assert new == []
+    else:
+        assert len(new) == 1 and said in new[0] and "\n" not in new[0], new
+    assert page.state.xrdf == document
+    assert page.panels.spheres.link.value in page.robot.frame_names

@@ -42,8 +42,9 @@ class EditorPage:
 
     ``target`` is the only file :meth:`save` writes; ``readonly`` disables saving.
     ``configs`` is a configurations file whose rows can be posed from the page. Only the
-    page this server serves may drive it (:mod:`.guard`); ``on_refused`` hears why another
-    request was refused.
+    page this server serves may drive it (:mod:`.guard`); ``on_refused`` hears, in one line,
+    why another request was refused or a malformed one dropped (viser and websockets printed
+    a traceback).
     """
 
     def __init__(
@@ -98,6 +99,9 @@ class EditorPage:
                 close=_stop_server,
             )
         try:
+            self.server.get_event_loop().call_soon_threadsafe(
+                self.server.get_event_loop().set_exception_handler, self.guard.loop_error
+            )
             self._configure()
             self.view = RobotView(
                 self.server, self.robot, on_pick=self.pick, package_paths=package_paths

@@ -72,8 +72,8 @@ def _draft(robot: Robot, srdf: Path | None, seed: int, samples: int) -> Xrdf:
 
 
 def _warn_refused(why: str) -> None:
-    """A request the page refused (another web page, a rebinding name): said even with -q,
-    once per kind."""
+    """A request the page refused (another web page, a rebinding name) or a malformed one it
+    dropped: said even with -q, once per kind."""
     echo(f"warning: {why}", err=True)
 
 
