@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import os
 import shutil
 import subprocess
 import sys
@@ -22,7 +23,7 @@ import pytest
 from tests.browser import free_port
 from tests.paths import FIXTURES
 from tests.robots import robot_urdf
-from xrdf_tools.edit import EditState
+from xrdf_tools.edit import EditState, SetRadius
 from xrdf_tools.edit.guard import check_address
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.util.errors import InputError
@@ -176,3 +177,89 @@ def test_a_malformed_message_is_one_line_and_changes_nothing(
         assert len(new) == 1 and said in new[0] and "\n" not in new[0], new
     assert page.state.xrdf == document
     assert page.panels.spheres.link.value in page.robot.frame_names
+
+
+# --- saving ------------------------------------------------------------------------------------
+def test_confirm_saves_only_what_the_review_showed(tmp_path: Path) -> None:
+    """Confirm pressed without a review (a client can press a hidden button), after another
+    edit, or after another program wrote the file: nothing is written, the review is shown
+    again. Before, Confirm wrote whatever the document held then, over whatever was there."""
+    from xrdf_tools.edit.page import EditorPage
+
+    target = tmp_path / "panda.xrdf"
+    shutil.copy(PANDA_XRDF, target)
+    page = EditorPage(
+        load_robot(robot_urdf("panda")),
+        EditState.start(load_xrdf(target)),
+        target=target,
+        port=free_port(),
+    )
+    try:
+        panels = page.panels
+        assert page.apply(SetRadius("panda_link4", 0, 0.05))
+        panels._confirm()
+        assert page.message.startswith("not saved: press Save… first")
+        panels.review()
+        assert page.apply(SetRadius("panda_link4", 0, 0.06))  # an edit after the review
+        panels._confirm()
+        assert page.message.startswith("not saved: the document or the file changed")
+        assert "0.06" in panels.diff.content and target.read_bytes() == PANDA_XRDF.read_bytes()
+        target.write_bytes(PANDA_XRDF.read_bytes() + b"# by hand\n")  # another program
+        panels._confirm()
+        assert page.message.startswith("not saved: the document or the file changed")
+        assert "changed on disk since the page read it" in panels.diff.content
+        assert target.read_bytes().endswith(b"# by hand\n")
+        panels._confirm()  # the user saw the warning, and confirms
+        assert page.message == f"saved {target}" and not page.state.dirty
+        radius = load_xrdf(target).resolved_spheres("panda_spheres")["panda_link4"][0].radius
+        assert radius == 0.06
+    finally:
+        page.close()
+
+
+def test_a_save_that_cannot_be_written_loses_nothing_and_says_so(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A read-only target, a full disk, a symlink: the file as it was (or written through the
+    link), one line on the page and for the terminal, no temporary file left."""
+    import errno
+
+    from xrdf_tools.edit.page import EditorPage
+
+    real = tmp_path / "real.xrdf"
+    shutil.copy(PANDA_XRDF, real)
+    target = tmp_path / "panda.xrdf"
+    target.symlink_to(real.name)
+    heard: list[str] = []
+    page = EditorPage(
+        load_robot(robot_urdf("panda")),
+        EditState.start(load_xrdf(target)),
+        target=target,
+        port=free_port(),
+        on_refused=heard.append,
+    )
+    try:
+        assert page.apply(SetRadius("panda_link4", 0, 0.05))
+        real.chmod(0o444)  # the user protected the file
+        page.panels.review()
+        why = f"{target} is read-only (no write permission): make it writable, or start the"
+        assert page.panels.diff.content.startswith("**Cannot save**: ")
+        assert not page.panels.confirm.visible
+        assert not page.save() and page.message.startswith(f"not saved: {why}")
+        assert heard[-1] == page.message
+        real.chmod(0o644)
+
+        def full(*_: object) -> None:
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+        monkeypatch.setattr(os, "replace", full)
+        assert not page.save()
+        assert page.message == f"not saved: {target}: cannot write: No space left on device"
+        assert heard[-1] == page.message and page.state.dirty
+        monkeypatch.undo()
+        assert real.read_bytes() == PANDA_XRDF.read_bytes()
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["panda.xrdf", "real.xrdf"]
+        assert page.save() and target.is_symlink()  # written through the link, kept
+        assert load_xrdf(real).resolved_spheres("panda_spheres")["panda_link4"][0].radius == 0.05
+    finally:
+        page.close()

@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import stat
 import threading
 from collections.abc import Callable, Hashable, Mapping
 from dataclasses import replace
@@ -91,6 +92,7 @@ class EditorPage:
         self._stop = threading.Event()
         #: What every request passes before viser sees it: only this server's own page.
         self.guard = RequestGuard(host, on_refused)
+        self.on_refused = on_refused
         check_address(host)
         with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner
             self.server = start_guarded(
@@ -194,21 +196,48 @@ class EditorPage:
             self.view.color_spheres(self.collisions, self.selected)
 
     def save(self) -> bool:
-        """Write the document to the target file. Refused when read-only."""
+        """Write the document to the target file. Refused when read-only (``--readonly``, or
+        a target file without write permission); a failure is said on the page and to
+        ``on_refused`` (the terminal), and leaves the file as it was."""
         with self.lock:
             if self.readonly:
                 self.say("read-only: saving is disabled (started with --readonly)")
                 return False
-            try:
-                self.state = save(self.state, self.target)
-            except (XrdfToolsError, OSError) as e:
-                self.say(f"not saved: {e}")
+            why = self.cannot_save()
+            if why is None:
+                try:
+                    self.state = save(self.state, self.target)
+                except (XrdfToolsError, OSError) as e:
+                    why = str(e)
+            if why is not None:
+                self.say(f"not saved: {why}")
+                if self.on_refused is not None:
+                    self.on_refused(f"not saved: {why}")
                 return False
             self.saved_path = str(self.target)
             self.on_disk = _read_bytes(self.target)
             self.say(f"saved {self.target}")
             self.refresh(document=True)
             return True
+
+    def cannot_save(self) -> str | None:
+        """Why Save would not write the target, known before trying: it is a file nobody may
+        write (``chmod a-w``: the user protected it; replacing it by a rename would work,
+        even for root, and drop that protection's point)."""
+        try:
+            mode = self.target.stat().st_mode
+        except OSError:
+            return None  # not there (or not reachable): the write says why
+        if stat.S_ISREG(mode) and not mode & 0o222:
+            return (
+                f"{self.target} is read-only (no write permission): make it writable, or "
+                "start the editor again with -o NEW.xrdf"
+            )
+        return None
+
+    def disk_bytes(self) -> bytes | None:
+        """The target's bytes now (None: no file there)."""
+        return _read_bytes(self.target)
 
     def overwrite_warning(self) -> str | None:
         """What Save would replace that the page has not shown: the target changed on disk
