@@ -25,6 +25,7 @@ from tests.paths import FIXTURES
 from tests.robots import robot_urdf
 from xrdf_tools.edit import EditState, SetRadius
 from xrdf_tools.edit.guard import check_address
+from xrdf_tools.edit.typed import TypedNumber, parse_typed
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.util.errors import InputError
 from xrdf_tools.xrdf.io import load_xrdf
@@ -149,8 +150,9 @@ def unknown_message(_: dict[str, str]) -> bytes:
     [
         (lambda _: b"garbage", "dropped a connection: connection handler failed: DecodeError"),
         (unknown_message, "dropped a connection: connection handler failed: KeyError"),
-        (update("Center x (m)", "abc"), "ignored a message: ValueError"),
-        (update("Buffer (m)", [1, 2]), "ignored a message: TypeError"),
+        (update("Scale factor", "abc"), "ignored a message: ValueError"),
+        (update("Fit spheres", [1, 2]), "ignored a message: TypeError"),
+        (update("Center x (m)", "abc"), None),  # not a number: left as typed
         (update("Sphere", "not a number"), None),  # not an option: ignored
         (update("Link", "no_such_link"), None),
         (update("Meshes", "no_such_kind"), None),
@@ -263,3 +265,37 @@ def test_a_save_that_cannot_be_written_loses_nothing_and_says_so(
         assert load_xrdf(real).resolved_spheres("panda_spheres")["panda_link4"][0].radius == 0.05
     finally:
         page.close()
+
+
+# --- numbers typed -----------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [("1e-3", 0.001), ("0.001", 0.001), (" -2 ", -2.0), (".5", 0.5), ("1.", 1.0), ("5E+2", 500.0)],
+)
+def test_a_typed_number_may_have_an_exponent(text: str, value: float) -> None:
+    assert parse_typed(text) == value
+
+
+@pytest.mark.parametrize("text", ["", "-", "1e", "1e-", "nan", "inf", "1_000", "0x10", "1,5"])
+def test_what_is_not_a_number_yet_is_left_alone(text: str) -> None:
+    assert parse_typed(text) is None
+
+
+def test_a_typed_field_is_not_rewritten_while_it_reads_as_the_document() -> None:
+    """The page shows the document's value after each edit: rewriting ``1.`` as ``1.0``
+    while the user types ``1.5`` would make it ``1.05``."""
+
+    class Gui:
+        def add_text(self, label: str, value: str, hint: str | None = None) -> Any:
+            return type("Box", (), {"value": value})()
+
+    field = TypedNumber(Gui(), "Buffer (m)", 0.0, lo=0.0, hi=0.5, unit=" m")
+    assert field.box.value == "0.0"
+    for typed in ("1.", "1e-3", "0.0010"):
+        field.box.value = typed
+        field.show(parse_typed(typed))  # type: ignore[arg-type]
+        assert field.box.value == typed
+    field.show(0.25)
+    assert field.box.value == "0.25"
+    assert field.refusal(0.6) == "not set: Buffer (m) takes 0 to 0.5 m, not 0.6"
+    assert field.refusal(0.5) is None
