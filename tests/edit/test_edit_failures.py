@@ -299,3 +299,22 @@ def test_a_typed_field_is_not_rewritten_while_it_reads_as_the_document() -> None
     assert field.box.value == "0.25"
     assert field.refusal(0.6) == "not set: Buffer (m) takes 0 to 0.5 m, not 0.6"
     assert field.refusal(0.5) is None
+    # the edit of "5" under way when the browser has sent "5e" (on its way to 5e-3): the
+    # page shows the document after the edit, and must leave the text alone
+    callbacks: list[Any] = []
+    field.box.on_update = callbacks.append
+    done: list[float] = []
+
+    def act(value: float) -> None:
+        field.box.value = "5e"  # the next keystroke arrived meanwhile
+        field.show(value)
+        done.append(value)
+
+    field.on_number(done.append, act)
+    field.box.value = "5"
+    callbacks[0](type("Event", (), {"client": object(), "target": field.box})())
+    assert field.box.value == "5" and done == ["not set: Buffer (m) takes 0 to 0.5 m, not 5"]
+    field.hi = None
+    field.box.value = "5"
+    callbacks[0](type("Event", (), {"client": object(), "target": field.box})())
+    assert field.box.value == "5e" and done[-1] == 5.0

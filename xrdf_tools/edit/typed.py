@@ -5,8 +5,10 @@ sends every keystroke: ``1e-3`` typed in it arrived as 1, then 13 (and ``1.5e-2`
 -1.52), each applied as an edit. A :class:`TypedNumber` is a text field whose text the page
 parses: ``1e-3``, ``0.001``, ``-2``, ``.5`` are numbers; what is not one yet (``-``, ``1e``,
 an empty field) is left alone until it is. The page never rewrites the text while it reads
-as the document's value, so typing is not disturbed; a value outside the field's range is
-refused with a message (the text stays as typed, to be finished or corrected).
+as the document's value, nor while it makes the edit the text asked for (the browser may
+have sent the next keystrokes meanwhile), so typing is not disturbed; a value outside the
+field's range is refused with a message (the text stays as typed, to be finished or
+corrected).
 """
 
 from __future__ import annotations
@@ -56,14 +58,17 @@ class TypedNumber:
         self.label = label
         self.lo, self.hi, self.unit = lo, hi, unit
         self.box: Any = gui.add_text(label, shown(value), hint=hint)
+        #: The page is making the edit this field's text asked for.
+        self.typing = False
 
     def read(self) -> float | None:
         """The number the field holds, None when its text is not one (yet)."""
         return parse_typed(str(self.box.value))
 
     def show(self, value: float) -> None:
-        """Show ``value`` (the document's), unless the field already reads as it."""
-        if self.read() != value:
+        """Show ``value`` (the document's), unless the field already reads as it or is being
+        typed in (its edit under way)."""
+        if not self.typing and self.read() != value:
             self.box.value = shown(value)
 
     def refusal(self, value: float) -> str | None:
@@ -90,6 +95,10 @@ class TypedNumber:
             if why is not None:
                 say(why)
                 return
-            act(value)
+            self.typing = True
+            try:
+                act(value)
+            finally:
+                self.typing = False
 
         self.box.on_update(changed)
