@@ -318,3 +318,24 @@ def test_a_typed_field_is_not_rewritten_while_it_reads_as_the_document() -> None
     field.box.value = "5"
     callbacks[0](type("Event", (), {"client": object(), "target": field.box})())
     assert field.box.value == "5e" and done[-1] == 5.0
+
+
+def test_deleting_the_last_sphere_of_a_link_with_geometry_says_a_planner_cannot_see_it(
+    served: tuple[Any, list[str]],
+) -> None:
+    from xrdf_tools.edit import DeleteSphere
+
+    page, _ = served
+    spheres = page.panels.spheres
+    n = len(page.state.xrdf.resolved_spheres(page.state.group)["panda_link7"])
+    for left in range(n - 1, -1, -1):
+        page.pick("panda_link7", 0)
+        spheres._on_sphere(DeleteSphere)
+        assert ("a planner cannot see it" in page.message) == (left == 0), page.message
+    assert page.message.endswith(
+        "warning: 'panda_link7' has collision geometry and no spheres now: a planner cannot "
+        "see it (xrdf lint: mesh-without-spheres)"
+    )
+    for _ in range(n):
+        page.undo()
+    assert not page.state.dirty
