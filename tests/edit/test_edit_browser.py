@@ -83,6 +83,15 @@ def set_number(page: Any, label: str, value: float, nth: int = 0) -> None:
     box.press("Enter")
 
 
+def type_text(page: Any, label: str, text: str) -> None:
+    """Type ``text`` key by key in the text field labelled ``label`` (the page's lengths and
+    limits), as a user does: the browser sends each keystroke."""
+    box = row(page, label).locator("input").first
+    box.click()
+    box.press("Control+a")
+    box.press_sequentially(text)
+
+
 def set_number_until(
     page: Any, label: str, value: float, done: Any, what: str, tries: int = 4
 ) -> None:
@@ -193,8 +202,8 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
             return editor.state.xrdf.resolved_spheres("panda_spheres")["panda_link5"][0]
 
         for i, (axis, v) in enumerate(zip("xyz", (0.01, 0.02, 0.03), strict=True)):
-            set_number(page, f"Center {axis} (m)", v)  # one field at a time: each edit
-            wait_for(lambda i=i, v=v: link5_first().center[i] == v, f"centre {axis}")  # redraws
+            type_text(page, f"Center {axis} (m)", f"{v * 1000:g}e-3")  # one field at a time:
+            wait_for(lambda i=i, v=v: link5_first().center[i] == v, f"centre {axis}")  # each
             settle(editor, page)
         set_number(page, "Radius", 0.07)
 
@@ -309,9 +318,10 @@ def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
 
 
 def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> None:
-    """Numbers typed past a field's bounds or a file's: the page uses the value in bounds (and
-    shows it) or refuses the edit and shows the document's value again; nothing the saved
-    file could not hold reaches it, and a configuration row past the end poses the last."""
+    """Numbers typed key by key, with an exponent or past a field's bounds: a length is the
+    number typed (``5e-3`` is 5 mm; viser's number field made it 0.5, then 0), one outside
+    the field's range is refused and left as typed; nothing the saved file could not hold
+    reaches it, and a configuration row past the end poses the last."""
     expect = sync_api.expect
     configs = tmp_path / "q.npy"
     np.save(configs, np.array([[0.0] * 7, [0.1] * 7, [0.2] * 7]))
@@ -322,25 +332,41 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
         settle(editor, page)
         choose(page, "Sphere", "0")
         settle(editor, page)
-        before = editor.state.xrdf
+
+        def sphere() -> Any:
+            return editor.state.xrdf.resolved_spheres(editor.state.group)["panda_link3"]
+
+        before_spheres = sphere()
 
         def buffer() -> float:
             sc = editor.state.xrdf.self_collision
             return -1.0 if sc is None else float(sc.buffer_distance.get("panda_link3", 0.0))
 
-        set_number(page, "Buffer (m)", 5)  # the field's maximum is 0.5
+        buffer_before = buffer()
+        type_text(page, "Buffer (m)", "7")  # the field takes 0 to 0.5 m
         settle(editor, page)
-        wait_for(lambda: buffer() == 0.5, "the buffer held at the field's maximum")
-        expect(row(page, "Buffer (m)").locator("input").first).to_have_value("0.5")
-        # a centre past twice the robot's reach is refused; the field shows the document
-        set_number(page, "Center x (m)", 2000000)
+        wait_for(lambda: editor.message.startswith("not set: Buffer (m) takes 0 to 0.5"), "no")
+        assert buffer() == buffer_before
+        expect(row(page, "Buffer (m)").locator("input").first).to_have_value("7")  # as typed
+        type_text(page, "Buffer (m)", "5e-3")  # an exponent: 5 mm (it arrived as 0.5, then 0)
+        settle(editor, page)
+        wait_for(lambda: buffer() == 0.005, "the buffer typed with an exponent")
+        expect(row(page, "Buffer (m)").locator("input").first).to_have_value("5e-3")
+        # a centre past twice the robot's reach is refused, the field keeps what was typed
+        type_text(page, "Center x (m)", "2000000")
         settle(editor, page)
         wait_for(lambda: "not moved" in editor.message, "the refusal")
-        x = editor.state.xrdf.resolved_spheres(editor.state.group)["panda_link3"][0].center[0]
-        expect(row(page, "Center x (m)").locator("input").first).to_have_value(f"{x:g}")
-        assert editor.state.xrdf.resolved_spheres(editor.state.group) == before.resolved_spheres(
-            editor.state.group
-        )
+        # ... and the centre typed with an exponent is the number typed (it arrived as 1,
+        # then 13: the sphere went 1 m away)
+        type_text(page, "Center x (m)", "1e-3")
+        settle(editor, page)
+        wait_for(lambda: sphere()[0].center[0] == 0.001, "the centre typed with an exponent")
+        assert sphere()[1:] == before_spheres[1:]
+        assert sphere()[0].center[1:] == before_spheres[0].center[1:]
+        assert editor.state.undo_label.startswith("move panda_link3[0] to (0.0010, ")
+        editor.undo()  # the keystrokes of one field are one step
+        assert sphere() == before_spheres
+        editor.redo()
         set_number(page, "Configuration", 99)  # 3 rows
         settle(editor, page)
         page.get_by_role("button", name=re.compile("Pose configuration")).click()

@@ -180,8 +180,8 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         assert [s.label for s in page.panels.sliders] == list(ARM)
         panel.joint.value = "panda_finger_joint1"
         panel.sync()
-        assert panel.member.value is False and panel.acceleration.value == 10.0
-        panel.acceleration.value = 3.0
+        assert panel.member.value is False and panel.acceleration.read() == 10.0
+        panel.acceleration.box.value = "3"
         before = page.state
         panel._set_limits()  # not in the c-space: said, kept for when it is taken in
         assert page.state is before and "gets these limits when taken in" in page.message
@@ -199,9 +199,9 @@ def test_page_cspace_panel_rebuilds_the_sliders_and_tool_frames(
         page.set_pose(q)
         assert page.panels.sliders[-1].value == pytest.approx(0.01)
         # a limit typed for a joint in the c-space is one undo step per joint
-        panel.jerk.value = 50.0
+        panel.jerk.box.value = "50"
         panel._set_limits()
-        panel.jerk.value = 60.0
+        panel.jerk.box.value = "6e1"
         panel._set_limits()
         cs = page.state.xrdf.cspace
         assert cs is not None and cs.jerk_limits[-1] == 60.0

@@ -302,6 +302,28 @@ def test_save_is_canonical_byte_stable_and_lints(panda: tuple[Any, Xrdf], tmp_pa
     assert errors == []
 
 
+def test_deleting_every_sphere_of_a_link_leaves_an_empty_list_that_lint_reports(
+    panda: tuple[Any, Xrdf], tmp_path: Path
+) -> None:
+    """``panda_link7: []`` is what the file holds: cuRobo keeps the frame in its tree and loads
+    no sphere for it, and lint says so at that key (it said nothing of an empty list)."""
+    robot, x = panda
+    st = EditState.start(x)
+    for _ in spheres_of(x, "panda_link7"):
+        st = st.apply(DeleteSphere("panda_link7", 0))
+    target = tmp_path / "panda.xrdf"
+    save(st, target)
+    text = target.read_text()
+    line = next(i for i, t in enumerate(text.splitlines(), 1) if t.strip() == "panda_link7: []")
+    found = [
+        d
+        for d in lint_text(text, str(target), urdf_model=robot, target="cumotion")
+        if d.rule == "mesh-without-spheres"
+    ]
+    assert [(d.line, d.severity.name) for d in found] == [(line, "ERROR")]
+    assert "panda_link7" in found[0].message and "empty" in found[0].message
+
+
 def test_draft_state_is_dirty_until_saved(panda: tuple[Any, Xrdf], tmp_path: Path) -> None:
     st = EditState.start(panda[1], saved=Xrdf())
     assert st.dirty and not st.diff().is_equal

@@ -18,7 +18,8 @@ from typing import TYPE_CHECKING, Any
 from ..convert.core import DEFAULT_ACCELERATION, DEFAULT_JERK
 from .edits import SetCspace, SetToolFrames
 from .markup import code
-from .surface import PageSurface, bounded, from_browser
+from .surface import PageSurface, from_browser
+from .typed import TypedNumber
 
 if TYPE_CHECKING:
     from ..xrdf.model import CSpace
@@ -76,21 +77,21 @@ class CspacePanel:
                 False,
                 hint="Planned joints; one left out is held at its default position",
             )
-            self.acceleration = gui.add_number(
+            self.acceleration = TypedNumber(
+                gui,
                 "Acceleration limit",
                 DEFAULT_ACCELERATION,
-                min=MIN_LIMIT,
-                max=MAX_LIMIT,
-                step=0.1,
+                lo=MIN_LIMIT,
+                hi=MAX_LIMIT,
                 hint="rad/s² (m/s² for a prismatic joint)",
             )
-            self.jerk = gui.add_number(
+            self.jerk = TypedNumber(
+                gui,
                 "Jerk limit",
                 DEFAULT_JERK,
-                min=MIN_LIMIT,
-                max=MAX_LIMIT,
-                step=1.0,
-                hint="rad/s³ (m/s³ for a prismatic joint)",
+                lo=MIN_LIMIT,
+                hi=MAX_LIMIT,
+                hint="rad/s³ (m/s³ for a prismatic joint); 1e3 is 1000",
             )
             self.order = gui.add_button(
                 "Put in URDF order",
@@ -107,8 +108,8 @@ class CspacePanel:
             )
         self.joint.on_update(lambda e: self.sync() if from_browser(e) else None)
         self.member.on_update(lambda e: self._set_member() if from_browser(e) else None)
-        for box in (self.acceleration, self.jerk):
-            box.on_update(lambda e: self._set_limits() if from_browser(e) else None)
+        for field in (self.acceleration, self.jerk):
+            field.on_number(page.say, lambda _: self._set_limits())
         self.order.on_click(lambda e: self._urdf_order() if from_browser(e) else None)
         add.on_click(lambda e: self._tool_frames(add=True) if from_browser(e) else None)
         remove.on_click(lambda e: self._tool_frames(add=False) if from_browser(e) else None)
@@ -116,8 +117,19 @@ class CspacePanel:
         self.sync()
 
     # --- edits -----------------------------------------------------------------------------
-    def _limits(self) -> tuple[float, float]:
-        return bounded(self.acceleration), bounded(self.jerk)
+    def _limits(self) -> tuple[float, float] | None:
+        """The limits typed, None (said) when a field holds no number in its range."""
+        values: list[float] = []
+        for field in (self.acceleration, self.jerk):
+            value = field.read()
+            why = f"not set: type a number for {field.label}" if value is None else None
+            if value is not None:
+                why = field.refusal(value)
+                values.append(value)
+            if why is not None:
+                self.page.say(why)
+                return None
+        return values[0], values[1]
 
     def _set_member(self) -> None:
         page = self.page
@@ -127,7 +139,11 @@ class CspacePanel:
             self.sync()
             return
         included = bool(self.member.value)
-        acceleration, jerk = self._limits()
+        limits = self._limits()
+        if limits is None:
+            self.sync()
+            return
+        acceleration, jerk = limits
         with page.lock:
             cspace = page.robot.cspace_with(
                 page.state.xrdf, joint, included=included, acceleration=acceleration, jerk=jerk
@@ -155,7 +171,10 @@ class CspacePanel:
                     "(tick In c-space)"
                 )
                 return
-            acceleration, jerk = self._limits()
+            limits = self._limits()
+            if limits is None:
+                return
+            acceleration, jerk = limits
             cspace = page.robot.cspace_with(
                 page.state.xrdf, joint, included=True, acceleration=acceleration, jerk=jerk
             )
@@ -203,9 +222,10 @@ class CspacePanel:
         self.member.value = joint in names
         if x.cspace is not None and joint in names:
             k = names.index(joint)
-            self.acceleration.value = float(x.cspace.acceleration_limits[k])
-            self.jerk.value = float(x.cspace.jerk_limits[k])
+            self.acceleration.show(float(x.cspace.acceleration_limits[k]))
+            self.jerk.show(float(x.cspace.jerk_limits[k]))
         else:
-            self.acceleration.value, self.jerk.value = DEFAULT_ACCELERATION, DEFAULT_JERK
+            self.acceleration.show(DEFAULT_ACCELERATION)
+            self.jerk.show(DEFAULT_JERK)
         tools = x.tool_frames or ()
         self.tools.content = tool_frames_text(tools)

@@ -22,21 +22,23 @@ machine can reach the port anyway (see docs/security.md).
 
 from __future__ import annotations
 
+import asyncio
 import http
 import ipaddress
+import logging
 import re
 import socket
 import threading
 from collections.abc import Callable, Collection, Sequence
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from ..util.errors import MissingDependencyError, shown_text
+from ..util.errors import InputError, MissingDependencyError, shown_text
 
 if TYPE_CHECKING:
     from websockets.asyncio.server import ServerConnection
     from websockets.http11 import Request, Response
 
-__all__ = ["RequestGuard", "own_names", "refusal", "start_guarded"]
+__all__ = ["RequestGuard", "check_address", "own_names", "refusal", "start_guarded"]
 
 T = TypeVar("T")
 
@@ -49,6 +51,29 @@ _HOST = re.compile(
 )
 #: Distinct refusals reported (a page retrying cannot flood the terminal).
 MAX_REPORTED = 32
+
+
+def check_address(host: str) -> None:
+    """Raise :class:`InputError` (one line) when no server can listen on ``host``: a name that
+    does not resolve, an address of another machine. viser tries the next port on any such
+    error, a thousand times, and then waits for a server that never started: the command
+    hung instead of saying why."""
+    try:
+        infos = socket.getaddrinfo(
+            host or None, 0, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE
+        )
+    except (OSError, UnicodeError) as e:
+        reason = getattr(e, "strerror", None) or str(e)
+        raise InputError(f"cannot serve on {shown_text(host)}: {reason}") from None
+    family, kind, proto, _, address = infos[0]
+    try:
+        with socket.socket(family, kind, proto) as probe:
+            probe.bind(address)
+    except OSError as e:
+        reason = e.strerror or str(e)
+        raise InputError(
+            f"cannot serve on {shown_text(host)}: {reason} (not an address of this machine?)"
+        ) from None
 
 
 def own_names(bind_host: str) -> frozenset[str]:
@@ -145,6 +170,19 @@ class RequestGuard:
 
         return process_request
 
+    def log_to_report(self) -> logging.Logger:
+        """A logger for the websockets server that reports each error it logs as one line
+        (a malformed request or message: websockets logged a traceback)."""
+        logger = logging.Logger("xrdf_tools.edit.server", logging.WARNING)  # not registered
+        logger.addHandler(_OneLine(self._report))
+        return logger
+
+    def loop_error(self, _loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
+        """The server's event loop exception handler: a message viser could not take (a
+        value of the wrong type for a control, an unknown message) is one line, not the
+        traceback asyncio prints."""
+        self._report(f"the editor's server ignored a message: {_error_text(context)}")
+
     def _report(self, why: str) -> None:
         with self._lock:
             if why in self._reported or len(self._reported) >= MAX_REPORTED:
@@ -152,6 +190,28 @@ class RequestGuard:
             self._reported.add(why)
         if self.on_refused is not None:
             self.on_refused(why)
+
+
+class _OneLine(logging.Handler):
+    """Each record as one line (its message and its exception, no traceback) to ``report``."""
+
+    def __init__(self, report: Callable[[str], None]) -> None:
+        super().__init__(logging.WARNING)
+        self.report = report
+
+    def emit(self, record: logging.LogRecord) -> None:
+        exc = record.exc_info[1] if record.exc_info else None
+        text = record.getMessage() + (f": {_exception_text(exc)}" if exc is not None else "")
+        self.report(f"the editor's server dropped a connection: {shown_text(text, 200)}")
+
+
+def _error_text(context: dict[str, Any]) -> str:
+    exc = context.get("exception")
+    return _exception_text(exc) if exc is not None else str(context.get("message", "error"))
+
+
+def _exception_text(exc: BaseException) -> str:
+    return shown_text(f"{type(exc).__name__}: {exc}", 200)
 
 
 def _arrived_at(connection: ServerConnection) -> frozenset[str]:
@@ -188,6 +248,7 @@ def start_guarded(make: Callable[[], T], guard: RequestGuard, close: Callable[[T
     def serve(*args: Any, process_request: Any = None, **kwargs: Any) -> Any:
         nonlocal guarded
         guarded += 1
+        kwargs["logger"] = guard.log_to_report()
         return original(*args, process_request=guard.wrap(process_request), **kwargs)
 
     with _PATCHING:

@@ -17,6 +17,7 @@ from ..util.numbers import REPORT_SAMPLES
 from .edits import SetBuffer, SetIgnored, SetMask
 from .markup import code, text
 from .surface import PageSurface, bounded, from_browser
+from .typed import TypedNumber
 
 if TYPE_CHECKING:
     from ..xrdf.model import Xrdf
@@ -30,6 +31,8 @@ TABLE_ROWS = 12
 #: The most samples the page's report takes (it runs while the page waits: about 5 s on a
 #: TIAGo arm; ``xrdf report`` takes more, in worker processes).
 MAX_PAGE_SAMPLES = 1_000_000
+#: The largest buffer distance the field takes, metres.
+MAX_BUFFER = 0.5
 
 
 def pair_label(a: str, b: str) -> str:
@@ -56,7 +59,9 @@ class MaskPanel:
         self.rows: dict[tuple[str, str], Any] = {}
         self._spheres: SphereSet | None = None
         with gui.add_folder("Mask"):
-            self.buffer = gui.add_number("Buffer (m)", 0.0, min=0.0, max=0.5, step=0.001)
+            self.buffer = TypedNumber(
+                gui, "Buffer (m)", 0.0, lo=0.0, hi=MAX_BUFFER, unit=" m", hint="1e-3 is 1 mm"
+            )
             self.filter = gui.add_text("Filter pairs", "")
             self.summary = gui.add_markdown("")
             self.pairs = gui.add_folder("Pairs (ignored when ticked)")
@@ -73,7 +78,7 @@ class MaskPanel:
             self.witness = gui.add_dropdown("Witness", ("none",), visible=False)
             self.pose_witness = gui.add_button("Pose witness", visible=False)
 
-        self.buffer.on_update(lambda e: self._set_buffer() if from_browser(e) else None)
+        self.buffer.on_number(page.say, self._set_buffer)
         self.filter.on_update(lambda e: self.update(document=True) if from_browser(e) else None)
         run.on_click(lambda e: self.run_report() if from_browser(e) else None)
         self.apply_mask.on_click(lambda e: self._apply_mask() if from_browser(e) else None)
@@ -82,14 +87,13 @@ class MaskPanel:
     # --- buffers ---------------------------------------------------------------------------
     def sync_selection(self, frame: str) -> None:
         sc = self.page.state.xrdf.self_collision
-        self.buffer.value = float(sc.buffer_distance.get(frame, 0.0)) if sc else 0.0
+        self.buffer.show(float(sc.buffer_distance.get(frame, 0.0)) if sc else 0.0)
 
-    def _set_buffer(self) -> None:
+    def _set_buffer(self, distance: float) -> None:
         sel = self.page.selected
         if sel is None:
             self.page.say("select a link first")
             return
-        distance = bounded(self.buffer)
         self.page.apply(SetBuffer(sel[0], distance), merge_key=("buffer", sel[0]))
 
     # --- report ----------------------------------------------------------------------------

@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import stat
 import threading
 from collections.abc import Callable, Hashable, Mapping
 from dataclasses import replace
@@ -24,7 +25,7 @@ from ..util.errors import XrdfToolsError
 from ..util.fileio import read_input_bytes
 from ..util.numbers import REPORT_SAMPLES
 from .edits import Edit
-from .guard import RequestGuard, start_guarded
+from .guard import WILDCARD_HOSTS, RequestGuard, check_address, start_guarded
 from .robot import Collisions, EditRobot
 from .state import EditState, save
 from .view import RobotView
@@ -42,8 +43,9 @@ class EditorPage:
 
     ``target`` is the only file :meth:`save` writes; ``readonly`` disables saving.
     ``configs`` is a configurations file whose rows can be posed from the page. Only the
-    page this server serves may drive it (:mod:`.guard`); ``on_refused`` hears why another
-    request was refused.
+    page this server serves may drive it (:mod:`.guard`); ``on_refused`` hears, in one line,
+    why another request was refused or a malformed one dropped (viser and websockets printed
+    a traceback).
     """
 
     def __init__(
@@ -90,6 +92,8 @@ class EditorPage:
         self._stop = threading.Event()
         #: What every request passes before viser sees it: only this server's own page.
         self.guard = RequestGuard(host, on_refused)
+        self.on_refused = on_refused
+        check_address(host)
         with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner
             self.server = start_guarded(
                 lambda: viser.ViserServer(host=host, port=port, verbose=False),
@@ -97,6 +101,9 @@ class EditorPage:
                 close=_stop_server,
             )
         try:
+            self.server.get_event_loop().call_soon_threadsafe(
+                self.server.get_event_loop().set_exception_handler, self.guard.loop_error
+            )
             self._configure()
             self.view = RobotView(
                 self.server, self.robot, on_pick=self.pick, package_paths=package_paths
@@ -129,7 +136,7 @@ class EditorPage:
     @property
     def url(self) -> str:
         host = self.server.get_host()
-        shown = "127.0.0.1" if host in ("0.0.0.0", "::") else host
+        shown = "127.0.0.1" if host in WILDCARD_HOSTS else host
         if ":" in shown:
             shown = f"[{shown}]"
         return f"http://{shown}:{self.server.get_port()}"
@@ -189,21 +196,48 @@ class EditorPage:
             self.view.color_spheres(self.collisions, self.selected)
 
     def save(self) -> bool:
-        """Write the document to the target file. Refused when read-only."""
+        """Write the document to the target file. Refused when read-only (``--readonly``, or
+        a target file without write permission); a failure is said on the page and to
+        ``on_refused`` (the terminal), and leaves the file as it was."""
         with self.lock:
             if self.readonly:
                 self.say("read-only: saving is disabled (started with --readonly)")
                 return False
-            try:
-                self.state = save(self.state, self.target)
-            except (XrdfToolsError, OSError) as e:
-                self.say(f"not saved: {e}")
+            why = self.cannot_save()
+            if why is None:
+                try:
+                    self.state = save(self.state, self.target)
+                except (XrdfToolsError, OSError) as e:
+                    why = str(e)
+            if why is not None:
+                self.say(f"not saved: {why}")
+                if self.on_refused is not None:
+                    self.on_refused(f"not saved: {why}")
                 return False
             self.saved_path = str(self.target)
             self.on_disk = _read_bytes(self.target)
             self.say(f"saved {self.target}")
             self.refresh(document=True)
             return True
+
+    def cannot_save(self) -> str | None:
+        """Why Save would not write the target, known before trying: it is a file nobody may
+        write (``chmod a-w``: the user protected it; replacing it by a rename would work,
+        even for root, and drop that protection's point)."""
+        try:
+            mode = self.target.stat().st_mode
+        except OSError:
+            return None  # not there (or not reachable): the write says why
+        if stat.S_ISREG(mode) and not mode & 0o222:
+            return (
+                f"{self.target} is read-only (no write permission): make it writable, or "
+                "start the editor again with -o NEW.xrdf"
+            )
+        return None
+
+    def disk_bytes(self) -> bytes | None:
+        """The target's bytes now (None: no file there)."""
+        return _read_bytes(self.target)
 
     def overwrite_warning(self) -> str | None:
         """What Save would replace that the page has not shown: the target changed on disk

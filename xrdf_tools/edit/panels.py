@@ -56,6 +56,9 @@ class Panels:
         gui = page.server.gui
         self.gui = gui
         self.proposal: FitProposal | None = None
+        #: What the last review showed: the document and the target's bytes then. Confirm
+        #: writes only that document over only those bytes.
+        self.reviewed: tuple[Xrdf, bytes | None] | None = None
         self._document_panel()
         self._view_panel()
         self._pose_panel()
@@ -87,6 +90,12 @@ class Panels:
         """Show the semantic diff of the change (a summary for a draft never saved) and the
         button that saves it."""
         with self.page.lock:
+            self.reviewed = (self.page.state.xrdf, self.page.disk_bytes())
+            why = self.page.cannot_save()
+            if why is not None:
+                self.diff.content = f"**Cannot save**: {markup.text(why)}."
+                self.confirm.visible = False
+                return
             if self.page.state.saved == Xrdf():
                 self._review_new()
                 return
@@ -123,9 +132,25 @@ class Panels:
         self.confirm.visible = not page.readonly
 
     def _confirm(self) -> None:
-        if self.page.save():
-            self.confirm.visible = False
-            self.diff.content = ""
+        """Save what the review showed. When the document was edited since (in this tab or
+        another) or another program changed the file, nothing is written: the review is shown
+        again, to confirm."""
+        page = self.page
+        with page.lock:
+            if self.reviewed is None:
+                page.say("not saved: press Save… first, to see what it writes")
+                return
+            if self.reviewed != (page.state.xrdf, page.disk_bytes()):
+                self.review()
+                page.say(
+                    "not saved: the document or the file changed since the review; the review "
+                    "shows it now: confirm again to save"
+                )
+                return
+            if page.save():
+                self.reviewed = None
+                self.confirm.visible = False
+                self.diff.content = ""
 
     def show_message(self, message: str) -> None:
         self.message.content = f"_{markup.text(message)}_" if message else ""

@@ -22,6 +22,7 @@ from .edits import (
 )
 from .sphere_edits import MAX_CONNECT
 from .surface import PageSurface, bounded, from_browser
+from .typed import TypedNumber
 from .view import node
 
 __all__ = ["NONE", "RADIUS_MAX", "RADIUS_STEP", "SpherePanel"]
@@ -47,8 +48,9 @@ class SpherePanel:
         with gui.add_folder("Spheres"):
             self.link: Any = gui.add_dropdown("Link", frames, initial_value=frames[0])
             self.sphere: Any = gui.add_dropdown("Sphere", (NONE,), initial_value=NONE)
-            self.center: list[Any] = [
-                gui.add_number(f"Center {axis} (m)", 0.0, step=0.0005) for axis in "xyz"
+            self.center = [
+                TypedNumber(gui, f"Center {axis} (m)", 0.0, unit=" m", hint="1e-3 is 1 mm")
+                for axis in "xyz"
             ]
             self.radius: Any = gui.add_slider(
                 "Radius", RADIUS_STEP, RADIUS_MAX, step=RADIUS_STEP, initial_value=RADIUS_STEP
@@ -69,8 +71,8 @@ class SpherePanel:
             scale = gui.add_button("Scale link spheres")
         self.link.on_update(lambda e: page.pick(self.link.value, None) if from_browser(e) else None)
         self.sphere.on_update(lambda e: self._pick_sphere() if from_browser(e) else None)
-        for axis, box in enumerate(self.center):
-            box.on_update(self._center_moved(axis, box))
+        for axis, field in enumerate(self.center):
+            field.on_number(page.say, self._center_moved(axis))
         self.radius.on_update(lambda e: self._resize() if from_browser(e) else None)
         add.on_click(lambda e: self._add() if from_browser(e) else None)
         dup.on_click(lambda e: self._on_sphere(DuplicateSphere) if from_browser(e) else None)
@@ -88,18 +90,15 @@ class SpherePanel:
         value = self.sphere.value
         self.page.pick(self.link.value, None if value == NONE else int(value))
 
-    def _center_moved(self, axis: int, box: Any) -> Any:
-        def moved(e: Any) -> None:
-            if from_browser(e):
-                self.set_center(axis, float(box.value))
-
-        return moved
+    def _center_moved(self, axis: int) -> Any:
+        return lambda value: self.set_center(axis, value)
 
     def set_center(self, axis: int, value: float) -> None:
         """Move the selected sphere's centre along ``axis`` to ``value`` (link frame, metres).
 
         A centre farther from its link than twice the robot's reach at the page's start is
-        refused: the browser's number field drops an exponent (``1e-3`` arrives as 13)."""
+        refused (a slip of the keyboard, or a number on its way: ``15`` typing ``15e-3``); the
+        field keeps what was typed."""
         sel = self._selected_sphere()
         if sel is None:
             return
@@ -107,11 +106,9 @@ class SpherePanel:
         c = list(s.center)
         c[axis] = value
         if math.isfinite(value) and math.dist(c, (0.0, 0.0, 0.0)) > self.far:
-            self.center[axis].value = s.center[axis]
             self.page.say(
                 f"not moved: {value:g} m puts the sphere farther from '{sel[0]}' than twice the "
-                f"robot's reach ({self.far:.2f} m); a number field drops an exponent (1e-3 "
-                "arrives as 13): type 0.001"
+                f"robot's reach ({self.far:.2f} m)"
             )
             return
         self._move((c[0], c[1], c[2]))
@@ -139,9 +136,16 @@ class SpherePanel:
         if sel is None:
             self.page.say("select a sphere first (click it, or choose it under Spheres)")
             return
-        if self.page.apply(kind(sel[0], sel[1])) and kind is DuplicateSphere:
-            n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]])
+        if not self.page.apply(kind(sel[0], sel[1])):
+            return
+        n = len(self.page.state.xrdf.resolved_spheres(self.page.state.group)[sel[0]])
+        if kind is DuplicateSphere:
             self.page.pick(sel[0], n - 1)
+        elif n == 0 and sel[0] in self.page.robot.robot.collision_counts:
+            self.page.say(
+                f"{self.page.message}; warning: '{sel[0]}' has collision geometry and no "
+                "spheres now: a planner cannot see it (xrdf lint: mesh-without-spheres)"
+            )
 
     def _connect(self) -> None:
         sel = self._selected_sphere()
@@ -169,8 +173,8 @@ class SpherePanel:
         self.sphere.value = NONE if k is None else str(k)
         if k is not None and k < len(spheres):
             s = spheres[k]
-            for box, v in zip(self.center, s.center, strict=True):
-                box.value = v
+            for field, v in zip(self.center, s.center, strict=True):
+                field.show(v)
             # the slider reaches every radius it shows (a 0.4 m base sphere is not shown 0.3)
             self.radius.max = max(RADIUS_MAX, math.ceil(s.radius * 10) / 10)
             self.radius.value = float(min(max(s.radius, RADIUS_STEP), self.radius.max))

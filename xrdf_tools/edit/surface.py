@@ -27,8 +27,18 @@ __all__ = ["PageSurface", "bounded", "from_browser"]
 
 
 def from_browser(event: Any) -> bool:
-    """The event comes from a browser (not from the page setting a value)."""
-    return getattr(event, "client", None) is not None
+    """The event comes from a browser (not from the page setting a value) and holds a value
+    its control offers: a choice that is not one of a dropdown's options (a client sends any
+    value it likes; the page's own sends none such) is put back to the first option and
+    ignored, as the page could only fail on it."""
+    if getattr(event, "client", None) is None:
+        return False
+    target: Any = getattr(event, "target", None)
+    options = getattr(target, "options", None)
+    if isinstance(options, tuple) and options and target.value not in options:
+        target.value = options[0]
+        return False
+    return True
 
 
 def bounded(field: Any, *, integer: bool = False) -> float:
@@ -84,5 +94,9 @@ class PageSurface(Protocol):
     def say(self, message: str) -> None: ...
 
     def overwrite_warning(self) -> str | None: ...
+
+    def cannot_save(self) -> str | None: ...
+
+    def disk_bytes(self) -> bytes | None: ...
 
     def refresh(self, *, pose: bool = False, document: bool = False) -> None: ...

@@ -72,9 +72,46 @@ def _draft(robot: Robot, srdf: Path | None, seed: int, samples: int) -> Xrdf:
 
 
 def _warn_refused(why: str) -> None:
-    """A request the page refused (another web page, a rebinding name): said even with -q,
-    once per kind."""
+    """A request the page refused (another web page, a rebinding name) or a malformed one it
+    dropped: said even with -q, once per kind."""
     echo(f"warning: {why}", err=True)
+
+
+def _checked_target(
+    xrdf_file: Path | None,
+    urdf: Path | None,
+    output: Path | None,
+    srdf: Path | None,
+    configs: Path | None,
+    host: str,
+) -> tuple[Path, Path]:
+    """The file Save writes and the URDF, once the options, the extra and the address are
+    checked (each refusal one line, exit 2), before the robot is read and a draft fitted."""
+    try:
+        require(("viser", *FIT), "edit", "xrdf edit")
+    except XrdfToolsError as e:
+        fail(e)
+    if urdf is None:
+        fail("--urdf is required: the URDF (or xacro) of the robot")
+    if xrdf_file is None and output is None:
+        fail("give ROBOT.xrdf to edit, or -o NEW.xrdf to start from a draft of the URDF")
+    if xrdf_file is not None and srdf is not None:
+        fail("--srdf is read only for a draft (-o without ROBOT.xrdf); the XRDF has its mask")
+    if is_stdio(xrdf_file) or is_stdio(output):
+        fail("xrdf edit needs files (not '-'): Save writes the XRDF back")
+    target = output if output is not None else xrdf_file
+    assert target is not None
+    if output is not None:
+        refuse_input_overwrite(output, [urdf, srdf, configs])
+        if xrdf_file is None and output.exists():
+            fail(f"{output} exists; edit it with: xrdf edit {output} --urdf {urdf}")
+    try:
+        from ...edit.guard import check_address  # numpy: only for this command
+
+        check_address(host)
+    except XrdfToolsError as e:
+        fail(e)
+    return target, urdf
 
 
 def command(
@@ -152,24 +189,7 @@ def command(
       xrdf edit robot.xrdf --urdf robot.urdf
       xrdf edit --urdf robot.urdf --srdf robot.srdf -o robot.xrdf
     """
-    try:
-        require(("viser", *FIT), "edit", "xrdf edit")
-    except XrdfToolsError as e:
-        fail(e)
-    if urdf is None:
-        fail("--urdf is required: the URDF (or xacro) of the robot")
-    if xrdf_file is None and output is None:
-        fail("give ROBOT.xrdf to edit, or -o NEW.xrdf to start from a draft of the URDF")
-    if xrdf_file is not None and srdf is not None:
-        fail("--srdf is read only for a draft (-o without ROBOT.xrdf); the XRDF has its mask")
-    if is_stdio(xrdf_file) or is_stdio(output):
-        fail("xrdf edit needs files (not '-'): Save writes the XRDF back")
-    target = output if output is not None else xrdf_file
-    assert target is not None
-    if output is not None:
-        refuse_input_overwrite(output, [urdf, srdf, configs])
-        if xrdf_file is None and output.exists():
-            fail(f"{output} exists; edit it with: xrdf edit {output} --urdf {urdf}")
+    target, urdf = _checked_target(xrdf_file, urdf, output, srdf, configs, host)
     if host not in LOCAL_HOSTS:
         typer.echo(
             f"warning: listening on {host}: anyone who can reach port {port} can edit and save "

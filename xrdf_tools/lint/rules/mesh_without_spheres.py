@@ -19,6 +19,10 @@ frame) stand for the first link above it, across fixed joints, that has geometry
 cuMotion ``franka.xrdf`` puts the finger spheres on ``panda_leftfingertip`` and
 ``panda_rightfingertip``, fixed below ``panda_leftfinger`` and ``panda_rightfinger``, so the
 fingers are seen. Attached-object slots (radius <= -1) stand for nothing.
+
+A frame written with an empty list (``link: []``, what deleting every sphere of a link in
+``xrdf edit`` leaves) has no spheres: cuRobo and cuMotion load none for it, so it is reported
+as a frame that is not written at all, at its key.
 """
 
 from __future__ import annotations
@@ -28,7 +32,8 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
-from ..context import LintContext, Problem, Rule, finite_number
+from ...yaml.io import YMap, YNode, YSeq
+from ..context import LintContext, Problem, Rule, finite_number, is_null, name
 
 if TYPE_CHECKING:
     from ...robot.core import Robot
@@ -47,12 +52,14 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     sections = ctx.collision_sections()
     if not sections and not planning:
         return
+    written: dict[str, tuple[YNode, str]] = {}  # frames written with no sphere: key, path
     for _, section in sections:
         g = ctx.group_name(section)
-        frames = ctx.sphere_frames(g) if g is not None else None
-        if frames is None:
+        refs = ctx.resolved_spheres(g) if g is not None else None
+        if g is None or refs is None:
             return  # an undefined group: undefined-group says so
-        used |= frames | _links_served(ctx, g)
+        used |= {s.frame for s in refs} | _links_served(ctx, g)
+        written |= _empty_entries(ctx, g)
     anchor, key = (sections[0][1], sections[0][0]) if sections else (None, "")
     where = "" if sections else " (the file has no collision section)"
     bare = [f for f in kin.frame_names if f in robot.collision_counts and f not in used]
@@ -62,13 +69,30 @@ def check(ctx: LintContext) -> Iterator[Problem]:
         moved = planning and bool(cspace.intersection(kin.joints_on_path(kin.base_frame, frame)))
         excused = frame in absent or frame in tiny
         severity = Severity.ERROR if moved and not excused else Severity.WARNING
+        node, path = written.get(frame, (anchor, key))
         yield ctx.problem(
-            anchor,
+            node,
             f"link '{frame}' has collision geometry in {robot.path.rsplit('/', 1)[-1]} but no "
-            f"collision spheres{where}{_why(frame, absent, tiny)}; the planner cannot see it",
-            key,
+            f"collision spheres{' (its list is empty)' if frame in written else where}"
+            f"{_why(frame, absent, tiny)}; the planner cannot see it",
+            path,
             severity,
         )
+
+
+def _empty_entries(ctx: LintContext, group: str) -> dict[str, tuple[YNode, str]]:
+    """The frames of ``group`` (clones merged) written with a key but no sphere (``link: []``
+    or ``link:``), with the key and its path."""
+    out: dict[str, tuple[YNode, str]] = {}
+    for g in ctx.clone_closure(group) or ():
+        gnode = ctx.groups[g]
+        spheres = gnode.get("spheres") if isinstance(gnode, YMap) else None
+        if isinstance(spheres, YMap):
+            for k, v in spheres.pairs:
+                n = name(k)
+                if n is not None and (is_null(v) or (isinstance(v, YSeq) and not v.items)):
+                    out.setdefault(n, (k, f"geometry.{g}.spheres.{n}"))
+    return out
 
 
 def _placeholders(robot: Robot) -> dict[str, float]:
