@@ -244,7 +244,7 @@ def test_a_save_that_cannot_be_written_loses_nothing_and_says_so(
         assert page.apply(SetRadius("panda_link4", 0, 0.05))
         real.chmod(0o444)  # the user protected the file
         page.panels.review()
-        why = f"{target} is read-only (no write permission): make it writable, or start the"
+        why = f"{target}: is read-only (no write permission): refusing to replace it"
         assert page.panels.diff.content.startswith("**Cannot save**: ")
         assert not page.panels.confirm.visible
         assert not page.save() and page.message.startswith(f"not saved: {why}")

@@ -45,6 +45,24 @@ def test_devices_and_fifos_are_refused_as_outputs(runner: CliRunner, tmp_path: P
         write_atomic(tmp_path, "x")
 
 
+@posix_only
+def test_a_file_nobody_may_write_is_not_replaced(runner: CliRunner, tmp_path: Path) -> None:
+    """`chmod a-w robot.xrdf` protects a file; the rename of an atomic write replaced it anyway
+    (even as root). Every command now refuses, exit 2, and leaves it as it was; the file's
+    directory is left with nothing new in it."""
+    out = tmp_path / "robot.xrdf"
+    out.write_text("protected")
+    out.chmod(0o444)
+    with pytest.raises(OutputError, match=r"is read-only .*: refusing to replace it"):
+        write_atomic(out, "x")
+    code, said = run_cli(runner, "convert", str(UR10E_URDF), "-o", str(out))
+    assert code == 2 and f"{out}: is read-only (no write permission)" in said
+    assert out.read_text() == "protected" and [p.name for p in tmp_path.iterdir()] == [out.name]
+    out.chmod(0o644)  # writable by its owner only is writable
+    write_atomic(out, "new")
+    assert out.read_text() == "new"
+
+
 def test_temporary_file_is_removed_on_interrupt(tmp_path: Path) -> None:
     out = tmp_path / "out.txt"
     with pytest.raises(KeyboardInterrupt), atomic_output(out) as tmp:

@@ -12,7 +12,6 @@ from __future__ import annotations
 import contextlib
 import io
 import os
-import stat
 import threading
 from collections.abc import Callable, Hashable, Mapping
 from dataclasses import replace
@@ -22,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..util.errors import XrdfToolsError
-from ..util.fileio import read_input_bytes
+from ..util.fileio import check_output_path, read_input_bytes
 from ..util.numbers import REPORT_SAMPLES
 from .edits import Edit
 from .guard import WILDCARD_HOSTS, RequestGuard, check_address, start_guarded
@@ -221,18 +220,12 @@ class EditorPage:
             return True
 
     def cannot_save(self) -> str | None:
-        """Why Save would not write the target, known before trying: it is a file nobody may
-        write (``chmod a-w``: the user protected it; replacing it by a rename would work,
-        even for root, and drop that protection's point)."""
+        """Why Save would not write the target, known before trying (a file nobody may write,
+        a directory: :func:`~xrdf_tools.util.fileio.check_output_path`)."""
         try:
-            mode = self.target.stat().st_mode
-        except OSError:
-            return None  # not there (or not reachable): the write says why
-        if stat.S_ISREG(mode) and not mode & 0o222:
-            return (
-                f"{self.target} is read-only (no write permission): make it writable, or "
-                "start the editor again with -o NEW.xrdf"
-            )
+            check_output_path(self.target)
+        except XrdfToolsError as e:
+            return str(e)
         return None
 
     def disk_bytes(self) -> bytes | None:

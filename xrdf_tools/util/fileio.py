@@ -235,7 +235,9 @@ def _write_error(e: OSError, user: str) -> OutputError:
 
 def check_output_path(path: str | os.PathLike[str]) -> Path:
     """The file a write to ``path`` replaces: a symlink is followed (and kept); a directory,
-    device, FIFO or socket is refused with :class:`OutputError`."""
+    device, FIFO or socket is refused with :class:`OutputError`, and so is a file nobody may
+    write (``chmod a-w``: its owner protected it; the rename of an atomic write would replace
+    it anyway, even for root, and drop that protection without a word)."""
     user = os.fspath(path)
     target = Path(os.path.realpath(user)) if os.path.islink(user) else Path(user)
     try:
@@ -255,6 +257,12 @@ def check_output_path(path: str | os.PathLike[str]) -> Path:
         raise OutputError(
             f"is {_kind(st.st_mode)}, not a regular file; refusing to replace it (choose a "
             "file path)",
+            path=user,
+        )
+    if not st.st_mode & 0o222:
+        raise OutputError(
+            "is read-only (no write permission): refusing to replace it; make it writable "
+            "(chmod u+w) or write another file",
             path=user,
         )
     return target
