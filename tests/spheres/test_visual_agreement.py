@@ -190,3 +190,15 @@ def test_alex_s_sake_fingers_collision_without_the_visual_turn_is_warned() -> No
     said = visual_disagreements(robot, geoms)
     assert [d.message.split("'")[1] for d in said] == links
     assert all("turned +90° about x" in d.message for d in said)
+
+
+def test_the_editor_s_refit_shows_the_warning(tmp_path: Path) -> None:
+    from xrdf_tools.edit.fit import propose_fit
+
+    ARM.export(tmp_path / "arm_visual.stl")
+    TURNED.export(tmp_path / "arm_collision.stl")
+    robot = load_robot(_urdf(tmp_path, "arm_visual.stl", "arm_collision.stl"))
+    proposal = propose_fit(robot, "arm", (), count=1)
+    (warning,) = proposal.warnings
+    assert warning.startswith("link 'arm': collision geometry not where its visual geometry is")
+    assert "turned -90° about x" in warning
