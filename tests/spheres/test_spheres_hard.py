@@ -78,7 +78,7 @@ def test_thin_shell_base_is_fitted_to_its_hull_across_its_whole_span() -> None:
 
 def test_a_placeholder_gets_one_sphere() -> None:
     urdf = _robot("ur_description/urdf/ur5_robot.urdf")
-    result = fit_robot(urdf, links=["ee_link", "wrist_3_link"])
+    result = fit_robot(urdf, links=["ee_link", "wrist_3_link"], visual_check="off")
     assert len(result.spheres["ee_link"]) == 1
     assert len(result.spheres["wrist_3_link"]) > 1
     assert [d.rule for d in result.diagnostics] == ["spheres-placeholder"]
@@ -282,7 +282,9 @@ def test_cli_clip_and_bad_clip(runner: CliRunner, tmp_path: Path) -> None:
 def test_clip_plane_beyond_the_whole_link_is_reported() -> None:
     urdf = robot_urdf("panda")
     clips = {"panda_link1": [((0.0, 0.0, 1.0), 5.0)]}  # everything lies below z = 5 m
-    fitted, diags = fit_link_spheres(urdf, links=["panda_link1"], per_link=2, clips=clips)
+    fitted, diags = fit_link_spheres(
+        urdf, links=["panda_link1"], per_link=2, clips=clips, visual_check="off"
+    )
     assert fitted == {}
     assert [d.rule for d in diags] == ["spheres-target-missed"]
     assert "clip planes" in diags[0].message

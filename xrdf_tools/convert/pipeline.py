@@ -46,6 +46,7 @@ if TYPE_CHECKING:
     from ..report import Report, Sampler
     from ..robot.link_geometry import GeometryChoice
     from ..spheres.fit import Plane
+    from ..spheres.visual_agreement import VisualCheck
     from ..xrdf.model import Sphere, Xrdf
 
 __all__ = ["ConvertResult", "FitOptions", "MaskOptions", "Progress", "convert_robot"]
@@ -72,6 +73,9 @@ class FitOptions:
     clips: Mapping[str, Sequence[Plane]] = field(default_factory=dict)
     #: ``ours`` or ``morphit`` (:mod:`xrdf_tools.spheres.morphit`, an optional extra).
     method: str = "ours"
+    #: How collision geometry is compared with visual geometry (``fast``, ``all``, ``off``:
+    #: :mod:`xrdf_tools.spheres.visual_agreement`).
+    visual_check: VisualCheck = "fast"
 
 
 @dataclass(frozen=True)
@@ -353,6 +357,7 @@ def fit_missing_spheres(
         progress=step,
         source=fit.source,
         method=fit.method,
+        visual_check=fit.visual_check,
     )
     merged: dict[str, Sequence[Sphere]] = {**have}
     for link, spheres in fitted.items():

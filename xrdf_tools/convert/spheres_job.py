@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from ..spheres.count_policy import CountPolicy
     from ..spheres.fit import Plane
     from ..spheres.robot_fit import FitResult
+    from ..spheres.visual_agreement import VisualCheck
     from ..xrdf.model import Xrdf
 
 #: Samples per link of the fit metrics.
@@ -50,6 +51,8 @@ class SpheresRequest:
     clips: Sequence[str] = ()
     allow_missing_meshes: bool = False
     method: str = "ours"
+    #: How collision geometry is compared with visual geometry (``fast``, ``all``, ``off``).
+    visual_check: VisualCheck = "fast"
 
 
 @dataclass(frozen=True)
@@ -112,6 +115,7 @@ def fit_spheres(
         clips=clips,
         progress=progress,
         method=request.method,
+        visual_check=request.visual_check,
     )
     diags += result.diagnostics
     merged, mdiags = merge_spheres(drafted if base is None else base, result.spheres)

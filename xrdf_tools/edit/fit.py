@@ -27,12 +27,14 @@ METRIC_SAMPLES = 6000
 @dataclass(frozen=True)
 class FitProposal:
     """New spheres for ``frame`` and the metrics of the current (``before``) and the new
-    (``after``) ones against the link's solid."""
+    (``after``) ones against the link's solid; ``warnings``: what the fit warns about the
+    link's geometry (collision geometry not where its visual geometry is)."""
 
     frame: str
     spheres: tuple[Sphere, ...]
     before: SphereMetrics
     after: SphereMetrics
+    warnings: tuple[str, ...] = ()
 
     def describe(self) -> str:
         b, a = self.before, self.after
@@ -63,6 +65,7 @@ def propose_fit(
     """
     from ..spheres.count_policy import CountPolicy
     from ..spheres.robot_fit import fit_robot
+    from ..spheres.visual_agreement import RULE_MISMATCH
 
     if (count is None) == (coverage is None):
         raise XrdfToolsError("give either a sphere count or a coverage target")
@@ -84,4 +87,5 @@ def propose_fit(
         spheres,
         sphere_metrics(solid, current, samples=METRIC_SAMPLES, seed=mseed),
         sphere_metrics(solid, spheres, samples=METRIC_SAMPLES, seed=mseed),
+        tuple(d.message for d in result.diagnostics if d.rule == RULE_MISMATCH),
     )

@@ -333,6 +333,8 @@ class Panels:
             f"| protrusion p95 | {b.protrusion_p95 * 1000:.1f} mm | "
             f"{a.protrusion_p95 * 1000:.1f} mm |"
         )
+        for warning in proposal.warnings:
+            self.fit_result.content += f"\n\n**warning**: {markup.text(warning)}"
         with page.lock:
             page.view.show_preview(frame, proposal.spheres)
         self.accept.visible = self.discard.visible = True

@@ -157,6 +157,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("spheres-adjacent-ignored", I, "Adjacent links' spheres overlap: the pair is ignored."),
         ("spheres-cloned-link", W, "Links that share one mesh: spheres fitted once."),
         ("spheres-bounding-box", W, "A part with no volume even as a hull: its bounding box."),
+        ("spheres-collision-not-visual", W, "Collision geometry away from the visual: turned?"),
         ("spheres-convex-hull", W, "A mesh that is not watertight: its convex hull is used."),
         ("spheres-link-not-covered", E, "A link with geometry got no spheres, or only some."),
         ("spheres-mesh-unreadable", W, "A mesh that cannot be read: the link gets no spheres."),
@@ -173,6 +174,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("spheres-thin-shell", I, "A shell far thinner than its hull: the hull is fitted."),
         ("spheres-unsupported-geometry", W, "A geometry kind the fitter does not handle."),
         ("spheres-visual-fallback", W, "No collision geometry: the visual geometry is used."),
+        (
+            "spheres-visual-unchecked",
+            I,
+            "Visual meshes not read: collision not compared with them.",
+        ),
     ),
     "viz": (
         ("mesh-not-loaded", W, "A link mesh that cannot be loaded is not drawn."),

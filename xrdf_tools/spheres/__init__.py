@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     from ..robot.link_geometry import GeometryChoice
     from .fit import Plane
     from .geometry import LinkGeometry
+    from .visual_agreement import VisualCheck
 
 __all__ = [
     "MAX_PER_LINK",
@@ -61,6 +62,7 @@ def fit_link_spheres(
     target_coverage: float = AUTO_COVERAGE_TARGET,
     clips: Mapping[str, Sequence[Plane]] | None = None,
     method: str = "ours",
+    visual_check: VisualCheck = "fast",
 ) -> tuple[dict[str, tuple[Sphere, ...]], list[Diagnostic]]:
     """Fit spheres to every link with geometry (or to ``links``) of a URDF or xacro file.
 
@@ -85,7 +87,9 @@ def fit_link_spheres(
     ``progress(link, i, n)`` is called before each of the ``n`` steps, two per link
     (prepared, then fitted). ``method="morphit"`` fits each
     link's solid with MorphIt (the optional ``morphit-rs``; :mod:`xrdf_tools.spheres.morphit`)
-    at the same counts and bounds instead of our fitter. ``urdf_path`` may be a loaded
+    at the same counts and bounds instead of our fitter. ``visual_check`` says how each link
+    fitted from collision geometry is compared with its visual geometry
+    (:mod:`xrdf_tools.spheres.visual_agreement`). ``urdf_path`` may be a loaded
     :class:`~xrdf_tools.robot.core.Robot`. Returns ``({link: spheres}, diagnostics)`` in URDF
     link order; :func:`~xrdf_tools.spheres.robot_fit.fit_robot` also gives times and solids.
     """
@@ -103,6 +107,7 @@ def fit_link_spheres(
         progress=progress,
         source=source,
         method=method,
+        visual_check=visual_check,
     )
     return result.spheres, result.diagnostics
 

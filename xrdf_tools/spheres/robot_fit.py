@@ -57,6 +57,7 @@ if TYPE_CHECKING:
     from .fit import LinkPlan, Plane, SphereFitter
     from .geometry import LinkGeometry
     from .sheet import SheetPlan
+    from .visual_agreement import VisualCheck
 
 RULE_SHARED_MESH = "spheres-shared-mesh"
 RULE_URDF_SPHERES = "spheres-from-urdf"
@@ -107,16 +108,27 @@ def fit_robot(
     source: GeometryChoice = "auto",
     geometry: Mapping[str, LinkGeometry] | None = None,
     method: str = "ours",
+    visual_check: VisualCheck = "fast",
 ) -> FitResult:
     """Fit spheres to the links of ``robot`` (see the module docstring and
     :func:`xrdf_tools.spheres.fit_link_spheres`). ``clips`` keeps a link's spheres on the
     positive side of planes in its frame; ``geometry`` skips loading the solids; ``method``
-    ``morphit`` fits each solid with MorphIt instead (:mod:`.morphit`)."""
+    ``morphit`` fits each solid with MorphIt instead (:mod:`.morphit`). ``visual_check``:
+    how each link fitted from collision geometry is compared with its visual geometry
+    (:mod:`.visual_agreement`; not for ``geometry`` given with a path)."""
     from .morphit import check_method
 
     check_method(method, searched_bound=counts.count_coverage is not None)
     check_policy(counts)
+    if not isinstance(robot, Robot) and geometry is None:
+        from ..robot.xacro_source import load_robot
+
+        robot = load_robot(robot, package_paths=package_paths)
     geoms, diags = _solids(robot, links, package_paths, source, geometry)
+    if isinstance(robot, Robot):
+        from .visual_agreement import visual_disagreements
+
+        diags += visual_disagreements(robot, geoms, package_paths=package_paths, check=visual_check)
     _check_against_solids(counts, clips or {}, geoms)
     path = robot.path if isinstance(robot, Robot) else os.fspath(robot)
     plans = _plan(geoms, max_protrusion, clips or {}, seed)

@@ -28,7 +28,7 @@ from .plain import (
     timed,
     verbosity,
 )
-from .spheres import FitMethod, fit_method_help
+from .spheres import FitMethod, VisualCheck, fit_method_help, visual_check_option
 from .typer_common import (
     AllowMissingMeshesOption,
     ChainOption,
@@ -204,6 +204,9 @@ def command(
             ),
         ),
     ] = FitMethod.ours,
+    visual_check: Annotated[
+        VisualCheck, visual_check_option("With --fit-spheres")
+    ] = VisualCheck.fast,
     joints: JointsOption = None,
     chain: ChainOption = None,
     allow_missing_meshes: AllowMissingMeshesOption = False,
@@ -271,6 +274,7 @@ def command(
             seed=seed,
             allow_missing_meshes=allow_missing_meshes,
             clip=clip,
+            visual_check=visual_check,
         )
         mask = MaskOptions(samples=samples, seed=seed) if fit_spheres else None
         label = "<stdout>" if output is None or is_stdio(output) else str(output)
@@ -329,6 +333,7 @@ def _fit_options(
     seed: int,
     allow_missing_meshes: bool,
     clip: list[str] | None,
+    visual_check: VisualCheck = VisualCheck.fast,
 ) -> FitOptions | None:
     """What --fit-spheres and its options ask for (None without it); exit 2 on options
     that contradict each other. Raises :class:`XrdfToolsError` for an unusable --method or
@@ -352,6 +357,7 @@ def _fit_options(
         sphere_budget=sphere_budget,
         clips=_clips(clip),
         method=method.value,
+        visual_check=visual_check.value,
     )
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from enum import Enum
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -51,6 +51,28 @@ if TYPE_CHECKING:
 class FitMethod(str, Enum):
     ours = "ours"
     morphit = "morphit"
+
+
+class VisualCheck(str, Enum):
+    """``--visual-check`` (:data:`xrdf_tools.spheres.visual_agreement.VisualCheck`)."""
+
+    fast = "fast"
+    all = "all"
+    off = "off"
+
+
+def visual_check_option(when: str = "") -> Any:
+    """``--visual-check`` of ``xrdf spheres`` and ``xrdf convert --fit-spheres``."""
+    return typer.Option(
+        "--visual-check",
+        case_sensitive=False,
+        help=(f"{when}: is" if when else "Is")
+        + " each link's collision geometry where its visual geometry is (a warning when the "
+        "boxes clearly disagree, naming the quarter turn that would match them)? fast "
+        "(default): visual STL/OBJ meshes and primitives are read, other formats are counted "
+        "in one note; all: COLLADA and other formats too, through trimesh (about 25 ms a "
+        "file); off: no check.",
+    )
 
 
 def fit_method_help(counts: str, coverage: str, enforced: str, when: str = "") -> str:
@@ -163,6 +185,7 @@ def command(
             ),
         ),
     ] = FitMethod.ours,
+    visual_check: Annotated[VisualCheck, visual_check_option()] = VisualCheck.fast,
     output: Annotated[Path | None, typer_option(output_option("the XRDF"))] = None,
     package_path: PackagePathOption = None,
     xacro_arg: XacroArgOption = None,
@@ -233,6 +256,7 @@ def command(
             clips=clip or (),
             allow_missing_meshes=allow_missing_meshes,
             method=method.value,
+            visual_check=visual_check.value,
         )
         model = load_robot_option(robot, xacro_arg, package_path)
         check_robot_overwrite(output, model)
