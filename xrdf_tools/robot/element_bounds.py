@@ -7,7 +7,10 @@ of one kind, each with its ``<origin>`` and mesh ``scale`` applied, without buil
   points on its rims, a sphere and a capsule's end spheres exactly);
 * binary and ASCII STL and OBJ files by reading their vertices with numpy (no faces, no
   processing: a 400 kB OBJ takes about a millisecond);
-* other mesh formats (COLLADA, PLY, ...) through trimesh, as the sphere fitter reads them
+* COLLADA files by :func:`~xrdf_tools.robot.collada_points.collada_vertices` (the XML read
+  with numpy, the scene's transforms and unit applied, the box trimesh gives); a file it
+  gives up on is read like the other formats;
+* other mesh formats (PLY, ...) through trimesh, as the sphere fitter reads them
   (:func:`~xrdf_tools.robot.mesh_files.load_mesh_scene`: COLLADA in metres), only when
   ``other_formats`` is true; else the link is not bounded and :attr:`Unbounded.format` names
   the format.
@@ -20,7 +23,7 @@ reader with the mesh size limit. Nothing here raises for a bad file.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -31,6 +34,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..util.fileio import mesh_bytes_limit, read_input_bytes
 from ..util.numbers import MAX_LENGTH
+from .collada_points import ColladaNotRead, collada_vertices
 from .link_geometry import GeometrySource, not_a_file
 
 if TYPE_CHECKING:
@@ -159,18 +163,40 @@ def _mesh_points(
     if why is not None:
         raise _NotRead(f"{uri}: {why}")
     suffix = path.suffix.lower()
-    if suffix not in _NUMPY_FORMATS and not other_formats:
+    vertices = _vertices_or_why(uri, lambda: _cheap_vertices(path, suffix))
+    if vertices is None and not other_formats:
         raise _NotRead(f"{uri}: {suffix or 'no suffix'} not read", suffix or "(none)")
-    try:
-        vertices = mesh_file_vertices(path)
-    except (XrdfToolsError, ValueError) as e:
-        raise _NotRead(f"{uri}: {getattr(e, 'message', e)}") from None
-    except Exception as e:  # trimesh raises many exception types for bad files
-        raise _NotRead(f"{uri}: cannot read mesh ({type(e).__name__})") from None
+    if vertices is None:
+        vertices = _vertices_or_why(uri, lambda: mesh_file_vertices(path))
+    assert vertices is not None
     if not len(vertices) or not np.all(np.abs(vertices) <= MAX_LENGTH):
         raise _NotRead(f"{uri}: no vertices, or one not finite")
     factors = np.broadcast_to(np.asarray(1.0 if mesh.scale is None else mesh.scale, float), (3,))
     return np.asarray(vertices * factors, dtype=np.float64)
+
+
+def _vertices_or_why(uri: str, read: Callable[[], FloatArray | None]) -> FloatArray | None:
+    """``read()``, or :class:`_NotRead` saying why the mesh ``uri`` cannot be read."""
+    try:
+        return read()
+    except (XrdfToolsError, ValueError) as e:
+        raise _NotRead(f"{uri}: {getattr(e, 'message', e)}") from None
+    except Exception as e:  # trimesh raises many exception types for bad files
+        raise _NotRead(f"{uri}: cannot read mesh ({type(e).__name__})") from None
+
+
+def _cheap_vertices(path: Path, suffix: str) -> FloatArray | None:
+    """The vertices of an STL, OBJ or COLLADA file read without trimesh; None for another
+    format or a COLLADA file the reader gives up on."""
+    if suffix in _NUMPY_FORMATS:
+        return mesh_file_vertices(path)
+    if suffix != ".dae":
+        return None
+    data = read_input_bytes(path, what="mesh file", max_bytes=mesh_bytes_limit())
+    try:
+        return collada_vertices(data)
+    except ColladaNotRead:
+        return None
 
 
 def mesh_file_vertices(path: Path) -> FloatArray:

@@ -45,9 +45,9 @@ __all__ = [
     "visual_disagreements",
 ]
 
-#: ``fast``: visual STL and OBJ meshes and primitives are read (other formats are counted in
-#: one note); ``all``: other formats too, through trimesh (COLLADA: about 25 ms a file, and
-#: half a second to start); ``off``: no check.
+#: ``fast``: visual STL, OBJ and COLLADA meshes and primitives are read without trimesh (other
+#: formats, and a COLLADA file the reader gives up on, are counted in one note); ``all``: those
+#: too, through trimesh (about 25 ms a file, and half a second to start); ``off``: no check.
 VisualCheck = Literal["fast", "all", "off"]
 VISUAL_CHECKS: tuple[VisualCheck, ...] = ("fast", "all", "off")
 

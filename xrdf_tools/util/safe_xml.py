@@ -8,7 +8,9 @@ lxml parses with every guard on, whatever the caller keeps:
   ``attribute_defaults=False``), nothing is fetched over the network (``no_network=True``);
 * libxml2's default limits stay on (``huge_tree=False``): at most 256 levels of nesting and
   10 MB in one text node, comment or attribute value; the file itself was size-capped when read
-  (:func:`xrdf_tools.util.fileio.read_input_bytes`).
+  (:func:`xrdf_tools.util.fileio.read_input_bytes`). A mesh file (COLLADA) may lift them
+  (``huge_tree=True``: one ``<float_array>`` of a large mesh is over 10 MB); entities are still
+  not substituted, and the file's own size cap bounds the rest.
 
 A document that is not well-formed raises :class:`XmlSyntaxError` with libxml2's words and
 position; each caller words its own one-line message from it. A caller that reads like a
@@ -56,6 +58,7 @@ def parse_xml(
     keep_cdata: bool = False,
     remove_blank_text: bool = False,
     undeclared_prefixes: list[XmlSyntaxError] | None = None,
+    huge_tree: bool = False,
 ) -> Any:
     """The root element of ``data`` (an lxml element), parsed with the guards above.
 
@@ -74,7 +77,7 @@ def parse_xml(
         "load_dtd": False,
         "dtd_validation": False,
         "attribute_defaults": False,
-        "huge_tree": False,
+        "huge_tree": huge_tree,
         "remove_comments": not keep_comments,
         "remove_pis": False,
         "strip_cdata": not keep_cdata,

@@ -69,9 +69,9 @@ def visual_check_option(when: str = "") -> Any:
         help=(f"{when}: is" if when else "Is")
         + " each link's collision geometry where its visual geometry is (a warning when the "
         "boxes clearly disagree, naming the quarter turn that would match them)? fast "
-        "(default): visual STL/OBJ meshes and primitives are read, other formats are counted "
-        "in one note; all: COLLADA and other formats too, through trimesh (about 25 ms a "
-        "file); off: no check.",
+        "(default): visual STL/OBJ/COLLADA meshes and primitives are read without trimesh, "
+        "other formats (and a COLLADA file the reader gives up on) are counted in one note; "
+        "all: those too, through trimesh (about 25 ms a file); off: no check.",
     )
 
 
