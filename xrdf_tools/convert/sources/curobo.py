@@ -24,6 +24,7 @@ from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_pyt
 from ...yaml.shape import check_shape
 from . import Draft, Reporter, RobotTree, known_frame
 from .curobo_extra_links import read_extra_links
+from .curobo_keys import changes_nothing, unknown_to_curobo
 from .curobo_kin import KinSection
 from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
@@ -167,7 +168,7 @@ def _read_kinematics(
     k = KinSection(kin, tree, d, rep, prefix, config_path, list(tree.links))
     for key in kin:
         if key not in SILENT_KEYS and key not in HANDLED_KEYS and not str(key).startswith("usd"):
-            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", k.kp(key))
+            _report_dropped(rep, f"'{key}'", key, kin[key], "kinematics", k.kp(key))
     read_extra_links(k)  # first: they add frames the rest may refer to
     _read_base_and_tools(k)
     _read_cspace(k)
@@ -177,6 +178,22 @@ def _read_kinematics(
     )
     _read_buffers(k)
     _read_ignore(k)
+
+
+def _report_dropped(
+    rep: Reporter, named: str, key: str, value: Any, section: str, where: str
+) -> None:
+    """A key the XRDF does not carry: nothing said when its value is what cuRobo takes
+    without it; a key no cuRobo version knows is said to stop cuRobo's own loader."""
+    if unknown_to_curobo(key, section):
+        rep.report(
+            "convert-dropped-key",
+            f"{named} is not a cuRobo {section} setting (cuRobo's loader stops on it: "
+            "unexpected keyword argument); dropped",
+            where,
+        )
+    elif not changes_nothing(key, value):
+        rep.report("convert-dropped-key", f"{named} has no XRDF equivalent; dropped", where)
 
 
 def _read_base_and_tools(k: KinSection) -> None:
@@ -216,11 +233,7 @@ def _read_cspace(k: KinSection) -> None:
     cs = k.mapping("cspace")
     for key in cs:
         if key not in CSPACE_KEYS:
-            k.rep.report(
-                "convert-dropped-key",
-                f"cspace.{key} has no XRDF equivalent; dropped",
-                k.kp("cspace", key),
-            )
+            _report_dropped(k.rep, f"cspace.{key}", key, cs[key], "cspace", k.kp("cspace", key))
     names = [str(n) for n in (cs.get("joint_names") or [])]
     locks = k.mapping("lock_joints")
     default_key = "default_joint_position" if "default_joint_position" in cs else "retract_config"
@@ -254,13 +267,7 @@ def _cspace_joints(k: KinSection, names: list[str], locks: Mapping[str, Any]) ->
     """The actuated, unlocked c-space joints; the others reported. Raises when none of the
     names is a URDF joint: the config and the URDF describe different robots."""
     if names and not any(n in k.tree.joints for n in names):
-        raise k.fail(
-            f"none of the {len(names)} c-space joints ({', '.join(names[:4])}"
-            f"{', ...' if len(names) > 4 else ''}) is a joint of {Path(k.tree.path).name}: "
-            "the config and the URDF describe different robots",
-            "cspace",
-            "joint_names",
-        )
+        raise k.fail(_no_cspace_joint(names, k.tree), "cspace", "joint_names")
     cspace: list[str] = []
     for i, n in enumerate(names):
         where = k.kp("cspace", "joint_names") + f"[{i}]"
@@ -285,6 +292,24 @@ def _cspace_joints(k: KinSection, names: list[str], locks: Mapping[str, Any]) ->
         else:
             cspace.append(n)
     return cspace
+
+
+def _no_cspace_joint(names: list[str], tree: RobotTree) -> str:
+    """Why none of ``names`` is a joint: link names where joints belong (an xArm6 config
+    listing link1 … link6), else another robot's joints."""
+    shown = f"{', '.join(names[:4])}{', ...' if len(names) > 4 else ''}"
+    urdf = Path(tree.path).name
+    movers = [tree.parent_joint.get(n) for n in names]
+    if all(movers):
+        joints = [str(j) for j in movers]
+        return (
+            f"cspace.joint_names lists links of {urdf} ({shown}), not joints: name the joints "
+            f"that move them ({', '.join(joints[:4])}{', ...' if len(joints) > 4 else ''})"
+        )
+    return (
+        f"none of the {len(names)} c-space joints ({shown}) is a joint of {urdf}: "
+        "the config and the URDF describe different robots"
+    )
 
 
 def _read_locks(

@@ -9,9 +9,11 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ...diagnostics import Severity
 from ...util.errors import SourceError, did_you_mean
 from ...xrdf.model import SetBaseFrame, Sphere
 from . import Draft, Reporter, RobotTree, known_frame
+from .curobo_keys import changes_nothing
 from .curobo_spheres import is_num, spheres_of
 
 __all__ = ["LULA_HANDLED", "RULE_NO_MASK", "read_lula"]
@@ -33,9 +35,10 @@ LULA_HANDLED = {
 
 
 def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter) -> None:
-    """Map a Lula robot description onto ``d``; keys it does not know are reported dropped."""
+    """Map a Lula robot description onto ``d``; keys it does not know are reported dropped
+    (an empty one, ``composite_task_spaces: []``, holds nothing to drop)."""
     for key in data:
-        if key not in LULA_HANDLED:
+        if key not in LULA_HANDLED and not changes_nothing(key, data[key]):  # `[]` says nothing
             rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", key)
     frames = list(tree.links)
     root = data.get("root_link")
@@ -105,23 +108,51 @@ def _read_joint_vectors(
 
 
 def _read_fixed_rules(rules: Any, tree: RobotTree, d: Draft, rep: Reporter) -> None:
-    """``cspace_to_urdf_rules`` of kind ``fixed`` become default positions."""
+    """``cspace_to_urdf_rules`` of kind ``fixed`` become default positions; a rule that is not
+    read (another kind, no numeric ``value``) and one on a joint that is not actuated are said."""
     for i, rule in enumerate(rules):
+        where = f"cspace_to_urdf_rules[{i}]"
         if not (
             isinstance(rule, Mapping) and rule.get("rule") == "fixed" and is_num(rule.get("value"))
         ):
+            _report_unread_rule(rule, rep, where)
             continue
         n = str(rule.get("name"))
-        if tree.is_actuated(n):
+        j = tree.joints.get(n)
+        if j is not None and j.is_actuated:
             d.defaults[n] = float(rule["value"])
-            d.default_at[n] = (rep.path, rep.position(f"cspace_to_urdf_rules[{i}]")[0])
+            d.default_at[n] = (rep.path, rep.position(where)[0])
+        elif j is not None:
+            kind = (
+                f"a mimic joint (it follows '{j.mimic_joint}')"
+                if j.is_mimic
+                else f"a {j.type} joint"
+            )
+            rep.report(
+                "convert-dropped-joint-value",
+                f"cspace_to_urdf_rules fixes '{n}', which is {kind}; XRDF default positions "
+                "hold only actuated joints; dropped",
+                where,
+                severity=Severity.INFO,
+            )
         else:
             rep.report(
                 "convert-unknown-joint",
-                f"cspace_to_urdf_rules fixes '{n}', which is not an actuated URDF joint"
+                f"cspace_to_urdf_rules fixes '{n}', which is not a joint of the URDF"
                 f"{did_you_mean(n, tree.joints)}; dropped",
-                f"cspace_to_urdf_rules[{i}]",
+                where,
             )
+
+
+def _report_unread_rule(rule: Any, rep: Reporter, where: str) -> None:
+    """A rule the conversion does not read: Lula's rules are ``{name, rule: fixed, value}``."""
+    if isinstance(rule, Mapping) and rule.get("rule") == "fixed":
+        why = "a fixed rule without a numeric 'value' (Lula reads the position from 'value')"
+    elif isinstance(rule, Mapping):
+        why = f"a '{rule.get('rule')}' rule; only fixed rules give a position"
+    else:
+        why = "not a mapping {name, rule, value}"
+    rep.report("convert-dropped-key", f"{where} is {why}; dropped", where)
 
 
 def _lula_spheres(spheres: list[Any], frames: list[str], rep: Reporter) -> dict[str, list[Sphere]]:
