@@ -138,3 +138,25 @@ def test_empty_lula_keys_are_not_called_dropped(tmp_path: Path) -> None:
     dropped = [d.message for d in diags if d.rule == "convert-dropped-key"]
     assert any("'extra'" in m for m in dropped)
     assert not any("composite_task_spaces" in m for m in dropped)
+
+
+def test_load_collision_spheres_false_is_said_to_turn_collision_off(tmp_path: Path) -> None:
+    """`load_collision_spheres: false` makes cuRobo load no sphere of the config (no collision
+    checking at all); the XRDF keeps them, and the warning says what that changes."""
+    from tests.paths import UR10E_URDF
+    from xrdf_tools.convert.core import ConvertOptions, convert_files
+
+    cfg = tmp_path / "ur.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    base_link: base_link\n    ee_link: tool0\n"
+        "    load_collision_spheres: false\n"
+        "    collision_link_names: [forearm_link]\n"
+        "    collision_spheres:\n      forearm_link:\n        - center: [0, 0, 0.1]\n"
+        "          radius: 0.05\n"
+        "    cspace:\n      joint_names: [shoulder_pan_joint]\n"
+    )
+    x, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    (said,) = [d for d in diags if "load_collision_spheres" in d.message]
+    assert said.rule == "convert-dropped-key" and (said.path, said.line) == (str(cfg), 5)
+    assert "checks no collision" in said.message
+    assert x.world_collision_spheres()["forearm_link"]

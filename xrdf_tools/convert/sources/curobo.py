@@ -185,7 +185,15 @@ def _report_dropped(
 ) -> None:
     """A key the XRDF does not carry: nothing said when its value is what cuRobo takes
     without it; a key no cuRobo version knows is said to stop cuRobo's own loader."""
-    if unknown_to_curobo(key, section):
+    if key == "load_collision_spheres" and value is False:
+        rep.report(
+            "convert-dropped-key",
+            "load_collision_spheres: false: cuRobo loads none of this config's spheres, so it "
+            "checks no collision with it; an XRDF has no such switch and keeps the spheres, "
+            "which cuRobo then checks",
+            where,
+        )
+    elif unknown_to_curobo(key, section):
         rep.report(
             "convert-dropped-key",
             f"{named} is not a cuRobo {section} setting (cuRobo's loader stops on it: "
