@@ -143,9 +143,6 @@ def test_empty_lula_keys_are_not_called_dropped(tmp_path: Path) -> None:
 def test_load_collision_spheres_false_is_said_to_turn_collision_off(tmp_path: Path) -> None:
     """`load_collision_spheres: false` makes cuRobo load no sphere of the config (no collision
     checking at all); the XRDF keeps them, and the warning says what that changes."""
-    from tests.paths import UR10E_URDF
-    from xrdf_tools.convert.core import ConvertOptions, convert_files
-
     cfg = tmp_path / "ur.yml"
     cfg.write_text(
         "robot_cfg:\n  kinematics:\n    base_link: base_link\n    ee_link: tool0\n"
