@@ -308,7 +308,8 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
     """Numbers typed key by key, with an exponent or past a field's bounds: a length is the
     number typed (``5e-3`` is 5 mm; viser's number field made it 0.5, then 0), one outside
     the field's range is refused and left as typed; nothing the saved file could not hold
-    reaches it, and a configuration row past the end is refused."""
+    reaches it, and a configuration row past the end is refused; the refusal shows where the
+    user types."""
     expect = sync_api.expect
     configs = tmp_path / "q.npy"
     np.save(configs, np.array([[0.0] * 7, [0.1] * 7, [0.2] * 7]))
@@ -335,6 +336,10 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
         refusal = "not set: Buffer (m) takes 0 to 0.5 m, not 7"
         wait_for(lambda: editor.message == refusal, "the refusal")
         assert buffer() == buffer_before
+        # said where the user types, not only at the top of the Document panel
+        toast = page.locator(".mantine-Notification-root").filter(has_text=refusal)
+        expect(toast).to_be_visible()
+        assert toast.bounding_box()["y"] < 900
         expect(row(page, "Buffer (m)").locator("input").first).to_have_value("7")  # as typed
         type_text(page, "Buffer (m)", "5e-3")  # an exponent: 5 mm (it arrived as 0.5, then 0)
         settle(editor, page)
