@@ -18,7 +18,7 @@ import re
 import shutil
 import time
 from collections.abc import Iterator
-from contextlib import contextmanager, suppress
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -90,20 +90,6 @@ def type_text(page: Any, label: str, text: str) -> None:
     box.click()
     box.press("Control+a")
     box.press_sequentially(text)
-
-
-def set_number_until(
-    page: Any, label: str, value: float, done: Any, what: str, tries: int = 4
-) -> None:
-    """Set a number field until ``done()`` holds: a value typed while the page redraws its
-    controls is lost with the old control, so it is typed again (at most ``tries`` times)."""
-    for _ in range(tries - 1):
-        set_number(page, label, value)
-        with suppress(AssertionError):
-            wait_for(done, what, timeout=10.0)
-            return
-    set_number(page, label, value)
-    wait_for(done, what)
 
 
 def choose(page: Any, label: str, option: str) -> None:
@@ -205,7 +191,7 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
             type_text(page, f"Center {axis} (m)", f"{v * 1000:g}e-3")  # one field at a time:
             wait_for(lambda i=i, v=v: link5_first().center[i] == v, f"centre {axis}")  # each
             settle(editor, page)
-        set_number(page, "Radius", 0.07)
+        type_text(page, "Radius (m)", "7e-2")
 
         wait_for(lambda: link5_first().radius == 0.07, "the radius")
         wait_for(lambda: link5_first().center == (0.01, 0.02, 0.03), f"the move ({link5_first()})")
@@ -218,12 +204,12 @@ def test_edit_in_the_browser(browser: Any, tmp_path: Path) -> None:
         # 3. refit panda_link3 with 3 spheres, look at the metrics, accept
         settle(editor, page)
         choose(page, "Link", "panda_link3")
-        set_number(page, "Fit spheres", 3)
+        type_text(page, "Fit spheres", "3")
         # the click must reach the server after the link and the count (as in step 5)
         wait_for(
             lambda: (
                 (editor.selected or ("",))[0] == "panda_link3"
-                and editor.panels.fit_count.value == 3
+                and editor.panels.fit_count.read() == 3
             ),
             "the link and count to fit",
         )
@@ -312,7 +298,8 @@ def test_readonly_page_does_not_save(browser: Any, tmp_path: Path) -> None:
         settle(editor, page)
         choose(page, "Sphere", "0")
         settle(editor, page)
-        set_number_until(page, "Radius", 0.08, lambda: editor.state.dirty, "the edit")
+        type_text(page, "Radius (m)", "0.08")
+        wait_for(lambda: editor.state.dirty, "the edit")
         assert not editor.save()
         assert target.read_bytes() == PANDA_XRDF.read_bytes()
 
@@ -321,7 +308,8 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
     """Numbers typed key by key, with an exponent or past a field's bounds: a length is the
     number typed (``5e-3`` is 5 mm; viser's number field made it 0.5, then 0), one outside
     the field's range is refused and left as typed; nothing the saved file could not hold
-    reaches it, and a configuration row past the end poses the last."""
+    reaches it, and a configuration row past the end is refused; the refusal shows where the
+    user types."""
     expect = sync_api.expect
     configs = tmp_path / "q.npy"
     np.save(configs, np.array([[0.0] * 7, [0.1] * 7, [0.2] * 7]))
@@ -345,8 +333,13 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
         buffer_before = buffer()
         type_text(page, "Buffer (m)", "7")  # the field takes 0 to 0.5 m
         settle(editor, page)
-        wait_for(lambda: editor.message.startswith("not set: Buffer (m) takes 0 to 0.5"), "no")
+        refusal = "not set: Buffer (m) takes 0 to 0.5 m, not 7"
+        wait_for(lambda: editor.message == refusal, "the refusal")
         assert buffer() == buffer_before
+        # said where the user types, not only at the top of the Document panel
+        toast = page.locator(".mantine-Notification-root").filter(has_text=refusal)
+        expect(toast).to_be_visible()
+        assert toast.bounding_box()["y"] < 900
         expect(row(page, "Buffer (m)").locator("input").first).to_have_value("7")  # as typed
         type_text(page, "Buffer (m)", "5e-3")  # an exponent: 5 mm (it arrived as 0.5, then 0)
         settle(editor, page)
@@ -367,11 +360,20 @@ def test_typed_values_the_document_cannot_take(browser: Any, tmp_path: Path) -> 
         editor.undo()  # the keystrokes of one field are one step
         assert sphere() == before_spheres
         editor.redo()
-        set_number(page, "Configuration", 99)  # 3 rows
+        # the radius slider is for dragging: its number box (which drops an exponent) is
+        # hidden, the radius is typed in Radius (m)
+        expect(row(page, "Radius").locator("input.mantine-NumberInput-input")).to_be_hidden()
+        q_before = _locked(editor, "q").copy()
+        type_text(page, "Configuration", "99")  # 3 rows: refused, left as typed
+        settle(editor, page)
+        page.get_by_role("button", name=re.compile("Pose configuration")).click()
+        wait_for(lambda: editor.message == "not set: Configuration takes 0 to 2, not 99", "no")
+        expect(row(page, "Configuration").locator("input").first).to_have_value("99")
+        assert np.array_equal(_locked(editor, "q"), q_before)
+        type_text(page, "Configuration", "2")
         settle(editor, page)
         page.get_by_role("button", name=re.compile("Pose configuration")).click()
         wait_for(lambda: np.allclose(editor.q[:7], 0.2), "the last row posed")
-        expect(row(page, "Configuration").locator("input").first).to_have_value("2")
         assert editor.save()
         assert load_xrdf(target).self_collision == editor.state.xrdf.self_collision
 

@@ -150,8 +150,11 @@ def unknown_message(_: dict[str, str]) -> bytes:
     [
         (lambda _: b"garbage", "dropped a connection: connection handler failed: DecodeError"),
         (unknown_message, "dropped a connection: connection handler failed: KeyError"),
-        (update("Scale factor", "abc"), "ignored a message: ValueError"),
-        (update("Fit spheres", [1, 2]), "ignored a message: TypeError"),
+        (update("Radius", "abc"), "ignored a message: ValueError"),
+        (update("Radius", [1, 2]), "ignored a message: TypeError"),
+        (update("Fit spheres", [1, 2]), None),  # text that is no number: left alone
+        (update("Scale factor", "abc"), None),  # a text field: left as typed
+        (update("Radius", 13.0), None),  # past the slider: from its number box, refused
         (update("Center x (m)", "abc"), None),  # not a number: left as typed
         (update("Sphere", "not a number"), None),  # not an option: ignored
         (update("Link", "no_such_link"), None),
@@ -338,4 +341,71 @@ def test_deleting_the_last_sphere_of_a_link_with_geometry_says_a_planner_cannot_
     )
     for _ in range(n):
         page.undo()
+    assert not page.state.dirty
+
+
+def browser_event(target: Any) -> Any:
+    """An update event as the browser's page sends it."""
+    return type("Event", (), {"client": object(), "target": target})()
+
+
+def typed_in(field: Any, text: str) -> None:
+    """``text`` arrives in ``field`` from the browser (its callbacks run as viser runs them)."""
+    field.box.value = text
+    for callback in field.box._impl.update_cb:
+        callback(browser_event(field.box))
+
+
+def test_every_number_is_typed_as_the_lengths_are(served: tuple[Any, list[str]]) -> None:
+    """Counts, factors and the radius read what was typed, exponent and all; a fraction in a
+    count or a value past a field's range is refused with a message, the text left as typed
+    (viser's number fields dropped the exponent: 1e-3 typed for the radius made it 13 m, and
+    a count past its range was taken at the end of it)."""
+    page, _ = served
+    spheres, mask, panels = page.panels.spheres, page.panels.mask, page.panels
+    page.pick("panda_link4", 0)
+    link4 = page.state.xrdf.resolved_spheres("panda_spheres")["panda_link4"]
+    # the radius typed: 1e-3 is 1 mm, one undo step with what was typed before it
+    assert spheres.typed_radius.box.value == repr(link4[0].radius)
+    for typed in ("1", "1e", "1e-", "1e-3"):
+        typed_in(spheres.typed_radius, typed)
+    assert page.state.xrdf.resolved_spheres("panda_spheres")["panda_link4"][0].radius == 0.001
+    page.undo()
+    assert page.state.xrdf.resolved_spheres("panda_spheres")["panda_link4"] == link4
+    # the slider's number box sends 13 for "1e-3" (should its box be shown): refused
+    spheres.radius.value = 13.0
+    spheres._dragged_radius()
+    assert page.message == (
+        "not set: the Radius slider takes 0.0005 to 0.3 m, not 13 (type the radius in Radius (m))"
+    )
+    assert page.state.xrdf.resolved_spheres("panda_spheres")["panda_link4"] == link4
+    # counts: an exponent is read, a fraction or a value past the range refused, as typed
+    mask.samples.box.value = "1e5"
+    assert mask.samples.take(page.say) == 100_000
+    typed_in(mask.samples, "2e6")  # said as it is typed, and when the report would run
+    assert page.message == "not set: Report samples takes 1 to 1,000,000, not 2,000,000"
+    page.say("")
+    assert mask.samples.take(page.say) is None and mask.samples.box.value == "2e6"
+    assert page.message == "not set: Report samples takes 1 to 1,000,000, not 2,000,000"
+    panels.fit_count.box.value = "2.5"
+    panels._fit()
+    assert page.message == "not set: Fit spheres takes a whole number, not 2.5"
+    assert panels.proposal is None
+    spheres.between.box.value = "-"
+    spheres._connect()
+    assert page.message == "not set: type a number in Spheres between"
+    spheres.factor.box.value = "20"
+    spheres._scale()
+    assert page.message == "not set: Scale factor takes 0.1 to 10, not 20"
+    assert page.state.xrdf.resolved_spheres("panda_spheres")["panda_link4"] == link4
+    # a joint's slider box sends what is typed there: a value past the joint's limits is
+    # not posed (99 typed posed the joint at 99 rad)
+    q = page.q.copy()
+    slider = panels.sliders[1]
+    slider.value = 99.0
+    panels._slider_moved(int(page.robot.cspace_index[1]), slider)(browser_event(slider))
+    assert page.message == (
+        "not posed: panda_joint2 moves within its limits, -1.7628 to 1.7628, not 99"
+    )
+    assert (page.q == q).all()
     assert not page.state.dirty

@@ -117,12 +117,12 @@ def test_page_poses_configs_edits_and_saves_only_its_target(tmp_path: Path) -> N
 
         n = len(link4())
         page.pick("panda_link4", 0)
-        spheres.other.value, spheres.between.value = 2, 3
+        spheres.other.box.value, spheres.between.box.value = "2", "3"
         spheres._connect()
         assert len(link4()) == n + 3 and "connect panda_link4[0]" in page.message
         assert page.selected == ("panda_link4", 0)
         radii = [s.radius for s in link4()]
-        spheres.factor.value = 0.5
+        spheres.factor.box.value = "5e-1"
         spheres._scale()
         assert [s.radius for s in link4()] == pytest.approx([r * 0.5 for r in radii], abs=1e-6)
         page.pick("panda_link4", None)
@@ -149,8 +149,9 @@ def test_page_report_and_its_recommended_mask(tmp_path: Path) -> None:
     page = EditorPage(robot, EditState.start(x), target=tmp_path / "out.xrdf", port=free_port())
     try:
         mask = page.panels.mask
-        assert mask.samples.value == REPORT_SAMPLES  # as `xrdf report` samples
-        mask.samples.value = 300
+        assert mask.samples.read() == REPORT_SAMPLES  # as `xrdf report` samples
+        assert mask.samples.box.value == "100000"
+        mask.samples.box.value = "3e2"
         mask.run_report()
         report = mask.report
         assert report is not None and report.samples == 300

@@ -16,7 +16,7 @@ from ..util.errors import XrdfToolsError
 from ..util.numbers import REPORT_SAMPLES
 from .edits import SetBuffer, SetIgnored, SetMask
 from .markup import code, text
-from .surface import PageSurface, bounded, from_browser
+from .surface import PageSurface, from_browser
 from .typed import TypedNumber
 
 if TYPE_CHECKING:
@@ -31,6 +31,8 @@ TABLE_ROWS = 12
 #: The most samples the page's report takes (it runs while the page waits: about 5 s on a
 #: TIAGo arm; ``xrdf report`` takes more, in worker processes).
 MAX_PAGE_SAMPLES = 1_000_000
+#: The longest certify budget the page's report takes, seconds.
+MAX_CERTIFY_S = 120.0
 #: The largest buffer distance the field takes, metres.
 MAX_BUFFER = 0.5
 
@@ -65,20 +67,26 @@ class MaskPanel:
             self.filter = gui.add_text("Filter pairs", "")
             self.summary = gui.add_markdown("")
             self.pairs = gui.add_folder("Pairs (ignored when ticked)")
-            self.samples = gui.add_number(
+            self.samples = TypedNumber(
+                gui,
                 "Report samples",
                 min(page.report_samples, MAX_PAGE_SAMPLES),
-                min=1,
-                max=MAX_PAGE_SAMPLES,
-                step=1000,
+                lo=1,
+                hi=MAX_PAGE_SAMPLES,
+                integer=True,
+                hint="1e5 is 100,000",
             )
-            self.budget = gui.add_number("Certify budget (s)", 0.0, min=0.0, max=120.0, step=1.0)
+            self.budget = TypedNumber(
+                gui, "Certify budget (s)", 0.0, lo=0.0, hi=MAX_CERTIFY_S, unit=" s"
+            )
             run = gui.add_button("Run report")
             self.apply_mask = gui.add_button("Apply recommended mask", visible=False)
             self.witness = gui.add_dropdown("Witness", ("none",), visible=False)
             self.pose_witness = gui.add_button("Pose witness", visible=False)
 
         self.buffer.on_number(page.say, self._set_buffer)
+        for field in (self.samples, self.budget):
+            field.watch(page.say)
         self.filter.on_update(lambda e: self.update(document=True) if from_browser(e) else None)
         run.on_click(lambda e: self.run_report() if from_browser(e) else None)
         self.apply_mask.on_click(lambda e: self._apply_mask() if from_browser(e) else None)
@@ -101,8 +109,11 @@ class MaskPanel:
         """Run a report on the current document (in the GUI callback's thread)."""
         page = self.page
         xrdf = page.state.xrdf
-        budget = bounded(self.budget)
-        n = int(bounded(self.samples, integer=True))
+        budget = self.budget.take(page.say)
+        samples = self.samples.take(page.say) if budget is not None else None
+        if budget is None or samples is None:
+            return
+        n = int(samples)
         self.summary.content = f"_sampling {n} configurations…_"
         try:
             report = self_collision_report(

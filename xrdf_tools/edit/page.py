@@ -25,6 +25,7 @@ from ..util.fileio import check_output_path, read_input_bytes
 from ..util.numbers import REPORT_SAMPLES
 from .edits import Edit
 from .guard import WILDCARD_HOSTS, RequestGuard, check_address, start_guarded
+from .notices import Notices
 from .robot import Collisions, EditRobot
 from .state import EditState, save
 from .view import RobotView
@@ -109,6 +110,7 @@ class EditorPage:
             )
             self.view.set_meshes(meshes)  # type: ignore[arg-type]
             self.view.set_tool_frames(state.xrdf.tool_frames or ())
+            self.notices = Notices(self.server)
             self.panels: Panels = Panels(self)
             self.refresh(pose=True, document=True)
         except BaseException:
@@ -249,9 +251,13 @@ class EditorPage:
         return f"{self.target} exists; saving replaces it"
 
     def say(self, message: str) -> None:
-        self.message = message
-        if hasattr(self, "panels"):
-            self.panels.show_message(message)
+        """Record ``message`` in the Document panel and, when the user must see it (a refusal,
+        a warning, a save), show it over the view in every tab (:mod:`.notices`)."""
+        with self.lock:
+            self.message = message
+            if hasattr(self, "panels"):
+                self.panels.show_message(message)
+                self.notices.show(message)
 
     # --- redrawing -------------------------------------------------------------------------
     def refresh(self, *, pose: bool = False, document: bool = False) -> None:

@@ -22,7 +22,8 @@ from .edits import SetDefaults
 from .markup import code, pre
 from .mask_panel import MaskPanel
 from .sphere_panel import SpherePanel
-from .surface import PageSurface, bounded, from_browser
+from .surface import PageSurface, from_browser
+from .typed import TypedNumber, said
 
 if TYPE_CHECKING:
     from ..viz.meshes import MeshKind
@@ -213,15 +214,12 @@ class Panels:
             as_default.on_click(lambda e: self.use_pose_as_default() if from_browser(e) else None)
             if page.configs is not None:
                 n = len(page.configs)
-                row = gui.add_number("Configuration", 0, min=0, max=max(n - 1, 0), step=1)
-                go = gui.add_button(f"Pose configuration (of {n})")
-                go.on_click(
-                    lambda e: (
-                        page.set_pose(page.configs[int(bounded(row, integer=True))])  # type: ignore[index]
-                        if from_browser(e) and page.configs is not None
-                        else None
-                    )
+                self.row = TypedNumber(
+                    gui, "Configuration", 0, lo=0, hi=max(n - 1, 0), integer=True, hint="from 0"
                 )
+                self.row.watch(page.say)
+                go = gui.add_button(f"Pose configuration (of {n})")
+                go.on_click(lambda e: self._pose_row() if from_browser(e) else None)
             with gui.add_folder("Collisions"):
                 self.contacts = gui.add_markdown("")
 
@@ -239,9 +237,21 @@ class Panels:
                 s.on_update(self._slider_moved(int(i), s))
                 self.sliders.append(s)
 
+    def _pose_row(self) -> None:
+        row = self.row.take(self.page.say)
+        if row is not None and self.page.configs is not None:
+            self.page.set_pose(self.page.configs[int(row)])
+
     def _slider_moved(self, index: int, slider: Any) -> Any:
         def moved(e: Any) -> None:
             if from_browser(e):
+                value, lo, hi = float(slider.value), float(slider.min), float(slider.max)
+                if not lo <= value <= hi:  # typed in the slider's box: not posed
+                    self.page.say(
+                        f"not posed: {slider.label} moves within its limits, {said(lo)} to "
+                        f"{said(hi)}, not {said(value)}"
+                    )
+                    return
                 with self.page.lock:
                     q = self.page.q.copy()
                     q[index] = float(slider.value)
@@ -285,15 +295,17 @@ class Panels:
     def _fit_panel(self) -> None:
         gui = self.gui
         with gui.add_folder("Refit link"):
-            self.fit_count = gui.add_number("Fit spheres", 4, min=1, max=64, step=1)
-            self.fit_target = gui.add_number(
+            self.fit_count = TypedNumber(gui, "Fit spheres", 4, lo=1, hi=64, integer=True)
+            self.fit_target = TypedNumber(
+                gui,
                 "Coverage target",
                 0.0,
-                min=0.0,
-                max=1.0,
-                step=0.01,
+                lo=0.0,
+                hi=1.0,
                 hint="0: fit the number of spheres above; else the fewest reaching this share",
             )
+            for field in (self.fit_count, self.fit_target):
+                field.watch(self.page.say)
             fit = gui.add_button("Fit link")
             self.fit_result = gui.add_markdown("")
             self.accept = gui.add_button("Accept fit", visible=False)
@@ -308,7 +320,10 @@ class Panels:
 
         page = self.page
         frame = self.spheres.link.value
-        target = bounded(self.fit_target)
+        target = self.fit_target.take(page.say)
+        count = self.fit_count.take(page.say) if target == 0 else None
+        if target is None or (target == 0 and count is None):
+            return
         current = page.state.xrdf.resolved_spheres(page.state.group).get(frame, ())
         self.fit_result.content = f"_fitting {markup.text(frame)}…_"
         try:
@@ -316,7 +331,7 @@ class Panels:
                 page.robot.robot,
                 frame,
                 current,
-                count=None if target > 0 else int(bounded(self.fit_count, integer=True)),
+                count=None if count is None else int(count),
                 coverage=target if target > 0 else None,
             )
         except XrdfToolsError as e:

@@ -1,6 +1,10 @@
 """The Spheres panel of the ``xrdf edit`` page: pick a link and a sphere (or click one), move
-it with a gizmo or typed numbers, resize, add, duplicate, delete, connect two spheres with a
-chain between them, and scale a link's spheres.
+it with a gizmo or typed numbers, resize (typed, or dragging the radius slider), add,
+duplicate, delete, connect two spheres with a chain between them, and scale a link's spheres.
+
+The radius slider is for dragging: its own number box (viser's, which drops an exponent:
+``1e-3`` typed there arrived as 1, -1, then 13) is hidden, and the radius is typed in the
+**Radius (m)** field, read as the centre fields are (:mod:`xrdf_tools.edit.typed`).
 """
 
 from __future__ import annotations
@@ -21,8 +25,8 @@ from .edits import (
     SetRadius,
 )
 from .sphere_edits import MAX_CONNECT
-from .surface import PageSurface, bounded, from_browser
-from .typed import TypedNumber
+from .surface import PageSurface, from_browser
+from .typed import TypedNumber, hide_number_box, said
 from .view import node
 
 __all__ = ["NONE", "RADIUS_MAX", "RADIUS_STEP", "SpherePanel"]
@@ -52,28 +56,41 @@ class SpherePanel:
                 TypedNumber(gui, f"Center {axis} (m)", 0.0, unit=" m", hint="1e-3 is 1 mm")
                 for axis in "xyz"
             ]
+            self.typed_radius = TypedNumber(
+                gui,
+                "Radius (m)",
+                RADIUS_STEP,
+                lo=RADIUS_STEP,
+                hi=self.far / 2,
+                unit=" m",
+                hint="1e-3 is 1 mm; or drag the slider below",
+            )
             self.radius: Any = gui.add_slider(
                 "Radius", RADIUS_STEP, RADIUS_MAX, step=RADIUS_STEP, initial_value=RADIUS_STEP
             )
+            hide_number_box(gui, self.radius)
             add = gui.add_button("Add sphere")
             dup = gui.add_button("Duplicate sphere")
             delete = gui.add_button("Delete sphere")
-            self.other = gui.add_number(
-                "Connect to sphere", 1, min=0, max=999, step=1, hint="another sphere of the link"
+            self.other = TypedNumber(
+                gui, "Connect to sphere", 1, lo=0, integer=True, hint="another sphere of the link"
             )
-            self.between = gui.add_number(
-                "Spheres between", 2, min=1, max=MAX_CONNECT, step=1, hint="evenly spaced"
+            self.between = TypedNumber(
+                gui, "Spheres between", 2, lo=1, hi=MAX_CONNECT, integer=True, hint="evenly spaced"
             )
             connect = gui.add_button("Connect spheres")
-            self.factor = gui.add_number(
-                "Scale factor", 1.1, min=0.1, max=10.0, step=0.05, hint="every sphere's radius"
+            self.factor = TypedNumber(
+                gui, "Scale factor", 1.1, lo=0.1, hi=10.0, hint="every sphere's radius"
             )
             scale = gui.add_button("Scale link spheres")
         self.link.on_update(lambda e: page.pick(self.link.value, None) if from_browser(e) else None)
         self.sphere.on_update(lambda e: self._pick_sphere() if from_browser(e) else None)
         for axis, field in enumerate(self.center):
             field.on_number(page.say, self._center_moved(axis))
-        self.radius.on_update(lambda e: self._resize() if from_browser(e) else None)
+        self.typed_radius.on_number(page.say, self._resize)
+        self.radius.on_update(lambda e: self._dragged_radius() if from_browser(e) else None)
+        for field in (self.other, self.between, self.factor):
+            field.watch(page.say)
         add.on_click(lambda e: self._add() if from_browser(e) else None)
         dup.on_click(lambda e: self._on_sphere(DuplicateSphere) if from_browser(e) else None)
         delete.on_click(lambda e: self._on_sphere(DeleteSphere) if from_browser(e) else None)
@@ -119,10 +136,22 @@ class SpherePanel:
             c = (float(center[0]), float(center[1]), float(center[2]))
             self.page.apply(MoveSphere(sel[0], sel[1], c), merge_key=("move", *sel))
 
-    def _resize(self) -> None:
+    def _dragged_radius(self) -> None:
+        """The slider's value, taken only within the slider's range (a value past it comes
+        from its number box, should the page's CSS not hide it: typed, not dragged)."""
+        value, lo, hi = float(self.radius.value), float(self.radius.min), float(self.radius.max)
+        if not lo <= value <= hi:
+            self.page.say(
+                f"not set: the Radius slider takes {said(lo)} to {said(hi)} m, not {said(value)} "
+                "(type the radius in Radius (m))"
+            )
+            return
+        self._resize(value)
+
+    def _resize(self, radius: float) -> None:
         sel = self._selected_sphere()
         if sel is not None:
-            edit = SetRadius(sel[0], sel[1], float(self.radius.value))
+            edit = SetRadius(sel[0], sel[1], radius)
             self.page.apply(edit, merge_key=("radius", *sel))
 
     def _add(self) -> None:
@@ -152,13 +181,16 @@ class SpherePanel:
         if sel is None:
             self.page.say("select a sphere first, then the sphere to connect it to")
             return
-        other = int(bounded(self.other, integer=True))
-        count = int(bounded(self.between, integer=True))
-        self.page.apply(ConnectSpheres(sel[0], sel[1], other, count))
+        other = self.other.take(self.page.say)
+        count = self.between.take(self.page.say) if other is not None else None
+        if other is not None and count is not None:
+            self.page.apply(ConnectSpheres(sel[0], sel[1], int(other), int(count)))
 
     def _scale(self) -> None:
         frame = str(self.link.value)
-        self.page.apply(ScaleSpheres(frame, bounded(self.factor)))
+        factor = self.factor.take(self.page.say)
+        if factor is not None:
+            self.page.apply(ScaleSpheres(frame, factor))
 
     def sync_selection(self) -> None:
         """Show the selected link and sphere in the controls and put the gizmo on it."""
@@ -175,6 +207,7 @@ class SpherePanel:
             s = spheres[k]
             for field, v in zip(self.center, s.center, strict=True):
                 field.show(v)
+            self.typed_radius.show(s.radius)
             # the slider reaches every radius it shows (a 0.4 m base sphere is not shown 0.3)
             self.radius.max = max(RADIUS_MAX, math.ceil(s.radius * 10) / 10)
             self.radius.value = float(min(max(s.radius, RADIUS_STEP), self.radius.max))

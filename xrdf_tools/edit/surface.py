@@ -8,7 +8,6 @@ a value the page set itself.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Hashable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
@@ -23,7 +22,7 @@ if TYPE_CHECKING:
     from .state import EditState
     from .view import RobotView
 
-__all__ = ["PageSurface", "bounded", "from_browser"]
+__all__ = ["PageSurface", "from_browser"]
 
 
 def from_browser(event: Any) -> bool:
@@ -39,26 +38,6 @@ def from_browser(event: Any) -> bool:
         target.value = options[0]
         return False
     return True
-
-
-def bounded(field: Any, *, integer: bool = False) -> float:
-    """The value of a number field held within the field's ``min`` and ``max`` (rounded for
-    an ``integer`` field; an empty or non-finite entry is the minimum). The browser does not
-    hold a typed value there (99 typed in a 0-2 field arrives as 99), so the page does, and
-    shows the value it used in the field."""
-    value = float(field.value)
-    lo, hi = field.min, field.max
-    if not math.isfinite(value):
-        value = float(lo) if lo is not None else 0.0
-    if integer:
-        value = float(round(value))
-    if lo is not None:
-        value = max(value, float(lo))
-    if hi is not None:
-        value = min(value, float(hi))
-    if value != field.value:
-        field.value = value
-    return value
 
 
 class PageSurface(Protocol):

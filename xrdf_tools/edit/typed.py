@@ -7,8 +7,12 @@ parses: ``1e-3``, ``0.001``, ``-2``, ``.5`` are numbers; what is not one yet (``
 an empty field) is left alone until it is. The page never rewrites the text while it reads
 as the document's value, nor while it makes the edit the text asked for (the browser may
 have sent the next keystrokes meanwhile), so typing is not disturbed; a value outside the
-field's range is refused with a message (the text stays as typed, to be finished or
-corrected).
+field's range (or a fraction in a field of whole numbers) is refused with a message (the text
+stays as typed, to be finished or corrected).
+
+Every number the page takes is typed in one: lengths and limits, which edit the document as
+they are typed (:meth:`TypedNumber.on_number`), and the counts and factors a button reads
+(:meth:`TypedNumber.take`).
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from typing import Any
 
 from .surface import from_browser
 
-__all__ = ["TypedNumber", "parse_typed"]
+__all__ = ["TypedNumber", "hide_number_box", "parse_typed"]
 
 #: A decimal number with an optional exponent (what Python's float reads, without its
 #: ``inf``, ``nan`` and ``1_000``).
@@ -36,13 +40,24 @@ def parse_typed(text: str) -> float | None:
     return value if math.isfinite(value) else None
 
 
-def shown(value: float) -> str:
-    """``value`` as the field shows it: the shortest text that reads back as it."""
+def shown(value: float, *, integer: bool = False) -> str:
+    """``value`` as the field shows it: the shortest text that reads back as it (a whole
+    number without a point in a field of whole numbers)."""
+    if integer and float(value).is_integer():
+        return str(int(value))
     return repr(float(value))
 
 
+def said(value: float | None) -> str:
+    """``value`` in a message: whole numbers with thousands separators (1,000,000, not
+    1e+06), others as ``:g`` writes them."""
+    v = float(value or 0.0)
+    return f"{int(v):,}" if v.is_integer() and abs(v) < 1e15 else f"{v:g}"
+
+
 class TypedNumber:
-    """A text field for a number in ``[lo, hi]`` (``unit`` for messages)."""
+    """A text field for a number in ``[lo, hi]`` (``unit`` for messages; ``integer``: a whole
+    number)."""
 
     def __init__(
         self,
@@ -54,10 +69,11 @@ class TypedNumber:
         hi: float | None = None,
         unit: str = "",
         hint: str | None = None,
+        integer: bool = False,
     ) -> None:
         self.label = label
-        self.lo, self.hi, self.unit = lo, hi, unit
-        self.box: Any = gui.add_text(label, shown(value), hint=hint)
+        self.lo, self.hi, self.unit, self.integer = lo, hi, unit, integer
+        self.box: Any = gui.add_text(label, shown(value, integer=integer), hint=hint)
         #: The page is making the edit this field's text asked for.
         self.typing = False
 
@@ -69,17 +85,37 @@ class TypedNumber:
         """Show ``value`` (the document's), unless the field already reads as it or is being
         typed in (its edit under way)."""
         if not self.typing and self.read() != value:
-            self.box.value = shown(value)
+            self.box.value = shown(value, integer=self.integer)
 
     def refusal(self, value: float) -> str | None:
         """Why ``value`` is outside the field's range (one line), or None."""
         lo, hi = self.lo, self.hi
+        if self.integer and not value.is_integer():
+            return f"not set: {self.label} takes a whole number, not {value:g}"
         if (lo is None or value >= lo) and (hi is None or value <= hi):
             return None
-        span = f"{lo:g} to {hi:g}" if lo is not None and hi is not None else ""
+        span = f"{said(lo)} to {said(hi)}" if lo is not None and hi is not None else ""
         if not span:
-            span = f"at least {lo:g}" if lo is not None else f"at most {hi:g}"
-        return f"not set: {self.label} takes {span}{self.unit}, not {value:g}"
+            span = f"at least {said(lo)}" if lo is not None else f"at most {said(hi)}"
+        return f"not set: {self.label} takes {span}{self.unit}, not {said(value)}"
+
+    def take(self, say: Callable[[str], None]) -> float | None:
+        """The number in the field, for a button that reads it; None, with ``say`` hearing
+        why, when the field holds no number in its range."""
+        value = self.read()
+        if value is None:
+            say(f"not set: type a number in {self.label}")
+            return None
+        why = self.refusal(value)
+        if why is not None:
+            say(why)
+            return None
+        return value
+
+    def watch(self, say: Callable[[str], None]) -> None:
+        """Say as it is typed why a number outside the field's range will not be taken (for
+        a field a button reads)."""
+        self.on_number(say, lambda _: None)
 
     def on_number(self, say: Callable[[str], None], act: Callable[[float], None]) -> None:
         """Call ``act(value)`` for each number the browser puts in the field within its
@@ -102,3 +138,13 @@ class TypedNumber:
                 self.typing = False
 
         self.box.on_update(changed)
+
+
+def hide_number_box(gui: Any, slider: Any) -> None:
+    """Hide the number box viser draws next to ``slider`` (a style rule for that slider
+    alone): the slider is for dragging, its number is typed in a :class:`TypedNumber`. The
+    slider's element carries its id; a viser whose slider does not leaves the box shown."""
+    uuid = getattr(getattr(slider, "_impl", None), "uuid", None)
+    if isinstance(uuid, str) and re.fullmatch(r"[0-9a-f-]+", uuid):
+        rule = f'[id="{uuid}"] + .mantine-NumberInput-root {{ display: none; }}'
+        gui.add_html(f"<style>{rule}</style>")
