@@ -51,6 +51,8 @@ def test_cspace_in_urdf_order_states_kept_by_name(pr2: tuple[Robot, Path, Path])
     assert {j: defaults[j] for j in urdf_order} == {j: states[j] for j in urdf_order}
     said = [d for d in diags if d.rule == "convert-cspace-order"]
     assert len(said) == 1 and "URDF" in said[0].message and "kept by joint name" in said[0].message
+    # two readers named: "cuRobo and Isaac ROS cuMotion fills" was no sentence
+    assert "positions are filled in URDF order by cuRobo" in said[0].message
 
 
 def test_target_errors_before_fitting(pr2: tuple[Robot, Path, Path]) -> None:
