@@ -772,7 +772,8 @@ def test_a_subgroup_without_cspace_joints_takes_no_state(tree: RobotTree, tmp_pa
     defaults, chosen = _body_states(tree, srdf)
     assert defaults == {"j1": 0.2, "j2": -0.4, "j3": 0.75}
     assert chosen == [
-        "default positions from group_state 'arm_neutral' (the first state of group 'arm')"
+        "default positions from group_state 'arm_neutral' (the state named 'arm_neutral' of "
+        "group 'arm')"
     ]
 
 
@@ -1272,6 +1273,15 @@ def test_joints_outside_the_cspace_are_held_at_their_own_groups_home(
         '<group_state name="reach" group="side"><joint name="zz" value="0.9"/></group_state>'
     )
     assert held == {"j1": 0.1} and not any("outside the c-space" in m for m in said)
+    # Baxter: each arm's only state is its 'neutral' pose (Rethink's rest pose); the left
+    # arm's conversion held the right one straight out at 0
+    held, said = defaults(
+        '<group_state name="reach" group="side"><joint name="zz" value="0.9"/></group_state>'
+        '<group_state name="right_neutral" group="side"><joint name="zz" value="0.3"/>'
+        "</group_state>"
+    )
+    assert held == {"j1": 0.1, "zz": 0.3}
+    assert any("(zz) held at group_state 'right_neutral'" in m for m in said), said
 
 
 def test_a_state_value_for_the_srdfs_virtual_joint_is_a_note_not_an_unknown_joint(

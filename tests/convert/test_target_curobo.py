@@ -51,6 +51,8 @@ def test_cspace_in_urdf_order_states_kept_by_name(pr2: tuple[Robot, Path, Path])
     assert {j: defaults[j] for j in urdf_order} == {j: states[j] for j in urdf_order}
     said = [d for d in diags if d.rule == "convert-cspace-order"]
     assert len(said) == 1 and "URDF" in said[0].message and "kept by joint name" in said[0].message
+    # two readers named: "cuRobo and Isaac ROS cuMotion fills" was no sentence
+    assert "positions are filled in URDF order by cuRobo" in said[0].message
 
 
 def test_target_errors_before_fitting(pr2: tuple[Robot, Path, Path]) -> None:
@@ -180,3 +182,72 @@ def test_a_zero_effort_written_by_an_included_macro_names_that_file(
     assert len(zero) == 1 and "'joint_1' (arm_macro.xacro:5)" in zero[0], r.stderr
     # the <limit> to edit is in the macro file, not in the top file (Motoman SDA10F)
     assert '<limit effort="0"> in arm_macro.xacro:' in zero[0], r.stderr
+
+
+def _two_arms_with_tilted_shoulders(tmp_path: Path) -> Path:
+    """A torso with two one-joint arms whose shoulder axes are tilted, as Rainbow's RB-Y1
+    writes them (``0 0.939693 ±0.34202``): cuRobo's loader raises on either."""
+
+    def arm(side: str, y: float, axis: str) -> str:
+        return (
+            f'<link name="{side}_link1"><collision><geometry><box size="0.05 0.05 0.3"/>'
+            f'</geometry></collision></link><link name="{side}_tool"/>\n'
+            f'<joint name="{side}_shoulder" type="revolute"><parent link="torso"/>'
+            f'<child link="{side}_link1"/><origin xyz="0 {y} 0.5"/><axis xyz="{axis}"/>'
+            '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+            f'<joint name="{side}_tool_joint" type="fixed"><parent link="{side}_link1"/>'
+            f'<child link="{side}_tool"/><origin xyz="0 0 0.3"/></joint>\n'
+        )
+
+    urdf = tmp_path / "two_arms.urdf"
+    urdf.write_text(
+        '<robot name="two_arms">\n<link name="torso"><collision><geometry>'
+        '<box size="0.2 0.2 0.4"/></geometry></collision></link>\n'
+        + arm("left", 0.3, "0 0.939693 0.34202")
+        + arm("right", -0.3, "0 0.939693 -0.34202")
+        + "</robot>\n"
+    )
+    return urdf
+
+
+def test_a_tilted_cspace_axis_stops_curobo_before_fitting(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """RB-Y1: `convert --fit-spheres --target curobo` fitted and sampled the mask before
+    failing on the shoulder's axis (its finding had no section, so the check before fitting
+    passed it by). The c-space joint's axis stops the command before fitting, at its entry."""
+    urdf = _two_arms_with_tilted_shoulders(tmp_path)
+    out = tmp_path / "arm.xrdf"
+    args = ["convert", str(urdf), "--chain", "torso:left_tool", "--fit-spheres"]
+    r = runner.invoke(app, [*args, "--target", "curobo", "--samples", "100", "-o", str(out)])
+    assert r.exit_code == 1 and not out.exists(), r.stderr
+    assert "stopped before fitting" in r.stderr and "convert-fitted-spheres" not in r.stderr
+    axis = [x for x in r.stderr.splitlines() if "curobo-joint-axis" in x]
+    assert len(axis) == 1 and "'left_shoulder' (line" in axis[0], r.stderr
+    assert " error " in axis[0] and "held outside" not in axis[0]
+
+
+def test_a_tilted_axis_of_the_held_arm_is_placed_and_explained(tmp_path: Path) -> None:
+    """The other arm, held outside the c-space, is built by cuRobo when it carries spheres:
+    its finding names the sphere frame that brings it in, at the collision group (fitting
+    decides it), not at line 1 with no reason."""
+    from xrdf_tools.lint import lint_text
+
+    urdf = _two_arms_with_tilted_shoulders(tmp_path)
+    robot = as_robot(load_urdf(urdf))
+    x, _ = convert(robot, ConvertOptions(chains=(("torso", "left_tool"),)))
+    sphere = "right_link1:\n        - center: [0.0, 0.0, 0.1]\n          radius: 0.05"
+    text = dump_xrdf(x)
+    assert text.count("spheres: {}") == 1, text
+    text = text.replace("spheres: {}", f"spheres:\n      {sphere}")
+    found = [
+        d
+        for d in lint_text(text, "arm.xrdf", urdf_model=robot, target="curobo")
+        if d.rule == "curobo-joint-axis"
+    ]
+    by_joint = {d.message.split("'")[1]: d for d in found}
+    assert set(by_joint) == {"left_shoulder", "right_shoulder"}, found
+    held = by_joint["right_shoulder"]
+    assert "held outside the c-space on the chain to sphere frame 'right_link1'" in held.message
+    assert held.key_path == "collision.geometry" and held.line not in (None, 1), held
+    assert by_joint["left_shoulder"].key_path.startswith("cspace.joint_names[")

@@ -23,6 +23,19 @@ def test_a_shared_ending_alone_suggests_nothing() -> None:
     )
 
 
+def test_a_prefix_written_the_other_way_round_is_matched_before_another_arm() -> None:
+    """Mobile ALOHA's community SRDF names its left rear arm rl_ where the URDF says lr_:
+    'rl_base_link' was offered 'rr_base_link', a link of the other rear arm (one letter
+    changed), so following the hint would disable pairs of the wrong arm."""
+    links = ["fl_base_link", "fr_base_link", "lr_base_link", "rr_base_link", "rr_link1"]
+    assert did_you_mean("rl_base_link", links) == "; did you mean 'lr_base_link'?"
+    assert did_you_mean("rl_link1", ["rr_link1", "lr_link1"]) == "; did you mean 'lr_link1'?"
+    # the same letters moved further than a swap are not preferred: the closest name wins
+    assert did_you_mean("arm_l_link", ["l_arm_link", "arm_r_link"]) == (
+        "; did you mean 'arm_r_link'?"
+    )
+
+
 def test_a_name_written_out_is_matched_to_its_abbreviation() -> None:
     """Talos' SRDF names its arms l_arm and r_arm: --group left_arm was offered 'all_arms'
     (its '_arm' ending is shared, and 'left' and 'l' have one letter in common)."""

@@ -54,9 +54,9 @@ def order_for_target(
     rep.report(
         RULE_ORDER,
         f"--target {chosen.id}: c-space put in the URDF's joint order "
-        f"({name_list(urdf_order, 12)}) instead of {name_list(names, 12)}: {chosen.label} "
-        "fills default positions in URDF order and would scramble them otherwise; default "
-        "positions (SRDF states) are kept by joint name",
+        f"({name_list(urdf_order, 12)}) instead of {name_list(names, 12)}: default "
+        f"positions are filled in URDF order by {chosen.label}, which would scramble them "
+        "otherwise; default positions (SRDF states) are kept by joint name",
         "cspace.joint_names",
     )
     return urdf_order

@@ -108,13 +108,28 @@ def did_you_mean(name: str, choices: Iterable[str]) -> str:
     """Return ``"; did you mean 'x'?"`` for the closest choice, or ``""`` when none is close."""
     import difflib  # here: a message that needs it is rare, every command imports this module
 
-    for match in difflib.get_close_matches(name, list(choices), n=3, cutoff=0.6):
+    pool = list(choices)
+    for match in [*_swapped(name, pool), *difflib.get_close_matches(name, pool, n=3, cutoff=0.6)]:
         own, other = _without_common_suffix(name, match)
         if own.startswith(other) or other.startswith(own):  # 'left' and 'l': an abbreviation
             return f"; did you mean '{match}'?"
         if difflib.SequenceMatcher(None, own, other).ratio() >= 0.5:
             return f"; did you mean '{match}'?"
     return ""
+
+
+def _swapped(name: str, pool: list[str]) -> list[str]:
+    """The first choice that is ``name`` with two letters swapped (``lr_link1`` for
+    ``rl_link1``): two swapped letters, a typo or a prefix written the other way round, is
+    closer than one letter changed, which names another part (``rr_link1``, the other arm)."""
+    letters = sorted(name)
+    return [
+        c
+        for c in pool
+        if len(c) == len(name)
+        and sum(x != y for x, y in zip(c, name, strict=True)) == 2
+        and sorted(c) == letters
+    ][:1]
 
 
 def _without_common_suffix(a: str, b: str) -> tuple[str, str]:

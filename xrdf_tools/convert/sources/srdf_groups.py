@@ -35,7 +35,9 @@ __all__ = [
     "unused_cycles",
 ]
 
-PREFERRED_STATES = ("home", "ready", "default")
+#: Names of a group's rest pose, in this order. ``neutral`` is Rethink's (Baxter's
+#: ``left_neutral``/``right_neutral``, its SDK's "move to neutral").
+PREFERRED_STATES = ("home", "ready", "default", "neutral")
 
 
 def group_named(srdf: Srdf, name: str) -> SrdfGroup:
@@ -392,7 +394,7 @@ def choose_state(
     srdf: Srdf, group: str | None, cspace: list[str], requested: str | None
 ) -> tuple[GroupState | None, str]:
     """The group state giving default positions, and why it was chosen: the requested one;
-    else one named home, ready or default of the group, then of a group covering the
+    else one named home, ready, default or neutral of the group, then of a group covering the
     c-space; then one with such a word in its name (``home_position``), in that order; else
     the first state of the group, then of a covering group."""
     if requested is not None:
@@ -428,7 +430,7 @@ def choose_state(
 
 
 def home_state(srdf: Srdf, group: str) -> GroupState | None:
-    """The group's state named home, ready or default (in that order; ``Home`` too), else one
+    """The group's state named home, ready, default or neutral (in that order; ``Home`` too), else one
     with such a word in its name (``home_position``), else None: a pose the SRDF's author
     meant as the group's rest, not any pose it lists (an ``open`` hand, an ``aggressive``
     reach)."""
@@ -437,7 +439,7 @@ def home_state(srdf: Srdf, group: str) -> GroupState | None:
 
 
 def _named_home(lists: Sequence[Sequence[GroupState]]) -> tuple[GroupState, int] | None:
-    """The first state named home, ready or default, and the index of its list: named so
+    """The first state named home, ready, default or neutral, and the index of its list: named so
     exactly in any list first, then with such a word in its name; lists in order, then the
     names in that order."""
     for match in (_named_preferred, _named_like_preferred):

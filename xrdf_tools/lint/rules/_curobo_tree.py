@@ -12,26 +12,43 @@ if TYPE_CHECKING:  # numpy: lint without --urdf stays light
     from ...robot.urdf_joints import JointInfo
 
 
-def _targets(ctx: LintContext) -> set[str]:
+def fixed_targets(ctx: LintContext) -> set[str]:
+    """The tool frames and the added frames: the chains that fitting spheres never changes."""
     out = set(ctx.added_frames)
     tools = ctx.get("tool_frames")
     if isinstance(tools, YSeq):
         out.update(n for item in tools.items if (n := name(item)) is not None)
+    return out
+
+
+def sphere_targets(ctx: LintContext) -> set[str]:
+    """The sphere frames of the world-collision group (fitting spheres adds to them)."""
     world = ctx.get(ctx.world_key())
     group = ctx.group_name(world) if isinstance(world, YMap) else None
-    if group is not None and group in ctx.groups:
-        out.update(ctx.sphere_frames(group) or ())
-    return out
+    if group is None or group not in ctx.groups:
+        return set()
+    return ctx.sphere_frames(group) or set()
+
+
+def _targets(ctx: LintContext) -> set[str]:
+    return fixed_targets(ctx) | sphere_targets(ctx)
 
 
 def curobo_tree_joints(ctx: LintContext) -> list[JointInfo] | None:
     """The moving URDF joints (mimic followers included) on those chains, each once; None
     without ``--urdf``. Frames the robot lacks are skipped (another rule reports them)."""
+    found = joints_to_frames(ctx, _targets(ctx))
+    return None if found is None else [info for info, _ in found.values()]
+
+
+def joints_to_frames(ctx: LintContext, frames: set[str]) -> dict[str, tuple[JointInfo, str]] | None:
+    """The moving URDF joints on the chains from the base to ``frames``, by name, each once
+    with the first frame (by name) it moves; None without ``--urdf``."""
     kin = ctx.kin
     if kin is None:
         return None
-    out: dict[str, JointInfo] = {}
-    for frame in sorted(_targets(ctx)):
+    out: dict[str, tuple[JointInfo, str]] = {}
+    for frame in sorted(frames):
         if frame not in kin.frame_names:
             continue
         i = kin.frame_index(frame)
@@ -39,6 +56,6 @@ def curobo_tree_joints(ctx: LintContext) -> list[JointInfo] | None:
             joint = kin.joint_of_frame[i]
             info = kin.joints.get(joint) if joint is not None else None
             if info is not None and info.type != "fixed":
-                out.setdefault(info.name, info)
+                out.setdefault(info.name, (info, frame))
             i = int(kin.parent[i])
-    return list(out.values())
+    return out
