@@ -430,8 +430,8 @@ def choose_state(
 
 
 def home_state(srdf: Srdf, group: str) -> GroupState | None:
-    """The group's state named home, ready, default or neutral (in that order; ``Home`` too), else one
-    with such a word in its name (``home_position``), else None: a pose the SRDF's author
+    """The group's state named home, ready, default or neutral (in that order; ``Home`` too),
+    else one with such a word in its name (``home_position``), else None: a pose the SRDF's author
     meant as the group's rest, not any pose it lists (an ``open`` hand, an ``aggressive``
     reach)."""
     named = _named_home([[s for s in srdf.group_states if s.group == group]])
