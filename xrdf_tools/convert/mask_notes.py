@@ -12,7 +12,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..util.text import name_list
 
 if TYPE_CHECKING:
-    from ..report import Report
+    from ..report import PairStat, Report
     from ..xrdf.model import Xrdf
 
 __all__ = [
@@ -114,7 +114,8 @@ def mask_summary(report: Report, x: Xrdf) -> Diagnostic:
     ignored: Counter[str] = Counter(
         p.classification for p in report.pairs if p.recommendation != "check"
     )
-    checked = sum(1 for p in report.pairs if p.recommendation == "check")
+    near = [p for p in report.pairs if p.recommendation == "check" and p.classification == "never"]
+    checked = sum(1 for p in report.pairs if p.recommendation == "check") - len(near)
     reasons = ", ".join(f"{ignored[c]} {what}" for c, what in _REASONS if ignored[c])
     sc = x.self_collision
     total = len(sc.ignore_pairs()) if sc is not None else 0
@@ -125,16 +126,31 @@ def mask_summary(report: Report, x: Xrdf) -> Diagnostic:
         f"{report.seed}), like `xrdf report --write-mask`: {sum(ignored.values())} pair(s) "
         f"ignored ({reasons or 'none'}); {checked} pair(s) checked (they sometimes collide)"
     )
+    if near:
+        msg += "; " + _near_misses(near)
     if kept:
         msg += f"; {kept} pair(s) of the inputs kept (a frame without spheres)"
     removed = [p for p in report.mask_change.removed if frozenset(p) in sampled]
     if removed:
         msg += (
-            f"; {len(removed)} pair(s) of the inputs removed (they sometimes collide): "
-            + _removed_pairs(report, removed)
+            f"; {len(removed)} pair(s) of the inputs removed (they sometimes collide, or came "
+            "within the margin): " + _removed_pairs(report, removed)
         )
     return Diagnostic(
         report.urdf_path, None, None, RULE_MASK, Severity.INFO, msg, "self_collision.ignore"
+    )
+
+
+def _near_misses(near: list[PairStat]) -> str:
+    """``2 pair(s) checked although they never collided: ... (closest a/b 0.1 mm)``."""
+    closest = sorted(near, key=lambda p: (p.min_clearance or 0.0, p.frame_a, p.frame_b))
+    shown = name_list(
+        f"{p.frame_a}/{p.frame_b} {(p.min_clearance or 0.0) * 1000:.1f} mm" for p in closest
+    )
+    return (
+        f"{len(near)} pair(s) checked although they never collided: they came within the 10 mm "
+        f"margin, where a configuration between the samples may close the gap ({shown}); "
+        "`xrdf report --certify --write-mask` ignores those it proves apart"
     )
 
 
@@ -147,8 +163,15 @@ def _removed_pairs(report: Report, removed: list[tuple[str, str]]) -> str:
     """``a/b (in 3.3 % of samples)``: the input's ignored pairs the samples saw collide."""
     rates = {frozenset((p.frame_a, p.frame_b)): p.rate for p in report.pairs}
 
+    gaps = {frozenset((p.frame_a, p.frame_b)): p.min_clearance for p in report.pairs}
+
     def named(a: str, b: str) -> str:
         rate = rates.get(frozenset((a, b)))
-        return f"{a}/{b} (in {_share(rate)} of samples)" if rate else f"{a}/{b}"
+        if rate:
+            return f"{a}/{b} (in {_share(rate)} of samples)"
+        gap = gaps.get(frozenset((a, b)))
+        if gap is None:
+            return f"{a}/{b}"
+        return f"{a}/{b} ({gap * 1000:.1f} mm apart at the closest)"
 
     return name_list(named(a, b) for a, b in removed)

@@ -140,6 +140,7 @@ def self_collision_report(
         counted.n_total,
         counted.source,
         frozenset(cspace),
+        clearance_margin,
     )
     if certify is not None:
         if engine.kin is not kin:  # over the joint limits, not the configurations' range
@@ -337,12 +338,14 @@ def _pair_stats(
     n_total: int,
     source: str,
     cspace: frozenset[str],
+    margin: float,
 ) -> list[PairStat]:
     """One :class:`PairStat` per frame pair of ``pairs``; the counted ones' collision
     counts, minimum clearances and whether each is only a bound are ``counted`` ([W]
     each). ``joints_on_path`` counts the c-space joints between the two frames: 0 means the
     pair's relative pose is constant in this report (decided once, at the default
-    configuration)."""
+    configuration). A pair that never collided but came within ``margin`` stays checked
+    (:func:`~.verdicts.classify_pair`)."""
     hits, min_clear, is_bound_w = counted
     spheres, adj = pairs.every, pairs.adjacent
     masked = spheres.frame_pair_masked
@@ -360,8 +363,9 @@ def _pair_stats(
         if w is not None:
             mc = float(min_clear[w])
             is_bound = bool(is_bound_w[w])
+        near = (mc, margin) if mc is not None and not is_bound and 0.0 <= mc < margin else None
         cls, rec, note = classify_pair(
-            bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source
+            bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source, near
         )
         stats.append(
             PairStat(
