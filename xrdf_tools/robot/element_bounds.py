@@ -170,8 +170,10 @@ def _mesh_points(
     if vertices is None:
         vertices = _vertices_or_why(uri, lambda: mesh_file_vertices(path))
     assert vertices is not None
-    if not len(vertices) or not np.all(np.abs(vertices) <= MAX_LENGTH):
-        raise _NotRead(f"{uri}: no vertices, or a vertex not finite or beyond ±{MAX_LENGTH:g} m")
+    if not len(vertices):
+        raise _NotRead(f"{uri}: no vertices")
+    if not np.all(np.abs(vertices) <= MAX_LENGTH):
+        raise _NotRead(f"{uri}: a vertex not finite or beyond ±{MAX_LENGTH:g} m")
     factors = np.broadcast_to(np.asarray(1.0 if mesh.scale is None else mesh.scale, float), (3,))
     return np.asarray(vertices * factors, dtype=np.float64)
 
