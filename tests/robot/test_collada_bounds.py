@@ -23,6 +23,7 @@ from xrdf_tools.robot.collada_points import (
     collada_vertices,
 )
 from xrdf_tools.robot.mesh_files import load_mesh_scene
+from xrdf_tools.util.errors import XrdfToolsError
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -130,3 +131,28 @@ def test_the_fitter_refuses_a_collision_mesh_past_the_bounds(tmp_path: Path) -> 
     assert "Traceback" not in done.stderr
     assert "c.dae: cannot read mesh (" in done.stderr and "more than" in done.stderr
     assert not out.exists()
+
+
+def test_trimesh_s_reading_of_an_overflowing_transform_prints_no_warning(tmp_path: Path) -> None:
+    """A `<matrix>` holding -1e308 (the fuzzer's spheres-visual case 487 of seed 5): trimesh
+    applies the scene's transforms when its scene is dumped, and numpy's `invalid value
+    encountered in det` was printed on stderr, for the visual check under `--visual-check all`
+    and for the fitter reading a collision mesh."""
+    from xrdf_tools.spheres.count_policy import CountPolicy
+    from xrdf_tools.spheres.robot_fit import fit_robot
+
+    scene = f'<node id="a"><matrix>1 0 -1e308 0 0 1 0 0 0 0 1 0 0 0 0 1</matrix>{GEOMETRY}</node>'
+    (tmp_path / "v.dae").write_bytes(dae(scene))
+    trimesh.creation.box((0.1, 0.1, 0.1)).export(tmp_path / "c.stl")
+    for visual, collision in (("v.dae", "c.stl"), ("c.stl", "v.dae")):
+        (tmp_path / "r.urdf").write_text(
+            f'<robot name="r"><link name="arm">'
+            f'<visual><geometry><mesh filename="{visual}"/></geometry></visual>'
+            f'<collision><geometry><mesh filename="{collision}"/></geometry></collision>'
+            "</link></robot>"
+        )
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            with contextlib.suppress(XrdfToolsError):  # the collision mesh: no spheres
+                fit_robot(tmp_path / "r.urdf", counts=CountPolicy(per_link=1), visual_check="all")
+        assert [str(w.message) for w in caught if w.category is RuntimeWarning] == []

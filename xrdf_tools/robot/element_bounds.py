@@ -12,7 +12,7 @@ of one kind, each with its ``<origin>`` and mesh ``scale`` applied, without buil
   gives up on is read like the other formats, unless its scene expands past the reader's
   bounds (then no reader is handed it);
 * other mesh formats (PLY, ...) through trimesh, as the sphere fitter reads them
-  (:func:`~xrdf_tools.robot.mesh_files.load_mesh_scene`: COLLADA in metres), only when
+  (:func:`~xrdf_tools.robot.mesh_files.load_mesh_parts`: COLLADA in metres), only when
   ``other_formats`` is true; else the link is not bounded and :attr:`Unbounded.format` names
   the format.
 
@@ -237,11 +237,11 @@ def _matched(pattern: re.Pattern[bytes], data: bytes) -> FloatArray:
 
 def _trimesh_vertices(path: Path) -> FloatArray:
     from ..util.fileio import check_input_file
-    from .mesh_files import load_mesh_scene
+    from .mesh_files import load_mesh_parts
 
     check_input_file(path, what="mesh file", max_bytes=mesh_bytes_limit())
-    scene = load_mesh_scene(path)
-    pieces = [np.asarray(p.vertices, dtype=np.float64) for p in scene.dump() if len(p.vertices)]
+    parts = load_mesh_parts(path)
+    pieces = [np.asarray(p.vertices, dtype=np.float64) for p in parts if len(p.vertices)]
     return np.concatenate(pieces) if pieces else np.zeros((0, 3))
 
 

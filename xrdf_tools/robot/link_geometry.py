@@ -40,7 +40,7 @@ from ..util.fileio import check_input_file, mesh_bytes_limit
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import MAX_LENGTH
 from ..util.text import name_list
-from .mesh_files import load_mesh_scene, unreadable
+from .mesh_files import load_mesh_parts, unreadable
 
 if TYPE_CHECKING:
     import trimesh
@@ -410,9 +410,8 @@ class _MeshReader:
         except ValueError:
             raise _PartError(f"{uri}: scale must be one or three numbers", uri=uri) from None
         try:
-            scene = load_mesh_scene(path)
             pieces = tuple(
-                p for p in scene.dump() if isinstance(p, trimesh.Trimesh) and len(p.faces)
+                p for p in load_mesh_parts(path) if isinstance(p, trimesh.Trimesh) and len(p.faces)
             )
             # processing would drop a NaN vertex and its faces without a word
             bad = not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces)

@@ -23,7 +23,7 @@ from typing import Any
 
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 
-__all__ = ["load_mesh_scene", "unreadable", "without_broken_material_bindings"]
+__all__ = ["load_mesh_parts", "load_mesh_scene", "unreadable", "without_broken_material_bindings"]
 
 
 def load_mesh_scene(path: Path) -> Any:
@@ -34,6 +34,16 @@ def load_mesh_scene(path: Path) -> Any:
 
     with np.errstate(all="ignore"):
         return _load_scene(path)
+
+
+def load_mesh_parts(path: Path) -> list[Any]:
+    """The meshes of the file at ``path`` (``trimesh.Scene.dump``: each in the scene frame,
+    which applies the scene's transforms), without numpy's warnings, as
+    :func:`load_mesh_scene`."""
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        return list(_load_scene(path).dump())
 
 
 def _load_scene(path: Path) -> Any:
