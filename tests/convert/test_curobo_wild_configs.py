@@ -157,3 +157,20 @@ def test_load_collision_spheres_false_is_said_to_turn_collision_off(tmp_path: Pa
     assert said.rule == "convert-dropped-key" and (said.path, said.line) == (str(cfg), 5)
     assert "checks no collision" in said.message
     assert x.world_collision_spheres()["forearm_link"]
+
+
+def test_keys_that_are_not_names_are_said_as_the_file_writes_them(tmp_path: Path) -> None:
+    """A key `null`, `true` or `5` is no cuRobo setting: said as written, not as Python's
+    `None` or `True`."""
+    cfg = tmp_path / "ur.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    base_link: base_link\n    ee_link: tool0\n"
+        "    null: 1\n    true: 2\n    5: 3\n"
+        "    cspace:\n      joint_names: [shoulder_pan_joint]\n      ~: [1]\n"
+    )
+    _, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    dropped = {d.line: d.message for d in diags if d.rule == "convert-dropped-key"}
+    assert dropped[5].startswith("'null' is not a cuRobo kinematics setting"), dropped
+    assert dropped[6].startswith("'true' is not a cuRobo kinematics setting")
+    assert dropped[7].startswith("'5' is not a cuRobo kinematics setting")
+    assert dropped[10].startswith("cspace.null is not a cuRobo cspace setting")

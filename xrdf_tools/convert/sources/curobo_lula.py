@@ -13,7 +13,7 @@ from ...diagnostics import Severity
 from ...util.errors import SourceError, did_you_mean
 from ...xrdf.model import SetBaseFrame, Sphere
 from . import Draft, Reporter, RobotTree, known_frame
-from .curobo_keys import changes_nothing
+from .curobo_keys import changes_nothing, key_text
 from .curobo_spheres import is_num, spheres_of
 
 __all__ = ["LULA_HANDLED", "RULE_NO_MASK", "read_lula"]
@@ -39,7 +39,9 @@ def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter)
     (an empty one, ``composite_task_spaces: []``, holds nothing to drop)."""
     for key in data:
         if key not in LULA_HANDLED and not changes_nothing(key, data[key]):  # `[]` says nothing
-            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", key)
+            rep.report(
+                "convert-dropped-key", f"'{key_text(key)}' has no XRDF equivalent; dropped", key
+            )
     frames = list(tree.links)
     root = data.get("root_link")
     root_ok = bool(root) and known_frame(str(root), frames, rep, "root_link", "root_link")
