@@ -36,7 +36,7 @@ import numpy as np
 
 from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
-from ..util.fileio import check_input_file, mesh_bytes_limit
+from ..util.fileio import check_input_file, file_kind, mesh_bytes_limit
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import MAX_LENGTH
 from ..util.text import name_list
@@ -462,15 +462,7 @@ def not_a_file(path: Path) -> str | None:
         return f"cannot open the mesh file: {e.strerror or e} ({path})"
     if stat.S_ISREG(st.st_mode):
         return None
-    kinds = (
-        (stat.S_ISDIR, "a directory"),
-        (stat.S_ISFIFO, "a FIFO (named pipe)"),
-        (stat.S_ISCHR, "a character device"),
-        (stat.S_ISBLK, "a block device"),
-        (stat.S_ISSOCK, "a socket"),
-    )
-    kind = next((name for test, name in kinds if test(st.st_mode)), "not a regular file")
-    return f"{kind}, not a mesh file ({path})"
+    return f"{file_kind(st.st_mode)}, not a mesh file ({path})"
 
 
 # --------------------------------------------------------------------------------------------
