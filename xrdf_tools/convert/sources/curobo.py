@@ -18,11 +18,11 @@ from pathlib import Path
 from typing import Any
 
 from ...diagnostics import Severity
-from ...util.errors import SourceError, XrdfToolsError, did_you_mean
+from ...util.errors import SourceError, XrdfToolsError
 from ...xrdf.model import SetBaseFrame
 from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
 from ...yaml.shape import check_shape
-from . import Draft, Reporter, RobotTree, known_frame
+from . import Draft, Reporter, RobotTree, known_frame, not_a_joint
 from .curobo_extra_links import read_extra_links
 from .curobo_keys import changes_nothing, key_text, unknown_to_curobo
 from .curobo_kin import KinSection
@@ -288,7 +288,7 @@ def _cspace_joints(k: KinSection, names: list[str], locks: Mapping[str, Any]) ->
         if j is None:
             k.rep.report(
                 "convert-unknown-joint",
-                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, k.tree.joints)}; dropped",
+                f"c-space joint '{n}' {not_a_joint(n, k.tree)}; dropped",
                 where,
             )
         elif n in locks:
@@ -339,8 +339,7 @@ def _read_locks(
         elif j is None:
             k.rep.report(
                 "convert-unknown-joint",
-                f"locked joint '{n}' is not in the URDF{did_you_mean(str(n), k.tree.joints)}; "
-                "dropped",
+                f"locked joint '{n}' {not_a_joint(str(n), k.tree)}; dropped",
                 where,
             )
         elif not is_num(v):

@@ -12,7 +12,7 @@ from typing import Any
 from ...diagnostics import Severity
 from ...util.errors import SourceError, did_you_mean
 from ...xrdf.model import SetBaseFrame, Sphere
-from . import Draft, Reporter, RobotTree, known_frame
+from . import Draft, Reporter, RobotTree, known_frame, not_a_joint
 from .curobo_keys import changes_nothing, key_text
 from .curobo_spheres import is_num, spheres_of
 
@@ -78,7 +78,7 @@ def _known_cspace(names: list[str], tree: RobotTree, rep: Reporter) -> list[str]
         if n not in tree.joints:
             rep.report(
                 "convert-unknown-joint",
-                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, tree.joints)}; dropped",
+                f"c-space joint '{n}' {not_a_joint(n, tree)}; dropped",
                 f"cspace[{i}]",
             )
         else:
