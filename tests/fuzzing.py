@@ -55,6 +55,8 @@ SEEDS: dict[str, list[Path]] = {
         FIXTURES / "curobo_classic" / "ur10e_floating_base.yml",
     ],
     "spheres": [FIXTURES / "curobo_classic" / "spheres" / "ur10e.yml"],
+    "mesh_urdf": [FIXTURES / "fuzz" / "visual_mesh.urdf"],
+    "mesh": [FIXTURES / "fuzz" / "arm_visual.dae"],
 }
 
 #: Where each kind is placed in the work directory (``{ext}`` keeps the seed's suffix).
@@ -70,6 +72,8 @@ LAYOUT: dict[str, str] = {
     "xacro": "arm.urdf.xacro",
     "curobo": "curobo/robot{ext}",
     "spheres": "curobo/spheres/ur10e.yml",
+    "mesh_urdf": "visual_mesh.urdf",
+    "mesh": "meshes/arm_visual.dae",
 }
 
 
@@ -180,6 +184,12 @@ SCENARIOS: tuple[Scenario, ...] = (
             "@out",
         ),
         ("mimic_urdf",),
+        slow=True,
+    ),
+    Scenario(
+        "spheres-visual",  # the visual check: the COLLADA reader, then trimesh's
+        ("spheres", "{mesh_urdf}", "--per-link", "1", "--visual-check", "all", "-o", "@out"),
+        ("mesh",),
         slow=True,
     ),
 )
@@ -315,7 +325,7 @@ def _suffix(path: Path) -> str:
 
 
 def _fmt(kind: str) -> str:
-    if kind in ("urdf", "mimic_urdf", "srdf", "xacro"):
+    if kind in ("urdf", "mimic_urdf", "srdf", "xacro", "mesh_urdf", "mesh"):
         return "xml"
     if kind == "configs":
         return "csv"

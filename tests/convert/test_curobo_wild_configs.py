@@ -157,3 +157,40 @@ def test_load_collision_spheres_false_is_said_to_turn_collision_off(tmp_path: Pa
     assert said.rule == "convert-dropped-key" and (said.path, said.line) == (str(cfg), 5)
     assert "checks no collision" in said.message
     assert x.world_collision_spheres()["forearm_link"]
+
+
+def test_keys_that_are_not_names_are_said_as_the_file_writes_them(tmp_path: Path) -> None:
+    """A key `null`, `true` or `5` is no cuRobo setting: said as written, not as Python's
+    `None` or `True`."""
+    cfg = tmp_path / "ur.yml"
+    cfg.write_text(
+        "robot_cfg:\n  kinematics:\n    base_link: base_link\n    ee_link: tool0\n"
+        "    null: 1\n    true: 2\n    5: 3\n"
+        "    cspace:\n      joint_names: [shoulder_pan_joint]\n      ~: [1]\n"
+    )
+    _, diags, _ = convert_files(UR10E_URDF, ConvertOptions(curobo=cfg))
+    dropped = {d.line: d.message for d in diags if d.rule == "convert-dropped-key"}
+    assert dropped[5].startswith("'null' is not a cuRobo kinematics setting"), dropped
+    assert dropped[6].startswith("'true' is not a cuRobo kinematics setting")
+    assert dropped[7].startswith("'5' is not a cuRobo kinematics setting")
+    assert dropped[10].startswith("cspace.null is not a cuRobo cspace setting")
+
+
+def test_a_link_among_the_joint_names_is_said_to_be_a_link(tmp_path: Path) -> None:
+    """`joint_names` mixing a link with joints: the link was said to be 'not in the URDF',
+    which it is (as a link); now the message says so and names the joint that moves it."""
+    text = LINKS_AS_JOINTS.replace(
+        "[shoulder_link, upper_arm_link, forearm_link, wrist_1_link, wrist_2_link,\n"
+        "        wrist_3_link]",
+        "[shoulder_pan_joint, upper_arm_link, base_link]",
+    ).replace("[0.0, 0.0, 0.9, 0.0, 0.9, 0.0]", "[0.0, 0.0, 0.0]")
+    text = text.replace("    cspace:", "    lock_joints: {forearm_link: 0.5}\n    cspace:")
+    _, diags = _convert(UR10E_URDF, _write(tmp_path, text))
+    said = {d.message for d in diags if d.rule == "convert-unknown-joint"}
+    assert said == {
+        "c-space joint 'upper_arm_link' is a link of the URDF, not a joint (the joint that "
+        "moves it is 'shoulder_lift_joint'); dropped",
+        "c-space joint 'base_link' is a link of the URDF, not a joint (no joint moves it); dropped",
+        "locked joint 'forearm_link' is a link of the URDF, not a joint (the joint that moves "
+        "it is 'elbow_joint'); dropped",
+    }, said

@@ -289,3 +289,36 @@ def test_a_quoted_switch_is_said_at_its_line_and_read_as_absent(tmp_path: Path) 
     jerk = dict(zip(names, x.cspace.jerk_limits or (), strict=True))
     assert accel["shoulder_pan_joint"] == 10.0  # -3 with no switch: no limit, the default
     assert jerk["elbow_joint"] == 500.0  # > 0 with no switch: taken (MoveIt 1's reading)
+
+
+def test_a_plain_yes_or_off_switch_is_the_boolean_moveit_reads(tmp_path: Path) -> None:
+    """MoveIt reads joint_limits.yaml with YAML 1.1 readers (ROS 1's rosparam and MoveIt 2's
+    launch helpers: PyYAML; a ROS 2 parameter file: rcl's parser): a plain `off` is false and
+    `yes` true there. They were said to be no switch and read as absent, so `off` kept a
+    limit MoveIt turns off and `yes` dropped the switch over a negative value."""
+    from tests.paths import UR10E_URDF
+    from xrdf_tools.convert.core import ConvertOptions, convert_files
+
+    limits = tmp_path / "joint_limits.yaml"
+    limits.write_text(
+        "joint_limits:\n"
+        "  shoulder_pan_joint:\n"
+        "    has_acceleration_limits: Off\n"
+        "    max_acceleration: 3\n"
+        "  elbow_joint:\n"
+        "    has_acceleration_limits: yes\n"
+        "    max_acceleration: -4\n"
+        "  wrist_1_joint:\n"
+        "    has_acceleration_limits: 'on'\n"
+        "    max_acceleration: 6\n"
+    )
+    x, diags, _ = convert_files(
+        UR10E_URDF, ConvertOptions(joint_limits=limits, chains=(("base_link", "tool0"),))
+    )
+    said = [d for d in diags if "not true or false" in d.message]
+    assert [d.line for d in said] == [9]  # only the quoted 'on' is a string to MoveIt
+    assert x.cspace is not None
+    accel = dict(zip(x.cspace.joint_names, x.cspace.acceleration_limits, strict=True))
+    assert accel["shoulder_pan_joint"] == 10.0  # turned off: the default
+    assert accel["elbow_joint"] == 4.0  # switched on: abs(max_acceleration)
+    assert accel["wrist_1_joint"] == 6.0  # no switch, a value > 0: taken

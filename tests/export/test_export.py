@@ -447,3 +447,19 @@ def test_a_locked_joint_whose_limits_exclude_zero_is_held_inside_them(tmp_path: 
     assert "finger = 0.01" in note.message and note.severity.name == "INFO"
     text, _ = to_curobo(x, robot.tree, urdf_path=urdf)
     assert yaml.safe_load(text)["robot_cfg"]["kinematics"]["lock_joints"] == {"finger": 0.01}
+
+
+def test_a_joint_outside_the_c_space_with_reversed_limits_gets_no_default(tmp_path: Path) -> None:
+    """No position fits a joint whose lower limit is above its upper (the URDF check warns):
+    writing 0 clamped to its limits as its default made the XRDF's own lint refuse it, so
+    `xrdf convert` of a robot with such a joint outside the c-space wrote nothing (exit 1)."""
+    for limits in ('lower="0.04" upper="0.01"', 'upper="-0.01"'):
+        urdf = tmp_path / "robot.urdf"
+        urdf.write_text(_GRIPPER_URDF.replace('lower="0" upper="0.04"', limits, 1))
+        out = tmp_path / "robot.xrdf"
+        args = ["convert", str(urdf), "--joints", "shoulder,wrist", "-o", str(out)]
+        r = CliRunner().invoke(app, args)
+        assert r.exit_code == 0 and out.exists(), r.output
+        written = yaml.safe_load(out.read_text())["default_joint_positions"]
+        assert written == {"shoulder": 0.0, "wrist": 0.0}
+        assert "convert-locked-default" not in r.stderr

@@ -140,7 +140,7 @@ def test_polylists_and_polygons_give_trimesh_s_box(tmp_path: Path) -> None:
             "<p>0 1 2 3</p></tristrips>",
             "<tristrips>",
         ),
-        ('<node id="a"><instance_node url="#loop"/></node>', "", "nested deeper"),
+        ('<node id="a"><instance_node url="#loop"/></node>', "", "cycle"),
     ],
     ids=["lookat", "skew", "missing-geometry", "missing-material", "tristrips", "cycle"],
 )

@@ -313,11 +313,13 @@ def _locked_off_zero(
     """Defaults for the actuated joints outside the c-space whose limits exclude 0 (a leg's
     knee, a lift's column): the XRDF means 0 clamped to the limits for them, but cuRobo's
     reader locks a joint without a default at 0.0, outside its limits, a pose nothing was
-    checked in; written out, every reader holds them where the mask was computed."""
+    checked in; written out, every reader holds them where the mask was computed. A joint
+    whose limits are reversed has no position that fits (the URDF check warns): none is
+    written, which the XRDF's lint would refuse."""
     off = {
-        j: tree.joints[j].unset_position
-        for j in tree.actuated_joints()
-        if j not in defaults and tree.joints[j].unset_position != 0.0
+        j: info.unset_position
+        for j, info in ((j, tree.joints[j]) for j in tree.actuated_joints())
+        if j not in defaults and info.unset_position != 0.0 and not info.limits_reversed
     }
     if off:
         values = [f"{j} = {v:g}" for j, v in off.items()]

@@ -19,29 +19,45 @@ Where the file holds something this reader does not handle exactly as pycollada 
 pycollada would drop, a number that does not parse), it raises :class:`ColladaNotRead`
 naming it: a wrong box is worse than none. The XML is read by the project's guarded parser
 (no entity substitution, no DTD, no network); a text node over libxml2's 10 MB (one large
-``<float_array>``) is allowed, the file being size-capped when read. Nesting, instancing and
-the number of points are capped.
+``<float_array>``) is allowed, the file being size-capped when read.
+
+What the scene expands to is bounded before it is walked (:func:`check_collada_bounds`, also
+run before trimesh reads a COLLADA file): ``<node>`` nesting and ``<instance_node>`` chains
+:data:`MAX_DEPTH` deep, :data:`MAX_NODES` nodes and :data:`MAX_INSTANCES` geometry instances
+once every ``<instance_node>`` is expanded (a node instanced twice at each of 60 levels is
+2^60 nodes), no ``<instance_node>`` cycle. A file past them raises :class:`ColladaTooBig`:
+no reader should be handed it. The number of points is capped too. Numbers that overflow
+once transformed are handed back as they come (inf, nan): the caller checks the vertices.
 """
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..util.arrays import FloatArray
-from ..util.errors import XrdfToolsError
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 from .collada_materials import loadable_materials
+from .collada_values import (
+    TRANSFORMS,
+    ColladaNotRead,
+    ColladaTooBig,
+    composed,
+    fail,
+    numbers,
+    ref,
+)
 
-__all__ = ["ColladaNotRead", "collada_vertices"]
+__all__ = ["ColladaNotRead", "ColladaTooBig", "check_collada_bounds", "collada_vertices"]
 
 #: Nodes nested (``<node>`` in ``<node>``, ``<instance_node>``) at most this deep.
 MAX_DEPTH = 64
 #: Geometry instances in one file at most (an ``<instance_node>`` tree can multiply them).
 MAX_INSTANCES = 10_000
+#: Nodes of the scene at most, every ``<instance_node>`` expanded.
+MAX_NODES = 100_000
 #: Points handed back at most.
 MAX_POINTS = 20_000_000
 _IGNORED_IN_NODE = frozenset({"instance_camera", "instance_light", "extra", "asset"})
@@ -52,29 +68,38 @@ _INPUT_SIZES = {"NORMAL": 3, "TEXCOORD": 2}
 _INPUTS = frozenset({"VERTEX", "NORMAL", "TEXCOORD", "COLOR"})
 
 
-class ColladaNotRead(XrdfToolsError):
-    """The file holds something this reader does not handle (the message says what)."""
-
-
 def collada_vertices(data: bytes) -> FloatArray:
     """The vertices [N, 3] (metres) of the triangles the COLLADA document ``data`` instances
-    in its scene, each in the scene frame. Raises :class:`ColladaNotRead`."""
-    try:
-        root = parse_xml(data, keep_comments=False, huge_tree=True)
-    except XmlSyntaxError as e:
-        raise ColladaNotRead(f"not well-formed XML: {e.reason}", line=e.line, col=e.col) from None
-    document = _Document(root)
-    points = document.scene_points()
-    every = np.concatenate(points) if points else np.zeros((0, 3))
-    unit = document.unit()
-    if unit is not None:
-        every = every * unit
+    in its scene, each in the scene frame (not checked finite: a transform or unit may
+    overflow). Raises :class:`ColladaNotRead` (:class:`ColladaTooBig` past a bound)."""
+    document = _Document(_parsed(data))
+    with np.errstate(over="ignore", invalid="ignore"):
+        points = document.scene_points()
+        every = np.concatenate(points) if points else np.zeros((0, 3))
+        unit = document.unit()
+        if unit is not None:
+            every = every * unit
     return np.asarray(every, dtype=np.float64)
 
 
-def _fail(message: str, element: Any = None) -> ColladaNotRead:
-    line = getattr(element, "sourceline", None)
-    return ColladaNotRead(message, line=line or None)
+def check_collada_bounds(data: bytes) -> None:
+    """Raise :class:`ColladaTooBig` when the scene of the COLLADA document ``data`` expands
+    past the bounds (see the module); anything else (not XML, not COLLADA, no scene, a
+    reference not followed) is left to the reader to say."""
+    try:
+        document = _Document(_parsed(data))
+        document.scene()
+    except ColladaTooBig:
+        raise
+    except ColladaNotRead:
+        return
+
+
+def _parsed(data: bytes) -> Any:
+    try:
+        return parse_xml(data, keep_comments=False, huge_tree=True)
+    except XmlSyntaxError as e:
+        raise ColladaNotRead(f"not well-formed XML: {e.reason}", line=e.line, col=e.col) from None
 
 
 @dataclass
@@ -92,14 +117,13 @@ class _Document:
     library_nodes: dict[str, Any] = field(default_factory=dict)
     materials: set[str] = field(default_factory=set)
     read: dict[str, _Geometry] = field(default_factory=dict)
-    instances: int = 0
     point_count: int = 0
 
     def __post_init__(self) -> None:
         tag = self.root.tag if isinstance(self.root.tag, str) else ""
         self.ns = tag[: tag.index("}") + 1] if tag.startswith("{") else ""
         if tag[len(self.ns) :] != "COLLADA":
-            raise _fail("not a COLLADA document", self.root)
+            raise fail("not a COLLADA document", self.root)
         self.geometries = self._library("library_geometries", "geometry")
         self.geometries = {
             k: g for k, g in self.geometries.items() if self._child(g, "mesh") is not None
@@ -121,7 +145,7 @@ class _Document:
                 if key is None:
                     continue
                 if key in found:
-                    raise _fail(f"two <{item}> elements with id '{key}'", element)
+                    raise fail(f"two <{item}> elements with id '{key}'", element)
                 found[key] = element
         return found
 
@@ -137,75 +161,75 @@ class _Document:
         except (TypeError, ValueError):
             return None
         if not np.isfinite(meter) or meter <= 0.0:
-            raise _fail(f"unit of {meter} m", unit)
+            raise fail(f"unit of {meter} m", unit)
         return None if np.isclose(meter, 1.0) else meter
 
-    def scene_points(self) -> list[FloatArray]:
+    def scene(self) -> Any:
+        """The ``<visual_scene>`` that ``<scene>`` names, its expansion checked bounded."""
         instance = self.root.find(f"{self.t('scene')}/{self.t('instance_visual_scene')}")
         scenes = self._library("library_visual_scenes", "visual_scene")
-        scene = scenes.get(_ref(instance, "url") or "")
+        scene = scenes.get(ref(instance, "url") or "")
         if scene is None:
-            raise _fail("no <scene> naming a <visual_scene> of the file", instance)
+            raise fail("no <scene> naming a <visual_scene> of the file", instance)
         top_ids = {n.get("id") for n in scene.findall(self.t("node"))}
         if top_ids & set(self.library_nodes):
-            raise _fail("a scene node and a library node share an id", scene)
+            raise fail("a scene node and a library node share an id", scene)
+        _Expansion(self).check(scene)
+        return scene
+
+    def scene_points(self) -> list[FloatArray]:
         out: list[FloatArray] = []
-        for node in scene.findall(self.t("node")):
-            self._walk(node, np.eye(4), 0, out)
+        for node in self.scene().findall(self.t("node")):
+            self._walk(node, np.eye(4), out)
         return out
 
-    def _walk(self, node: Any, parent: FloatArray, depth: int, out: list[FloatArray]) -> None:
-        if depth >= MAX_DEPTH:
-            raise _fail(f"nodes nested deeper than {MAX_DEPTH}", node)
+    def _walk(self, node: Any, parent: FloatArray, out: list[FloatArray]) -> None:
         transforms: list[np.ndarray] = []
         children: list[Any] = []
         for sub in node:
             name = self._local(sub)
-            if name in _TRANSFORMS:
-                transforms.append(_TRANSFORMS[name](_numbers(sub, np.float32), sub))
+            if name in TRANSFORMS:
+                transforms.append(TRANSFORMS[name](numbers(sub, np.float32), sub))
             elif name in ("node", "instance_node", "instance_geometry"):
                 children.append(sub)
             elif name not in _IGNORED_IN_NODE:
-                raise _fail(f"<{name}> in a <node> not read", sub)
-        here = parent @ _composed(transforms)
+                raise fail(f"<{name}> in a <node> not read", sub)
+        here = parent @ composed(transforms)
         for child in children:
             name = self._local(child)
             if name == "node":
-                self._walk(child, here, depth + 1, out)
+                self._walk(child, here, out)
             elif name == "instance_node":
-                target = self.library_nodes.get(_ref(child, "url") or "")
+                target = self.library_nodes.get(ref(child, "url") or "")
                 if target is None:
-                    raise _fail(f"<instance_node url='{child.get('url')}'> not followed", child)
-                self._walk(target, here, depth + 1, out)
+                    raise fail(f"<instance_node url='{child.get('url')}'> not followed", child)
+                self._walk(target, here, out)
             else:
                 out.append(self._instance(child, here))
 
     def _local(self, element: Any) -> str:
         tag = element.tag
         if not isinstance(tag, str):
-            raise _fail("an entity reference or processing instruction in a <node>", element)
+            raise fail("an entity reference or processing instruction in a <node>", element)
         if not tag.startswith(self.ns) or (not self.ns and tag.startswith("{")):
-            raise _fail(f"element {tag} of another namespace in a <node>", element)
+            raise fail(f"element {tag} of another namespace in a <node>", element)
         return str(tag[len(self.ns) :])
 
     def _instance(self, element: Any, matrix: FloatArray) -> FloatArray:
-        self.instances += 1
-        if self.instances > MAX_INSTANCES:
-            raise _fail(f"more than {MAX_INSTANCES} geometry instances", element)
-        key = _ref(element, "url") or ""
+        key = ref(element, "url") or ""
         if key not in self.geometries:
-            raise _fail(f"<instance_geometry url='{element.get('url')}'> not followed", element)
+            raise fail(f"<instance_geometry url='{element.get('url')}'> not followed", element)
         for binding in element.iter(self.t("instance_material")):
-            if _ref(binding, "target") not in self.materials:
-                raise _fail(f"material '{binding.get('target')}' not loaded", binding)
+            if ref(binding, "target") not in self.materials:
+                raise fail(f"material '{binding.get('target')}' not loaded", binding)
         if key not in self.read:
             self.read[key] = _Geometry(self._used_vertices(self.geometries[key]))
         points = self.read[key].points
         self.point_count += len(points)
         if self.point_count > MAX_POINTS:
-            raise _fail(f"more than {MAX_POINTS} vertices instanced", element)
+            raise fail(f"more than {MAX_POINTS} vertices instanced", element, ColladaTooBig)
         if not np.allclose(matrix[3], (0.0, 0.0, 0.0, 1.0), rtol=0.0, atol=0.0):
-            raise _fail("a projective node transform", element)
+            raise fail("a projective node transform", element)
         return np.asarray(points @ matrix[:3, :3].T + matrix[:3, 3], dtype=np.float64)
 
     def _used_vertices(self, geometry: Any) -> FloatArray:
@@ -222,10 +246,10 @@ class _Document:
             elif name in _PRIMITIVES:
                 primitives.append(sub)
             elif name != "extra":
-                raise _fail(f"<{name}> in a <mesh> not read", sub)
+                raise fail(f"<{name}> in a <mesh> not read", sub)
         if vertices_element is None:
             if primitives:
-                raise _fail("a <mesh> without <vertices>", mesh)
+                raise fail("a <mesh> without <vertices>", mesh)
             return np.zeros((0, 3), dtype=np.float32)
         vertices = self._vertices(vertices_element, sources)
         used = np.zeros(len(vertices.position), dtype=bool)
@@ -234,7 +258,7 @@ class _Document:
                 used[index] = True
         points = vertices.position[used]
         if not np.all(np.isfinite(points)):
-            raise _fail("a vertex that is not a finite number", geometry)
+            raise fail("a vertex that is not a finite number", geometry)
         return np.asarray(points, dtype=np.float32)
 
     def _source(self, source: Any) -> FloatArray:
@@ -246,33 +270,83 @@ class _Document:
                 self._child(source, "IDREF_array") is None
                 and self._child(source, "Name_array") is None
             ):
-                raise _fail("a <source> without an array", source)
+                raise fail("a <source> without an array", source)
             return np.zeros((0, 0), dtype=np.float32)
-        values = _numbers(array, np.float32)
+        values = numbers(array, np.float32)
         params = source.findall(
             f"{self.t('technique_common')}/{self.t('accessor')}/{self.t('param')}"
         )
         names = [p.get("name") for p in params]
         if not names or values.size % len(names):
-            raise _fail("a <source> whose numbers do not fill its <accessor>", source)
+            raise fail("a <source> whose numbers do not fill its <accessor>", source)
         shaped = values.reshape(-1, len(names))
         return shaped[:, :2] if names == ["S", "T", "P"] else shaped
 
     def _vertices(self, element: Any, sources: dict[str, FloatArray]) -> _Vertices:
         inputs: dict[str, FloatArray] = {}
         for given in element.findall(self.t("input")):
-            source = sources.get(_ref(given, "source") or "\0")
+            source = sources.get(ref(given, "source") or "\0")
             semantic = given.get("semantic") or ""
             if source is None or semantic in inputs:
-                raise _fail(f"<input source='{given.get('source')}'> not read", given)
+                raise fail(f"<input source='{given.get('source')}'> not read", given)
             inputs[semantic] = source
         key = element.get("id")
         position = inputs.pop("POSITION", None)
         if not key or position is None or position.shape[1] != 3:
-            raise _fail("<vertices> without an id or an XYZ POSITION", element)
+            raise fail("<vertices> without an id or an XYZ POSITION", element)
         if set(inputs) - _INPUTS:
-            raise _fail(f"<vertices> inputs {sorted(inputs)} not read", element)
+            raise fail(f"<vertices> inputs {sorted(inputs)} not read", element)
         return _Vertices(key, position, inputs)
+
+
+@dataclass
+class _Expansion:
+    """What a scene's nodes expand to, each node element counted once (memoised): nodes,
+    geometry instances and depth, every ``<instance_node>`` followed; a cycle raises."""
+
+    doc: _Document
+    seen: dict[Any, tuple[int, int, int]] = field(default_factory=dict)
+    path: set[Any] = field(default_factory=set)
+
+    def check(self, scene: Any) -> None:
+        nodes = instances = 0
+        for node in scene.findall(self.doc.t("node")):
+            n, i, _ = self._of(node, 1)
+            nodes, instances = nodes + n, instances + i
+            if nodes > MAX_NODES:
+                raise fail(f"a scene of more than {MAX_NODES} nodes", node, ColladaTooBig)
+            if instances > MAX_INSTANCES:
+                message = f"more than {MAX_INSTANCES} geometry instances"
+                raise fail(message, node, ColladaTooBig)
+
+    def _of(self, node: Any, depth: int) -> tuple[int, int, int]:
+        """(nodes, geometry instances, height) of ``node`` expanded; ``depth``: its own."""
+        if node in self.path:
+            raise fail("an <instance_node> cycle", node, ColladaTooBig)
+        if depth > MAX_DEPTH:
+            raise fail(f"nodes nested deeper than {MAX_DEPTH}", node, ColladaTooBig)
+        known = self.seen.get(node)
+        if known is not None:
+            if depth + known[2] - 1 > MAX_DEPTH:
+                raise fail(f"nodes nested deeper than {MAX_DEPTH}", node, ColladaTooBig)
+            return known
+        self.path.add(node)
+        nodes, instances, height = 1, 0, 1
+        for child in node:
+            tag = child.tag if isinstance(child.tag, str) else ""
+            name = tag[len(self.doc.ns) :] if tag.startswith(self.doc.ns) else ""
+            if name == "instance_geometry":
+                instances += 1
+                continue
+            target = child if name == "node" else None
+            if name == "instance_node":
+                target = self.doc.library_nodes.get(ref(child, "url") or "")
+            if target is not None:
+                n, i, h = self._of(target, depth + 1)
+                nodes, instances, height = nodes + n, instances + i, max(height, h + 1)
+        self.path.discard(node)
+        self.seen[node] = (nodes, instances, height)
+        return nodes, instances, height
 
 
 @dataclass(frozen=True)
@@ -304,9 +378,9 @@ class _Primitive:
             column = rows[:, offset]
             size = _INPUT_SIZES.get(semantic)
             if column.min() < 0 or column.max() >= len(source):
-                raise _fail(f"a {semantic} index out of its source", self.element)
+                raise fail(f"a {semantic} index out of its source", self.element)
             if size is not None and source.shape[1] != size:
-                raise _fail(f"a {semantic} source of {source.shape[1]} values", self.element)
+                raise fail(f"a {semantic} source of {source.shape[1]} values", self.element)
         if self.doc._local(self.element) == "lines":
             return []
         return [rows[:, offset] for offset, semantic, _ in inputs if semantic == "VERTEX"]
@@ -314,24 +388,24 @@ class _Primitive:
     def _inputs(self) -> list[tuple[int, str, FloatArray]]:
         out: list[tuple[int, str, FloatArray]] = []
         for given in self.element.findall(self.doc.t("input")):
-            semantic, ref = given.get("semantic"), _ref(given, "source")
+            semantic, target = given.get("semantic"), ref(given, "source")
             try:
                 offset = int(given.get("offset"))
             except (TypeError, ValueError):
-                raise _fail("an <input> without an integer offset", given) from None
+                raise fail("an <input> without an integer offset", given) from None
             if semantic not in _INPUTS or offset < 0 or offset > 64:
-                raise _fail(f"<input semantic='{semantic}' offset='{offset}'> not read", given)
+                raise fail(f"<input semantic='{semantic}' offset='{offset}'> not read", given)
             if semantic == "VERTEX":
-                if ref != self.vertices.id:
-                    raise _fail("a VERTEX input not of the mesh's <vertices>", given)
+                if target != self.vertices.id:
+                    raise fail("a VERTEX input not of the mesh's <vertices>", given)
                 out.append((offset, semantic, self.vertices.position))
                 out.extend((offset, name, src) for name, src in self.vertices.others.items())
-            elif ref in self.sources:
-                out.append((offset, semantic, self.sources[ref]))
+            elif target in self.sources:
+                out.append((offset, semantic, self.sources[target]))
             else:
-                raise _fail(f"<input source='{given.get('source')}'> not found", given)
+                raise fail(f"<input source='{given.get('source')}'> not found", given)
         if [s for _, s, _ in out].count("VERTEX") != 1:
-            raise _fail("a primitive without exactly one VERTEX input", self.element)
+            raise fail("a primitive without exactly one VERTEX input", self.element)
         return out
 
     def _rows(self, stride: int) -> np.ndarray:
@@ -340,100 +414,24 @@ class _Primitive:
         lists = self.element.findall(self.doc.t("p"))
         if kind == "polygons":
             if self.element.find(self.doc.t("ph")) is not None:
-                raise _fail("<polygons> with holes", self.element)
-            counts = [len(_numbers(p, np.int32)) for p in lists]
+                raise fail("<polygons> with holes", self.element)
+            counts = [len(numbers(p, np.int32)) for p in lists]
             if any(c == 0 or c % stride or c // stride < 3 for c in counts):
-                raise _fail("a <polygons> <p> that is not a polygon", self.element)
-            flat = np.concatenate([_numbers(p, np.int32) for p in lists] or [np.zeros(0, np.int32)])
+                raise fail("a <polygons> <p> that is not a polygon", self.element)
+            flat = np.concatenate([numbers(p, np.int32) for p in lists] or [np.zeros(0, np.int32)])
         else:
             if len(lists) != 1:
-                raise _fail(f"a <{kind}> with {len(lists)} <p> elements", self.element)
-            flat = _numbers(lists[0], np.int32)
+                raise fail(f"a <{kind}> with {len(lists)} <p> elements", self.element)
+            flat = numbers(lists[0], np.int32)
             corners = (2 if kind == "lines" else 3) * stride
             if kind == "polylist":
                 vcount = self.element.find(self.doc.t("vcount"))
-                counts_array = _numbers(vcount, np.int32) if vcount is not None else None
+                counts_array = numbers(vcount, np.int32) if vcount is not None else None
                 if counts_array is None or (len(counts_array) and counts_array.min() < 3):
-                    raise _fail("a <polylist> <vcount> missing or under 3", self.element)
+                    raise fail("a <polylist> <vcount> missing or under 3", self.element)
                 corners = stride
                 if len(flat) and int(counts_array.sum()) * stride != len(flat):
-                    raise _fail("a <polylist> whose <p> does not match <vcount>", self.element)
+                    raise fail("a <polylist> whose <p> does not match <vcount>", self.element)
             if len(flat) % corners:
-                raise _fail(f"a <{kind}> <p> of {len(flat)} numbers", self.element)
+                raise fail(f"a <{kind}> <p> of {len(flat)} numbers", self.element)
         return flat.reshape(-1, stride)
-
-
-def _ref(element: Any, attribute: str) -> str | None:
-    """The id a ``#id`` attribute refers to (None: none, or not local to the file)."""
-    value = None if element is None else element.get(attribute)
-    return value[1:] if value and value.startswith("#") else None
-
-
-def _numbers(element: Any, dtype: type) -> np.ndarray:
-    """The numbers of ``element``'s text; a child (an entity reference) or a word that is not
-    a number raises."""
-    if len(element):
-        raise _fail(f"<{element.tag.rpartition('}')[2]}> with child nodes", element)
-    text = element.text
-    if text is None or text.isspace():
-        return np.zeros(0, dtype=dtype)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        try:
-            values: np.ndarray = np.fromstring(text, dtype=dtype, sep=" ")
-        except (ValueError, DeprecationWarning):
-            raise _fail("a number that does not parse", element) from None
-    return values
-
-
-def _translate(v: np.ndarray, element: Any) -> np.ndarray:
-    _count(v, 3, element)
-    m = np.identity(4, dtype=np.float32)
-    m[:3, 3] = v
-    return m
-
-
-def _scale(v: np.ndarray, element: Any) -> np.ndarray:
-    _count(v, 3, element)
-    m = np.identity(4, dtype=np.float32)
-    m[0, 0], m[1, 1], m[2, 2] = v
-    return m
-
-
-def _rotate(v: np.ndarray, element: Any) -> np.ndarray:
-    """pycollada's ``makeRotationMatrix`` (the axis taken as written, not normalised)."""
-    _count(v, 4, element)
-    x, y, z = v[0], v[1], v[2]
-    angle = v[3] * np.pi / 180.0
-    c, s = np.cos(angle), np.sin(angle)
-    t = 1 - c
-    rows = [
-        [t * x * x + c, t * x * y - s * z, t * x * z + s * y, 0],
-        [t * x * y + s * z, t * y * y + c, t * y * z - s * x, 0],
-        [t * x * z - s * y, t * y * z + s * x, t * z * z + c, 0],
-        [0, 0, 0, 1],
-    ]
-    return np.array(rows, dtype=np.float32)
-
-
-def _matrix(v: np.ndarray, element: Any) -> np.ndarray:
-    _count(v, 16, element)
-    return v.reshape(4, 4)
-
-
-def _count(values: np.ndarray, count: int, element: Any) -> None:
-    if len(values) != count or not np.all(np.isfinite(values)):
-        raise _fail(f"a transform of {len(values)} numbers, not {count} finite", element)
-
-
-_TRANSFORMS = {"translate": _translate, "scale": _scale, "rotate": _rotate, "matrix": _matrix}
-
-
-def _composed(transforms: list[np.ndarray]) -> np.ndarray:
-    """A node's transforms composed as pycollada composes them (single precision)."""
-    if not transforms:
-        return np.identity(4)
-    matrix = transforms[0].copy()
-    for transform in transforms[1:]:
-        matrix = np.dot(matrix, transform)
-    return matrix

@@ -9,9 +9,10 @@ of one kind, each with its ``<origin>`` and mesh ``scale`` applied, without buil
   processing: a 400 kB OBJ takes about a millisecond);
 * COLLADA files by :func:`~xrdf_tools.robot.collada_points.collada_vertices` (the XML read
   with numpy, the scene's transforms and unit applied, the box trimesh gives); a file it
-  gives up on is read like the other formats;
+  gives up on is read like the other formats, unless its scene expands past the reader's
+  bounds (then no reader is handed it);
 * other mesh formats (PLY, ...) through trimesh, as the sphere fitter reads them
-  (:func:`~xrdf_tools.robot.mesh_files.load_mesh_scene`: COLLADA in metres), only when
+  (:func:`~xrdf_tools.robot.mesh_files.load_mesh_parts`: COLLADA in metres), only when
   ``other_formats`` is true; else the link is not bounded and :attr:`Unbounded.format` names
   the format.
 
@@ -34,7 +35,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..util.fileio import mesh_bytes_limit, read_input_bytes
 from ..util.numbers import MAX_LENGTH
-from .collada_points import ColladaNotRead, collada_vertices
+from .collada_points import ColladaNotRead, ColladaTooBig, collada_vertices
 from .link_geometry import GeometrySource, not_a_file
 
 if TYPE_CHECKING:
@@ -169,8 +170,10 @@ def _mesh_points(
     if vertices is None:
         vertices = _vertices_or_why(uri, lambda: mesh_file_vertices(path))
     assert vertices is not None
-    if not len(vertices) or not np.all(np.abs(vertices) <= MAX_LENGTH):
-        raise _NotRead(f"{uri}: no vertices, or one not finite")
+    if not len(vertices):
+        raise _NotRead(f"{uri}: no vertices")
+    if not np.all(np.abs(vertices) <= MAX_LENGTH):
+        raise _NotRead(f"{uri}: a vertex not finite or beyond ±{MAX_LENGTH:g} m")
     factors = np.broadcast_to(np.asarray(1.0 if mesh.scale is None else mesh.scale, float), (3,))
     return np.asarray(vertices * factors, dtype=np.float64)
 
@@ -179,8 +182,11 @@ def _vertices_or_why(uri: str, read: Callable[[], FloatArray | None]) -> FloatAr
     """``read()``, or :class:`_NotRead` saying why the mesh ``uri`` cannot be read."""
     try:
         return read()
-    except (XrdfToolsError, ValueError) as e:
-        raise _NotRead(f"{uri}: {getattr(e, 'message', e)}") from None
+    except XrdfToolsError as e:
+        line = "" if e.line is None else f":{e.line}"
+        raise _NotRead(f"{uri}{line}: {e.message}") from None
+    except ValueError as e:
+        raise _NotRead(f"{uri}: {e}") from None
     except Exception as e:  # trimesh raises many exception types for bad files
         raise _NotRead(f"{uri}: cannot read mesh ({type(e).__name__})") from None
 
@@ -195,6 +201,8 @@ def _cheap_vertices(path: Path, suffix: str) -> FloatArray | None:
     data = read_input_bytes(path, what="mesh file", max_bytes=mesh_bytes_limit())
     try:
         return collada_vertices(data)
+    except ColladaTooBig:
+        raise
     except ColladaNotRead:
         return None
 
@@ -229,11 +237,11 @@ def _matched(pattern: re.Pattern[bytes], data: bytes) -> FloatArray:
 
 def _trimesh_vertices(path: Path) -> FloatArray:
     from ..util.fileio import check_input_file
-    from .mesh_files import load_mesh_scene
+    from .mesh_files import load_mesh_parts
 
     check_input_file(path, what="mesh file", max_bytes=mesh_bytes_limit())
-    scene = load_mesh_scene(path)
-    pieces = [np.asarray(p.vertices, dtype=np.float64) for p in scene.dump() if len(p.vertices)]
+    parts = load_mesh_parts(path)
+    pieces = [np.asarray(p.vertices, dtype=np.float64) for p in parts if len(p.vertices)]
     return np.concatenate(pieces) if pieces else np.zeros((0, 3))
 
 

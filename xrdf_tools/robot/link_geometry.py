@@ -36,11 +36,11 @@ import numpy as np
 
 from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
-from ..util.fileio import check_input_file, mesh_bytes_limit
+from ..util.fileio import check_input_file, file_kind, mesh_bytes_limit
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import MAX_LENGTH
 from ..util.text import name_list
-from .mesh_files import load_mesh_scene, unreadable
+from .mesh_files import load_mesh_parts, unreadable
 
 if TYPE_CHECKING:
     import trimesh
@@ -410,9 +410,8 @@ class _MeshReader:
         except ValueError:
             raise _PartError(f"{uri}: scale must be one or three numbers", uri=uri) from None
         try:
-            scene = load_mesh_scene(path)
             pieces = tuple(
-                p for p in scene.dump() if isinstance(p, trimesh.Trimesh) and len(p.faces)
+                p for p in load_mesh_parts(path) if isinstance(p, trimesh.Trimesh) and len(p.faces)
             )
             # processing would drop a NaN vertex and its faces without a word
             bad = not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces)
@@ -463,15 +462,7 @@ def not_a_file(path: Path) -> str | None:
         return f"cannot open the mesh file: {e.strerror or e} ({path})"
     if stat.S_ISREG(st.st_mode):
         return None
-    kinds = (
-        (stat.S_ISDIR, "a directory"),
-        (stat.S_ISFIFO, "a FIFO (named pipe)"),
-        (stat.S_ISCHR, "a character device"),
-        (stat.S_ISBLK, "a block device"),
-        (stat.S_ISSOCK, "a socket"),
-    )
-    kind = next((name for test, name in kinds if test(st.st_mode)), "not a regular file")
-    return f"{kind}, not a mesh file ({path})"
+    return f"{file_kind(st.st_mode)}, not a mesh file ({path})"
 
 
 # --------------------------------------------------------------------------------------------

@@ -8,6 +8,11 @@ trimesh differs from it on two COLLADA points that real robot descriptions rely 
   exporters write one): assimp draws the geometry without that material; pycollada rejects the
   node, and trimesh drops it with its geometry, so the part would read as "no triangles".
   Such bindings are removed and the file read again; materials play no part in collision.
+
+A COLLADA file is checked first by :func:`~xrdf_tools.robot.collada_points.check_collada_bounds`:
+pycollada expands every ``<instance_node>`` without a bound (a node instanced twice at each
+of 60 levels never ends), so a scene past the bounds raises
+:class:`~xrdf_tools.robot.collada_points.ColladaTooBig` before trimesh sees it.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from typing import Any
 
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 
-__all__ = ["load_mesh_scene", "unreadable", "without_broken_material_bindings"]
+__all__ = ["load_mesh_parts", "load_mesh_scene", "unreadable", "without_broken_material_bindings"]
 
 
 def load_mesh_scene(path: Path) -> Any:
@@ -31,9 +36,24 @@ def load_mesh_scene(path: Path) -> Any:
         return _load_scene(path)
 
 
+def load_mesh_parts(path: Path) -> list[Any]:
+    """The meshes of the file at ``path`` (``trimesh.Scene.dump``: each in the scene frame,
+    which applies the scene's transforms), without numpy's warnings, as
+    :func:`load_mesh_scene`."""
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        return list(_load_scene(path).dump())
+
+
 def _load_scene(path: Path) -> Any:
     import trimesh
 
+    if path.suffix.lower() == ".dae":
+        from ..util.fileio import mesh_bytes_limit, read_input_bytes
+        from .collada_points import check_collada_bounds
+
+        check_collada_bounds(read_input_bytes(path, what="mesh file", max_bytes=mesh_bytes_limit()))
     scene: Any = trimesh.load(str(path), force="scene", process=False)
     if path.suffix.lower() != ".dae":
         return scene

@@ -76,6 +76,14 @@ class JointInfo:
         )
 
     @property
+    def limits_reversed(self) -> bool:
+        """Revolute or prismatic with its lower limit above its upper (one not given is 0, as
+        the kinematic model reads it): no position fits."""
+        low = 0.0 if self.lower is None else self.lower
+        high = 0.0 if self.upper is None else self.upper
+        return self.type in ("revolute", "prismatic") and low > high
+
+    @property
     def unset_position(self) -> float:
         """The position an XRDF gives this joint when ``default_joint_positions`` does not name
         it: zero clamped to its limits (a limit not given is the URDF default 0, as the

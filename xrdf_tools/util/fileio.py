@@ -36,6 +36,7 @@ __all__ = [
     "atomic_output",
     "check_input_file",
     "check_output_path",
+    "file_kind",
     "max_input_bytes",
     "mesh_bytes_limit",
     "read_input_bytes",
@@ -75,7 +76,9 @@ def mesh_bytes_limit() -> int:
     return 16 * max_input_bytes()
 
 
-def _kind(mode: int) -> str:
+def file_kind(mode: int) -> str:
+    """What a file of ``st_mode`` ``mode`` that is not a regular file is: ``a directory``,
+    ``a FIFO (named pipe)``, ..."""
     if stat.S_ISDIR(mode):
         return "a directory"
     if stat.S_ISFIFO(mode):
@@ -105,7 +108,7 @@ def _check_stat(
     if not stat.S_ISREG(st.st_mode):
         hint = "; '-' reads standard input" if stdin_ok else ""
         raise error(
-            f"is {_kind(st.st_mode)}, not a regular file ({what} expected){hint}", path=path
+            f"is {file_kind(st.st_mode)}, not a regular file ({what} expected){hint}", path=path
         )
     if st.st_size > limit:
         raise error(f"{what} is {_mib(st.st_size)}, {_too_big(limit)}", path=path)
@@ -255,7 +258,7 @@ def check_output_path(path: str | os.PathLike[str]) -> Path:
         raise OutputError("is a directory; give a file name", path=user)
     if not stat.S_ISREG(st.st_mode):
         raise OutputError(
-            f"is {_kind(st.st_mode)}, not a regular file; refusing to replace it (choose a "
+            f"is {file_kind(st.st_mode)}, not a regular file; refusing to replace it (choose a "
             "file path)",
             path=user,
         )

@@ -32,6 +32,16 @@ INT_TAG = "tag:yaml.org,2002:int"
 FLOAT_TAG = "tag:yaml.org,2002:float"
 STR_TAG = "tag:yaml.org,2002:str"
 
+#: Plain words that YAML 1.1 readers take for booleans and YAML 1.2 (this reader) for strings:
+#: PyYAML's (ROS 1's rosparam, MoveIt 2's launch helpers, cuRobo) and ROS 2's parameter
+#: parser read them alike.
+YAML11_BOOLEANS: dict[str, bool] = {
+    word: value
+    for value, words in ((True, ("yes", "on")), (False, ("no", "off")))
+    for w in words
+    for word in (w, w.capitalize(), w.upper())
+}
+
 _NULL_RE = re.compile(r"^(?:~|null|Null|NULL|)$")
 _BOOL_RE = re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$")
 _INT_RE = re.compile(r"^(?:[-+]?[0-9]+|0o[0-7]+|0x[0-9a-fA-F]+)$")

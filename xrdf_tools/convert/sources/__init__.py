@@ -17,7 +17,7 @@ from ...robot.tree import RobotTree
 from ...util.errors import did_you_mean
 from ...xrdf.model import Modifier, Sphere
 
-__all__ = ["Draft", "Reporter", "RobotTree"]
+__all__ = ["Draft", "Reporter", "RobotTree", "not_a_joint"]
 
 
 @dataclass
@@ -126,3 +126,13 @@ def known_frame(
         at=at,
     )
     return False
+
+
+def not_a_joint(name: str, tree: RobotTree) -> str:
+    """Why ``name``, given where a joint belongs, is not one: a link of the URDF (with the
+    joint that moves it), else not in the URDF (with a did-you-mean)."""
+    if name in tree.links:
+        mover = tree.parent_joint.get(name)
+        moved = f"the joint that moves it is '{mover}'" if mover else "no joint moves it"
+        return f"is a link of the URDF, not a joint ({moved})"
+    return f"is not in the URDF{did_you_mean(name, tree.joints)}"

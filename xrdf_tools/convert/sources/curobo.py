@@ -18,13 +18,13 @@ from pathlib import Path
 from typing import Any
 
 from ...diagnostics import Severity
-from ...util.errors import SourceError, XrdfToolsError, did_you_mean
+from ...util.errors import SourceError, XrdfToolsError
 from ...xrdf.model import SetBaseFrame
 from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
 from ...yaml.shape import check_shape
-from . import Draft, Reporter, RobotTree, known_frame
+from . import Draft, Reporter, RobotTree, known_frame, not_a_joint
 from .curobo_extra_links import read_extra_links
-from .curobo_keys import changes_nothing, unknown_to_curobo
+from .curobo_keys import changes_nothing, key_text, unknown_to_curobo
 from .curobo_kin import KinSection
 from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
@@ -141,14 +141,16 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
                 if k != "kinematics":
                     rep.report(
                         "convert-dropped-key",
-                        f"robot_cfg.{k} has no XRDF equivalent; dropped",
+                        f"robot_cfg.{key_text(k)} has no XRDF equivalent; dropped",
                         f"robot_cfg.{k}",
                     )
         else:
             prefix = "kinematics"
         for k in data:
             if k not in ("robot_cfg", "kinematics"):
-                rep.report("convert-dropped-key", f"'{k}' has no XRDF equivalent; dropped", k)
+                rep.report(
+                    "convert-dropped-key", f"'{key_text(k)}' has no XRDF equivalent; dropped", k
+                )
         kin = _kinematics(data)
         assert kin is not None
         _read_kinematics(kin, layout, tree, d, rep, prefix, Path(doc.path))
@@ -168,7 +170,7 @@ def _read_kinematics(
     k = KinSection(kin, tree, d, rep, prefix, config_path, list(tree.links))
     for key in kin:
         if key not in SILENT_KEYS and key not in HANDLED_KEYS and not str(key).startswith("usd"):
-            _report_dropped(rep, f"'{key}'", key, kin[key], "kinematics", k.kp(key))
+            _report_dropped(rep, f"'{key_text(key)}'", key, kin[key], "kinematics", k.kp(key))
     read_extra_links(k)  # first: they add frames the rest may refer to
     _read_base_and_tools(k)
     _read_cspace(k)
@@ -241,7 +243,8 @@ def _read_cspace(k: KinSection) -> None:
     cs = k.mapping("cspace")
     for key in cs:
         if key not in CSPACE_KEYS:
-            _report_dropped(k.rep, f"cspace.{key}", key, cs[key], "cspace", k.kp("cspace", key))
+            named = f"cspace.{key_text(key)}"
+            _report_dropped(k.rep, named, key, cs[key], "cspace", k.kp("cspace", key))
     names = [str(n) for n in (cs.get("joint_names") or [])]
     locks = k.mapping("lock_joints")
     default_key = "default_joint_position" if "default_joint_position" in cs else "retract_config"
@@ -285,7 +288,7 @@ def _cspace_joints(k: KinSection, names: list[str], locks: Mapping[str, Any]) ->
         if j is None:
             k.rep.report(
                 "convert-unknown-joint",
-                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, k.tree.joints)}; dropped",
+                f"c-space joint '{n}' {not_a_joint(n, k.tree)}; dropped",
                 where,
             )
         elif n in locks:
@@ -336,8 +339,7 @@ def _read_locks(
         elif j is None:
             k.rep.report(
                 "convert-unknown-joint",
-                f"locked joint '{n}' is not in the URDF{did_you_mean(str(n), k.tree.joints)}; "
-                "dropped",
+                f"locked joint '{n}' {not_a_joint(str(n), k.tree)}; dropped",
                 where,
             )
         elif not is_num(v):

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["changes_nothing", "unknown_to_curobo"]
+__all__ = ["changes_nothing", "key_text", "unknown_to_curobo"]
 
 #: ``kinematics`` keys of cuRobo 0.7.8 and of cuRobo main, together.
 KINEMATICS_KEYS = frozenset(
@@ -84,6 +84,14 @@ _DEFAULTS: dict[str, Any] = {
     "jerk_scale": 1.0,
     "position_limit_clip": 0.0,
 }
+
+
+def key_text(key: Any) -> str:
+    """A mapping key as the file spells it: ``null``, ``true``, ``5`` (not Python's ``None``,
+    ``True``)."""
+    if key is None:
+        return "null"
+    return str(key).lower() if isinstance(key, bool) else str(key)
 
 
 def unknown_to_curobo(key: str, section: str) -> bool:

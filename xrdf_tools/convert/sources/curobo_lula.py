@@ -12,8 +12,8 @@ from typing import Any
 from ...diagnostics import Severity
 from ...util.errors import SourceError, did_you_mean
 from ...xrdf.model import SetBaseFrame, Sphere
-from . import Draft, Reporter, RobotTree, known_frame
-from .curobo_keys import changes_nothing
+from . import Draft, Reporter, RobotTree, known_frame, not_a_joint
+from .curobo_keys import changes_nothing, key_text
 from .curobo_spheres import is_num, spheres_of
 
 __all__ = ["LULA_HANDLED", "RULE_NO_MASK", "read_lula"]
@@ -39,7 +39,9 @@ def read_lula(data: Mapping[str, Any], tree: RobotTree, d: Draft, rep: Reporter)
     (an empty one, ``composite_task_spaces: []``, holds nothing to drop)."""
     for key in data:
         if key not in LULA_HANDLED and not changes_nothing(key, data[key]):  # `[]` says nothing
-            rep.report("convert-dropped-key", f"'{key}' has no XRDF equivalent; dropped", key)
+            rep.report(
+                "convert-dropped-key", f"'{key_text(key)}' has no XRDF equivalent; dropped", key
+            )
     frames = list(tree.links)
     root = data.get("root_link")
     root_ok = bool(root) and known_frame(str(root), frames, rep, "root_link", "root_link")
@@ -76,7 +78,7 @@ def _known_cspace(names: list[str], tree: RobotTree, rep: Reporter) -> list[str]
         if n not in tree.joints:
             rep.report(
                 "convert-unknown-joint",
-                f"c-space joint '{n}' is not in the URDF{did_you_mean(n, tree.joints)}; dropped",
+                f"c-space joint '{n}' {not_a_joint(n, tree)}; dropped",
                 f"cspace[{i}]",
             )
         else:

@@ -27,6 +27,7 @@ from ...util.errors import SourceError, did_you_mean
 from ...util.numbers import bound_problem
 from ...util.text import name_list
 from ...yaml.io import YamlDocument, YMap, YScalar, load_yaml, positions_of, to_python
+from ...yaml.rules import YAML11_BOOLEANS
 from . import Draft, Reporter, RobotTree
 
 __all__ = ["read_joint_limits"]
@@ -67,7 +68,7 @@ def read_joint_limits(
         if jname not in tree.joints:
             unknown.setdefault(jname, kp)
             continue
-        values = _switches_checked(to_python(node), jname, kp, rep)
+        values = _switches_checked(node, jname, kp, rep)
         if tighter := _tighter_than_urdf(values, tree.joints[jname]):
             line, col = rep.position(kp)
             d.uncarried_limits[jname] = Diagnostic(
@@ -94,13 +95,14 @@ def read_joint_limits(
     return d
 
 
-def _switches_checked(
-    values: Mapping[str, object], jname: str, kp: str, rep: Reporter
-) -> dict[str, object]:
-    """``values`` without the ``has_*_limits`` switches that are not booleans, each reported:
-    a quoted ``"false"`` is a string, which MoveIt does not read as a switch."""
+def _switches_checked(node: YMap, jname: str, kp: str, rep: Reporter) -> dict[str, object]:
+    """The values of ``node`` without the ``has_*_limits`` switches that are not booleans,
+    each reported: a quoted ``"false"`` is a string, which MoveIt does not read as a switch.
+    A plain ``yes``/``no``/``on``/``off`` is the boolean MoveIt's YAML 1.1 readers make of it."""
     kept: dict[str, object] = {}
-    for key, value in values.items():
+    for key, item in node.items():
+        switch = _yaml11_switch(item) if str(key).startswith("has_") else None
+        value = to_python(item) if switch is None else switch
         if str(key).startswith("has_") and value is not None and not isinstance(value, bool):
             rep.report(
                 "convert-dropped-key",
@@ -111,6 +113,13 @@ def _switches_checked(
             continue
         kept[str(key)] = value
     return kept
+
+
+def _yaml11_switch(item: object) -> bool | None:
+    """The boolean a plain ``yes``/``no``/``on``/``off`` is to MoveIt (None: not one)."""
+    if isinstance(item, YScalar) and not item.quoted and isinstance(item.value, str):
+        return YAML11_BOOLEANS.get(item.value)
+    return None
 
 
 def _read_limit(
