@@ -73,10 +73,19 @@ def test_edit_on_another_machines_address_says_so_instead_of_hanging(tmp_path: P
 @pytest.fixture(scope="module")
 def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Any, list[str]]]:
     """The editor on a copy of the Panda XRDF, and what it reported for the terminal."""
-    from xrdf_tools.edit.page import EditorPage
-
     target = tmp_path_factory.mktemp("edit") / "panda.xrdf"
     shutil.copy(PANDA_XRDF, target)
+    page, heard = _panda_editor(target)
+    try:
+        yield page, heard
+    finally:
+        page.close()
+
+
+def _panda_editor(target: Path) -> tuple[Any, list[str]]:
+    """The editor on the Panda XRDF at ``target``, and the list its terminal lines go to."""
+    from xrdf_tools.edit.page import EditorPage
+
     heard: list[str] = []
     page = EditorPage(
         load_robot(robot_urdf("panda")),
@@ -85,10 +94,7 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Any, list
         port=free_port(),
         on_refused=heard.append,
     )
-    try:
-        yield page, heard
-    finally:
-        page.close()
+    return page, heard
 
 
 def send(url: str, build: Callable[[dict[str, str]], bytes]) -> None:
@@ -229,20 +235,11 @@ def test_a_save_that_cannot_be_written_loses_nothing_and_says_so(
     link), one line on the page and for the terminal, no temporary file left."""
     import errno
 
-    from xrdf_tools.edit.page import EditorPage
-
     real = tmp_path / "real.xrdf"
     shutil.copy(PANDA_XRDF, real)
     target = tmp_path / "panda.xrdf"
     target.symlink_to(real.name)
-    heard: list[str] = []
-    page = EditorPage(
-        load_robot(robot_urdf("panda")),
-        EditState.start(load_xrdf(target)),
-        target=target,
-        port=free_port(),
-        on_refused=heard.append,
-    )
+    page, heard = _panda_editor(target)
     try:
         assert page.apply(SetRadius("panda_link4", 0, 0.05))
         real.chmod(0o444)  # the user protected the file
