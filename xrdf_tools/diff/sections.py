@@ -89,6 +89,11 @@ def diff_defaults(
                 "limits), so this changes nothing"
             )
             c = replace(c, kind="default-as-unset", message=message, level=Level.INFO)
+        elif unset is None and c.kind in ("default-added", "default-removed") and value == 0.0:
+            # a round trip through a cuRobo config writes 0.0 for each joint it locks: only
+            # the URDF can show that to be the value the joint has unset
+            hint = "; with --urdf: no change if 0 is within its limits)"
+            c = replace(c, message=c.message.removesuffix(")") + hint)
         out.append(c)
     return out
 
