@@ -14,7 +14,8 @@ from typer.testing import CliRunner
 from tests.robots import robots_dir
 from xrdf_tools.cli import app
 from xrdf_tools.diagnostics import Diagnostic
-from xrdf_tools.robot.element_bounds import Box, elements_bounds, resolver_of
+from xrdf_tools.robot.element_bounds import Box, elements_bounds
+from xrdf_tools.robot.packages import resolver_of
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.geometry import load_link_geometry

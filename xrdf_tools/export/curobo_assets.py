@@ -48,9 +48,9 @@ def mesh_root(robot: Robot) -> MeshRoot:
     (ties: the URDF's own directory first, then the name), and the names it does not serve.
 
     A package that cannot be found is left to the mesh checks of the other commands."""
-    from ..robot.packages import PackageResolver
+    from ..robot.packages import resolver_of
 
-    resolver = PackageResolver(Path(robot.path), dict(robot.package_paths))
+    resolver = resolver_of(robot)
     own = Path(robot.path).resolve().parent
     serves: dict[Path | None, list[str]] = {}
     misnamed: dict[str, str] = {}

@@ -24,7 +24,7 @@ reader with the mesh size limit. Nothing here raises for a bad file.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -248,11 +248,3 @@ def _trimesh_vertices(path: Path) -> FloatArray:
 def _num(value: float) -> str:
     text = f"{value:.3f}".rstrip("0").rstrip(".")
     return "0" if text in ("-0", "") else text
-
-
-def resolver_of(robot: Robot, package_paths: Mapping[str, str] | None = None) -> PackageResolver:
-    """The package resolver of ``robot`` (``package_paths`` in place of its own)."""
-    from .packages import PackageResolver
-
-    pkgs = robot.package_paths if package_paths is None else package_paths
-    return PackageResolver(Path(robot.path), dict(pkgs))

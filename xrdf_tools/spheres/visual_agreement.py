@@ -28,7 +28,8 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
-from ..robot.element_bounds import Box, Unbounded, elements_bounds, resolver_of
+from ..robot.element_bounds import Box, Unbounded, elements_bounds
+from ..robot.packages import resolver_of
 from ..util.arrays import FloatArray
 from ..util.text import name_list
 
