@@ -1307,3 +1307,31 @@ def test_a_state_value_for_the_srdfs_virtual_joint_is_a_note_not_an_unknown_join
     assert note.rule == "convert-dropped-joint-value" and note.severity.value == "info"
     assert "floating virtual joint 'root_joint' (where 'base' stands)" in note.message
     assert (note.path, note.line) == (str(srdf), 3)
+
+
+def test_a_base_pose_in_a_state_without_a_virtual_joint_is_a_note(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """Bolt's SRDF (example-robot-data) declares no virtual joint, yet its state gives
+    'root_joint' seven numbers, as Pinocchio's free-flyer root joint takes: a base's pose, not
+    a misspelt joint. It is dropped with a note, not warned about as an unknown joint."""
+    from xrdf_tools.convert.core import convert
+
+    srdf = _write(
+        tmp_path,
+        '<robot name="t">\n<group name="arm"><chain base_link="base" tip_link="tip"/></group>\n'
+        '<group_state name="standing" group="arm"><joint name="root_joint" '
+        'value="0. 0. 0.35 0. 0. 0. 1."/><joint name="j1" value="0.5"/></group_state>\n'
+        "</robot>\n",
+    )
+    x, diags = convert(tree, ConvertOptions(srdf=srdf))
+    assert dict(x.default_joint_positions or {})["j1"] == 0.5
+    assert not [d for d in diags if d.rule == "convert-unknown-joint"]
+    (note,) = [d for d in diags if "root_joint" in d.message and "group_state" in d.message]
+    assert note.rule == "convert-dropped-joint-value" and note.severity.value == "info"
+    assert "several numbers" in note.message and "a base's pose" in note.message
+    assert (note.path, note.line) == (str(srdf), 3)
+    # one number for a joint the URDF lacks is still a warning (a misspelt or stale joint)
+    srdf.write_text(srdf.read_text().replace("0. 0. 0.35 0. 0. 0. 1.", "0.2"))
+    _, diags = convert(tree, ConvertOptions(srdf=srdf))
+    assert [d for d in diags if d.rule == "convert-unknown-joint" and "root_joint" in d.message]

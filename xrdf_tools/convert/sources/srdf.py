@@ -411,6 +411,16 @@ def _state_value_ok(srdf: Srdf, tree: RobotTree, st: GroupState, jname: str, rep
             at=srdf.at(st),
         )
         return False
+    if j is None and jname in st.multi:
+        rep.report(
+            "convert-dropped-joint-value",
+            f"group_state '{st.name}' gives '{jname}' several numbers, a base's pose (as "
+            "Pinocchio's floating root joint takes), and the URDF has no such joint: an XRDF "
+            "places no base, so it is not a default position; dropped",
+            severity=Severity.INFO,
+            at=srdf.at(st),
+        )
+        return False
     if j is None:
         rep.report(
             "convert-unknown-joint",
