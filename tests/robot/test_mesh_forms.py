@@ -92,3 +92,12 @@ def test_a_mirrored_part_is_fitted_mirrored(tmp_path: Path) -> None:
     assert piece.bounds[:, 0].tolist() == pytest.approx([-0.05, -0.01])
     spheres, _ = fit_link_spheres(urdf, per_link=2, seed=0)
     assert all(s.center[0] < 0 for s in spheres["left"])
+
+
+def test_a_missing_mesh_is_named_without_the_dotdot_of_its_uri(tmp_path: Path) -> None:
+    """dex-urdf's UR5e + Shadow hand names ``../../hands/shadow_hand/meshes/collision/
+    th_distal_pst.obj``, absent: the path said is the file looked for, not
+    ``…/ur5e_shadow/../../hands/…``."""
+    urdf = _robot_with_mesh(tmp_path / "a" / "b" / "r.urdf", "../../hands/meshes/none.obj")
+    (failure,) = lg.link_geometry(load_robot(urdf), "collision")["base"].failures
+    assert f"mesh file not found ({tmp_path / 'hands' / 'meshes' / 'none.obj'})" in failure.reason
