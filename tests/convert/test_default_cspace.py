@@ -383,10 +383,15 @@ def test_convert_reports_each_guess_with_its_flag() -> None:
 
 
 def test_joints_option_tool_frame_uses_the_same_guess() -> None:
+    """--joints leaves the tool frame to the same guess as the default c-space, and it is
+    reported like it: it was written without a word (the human hand model's --joints
+    synergy_joint,thumb_abduction_joint got the tool frame 'dummy_synergy_link' silently)."""
     robot = _robot("ur5")
     joints = tuple(default_cspace(robot.tree).joints)
-    x, _ = convert(robot, ConvertOptions(joints=joints))
+    x, diags = convert(robot, ConvertOptions(joints=joints))
     assert x.tool_frames == (guess_tool_frame(robot.tree, joints[-1]).frame,) == ("tool0",)
+    (said,) = [d.message for d in diags if d.rule == "convert-chosen-tool-frame"]
+    assert "using 'tool0'" in said and "--tool-frame" in said
 
 
 PLANAR_URDF = """<robot name="mm">

@@ -49,3 +49,21 @@ def test_a_found_include_is_placed_relative_to_the_current_directory(
     assert robot.included_files == (macro,)
     assert robot.include_places[("joint", "joint_1")] == (macro, 5)
     assert robot.include_places[("link", "link1")] == (macro, 4)
+
+
+def test_a_relative_include_through_a_parent_is_placed_without_the_dotdot(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The human hand model's ``robots/human_hand.urdf.xacro`` includes
+    ``../model/human_hand.urdf.xacro``: its links were placed in
+    ``human_hand/robots/../model/human_hand.urdf.xacro:41``."""
+    (tmp_path / "hand" / "robots").mkdir(parents=True)
+    (tmp_path / "hand" / "model").mkdir()
+    (tmp_path / "hand" / "model" / "arm_macro.xacro").write_text(MACRO)
+    top = TOP.replace("$(find arm_support)/urdf/arm_macro.xacro", "../model/arm_macro.xacro")
+    (tmp_path / "hand" / "robots" / "arm.xacro").write_text(top)
+    monkeypatch.chdir(tmp_path)
+    robot = load_robot("hand/robots/arm.xacro")
+    macro = os.path.join("hand", "model", "arm_macro.xacro")
+    assert robot.included_files == (macro,)
+    assert robot.include_places[("link", "link1")] == (macro, 4)

@@ -117,7 +117,8 @@ def _root_for(
     uri: str, resolver: PackageResolver, own: Path, misnamed: dict[str, str]
 ) -> Path | None:
     """The directory cuRobo must join ``uri`` to, or None when no directory can serve it (a
-    ``file://`` name, a package in a folder not named after it: recorded in ``misnamed``)."""
+    ``file://`` or Gazebo ``model://`` name, which cuRobo keeps as written; a package in a
+    folder not named after it: recorded in ``misnamed``)."""
     if uri.startswith("package://"):
         name, _, _sub = uri[len("package://") :].partition("/")
         if not name:
@@ -127,7 +128,7 @@ def _root_for(
             misnamed.setdefault(name, str(folder))
             return None
         return folder.parent
-    return None if uri.startswith("file://") else own
+    return None if uri.startswith(("file://", "model://")) else own
 
 
 def _mesh_names(robot: Robot) -> Iterator[str]:

@@ -444,7 +444,7 @@ def not_a_file(path: Path) -> str | None:
         st = os.stat(path)
     except OSError as e:
         if e.errno in (errno.ENOENT, errno.ENOTDIR):
-            return f"mesh file not found ({path})"
+            return f"mesh file not found ({os.path.normpath(path)})"  # without dir/..
         if e.errno == errno.ELOOP:
             return f"a symbolic link loop, not a mesh file ({path})"
         if e.errno == errno.ENAMETOOLONG:

@@ -1,5 +1,11 @@
 """Resolve ROS package references without ROS: ``package://pkg/…``, ``$(find pkg)``, ``file://``.
 
+A Gazebo ``model://NAME/…`` URI is resolved as ``package://NAME/…`` (a folder named ``NAME``,
+or ``--package-path NAME=DIR``), as yourdfpy, and so cuRobo, strips the scheme and looks for
+``NAME/…`` beside the URDF and in its parents. A relative or ``file://`` path with ``%20`` and
+other escapes is read decoded, as ROS's resource retriever reads a ``file://`` URI (a relative
+one that names a file as written is taken as written).
+
 Where a package is looked for, in order:
 1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);
    A relative ``DIR`` is taken relative to the current directory (as every command-line
@@ -160,25 +166,47 @@ class PackageResolver:
 
     def resolve_uri(self, uri: str, relative_to: Path | None = None) -> Path:
         """A mesh or include URI as a local path (``package://``, ``file://`` or relative)."""
-        if uri.startswith("package://"):
-            rest = uri[len("package://") :]
+        scheme = package_scheme(uri)
+        if scheme:
+            rest = uri[len(scheme) :]
             name, _, sub = rest.partition("/")
             if not name:  # package:///a/b: a path below a package search directory
                 return self.find_below_roots(unquote(sub))
             try:
                 path = self.find(name) / unquote(sub)
             except SourceError as e:
-                raise SourceError(e.message + self._holder_hint(name, unquote(sub))) from None
+                gazebo = _GAZEBO_NOTE if scheme == "model://" else ""
+                hint = self._holder_hint(name, unquote(sub))
+                raise SourceError(e.message + hint + gazebo) from None
             if name in self.package_paths or _is_file(path) or _is_dir(path):
                 return path
             return next((c for c in self._elsewhere(name, unquote(sub)) if _is_file(c)), path)
         if uri.startswith("file://"):
             return Path(unquote(uri[len("file://") :]))
-        p = Path(uri)
-        if not p.is_absolute():
-            base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
-            return _relative_to_a_parent(base, p)
-        return p
+        base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
+        as_written = _local_path(base, uri)
+        if unquote(uri) == uri or _is_file(as_written):
+            return as_written
+        decoded = _local_path(base, unquote(uri))  # mesh%20dir/arm.stl: mesh dir/arm.stl
+        return decoded if _is_file(decoded) else as_written
+
+
+def package_scheme(uri: str) -> str:
+    """``package://`` or ``model://`` (a Gazebo model, found as a package of that name) when
+    ``uri`` starts with it, else ''."""
+    return next((s for s in ("package://", "model://") if uri.startswith(s)), "")
+
+
+_GAZEBO_NOTE = (
+    "; a model:// URI names a Gazebo model, looked for as a package of that name "
+    "(GAZEBO_MODEL_PATH and GZ_SIM_RESOURCE_PATH are not read)"
+)
+
+
+def _local_path(base: Path, path: str) -> Path:
+    """``path`` as a file: itself when absolute, else below ``base`` or one of its parents."""
+    p = Path(path)
+    return p if p.is_absolute() else _relative_to_a_parent(base, p)
 
 
 #: Folders searched for a package: the input's and its parents (see the module doc).
@@ -285,8 +313,9 @@ def unfound_packages_note(failures: Iterable[tuple[str | None, str]]) -> str:
     several packages), so that one run says every --package-path to give; else ""."""
     counts: dict[str, int] = {}
     for uri, reason in failures:
-        if uri and uri.startswith("package://") and "cannot find ROS package" in reason:
-            name = uri[len("package://") :].split("/", 1)[0]
+        scheme = package_scheme(uri or "")
+        if uri and scheme and "cannot find ROS package" in reason:
+            name = uri[len(scheme) :].split("/", 1)[0]
             counts[name] = counts.get(name, 0) + 1
     if len(counts) < 2:
         return ""

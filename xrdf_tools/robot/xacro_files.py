@@ -108,9 +108,11 @@ def _in_package(name: str, top: Path) -> list[str]:
 
 def shown_path(path: Path) -> str:
     """``path`` as a message names it: relative to the current directory when below it (a
-    file a ``$(find pkg)`` include reached is found by its absolute path), else as it is."""
+    file a ``$(find pkg)`` include reached is found by its absolute path), else as it is;
+    either without the ``dir/..`` a relative include writes (``robots/../model/hand.xacro``)."""
     try:
-        return os.path.relpath(path) if path.is_relative_to(Path.cwd()) else str(path)
+        full = Path(os.path.abspath(path))
+        return os.path.relpath(full) if full.is_relative_to(Path.cwd()) else os.path.normpath(path)
     except (OSError, ValueError):
         return str(path)
 

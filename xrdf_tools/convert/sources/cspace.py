@@ -87,18 +87,6 @@ def _checked_joints(tree: RobotTree, joints: Sequence[str]) -> list[str]:
     return out
 
 
-def _leaf_tips(
-    tree: RobotTree, cspace: list[str], collision_links: Collection[str] | None
-) -> list[str]:
-    chosen = set(cspace)
-    tips = []
-    for j in cspace:
-        below = tree.descendants(tree.joints[j].child)
-        if not any(tree.parent_joint.get(n) in chosen for n in below):
-            tips.append(guess_tool_frame(tree, j, collision_links).frame)
-    return tips
-
-
 def apply_cspace_choice(
     tree: RobotTree,
     draft: Draft,
@@ -107,7 +95,8 @@ def apply_cspace_choice(
     chains: Sequence[tuple[str, str]] = (),
     collision_links: Collection[str] | None = None,
 ) -> bool:
-    """Set ``draft.cspace`` (and its tool frames) from ``joints`` or ``chains``.
+    """Set ``draft.cspace`` from ``joints`` or ``chains``, and the tool frames: each chain's
+    tip; none for ``joints`` (they are guessed and reported where the XRDF is built).
 
     Returns whether a choice was given. Raises :class:`SourceError` for unknown or
     non-actuated joints, unknown links, a base that is not above its tip, or both options.
@@ -121,7 +110,7 @@ def apply_cspace_choice(
         what = "--chain " + ", ".join(f"{b}:{t}" for b, t in chains)
     elif joints:
         cspace = _checked_joints(tree, joints)
-        tips = _leaf_tips(tree, cspace, collision_links)
+        tips = []  # guessed at the end of each branch and reported, as for the default c-space
         what = "--joints"
     else:
         return False
