@@ -1,8 +1,9 @@
 """Resolve ROS package references without ROS: ``package://pkg/…``, ``$(find pkg)``, ``file://``.
 
 A Gazebo ``model://NAME/…`` URI is resolved as ``package://NAME/…`` (a folder named ``NAME``,
-or ``--package-path NAME=DIR``), as yourdfpy, and so cuRobo, strips the scheme and looks for
-``NAME/…`` beside the URDF and in its parents. A relative or ``file://`` path with ``%20`` and
+or ``--package-path NAME=DIR``), as yourdfpy's default handler strips the scheme and looks for
+``NAME/…`` beside the URDF and in its parents (cuRobo's loader strips only ``package://``, so
+``export curobo`` counts such meshes among those it cannot find). A relative or ``file://`` path with ``%20`` and
 other escapes is read decoded, as ROS's resource retriever reads a ``file://`` URI (a relative
 one that names a file as written is taken as written).
 
