@@ -251,3 +251,49 @@ def test_a_tilted_axis_of_the_held_arm_is_placed_and_explained(tmp_path: Path) -
     assert "held outside the c-space on the chain to sphere frame 'right_link1'" in held.message
     assert held.key_path == "collision.geometry" and held.line not in (None, 1), held
     assert by_joint["left_shoulder"].key_path.startswith("cspace.joint_names[")
+
+
+_GRIPPER = """<robot name="jaw">
+  <link name="base"><collision><geometry><box size="0.1 0.1 0.05"/></geometry></collision></link>
+  <link name="left_finger"><collision><geometry><box size="0.02 0.02 0.06"/></geometry>
+  </collision></link>
+  <link name="right_finger"><collision><geometry><box size="0.02 0.02 0.06"/></geometry>
+  </collision></link>
+  <joint name="finger_joint" type="prismatic"><parent link="base"/>
+    <child link="left_finger"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.04" velocity="0.1" effort="10"/></joint>
+  <joint name="right_finger_joint" type="prismatic"><parent link="base"/>
+    <child link="right_finger"/><axis xyz="-1 0 0"/><mimic joint="finger_joint"/>
+    <limit lower="0" upper="0.04" velocity="0.1" effort="10"/></joint>
+</robot>
+"""
+
+
+def test_a_gripper_alone_says_first_that_its_cspace_is_empty(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A Robotiq 2F-140 on its own: the default c-space is empty (every actuated joint is a
+    gripper's). `--target curobo` stopped on "no tool_frames", and the reason (an empty
+    c-space, which --joints chooses) came only in a warning among others; that warning spoke
+    of a "chosen group" where none was chosen. The stop now names it."""
+    urdf = tmp_path / "jaw.urdf"
+    urdf.write_text(_GRIPPER)
+    out = tmp_path / "jaw.xrdf"
+    args = ["convert", str(urdf), "--target", "curobo", "-o", str(out)]
+    r = runner.invoke(app, [*args, "--fit-spheres"])
+    assert r.exit_code == 1 and not out.exists(), r.stderr
+    (stop,) = [x for x in r.stderr.splitlines() if "stopped before fitting" in x]
+    assert "the c-space is empty" in stop and "--joints" in stop, r.stderr
+    r = runner.invoke(app, args)  # no fit: the closing line says it
+    assert r.exit_code == 1 and not out.exists(), r.stderr
+    assert "the c-space is empty: choose its joints" in r.stderr.splitlines()[-1], r.stderr
+    r = runner.invoke(app, ["convert", str(urdf), "-o", str(out)])
+    assert r.exit_code == 0, r.stderr
+    (empty,) = [x for x in r.stderr.splitlines() if "convert-empty-cspace" in x]
+    assert "chosen group" not in empty and "--joints" in empty, empty
+    # with a c-space chosen, the stop says nothing of it
+    r = runner.invoke(
+        app,
+        ["convert", str(urdf), "--joints", "finger_joint", "--target", "curobo", "-o", str(out)],
+    )
+    assert "the c-space is empty" not in r.stderr, r.stderr

@@ -181,7 +181,8 @@ def complete(
     if not cspace:
         rep.report(
             "convert-empty-cspace",
-            "the c-space is empty (no actuated joints in the chosen group)",
+            "the c-space is empty: no reader can plan for this robot; choose its joints with "
+            "--joints, --chain or --srdf (and --group)",
         )
 
     diags.extend(_uncarried_limits(draft, cspace))

@@ -285,7 +285,9 @@ def _checked_before_fitting(
     if options.target is None:
         return None
     text = dump_xrdf(x)
-    errors = target_errors(text, robot, options.target, label)
+    errors = target_errors(
+        text, robot, options.target, label, not (x.cspace and x.cspace.joint_names)
+    )
     return (text, errors) if errors else None
 
 

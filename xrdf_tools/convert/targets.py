@@ -62,11 +62,14 @@ def order_for_target(
     return urdf_order
 
 
-def target_errors(text: str, robot: Robot, target: str | None, label: str) -> list[Diagnostic]:
+def target_errors(
+    text: str, robot: Robot, target: str | None, label: str, empty_cspace: bool = False
+) -> list[Diagnostic]:
     """Lint errors of ``text`` for ``target`` that fitting spheres cannot remove.
 
     Empty without a target. When there are any, a last ``convert-target-check`` error says
-    that the fitting was not started."""
+    that the fitting was not started, and, with ``empty_cspace``, that the c-space is empty
+    (the cause of a missing tool frame, and what the user must choose first)."""
     chosen = parse_target(target)
     if chosen is None:
         return []
@@ -86,10 +89,14 @@ def target_errors(text: str, robot: Robot, target: str | None, label: str) -> li
         RULE_STOPPED,
         Severity.ERROR,
         f"the XRDF would fail --target {chosen.id} whatever spheres are fitted "
-        f"({len(found)} error(s), each on its own line): stopped before fitting",
+        f"({len(found)} error(s), each on its own line): stopped before fitting"
+        + (_EMPTY_CSPACE if empty_cspace else ""),
         "",
     )
     return [*found, stop]
+
+
+_EMPTY_CSPACE = "; the c-space is empty: choose its joints with --joints, --chain or --srdf"
 
 
 def _section(key_path: str) -> str:

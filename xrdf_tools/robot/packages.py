@@ -3,9 +3,9 @@
 A Gazebo ``model://NAME/…`` URI is resolved as ``package://NAME/…`` (a folder named ``NAME``,
 or ``--package-path NAME=DIR``), as yourdfpy's default handler strips the scheme and looks for
 ``NAME/…`` beside the URDF and in its parents (cuRobo's loader strips only ``package://``, so
-``export curobo`` counts such meshes among those it cannot find). A relative or ``file://`` path with ``%20`` and
-other escapes is read decoded, as ROS's resource retriever reads a ``file://`` URI (a relative
-one that names a file as written is taken as written).
+``export curobo`` counts such meshes among those it cannot find). A relative or ``file://``
+path with ``%20`` and other escapes is read decoded, as ROS's resource retriever reads a
+``file://`` URI (a relative one that names a file as written is taken as written).
 
 Where a package is looked for, in order:
 1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);

@@ -120,6 +120,11 @@ def _fail_on_errors(
                 "the XRDF has no collision spheres at all: --fit-spheres fits them to the "
                 "links' collision geometry; " + remedy
             )
+        if any(d.rule == "convert-empty-cspace" for d in diags):
+            remedy = (
+                "the c-space is empty: choose its joints with --joints, --chain or --srdf; "
+                + (remedy)
+            )
         fail(
             f"the converted XRDF has {len(errors)} lint error(s) against the URDF (listed "
             f"above{_at_unwritten_lines(errors)}); {remedy}",
