@@ -489,3 +489,33 @@ def test_cli_refuses_to_overwrite_a_mesh_of_the_robot(runner: CliRunner, tmp_pat
     assert res.exit_code == 2, res.output
     assert f"{mesh}: refusing to overwrite an input" in res.output
     assert mesh.read_bytes() == before
+
+
+def test_spheres_from_chooses_the_geometry_as_convert_does(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """`xrdf spheres` fell back to visual geometry on its own and had no --from, which
+    `xrdf convert --fit-spheres` has: a link with a visual box only got spheres, and nothing
+    could ask for collision geometry only or visual geometry only."""
+    urdf = tmp_path / "two.urdf"
+    urdf.write_text(
+        '<robot name="two"><link name="a"><collision><geometry><box size="0.2 0.1 0.1"/>'
+        '</geometry></collision><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>'
+        '</link><link name="b"><visual><geometry><box size="0.1 0.1 0.3"/></geometry>'
+        '</visual></link><joint name="j" type="revolute"><parent link="a"/><child link="b"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
+        "</robot>"
+    )
+
+    def fitted(*extra: str) -> dict[str, list[float]]:
+        out = tmp_path / "o.xrdf"
+        r = runner.invoke(app, ["spheres", str(urdf), "--per-link", "2", "-o", str(out), *extra])
+        assert r.exit_code == 0, r.stderr
+        spheres = load_xrdf(out).geometry["two_collision_spheres"].spheres
+        return {k: [s.radius for s in v] for k, v in spheres.items()}
+
+    assert set(fitted()) == {"a", "b"}  # auto, the default: collision, else visual
+    assert set(fitted("--from", "collision")) == {"a"}
+    by_visual = fitted("--from", "visual")
+    assert set(by_visual) == {"a", "b"}
+    assert max(by_visual["a"]) < max(fitted()["a"])  # a's visual box is half its collision box

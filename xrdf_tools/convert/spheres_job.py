@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from ..robot.core import Robot
+    from ..robot.link_geometry import GeometryChoice
     from ..spheres import SphereMetrics
     from ..spheres.count_policy import CountPolicy
     from ..spheres.fit import Plane
@@ -53,6 +54,8 @@ class SpheresRequest:
     method: str = "ours"
     #: How collision geometry is compared with visual geometry (``fast``, ``all``, ``off``).
     visual_check: VisualCheck = "fast"
+    #: Which geometry is fitted: ``collision``, ``visual`` or ``auto`` (collision, else visual).
+    source: GeometryChoice = "auto"
 
 
 @dataclass(frozen=True)
@@ -93,10 +96,10 @@ def fit_spheres(
         drafted, cdiags = convert(robot, ConvertOptions())
         diags += [d for d in cdiags if d.rule != "convert-no-spheres"]
     links = list(request.links) if request.links else None
-    wanted = [n for n in geometry_links(robot, "auto")[0] if n in (links or [n])]
+    wanted = [n for n in geometry_links(robot, request.source)[0] if n in (links or [n])]
     missing = require_meshes(
         robot,
-        "auto",
+        request.source,
         links=wanted,
         package_paths=dict(request.package_paths),
         allow_missing=request.allow_missing_meshes,
@@ -116,6 +119,7 @@ def fit_spheres(
         progress=progress,
         method=request.method,
         visual_check=request.visual_check,
+        source=request.source,
     )
     diags += result.diagnostics
     merged, mdiags = merge_spheres(drafted if base is None else base, result.spheres)

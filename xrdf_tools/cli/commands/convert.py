@@ -6,7 +6,6 @@ a fallback, or ``--check`` found a difference; 2 usage or input error.
 
 from __future__ import annotations
 
-from enum import Enum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -28,7 +27,14 @@ from .plain import (
     timed,
     verbosity,
 )
-from .spheres import FitMethod, VisualCheck, fit_method_help, visual_check_option
+from .spheres import (
+    FitMethod,
+    GeometryFrom,
+    VisualCheck,
+    fit_method_help,
+    geometry_from_option,
+    visual_check_option,
+)
 from .typer_common import (
     AllowMissingMeshesOption,
     ChainOption,
@@ -56,12 +62,6 @@ if TYPE_CHECKING:
 
 #: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
 _STAGES = {"fitting": "fitting spheres (2 steps a link)", "sampling": "sampling the mask"}
-
-
-class GeometryFrom(str, Enum):
-    collision = "collision"
-    visual = "visual"
-    auto = "auto"
 
 
 def command(
@@ -160,12 +160,7 @@ def command(
         typer_option(seed_option("the fit and of the mask's samples (--fit-spheres, a Lula file)")),
     ] = 0,
     geometry_from: Annotated[
-        GeometryFrom,
-        typer.Option(
-            "--from",
-            help="With --fit-spheres: fit to collision geometry (links with visual geometry "
-            "only get no spheres), visual geometry, or auto (collision, else visual).",
-        ),
+        GeometryFrom, geometry_from_option("With --fit-spheres")
     ] = GeometryFrom.collision,
     per_link: Annotated[
         int | None,

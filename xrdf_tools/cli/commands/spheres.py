@@ -61,6 +61,25 @@ class VisualCheck(str, Enum):
     off = "off"
 
 
+class GeometryFrom(str, Enum):
+    """``--from``: which of a link's geometry spheres are fitted to."""
+
+    collision = "collision"
+    visual = "visual"
+    auto = "auto"
+
+
+def geometry_from_option(when: str = "") -> Any:
+    """``--from`` of ``xrdf spheres`` and ``xrdf convert --fit-spheres``."""
+    return typer.Option(
+        "--from",
+        case_sensitive=False,
+        help=(f"{when}: fit" if when else "Fit")
+        + " to collision geometry (links with visual geometry only get no spheres), visual "
+        "geometry, or auto (collision, else visual).",
+    )
+
+
 def visual_check_option(when: str = "") -> Any:
     """``--visual-check`` of ``xrdf spheres`` and ``xrdf convert --fit-spheres``."""
     return typer.Option(
@@ -185,6 +204,7 @@ def command(
             ),
         ),
     ] = FitMethod.ours,
+    geometry_from: Annotated[GeometryFrom, geometry_from_option()] = GeometryFrom.auto,
     visual_check: Annotated[VisualCheck, visual_check_option()] = VisualCheck.fast,
     output: Annotated[Path | None, typer_option(output_option("the XRDF"))] = None,
     package_path: PackagePathOption = None,
@@ -210,7 +230,7 @@ def command(
     quiet: QuietOption = False,
     verbose: VerboseOption = False,
 ) -> None:
-    """Fit collision spheres to each link's collision geometry (visual as a fallback).
+    """Fit collision spheres to each link's collision geometry (visual as a fallback: --from).
 
     Without --xrdf the rest of the XRDF (c-space, defaults) is drafted as `xrdf convert`
     would, and adjacent links are added to the self-collision ignore mask. The metrics table
@@ -257,6 +277,7 @@ def command(
             allow_missing_meshes=allow_missing_meshes,
             method=method.value,
             visual_check=visual_check.value,
+            source=geometry_from.value,
         )
         model = load_robot_option(robot, xacro_arg, package_path)
         check_robot_overwrite(output, model)
