@@ -134,3 +134,25 @@ def test_boxes_of_closed_parts_are_the_bounds_of_the_fitters_solids(name: str) -
     assert 0 < len(closed) <= len(expected) and all(
         isinstance(b, rule.Box) for b in closed.values()
     )
+
+
+def test_without_the_fit_extra_in_a_pre_commit_hook_the_packages_to_add_are_named_in_full(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The hook installs the light default: the info said which packages to add to the hook's
+    additional_dependencies, but cut at 160 characters it ended 'add its packages to the
+    hook's additional_depende...)', the list gone."""
+    import xrdf_tools.robot.link_geometry as geometry
+    from xrdf_tools.util.extras import extra_requirements, require
+
+    def no_fit_extra(*args: object, **kwargs: object) -> object:
+        require(["no_such_module_for_xrdf"], "fit", "reading link geometry")
+        raise AssertionError("require raises")
+
+    monkeypatch.setenv("PRE_COMMIT", "1")
+    monkeypatch.setattr(rule, "_CACHE", {})
+    monkeypatch.setattr(geometry, "link_geometry", no_fit_extra)
+    (d,) = _run((FIXTURES / "lint" / "sphere-outside-geometry" / "fail.xrdf").read_text(), ARM_URDF)
+    packages = ", ".join(extra_requirements("fit"))
+    assert d.severity.value == "info"
+    assert d.message.endswith(f"additional_dependencies: [{packages}])"), d.message

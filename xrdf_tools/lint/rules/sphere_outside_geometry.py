@@ -45,6 +45,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
+from ...util.errors import MissingDependencyError
 from ...util.text import name_list
 from ...yaml.io import YSeq
 from ..context import LintContext, Problem, Rule, SphereRef, length_number
@@ -148,7 +149,9 @@ def _load_boxes(robot: Robot, expected: dict[str, int]) -> dict[str, Box | Skipp
         boxes = {} if made else _closed_part_boxes(loaded, expected)
         rest = {name: parts for name, parts in loaded.items() if name not in boxes}
         geoms, diags = link_solids(robot, rest)
-    except Exception as exc:  # an unreadable URDF, a missing trimesh: skip, do not crash
+    except MissingDependencyError as exc:  # one line ending in how to install: kept whole
+        return dict.fromkeys(expected, Skipped(str(exc)))
+    except Exception as exc:  # an unreadable URDF, a failing loader: skip, do not crash
         why = _first_line(str(exc) or type(exc).__name__)
         return dict.fromkeys(expected, Skipped(why))
     out: dict[str, Box | Skipped] = {}
