@@ -249,3 +249,38 @@ def test_packages_in_two_workspaces_say_how_to_put_them_side_by_side(
     root = out.parent / str(_kinematics(out)["asset_root_path"])
     assert (root / "my_gripper/meshes/jaw.stl").is_file()
     assert (root / "my_robot/meshes/a.stl").is_file()
+
+
+_URDF_USING_XACRO = """<?xml version="1.0"?>
+<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="reach" value="0.3"/>
+  <link name="base"/>
+  <link name="tip"/>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="tip"/><origin xyz="0 0 ${reach}"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"""
+
+
+def test_a_urdf_that_uses_xacro_is_said_to_be_one(runner: CliRunner, tmp_path: Path) -> None:
+    """Nextage Open's NextageOpen.urdf holds xacro macros and an include: the note said 'cuRobo
+    cannot load a xacro' of a file the user had passed as a URDF, without saying why it was
+    one."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(_URDF_USING_XACRO)
+    xrdf = tmp_path / "arm.xrdf"
+    r = runner.invoke(app, ["convert", str(urdf), "-q", "-o", str(xrdf)])
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "cfg" / "arm.yml"
+    r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert (
+        "info export-expanded-urdf arm.urdf is a xacro (the .urdf uses xacro: macros, includes "
+        "or $(...)), which cuRobo cannot load: wrote the expanded URDF to "
+        f"{out.with_suffix('.urdf')}"
+    ) in r.stderr
+    r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(urdf)])
+    assert r.exit_code == 2
+    assert f"{urdf} is a xacro (the .urdf uses xacro" in r.stderr

@@ -174,13 +174,20 @@ def _expanded_target(
         target = explicit
     elif output is None or is_stdio(output):
         fail(
-            f"{urdf} is a xacro, which cuRobo cannot load: pass -o FILE (the expanded URDF is "
-            "written beside it, named after it) or --expanded-urdf PATH"
+            f"{urdf} is {_a_xacro(urdf)}, which cuRobo cannot load: pass -o FILE (the expanded "
+            "URDF is written beside it, named after it) or --expanded-urdf PATH"
         )
     else:
         target = expanded_urdf_path(output)
     refuse_input_overwrite(target, [xrdf, urdf, *([output] if output is not None else [])])
     return target
+
+
+def _a_xacro(urdf: Path) -> str:
+    """What ``urdf`` is: a xacro file, or a ``.urdf`` that a user would not call one."""
+    if urdf.suffix == ".xacro":
+        return "a xacro"
+    return f"a xacro (the {urdf.suffix or 'file'} uses xacro: macros, includes or $(...))"
 
 
 def _expanded_note(urdf: Path, written: Path) -> Diagnostic:
@@ -190,7 +197,8 @@ def _expanded_note(urdf: Path, written: Path) -> Diagnostic:
         None,
         "export-expanded-urdf",
         Severity.INFO,
-        f"cuRobo cannot load a xacro: wrote the expanded URDF to {written}; urdf_path names it",
+        f"{urdf.name} is {_a_xacro(urdf)}, which cuRobo cannot load: wrote the expanded URDF "
+        f"to {written}; urdf_path names it",
         "",
     )
 
