@@ -64,3 +64,15 @@ def test_in_a_pre_commit_hook_the_hint_names_the_additional_dependencies(
         "pre-commit hook, add its packages to the hook's additional_dependencies: "
         f"[{', '.join(_declared('fit'))}]"
     )
+
+
+def test_the_hook_example_of_the_lint_docs_lists_the_fit_extra() -> None:
+    """docs/lint.md's xrdf-convert-check example with --fit-spheres left out pycollada, which
+    the fit extra adds for COLLADA meshes: the hook's own hint (above) names it."""
+    import re
+
+    from packaging.requirements import Requirement
+
+    docs = PYPROJECT.parent / "docs" / "lint.md"
+    (listed,) = re.findall(r"additional_dependencies: \[([^\]]*)\]", docs.read_text())
+    assert [p.strip() for p in listed.split(",")] == [Requirement(s).name for s in _declared("fit")]
