@@ -284,3 +284,54 @@ def test_a_urdf_that_uses_xacro_is_said_to_be_one(runner: CliRunner, tmp_path: P
     r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(urdf)])
     assert r.exit_code == 2
     assert f"{urdf} is a xacro (the .urdf uses xacro" in r.stderr
+
+
+def _file_uri_robot(tmp_path: Path, suffix: str) -> Path:
+    """A robot whose meshes are named ``file://`` + an absolute path with a space (``%20``), as
+    ROS 2 xacros write ``file://$(find pkg)/meshes/…``; a xacro when ``suffix`` is
+    ``.urdf.xacro``."""
+    import trimesh
+
+    meshes = tmp_path / "my robot" / "meshes"
+    meshes.mkdir(parents=True)
+    trimesh.creation.box(extents=(0.05, 0.05, 0.2)).export(meshes / "a.stl")
+    uri = "file://" + str(meshes / "a.stl").replace(" ", "%20")
+    robot = tmp_path / f"arm{suffix}"
+    robot.write_text(
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="base"/>'
+        f'<link name="tip"><collision><geometry><mesh filename="{uri}"/></geometry></collision>'
+        '</link><joint name="j1" type="revolute"><parent link="base"/><child link="tip"/>'
+        '<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint></robot>'
+    )
+    return robot
+
+
+def test_file_uri_meshes_are_plain_paths_in_the_expanded_urdf(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """cuRobo strips only package:// from a mesh name and joins the rest to asset_root_path, so
+    a file:// name (Neuromeka's Indy xacro: file://$(find indy_description)/meshes/…) is never
+    found; the warning said it joins names "to that one directory (package:// stripped)" and
+    offered nothing. The expanded URDF that export writes names those meshes by their plain
+    paths, which cuRobo reads; a URDF export does not write is warned about, naming file://."""
+    xacro = _file_uri_robot(tmp_path, ".urdf.xacro")
+    xrdf = tmp_path / "arm.xrdf"
+    r = runner.invoke(app, ["convert", str(xacro), "-q", "-o", str(xrdf)])
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "cfg" / "arm.yml"
+    r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(xacro), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "export-mesh-paths" not in r.output, r.output
+    expanded = out.with_suffix(".urdf").read_text()
+    assert "file://" not in expanded and "%20" not in expanded
+    mesh = str(tmp_path / "my robot" / "meshes" / "a.stl")
+    assert f'filename="{mesh}"' in expanded
+    assert "its 1 file:// mesh name(s) written as plain paths" in r.output, r.output
+    # as cuRobo joins it (os.path.join keeps an absolute name), the mesh is found
+    root = out.parent / str(_kinematics(out)["asset_root_path"])
+    assert Path(os.path.join(root, mesh)).is_file()
+    # a URDF the export does not write: said, with the way out
+    urdf = _file_uri_robot(tmp_path / "plain", ".urdf")
+    r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)])
+    (said,) = [ln for ln in r.output.splitlines() if "export-mesh-paths" in ln]
+    assert "file://" in said and "cuRobo keeps a file:// name as written" in said, said

@@ -139,6 +139,7 @@ def to_curobo(
     layout: str = "2.0",
     urdf_path: str | os.PathLike[str] | None = None,
     relative_to: str | os.PathLike[str] | None = None,
+    plain_file_names: bool = False,
 ) -> tuple[str, list[Diagnostic]]:
     """A cuRobo robot configuration (``robot_cfg: {kinematics: ...}``) for ``x`` and its URDF.
 
@@ -150,10 +151,12 @@ def to_curobo(
     :class:`RobotTree` or the loaded :class:`~xrdf_tools.robot.core.Robot`. ``urdf_path`` (the
     file ``urdf_path`` names; default: the tree's) is written relative to the directory
     ``relative_to`` (the output's), or absolute when it is None (see :func:`curobo_paths`).
-    A diagnostic of severity error says that cuRobo's loader raises on the text.
+    ``plain_file_names``: ``urdf_path`` is written by
+    :func:`~xrdf_tools.export.curobo_assets.with_plain_file_names` (its ``file://`` meshes
+    are found). A diagnostic of severity error says that cuRobo's loader raises on the text.
     """
     robot = None if isinstance(tree, RobotTree) else tree
-    assets = None if robot is None else mesh_root(robot)
+    assets = None if robot is None else mesh_root(robot, plain_file_names=plain_file_names)
     if robot is not None:
         tree = robot.tree
     assert isinstance(tree, RobotTree)

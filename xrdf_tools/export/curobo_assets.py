@@ -12,6 +12,7 @@ and the sphere model do not need the meshes; cuRobo features that load them do).
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +25,14 @@ if TYPE_CHECKING:
     from ..robot.core import Robot
     from ..robot.packages import PackageResolver
 
-__all__ = ["MeshRoot", "curobo_paths", "expanded_urdf_path", "mesh_root", "unserved_note"]
+__all__ = [
+    "MeshRoot",
+    "curobo_paths",
+    "expanded_urdf_path",
+    "mesh_root",
+    "unserved_note",
+    "with_plain_file_names",
+]
 
 
 @dataclass(frozen=True)
@@ -43,9 +51,11 @@ class MeshRoot:
     scattered: tuple[tuple[str, str], ...] = ()
 
 
-def mesh_root(robot: Robot) -> MeshRoot:
+def mesh_root(robot: Robot, *, plain_file_names: bool = False) -> MeshRoot:
     """The directory that serves the most mesh file names of ``robot`` as cuRobo joins them
     (ties: the URDF's own directory first, then the name), and the names it does not serve.
+    With ``plain_file_names`` the URDF cuRobo reads is the one :func:`with_plain_file_names`
+    writes, whose ``file://`` names are absolute paths, which any directory serves.
 
     A package that cannot be found is left to the mesh checks of the other commands."""
     from ..robot.packages import resolver_of
@@ -56,6 +66,8 @@ def mesh_root(robot: Robot) -> MeshRoot:
     misnamed: dict[str, str] = {}
     for uri in dict.fromkeys(_mesh_names(robot)):
         if Path(uri).is_absolute():  # cuRobo keeps an absolute name: any directory serves it
+            continue
+        if plain_file_names and uri.startswith("file://"):
             continue
         try:
             root = _root_for(uri, resolver, own, misnamed)
@@ -86,6 +98,26 @@ def _package_of(uri: str) -> str:
     return uri[len("package://") :].partition("/")[0]
 
 
+_FILE_URI = re.compile(r"""(\bfilename\s*=\s*)(["'])file://([^"']*)\2""")
+
+
+def with_plain_file_names(urdf_text: str) -> tuple[str, int]:
+    """``urdf_text`` with each ``file://`` mesh name written as its plain, decoded path (which
+    cuRobo keeps as written, where it joins a ``file://`` name to ``asset_root_path`` and never
+    finds it), and how many were rewritten."""
+    from urllib.parse import unquote
+    from xml.sax.saxutils import escape, unescape
+
+    entities = {'"': "&quot;", "'": "&apos;"}
+
+    def plain(m: re.Match[str]) -> str:
+        quote = m.group(2)
+        path = unquote(unescape(m.group(3), {"&quot;": '"', "&apos;": "'"}))
+        return f"{m.group(1)}{quote}{escape(path, {quote: entities[quote]})}{quote}"
+
+    return _FILE_URI.subn(plain, urdf_text)
+
+
 def unserved_note(root: MeshRoot) -> str:
     """One line on the meshes cuRobo will not find from ``root.directory``."""
     note = (
@@ -94,6 +126,11 @@ def unserved_note(root: MeshRoot) -> str:
         "(package:// stripped); its kinematics and spheres do not need them, loading the "
         "robot's meshes does"
     )
+    if any(u.startswith("file://") for u in root.unserved):
+        note += (
+            ". cuRobo keeps a file:// name as written, so it never finds one: name those meshes "
+            "by their plain paths or package:// URIs in the URDF"
+        )
     if root.scattered:
         note += (
             ". The packages are in different folders ("

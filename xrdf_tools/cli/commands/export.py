@@ -119,6 +119,7 @@ def curobo(
           --package-path trossen_descriptions=DIR -o cfg/px150.yml   # + cfg/px150.urdf
     """
     from ...export.curobo import CUROBO_LAYOUTS, to_curobo
+    from ...export.curobo_assets import with_plain_file_names
     from ...export.curobo_loader import loader_errors
     from ...xrdf.io import parse_xrdf
 
@@ -133,7 +134,12 @@ def curobo(
         written = _expanded_target(robot, urdf, output, expanded_urdf, xrdf)
         to_dir = None if absolute_paths else _output_dir(output)
         text, diags = to_curobo(
-            x, robot, layout=layout, urdf_path=written or urdf, relative_to=to_dir
+            x,
+            robot,
+            layout=layout,
+            urdf_path=written or urdf,
+            relative_to=to_dir,
+            plain_file_names=written is not None,
         )
         diags = [*robot.warnings, *loader_errors(source, label, robot), *diags]
     except XrdfToolsError as e:
@@ -147,8 +153,9 @@ def curobo(
             EXIT_FINDINGS,
         )
     if written is not None:
-        write_output(robot.text or "", written)
-        diags.append(_expanded_note(urdf, written))
+        expanded, plain = with_plain_file_names(robot.text or "")
+        write_output(expanded, written)
+        diags.append(_expanded_note(urdf, written, plain))
     echo_diagnostics(diags, fmt)
     write_output(text, output)
 
@@ -190,7 +197,15 @@ def _a_xacro(urdf: Path) -> str:
     return f"a xacro (the {urdf.suffix or 'file'} uses xacro: macros, includes or $(...))"
 
 
-def _expanded_note(urdf: Path, written: Path) -> Diagnostic:
+def _expanded_note(urdf: Path, written: Path, plain: int) -> Diagnostic:
+    """The note on the expanded URDF written, with the ``plain`` ``file://`` mesh names it
+    holds as plain paths."""
+    rewritten = (
+        f"; its {plain} file:// mesh name(s) written as plain paths, which cuRobo finds (it "
+        "keeps a file:// name as written)"
+        if plain
+        else ""
+    )
     return Diagnostic(
         str(urdf),
         None,
@@ -198,7 +213,7 @@ def _expanded_note(urdf: Path, written: Path) -> Diagnostic:
         "export-expanded-urdf",
         Severity.INFO,
         f"{urdf.name} is {_a_xacro(urdf)}, which cuRobo cannot load: wrote the expanded URDF "
-        f"to {written}; urdf_path names it",
+        f"to {written}; urdf_path names it{rewritten}",
         "",
     )
 
