@@ -57,18 +57,19 @@ def parse_view(text: str) -> tuple[float, float]:
 
 
 def png_title(scene: Scene) -> str:
-    """Robot, spheres, group; then the frame pairs self-collision checks and ignores, and how
-    many of them collide at the drawn pose (the default pose)."""
+    """Robot, spheres, group; then the frame pairs self-collision checks, how many of those
+    collide at the drawn pose (the default pose; ignored pairs are not counted), and the frame
+    pairs it ignores."""
     first = f"{scene.robot_name}: {scene.n_spheres} spheres, group '{scene.group}'"
     checked, ignored = scene.frame_pairs_checked, scene.frame_pairs_ignored
     if checked + ignored == 0:
         return first + "\nno frame pairs checked for self-collision"
     hit = len(scene.samples[0].frame_contacts)
+    red = " (red)" if hit and scene.collisions_shown else ""
     second = (
-        f"frame pairs: {checked} checked, {ignored} ignored; {hit} colliding at the default pose"
+        f"frame pairs: {checked} checked ({hit} colliding at the default pose{red}), "
+        f"{ignored} ignored"
     )
-    if hit and scene.collisions_shown:
-        second += " (red)"
     return f"{first}\n{second}"
 
 

@@ -215,8 +215,9 @@ def command(
         f"{len(scene.samples)} sample(s), {hit} in self-collision{unread}"
     )
     detail(
-        f"frame pairs: {scene.frame_pairs_checked} checked, {scene.frame_pairs_ignored} "
-        f"ignored; {len(scene.samples[0].frame_contacts)} colliding at the default pose"
+        f"frame pairs: {scene.frame_pairs_checked} checked "
+        f"({len(scene.samples[0].frame_contacts)} colliding at the default pose), "
+        f"{scene.frame_pairs_ignored} ignored"
     )
 
 
