@@ -166,8 +166,9 @@ GROUP = Option(
 STATE = Option(
     "state",
     ("--state",),
-    "SRDF group_state for default positions. Default: the group's state named home, ready or "
-    "default, else its first one; without one, 0 (mid-limits when 0 is outside them).",
+    "SRDF group_state for default positions (a state of any group: it sets the joints it "
+    "names). Default: the group's state named home, ready, default or neutral, else its first "
+    "one; without one, 0 (mid-limits when 0 is outside them).",
     text,
 )
 TOOL_FRAME = Option(
