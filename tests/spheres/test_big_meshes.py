@@ -146,3 +146,19 @@ def test_a_binary_stl_whose_header_lies_is_said_so(tmp_path: Path) -> None:
     line = _spheres_refused(tmp_path, _robot(tmp_path, mesh))
     assert "a binary STL whose header counts 1,000,000,000 triangles" in line
     assert f"whose {len(data):,} bytes hold 320" in line
+
+
+def test_reading_each_link_is_said_with_v_on_a_non_terminal(tmp_path: Path) -> None:
+    """Reading a CAD mesh and making it a solid takes seconds (18 s for 1.2 M triangles):
+    with -v in a CI log, a line per link says it is under way, before the fit's own."""
+    mesh = tmp_path / "part.stl"
+    trimesh.creation.icosphere(subdivisions=2, radius=0.05).export(mesh)
+    out = tmp_path / "r.xrdf"
+    args = ["spheres", str(_robot(tmp_path, mesh)), "--per-link", "2", "-o", str(out), "-v"]
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    lines = r.stderr.splitlines()
+    reading = [ln for ln in lines if ln.startswith("reading link geometry: ")]
+    assert reading == ["reading link geometry: 1/2 base", "reading link geometry: 2/2 arm"]
+    first_fit = next(i for i, ln in enumerate(lines) if ln.startswith("fitting spheres"))
+    assert lines.index(reading[-1]) < first_fit
