@@ -3,7 +3,8 @@ million triangles (binary STL, written to a temporary directory), on a one-link 
 
 For each size, in a fresh process (``os.wait4`` gives its peak memory): ``xrdf spheres`` (the
 default fit) and ``xrdf viz --mcap`` of the mesh drawn as the link's visual; seconds and peak
-MiB, and the seconds per million triangles (a linear cost keeps that flat). Then, in this
+MiB, the seconds per million triangles (a linear cost keeps that flat), and the size of the
+MCAP file. Then, in this
 process, on the largest mesh: the inside test of 3,000 points (what a fit asks a dozen times,
 and the metrics again) the first time (the triangle grid built) and again (the grid kept), and
 the same test with the grid built anew each time (the cost each query paid before the grid was
@@ -109,6 +110,8 @@ def commands(tmp: Path, levels: int, baseline: Path | None) -> None:
             row = {"command": name, "code": which, "triangles": faces, "exit": code}
             row |= {"seconds": round(seconds, 2), "peak_mib": round(mib)}
             row |= {"seconds_per_million": round(seconds / faces * 1e6, 2)}
+            if name.startswith("viz"):
+                row["output_mb"] = round((tmp / "o.mcap").stat().st_size / 1e6, 1)
             print(json.dumps(row), flush=True)
 
 

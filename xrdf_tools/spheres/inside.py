@@ -50,7 +50,7 @@ WIDE_CELLS = 256
 #: ... as long as there are at most this many such triangles (else the grid is made coarser).
 MAX_WIDE = 64
 #: Triangles whose (triangle, cell) pairs are computed at once while the grid is built.
-_BUILD_BLOCK = 1 << 20
+_BUILD_BLOCK = 1 << 17
 
 
 def points_inside(mesh: trimesh.Trimesh, points: FloatArray) -> BoolArray:
@@ -188,11 +188,13 @@ class FaceGrid:
         for s0 in range(0, len(faces), _BUILD_BLOCK):
             sl = slice(s0, s0 + _BUILD_BLOCK)
             key, tri = self._cells_of(lo[sl], hi[sl], wide[sl])
-            keys.append(key)
-            tris.append(tri + s0)
-        key = np.concatenate(keys) if keys else np.zeros(0, dtype=np.int64)
+            keys.append(key.astype(np.int32))  # cells and triangles < 2**31: half the memory
+            tris.append((tri + s0).astype(np.int32))
+        del lo, hi
+        key = np.concatenate(keys) if keys else np.zeros(0, dtype=np.int32)
+        del keys
         order = np.argsort(key, kind="stable")
-        self.tri_of_cell = np.concatenate(tris)[order] if tris else np.zeros(0, dtype=np.int64)
+        self.tri_of_cell = np.concatenate(tris)[order] if tris else np.zeros(0, dtype=np.int32)
         counts = np.bincount(key, minlength=int(self.shape[0] * self.shape[1]))
         self.start = np.concatenate([[0], np.cumsum(counts)])
         self.wide = np.flatnonzero(wide)
