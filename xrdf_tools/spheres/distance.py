@@ -49,8 +49,10 @@ def surface_distance(mesh: trimesh.Trimesh, points: FloatArray) -> FloatArray:
     lo, hi = tri.min(1), tri.max(1)
     half = 0.5 * np.linalg.norm(hi - lo, axis=1)
     large = _large_triangles(half)
-    pi, fi = _candidates_by_tree(pts, best, lo[~large], hi[~large], half[~large])
-    pairs = [(pi, np.flatnonzero(~large)[fi])]
+    pairs = []
+    for group in _size_groups(half, ~large):
+        pi, fi = _candidates_by_tree(pts, best, lo[group], hi[group], half[group])
+        pairs.append((pi, group[fi]))
     pairs += list(_candidates_dense(pts, best, lo[large], hi[large], np.flatnonzero(large)))
     for pi, fi in pairs:
         for s0 in range(0, len(pi), PAIR_BLOCK):
@@ -84,6 +86,20 @@ def _large_triangles(half: FloatArray) -> BoolArray:
         cut = max(cut, float(np.partition(half, len(half) - _DENSE_MAX)[len(half) - _DENSE_MAX]))
     large: BoolArray = half > cut
     return large
+
+
+def _size_groups(half: FloatArray, small: BoolArray) -> list[IntArray]:
+    """The ``small`` triangles (indices) in groups of like size, each looked up in a k-d tree
+    of its own: a tree's search radius grows by its largest half-diagonal, so one tree for
+    the slivers and the specks of a CAD mesh would hand each point thousands of candidates.
+    Groups split at the quartiles of ``half`` among the small ones (one group for a mesh of
+    at most :data:`_DENSE_TRIANGLES`)."""
+    index = np.flatnonzero(small)
+    if len(index) <= _DENSE_TRIANGLES:
+        return [index]
+    cuts = np.quantile(half[index], [0.25, 0.5, 0.75])
+    group = np.searchsorted(cuts, half[index], side="left")
+    return [index[group == g] for g in range(len(cuts) + 1) if np.any(group == g)]
 
 
 def _within(p: FloatArray, lo: FloatArray, hi: FloatArray, bound: FloatArray) -> BoolArray:
