@@ -80,13 +80,16 @@ def subdivided(levels: int, out: Path) -> int:
     return len(mesh.faces)
 
 
-def run(args: list[str], code: Path) -> tuple[float, float, int]:
+def run(args: list[str], code: Path, cwd: Path) -> tuple[float, float, int]:
     """Seconds, peak MiB and exit code of ``xrdf ARGS`` in a fresh process, with the
-    xrdf-tools of the checkout ``code``."""
+    xrdf-tools of the checkout ``code`` (run in ``cwd``: ``python -c`` imports from the
+    current directory first)."""
     cmd = [sys.executable, "-c", "from xrdf_tools.cli import main; main()", *args]
     env = dict(os.environ, PYTHONPATH=str(code))
     start = time.perf_counter()
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
     _, status, usage = os.wait4(proc.pid, 0)
     seconds = time.perf_counter() - start
     return seconds, usage.ru_maxrss / 1024.0, os.waitstatus_to_exitcode(status)
@@ -106,7 +109,8 @@ def commands(tmp: Path, levels: int, baseline: Path | None) -> None:
     codes = {"this": REPO} | ({"baseline": baseline} if baseline else {})
     for name, args in jobs.items():
         for which, checkout in codes.items():
-            seconds, mib, code = run(args, checkout)
+            (tmp / "o.mcap").unlink(missing_ok=True)
+            seconds, mib, code = run(args, checkout, tmp)
             row = {"command": name, "code": which, "triangles": faces, "exit": code}
             row |= {"seconds": round(seconds, 2), "peak_mib": round(mib)}
             row |= {"seconds_per_million": round(seconds / faces * 1e6, 2)}

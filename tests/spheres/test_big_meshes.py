@@ -162,3 +162,12 @@ def test_reading_each_link_is_said_with_v_on_a_non_terminal(tmp_path: Path) -> N
     assert reading == ["reading link geometry: 1/2 base", "reading link geometry: 2/2 arm"]
     first_fit = next(i for i, ln in enumerate(lines) if ln.startswith("fitting spheres"))
     assert lines.index(reading[-1]) < first_fit
+
+
+def test_a_mesh_of_one_body_is_not_copied_to_find_its_bodies() -> None:
+    from xrdf_tools.spheres.mesh_solids import connected_bodies
+
+    ball = trimesh.creation.icosphere(subdivisions=2)
+    assert connected_bodies(ball)[0] is ball
+    two = trimesh.util.concatenate([ball, ball.copy().apply_translation([3.0, 0.0, 0.0])])
+    assert [len(b.faces) for b in connected_bodies(two)] == [320, 320]
