@@ -9,14 +9,17 @@ import pytest
 from tests.robots import robot_urdf
 
 
-@pytest.mark.parametrize("nearest, small_share", [(32, 0.98), (1, 0.5)])
+@pytest.mark.parametrize(
+    "nearest, small_share, dense_max", [(32, 0.98, 2048), (1, 0.5, 2048), (32, 0.5, 8)]
+)
 def test_surface_distance_is_the_smallest_point_triangle_distance(
-    nearest: int, small_share: float, monkeypatch: pytest.MonkeyPatch
+    nearest: int, small_share: float, dense_max: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The pruned, blocked distance equals a plain loop over every triangle (and is never
     above trimesh's closest-point distance, which can overshoot by micrometres): with the
     k-d tree's first answer enough for most points, and with every point asking it again and
-    half the triangles tested against every point."""
+    half the triangles tested against every point, or only the 8 largest (the cap that keeps
+    a mesh of millions of like triangles from testing each point against 2 % of them)."""
     from trimesh import proximity
 
     from xrdf_tools.spheres import distance
@@ -24,6 +27,7 @@ def test_surface_distance_is_the_smallest_point_triangle_distance(
 
     monkeypatch.setattr(distance, "_NEAREST", nearest)
     monkeypatch.setattr(distance, "_SMALL_SHARE", small_share)
+    monkeypatch.setattr(distance, "_DENSE_MAX", dense_max)
     from xrdf_tools.spheres.geometry import load_link_geometry
 
     geoms, _ = load_link_geometry(robot_urdf("ur5"), links=["forearm_link"])

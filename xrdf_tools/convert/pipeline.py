@@ -345,6 +345,10 @@ def fit_missing_spheres(
         if progress is not None:
             progress("fitting", i, n, link)
 
+    def read(link: str, i: int, n: int) -> None:
+        if progress is not None:
+            progress("reading", i, n, link)
+
     robot = as_robot(urdf)
     # before the work: a mesh that cannot be found is an input error (or, allowed, a warning)
     missing = require_meshes(robot, fit.source, links=todo, allow_missing=fit.allow_missing_meshes)
@@ -357,6 +361,7 @@ def fit_missing_spheres(
         seed=fit.seed,
         max_protrusion=fit.max_protrusion,
         progress=step,
+        reading=read,
         source=fit.source,
         method=fit.method,
         visual_check=fit.visual_check,

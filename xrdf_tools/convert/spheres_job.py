@@ -76,10 +76,12 @@ def fit_spheres(
     request: SpheresRequest,
     *,
     progress: Callable[[str, int, int], None] | None = None,
+    reading: Callable[[str, int, int], None] | None = None,
 ) -> SpheresFit:
     """Fit spheres to the links of ``robot`` and merge them into ``base`` (None: an XRDF
     drafted as ``xrdf convert`` drafts one, with adjacent links added to the ignore mask).
-    ``progress(link, i, n)`` is called per step, two per link (prepared, then fitted). Raises
+    ``progress(link, i, n)`` is called per step, two per link (prepared, then fitted), after
+    ``reading(link, i, n)`` before each link's geometry is read. Raises
     :class:`~xrdf_tools.util.errors.XrdfToolsError` (a mesh file that cannot be found unless
     ``allow_missing_meshes``, a malformed clip plane)."""
     from ..robot.link_geometry import require_meshes
@@ -117,6 +119,7 @@ def fit_spheres(
         max_protrusion=request.max_protrusion,
         clips=clips,
         progress=progress,
+        reading=reading,
         method=request.method,
         visual_check=request.visual_check,
         source=request.source,

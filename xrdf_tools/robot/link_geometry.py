@@ -36,11 +36,11 @@ import numpy as np
 
 from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
-from ..util.fileio import check_input_file, file_kind, mesh_bytes_limit
+from ..util.fileio import check_input_file, file_kind, mesh_bytes_limit, mesh_triangle_limit
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import MAX_LENGTH
 from ..util.text import name_list
-from .mesh_files import load_mesh_parts, unreadable
+from .mesh_files import binary_stl_counts, load_mesh_parts, too_many_triangles, unreadable
 
 if TYPE_CHECKING:
     import trimesh
@@ -403,15 +403,25 @@ class _MeshReader:
             factors = np.broadcast_to(np.asarray(1.0 if scale is None else scale, float), (3,))
         except ValueError:
             raise _PartError(f"{uri}: scale must be one or three numbers", uri=uri) from None
+        limit = mesh_triangle_limit()
+        claimed = binary_stl_counts(path)
+        if claimed is not None and min(claimed) > limit:  # refused before it is parsed
+            raise _PartError(f"{uri}: {too_many_triangles(min(claimed), limit)}", uri=uri)
         try:
             pieces = tuple(
                 p for p in load_mesh_parts(path) if isinstance(p, trimesh.Trimesh) and len(p.faces)
             )
+        except Exception as e:  # trimesh raises many exception types for bad files
+            raise _PartError(f"{uri}: cannot read mesh ({unreadable(path, e)})", uri=uri) from None
+        count = sum(len(p.faces) for p in pieces)
+        if count > limit:  # refused before the costly processing
+            raise _PartError(f"{uri}: {too_many_triangles(count, limit)}", uri=uri)
+        try:
             # processing would drop a NaN vertex and its faces without a word
             bad = not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces)
             for p in () if bad else pieces:
                 p.process()
-        except Exception as e:  # trimesh raises many exception types for bad files
+        except Exception as e:
             raise _PartError(f"{uri}: cannot read mesh ({unreadable(path, e)})", uri=uri) from None
         if not pieces:
             why = unreadable(path, None)

@@ -23,7 +23,14 @@ from typing import Any
 
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 
-__all__ = ["load_mesh_parts", "load_mesh_scene", "unreadable", "without_broken_material_bindings"]
+__all__ = [
+    "binary_stl_counts",
+    "load_mesh_parts",
+    "load_mesh_scene",
+    "too_many_triangles",
+    "unreadable",
+    "without_broken_material_bindings",
+]
 
 
 def load_mesh_scene(path: Path) -> Any:
@@ -102,11 +109,44 @@ def unreadable(path: Path, e: Exception | None) -> str:
         if f.read(len(_LFS_POINTER)) == _LFS_POINTER:
             return "a Git LFS pointer, not the mesh: run `git lfs pull` in its repository"
     if e is None:
+        counts = binary_stl_counts(path)
+        if counts is not None and counts[0] != counts[1]:
+            return (
+                f"a binary STL whose header counts {counts[0]:,} triangles, but whose "
+                f"{path.stat().st_size:,} bytes hold {counts[1]:,}"
+            )
         return "no triangles in the file"
     if isinstance(e, _READER_SLIPS) or not str(e):
         kind = path.suffix.lstrip(".").upper() or "mesh"
         return f"a malformed {kind} file, or one of a form the mesh reader does not know"
     return str(e).splitlines()[0]
+
+
+def binary_stl_counts(path: Path) -> tuple[int, int] | None:
+    """For a file named ``*.stl`` that is not ASCII STL: the number of triangles its header
+    counts and the number its size holds (84 bytes of header, 50 a triangle); else None."""
+    if path.suffix.lower() != ".stl":
+        return None
+    size = path.stat().st_size
+    with open(path, "rb") as f:
+        head = f.read(84)
+    if len(head) < 84 or (head[:5].lower() == b"solid" and size != _stl_size(head)):
+        return None
+    return int.from_bytes(head[80:84], "little"), (size - 84) // 50
+
+
+def _stl_size(head: bytes) -> int:
+    """The size of a binary STL whose first 84 bytes are ``head``, by its header's count."""
+    return 84 + 50 * int.from_bytes(head[80:84], "little")
+
+
+def too_many_triangles(count: int, limit: int) -> str:
+    """Why a mesh of ``count`` triangles is not read, past ``limit``: with what to do."""
+    return (
+        f"{count:,} triangles, more than the {limit:,} a mesh may have (what a binary STL at "
+        f"the mesh size limit holds); simplify it (a collision mesh needs far fewer) or raise "
+        f"XRDF_TOOLS_MAX_INPUT_MB"
+    )
 
 
 #: What the mesh readers raise when their own code trips over a malformed file: the message

@@ -182,6 +182,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
     ),
     "viz": (
         ("mesh-not-loaded", W, "A link mesh that cannot be loaded is not drawn."),
+        ("mesh-simplified", I, "A mesh of over 100,000 triangles is drawn simplified."),
         ("viz-collisions-not-drawn", I, "Too many configurations: contacts logged, not coloured."),
         ("viz-frame-unknown", W, "Spheres on a frame the robot does not have: not drawn."),
         ("viz-placeholder-spheres", I, "Attached-object slots (radius ≤ −1) are not drawn."),

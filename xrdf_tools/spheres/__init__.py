@@ -63,6 +63,7 @@ def fit_link_spheres(
     clips: Mapping[str, Sequence[Plane]] | None = None,
     method: str = "ours",
     visual_check: VisualCheck = "fast",
+    reading: Any = None,
 ) -> tuple[dict[str, tuple[Sphere, ...]], list[Diagnostic]]:
     """Fit spheres to every link with geometry (or to ``links``) of a URDF or xacro file.
 
@@ -85,7 +86,8 @@ def fit_link_spheres(
     :func:`~xrdf_tools.spheres.geometry.load_link_geometry`. The same inputs and ``seed`` give
     the same spheres; links with identical geometry are fitted once and get the same spheres.
     ``progress(link, i, n)`` is called before each of the ``n`` steps, two per link
-    (prepared, then fitted). ``method="morphit"`` fits each
+    (prepared, then fitted), after ``reading(link, i, n)`` before each link's geometry is
+    read. ``method="morphit"`` fits each
     link's solid with MorphIt (the optional ``morphit-rs``; :mod:`xrdf_tools.spheres.morphit`)
     at the same counts and bounds instead of our fitter. ``visual_check`` says how each link
     fitted from collision geometry is compared with its visual geometry
@@ -108,6 +110,7 @@ def fit_link_spheres(
         source=source,
         method=method,
         visual_check=visual_check,
+        reading=reading,
     )
     return result.spheres, result.diagnostics
 

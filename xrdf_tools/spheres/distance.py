@@ -48,9 +48,11 @@ def surface_distance(mesh: trimesh.Trimesh, points: FloatArray) -> FloatArray:
     best = np.asarray(upper, dtype=np.float64).copy()
     lo, hi = tri.min(1), tri.max(1)
     half = 0.5 * np.linalg.norm(hi - lo, axis=1)
-    large = half > np.quantile(half, _SMALL_SHARE) if len(tri) > _DENSE_TRIANGLES else half >= 0
-    pi, fi = _candidates_by_tree(pts, best, lo[~large], hi[~large], half[~large])
-    pairs = [(pi, np.flatnonzero(~large)[fi])]
+    large = _large_triangles(half)
+    pairs = []
+    for group in _size_groups(half, ~large):
+        pi, fi = _candidates_by_tree(pts, best, lo[group], hi[group], half[group])
+        pairs.append((pi, group[fi]))
     pairs += list(_candidates_dense(pts, best, lo[large], hi[large], np.flatnonzero(large)))
     for pi, fi in pairs:
         for s0 in range(0, len(pi), PAIR_BLOCK):
@@ -68,6 +70,36 @@ _NEAREST = 32
 #: The share of triangles (the smallest boxes) looked up in the k-d tree; the rest (CAD
 #: meshes hold a few long thin triangles) are tested against every point.
 _SMALL_SHARE = 0.98
+#: At most this many triangles are tested against every point.
+_DENSE_MAX = 2048
+
+
+def _large_triangles(half: FloatArray) -> BoolArray:
+    """Which triangles (by their boxes' half-diagonals ``half``) are tested against every
+    point: all of a small mesh; else the largest 2 %, at most :data:`_DENSE_MAX` of them, so
+    that a mesh of millions of like triangles does not test each point against tens of
+    thousands (which triangles go where changes the time, never the distances)."""
+    if len(half) <= _DENSE_TRIANGLES:
+        return np.ones(len(half), dtype=bool)
+    cut = float(np.quantile(half, _SMALL_SHARE))
+    if len(half) * (1.0 - _SMALL_SHARE) > _DENSE_MAX:
+        cut = max(cut, float(np.partition(half, len(half) - _DENSE_MAX)[len(half) - _DENSE_MAX]))
+    large: BoolArray = half > cut
+    return large
+
+
+def _size_groups(half: FloatArray, small: BoolArray) -> list[IntArray]:
+    """The ``small`` triangles (indices) in groups of like size, each looked up in a k-d tree
+    of its own: a tree's search radius grows by its largest half-diagonal, so one tree for
+    the slivers and the specks of a CAD mesh would hand each point thousands of candidates.
+    Groups split at the quartiles of ``half`` among the small ones (one group for a mesh of
+    at most :data:`_DENSE_TRIANGLES`)."""
+    index = np.flatnonzero(small)
+    if len(index) <= _DENSE_TRIANGLES:
+        return [index]
+    cuts = np.quantile(half[index], [0.25, 0.5, 0.75])
+    group = np.searchsorted(cuts, half[index], side="left")
+    return [index[group == g] for g in range(len(cuts) + 1) if np.any(group == g)]
 
 
 def _within(p: FloatArray, lo: FloatArray, hi: FloatArray, bound: FloatArray) -> BoolArray:

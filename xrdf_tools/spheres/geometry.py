@@ -22,7 +22,7 @@ reachable free space for a planner. Nothing here touches ROS.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -210,8 +210,11 @@ def load_link_geometry(
     links: Sequence[str] | None = None,
     package_paths: Mapping[str, str] | None = None,
     source: GeometryChoice = "auto",
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
     """Solids of the URDF's links (all links with geometry, or only ``links``).
+    ``progress(link, i, n)`` is called before each link's geometry is read and made a solid
+    (a CAD mesh of millions of triangles takes seconds).
 
     ``urdf`` is a loaded :class:`~xrdf_tools.robot.core.Robot` (its geometry is read from the
     yourdfpy object, the XML is not parsed again; ``package_paths`` replaces its own when
@@ -236,10 +239,19 @@ def load_link_geometry(
                     f"no link '{name}' in the URDF{did_you_mean(name, robot.links)}",
                     path=robot.path,
                 )
-    loaded = link_geometry(robot, source, links=links, package_paths=package_paths)
-    return link_solids(
-        robot, loaded, source=source, requested=links is not None, package_paths=package_paths
-    )
+    names = list(dict.fromkeys(links)) if links is not None else list(robot.links)
+    out: dict[str, LinkGeometry] = {}
+    diags: list[Diagnostic] = []
+    for i, name in enumerate(names):
+        if progress is not None:
+            progress(name, i, len(names))
+        loaded = link_geometry(robot, source, links=[name], package_paths=package_paths)
+        solids, more = link_solids(
+            robot, loaded, source=source, requested=links is not None, package_paths=package_paths
+        )
+        out.update(solids)
+        diags += more
+    return out, diags
 
 
 def link_solids(

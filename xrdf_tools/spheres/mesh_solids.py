@@ -218,12 +218,15 @@ def connected_bodies(mesh: trimesh.Trimesh) -> list[trimesh.Trimesh]:
     faces, each keeping the faces in the mesh's own order (``mesh.split(only_watertight=
     False)``, made machine-independent: trimesh groups the faces by an unstable sort, whose
     ties numpy's SIMD sort (AVX-512) and its portable one break differently, and a fit
-    follows the order of the faces)."""
+    follows the order of the faces). A mesh of one body is returned as it is: copying it
+    cost 5 s on a CAD mesh of 1.2 M triangles, to learn that it is one body."""
     import trimesh
 
     found = trimesh.graph.connected_components(
         mesh.face_adjacency, nodes=np.arange(len(mesh.faces)), min_len=1
     )
+    if len(found) == 1:
+        return [mesh]
     bodies = sorted((np.sort(np.asarray(c, dtype=np.intp)) for c in found), key=lambda c: c[0])
     out: Any = mesh.submesh(bodies, only_watertight=False, repair=True)  # a list for a list
     return list(out)

@@ -109,13 +109,16 @@ def fit_robot(
     geometry: Mapping[str, LinkGeometry] | None = None,
     method: str = "ours",
     visual_check: VisualCheck = "fast",
+    reading: Progress | None = None,
 ) -> FitResult:
     """Fit spheres to the links of ``robot`` (see the module docstring and
     :func:`xrdf_tools.spheres.fit_link_spheres`). ``clips`` keeps a link's spheres on the
     positive side of planes in its frame; ``geometry`` skips loading the solids; ``method``
     ``morphit`` fits each solid with MorphIt instead (:mod:`.morphit`). ``visual_check``:
     how each link fitted from collision geometry is compared with its visual geometry
-    (:mod:`.visual_agreement`; not for ``geometry`` given with a path)."""
+    (:mod:`.visual_agreement`; not for ``geometry`` given with a path). ``reading(link, i,
+    n)`` is called before each link's geometry is read (``progress`` then for each link
+    prepared and fitted)."""
     from .morphit import check_method
 
     check_method(method, searched_bound=counts.count_coverage is not None)
@@ -124,7 +127,7 @@ def fit_robot(
         from ..robot.xacro_source import load_robot
 
         robot = load_robot(robot, package_paths=package_paths)
-    geoms, diags = _solids(robot, links, package_paths, source, geometry)
+    geoms, diags = _solids(robot, links, package_paths, source, geometry, reading)
     if isinstance(robot, Robot):
         from .visual_agreement import visual_disagreements
 
@@ -163,14 +166,17 @@ def _solids(
     package_paths: Mapping[str, str] | None,
     source: GeometryChoice,
     geometry: Mapping[str, LinkGeometry] | None,
+    reading: Progress | None,
 ) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
     """The solids to fit per link (URDF link order): ``geometry`` when given, else loaded
-    from ``robot`` with the diagnostics of loading them."""
+    from ``robot`` (``reading`` told of each link) with the diagnostics of loading them."""
     if geometry is not None:
         return dict(geometry), []
     from .geometry import load_link_geometry
 
-    return load_link_geometry(robot, links=links, package_paths=package_paths, source=source)
+    return load_link_geometry(
+        robot, links=links, package_paths=package_paths, source=source, progress=reading
+    )
 
 
 def _check_against_solids(

@@ -39,6 +39,7 @@ __all__ = [
     "file_kind",
     "max_input_bytes",
     "mesh_bytes_limit",
+    "mesh_triangle_limit",
     "read_input_bytes",
     "read_input_text",
     "write_atomic",
@@ -74,6 +75,18 @@ def max_input_bytes() -> int:
 def mesh_bytes_limit() -> int:
     """The size limit of a mesh file: 16 times :func:`max_input_bytes` (256 MiB by default)."""
     return 16 * max_input_bytes()
+
+
+#: Bytes a binary STL spends on one triangle (normal, three vertices, attribute count).
+BINARY_STL_TRIANGLE_BYTES = 50
+
+
+def mesh_triangle_limit() -> int:
+    """The most triangles read from one mesh file: what a binary STL of
+    :func:`mesh_bytes_limit` holds (5.4 million by default). Formats that pack triangles
+    tighter (binary PLY, glTF) could otherwise bring three or four times as many within the
+    size limit, and a mesh costs about 1 kB a triangle while it is prepared."""
+    return mesh_bytes_limit() // BINARY_STL_TRIANGLE_BYTES
 
 
 def file_kind(mode: int) -> str:

@@ -7,7 +7,10 @@ pose. What is viz-specific is the colour: the URDF material of a visual element,
 sub-mesh's own colour (material or face colours of the file), else a neutral grey.
 
 A mesh that cannot be found or read is not an error: it becomes a ``mesh-not-loaded`` warning
-and the link is drawn without it.
+and the link is drawn without it. A sub-mesh of more than :data:`DRAWN_TRIANGLES` triangles (a
+CAD export) is drawn simplified (:func:`simplified`: its vertices merged on a grid, a
+deterministic vertex clustering), said in a ``mesh-simplified`` note: a recording stays small
+and quick to write, and a viewer quick to draw it.
 """
 
 from __future__ import annotations
@@ -30,11 +33,21 @@ if TYPE_CHECKING:
     from ..robot.core import Robot
     from ..robot.link_geometry import GeometryPart
 
-__all__ = ["DEFAULT_MESH_COLOR", "MeshKind", "MeshPart", "Rgba", "load_link_meshes"]
+__all__ = [
+    "DEFAULT_MESH_COLOR",
+    "DRAWN_TRIANGLES",
+    "MeshKind",
+    "MeshPart",
+    "Rgba",
+    "load_link_meshes",
+    "simplified",
+]
 
 MeshKind = Literal["visual", "collision", "none"]
 
 DEFAULT_MESH_COLOR: Rgba = (0.72, 0.72, 0.75, 1.0)
+#: Sub-meshes of more triangles than this are drawn simplified to at most this many.
+DRAWN_TRIANGLES = 100_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -90,6 +103,11 @@ def load_link_meshes(
                 )
             )
         parts = [m for part in link.parts for m in _drawn(part)]
+        simpler = [_simplified_part(m, DRAWN_TRIANGLES) for m in parts]
+        for before, after in zip(parts, simpler, strict=True):
+            if after is not before:
+                diags.append(_simplified_note(upath, name, kind, before, after))
+        parts = simpler
         if parts:
             out[name] = tuple(parts)
     return out, diags
@@ -107,6 +125,64 @@ def _drawn(part: GeometryPart) -> list[MeshPart]:
         f.flags.writeable = False
         out.append(MeshPart(v, f, color, part.file or part.shape))
     return out
+
+
+def _simplified_part(part: MeshPart, most: int) -> MeshPart:
+    """``part`` itself when it has at most ``most`` triangles, else a simplified copy."""
+    if part.n_triangles <= most:
+        return part
+    v, f = simplified(part.vertices, part.faces, most)
+    v.flags.writeable = False
+    f.flags.writeable = False
+    return MeshPart(v, f, part.color, part.source)
+
+
+def _simplified_note(
+    path: str, link: str, kind: str, before: MeshPart, after: MeshPart
+) -> Diagnostic:
+    return Diagnostic(
+        path,
+        None,
+        None,
+        "mesh-simplified",
+        Severity.INFO,
+        f"link '{link}': {kind} mesh {before.source} drawn with {after.n_triangles:,} of its "
+        f"{before.n_triangles:,} triangles (vertices merged on a grid)",
+    )
+
+
+def simplified(vertices: FloatArray, faces: IntArray, most: int) -> tuple[FloatArray, IntArray]:
+    """The mesh ``(vertices, faces)`` with at most ``most`` triangles, for drawing: vertices
+    merged in the cells of a grid (each becomes the mean of its cell's), the triangles left
+    with three corners kept once each, in their first order. The grid is made coarser until
+    the triangles fit; the same mesh gives the same bits."""
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    lo = v.min(0)
+    extent = float(np.max(v.max(0) - lo)) or 1.0
+    cells = max(2.0, 2.0 * np.sqrt(most))
+    while True:
+        grid = np.floor((v - lo) / (extent / cells)).astype(np.int64)
+        side = int(grid.max()) + 1
+        cell, merged = np.unique(
+            (grid[:, 0] * side + grid[:, 1]) * side + grid[:, 2], return_inverse=True
+        )
+        tri = merged.reshape(-1)[f]
+        kept = (tri[:, 0] != tri[:, 1]) & (tri[:, 1] != tri[:, 2]) & (tri[:, 0] != tri[:, 2])
+        _, first = np.unique(np.sort(tri[kept], axis=1), axis=0, return_index=True)
+        tri = tri[kept][np.sort(first)]
+        if len(tri) <= most or cells <= 2.0:
+            break
+        cells *= 0.7 * np.sqrt(most / len(tri)) if len(tri) > 2 * most else 0.85
+    weight = np.bincount(merged.reshape(-1), minlength=len(cell)).astype(np.float64)
+    mean = np.stack(
+        [np.bincount(merged.reshape(-1), weights=v[:, k], minlength=len(cell)) for k in range(3)],
+        axis=1,
+    )
+    used, compact = np.unique(tri, return_inverse=True)
+    out_v: FloatArray = (mean / weight[:, None])[used]
+    out_f: IntArray = compact.reshape(-1, 3).astype(np.int64)
+    return out_v, out_f
 
 
 def _trimesh_color(mesh: Any) -> Rgba | None:

@@ -61,7 +61,11 @@ if TYPE_CHECKING:
     from .typer_common import ProgressUpdate
 
 #: Progress bar label of each stage of :func:`xrdf_tools.convert.pipeline.convert_robot`.
-_STAGES = {"fitting": "fitting spheres (2 steps a link)", "sampling": "sampling the mask"}
+_STAGES = {
+    "reading": "reading link geometry",
+    "fitting": "fitting spheres (2 steps a link)",
+    "sampling": "sampling the mask",
+}
 
 
 def command(
@@ -377,7 +381,7 @@ def _staged(bar: ProgressUpdate | None) -> Progress | None:
         return None
 
     def line(stage: str, done: int, total: int, item: str) -> None:
-        if stage == "fitting":
+        if stage in ("reading", "fitting"):
             detail(f"{_STAGES[stage]}: {done + 1}/{total} {item}".rstrip())
         elif total and (done * 10 // total) != ((done - 1) * 10 // total) and done:
             detail(f"{_STAGES.get(stage, stage)}: {done}/{total}")

@@ -284,7 +284,11 @@ def command(
         base = load_xrdf_input(xrdf) if xrdf is not None else None
         with progress_bar() as bar, timed("fitting"):
             fitted = fit_spheres(
-                model, base, request, progress=per_link_progress(bar, "fitting spheres")
+                model,
+                base,
+                request,
+                progress=per_link_progress(bar, "fitting spheres"),
+                reading=per_link_progress(bar, "reading link geometry", steps=1),
             )
         with timed("measuring"):
             per, overall = fit_metrics(fitted.fit, seed, timings=timings)
@@ -307,13 +311,16 @@ def command(
         write_output(table, None)
 
 
-def per_link_progress(bar: ProgressUpdate | None, label: str) -> Callable[[str, int, int], None]:
+def per_link_progress(
+    bar: ProgressUpdate | None, label: str, steps: int = 2
+) -> Callable[[str, int, int], None]:
     """``progress(link, i, n)``: drawn on the common bar on a terminal; with ``-v`` elsewhere
-    (CI logs), one line per step on stderr (two per link: prepared, then fitted)."""
+    (CI logs), one line per step on stderr (``steps`` per link: read; prepared, then
+    fitted)."""
 
     def update(link: str, i: int, n: int) -> None:
         if bar is not None:
-            bar(f"{label} (2 steps a link)", i, n)
+            bar(f"{label} (2 steps a link)" if steps == 2 else label, i, n)
         elif not stderr_is_terminal():
             detail(f"{label}: {i + 1}/{n} {link}")
 
