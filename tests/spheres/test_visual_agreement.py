@@ -123,6 +123,20 @@ def test_a_collada_visual_is_read_by_the_fast_check(tmp_path: Path) -> None:
         assert not [d for d in said if d.rule == RULE_UNCHECKED]
 
 
+def test_a_glb_visual_is_read_by_the_fast_check(tmp_path: Path) -> None:
+    """dex-urdf's robots (xArm 7 with an Ability hand, Schunk's SVH, a UR5e with a Shadow hand)
+    draw every link with GLB files: the fast check counted them all as not read."""
+    (tmp_path / "arm.glb").write_bytes(ARM.export(file_type="glb"))
+    TURNED.export(tmp_path / "arm_collision.stl")
+    urdf = _urdf(tmp_path, "arm.glb", "arm_collision.stl")
+    for check in ("fast", "all"):
+        said = _said(urdf, visual_check=check)
+        assert [d for d in said if d.rule == RULE_MISMATCH], said
+        assert not [d for d in said if d.rule == RULE_UNCHECKED], said
+    ARM.export(tmp_path / "arm_collision.stl")  # where the visual is: nothing to say
+    assert not [d for d in _said(urdf) if d.rule in (RULE_MISMATCH, RULE_UNCHECKED)]
+
+
 def test_a_collada_visual_the_reader_gives_up_on_is_counted_unless_all_formats_are_read(
     tmp_path: Path,
 ) -> None:

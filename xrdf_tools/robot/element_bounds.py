@@ -11,6 +11,9 @@ of one kind, each with its ``<origin>`` and mesh ``scale`` applied, without buil
   with numpy, the scene's transforms and unit applied, the box trimesh gives); a file it
   gives up on is read like the other formats, unless its scene expands past the reader's
   bounds (then no reader is handed it);
+* binary glTF (``.glb``) files by :func:`~xrdf_tools.robot.gltf_points.glb_vertices` (the
+  binary chunk read with numpy, the nodes' transforms applied); a file it gives up on (a
+  compressed primitive, ...) is read like the other formats;
 * other mesh formats (PLY, ...) through trimesh, as the sphere fitter reads them
   (:func:`~xrdf_tools.robot.mesh_files.load_mesh_parts`: COLLADA in metres), only when
   ``other_formats`` is true; else the link is not bounded and :attr:`Unbounded.format` names
@@ -36,6 +39,7 @@ from ..util.errors import XrdfToolsError
 from ..util.fileio import mesh_bytes_limit, read_input_bytes
 from ..util.numbers import MAX_LENGTH
 from .collada_points import ColladaNotRead, ColladaTooBig, collada_vertices
+from .gltf_points import GltfNotRead, glb_vertices
 from .link_geometry import GeometrySource, not_a_file
 
 if TYPE_CHECKING:
@@ -192,10 +196,17 @@ def _vertices_or_why(uri: str, read: Callable[[], FloatArray | None]) -> FloatAr
 
 
 def _cheap_vertices(path: Path, suffix: str) -> FloatArray | None:
-    """The vertices of an STL, OBJ or COLLADA file read without trimesh; None for another
-    format or a COLLADA file the reader gives up on."""
+    """The vertices of an STL, OBJ, COLLADA or GLB file read without trimesh; None for another
+    format or a COLLADA or GLB file its reader gives up on."""
     if suffix in _NUMPY_FORMATS:
         return mesh_file_vertices(path)
+    if suffix == ".glb":
+        try:
+            return glb_vertices(
+                read_input_bytes(path, what="mesh file", max_bytes=mesh_bytes_limit())
+            )
+        except GltfNotRead:
+            return None
     if suffix != ".dae":
         return None
     data = read_input_bytes(path, what="mesh file", max_bytes=mesh_bytes_limit())

@@ -46,8 +46,9 @@ __all__ = [
     "visual_disagreements",
 ]
 
-#: ``fast``: visual STL, OBJ and COLLADA meshes and primitives are read without trimesh (other
-#: formats, and a COLLADA file the reader gives up on, are counted in one note); ``all``: those
+#: ``fast``: visual STL, OBJ, COLLADA and GLB meshes and primitives are read without trimesh
+#: (other formats, and a COLLADA or GLB file its reader gives up on, are counted in one note);
+#: ``all``: those
 #: too, through trimesh (about 25 ms a file, and half a second to start); ``off``: no check.
 VisualCheck = Literal["fast", "all", "off"]
 VISUAL_CHECKS: tuple[VisualCheck, ...] = ("fast", "all", "off")

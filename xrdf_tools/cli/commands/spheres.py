@@ -88,8 +88,9 @@ def visual_check_option(when: str = "") -> Any:
         help=(f"{when}: is" if when else "Is")
         + " each link's collision geometry where its visual geometry is (a warning when the "
         "boxes clearly disagree, naming the quarter turn that would match them)? fast "
-        "(default): visual STL/OBJ/COLLADA meshes and primitives are read without trimesh, "
-        "other formats (and a COLLADA file the reader gives up on) are counted in one note; "
+        "(default): visual STL/OBJ/COLLADA/GLB meshes and primitives are read without trimesh, "
+        "other formats (and a COLLADA or GLB file its reader gives up on) are counted in one "
+        "note; "
         "all: those too, through trimesh (about 25 ms a file); off: no check.",
     )
 
