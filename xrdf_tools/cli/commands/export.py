@@ -201,8 +201,8 @@ def _expanded_note(urdf: Path, written: Path, plain: int) -> Diagnostic:
     """The note on the expanded URDF written, with the ``plain`` ``file://`` mesh names it
     holds as plain paths."""
     rewritten = (
-        f"; its {plain} file:// mesh name(s) written as plain paths, which cuRobo finds (it "
-        "keeps a file:// name as written)"
+        f"; its {plain} file:// mesh name(s) written as plain paths (cuRobo joins a file:// "
+        "name to asset_root_path and never finds it)"
         if plain
         else ""
     )
