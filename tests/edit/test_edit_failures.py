@@ -118,7 +118,7 @@ async def _send(url: str, build: Callable[[dict[str, str]], bytes]) -> None:
         while True:  # the page's controls, until it has sent them all
             try:
                 raw = await asyncio.wait_for(ws.recv(), 1 if "Scale factor" in uuids else 10)
-            except TimeoutError:
+            except asyncio.TimeoutError:  # not the builtin TimeoutError before Python 3.11
                 break
             assert isinstance(raw, bytes)
             size, packed = int.from_bytes(raw[:8], "little"), int.from_bytes(raw[8:16], "little")

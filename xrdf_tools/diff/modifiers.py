@@ -41,7 +41,7 @@ def _keyed(mods: Sequence[Modifier]) -> dict[_Key, Modifier]:
             base = ("set_base_frame", "")
         else:
             base = ("remove_mimic_attributes", m.joint_name)
-        out[(*base, seen[base])] = m
+        out[base[0], base[1], seen[base]] = m
         seen[base] += 1
     return out
 

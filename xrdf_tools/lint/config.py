@@ -237,7 +237,7 @@ def _pyproject_table(p: Path) -> dict[str, Any] | None:
     if sys.version_info >= (3, 11):
         import tomllib
     else:  # pragma: no cover - Python 3.10: tomli is a dependency there
-        import tomli as tomllib
+        import tomli as tomllib  # type: ignore[import-not-found, unused-ignore]
     text = read_input_text(p, what="pyproject.toml", error=ConfigError)
     try:
         doc = tomllib.loads(text)

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from ..util.arrays import FloatArray
+from ..util.arrays import AnyArray, FloatArray
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 from .collada_materials import loadable_materials
 from .collada_values import (
@@ -184,7 +184,7 @@ class _Document:
         return out
 
     def _walk(self, node: Any, parent: FloatArray, out: list[FloatArray]) -> None:
-        transforms: list[np.ndarray] = []
+        transforms: list[AnyArray] = []
         children: list[Any] = []
         for sub in node:
             name = self._local(sub)
@@ -368,7 +368,7 @@ class _Primitive:
     vertices: _Vertices
     sources: dict[str, FloatArray]
 
-    def vertex_indices(self) -> list[np.ndarray]:
+    def vertex_indices(self) -> list[AnyArray]:
         inputs = self._inputs()
         stride = max(offset for offset, _, _ in inputs) + 1
         rows = self._rows(stride)
@@ -408,7 +408,7 @@ class _Primitive:
             raise fail("a primitive without exactly one VERTEX input", self.element)
         return out
 
-    def _rows(self, stride: int) -> np.ndarray:
+    def _rows(self, stride: int) -> AnyArray:
         """The index array, one row a vertex of a polygon, columns the input offsets."""
         kind = self.doc._local(self.element)
         lists = self.element.findall(self.doc.t("p"))
@@ -434,4 +434,5 @@ class _Primitive:
                     raise fail("a <polylist> whose <p> does not match <vcount>", self.element)
             if len(flat) % corners:
                 raise fail(f"a <{kind}> <p> of {len(flat)} numbers", self.element)
-        return flat.reshape(-1, stride)
+        rows: AnyArray = flat.reshape(-1, stride)
+        return rows

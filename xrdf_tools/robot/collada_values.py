@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from ..util.arrays import AnyArray
 from ..util.errors import XrdfToolsError
 
 __all__ = ["TRANSFORMS", "ColladaNotRead", "ColladaTooBig", "composed", "fail", "numbers", "ref"]
@@ -35,7 +36,7 @@ def ref(element: Any, attribute: str) -> str | None:
     return value[1:] if value and value.startswith("#") else None
 
 
-def numbers(element: Any, dtype: type) -> np.ndarray:
+def numbers(element: Any, dtype: type) -> AnyArray:
     """The numbers of ``element``'s text; a child (an entity reference) or a word that is not
     a number raises."""
     if len(element):
@@ -46,27 +47,27 @@ def numbers(element: Any, dtype: type) -> np.ndarray:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         try:
-            values: np.ndarray = np.fromstring(text, dtype=dtype, sep=" ")
+            values: AnyArray = np.fromstring(text, dtype=dtype, sep=" ")
         except (ValueError, DeprecationWarning):
             raise fail("a number that does not parse", element) from None
     return values
 
 
-def _translate(v: np.ndarray, element: Any) -> np.ndarray:
+def _translate(v: AnyArray, element: Any) -> AnyArray:
     _count(v, 3, element)
     m = np.identity(4, dtype=np.float32)
     m[:3, 3] = v
     return m
 
 
-def _scale(v: np.ndarray, element: Any) -> np.ndarray:
+def _scale(v: AnyArray, element: Any) -> AnyArray:
     _count(v, 3, element)
     m = np.identity(4, dtype=np.float32)
     m[0, 0], m[1, 1], m[2, 2] = v
     return m
 
 
-def _rotate(v: np.ndarray, element: Any) -> np.ndarray:
+def _rotate(v: AnyArray, element: Any) -> AnyArray:
     """pycollada's ``makeRotationMatrix`` (the axis taken as written, not normalised)."""
     _count(v, 4, element)
     x, y, z = v[0], v[1], v[2]
@@ -82,12 +83,12 @@ def _rotate(v: np.ndarray, element: Any) -> np.ndarray:
     return np.array(rows, dtype=np.float32)
 
 
-def _matrix(v: np.ndarray, element: Any) -> np.ndarray:
+def _matrix(v: AnyArray, element: Any) -> AnyArray:
     _count(v, 16, element)
     return v.reshape(4, 4)
 
 
-def _count(values: np.ndarray, count: int, element: Any) -> None:
+def _count(values: AnyArray, count: int, element: Any) -> None:
     if len(values) != count or not np.all(np.isfinite(values)):
         raise fail(f"a transform of {len(values)} numbers, not {count} finite", element)
 
@@ -95,11 +96,11 @@ def _count(values: np.ndarray, count: int, element: Any) -> None:
 TRANSFORMS = {"translate": _translate, "scale": _scale, "rotate": _rotate, "matrix": _matrix}
 
 
-def composed(transforms: list[np.ndarray]) -> np.ndarray:
+def composed(transforms: list[AnyArray]) -> AnyArray:
     """A node's transforms composed as pycollada composes them (single precision)."""
     if not transforms:
         return np.identity(4)
-    matrix = transforms[0].copy()
+    matrix: AnyArray = transforms[0].copy()
     for transform in transforms[1:]:
         matrix = np.dot(matrix, transform)
     return matrix

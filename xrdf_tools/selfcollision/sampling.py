@@ -20,7 +20,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
-from ..util.arrays import FloatArray
+from ..util.arrays import FloatArray, Int64Array
 
 Method = Literal["halton", "uniform"]
 
@@ -118,7 +118,7 @@ def halton(
     for j, base in enumerate(bases):
         table, tail = tables[j], tails[j]
         K = table.shape[0]
-        index = np.arange(start, start + n, dtype=np.int64)
+        index: Int64Array = np.arange(start, start + n, dtype=np.int64)
         acc = np.zeros(n, dtype=np.int64)
         k = 0
         while k < K and index.any():

@@ -45,7 +45,7 @@ def surface_distance(mesh: trimesh.Trimesh, points: FloatArray) -> FloatArray:
     if len(pts) == 0 or len(tri) == 0:
         return np.full(len(pts), np.inf)
     upper, _ = cKDTree(vertices).query(pts)
-    best = np.asarray(upper, dtype=np.float64).copy()
+    best: FloatArray = np.asarray(upper, dtype=np.float64).copy()
     lo, hi = tri.min(1), tri.max(1)
     half = 0.5 * np.linalg.norm(hi - lo, axis=1)
     large = _large_triangles(half)

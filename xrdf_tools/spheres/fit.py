@@ -292,7 +292,7 @@ class SphereFitter:
 
     def kept(self, points: FloatArray) -> FloatArray:
         """The points on the kept side of every clip plane."""
-        keep = np.ones(len(points), dtype=bool)
+        keep: BoolArray = np.ones(len(points), dtype=bool)
         for plane in self.clips:
             keep &= self._plane_distance(points, plane) > 0.0
         return points[keep]

@@ -123,8 +123,8 @@ def inscribed(
     half the overshoot, radius shrunk by as much). It reaches no further than before, so it
     stays on the kept side of the planes already applied. Radii may end up negative (a
     sphere wholly on the wrong side)."""
-    c = np.array(centers, dtype=np.float64).reshape(-1, 3)
-    r = np.array(radii, dtype=np.float64).reshape(-1)
+    c: FloatArray = np.array(centers, dtype=np.float64).reshape(-1, 3)
+    r: FloatArray = np.array(radii, dtype=np.float64).reshape(-1)
     for (nx, ny, nz), d in planes:
         gap = c[:, 0] * nx + c[:, 1] * ny + c[:, 2] * nz - d
         over = np.maximum(r - gap, 0.0)

@@ -2,18 +2,33 @@
 
 from __future__ import annotations
 
+from typing import Any, TypeVar
+
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["BoolArray", "FloatArray", "Int64Array", "IntArray", "ragged_index", "sorted_unique"]
+__all__ = [
+    "AnyArray",
+    "BoolArray",
+    "FloatArray",
+    "Int64Array",
+    "IntArray",
+    "ragged_index",
+    "sorted_unique",
+]
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.intp]
 Int64Array = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
+#: an array of any dtype (what a bare ``np.ndarray`` means; numpy < 2.3 stubs need the argument)
+AnyArray = npt.NDArray[Any]
 
 
-def sorted_unique(a: npt.NDArray[np.integer]) -> npt.NDArray[np.integer]:
+_Integer = TypeVar("_Integer", bound=np.integer)
+
+
+def sorted_unique(a: npt.NDArray[_Integer]) -> npt.NDArray[_Integer]:
     """The distinct values of the 1-D integer array ``a``, sorted: ``np.unique(a)`` without
     its start-up cost (numpy >= 2.3 imports ``numpy.ma`` on the first plain ``np.unique``)."""
     s = np.sort(a, kind="stable")

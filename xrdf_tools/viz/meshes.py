@@ -203,7 +203,7 @@ def _trimesh_color(mesh: Any) -> Rgba | None:
         return None
     if c is None:
         return None
-    arr = np.asarray(c, dtype=np.float64).ravel()
+    arr: FloatArray = np.asarray(c, dtype=np.float64).ravel()
     if arr.size < 3:
         return None
     if arr.max() > 1.0:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from ..util.arrays import FloatArray, IntArray
 from ..util.errors import XrdfToolsError
 from ..util.fixed_order import transform_points
 from . import DEFAULT_PICTURE, Picture, atomic_path
@@ -73,7 +74,7 @@ def png_title(scene: Scene) -> str:
     return f"{first}\n{second}"
 
 
-def _unit_sphere_quads(n_around: int = 18, n_down: int = 10) -> np.ndarray:
+def _unit_sphere_quads(n_around: int = 18, n_down: int = 10) -> FloatArray:
     """The quadrilaterals [F, 4, 3] of a unit sphere on a longitude × latitude grid (the
     grid ``plot_surface`` would draw)."""
     u = np.linspace(0.0, 2.0 * np.pi, n_around)
@@ -135,9 +136,9 @@ def _draw(
     poses = scene.poses[0]
     colors = scene.colors(0)
     handles = []
-    centers: list[np.ndarray] = []
-    radii: list[np.ndarray] = []
-    rgb: list[np.ndarray] = []
+    centers: list[FloatArray] = []
+    radii: list[FloatArray] = []
+    rgb: list[FloatArray] = []
     for link in scene.links:
         if not link.n_spheres:
             continue
@@ -200,19 +201,19 @@ def _hide_depth_axis(ax: Any, view: tuple[float, float]) -> None:
         getattr(ax, f"set_{axis}label")("")
 
 
-def sphere_quads(centers: np.ndarray, radii: np.ndarray) -> np.ndarray:
+def sphere_quads(centers: FloatArray, radii: FloatArray) -> FloatArray:
     """The quadrilaterals [N × F, 4, 3] of spheres ``centers`` [N, 3], ``radii`` [N], sphere
     by sphere, on the finest unit sphere whose N × F polygons stay within
     :data:`MAX_POLYGONS`."""
     unit = next(
         (u for u in _UNIT_SPHERES if len(u) * len(radii) <= MAX_POLYGONS), _UNIT_SPHERES[-1]
     )
-    verts: np.ndarray = centers[:, None, None, :] + radii[:, None, None, None] * unit[None]
+    verts: FloatArray = centers[:, None, None, :] + radii[:, None, None, None] * unit[None]
     return verts.reshape(-1, 4, 3)
 
 
 def _add_spheres(
-    fig: Any, ax: Any, centers: np.ndarray, radii: np.ndarray, rgb: np.ndarray
+    fig: Any, ax: Any, centers: FloatArray, radii: FloatArray, rgb: FloatArray
 ) -> None:
     """Every sphere as shaded, translucent polygons, projected here with the axes' camera
     (``ax.get_proj()``: the view and limits must be set) and drawn as one 2-D collection in
@@ -229,7 +230,9 @@ def _add_spheres(
     faces = np.concatenate([colors, np.full((len(quads), 1), SPHERE_ALPHA)], axis=1)
     xy, depth = project(quads, ax.get_proj())
     order = painter_order(depth)
-    polygons = PolyCollection(xy[order], facecolors=faces[order], linewidths=0.0, antialiased=False)
+    # matplotlib's stubs ask for a sequence of polygons; it takes the [F, 4, 2] array as it is
+    verts: Any = xy[order]
+    polygons = PolyCollection(verts, facecolors=faces[order], linewidths=0.0, antialiased=False)
     polygons.set_transform(ax.transData)
     polygons.set_clip_path(ax.patch)
     fig.add_artist(polygons)
@@ -241,7 +244,7 @@ SPHERE_ALPHA = 0.85
 LIGHT_AZIMUTH, LIGHT_ALTITUDE = 225.0, 19.4712
 
 
-def shaded(rgb: np.ndarray, quads: np.ndarray) -> np.ndarray:
+def shaded(rgb: FloatArray, quads: FloatArray) -> FloatArray:
     """The colours ``rgb`` [F, 3] of the quads [F, 4, 3] lit by :data:`LIGHT_AZIMUTH` /
     :data:`LIGHT_ALTITUDE`: scaled from 0.3 (facing away) to 1 (facing the light), 0.65 for a
     quad without area (a pole's, or a sphere of radius 0), as matplotlib shades a 3-D surface.
@@ -259,11 +262,11 @@ def shaded(rgb: np.ndarray, quads: np.ndarray) -> np.ndarray:
     with np.errstate(invalid="ignore", divide="ignore"):
         cosine = np.where(length > 0.0, facing / length, 0.0)
     factor = 0.3 + 0.7 * ((cosine + 1.0) / 2.0)
-    colors: np.ndarray = rgb * factor[:, None]
+    colors: FloatArray = rgb * factor[:, None]
     return colors
 
 
-def project(quads: np.ndarray, projection: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def project(quads: FloatArray, projection: FloatArray) -> tuple[FloatArray, FloatArray]:
     """The quads [F, 4, 3] under the 4x4 ``projection`` (a 3-D axes' ``get_proj()``): their
     2-D corners [F, 4, 2] in the axes' data coordinates and each quad's mean depth [F] (larger
     is farther). Each row of ``M (x, y, z, 1)`` is summed term by term in index order, as
@@ -271,8 +274,8 @@ def project(quads: np.ndarray, projection: np.ndarray) -> tuple[np.ndarray, np.n
     points = np.asarray(quads, dtype=np.float64).reshape(-1, 3)
     m = np.asarray(projection, dtype=np.float64)
 
-    def row(r: int) -> np.ndarray:
-        out: np.ndarray = points[:, 0] * m[r, 0] + points[:, 1] * m[r, 1]
+    def row(r: int) -> FloatArray:
+        out: FloatArray = points[:, 0] * m[r, 0] + points[:, 1] * m[r, 1]
         out = out + points[:, 2] * m[r, 2] + m[r, 3]
         return out
 
@@ -282,11 +285,11 @@ def project(quads: np.ndarray, projection: np.ndarray) -> tuple[np.ndarray, np.n
     return xy, depth
 
 
-def painter_order(depth: np.ndarray) -> np.ndarray:
+def painter_order(depth: FloatArray) -> IntArray:
     """The quads' drawing order [F]: farthest first, equal depths in descending index order
     (a stable sort reversed): the same on every machine, where an unstable sort breaks the
     ties of a sphere's symmetric quads one way with numpy's AVX-512 sort and another without."""
-    order: np.ndarray = np.argsort(depth, kind="stable")[::-1]
+    order: IntArray = np.argsort(depth, kind="stable")[::-1]
     return order
 
 

@@ -52,7 +52,9 @@ def _scratch(B: int) -> dict[int, FloatArray]:
     cached: tuple[int, dict[int, FloatArray]] | None = getattr(_WORK, "buffers", None)
     if cached is not None and cached[0] == B:
         return cached[1]
-    bufs = {c: np.empty((3, abs(c), B)) for c in (3, 4, 5, 10, -3, -4, -5, -10)}
+    bufs: dict[int, FloatArray] = {}
+    for c in (3, 4, 5, 10, -3, -4, -5, -10):
+        bufs[c] = np.empty((3, abs(c), B))
     if B <= _WORK_MAX_BATCH:
         _WORK.buffers = (B, bufs)
     return bufs
@@ -86,7 +88,8 @@ def _fk_batch_last(
     B = q2.shape[0]
     R[0] = np.eye(3)[:, :, None]
     t[0] = 0.0
-    vals = sin = omc = np.empty((0, B))
+    vals: FloatArray = np.empty((0, B))
+    sin = omc = vals
     if len(plan.row_q):
         vals = q2.T[plan.row_q]  # [rows, B], a copy
         vals *= plan.row_mult[:, None]
@@ -206,5 +209,5 @@ def fk(model: KinematicModel, q: npt.ArrayLike, frames: FrameSelection = None) -
         fk_batch_last(model, q2, sel, out=(out[:, :3, :3], out[:, :3, 3]))
     out[:, 3, :3] = 0.0
     out[:, 3, 3] = 1.0
-    view = out.transpose(3, 0, 1, 2)
+    view: FloatArray = out.transpose(3, 0, 1, 2)
     return view[0] if single else view

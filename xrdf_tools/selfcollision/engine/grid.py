@@ -190,7 +190,7 @@ def _far_2d(ev: _CellTest, shape: list[int], h: FloatArray) -> BoolArray:
     hc = h * _SPLIT
     if math.isfinite(ev.low[0]):
         p0, p1 = -(-c0 // _SPLIT), -(-c1 // _SPLIT)
-        coarse = _children_far(ev, np.arange(p0 * p1), p1, (c0, c1), hc).ravel()
+        coarse: BoolArray = _children_far(ev, np.arange(p0 * p1), p1, (c0, c1), hc).ravel()
     else:
         i0, i1 = np.divmod(np.arange(c0 * c1), c1)
         coarse = ev.far([i0, i1], hc)
