@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from ..util.arrays import FloatArray
+from ..util.arrays import AnyArray, FloatArray
 
 __all__ = ["GltfNotRead", "glb_vertices"]
 
@@ -112,7 +112,8 @@ def _instances(doc: Mapping[str, Any]) -> Iterator[tuple[int, FloatArray]]:
 def _local(node: Mapping[str, Any]) -> FloatArray:
     """A node's own transform: its ``matrix`` (column-major), else T · R · S."""
     if "matrix" in node:
-        return _numbers(node["matrix"], 16, "matrix").reshape(4, 4).T
+        given: FloatArray = _numbers(node["matrix"], 16, "matrix").reshape(4, 4).T
+        return given
     m = np.eye(4)
     x, y, z, w = _numbers(node.get("rotation", [0, 0, 0, 1]), 4, "rotation")
     m[:3, :3] = [
@@ -149,7 +150,8 @@ def _used(doc: Mapping[str, Any], binary: bytes, primitive: Mapping[str, Any]) -
         raise GltfNotRead("an index past the POSITION accessor")
     referenced = np.zeros(len(positions), dtype=bool)
     referenced[used.astype(np.intp)] = True
-    return positions[referenced]
+    kept: FloatArray = positions[referenced]
+    return kept
 
 
 #: glTF component types of indices: unsigned byte, short and int.
@@ -188,7 +190,7 @@ def _accessor(
     strides = (stride, dtype.itemsize) if kind == "VEC3" else (stride,)
     if not count:
         return np.zeros(shape)
-    values = np.ndarray(shape, dtype=dtype, buffer=binary, offset=start, strides=strides)
+    values: AnyArray = np.ndarray(shape, dtype=dtype, buffer=binary, offset=start, strides=strides)
     return np.asarray(values, dtype=np.float64)
 
 
