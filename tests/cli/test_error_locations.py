@@ -512,6 +512,26 @@ def test_a_yaml_file_given_as_the_robot_says_which_file_goes_where(
     assert "malformed XML" in _error(runner, "convert", str(other))
 
 
+@pytest.mark.parametrize(
+    "name, data",
+    [
+        ("robot.usda", b'#usda 1.0\n(\n    defaultPrim = "robot"\n)\n'),
+        ("robot.usd", b"PXR-USDC" + bytes(88)),
+        ("robot.usdz", b"PK\x03\x04" + bytes(60)),
+    ],
+)
+def test_a_usd_stage_given_as_the_robot_is_named_for_what_it_is(
+    runner: CliRunner, tmp_path: Path, name: str, data: bytes
+) -> None:
+    """Isaac Sim's robots come as USD stages: given where the URDF goes, the error was the XML
+    parser's 'malformed XML: Start tag expected'."""
+    usd = tmp_path / name
+    usd.write_bytes(data)
+    err = _error(runner, "inspect", str(usd))
+    assert err.startswith(f"error: {usd}:1:1: a USD stage (Isaac Sim), not a URDF"), err
+    assert "USD to URDF Exporter" in err and len(err.splitlines()) == 1, err
+
+
 def test_an_include_that_cannot_be_read_is_located_at_its_include_tag(
     runner: CliRunner, tmp_path: Path
 ) -> None:

@@ -192,6 +192,21 @@ def parse_robot(
     )
 
 
+#: How a USD stage begins: ASCII (``.usda``), binary crate (``.usdc``, often ``.usd``), or a
+#: zip package (``.usdz``, told by its suffix: a zip is no XML either).
+_USD_STARTS = (b"#usda ", b"PXR-USDC")
+
+
+def _usd_hint(data: bytes, path: str) -> str:
+    """The message for a USD stage given where the URDF goes (Isaac Sim's robots), else ''."""
+    if not (data.startswith(_USD_STARTS) or path.lower().endswith(".usdz")):
+        return ""
+    return (
+        "a USD stage (Isaac Sim), not a URDF: give the robot's URDF (Isaac Sim's USD to URDF "
+        "Exporter, extension isaacsim.asset.exporter.urdf, writes one)"
+    )
+
+
 def _yaml_robot_hint(data: bytes, path: str) -> str:
     """What a file that is no XML is, when it is one of the YAML files given beside a URDF
     (a cuRobo robot config, an XRDF): the message that says which file goes where; else ''."""
@@ -242,7 +257,7 @@ def _parse_bytes(
     try:
         root = parse_xml(data, remove_blank_text=True, undeclared_prefixes=undeclared)
     except XmlSyntaxError as e:
-        hint = _yaml_robot_hint(data, path)
+        hint = _usd_hint(data, path) or _yaml_robot_hint(data, path)
         if hint:
             raise UrdfError(hint, path=path, line=1, col=1) from None
         raise UrdfError(f"malformed XML: {e.reason}", path=path, line=e.line, col=e.col) from None
