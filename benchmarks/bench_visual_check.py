@@ -27,7 +27,7 @@ sys.path.insert(0, str(REPO))
 
 from tests.robots import robots_dir  # noqa: E402
 from xrdf_tools.robot.collada_points import collada_vertices  # noqa: E402
-from xrdf_tools.robot.element_bounds import mesh_file_vertices, resolver_of  # noqa: E402
+from xrdf_tools.robot.element_bounds import mesh_file_vertices  # noqa: E402
 from xrdf_tools.robot.xacro_source import load_robot  # noqa: E402
 from xrdf_tools.spheres.geometry import load_link_geometry  # noqa: E402
 from xrdf_tools.spheres.visual_agreement import visual_disagreements  # noqa: E402
@@ -42,7 +42,7 @@ ROBOTS = {
 
 def visual_dae_files(robot: object) -> list[Path]:
     """The distinct visual ``.dae`` files of ``robot``."""
-    resolver = resolver_of(robot)  # type: ignore[arg-type]
+    resolver = robot.mesh_resolver()  # type: ignore[attr-defined]
     base = Path(robot.path).resolve().parent  # type: ignore[attr-defined]
     found: set[Path] = set()
     for link in robot.urdf.link_map.values():  # type: ignore[attr-defined]

@@ -15,7 +15,6 @@ from tests.robots import robots_dir
 from xrdf_tools.cli import app
 from xrdf_tools.diagnostics import Diagnostic
 from xrdf_tools.robot.element_bounds import Box, elements_bounds
-from xrdf_tools.robot.packages import resolver_of
 from xrdf_tools.robot.xacro_source import load_robot
 from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.geometry import load_link_geometry
@@ -173,7 +172,7 @@ def test_stl_and_obj_vertices_read_with_numpy_give_trimesh_s_box(tmp_path: Path)
     expected.apply_transform(trimesh.transformations.rotation_matrix(1.5708, (0, 0, 1)))
     expected.apply_translation((0, 0, 1))
     for link in "abc":
-        box = elements_bounds(robot, link, "visual", resolver_of(robot))
+        box = elements_bounds(robot, link, "visual", robot.mesh_resolver())
         assert isinstance(box, Box)
         np.testing.assert_allclose([box.low, box.high], expected.bounds, atol=1e-6)
 
@@ -185,7 +184,7 @@ def test_a_turned_cylinder_s_box_is_its_rims(tmp_path: Path) -> None:
         '<cylinder radius="0.05" length="0.4"/></geometry></visual></link></robot>'
     )
     robot = load_robot(urdf)
-    box = elements_bounds(robot, "l", "visual", resolver_of(robot))
+    box = elements_bounds(robot, "l", "visual", robot.mesh_resolver())
     assert isinstance(box, Box)
     np.testing.assert_allclose(box.low, (-0.05, -0.2, -0.05), atol=1e-4)
     np.testing.assert_allclose(box.high, (0.05, 0.2, 0.05), atol=1e-4)

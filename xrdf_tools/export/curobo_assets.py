@@ -58,9 +58,8 @@ def mesh_root(robot: Robot, *, plain_file_names: bool = False) -> MeshRoot:
     writes, whose ``file://`` names are absolute paths, which any directory serves.
 
     A package that cannot be found is left to the mesh checks of the other commands."""
-    from ..robot.packages import resolver_of
 
-    resolver = resolver_of(robot)
+    resolver = robot.mesh_resolver()
     own = Path(robot.path).resolve().parent
     serves: dict[Path | None, list[str]] = {}
     misnamed: dict[str, str] = {}

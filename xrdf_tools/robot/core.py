@@ -36,6 +36,7 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from ..diagnostics import Diagnostic
+    from .packages import PackageResolver
 
 
 __all__ = ["Robot", "as_robot"]
@@ -151,6 +152,16 @@ class Robot:
     def tree(self) -> RobotTree:
         """The URDF as a tree of names (:class:`~xrdf_tools.robot.tree.RobotTree`)."""
         return RobotTree.from_parts(self.name, self.path, self.links, self.joints)
+
+    def mesh_resolver(self, package_paths: Mapping[str, str] | None = None) -> PackageResolver:
+        """The package resolver of this robot's meshes: from its file, with its own package
+        paths, or ``package_paths`` in their place."""
+        from pathlib import Path
+
+        from .packages import PackageResolver
+
+        pkgs = self.package_paths if package_paths is None else package_paths
+        return PackageResolver(Path(self.path), dict(pkgs))
 
     def source_line(self, kind: Literal["link", "joint"], name: str) -> int | None:
         """Line of the ``<link>``/``<joint>`` element named ``name`` (None if unknown)."""

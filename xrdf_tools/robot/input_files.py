@@ -26,7 +26,6 @@ def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
     file its links name that can be found (no mesh is read; a URI that resolves to nothing is
     left out, there is nothing to overwrite there), each once, in document order."""
     from .core import as_robot
-    from .packages import resolver_of
 
     loaded = as_robot(robot)
     files: dict[Path, None] = {}
@@ -35,7 +34,7 @@ def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
     for file in loaded.included_files:
         files[Path(file)] = None
     base = Path(loaded.path).resolve().parent
-    resolver = resolver_of(loaded)
+    resolver = loaded.mesh_resolver()
     for uri in _mesh_uris(loaded):
         try:
             files[resolver.resolve_uri(uri, base)] = None

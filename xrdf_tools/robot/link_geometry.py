@@ -175,10 +175,9 @@ def link_geometry(
     are skipped. ``package_paths`` replaces the robot's own for resolving ``package://``.
     """
     from .core import as_robot
-    from .packages import resolver_of
 
     loaded = as_robot(robot)
-    reader = _MeshReader(resolver_of(loaded, package_paths), Path(loaded.path).resolve().parent)
+    reader = _MeshReader(loaded.mesh_resolver(package_paths), Path(loaded.path).resolve().parent)
     link_map: Mapping[str, Any] = loaded.urdf.link_map
     materials = _global_materials(loaded.urdf)
     out: dict[str, LinkParts] = {}
@@ -214,10 +213,9 @@ def missing_meshes(
     be found or is no file (see :attr:`PartFailure.missing`), without reading any mesh: a
     check that costs a ``stat`` per mesh, made before long work that needs the meshes."""
     from .core import as_robot
-    from .packages import resolver_of
 
     loaded = as_robot(robot)
-    reader = _MeshReader(resolver_of(loaded, package_paths), Path(loaded.path).resolve().parent)
+    reader = _MeshReader(loaded.mesh_resolver(package_paths), Path(loaded.path).resolve().parent)
     link_map: Mapping[str, Any] = loaded.urdf.link_map
     out: list[PartFailure] = []
     for name in loaded.links if links is None else dict.fromkeys(links):

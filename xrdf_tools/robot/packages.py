@@ -31,14 +31,10 @@ import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 from urllib.parse import unquote
 
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import read_input_bytes
-
-if TYPE_CHECKING:
-    from .core import Robot
 
 _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 
@@ -322,10 +318,3 @@ def unfound_packages_note(failures: Iterable[tuple[str | None, str]]) -> str:
         return ""
     named = ", ".join(f"{name} ({n} mesh(es))" for name, n in counts.items())
     return f"; packages not found: {named}: pass --package-path NAME=DIR for each"
-
-
-def resolver_of(robot: Robot, package_paths: Mapping[str, str] | None = None) -> PackageResolver:
-    """The package resolver of ``robot``'s meshes: from its file, with its own package paths,
-    or ``package_paths`` in their place."""
-    pkgs = robot.package_paths if package_paths is None else package_paths
-    return PackageResolver(Path(robot.path), dict(pkgs))

@@ -29,7 +29,6 @@ import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.element_bounds import Box, Unbounded, elements_bounds
-from ..robot.packages import resolver_of
 from ..util.arrays import FloatArray
 from ..util.text import name_list
 
@@ -88,7 +87,7 @@ def visual_disagreements(
     (``check``: see :data:`VisualCheck`)."""
     if check == "off":
         return []
-    resolver = resolver_of(robot, package_paths)
+    resolver = robot.mesh_resolver(package_paths)
     out: list[Diagnostic] = []
     unread: list[tuple[str, Unbounded]] = []
     for name, geom in geoms.items():
