@@ -7,7 +7,9 @@ each, and what ``fast`` skipped) and through the XML reader that ``fast`` now us
 their boxes (relative to the box's size), the seconds of the whole check
 (:func:`~xrdf_tools.spheres.visual_agreement.visual_disagreements`, ``fast``), and with
 ``--fit`` the seconds of the fit itself (``fit_robot``, default counts, check off), so the
-check's share of the fit. One JSON line per robot.
+check's share of the fit. One JSON line per robot; a last line does the same for binary glTF:
+the Panda's visual meshes written as GLB files under turned nodes, read through trimesh and
+through :func:`xrdf_tools.robot.gltf_points.glb_vertices`.
 
 Usage: ``python benchmarks/bench_visual_check.py [--fit]`` (needs example-robot-data).
 """
@@ -98,7 +100,42 @@ def measure(name: str, urdf: Path, fit: bool) -> dict[str, object]:
     return row
 
 
+def measure_glb(urdf: Path, folder: Path) -> dict[str, object]:
+    """The Panda's visual meshes written as GLB files (each under a turned, shifted node, as
+    robots converted from USD or MuJoCo ship them), read through trimesh and through
+    :func:`~xrdf_tools.robot.gltf_points.glb_vertices`."""
+    import trimesh
+
+    from xrdf_tools.robot.gltf_points import glb_vertices
+
+    files = []
+    for i, dae in enumerate(visual_dae_files(load_robot(urdf))):
+        scene = trimesh.Scene()
+        turn = trimesh.transformations.rotation_matrix(0.3 * (i + 1), (1, 2, 3), (0.1, 0, 0))
+        for mesh in trimesh.load(dae, force="scene").dump():
+            scene.add_geometry(mesh, transform=turn)
+        path = folder / f"{dae.stem}.glb"
+        path.write_bytes(scene.export(file_type="glb"))
+        files.append(path)
+    trimesh_s, expected = timed(mesh_file_vertices, files)
+    numpy_s, got = timed(lambda p: glb_vertices(p.read_bytes()), files)
+    worst = max(
+        float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-12))
+        for a, b in zip(got, expected, strict=True)
+    )
+    return {
+        "robot": "panda as GLB",
+        "glb_files": len(files),
+        "trimesh_s": round(trimesh_s, 3),
+        "glb_reader_s": round(numpy_s, 3),
+        "speedup": round(trimesh_s / numpy_s, 1),
+        "worst_relative_box_difference": worst,
+    }
+
+
 def main() -> None:
+    import tempfile
+
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fit", action="store_true", help="also time the fit itself")
     args = parser.parse_args()
@@ -107,6 +144,8 @@ def main() -> None:
         sys.exit("example-robot-data is not installed")
     for name, urdf in ROBOTS.items():
         print(json.dumps(measure(name, root / urdf, args.fit)), flush=True)
+    with tempfile.TemporaryDirectory() as folder:
+        print(json.dumps(measure_glb(root / ROBOTS["panda"], Path(folder))), flush=True)
 
 
 if __name__ == "__main__":
