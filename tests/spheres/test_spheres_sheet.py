@@ -320,3 +320,27 @@ def test_a_plate_thicker_than_its_bound_is_covered_as_a_sheet_not_by_huge_sphere
     assert _inside_some(_mid_plane_grid(TABLE), fit, "table").all()
     plate = as_plate(fit.geometry["table"].solid)
     assert plate is not None and face_reach(plate, spheres) < 0.08
+
+
+def test_a_plate_a_joint_moves_is_not_sent_to_the_planner_as_a_world_cuboid(
+    tmp_path: Path,
+) -> None:
+    """The car-seat cell of tesseract's support package carries its arm on a 1000 x 722 x
+    50 mm carriage along a prismatic rail: the plate note told to give that carriage to the
+    planner as a world cuboid, which would stay where it was while the rail moves the arm.
+    A plate moved by a joint (through a fixed joint here) is said to move with it; a fixed
+    one keeps the world-cuboid advice (the test above)."""
+    _plate((1.0, 0.722, 0.05)).export(tmp_path / "carriage.stl")
+    urdf = tmp_path / "rail.urdf"
+    urdf.write_text(
+        '<robot name="rail"><link name="base"/><link name="slider"/><link name="carriage">'
+        '<collision><geometry><mesh filename="carriage.stl"/></geometry></collision></link>'
+        '<joint name="rail_axis" type="prismatic"><parent link="base"/><child link="slider"/>'
+        '<axis xyz="1 0 0"/><limit lower="0" upper="4" effort="1" velocity="1"/></joint>'
+        '<joint name="mount" type="fixed"><parent link="slider"/><child link="carriage"/>'
+        "</joint></robot>"
+    )
+    (note,) = fit_robot(urdf).diagnostics
+    assert "link 'carriage' is a plate" in note.message, note
+    assert "It moves with joint 'rail_axis', so it keeps these spheres" in note.message
+    assert "world cuboid would not follow it" in note.message

@@ -145,12 +145,14 @@ def fit_one(
     diags: list[Diagnostic],
     mode: str = "hard",
     own_bound: bool = False,
+    moved_by: str | None = None,
 ) -> tuple[Sphere, ...]:
     """One link's spheres: ``k`` of them (``mode``: ``hard`` within the fitter's bound,
     ``refine`` then refined on coverage and protrusion, ``search`` under the smallest bound
     at which they cover ``counts.count_coverage``), or the fewest reaching the coverage
     target (past the default bound when it cannot be reached within it, unless the link has
-    a bound of its own: :mod:`.fewest`)."""
+    a bound of its own: :mod:`.fewest`). ``moved_by``: the joint nearest above the link that
+    moves it (None: fixed to the root), for the advice on a plate."""
     if fitter.empty and k != 0:
         diags.append(
             fit_note(
@@ -187,7 +189,7 @@ def fit_one(
     past = not own_bound and counts.refine
     spheres, note = default_fit(fitter, counts.target_coverage, past=past, most=MAX_PER_LINK)
     if past and note is not None and not len(fitter.clips):
-        plate = _plate_instead(fitter, geom, spheres, path, diags)
+        plate = _plate_instead(fitter, geom, spheres, (path, moved_by), diags)
         if plate is not None:
             return plate
     if note is not None:
@@ -201,7 +203,7 @@ def _plate_instead(
     fitter: SphereFitter,
     geom: LinkGeometry,
     spheres: tuple[Sphere, ...],
-    path: str,
+    where: tuple[str, str | None],
     diags: list[Diagnostic],
 ) -> tuple[Sphere, ...] | None:
     """A plate's sheet spheres (:func:`.sheet.sheet_spheres`) in place of ``spheres``, refined
@@ -209,7 +211,8 @@ def _plate_instead(
     A plate thicker than its bound is no sheet (:func:`.sheet.as_sheet`), and refining a few
     spheres past the bound over a wide one makes them huge: 16 over the 1.2 m table of
     Trossen's Stationary AI reached 156 mm above it, so every arm link near the table
-    collided with it."""
+    collided with it. ``where``: the URDF path the note names and the joint that moves the
+    link (None: fixed to the root)."""
     from .sheet import as_plate, face_reach, plate_message, sheet_spheres
 
     plate = as_plate(geom.solid)
@@ -222,6 +225,7 @@ def _plate_instead(
     from .fit import default_max_protrusion
 
     bound = default_max_protrusion(geom.solid)  # fitter.tau is widened past it by now
-    message, warn = plate_message(geom.link, plate, flat, bound, past, len(spheres))
+    path, moved_by = where
+    message, warn = plate_message(geom.link, plate, flat, bound, past, len(spheres), moved_by)
     diags.append(fit_note(path, geom.line, RULE_SHEET, message, warn=warn))
     return flat

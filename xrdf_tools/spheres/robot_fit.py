@@ -143,6 +143,7 @@ def fit_robot(
         path,
         progress if progress is not None else (lambda _link, _i, _n: None),
         diags,
+        _moving_joints(robot) if isinstance(robot, Robot) else {},
     )
     _prepare(run)
     copies = Counter(run.first_of[key] for key, *_rest in run.plans.values())
@@ -209,6 +210,8 @@ class _Run:
     path: str
     step: Progress
     diags: list[Diagnostic]
+    #: Per link, the joint nearest above it that moves it (links fixed to the root: absent).
+    moved_by: Mapping[str, str]
     first_of: dict[tuple[object, ...], str] = field(default_factory=dict)
     fitters: dict[str, SphereFitter] = field(default_factory=dict)
     sheets: dict[str, SheetPlan] = field(default_factory=dict)
@@ -258,7 +261,25 @@ def _fit_solid(run: _Run, name: str, k: int | None, method: str) -> tuple[Sphere
     if method == "morphit":
         return morphit_one(fitter, k, run.counts, geom, plan, run.path, run.diags)
     mode = fit_mode(plan[1], run.counts)
-    return fit_one(fitter, k, run.counts, geom, run.path, run.diags, mode, plan[1] is not None)
+    own = plan[1] is not None
+    moved_by = run.moved_by.get(name)
+    return fit_one(fitter, k, run.counts, geom, run.path, run.diags, mode, own, moved_by)
+
+
+def _moving_joints(robot: Robot) -> dict[str, str]:
+    """Per link, the joint nearest above it that moves it: neither fixed nor held still by
+    equal limits (a carriage on a rail: the rail's joint). Links fixed to the root are left
+    out."""
+    from ..robot.chains import is_held
+
+    tree = robot.tree
+    out: dict[str, str] = {}
+    for name in tree.dfs_joints():  # a parent before its children
+        joint = tree.joints[name]
+        mover = out.get(joint.parent) if is_held(tree, name) else name
+        if mover is not None:
+            out[joint.child] = mover
+    return out
 
 
 def _take_urdf_spheres(

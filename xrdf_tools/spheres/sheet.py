@@ -235,11 +235,18 @@ def sheet_message(
 
 
 def plate_message(
-    link: str, plate: Sheet, spheres: tuple[Sphere, ...], bound: float, past: float, fitted: int
+    link: str,
+    plate: Sheet,
+    spheres: tuple[Sphere, ...],
+    bound: float,
+    past: float,
+    fitted: int,
+    moved_by: str | None = None,
 ) -> tuple[str, bool]:
     """What was done to a plate thicker than its default bound whose ``fitted`` spheres,
     refined past the bound, reached ``past`` metres from its faces; True when the sheet's
-    spheres still reach past ``SHEET_MAX_REACH`` (a warning)."""
+    spheres still reach past ``SHEET_MAX_REACH`` (a warning). ``moved_by``: the joint that
+    moves the plate (a carriage on a rail), which a world cuboid would not follow."""
     mm = 1000.0
     radius = max(s.radius for s in spheres)
     reach = face_reach(plate, spheres)
@@ -248,7 +255,21 @@ def plate_message(
         f"link '{link}' is a plate ({size}), thicker than its {bound * mm:.3g} mm default "
         f"protrusion bound and too wide to cover within it: {fitted} spheres refined past the "
         f"bound would reach {past * mm:.0f} mm from its faces; {len(spheres)} spheres of radius "
-        f"{radius * mm:.1f} mm cover all of it, reaching {reach * mm:.1f} mm. A table or "
-        "plate the robot stands on is better given to the planner as a world cuboid; "
-        "--per-link N fits N spheres to its volume"
+        f"{radius * mm:.1f} mm cover all of it, reaching {reach * mm:.1f} mm. "
+        + _plate_advice(moved_by)
     ), reach > SHEET_MAX_REACH
+
+
+def _plate_advice(moved_by: str | None) -> str:
+    """What to do about a plate's far-reaching spheres: a fixed table goes to the planner as a
+    world cuboid; a plate that joint ``moved_by`` carries needs its spheres, which move with it."""
+    volume = "--per-link N fits N spheres to its volume"
+    if moved_by is not None:
+        return (
+            f"It moves with joint '{moved_by}', so it keeps these spheres (a world cuboid "
+            f"would not follow it); {volume}"
+        )
+    return (
+        "A table or plate the robot stands on is better given to the planner as a world "
+        f"cuboid; {volume}"
+    )
