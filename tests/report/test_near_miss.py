@@ -80,3 +80,23 @@ def test_a_pair_that_stays_beyond_the_margin_may_be_ignored(tmp_path: Path) -> N
     assert pair.hits == 0 and pair.recommendation == "may-ignore"
     ignored = {frozenset((a, b)) for a, bs in r.recommended_ignore.items() for b in bs}
     assert frozenset(("post", "arm")) in ignored
+
+
+def test_pairs_of_prefixed_names_are_told_apart(tmp_path: Path) -> None:
+    """A LoCoBot's links are named 'locobot/...': its pairs printed as
+    'locobot/post/locobot/arm', which cannot be split back into two names. A pair whose names
+    hold a '/' is written 'a <-> b' (and 'a/b' as before otherwise)."""
+    from typer.testing import CliRunner
+
+    from xrdf_tools.cli import app
+
+    named = URDF.replace('"post"', '"bot/post"').replace('"arm"', '"bot/arm"')
+    urdf = tmp_path / "pass.urdf"
+    urdf.write_text(named)
+    xrdf = tmp_path / "pass.xrdf"
+    text = _xrdf(0.0).replace("post:", "bot/post:").replace("arm:", "bot/arm:")
+    xrdf.write_text(text.replace("{j1: 2.0}", "{j1: 0.0}"))  # the two spheres overlap at 0
+    r = CliRunner().invoke(app, ["report", str(xrdf), "--urdf", str(urdf), "-n", "200"])
+    (line,) = [x for x in r.output.splitlines() if "IN SELF-COLLISION" in x]
+    assert "bot/arm <-> bot/post" in line or "bot/post <-> bot/arm" in line, line
+    assert "post/bot" not in line

@@ -9,7 +9,7 @@ from collections import Counter
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, Severity
-from ..util.text import name_list
+from ..util.text import name_list, pair_text
 
 if TYPE_CHECKING:
     from ..report import PairStat, Report
@@ -50,7 +50,8 @@ def default_pose_pairs(report: Report) -> list[Diagnostic]:
     if not pairs:
         return []
     shown = name_list(
-        (f"{p.frame_a}/{p.frame_b} (apart in {1 - (p.rate or 0.0):.0%})" for p in pairs), 6
+        (f"{pair_text(p.frame_a, p.frame_b)} (apart in {1 - (p.rate or 0.0):.0%})" for p in pairs),
+        6,
     )
     msg = (
         f"{len(pairs)} pair(s) ignored because they collide at the default configuration, "
@@ -145,7 +146,8 @@ def _near_misses(near: list[PairStat]) -> str:
     """``2 pair(s) checked although they never collided: ... (closest a/b 0.1 mm)``."""
     closest = sorted(near, key=lambda p: (p.min_clearance or 0.0, p.frame_a, p.frame_b))
     shown = name_list(
-        f"{p.frame_a}/{p.frame_b} {(p.min_clearance or 0.0) * 1000:.1f} mm" for p in closest
+        f"{pair_text(p.frame_a, p.frame_b)} {(p.min_clearance or 0.0) * 1000:.1f} mm"
+        for p in closest
     )
     return (
         f"{len(near)} pair(s) checked although they never collided: they came within the 10 mm "
@@ -168,10 +170,10 @@ def _removed_pairs(report: Report, removed: list[tuple[str, str]]) -> str:
     def named(a: str, b: str) -> str:
         rate = rates.get(frozenset((a, b)))
         if rate:
-            return f"{a}/{b} (in {_share(rate)} of samples)"
+            return f"{pair_text(a, b)} (in {_share(rate)} of samples)"
         gap = gaps.get(frozenset((a, b)))
         if gap is None:
-            return f"{a}/{b}"
-        return f"{a}/{b} ({gap * 1000:.1f} mm apart at the closest)"
+            return pair_text(a, b)
+        return f"{pair_text(a, b)} ({gap * 1000:.1f} mm apart at the closest)"
 
     return name_list(named(a, b) for a, b in removed)

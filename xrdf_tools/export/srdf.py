@@ -30,7 +30,7 @@ from ..convert.sources.srdf_parse import refuse_urdf, trimmed
 from ..diagnostics import Diagnostic, Severity
 from ..robot.tree import RobotTree
 from ..util.errors import ConversionError, SourceError
-from ..util.text import name_list
+from ..util.text import name_list, pair_text
 from ..xrdf.model import Xrdf
 from .srdf_held import HeldPairs, held_pairs
 from .srdf_reasons import REPORT_REASONS, USER, Pair, load_report_reasons, reasons_from_report
@@ -291,8 +291,8 @@ def _foreign_diags(
             Severity.INFO,
             f"'{link}' is not a link of the URDF '{urdf.name if urdf else ''}': "
             f"{len(changes)} disable_collisions naming it kept (first "
-            f"{changes[0].link1}/{changes[0].link2}); no XRDF of this URDF can say whether "
-            "to check them",
+            f"{pair_text(changes[0].link1, changes[0].link2)}); no XRDF of this URDF can say "
+            "whether to check them",
         )
         for link, changes in named.items()
     ]
@@ -301,12 +301,12 @@ def _foreign_diags(
 def _removed_diag(ch: PairChange, path: str) -> Diagnostic:
     if ch.element == "enable_collisions":
         msg = (
-            f"{ch.link1}/{ch.link2} is no longer ignored by the XRDF but is covered by "
+            f"{pair_text(ch.link1, ch.link2)} is no longer ignored by the XRDF but is covered by "
             "disable_default_collisions: enable_collisions added"
         )
     else:
         why = f" (reason {ch.reason})" if ch.reason else ""
-        msg = f"{ch.link1}/{ch.link2}{why} is no longer ignored by the XRDF: removed"
+        msg = f"{pair_text(ch.link1, ch.link2)}{why} is no longer ignored by the XRDF: removed"
     return _diag(path, ch.line, "export-srdf-removed", Severity.WARNING, msg)
 
 

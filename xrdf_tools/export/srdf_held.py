@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.tree import RobotTree
-from ..util.text import name_list
+from ..util.text import name_list, pair_text
 from ..xrdf.model import Xrdf
 
 __all__ = ["RULE_HELD", "HeldPairs", "held_pairs"]
@@ -48,7 +48,7 @@ class HeldPairs:
         joints = sorted({j for _, _, js in left for j in js})
         a, b, _ = left[0]
         msg = (
-            f"{len(left)} ignore pair(s) not added (first {a}/{b}): the XRDF's mask held "
+            f"{len(left)} ignore pair(s) not added (first {pair_text(a, b)}): the XRDF's mask held "
             f"joint(s) {name_list(joints)} at their default position, so it cannot say whether "
             "these links collide when MoveIt moves them; to sync them, convert with those "
             "joints in the c-space (--group for each planning group that moves them), or "

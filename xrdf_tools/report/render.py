@@ -17,6 +17,7 @@ from typing import Any
 
 from .. import __version__
 from ..selfcollision.collision import Contact
+from ..util.text import pair_text
 from ..yaml.io import write_atomic
 from . import PairStat, Report
 
@@ -199,7 +200,8 @@ def _summary_lines(r: Report, view: ReportView) -> list[str]:
         lines.append(
             "default configuration: IN SELF-COLLISION: "
             + "; ".join(
-                f"{c.frame_a}/{c.frame_b} {c.clearance * 1000:.1f} mm" for c in r.default_contacts
+                f"{pair_text(c.frame_a, c.frame_b)} {c.clearance * 1000:.1f} mm"
+                for c in r.default_contacts
             )
         )
     return lines
@@ -233,7 +235,7 @@ def _trajectory_lines(r: Report, limit: int | None) -> list[str]:
     shown = r.trajectory if limit is None else r.trajectory[:limit]
     for h in shown:
         pairs = ", ".join(
-            f"{c.frame_a}/{c.frame_b} {c.clearance * 1000:.1f} mm" for c in h.contacts
+            f"{pair_text(c.frame_a, c.frame_b)} {c.clearance * 1000:.1f} mm" for c in h.contacts
         )
         out.append(f"  #{h.index}: {pairs}")
     if limit is not None and len(r.trajectory) > limit:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-__all__ = ["name_list"]
+__all__ = ["name_list", "pair_text"]
 
 
 def name_list(names: Iterable[object], limit: int = 8, sep: str = ", ") -> str:
@@ -14,3 +14,11 @@ def name_list(names: Iterable[object], limit: int = 8, sep: str = ", ") -> str:
     if len(shown) <= limit:
         return sep.join(shown)
     return sep.join(shown[:limit]) + f" and {len(shown) - limit} more"
+
+
+def pair_text(a: object, b: object) -> str:
+    """A frame or link pair in a message: ``a/b``; ``a <-> b`` when a name holds a ``/``
+    itself (a prefixed robot's ``locobot/ar_tag_link``), where ``a/b`` could not be read."""
+    if "/" in f"{a}{b}":
+        return f"{a} <-> {b}"
+    return f"{a}/{b}"

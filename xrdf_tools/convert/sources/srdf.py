@@ -13,7 +13,7 @@ from dataclasses import replace
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError, did_you_mean
-from ...util.text import name_list
+from ...util.text import name_list, pair_text
 from ...xrdf.model import Sphere
 from . import Draft, Reporter, RobotTree, known_frame
 from .srdf_groups import (
@@ -187,8 +187,8 @@ def _mask(srdf: Srdf, tree: RobotTree, d: Draft, rep: Reporter) -> None:
     for l1, l2, line in srdf.enable_collisions:
         rep.report(
             "convert-dropped-key",
-            f"enable_collisions {l1}/{l2} re-enables a pair; XRDF has no override, so the pair "
-            "is checked unless disabled above",
+            f"enable_collisions {pair_text(l1, l2)} re-enables a pair; XRDF has no override, so "
+            "the pair is checked unless disabled above",
             severity=Severity.INFO,
             at=srdf.where(("enable_collisions", l1, l2), line),
         )
