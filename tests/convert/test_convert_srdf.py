@@ -1335,3 +1335,28 @@ def test_a_base_pose_in_a_state_without_a_virtual_joint_is_a_note(
     srdf.write_text(srdf.read_text().replace("0. 0. 0.35 0. 0. 0. 1.", "0.2"))
     _, diags = convert(tree, ConvertOptions(srdf=srdf))
     assert [d for d in diags if d.rule == "convert-unknown-joint" and "root_joint" in d.message]
+
+
+def test_a_chain_tip_taken_as_tool_frame_names_the_frames_fixed_to_it(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """The Ridgeback + Panda SRDF's arm chain ends at panda_link7, with panda_link8 and the
+    hand fixed below it and no end effector on the group: the tip became the tool frame
+    without a word, where the same robot without an SRDF names the alternatives."""
+    from xrdf_tools.convert.core import convert
+
+    group = '<group name="arm"><chain base_link="base" tip_link="b"/></group>\n'
+    srdf = _write(tmp_path, f'<robot name="t">\n{group}</robot>\n')
+    x, diags = convert(tree, ConvertOptions(srdf=srdf))
+    assert list(x.tool_frames or []) == ["b"]
+    (note,) = [d for d in diags if d.rule == "convert-chosen-tool-frame"]
+    assert note.severity.value == "info" and (note.path, note.line) == (str(srdf), 2)
+    assert "'b', the tip of group 'arm'" in note.message and "rigidly attached: c" in note.message
+    assert "--tool-frame" in note.message
+    # an end effector on the group is the SRDF's choice: nothing to say
+    srdf.write_text(
+        f'<robot name="t">\n{group}<group name="hand"><link name="c"/></group>\n'
+        '<end_effector name="ee" parent_link="c" group="hand" parent_group="arm"/>\n</robot>\n'
+    )
+    x, diags = convert(tree, ConvertOptions(srdf=srdf))
+    assert not [d for d in diags if d.rule == "convert-chosen-tool-frame"]

@@ -104,6 +104,31 @@ def test_a_collision_placed_far_from_the_visual_is_warned(tmp_path: Path) -> Non
     assert "turned" not in said[0].message
 
 
+def test_a_collision_shifted_against_its_visual_is_warned_with_the_origin_that_fixes_it(
+    tmp_path: Path,
+) -> None:
+    """Dobot's M1 Pro: Link4's visual and collision are one STL, but only the visual has
+    <origin xyz="0 0 0.08081">; its spline shaft's spheres hung 8 cm below the arm, the boxes
+    touching, and no quarter turn matching them: nothing was said."""
+    ARM.export(tmp_path / "arm.stl")
+    urdf = _urdf(tmp_path, "arm.stl", "arm.stl")
+    text = urdf.read_text().replace(
+        "<visual>", '<visual>\n      <origin xyz="0 0 0.3" rpy="0 0 0"/>', 1
+    )
+    urdf.write_text(text)
+    (said,) = [d for d in _said(urdf) if d.rule == RULE_MISMATCH]
+    assert "shifted by (0, 0, 0.3) m the collision box matches the visual one" in said.message
+    assert '<origin xyz="0 0 0.3" rpy="0 0 0"/> in its <collision> moves it' in said.message
+    # a shift within the boxes' own overlap is no disagreement
+    urdf.write_text(text.replace('xyz="0 0 0.3"', 'xyz="0 0 0.05"', 1))
+    assert not [d for d in _said(urdf) if d.rule == RULE_MISMATCH]
+    # a collision box of another size is not said to be shifted
+    trimesh.creation.box((0.04, 0.04, 0.1)).export(tmp_path / "small.stl")
+    head, _, tail = text.rpartition('filename="arm.stl"')  # the collision's, written last
+    urdf.write_text(f'{head}filename="small.stl"{tail}')
+    assert not [d for d in _said(urdf) if "shifted" in d.message]
+
+
 def test_geometry_fitted_from_the_visual_is_not_compared_with_itself(tmp_path: Path) -> None:
     ARM.export(tmp_path / "arm_visual.stl")
     TURNED.export(tmp_path / "arm_collision.stl")

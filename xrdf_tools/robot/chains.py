@@ -66,6 +66,7 @@ __all__ = [
     "ToolFrameGuess",
     "chain_flag",
     "default_cspace",
+    "fixed_below",
     "guess_tool_frame",
     "is_held",
     "is_leg",
@@ -292,7 +293,7 @@ class ToolFrameGuess:
     named: bool = False
 
 
-def _fixed_below(tree: RobotTree, link: str) -> list[tuple[str, int]]:
+def fixed_below(tree: RobotTree, link: str) -> list[tuple[str, int]]:
     """``link`` and the links below it reached through fixed (or held) joints only, with
     their depth."""
     out = [(link, 0)]
@@ -326,7 +327,7 @@ def guess_tool_frame(
     as a gripper's TCP frame win over the link it hangs from; None skips that preference.
     """
     start = tree.joints[last_joint].child
-    below = _fixed_below(tree, start)
+    below = fixed_below(tree, start)
     names = tuple(n for n, _ in below)
     exact = [n for n, _ in below if n == "tool0"]
     if exact:

@@ -58,6 +58,10 @@ RULE_UNCHECKED = "spheres-visual-unchecked"
 AS_IS_DISAGREES = 0.5
 #: At or above this share after a quarter turn, the turn is what they differ by.
 TURNED_AGREES = 0.9
+#: A collision box of the visual box's size that disagrees with it is said to be shifted from
+#: this far (metres): below it, a few millimetres on a finger joint (TIAGo's thumb, whose
+#: collision mesh is its visual one mirrored) are no misplaced <origin>.
+SHIFT_SAID = 0.01
 #: Each box is taken at least this share of the larger box's size thick (a flat plate has a
 #: box of no volume, which no share could compare).
 _THICKNESS_FLOOR = 0.1
@@ -134,7 +138,37 @@ def _disagreement(link: str, collision: Box, visual: Box, origin: FloatArray | N
             f"{boxes}; they are {gap:.3g} m apart, farther than either is across: check the "
             f"<origin> of its <collision>; {kept}"
         )
+    shift = visual.centre - collision.centre
+    moved = box_agreement(Box(collision.low + shift, collision.high + shift), visual)
+    if (
+        as_is < AS_IS_DISAGREES
+        and moved >= TURNED_AGREES
+        and _same_size(collision, visual)
+        and float(np.linalg.norm(shift)) >= SHIFT_SAID
+    ):
+        by = _numbers(shift).replace(" ", ", ")
+        return (
+            f"{boxes}; shifted by ({by}) m the collision box matches the visual one "
+            f"({moved:.0%} of the smaller inside the other, against {as_is:.0%}): an <origin> "
+            f"given to the <visual> and not to the <collision>?{_moved(shift, origin)}; {kept}"
+        )
     return None
+
+
+def _same_size(a: Box, b: Box) -> bool:
+    """Boxes of one size along each axis, within a tenth of the larger's size: one mesh, or
+    one shape, placed twice (a small collision box inside a large visual one is not)."""
+    size = float(max(a.extents.max(), b.extents.max()))
+    return bool(np.all(np.abs(a.extents - b.extents) <= 0.1 * size))
+
+
+def _moved(shift: FloatArray, origin: FloatArray | None) -> str:
+    """The collision ``<origin>`` that shifts the link's only collision element by ``shift``
+    (link frame), when that element is not turned (else nothing)."""
+    if origin is None or not np.allclose(origin[:3, :3], np.eye(3)):
+        return ""
+    xyz = origin[:3, 3] + shift
+    return f' <origin xyz="{_numbers(xyz)}" rpy="0 0 0"/> in its <collision> moves it'
 
 
 def _thickened(box: Box, floor: float) -> tuple[FloatArray, FloatArray]:

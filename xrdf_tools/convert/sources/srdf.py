@@ -19,6 +19,7 @@ from . import Draft, Reporter, RobotTree, known_frame
 from .srdf_groups import (
     PREFERRED_STATES,
     carries_end_effector,
+    chain_tip_note,
     check_groups,
     choose_group,
     choose_state,
@@ -459,15 +460,21 @@ def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) 
     frames: list[str] = []
     for group in groups:
         members = _subgroups(srdf, group)
+        effectors = []
         for ee in srdf.end_effectors:
             owned = any(carries_end_effector(srdf, g, ee, tree) for g in members)
             if owned and known_frame(
                 ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", at=srdf.at(ee)
             ):
-                frames.append(ee.parent_link)
+                effectors.append(ee.parent_link)
+        frames += effectors
         for gname in members:
             for _, tip in srdf.groups[gname].chains:
                 frames.append(tip)
+                note = "" if effectors else chain_tip_note(tree, gname, tip)
+                if note:
+                    at = srdf.at(srdf.groups[gname])
+                    rep.report("convert-chosen-tool-frame", note, severity=Severity.INFO, at=at)
     return list(dict.fromkeys(frames))
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Sequence
 
-from ...robot.chains import is_leg, joint_roles
+from ...robot.chains import fixed_below, is_leg, joint_roles
 from ...robot.names import ARM, name_role, name_words
 from ...util.errors import SourceError, did_you_mean
 from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
@@ -462,3 +462,16 @@ def _named_like_preferred(name: str, pref: str) -> bool:
     ``home_position``), is a better default than a group's first state named otherwise (its
     ``right_aggressive``, a pose that reaches across the other arm)."""
     return pref in name_words(name)
+
+
+def chain_tip_note(tree: RobotTree, group: str, tip: str) -> str:
+    """The note on a chain tip taken as a tool frame (no end effector on ``group``) when
+    frames are fixed below it (a flange, a hand, a TCP), which ``--tool-frame`` could name
+    instead; else ''."""
+    attached = [n for n, _ in fixed_below(tree, tip) if n != tip] if tip in tree.links else []
+    if not attached:
+        return ""
+    return (
+        f"tool frame '{tip}', the tip of group '{group}''s chain (the SRDF puts no end effector "
+        f"on it); also rigidly attached: {name_list(attached, 6)}; --tool-frame chooses another"
+    )
