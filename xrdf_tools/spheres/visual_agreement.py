@@ -138,7 +138,7 @@ def _disagreement(link: str, collision: Box, visual: Box, origin: FloatArray | N
             f"{boxes}; they are {gap:.3g} m apart, farther than either is across: check the "
             f"<origin> of its <collision>; {kept}"
         )
-    shift = visual.centre - collision.centre
+    shift = np.round(visual.centre - collision.centre, 5) + 0.0  # 0.01 mm; no -0
     moved = box_agreement(Box(collision.low + shift, collision.high + shift), visual)
     if (
         as_is < AS_IS_DISAGREES
