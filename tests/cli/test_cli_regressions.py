@@ -201,3 +201,27 @@ def test_a_huge_sphere_density_is_the_per_link_ceiling(runner: CliRunner) -> Non
     assert code == 0, huge
     code, most = run_cli(runner, *args, "--per-link", str(MAX_PER_LINK))
     assert code == 0 and huge == most
+
+
+@pytest.mark.parametrize("uri", ["file://{dir}/a%00.stl", "package://pkg/a%00.stl"])
+def test_a_mesh_uri_decoding_to_a_nul_byte_is_a_mesh_not_found(
+    runner: CliRunner, tmp_path: Path, uri: str
+) -> None:
+    """``convert`` and ``spheres`` raised 'ValueError: embedded null byte' (a traceback) on a
+    ``file://`` name with ``%00``: now the mesh cannot be found, said in one line."""
+    mesh = uri.format(dir=tmp_path)
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "package.xml").write_text("<package><name>pkg</name></package>")
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="base"/><link name="tip"><collision><geometry>'
+        f'<mesh filename="{mesh}"/></geometry></collision></link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="tip"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    code, out = run_cli(runner, "convert", str(urdf), "-q", "-o", str(tmp_path / "r.xrdf"))
+    assert code == 0 and "Traceback" not in out, out
+    code, out = run_cli(runner, "spheres", str(urdf), "-q", "-o", str(tmp_path / "s.xrdf"))
+    assert code == 2 and "Traceback" not in out, out
+    assert "a path with a NUL byte (%00), which no file name holds" in out
+    assert not (tmp_path / "s.xrdf").exists()

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from xrdf_tools.robot.gltf_points import GltfNotRead, glb_vertices
+from xrdf_tools.robot import gltf_points
+from xrdf_tools.robot.gltf_points import GltfNotRead, GltfTooBig, glb_vertices
 from xrdf_tools.robot.mesh_files import load_mesh_parts
 
 
@@ -124,3 +125,83 @@ def test_any_damage_to_a_glb_file_reads_or_is_refused_in_kind(tmp_path: Path) ->
         except GltfNotRead:
             continue
         assert points.ndim == 2 and points.shape[1] == 3
+
+
+def _shared_children(levels: int, leaf: dict[str, object]) -> dict[str, object]:
+    """A node holding the next one twice, ``levels`` deep: 2^levels instances of ``leaf``."""
+    doc = _triangle_doc()
+    doc["nodes"] = [{"children": [i + 1, i + 1]} for i in range(levels)] + [leaf]
+    return doc
+
+
+@pytest.mark.parametrize(
+    "doc, why",
+    [
+        (_shared_children(60, {}), "more than 1000 nodes"),  # no mesh: walked for ever
+        (_shared_children(60, {"mesh": 0}), "over 10000 mesh instances"),
+        (_triangle_doc(children=[0]), "deeper than"),  # a node cycle
+    ],
+)
+def test_a_scene_past_the_bounds_is_too_big(
+    doc: dict[str, object], why: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Shared children are counted each time they are reached (a 2 kB file of 2^60 nodes
+    without a mesh was walked for ever), and such a file is too big for any reader (not
+    handed to trimesh). The node bound (100,000) is lowered to 1,000 here; the real one:
+    tests/spheres/test_big_meshes.py."""
+    if "nodes" in why:
+        monkeypatch.setattr(gltf_points, "MAX_NODES", 1000)
+    with pytest.raises(GltfTooBig, match=why):
+        glb_vertices(_glb(doc, _TRIANGLE))
+
+
+def test_instanced_vertices_are_bounded_before_they_are_copied(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """5,000 nodes drawing a 3 MB mesh were 36 GB of vertices (a MemoryError, or the machine's
+    memory): the instanced vertices are counted first (the bound lowered to 100 here)."""
+    monkeypatch.setattr(gltf_points, "MAX_POINTS", 100)
+    doc = _triangle_doc()
+    doc["nodes"] = [{"mesh": 0} for _ in range(33)]
+    doc["scenes"] = [{"nodes": list(range(33))}]
+    assert glb_vertices(_glb(doc, _TRIANGLE)).shape == (99, 3)
+    doc["nodes"] = [{"mesh": 0} for _ in range(34)]
+    doc["scenes"] = [{"nodes": list(range(34))}]
+    with pytest.raises(GltfTooBig, match="over 100 vertices"):
+        glb_vertices(_glb(doc, _TRIANGLE))
+
+
+@pytest.mark.parametrize(
+    "node",
+    [
+        {"rotation": [1e200, 1e200, 0, 1]},  # overflow in the quaternion's products
+        {"matrix": [1e308] * 16, "children": [1]},  # and in the composed transforms
+    ],
+)
+def test_transforms_that_overflow_give_non_finite_points_without_a_warning(
+    node: dict[str, object],
+) -> None:
+    """numpy printed 'RuntimeWarning: overflow encountered' on stderr (an error in the tests);
+    the points are not finite, which the visual check reports."""
+    doc = _triangle_doc(**node)
+    if "children" in node:
+        doc["nodes"].append({"mesh": 0, "matrix": [1e308] * 16})  # type: ignore[attr-defined]
+    assert not np.isfinite(glb_vertices(_glb(doc, _TRIANGLE))).all()
+
+
+@pytest.mark.parametrize(
+    "change, why",
+    [
+        (lambda d: d["nodes"][0].update(translation=[10**400, 0, 0]), "past float range"),
+        (lambda d: d["bufferViews"][0].update(byteStride=2**70), "past its buffer"),
+        (lambda d: d["bufferViews"][0].update(byteStride=256), "past its buffer"),
+    ],
+)
+def test_numbers_past_their_range_are_refused_in_kind(change: object, why: str) -> None:
+    """A JSON integer past float range was an OverflowError, a stride past 2^63 numpy's
+    'Maximum allowed dimension exceeded' (glTF allows strides up to 252)."""
+    doc = _triangle_doc()
+    doc["accessors"][0]["count"] = 1  # type: ignore[index]
+    change(doc)  # type: ignore[operator]
+    with pytest.raises(GltfNotRead, match=why):
+        glb_vertices(_glb(doc, _TRIANGLE))

@@ -30,6 +30,7 @@ __all__ = [
     "curobo_paths",
     "expanded_urdf_path",
     "mesh_root",
+    "plain_file_path",
     "unserved_note",
     "with_plain_file_names",
 ]
@@ -66,7 +67,7 @@ def mesh_root(robot: Robot, *, plain_file_names: bool = False) -> MeshRoot:
     for uri in dict.fromkeys(_mesh_names(robot)):
         if Path(uri).is_absolute():  # cuRobo keeps an absolute name: any directory serves it
             continue
-        if plain_file_names and uri.startswith("file://"):
+        if plain_file_names and plain_file_path(uri) is not None:
             continue
         try:
             root = _root_for(uri, resolver, own, misnamed)
@@ -97,24 +98,63 @@ def _package_of(uri: str) -> str:
     return uri[len("package://") :].partition("/")[0]
 
 
-_FILE_URI = re.compile(r"""(\bfilename\s*=\s*)(["'])file://([^"']*)\2""")
+_FILE_URI = re.compile(r"""(\bfilename\s*=\s*)(?:"(file://[^"]*)"|'(file://[^']*)')""")
+#: Characters XML 1.0 cannot hold, even as a character reference.
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
 
 def with_plain_file_names(urdf_text: str) -> tuple[str, int]:
     """``urdf_text`` with each ``file://`` mesh name written as its plain, decoded path (which
     cuRobo keeps as written, where it joins a ``file://`` name to ``asset_root_path`` and never
-    finds it), and how many were rewritten."""
-    from urllib.parse import unquote
-    from xml.sax.saxutils import escape, unescape
+    finds it), and how many were rewritten. The attribute is read as the XML parser reads it
+    (entities and character references, line breaks as spaces) and written so that it reads
+    back as exactly that path; a name :func:`plain_file_path` cannot give is left as it was."""
 
-    entities = {'"': "&quot;", "'": "&apos;"}
+    rewritten = 0
 
     def plain(m: re.Match[str]) -> str:
-        quote = m.group(2)
-        path = unquote(unescape(m.group(3), {"&quot;": '"', "&apos;": "'"}))
-        return f"{m.group(1)}{quote}{escape(path, {quote: entities[quote]})}{quote}"
+        nonlocal rewritten
+        quote = '"' if m.group(2) is not None else "'"
+        uri = _attribute_value(m.group(2) if m.group(2) is not None else m.group(3), quote)
+        path = None if uri is None else plain_file_path(uri)
+        if path is None:
+            return m.group(0)
+        rewritten += 1
+        return f"{m.group(1)}{quote}{_attribute_text(path, quote)}{quote}"
 
-    return _FILE_URI.subn(plain, urdf_text)
+    return _FILE_URI.sub(plain, urdf_text), rewritten
+
+
+def plain_file_path(uri: str) -> str | None:
+    """The plain path a ``file://`` mesh name ``uri`` is read from (decoded as the robot
+    loader decodes it), or None when it is not a ``file://`` name or its path cannot be
+    written in XML (a ``%00``)."""
+    from urllib.parse import unquote
+
+    if not uri.startswith("file://"):
+        return None
+    path = unquote(uri[len("file://") :])
+    return None if _NOT_XML.search(path) else path
+
+
+def _attribute_value(raw: str, quote: str) -> str | None:
+    """The value the XML parser reads from the attribute text ``raw`` (None: not well-formed,
+    such as an entity the document does not define)."""
+    from ..util.safe_xml import XmlSyntaxError, parse_xml
+
+    try:
+        element = parse_xml(f"<a v={quote}{raw}{quote}/>".encode())
+    except XmlSyntaxError:
+        return None
+    value: str = element.get("v")
+    return value
+
+
+def _attribute_text(value: str, quote: str) -> str:
+    """``value`` as attribute text between ``quote`` characters that reads back as it is."""
+    refs = {"&": "&amp;", "<": "&lt;", quote: "&quot;" if quote == '"' else "&apos;"}
+    refs |= {"\t": "&#9;", "\n": "&#10;", "\r": "&#13;"}
+    return "".join(refs.get(c, c) for c in value)
 
 
 def unserved_note(root: MeshRoot) -> str:

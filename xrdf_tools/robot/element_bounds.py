@@ -13,7 +13,8 @@ of one kind, each with its ``<origin>`` and mesh ``scale`` applied, without buil
   bounds (then no reader is handed it);
 * binary glTF (``.glb``) files by :func:`~xrdf_tools.robot.gltf_points.glb_vertices` (the
   binary chunk read with numpy, the nodes' transforms applied); a file it gives up on (a
-  compressed primitive, ...) is read like the other formats;
+  compressed primitive, ...) is read like the other formats, unless its scene expands past
+  the reader's bounds (then no reader is handed it);
 * other mesh formats (PLY, ...) through trimesh, as the sphere fitter reads them
   (:func:`~xrdf_tools.robot.mesh_files.load_mesh_parts`: COLLADA in metres), only when
   ``other_formats`` is true; else the link is not bounded and :attr:`Unbounded.format` names
@@ -39,7 +40,7 @@ from ..util.errors import XrdfToolsError
 from ..util.fileio import mesh_bytes_limit, read_input_bytes
 from ..util.numbers import MAX_LENGTH
 from .collada_points import ColladaNotRead, ColladaTooBig, collada_vertices
-from .gltf_points import GltfNotRead, glb_vertices
+from .gltf_points import GltfNotRead, GltfTooBig, glb_vertices
 from .link_geometry import GeometrySource, not_a_file
 
 if TYPE_CHECKING:
@@ -205,6 +206,8 @@ def _cheap_vertices(path: Path, suffix: str) -> FloatArray | None:
             return glb_vertices(
                 read_input_bytes(path, what="mesh file", max_bytes=mesh_bytes_limit())
             )
+        except GltfTooBig as e:  # trimesh would copy every instance: not handed on
+            raise XrdfToolsError(f"cannot read mesh ({e})") from None
         except GltfNotRead:
             return None
     if suffix != ".dae":

@@ -10,8 +10,13 @@ Where the file holds something this reader does not follow exactly (a compressed
 Draco or meshopt; a sparse or quantized position accessor; a buffer outside the file; a
 primitive that draws lines or points; a node cycle), it raises :class:`GltfNotRead` naming it:
 a wrong box is worse than none, and the caller then counts the file as not read. What the
-scene expands to is bounded before it is walked: nodes nested :data:`MAX_DEPTH` deep and
-:data:`MAX_INSTANCES` mesh instances at most. Nothing is read outside the bytes given.
+scene expands to is bounded as it is walked, each node once per instance: nodes nested
+:data:`MAX_DEPTH` deep, :data:`MAX_NODES` node instances, :data:`MAX_INSTANCES` mesh instances
+and :data:`MAX_POINTS` instanced vertices at most, counted before any is copied; past one it
+raises :class:`GltfTooBig` (a node shared twice at each of 60 levels is a 2 kB file of 2^60
+nodes, and 5,000 instances of a 3 MB mesh would be 36 GB of vertices). Transforms that
+overflow give non-finite vertices without a numpy warning (the caller checks them). Nothing is
+read outside the bytes given.
 """
 
 from __future__ import annotations
@@ -25,12 +30,18 @@ import numpy as np
 
 from ..util.arrays import AnyArray, FloatArray
 
-__all__ = ["GltfNotRead", "glb_vertices"]
+__all__ = ["GltfNotRead", "GltfTooBig", "glb_vertices"]
 
 #: Nodes nested at most this deep.
 MAX_DEPTH = 64
 #: Mesh instances of one scene at most.
 MAX_INSTANCES = 10_000
+#: Node instances of one scene at most, every shared child counted each time it is reached.
+MAX_NODES = 100_000
+#: Vertices handed back at most, every instance counted (as the COLLADA reader's bound).
+MAX_POINTS = 20_000_000
+#: The largest ``byteStride`` glTF allows.
+_MAX_STRIDE = 252
 _MAGIC = b"glTF"
 _JSON_CHUNK = 0x4E4F534A
 _BIN_CHUNK = 0x004E4942
@@ -43,15 +54,27 @@ class GltfNotRead(Exception):
     """The file holds something :func:`glb_vertices` does not read exactly (the message)."""
 
 
+class GltfTooBig(GltfNotRead):
+    """The scene expands past a bound (see the module): no reader should walk or copy it."""
+
+
 def glb_vertices(data: bytes) -> FloatArray:
     """The vertices [N, 3] of the triangle primitives of the ``.glb`` file ``data``, placed by
     the scene's node transforms. Raises :class:`GltfNotRead`."""
     doc, binary = _chunks(data)
-    pieces = [
-        _placed(_used(doc, binary, primitive), transform)
-        for mesh, transform in _instances(doc)
-        for primitive in _primitives(doc, mesh)
-    ]
+    with np.errstate(all="ignore"):  # overflow: inf or NaN, which the caller checks
+        instances = [
+            (primitive, transform)
+            for mesh, transform in _instances(doc)
+            for primitive in _primitives(doc, mesh)
+        ]
+        read: dict[int, FloatArray] = {}  # each primitive read once, however often drawn
+        for primitive, _ in instances:
+            if id(primitive) not in read:
+                read[id(primitive)] = _used(doc, binary, primitive)
+        if sum(len(read[id(p)]) for p, _ in instances) > MAX_POINTS:
+            raise GltfTooBig(f"over {MAX_POINTS} vertices, every mesh instance counted")
+        pieces = [_placed(read[id(p)], transform) for p, transform in instances]
     return np.concatenate(pieces) if pieces else np.zeros((0, 3))
 
 
@@ -93,18 +116,21 @@ def _instances(doc: Mapping[str, Any]) -> Iterator[tuple[int, FloatArray]]:
     else:  # no scene: every node no other node holds, as trimesh takes them
         held = {c for n in nodes for c in _indices(n, "children")}
         roots = [i for i in range(len(nodes)) if i not in held]
-    count = 0
+    count = visited = 0
     stack = [(i, np.eye(4), 1) for i in reversed(roots)]
     while stack:
         index, above, depth = stack.pop()
         if depth > MAX_DEPTH:
-            raise GltfNotRead(f"nodes nested deeper than {MAX_DEPTH} (or a node cycle)")
+            raise GltfTooBig(f"nodes nested deeper than {MAX_DEPTH} (or a node cycle)")
+        visited += 1
+        if visited > MAX_NODES:
+            raise GltfTooBig(f"a scene of more than {MAX_NODES} nodes, shared ones counted")
         node = _item(nodes, index, "node")
         transform = above @ _local(node)
         if "mesh" in node:
             count += 1
             if count > MAX_INSTANCES:
-                raise GltfNotRead(f"over {MAX_INSTANCES} mesh instances")
+                raise GltfTooBig(f"over {MAX_INSTANCES} mesh instances")
             yield _index(node["mesh"]), transform
         stack.extend((c, transform, depth + 1) for c in reversed(_indices(node, "children")))
 
@@ -182,6 +208,7 @@ def _accessor(
     end = _index(view.get("byteOffset", 0)) + _index(view.get("byteLength"))
     if (
         stride < width
+        or stride > max(width, _MAX_STRIDE)
         or end > len(binary)
         or (count and start + stride * (count - 1) + width > end)
     ):
@@ -195,8 +222,7 @@ def _accessor(
 
 
 def _placed(points: FloatArray, transform: FloatArray) -> FloatArray:
-    with np.errstate(all="ignore"):  # overflow: inf, which the caller checks
-        return np.asarray(points @ transform[:3, :3].T + transform[:3, 3], dtype=np.float64)
+    return np.asarray(points @ transform[:3, :3].T + transform[:3, 3], dtype=np.float64)
 
 
 def _list(owner: Mapping[str, Any], key: str) -> list[Any]:
@@ -228,4 +254,7 @@ def _numbers(value: Any, n: int, what: str) -> FloatArray:
         raise GltfNotRead(f"a node {what} that is not {n} numbers")
     if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
         raise GltfNotRead(f"a node {what} that is not {n} numbers")
-    return np.asarray(value, dtype=np.float64)
+    try:
+        return np.asarray(value, dtype=np.float64)
+    except OverflowError:  # an integer past float range (JSON integers have no bound)
+        raise GltfNotRead(f"a node {what} with a number past float range") from None

@@ -40,7 +40,13 @@ from ..util.fileio import check_input_file, file_kind, mesh_bytes_limit, mesh_tr
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import MAX_LENGTH
 from ..util.text import name_list
-from .mesh_files import binary_stl_counts, load_mesh_parts, too_many_triangles, unreadable
+from .mesh_files import (
+    MeshTooBig,
+    binary_stl_counts,
+    load_mesh_parts,
+    too_many_triangles,
+    unreadable,
+)
 
 if TYPE_CHECKING:
     import trimesh
@@ -406,14 +412,12 @@ class _MeshReader:
         if claimed is not None and min(claimed) > limit:  # refused before it is parsed
             raise _PartError(f"{uri}: {too_many_triangles(min(claimed), limit)}", uri=uri)
         try:
-            pieces = tuple(
-                p for p in load_mesh_parts(path) if isinstance(p, trimesh.Trimesh) and len(p.faces)
-            )
+            parts = load_mesh_parts(path, limit)  # refused past it before the costly processing
+            pieces = tuple(p for p in parts if isinstance(p, trimesh.Trimesh) and len(p.faces))
+        except MeshTooBig as e:
+            raise _PartError(f"{uri}: {e.message}", uri=uri) from None
         except Exception as e:  # trimesh raises many exception types for bad files
             raise _PartError(f"{uri}: cannot read mesh ({unreadable(path, e)})", uri=uri) from None
-        count = sum(len(p.faces) for p in pieces)
-        if count > limit:  # refused before the costly processing
-            raise _PartError(f"{uri}: {too_many_triangles(count, limit)}", uri=uri)
         try:
             # processing would drop a NaN vertex and its faces without a word
             bad = not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces)

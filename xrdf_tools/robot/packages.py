@@ -162,7 +162,15 @@ class PackageResolver:
         return ""
 
     def resolve_uri(self, uri: str, relative_to: Path | None = None) -> Path:
-        """A mesh or include URI as a local path (``package://``, ``file://`` or relative)."""
+        """A mesh or include URI as a local path (``package://``, ``file://`` or relative).
+        Raises :class:`SourceError` for a URI whose decoded path holds a NUL byte (``%00``),
+        which no file name can (``os.stat`` raises ``ValueError`` on it)."""
+        path = self._resolved(uri, relative_to)
+        if "\0" in str(path):
+            raise SourceError("a path with a NUL byte (%00), which no file name holds")
+        return path
+
+    def _resolved(self, uri: str, relative_to: Path | None) -> Path:
         scheme = package_scheme(uri)
         if scheme:
             rest = uri[len(scheme) :]

@@ -351,7 +351,7 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
         return Path(a).resolve() == Path(b).resolve() or (
             Path(a).exists() and Path(b).exists() and os.path.samefile(a, b)
         )
-    except (OSError, RuntimeError):  # RuntimeError: a symbolic link loop (Python < 3.13)
+    except (OSError, RuntimeError, ValueError):  # a link loop (Python < 3.13), a NUL byte
         return False
 
 
