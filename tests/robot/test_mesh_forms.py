@@ -101,3 +101,15 @@ def test_a_missing_mesh_is_named_without_the_dotdot_of_its_uri(tmp_path: Path) -
     urdf = _robot_with_mesh(tmp_path / "a" / "b" / "r.urdf", "../../hands/meshes/none.obj")
     (failure,) = lg.link_geometry(load_robot(urdf), "collision")["base"].failures
     assert f"mesh file not found ({tmp_path / 'hands' / 'meshes' / 'none.obj'})" in failure.reason
+
+
+def test_a_missing_folder_before_dotdot_is_named_as_looked_for(tmp_path: Path) -> None:
+    """'missing/../arm.stl' is not found although arm.stl exists (the system resolves 'x/..'
+    only where x exists): the message named 'arm.stl', which exists, as not found."""
+    from xrdf_tools.robot.mesh_files import not_a_file
+
+    (tmp_path / "arm.stl").write_bytes(b"solid a\nendsolid a\n")
+    why = not_a_file(tmp_path / "missing" / ".." / "arm.stl")
+    assert why == f"mesh file not found ({tmp_path / 'missing' / '..' / 'arm.stl'})"
+    why = not_a_file(tmp_path / "meshes" / ".." / "gone.stl")  # nothing there: the short name
+    assert why == f"mesh file not found ({tmp_path / 'gone.stl'})"

@@ -41,7 +41,8 @@ from ..util.fileio import mesh_bytes_limit, read_input_bytes
 from ..util.numbers import MAX_LENGTH
 from .collada_points import ColladaNotRead, ColladaTooBig, collada_vertices
 from .gltf_points import GltfNotRead, GltfTooBig, glb_vertices
-from .link_geometry import GeometrySource, not_a_file
+from .link_geometry import GeometrySource
+from .mesh_files import not_a_file
 
 if TYPE_CHECKING:
     from .core import Robot

@@ -23,9 +23,6 @@ trimesh is imported lazily.
 
 from __future__ import annotations
 
-import errno
-import os
-import stat
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -36,7 +33,7 @@ import numpy as np
 
 from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
-from ..util.fileio import check_input_file, file_kind, mesh_bytes_limit, mesh_triangle_limit
+from ..util.fileio import check_input_file, mesh_bytes_limit, mesh_triangle_limit
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import MAX_LENGTH
 from ..util.text import name_list
@@ -44,6 +41,7 @@ from .mesh_files import (
     MeshTooBig,
     binary_stl_counts,
     load_mesh_parts,
+    not_a_file,
     too_many_triangles,
     unreadable,
 )
@@ -448,27 +446,6 @@ class _MeshReader:
         if why is not None:
             raise _PartError(f"{uri}: {why}", missing=True, uri=uri)
         return path
-
-
-def not_a_file(path: Path) -> str | None:
-    """Why ``path`` cannot be opened as a mesh file, or None when it is a regular file."""
-    try:
-        st = os.stat(path)
-    except OSError as e:
-        if e.errno in (errno.ENOENT, errno.ENOTDIR):
-            return f"mesh file not found ({os.path.normpath(path)})"  # without dir/..
-        if e.errno == errno.ELOOP:
-            return f"a symbolic link loop, not a mesh file ({path})"
-        if e.errno == errno.ENAMETOOLONG:
-            longest = max((len(part.encode()) for part in path.parts), default=0)
-            return (
-                f"file name too long for this file system ({longest} bytes in one name, "
-                f"{len(os.fsencode(path))} in the path)"
-            )
-        return f"cannot open the mesh file: {e.strerror or e} ({path})"
-    if stat.S_ISREG(st.st_mode):
-        return None
-    return f"{file_kind(st.st_mode)}, not a mesh file ({path})"
 
 
 # --------------------------------------------------------------------------------------------

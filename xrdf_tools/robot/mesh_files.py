@@ -17,11 +17,15 @@ of 60 levels never ends), so a scene past the bounds raises
 
 from __future__ import annotations
 
+import errno
 import io
+import os
+import stat
 from pathlib import Path
 from typing import Any
 
 from ..util.errors import XrdfToolsError
+from ..util.fileio import file_kind
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 
 __all__ = [
@@ -30,6 +34,7 @@ __all__ = [
     "drawn_triangles",
     "load_mesh_parts",
     "load_mesh_scene",
+    "not_a_file",
     "too_many_triangles",
     "unreadable",
     "without_broken_material_bindings",
@@ -181,3 +186,32 @@ def too_many_triangles(count: int, limit: int) -> str:
 _READER_SLIPS = (AttributeError, TypeError, IndexError, KeyError)
 
 _LFS_POINTER = b"version https://git-lfs.github.com/spec/"
+
+
+def _as_looked_for(path: Path) -> str:
+    """``path`` without its ``dir/..`` parts, unless that names a file that exists: the system
+    does not drop ``x/..`` when ``x`` is missing, so ``x/../a.stl`` is not found even where
+    ``a.stl`` is."""
+    short = os.path.normpath(path)
+    return str(path) if os.path.exists(short) else short
+
+
+def not_a_file(path: Path) -> str | None:
+    """Why ``path`` cannot be opened as a mesh file, or None when it is a regular file."""
+    try:
+        st = os.stat(path)
+    except OSError as e:
+        if e.errno in (errno.ENOENT, errno.ENOTDIR):
+            return f"mesh file not found ({_as_looked_for(path)})"
+        if e.errno == errno.ELOOP:
+            return f"a symbolic link loop, not a mesh file ({path})"
+        if e.errno == errno.ENAMETOOLONG:
+            longest = max((len(part.encode()) for part in path.parts), default=0)
+            return (
+                f"file name too long for this file system ({longest} bytes in one name, "
+                f"{len(os.fsencode(path))} in the path)"
+            )
+        return f"cannot open the mesh file: {e.strerror or e} ({path})"
+    if stat.S_ISREG(st.st_mode):
+        return None
+    return f"{file_kind(st.st_mode)}, not a mesh file ({path})"
