@@ -129,11 +129,11 @@ def plain_file_path(uri: str) -> str | None:
     """The plain path a ``file://`` mesh name ``uri`` is read from (decoded as the robot
     loader decodes it), or None when it is not a ``file://`` name or its path cannot be
     written in XML (a ``%00``)."""
-    from urllib.parse import unquote
+    from ..robot.packages import file_uri_path
 
     if not uri.startswith("file://"):
         return None
-    path = unquote(uri[len("file://") :])
+    path = file_uri_path(uri)
     return None if _NOT_XML.search(path) else path
 
 

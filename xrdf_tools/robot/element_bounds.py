@@ -42,7 +42,7 @@ from ..util.numbers import MAX_LENGTH
 from .collada_points import ColladaNotRead, ColladaTooBig, collada_vertices
 from .gltf_points import GltfNotRead, GltfTooBig, glb_vertices
 from .link_geometry import GeometrySource
-from .mesh_files import not_a_file
+from .mesh_files import binary_stl_size, not_a_file
 
 if TYPE_CHECKING:
     from .core import Robot
@@ -234,7 +234,7 @@ def mesh_file_vertices(path: Path) -> FloatArray:
         return _matched(_OBJ_VERTEX, data)
     if len(data) >= 84:
         count = int(np.frombuffer(data, dtype="<u4", count=1, offset=80)[0])
-        if len(data) == 84 + 50 * count:
+        if len(data) == binary_stl_size(data[:84]):
             return _binary_stl(data, count)
     return _matched(_STL_VERTEX, data)
 

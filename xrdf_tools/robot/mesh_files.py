@@ -25,12 +25,13 @@ from pathlib import Path
 from typing import Any
 
 from ..util.errors import XrdfToolsError
-from ..util.fileio import file_kind
+from ..util.fileio import BINARY_STL_TRIANGLE_BYTES, file_kind
 from ..util.safe_xml import XmlSyntaxError, parse_xml
 
 __all__ = [
     "MeshTooBig",
     "binary_stl_counts",
+    "binary_stl_size",
     "drawn_triangles",
     "load_mesh_parts",
     "load_mesh_scene",
@@ -162,14 +163,18 @@ def binary_stl_counts(path: Path) -> tuple[int, int] | None:
     size = path.stat().st_size
     with open(path, "rb") as f:
         head = f.read(84)
-    if len(head) < 84 or (head[:5].lower() == b"solid" and size != _stl_size(head)):
+    if len(head) < _STL_HEAD or (head[:5].lower() == b"solid" and size != binary_stl_size(head)):
         return None
-    return int.from_bytes(head[80:84], "little"), (size - 84) // 50
+    return int.from_bytes(head[80:_STL_HEAD], "little"), (size - _STL_HEAD) // _STL_TRIANGLE
 
 
-def _stl_size(head: bytes) -> int:
+#: Bytes of a binary STL's header (80 of text, 4 of triangle count) and of each triangle.
+_STL_HEAD, _STL_TRIANGLE = 84, BINARY_STL_TRIANGLE_BYTES
+
+
+def binary_stl_size(head: bytes) -> int:
     """The size of a binary STL whose first 84 bytes are ``head``, by its header's count."""
-    return 84 + 50 * int.from_bytes(head[80:84], "little")
+    return _STL_HEAD + _STL_TRIANGLE * int.from_bytes(head[80:_STL_HEAD], "little")
 
 
 def too_many_triangles(count: int, limit: int) -> str:

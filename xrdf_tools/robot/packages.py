@@ -187,13 +187,19 @@ class PackageResolver:
                 return path
             return next((c for c in self._elsewhere(name, unquote(sub)) if _is_file(c)), path)
         if uri.startswith("file://"):
-            return Path(unquote(uri[len("file://") :]))
+            return Path(file_uri_path(uri))
         base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
         as_written = _local_path(base, uri)
         if unquote(uri) == uri or _is_file(as_written):
             return as_written
         decoded = _local_path(base, unquote(uri))  # mesh%20dir/arm.stl: mesh dir/arm.stl
         return decoded if _is_file(decoded) else as_written
+
+
+def file_uri_path(uri: str) -> str:
+    """The path a ``file://`` URI names, decoded (``%20`` a space), as the mesh reader opens
+    it."""
+    return unquote(uri[len("file://") :])
 
 
 def package_scheme(uri: str) -> str:

@@ -32,6 +32,7 @@ from .errors import InputError, OutputError, XrdfToolsError
 
 __all__ = [
     "ENV_MAX_INPUT",
+    "BINARY_STL_TRIANGLE_BYTES",
     "STDIN",
     "atomic_output",
     "check_input_file",
