@@ -31,8 +31,8 @@ from typing import BinaryIO
 from .errors import InputError, OutputError, XrdfToolsError
 
 __all__ = [
-    "ENV_MAX_INPUT",
     "BINARY_STL_TRIANGLE_BYTES",
+    "ENV_MAX_INPUT",
     "STDIN",
     "atomic_output",
     "check_input_file",
