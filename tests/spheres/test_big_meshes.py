@@ -7,6 +7,7 @@ line naming the file. The limit is lowered here so that small meshes stand in fo
 from __future__ import annotations
 
 import struct
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +58,7 @@ def test_the_inside_test_is_exact_whatever_the_grid(
 ) -> None:
     """The default grid, one made coarser for slivers, and one holding every triangle in its
     list of wide ones all give the answer of testing every pair."""
+    monkeypatch.setattr(inside, "MIN_PAIRS", 0)
     monkeypatch.setattr(inside, "PAIRS_PER_FACE", pairs_per_face)
     monkeypatch.setattr(inside, "WIDE_CELLS", wide_cells)
     monkeypatch.setattr(inside, "MAX_WIDE", max_wide)
@@ -67,6 +69,106 @@ def test_the_inside_test_is_exact_whatever_the_grid(
     expected = _every_pair(mesh, points)
     assert 0.1 < expected.mean() < 0.9
     assert np.array_equal(points_inside(mesh, points), expected)
+
+
+def _fan_cone(triangles: int) -> trimesh.Trimesh:
+    """A closed cone whose side and base are each a fan of slivers from one centre."""
+    n = triangles // 2
+    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    rim = np.stack([0.05 * np.cos(t), 0.05 * np.sin(t), np.zeros(n)], 1)
+    i = np.arange(n)
+    j = (i + 1) % n
+    faces = np.vstack([np.stack([np.full(n, n), i, j], 1), np.stack([np.full(n, n + 1), j, i], 1)])
+    return trimesh.Trimesh(np.vstack([rim, [[0, 0, 0.1]], [[0, 0, 0]]]), faces, process=False)
+
+
+def _fan_capped_cylinder(sides: int) -> trimesh.Trimesh:
+    """A closed cylinder whose caps are fans from one rim vertex, as CAD tessellates them,
+    slanted so that its walls are seen (not edge-on) from above."""
+    t = np.linspace(0.0, 2.0 * np.pi, sides, endpoint=False)
+    bottom = np.stack([0.01 * np.cos(t), 0.01 * np.sin(t), np.zeros(sides)], 1)
+    vertices = np.vstack([bottom, bottom + np.array([0.003, 0.002, 0.2])])
+    i = np.arange(sides)
+    j = (i + 1) % sides
+    k = np.arange(1, sides - 1)
+    faces = np.vstack(
+        [
+            np.stack([i, j, j + sides], 1),
+            np.stack([i, j + sides, i + sides], 1),
+            np.stack([np.zeros(sides - 2, dtype=int), k + 1, k], 1),
+            np.stack([np.full(sides - 2, sides), k + sides, k + 1 + sides], 1),
+        ]
+    )
+    return trimesh.Trimesh(vertices, faces, process=False)
+
+
+def _random_slivers(count: int) -> trimesh.Trimesh:
+    """Long thin triangles in every direction (not a closed mesh: the parity of each point's
+    crossings is compared all the same)."""
+    rng = np.random.default_rng(11)
+    a = rng.uniform(-1.0, 1.0, size=(count, 3))
+    b = rng.uniform(-1.0, 1.0, size=(count, 3))
+    c = a + (b - a) * rng.uniform(0.0, 1.0, size=(count, 1))
+    c[:, :2] += rng.normal(scale=1e-3, size=(count, 2))  # a sliver along a -> b
+    c[: count // 8, 1] = a[: count // 8, 1]  # some with a horizontal edge
+    vertices = np.stack([a, b, c], 1).reshape(-1, 3)
+    return trimesh.Trimesh(vertices, np.arange(3 * count).reshape(-1, 3), process=False)
+
+
+def _testing_points(mesh: trimesh.Trimesh, grid: inside.FaceGrid) -> np.ndarray:
+    """Random points, and points exactly on the grid's cell boundaries, on the triangles'
+    edges and on their vertices, at random heights."""
+    rng = np.random.default_rng(5)
+    lo, hi = mesh.bounds
+    v = np.asarray(mesh.vertices)[np.asarray(mesh.faces)]
+    edge = v[:, 0] + (v[:, 1] - v[:, 0]) * rng.uniform(0.0, 1.0, size=(len(v), 1))
+    columns = grid.lo[0] + grid.size[0] * rng.integers(0, grid.shape[0] + 1, size=400)
+    rows = grid.lo[1] + grid.size[1] * rng.integers(0, grid.shape[1] + 1, size=400)
+    xy = [
+        rng.uniform(lo[:2], hi[:2], size=(800, 2)),
+        np.stack([columns, rng.uniform(lo[1], hi[1], size=400)], 1),
+        np.stack([rng.uniform(lo[0], hi[0], size=400), rows], 1),
+        np.stack([columns, rows], 1),
+        edge[rng.choice(len(v), size=600), :2],
+        v[rng.choice(len(v), size=300), rng.integers(0, 3, size=300), :2],
+    ]
+    points = np.concatenate(xy)
+    return np.column_stack([points, rng.uniform(lo[2], hi[2], size=len(points))])
+
+
+@pytest.mark.parametrize(
+    "make",
+    [lambda: _fan_cone(2000), lambda: _fan_capped_cylinder(400), lambda: _random_slivers(600)],
+)
+def test_slivers_and_fans_get_the_answer_of_testing_every_pair(
+    make: Callable[[], trimesh.Trimesh],
+) -> None:
+    """Each long triangle is listed only in the cells its projection touches: points on cell
+    boundaries, on edges and on vertices still meet every triangle that may count them (and
+    none twice), so the answer is that of testing every pair, bit for bit."""
+    mesh = make()
+    grid = inside.face_grid(mesh)
+    assert grid.shape.min() >= 10  # the grid is not made coarse for the slivers
+    cell = np.repeat(np.arange(len(grid.start) - 1), np.diff(grid.start))
+    listed = cell * len(mesh.faces) + grid.tri_of_cell
+    assert len(np.unique(listed)) == len(listed)
+    points = _testing_points(mesh, grid)
+    expected = _every_pair(mesh, points)
+    assert 0.05 < expected.mean() < 0.95
+    assert np.array_equal(points_inside(mesh, points), expected)
+
+
+def test_a_fan_is_tested_against_tens_of_triangles_a_point_not_thousands() -> None:
+    """A 10,000-triangle fan cone: a point of its box meets about 70 triangles of the grid
+    (1,700 when each was listed in every cell of its xy box)."""
+    mesh = _fan_cone(10_000)
+    grid = inside.face_grid(mesh)
+    rng = np.random.default_rng(0)
+    points = rng.uniform(mesh.bounds[0], mesh.bounds[1], size=(2000, 3))
+    cell = grid._cell_of(points[:, :2])
+    key = cell[:, 0] * grid.shape[1] + cell[:, 1]
+    met = grid.start[key + 1] - grid.start[key] + len(grid.wide)
+    assert met.mean() < 150
 
 
 def test_the_grid_is_built_once_per_mesh_and_again_when_it_changes(

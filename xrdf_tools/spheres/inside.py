@@ -17,9 +17,20 @@ Candidate (point, triangle) pairs come from a uniform xy grid of buckets over th
 built once per mesh (:func:`face_grid`, kept while the mesh object lives and its vertices and
 faces are unchanged): a query costs time in proportion to its points and the few triangles
 over each, not to the whole mesh, so the many queries of a fit on a CAD mesh of millions of
-triangles pay for its faces once. Pairs are processed in bounded blocks, and each block
-computes the edge values of only its own triangles, so memory stays linear in the points and
-faces. Any superset of the triangles whose xy box holds a point gives the same answer (the
+triangles pay for its faces once. A triangle is listed only in the cells its xy projection
+touches: one whose box covers a few cells in all of them, a larger one row by row, in the
+cells of its x extent within the row's band. (Listed in every cell of its box, a long
+diagonal sliver covered a large share of the grid: a disc or a cone tessellated as a fan of
+slivers from one centre had the grid made coarser until every point met thousands of
+triangles, and a 200,000-triangle fan cone took over ten minutes in ``xrdf spheres``.) The
+band and the extent are widened by a little more than the rounding of the cell a point is
+put in and of the crossing test, so every triangle that could count a point is among those
+of its cell. The grid starts at about two triangles a cell and is made coarser only while
+the listed (triangle, cell) pairs exceed a budget linear in the triangles (at least
+:data:`MIN_PAIRS`), which bounds its memory; a fan then ends at tens to hundreds of
+triangles a point. Pairs are processed in bounded blocks, and each block computes the edge
+values of only its own triangles, so memory stays linear in the points and faces. Any
+superset of the triangles whose xy projection may hold a point gives the same answer (the
 test is exact), so the grid decides speed, never the result.
 """
 
@@ -30,8 +41,9 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
-from ..util.arrays import BoolArray, FloatArray
+from ..util.arrays import BoolArray, FloatArray, ragged_index
 from ..util.arrays import Int64Array as IntArray
 
 if TYPE_CHECKING:
@@ -42,15 +54,29 @@ __all__ = ["face_grid", "grid_inside", "points_inside"]
 
 #: Point-triangle candidate pairs tested per block (about 200 bytes each).
 PAIR_BLOCK = 1_000_000
-#: (triangle, cell) pairs a grid may list per triangle before it is made coarser.
+#: (triangle, cell) pairs a grid may list per triangle before it is made coarser ...
 PAIRS_PER_FACE = 8
-#: A triangle whose xy box covers more grid cells than this is tested against every point of
-#: a query instead of being listed in each cell (a long sliver across a CAD part) ...
+#: ... and at least this many (a fan of slivers from one centre lists each sliver in a
+#: line of cells: a finer grid lists more pairs, but tests fewer of them per point).
+MIN_PAIRS = 16_000_000
+#: A triangle listed in more grid cells than this is tested against every point of a query
+#: instead of being listed in each cell (a long sliver across a CAD part) ...
 WIDE_CELLS = 256
 #: ... as long as there are at most this many such triangles (else the grid is made coarser).
 MAX_WIDE = 64
-#: Triangles whose (triangle, cell) pairs are computed at once while the grid is built.
+#: A triangle whose xy box covers at most this many cells is listed in all of them; a larger
+#: one only in the cells its projection touches, found row by row.
+BOX_CELLS = 4
+#: How far a row's band and a triangle's extent in it are widened (relative to a cell, and
+#: to the coordinates): more than the rounding of the cell a point is put in and of the
+#: crossing test, so a triangle is never missing from a cell whose points it may hold.
+PAD_OF_CELL = 1e-6
+PAD_OF_COORDINATE = 1e-12
+#: Triangles whose (triangle, cell) pairs are computed at once while the grid is built ...
 _BUILD_BLOCK = 1 << 17
+#: ... and (triangle, row) spans, or for the listing (triangle, cell) pairs, of the triangles
+#: listed row by row.
+_ROW_BLOCK = 1 << 17
 
 
 def points_inside(mesh: trimesh.Trimesh, points: FloatArray) -> BoolArray:
@@ -163,34 +189,39 @@ class _TriangleTable:
         return pnt, z
 
 
+#: Row spans of a block of triangles: the triangles, the first row and number of rows of each,
+#: and for each row of each in turn its first and last column (see :meth:`FaceGrid._row_spans`).
+_Spans = tuple[IntArray, IntArray, IntArray, npt.NDArray[np.int16], npt.NDArray[np.int16]]
+
+
 class FaceGrid:
-    """A mesh's triangles sorted into a uniform xy grid, each listed in every cell its xy box
-    covers. The grid starts at about two triangles a cell and is made coarser while the
-    (triangle, cell) pairs exceed :data:`PAIRS_PER_FACE` a triangle (the long slivers of a CAD
-    part cross many cells); the few triangles that still cover more than :data:`WIDE_CELLS`
-    cells are kept in a list tested against every point instead."""
+    """A mesh's triangles sorted into a uniform xy grid, each listed in the cells its xy
+    projection touches (:meth:`_touched`); triangles seen edge-on, never crossed, are not
+    listed. The grid starts at about two triangles a cell and is made coarser while the
+    (triangle, cell) pairs exceed the budget (:data:`PAIRS_PER_FACE` a triangle, at least
+    :data:`MIN_PAIRS`); the few triangles that still touch more than :data:`WIDE_CELLS` cells
+    are kept in a list tested against every point instead."""
 
     def __init__(self, vertices: FloatArray, faces: IntArray) -> None:
         self.vertices, self.faces = vertices, faces
-        lo, hi = _xy_boxes(vertices, faces)
+        lo, hi, seen = _xy_boxes(vertices, faces)
         self.lo = lo.min(0) if len(lo) else np.zeros(2)
         self.span = np.maximum((hi.max(0) if len(hi) else self.lo) - self.lo, 1e-12)
+        budget = max(PAIRS_PER_FACE * len(faces), MIN_PAIRS)
         cells = max(1, int(np.sqrt(len(faces) / 2.0)))
         while True:
             self._resolution(cells)
-            covered = self._covered(lo, hi)
-            wide = covered > WIDE_CELLS
-            listed = int(covered[~wide].sum())
-            if cells == 1 or (listed <= PAIRS_PER_FACE * len(faces) and wide.sum() <= MAX_WIDE):
+            touched, spans = self._touched(lo, hi, seen)
+            wide = touched > WIDE_CELLS
+            listed = int(touched[~wide].sum())
+            if cells == 1 or (listed <= budget and wide.sum() <= MAX_WIDE):
                 break
-            cells = max(1, cells // 2)
+            cells = _coarser(cells, budget / max(listed, 1))
         keys, tris = [], []
-        for s0 in range(0, len(faces), _BUILD_BLOCK):
-            sl = slice(s0, s0 + _BUILD_BLOCK)
-            key, tri = self._cells_of(lo[sl], hi[sl], wide[sl])
+        for key, tri in self._listing(lo, hi, np.where(wide, 0, touched), spans):
             keys.append(key.astype(np.int32))  # cells and triangles < 2**31: half the memory
-            tris.append((tri + s0).astype(np.int32))
-        del lo, hi
+            tris.append(tri.astype(np.int32))
+        del lo, hi, spans
         key = np.concatenate(keys) if keys else np.zeros(0, dtype=np.int32)
         del keys
         order = np.argsort(key, kind="stable")
@@ -204,29 +235,91 @@ class FaceGrid:
         shape = (self.span / self.span.max() * cells).astype(np.int64)
         self.shape = np.minimum(np.maximum(shape, 1), 4096)
         self.size = self.span / self.shape
+        magnitude = np.maximum(np.abs(self.lo), np.abs(self.lo + self.span))
+        self.pad = PAD_OF_CELL * self.size + PAD_OF_COORDINATE * magnitude
 
     def _cell_of(self, xy: FloatArray) -> IntArray:
-        c = np.floor((xy - self.lo) / self.size).astype(np.int64)
-        clipped: IntArray = np.clip(c, 0, self.shape - 1)
+        return np.stack([self._cell_along(xy[..., k], k) for k in (0, 1)], axis=-1)
+
+    def _cell_along(self, values: FloatArray, axis: int) -> IntArray:
+        """The column (``axis`` 0) or row (1) of the cells holding the coordinates ``values``:
+        the one floor and clip every query and every listing goes through."""
+        c = np.floor((values - self.lo[axis]) / self.size[axis]).astype(np.int64)
+        clipped: IntArray = np.clip(c, 0, self.shape[axis] - 1)
         return clipped
 
-    def _covered(self, lo: FloatArray, hi: FloatArray) -> IntArray:
+    def _touched(
+        self, lo: FloatArray, hi: FloatArray, seen: BoolArray
+    ) -> tuple[IntArray, list[_Spans]]:
+        """How many cells each triangle (xy box ``[lo, hi]``) is listed in: those of its box
+        when it covers at most :data:`BOX_CELLS` of them, else those of its :meth:`_row_spans`
+        (returned too); none for a triangle seen edge-on."""
+        touched: IntArray = np.where(seen, self._box_cells(lo, hi), 0)
+        spans = list(self._row_spans(lo, hi, np.flatnonzero(touched > BOX_CELLS)))
+        for tris, _, rows, x0, x1 in spans:
+            touched[tris] = np.add.reduceat(x1.astype(np.int64) - x0 + 1, np.cumsum(rows) - rows)
+        return touched, spans
+
+    def _box_cells(self, lo: FloatArray, hi: FloatArray) -> IntArray:
         """How many cells each xy box ``[lo, hi]`` covers."""
         span: IntArray = self._cell_of(hi) - self._cell_of(lo) + 1
         return span[:, 0] * span[:, 1]
 
+    def _listing(
+        self, lo: FloatArray, hi: FloatArray, touched: IntArray, spans: list[_Spans]
+    ) -> Iterator[tuple[IntArray, IntArray]]:
+        """(cell key, triangle) pairs of each triangle listed ``touched > 0`` times, in blocks
+        of at most :data:`_BUILD_BLOCK` triangles or :data:`_ROW_BLOCK` pairs."""
+        by_box = (touched > 0) & (self._box_cells(lo, hi) <= BOX_CELLS)
+        for s0 in range(0, len(lo), _BUILD_BLOCK):
+            sl = slice(s0, s0 + _BUILD_BLOCK)
+            key, tri = self._cells_of(lo[sl], hi[sl], ~by_box[sl])
+            yield key, tri + s0
+        for tris, first_row, rows, x0, x1 in spans:
+            row_tri, rank = ragged_index(rows)
+            row = first_row[row_tri] + rank
+            cells = np.where(touched[tris][row_tri] > 0, x1.astype(np.int64) - x0 + 1, 0)
+            for sl in _blocks(cells, _ROW_BLOCK):
+                span, offset = ragged_index(cells[sl])
+                span += sl.start
+                yield (x0[span] + offset) * self.shape[1] + row[span], tris[row_tri[span]]
+
+    def _row_spans(self, lo: FloatArray, hi: FloatArray, tris: IntArray) -> Iterator[_Spans]:
+        """Per row of cells each triangle of ``tris`` spans, the columns it touches there:
+        ``(triangles, first row, rows, first column, last column)`` (the columns per row of
+        each triangle in turn), in blocks of at most :data:`_ROW_BLOCK` rows.
+
+        The columns are those of the triangle's x extent in the row's y band (both padded by
+        :attr:`pad`, the extent clipped to the triangle's box), through :meth:`_cell_along`:
+        a point whose ray the crossing test could count for the triangle lies in the band of
+        its own row and within the padded extent, so its cell is among those listed."""
+        first_row = self._cell_along(lo[tris, 1], 1)
+        rows = self._cell_along(hi[tris, 1], 1) - first_row + 1
+        for sl in _blocks(rows, _ROW_BLOCK):
+            t = tris[sl]
+            row_tri, rank = ragged_index(rows[sl])
+            row = first_row[sl][row_tri] + rank
+            tri = t[row_tri]
+            y0 = np.maximum(self.lo[1] + row * self.size[1] - self.pad[1], lo[tri, 1])
+            y1 = np.minimum(self.lo[1] + (row + 1) * self.size[1] + self.pad[1], hi[tri, 1])
+            xy = self.vertices[self.faces[t], :2][row_tri]
+            x0, x1 = _band_extent(xy, y0, y1)
+            met = x0 <= x1  # else (not seen: the band is padded) the whole box
+            x0 = np.maximum(np.where(met, x0 - self.pad[0], -np.inf), lo[tri, 0])
+            x1 = np.minimum(np.where(met, x1 + self.pad[0], np.inf), hi[tri, 0])
+            c0 = self._cell_along(x0, 0).astype(np.int16)  # columns < 4096
+            c1 = self._cell_along(x1, 0).astype(np.int16)
+            yield t, first_row[sl], rows[sl], c0, c1
+
     def _cells_of(
-        self, lo: FloatArray, hi: FloatArray, wide: BoolArray
+        self, lo: FloatArray, hi: FloatArray, skip: BoolArray
     ) -> tuple[IntArray, IntArray]:
         """The (cell key, triangle) pairs of the triangles with xy boxes ``[lo, hi]`` (indices
-        into these boxes), the ``wide`` ones left out."""
+        into these boxes) listed in every cell of their box, the ``skip`` ones left out."""
         c_lo, c_hi = self._cell_of(lo), self._cell_of(hi)
         ny = c_hi[:, 1] - c_lo[:, 1] + 1
-        per_tri = np.where(wide, 0, (c_hi[:, 0] - c_lo[:, 0] + 1) * ny)
-        tri_of = np.repeat(np.arange(len(lo), dtype=np.int64), per_tri)
-        offset = np.arange(len(tri_of), dtype=np.int64) - np.repeat(
-            np.cumsum(per_tri) - per_tri, per_tri
-        )
+        per_tri = np.where(skip, 0, (c_hi[:, 0] - c_lo[:, 0] + 1) * ny)
+        tri_of, offset = ragged_index(per_tri)
         cx = c_lo[tri_of, 0] + offset // ny[tri_of]
         cy = c_lo[tri_of, 1] + offset % ny[tri_of]
         return cx * self.shape[1] + cy, tri_of
@@ -246,16 +339,10 @@ class FaceGrid:
         key = cell[:, 0] * self.shape[1] + cell[:, 1]
         first = self.start[key]
         count = self.start[key + 1] - first
-        ends = np.cumsum(count)
-        begin = 0
-        while begin < len(count):
-            base = ends[begin - 1] if begin else 0
-            stop = max(int(np.searchsorted(ends, base + PAIR_BLOCK, side="right")), begin + 1)
-            f, n = first[begin:stop], count[begin:stop]
-            within = np.arange(int(n.sum()), dtype=np.int64) - np.repeat(np.cumsum(n) - n, n)
-            pair_pt = np.repeat(np.arange(begin, stop, dtype=np.int64), n)
-            yield self.tri_of_cell[np.repeat(f, n) + within], pair_pt
-            begin = stop
+        for sl in _blocks(count, PAIR_BLOCK):
+            f, n = first[sl], count[sl]
+            point, within = ragged_index(n)
+            yield self.tri_of_cell[f[point] + within], point + sl.start
         if len(self.wide):
             step = max(1, PAIR_BLOCK // len(self.wide))
             for s0 in range(0, len(pts), step):
@@ -263,11 +350,50 @@ class FaceGrid:
                 yield np.tile(self.wide, len(p)), np.repeat(p, len(self.wide))
 
 
-def _xy_boxes(vertices: FloatArray, faces: IntArray) -> tuple[FloatArray, FloatArray]:
-    """Each triangle's xy bounding box ``(lo, hi)``, ``(F, 2)`` each."""
+def _xy_boxes(vertices: FloatArray, faces: IntArray) -> tuple[FloatArray, FloatArray, BoolArray]:
+    """Each triangle's xy bounding box ``(lo, hi)``, ``(F, 2)`` each, and whether it is seen
+    other than edge-on (the same value :class:`_TriangleTable` computes)."""
     xy = vertices[:, :2]
     a, b, c = xy[faces[:, 0]], xy[faces[:, 1]], xy[faces[:, 2]]
-    return np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
+    seen: BoolArray = _orient(a, b, c) != 0.0
+    return np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c), seen
+
+
+def _band_extent(xy: FloatArray, y0: FloatArray, y1: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The x extent of each triangle ``xy (N, 3, 2)`` within its band ``y0 <= y <= y1``: that
+    of its edges clipped to the band (a horizontal edge in the band counts whole); ``(inf,
+    -inf)`` where the band misses the triangle."""
+    x0, x1 = np.full(len(y0), np.inf), np.full(len(y0), -np.inf)
+    for i, j in ((0, 1), (1, 2), (2, 0)):
+        ax, ay, bx, by = xy[:, i, 0], xy[:, i, 1], xy[:, j, 0], xy[:, j, 1]
+        s0, s1 = np.maximum(y0, np.minimum(ay, by)), np.minimum(y1, np.maximum(ay, by))
+        flat = by == ay
+        dy = np.where(flat, 1.0, by - ay)
+        t0 = np.where(flat, 0.0, np.clip((s0 - ay) / dy, 0.0, 1.0))
+        t1 = np.where(flat, 1.0, np.clip((s1 - ay) / dy, 0.0, 1.0))
+        e0, e1 = ax + t0 * (bx - ax), ax + t1 * (bx - ax)
+        hit = s0 <= s1
+        x0 = np.where(hit, np.minimum(x0, np.minimum(e0, e1)), x0)
+        x1 = np.where(hit, np.maximum(x1, np.maximum(e0, e1)), x1)
+    return x0, x1
+
+
+def _blocks(cost: IntArray, limit: int) -> Iterator[slice]:
+    """Consecutive slices of ``cost`` summing to at most ``limit`` (or one item)."""
+    ends = np.cumsum(cost)
+    begin = 0
+    while begin < len(cost):
+        base = ends[begin - 1] if begin else 0
+        stop = max(int(np.searchsorted(ends, base + limit, side="right")), begin + 1)
+        yield slice(begin, stop)
+        begin = stop
+
+
+def _coarser(cells: int, ratio: float) -> int:
+    """The next, coarser resolution after ``cells`` cells a side listed ``1 / ratio`` times
+    the pairs allowed: in proportion (a fan lists pairs in proportion to the cells a side),
+    at least a tenth fewer cells, at most half as many."""
+    return max(1, min(int(cells * 0.9), max(cells // 2, int(cells * ratio))))
 
 
 _GRIDS: weakref.WeakKeyDictionary[trimesh.Trimesh, tuple[int, FaceGrid]] = (
