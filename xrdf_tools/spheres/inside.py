@@ -211,6 +211,10 @@ class FaceGrid:
         cells = max(1, int(np.sqrt(len(faces) / 2.0)))
         while True:
             self._resolution(cells)
+            fewest = self._fewest_listed(lo, hi, seen)
+            if cells > 1 and fewest > budget:  # the row spans need not be found
+                cells = _coarser(cells, budget / fewest)
+                continue
             touched, spans = self._touched(lo, hi, seen)
             wide = touched > WIDE_CELLS
             listed = int(touched[~wide].sum())
@@ -247,6 +251,18 @@ class FaceGrid:
         c = np.floor((values - self.lo[axis]) / self.size[axis]).astype(np.int64)
         clipped: IntArray = np.clip(c, 0, self.shape[axis] - 1)
         return clipped
+
+    def _fewest_listed(self, lo: FloatArray, hi: FloatArray, seen: BoolArray) -> float:
+        """At least how many pairs :meth:`_touched` will list, or inf when more than
+        :data:`MAX_WIDE` triangles will be wide: a triangle's columns in a row make one run,
+        which shares a column with the next row's (their padded bands overlap), and together
+        they hold every column of its box."""
+        span: IntArray = self._cell_of(hi) - self._cell_of(lo) + 1
+        least = np.where(seen, span.sum(1) - 1, 0)
+        wide = least > WIDE_CELLS
+        if wide.sum() > MAX_WIDE:
+            return float("inf")
+        return float(least[~wide].sum() - MAX_WIDE * WIDE_CELLS)
 
     def _touched(
         self, lo: FloatArray, hi: FloatArray, seen: BoolArray
@@ -302,9 +318,9 @@ class FaceGrid:
             tri = t[row_tri]
             y0 = np.maximum(self.lo[1] + row * self.size[1] - self.pad[1], lo[tri, 1])
             y1 = np.minimum(self.lo[1] + (row + 1) * self.size[1] + self.pad[1], hi[tri, 1])
-            xy = self.vertices[self.faces[t], :2][row_tri]
-            x0, x1 = _band_extent(xy, y0, y1)
-            met = x0 <= x1  # else (not seen: the band is padded) the whole box
+            edges = _edges_by_height(self.vertices[self.faces[t], :2])[:, row_tri]
+            x0, x1 = _band_extent(edges, y0, y1)
+            met = y0 <= y1  # else (not seen: the band is padded) the whole box
             x0 = np.maximum(np.where(met, x0 - self.pad[0], -np.inf), lo[tri, 0])
             x1 = np.minimum(np.where(met, x1 + self.pad[0], np.inf), hi[tri, 0])
             c0 = self._cell_along(x0, 0).astype(np.int16)  # columns < 4096
@@ -359,23 +375,40 @@ def _xy_boxes(vertices: FloatArray, faces: IntArray) -> tuple[FloatArray, FloatA
     return np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c), seen
 
 
-def _band_extent(xy: FloatArray, y0: FloatArray, y1: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """The x extent of each triangle ``xy (N, 3, 2)`` within its band ``y0 <= y <= y1``: that
-    of its edges clipped to the band (a horizontal edge in the band counts whole); ``(inf,
-    -inf)`` where the band misses the triangle."""
-    x0, x1 = np.full(len(y0), np.inf), np.full(len(y0), -np.inf)
-    for i, j in ((0, 1), (1, 2), (2, 0)):
-        ax, ay, bx, by = xy[:, i, 0], xy[:, i, 1], xy[:, j, 0], xy[:, j, 1]
-        s0, s1 = np.maximum(y0, np.minimum(ay, by)), np.minimum(y1, np.maximum(ay, by))
-        flat = by == ay
-        dy = np.where(flat, 1.0, by - ay)
-        t0 = np.where(flat, 0.0, np.clip((s0 - ay) / dy, 0.0, 1.0))
-        t1 = np.where(flat, 1.0, np.clip((s1 - ay) / dy, 0.0, 1.0))
-        e0, e1 = ax + t0 * (bx - ax), ax + t1 * (bx - ax)
-        hit = s0 <= s1
-        x0 = np.where(hit, np.minimum(x0, np.minimum(e0, e1)), x0)
-        x1 = np.where(hit, np.maximum(x1, np.maximum(e0, e1)), x1)
-    return x0, x1
+def _edges_by_height(xy: FloatArray) -> FloatArray:
+    """For triangles ``xy (K, 3, 2)``, ``(8, K)``: the x and y of the lowest vertex and of the
+    middle one, the x of the highest, and the dx/dy of the edge from the lowest to the
+    highest, from the lowest to the middle and from the middle to the highest (0 for a
+    horizontal edge)."""
+    order = np.argsort(xy[:, :, 1], axis=1, kind="stable")
+    low, mid, high = (
+        np.take_along_axis(xy, order[:, k : k + 1, None], axis=1)[:, 0] for k in range(3)
+    )
+
+    def slope(a: FloatArray, b: FloatArray) -> FloatArray:
+        rise = b[:, 1] - a[:, 1]
+        run: FloatArray = np.where(
+            rise > 0.0, (b[:, 0] - a[:, 0]) / np.where(rise > 0.0, rise, 1.0), 0.0
+        )
+        return run
+
+    columns = [low[:, 0], low[:, 1], mid[:, 0], mid[:, 1], high[:, 0]]
+    return np.stack([*columns, slope(low, high), slope(low, mid), slope(mid, high)])
+
+
+def _band_extent(
+    edges: FloatArray, y0: FloatArray, y1: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The x extent of each triangle (its :func:`_edges_by_height`) within its band ``y0 <= y
+    <= y1`` (within the triangle's heights): of the points where the band's two lines cross
+    the edge from the lowest vertex to the highest and the other two edges, and of the middle
+    vertex when the band holds it."""
+    lx, ly, mx, my, _, long, lower, upper = edges
+    ends = [lx + (y - ly) * long for y in (y0, y1)]
+    ends += [np.where(y < my, lx + (y - ly) * lower, mx + (y - my) * upper) for y in (y0, y1)]
+    x0, x1 = np.minimum.reduce(ends), np.maximum.reduce(ends)
+    middle = (y0 <= my) & (my <= y1)
+    return np.where(middle, np.minimum(x0, mx), x0), np.where(middle, np.maximum(x1, mx), x1)
 
 
 def _blocks(cost: IntArray, limit: int) -> Iterator[slice]:
@@ -390,10 +423,10 @@ def _blocks(cost: IntArray, limit: int) -> Iterator[slice]:
 
 
 def _coarser(cells: int, ratio: float) -> int:
-    """The next, coarser resolution after ``cells`` cells a side listed ``1 / ratio`` times
-    the pairs allowed: in proportion (a fan lists pairs in proportion to the cells a side),
-    at least a tenth fewer cells, at most half as many."""
-    return max(1, min(int(cells * 0.9), max(cells // 2, int(cells * ratio))))
+    """The next, coarser resolution after ``cells`` cells a side listed (or would list at
+    least) ``1 / ratio`` times the pairs allowed: in proportion, as a fan of slivers lists
+    pairs in proportion to the cells a side, with a margin of 5 %; at most half as many."""
+    return max(1, cells // 2, min(cells - 1, int(cells * ratio * 0.95)))
 
 
 _GRIDS: weakref.WeakKeyDictionary[trimesh.Trimesh, tuple[int, FaceGrid]] = (
