@@ -64,7 +64,7 @@ class BoxGrid(inside.FaceGrid):
         keys, tris = [], []
         for s0 in range(0, len(faces), 1 << 17):
             sl = slice(s0, s0 + (1 << 17))
-            key, tri = self._cells_of(lo[sl], hi[sl], wide[sl])
+            key, tri = self._cells_of(self._cell_of(lo[sl]), self._cell_of(hi[sl]), wide[sl])
             keys.append(key.astype(np.int32))
             tris.append((tri + s0).astype(np.int32))
         key = np.concatenate(keys)

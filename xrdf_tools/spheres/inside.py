@@ -211,21 +211,24 @@ class FaceGrid:
         cells = max(1, int(np.sqrt(len(faces) / 2.0)))
         while True:
             self._resolution(cells)
-            fewest = self._fewest_listed(lo, hi, seen)
+            c_lo, c_hi = self._cell_of(lo), self._cell_of(hi)
+            box: IntArray = c_hi - c_lo + 1
+            fewest = self._fewest_listed(box, seen)
             if cells > 1 and fewest > budget:  # the row spans need not be found
                 cells = _coarser(cells, budget / fewest)
                 continue
-            touched, spans = self._touched(lo, hi, seen)
+            touched, spans = self._touched(lo, hi, box, seen)
             wide = touched > WIDE_CELLS
             listed = int(touched[~wide].sum())
             if cells == 1 or (listed <= budget and wide.sum() <= MAX_WIDE):
                 break
             cells = _coarser(cells, budget / max(listed, 1))
         keys, tris = [], []
-        for key, tri in self._listing(lo, hi, np.where(wide, 0, touched), spans):
+        by_box = ~wide & (touched > 0) & (box[:, 0] * box[:, 1] <= BOX_CELLS)
+        for key, tri in self._listing(c_lo, c_hi, by_box, np.where(wide, 0, touched), spans):
             keys.append(key.astype(np.int32))  # cells and triangles < 2**31: half the memory
             tris.append(tri.astype(np.int32))
-        del lo, hi, spans
+        del lo, hi, c_lo, c_hi, box, spans
         key = np.concatenate(keys) if keys else np.zeros(0, dtype=np.int32)
         del keys
         order = np.argsort(key, kind="stable")
@@ -243,53 +246,54 @@ class FaceGrid:
         self.pad = PAD_OF_CELL * self.size + PAD_OF_COORDINATE * magnitude
 
     def _cell_of(self, xy: FloatArray) -> IntArray:
-        return np.stack([self._cell_along(xy[..., k], k) for k in (0, 1)], axis=-1)
+        """The (column, row) of the cells holding the points ``xy (N, 2)``."""
+        return self._cell_along(xy, slice(None))
 
-    def _cell_along(self, values: FloatArray, axis: int) -> IntArray:
+    def _cell_along(self, values: FloatArray, axis: int | slice) -> IntArray:
         """The column (``axis`` 0) or row (1) of the cells holding the coordinates ``values``:
         the one floor and clip every query and every listing goes through."""
         c = np.floor((values - self.lo[axis]) / self.size[axis]).astype(np.int64)
         clipped: IntArray = np.clip(c, 0, self.shape[axis] - 1)
         return clipped
 
-    def _fewest_listed(self, lo: FloatArray, hi: FloatArray, seen: BoolArray) -> float:
+    def _fewest_listed(self, box: IntArray, seen: BoolArray) -> float:
         """At least how many pairs :meth:`_touched` will list, or inf when more than
         :data:`MAX_WIDE` triangles will be wide: a triangle's columns in a row make one run,
         which shares a column with the next row's (their padded bands overlap), and together
-        they hold every column of its box."""
-        span: IntArray = self._cell_of(hi) - self._cell_of(lo) + 1
-        least = np.where(seen, span.sum(1) - 1, 0)
+        they hold every column of its box (``box``: its columns and rows)."""
+        least = np.where(seen, box.sum(1) - 1, 0)
         wide = least > WIDE_CELLS
         if wide.sum() > MAX_WIDE:
             return float("inf")
         return float(least[~wide].sum() - MAX_WIDE * WIDE_CELLS)
 
     def _touched(
-        self, lo: FloatArray, hi: FloatArray, seen: BoolArray
+        self, lo: FloatArray, hi: FloatArray, box: IntArray, seen: BoolArray
     ) -> tuple[IntArray, list[_Spans]]:
         """How many cells each triangle (xy box ``[lo, hi]``) is listed in: those of its box
         when it covers at most :data:`BOX_CELLS` of them, else those of its :meth:`_row_spans`
         (returned too); none for a triangle seen edge-on."""
-        touched: IntArray = np.where(seen, self._box_cells(lo, hi), 0)
+        touched: IntArray = np.where(seen, box[:, 0] * box[:, 1], 0)
         spans = list(self._row_spans(lo, hi, np.flatnonzero(touched > BOX_CELLS)))
         for tris, _, rows, x0, x1 in spans:
             touched[tris] = np.add.reduceat(x1.astype(np.int64) - x0 + 1, np.cumsum(rows) - rows)
         return touched, spans
 
-    def _box_cells(self, lo: FloatArray, hi: FloatArray) -> IntArray:
-        """How many cells each xy box ``[lo, hi]`` covers."""
-        span: IntArray = self._cell_of(hi) - self._cell_of(lo) + 1
-        return span[:, 0] * span[:, 1]
-
     def _listing(
-        self, lo: FloatArray, hi: FloatArray, touched: IntArray, spans: list[_Spans]
+        self,
+        c_lo: IntArray,
+        c_hi: IntArray,
+        by_box: BoolArray,
+        touched: IntArray,
+        spans: list[_Spans],
     ) -> Iterator[tuple[IntArray, IntArray]]:
-        """(cell key, triangle) pairs of each triangle listed ``touched > 0`` times, in blocks
-        of at most :data:`_BUILD_BLOCK` triangles or :data:`_ROW_BLOCK` pairs."""
-        by_box = (touched > 0) & (self._box_cells(lo, hi) <= BOX_CELLS)
-        for s0 in range(0, len(lo), _BUILD_BLOCK):
+        """(cell key, triangle) pairs: of the ``by_box`` triangles, every cell of their box
+        (from cell ``c_lo`` to ``c_hi``), of the others listed (``touched > 0``), their row
+        ``spans``; in blocks of at most :data:`_BUILD_BLOCK` triangles or :data:`_ROW_BLOCK`
+        pairs."""
+        for s0 in range(0, len(c_lo), _BUILD_BLOCK):
             sl = slice(s0, s0 + _BUILD_BLOCK)
-            key, tri = self._cells_of(lo[sl], hi[sl], ~by_box[sl])
+            key, tri = self._cells_of(c_lo[sl], c_hi[sl], ~by_box[sl])
             yield key, tri + s0
         for tris, first_row, rows, x0, x1 in spans:
             row_tri, rank = ragged_index(rows)
@@ -328,11 +332,11 @@ class FaceGrid:
             yield t, first_row[sl], rows[sl], c0, c1
 
     def _cells_of(
-        self, lo: FloatArray, hi: FloatArray, skip: BoolArray
+        self, c_lo: IntArray, c_hi: IntArray, skip: BoolArray
     ) -> tuple[IntArray, IntArray]:
-        """The (cell key, triangle) pairs of the triangles with xy boxes ``[lo, hi]`` (indices
-        into these boxes) listed in every cell of their box, the ``skip`` ones left out."""
-        c_lo, c_hi = self._cell_of(lo), self._cell_of(hi)
+        """The (cell key, triangle) pairs of the triangles whose boxes run from cell ``c_lo``
+        to ``c_hi`` (indices into these) listed in every cell of their box, the ``skip`` ones
+        left out."""
         ny = c_hi[:, 1] - c_lo[:, 1] + 1
         per_tri = np.where(skip, 0, (c_hi[:, 0] - c_lo[:, 0] + 1) * ny)
         tri_of, offset = ragged_index(per_tri)
@@ -380,10 +384,10 @@ def _edges_by_height(xy: FloatArray) -> FloatArray:
     middle one, the x of the highest, and the dx/dy of the edge from the lowest to the
     highest, from the lowest to the middle and from the middle to the highest (0 for a
     horizontal edge)."""
-    order = np.argsort(xy[:, :, 1], axis=1, kind="stable")
-    low, mid, high = (
-        np.take_along_axis(xy, order[:, k : k + 1, None], axis=1)[:, 0] for k in range(3)
-    )
+    y = xy[:, :, 1]
+    first, last = np.argmin(y, axis=1), np.argmax(y, axis=1)
+    last = np.where(last == first, (first + 2) % 3, last)  # all at one height: not seen
+    low, mid, high = (xy[np.arange(len(xy)), k] for k in (first, 3 - first - last, last))
 
     def slope(a: FloatArray, b: FloatArray) -> FloatArray:
         rise = b[:, 1] - a[:, 1]
