@@ -165,7 +165,7 @@ def test_a_non_finite_vertex_is_said_without_numpy_warnings(tmp_path: Path, bad:
         warnings.simplefilter("error")
         result = CliRunner().invoke(app, ["spheres", str(urdf), "-o", str(tmp_path / "r.xrdf")])
     assert result.exit_code == 1, result.output
-    assert "part.stl: a vertex is not finite or beyond ±1e+06 m" in result.output
+    assert "part.stl: a vertex is not finite" in result.output
     assert "Warning" not in result.output
 
 

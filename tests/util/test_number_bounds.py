@@ -150,7 +150,7 @@ def test_a_nan_mesh_vertex_is_reported_not_dropped(runner: CliRunner, tmp_path: 
             "-o",
             str(tmp_path / "s.xrdf"),
         )
-    assert "camera.stl: a vertex is not finite or beyond ±1e+06 m" in out, out
+    assert "camera.stl: a vertex is not finite" in out, out
 
 
 def test_a_null_robot_cfg_beside_kinematics_is_read(runner: CliRunner, tmp_path: Path) -> None:

@@ -38,7 +38,7 @@ import numpy as np
 from ..util.arrays import FloatArray
 from ..util.errors import XrdfToolsError
 from ..util.fileio import mesh_bytes_limit, read_input_bytes
-from ..util.numbers import MAX_LENGTH
+from ..util.numbers import vertices_problem
 from .collada_points import ColladaNotRead, ColladaTooBig, collada_vertices
 from .gltf_points import GltfNotRead, GltfTooBig, glb_vertices
 from .link_geometry import GeometrySource
@@ -178,9 +178,10 @@ def _mesh_points(
     assert vertices is not None
     if not len(vertices):
         raise _NotRead(f"{uri}: no vertices")
-    if not np.all(np.abs(vertices) <= MAX_LENGTH):
-        raise _NotRead(f"{uri}: a vertex not finite or beyond ±{MAX_LENGTH:g} m")
     factors = np.broadcast_to(np.asarray(1.0 if mesh.scale is None else mesh.scale, float), (3,))
+    problem = vertices_problem(vertices, factors)
+    if problem is not None:
+        raise _NotRead(f"{uri}: {problem}")
     return np.asarray(vertices * factors, dtype=np.float64)
 
 

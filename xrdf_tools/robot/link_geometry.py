@@ -35,7 +35,7 @@ from ..util.arrays import FloatArray
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import check_input_file, mesh_bytes_limit, mesh_triangle_limit
 from ..util.fixed_order import quantized, transform_points
-from ..util.numbers import MAX_LENGTH
+from ..util.numbers import vertices_problem
 from ..util.text import name_list
 from .mesh_files import (
     MeshTooBig,
@@ -416,9 +416,10 @@ class _MeshReader:
             raise _PartError(f"{uri}: {e.message}", uri=uri) from None
         except Exception as e:  # trimesh raises many exception types for bad files
             raise _PartError(f"{uri}: cannot read mesh ({unreadable(path, e)})", uri=uri) from None
+        # processing would drop a NaN vertex and its faces without a word; the bound is on
+        # the scaled vertices (metres), the file's own numbers may be millimetres
+        bad = next(filter(None, (vertices_problem(p.vertices, factors) for p in pieces)), None)
         try:
-            # processing would drop a NaN vertex and its faces without a word
-            bad = not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces)
             for p in () if bad else pieces:
                 p.process()
         except Exception as e:
@@ -431,8 +432,8 @@ class _MeshReader:
                 piece.vertices = np.asarray(piece.vertices, dtype=np.float64) * factors
                 if np.prod(factors) < 0:  # a mirror: keep the faces turned outward
                     piece.faces = np.ascontiguousarray(np.fliplr(piece.faces))
-        if bad or not all(np.all(np.abs(p.vertices) <= MAX_LENGTH) for p in pieces):
-            raise _PartError(f"{uri}: a vertex is not finite or beyond ±{MAX_LENGTH:g} m")
+        if bad:
+            raise _PartError(f"{uri}: {bad}")
         return pieces, str(path)
 
     def locate(self, uri: str) -> Path:

@@ -16,6 +16,7 @@ Both bounds are far beyond any robot: joint ranges, limits in rad/s³ and masses
 from __future__ import annotations
 
 import math
+from typing import Any
 
 __all__ = [
     "CERTIFY_BOXES",
@@ -27,6 +28,7 @@ __all__ = [
     "REPORT_SAMPLES",
     "bound_problem",
     "bound_reason",
+    "vertices_problem",
     "within",
 ]
 
@@ -83,3 +85,27 @@ def bound_problem(v: int | float, *, metres: bool = False) -> str | None:
     else:  # an integer beyond float range
         shown = f"{'-' if v < 0 else ''}about 1e{int(abs(v).bit_length() * math.log10(2))}"
     return f"is {shown}; {reason}"
+
+
+def vertices_problem(vertices: Any, factors: Any = 1.0) -> str | None:
+    """Why mesh ``vertices`` (in the file's units) times the mesh's ``scale`` ``factors``
+    cannot be used, or None: every coordinate must be finite and within ±:data:`MAX_LENGTH`
+    metres *once scaled* (a part modelled in millimetres 1 km from its origin,
+    ``scale="0.001 0.001 0.001"``, is 1e6 in the file and 1,000 m in the link frame)."""
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        scaled = np.abs(np.asarray(vertices, dtype=np.float64) * np.asarray(factors, float))
+    if not len(scaled):
+        return None
+    if not np.all(np.isfinite(scaled)):
+        return "a vertex is not finite"
+    farthest = float(scaled.max())
+    if farthest <= MAX_LENGTH:
+        return None
+    shown = f"{farthest:,.0f}" if farthest < MAX_NUMBER else f"{farthest:.3g}"
+    return (
+        f"a vertex is {shown} m from the link frame, beyond ±{MAX_LENGTH:g} m (a CAD "
+        f"part exported in world coordinates, or a wrong scale?); re-export it about its own "
+        f"origin, or check the mesh's scale"
+    )
