@@ -206,3 +206,45 @@ def test_a_huge_primitive_is_not_called_a_mesh_without_its_scale(tmp_path: Path)
     (said,) = [d for d in diags if d.rule == "spheres-mesh-scale"]
     assert "spans 2e+05 m" in said.message and "<mesh scale" not in said.message
     assert "sizes look like millimetres; URDF lengths are metres" in said.message
+
+
+def _zero_spheres(xyz: list[str]) -> str:
+    return "".join(
+        f'<collision><origin xyz="{p}"/><geometry><sphere radius="0.0"/></geometry></collision>'
+        for p in xyz
+    )
+
+
+def test_zero_radius_spheres_are_points_not_parts_to_box(tmp_path: Path) -> None:
+    """Drake's models write point contacts (Atlas's feet) and geometry-less frames (the Jaco's
+    ``base``, its ``end_effector``) as ``<sphere radius="0">`` collision elements: a foot with
+    its mesh and four such points is fitted to the mesh alone, not to the mesh plus four 2 mm
+    boxes with a warning that calls them meshes; a link of points alone is a placeholder,
+    said once, without that warning."""
+    corners = ["0.05 0.05 -0.02", "-0.05 0.05 -0.02", "0.05 -0.05 -0.02", "-0.05 -0.05 -0.02"]
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="base">'
+        + _zero_spheres(["0 0 0"])
+        + '</link><link name="foot"><collision><geometry><box size="0.1 0.1 0.04"/>'
+        + "</geometry></collision>"
+        + _zero_spheres(corners)
+        + '</link><link name="hand"><collision><geometry><sphere radius="0.04"/></geometry>'
+        + "</collision>"
+        + _zero_spheres(["0 0 0.1"])
+        + '</link><joint name="j" type="revolute"><parent link="base"/><child link="foot"/>'
+        '<origin xyz="0 0 -0.3"/><axis xyz="0 1 0"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        '<joint name="h" type="fixed"><parent link="base"/><child link="hand"/>'
+        '<origin xyz="0 0 0.3"/></joint></robot>'
+    )
+    result = fit_robot(tmp_path / "r.urdf")
+    assert not [d for d in result.diagnostics if d.rule == "spheres-bounding-box"]
+    foot = result.geometry["foot"].solid
+    assert np.allclose(foot.extents, [0.1, 0.1, 0.04], atol=1e-6)
+    assert result.kinds["foot"] == "mesh"
+    (point,) = result.spheres["base"]
+    assert point.radius <= 0.003 and np.allclose(point.center, 0.0, atol=5e-4)
+    said = [d.message for d in result.diagnostics if d.rule == "spheres-placeholder"]
+    assert said == ["link 'base' is a placeholder (3 mm across): one sphere"]
+    (ball,) = result.spheres["hand"]  # the URDF's sphere as it is, its point left out
+    assert ball.radius == 0.04 and ball.center == (0.0, 0.0, 0.0)

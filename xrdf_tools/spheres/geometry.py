@@ -30,7 +30,7 @@ import numpy as np
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
-from ..robot.link_geometry import GeometryChoice, GeometrySource, LinkParts
+from ..robot.link_geometry import GeometryChoice, GeometryPart, GeometrySource, LinkParts
 from ..util.errors import UrdfError
 from ..util.fixed_order import quantized
 from ..xrdf.model import Sphere
@@ -330,11 +330,14 @@ def _link_solid(
                 f"link '{name}' has no collision geometry; spheres fitted to its visual geometry",
             )
         )
-    parts = [part.in_link_frame() for part in link.parts]
+    sized = [part for part in link.parts if not _is_point(part)]
+    parts = [part.in_link_frame() for part in (sized or link.parts)]
     key = (name, link.source)
     if key not in made:
         said: list[Diagnostic] = []
         made[key] = (_on_grid(_solidify(name, parts, path, link.line, said)), said)
+        if not sized:  # points alone: a placeholder, which its own note says
+            said[:] = [d for d in said if d.rule != RULE_BOUNDING_BOX]
     solid, said = made[key]
     diags.extend(said)
     if solid is None:
@@ -354,6 +357,12 @@ def _link_solid(
     return LinkGeometry(name, solid[0], solid[1], link.source, len(parts), link.line, exact)
 
 
+def _is_point(part: GeometryPart) -> bool:
+    """A primitive of zero size (Drake's ``<sphere radius="0">`` point contacts and frames
+    without geometry): it encloses nothing, so a link's other parts are its solid."""
+    return part.shape != "mesh" and not np.any(np.ptp(part.mesh.vertices, axis=0))
+
+
 def _scale_hint(link: LinkParts) -> str:
     """What most likely makes a link too large: a mesh file in millimetres without its scale,
     or (no mesh file among its parts) primitive sizes written in millimetres."""
@@ -364,9 +373,10 @@ def _scale_hint(link: LinkParts) -> str:
 
 def _sphere_parts(link: LinkParts) -> tuple[Sphere, ...]:
     """The link's ``<sphere>`` elements as spheres in the link frame, when every part read is
-    one of positive radius and none failed; else () (a zero-size one is a placeholder)."""
+    one of positive radius (points beside them left out) and none failed; else () (points
+    alone are a placeholder)."""
     out = []
-    for part in link.parts:
+    for part in [part for part in link.parts if not _is_point(part)] or link.parts:
         if part.radius is None or part.radius <= 0.0:
             return ()
         x, y, z = (float(v) for v in part.origin[:3, 3])
