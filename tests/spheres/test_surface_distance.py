@@ -3,38 +3,99 @@ over every triangle, and closed forms in each region of a triangle."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 import pytest
 
 from tests.robots import robot_urdf
 
 
-@pytest.mark.parametrize(
-    "nearest, small_share, dense_max", [(32, 0.98, 2048), (1, 0.5, 2048), (32, 0.5, 8)]
-)
-def test_surface_distance_is_the_smallest_point_triangle_distance(
-    nearest: int, small_share: float, dense_max: int, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """The pruned, blocked distance equals a plain loop over every triangle (and is never
-    above trimesh's closest-point distance, which can overshoot by micrometres): with the
-    k-d tree's first answer enough for most points, and with every point asking it again and
-    half the triangles tested against every point, or only the 8 largest (the cap that keeps
-    a mesh of millions of like triangles from testing each point against 2 % of them)."""
-    from trimesh import proximity
+def _fan_cone(n: int) -> object:
+    """A closed cone whose side and base are fans of ``n // 2`` slivers each (a CAD disk)."""
+    import trimesh
 
-    from xrdf_tools.spheres import distance
-    from xrdf_tools.spheres.distance import _point_triangle_distance, surface_distance
+    k = n // 2
+    t = np.linspace(0.0, 2.0 * np.pi, k, endpoint=False)
+    rim = np.stack([0.05 * np.cos(t), 0.05 * np.sin(t), np.zeros(k)], 1)
+    vertices = np.vstack([rim, [[0.0, 0.0, 0.1]], [[0.0, 0.0, 0.0]]])
+    i = np.arange(k)
+    j = (i + 1) % k
+    faces = np.vstack([np.stack([np.full(k, k), i, j], 1), np.stack([np.full(k, k + 1), j, i], 1)])
+    return trimesh.Trimesh(vertices, faces, process=False)
 
-    monkeypatch.setattr(distance, "_NEAREST", nearest)
-    monkeypatch.setattr(distance, "_SMALL_SHARE", small_share)
-    monkeypatch.setattr(distance, "_DENSE_MAX", dense_max)
+
+def _shaft(segments: int) -> object:
+    """A 20 cm shaft of 1 cm radius: sides of long slivers along z, caps as fans from one
+    rim vertex (as CAD exporters write them)."""
+    import trimesh
+
+    t = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    bottom = np.stack([0.01 * np.cos(t), 0.01 * np.sin(t), np.zeros(segments)], 1)
+    vertices = np.vstack([bottom, bottom + np.array([0.0, 0.0, 0.2])])
+    i = np.arange(segments)
+    j = (i + 1) % segments
+    k = np.arange(1, segments - 1)
+    n = segments
+    faces = np.vstack(
+        [
+            np.stack([i, j, j + n], 1),
+            np.stack([i, j + n, i + n], 1),
+            np.stack([np.zeros(n - 2, dtype=int), k + 1, k], 1),
+            np.stack([np.full(n - 2, n), k + n, k + 1 + n], 1),
+        ]
+    )
+    return trimesh.Trimesh(vertices, faces, process=False)
+
+
+def _ur5_forearm() -> object:
     from xrdf_tools.spheres.geometry import load_link_geometry
 
     geoms, _ = load_link_geometry(robot_urdf("ur5"), links=["forearm_link"])
-    mesh = geoms["forearm_link"].solid
-    assert len(mesh.faces) > 2 * distance._DENSE_TRIANGLES  # the k-d tree path
+    return geoms["forearm_link"].solid
+
+
+@pytest.mark.parametrize("mesh_of", [_ur5_forearm, lambda: _fan_cone(1200), lambda: _shaft(300)])
+@pytest.mark.parametrize(
+    "leaf, frontier, share, waste, seeds",
+    [(8, 1 << 20, 1 / 64, 8.0, 3), (1, 64, 1 / 8, 1.0, 1), (32, 1 << 20, 1.0, 1e9, 1)],
+)
+def test_surface_distance_is_the_smallest_point_triangle_distance(
+    mesh_of: Callable[[], object],
+    leaf: int,
+    frontier: int,
+    share: float,
+    waste: float,
+    seeds: int,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The pruned, blocked distance equals a plain loop over every triangle (and is never
+    above trimesh's closest-point distance, which can overshoot by micrometres): on a real
+    link and on CAD-style slivers (a fan cone, a shaft with fan caps), with the tree's
+    leaves and frontier as shipped, tiny (every frontier split, every sliver and broad
+    triangle cut into cells of an eighth of the part) or huge (nothing cut)."""
+    from trimesh import proximity
+
+    from xrdf_tools.spheres import box_tree, distance
+    from xrdf_tools.spheres.distance import _point_triangle_distance, surface_distance
+
+    monkeypatch.setattr(box_tree, "LEAF", leaf)
+    monkeypatch.setattr(box_tree, "FRONTIER", frontier)
+    monkeypatch.setattr(distance, "_PIECE_SHARE", share)
+    monkeypatch.setattr(distance, "_BOX_WASTE", waste)
+    monkeypatch.setattr(distance, "_SEEDS", seeds)
+    mesh: Any = mesh_of()
+    assert len(mesh.faces) > distance._FEW_TRIANGLES  # a mesh whose triangles may be cut
     rng = np.random.default_rng(5)
-    points = rng.uniform(mesh.bounds[0] - 0.05, mesh.bounds[1] + 0.05, size=(120, 3))
+    near, face = mesh.sample(60, return_index=True)
+    points = np.vstack(
+        [
+            rng.uniform(mesh.bounds[0] - 0.05, mesh.bounds[1] + 0.05, size=(60, 3)),
+            near + mesh.face_normals[face] * rng.uniform(-0.004, 0.004, (60, 1)),
+            mesh.vertices[:5],
+        ]
+    )
     ours = surface_distance(mesh, points)
     loop = np.array(
         [
@@ -45,6 +106,34 @@ def test_surface_distance_is_the_smallest_point_triangle_distance(
     np.testing.assert_allclose(ours, loop, rtol=0, atol=1e-12)
     _, theirs, _ = proximity.closest_point(mesh, points)
     assert np.all(ours <= theirs + 1e-12)
+
+
+def test_the_box_tree_finds_every_box_within_reach(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every (point, box) pair whose box lies within the point's reach, each once, and no
+    other: long thin boxes across and along the axes, points inside boxes and far away,
+    reaches of zero, against a plain test of every pair; frontiers split to a few pairs."""
+    from xrdf_tools.spheres import box_tree
+
+    monkeypatch.setattr(box_tree, "FRONTIER", 50)
+    rng = np.random.default_rng(11)
+    lo = rng.uniform(-1, 1, size=(300, 3))
+    hi = lo + rng.uniform(0, 0.05, size=(300, 3)) * rng.choice([1.0, 40.0], size=(300, 3))
+    pts = np.vstack([rng.uniform(-2, 2, size=(80, 3)), 0.5 * (lo[:20] + hi[:20])])
+    reach = rng.uniform(0, 0.5, size=len(pts))
+    reach[::7] = 0.0
+    found = [
+        (int(p), int(b))
+        for pi, box in box_tree.BoxTree(lo, hi).within(pts, reach)
+        for p, b in zip(pi, box, strict=True)
+    ]
+    gap = np.maximum(np.maximum(lo[None] - pts[:, None], pts[:, None] - hi[None]), 0.0)
+    want = {
+        (int(p), int(b))
+        for p, b in zip(*np.nonzero((gap**2).sum(2) <= reach[:, None] ** 2), strict=True)
+    }
+    assert len(found) == len(set(found))
+    assert set(found) == want
+    assert want  # the case tests something
 
 
 def test_point_triangle_distance_in_every_voronoi_region() -> None:

@@ -3,27 +3,31 @@
 For each point, the distance to its nearest vertex is an upper bound on its distance to the
 surface; only triangles whose bounding box lies within that bound can hold the closest point.
 Those candidates get the exact point-triangle distance (the closest point found by the Voronoi
-regions of the triangle: a vertex, an edge or the face), and the smallest wins. Memory is
-bounded by :data:`PAIR_BLOCK` point-triangle pairs at a time.
+regions of the triangle: a vertex, an edge or the face), and the smallest wins, each one found
+narrowing the bound for the candidates still to come.
 
-The candidates are found without testing every point against every triangle (a humanoid's
-links of tens of thousands of triangles spent 15 s there): the triangles whose bounding box is
-small are looked up in a k-d tree of their box centres, within the point's bound plus the
-largest of their half-diagonals (every box within the bound has its centre that close); the
-few large ones are tested against every point. Both keep exactly the triangles whose box lies
-within the bound, so the distances are those of testing every pair.
+The candidates come from a tree of boxes (:class:`~xrdf_tools.spheres.box_tree.BoxTree`)
+walked for all points at once, never from testing every point against every triangle. A long
+triangle is put in the tree by pieces (:func:`_pieces`): a CAD part's slivers (a disk
+tessellated as a fan from one point) have boxes that span the part, so every point would be
+within reach of all of them (a 4,000-triangle shaft with fan caps took 35 s for 20,000
+points). Each triangle longer than a share of the mesh's size is covered by the boxes of a grid
+of parallelograms along its shortest and longest edges, and the grid's corners, points on the
+surface, tighten each point's first bound. A piece names its triangle, and the distance is
+always computed to the whole triangle: pieces only choose which triangles are tried, and every
+triangle within the bound is tried, so the result is that of testing every pair, bit for bit.
 """
 
 from __future__ import annotations
 
-import itertools
-from collections.abc import Iterator
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from ..util.arrays import BoolArray, FloatArray, IntArray
+from .box_tree import BoxTree
 
 if TYPE_CHECKING:
     import trimesh
@@ -31,8 +35,8 @@ if TYPE_CHECKING:
 __all__ = ["near_face_distance", "surface_distance"]
 
 
-#: Point-triangle pairs held at once (a bounding-box test each; about 60 bytes).
-PAIR_BLOCK = 2_000_000
+#: Point-triangle pairs whose exact distance is computed at once (about 400 bytes each).
+PAIR_BLOCK = 1_000_000
 
 
 def surface_distance(mesh: trimesh.Trimesh, points: FloatArray) -> FloatArray:
@@ -46,114 +50,176 @@ def surface_distance(mesh: trimesh.Trimesh, points: FloatArray) -> FloatArray:
         return np.full(len(pts), np.inf)
     upper, _ = cKDTree(vertices).query(pts)
     best: FloatArray = np.asarray(upper, dtype=np.float64).copy()
-    lo, hi = tri.min(1), tri.max(1)
-    half = 0.5 * np.linalg.norm(hi - lo, axis=1)
-    large = _large_triangles(half)
-    pairs = []
-    for group in _size_groups(half, ~large):
-        pi, fi = _candidates_by_tree(pts, best, lo[group], hi[group], half[group])
-        pairs.append((pi, group[fi]))
-    pairs += list(_candidates_dense(pts, best, lo[large], hi[large], np.flatnonzero(large)))
-    for pi, fi in pairs:
+    pieces = _pieces(tri)
+    _try_nearest_pieces(pts, tri, pieces, best)
+    bound = _padded(best, pieces.slack)
+    for pi, box in BoxTree(pieces.lo, pieces.hi).within(pts, bound):
+        fi = pieces.owner[box]
+        if pieces.cut:  # a triangle was cut: try each candidate triangle once
+            key = np.unique(pi * len(tri) + fi)
+            pi, fi = key // len(tri), key % len(tri)
         for s0 in range(0, len(pi), PAIR_BLOCK):
             sl = slice(s0, s0 + PAIR_BLOCK)
             d = _point_triangle_distance(pts[pi[sl]], tri[fi[sl]])
             np.minimum.at(best, pi[sl], d)
+        # the walk reads ``bound`` as it goes: a closer triangle found prunes the rest
+        bound[pi] = np.minimum(bound[pi], _padded(best[pi], pieces.slack))
     return best
 
 
-#: Meshes with at most this many triangles test every point against every triangle.
-_DENSE_TRIANGLES = 512
-#: Box centres each point asks the k-d tree for at once (a point with more within its radius
-#: asks again for all of them).
-_NEAREST = 32
-#: The share of triangles (the smallest boxes) looked up in the k-d tree; the rest (CAD
-#: meshes hold a few long thin triangles) are tested against every point.
-_SMALL_SHARE = 0.98
-#: At most this many triangles are tested against every point.
-_DENSE_MAX = 2048
+#: Pieces whose triangles each point tries before the walk.
+_SEEDS = 3
 
 
-def _large_triangles(half: FloatArray) -> BoolArray:
-    """Which triangles (by their boxes' half-diagonals ``half``) are tested against every
-    point: all of a small mesh; else the largest 2 %, at most :data:`_DENSE_MAX` of them, so
-    that a mesh of millions of like triangles does not test each point against tens of
-    thousands (which triangles go where changes the time, never the distances)."""
-    if len(half) <= _DENSE_TRIANGLES:
-        return np.ones(len(half), dtype=bool)
-    cut = float(np.quantile(half, _SMALL_SHARE))
-    if len(half) * (1.0 - _SMALL_SHARE) > _DENSE_MAX:
-        cut = max(cut, float(np.partition(half, len(half) - _DENSE_MAX)[len(half) - _DENSE_MAX]))
-    large: BoolArray = half > cut
-    return large
+def _try_nearest_pieces(
+    pts: FloatArray, tri: FloatArray, pieces: _Pieces, best: FloatArray
+) -> None:
+    """Narrow ``best`` by the distance to the triangles of the :data:`_SEEDS` pieces whose
+    corners lie nearest each point: a bound close to the distance before the walk starts,
+    so that the far side of a rod or a cylinder is never tried."""
+    from scipy.spatial import cKDTree
+
+    k = min(_SEEDS, len(pieces.seeds))
+    _, nearest = cKDTree(pieces.seeds).query(pts, k=k)
+    owner = pieces.seed_owner[np.asarray(nearest, dtype=np.int64).reshape(len(pts), k)]
+    for column in owner.T:
+        np.minimum(best, _point_triangle_distance(pts, tri[column]), out=best)
 
 
-def _size_groups(half: FloatArray, small: BoolArray) -> list[IntArray]:
-    """The ``small`` triangles (indices) in groups of like size, each looked up in a k-d tree
-    of its own: a tree's search radius grows by its largest half-diagonal, so one tree for
-    the slivers and the specks of a CAD mesh would hand each point thousands of candidates.
-    Groups split at the quartiles of ``half`` among the small ones (one group for a mesh of
-    at most :data:`_DENSE_TRIANGLES`)."""
-    index = np.flatnonzero(small)
-    if len(index) <= _DENSE_TRIANGLES:
-        return [index]
-    cuts = np.quantile(half[index], [0.25, 0.5, 0.75])
-    group = np.searchsorted(cuts, half[index], side="left")
-    return [index[group == g] for g in range(len(cuts) + 1) if np.any(group == g)]
-
-
-def _within(p: FloatArray, lo: FloatArray, hi: FloatArray, bound: FloatArray) -> BoolArray:
-    """Whether the box ``[lo, hi]`` of each pair lies within ``bound`` of its point ``p``."""
-    box = np.maximum(np.maximum(lo - p, p - hi), 0.0)
-    out: BoolArray = np.einsum("nk,nk->n", box, box) <= bound**2
+def _padded(distance: FloatArray, slack: float) -> FloatArray:
+    """A bound a rounding error above ``distance`` (an upper bound on the true distance)."""
+    out: FloatArray = distance * (1.0 + 1e-9) + slack
     return out
 
 
-def _candidates_by_tree(
-    pts: FloatArray, best: FloatArray, lo: FloatArray, hi: FloatArray, half: FloatArray
-) -> tuple[IntArray, IntArray]:
-    """(point, triangle) pairs whose triangle box lies within the point's bound ``best``,
-    found through a k-d tree of the box centres (indices into ``lo``/``hi``)."""
-    from scipy.spatial import cKDTree
-
-    if len(lo) == 0:
-        empty = np.zeros(0, dtype=np.int64)
-        return empty, empty
-    radius = best + float(half.max()) * (1.0 + 1e-9) + 1e-12
-    tree = cKDTree(0.5 * (lo + hi))
-    k = min(_NEAREST, len(lo))
-    dist, idx = tree.query(pts, k=k)
-    dist, idx = dist.reshape(len(pts), k), idx.reshape(len(pts), k)
-    inside = dist <= radius[:, None]
-    # a point whose k nearest are all within its radius may have more: those by a ball query
-    more = np.flatnonzero(inside[:, -1]) if k < len(lo) else np.zeros(0, dtype=np.int64)
-    inside[more] = False
-    pi, col = np.nonzero(inside)
-    fi = idx[pi, col]
-    if len(more):
-        near = tree.query_ball_point(pts[more], radius[more])
-        counts = np.fromiter((len(x) for x in near), dtype=np.int64, count=len(near))
-        total = int(counts.sum())
-        pi = np.concatenate([pi, np.repeat(more, counts)])
-        fi = np.concatenate([fi, np.fromiter(itertools.chain.from_iterable(near), np.int64, total)])
-    keep = _within(pts[pi], lo[fi], hi[fi], best[pi])
-    return pi[keep], fi[keep]
+#: Meshes with at most this many triangles are never cut into pieces.
+_FEW_TRIANGLES = 512
+#: Triangles longer than this share of the mesh's box diagonal are looked up by pieces ...
+_PIECE_SHARE = 1.0 / 64.0
+#: ... unless that makes more than this many pieces: then the pieces are made longer ...
+_PIECE_BUDGET = 1_000_000
+#: ... and only those whose box's three face areas sum to more than this many times their own
+#: area (a triangle along an axis or broad: at most about 3; a sliver across the axes: its
+#: length over its width).
+_BOX_WASTE = 8.0
 
 
-def _candidates_dense(
-    pts: FloatArray, best: FloatArray, lo: FloatArray, hi: FloatArray, index: IntArray
-) -> Iterator[tuple[IntArray, IntArray]]:
-    """(point, triangle) pairs whose triangle box (``index[i]`` for box ``i``) lies within the
-    point's bound, every point against every box, in blocks of :data:`PAIR_BLOCK` pairs."""
-    if len(lo) == 0:
-        return
-    step = max(1, PAIR_BLOCK // len(lo))
-    for start in range(0, len(pts), step):
-        p = pts[start : start + step]
-        box = np.maximum(np.maximum(lo[None] - p[:, None], p[:, None] - hi[None]), 0.0)
-        box2 = np.einsum("pfk,pfk->pf", box, box)
-        pi, fi = np.nonzero(box2 <= best[start : start + step, None] ** 2)
-        yield pi + start, index[fi]
+@dataclass(frozen=True)
+class _Pieces:
+    """Boxes ``[lo, hi]`` that together cover every triangle and the triangle each belongs to
+    (``owner``); points on the triangles (``seeds``) and the triangle of each
+    (``seed_owner``); the padding that covers rounding in the boxes (``slack``); and whether
+    any triangle was cut into several boxes (else a box is its triangle's)."""
+
+    lo: FloatArray
+    hi: FloatArray
+    owner: IntArray
+    seeds: FloatArray
+    seed_owner: IntArray
+    slack: float
+    cut: bool
+
+
+def _pieces(tri: FloatArray) -> _Pieces:
+    """Each triangle of ``tri (F, 3, 3)`` as its own box with its centroid as seed; and each
+    longer than :data:`_PIECE_SHARE` of the mesh (in a mesh past :data:`_FEW_TRIANGLES`)
+    also as the cells of a grid of parallelograms spanned by its shortest and longest edge,
+    each cell's first corner a seed: a sliver becomes a row of short cells, a large triangle
+    a patchwork. The cells' boxes (clipped to the triangle's own) replace the triangle's box
+    where it is far larger than the triangle (:data:`_BOX_WASTE`: a sliver across the axes,
+    not one along an axis nor a broad triangle, whose boxes the tree prunes well)."""
+    lo, hi = tri.min(1), tri.max(1)
+    owner = np.arange(len(tri), dtype=np.int64)
+    slack = 1e-9 * float(np.abs(tri).max()) + 1e-300
+    long_, n1, n2 = _cut_counts(tri, lo, hi)
+    if len(long_) == 0:
+        return _Pieces(lo, hi, owner, tri.mean(1), owner, slack, False)
+    corner, short_edge, long_edge = _edge_frame(tri[long_])
+    cell_lo, cell_hi, cell_of, points = _cells(corner, short_edge, long_edge, n1, n2)
+    of = long_[cell_of]
+    boxed = _wasteful(tri[long_], lo[long_], hi[long_])
+    cells = boxed[cell_of]
+    kept = np.ones(len(tri), dtype=bool)
+    kept[long_[boxed]] = False
+    return _Pieces(
+        np.concatenate([lo[kept], np.maximum(cell_lo[cells], lo[of[cells]]) - slack]),
+        np.concatenate([hi[kept], np.minimum(cell_hi[cells], hi[of[cells]]) + slack]),
+        np.concatenate([owner[kept], of[cells]]),
+        np.concatenate([tri.mean(1), points]),
+        np.concatenate([owner, of]),
+        slack,
+        bool(boxed.any()),
+    )
+
+
+def _wasteful(tri: FloatArray, lo: FloatArray, hi: FloatArray) -> BoolArray:
+    """Which triangles' boxes have three face areas that sum to more than :data:`_BOX_WASTE`
+    times the triangle's area."""
+    extent = hi - lo
+    box_area = (extent * np.roll(extent, 1, axis=1)).sum(1)
+    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    out: BoolArray = box_area > _BOX_WASTE * area
+    return out
+
+
+def _cut_counts(
+    tri: FloatArray, lo: FloatArray, hi: FloatArray
+) -> tuple[IntArray, IntArray, IntArray]:
+    """The triangles to cut and their cells along the shortest and the longest edge: those
+    longer than :data:`_PIECE_SHARE` of the mesh's box diagonal, the share doubled while the
+    cells would number past :data:`_PIECE_BUDGET`; none in a mesh of few triangles."""
+    empty = np.zeros(0, dtype=np.int64)
+    if len(tri) <= _FEW_TRIANGLES:
+        return empty, empty, empty
+    _, short, long_ = _edge_frame(tri)
+    short_len, long_len = np.linalg.norm(short, axis=1), np.linalg.norm(long_, axis=1)
+    length = float(np.linalg.norm(hi.max(0) - lo.min(0))) * _PIECE_SHARE
+    while True:
+        cut = np.flatnonzero(long_len > length)
+        n1 = np.ceil(short_len[cut] / length).astype(np.int64)
+        n2 = np.ceil(long_len[cut] / length).astype(np.int64)
+        if int((n1 * n2).sum()) <= _PIECE_BUDGET:
+            return cut, n1, n2
+        length *= 2.0
+
+
+def _edge_frame(tri: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Per triangle, the vertex its shortest and longest edges share, and those two edges as
+    vectors from it (any two edges of a triangle share a vertex)."""
+    edges = np.stack(
+        [tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 0]], axis=1
+    )  # edge k is opposite vertex k
+    length = np.linalg.norm(edges, axis=2)
+    longest = np.argmax(length, axis=1)
+    shortest = np.argmin(length, axis=1)
+    shortest = np.where(shortest == longest, (longest + 1) % 3, shortest)
+    shared = 3 - longest - shortest
+    rows = np.arange(len(tri))
+    corner = tri[rows, shared]
+    # the shortest edge joins the shared vertex and the one opposite the longest, and so on
+    return corner, tri[rows, longest] - corner, tri[rows, shortest] - corner
+
+
+def _cells(
+    corner: FloatArray, u: FloatArray, v: FloatArray, n1: IntArray, n2: IntArray
+) -> tuple[FloatArray, FloatArray, IntArray, FloatArray]:
+    """The cells ``corner + [i, i+1]/n1 * u + [j, j+1]/n2 * v`` of each triangle ``(corner,
+    corner + u, corner + v)`` whose first corner lies in it (``i/n1 + j/n2 < 1``, in integers):
+    their boxes, the triangle of each (an index into the arguments) and their first corners.
+    Every point of a triangle lies in one of its cells."""
+    per = n1 * n2
+    of = np.repeat(np.arange(len(corner), dtype=np.int64), per)
+    offset = np.arange(len(of), dtype=np.int64) - np.repeat(np.cumsum(per) - per, per)
+    a, b = n1[of], n2[of]
+    i, j = offset // b, offset % b
+    keep = i * b + j * a < a * b
+    of, i, j, a, b = of[keep], i[keep], j[keep], a[keep], b[keep]
+    p, du, dv = corner[of], u[of], v[of]
+    s0, s1 = (i / a)[:, None], ((i + 1) / a)[:, None]
+    t0, t1 = (j / b)[:, None], ((j + 1) / b)[:, None]
+    first = p + s0 * du + t0 * dv
+    ends = np.stack([first, p + s1 * du + t0 * dv, p + s0 * du + t1 * dv, p + s1 * du + t1 * dv])
+    return ends.min(0), ends.max(0), of, first
 
 
 def near_face_distance(
