@@ -13,6 +13,7 @@ from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
 from xrdf_tools.convert.core import ConvertOptions, convert
+from xrdf_tools.convert.pipeline import FitOptions, MaskOptions, convert_robot
 from xrdf_tools.export.srdf_held import held_pairs
 from xrdf_tools.report import adjacent_frame_pairs
 from xrdf_tools.robot.adjacency import MAX_ADJACENT_MOVING_JOINTS
@@ -174,3 +175,36 @@ def test_convert_samples_the_tip_pair_and_succeeds(tmp_path: Path) -> None:
     assert "1 pair(s) checked" in r.output
     x = parse_xrdf(out.read_text())
     assert x.self_collision is not None and not x.self_collision.ignore_pairs()
+
+
+def _nothing_checked(urdf: Path, joints: tuple[str, ...]) -> str | None:
+    result = convert_robot(
+        urdf,
+        ConvertOptions(joints=joints),
+        fit=FitOptions(per_link=4),
+        mask=MaskOptions(samples=400),
+    )
+    said = {d.rule: d.message for d in result.diagnostics}
+    return said.get("convert-mask-nothing-checked")
+
+
+def test_nothing_checked_says_which_cause(tmp_path: Path) -> None:
+    """The warning said the c-space "moves no part against another" even when it moved every
+    pair and the mask ignored each (adjacent ones included). It now tells the two causes
+    apart and counts the pairs."""
+    urdf = _urdf(tmp_path, HAND)
+    # the wrist moves the fingers against the rest: 2 adjacent pairs, 8 that never collide
+    moved = _nothing_checked(urdf, ("wrist",))
+    assert moved is not None
+    assert "the c-space (1: wrist) moves 10 of the 21 pair(s) relative to each other" in moved
+    assert "ignores each of them (2 adjacent, 8 never colliding in the 400 samples)" in moved
+    assert "moves no part" not in moved
+    # without geometry on the base, j1 turns every part with geometry as one body
+    bare = _urdf(
+        tmp_path,
+        HAND.replace(f'<link name="base">{_BALL}</link>', '<link name="base"/>'),
+        "bare.urdf",
+    )
+    still = _nothing_checked(bare, ("j1",))
+    assert still is not None and "moves none of them relative to another" in still
+    assert "(1: j1)" in still and "all 15 pair(s) keep their relative pose" in still
