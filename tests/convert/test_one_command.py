@@ -479,9 +479,9 @@ def test_a_pair_masked_for_colliding_at_a_colliding_home_is_a_warning(tmp_path: 
 def test_a_cspace_that_moves_no_part_against_another_is_said(tmp_path: Path) -> None:
     """The Shadow Hand's default c-space is its two wrist joints: they turn the whole hand,
     no finger moves, so every pair is masked (adjacent or never colliding) and cuRobo's
-    loader raises on the file. Convert only counted "0 pair(s) checked"; it now warns that
-    the c-space moves no part against another and names the flags that change it. A
-    c-space that folds the arm onto its base gives no such warning."""
+    loader raises on the file. Convert only counted "0 pair(s) checked"; it now warns, counts
+    the pairs the c-space moves and why each is ignored, and names the flags that change it.
+    A c-space that folds the arm onto its base gives no such warning."""
     urdf = tmp_path / "folding.urdf"
     urdf.write_text(FOLDING)
 
@@ -495,6 +495,7 @@ def test_a_cspace_that_moves_no_part_against_another_is_said(tmp_path: Path) -> 
         return {d.rule: d.message for d in result.diagnostics}
 
     turning = rules(("j1",))["convert-mask-nothing-checked"]
-    assert "never collides in the 400 samples of the c-space (1: j1)" in turning
+    assert "the c-space (1: j1) moves 2 of the 3 pair(s) relative to each other" in turning
+    assert "ignores each of them (1 adjacent, 1 never colliding in the 400 samples)" in turning
     assert "(--joints, --chain or --group)" in turning
     assert "convert-mask-nothing-checked" not in rules(("j1", "j2"))

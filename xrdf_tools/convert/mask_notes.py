@@ -75,20 +75,34 @@ def default_pose_pairs(report: Report) -> list[Diagnostic]:
 
 
 def nothing_checked(report: Report) -> list[Diagnostic]:
-    """A warning when the mask ignores every pair of sphere frames because no two ever collide
-    as the c-space moves them (``convert-mask-nothing-checked``): the Shadow Hand's default
-    c-space is its two wrist joints, which move the whole hand and no finger, so nothing is
-    left to check and cuRobo's loader raises. The cause is the c-space, not the mask."""
+    """A warning when the mask leaves no pair of sphere frames to check
+    (``convert-mask-nothing-checked``), saying which of two causes it is: the c-space moves no
+    two sphere frames relative to each other (the Shadow Hand's default c-space is its two
+    wrist joints, which turn the whole hand and no finger), or it does, and every pair it
+    moves is ignored, counted per reason (adjacent, colliding at the default configuration or
+    nearly always, never colliding). cuRobo's loader raises on either file."""
     if not report.pairs or any(p.recommendation == "check" for p in report.pairs):
         return []
     joints = report.cspace_joints
-    msg = (
-        f"no pair of the {len(report.frames)} sphere frames is left to check for "
-        f"self-collision: each is adjacent, or never collides in the {report.samples} samples "
-        f"of the c-space ({len(joints)}: {name_list(joints, 6)}), which moves no part against "
-        "another; cuRobo's loader raises on such a file. Plan for the joints that do "
-        "(--joints, --chain or --group)"
+    cspace = f"the c-space ({len(joints)}: {name_list(joints, 6)})"
+    moved = [p for p in report.pairs if p.joints_on_path > 0]
+    head = (
+        f"no pair of the {len(report.frames)} sphere frames is left to check for self-collision: "
     )
+    if not moved:
+        why = (
+            f"{cspace} moves none of them relative to another (all {len(report.pairs)} pair(s) "
+            "keep their relative pose); cuRobo's loader raises on such a file. Plan for the "
+            "joints that move parts against each other (--joints, --chain or --group)"
+        )
+    else:
+        why = (
+            f"{cspace} moves {len(moved)} of the {len(report.pairs)} pair(s) relative to each "
+            f"other, and the mask ignores each of them ({_ignored_reasons(moved, report.samples)})"
+            "; cuRobo's loader raises on such a file. Check those pairs (`xrdf report`), or "
+            "plan for joints that move more parts against each other (--joints, --chain or "
+            "--group)"
+        )
     return [
         Diagnostic(
             report.urdf_path,
@@ -96,10 +110,23 @@ def nothing_checked(report: Report) -> list[Diagnostic]:
             None,
             RULE_MASK_NOTHING,
             Severity.WARNING,
-            msg,
+            head + why,
             "self_collision.ignore",
         )
     ]
+
+
+def _ignored_reasons(pairs: list[PairStat], samples: int) -> str:
+    """``1 adjacent, 2 never colliding in the 1000 samples``: the ignored ``pairs`` counted
+    per reason."""
+    counts: Counter[str] = Counter(p.classification for p in pairs)
+    said = {
+        "adjacent": "adjacent",
+        "default": "colliding at the default configuration",
+        "always": f"colliding in more than 95 % of the {samples} samples",
+        "never": f"never colliding in the {samples} samples",
+    }
+    return ", ".join(f"{counts[c]} {what}" for c, what in said.items() if counts[c])
 
 
 _REASONS = (

@@ -6,8 +6,8 @@ ignores because a joint outside its c-space never moved (the other arm of a dual
 converted for one arm) may collide once MoveIt plans a group that moves that joint. Adding such
 a pair to the SRDF would switch that check off for every group, so the sync leaves it out (a
 warning counts them and names the joints). Adjacent pairs (the path between them passes only
-through frames without spheres, MoveIt's rule) are ignored whatever the joints do, so they are
-added as before.
+through frames without spheres and at most two joints that move, :mod:`xrdf_tools.robot.adjacency`)
+are ignored whatever the joints do, so they are added as before.
 
 Pure: names in, names out; used by :func:`xrdf_tools.export.srdf.sync_srdf`.
 """
@@ -18,6 +18,7 @@ from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 
 from ..diagnostics import Diagnostic, Severity
+from ..robot.adjacency import adjacent_across, joint_moves
 from ..robot.tree import RobotTree
 from ..util.text import name_list, pair_text
 from ..xrdf.model import Xrdf
@@ -61,7 +62,7 @@ def held_pairs(x: Xrdf, tree: RobotTree, pairs: Sequence[tuple[str, str]]) -> He
     """The ``pairs`` (URDF links) whose tree path crosses a joint the XRDF's mask held still,
     adjacent pairs aside."""
     moved = _moved_joints(x, tree)
-    spheres = set(x.self_collision_spheres())
+    spheres = {f for f, s in x.self_collision_spheres().items() if s}
     out: list[tuple[str, str, tuple[str, ...]]] = []
     for a, b in pairs:
         if a not in tree.links or b not in tree.links:
@@ -72,7 +73,8 @@ def held_pairs(x: Xrdf, tree: RobotTree, pairs: Sequence[tuple[str, str]]) -> He
                 _driver(tree, j) for j in path_joints if _can_move(tree, j) and j not in moved
             )
         )
-        if held and any(link in spheres for link in path_links):
+        moving = sum(joint_moves(tree.joints[j].type) for j in path_joints)
+        if held and not adjacent_across(path_links, moving, spheres):
             out.append((a, b, held))
     return HeldPairs(tuple(out))
 

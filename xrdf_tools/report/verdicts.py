@@ -2,8 +2,8 @@
 
 Classification, first match wins (MoveIt Setup Assistant order, :func:`classify_pair`):
 
-``adjacent``  the frames are joined by a joint once frames without spheres are collapsed
-              (:func:`adjacent_frame_pairs`);
+``adjacent``  the frames are joined by a joint once frames without spheres are collapsed,
+              with at most two moving joints between them (:func:`adjacent_frame_pairs`);
 ``default``   the pair collides at the default configuration;
 ``always``    it collides in more than :data:`ALWAYS_RATE` of the configurations;
 ``never``     it never collides in the ``N`` configurations: with independent uniform samples
@@ -24,7 +24,8 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, RuleInfo, Severity
-from ..robot.kinematics import KinematicModel
+from ..robot.adjacency import adjacent_pairs
+from ..robot.kinematics import JointType, KinematicModel
 from ..selfcollision.collision import Contact
 from ..util.errors import did_you_mean
 from ..xrdf.model import SelfCollisionSection, Xrdf
@@ -103,28 +104,16 @@ def adjacent_frame_pairs(
 
     Two geometry frames are adjacent when the kinematic tree path between them passes only
     through frames without geometry (none at all: parent and child), the rule of the MoveIt
-    Setup Assistant (siblings under a geometry-less frame are adjacent too).
+    Setup Assistant (siblings under a geometry-less frame are adjacent too), and at most
+    :data:`~xrdf_tools.robot.adjacency.MAX_ADJACENT_MOVING_JOINTS` joints on it move
+    (:func:`~xrdf_tools.robot.adjacency.adjacent_pairs`).
     """
-    geo = {kin.frame_index(f) for f in geometry_frames}
-    nbrs: dict[int, list[int]] = {i: [] for i in range(kin.n_frames)}
-    for i in range(1, kin.n_frames):
-        p = int(kin.parent[i])
-        nbrs[i].append(p)
-        nbrs[p].append(i)
-    out: set[frozenset[str]] = set()
-    for g in geo:
-        seen = {g}
-        stack = list(nbrs[g])
-        while stack:
-            v = stack.pop()
-            if v in seen:
-                continue
-            seen.add(v)
-            if v in geo:
-                out.add(frozenset((kin.frame_names[g], kin.frame_names[v])))
-            else:
-                stack.extend(nbrs[v])
-    return frozenset(out)
+    names = kin.frame_names
+    edges = {
+        names[i]: (names[int(kin.parent[i])], int(kin.joint_type[i]) != JointType.FIXED)
+        for i in range(1, kin.n_frames)
+    }
+    return adjacent_pairs(edges, geometry_frames)
 
 
 def certified_stat(

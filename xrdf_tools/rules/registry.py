@@ -77,7 +77,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         (
             "convert-mask-nothing-checked",
             W,
-            "--fit-spheres: no two sphere frames ever collide in the c-space: nothing to check.",
+            "--fit-spheres: no pair left to check: the c-space moves none, or each is ignored.",
         ),
         ("convert-negative-limit", I, "A negative MoveIt limit: its absolute value is used."),
         (

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 from ..diagnostics import Diagnostic, Severity
+from ..robot.adjacency import Edges, adjacent_pairs, edges_of_joints
 from ..robot.core import Robot
 from ..util.frozen import FrozenMap
 from ..util.text import name_list
@@ -299,9 +300,10 @@ def ignore_adjacent(
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Add each pair of *adjacent* sphere frames to the self-collision ignore mask.
 
-    Two frames with spheres are adjacent when one is the nearest ancestor with spheres of the
-    other (frames without spheres in between, such as fixed flange frames, are skipped). This
-    is MoveIt's "adjacent links" rule: their spheres overlap at the joint by construction.
+    Two frames with spheres are adjacent when the tree path between them crosses only frames
+    without spheres (such as fixed flange frames, or a bare palm between two fingers) and at
+    most two joints that move (:mod:`xrdf_tools.robot.adjacency`). This is MoveIt's "adjacent
+    links" rule: their spheres overlap at the joint by construction.
     Used for a freshly drafted XRDF; a mask written by a user is left to the user. ``urdf``
     is the robot already loaded (an expanded xacro); otherwise ``urdf_path`` is read (or is
     the loaded :class:`~xrdf_tools.robot.core.Robot`).
@@ -318,18 +320,13 @@ def ignore_adjacent(
     with_spheres = {f for f, s in spheres.items() if s}
     if urdf is None:
         urdf = load_robot(urdf_path, package_paths=dict(package_paths or {}))
-    parent = {j.child: j.parent for j in joints_of(urdf).values()}
+    edges = edges_of_joints(joints_of(urdf).values())
     ignore = {k: list(v) for k, v in xrdf.self_collision.ignore.items()}
     added = 0
-    for frame in spheres:
-        if frame not in with_spheres:
+    for key, frame in _adjacent_in_order(edges, [f for f in spheres if f in with_spheres]):
+        if xrdf.self_collision.is_ignored(key, frame):
             continue
-        up = parent.get(frame)
-        while up is not None and up not in with_spheres:
-            up = parent.get(up)
-        if up is None or xrdf.self_collision.is_ignored(up, frame):
-            continue
-        ignore.setdefault(up, []).append(frame)
+        ignore.setdefault(key, []).append(frame)
         added += 1
     if not added:
         return xrdf, []
@@ -349,3 +346,31 @@ def ignore_adjacent(
         "self_collision.ignore",
     )
     return xrdf.replace(self_collision=section), [diag]
+
+
+def _adjacent_in_order(edges: Edges, frames: list[str]) -> list[tuple[str, str]]:
+    """The adjacent pairs of ``frames`` as (ignore key, listed frame): a frame under its
+    adjacent ancestor, the later of two frames on separate branches under the earlier; in
+    the order of ``frames``."""
+    order = {f: i for i, f in enumerate(frames)}
+    partners: dict[str, list[str]] = {f: [] for f in frames}
+    for a, b in (sorted(p, key=order.__getitem__) for p in adjacent_pairs(edges, frames)):
+        partners[a].append(b)
+        partners[b].append(a)
+    up = {f: _ancestors(edges, f) for f in frames}
+    out: list[tuple[str, str]] = []
+    for frame in frames:
+        for other in sorted(partners[frame], key=order.__getitem__):
+            below = other in up[frame]
+            if below or (frame not in up[other] and order[other] < order[frame]):
+                out.append((other, frame))
+    return out
+
+
+def _ancestors(edges: Edges, frame: str) -> set[str]:
+    """The frames above ``frame`` in the tree ``edges``."""
+    out: set[str] = set()
+    while frame in edges and edges[frame][0] not in out:
+        frame = edges[frame][0]
+        out.add(frame)
+    return out
