@@ -4,6 +4,7 @@ silently lost."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -162,3 +163,20 @@ def test_convert_on_the_command_line(runner: CliRunner, tmp_path: Path) -> None:
     assert r.exit_code == 2
     assert f"arm.urdf:{_FRAME_LINE}: --tool-frame 'tool_frame' is a Drake <frame>" in r.stderr
 
+
+def test_inspect_lists_drake_frames(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = _urdf(tmp_path)
+    r = runner.invoke(app, ["inspect", str(urdf)])
+    assert r.exit_code == 0, r.output
+    assert f"  tool_frame on l3 (xyz 0 0 0.1, rpy 0 0 1.5, line {_FRAME_LINE})" in r.stdout
+    r = runner.invoke(app, ["inspect", str(urdf), "-f", "json"])
+    frames = json.loads(r.stdout)["frames"]
+    assert frames == [
+        {
+            "name": "tool_frame",
+            "link": "l3",
+            "xyz": "0 0 0.1",
+            "rpy": "0 0 1.5",
+            "line": _FRAME_LINE,
+        }
+    ]
