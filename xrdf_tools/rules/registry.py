@@ -46,7 +46,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             I,
             "Pairs a Drake collision filter group never checks: ignored, with that reason.",
         ),
-        ("convert-drake-frame", W, "A Drake frame (no link): no XRDF reader sees it; not a tool frame."),
+        ("convert-drake-frame", W, "A Drake frame (no link): no XRDF reader sees it."),
         ("convert-drake-ignored", W, "A Drake-only element or attribute: left out, one per kind."),
         ("convert-dropped-joint", W, "A c-space joint that is not actuated: dropped."),
         (
