@@ -35,7 +35,7 @@ def test_json_describes_every_link_and_joint_of_the_urdf(runner: CliRunner) -> N
     data = json.loads(result.stdout)
     assert list(data) == [
         "version", "robot", "path", "srdf", "root", "roots", "links", "joints", "chains", "groups",
-        "left_out", "default",
+        "left_out", "frames", "default",
     ]  # fmt: skip
     robot = as_robot(load_urdf(urdf))
     assert data["roots"] == [data["root"]] == [robot.root_link()]

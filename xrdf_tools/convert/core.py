@@ -149,6 +149,10 @@ def convert(
 
         xacro_args = None if robot is None else robot.xacro_args
         read_joint_limits(options.joint_limits, tree, draft, xacro_args)
+    if robot is not None:
+        from .sources.drake import read_drake
+
+        read_drake(robot, tree, draft)
     place = None if robot is None else partial(robot.place, "link")
     return complete(draft, tree, options, collision_links, place)
 
@@ -408,6 +412,9 @@ def _tool_frames(
     # a frame given twice (--tool-frame tool0 --tool-frame tool0) is one tool frame
     tool_frames = list(dict.fromkeys(options.tool_frames)) or list(draft.tool_frames)
     for t in options.tool_frames:
+        if t in draft.unseen_frames and t not in frames:
+            message, (path, line) = draft.unseen_frames[t]
+            raise SourceError(message, path=path, line=line)
         if t not in frames:
             raise SourceError(
                 f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"

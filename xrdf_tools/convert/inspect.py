@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 from ..robot.chains import Chain, chain_flag, default_cspace, joint_roles, leaf_chains
+from ..robot.drake import DrakeFrame, drake_extensions
 
 if TYPE_CHECKING:
     from ..robot.core import Robot
@@ -122,6 +123,8 @@ class Inspection:
     left_out: tuple[tuple[str, tuple[str, ...]], ...] = ()
     #: Every link without a parent joint (``root`` first; more than one: disconnected parts).
     roots: tuple[str, ...] = ()
+    #: Drake ``<frame>`` elements: named poses on links, which no XRDF reader sees.
+    frames: tuple[DrakeFrame, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form: plain dicts and lists, keys in a fixed order."""
@@ -165,6 +168,10 @@ class Inspection:
                 for g in self.groups
             ],
             "left_out": {role: list(js) for role, js in self.left_out},
+            "frames": [
+                {"name": f.name, "link": f.link, "xyz": f.xyz, "rpy": f.rpy, "line": f.at[1]}
+                for f in self.frames
+            ],
             "default": {
                 "source": self.default.source,
                 "cspace": list(self.default.cspace),
@@ -256,6 +263,7 @@ def inspect_robot(
         srdf=srdf_path,
         left_out=tuple(chosen.left_out.items()),
         roots=tree.roots or (tree.root,),
+        frames=drake_extensions(robot).frames,
     )
 
 

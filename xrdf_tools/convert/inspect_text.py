@@ -21,6 +21,8 @@ _CARRIED = {"└─ ": "   ", "├─ ": "│  "}
 def render_inspection(ins: Inspection) -> str:
     """Every section of ``ins`` as text lines (ending with a newline)."""
     lines = [_summary(ins), "", *_tree(ins), "", *_chains(ins)]
+    if ins.frames:
+        lines += ["", *_frames(ins)]
     if ins.srdf is not None:
         lines += ["", *_groups(ins)]
     lines += ["", *_default(ins)]
@@ -135,6 +137,18 @@ def _chains(ins: Inspection) -> list[str]:
         out.append(f"  {len(joints):>2}  {_short(joints)}  →  {_short(leaves, 2)}")
     if not rows:
         out.append("  none: no actuated joint")
+    return out
+
+
+def _frames(ins: Inspection) -> list[str]:
+    """Drake's ``<frame>`` elements: poses on links that are no links themselves."""
+    out = [
+        "Drake frames (<frame>: no links, so no XRDF reader sees them; `xrdf convert "
+        "--tool-frame NAME` says how to make one a link):"
+    ]
+    for f in ins.frames:
+        line = f", line {f.at[1]}" if f.at[1] else ""
+        out.append(f"  {f.name} on {f.link} (xyz {f.xyz}, rpy {f.rpy}{line})")
     return out
 
 

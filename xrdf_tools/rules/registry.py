@@ -36,6 +36,18 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("convert-default-acceleration", W, "No acceleration limit: a default or --acceleration."),
         ("convert-default-jerk", W, "No jerk limit in the inputs: the default or --jerk."),
         ("convert-default-positions", W, "No default position: 0, or the middle of the limits."),
+        (
+            "convert-drake-acceleration",
+            I,
+            "Acceleration limits from a URDF's drake:acceleration (below the limits file).",
+        ),
+        (
+            "convert-drake-filter-group",
+            I,
+            "Pairs a Drake collision filter group never checks: ignored, with that reason.",
+        ),
+        ("convert-drake-frame", W, "A Drake frame (no link): no XRDF reader sees it."),
+        ("convert-drake-ignored", W, "A Drake-only element or attribute: left out, one per kind."),
         ("convert-dropped-joint", W, "A c-space joint that is not actuated: dropped."),
         (
             "convert-dropped-joint-value",

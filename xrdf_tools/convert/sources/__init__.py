@@ -45,6 +45,9 @@ class Draft:
     #: ``(kind, joint)`` → where a joint_limits.yaml turns that limit off
     #: (``has_acceleration_limits: false``, as MoveIt Setup Assistant writes): ``(file, line)``.
     limits_off: dict[tuple[str, str], tuple[str, int | None]] = field(default_factory=dict)
+    #: Frame names the inputs define for a reader other than XRDF's (a Drake ``<frame>``) →
+    #: what ``--tool-frame`` naming one says, and where the frame is written.
+    unseen_frames: dict[str, tuple[str, tuple[str, int | None]]] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
     def limits(self, kind: str) -> dict[str, float]:

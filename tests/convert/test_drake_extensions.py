@@ -1,0 +1,182 @@
+"""Drake's URDF extensions (RobotLocomotion's models): ``drake:acceleration`` limits, collision
+filter groups, ``<frame>`` elements and every other ``drake:`` element are read or said, never
+silently lost."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from xrdf_tools.cli import app
+from xrdf_tools.convert.core import ConvertOptions, convert
+from xrdf_tools.diagnostics import Diagnostic, Severity
+from xrdf_tools.robot.urdf_source import read_robot
+from xrdf_tools.util.errors import SourceError
+
+_JOINT = """  <joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>
+    <origin xyz="0 0 0.2"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="10" velocity="1"{extra}/></joint>
+"""
+
+#: A three-joint arm as Drake's models write it (line numbers matter: see the tests).
+_ARM = (
+    """<?xml version="1.0"?>
+<robot name="arm" xmlns:drake="http://drake.mit.edu">
+  <link name="base"/>
+  <link name="l1"/>
+  <link name="l2"/>
+  <link name="l3"/>
+"""
+    + _JOINT.format(name="j1", parent="base", child="l1", extra=' drake:acceleration="8.5"')
+    + _JOINT.format(name="j2", parent="l1", child="l2", extra=' drake:acceleration="4"')
+    + _JOINT.format(name="j3", parent="l2", child="l3", extra="")
+    + """  <frame name="tool_frame" link="l3" xyz="0 0  0.1" rpy="0 0 1.5"/>
+  <drake:collision_filter_group name="wrist">
+    <drake:member link="l2"/>
+    <drake:member link="l3"/>
+    <drake:ignored_collision_filter_group name="wrist"/>
+  </drake:collision_filter_group>
+  <drake:collision_filter_group name="base_group">
+    <drake:member link="base"/>
+    <drake:ignored_collision_filter_group name="wrist"/>
+  </drake:collision_filter_group>
+  <transmission name="t1"><joint name="j1"/><actuator name="a1">
+    <drake:gear_ratio value="160.0"/></actuator></transmission>
+  <transmission name="t2"><joint name="j2"/><actuator name="a2">
+    <drake:gear_ratio value="160.0"/></actuator></transmission>
+  <drake:joint name="slide" type="planar"><parent link="base"/><child link="l1"/></drake:joint>
+</robot>
+"""
+)
+_FRAME_LINE = 16
+_WRIST_LINE = 17
+
+
+def _urdf(tmp_path: Path, text: str = _ARM) -> Path:
+    path = tmp_path / "arm.urdf"
+    path.write_text(text)
+    return path
+
+
+def _convert(
+    tmp_path: Path, text: str = _ARM, **options: object
+) -> tuple[dict[str, float], dict[str, list[Diagnostic]], object]:
+    robot = read_robot(_urdf(tmp_path, text))
+    x, diags = convert(robot, ConvertOptions(joints=("j1", "j2", "j3"), **options))  # type: ignore[arg-type]
+    assert x.cspace is not None
+    limits = dict(zip(x.cspace.joint_names, x.cspace.acceleration_limits, strict=True))
+    by_rule: dict[str, list[Diagnostic]] = {}
+    for d in diags:
+        by_rule.setdefault(d.rule, []).append(d)
+    return limits, by_rule, x
+
+
+def test_drake_acceleration_is_an_acceleration_limit_source(tmp_path: Path) -> None:
+    limits, rules, _ = _convert(tmp_path)
+    assert limits == {"j1": 8.5, "j2": 4.0, "j3": 10.0}
+    (said,) = rules["convert-drake-acceleration"]
+    assert said.severity is Severity.INFO and said.line == 9  # the first <limit>
+    assert "j1 8.5, j2 4" in said.message
+    (default,) = rules["convert-default-acceleration"]
+    assert "for j3:" in default.message  # j1 and j2 have theirs
+
+
+def test_a_joint_limits_file_comes_first_and_acceleration_fills_the_rest(tmp_path: Path) -> None:
+    limits_file = tmp_path / "joint_limits.yaml"
+    limits_file.write_text("joint_limits:\n  j1:\n    has_acceleration_limits: true\n"
+                           "    max_acceleration: 2.0\n")  # fmt: skip
+    limits, rules, _ = _convert(tmp_path, joint_limits=limits_file, acceleration=3.0)
+    assert limits == {"j1": 2.0, "j2": 4.0, "j3": 3.0}
+    (said,) = rules["convert-drake-acceleration"]
+    assert "for 1 joint(s): j2 4" in said.message and "j1 take theirs" in said.message
+
+
+def test_a_drake_acceleration_that_is_no_positive_number_is_said(tmp_path: Path) -> None:
+    text = _ARM.replace('drake:acceleration="4"', 'drake:acceleration="-4"')
+    limits, rules, _ = _convert(tmp_path, text)
+    assert limits["j2"] == 10.0
+    bad = [d for d in rules["convert-drake-acceleration"] if d.severity is Severity.WARNING]
+    assert len(bad) == 1 and bad[0].line == 12 and "'j2' is not a positive number" in bad[0].message
+
+
+def test_collision_filter_groups_become_ignored_pairs_with_their_reason(tmp_path: Path) -> None:
+    _, rules, x = _convert(tmp_path)
+    sc = x.self_collision  # type: ignore[attr-defined]
+    assert {frozenset(p) for p in sc.ignore_pairs()} == {
+        frozenset(("l2", "l3")),  # wrist ignores itself
+        frozenset(("base", "l2")),  # base_group ignores wrist
+        frozenset(("base", "l3")),
+    }
+    said = {d.line: d for d in rules["convert-drake-filter-group"]}
+    assert "reason 'Drake collision filter group wrist'" in said[_WRIST_LINE].message
+    assert said[_WRIST_LINE].message.startswith("1 pair(s) ignored")
+    assert "base/l2, base/l3" in said[_WRIST_LINE + 5].message
+
+
+def test_filter_groups_naming_what_the_urdf_lacks_are_said(tmp_path: Path) -> None:
+    text = _ARM.replace('<drake:member link="l3"/>', '<drake:member link="l9"/>').replace(
+        '<drake:ignored_collision_filter_group name="wrist"/>\n  </drake:collision_filter_group>'
+        '\n  <drake:collision_filter_group name="base_group">',
+        '<drake:ignored_collision_filter_group name="elbow"/>\n  '
+        '</drake:collision_filter_group>\n  <drake:collision_filter_group name="base_group">',
+    )
+    _, rules, x = _convert(tmp_path, text)
+    (unknown,) = rules["convert-unknown-link"]
+    assert "'l9'" in unknown.message and unknown.line == _WRIST_LINE
+    (missing,) = [d for d in rules["convert-drake-filter-group"] if "elbow" in d.message]
+    assert missing.severity is Severity.WARNING and missing.line == _WRIST_LINE
+    assert {frozenset(p) for p in x.self_collision.ignore_pairs()} == {frozenset(("base", "l2"))}  # type: ignore[attr-defined]
+
+
+def test_a_drake_frame_is_said_and_is_no_tool_frame(tmp_path: Path) -> None:
+    _, rules, x = _convert(tmp_path)
+    (frame,) = rules["convert-drake-frame"]
+    assert frame.line == _FRAME_LINE and "'tool_frame' on link 'l3'" in frame.message
+    assert "tool_frame" not in x.tool_frames  # type: ignore[attr-defined]
+    with pytest.raises(SourceError) as caught:
+        _convert(tmp_path, tool_frames=("tool_frame",))
+    e = caught.value
+    assert e.line == _FRAME_LINE and "is a Drake <frame> on link 'l3'" in e.message
+    assert '<origin xyz="0 0 0.1" rpy="0 0 1.5"/>' in e.message  # how to write the link
+
+
+def test_other_drake_elements_are_one_note_per_kind(tmp_path: Path) -> None:
+    _, rules, _ = _convert(tmp_path)
+    notes = {d.message.split(" left out", 1)[0]: d for d in rules["convert-drake-ignored"]}
+    assert set(notes) == {"drake:gear_ratio", "drake:joint planar"}
+    assert "(2 in the file)" in notes["drake:gear_ratio"].message
+    assert notes["drake:gear_ratio"].severity is Severity.INFO
+    assert notes["drake:joint planar"].severity is Severity.WARNING
+    assert notes["drake:joint planar"].line == 30
+
+
+def test_convert_on_the_command_line(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = _urdf(tmp_path)
+    out = tmp_path / "arm.xrdf"
+    r = runner.invoke(app, ["convert", str(urdf), "--joints", "j1,j2,j3", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert f"arm.urdf:{_FRAME_LINE}: warning convert-drake-frame" in r.stderr
+    r = runner.invoke(app, ["convert", str(urdf), "--tool-frame", "tool_frame", "-o", str(out)])
+    assert r.exit_code == 2
+    assert f"arm.urdf:{_FRAME_LINE}: --tool-frame 'tool_frame' is a Drake <frame>" in r.stderr
+
+
+def test_inspect_lists_drake_frames(runner: CliRunner, tmp_path: Path) -> None:
+    urdf = _urdf(tmp_path)
+    r = runner.invoke(app, ["inspect", str(urdf)])
+    assert r.exit_code == 0, r.output
+    assert f"  tool_frame on l3 (xyz 0 0 0.1, rpy 0 0 1.5, line {_FRAME_LINE})" in r.stdout
+    r = runner.invoke(app, ["inspect", str(urdf), "-f", "json"])
+    frames = json.loads(r.stdout)["frames"]
+    assert frames == [
+        {
+            "name": "tool_frame",
+            "link": "l3",
+            "xyz": "0 0 0.1",
+            "rpy": "0 0 1.5",
+            "line": _FRAME_LINE,
+        }
+    ]
