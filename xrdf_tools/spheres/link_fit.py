@@ -193,9 +193,9 @@ def fit_one(
         if plate is not None:
             return plate
     if note is not None:
-        missed, text = note
-        rule = RULE_TARGET_MISSED if missed else RULE_PAST_BOUND
-        diags.append(fit_note(path, geom.line, rule, f"link '{geom.link}': {text}", warn=missed))
+        rule = RULE_TARGET_MISSED if note.missed else RULE_PAST_BOUND
+        message = f"link '{geom.link}': {note.text}"
+        diags.append(fit_note(path, geom.line, rule, message, warn=note.warn))
     return spheres
 
 

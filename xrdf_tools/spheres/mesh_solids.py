@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..util.arrays import ragged_index
+from .bodies import BodyTable, body_table
 from .obb import oriented_box
 
 if TYPE_CHECKING:
@@ -16,6 +18,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "MIN_THICKNESS",
+    "SHELL_AREA_RATIO",
     "THIN_SHELL_RATIO",
     "THIN_WALL_RATIO",
     "bounding_box",
@@ -30,10 +33,12 @@ __all__ = [
     "wall_thickness",
 ]
 
-#: A closed solid with less than this share of its convex hull's volume, and walls thinner
-#: than ``THIN_WALL_RATIO`` of the hull's size, is a thin shell (:func:`is_thin_shell`).
+#: A closed solid with less than this share of its convex hull's volume, walls thinner than
+#: ``THIN_WALL_RATIO`` of the hull's size and a surface at least ``SHELL_AREA_RATIO`` of its
+#: hull's is a thin shell (:func:`is_thin_shell`).
 THIN_SHELL_RATIO = 0.4
 THIN_WALL_RATIO = 0.08
+SHELL_AREA_RATIO = 0.25
 #: The thinnest bounding box a flat part becomes (metres).
 MIN_THICKNESS = 0.002
 
@@ -151,11 +156,21 @@ def wall_thickness(mesh: trimesh.Trimesh) -> float:
 
 
 def is_thin_shell(part: trimesh.Trimesh, hull: trimesh.Trimesh) -> bool:
-    """A closed part that is a thin shell: less than ``THIN_SHELL_RATIO`` of its hull's volume
-    *and* walls thinner than ``THIN_WALL_RATIO`` of its hull's size (the cube root of its
-    volume). A moulded cover (TIAGo's base: walls 2 % of its size) is one; a fork or clevis
-    (a wrist link whose prongs hold the next joint: 10-15 %) is a concave solid, and its
-    hull would fill the slot where the next link turns."""
+    """A closed part that is a thin shell: less than ``THIN_SHELL_RATIO`` of its hull's volume,
+    walls thinner than ``THIN_WALL_RATIO`` of its hull's size (the cube root of its volume)
+    *and* a surface that wraps its hull (at least ``SHELL_AREA_RATIO`` of the hull's area). A
+    moulded cover (TIAGo's base: walls 2 % of its size, 1.6 times its hull's area) is one; a
+    fork or clevis (a wrist link whose prongs hold the next joint: walls 10-15 %) is a concave
+    solid, and its hull would fill the slot where the next link turns; a coiled cable or a
+    frame of thin tubes (1-13 % of its hull's area) is a solid wire, and its hull would fill the
+    free space inside the coil or between the tubes."""
+    return _thin_walled(part, hull) and float(part.area) >= SHELL_AREA_RATIO * float(hull.area)
+
+
+def _thin_walled(part: trimesh.Trimesh, hull: trimesh.Trimesh) -> bool:
+    """Less than ``THIN_SHELL_RATIO`` of its hull's volume, walls thinner than
+    ``THIN_WALL_RATIO`` of the hull's size: a thin shell, or thin bodies far apart, or a
+    wire (:func:`is_thin_shell` tells them apart)."""
     hull_volume = float(hull.volume)
     if not float(part.volume) < THIN_SHELL_RATIO * hull_volume:
         return False
@@ -178,73 +193,110 @@ def closed_part(part: trimesh.Trimesh) -> tuple[trimesh.Trimesh, str] | None:
 
 def closed_parts(part: trimesh.Trimesh) -> list[tuple[trimesh.Trimesh, trimesh.Trimesh, str]]:
     """``(body, its closed solid, how)`` for one part (:func:`closed_part`, its hull computed
-    once), or for each of its bodies when it is a thin shell only as a whole: closed bodies far
+    once), or for each of its bodies when it is thin-walled only as a whole: closed bodies far
     apart in one file (two jaw plates, a robot's masts) have a small share of their common
-    hull's volume, and that hull would fill the space between them. When even the bodies' own
-    hulls fill less than ``THIN_SHELL_RATIO`` of the common hull, each body is judged alone;
-    bodies that close up to most of it (the two halves of a cover) stay one shell."""
+    hull's volume, and that hull would fill the space between them (the whole is then
+    thin-walled beside its hull, its surface not necessarily wrapping it). When even the
+    bodies' own hulls fill less than ``THIN_SHELL_RATIO`` of the common hull, each body is
+    judged alone; bodies that close up to most of it (the two halves of a cover) stay one
+    shell. The bodies are measured at once (:func:`.bodies.body_table`): a hull is built
+    only for a body whose box does not settle the answer."""
     if not is_volume(part):
         got = closed_part(part)
         return [] if got is None else [(part, *got)]
     hull = convex_hull(part)
-    if hull is None or not is_thin_shell(part, hull):
+    if hull is None or not _thin_walled(part, hull):
         return [(part, part, "mesh")]
-    bodies = connected_bodies(part)
-    if len(bodies) > 1 and all(is_volume(b) for b in bodies):
-        closed_up = sum(float(h.volume) for b in bodies if (h := convex_hull(b)) is not None)
-        if closed_up < THIN_SHELL_RATIO * float(hull.volume):
-            return [(b, *got) for b in bodies if (got := closed_part(b)) is not None]
-    return [(part, hull, "thin_shell")]
+    table = body_table(part)
+    if table.count > 1 and _all_volumes(table) and _apart(table, float(hull.volume)):
+        return [(b, *_closed_body(b, table, i)) for i, b in enumerate(table.bodies())]
+    return [(part, hull, "thin_shell")] if is_thin_shell(part, hull) else [(part, part, "mesh")]
+
+
+def _all_volumes(table: BodyTable) -> bool:
+    """Whether every body of a closed mesh encloses a volume: each edge of a closed mesh has
+    its two faces in one body, so each body is closed too, and encloses a volume when its
+    signed volume is positive (:func:`is_volume` of each body, without the body)."""
+    return bool((table.volume > 0.0).all())
+
+
+def _apart(table: BodyTable, hull_volume: float) -> bool:
+    """Whether the bodies' own hulls fill less than ``THIN_SHELL_RATIO`` of their common
+    hull's volume: at once when their boxes (each holding its body's hull) do, else from the
+    hulls."""
+    bound = THIN_SHELL_RATIO * hull_volume
+    if float(table.box_volume.sum()) < bound:
+        return True
+    hulls = (convex_hull(b) for b in table.bodies())
+    return sum(float(h.volume) for h in hulls if h is not None) < bound
+
+
+def _closed_body(body: trimesh.Trimesh, table: BodyTable, i: int) -> tuple[trimesh.Trimesh, str]:
+    """:func:`closed_part` of body ``i`` (closed, of positive volume): the body itself when
+    its box settles that it is no thin shell (it fills ``THIN_SHELL_RATIO`` of its box, or
+    its walls are ``THIN_WALL_RATIO`` of the box's size: its hull is smaller), else as its
+    hull says."""
+    box = float(table.box_volume[i])
+    volume, area = float(table.volume[i]), float(table.area[i])
+    walls = 2.0 * volume / area if area > 0 else 0.0
+    if volume >= THIN_SHELL_RATIO * box or walls >= THIN_WALL_RATIO * float(np.cbrt(box)):
+        return body, "mesh"
+    hull = convex_hull(body)
+    return (
+        (hull, "thin_shell") if hull is not None and is_thin_shell(body, hull) else (body, "mesh")
+    )
 
 
 def overlapping_bodies(part: trimesh.Trimesh) -> list[trimesh.Trimesh]:
     """The closed bodies of one mesh when some of them overlap (a CAD export of a link as
     intersecting shells in one file), else the mesh itself. A point inside two shells crosses
     an even number of faces, so an inside test of the whole file calls it outside: the bodies
-    are unioned instead, like the parts of a link."""
+    are unioned instead, like the parts of a link. The bodies' boxes come from
+    :func:`.bodies.body_table`: a mesh is made of each body only when some overlap."""
     if not is_volume(part):
         return [part]
-    bodies = connected_bodies(part)
-    if len(bodies) < 2 or not all(is_volume(b) for b in bodies):
+    table = body_table(part)
+    if table.count < 2 or not _all_volumes(table):
         return [part]
-    lo = np.array([b.bounds[0] for b in bodies])
-    hi = np.array([b.bounds[1] for b in bodies])
-    return list(bodies) if _boxes_overlap(lo, hi) else [part]
+    return table.bodies() if _boxes_overlap(table.lo, table.hi) else [part]
 
 
-#: Rows of the box-against-box comparison held at once (:func:`_boxes_overlap`).
-_OVERLAP_BLOCK = 512
+#: Pairs of boxes compared at once (:func:`_boxes_overlap`).
+_OVERLAP_PAIRS = 1 << 18
 
 
 def _boxes_overlap(lo: Any, hi: Any) -> bool:
-    """Whether any two of the boxes ``lo[i]..hi[i]`` overlap, compared a block of rows at a
-    time: the whole matrix of 16,667 bodies (a screw bag in one STL) took `xrdf spheres` to
-    1.7 GB."""
+    """Whether any two of the boxes ``lo[i]..hi[i]`` overlap. In the order of their lower x,
+    a box can overlap only the boxes after it that start along x before it ends: those pairs
+    are compared, at most ``_OVERLAP_PAIRS`` at a time (10,000 bodies of a screw bag: 3.6 s
+    as a block of rows against all boxes at a time, 0.1 s so)."""
+    order = np.argsort(lo[:, 0], kind="stable")
+    lo, hi = lo[order], hi[order]
     n = len(lo)
-    for start in range(0, n, _OVERLAP_BLOCK):
-        rows = slice(start, min(start + _OVERLAP_BLOCK, n))
-        touch = np.all(lo[rows, None, :] < hi[None, :, :], axis=2)
-        touch &= np.all(lo[None, :, :] < hi[rows, None, :], axis=2)
-        touch[np.arange(rows.stop - start), np.arange(start, rows.stop)] = False
+    ends = np.searchsorted(lo[:, 0], hi[:, 0], side="left")
+    counts = np.maximum(ends - np.arange(n) - 1, 0)
+    done = np.cumsum(counts)
+    start = 0
+    while start < n:
+        before = int(done[start - 1]) if start else 0
+        stop = max(int(np.searchsorted(done, before + _OVERLAP_PAIRS, side="right")), start + 1)
+        group, rank = ragged_index(counts[start:stop])
+        i = start + group
+        j = i + 1 + rank
+        touch = np.ones(len(i), dtype=np.bool_)
+        for axis in range(3):  # one axis at a time: no (pairs, 3) temporaries
+            touch &= (lo[j, axis] < hi[i, axis]) & (lo[i, axis] < hi[j, axis])
         if touch.any():
             return True
+        start = stop
     return False
 
 
 def connected_bodies(mesh: trimesh.Trimesh) -> list[trimesh.Trimesh]:
     """The bodies of ``mesh`` (faces joined by shared edges) in the order of their first
-    faces, each keeping the faces in the mesh's own order (``mesh.split(only_watertight=
-    False)``, made machine-independent: trimesh groups the faces by an unstable sort, whose
-    ties numpy's SIMD sort (AVX-512) and its portable one break differently, and a fit
-    follows the order of the faces). A mesh of one body is returned as it is: copying it
-    cost 5 s on a CAD mesh of 1.2 M triangles, to learn that it is one body."""
-    import trimesh
-
-    found = trimesh.graph.connected_components(
-        mesh.face_adjacency, nodes=np.arange(len(mesh.faces)), min_len=1
-    )
-    if len(found) == 1:
-        return [mesh]
-    bodies = sorted((np.sort(np.asarray(c, dtype=np.intp)) for c in found), key=lambda c: c[0])
-    out: Any = mesh.submesh(bodies, only_watertight=False, repair=True)  # a list for a list
-    return list(out)
+    faces, each keeping the faces in the mesh's own order (:func:`.bodies.body_table`: the
+    same on every machine, where trimesh's ``split`` groups the faces by an unstable sort).
+    A mesh of one body is returned as it is: copying it cost 5 s on a CAD mesh of 1.2 M
+    triangles, to learn that it is one body."""
+    table = body_table(mesh)
+    return [mesh] if table.count == 1 else table.bodies()
