@@ -20,7 +20,7 @@ triangle within the bound is tried, so the result is that of testing every pair,
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -53,7 +53,9 @@ def surface_distance(mesh: trimesh.Trimesh, points: FloatArray) -> FloatArray:
     pieces = _pieces(tri)
     _try_nearest_pieces(pts, tri, pieces, best)
     bound = _padded(best, pieces.slack)
-    for pi, box in BoxTree(pieces.lo, pieces.hi).within(pts, bound):
+    tree = BoxTree(pieces.lo, pieces.hi)
+    pieces = replace(pieces, lo=pieces.lo[:0], hi=pieces.hi[:0])  # the tree keeps them sorted
+    for pi, box in tree.within(pts, bound):
         fi = pieces.owner[box]
         if pieces.cut:  # a triangle was cut: try each candidate triangle once
             key = np.unique(pi * len(tri) + fi)

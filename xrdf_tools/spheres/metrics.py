@@ -106,11 +106,25 @@ def contains(solid: trimesh.Trimesh, points: FloatArray) -> npt.NDArray[np.bool_
     return points_inside(solid, points)
 
 
+#: A solid filling less than this share of its bounding box draws its volume samples in the
+#: cells of an octree around it (a coiled cable fills 0.01 % of its box) ...
+SPARSE_FILL = 0.02
+#: ... refined until the cells are this full, or hold this many cells.
+_CELL_FILL = 0.1
+_MAX_CELLS = 1 << 17
+
+
 def sample_volume(solid: trimesh.Trimesh, n: int, rng: np.random.Generator) -> FloatArray:
-    """``n`` points uniformly inside ``solid`` (rejection sampling in its bounding box)."""
+    """``n`` points uniformly inside ``solid``: rejection sampling in its bounding box, or,
+    where the solid fills little of it, in the cells of its octree (:func:`occupied_cells`),
+    which hold all of it."""
     lo, hi = (np.asarray(b, dtype=np.float64) for b in solid.bounds)
-    box = float(np.prod(np.maximum(hi - lo, 1e-12)))
-    fill = max(float(solid.volume) / box, 1e-3)
+    size = np.maximum(hi - lo, 1e-12)
+    volume = float(solid.volume)
+    corners = lo[None]
+    if volume / float(np.prod(size)) < SPARSE_FILL:
+        corners, size = occupied_cells(solid, lo, size, volume)
+    fill = max(volume / (len(corners) * float(np.prod(size))), 1e-3)
     chunks: list[FloatArray] = []
     got = 0
     for _ in range(64):
@@ -118,12 +132,44 @@ def sample_volume(solid: trimesh.Trimesh, n: int, rng: np.random.Generator) -> F
         if need <= 0:
             break
         batch = int(min(max(need / fill * 1.2 + 64, 256), 400_000))
-        p = rng.uniform(lo, hi, size=(batch, 3))
+        if len(corners) == 1:
+            p = rng.uniform(lo, lo + size, size=(batch, 3))
+        else:
+            p = (
+                corners[rng.integers(len(corners), size=batch)]
+                + rng.uniform(0.0, 1.0, size=(batch, 3)) * size
+            )
         p = p[contains(solid, p)]
         chunks.append(p)
         got += len(p)
     pts = np.concatenate(chunks) if chunks else np.zeros((0, 3))
     return pts[:n]
+
+
+def occupied_cells(
+    solid: trimesh.Trimesh, lo: FloatArray, size: FloatArray, volume: float
+) -> tuple[FloatArray, FloatArray]:
+    """The lower corners ``(M, 3)`` and the size ``(3,)`` of the cells of an octree over the
+    box ``[lo, lo + size]`` that may hold part of ``solid``: each level splits the cells in
+    eight and keeps a cell whose centre is inside or within half the cell's diagonal of the
+    surface (any inside point of a cell whose centre is outside is that close: the segment
+    between them crosses the surface), until the cells are :data:`_CELL_FILL` full."""
+    from .distance import surface_distance
+
+    corners = lo[None]
+    octants = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], float)
+    while volume / (len(corners) * float(np.prod(size))) < _CELL_FILL:
+        if len(corners) * 8 > _MAX_CELLS:
+            break
+        size = size / 2.0
+        corners = (corners[:, None] + octants[None] * size).reshape(-1, 3)
+        centres = corners + size / 2.0
+        keep = contains(solid, centres)
+        out = np.flatnonzero(~keep)
+        reach = 0.5 * float(np.linalg.norm(size)) * (1.0 + 1e-9)
+        keep[out] = surface_distance(solid, centres[out]) <= reach
+        corners = corners[keep]
+    return corners, size
 
 
 def sample_surface(solid: trimesh.Trimesh, n: int, rng: np.random.Generator) -> FloatArray:
