@@ -34,7 +34,9 @@ sys.path.insert(0, str(REPO))
 
 import trimesh  # noqa: E402
 
+from tests import sliver_meshes  # noqa: E402
 from tests.robots import robots_dir  # noqa: E402
+from tests.sliver_meshes import fan_cone  # noqa: E402
 from xrdf_tools.spheres import inside  # noqa: E402
 
 #: The old grid on fan meshes of more triangles is timed on a tenth of the points.
@@ -75,35 +77,9 @@ class BoxGrid(inside.FaceGrid):
         self.wide = np.flatnonzero(wide)
 
 
-def fan_cone(triangles: int) -> trimesh.Trimesh:
-    """A closed cone whose side and base are each a fan from one centre."""
-    n = triangles // 2
-    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
-    rim = np.stack([0.05 * np.cos(t), 0.05 * np.sin(t), np.zeros(n)], 1)
-    v = np.vstack([rim, [[0, 0, 0.1]], [[0, 0, 0]]])
-    i = np.arange(n)
-    j = (i + 1) % n
-    f = np.vstack([np.stack([np.full(n, n), i, j], 1), np.stack([np.full(n, n + 1), j, i], 1)])
-    return trimesh.Trimesh(v, f, process=False)
-
-
 def fan_capped_cylinder(triangles: int) -> trimesh.Trimesh:
-    """A closed cylinder (along z) whose caps are fans from one rim vertex, as CAD writes them."""
-    n = (triangles + 4) // 4
-    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
-    bottom = np.stack([0.01 * np.cos(t), 0.01 * np.sin(t), np.zeros(n)], 1)
-    v = np.vstack([bottom, bottom + np.array([0.0, 0.0, 0.2])])
-    i = np.arange(n)
-    j = (i + 1) % n
-    side = np.vstack([np.stack([i, j, j + n], 1), np.stack([i, j + n, i + n], 1)])
-    k = np.arange(1, n - 1)
-    caps = np.vstack(
-        [
-            np.stack([np.zeros(n - 2, int), k + 1, k], 1),
-            np.stack([np.full(n - 2, n), k + n, k + 1 + n], 1),
-        ]
-    )
-    return trimesh.Trimesh(v, np.vstack([side, caps]), process=False)
+    """A fan-capped cylinder of about ``triangles`` triangles."""
+    return sliver_meshes.fan_capped_cylinder((triangles + 4) // 4)
 
 
 def ordinary(levels: int) -> Iterator[tuple[str, trimesh.Trimesh]]:

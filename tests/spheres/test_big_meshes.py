@@ -15,6 +15,7 @@ import pytest
 import trimesh
 from typer.testing import CliRunner
 
+from tests.sliver_meshes import fan_capped_cylinder, fan_cone
 from xrdf_tools.cli import app
 from xrdf_tools.robot import link_geometry as lg
 from xrdf_tools.spheres import inside
@@ -71,37 +72,6 @@ def test_the_inside_test_is_exact_whatever_the_grid(
     assert np.array_equal(points_inside(mesh, points), expected)
 
 
-def _fan_cone(triangles: int) -> trimesh.Trimesh:
-    """A closed cone whose side and base are each a fan of slivers from one centre."""
-    n = triangles // 2
-    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    rim = np.stack([0.05 * np.cos(t), 0.05 * np.sin(t), np.zeros(n)], 1)
-    i = np.arange(n)
-    j = (i + 1) % n
-    faces = np.vstack([np.stack([np.full(n, n), i, j], 1), np.stack([np.full(n, n + 1), j, i], 1)])
-    return trimesh.Trimesh(np.vstack([rim, [[0, 0, 0.1]], [[0, 0, 0]]]), faces, process=False)
-
-
-def _fan_capped_cylinder(sides: int) -> trimesh.Trimesh:
-    """A closed cylinder whose caps are fans from one rim vertex, as CAD tessellates them,
-    slanted so that its walls are seen (not edge-on) from above."""
-    t = np.linspace(0.0, 2.0 * np.pi, sides, endpoint=False)
-    bottom = np.stack([0.01 * np.cos(t), 0.01 * np.sin(t), np.zeros(sides)], 1)
-    vertices = np.vstack([bottom, bottom + np.array([0.003, 0.002, 0.2])])
-    i = np.arange(sides)
-    j = (i + 1) % sides
-    k = np.arange(1, sides - 1)
-    faces = np.vstack(
-        [
-            np.stack([i, j, j + sides], 1),
-            np.stack([i, j + sides, i + sides], 1),
-            np.stack([np.zeros(sides - 2, dtype=int), k + 1, k], 1),
-            np.stack([np.full(sides - 2, sides), k + sides, k + 1 + sides], 1),
-        ]
-    )
-    return trimesh.Trimesh(vertices, faces, process=False)
-
-
 def _random_slivers(count: int) -> trimesh.Trimesh:
     """Long thin triangles in every direction (not a closed mesh: the parity of each point's
     crossings is compared all the same)."""
@@ -138,7 +108,11 @@ def _testing_points(mesh: trimesh.Trimesh, grid: inside.FaceGrid) -> np.ndarray:
 
 @pytest.mark.parametrize(
     "make",
-    [lambda: _fan_cone(2000), lambda: _fan_capped_cylinder(400), lambda: _random_slivers(600)],
+    [
+        lambda: fan_cone(2000),
+        lambda: fan_capped_cylinder(400, slant=(0.003, 0.002)),
+        lambda: _random_slivers(600),
+    ],
 )
 def test_slivers_and_fans_get_the_answer_of_testing_every_pair(
     make: Callable[[], trimesh.Trimesh],
@@ -161,7 +135,7 @@ def test_slivers_and_fans_get_the_answer_of_testing_every_pair(
 def test_a_fan_is_tested_against_tens_of_triangles_a_point_not_thousands() -> None:
     """A 10,000-triangle fan cone: a point of its box meets about 70 triangles of the grid
     (1,700 when each was listed in every cell of its xy box)."""
-    mesh = _fan_cone(10_000)
+    mesh = fan_cone(10_000)
     grid = inside.face_grid(mesh)
     rng = np.random.default_rng(0)
     points = rng.uniform(mesh.bounds[0], mesh.bounds[1], size=(2000, 3))

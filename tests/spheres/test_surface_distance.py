@@ -10,43 +10,7 @@ import numpy as np
 import pytest
 
 from tests.robots import robot_urdf
-
-
-def _fan_cone(n: int) -> object:
-    """A closed cone whose side and base are fans of ``n // 2`` slivers each (a CAD disk)."""
-    import trimesh
-
-    k = n // 2
-    t = np.linspace(0.0, 2.0 * np.pi, k, endpoint=False)
-    rim = np.stack([0.05 * np.cos(t), 0.05 * np.sin(t), np.zeros(k)], 1)
-    vertices = np.vstack([rim, [[0.0, 0.0, 0.1]], [[0.0, 0.0, 0.0]]])
-    i = np.arange(k)
-    j = (i + 1) % k
-    faces = np.vstack([np.stack([np.full(k, k), i, j], 1), np.stack([np.full(k, k + 1), j, i], 1)])
-    return trimesh.Trimesh(vertices, faces, process=False)
-
-
-def _shaft(segments: int) -> object:
-    """A 20 cm shaft of 1 cm radius: sides of long slivers along z, caps as fans from one
-    rim vertex (as CAD exporters write them)."""
-    import trimesh
-
-    t = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
-    bottom = np.stack([0.01 * np.cos(t), 0.01 * np.sin(t), np.zeros(segments)], 1)
-    vertices = np.vstack([bottom, bottom + np.array([0.0, 0.0, 0.2])])
-    i = np.arange(segments)
-    j = (i + 1) % segments
-    k = np.arange(1, segments - 1)
-    n = segments
-    faces = np.vstack(
-        [
-            np.stack([i, j, j + n], 1),
-            np.stack([i, j + n, i + n], 1),
-            np.stack([np.zeros(n - 2, dtype=int), k + 1, k], 1),
-            np.stack([np.full(n - 2, n), k + n, k + 1 + n], 1),
-        ]
-    )
-    return trimesh.Trimesh(vertices, faces, process=False)
+from tests.sliver_meshes import fan_capped_cylinder, fan_cone
 
 
 def _ur5_forearm() -> object:
@@ -56,7 +20,9 @@ def _ur5_forearm() -> object:
     return geoms["forearm_link"].solid
 
 
-@pytest.mark.parametrize("mesh_of", [_ur5_forearm, lambda: _fan_cone(1200), lambda: _shaft(300)])
+@pytest.mark.parametrize(
+    "mesh_of", [_ur5_forearm, lambda: fan_cone(1200), lambda: fan_capped_cylinder(300)]
+)
 @pytest.mark.parametrize(
     "leaf, frontier, share, waste, seeds",
     [(8, 1 << 20, 1 / 64, 8.0, 3), (1, 64, 1 / 8, 1.0, 1), (32, 1 << 20, 1.0, 1e9, 1)],
