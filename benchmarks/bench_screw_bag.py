@@ -28,17 +28,8 @@ sys.path.insert(0, str(REPO))
 
 import trimesh  # noqa: E402
 
+from tests.odd_meshes import screw_bag  # noqa: E402
 from xrdf_tools.spheres import mesh_solids as ms  # noqa: E402
-
-
-def screw_bag(n: int, size: float = 0.004, spacing: float = 0.01) -> trimesh.Trimesh:
-    """``n`` separate cubes on a grid in one mesh."""
-    side = int(np.ceil(n ** (1 / 3)))
-    cube = trimesh.creation.box((size, size, size))
-    at = np.array(np.unravel_index(np.arange(n), (side, side, side))).T * spacing
-    vertices = (cube.vertices[None] + at[:, None]).reshape(-1, 3)
-    faces = (cube.faces[None] + 8 * np.arange(n)[:, None, None]).reshape(-1, 3)
-    return trimesh.Trimesh(vertices, faces, process=False)
 
 
 def _old_bodies(mesh: trimesh.Trimesh) -> list[Any]:

@@ -34,9 +34,9 @@ sys.path.insert(0, str(REPO))
 
 import trimesh  # noqa: E402
 
-from tests import sliver_meshes  # noqa: E402
+from tests import odd_meshes  # noqa: E402
+from tests.odd_meshes import fan_cone  # noqa: E402
 from tests.robots import robots_dir  # noqa: E402
-from tests.sliver_meshes import fan_cone  # noqa: E402
 from xrdf_tools.spheres import inside  # noqa: E402
 
 #: The old grid on fan meshes of more triangles is timed on a tenth of the points.
@@ -79,7 +79,7 @@ class BoxGrid(inside.FaceGrid):
 
 def fan_capped_cylinder(triangles: int) -> trimesh.Trimesh:
     """A fan-capped cylinder of about ``triangles`` triangles."""
-    return sliver_meshes.fan_capped_cylinder((triangles + 4) // 4)
+    return odd_meshes.fan_capped_cylinder((triangles + 4) // 4)
 
 
 def ordinary(levels: int) -> Iterator[tuple[str, trimesh.Trimesh]]:

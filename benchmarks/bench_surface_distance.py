@@ -31,8 +31,8 @@ sys.path.insert(0, str(REPO / "benchmarks"))
 import trimesh  # noqa: E402
 from bench_slivers import fan_capped_cylinder  # noqa: E402
 
+from tests.odd_meshes import fan_cone  # noqa: E402
 from tests.robots import robots_dir  # noqa: E402
-from tests.sliver_meshes import fan_cone  # noqa: E402
 from xrdf_tools.spheres.distance import _point_triangle_distance, surface_distance  # noqa: E402
 
 

@@ -15,7 +15,7 @@ import pytest
 import trimesh
 from typer.testing import CliRunner
 
-from tests.sliver_meshes import fan_capped_cylinder, fan_cone
+from tests.odd_meshes import fan_capped_cylinder, fan_cone
 from xrdf_tools.cli import app
 from xrdf_tools.robot import link_geometry as lg
 from xrdf_tools.spheres import inside

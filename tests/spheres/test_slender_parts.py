@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from tests.odd_meshes import screw_bag
 from xrdf_tools.spheres import mesh_solids, sphere_metrics
 from xrdf_tools.spheres.fewest import SLENDER_MAX_PER_LINK, slender
 from xrdf_tools.spheres.metrics import sample_volume
@@ -66,16 +67,6 @@ def _as_fitter(solid: trimesh.Trimesh) -> Any:
     )
 
 
-def _boxes(n: int, size: float = 0.004, spacing: float = 0.01) -> trimesh.Trimesh:
-    """``n`` separate cubes on a grid in one mesh (a screw bag)."""
-    side = int(np.ceil(n ** (1 / 3)))
-    cube = trimesh.creation.box((size, size, size))
-    at = np.array(np.unravel_index(np.arange(n), (side, side, side))).T * spacing
-    vertices = (cube.vertices[None] + at[:, None]).reshape(-1, 3)
-    faces = (cube.faces[None] + 8 * np.arange(n)[:, None, None]).reshape(-1, 3)
-    return trimesh.Trimesh(vertices, faces, process=False)
-
-
 def _hollow_box() -> trimesh.Trimesh:
     """A closed box of 3 mm walls (an outer box, an inner one turned inward)."""
     outer = trimesh.creation.box((0.3, 0.2, 0.1))
@@ -130,7 +121,7 @@ def test_slender_reads_rods_and_coils_not_plates_shells_bags_or_blocks() -> None
     for part in (
         trimesh.creation.box((0.3, 0.3, 0.02)),
         _hollow_box(),
-        _boxes(500),
+        screw_bag(500),
         trimesh.creation.box((0.1, 0.08, 0.06)),
     ):
         assert slender(_as_fitter(part)) is None
@@ -157,7 +148,7 @@ def test_a_screw_bag_is_split_without_a_trimesh_check_per_body(monkeypatch: Any)
     """300 separate cubes in one mesh: each body was split off, checked with trimesh
     (is_volume) and hulled, twice over: 10-15 ms a body. Its bodies are measured at once:
     one hull (the whole part's), the same bodies out."""
-    bag = _boxes(300)
+    bag = screw_bag(300)
     calls = {"hull": 0, "volume": 0}
     hull, volume = mesh_solids.convex_hull, mesh_solids.is_volume
 

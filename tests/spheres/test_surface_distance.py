@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.odd_meshes import fan_capped_cylinder, fan_cone
 from tests.robots import robot_urdf
-from tests.sliver_meshes import fan_capped_cylinder, fan_cone
 
 
 def _ur5_forearm() -> object:

@@ -1,6 +1,6 @@
-"""Closed meshes of CAD slivers, for the tests and benchmarks of the inside test and the
-surface distance: a cone whose side and base are fans from one centre, and a cylinder whose
-caps are fans from one rim vertex (as CAD exporters tessellate them)."""
+"""Odd meshes for the tests and benchmarks of the sphere fit: CAD slivers (a cone whose side
+and base are fans from one centre, a cylinder whose caps are fans from one rim vertex, as CAD
+exporters tessellate them) and a screw bag (many separate bodies in one mesh)."""
 
 from __future__ import annotations
 
@@ -38,4 +38,14 @@ def fan_capped_cylinder(sides: int, slant: tuple[float, float] = (0.0, 0.0)) -> 
             np.stack([np.full(sides - 2, sides), k + sides, k + 1 + sides], 1),
         ]
     )
+    return trimesh.Trimesh(vertices, faces, process=False)
+
+
+def screw_bag(n: int, size: float = 0.004, spacing: float = 0.01) -> trimesh.Trimesh:
+    """``n`` separate cubes on a grid in one mesh."""
+    side = int(np.ceil(n ** (1 / 3)))
+    cube = trimesh.creation.box((size, size, size))
+    at = np.array(np.unravel_index(np.arange(n), (side, side, side))).T * spacing
+    vertices = (cube.vertices[None] + at[:, None]).reshape(-1, 3)
+    faces = (cube.faces[None] + 8 * np.arange(n)[:, None, None]).reshape(-1, 3)
     return trimesh.Trimesh(vertices, faces, process=False)
