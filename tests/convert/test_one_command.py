@@ -499,3 +499,27 @@ def test_a_cspace_that_moves_no_part_against_another_is_said(tmp_path: Path) -> 
     assert "ignores each of them (1 adjacent, 1 never colliding in the 400 samples)" in turning
     assert "(--joints, --chain or --group)" in turning
     assert "convert-mask-nothing-checked" not in rules(("j1", "j2"))
+
+
+def test_without_fit_spheres_the_empty_group_says_what_fit_spheres_would_take(
+    tmp_path: Path,
+) -> None:
+    """Drake's Jaco writes its collision geometry as 88 <sphere> elements: convert without
+    --fit-spheres said "NO COLLISION SPHERES in the inputs" and listed --fit-spheres among
+    other ways, as if there were nothing to start from. The warning now says --fit-spheres
+    fits the collision geometry of the links that have it and takes <sphere> elements as
+    they are."""
+    urdf = tmp_path / "balls.urdf"
+    urdf.write_text(
+        """<robot name="balls">
+  <link name="base"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/>
+    <origin xyz="0 0 0.2"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="arm"><collision><geometry><sphere radius="0.04"/></geometry></collision></link>
+</robot>"""
+    )
+    result = CliRunner().invoke(app, ["convert", str(urdf), "-o", str(tmp_path / "b.xrdf")])
+    (line,) = [t for t in result.output.splitlines() if "convert-no-spheres" in t]
+    assert "--fit-spheres: it fits them to the collision geometry of the URDF's 2 link(s)" in line
+    assert "takes <sphere> elements as they are" in line

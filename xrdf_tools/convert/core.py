@@ -194,7 +194,7 @@ def complete(
     jerk = _limits("jerk", cspace, draft, options.jerk, tree, rep)
     defaults = _default_positions(draft, tree, cspace, rep)
     tool_frames = _tool_frames(draft, tree, options, cspace, rep, collision_links, default_tool)
-    geometry, world, self_c = _collision(draft, tree, options, rep)
+    geometry, world, self_c = _collision(draft, tree, options, rep, collision_links)
 
     x = Xrdf(
         # 1.0 holds everything the sources can say (negative radii included); converting to
@@ -425,17 +425,27 @@ def _tool_frames(
 
 
 def _collision(
-    draft: Draft, tree: RobotTree, options: ConvertOptions, rep: Reporter
+    draft: Draft,
+    tree: RobotTree,
+    options: ConvertOptions,
+    rep: Reporter,
+    collision_links: Collection[str] | None = None,
 ) -> tuple[FrozenMap[str, GeometryGroup], CollisionSection, SelfCollisionSection]:
     """The geometry group of the sources' spheres and the two collision sections."""
     name = options.geometry_name or draft.geometry_name or f"{_robot_stem(tree)}_collision_spheres"
     spheres = {k: tuple(v) for k, v in (draft.spheres or {}).items() if v}
     if not spheres:
+        fit = "--fit-spheres"
+        if collision_links:  # a URDF of <sphere> collisions has them, and nothing says so
+            fit += (
+                f": it fits them to the collision geometry of the URDF's {len(collision_links)}"
+                " link(s) that have it and takes <sphere> elements as they are"
+            )
         rep.report(
             "convert-no-spheres",
             "NO COLLISION SPHERES in the inputs: the XRDF has an empty geometry group, so "
-            "cuRobo/cuMotion will not check collisions for this robot. Add spheres "
-            "(--fit-spheres, the Isaac Sim sphere editor, or the SRDF/cuRobo source)",
+            f"cuRobo/cuMotion will not check collisions for this robot. Add spheres ({fit}; "
+            "or the Isaac Sim sphere editor, or the SRDF/cuRobo source)",
         )
     ignore = {a: tuple(bs) for a, bs in draft.ignore.items() if bs}
     geometry = FrozenMap({name: GeometryGroup(FrozenMap(spheres))})
