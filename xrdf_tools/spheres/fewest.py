@@ -155,8 +155,7 @@ def default_fit(
     than it."""
     judge = HeldOut(fitter)
     tube = slender(fitter)
-    most_here = AUTO_MAX_PER_LINK if tube is None else tube.most
-    spheres, share = fewest_reaching(fitter, target, judge, most_here)
+    spheres, share = fewest_reaching(fitter, target, judge, _most_of(tube))
     what = f"{len(spheres)} spheres cover {short_of(share)} of its volume (target {target:.0%})"
     advice = "raise --max-protrusion or give --per-link for more"
     if share < target and past:
@@ -235,7 +234,10 @@ def slender(fitter: SphereFitter) -> Slender | None:
 def default_most(fitter: SphereFitter) -> int:
     """The most spheres the default count gives the fitter's solid: :data:`AUTO_MAX_PER_LINK`,
     or a slender part's own (:attr:`Slender.most`)."""
-    tube = slender(fitter)
+    return _most_of(slender(fitter))
+
+
+def _most_of(tube: Slender | None) -> int:
     return AUTO_MAX_PER_LINK if tube is None else tube.most
 
 
