@@ -18,7 +18,7 @@ from collections.abc import Iterator
 import numpy as np
 import numpy.typing as npt
 
-from ..util.arrays import BoolArray, FloatArray, IntArray
+from ..util.arrays import BoolArray, FloatArray, IntArray, ragged_index
 
 CodeArray = npt.NDArray[np.uint64]
 
@@ -73,12 +73,9 @@ class BoxTree:
         self, pts: FloatArray, reach: FloatArray, pi: IntArray, leaf: IntArray
     ) -> tuple[IntArray, IntArray]:
         first = self.leaf_start[leaf]
-        count = self.leaf_start[leaf + 1] - first
-        within = np.arange(int(count.sum()), dtype=np.int64) - np.repeat(
-            np.cumsum(count) - count, count
-        )
-        box = np.repeat(first, count) + within
-        pi = np.repeat(pi, count)
+        pair, within = ragged_index(self.leaf_start[leaf + 1] - first)
+        box = first[pair] + within
+        pi = pi[pair]
         keep = _near(pts[pi], self.lo[box], self.hi[box], reach[pi])
         return pi[keep], self.order[box[keep]]
 

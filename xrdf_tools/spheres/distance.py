@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from ..util.arrays import BoolArray, FloatArray, IntArray
+from ..util.arrays import BoolArray, FloatArray, IntArray, ragged_index
 from .box_tree import BoxTree
 
 if TYPE_CHECKING:
@@ -209,9 +209,7 @@ def _cells(
     corner + u, corner + v)`` whose first corner lies in it (``i/n1 + j/n2 < 1``, in integers):
     their boxes, the triangle of each (an index into the arguments) and their first corners.
     Every point of a triangle lies in one of its cells."""
-    per = n1 * n2
-    of = np.repeat(np.arange(len(corner), dtype=np.int64), per)
-    offset = np.arange(len(of), dtype=np.int64) - np.repeat(np.cumsum(per) - per, per)
+    of, offset = ragged_index(n1 * n2)
     a, b = n1[of], n2[of]
     i, j = offset // b, offset % b
     keep = i * b + j * a < a * b
