@@ -14,8 +14,9 @@ import pytest
 
 from tests.robots import robots_dir
 from xrdf_tools.convert.core import ConvertOptions, convert
-from xrdf_tools.robot.chains import default_cspace, guess_tool_frame, joint_roles, name_words
+from xrdf_tools.robot.chains import default_cspace, joint_roles, name_words
 from xrdf_tools.robot.core import Robot, as_robot
+from xrdf_tools.robot.tool_frame import guess_tool_frame
 from xrdf_tools.robot.urdf_source import load_urdf
 
 #: short name -> path below example-robot-data's robots/

@@ -37,8 +37,8 @@ from .sources import Draft, Reporter, RobotTree
 if TYPE_CHECKING:
     import yourdfpy
 
-    from ..robot.chains import ToolFrameGuess
     from ..robot.core import Robot
+    from ..robot.tool_frame import ToolFrameGuess
 
 __all__ = [
     "DEFAULT_ACCELERATION",

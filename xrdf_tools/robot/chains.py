@@ -22,12 +22,8 @@ A joint whose limits hold it still (lower = upper: Toyota HSR's force-torque sen
 no c-space joint; chains and tool-frame guesses go through it as through a fixed joint.
 A leg is planned for only when every chain is one: a humanoid's arm wins over a leg as long
 (Unitree H1) or longer (NAO); a hand alone plans for its longest finger.
-How names are read into words: :mod:`.names`. The tool frame (:func:`guess_tool_frame`) is
-a link below the last c-space joint reached through fixed joints only, preferring ``tool0``,
-then ``tcp``, ``tool``, ``ee``/``eef``/``end_effector``, ``flange``, ``grasp`` names, then a
-frame without collision geometry at the end of a fixed branch (one named like a gripper first:
-SO-101's ``gripper_frame_link`` over its ``d405_link``), then the link where a single chain of
-fixed joints ends; never a frame named like a sensor or a camera (``d435i_link``).
+How names are read into words: :mod:`.names`; the tool frame at the end of the chosen chain:
+:mod:`.tool_frame`.
 
 Everything here is a pure function of the :class:`~xrdf_tools.robot.tree.RobotTree`; the
 converter reports each choice and ``xrdf inspect`` shows it.
@@ -45,30 +41,24 @@ from .names import (
     ARM,
     HEAD,
     LEG,
-    TOOL_RANKS,
     TOOL_WORDS,
     JointRole,
     name_role,
     name_words,
     says_finger,
-    says_gripper,
     says_hand,
     says_jaw,
-    says_sensor,
     turns_hand,
 )
+from .tool_frame import ToolFrameGuess, guess_tool_frame
 from .tree import RobotTree
 
 __all__ = [
     "Chain",
     "DefaultCSpace",
     "JointRole",
-    "ToolFrameGuess",
     "chain_flag",
     "default_cspace",
-    "fixed_below",
-    "guess_tool_frame",
-    "is_held",
     "is_leg",
     "joint_roles",
     "leaf_chains",
@@ -270,89 +260,9 @@ def _chain(
     for jn in path:
         if jn in roles:
             return Chain(tree.root, leaf, path, tuple(cspace), jn)
-        if tree.is_actuated(jn) and jn not in passive and not is_held(tree, jn):
+        if tree.is_actuated(jn) and jn not in passive and not tree.is_held(jn):
             cspace.append(jn)
     return Chain(tree.root, leaf, path, tuple(cspace))
-
-
-def is_held(tree: RobotTree, joint: str) -> bool:
-    """Whether ``joint`` is fixed or held still by its limits (:attr:`JointInfo.is_held`)."""
-    j = tree.joints[joint]
-    return j.type == "fixed" or j.is_held
-
-
-@dataclass(frozen=True)
-class ToolFrameGuess:
-    """A tool frame below a c-space joint and why it was chosen."""
-
-    frame: str
-    reason: str
-    #: Other links reached from the same joint through fixed joints (the alternatives).
-    candidates: tuple[str, ...] = ()
-    #: Whether the frame was chosen for its tool-like name.
-    named: bool = False
-
-
-def fixed_below(tree: RobotTree, link: str) -> list[tuple[str, int]]:
-    """``link`` and the links below it reached through fixed (or held) joints only, with
-    their depth."""
-    out = [(link, 0)]
-    stack = [(link, 0)]
-    while stack:
-        cur, depth = stack.pop()
-        for jn in reversed(tree.child_joints.get(cur, ())):
-            j = tree.joints[jn]
-            if is_held(tree, jn):
-                out.append((j.child, depth + 1))
-                stack.append((j.child, depth + 1))
-    return out
-
-
-def _single_fixed_tip(tree: RobotTree, link: str) -> str:
-    """``link`` followed down a single chain of fixed (or held) joints (a flange, a tool
-    frame)."""
-    while True:
-        kids = tree.child_joints.get(link, ())
-        if len(kids) != 1 or not is_held(tree, kids[0]):
-            return link
-        link = tree.joints[kids[0]].child
-
-
-def guess_tool_frame(
-    tree: RobotTree, last_joint: str, collision_links: Collection[str] | None = None
-) -> ToolFrameGuess:
-    """The tool frame below ``last_joint`` (see the module doc for the preferences).
-
-    ``collision_links`` (links with collision geometry) lets a collision-less leaf frame such
-    as a gripper's TCP frame win over the link it hangs from; None skips that preference.
-    """
-    start = tree.joints[last_joint].child
-    below = fixed_below(tree, start)
-    names = tuple(n for n, _ in below)
-    exact = [n for n, _ in below if n == "tool0"]
-    if exact:
-        return ToolFrameGuess("tool0", "named tool0", names, named=True)
-    for rank, words in TOOL_RANKS:
-        hits = [(d, n) for n, d in below if set(name_words(n)) & words]
-        hits = [(d, n) for d, n in hits if not says_sensor(n)]
-        if hits:
-            frame = min(hits)[1]
-            return ToolFrameGuess(
-                frame, f"named like {rank} frame, below '{last_joint}'", names, named=True
-            )
-    if collision_links is not None:
-        frames = [
-            (not says_gripper(n), d, n)  # a gripper's frame first, then the shallowest
-            for n, d in below
-            if d > 0 and n not in collision_links and not tree.child_joints.get(n)
-        ]
-        if frames := [f for f in frames if not says_sensor(f[2])]:
-            frame = min(frames)[2]
-            return ToolFrameGuess(
-                frame, f"a frame without geometry at the end of '{last_joint}'", names
-            )
-    tip = _single_fixed_tip(tree, start)
-    return ToolFrameGuess(tip, f"the tip of the chain after '{last_joint}'", names)
 
 
 @dataclass(frozen=True)

@@ -94,6 +94,11 @@ class RobotTree:
         j = self.joints.get(joint)
         return j is not None and j.is_actuated
 
+    def is_held(self, joint: str) -> bool:
+        """Whether ``joint`` is fixed or held still by its limits (:attr:`JointInfo.is_held`)."""
+        j = self.joints[joint]
+        return j.type == "fixed" or j.is_held
+
     def actuated_joints(self) -> list[str]:
         return [j for j in self.dfs_joints() if self.joints[j].is_actuated]
 

@@ -270,13 +270,11 @@ def _moving_joints(robot: Robot) -> dict[str, str]:
     """Per link, the joint nearest above it that moves it: neither fixed nor held still by
     equal limits (a carriage on a rail: the rail's joint). Links fixed to the root are left
     out."""
-    from ..robot.chains import is_held
-
     tree = robot.tree
     out: dict[str, str] = {}
     for name in tree.dfs_joints():  # a parent before its children
         joint = tree.joints[name]
-        mover = out.get(joint.parent) if is_held(tree, name) else name
+        mover = out.get(joint.parent) if tree.is_held(name) else name
         if mover is not None:
             out[joint.child] = mover
     return out

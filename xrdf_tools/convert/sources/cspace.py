@@ -18,7 +18,8 @@ from __future__ import annotations
 from collections.abc import Collection, Sequence
 from typing import TYPE_CHECKING
 
-from ...robot.chains import ToolFrameGuess, default_cspace, guess_tool_frame, is_held
+from ...robot.chains import default_cspace
+from ...robot.tool_frame import ToolFrameGuess, guess_tool_frame
 from ...util.errors import SourceError, did_you_mean
 from ...util.text import name_list
 from . import Draft, Reporter, RobotTree
@@ -105,7 +106,7 @@ def apply_cspace_choice(
         raise SourceError("give either --joints or --chain, not both")
     if chains:
         names = [j for base, tip in chains for j in chain_joints(tree, base, tip)]
-        cspace = [j for j in dict.fromkeys(names) if tree.is_actuated(j) and not is_held(tree, j)]
+        cspace = [j for j in dict.fromkeys(names) if tree.is_actuated(j) and not tree.is_held(j)]
         tips = [tip for _, tip in chains]
         what = "--chain " + ", ".join(f"{b}:{t}" for b, t in chains)
     elif joints:

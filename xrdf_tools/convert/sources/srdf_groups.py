@@ -12,8 +12,9 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Sequence
 
-from ...robot.chains import fixed_below, is_leg, joint_roles
+from ...robot.chains import is_leg, joint_roles
 from ...robot.names import ARM, name_role, name_words
+from ...robot.tool_frame import fixed_below
 from ...util.errors import SourceError, did_you_mean
 from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
 from ...util.text import name_list
