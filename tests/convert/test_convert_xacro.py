@@ -554,6 +554,36 @@ def test_a_xacro_arg_the_expansion_never_reads_is_a_warning(
     assert len(unread) == 1 and unread[0].startswith(f"{robot}: warning"), r.stderr
 
 
+def test_an_argument_only_the_srdf_xacro_reads_is_not_unread(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """The Annin AR4's MoveIt SRDF xacro names its robot `$(arg name)`, which its URDF xacro
+    never reads: `--xacro-arg name:=mk3`, needed by the SRDF, was warned about as changing
+    nothing. convert and inspect expand both with the same arguments: only an argument
+    neither file reads is warned about."""
+    robot = tmp_path / "bot.urdf.xacro"
+    robot.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:arg name="model" default="bot"/>\n'
+        '<link name="base"/><link name="arm"/>\n'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>\n'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+        "</robot>\n"
+    )
+    srdf = tmp_path / "bot.srdf.xacro"
+    srdf.write_text(
+        '<robot name="$(arg name)" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<group name="arm"><joint name="j"/></group></robot>\n'
+    )
+    args = ["--xacro-arg", "name:=bot", "--xacro-arg", "nmae:=x", "--srdf", str(srdf)]
+    for command in ("convert", "inspect"):
+        r = runner.invoke(app, [command, str(robot), *args])
+        assert r.exit_code == 0, r.output
+        unread = [ln for ln in r.stderr.splitlines() if "xacro-arg-unread" in ln]
+        assert len(unread) == 1 and "'nmae'" in unread[0], r.stderr
+        assert "did you mean 'name'?" in unread[0], r.stderr
+
+
 def test_an_unset_argument_names_the_others_the_files_use_without_a_default(
     tmp_path: Path,
 ) -> None:

@@ -163,3 +163,24 @@ def test_a_placeholder_without_spheres_is_no_error_for_a_planner(tmp_path: Path)
     assert unseen["nub"].startswith("warning") and "16 mm across" in unseen["nub"]
     assert unseen["plate"].startswith("error")  # a 12 mm cube: 20.8 mm across
     assert unseen["pair"].startswith("error")  # two 1 cm boxes 3 cm apart: 4.3 cm across
+
+
+def test_a_link_whose_mesh_cannot_be_found_says_so_without_allow_missing_meshes(
+    tmp_path: Path,
+) -> None:
+    # Elephant's MyBuddy: its torso mesh is not in the repository, so convert
+    # --allow-missing-meshes fitted no spheres to it; lint without the flag said only "no
+    # collision spheres", and fitting again finds the file no better
+    camera = '<geometry><box size="0.02 0.1 0.02"/></geometry>'
+    urdf = HAND_URDF.replace(camera, '<geometry><mesh filename="gone/camera.stl"/></geometry>')
+    (tmp_path / "robot.urdf").write_text(urdf)
+    path, urdf_path = str(tmp_path / "robot.xrdf"), tmp_path / "robot.urdf"
+    for allowed, severity, why in (
+        (False, "error", "cannot be found: pass --package-path NAME=DIR to fit spheres"),
+        (True, "warning", "cannot be found: --allow-missing-meshes)"),
+    ):
+        found = lint_text(
+            HAND_XRDF, path, urdf=urdf_path, target="curobo", allow_missing_meshes=allowed
+        )
+        (camera_d,) = [d for d in found if d.rule == "mesh-without-spheres"]
+        assert camera_d.severity.value == severity and why in camera_d.message, camera_d

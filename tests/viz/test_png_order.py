@@ -114,3 +114,18 @@ def test_polygons_are_shaded_as_matplotlib_shades_a_3d_surface() -> None:
     want = np.asarray(theirs.get_facecolor())[:, :3]
     got = shaded(rgb, quads)
     np.testing.assert_allclose(got[np.lexsort(got.T)], want[np.lexsort(want.T)], atol=1e-12)
+
+
+def test_a_long_title_is_wrapped_inside_the_picture(scene: Scene) -> None:
+    """Unitree's G1 with Inspire hands names its robot and its group in 125 characters: the
+    title's first line ran past both edges of a 640-pixel picture, cut at each end."""
+    from dataclasses import replace
+
+    name = "g1_29dof_rev_1_0_with_inspire_hand_FTP"
+    long = replace(scene, robot_name=name, group=f"{name}_collision_spheres")
+    for size in (400, 640):
+        fig = draw_png(long, size_px=size)
+        title = fig.axes[0].title
+        box = title.get_window_extent(fig.canvas.get_renderer())
+        assert box.x0 >= 0 and box.x1 <= fig.bbox.width, (size, box)
+        assert name in title.get_text() and f"'{name}_collision_spheres'" in title.get_text()

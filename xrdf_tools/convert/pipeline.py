@@ -137,7 +137,9 @@ def convert_robot(
     """
     from ..xrdf.io import dump_xrdf
 
-    loaded = robot if isinstance(robot, Robot) else _load(robot, xacro_args, package_paths)
+    loaded = (
+        robot if isinstance(robot, Robot) else _load(robot, xacro_args, package_paths, options.srdf)
+    )
     x, diags = convert(loaded, options)
     _check_kinematics(loaded, x)
     diags = [*loaded.warnings, *diags]
@@ -175,12 +177,14 @@ def _load(
     path: str | os.PathLike[str],
     xacro_args: Mapping[str, str] | None,
     package_paths: Mapping[str, str] | None,
+    srdf: str | os.PathLike[str] | None = None,
 ) -> Robot:
-    """The robot of the URDF or xacro at ``path`` (a xacro expanded with ``xacro_args``)."""
+    """The robot of the URDF or xacro at ``path`` (a xacro expanded with ``xacro_args``, which
+    ``srdf`` may read too)."""
     from ..robot.xacro_source import load_robot
 
     pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
-    return load_robot(path, xacro_args=xacro_args, package_paths=pkgs)
+    return load_robot(path, xacro_args=xacro_args, package_paths=pkgs, srdf=srdf)
 
 
 def _with_fitted_spheres(

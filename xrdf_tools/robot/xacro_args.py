@@ -32,6 +32,7 @@ from .packages import PackageResolver
 __all__ = [
     "RULE_UNREAD_ARG",
     "ReadArgs",
+    "args_named",
     "unknown_packages",
     "unread_arg_warnings",
     "unset_args",
@@ -84,6 +85,7 @@ def unread_arg_warnings(path: str, given: Mapping[str, str], read: ReadArgs) -> 
 
 
 _ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
+_DECLARED = re.compile(r"<xacro:arg\b[^>]*?\bname\s*=\s*[\"']([^\"']+)[\"']")
 _DEFAULT = re.compile(r"<xacro:arg\b[^>]*?\bname\s*=\s*[\"']([^\"']+)[\"'][^>]*?\bdefault\s*=")
 _INCLUDE = re.compile(r"<xacro:include\b[^>]*?\bfilename\s*=\s*([\"'])(.*?)\1", re.DOTALL)
 _FIND = re.compile(r"\$\(find\s+([^\s)]+)\s*\)")
@@ -100,6 +102,15 @@ def unset_args(top: Path, resolver: PackageResolver, given: Collection[str]) -> 
         used.update(dict.fromkeys(_ARG_USE.findall(text)))
         defaults.update(_DEFAULT.findall(text))
     return [a for a in used if a not in defaults and a not in given]
+
+
+def args_named(top: Path, resolver: PackageResolver) -> frozenset[str]:
+    """The arguments the files declare (``<xacro:arg>``) or use (``$(arg x)``): those a
+    ``--xacro-arg`` given for them may change, read from the text without expanding it."""
+    named: set[str] = set()
+    for text in _texts(top, resolver):
+        named.update(_ARG_USE.findall(text), _DECLARED.findall(text))
+    return frozenset(named)
 
 
 def unknown_packages(top: Path, resolver: PackageResolver) -> list[str]:

@@ -152,6 +152,7 @@ def expand_xacro(
     warnings: list[Diagnostic] | None = None,
     warn_unread_args: bool = True,
     includes: list[str] | None = None,
+    read_elsewhere: frozenset[str] = frozenset(),
 ) -> str:
     """The URDF text of a xacro file. Raises :class:`SourceError` with a one-line reason.
 
@@ -160,7 +161,9 @@ def expand_xacro(
     xacro's own warnings (an include's ignored body, a redefined symbol) are appended to
     ``warnings`` as ``xacro-warning`` diagnostics, never printed; so is an argument of ``args``
     the expansion never reads (``xacro-arg-unread``), unless ``warn_unread_args`` is false (an
-    SRDF xacro given the robot's arguments). ``includes`` receives the files it included.
+    SRDF xacro given the robot's arguments) or another file of the same command reads it
+    (``read_elsewhere``: the SRDF xacro's arguments). ``includes`` receives the files it
+    included.
 
     The expansion runs in a child process bounded in time and memory
     (:mod:`.xacro_child`: ``XRDF_XACRO_TIMEOUT``, ``XRDF_XACRO_MEMORY``); past either bound
@@ -169,7 +172,8 @@ def expand_xacro(
 
     said = warnings if warnings is not None else []
     known = list(said)  # xacro's warnings are said once: the child knows those said before
-    expansion = (path, args, package_paths, data, known, warn_unread_args)
+    warn = read_elsewhere if warn_unread_args else None
+    expansion = (path, args, package_paths, data, known, warn)
     done = run_bounded(_expansion, expansion, path, preload=_PRELOAD)
     said.extend(done.warnings)
     if includes is not None:
@@ -201,7 +205,7 @@ def _expansion(
     package_paths: Mapping[str, str | os.PathLike[str]] | None,
     data: bytes | None,
     said: list[Diagnostic],
-    warn_unread_args: bool,
+    warn_unread_args: frozenset[str] | None,
 ) -> _Expansion:
     """:func:`_expand_here` as one value (run in the child)."""
     before, included = len(said), list[str]()
@@ -218,11 +222,12 @@ def _expand_here(
     package_paths: Mapping[str, str | os.PathLike[str]] | None,
     data: bytes | None,
     said: list[Diagnostic],
-    warn_unread_args: bool,
+    warn_unread_args: frozenset[str] | None,
     includes: list[str],
 ) -> str:
     """:func:`expand_xacro` in this process (xacro's globals held under a lock). A
-    ``MemoryError``, which xacro wraps in its own exception, is raised as one."""
+    ``MemoryError``, which xacro wraps in its own exception, is raised as one.
+    ``warn_unread_args``: None, or the arguments other files read (not warned about)."""
     import xacro
 
     p = Path(path)
@@ -268,7 +273,8 @@ def _expand_here(
             failure.macro,
         )
         raise _naming_the_others(error, p, resolver, mappings) from None
-    if warn_unread_args:
+    if warn_unread_args is not None:
+        values.asked |= warn_unread_args
         said.extend(unread_arg_warnings(str(p), mappings, values))
     return settle(doc, text, unresolved, said)
 
@@ -393,10 +399,13 @@ def load_robot(
     *,
     xacro_args: Mapping[str, str] | None = None,
     package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+    srdf: str | os.PathLike[str] | None = None,
 ) -> Robot:
     """Load a URDF or expand and load a xacro file (meshes are never loaded): the one loader
     of a robot file. For xacro input :attr:`Robot.xacro_text` is the expanded URDF text.
     A URDF file is read once: the bytes that tell it is no xacro are the bytes parsed.
+    ``srdf``: the SRDF the command expands with the same ``xacro_args`` (an SRDF xacro): an
+    argument only it reads is no ``xacro-arg-unread``.
     """
     from .urdf_source import parse_robot, read_robot, read_urdf_bytes
 
@@ -412,7 +421,16 @@ def load_robot(
     if data is None or uses_xacro(data):
         said: list[Diagnostic] = []
         included: list[str] = []
-        text = expand_xacro(path, xacro_args, pkg, data=data, warnings=said, includes=included)
+        elsewhere = _read_by(srdf, pkg) if xacro_args and srdf is not None else frozenset()
+        text = expand_xacro(
+            path,
+            xacro_args,
+            pkg,
+            data=data,
+            warnings=said,
+            includes=included,
+            read_elsewhere=elsewhere,
+        )
         try:
             robot = parse_robot(
                 text, os.fspath(path), package_paths=pkg, expanded=True, xacro_args=xacro_args
@@ -427,3 +445,10 @@ def load_robot(
 
 
 _NOT_XACRO = "--xacro-arg given but the robot file is not a xacro file"
+
+
+def _read_by(srdf: str | os.PathLike[str], package_paths: Mapping[str, str]) -> frozenset[str]:
+    """The xacro arguments an SRDF (xacro) declares or uses."""
+    from .xacro_args import args_named
+
+    return args_named(Path(srdf), PackageResolver(Path(srdf), dict(package_paths)))

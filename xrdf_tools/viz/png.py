@@ -10,6 +10,7 @@ that counts the frame pairs (:func:`png_title`).
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -57,21 +58,40 @@ def parse_view(text: str) -> tuple[float, float]:
     return elev, azim
 
 
-def png_title(scene: Scene) -> str:
+#: Title characters per pixel of the picture's width (8-point text at 100 dpi is about 6.5
+#: pixels a character): a longer line is wrapped, never cut at the picture's edges.
+TITLE_CHARS_PER_PX = 1 / 7
+
+
+def png_title(scene: Scene, width: int | None = None) -> str:
     """Robot, spheres, group; then the frame pairs self-collision checks, how many of those
     collide at the drawn pose (the default pose; ignored pairs are not counted), and the frame
-    pairs it ignores."""
+    pairs it ignores. ``width``: lines wrapped to that many characters (Unitree's
+    ``g1_29dof_rev_1_0_with_inspire_hand_FTP`` names its robot and its group in 125)."""
+    return "\n".join(
+        wrapped
+        for line in _title_lines(scene)
+        for wrapped in (
+            [line]
+            if width is None
+            else textwrap.wrap(line, width, break_long_words=False, break_on_hyphens=False)
+        )
+    )
+
+
+def _title_lines(scene: Scene) -> list[str]:
+    """The lines of :func:`png_title`, unwrapped."""
     first = f"{scene.robot_name}: {scene.n_spheres} spheres, group '{scene.group}'"
     checked, ignored = scene.frame_pairs_checked, scene.frame_pairs_ignored
     if checked + ignored == 0:
-        return first + "\nno frame pairs checked for self-collision"
+        return [first, "no frame pairs checked for self-collision"]
     hit = len(scene.samples[0].frame_contacts)
     red = " (red)" if hit and scene.collisions_shown else ""
     second = (
         f"frame pairs: {checked} checked ({hit} colliding at the default pose{red}), "
         f"{ignored} ignored"
     )
-    return f"{first}\n{second}"
+    return [first, second]
 
 
 def _unit_sphere_quads(n_around: int = 18, n_down: int = 10) -> FloatArray:
@@ -166,7 +186,8 @@ def _draw(
     ax.set_zlabel("z (m)", fontsize=7)
     ax.tick_params(labelsize=6)
     _hide_depth_axis(ax, view)
-    ax.set_title(png_title(scene), fontsize=8, parse_math=False)
+    width = int(size_px * TITLE_CHARS_PER_PX)
+    ax.set_title(png_title(scene, width), fontsize=8, parse_math=False)
     if handles and legend != "off":
         if len(handles) < LEGEND_COLUMNS_FROM:
             leg = fig.legend(

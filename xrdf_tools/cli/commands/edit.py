@@ -201,7 +201,7 @@ def command(
         from ...robot.packages import parse_package_path
         from ...xrdf.model import Xrdf
 
-        robot = load_robot_option(urdf, xacro_arg, package_path)
+        robot = load_robot_option(urdf, xacro_arg, package_path, srdf)
         check_robot_overwrite(output, robot)
         if xrdf_file is None:
             with timed("draft"):

@@ -103,7 +103,7 @@ def command(
             tool_frames=tuple(tool_frame or ()),
         )
         with timed("inspect"):
-            loaded = load_robot_option(robot, xacro_arg, package_path)
+            loaded = load_robot_option(robot, xacro_arg, package_path, srdf)
             result = inspect_robot(loaded, srdf, choice)
     except XrdfToolsError as e:
         fail(e)

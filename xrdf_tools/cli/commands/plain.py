@@ -262,10 +262,14 @@ def pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
 
 
 def load_robot_option(
-    path: Path, xacro_arg: list[str] | None, package_path: list[str] | None
+    path: Path,
+    xacro_arg: list[str] | None,
+    package_path: list[str] | None,
+    srdf: Path | None = None,
 ) -> Robot:
     """The robot of ``--urdf``: a URDF, or a xacro expanded with ``--xacro-arg`` and
-    ``--package-path`` like ``xrdf convert`` does (one loader for every command).
+    ``--package-path`` like ``xrdf convert`` does (one loader for every command); ``srdf``:
+    the command's ``--srdf``, expanded with the same arguments.
 
     Raises :class:`XrdfToolsError` (the caller exits 2).
     """
@@ -276,6 +280,7 @@ def load_robot_option(
         path,
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
         package_paths=pairs(package_path, parse_package_path),
+        srdf=srdf,
     )
     echo_warnings(robot.warnings)  # defects in unused parts, xacro's warnings
     return robot

@@ -12,7 +12,10 @@ c-space joint moves (a base bolted to the table) stays a warning: no plan can ch
 clearance. With ``--allow-missing-meshes`` a link whose collision geometry is only mesh files
 that cannot be found stays a warning too: the user said those are expected. So does a
 placeholder, a link whose collision primitives span less than 2 cm (UR's ``ee_link``, a 1 cm
-box, which NVIDIA's own UR XRDFs give no sphere).
+box, which NVIDIA's own UR XRDFs give no sphere). Without the flag, such a link is said to
+have mesh files that cannot be found, with what to do (``--package-path``, or
+``--allow-missing-meshes`` when they are not at hand): fitting spheres again would not find
+them either.
 
 Spheres written on a frame without collision geometry of its own (a fingertip frame, an added
 frame) stand for the first link above it, across fixed joints, that has geometry: NVIDIA's
@@ -63,18 +66,18 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     anchor, key = (sections[0][1], sections[0][0]) if sections else (None, "")
     where = "" if sections else " (the file has no collision section)"
     bare = [f for f in kin.frame_names if f in robot.collision_counts and f not in used]
-    absent = _only_missing_meshes(ctx, bare) if planning and ctx.allow_missing_meshes else set()
+    absent = _only_missing_meshes(ctx, bare)
     tiny = _placeholders(robot) if planning and bare else {}
     for frame in bare:
         moved = planning and bool(cspace.intersection(kin.joints_on_path(kin.base_frame, frame)))
-        excused = frame in absent or frame in tiny
+        excused = (frame in absent and ctx.allow_missing_meshes) or frame in tiny
         severity = Severity.ERROR if moved and not excused else Severity.WARNING
         node, path = written.get(frame, (anchor, key))
         yield ctx.problem(
             node,
             f"link '{frame}' has collision geometry in {robot.path.rsplit('/', 1)[-1]} but no "
             f"collision spheres{' (its list is empty)' if frame in written else where}"
-            f"{_why(frame, absent, tiny)}; the planner cannot see it",
+            f"{_why(frame, absent, tiny, ctx.allow_missing_meshes)}; the planner cannot see it",
             path,
             severity,
         )
@@ -101,10 +104,16 @@ def _placeholders(robot: Robot) -> dict[str, float]:
     return placeholder_links(robot)
 
 
-def _why(frame: str, absent: set[str], tiny: dict[str, float]) -> str:
-    """Why a moved link without spheres is a warning, not an error, for a planner."""
-    if frame in absent:
+def _why(frame: str, absent: set[str], tiny: dict[str, float], allowed: bool) -> str:
+    """Why a link has no spheres (its meshes cannot be found), or why a moved link without
+    spheres is a warning, not an error, for a planner."""
+    if frame in absent and allowed:
         return " (its collision meshes cannot be found: --allow-missing-meshes)"
+    if frame in absent:
+        return (
+            " (its collision meshes cannot be found: pass --package-path NAME=DIR to fit "
+            "spheres to them, or --allow-missing-meshes when they are not at hand)"
+        )
     if frame in tiny:
         return f" (a placeholder, {tiny[frame] * 1000:.0f} mm across: nothing to plan around)"
     return ""
