@@ -3,7 +3,8 @@
 Every ``xrdf COMMAND … --option`` written in README.md, docs/*.md or the package's sources
 (help texts, diagnostics, rule docs) names an option of that command, and every ``--option``
 named anywhere there is an option of some command or of a benchmark script. Every option of
-every command says what it does. Every link of the docs reaches a file and heading."""
+every command says what it does. The usage block at the top of a command's page names
+exactly its options. Every link of the docs reaches a file and heading."""
 
 from __future__ import annotations
 
@@ -83,6 +84,53 @@ def test_every_written_command_line_uses_options_the_command_has() -> None:
         for n, command, option in _unknown_options_of_commands(path.read_text(encoding="utf-8"))
     ]
     assert found == []
+
+
+_SYNOPSIS = re.compile(r"^```\n(xrdf [a-z]+ .*?)^```", re.S | re.M)
+
+
+def _synopsis_lines(block: str) -> Iterator[tuple[tuple[str, ...], str]]:
+    """``(command words, its line with the indented lines below it)`` of a synopsis block."""
+    for m in re.finditer(r"^xrdf ((?:export )?[a-z]+)\b(.*(?:\n[ \t]+.*)*)", block, re.M):
+        yield tuple(m.group(1).split()), m.group(2)
+
+
+def _synopsis_faults(block: str) -> Iterator[str]:
+    """What a synopsis gets wrong: an option its command lacks, or an option of the command it
+    leaves out (one of its spellings is enough)."""
+    for words, line in _synopsis_lines(block):
+        named = set(_OPTION.findall(line))
+        command = " ".join(words)
+        for option in sorted(named - _options()[words]):
+            yield f"xrdf {command} has no {option}"
+        for param in _commands()[words].params:
+            spellings = {*param.opts, *param.secondary_opts}
+            if param.param_type_name == "option" and not spellings & (named | {"--help"}):
+                yield f"xrdf {command}: {param.opts[0]} left out"
+
+
+def test_the_synopsis_checker_reads_continuation_lines() -> None:
+    block = "xrdf diff A B [--tolerance T] [-f text|json]\n    [--urdf U] [--bogus]\n"
+    assert sorted(_synopsis_faults(block)) == [
+        "xrdf diff has no --bogus",
+        "xrdf diff: --package-path left out",
+        "xrdf diff: --xacro-arg left out",
+        "xrdf diff: -q left out",
+        "xrdf diff: -v left out",
+    ]
+
+
+def test_every_synopsis_names_every_option_of_its_command_and_no_other() -> None:
+    """The usage block at the top of a command's page (``xrdf report ROBOT.xrdf --urdf …
+    [--samples N] …``, continued on indented lines) lists exactly the command's options."""
+    faults = [
+        f"{doc.name}: {fault}"
+        for doc in [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
+        for block in _SYNOPSIS.findall(doc.read_text(encoding="utf-8"))
+        if "[" in block  # the README's list of commands is no synopsis
+        for fault in _synopsis_faults(block)
+    ]
+    assert faults == []
 
 
 def test_every_option_named_in_the_docs_and_messages_exists() -> None:

@@ -174,6 +174,24 @@ def test_cli_summary_and_options(runner: CliRunner, boxes: Path, tmp_path: Path)
     _check_with_report_and_lint(runner, out, boxes, samples=300)
 
 
+def test_verbose_off_a_terminal_prints_a_line_per_tenth_of_the_mask_sampling(
+    runner: CliRunner, boxes: Path, tmp_path: Path
+) -> None:
+    """A CI log of `convert --fit-spheres -v` follows the sampling as `report -v` does (it
+    printed only the last step: the sample comes in chunks, never one configuration apart)."""
+    r = runner.invoke(
+        app,
+        [
+            *("convert", str(boxes), "--joints", "j1,j2", "--fit-spheres", "--per-link", "1"),
+            *("-n", "50000", "-o", str(tmp_path / "boxes.xrdf"), "-v"),
+        ],
+    )
+    assert r.exit_code == 0, r.output
+    lines = [ln for ln in r.stderr.splitlines() if ln.startswith("sampling the mask: ")]
+    assert [ln.split()[3] for ln in lines] == [str(p) for p in range(10, 101, 10)], r.stderr
+    assert "(50,000/50,000)" in lines[-1]
+
+
 # --------------------------------------------------------------------------------------------
 # Real robots with meshes
 # --------------------------------------------------------------------------------------------

@@ -486,6 +486,15 @@ def test_a_long_pair_table_ends_with_how_to_see_what_matters(tmp_path: Path) -> 
     last = long.stdout.rstrip().splitlines()[-1]
     assert last.startswith("(78 frame pairs in the table above: --only findings"), last
     assert "--min-rate 0.001" in last
+    # spheres 10 times as big: every pair collides, and --min-rate 0.5 still lists 72 pairs;
+    # the hint then names a higher rate, not the lower one that shows more
+    xrdf.write_text(xrdf_text.replace("radius: 0.02}", "radius: 0.2}"))
+    args = ["report", str(xrdf), "--urdf", str(urdf), "-n", "200", "-q", "--min-rate", "0.5"]
+    filtered = runner.invoke(app, args)
+    last = filtered.stdout.rstrip().splitlines()[-1]
+    assert last.startswith("(72 frame pairs in the table above: --only findings"), last
+    assert "a --min-rate above 0.5 fewer pairs" in last and "0.001" not in last
+    xrdf.write_text(xrdf_text)
     for args in (
         [str(xrdf), "--urdf", str(urdf), "--min-rate", "0.5"],
         [str(xrdf), "--urdf", str(urdf), "--only", "findings"],

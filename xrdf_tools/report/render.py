@@ -286,11 +286,15 @@ def _long_table_hint(r: Report, view: ReportView) -> list[str]:
     """Where the whole pair table scrolled past: the options that show what matters."""
     if view.only != "all" or len(view.rows(r)) <= LONG_TABLE_PAIRS:
         return []
+    fewer = (
+        f"a --min-rate above {view.min_rate:g} fewer pairs"
+        if view.min_rate > 0.0
+        else "--min-rate 0.001 the pairs that collide in 0.1 % of the samples or more"
+    )
     return [
         "",
         f"({len(view.rows(r))} frame pairs in the table above: --only findings shows the "
-        "findings alone, --min-rate 0.001 the pairs that collide in 0.1 % of the samples or "
-        "more; --format json holds every pair)",
+        f"findings alone, {fewer}; --format json holds every pair)",
     ]
 
 

@@ -24,6 +24,7 @@ from .plain import (
     detail,
     is_stdio,
     pairs,
+    progress_lines,
     timed,
     verbosity,
 )
@@ -379,11 +380,12 @@ def _staged(bar: ProgressUpdate | None) -> Progress | None:
         return lambda stage, done, total, _item: bar(_STAGES.get(stage, stage), done, total)
     if stderr_is_terminal() or verbosity() < Verbosity.VERBOSE:
         return None
+    sampling = progress_lines(_STAGES["sampling"])
 
     def line(stage: str, done: int, total: int, item: str) -> None:
         if stage in ("reading", "fitting"):
             detail(f"{_STAGES[stage]}: {done + 1}/{total} {item}".rstrip())
-        elif total and (done * 10 // total) != ((done - 1) * 10 // total) and done:
-            detail(f"{_STAGES.get(stage, stage)}: {done}/{total}")
+        elif sampling is not None:
+            sampling(done, total)
 
     return line

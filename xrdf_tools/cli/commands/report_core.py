@@ -10,7 +10,6 @@ would, ``-v``, and any run that draws a progress bar (a terminal) are left to ty
 from __future__ import annotations
 
 import sys
-import time
 from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
@@ -43,7 +42,6 @@ from .plain import (
     EXIT_USAGE,
     OutputFormat,
     ProgressUpdate,
-    Verbosity,
     check_input_overwrite,
     check_output_clash,
     detail,
@@ -55,10 +53,10 @@ from .plain import (
     load_xrdf_input,
     note,
     one_bar,
+    progress_lines,
     render_diagnostics,
     run_verbosity,
     timed,
-    verbosity,
     write_result,
 )
 
@@ -328,8 +326,8 @@ def _report(args: ReportArgs, progress_bar: ProgressBar) -> tuple[Report, str]:
                 request,
                 urdf_path=str(args.urdf),
                 configs=q_c,
-                progress=one_bar(bar, label) or _progress_lines(label),
-                certify_progress=one_bar(bar, "certifying pairs") or _progress_lines("certify"),
+                progress=one_bar(bar, label) or progress_lines(label),
+                certify_progress=one_bar(bar, "certifying pairs") or progress_lines("certify"),
             )
         view = ReportView(args.only.value, args.min_rate, args.timings)
         text = _render(report, args.output_format, view)
@@ -386,24 +384,6 @@ def _render(report: Report, fmt: ReportFormat, view: ReportView) -> str:
             report.diagnostics, OutputFormat(fmt.value), files=None, rules=RULES
         )
     return RENDERERS[fmt.value](report, view)
-
-
-def _progress_lines(label: str) -> Callable[[int, int], None] | None:
-    """With ``-v`` and no progress bar (stderr not a terminal, e.g. CI): one line per tenth of
-    the work on stderr (``sampling: 30 % (30,000/100,000), 4.2 s``; ``certify``: pairs)."""
-    if verbosity() < Verbosity.VERBOSE:
-        return None
-    start = time.perf_counter()
-    printed = [0]
-
-    def line(done: int, total: int) -> None:
-        tenth = 10 * done // max(total, 1)
-        if tenth > printed[0]:
-            printed[0] = tenth
-            pct = 100 * done // max(total, 1)
-            detail(f"{label}: {pct} % ({done:,}/{total:,}), {time.perf_counter() - start:.1f} s")
-
-    return line
 
 
 # --------------------------------------------------------------------------------------------
