@@ -144,13 +144,24 @@ def _links_served(ctx: LintContext, group: str | None) -> set[str]:
 
 
 def _only_missing_meshes(ctx: LintContext, links: list[str]) -> set[str]:
-    """The ``links`` whose every collision element is a mesh file that cannot be found."""
+    """The ``links`` whose every collision element is a mesh file that cannot be found.
+
+    Finding the files takes the URDF reader of the ``fit`` extra. Without it, the files are
+    not looked for (none is said missing) unless ``--allow-missing-meshes`` asks for them to
+    be excused: then the missing extra is the error."""
     from ...robot.link_geometry import missing_meshes
+    from ...util.errors import MissingDependencyError
 
     robot = ctx.robot
     if robot is None or not links:
         return set()
-    counts = Counter(f.link for f in missing_meshes(robot, "collision", links=links))
+    try:
+        missing = missing_meshes(robot, "collision", links=links)
+    except MissingDependencyError:
+        if ctx.allow_missing_meshes:
+            raise
+        return set()
+    counts = Counter(f.link for f in missing)
     return {link for link, n in counts.items() if n == robot.collision_counts.get(link)}
 
 
