@@ -8,8 +8,9 @@ picture or a recording would be lost, and the robot with it).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from ..util.errors import XrdfToolsError
 
@@ -17,8 +18,11 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from .core import Robot
+    from .link_geometry import GeometryChoice, GeometrySource
 
-__all__ = ["robot_input_files"]
+__all__ = ["choose_elements", "link_mesh_names", "robot_input_files"]
+
+_Element = TypeVar("_Element")
 
 
 def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
@@ -44,26 +48,61 @@ def robot_input_files(robot: Robot | yourdfpy.URDF) -> list[Path]:
 
 
 def _mesh_uris(robot: Robot) -> list[str]:
-    """The mesh file names of the links' visual and collision elements, in document order.
+    """The mesh file names of the links' visual and collision elements, in document order."""
+    visual = link_mesh_names(robot, "visual")
+    collision = link_mesh_names(robot, "collision")
+    return [uri for v, c in zip(visual, collision, strict=True) for uri in [*v[2], *c[2]] if uri]
 
-    Read from the checked XML tree when the robot has one, so that checking an output path
+
+def choose_elements(
+    collisions: list[_Element], visuals: list[_Element], choice: GeometryChoice
+) -> tuple[GeometrySource, list[_Element]]:
+    """The elements of a link that ``choice`` reads (``auto``: the collision elements, the
+    visual ones for a link without any), and which kind they are."""
+    if choice == "visual":
+        return "visual", visuals
+    if collisions or choice == "collision":
+        return "collision", collisions
+    return "visual", visuals
+
+
+def link_mesh_names(
+    robot: Robot, choice: GeometryChoice, links: Sequence[str] | None = None
+) -> list[tuple[str, GeometrySource, list[str | None]]]:
+    """Per link of ``links`` (default: every link), the kind of elements ``choice`` reads and
+    each element's mesh file name (None: not a mesh; "": a mesh without one).
+
+    Read from the checked XML tree when the robot has one, so that looking for mesh files
     imports no geometry library (yourdfpy and trimesh take about a second to import)."""
+    names = robot.links if links is None else list(dict.fromkeys(links))
     if robot.document is None:
-        return [uri for link in robot.urdf.link_map.values() for uri in _yourdfpy_mesh_uris(link)]
-    uris: list[str] = []
-    for link in robot.document.findall("link"):
-        for element in [*link.findall("visual"), *link.findall("collision")]:
-            mesh = element.find("geometry/mesh")
-            if mesh is not None and mesh.get("filename"):
-                uris.append(str(mesh.get("filename")))
-    return uris
+        link_map: Mapping[str, Any] = robot.urdf.link_map
+        pairs = [
+            (name, list(link.collisions or ()), list(link.visuals or ()), _yourdfpy_mesh_name)
+            for name in names
+            if (link := link_map.get(name)) is not None
+        ]
+    else:
+        by_name: dict[str, Any] = {}
+        for link in robot.document.findall("link"):
+            by_name.setdefault(str(link.get("name")), link)
+        pairs = [
+            (name, link.findall("collision"), link.findall("visual"), _xml_mesh_name)
+            for name in names
+            if (link := by_name.get(name)) is not None
+        ]
+    out: list[tuple[str, GeometrySource, list[str | None]]] = []
+    for name, collisions, visuals, mesh_name in pairs:
+        kind, elements = choose_elements(collisions, visuals, choice)
+        out.append((name, kind, [mesh_name(e) for e in elements]))
+    return out
 
 
-def _yourdfpy_mesh_uris(link: Any) -> list[str]:
-    """The mesh file names of one yourdfpy link's visual and collision elements."""
-    uris: list[str] = []
-    for element in [*(link.visuals or ()), *(link.collisions or ())]:
-        mesh = getattr(element.geometry, "mesh", None) if element.geometry else None
-        if mesh is not None and mesh.filename:
-            uris.append(str(mesh.filename))
-    return uris
+def _yourdfpy_mesh_name(element: Any) -> str | None:
+    mesh = getattr(element.geometry, "mesh", None) if element.geometry is not None else None
+    return None if mesh is None else str(mesh.filename or "")
+
+
+def _xml_mesh_name(element: Any) -> str | None:
+    mesh = element.find("geometry/mesh")
+    return None if mesh is None else str(mesh.get("filename") or "")

@@ -37,6 +37,7 @@ from ..util.fileio import check_input_file, mesh_bytes_limit, mesh_triangle_limi
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import vertices_problem
 from ..util.text import name_list
+from .input_files import choose_elements, link_mesh_names
 from .mesh_files import (
     MeshTooBig,
     binary_stl_counts,
@@ -220,18 +221,11 @@ def missing_meshes(
 
     loaded = as_robot(robot)
     reader = _MeshReader(loaded.mesh_resolver(package_paths), Path(loaded.path).resolve().parent)
-    link_map: Mapping[str, Any] = loaded.urdf.link_map
     out: list[PartFailure] = []
-    for name in loaded.links if links is None else dict.fromkeys(links):
-        link = link_map.get(name)
-        if link is None:
-            continue
-        kind, elements = _elements(link, source)
-        for i, element in enumerate(elements):
-            mesh = getattr(element.geometry, "mesh", None)
-            if mesh is None:
+    for name, kind, uris in link_mesh_names(loaded, source, links):
+        for i, uri in enumerate(uris):
+            if uri is None:
                 continue
-            uri = mesh.filename or ""
             try:
                 if not uri:
                     raise _PartError("<mesh> without a filename", missing=True, uri=uri)
@@ -304,12 +298,7 @@ def capsules_as_cylinders(root: Any) -> frozenset[tuple[str, GeometrySource, int
 # --------------------------------------------------------------------------------------------
 def _elements(link: Any, choice: GeometryChoice) -> tuple[GeometrySource, list[Any]]:
     """The elements of one yourdfpy link for ``choice``, and which kind they are."""
-    if choice == "visual":
-        return "visual", list(link.visuals or ())
-    collisions = list(link.collisions or ())
-    if collisions or choice == "collision":
-        return "collision", collisions
-    return "visual", list(link.visuals or ())
+    return choose_elements(list(link.collisions or ()), list(link.visuals or ()), choice)
 
 
 class _PartError(Exception):

@@ -144,24 +144,14 @@ def _links_served(ctx: LintContext, group: str | None) -> set[str]:
 
 
 def _only_missing_meshes(ctx: LintContext, links: list[str]) -> set[str]:
-    """The ``links`` whose every collision element is a mesh file that cannot be found.
-
-    Finding the files takes the URDF reader of the ``fit`` extra. Without it, the files are
-    not looked for (none is said missing) unless ``--allow-missing-meshes`` asks for them to
-    be excused: then the missing extra is the error."""
+    """The ``links`` whose every collision element is a mesh file that cannot be found (read
+    from the URDF's XML: no geometry library is imported)."""
     from ...robot.link_geometry import missing_meshes
-    from ...util.errors import MissingDependencyError
 
     robot = ctx.robot
     if robot is None or not links:
         return set()
-    try:
-        missing = missing_meshes(robot, "collision", links=links)
-    except MissingDependencyError:
-        if ctx.allow_missing_meshes:
-            raise
-        return set()
-    counts = Counter(f.link for f in missing)
+    counts = Counter(f.link for f in missing_meshes(robot, "collision", links=links))
     return {link for link, n in counts.items() if n == robot.collision_counts.get(link)}
 
 
