@@ -40,7 +40,7 @@ from ..util.arrays import BoolArray, FloatArray
 from ..util.errors import XrdfToolsError
 from ..xrdf.model import Sphere
 from .metrics import fibonacci_directions, sample_surface, sample_volume
-from .sdf_grid import GRID_CELLS, build_sdf, level_points
+from .sdf_grid import GRID_CELLS, Sdf, build_sdf, level_points, needs_thin_grid, thin_sdf
 
 if TYPE_CHECKING:
     import trimesh
@@ -133,7 +133,7 @@ class SphereFitter:
         if room is not None and room > tau:
             cell = (float(np.max(solid.extents)) + 2.0 * self._margin(tau)) / GRID_CELLS
             margin = max(self._margin(tau), room + 3.0 * cell)
-            self.sdf = build_sdf(solid, margin, rng, cell)
+            self.sdf = self._grid(tau, room, margin, cell, rng)
             self.room = float(room)
         else:
             self.widen(tau, rng)
@@ -156,12 +156,31 @@ class SphereFitter:
         """The grid's margin around the solid for a bound of ``room``."""
         return 2.0 * room + float(np.max(self.solid.extents)) / GRID_CELLS * 3
 
+    def _grid(
+        self,
+        bound: float,
+        room: float,
+        margin: float,
+        cell: float | None,
+        rng: np.random.Generator,
+    ) -> Sdf:
+        """The distance grid for a bound of ``bound`` reaching past ``room``: ``margin``
+        around the solid in cells of ``cell`` (None: :data:`GRID_CELLS` along its longest
+        side), unless the part is thinner than such cells (:func:`.sdf_grid.needs_thin_grid`),
+        whose grid follows its thickness (:func:`.sdf_grid.thin_sdf`)."""
+        solid = self.solid
+        across = float(np.max(solid.extents)) + 2.0 * margin
+        coarse = across / GRID_CELLS if cell is None else cell
+        if needs_thin_grid(solid, bound, coarse):
+            return thin_sdf(solid, bound, room, rng)
+        return build_sdf(solid, margin, rng, cell)
+
     def widen(self, room: float, rng: np.random.Generator | None = None) -> None:
         """Build the distance grid so that it reaches past a bound of ``room`` (its margin
         around the solid grows with it, and its cells with the margin). The grid is built from
         a generator seeded as the fitter's first, so the same room gives the same grid."""
-        margin = self._margin(room)
-        self.sdf = build_sdf(self.solid, margin, rng or np.random.default_rng(self.seed))
+        rng = rng or np.random.default_rng(self.seed)
+        self.sdf = self._grid(room, room, self._margin(room), None, rng)
         #: the largest bound the distance grid reaches past (see :meth:`rebound`)
         self.room = float(room)
 
