@@ -98,7 +98,7 @@ RUN_WALKTHROUGH = (
 #: spheres.md's slender rod, as the page describes it.
 ROD_URDF = (
     '<robot name="r"><link name="rod"><collision><geometry>'
-    '<cylinder radius="0.001" length="2.0"/></geometry></collision></link></robot>\n'
+    '<cylinder radius="0.001" length="0.5"/></geometry></collision></link></robot>\n'
 )
 
 

@@ -30,14 +30,15 @@ def test_a_finger_gets_a_chain_of_spheres_of_its_thickness(tmp_path: Path) -> No
     """A 30 cm finger 8 mm thick: the default count stopped at 16 spheres, which cover 57 %
     within the 2 mm bound, and refined them past it (protrusion p95 5.8 mm, 4.2 times its
     volume). It is slender (39 times as long as thick): it may get up to 40 spheres, and
-    28 cover the target within the bound."""
+    28 cover the target within the bound: its protrusion p95 is within the bound too (2.6 mm
+    on the 48-cell grid, whose 7 mm cells were close to its thickness)."""
     finger = trimesh.creation.cylinder(radius=0.004, height=0.3, sections=32)
     result = fit_robot(_urdf(tmp_path, finger))
     spheres = result.spheres["part"]
     assert 20 <= len(spheres) <= 40
     assert not [d for d in result.diagnostics if d.rule == "spheres-past-bound"]
     metrics = sphere_metrics(finger, spheres)
-    assert metrics.coverage >= 0.9 and metrics.protrusion_p95 < 0.0035
+    assert metrics.coverage >= 0.9 and metrics.protrusion_p95 < 0.0021
     assert max(s.radius for s in spheres) < 0.008
 
 
@@ -45,17 +46,22 @@ def test_a_finger_gets_a_chain_of_spheres_of_its_thickness(tmp_path: Path) -> No
 def test_a_rod_past_its_most_spheres_says_how_far_they_reach(tmp_path: Path) -> None:
     """A 1 m rod 2 mm thick (16 flat sides) would take 518 spheres of its thickness: it gets
     the most a slender part gets by default, refined past the bound, and a warning says how
-    far they reach and what gives more (it said only the coverage, as an info)."""
+    far they reach and what gives more (it said only the coverage, as an info). On a grid
+    that follows its thickness its 48 spheres within the bound cover a quarter of it, and
+    refined past it they stop short of the target (the warning is then
+    spheres-target-missed), reaching less far than on the coarse grid (10.3 mm)."""
     rod = trimesh.creation.cylinder(radius=0.001, height=1.0, sections=16)
     result = fit_robot(_urdf(tmp_path, rod))
     assert len(result.spheres["part"]) == SLENDER_MAX_PER_LINK
-    (note,) = [d for d in result.diagnostics if d.rule == "spheres-past-bound"]
+    (note,) = [
+        d for d in result.diagnostics if d.rule in ("spheres-past-bound", "spheres-target-missed")
+    ]
     assert note.severity.value == "warning"
     assert "a slender part (about 1015 mm long, 1.96 mm thick: 518 times as long" in note.message
     assert f"): {SLENDER_MAX_PER_LINK} spheres, the most it gets by default" in note.message
     reach = float(note.message.split("reaching ")[1].split(" mm past it (protrusion p95)")[0])
     p95 = sphere_metrics(rod, result.spheres["part"]).protrusion_p95 * 1000
-    assert reach == pytest.approx(p95, rel=0.25)
+    assert reach == pytest.approx(p95, rel=0.25) and p95 < 10.0
     assert "give --per-link (up to 64) for more, thinner spheres" in note.message
 
 

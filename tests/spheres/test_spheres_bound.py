@@ -10,16 +10,12 @@ from tests.robots import robot_urdf
 from xrdf_tools.spheres import sphere_metrics
 from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.distance import surface_distance
-from xrdf_tools.spheres.fit import (
-    PROBE_STRIDE,
-    SphereFitter,
-    bound_for_coverage,
-    level_points,
-)
+from xrdf_tools.spheres.fit import PROBE_STRIDE, SphereFitter, bound_for_coverage
 from xrdf_tools.spheres.geometry import LinkGeometry, load_link_geometry
 from xrdf_tools.spheres.inside import points_inside
 from xrdf_tools.spheres.metrics import fibonacci_directions
 from xrdf_tools.spheres.robot_fit import fit_robot
+from xrdf_tools.spheres.sdf_grid import level_points
 from xrdf_tools.util.errors import XrdfToolsError
 from xrdf_tools.xrdf.model import Sphere
 

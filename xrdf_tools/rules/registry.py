@@ -181,7 +181,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("spheres-from-urdf", I, "A link whose geometry is <sphere> elements: taken as they are."),
         ("spheres-shared-mesh", I, "Links with identical geometry: fitted once, same spheres."),
         ("spheres-sheet", I, "A sheet, or a wide plate: its box cut into cells, a sphere each."),
-        ("spheres-past-bound", I, "Too few spheres within the default bound: refined past it."),
+        (
+            "spheres-past-bound",
+            I,
+            "Spheres reach past their bound: too few within it, or too thin a part.",
+        ),
         ("spheres-target-missed", W, "A link whose spheres fall short of the coverage target."),
         ("spheres-thin-shell", I, "A shell far thinner than its hull: the hull is fitted."),
         ("spheres-unsupported-geometry", W, "A geometry kind the fitter does not handle."),

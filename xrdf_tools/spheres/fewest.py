@@ -37,6 +37,8 @@ __all__ = [
     "default_fit",
     "default_most",
     "fewest_reaching",
+    "overshoot",
+    "past_grid_note",
     "past_the_bound",
     "reach_p95",
     "short_of",
@@ -57,6 +59,12 @@ SLENDER_RATIO = 16.0
 TUBE_GROWTH = 2.8
 #: Union-boundary samples behind the protrusion a past-bound note states.
 REACH_SAMPLES = 4000
+#: Spheres fitted within a bound are past it when their protrusion p95 exceeds it by more
+#: than this share of it (the fit's own precision: a hard bound makes every sphere reach it,
+#: and real links' p95 reach 0.9-1.0 of it) plus :data:`ROUNDING` (a radius is rounded up).
+REACH_SLACK = 0.1
+#: How far a rounded radius may grow (metres).
+ROUNDING = 1e-4
 #: Volume samples held out of the fit to judge its coverage.
 HELD_OUT_SAMPLES = 6000
 #: The judged share is the held-out share less this many standard errors (one-sided 95 %).
@@ -167,17 +175,59 @@ def default_fit(
             f"{short_of(share)} of it (target {target:.0%})"
         )
         spheres, share = past_the_bound(fitter, len(spheres), judge)
-        reach = f"reaching {reach_p95(fitter, spheres) * 1000:.3g} mm past it (protrusion p95)"
+        reached = _reaching(reach_p95(fitter, spheres))
         more = f"give --per-link (up to {most}) for more" + (", thinner spheres" if capped else "")
         if share >= target:
-            said = f"refined past the bound (as --per-link is) they cover {share:.0%}, {reach}"
+            said = f"refined past the bound (as --per-link is) they cover {share:.0%}, {reached}"
             hard = (f"{more}; " if capped else "") + "--max-protrusion keeps a hard bound"
             return spheres, Note(False, f"{within}; {said}; {hard}", capped)
-        what = f"{within}, and refined past the bound {short_of(share)}, {reach}"
+        what = f"{within}, and refined past the bound {short_of(share)}, {reached}"
         advice = more
+    reach = None if share < target and past else overshoot(fitter, spheres)  # not said yet
+    if reach is not None:
+        what += f", {_past_grid(fitter, reach, past)}"
     if share < target:
         return spheres, Note(True, f"{what}; {advice}", True)
+    if reach is not None:
+        return spheres, Note(False, f"{what}; {_FINER}", True)
     return spheres, None
+
+
+#: The advice of a note on spheres past a bound the distance grid did not resolve.
+_FINER = "give --per-link for more spheres, or a larger --max-protrusion"
+
+
+def overshoot(fitter: SphereFitter, spheres: tuple[Sphere, ...]) -> float | None:
+    """How far ``spheres``, fitted within the fitter's bound, reach past the solid
+    (:func:`reach_p95`) when that is past the bound by more than :data:`REACH_SLACK` of it
+    and :data:`ROUNDING` (their radii come from the distance grid's level set: a part the
+    grid does not resolve gets spheres past it); None within it."""
+    if not spheres:
+        return None
+    reach = reach_p95(fitter, spheres)
+    return reach if reach > fitter.tau * (1.0 + REACH_SLACK) + ROUNDING else None
+
+
+def past_grid_note(fitter: SphereFitter, spheres: tuple[Sphere, ...], own: bool) -> str | None:
+    """What to say of spheres fitted within the fitter's bound (``own``: the user's, else the
+    default) when they reach past it (:func:`overshoot`); None when they do not."""
+    reach = overshoot(fitter, spheres)
+    if reach is None:
+        return None
+    return f"{len(spheres)} spheres {_past_grid(fitter, reach, not own)}; {_FINER}"
+
+
+def _reaching(reach: float) -> str:
+    return f"reaching {reach * 1000:.3g} mm past it (protrusion p95)"
+
+
+def _past_grid(fitter: SphereFitter, reach: float, default: bool) -> str:
+    """Spheres fitted within the bound that still reach ``reach`` past the solid."""
+    which = "default bound" if default else "bound"
+    return (
+        f"within its {fitter.tau * 1000:.3g} mm {which} as its distance grid reads it, yet "
+        f"{_reaching(reach)}: the part is finer than the grid resolves"
+    )
 
 
 @dataclass(frozen=True)

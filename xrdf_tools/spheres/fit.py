@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -40,8 +39,8 @@ import numpy.typing as npt
 from ..util.arrays import BoolArray, FloatArray
 from ..util.errors import XrdfToolsError
 from ..xrdf.model import Sphere
-from .distance import near_face_distance
-from .metrics import fibonacci_directions, sample_surface, sample_surface_faces, sample_volume
+from .metrics import fibonacci_directions, sample_surface, sample_volume
+from .sdf_grid import GRID_CELLS, Sdf, build_sdf, level_points, needs_thin_grid, thin_sdf
 
 if TYPE_CHECKING:
     import trimesh
@@ -52,8 +51,6 @@ IntArray = npt.NDArray[np.uint8]
 VOLUME_WEIGHT = 0.9
 DEFAULT_PROTRUSION_FRACTION = 0.06
 MIN_DEFAULT_PROTRUSION = 0.002
-_GRID_CELLS = 48
-_SURFACE_DENSE = 4_000
 _COVER_BLOCK = 32
 _MOVES = fibonacci_directions(26)
 #: Ratio of consecutive protrusion bounds tried by :func:`bound_for_coverage`.
@@ -108,79 +105,6 @@ def default_max_protrusion(solid: trimesh.Trimesh) -> float:
     return float(max(scaled, MIN_DEFAULT_PROTRUSION))
 
 
-@dataclass
-class _Sdf:
-    """Signed distance on a regular grid (negative inside), trilinear lookup."""
-
-    origin: FloatArray
-    step: float
-    values: FloatArray
-
-    def __call__(self, points: FloatArray) -> FloatArray:
-        from scipy.ndimage import map_coordinates
-
-        idx = ((points - self.origin) / self.step).T
-        return np.asarray(map_coordinates(self.values, idx, order=1, mode="nearest"))
-
-
-def _build_sdf(
-    solid: trimesh.Trimesh, margin: float, rng: np.random.Generator, step: float | None = None
-) -> _Sdf:
-    """The distance grid ``margin`` around the solid; its cells ``step`` (default:
-    ``_GRID_CELLS`` cells along the grid's longest side)."""
-    from scipy.ndimage import distance_transform_edt
-
-    from .inside import grid_inside
-
-    lo = np.asarray(solid.bounds[0], dtype=np.float64) - margin
-    hi = np.asarray(solid.bounds[1], dtype=np.float64) + margin
-    step = float((hi - lo).max()) / _GRID_CELLS if step is None else float(step)
-    shape = np.ceil((hi - lo) / step).astype(int) + 1
-    axes = [lo[i] + step * np.arange(shape[i]) for i in range(3)]
-    mask = grid_inside(solid, (axes[0], axes[1], axes[2]))
-    # coarse distances from the voxel mask; near the surface, the distance to the faces of the
-    # nearest surface samples
-    coarse = np.where(mask, -distance_transform_edt(mask), distance_transform_edt(~mask)) * step
-    band = 3.0 * step
-    near_band = np.abs(coarse) <= band + step
-    grid = lo + step * np.argwhere(near_band).astype(np.float64)
-    dense, dense_faces = sample_surface_faces(solid, _SURFACE_DENSE, rng)
-    near = near_face_distance(solid, grid, dense, dense_faces)
-    fine = near <= band
-    inside = mask[near_band]
-    values = coarse.copy()
-    banded = np.where(
-        inside, np.minimum(coarse[near_band], -band), np.maximum(coarse[near_band], band)
-    )
-    banded[fine] = np.where(inside[fine], -near[fine], near[fine])
-    values[near_band] = banded
-    far = ~near_band
-    values[far] = np.where(mask[far], np.minimum(coarse[far], -band), np.maximum(coarse[far], band))
-    return _Sdf(lo, step, values)
-
-
-def level_points(sdf: _Sdf, level: float) -> FloatArray:
-    """Points of the level set ``sdf == level``: on every grid edge whose two nodes lie on
-    either side of ``level``, the linearly interpolated crossing (marching-cubes vertices)."""
-    values = sdf.values
-    out: list[FloatArray] = []
-    for axis in range(3):
-        a = np.take(values, np.arange(values.shape[axis] - 1), axis=axis)
-        b = np.take(values, np.arange(1, values.shape[axis]), axis=axis)
-        cross = (a <= level) != (b <= level)
-        idx = np.argwhere(cross).astype(np.float64)
-        va, vb = a[cross], b[cross]
-        idx[:, axis] += (level - va) / (vb - va)
-        out.append(sdf.origin + idx * sdf.step)
-    pts = np.concatenate(out)
-    if len(pts) == 0:  # the budget reaches past the grid: bound by the grid's corners
-        pts = (
-            sdf.origin
-            + np.array(np.meshgrid(*[[0, n - 1] for n in values.shape])).reshape(3, -1).T * sdf.step
-        )
-    return pts
-
-
 class SphereFitter:
     """Fits spheres to one watertight solid; reusable for several counts (greedy prefix)."""
 
@@ -207,9 +131,9 @@ class SphereFitter:
         self.seed = seed
         self.room = 0.0
         if room is not None and room > tau:
-            cell = (float(np.max(solid.extents)) + 2.0 * self._margin(tau)) / _GRID_CELLS
+            cell = (float(np.max(solid.extents)) + 2.0 * self._margin(tau)) / GRID_CELLS
             margin = max(self._margin(tau), room + 3.0 * cell)
-            self.sdf = _build_sdf(solid, margin, rng, cell)
+            self.sdf = self._grid(tau, room, margin, cell, rng)
             self.room = float(room)
         else:
             self.widen(tau, rng)
@@ -230,14 +154,33 @@ class SphereFitter:
 
     def _margin(self, room: float) -> float:
         """The grid's margin around the solid for a bound of ``room``."""
-        return 2.0 * room + float(np.max(self.solid.extents)) / _GRID_CELLS * 3
+        return 2.0 * room + float(np.max(self.solid.extents)) / GRID_CELLS * 3
+
+    def _grid(
+        self,
+        bound: float,
+        room: float,
+        margin: float,
+        cell: float | None,
+        rng: np.random.Generator,
+    ) -> Sdf:
+        """The distance grid for a bound of ``bound`` reaching past ``room``: ``margin``
+        around the solid in cells of ``cell`` (None: :data:`GRID_CELLS` along its longest
+        side), unless the part is thinner than such cells (:func:`.sdf_grid.needs_thin_grid`),
+        whose grid follows its thickness (:func:`.sdf_grid.thin_sdf`)."""
+        solid = self.solid
+        across = float(np.max(solid.extents)) + 2.0 * margin
+        coarse = across / GRID_CELLS if cell is None else cell
+        if needs_thin_grid(solid, bound, coarse):
+            return thin_sdf(solid, bound, room, rng)
+        return build_sdf(solid, margin, rng, cell)
 
     def widen(self, room: float, rng: np.random.Generator | None = None) -> None:
         """Build the distance grid so that it reaches past a bound of ``room`` (its margin
         around the solid grows with it, and its cells with the margin). The grid is built from
         a generator seeded as the fitter's first, so the same room gives the same grid."""
-        margin = self._margin(room)
-        self.sdf = _build_sdf(self.solid, margin, rng or np.random.default_rng(self.seed))
+        rng = rng or np.random.default_rng(self.seed)
+        self.sdf = self._grid(room, room, self._margin(room), None, rng)
         #: the largest bound the distance grid reaches past (see :meth:`rebound`)
         self.room = float(room)
 

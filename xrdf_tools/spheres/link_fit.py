@@ -14,7 +14,7 @@ from ..util.fixed_order import norm
 from ..util.numbers import PLACEHOLDER_SIZE
 from ..xrdf.model import Sphere
 from .count_policy import MAX_PER_LINK, CountPolicy
-from .fewest import default_fit, fewest_reaching
+from .fewest import default_fit, fewest_reaching, past_grid_note
 
 if TYPE_CHECKING:
     import trimesh
@@ -185,7 +185,12 @@ def fit_one(
 
         return refined_fit(fitter, k)
     if k is not None:
-        return fitter.fit(k)
+        spheres = fitter.fit(k)
+        said = past_grid_note(fitter, spheres, own_bound)
+        if said is not None:
+            message = f"link '{geom.link}': {said}"
+            diags.append(fit_note(path, geom.line, RULE_PAST_BOUND, message, warn=True))
+        return spheres
     past = not own_bound and counts.refine
     spheres, note = default_fit(fitter, counts.target_coverage, past=past, most=MAX_PER_LINK)
     if past and note is not None and not len(fitter.clips):

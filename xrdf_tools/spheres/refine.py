@@ -93,10 +93,13 @@ _MIN_RADIUS = 1e-4
 class _Outside:
     """Signed distance of the fitter's grid and its gradient at any point (trilinear, from
     the grid and its central differences); beyond the grid, the value at the nearest grid
-    point plus the distance to it."""
+    point plus the distance to it. Points and gradients are in the solid's frame (a thin
+    part's grid is turned: :class:`~.sdf_grid.Sdf`); :attr:`origin` and :attr:`hi` are the
+    grid's corners in its own frame."""
 
     def __init__(self, fitter: SphereFitter) -> None:
         sdf = fitter.sdf
+        self.sdf = sdf
         self.origin, self.step = sdf.origin, sdf.step
         grads = [np.gradient(sdf.values, sdf.step, axis=a) for a in range(3)]
         #: value and gradient per node, ``(nx * ny * nz, 4)`` in C order
@@ -107,6 +110,7 @@ class _Outside:
         self.hi = sdf.origin + sdf.step * self.cells
 
     def __call__(self, points: FloatArray) -> tuple[FloatArray, FloatArray]:
+        points = self.sdf.to_grid(points)
         clamped = np.clip(points, self.origin, self.hi)
         offset = points - clamped
         beyond = np.sqrt(offset[:, 0] ** 2 + offset[:, 1] ** 2 + offset[:, 2] ** 2)
@@ -125,7 +129,7 @@ class _Outside:
         grad = out[:, 1:]
         far = beyond > 0.0
         grad[far] = offset[far] / beyond[far, None]
-        return value, grad
+        return value, self.sdf.from_grid(grad)
 
 
 @dataclass
