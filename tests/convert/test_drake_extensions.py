@@ -5,8 +5,10 @@ silently lost."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -15,6 +17,7 @@ from xrdf_tools.convert.core import ConvertOptions, convert
 from xrdf_tools.diagnostics import Diagnostic, Severity
 from xrdf_tools.robot.urdf_source import read_robot
 from xrdf_tools.util.errors import SourceError
+from xrdf_tools.xrdf.model import AddFrame
 
 _JOINT = """  <joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>
     <origin xyz="0 0 0.2"/><axis xyz="0 1 0"/>
@@ -131,16 +134,45 @@ def test_filter_groups_naming_what_the_urdf_lacks_are_said(tmp_path: Path) -> No
     assert {frozenset(p) for p in x.self_collision.ignore_pairs()} == {frozenset(("base", "l2"))}  # type: ignore[attr-defined]
 
 
-def test_a_drake_frame_is_said_and_is_no_tool_frame(tmp_path: Path) -> None:
+def test_a_drake_frame_is_said_and_becomes_an_add_frame_as_tool_frame(tmp_path: Path) -> None:
     _, rules, x = _convert(tmp_path)
     (frame,) = rules["convert-drake-frame"]
     assert frame.line == _FRAME_LINE and "'tool_frame' on link 'l3'" in frame.message
     assert "tool_frame" not in x.tool_frames  # type: ignore[attr-defined]
+    assert not x.modifiers  # type: ignore[attr-defined]
+    _, rules, x = _convert(tmp_path, tool_frames=("tool_frame",))
+    assert x.tool_frames == ("tool_frame",)  # type: ignore[attr-defined]
+    (added,) = x.modifiers  # type: ignore[attr-defined]
+    assert isinstance(added, AddFrame)
+    assert (added.frame_name, added.parent_frame_name) == ("tool_frame", "l3")
+    assert added.joint_name == "tool_frame_joint" and added.position == (0.0, 0.0, 0.1)
+    w, qx, qy, qz = added.orientation.as_wxyz()  # rpy 0 0 1.5: a turn of 1.5 rad about z
+    assert (qx, qy) == (0.0, 0.0) and math.isclose(2 * math.atan2(qz, w), 1.5)
+    (note,) = rules["convert-frame-added"]
+    assert note.severity is Severity.INFO and note.line == _FRAME_LINE
+
+
+def test_the_added_drake_frame_is_where_drake_puts_it(tmp_path: Path) -> None:
+    """Forward kinematics of the written XRDF put the added tool frame 0.1 m above l3, turned
+    1.5 rad about its z axis, at any configuration."""
+    from xrdf_tools.robot.kinematics import build_kinematic_model, fk
+
+    _, _, x = _convert(tmp_path, tool_frames=("tool_frame",))
+    robot = read_robot(_urdf(tmp_path))
+    kin, _ = build_kinematic_model(robot, x)  # type: ignore[arg-type]
+    q = np.array([0.3, -0.7, 1.1])[: len(kin.actuated_joints)]
+    l3, tool = fk(kin, q, ["l3", "tool_frame"])
+    c, s = math.cos(1.5), math.sin(1.5)
+    local = np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0.1], [0, 0, 0, 1]])
+    np.testing.assert_allclose(tool, l3 @ local, atol=1e-12)
+
+
+def test_a_drake_frame_on_no_link_stops_as_tool_frame(tmp_path: Path) -> None:
+    text = _ARM.replace('<frame name="tool_frame" link="l3"', '<frame name="tool_frame" link="l7"')
     with pytest.raises(SourceError) as caught:
-        _convert(tmp_path, tool_frames=("tool_frame",))
+        _convert(tmp_path, text, tool_frames=("tool_frame",))
     e = caught.value
-    assert e.line == _FRAME_LINE and "is a Drake <frame> on link 'l3'" in e.message
-    assert '<origin xyz="0 0 0.1" rpy="0 0 1.5"/>' in e.message  # how to write the link
+    assert e.line == _FRAME_LINE and "its link 'l7' is not a link of the URDF" in e.message
 
 
 def test_other_drake_elements_are_one_note_per_kind(tmp_path: Path) -> None:
@@ -160,8 +192,11 @@ def test_convert_on_the_command_line(runner: CliRunner, tmp_path: Path) -> None:
     assert r.exit_code == 0, r.output
     assert f"arm.urdf:{_FRAME_LINE}: warning convert-drake-frame" in r.stderr
     r = runner.invoke(app, ["convert", str(urdf), "--tool-frame", "tool_frame", "-o", str(out)])
-    assert r.exit_code == 2
-    assert f"arm.urdf:{_FRAME_LINE}: --tool-frame 'tool_frame' is a Drake <frame>" in r.stderr
+    assert r.exit_code == 0, r.output
+    assert f"arm.urdf:{_FRAME_LINE}: info convert-frame-added" in r.stderr
+    r = runner.invoke(app, ["lint", str(out), "--urdf", str(urdf), "--target", "curobo"])
+    assert "tool_frame" not in r.output  # the tool frame is known to every check (the arm
+    # has no spheres, which lint says)
 
 
 def test_inspect_lists_drake_frames(runner: CliRunner, tmp_path: Path) -> None:

@@ -412,9 +412,11 @@ def _tool_frames(
     # a frame given twice (--tool-frame tool0 --tool-frame tool0) is one tool frame
     tool_frames = list(dict.fromkeys(options.tool_frames)) or list(draft.tool_frames)
     for t in options.tool_frames:
-        if t in draft.unseen_frames and t not in frames:
-            message, (path, line) = draft.unseen_frames[t]
-            raise SourceError(message, path=path, line=line)
+        if t in draft.offered_frames and t not in frames:
+            from .sources.drake import take_offered_frame
+
+            take_offered_frame(draft, tree, t, rep)
+            frames.add(t)
         if t not in frames:
             raise SourceError(
                 f"--tool-frame '{t}' is not a link of the URDF{did_you_mean(t, frames)}"

@@ -46,7 +46,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             I,
             "Pairs a Drake collision filter group never checks: ignored, with that reason.",
         ),
-        ("convert-drake-frame", W, "A Drake frame (no link): no XRDF reader sees it."),
+        ("convert-drake-frame", W, "A Drake frame (no link): no reader sees it unless added."),
         ("convert-drake-ignored", W, "A Drake-only element or attribute: left out, one per kind."),
         ("convert-dropped-joint", W, "A c-space joint that is not actuated: dropped."),
         (
@@ -70,6 +70,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             "--fit-spheres: a link a c-space joint moves has visual geometry only: no spheres.",
         ),
         ("convert-floating-base", W, "A floating/planar joint above the robot: base below it."),
+        ("convert-frame-added", I, "--tool-frame names a Drake frame: written as an add_frame."),
         ("convert-launch-substitution", I, "$(var NAME) in joint_limits: --xacro-arg or ''."),
         (
             "convert-lula-no-mask",

@@ -15,9 +15,20 @@ from dataclasses import dataclass, field
 from ...diagnostics import Diagnostic, Severity
 from ...robot.tree import RobotTree
 from ...util.errors import did_you_mean
-from ...xrdf.model import Modifier, Sphere
+from ...xrdf.model import AddFrame, Modifier, Sphere
 
 __all__ = ["Draft", "Reporter", "RobotTree", "not_a_joint"]
+
+
+@dataclass(frozen=True)
+class OfferedFrame:
+    """A frame of another reader's (a Drake ``<frame>``) that ``--tool-frame`` can make an
+    XRDF frame: ``added`` (its joint named when taken), else ``why`` it cannot be one."""
+
+    added: AddFrame | None
+    what: str
+    at: tuple[str, int | None]
+    why: str = ""
 
 
 @dataclass
@@ -46,8 +57,9 @@ class Draft:
     #: (``has_acceleration_limits: false``, as MoveIt Setup Assistant writes): ``(file, line)``.
     limits_off: dict[tuple[str, str], tuple[str, int | None]] = field(default_factory=dict)
     #: Frame names the inputs define for a reader other than XRDF's (a Drake ``<frame>``) →
-    #: what ``--tool-frame`` naming one says, and where the frame is written.
-    unseen_frames: dict[str, tuple[str, tuple[str, int | None]]] = field(default_factory=dict)
+    #: the ``add_frame`` that ``--tool-frame`` naming one writes (or why none can be), what the
+    #: frame is, and where it is written.
+    offered_frames: dict[str, OfferedFrame] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
     def limits(self, kind: str) -> dict[str, float]:

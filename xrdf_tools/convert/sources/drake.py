@@ -8,7 +8,8 @@
   ``disable_collisions`` are (``convert-drake-filter-group``, info, the pairs with their
   reason, "Drake collision filter group NAME").
 * ``<frame>``: a named pose on a link that no XRDF reader sees (``convert-drake-frame``); one
-  named by ``--tool-frame`` stops convert with the fixed link to write in its place.
+  named by ``--tool-frame`` is written as an XRDF ``add_frame`` fixed to its link at its pose
+  (``convert-frame-added``, info), which every XRDF reader adds.
 * any other ``drake:`` element or attribute: one located note per kind
   (``convert-drake-ignored``), a warning where the robot's kinematics or geometry change
   (``drake:joint planar``), else an info.
@@ -17,17 +18,21 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
 from ...robot.drake import DrakeExtensions, DrakeFrame, FilterGroup, drake_extensions
+from ...util.errors import SourceError
+from ...util.rotations import quat_from_rpy
 from ...util.text import name_list, pair_text
-from . import Draft, Reporter, RobotTree, known_frame
+from ...xrdf.model import AddFrame, Orientation
+from . import Draft, OfferedFrame, Reporter, RobotTree, known_frame
 
 if TYPE_CHECKING:
     from ...robot.core import Robot
 
-__all__ = ["read_drake"]
+__all__ = ["read_drake", "take_offered_frame"]
 
 #: Why a kind of Drake extension has no XRDF equivalent (by the kind's first word).
 _WHY = {
@@ -63,7 +68,7 @@ def read_drake(robot: Robot, tree: RobotTree, draft: Draft) -> None:
     _accelerations(ext, tree, draft, rep)
     _filter_groups(ext, tree, draft, rep)
     for frame in ext.frames:
-        _frame(frame, draft, rep)
+        _frame(frame, tree, draft, rep)
     for kind, at, count in ext.others:
         first = kind.split(" ", 1)[0]
         severity = Severity.WARNING if first in _SHAPING else Severity.INFO
@@ -171,22 +176,69 @@ def _member_links(group: FilterGroup, groups: dict[str, FilterGroup]) -> list[st
     return list(links)
 
 
-def _frame(frame: DrakeFrame, draft: Draft, rep: Reporter) -> None:
-    """A Drake ``<frame>``: said, and kept as the way to a fixed link for ``--tool-frame``."""
+def _frame(frame: DrakeFrame, tree: RobotTree, draft: Draft, rep: Reporter) -> None:
+    """A Drake ``<frame>``: said, and offered to ``--tool-frame`` as an ``add_frame``."""
     rep.report(
         "convert-drake-frame",
         f"Drake <frame> '{frame.name}' on link '{frame.link}' is no link: no XRDF reader "
-        "sees it, so it cannot be a tool frame (--tool-frame says how to make it one)",
+        f"sees it unless it is added (--tool-frame {frame.name} writes it as an add_frame)",
         at=frame.at,
     )
-    link = (
-        f'<link name="{frame.name}"/><joint name="{frame.name}_joint" type="fixed">'
-        f'<parent link="{frame.link}"/><child link="{frame.name}"/>'
-        f'<origin xyz="{frame.xyz}" rpy="{frame.rpy}"/></joint>'
-    )
-    draft.unseen_frames[frame.name] = (
-        f"--tool-frame '{frame.name}' is a Drake <frame> on link '{frame.link}', which no "
-        f"XRDF reader sees; replace it in the URDF by a fixed link (Drake reads that too): "
-        f"{link}",
-        frame.at,
+    what = f"a Drake <frame> on link '{frame.link}'"
+    xyz, rpy = _numbers(frame.xyz), _numbers(frame.rpy)
+    if frame.link not in tree.links:
+        why = f"its link '{frame.link}' is not a link of the URDF"
+        draft.offered_frames[frame.name] = OfferedFrame(None, what, frame.at, why)
+    elif xyz is None or rpy is None:
+        why = f"its xyz '{frame.xyz}' and rpy '{frame.rpy}' must be three numbers each"
+        draft.offered_frames[frame.name] = OfferedFrame(None, what, frame.at, why)
+    else:
+        added = AddFrame(
+            frame_name=frame.name,
+            parent_frame_name=frame.link,
+            joint_name="",
+            position=xyz,
+            orientation=Orientation.from_wxyz(*quat_from_rpy(*rpy)),
+        )
+        draft.offered_frames[frame.name] = OfferedFrame(added, what, frame.at)
+
+
+def _numbers(text: str) -> tuple[float, float, float] | None:
+    """Three finite numbers written apart by spaces, else None."""
+    try:
+        values = [float(v) for v in text.split()]
+    except ValueError:
+        return None
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+        return None
+    return values[0], values[1], values[2]
+
+
+def take_offered_frame(draft: Draft, tree: RobotTree, name: str, rep: Reporter) -> None:
+    """Make the offered frame ``name`` (``--tool-frame`` named it) an ``add_frame`` of the
+    XRDF, its joint named ``<name>_joint`` (numbered past names taken), and say so; raise
+    where it cannot be one."""
+    offer = draft.offered_frames[name]
+    if offer.added is None:
+        path, line = offer.at
+        raise SourceError(
+            f"--tool-frame '{name}' is {offer.what}, which no XRDF reader sees, and cannot be "
+            f"added as an add_frame: {offer.why}",
+            path=path,
+            line=line,
+        )
+    taken = set(tree.joints) | {m.joint_name for m in draft.modifiers if isinstance(m, AddFrame)}
+    joint = f"{name}_joint"
+    n = 2
+    while joint in taken:
+        joint, n = f"{name}_joint_{n}", n + 1
+    draft.modifiers.append(replace(offer.added, joint_name=joint))
+    x, y, z = offer.added.position
+    rep.report(
+        "convert-frame-added",
+        f"--tool-frame '{name}' is {offer.what}, which no XRDF reader sees: written as an "
+        f"add_frame fixed to '{offer.added.parent_frame_name}' (joint '{joint}', position "
+        f"{x:g} {y:g} {z:g}), which the readers add before they plan",
+        severity=Severity.INFO,
+        at=offer.at,
     )
