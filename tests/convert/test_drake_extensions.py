@@ -87,6 +87,21 @@ def test_drake_acceleration_is_an_acceleration_limit_source(tmp_path: Path) -> N
     assert "for j3:" in default.message  # j1 and j2 have theirs
 
 
+def test_drake_names_without_the_xmlns_declaration_are_read_as_drake_does(tmp_path: Path) -> None:
+    """Drake's parser matches ``drake:`` as written, so a model without ``xmlns:drake`` has
+    its limits and filter groups read (ROS ignores them: each name is also warned)."""
+    text = _ARM.replace(' xmlns:drake="http://drake.mit.edu"', "")
+    limits, _, x = _convert(tmp_path, text)
+    assert limits == {"j1": 8.5, "j2": 4.0, "j3": 10.0}
+    assert {frozenset(p) for p in x.self_collision.ignore_pairs()} == {  # type: ignore[attr-defined]
+        frozenset(p)
+        for p in _convert(tmp_path)[2].self_collision.ignore_pairs()  # type: ignore[attr-defined]
+    }
+    undeclared = [w for w in read_robot(_urdf(tmp_path, text)).warnings]
+    assert undeclared and all(w.rule == "urdf-prefix-undeclared" for w in undeclared)
+    assert all("read as Drake's" in w.message for w in undeclared)
+
+
 def test_a_joint_limits_file_comes_first_and_acceleration_fills_the_rest(tmp_path: Path) -> None:
     limits_file = tmp_path / "joint_limits.yaml"
     limits_file.write_text("joint_limits:\n  j1:\n    has_acceleration_limits: true\n"

@@ -25,14 +25,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 from xml.sax.saxutils import escape
 
-from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError, UrdfReadError
 from ..util.safe_xml import XmlSyntaxError
 from ..util.textpos import attribute_line, line_col
-from .urdf_check import JOINT_TYPES, RULE_PREFIX_UNDECLARED, XACRO_NS, check_urdf_tree
+from .urdf_check import JOINT_TYPES, check_urdf_tree
 from .urdf_joints import MOVABLE_TYPES, JointInfo, joint_info
 from .urdfdom_refusals import urdfdom_refusals
 from .xacro_places import template_offset
+from .xml_prefixes import drop_prefixed_names, undeclared_prefix_warning
 
 if TYPE_CHECKING:
     import yourdfpy
@@ -268,9 +268,9 @@ def _parse_bytes(
     source = _xacro_source(path) if expanded else ""
     if expanded:
         relocate_expansion(root, source)
-    warnings = [_undeclared_prefix_warning(e, path) for e in undeclared]
+    warnings = [undeclared_prefix_warning(e, path) for e in undeclared]
     if undeclared:
-        _drop_prefixed_names(root)
+        drop_prefixed_names(root)
     text = data.decode("utf-8", errors="replace")
     try:
         link_lines, joint_lines = check_urdf_tree(root, path, warnings)
@@ -306,45 +306,6 @@ def _parse_bytes(
         build_scene_graph=build_scene_graph,
         warnings=tuple(warnings),
     )
-
-
-def _undeclared_prefix_warning(error: XmlSyntaxError, path: str) -> Diagnostic:
-    """An undeclared namespace prefix (``<sensor:camera>`` without ``xmlns:sensor``) is no
-    URDF element: ROS reads past it (tinyxml knows no namespaces) and so does the loader; a
-    ``xacro:`` one is a xacro file that does not declare xacro, which nothing can read."""
-    prefix = _UNDECLARED_PREFIX.match(error.reason)
-    if prefix is not None and prefix.group(1) == "xacro":
-        raise UrdfError(
-            f"malformed XML: {error.reason}: a xacro file must declare "
-            f'xmlns:xacro="{XACRO_NS}" on <robot>',
-            path=path,
-            line=error.line,
-            col=error.col,
-        )
-    message = (
-        f"{error.reason} (no xmlns:{prefix.group(1) if prefix else '...'}); read on as ROS "
-        "does: a prefixed name is not URDF and is ignored"
-    )
-    return Diagnostic(
-        path, error.line, error.col, RULE_PREFIX_UNDECLARED, Severity.WARNING, message
-    )
-
-
-def _drop_prefixed_names(root: Any) -> None:
-    """Remove the elements and attributes whose prefix was never declared (names that keep a
-    ``prefix:``, which no lxml name API accepts): none of them is URDF."""
-    for el in list(root.iter()):
-        if isinstance(el.tag, str) and ":" in el.tag and not el.tag.startswith("{"):
-            parent = el.getparent()
-            if parent is not None:
-                parent.remove(el)
-            continue
-        for key in [k for k in el.attrib if ":" in k and not k.startswith("{")]:
-            del el.attrib[key]
-
-
-#: libxml2's words for a prefix without its declaration.
-_UNDECLARED_PREFIX = re.compile(r"Namespace prefix (\S+) ")
 
 
 def _xacro_source(path: str) -> str:

@@ -159,7 +159,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("xacro-package-unused", W, "A package not found, named only in <gazebo>, <ros2_control>."),
         ("xacro-warning", W, "A warning of xacro's while expanding (an include body it ignores)."),
         ("xacro-arg-unread", W, "A --xacro-arg the expansion never reads: it changes nothing."),
-        ("urdf-prefix-undeclared", W, "A namespace prefix without xmlns: read past, as ROS does."),
+        (
+            "urdf-prefix-undeclared",
+            W,
+            "A namespace prefix without xmlns: read past as ROS does (drake: as Drake does).",
+        ),
     ),
     "kinematics (lint, report, viz)": (
         ("joint-held-fixed", W, "A joint that cannot move is held at its default."),
