@@ -125,6 +125,25 @@ def test_a_fixed_joint_does_not_count_a_mimic_follower_does(tmp_path: Path) -> N
     assert _adjacent(urdf, ["b", "tip"]) == {frozenset(("b", "tip"))}  # p3, p4
 
 
+def test_a_joint_held_by_equal_limits_does_not_count(tmp_path: Path) -> None:
+    """``a`` →p2 becomes a revolute joint held still by equal limits (Toyota HSR's sensor
+    frame): it counts as the fixed joint it acts as, in the report's, ``xrdf spheres``' and
+    ``export srdf``'s adjacency alike. ``a`` and ``tip`` were three moving joints apart."""
+    held = HAND.replace(
+        _joint("p2", "a", "b", "0.1 0 0", "0 1 0", "fixed"),
+        '<joint name="p2" type="revolute"><parent link="a"/><child link="b"/>'
+        '<origin xyz="0.1 0 0"/><axis xyz="0 1 0"/>'
+        '<limit lower="0.3" upper="0.3" effort="1" velocity="1"/></joint>',
+    )
+    assert held != HAND
+    urdf = _urdf(tmp_path, held)
+    assert _adjacent(urdf, ["a", "tip"]) == {frozenset(("a", "tip"))}  # p3, p4 (p2 held)
+    assert _adjacent(urdf, ["a", "tip_ball"]) == frozenset()  # p3, p4, p5
+    masked, _ = ignore_adjacent(parse_xrdf(_with_balls(urdf, ["a", "tip"])), urdf)
+    assert masked.self_collision is not None
+    assert masked.self_collision.ignore_pairs() == {frozenset(("a", "tip"))}
+
+
 def _with_balls(urdf: Path, frames: list[str]) -> str:
     """The XRDF ``xrdf convert`` drafts for ``urdf``, one sphere on each of ``frames``."""
     x, _ = convert(load_robot(urdf), ConvertOptions())

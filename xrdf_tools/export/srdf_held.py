@@ -73,7 +73,7 @@ def held_pairs(x: Xrdf, tree: RobotTree, pairs: Sequence[tuple[str, str]]) -> He
                 _driver(tree, j) for j in path_joints if _can_move(tree, j) and j not in moved
             )
         )
-        moving = sum(joint_moves(tree.joints[j].type) for j in path_joints)
+        moving = sum(joint_moves(tree.joints[j]) for j in path_joints)
         if held and not adjacent_across(path_links, moving, spheres):
             out.append((a, b, held))
     return HeldPairs(tuple(out))

@@ -24,7 +24,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from ..diagnostics import Diagnostic, RuleInfo, Severity
-from ..robot.adjacency import adjacent_pairs
+from ..robot.adjacency import adjacent_pairs, joint_moves
 from ..robot.kinematics import JointType, KinematicModel
 from ..selfcollision.collision import Contact
 from ..util.errors import did_you_mean
@@ -109,11 +109,17 @@ def adjacent_frame_pairs(
     (:func:`~xrdf_tools.robot.adjacency.adjacent_pairs`).
     """
     names = kin.frame_names
-    edges = {
-        names[i]: (names[int(kin.parent[i])], int(kin.joint_type[i]) != JointType.FIXED)
-        for i in range(1, kin.n_frames)
-    }
+    edges = {names[i]: (names[int(kin.parent[i])], _moves(kin, i)) for i in range(1, kin.n_frames)}
     return adjacent_pairs(edges, geometry_frames)
+
+
+def _moves(kin: KinematicModel, frame: int) -> bool:
+    """Whether the joint above ``frame`` counts as moving (:func:`joint_moves`)."""
+    joint = kin.joint_of_frame[frame]
+    info = kin.joints.get(joint) if joint is not None else None
+    if info is not None:
+        return joint_moves(info)
+    return int(kin.joint_type[frame]) != JointType.FIXED
 
 
 def certified_stat(

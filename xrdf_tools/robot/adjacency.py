@@ -9,8 +9,10 @@ against each other like any other pair: Drake's dual iiwa14 has geometry only on
 ``link_7`` frames, 14 revolute joints apart, and the unbounded rule ignored the only pair the
 robot has.
 
-A joint *moves* unless it is ``fixed``: a mimic follower moves, and so do the floating and
-planar joints the kinematics hold still, because the limit is about the robot, not the c-space.
+A joint *moves* unless it is ``fixed`` or held still by equal lower and upper limits (Toyota
+HSR's force-torque sensor frame; :attr:`JointInfo.is_held`, as the default c-space and the
+tool-frame guess read it): a mimic follower moves, and so do the floating and planar joints
+the kinematics hold still, because the limit is about the robot, not the c-space.
 
 The one implementation of adjacency: the report and ``convert``'s mask
 (:func:`xrdf_tools.report.adjacent_frame_pairs`), ``xrdf spheres``' drafted mask
@@ -42,14 +44,14 @@ MAX_ADJACENT_MOVING_JOINTS = 2
 Edges = Mapping[str, tuple[str, bool]]
 
 
-def joint_moves(joint_type: str) -> bool:
-    """Whether a joint of this URDF type counts as moving: any but ``fixed``."""
-    return joint_type != "fixed"
+def joint_moves(joint: JointInfo) -> bool:
+    """Whether a joint counts as moving: any but a ``fixed`` one or one its limits hold."""
+    return joint.type != "fixed" and not joint.is_held
 
 
 def edges_of_joints(joints: Iterable[JointInfo]) -> dict[str, tuple[str, bool]]:
     """The :data:`Edges` of URDF ``joints``."""
-    return {j.child: (j.parent, joint_moves(j.type)) for j in joints}
+    return {j.child: (j.parent, joint_moves(j)) for j in joints}
 
 
 def adjacent_across(between: Iterable[str], moving: int, geometry: Collection[str]) -> bool:
