@@ -23,7 +23,7 @@ trimesh is imported lazily.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -214,24 +214,22 @@ def missing_meshes(
     package_paths: Mapping[str, str] | None = None,
 ) -> list[PartFailure]:
     """The mesh elements of ``links`` (as :func:`link_geometry` chooses them) whose file cannot
-    be found or is no file (see :attr:`PartFailure.missing`), without reading any mesh: a
-    check that costs a ``stat`` per mesh, made before long work that needs the meshes."""
+    be found or is no file (:attr:`PartFailure.missing`), read from the XML tree without any
+    mesh or geometry library: a ``stat`` per mesh, made before long work that needs them."""
     from .core import as_robot
 
     loaded = as_robot(robot)
     reader = _MeshReader(loaded.mesh_resolver(package_paths), Path(loaded.path).resolve().parent)
-    link_map: Mapping[str, Any] = loaded.urdf.link_map
+    elements_of = _mesh_names_reader(loaded, source)
     out: list[PartFailure] = []
     for name in loaded.links if links is None else dict.fromkeys(links):
-        link = link_map.get(name)
-        if link is None:
+        found = elements_of(name)
+        if found is None:
             continue
-        kind, elements = _elements(link, source)
-        for i, element in enumerate(elements):
-            mesh = getattr(element.geometry, "mesh", None)
-            if mesh is None:
+        kind, names = found
+        for i, uri in enumerate(names):
+            if uri is None:
                 continue
-            uri = mesh.filename or ""
             try:
                 if not uri:
                     raise _PartError("<mesh> without a filename", missing=True, uri=uri)
@@ -239,6 +237,33 @@ def missing_meshes(
             except _PartError as e:
                 out.append(PartFailure(name, kind, i, e.reason, missing=True, uri=uri))
     return out
+
+
+def _mesh_names_reader(
+    loaded: Robot, source: GeometryChoice
+) -> Callable[[str], tuple[GeometrySource, list[str | None]] | None]:
+    """For a link: its elements' kind (as :func:`_elements` chooses) and mesh file names (''
+    for a ``<mesh>`` without one, None for a primitive); None for no link. From the XML tree."""
+    if (doc := loaded.document) is None:
+        link_map: Mapping[str, Any] = loaded.urdf.link_map
+
+        def from_yourdfpy(name: str) -> tuple[GeometrySource, list[str | None]] | None:
+            kind, elements = _elements(link_map[name], source) if name in link_map else ("", [])
+            meshes = [getattr(e.geometry, "mesh", None) for e in elements]
+            return (kind, [m and (m.filename or "") for m in meshes]) if kind else None
+
+        return from_yourdfpy
+    by_name = {str(link.get("name")): link for link in doc.findall("link")}
+
+    def from_xml(name: str) -> tuple[GeometrySource, list[str | None]] | None:
+        if (link := by_name.get(name)) is None:
+            return None
+        none = source != "collision" and not link.findall("collision")
+        kind: GeometrySource = "visual" if source == "visual" or none else "collision"
+        meshes = [e.find("geometry/mesh") for e in link.findall(kind)]
+        return kind, [None if m is None else (m.get("filename") or "") for m in meshes]
+
+    return from_xml
 
 
 class MissingMeshError(SourceError):
