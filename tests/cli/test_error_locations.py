@@ -244,6 +244,43 @@ def test_an_unprefixed_macro_is_named_where_its_parameter_is_undefined(
     ), err
 
 
+def test_a_macro_of_an_unprefixed_include_is_unknown_and_the_include_is_named(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """The Fuerte-era youBot description includes its parts by ``<include>`` (no ``xacro:``
+    prefix), which xacro 2 leaves as plain XML: the macros those files define are unknown
+    where they are called, with no word on why. The error names the include; a macro defined
+    by an unprefixed ``<macro>`` is named likewise."""
+    robot = tmp_path / "r.urdf.xacro"
+    (tmp_path / "base.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="base"><link name="base"/></xacro:macro>\n</robot>\n'
+    )
+    robot.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <include filename="base.xacro"/>\n'
+        "  <xacro:base/>\n</robot>\n"
+    )
+    err = _error(runner, "expand", str(robot))
+    assert "unknown macro name: xacro:base" in err, err
+    assert err.endswith(
+        f"({robot}:3 includes a file by <include> without the xacro: prefix, which xacro 2 "
+        "no longer reads: write <xacro:include> there)"
+    ), err
+    robot.write_text(robot.read_text().replace("<include", "<xacro:include"))
+    assert runner.invoke(app, ["expand", str(robot)]).exit_code == 0
+    robot.write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <macro name="base"><link name="base"/></macro>\n'
+        "  <xacro:base/>\n</robot>\n"
+    )
+    err = _error(runner, "expand", str(robot))
+    assert err.endswith(
+        f"({robot}:3 defines it by <macro> without the xacro: prefix, which xacro 2 no longer "
+        "reads: write <xacro:macro> there)"
+    ), err
+
+
 def _urdf_with(tmp_path: Path, old: str, new: str) -> Path:
     text = UR10E_URDF.read_text()
     assert old in text

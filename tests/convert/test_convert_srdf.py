@@ -715,6 +715,33 @@ def test_an_end_effector_without_parent_group_gives_the_tool_frame_of_the_arm_mo
     assert x.tool_frames == ("z_side",)  # the guess at the end of the side chain
 
 
+def test_an_end_effector_of_a_bigger_group_gives_the_tool_frame_of_its_subgroup_moving_it(
+    tree: RobotTree, tmp_path: Path
+) -> None:
+    """TIAGo++'s SRDF gives each gripper to the arm-and-torso group (`parent_group=
+    "arm_left_torso"`); the default group is the arm alone, its subgroup, which moves the
+    gripper's parent link last: convert said 'no tool frame in the inputs' and guessed. The
+    subgroup carries the end effector; a subgroup that does not move it (the torso) does
+    not."""
+    srdf = _write(
+        tmp_path,
+        """<robot name="t">
+        <group name="arm"><joint name="j2"/><joint name="jfix"/></group>
+        <group name="torso"><joint name="j1"/></group>
+        <group name="arm_torso"><group name="arm"/><group name="torso"/></group>
+        <group name="gripper"><link name="tip"/></group>
+        <end_effector name="hand" parent_link="b" group="gripper" parent_group="arm_torso"/>
+        </robot>""",
+    )
+    from xrdf_tools.convert.core import convert
+
+    x, diags = convert(tree, ConvertOptions(srdf=srdf, groups=("arm",)))
+    assert x.tool_frames == ("b",)
+    assert not [d for d in diags if d.rule == "convert-chosen-tool-frame"], diags
+    x, _ = convert(tree, ConvertOptions(srdf=srdf, groups=("torso",)))
+    assert x.tool_frames == ("a",)  # the guess: the torso does not move the hand last
+
+
 def test_a_group_of_subgroups_without_states_takes_its_subgroups_states(
     tree: RobotTree, tmp_path: Path
 ) -> None:

@@ -253,6 +253,30 @@ def test_a_tilted_axis_of_the_held_arm_is_placed_and_explained(tmp_path: Path) -
     assert by_joint["left_shoulder"].key_path.startswith("cspace.joint_names[")
 
 
+def test_an_axis_a_rounding_error_off_a_coordinate_axis_is_printed_as_written(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """iCub's creo2urdf model writes `l_shoulder_yaw`'s axis as `-4.44e-16 1.69e-15
+    1.0000000000000004`; cuRobo's parser needs a component exactly ±1, and the error printed
+    the axis as `... 1`, hiding why. It prints the component as written and says to write
+    the axis exactly; a truly tilted axis still says to rotate the origin."""
+    urdf = _two_arms_with_tilted_shoulders(tmp_path)
+    text = urdf.read_text().replace(
+        "0 0.939693 0.34202", "-4.440892098500626e-16 0 1.0000000000000004"
+    )
+    urdf.write_text(text)
+    args = ["convert", str(urdf), "--chain", "torso:left_tool", "--target", "curobo"]
+    r = runner.invoke(app, [*args, "-o", str(tmp_path / "arm.xrdf")])
+    assert r.exit_code == 1, r.stderr
+    (axis,) = [x for x in r.stderr.splitlines() if "curobo-joint-axis" in x]
+    assert '<axis xyz="-4.44089e-16 0 1.0000000000000004">' in axis, axis
+    assert 'it is z but for rounding: write it exactly, <axis xyz="0 0 1">' in axis, axis
+    args[3] = "torso:right_tool"
+    r = runner.invoke(app, [*args, "-o", str(tmp_path / "arm.xrdf")])
+    (axis,) = [x for x in r.stderr.splitlines() if "curobo-joint-axis" in x]
+    assert '<axis xyz="0 0.939693 -0.34202">' in axis and "rotate the joint's origin" in axis
+
+
 _GRIPPER = """<robot name="jaw">
   <link name="base"><collision><geometry><box size="0.1 0.1 0.05"/></geometry></collision></link>
   <link name="left_finger"><collision><geometry><box size="0.02 0.02 0.06"/></geometry>

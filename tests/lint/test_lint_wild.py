@@ -176,7 +176,7 @@ def test_a_link_whose_mesh_cannot_be_found_says_so_without_allow_missing_meshes(
     (tmp_path / "robot.urdf").write_text(urdf)
     path, urdf_path = str(tmp_path / "robot.xrdf"), tmp_path / "robot.urdf"
     for allowed, severity, why in (
-        (False, "error", "cannot be found: pass --package-path NAME=DIR to fit spheres"),
+        (False, "error", "cannot be found: gone/camera.stl is not where the URDF names it"),
         (True, "warning", "cannot be found: --allow-missing-meshes)"),
     ):
         found = lint_text(
@@ -184,3 +184,12 @@ def test_a_link_whose_mesh_cannot_be_found_says_so_without_allow_missing_meshes(
         )
         (camera_d,) = [d for d in found if d.rule == "mesh-without-spheres"]
         assert camera_d.severity.value == severity and why in camera_d.message, camera_d
+        assert "--package-path" not in camera_d.message
+    # LEAP Hand names its palm 'palm_lower.stl', beside the URDF: --package-path cannot
+    # help such a file, so it is offered only for a package:// mesh, with the package's name
+    (tmp_path / "robot.urdf").write_text(
+        urdf.replace('"gone/camera.stl"', '"package://cam_description/camera.stl"')
+    )
+    found = lint_text(HAND_XRDF, path, urdf=urdf_path, target="curobo")
+    (camera_d,) = [d for d in found if d.rule == "mesh-without-spheres"]
+    assert "pass --package-path cam_description=DIR to fit spheres" in camera_d.message

@@ -100,3 +100,33 @@ def test_pairs_of_prefixed_names_are_told_apart(tmp_path: Path) -> None:
     (line,) = [x for x in r.output.splitlines() if "IN SELF-COLLISION" in x]
     assert "bot/arm <-> bot/post" in line or "bot/post <-> bot/arm" in line, line
     assert "post/bot" not in line
+
+
+def test_a_near_pair_that_no_cspace_joint_moves_is_ignored(tmp_path: Path) -> None:
+    """TIAGo++: its left arm's tool link and gripper, fixed to each other 2 mm apart, and six
+    pairs of its held right arm were kept checked as near misses ("a configuration between
+    the samples may close the gap"), though their clearance is the same in every
+    configuration; `export srdf --merge` then removed MoveIt's ignore entries for the held
+    arm. A pair no c-space joint moves is as far apart everywhere as at the default pose."""
+    urdf = tmp_path / "pass.urdf"
+    urdf.write_text(
+        URDF.replace(
+            '<link name="arm"/>',
+            '<link name="arm"/><link name="tip"/><link name="flange"/>'
+            '<joint name="fix2" type="fixed"><parent link="arm"/><child link="tip"/></joint>'
+            '<joint name="fix3" type="fixed"><parent link="arm"/><child link="flange"/></joint>',
+        )
+    )
+    text = _xrdf(0.3).replace(
+        "      arm:\n",
+        "      tip:\n        - {center: [0.3, 0.0, 0.405], radius: 0.05}\n"
+        "      flange:\n        - {center: [0.3, 0.0, 0.51], radius: 0.05}\n      arm:\n",
+    )
+    r = self_collision_report(load_urdf(urdf), parse_xrdf(text), samples=2000, seed=0)
+    (pair,) = [p for p in r.pairs if {p.frame_a, p.frame_b} == {"flange", "tip"}]
+    assert pair.joints_on_path == 0 and pair.hits == 0
+    assert pair.min_clearance is not None and pair.min_clearance < 0.01  # 5 mm: within the margin
+    assert pair.classification == "never" and pair.recommendation == "ignore"
+    assert "no c-space joint moves these frames against each other, 5.0 mm apart" in pair.note
+    ignored = {frozenset((a, b)) for a, bs in r.recommended_ignore.items() for b in bs}
+    assert frozenset(("flange", "tip")) in ignored

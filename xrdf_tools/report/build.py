@@ -344,8 +344,9 @@ def _pair_stats(
     counts, minimum clearances and whether each is only a bound are ``counted`` ([W]
     each). ``joints_on_path`` counts the c-space joints between the two frames: 0 means the
     pair's relative pose is constant in this report (decided once, at the default
-    configuration). A pair that never collided but came within ``margin`` stays checked
-    (:func:`~.verdicts.classify_pair`)."""
+    configuration). A pair that never collided but came within ``margin`` stays checked,
+    unless no c-space joint moves its frames against each other: then it is as far apart in
+    every configuration as at the default one (:func:`~.verdicts.classify_pair`)."""
     hits, min_clear, is_bound_w = counted
     spheres, adj = pairs.every, pairs.adjacent
     masked = spheres.frame_pair_masked
@@ -365,7 +366,16 @@ def _pair_stats(
             is_bound = bool(is_bound_w[w])
         near = (mc, margin) if mc is not None and not is_bound and 0.0 <= mc < margin else None
         cls, rec, note = classify_pair(
-            bool(adj[k]), float(def_clear[k]), h, rate, n_total, ub, bool(masked[k]), source, near
+            bool(adj[k]),
+            float(def_clear[k]),
+            h,
+            rate,
+            n_total,
+            ub,
+            bool(masked[k]),
+            source,
+            near,
+            fixed=on_path[k] == 0,
         )
         stats.append(
             PairStat(
@@ -446,7 +456,11 @@ def _certify(
     from ..selfcollision.certify import certify_pair  # only with --certify
 
     w_of = _work_positions(work_index)
-    todo = [i for i, p in enumerate(stats) if p.classification == "never" and i in w_of]
+    todo = [
+        i
+        for i, p in enumerate(stats)
+        if p.classification == "never" and p.joints_on_path > 0 and i in w_of
+    ]
     start = time.perf_counter()
     boxes_left = opts.boxes
     out = list(stats)

@@ -169,11 +169,15 @@ def classify_pair(
     masked: bool,
     source: str,
     near_miss: tuple[float, float] | None = None,
+    fixed: bool = False,
 ) -> tuple[Classification, Recommendation, str]:
     """``near_miss``: ``(clearance, margin)`` when the pair came within the clearance margin
     (its smallest clearance is exact there); a "never" pair that came that near is kept
     checked: a configuration between the samples may well close the gap (two FR3 arms: a
-    pair 4.5 mm apart at best in 100,000 samples collides where --certify looked)."""
+    pair 4.5 mm apart at best in 100,000 samples collides where --certify looked).
+    ``fixed``: no c-space joint lies between the two frames, so their clearance is the same
+    in every configuration (the default one's): apart there, the pair never collides, however
+    near (a gripper on its flange, two links of an arm the c-space holds)."""
     what = "samples" if source == "sampled" else "given configurations"
     if adjacent:
         return "adjacent", "ignore", "adjacent frames: ignore"
@@ -182,6 +186,13 @@ def classify_pair(
     assert hits is not None and rate is not None
     if rate > ALWAYS_RATE:
         return "always", "ignore", f"collides in {rate:.1%} of {what}: ignore"
+    if hits == 0 and fixed:
+        return (
+            "never",
+            "ignore",
+            f"never collides: no c-space joint moves these frames against each other, "
+            f"{default_clearance * 1000:.1f} mm apart in every configuration: ignore",
+        )
     if hits == 0 and near_miss is not None:
         gap, margin = near_miss
         return (

@@ -73,25 +73,40 @@ def _first_match(
 
 #: ``name 'x' is not defined``: a property xacro never defined.
 _UNDEFINED_NAME = re.compile(r"name '(\w+)' is not defined")
+#: ``unknown macro name: xacro:m``: a macro xacro never defined.
+_UNKNOWN_MACRO = re.compile(r"unknown macro name: (?:xacro:)?([\w.]+)")
 
 
 def unprefixed_hint(message: str, files: Sequence[str]) -> str:
     """What to change when the undefined name of ``message`` is defined by a ``<property>``,
     or is a parameter of a ``<macro>``, written without the ``xacro:`` prefix, which ROS 1's
     xacro read (with a deprecation warning) and xacro 2 ignores (its body is then plain XML
-    whose expressions name parameters nothing defines)."""
-    m = _UNDEFINED_NAME.search(message)
-    if m is None:
+    whose expressions name parameters nothing defines); likewise an unknown macro defined by
+    an unprefixed ``<macro>``, or never read because its file is included by an unprefixed
+    ``<include>`` (the Fuerte-era youBot description)."""
+    if (m := _UNDEFINED_NAME.search(message)) is not None:
+        name = re.escape(m.group(1))
+        tags = [
+            (
+                rf"<property\s[^>]*name\s*=\s*[\"']{name}[\"']",
+                "defines it by <property>",
+                "property",
+            ),
+            (
+                rf"<macro\s[^>]*params\s*=\s*[\"'][^\"']*\b{name}\b",
+                "takes it as a <macro> parameter",
+                "macro",
+            ),
+        ]
+    elif (m := _UNKNOWN_MACRO.search(message)) is not None:
+        name = re.escape(m.group(1))
+        tags = [
+            (rf"<macro\s[^>]*name\s*=\s*[\"']{name}[\"']", "defines it by <macro>", "macro"),
+            (r"<include\s[^>]*filename\s*=", "includes a file by <include>", "include"),
+        ]
+    else:
         return ""
-    name = re.escape(m.group(1))
-    for tag, what, kind in (
-        (rf"<property\s[^>]*name\s*=\s*[\"']{name}[\"']", "defines it by <property>", "property"),
-        (
-            rf"<macro\s[^>]*params\s*=\s*[\"'][^\"']*\b{name}\b",
-            "takes it as a <macro> parameter",
-            "macro",
-        ),
-    ):
+    for tag, what, kind in tags:
         if (hit := _first_match(re.compile(tag), files)) is not None:
             path, text, found = hit
             line, _ = line_col(text, found.start())

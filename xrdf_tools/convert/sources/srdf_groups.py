@@ -292,14 +292,18 @@ def carries_end_effector(srdf: Srdf, group: str, ee: EndEffector, tree: RobotTre
 
 
 def _carries(srdf: Srdf, g: str, ee: EndEffector, tree: RobotTree, gripper: bool) -> bool:
-    """Group ``g`` carries end effector ``ee``: named as its parent group, named as its
-    group (not a gripper), or it holds the last joint moving the parent link and not the
-    gripper's joints."""
+    """Group ``g`` carries end effector ``ee``: named as its parent group, or a subgroup of
+    that group holding the last joint moving the parent link (TIAGo++: `arm_left` in
+    `arm_left_torso`); named as its group (not a gripper); or, without a parent group, it
+    holds the last joint moving the parent link and not the gripper's joints."""
+    last = _nearest_actuated(tree, ee.parent_link)
     if ee.parent_group is not None:
-        return ee.parent_group == g
+        if ee.parent_group == g:
+            return True
+        within, _ = reachable(ee.parent_group, lambda n: group_named(srdf, n).subgroups)
+        return g in within and last in group_joints(srdf, g, tree)
     if ee.group == g:
         return not gripper
-    last = _nearest_actuated(tree, ee.parent_link)
     if last is None:
         return False
     joints = set(group_joints(srdf, g, tree))

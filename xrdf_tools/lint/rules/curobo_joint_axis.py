@@ -7,7 +7,9 @@ joint on the chains it builds (from the base frame to the tool frames, the spher
 the added frames), a joint held outside the c-space included (the other arm of a two-arm
 robot planned one arm at a time). Rotate the joint's ``<origin>`` so that the axis is a
 coordinate axis (the child link's frame and its meshes, inertia and collision origins move with
-it), or write the axis as exact unit numbers.
+it), or write the axis as exact unit numbers: an axis a rounding error away from a coordinate
+axis (iCub's creo2urdf model writes ``1.0000000000000004``) is printed as written, not rounded
+to the ``1`` it is not, and the message gives the exact axis to write.
 """
 
 from __future__ import annotations
@@ -32,16 +34,36 @@ def check(ctx: LintContext) -> Iterator[Problem]:
     for j in joints:
         if any(abs(a) == 1.0 for a in j.axis):
             continue
-        axis = " ".join(f"{a:g}" for a in j.axis)
+        axis = " ".join(_number(a) for a in j.axis)
         node, key, held = _where(ctx, j)
         yield ctx.problem(
             node,
             f"joint {joint_at(j, ctx.robot)} of {ctx.robot.file_name}{held} has "
             f'<axis xyz="{axis}">: cuRobo moves joints about or along x, y or z only and its '
-            "loader raises on this one; "
-            "rotate the joint's origin so that its axis is a coordinate axis",
+            f"loader raises on this one; {_fix(j.axis)}",
             key,
         )
+
+
+def _number(a: float) -> str:
+    """``a`` short (``0.6``), but never rounded to a unit it is not: iCub's
+    ``1.0000000000000004`` printed as ``1`` hid why the axis is refused."""
+    short = f"{a:g}"
+    return repr(a) if abs(float(short)) == 1.0 and abs(a) != 1.0 else short
+
+
+def _fix(axis: tuple[float, float, float]) -> str:
+    """What to do: an axis a rounding error away from a coordinate axis (a CAD export's
+    ``1.0000000000000004``) is that axis written exactly; any other needs a rotated origin."""
+    near = [i for i, a in enumerate(axis) if abs(abs(a) - 1.0) < 1e-6]
+    if len(near) == 1 and all(abs(a) < 1e-6 for i, a in enumerate(axis) if i != near[0]):
+        k = near[0]
+        exact = " ".join(("-1" if axis[k] < 0 else "1") if i == k else "0" for i in range(3))
+        return (
+            f'it is {"xyz"[k]} but for rounding: write it exactly, <axis xyz="{exact}"> '
+            "(cuRobo's parser needs a component that is exactly 1 or -1)"
+        )
+    return "rotate the joint's origin so that its axis is a coordinate axis"
 
 
 def _where(ctx: LintContext, j: JointInfo) -> tuple[YNode | None, str, str]:

@@ -13,7 +13,8 @@ clearance. With ``--allow-missing-meshes`` a link whose collision geometry is on
 that cannot be found stays a warning too: the user said those are expected. So does a
 placeholder, a link whose collision primitives span less than 2 cm (UR's ``ee_link``, a 1 cm
 box, which NVIDIA's own UR XRDFs give no sphere). Without the flag, such a link is said to
-have mesh files that cannot be found, with what to do (``--package-path``, or
+have mesh files that cannot be found, with what to do (``--package-path PKG=DIR`` for a
+``package://`` mesh, putting the file where the URDF names it for a relative one, or
 ``--allow-missing-meshes`` when they are not at hand): fitting spheres again would not find
 them either.
 
@@ -104,15 +105,26 @@ def _placeholders(robot: Robot) -> dict[str, float]:
     return placeholder_links(robot)
 
 
-def _why(frame: str, absent: set[str], tiny: dict[str, float], allowed: bool) -> str:
+def _why(frame: str, absent: dict[str, str], tiny: dict[str, float], allowed: bool) -> str:
     """Why a link has no spheres (its meshes cannot be found), or why a moved link without
-    spheres is a warning, not an error, for a planner."""
+    spheres is a warning, not an error, for a planner. ``--package-path`` is offered only for
+    a ``package://`` or ``model://`` mesh: it cannot move a file named relative to the URDF
+    (LEAP Hand's ``palm_lower.stl``)."""
     if frame in absent and allowed:
         return " (its collision meshes cannot be found: --allow-missing-meshes)"
     if frame in absent:
+        from ...robot.packages import package_scheme  # with --urdf only: lint stays light
+
+        uri = absent[frame]
+        scheme = package_scheme(uri)
+        where = (
+            f"pass --package-path {uri[len(scheme) :].partition('/')[0]}=DIR to fit spheres to them"
+            if scheme
+            else f"{uri} is not where the URDF names it; put it there to fit spheres to it"
+        )
         return (
-            " (its collision meshes cannot be found: pass --package-path NAME=DIR to fit "
-            "spheres to them, or --allow-missing-meshes when they are not at hand)"
+            f" (its collision meshes cannot be found: {where}, or --allow-missing-meshes when "
+            "they are not at hand)"
         )
     if frame in tiny:
         return f" (a placeholder, {tiny[frame] * 1000:.0f} mm across: nothing to plan around)"
@@ -143,16 +155,23 @@ def _links_served(ctx: LintContext, group: str | None) -> set[str]:
     return out
 
 
-def _only_missing_meshes(ctx: LintContext, links: list[str]) -> set[str]:
-    """The ``links`` whose every collision element is a mesh file that cannot be found (read
-    from the URDF's XML: no geometry library is imported)."""
+def _only_missing_meshes(ctx: LintContext, links: list[str]) -> dict[str, str]:
+    """The ``links`` whose every collision element is a mesh file that cannot be found, each
+    with the first such file's URI as written (read from the URDF's XML: no geometry library
+    is imported, and the default install, without the 'fit' extra, reads them too)."""
     from ...robot.link_geometry import missing_meshes
 
     robot = ctx.robot
     if robot is None or not links:
-        return set()
-    counts = Counter(f.link for f in missing_meshes(robot, "collision", links=links))
-    return {link for link, n in counts.items() if n == robot.collision_counts.get(link)}
+        return {}
+    failures = missing_meshes(robot, "collision", links=links)
+    counts = Counter(f.link for f in failures)
+    first: dict[str, str] = {}
+    for f in failures:
+        first.setdefault(f.link, f.uri or "")
+    return {
+        link: first[link] for link, n in counts.items() if n == robot.collision_counts.get(link)
+    }
 
 
 RULE = Rule("mesh-without-spheres", Severity.WARNING, check, __doc__ or "", needs_urdf=True)
