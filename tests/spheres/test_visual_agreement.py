@@ -104,6 +104,20 @@ def test_a_collision_placed_far_from_the_visual_is_warned(tmp_path: Path) -> Non
     assert "turned" not in said[0].message
 
 
+def test_millimetre_placeholders_centimetres_apart_are_not_warned(tmp_path: Path) -> None:
+    """The youBot's ``base_footprint``: a 2 mm visual box and a 2 mm collision box 49 mm
+    apart, farther than either is across but no misplaced part; 20 cm apart they are one."""
+    box = '<geometry><box size="0.002 0.002 0.002"/></geometry>'
+    for xyz, warned in (("0 0 0.049", False), ("0 0 0.2", True)):
+        text = (
+            f'<robot name="r"><link name="foot"><visual>{box}</visual><collision>'
+            f'<origin xyz="{xyz}"/>{box}</collision></link></robot>\n'
+        )
+        (tmp_path / "r.urdf").write_text(text)
+        said = [d for d in _said(tmp_path / "r.urdf") if d.rule == RULE_MISMATCH]
+        assert len(said) == int(warned), (xyz, said)
+
+
 def test_a_collision_shifted_against_its_visual_is_warned_with_the_origin_that_fixes_it(
     tmp_path: Path,
 ) -> None:

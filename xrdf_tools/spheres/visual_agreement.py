@@ -13,6 +13,10 @@ cheaply by :func:`~xrdf_tools.robot.element_bounds.elements_bounds`). They disag
 * the boxes are apart by more than the larger of them is across (a collision ``<origin>``
   with a misplaced number: Alex's nub, its ``rpy`` written in its ``xyz``, 1.5 m away).
 
+A placeholder (collision geometry less than ``PLACEHOLDER_SIZE``, 2 cm, across) is said to be
+apart or shifted only from :data:`APART_FLOOR` on: two 2 mm boxes 49 mm apart, the youBot's
+``base_footprint``, are no misplaced part.
+
 Collision geometry that is a coarser or partial model of the link (a cylinder over a joint, a
 box for a camera, a hip motor beside the hip's visual) is not flagged: over
 example-robot-data the overlap of such boxes falls to 0, but no quarter turn makes them agree
@@ -30,6 +34,7 @@ import numpy as np
 from ..diagnostics import Diagnostic, Severity
 from ..robot.element_bounds import Box, Unbounded, elements_bounds
 from ..util.arrays import FloatArray
+from ..util.numbers import PLACEHOLDER_SIZE
 from ..util.text import name_list
 
 if TYPE_CHECKING:
@@ -54,6 +59,9 @@ VISUAL_CHECKS: tuple[VisualCheck, ...] = ("fast", "all", "off")
 
 RULE_MISMATCH = "spheres-collision-not-visual"
 RULE_UNCHECKED = "spheres-visual-unchecked"
+#: A placeholder's boxes apart or shifted by less than this (metres) are not said to be: a few
+#: centimetres between millimetre boxes is no misplaced ``<origin>``.
+APART_FLOOR = 0.1
 #: Below this share of the smaller box inside the other, the boxes do not agree as they are.
 AS_IS_DISAGREES = 0.5
 #: At or above this share after a quarter turn, the turn is what they differ by.
@@ -133,7 +141,8 @@ def _disagreement(link: str, collision: Box, visual: Box, origin: FloatArray | N
             )
     gap = float(np.linalg.norm(_gap(collision, visual)))
     across = float(max(np.linalg.norm(collision.extents), np.linalg.norm(visual.extents)))
-    if gap > across:
+    tiny = float(np.linalg.norm(collision.extents)) < PLACEHOLDER_SIZE
+    if gap > (max(across, APART_FLOOR) if tiny else across):
         return (
             f"{boxes}; they are {gap:.3g} m apart, farther than either is across: check the "
             f"<origin> of its <collision>; {kept}"
@@ -144,7 +153,7 @@ def _disagreement(link: str, collision: Box, visual: Box, origin: FloatArray | N
         as_is < AS_IS_DISAGREES
         and moved >= TURNED_AGREES
         and _same_size(collision, visual)
-        and float(np.linalg.norm(shift)) >= SHIFT_SAID
+        and float(np.linalg.norm(shift)) >= (APART_FLOOR if tiny else SHIFT_SAID)
     ):
         by = _numbers(shift).replace(" ", ", ")
         return (
