@@ -4,6 +4,8 @@ exporters tessellate them) and a screw bag (many separate bodies in one mesh).""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import trimesh
 
@@ -49,3 +51,14 @@ def screw_bag(n: int, size: float = 0.004, spacing: float = 0.01) -> trimesh.Tri
     vertices = (cube.vertices[None] + at[:, None]).reshape(-1, 3)
     faces = (cube.faces[None] + 8 * np.arange(n)[:, None, None]).reshape(-1, 3)
     return trimesh.Trimesh(vertices, faces, process=False)
+
+
+def one_link_urdf(tmp_path: Path, mesh: trimesh.Trimesh) -> Path:
+    """``r.urdf`` in ``tmp_path``: one link ``part`` whose collision is ``mesh`` (as
+    ``part.stl`` beside it)."""
+    (tmp_path / "part.stl").write_bytes(mesh.export(file_type="stl"))
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="part"><collision><geometry><mesh filename="part.stl"/>'
+        "</geometry></collision></link></robot>"
+    )
+    return tmp_path / "r.urdf"

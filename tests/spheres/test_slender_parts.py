@@ -10,20 +10,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from tests.odd_meshes import screw_bag
+from tests.odd_meshes import one_link_urdf, screw_bag
 from xrdf_tools.spheres import mesh_solids, sphere_metrics
 from xrdf_tools.spheres.fewest import SLENDER_MAX_PER_LINK, slender
 from xrdf_tools.spheres.metrics import sample_volume
 from xrdf_tools.spheres.robot_fit import fit_robot
-
-
-def _urdf(tmp_path: Path, mesh: trimesh.Trimesh) -> Path:
-    (tmp_path / "part.stl").write_bytes(mesh.export(file_type="stl"))
-    (tmp_path / "r.urdf").write_text(
-        '<robot name="r"><link name="part"><collision><geometry><mesh filename="part.stl"/>'
-        "</geometry></collision></link></robot>"
-    )
-    return tmp_path / "r.urdf"
 
 
 def test_a_finger_gets_a_chain_of_spheres_of_its_thickness(tmp_path: Path) -> None:
@@ -33,7 +24,7 @@ def test_a_finger_gets_a_chain_of_spheres_of_its_thickness(tmp_path: Path) -> No
     28 cover the target within the bound: its protrusion p95 is within the bound too (2.6 mm
     on the 48-cell grid, whose 7 mm cells were close to its thickness)."""
     finger = trimesh.creation.cylinder(radius=0.004, height=0.3, sections=32)
-    result = fit_robot(_urdf(tmp_path, finger))
+    result = fit_robot(one_link_urdf(tmp_path, finger))
     spheres = result.spheres["part"]
     assert 20 <= len(spheres) <= 40
     assert not [d for d in result.diagnostics if d.rule == "spheres-past-bound"]
@@ -51,7 +42,7 @@ def test_a_rod_past_its_most_spheres_says_how_far_they_reach(tmp_path: Path) -> 
     refined past it they stop short of the target (the warning is then
     spheres-target-missed), reaching less far than on the coarse grid (10.3 mm)."""
     rod = trimesh.creation.cylinder(radius=0.001, height=1.0, sections=16)
-    result = fit_robot(_urdf(tmp_path, rod))
+    result = fit_robot(one_link_urdf(tmp_path, rod))
     assert len(result.spheres["part"]) == SLENDER_MAX_PER_LINK
     (note,) = [
         d for d in result.diagnostics if d.rule in ("spheres-past-bound", "spheres-target-missed")

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 import trimesh
 
+from tests.odd_meshes import one_link_urdf
 from xrdf_tools.spheres import fit as fit_module
 from xrdf_tools.spheres import sphere_metrics
 from xrdf_tools.spheres.fewest import REACH_SLACK, ROUNDING, reach_p95
@@ -26,15 +27,6 @@ def _diagonal(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     """``mesh`` with its z axis turned onto (1, 1, 1)."""
     mesh.apply_transform(trimesh.geometry.align_vectors([0.0, 0.0, 1.0], [1.0, 1.0, 1.0]))
     return mesh
-
-
-def _urdf(tmp_path: Path, mesh: trimesh.Trimesh) -> Path:
-    (tmp_path / "part.stl").write_bytes(mesh.export(file_type="stl"))
-    (tmp_path / "r.urdf").write_text(
-        '<robot name="r"><link name="part"><collision><geometry><mesh filename="part.stl"/>'
-        "</geometry></collision></link></robot>"
-    )
-    return tmp_path / "r.urdf"
 
 
 def _within(fitter: SphereFitter, reach: float) -> bool:
@@ -86,7 +78,7 @@ def test_spheres_past_their_bound_are_said_whatever_the_grid(
     spheres-past-bound warning names the link and how far they reach."""
     monkeypatch.setattr(fit_module, "needs_thin_grid", lambda *_: False)
     rod = _rod(0.5)
-    result = fit_robot(_urdf(tmp_path, rod))
+    result = fit_robot(one_link_urdf(tmp_path, rod))
     (note,) = [d for d in result.diagnostics if d.rule == "spheres-past-bound"]
     assert note.severity.value == "warning"
     assert note.message.startswith("link 'part': 38 spheres cover 90% of its volume")
@@ -107,7 +99,7 @@ def test_a_count_within_a_bound_says_when_it_is_past_it(
 
     monkeypatch.setattr(fit_module, "needs_thin_grid", lambda *_: False)
     result = fit_robot(
-        _urdf(tmp_path, _rod(0.5)), counts=CountPolicy(per_link=8), max_protrusion=0.002
+        one_link_urdf(tmp_path, _rod(0.5)), counts=CountPolicy(per_link=8), max_protrusion=0.002
     )
     (note,) = [d for d in result.diagnostics if d.rule == "spheres-past-bound"]
     assert note.message.startswith("link 'part': 8 spheres within its 2 mm bound as its")
@@ -121,7 +113,7 @@ def test_a_thin_part_is_within_its_bound_or_says_how_far_past(tmp_path: Path, na
     rod had 38 spheres reaching 5.7 mm past its 2 mm bound, and no note). The plate is a
     sheet: its note says how far its spheres reach from its faces."""
     part = PARTS[name]()
-    result = fit_robot(_urdf(tmp_path, part))
+    result = fit_robot(one_link_urdf(tmp_path, part))
     p95 = sphere_metrics(part, result.spheres["part"]).protrusion_p95
     notes = [d for d in result.diagnostics if d.rule != "spheres-collision-not-visual"]
     if p95 <= 0.002 * (1.0 + REACH_SLACK) + ROUNDING:
