@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 from ..util.errors import XrdfToolsError
 
@@ -18,9 +18,20 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from .core import Robot
-    from .link_geometry import GeometryChoice, GeometrySource
 
-__all__ = ["choose_elements", "link_mesh_names", "robot_input_files"]
+__all__ = [
+    "GeometryChoice",
+    "GeometrySource",
+    "choose_elements",
+    "link_mesh_names",
+    "robot_input_files",
+]
+
+#: Which kind of a link's elements geometry comes from.
+GeometrySource = Literal["collision", "visual"]
+#: Which elements are read: only collision, only visual, or collision with visual as the
+#: fallback for links without collision elements.
+GeometryChoice = Literal["collision", "visual", "auto"]
 
 _Element = TypeVar("_Element")
 

@@ -37,7 +37,7 @@ from ..util.fileio import check_input_file, mesh_bytes_limit, mesh_triangle_limi
 from ..util.fixed_order import quantized, transform_points
 from ..util.numbers import vertices_problem
 from ..util.text import name_list
-from .input_files import choose_elements, link_mesh_names
+from .input_files import GeometryChoice, GeometrySource, choose_elements, link_mesh_names
 from .mesh_files import (
     MeshTooBig,
     binary_stl_counts,
@@ -55,10 +55,6 @@ if TYPE_CHECKING:
     from .packages import PackageResolver
 
 Rgba = tuple[float, float, float, float]
-GeometrySource = Literal["collision", "visual"]
-#: Which elements are read: only collision, only visual, or collision with visual as the
-#: fallback for links without collision elements.
-GeometryChoice = Literal["collision", "visual", "auto"]
 Shape = Literal["box", "cylinder", "capsule", "sphere", "mesh"]
 
 __all__ = [
