@@ -12,6 +12,7 @@ import trimesh
 
 from tests.odd_meshes import one_link_urdf, screw_bag
 from xrdf_tools.spheres import mesh_solids, sphere_metrics
+from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.fewest import SLENDER_MAX_PER_LINK, slender
 from xrdf_tools.spheres.metrics import sample_volume
 from xrdf_tools.spheres.robot_fit import fit_robot
@@ -42,7 +43,9 @@ def test_a_rod_past_its_most_spheres_says_how_far_they_reach(tmp_path: Path) -> 
     refined past it they stop short of the target (the warning is then
     spheres-target-missed), reaching less far than on the coarse grid (10.3 mm)."""
     rod = trimesh.creation.cylinder(radius=0.001, height=1.0, sections=16)
-    result = fit_robot(one_link_urdf(tmp_path, rod))
+    # the volume's count alone (by default up to 16 more within the bound reach for its
+    # surface, with a spheres-surface-gap warning at 64)
+    result = fit_robot(one_link_urdf(tmp_path, rod), counts=CountPolicy(reach_surface=False))
     assert len(result.spheres["part"]) == SLENDER_MAX_PER_LINK
     (note,) = [
         d for d in result.diagnostics if d.rule in ("spheres-past-bound", "spheres-target-missed")

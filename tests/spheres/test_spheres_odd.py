@@ -15,6 +15,7 @@ from typer.testing import CliRunner
 
 from xrdf_tools.cli import app
 from xrdf_tools.spheres import sphere_metrics
+from xrdf_tools.spheres.count_policy import CountPolicy
 from xrdf_tools.spheres.fewest import HeldOut
 from xrdf_tools.spheres.fit import SphereFitter
 from xrdf_tools.spheres.geometry import load_link_geometry
@@ -186,13 +187,20 @@ def test_a_target_missed_past_the_bound_says_so_and_what_helps(tmp_path: Path) -
         for xyz, rpy, size in boxes
     )
     (tmp_path / "knee.urdf").write_text(f'<robot name="r"><link name="knee">{parts}</link></robot>')
-    result = fit_robot(tmp_path / "knee.urdf")
+    result = fit_robot(tmp_path / "knee.urdf", counts=CountPolicy(reach_surface=False))
     (missed,) = [d for d in result.diagnostics if d.rule == "spheres-target-missed"]
     assert "16 spheres within its" in missed.message and "default bound cover" in missed.message
     assert "and refined past the bound" in missed.message
     assert "give --per-link (up to 64) for more" in missed.message
     assert "--max-protrusion" not in missed.message
     assert len(result.spheres["knee"]) == 16
+    # those 16 leave its two plates bare (24 % of its surface beyond its 6.5 mm mean
+    # thickness, up to 48 mm): by default more spheres, within the bound, reach them
+    reached = fit_robot(tmp_path / "knee.urdf")
+    (note,) = [d for d in reached.diagnostics if d.rule == "spheres-surface-gap"]
+    assert "more bring it within reach" in note.message
+    assert 16 < len(reached.spheres["knee"]) <= 40
+    assert all(s.radius >= 0.001 for s in reached.spheres["knee"])  # no specks
 
 
 def test_a_huge_primitive_is_not_called_a_mesh_without_its_scale(tmp_path: Path) -> None:

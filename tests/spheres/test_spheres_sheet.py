@@ -281,7 +281,8 @@ def test_a_disc_its_default_bound_cannot_cover_is_refined_past_it(tmp_path: Path
     m = sphere_metrics(solid, fit.spheres["disc"], samples=8000)
     assert m.coverage >= 0.9 and len(fit.spheres["disc"]) <= 16
     hard = fit_robot(urdf, max_protrusion=default_max_protrusion(solid))
-    assert [d.rule for d in hard.diagnostics] == ["spheres-target-missed"]
+    # its rim, 12.5 mm from the 16 spheres, gets 6 more within the bound (surface gap)
+    assert [d.rule for d in hard.diagnostics] == ["spheres-target-missed", "spheres-surface-gap"]
     h = sphere_metrics(solid, hard.spheres["disc"], samples=8000)
     assert h.coverage < 0.6 and h.protrusion_max <= default_max_protrusion(solid) + 2e-4
 

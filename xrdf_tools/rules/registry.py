@@ -191,6 +191,11 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
             I,
             "Spheres reach past their bound: too few within it, or too thin a part.",
         ),
+        (
+            "spheres-surface-gap",
+            I,
+            "A thin part far from every sphere: spheres added, or too few reach it.",
+        ),
         ("spheres-target-missed", W, "A link whose spheres fall short of the coverage target."),
         ("spheres-thin-shell", I, "A shell far thinner than its hull: the hull is fitted."),
         ("spheres-unsupported-geometry", W, "A geometry kind the fitter does not handle."),

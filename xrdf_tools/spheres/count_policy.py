@@ -61,6 +61,9 @@ class CountPolicy:
     #: ``count_coverage``): the greedy spheres are refined on coverage and on the protrusion
     #: of their union (:mod:`.refine`). False keeps every sphere within the default bound.
     refine: bool = True
+    #: Without a count: spheres are added until little of the link's surface lies far from
+    #: every sphere (:mod:`.surface_gap`). False: the volume target alone decides the count.
+    reach_surface: bool = True
 
     @property
     def given(self) -> bool:

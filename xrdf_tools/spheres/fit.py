@@ -195,7 +195,7 @@ class SphereFitter:
         self.tau = float(tau)
         self._level_tree = cKDTree(level_points(self.sdf, self.tau))
         self.cand_r = self.max_radius(self.cand_c)
-        self.cand_cov = self._cover(self.cand_c, self.cand_r)
+        self.cand_cov = self.covers(self.cand_c, self.cand_r)
         self._cand_packed = self._pack(self.cand_cov)
 
     # ----------------------------------------------------------------------------------------
@@ -221,7 +221,7 @@ class SphereFitter:
 
         centers = self.cand_c[::PROBE_STRIDE]
         radii = self._radius_within(centers, cKDTree(level_points(self.sdf, tau)), tau)
-        cover = self._cover(centers, radii)
+        cover = self.covers(centers, radii)
         curve = self._greedy(self._pack(cover), cover, k)[1]
         return curve[-1] if curve else 0.0
 
@@ -246,10 +246,11 @@ class SphereFitter:
             return 0.0
         c = np.array([s.center for s in spheres], dtype=np.float64)
         r = np.array([s.radius for s in spheres], dtype=np.float64)
-        return float(self._cover(c, r)[:, : self.n_volume].any(0).mean())
+        return float(self.covers(c, r)[:, : self.n_volume].any(0).mean())
 
-    def _cover(self, centers: FloatArray, radii: FloatArray) -> BoolArray:
-        """``(K, P)``: which sample points each sphere covers (elementwise squared distances,
+    def covers(self, centers: FloatArray, radii: FloatArray) -> BoolArray:
+        """``(K, P)``: which of the fitter's sample points (its :attr:`n_volume` volume
+        samples, then its surface samples) each sphere covers (elementwise squared distances,
         no BLAS, in blocks of spheres that stay in cache)."""
         out = np.empty((len(centers), len(self.points)), dtype=bool)
         px, py, pz = self._xyz
@@ -320,7 +321,7 @@ class SphereFitter:
                 for _ in range(4):
                     trial_c = centers[i][None, :] + step * _MOVES
                     trial_r = self.max_radius(trial_c)
-                    trial_cov = self._cover(trial_c, trial_r)
+                    trial_cov = self.covers(trial_c, trial_r)
                     tg = self._gains(self._pack(trial_cov), free)
                     t = int(np.argmax(tg))
                     if tg[t] <= current + 1e-9:

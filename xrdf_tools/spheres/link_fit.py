@@ -37,6 +37,7 @@ RULE_TARGET_MISSED = "spheres-target-missed"
 RULE_PLACEHOLDER = "spheres-placeholder"
 RULE_SHEET = "spheres-sheet"
 RULE_PAST_BOUND = "spheres-past-bound"
+RULE_SURFACE_GAP = "spheres-surface-gap"
 
 
 def fit_note(
@@ -201,6 +202,31 @@ def fit_one(
         rule = RULE_TARGET_MISSED if note.missed else RULE_PAST_BOUND
         message = f"link '{geom.link}': {note.text}"
         diags.append(fit_note(path, geom.line, rule, message, warn=note.warn))
+    if counts.reach_surface:
+        spheres = _reach_surface(fitter, spheres, geom, (path, own_bound), diags)
+    return spheres
+
+
+def _reach_surface(
+    fitter: SphereFitter,
+    spheres: tuple[Sphere, ...],
+    geom: LinkGeometry,
+    where: tuple[str, bool],
+    diags: list[Diagnostic],
+) -> tuple[Sphere, ...]:
+    """``spheres`` with more where a part of the link's surface lies far from them
+    (:func:`.surface_gap.reach_far_surface`, up to :data:`MAX_PER_LINK`), said once for the
+    link: info when they reach it, a warning when they cannot. ``where``: the URDF path the
+    note names and whether the link's bound is the user's."""
+    from .fit import default_max_protrusion
+    from .surface_gap import reach_far_surface
+
+    path, own = where
+    bound = fitter.tau if own else default_max_protrusion(geom.solid)
+    spheres, reached = reach_far_surface(fitter, spheres, MAX_PER_LINK, bound)
+    if reached is not None:
+        message = reached.said(geom.link, bound, own)
+        diags.append(fit_note(path, geom.line, RULE_SURFACE_GAP, message, warn=not reached.met))
     return spheres
 
 
