@@ -671,8 +671,11 @@ def test_package_paths_resolve_meshes(tmp_path: Path) -> None:
 
     pkg = tmp_path / "my_pkg"
     (pkg / "meshes").mkdir(parents=True)
+    (pkg / "meshes" / "a.stl").write_text("solid a\nendsolid a\n")
     handler = make_filename_handler(tmp_path / "robot.urdf", {"my_pkg": str(pkg)})
     assert handler("package://my_pkg/meshes/a.stl") == str(pkg / "meshes" / "a.stl")
+    # a file the given folder lacks is unresolved, as an unknown package is
+    assert handler("package://my_pkg/meshes/b.stl") == "package://my_pkg/meshes/b.stl"
     assert handler("package://unknown_pkg_xyz/a.stl") == "package://unknown_pkg_xyz/a.stl"
 
 

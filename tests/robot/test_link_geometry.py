@@ -243,10 +243,11 @@ def test_a_package_split_over_two_folders_finds_each_file(tmp_path: Path) -> Non
     """iCub's manual models sit in a folder whose package.xml names 'iCub' and hold some of
     the meshes; the others are in the sibling folder 'iCub' (both install into one package).
     A file the nearest folder lacks is found in the farther one; a --package-path directory
-    is taken alone, as given."""
+    is taken alone, as given: a file it lacks is an error naming it."""
     import trimesh
 
     from xrdf_tools.robot.packages import PackageResolver
+    from xrdf_tools.util.errors import XrdfToolsError
 
     manual, generated = tmp_path / "models" / "manual", tmp_path / "models" / "robo"
     for mesh in (manual / "meshes" / "hand.stl", generated / "meshes" / "torso.stl"):
@@ -267,7 +268,8 @@ def test_a_package_split_over_two_folders_finds_each_file(tmp_path: Path) -> Non
     assert found.resolve_uri("package://robo/meshes/torso.stl") == generated / "meshes/torso.stl"
     assert found.resolve_uri("package://robo/meshes/none.stl") == manual / "meshes" / "none.stl"
     given = PackageResolver(urdf, {"robo": str(manual)})
-    assert given.resolve_uri("package://robo/meshes/torso.stl") == manual / "meshes/torso.stl"
+    with pytest.raises(XrdfToolsError, match="--package-path directory of 'robo'"):
+        given.resolve_uri("package://robo/meshes/torso.stl")
     geometry = lg.link_geometry(load_robot(urdf), "collision")
     assert {n: (len(g.parts), g.failures) for n, g in geometry.items()} == {
         "hand": (1, ()),

@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from ..robot.core import Robot
+    from ..robot.packages import PackagePaths
     from ..robot.tool_frame import ToolFrameGuess
 
 __all__ = [
@@ -89,7 +90,7 @@ def convert_files(
     options: ConvertOptions,
     *,
     xacro_args: dict[str, str] | None = None,
-    package_paths: dict[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
 ) -> tuple[Xrdf, list[Diagnostic], yourdfpy.URDF]:
     """Load ``robot`` (URDF or xacro) and :func:`convert`; also returns the loaded URDF."""
     from ..robot.xacro_source import load_robot

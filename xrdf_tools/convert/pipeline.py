@@ -45,6 +45,7 @@ if TYPE_CHECKING:
 
     from ..report import Report, Sampler
     from ..robot.link_geometry import GeometryChoice
+    from ..robot.packages import PackagePaths
     from ..spheres.fit import Plane
     from ..spheres.visual_agreement import VisualCheck
     from ..xrdf.model import Sphere, Xrdf
@@ -115,7 +116,7 @@ def convert_robot(
     options: ConvertOptions,
     *,
     xacro_args: Mapping[str, str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     fit: FitOptions | None = None,
     mask: MaskOptions | None = None,
     lint: bool = True,
@@ -176,15 +177,14 @@ def convert_robot(
 def _load(
     path: str | os.PathLike[str],
     xacro_args: Mapping[str, str] | None,
-    package_paths: Mapping[str, str] | None,
+    package_paths: PackagePaths | None,
     srdf: str | os.PathLike[str] | None = None,
 ) -> Robot:
     """The robot of the URDF or xacro at ``path`` (a xacro expanded with ``xacro_args``, which
     ``srdf`` may read too)."""
     from ..robot.xacro_source import load_robot
 
-    pkgs = {k: str(v) for k, v in (package_paths or {}).items()}
-    return load_robot(path, xacro_args=xacro_args, package_paths=pkgs, srdf=srdf)
+    return load_robot(path, xacro_args=xacro_args, package_paths=package_paths, srdf=srdf)
 
 
 def _with_fitted_spheres(

@@ -12,7 +12,7 @@ and :func:`metrics_json` render those metrics.
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 
     from ..robot.core import Robot
     from ..robot.link_geometry import GeometryChoice
+    from ..robot.packages import PackagePaths
     from ..spheres import SphereMetrics
     from ..spheres.count_policy import CountPolicy
     from ..spheres.fit import Plane
@@ -47,7 +48,7 @@ class SpheresRequest:
     counts: CountPolicy
     links: Sequence[str] | None = None
     seed: int = 0
-    package_paths: Mapping[str, str] = field(default_factory=dict)
+    package_paths: PackagePaths = field(default_factory=dict)
     max_protrusion: float | None = None
     clips: Sequence[str] = ()
     allow_missing_meshes: bool = False

@@ -13,7 +13,7 @@ import contextlib
 import io
 import os
 import threading
-from collections.abc import Callable, Hashable, Mapping
+from collections.abc import Callable, Hashable
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -33,6 +33,7 @@ from .view import RobotView
 if TYPE_CHECKING:
     from ..diagnostics import Diagnostic
     from ..robot.core import Robot
+    from ..robot.packages import PackagePaths
     from .panels import Panels
 
 __all__ = ["EditorPage"]
@@ -58,7 +59,7 @@ class EditorPage:
         port: int = 8080,
         readonly: bool = False,
         configs: str | os.PathLike[str] | None = None,
-        package_paths: Mapping[str, str] | None = None,
+        package_paths: PackagePaths | None = None,
         meshes: str = "collision",
         report_samples: int = REPORT_SAMPLES,
         on_refused: Callable[[str], None] | None = None,

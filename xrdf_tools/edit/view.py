@@ -8,7 +8,7 @@ spheres redrawn only for the frames whose spheres changed.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     import viser
 
     from ..diagnostics import Diagnostic
+    from ..robot.packages import PackagePaths
     from ..viz.meshes import MeshPart
 
 __all__ = ["CHECKED_RGB", "IGNORED_RGB", "SELECTED_RGB", "RobotView"]
@@ -58,7 +59,7 @@ class RobotView:
         robot: EditRobot,
         *,
         on_pick: Pick,
-        package_paths: Mapping[str, str] | None = None,
+        package_paths: PackagePaths | None = None,
     ) -> None:
         self.server = server
         self.robot = robot

@@ -17,6 +17,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
+from urllib.parse import unquote
 
 from ..util.errors import SourceError
 from ..util.text import name_list
@@ -50,6 +51,11 @@ class MeshRoot:
     #: ``(package, folder)`` of every package with meshes when they are in different
     #: directories (two workspaces): no one ``asset_root_path`` serves them all.
     scattered: tuple[tuple[str, str], ...] = ()
+    #: Each package whose meshes were found in several folders (``--package-path`` given
+    #: once per folder): ``(package, ((folder, entries), ...))``, ``entries`` the names
+    #: directly in that folder that its meshes are below. cuRobo joins every name to one
+    #: directory, so it finds the meshes of one folder at most.
+    split: tuple[tuple[str, tuple[tuple[str, tuple[str, ...]], ...]], ...] = ()
 
 
 def mesh_root(robot: Robot, *, plain_file_names: bool = False) -> MeshRoot:
@@ -64,19 +70,27 @@ def mesh_root(robot: Robot, *, plain_file_names: bool = False) -> MeshRoot:
     own = Path(robot.path).resolve().parent
     serves: dict[Path | None, list[str]] = {}
     misnamed: dict[str, str] = {}
+    parts: dict[str, dict[Path, list[str]]] = {}  # package → folder → entries its meshes use
     for uri in dict.fromkeys(_mesh_names(robot)):
         if Path(uri).is_absolute():  # cuRobo keeps an absolute name: any directory serves it
             continue
         if plain_file_names and plain_file_path(uri) is not None:
             continue
         try:
-            root = _root_for(uri, resolver, own, misnamed)
+            root = _root_for(uri, resolver, own, misnamed, parts)
         except SourceError:
             continue
         serves.setdefault(root, []).append(uri)
+    split = tuple(
+        (name, tuple((str(f), tuple(dict.fromkeys(e))) for f, e in folders.items()))
+        for name, folders in parts.items()
+        if len(folders) > 1
+    )
+    for name, _ in split:
+        misnamed.pop(name, None)
     roots = [r for r in serves if r is not None]
     if not roots:
-        return MeshRoot(None, tuple(serves.get(None, ())), tuple(misnamed.items()))
+        return MeshRoot(None, tuple(serves.get(None, ())), tuple(misnamed.items()), split=split)
     best = min(roots, key=lambda r: (-len(serves[r]), r != own, str(r)))
     unserved = [u for r, uris in serves.items() if r != best for u in uris]
     packages = {
@@ -84,11 +98,11 @@ def mesh_root(robot: Robot, *, plain_file_names: bool = False) -> MeshRoot:
         for root, uris in serves.items()
         if root is not None
         for u in uris
-        if (name := _package_of(u))
+        if (name := _package_of(u)) and len(parts.get(name, ())) < 2
     }
     homes = {str(Path(folder).parent) for folder in packages.values()}
     scattered = tuple(sorted(packages.items())) if len(homes) > 1 else ()
-    return MeshRoot(best, tuple(unserved), tuple(misnamed.items()), scattered)
+    return MeshRoot(best, tuple(unserved), tuple(misnamed.items()), scattered, split)
 
 
 def _package_of(uri: str) -> str:
@@ -179,6 +193,8 @@ def unserved_note(root: MeshRoot) -> str:
             + " DIR/) and export again with "
             + " ".join(f"--package-path {p}=DIR/{p}" for p, _ in root.scattered)
         )
+    for package, folders in root.split:
+        note += _split_note(package, folders)
     for package, folder in root.misnamed:
         note += (
             f". Package '{package}' is the folder {folder}, which is not named after it, so no "
@@ -189,17 +205,47 @@ def unserved_note(root: MeshRoot) -> str:
     return note
 
 
+def _split_note(package: str, folders: tuple[tuple[str, tuple[str, ...]], ...]) -> str:
+    """What to do about a package whose meshes are in several folders: one folder named after
+    it that links what the meshes use of each (when no two folders use an entry of one
+    name), named by ``--package-path`` in the export."""
+    listed = ", ".join(folder for folder, _ in folders)
+    note = (
+        f". Package '{package}' is split over {len(folders)} folders ({listed}); cuRobo finds "
+        "every mesh below one folder named after the package"
+    )
+    entries = [e for _, used in folders for e in used]
+    if len(set(entries)) < len(entries):  # two folders use e.g. meshes/: their files must merge
+        return note + (
+            f": copy the meshes of each into one folder named '{package}' and export again "
+            f"with --package-path {package}=DIR/{package}"
+        )
+    links = " ".join(f"{Path(folder) / e}" for folder, used in folders for e in used)
+    return note + (
+        f": make one (mkdir -p DIR/{package}; ln -s {links} DIR/{package}/) and export again "
+        f"with --package-path {package}=DIR/{package}"
+    )
+
+
 def _root_for(
-    uri: str, resolver: PackageResolver, own: Path, misnamed: dict[str, str]
+    uri: str,
+    resolver: PackageResolver,
+    own: Path,
+    misnamed: dict[str, str],
+    parts: dict[str, dict[Path, list[str]]],
 ) -> Path | None:
     """The directory cuRobo must join ``uri`` to, or None when no directory can serve it (a
     ``file://`` or Gazebo ``model://`` name, which cuRobo keeps as written; a package in a
-    folder not named after it: recorded in ``misnamed``)."""
+    folder not named after it: recorded in ``misnamed``). The package folder is the one the
+    file was found in (a package split over several: each folder and the entry of it the
+    name is below recorded in ``parts``)."""
     if uri.startswith("package://"):
-        name, _, _sub = uri[len("package://") :].partition("/")
+        name, _, sub = uri[len("package://") :].partition("/")
         if not name:
             return None
-        folder = resolver.find(name)
+        folder = resolver.package_folder(name, unquote(sub))
+        entry = Path(unquote(sub)).parts[:1] or ("",)
+        parts.setdefault(name, {}).setdefault(folder, []).append(entry[0])
         if folder.name != name:
             misnamed.setdefault(name, str(folder))
             return None

@@ -36,7 +36,7 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from ..diagnostics import Diagnostic
-    from .packages import PackageResolver
+    from .packages import PackagePaths, PackageResolver
 
 
 __all__ = ["Robot", "as_robot"]
@@ -68,7 +68,7 @@ class Robot:
     include_places: Mapping[tuple[str, str], tuple[str, int]] = field(default_factory=FrozenMap)
     #: Every file a xacro robot's expansion included (empty for a plain URDF).
     included_files: tuple[str, ...] = ()
-    package_paths: Mapping[str, str] = field(default_factory=FrozenMap)
+    package_paths: PackagePaths = field(default_factory=FrozenMap)
     #: The xacro arguments a xacro robot was expanded with (an SRDF xacro takes the same).
     xacro_args: Mapping[str, str] = field(default_factory=FrozenMap)
     #: ``(link, "collision" | "visual", index)`` of the elements whose geometry is a
@@ -153,7 +153,7 @@ class Robot:
         """The URDF as a tree of names (:class:`~xrdf_tools.robot.tree.RobotTree`)."""
         return RobotTree.from_parts(self.name, self.path, self.links, self.joints)
 
-    def mesh_resolver(self, package_paths: Mapping[str, str] | None = None) -> PackageResolver:
+    def mesh_resolver(self, package_paths: PackagePaths | None = None) -> PackageResolver:
         """The package resolver of this robot's meshes: from its file, with its own package
         paths, or ``package_paths`` in their place."""
         from pathlib import Path

@@ -52,7 +52,7 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from .core import Robot
-    from .packages import PackageResolver
+    from .packages import PackagePaths, PackageResolver
 
 Rgba = tuple[float, float, float, float]
 Shape = Literal["box", "cylinder", "capsule", "sphere", "mesh"]
@@ -165,7 +165,7 @@ def link_geometry(
     source: GeometryChoice = "auto",
     *,
     links: Sequence[str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
 ) -> dict[str, LinkParts]:
     """The geometry of ``links`` (in that order; default: every link, in URDF order) of a
     loaded robot.
@@ -208,7 +208,7 @@ def missing_meshes(
     source: GeometryChoice = "collision",
     *,
     links: Sequence[str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
 ) -> list[PartFailure]:
     """The mesh elements of ``links`` (as :func:`link_geometry` chooses them) whose file cannot
     be found or is no file (see :attr:`PartFailure.missing`), without reading any mesh: a
@@ -248,7 +248,7 @@ def require_meshes(
     source: GeometryChoice = "collision",
     *,
     links: Sequence[str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     allow_missing: bool = False,
 ) -> list[PartFailure]:
     """Raise :class:`MissingMeshError` when a mesh of ``links`` cannot be found (the first in

@@ -8,17 +8,22 @@ path with ``%20`` and other escapes is read decoded, as ROS's resource retriever
 ``file://`` URI (a relative one that names a file as written is taken as written).
 
 Where a package is looked for, in order:
-1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``);
-   A relative ``DIR`` is taken relative to the current directory (as every command-line
-   path is), never to the file that names the package;
-2. the input file's folder, then each of its parents (up to six folders, and never the home
-   directory, the temporary directory or the file-system root unless the input sits right in
-   it: they hold unrelated projects), nearest first: in each, a directory at most two levels
-   below holding a ``package.xml`` whose ``<name>`` is ``pkg``, else a sub-directory named
-   ``pkg``, else the folder itself if so named. The nearest folder that has the package
-   wins, so a ``package.xml`` of the same name under a far parent never shadows the package
-   the robot sits in; a file the nearest one lacks is looked for in the farther ones (a
-   package split over two source folders that install into one).
+1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``;
+   ``{"pkg": ["/a", "/b"]}`` for a package split over several folders, from the option given
+   once per folder): a file ``package://pkg/rel`` is the first ``DIR/rel`` that exists, in
+   the order given, ``$(find pkg)`` the first ``DIR``, and a file in none of them is a
+   :class:`SourceError` naming every ``DIR`` (the search below is not made for a package
+   given so). A relative ``DIR`` is taken relative to the current directory (as every
+   command-line path is), never to the file that names the package;
+2. for a package not given: the input file's folder, then each of its parents (up to six
+   folders, and never the home directory, the temporary directory or the file-system root
+   unless the input sits right in it: they hold unrelated projects), nearest first: in each,
+   a directory at most two levels below holding a ``package.xml`` whose ``<name>`` is
+   ``pkg``, else a sub-directory named ``pkg``, else the folder itself if so named. The
+   nearest folder that has the package wins, so a ``package.xml`` of the same name under a
+   far parent never shadows the package the robot sits in; a file the nearest one lacks is
+   looked for in the farther ones (a package split over two source folders that install
+   into one).
 
 An unresolved package is a :class:`SourceError` naming the package and the directories searched.
 """
@@ -28,13 +33,19 @@ from __future__ import annotations
 import os
 import re
 import tempfile
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TypeAlias
 from urllib.parse import unquote
 
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import read_input_bytes
+
+#: The folder of a package, or the folders of one split over several, looked in in order.
+PackageDirs: TypeAlias = "str | os.PathLike[str] | Sequence[str | os.PathLike[str]]"
+#: ``package_paths`` of every loader: package name → its folder(s) (``--package-path``).
+PackagePaths: TypeAlias = "Mapping[str, PackageDirs]"
 
 _NAME_RE = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 
@@ -53,18 +64,24 @@ class PackageResolver:
     """Finds package directories for a given input file.
 
     ``start`` is the file (or directory) whose ancestors are searched; ``package_paths`` are
-    explicit ``name → directory`` entries that win over anything found on disk.
+    explicit ``name → directory`` (or ``name → directories``, looked in in order) entries
+    that win over anything found on disk.
     """
 
     start: Path
-    package_paths: Mapping[str, str | os.PathLike[str]] = field(default_factory=dict)
+    package_paths: PackagePaths = field(default_factory=dict)
     max_depth: int = 2
     _cache: dict[str, Path] = field(default_factory=dict, init=False, repr=False)
+    #: The ``package_paths`` folders, each absolute, by package (filled on creation).
+    _given: dict[str, tuple[Path, ...]] = field(default_factory=dict, init=False, repr=False)
     #: The folders scanned so far, nearest first, each with the packages its package.xml
     #: files below name.
     _scanned: list[tuple[Path, dict[str, Path]]] = field(
         default_factory=list, init=False, repr=False
     )
+
+    def __post_init__(self) -> None:
+        self._given = package_folders(self.package_paths)
 
     def _roots(self) -> list[Path]:
         """The input's folder, then its parents up to (not into) a shared folder."""
@@ -95,7 +112,7 @@ class PackageResolver:
         """``sub`` below the first search directory that holds it: the ``--package-path``
         directories, then the input's folder and its parents (a ``package:///sub`` URI, as
         Pinocchio resolves it against its package directories)."""
-        given = [absolute(d) for d in self.package_paths.values()]
+        given = [d for folders in self._given.values() for d in folders]
         roots = [*given, *self._roots()]
         for root in roots:
             cand = root / sub
@@ -111,13 +128,13 @@ class PackageResolver:
         """Directory of package ``name``; raises :class:`SourceError` when not found."""
         if name in self._cache:
             return self._cache[name]
-        if name in self.package_paths:
-            d = absolute(self.package_paths[name])
-            why = _not_a_directory(d)
-            if why is not None:
-                raise SourceError(f"--package-path {name}={d}: {why}")
-            self._cache[name] = d
-            return d
+        if name in self._given:
+            for d in self._given[name]:
+                why = _not_a_directory(d)
+                if why is not None:
+                    raise SourceError(f"--package-path {name}={d}: {why}")
+            self._cache[name] = self._given[name][0]
+            return self._given[name][0]
         found: Path | None = None
         for root, index in self._search_folders():
             found = index.get(name)
@@ -136,15 +153,51 @@ class PackageResolver:
         self._cache[name] = found
         return found
 
-    def _elsewhere(self, name: str, sub: str) -> Iterator[Path]:
-        """``sub`` in the farther folders that also hold package ``name``, nearest first: a
-        package split over two source folders that install into one (iCub's manual models
-        beside the generated ones, both package 'iCub')."""
+    def package_folder(self, name: str, sub: str) -> Path:
+        """The folder of package ``name`` that its file ``sub`` is in (``package://name/sub``).
+
+        A package given in ``package_paths``: the first of its folders that holds ``sub`` as
+        a file, else the first where something else is at ``sub`` (a directory, a FIFO: the
+        reader says what it is); a :class:`SourceError` naming every folder when none holds
+        anything there. A package found by the search: the nearest folder, or a farther one
+        of the same package that holds the file the nearest lacks (the nearest when none
+        does). Raises :class:`SourceError` when the package cannot be found."""
+        nearest = self.find(name)
+        if name in self._given:
+            return self._given_folder(name, sub)
+        if not sub or _is_file(nearest / sub) or _is_dir(nearest / sub):
+            return nearest
+        return next((f for f in self._elsewhere(name) if _is_file(f / sub)), nearest)
+
+    def _given_folder(self, name: str, sub: str) -> Path:
+        """The first ``package_paths`` folder of ``name`` holding the file ``sub`` (see
+        :meth:`package_folder`)."""
+        folders = self._given[name]
+        found = next((d for d in folders if _is_file(d / sub)), None)
+        found = found or next((d for d in folders if _anything_at(d / sub)), None)
+        if found is not None:
+            return found
+        tried = ", ".join(str(d / sub) for d in folders)
+        if len(folders) == 1:
+            where = f"the --package-path directory of '{name}' (looked for {tried})"
+        else:
+            where = f"any of the {len(folders)} --package-path directories of '{name}' "
+            where += f"(looked for, in order: {tried})"
+        raise SourceError(
+            f"file not found in {where}; a package split over several folders takes "
+            f"--package-path {name}=DIR once per folder (repeated, the first that holds a "
+            "file wins)"
+        )
+
+    def _elsewhere(self, name: str) -> Iterator[Path]:
+        """The farther folders that also hold package ``name``, nearest first: a package split
+        over two source folders that install into one (iCub's manual models beside the
+        generated ones, both package 'iCub')."""
         nearest = self.find(name)
         for root, index in self._search_folders():
             for folder in (index.get(name), root / name, root if root.name == name else None):
                 if folder is not None and folder != nearest and _is_dir(folder):
-                    yield folder / sub
+                    yield folder
 
     def _holder_hint(self, name: str, sub: str) -> str:
         """A package of another name found in the search that holds ``sub`` (a package
@@ -178,14 +231,11 @@ class PackageResolver:
             if not name:  # package:///a/b: a path below a package search directory
                 return self.find_below_roots(unquote(sub))
             try:
-                path = self.find(name) / unquote(sub)
+                return self.package_folder(name, unquote(sub)) / unquote(sub)
             except SourceError as e:
                 gazebo = _GAZEBO_NOTE if scheme == "model://" else ""
                 hint = self._holder_hint(name, unquote(sub))
                 raise SourceError(e.message + hint + gazebo) from None
-            if name in self.package_paths or _is_file(path) or _is_dir(path):
-                return path
-            return next((c for c in self._elsewhere(name, unquote(sub)) if _is_file(c)), path)
         if uri.startswith("file://"):
             return Path(file_uri_path(uri))
         base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
@@ -270,6 +320,19 @@ def _is_file(path: Path) -> bool:
         return False
 
 
+def _anything_at(path: Path) -> bool:
+    """Something is at ``path`` (a file, a directory, a FIFO, a dangling link) or it cannot be
+    looked at (a name too long for the file system): the reader then says what is wrong.
+    False only when nothing is there."""
+    try:
+        os.lstat(path)
+    except (FileNotFoundError, NotADirectoryError):
+        return False
+    except (OSError, ValueError):
+        return True
+    return True
+
+
 def _not_a_directory(path: Path) -> str | None:
     """Why ``path`` is not a directory to search, or None when it is one."""
     try:
@@ -303,6 +366,36 @@ def _package_xmls(root: Path, depth: int) -> list[Path]:
                 except OSError:
                     continue
         frontier = nxt[:500]
+    return out
+
+
+def package_folders(paths: PackagePaths | None) -> dict[str, tuple[Path, ...]]:
+    """``paths`` (``name → DIR`` or ``name → [DIR, ...]``) as each package's folders, absolute
+    (:func:`absolute`), in the order given, each once."""
+    out: dict[str, tuple[Path, ...]] = {}
+    for name, dirs in (paths or {}).items():
+        given = [dirs] if isinstance(dirs, (str, os.PathLike)) else list(dirs)
+        out[name] = tuple(dict.fromkeys(absolute(d) for d in given))
+    return out
+
+
+def absolute_package_paths(paths: PackagePaths | None) -> dict[str, str | tuple[str, ...]]:
+    """``paths`` with absolute folders, as a loaded robot keeps them: a package's one folder
+    as a string (the form ``package_paths`` has always had), the folders of a package split
+    over several as a tuple of strings."""
+    out: dict[str, str | tuple[str, ...]] = {}
+    for name, folders in package_folders(paths).items():
+        out[name] = str(folders[0]) if len(folders) == 1 else tuple(str(f) for f in folders)
+    return out
+
+
+def parse_package_paths(specs: Iterable[str] | None) -> dict[str, tuple[str, ...]]:
+    """Every ``--package-path NAME=DIR`` of a command: each package's folders in the order
+    given (the option repeated for one ``NAME``: a package split over several folders)."""
+    out: dict[str, tuple[str, ...]] = {}
+    for spec in specs or ():
+        name, directory = parse_package_path(spec)
+        out[name] = (*out.get(name, ()), directory)
     return out
 
 

@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     import yourdfpy
 
     from .core import Robot
+    from .packages import PackagePaths
 
 
 __all__ = [
@@ -110,7 +111,7 @@ def source_line(
 def load_urdf(
     path: str | os.PathLike[str],
     *,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     build_scene_graph: bool = False,
 ) -> yourdfpy.URDF:
     """Load a URDF file without loading any mesh: the yourdfpy object of :func:`read_robot`
@@ -123,7 +124,7 @@ def load_urdf(
 def read_robot(
     path: str | os.PathLike[str],
     *,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     build_scene_graph: bool = False,
     data: bytes | None = None,
 ) -> Robot:
@@ -160,7 +161,7 @@ def parse_urdf_string(
     text: str,
     path: str = "<string>",
     *,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     build_scene_graph: bool = False,
 ) -> yourdfpy.URDF:
     """Parse URDF text (e.g. expanded xacro output); ``path`` is used in messages and to
@@ -174,7 +175,7 @@ def parse_robot(
     text: str,
     path: str = "<string>",
     *,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     build_scene_graph: bool = False,
     expanded: bool = False,
     xacro_args: Mapping[str, str] | None = None,
@@ -241,7 +242,7 @@ def _parse_bytes(
     data: bytes,
     path: str,
     *,
-    package_paths: Mapping[str, str] | None,
+    package_paths: PackagePaths | None,
     build_scene_graph: bool,
     expanded: bool = False,
     xacro_args: Mapping[str, str] | None = None,

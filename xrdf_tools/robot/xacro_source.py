@@ -27,7 +27,7 @@ from xml.parsers.expat import ExpatError
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import SourceError, UrdfError, UrdfReadError, XrdfToolsError
 from ..util.fileio import check_input_file, decode_utf8, read_input_bytes
-from .packages import PackageResolver, absolute
+from .packages import PackageResolver, absolute_package_paths
 from .xacro_args import ReadArgs, unknown_packages, unread_arg_warnings, unset_args
 from .xacro_child import out_of_memory
 from .xacro_culprits import UNDEFINED_ARG, culprit_in
@@ -46,6 +46,7 @@ from .xacro_unresolved import PLACEHOLDER, error_for, settle
 
 if TYPE_CHECKING:
     from .core import Robot
+    from .packages import PackagePaths
 
 __all__ = ["expand_xacro", "is_xacro", "load_robot", "parse_xacro_arg", "uses_xacro"]
 
@@ -146,7 +147,7 @@ def _guarded_open(file: Any, *args: Any, **kwargs: Any) -> Any:
 def expand_xacro(
     path: str | os.PathLike[str],
     args: Mapping[str, str] | None = None,
-    package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+    package_paths: PackagePaths | None = None,
     *,
     data: bytes | None = None,
     warnings: list[Diagnostic] | None = None,
@@ -202,7 +203,7 @@ class _Expansion:
 def _expansion(
     path: str | os.PathLike[str],
     args: Mapping[str, str] | None,
-    package_paths: Mapping[str, str | os.PathLike[str]] | None,
+    package_paths: PackagePaths | None,
     data: bytes | None,
     said: list[Diagnostic],
     warn_unread_args: frozenset[str] | None,
@@ -219,7 +220,7 @@ def _expansion(
 def _expand_here(
     path: str | os.PathLike[str],
     args: Mapping[str, str] | None,
-    package_paths: Mapping[str, str | os.PathLike[str]] | None,
+    package_paths: PackagePaths | None,
     data: bytes | None,
     said: list[Diagnostic],
     warn_unread_args: frozenset[str] | None,
@@ -398,7 +399,7 @@ def load_robot(
     path: str | os.PathLike[str],
     *,
     xacro_args: Mapping[str, str] | None = None,
-    package_paths: Mapping[str, str | os.PathLike[str]] | None = None,
+    package_paths: PackagePaths | None = None,
     srdf: str | os.PathLike[str] | None = None,
 ) -> Robot:
     """Load a URDF or expand and load a xacro file (meshes are never loaded): the one loader
@@ -409,7 +410,7 @@ def load_robot(
     """
     from .urdf_source import parse_robot, read_robot, read_urdf_bytes
 
-    pkg = {k: str(absolute(v)) for k, v in (package_paths or {}).items()}
+    pkg = absolute_package_paths(package_paths)
     data: bytes | None = None
     if Path(path).suffix != ".xacro":
         try:
@@ -447,7 +448,7 @@ def load_robot(
 _NOT_XACRO = "--xacro-arg given but the robot file is not a xacro file"
 
 
-def _read_by(srdf: str | os.PathLike[str], package_paths: Mapping[str, str]) -> frozenset[str]:
+def _read_by(srdf: str | os.PathLike[str], package_paths: PackagePaths) -> frozenset[str]:
     """The xacro arguments an SRDF (xacro) declares or uses."""
     from .xacro_args import args_named
 

@@ -9,7 +9,7 @@ it from the same checked tree, with :func:`make_filename_handler` resolving ``pa
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -18,12 +18,14 @@ from ..util.errors import UrdfError, XrdfToolsError
 if TYPE_CHECKING:
     import yourdfpy
 
+    from .packages import PackagePaths
+
 __all__ = ["build_yourdfpy", "make_filename_handler"]
 
 
 def make_filename_handler(
     path: str | os.PathLike[str] | None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
 ) -> Callable[[str], str]:
     """A yourdfpy ``filename_handler``: ``package://``, ``file://`` and relative mesh URIs.
 
@@ -48,7 +50,7 @@ def make_filename_handler(
 
 
 def build_yourdfpy(
-    document: Any, path: str, package_paths: Mapping[str, str], build_scene_graph: bool
+    document: Any, path: str, package_paths: PackagePaths, build_scene_graph: bool
 ) -> yourdfpy.URDF:
     """The yourdfpy object of a loaded robot's checked ``<robot>`` tree (no meshes loaded)."""
     from ..util.extras import FIT, require

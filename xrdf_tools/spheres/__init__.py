@@ -30,6 +30,7 @@ from .robot_fit import link_seed
 
 if TYPE_CHECKING:
     from ..robot.link_geometry import GeometryChoice
+    from ..robot.packages import PackagePaths
     from .fit import Plane
     from .geometry import LinkGeometry
     from .visual_agreement import VisualCheck
@@ -56,7 +57,7 @@ def fit_link_spheres(
     count: int | None = None,
     density: float | None = None,
     seed: int = 0,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     max_protrusion: float | Mapping[str, float] | None = None,
     progress: Any = None,
     source: GeometryChoice = "auto",
@@ -206,7 +207,7 @@ def coverage_for_xrdf(
     urdf_path: str | os.PathLike[str] | Robot,
     xrdf: Xrdf,
     *,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     samples: int = 20_000,
     seed: int = 0,
     group: str | None = None,
@@ -295,7 +296,7 @@ def ignore_adjacent(
     xrdf: Xrdf,
     urdf_path: str | os.PathLike[str] | Robot,
     *,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     urdf: Any = None,
 ) -> tuple[Xrdf, list[Diagnostic]]:
     """Add each pair of *adjacent* sphere frames to the self-collision ignore mask.

@@ -31,6 +31,7 @@ import numpy as np
 from ..diagnostics import Diagnostic, Severity
 from ..robot.core import Robot
 from ..robot.link_geometry import GeometryChoice, GeometryPart, GeometrySource, LinkParts
+from ..robot.packages import package_folders
 from ..util.errors import UrdfError
 from ..util.fixed_order import quantized
 from ..xrdf.model import Sphere
@@ -45,6 +46,8 @@ from .mesh_solids import (
 
 if TYPE_CHECKING:
     import trimesh
+
+    from ..robot.packages import PackagePaths
 
 __all__ = ["LinkGeometry", "link_solids", "load_link_geometry"]
 
@@ -208,7 +211,7 @@ def load_link_geometry(
     urdf: str | os.PathLike[str] | Robot,
     *,
     links: Sequence[str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     source: GeometryChoice = "auto",
     progress: Callable[[str, int, int], None] | None = None,
 ) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
@@ -260,14 +263,16 @@ def link_solids(
     *,
     source: GeometryChoice = "auto",
     requested: bool = True,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
 ) -> tuple[dict[str, LinkGeometry], list[Diagnostic]]:
     """:func:`load_link_geometry` of links already read by
     :func:`~xrdf_tools.robot.link_geometry.link_geometry` (with the same ``source`` and
     ``package_paths``); ``requested``: the links were named (a link without geometry is
     reported)."""
     # a link's solid is made once per loaded robot: convert fits the links, then lints them
-    same = package_paths is None or dict(package_paths) == dict(robot.package_paths)
+    same = package_paths is None or (
+        package_folders(package_paths) == package_folders(robot.package_paths)
+    )
     made = robot.derived.setdefault("link_solids", {}) if same else {}
     out: dict[str, LinkGeometry] = {}
     diags: list[Diagnostic] = []
@@ -289,7 +294,7 @@ def link_solids(
     return out, diags
 
 
-def _load(path: str | os.PathLike[str], package_paths: Mapping[str, str] | None) -> Robot:
+def _load(path: str | os.PathLike[str], package_paths: PackagePaths | None) -> Robot:
     from ..robot.xacro_source import load_robot
 
     return load_robot(path, package_paths=package_paths)

@@ -54,6 +54,7 @@ if TYPE_CHECKING:
     import trimesh
 
     from ..robot.link_geometry import GeometryChoice
+    from ..robot.packages import PackagePaths
     from .fit import LinkPlan, Plane, SphereFitter
     from .geometry import LinkGeometry
     from .sheet import SheetPlan
@@ -101,7 +102,7 @@ def fit_robot(
     links: Sequence[str] | None = None,
     counts: CountPolicy = BY_TARGET,
     seed: int = 0,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     max_protrusion: float | Mapping[str, float] | None = None,
     clips: Mapping[str, Sequence[Plane]] | None = None,
     progress: Progress | None = None,
@@ -164,7 +165,7 @@ def fit_robot(
 def _solids(
     robot: str | os.PathLike[str] | Robot,
     links: Sequence[str] | None,
-    package_paths: Mapping[str, str] | None,
+    package_paths: PackagePaths | None,
     source: GeometryChoice,
     geometry: Mapping[str, LinkGeometry] | None,
     reading: Progress | None,

@@ -39,6 +39,7 @@ from ..util.text import name_list
 
 if TYPE_CHECKING:
     from ..robot.core import Robot
+    from ..robot.packages import PackagePaths
     from .geometry import LinkGeometry
 
 __all__ = [
@@ -91,7 +92,7 @@ def visual_disagreements(
     robot: Robot,
     geoms: Mapping[str, LinkGeometry],
     *,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     check: VisualCheck = "fast",
 ) -> list[Diagnostic]:
     """A warning per link of ``geoms`` fitted from collision geometry that disagrees with its

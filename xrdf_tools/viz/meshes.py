@@ -16,7 +16,7 @@ and quick to write, and a viewer quick to draw it.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -32,6 +32,7 @@ if TYPE_CHECKING:
 
     from ..robot.core import Robot
     from ..robot.link_geometry import GeometryPart
+    from ..robot.packages import PackagePaths
 
 __all__ = [
     "DEFAULT_MESH_COLOR",
@@ -71,7 +72,7 @@ def load_link_meshes(
     kind: MeshKind,
     *,
     urdf_path: str | os.PathLike[str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
 ) -> tuple[dict[str, tuple[MeshPart, ...]], list[Diagnostic]]:
     """Meshes of ``links`` from their ``kind`` elements (``none``: nothing is read).
 

@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 
     from ..robot.core import Robot
     from ..robot.kinematics import KinematicModel
+    from ..robot.packages import PackagePaths
     from ..selfcollision.collision import Contact
 
 Progress = Callable[[int, int], None]
@@ -201,7 +202,7 @@ def build_scene(
     meshes: MeshKind = "visual",
     colliding_only: bool = False,
     urdf_path: str | os.PathLike[str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
     progress: Progress | None = None,
 ) -> Scene:
     """Evaluate the sphere model of ``xrdf`` on ``urdf`` for drawing.

@@ -238,7 +238,7 @@ def command(
     from ...convert.core import ConvertOptions
     from ...convert.pipeline import MaskOptions, convert_robot
     from ...convert.sources.cspace import parse_chain
-    from ...robot.packages import parse_package_path
+    from ...robot.packages import parse_package_paths
     from ...robot.xacro_source import parse_xacro_arg
     from .convert_outcome import check_against, report_findings, write_result
 
@@ -247,7 +247,7 @@ def command(
     if output is not None and not check:
         refuse_input_overwrite(output, inputs)
     try:
-        pkgs = pairs(package_path, parse_package_path)
+        pkgs = parse_package_paths(package_path)
         xargs = pairs(xacro_arg, parse_xacro_arg)
         options = ConvertOptions(
             srdf=srdf,

@@ -20,7 +20,6 @@ from .plain import (
     echo,
     is_stdio,
     load_robot_option,
-    pairs,
     timed,
 )
 from .typer_common import (
@@ -198,7 +197,7 @@ def command(
         )
     try:
         from ...edit.state import EditState
-        from ...robot.packages import parse_package_path
+        from ...robot.packages import parse_package_paths
         from ...xrdf.model import Xrdf
 
         robot = load_robot_option(urdf, xacro_arg, package_path, srdf)
@@ -221,7 +220,7 @@ def command(
                 port=port,
                 readonly=readonly,
                 configs=configs,
-                package_paths=pairs(package_path, parse_package_path),
+                package_paths=parse_package_paths(package_path),
                 report_samples=samples,
                 on_refused=_warn_refused,
             )

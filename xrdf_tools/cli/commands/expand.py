@@ -92,7 +92,7 @@ def _expanded_srdf(
     """The expansion of an SRDF xacro (no ``<link>``; groups, disabled pairs or a virtual
     joint), checked as an SRDF; None when ``path`` does not expand to one."""
     from ...convert.sources.srdf_parse import parse_srdf
-    from ...robot.packages import parse_package_path
+    from ...robot.packages import parse_package_paths
     from ...robot.xacro_source import expand_xacro, parse_xacro_arg
     from ...util.safe_xml import XmlSyntaxError, parse_xml, utf8_xml_bytes
     from .plain import echo_warnings, pairs
@@ -101,7 +101,7 @@ def _expanded_srdf(
     text = expand_xacro(
         path,
         pairs(xacro_arg, parse_xacro_arg),
-        pairs(package_path, parse_package_path),
+        parse_package_paths(package_path),
         warnings=said,
     )
     try:

@@ -46,13 +46,13 @@ def _load_robot(urdf: Path, package_path: list[str] | None, xacro_arg: list[str]
     """The URDF (or expanded xacro), as every command loads ``--urdf``; its warnings (defects
     in parts no command uses, xacro's own) go with the command's diagnostics, in its
     ``--format``. Raises :class:`XrdfToolsError`."""
-    from ...robot.packages import parse_package_path
+    from ...robot.packages import parse_package_paths
     from ...robot.xacro_source import load_robot, parse_xacro_arg
 
     return load_robot(
         urdf,
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
-        package_paths=pairs(package_path, parse_package_path),
+        package_paths=parse_package_paths(package_path),
     )
 
 

@@ -124,7 +124,10 @@ XACRO_ARG = Option(
 PACKAGE_PATH = Option(
     "package_path",
     ("--package-path",),
-    "ROS package location NAME=DIR (repeatable).",
+    "ROS package location NAME=DIR (repeatable; a relative DIR is taken from the current "
+    "directory). Give one NAME several times for a package split over several folders: "
+    "package://NAME/rel is the first DIR/rel that exists, in the order given; $(find NAME) "
+    "is the first DIR.",
     text,
     multiple=True,
 )

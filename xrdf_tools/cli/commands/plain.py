@@ -276,7 +276,7 @@ def two_stdin(inputs: Mapping[str, Sequence[Path | str | None]]) -> str | None:
 # --urdf, --xacro-arg, --package-path
 # --------------------------------------------------------------------------------------------
 def pairs(values: list[str] | None, parse: Any) -> dict[str, str]:
-    """``--package-path``/``--xacro-arg`` values as a mapping (the last one wins)."""
+    """``--xacro-arg`` values as a mapping (the last one wins)."""
     return dict(parse(v) for v in values or [])
 
 
@@ -292,13 +292,13 @@ def load_robot_option(
 
     Raises :class:`XrdfToolsError` (the caller exits 2).
     """
-    from ...robot.packages import parse_package_path
+    from ...robot.packages import parse_package_paths
     from ...robot.xacro_source import load_robot, parse_xacro_arg
 
     robot = load_robot(
         path,
         xacro_args=pairs(xacro_arg, parse_xacro_arg),
-        package_paths=pairs(package_path, parse_package_path),
+        package_paths=parse_package_paths(package_path),
         srdf=srdf,
     )
     echo_warnings(robot.warnings)  # defects in unused parts, xacro's warnings

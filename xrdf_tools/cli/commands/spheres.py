@@ -252,7 +252,7 @@ def command(
         metrics_json,
         metrics_table,
     )
-    from ...robot.packages import parse_package_path
+    from ...robot.packages import parse_package_paths
     from ...spheres.count_policy import CountPolicy
     from ...spheres.morphit import check_method
     from ...xrdf.io import dump_xrdf
@@ -272,7 +272,7 @@ def command(
             CountPolicy(per_link, count, density, target_coverage),
             links=_split_links(links),
             seed=seed,
-            package_paths=dict(parse_package_path(p) for p in (package_path or [])),
+            package_paths=parse_package_paths(package_path),
             max_protrusion=max_protrusion,
             clips=clip or (),
             allow_missing_meshes=allow_missing_meshes,

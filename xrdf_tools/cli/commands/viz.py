@@ -33,6 +33,7 @@ from .typer_common import (
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
+    from ...robot.packages import PackagePaths
     from ...viz import Target
 
 #: Show a progress bar from this many samples on (when stderr is a terminal).
@@ -157,7 +158,7 @@ def command(
 
     try:
         from ...robot.kinematics import build_kinematic_model
-        from ...robot.packages import parse_package_path
+        from ...robot.packages import parse_package_paths
         from ...viz import (
             Picture,
             build_scene,
@@ -172,7 +173,7 @@ def command(
             require("rerun", "rerun-sdk")
         elif target == "mcap":
             require("mcap", "mcap")
-        pkgs = dict(parse_package_path(p) for p in package_path or ())
+        pkgs = parse_package_paths(package_path)
         x = load_xrdf_input(xrdf_file)
         u = load_robot_option(urdf, xacro_arg, package_path)
         check_robot_overwrite(out, u)
@@ -249,7 +250,7 @@ _PNG_NOTE = {"png": "; the PNG draws spheres only (meshes not read)"}
 
 
 def _require_meshes(
-    robot: Any, drawn: str, links: Sequence[str], pkgs: dict[str, str], allow: bool
+    robot: Any, drawn: str, links: Sequence[str], pkgs: PackagePaths, allow: bool
 ) -> None:
     """Stop (MissingMeshError) when a mesh to draw cannot be found, unless ``allow``."""
     if drawn == "none":

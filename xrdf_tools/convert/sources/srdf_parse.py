@@ -13,6 +13,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Protocol
 
 from ...diagnostics import Diagnostic
+from ...robot.packages import PackagePaths
 from ...robot.xacro_places import ElementKey, Place, included_places
 from ...util.errors import SourceError
 from ...util.fileio import read_input_bytes
@@ -171,7 +172,7 @@ def load_srdf(
     path: str | os.PathLike[str],
     *,
     xacro_args: Mapping[str, str] | None = None,
-    package_paths: Mapping[str, str] | None = None,
+    package_paths: PackagePaths | None = None,
 ) -> Srdf:
     """Read an SRDF file; raises :class:`SourceError` (with the line) when it cannot be used.
 
