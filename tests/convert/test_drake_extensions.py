@@ -190,6 +190,64 @@ def test_a_drake_frame_on_no_link_stops_as_tool_frame(tmp_path: Path) -> None:
     assert e.line == _FRAME_LINE and "its link 'l7' is not a link of the URDF" in e.message
 
 
+_TOOL = '<frame name="tool_frame" link="l3" xyz="0 0  0.1" rpy="0 0 1.5"/>'
+
+
+def test_a_drake_frame_named_twice_stops_as_tool_frame(tmp_path: Path) -> None:
+    """Drake refuses a second frame of one name; the last one was taken without a word."""
+    text = _ARM.replace(_TOOL, _TOOL + '<frame name="tool_frame" link="l1" xyz="0 0 0.5"/>')
+    with pytest.raises(SourceError) as caught:
+        _convert(tmp_path, text, tool_frames=("tool_frame",))
+    e = caught.value
+    assert e.line == _FRAME_LINE
+    assert "Drake refuses it: 2 <frame> elements are named 'tool_frame'" in e.message
+
+
+def test_a_drake_frame_named_as_a_link_is_not_offered(tmp_path: Path) -> None:
+    """``--tool-frame l2`` is the link: the note no longer promises to add the frame."""
+    text = _ARM.replace('<frame name="tool_frame"', '<frame name="l2"')
+    _, rules, x = _convert(tmp_path, text, tool_frames=("l2",))
+    (note,) = rules["convert-drake-frame"]
+    assert "Drake refuses it: a link is named 'l2' too" in note.message
+    assert "writes it as an add_frame" not in note.message
+    assert x.tool_frames == ("l2",) and not x.modifiers  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize(
+    ("pose", "said"),
+    [
+        ('xyz="0 0.1"', "its xyz '0 0.1' must be three numbers within ±1e+06 m"),
+        ('rpy="0 0 0 1"', "its rpy '0 0 0 1' must be three numbers within ±1e+12"),
+        ('xyz="1e300 0 0"', "its xyz '1e300 0 0' must be three numbers within ±1e+06 m"),
+        ('rpy="1e300 0 0"', "its rpy '1e300 0 0' must be three numbers within ±1e+12"),
+    ],
+)
+def test_a_drake_frame_past_the_number_bounds_stops_at_its_line(
+    tmp_path: Path, pose: str, said: str
+) -> None:
+    """A frame 1e300 m away was written and then refused by the lint of the converted XRDF
+    (exit 1, at a line of a file never written); a 1e300 rad turn was written as a pose."""
+    text = _ARM.replace('xyz="0 0  0.1" rpy="0 0 1.5"', pose)
+    with pytest.raises(SourceError) as caught:
+        _convert(tmp_path, text, tool_frames=("tool_frame",))
+    assert caught.value.line == _FRAME_LINE and said in caught.value.message
+
+
+def test_a_drake_frame_without_name_or_link_is_said_so(tmp_path: Path) -> None:
+    """A missing attribute was read as the name 'None' (``--tool-frame None`` added it)."""
+    text = _ARM.replace('name="tool_frame" ', "")
+    _, rules, _ = _convert(tmp_path, text)
+    (note,) = rules["convert-drake-frame"]
+    assert "Drake <frame> without a name on link 'l3'" in note.message
+    with pytest.raises(SourceError, match="'None' is not a link"):
+        _convert(tmp_path, text, tool_frames=("None",))
+    text = _ARM.replace('link="l3" xyz="0 0  0.1"', 'xyz="0 0  0.1"')
+    with pytest.raises(SourceError) as caught:
+        _convert(tmp_path, text, tool_frames=("tool_frame",))
+    assert "a Drake <frame> on no link" in caught.value.message
+    assert "Drake refuses it: it names no link" in caught.value.message
+
+
 def test_other_drake_elements_are_one_note_per_kind(tmp_path: Path) -> None:
     _, rules, _ = _convert(tmp_path)
     notes = {d.message.split(" left out", 1)[0]: d for d in rules["convert-drake-ignored"]}

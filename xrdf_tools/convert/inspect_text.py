@@ -148,7 +148,8 @@ def _frames(ins: Inspection) -> list[str]:
     ]
     for f in ins.frames:
         line = f", line {f.at[1]}" if f.at[1] else ""
-        out.append(f"  {f.name} on {f.link} (xyz {f.xyz}, rpy {f.rpy}{line})")
+        name, link = f.name or "(no name)", f.link or "(no link)"
+        out.append(f"  {name} on {link} (xyz {f.xyz}, rpy {f.rpy}{line})")
     return out
 
 

@@ -31,7 +31,8 @@ _GROUP_PARTS = ("member", "member_group", "ignored_collision_filter_group")
 
 @dataclass(frozen=True)
 class DrakeFrame:
-    """A ``<frame name link xyz rpy>`` of the robot: a named pose on ``link``."""
+    """A ``<frame name link xyz rpy>`` of the robot: a named pose on ``link`` (``name`` or
+    ``link`` "" when the element has none)."""
 
     name: str
     link: str
@@ -105,8 +106,8 @@ def _read(robot: Robot, root: Any) -> DrakeExtensions:
                 _count(others, f"drake:{attr} on <{_tag(el)}>", _place(robot, el))
     frames = tuple(
         DrakeFrame(
-            str(f.get("name")),
-            str(f.get("link")),
+            str(f.get("name") or ""),
+            str(f.get("link") or ""),
             " ".join(str(f.get("xyz") or "0 0 0").split()),
             " ".join(str(f.get("rpy") or "0 0 0").split()),
             _place(robot, f),

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 from ...diagnostics import Severity
 from ...robot.drake import DrakeExtensions, DrakeFrame, FilterGroup, drake_extensions
 from ...util.errors import SourceError
+from ...util.numbers import MAX_LENGTH, MAX_NUMBER, within
 from ...util.rotations import quat_from_rpy
 from ...util.text import name_list, pair_text
 from ...xrdf.model import AddFrame, Orientation
@@ -67,8 +68,7 @@ def read_drake(robot: Robot, tree: RobotTree, draft: Draft) -> None:
     rep = Reporter(robot.path)
     _accelerations(ext, tree, draft, rep)
     _filter_groups(ext, tree, draft, rep)
-    for frame in ext.frames:
-        _frame(frame, tree, draft, rep)
+    _frames(ext, tree, draft, rep)
     for kind, at, count in ext.others:
         first = kind.split(" ", 1)[0]
         severity = Severity.WARNING if first in _SHAPING else Severity.INFO
@@ -176,40 +176,89 @@ def _member_links(group: FilterGroup, groups: dict[str, FilterGroup]) -> list[st
     return list(links)
 
 
-def _frame(frame: DrakeFrame, tree: RobotTree, draft: Draft, rep: Reporter) -> None:
-    """A Drake ``<frame>``: said, and offered to ``--tool-frame`` as an ``add_frame``."""
-    rep.report(
-        "convert-drake-frame",
-        f"Drake <frame> '{frame.name}' on link '{frame.link}' is no link: no XRDF reader "
-        f"sees it unless it is added (--tool-frame {frame.name} writes it as an add_frame)",
-        at=frame.at,
-    )
-    what = f"a Drake <frame> on link '{frame.link}'"
-    xyz, rpy = _numbers(frame.xyz), _numbers(frame.rpy)
-    if frame.link not in tree.links:
-        why = f"its link '{frame.link}' is not a link of the URDF"
-        draft.offered_frames[frame.name] = OfferedFrame(None, what, frame.at, why)
-    elif xyz is None or rpy is None:
-        why = f"its xyz '{frame.xyz}' and rpy '{frame.rpy}' must be three numbers each"
-        draft.offered_frames[frame.name] = OfferedFrame(None, what, frame.at, why)
-    else:
-        added = AddFrame(
-            frame_name=frame.name,
-            parent_frame_name=frame.link,
-            joint_name="",
-            position=xyz,
-            orientation=Orientation.from_wxyz(*quat_from_rpy(*rpy)),
+def _frames(ext: DrakeExtensions, tree: RobotTree, draft: Draft, rep: Reporter) -> None:
+    """Each Drake ``<frame>``: said, and offered to ``--tool-frame`` where Drake would make it
+    a frame (a name of its own, on a link of the URDF, at a pose of usable numbers)."""
+    lines: dict[str, list[int | None]] = {}
+    for frame in ext.frames:
+        lines.setdefault(frame.name, []).append(frame.at[1])
+    for frame in ext.frames:
+        _frame(frame, tree, draft, rep, _refused(frame, tree, lines[frame.name]))
+
+
+def _refused(frame: DrakeFrame, tree: RobotTree, same_name: list[int | None]) -> str | None:
+    """Why Drake refuses ``frame``, which ``--tool-frame`` then cannot add (None: it would
+    not). Drake's frames share one namespace with its links' frames, so a name taken twice
+    or a link's name is refused, as a frame without a name or a link is."""
+    if not frame.name:
+        return "it has no name"
+    if frame.name in tree.links:
+        return f"a link is named '{frame.name}' too (--tool-frame {frame.name} is that link)"
+    if len(same_name) > 1:
+        at = ", ".join(str(n) for n in same_name if n is not None)
+        return f"{len(same_name)} <frame> elements are named '{frame.name}'" + (
+            f" (lines {at})" if at else ""
         )
-        draft.offered_frames[frame.name] = OfferedFrame(added, what, frame.at)
+    if not frame.link:
+        return "it names no link"
+    if frame.link not in tree.links:
+        return f"its link '{frame.link}' is not a link of the URDF"
+    return None
 
 
-def _numbers(text: str) -> tuple[float, float, float] | None:
-    """Three finite numbers written apart by spaces, else None."""
+def _frame(
+    frame: DrakeFrame, tree: RobotTree, draft: Draft, rep: Reporter, refused: str | None
+) -> None:
+    """A Drake ``<frame>``: said, and offered to ``--tool-frame`` as an ``add_frame``."""
+    on = f"on link '{frame.link}'" if frame.link else "on no link"
+    what = f"a Drake <frame> {on}"
+    xyz, rpy = _numbers(frame.xyz, metres=True), _numbers(frame.rpy, metres=False)
+    why = f"Drake refuses it: {refused}" if refused else None
+    why = why or _pose_problem(frame, xyz is None, rpy is None)
+    named = f"'{frame.name}'" if frame.name else "without a name"
+    said = f"Drake <frame> {named} {on} is no link: no XRDF reader sees it"
+    if refused is not None:
+        said += f", and Drake refuses it: {refused}"
+    elif why is not None:
+        said += f", and --tool-frame cannot add it: {why}"
+    else:
+        said += f" unless it is added (--tool-frame {frame.name} writes it as an add_frame)"
+    rep.report("convert-drake-frame", said, at=frame.at)
+    if not frame.name or frame.name in tree.links:
+        return  # --tool-frame NAME names the link, not this frame
+    if why is not None or xyz is None or rpy is None:
+        offer = OfferedFrame(None, what, frame.at, why or "")
+        draft.offered_frames.setdefault(frame.name, offer)
+        return
+    added = AddFrame(
+        frame_name=frame.name,
+        parent_frame_name=frame.link,
+        joint_name="",
+        position=xyz,
+        orientation=Orientation.from_wxyz(*quat_from_rpy(*rpy)),
+    )
+    draft.offered_frames[frame.name] = OfferedFrame(added, what, frame.at)
+
+
+def _pose_problem(frame: DrakeFrame, bad_xyz: bool, bad_rpy: bool) -> str | None:
+    """What is wrong with the frame's numbers, or None."""
+    problems = []
+    if bad_xyz:
+        problems.append(f"its xyz '{frame.xyz}' must be three numbers within ±{MAX_LENGTH:g} m")
+    if bad_rpy:
+        problems.append(f"its rpy '{frame.rpy}' must be three numbers within ±{MAX_NUMBER:g}")
+    return "; ".join(problems) or None
+
+
+def _numbers(text: str, *, metres: bool) -> tuple[float, float, float] | None:
+    """Three numbers written apart by spaces, each within the bounds of a length
+    (``metres``) or of any number (:mod:`xrdf_tools.util.numbers`), else None."""
     try:
         values = [float(v) for v in text.split()]
     except ValueError:
         return None
-    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+    bound = MAX_LENGTH if metres else MAX_NUMBER
+    if len(values) != 3 or not all(within(v, bound) for v in values):
         return None
     return values[0], values[1], values[2]
 
