@@ -345,3 +345,21 @@ def test_a_plate_a_joint_moves_is_not_sent_to_the_planner_as_a_world_cuboid(
     assert "link 'carriage' is a plate" in note.message, note
     assert "It moves with joint 'rail_axis', so it keeps these spheres" in note.message
     assert "world cuboid would not follow it" in note.message
+
+
+def test_two_plates_far_apart_in_one_mesh_get_spheres_only_over_the_plates(
+    tmp_path: Path,
+) -> None:
+    """Two 100 x 100 x 1 mm plates 5 m apart in one STL are one sheet's box, 5.1 m long: its
+    51 cells' spheres stood in a row across the empty 5 m between them (protrusion mean 1.2
+    m). Only the cells the plates reach keep a sphere, and every plate corner is covered."""
+    first = trimesh.creation.box(extents=(0.1, 0.1, 0.001))
+    second = first.copy()
+    second.apply_translation((5.0, 0.0, 0.0))
+    fit = fit_robot(_urdf(tmp_path, trimesh.util.concatenate([first, second])))
+    spheres = fit.spheres["plate"]
+    assert 2 <= len(spheres) <= 6
+    for s in spheres:  # each sphere is over one of the plates, none in the gap
+        assert min(abs(s.center[0] - 0.1), abs(s.center[0] - 5.1)) < 0.05 + s.radius
+    corners = np.vstack([first.vertices, second.vertices]) + np.array([0.1, 0.0, 0.2])
+    assert _inside_some(corners, fit, "plate").all()

@@ -80,7 +80,7 @@ def fit_sheet(
     from .fit import default_max_protrusion
     from .sheet import sheet_message, sheet_spheres
 
-    spheres = sheet_spheres(*sheet)
+    spheres = sheet_spheres(*sheet, geom.solid)
     tau = default_max_protrusion(geom.solid) if bound is None else bound
     message, past = sheet_message(geom.link, sheet[0], spheres, tau, own=bound is not None)
     diags.append(fit_note(path, geom.line, RULE_SHEET, message, warn=past))
@@ -249,7 +249,7 @@ def _plate_instead(
     plate = as_plate(geom.solid)
     if plate is None:
         return None
-    flat = sheet_spheres(plate)
+    flat = sheet_spheres(plate, solid=geom.solid)
     past = face_reach(plate, spheres)
     if face_reach(plate, flat) >= past:
         return None

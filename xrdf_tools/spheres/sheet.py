@@ -181,11 +181,15 @@ def sheet_plan(solid: trimesh.Trimesh, own: float | None) -> SheetPlan | None:
     return sheet, sheet.grid_within(own, most) or sheet.finest_grid(most)
 
 
-def sheet_spheres(sheet: Sheet, shape: tuple[int, int] | None = None) -> tuple[Sphere, ...]:
+def sheet_spheres(
+    sheet: Sheet, shape: tuple[int, int] | None = None, solid: trimesh.Trimesh | None = None
+) -> tuple[Sphere, ...]:
     """The sheet's spheres: its box cut into ``shape`` cells along its length and width
     (default: :attr:`Sheet.cells`), each inside the smallest sphere containing it (centres
     rounded to 0.1 mm, radii rounded up to 0.1 mm after growing by the farthest a rounded
-    centre moves)."""
+    centre moves). With ``solid``, only the cells some of its triangles reach: two plates
+    far apart in one mesh are one sheet's box, whose spheres filled the space between them
+    (51 spheres along the 5 m between two 0.1 m plates)."""
     from .fit import _rounded
 
     n_a, n_b = sheet.cells if shape is None else shape
@@ -196,6 +200,8 @@ def sheet_spheres(sheet: Sheet, shape: tuple[int, int] | None = None) -> tuple[S
     local[:, 2] = np.repeat(along, n_b)
     local[:, 1] = np.tile(across, n_a)
     local[:, 3] = 1.0
+    if solid is not None:
+        local = local[_reached_cells(sheet, (n_a, n_b), solid)]
     centres = np.einsum("ij,nj->ni", sheet.to_link, local)[:, :3]
     radius = 0.5 * math.sqrt(da**2 + db**2 + sheet.thickness**2) + _CENTRE_ROUNDING
     out = []
@@ -204,6 +210,32 @@ def sheet_spheres(sheet: Sheet, shape: tuple[int, int] | None = None) -> tuple[S
         x, y, z = (v + 0.0 for v in s.center)  # no -0.0
         out.append(Sphere(center=(x, y, z), radius=s.radius))
     return tuple(out)
+
+
+def _reached_cells(sheet: Sheet, shape: tuple[int, int], solid: trimesh.Trimesh) -> np.ndarray:
+    """Which of the sheet's cells (in :func:`sheet_spheres`' order, along-major) the box of
+    some triangle of ``solid`` overlaps, in the sheet's plane: a superset of the cells that
+    hold any of it, so their spheres still cover all of it. Every cell when the solid has no
+    triangle. A 2D difference array over the cells: time linear in the triangles."""
+    n_a, n_b = shape
+    faces = np.asarray(solid.faces, dtype=np.int64)
+    if len(faces) == 0:
+        return np.ones(n_a * n_b, dtype=bool)
+    to_sheet = np.linalg.inv(sheet.to_link)
+    points = np.asarray(solid.vertices, dtype=np.float64) @ to_sheet[:3, :3].T + to_sheet[:3, 3]
+    tri = points[faces]  # (F, 3, 3): columns 2 and 1 are along and across
+    cells = []
+    for axis, extent, n in ((2, sheet.length, n_a), (1, sheet.width, n_b)):
+        size, slack = extent / n, 1e-9 * max(extent, 1e-9)
+        low = np.floor((tri[:, :, axis].min(axis=1) - slack + extent / 2.0) / size)
+        high = np.floor((tri[:, :, axis].max(axis=1) + slack + extent / 2.0) / size)
+        first = np.clip(low, 0, n - 1).astype(np.int64)
+        cells.append((first, np.clip(high, 0, n - 1).astype(np.int64) + 1))
+    (a0, a1), (b0, b1) = cells
+    marks = np.zeros((n_a + 1, n_b + 1), dtype=np.int64)
+    for rows, cols, sign in ((a0, b0, 1), (a0, b1, -1), (a1, b0, -1), (a1, b1, 1)):
+        np.add.at(marks, (rows, cols), sign)
+    return (marks.cumsum(axis=0).cumsum(axis=1)[:n_a, :n_b] > 0).reshape(-1)
 
 
 def sheet_message(
