@@ -144,6 +144,22 @@ def test_a_joint_held_by_equal_limits_does_not_count(tmp_path: Path) -> None:
     assert masked.self_collision.ignore_pairs() == {frozenset(("a", "tip"))}
 
 
+def test_a_mimic_follower_with_equal_limits_still_counts(tmp_path: Path) -> None:
+    """``p4``, the mimic follower of ``p3``, exported with limits 0 0 (a CAD exporter's for
+    limits never set): it still turns with ``p3``, so ``a`` and ``tip_ball`` stay three moving
+    joints apart (p3, p4, p5). It counted as held, and the pair was ignored as adjacent."""
+    zero = HAND.replace(
+        '<mimic joint="p3"/><limit lower="-1" upper="1"',
+        '<mimic joint="p3"/><limit lower="0" upper="0"',
+    )
+    assert zero != HAND
+    urdf = _urdf(tmp_path, zero)
+    assert _adjacent(urdf, ["a", "tip_ball"]) == frozenset()
+    masked, _ = ignore_adjacent(parse_xrdf(_with_balls(urdf, ["a", "tip_ball"])), urdf)
+    assert masked.self_collision is not None
+    assert masked.self_collision.ignore_pairs() == frozenset()
+
+
 def _with_balls(urdf: Path, frames: list[str]) -> str:
     """The XRDF ``xrdf convert`` drafts for ``urdf``, one sphere on each of ``frames``."""
     x, _ = convert(load_robot(urdf), ConvertOptions())

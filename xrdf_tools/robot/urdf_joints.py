@@ -69,10 +69,16 @@ class JointInfo:
 
     @property
     def is_held(self) -> bool:
-        """Revolute or prismatic with equal lower and upper limits: it cannot move (a CAD
-        exporter writes 0 0 for limits never set). Reversed limits are a mistake, not this."""
-        return self.type in ("revolute", "prismatic") and (
-            self.lower is not None and self.lower == self.upper
+        """Revolute or prismatic with equal lower and upper limits and no mimic: it cannot
+        move (a CAD exporter writes 0 0 for limits never set). Reversed limits are a mistake,
+        not this. A mimic follower moves with its master whatever its own limits say (the
+        kinematics and cuRobo ignore them): a gripper's second finger exported with limits
+        0 0 counted as held, so the links either side of it were adjacent one joint too far
+        and their pair left out of the self-collision checks."""
+        return (
+            self.type in ("revolute", "prismatic")
+            and not self.is_mimic
+            and (self.lower is not None and self.lower == self.upper)
         )
 
     @property
