@@ -169,3 +169,29 @@ def test_export_names_the_folders_of_a_split_package(split: tuple[Path, Path, Pa
         (merged / target.name).symlink_to(target)
     root = mesh_root(load_robot(urdf, package_paths={"robo": merged}))
     assert root.directory == merged.parent and root.unserved == () and root.split == ()
+
+
+def test_a_file_in_none_of_many_folders_names_a_few_of_them(
+    split: tuple[Path, Path, Path],
+) -> None:
+    """1,000 --package-path folders, none holding the file: the error named every one of
+    them on one 52 kB line; now the first eight and how many more."""
+    urdf, manual, _ = split
+    many = [manual.parent / f"d{i}" for i in range(1000)]
+    for folder in many:
+        folder.mkdir()
+    resolver = PackageResolver(urdf, {"robo": many})
+    with pytest.raises(XrdfToolsError) as caught:
+        resolver.resolve_uri(HAND)
+    message = str(caught.value)
+    assert "any of the 1000 --package-path directories of 'robo'" in message
+    assert str(many[7] / "meshes" / "hand.stl") in message and "and 992 more" in message
+    assert str(many[8] / "meshes" / "hand.stl") not in message and len(message) < 2000
+
+
+def test_a_package_name_with_a_slash_is_refused(split: tuple[Path, Path, Path]) -> None:
+    """``--package-path robo/meshes=DIR`` could never match (``package://robo/...`` names
+    'robo') and was dropped without a word: the robot's meshes were then 'not found'."""
+    _, manual, _ = split
+    with pytest.raises(XrdfToolsError, match="a package name holds no '/'"):
+        parse_package_paths([f"robo/meshes={manual}"])

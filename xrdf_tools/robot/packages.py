@@ -41,6 +41,7 @@ from urllib.parse import unquote
 
 from ..util.errors import SourceError, XrdfToolsError
 from ..util.fileio import read_input_bytes
+from ..util.text import name_list
 
 #: The folder of a package, or the folders of one split over several, looked in in order.
 PackageDirs: TypeAlias = "str | os.PathLike[str] | Sequence[str | os.PathLike[str]]"
@@ -177,7 +178,7 @@ class PackageResolver:
         found = found or next((d for d in folders if _anything_at(d / sub)), None)
         if found is not None:
             return found
-        tried = ", ".join(str(d / sub) for d in folders)
+        tried = name_list((str(d / sub) for d in folders), _FOLDERS_SHOWN)
         if len(folders) == 1:
             where = f"the --package-path directory of '{name}' (looked for {tried})"
         else:
@@ -269,6 +270,9 @@ def _local_path(base: Path, path: str) -> Path:
     p = Path(path)
     return p if p.is_absolute() else _relative_to_a_parent(base, p)
 
+
+#: The --package-path folders an error names (1,000 of them made a 52 kB line).
+_FOLDERS_SHOWN = 8
 
 #: Folders searched for a package: the input's and its parents (see the module doc).
 _MAX_FOLDERS = 6
@@ -405,6 +409,8 @@ def parse_package_path(spec: str) -> tuple[str, str]:
     name, sep, directory = spec.partition("=")
     if not sep or not name or not directory:
         raise SourceError(f"--package-path expects NAME=DIR, got '{spec}'")
+    if "/" in name:  # package://a/b names package 'a': 'a/b' would never be looked up
+        raise SourceError(f"--package-path {spec}: a package name holds no '/'")
     why = _not_a_directory(absolute(directory))
     if why is not None:
         raise SourceError(f"--package-path {name}={directory}: {why}")
