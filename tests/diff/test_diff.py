@@ -650,6 +650,47 @@ def test_a_default_written_at_its_unset_value_is_no_change_with_the_urdf(
         assert "added (was unset: 0 clamped to the limits)" in r.output
 
 
+def test_many_defaults_written_at_their_unset_value_are_one_note_line(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """The PR2's round trip through export curobo wrote a default for each of the 32 joints
+    cuRobo locks (wheels, head, the other arm, grippers): 32 note lines, each saying it changes
+    nothing, before `identical`. Past three they are one line naming the joints; JSON keeps
+    one note per joint."""
+    joints = [f"j{i}" for i in range(8)]
+    links = "".join(f'<link name="l{i}"/>' for i in range(9))
+    urdf = tmp_path / "many.urdf"
+    urdf.write_text(
+        f'<robot name="many">{links}'
+        + "".join(
+            f'<joint name="{j}" type="continuous"><parent link="l{i}"/><child link="l{i + 1}"/>'
+            "</joint>"
+            for i, j in enumerate(joints)
+        )
+        + "</robot>"
+    )
+    head = "format: xrdf\nformat_version: 1.0\n"
+    unset = tmp_path / "unset.xrdf"
+    unset.write_text(head)
+    zeros = tmp_path / "zeros.xrdf"
+    zeros.write_text(
+        head + "default_joint_positions: {" + ", ".join(f"{j}: 0.0" for j in joints) + "}\n"
+    )
+    r = runner.invoke(app, ["diff", str(unset), str(zeros), "--urdf", str(urdf)])
+    assert r.exit_code == 0, r.output
+    (line,) = [ln for ln in r.output.splitlines() if "default positions added" in ln]
+    assert line.startswith("  i 8 default positions added at the value each joint has unset")
+    assert "j0, j1, j2, j3, j4, j5 and 2 more" in line
+    assert "the value it has unset (0 clamped" not in r.output  # no line per joint
+    r = runner.invoke(app, ["diff", str(zeros), str(unset), "--urdf", str(urdf)])
+    assert "8 default positions removed at the value" in r.output, r.output
+    r = runner.invoke(
+        app, ["diff", str(unset), str(zeros), "--urdf", str(urdf), "--format", "json"]
+    )
+    notes = json.loads(r.output[r.output.index("{") :])["notes"]
+    assert [n["subject"] for n in notes] == joints
+
+
 def test_every_diff_format_is_one_entry_of_the_renderer_table() -> None:
     from xrdf_tools.cli.commands.diff import DiffFormat
     from xrdf_tools.diff.render import RENDERERS

@@ -8,10 +8,15 @@ from __future__ import annotations
 import json
 from collections.abc import Callable
 
+from ..util.text import name_list
 from . import Change, Detail, Level, XrdfDiff
 
 #: How many per-sphere lines a text rendering shows under one change (the rest are counted).
 MAX_DETAILS = 12
+#: Defaults written at the value they have unset, noted one per line up to this many; more
+#: are one line (a round trip through a cuRobo config writes one for each joint it locks:
+#: 33 lines on the PR2).
+MAX_UNSET_NOTES = 3
 
 _MARK = {"added": "+", "removed": "-"}
 _DETAIL_MARK = {"added": "+", "removed": "-", "radius-changed": "~", "moved": ">"}
@@ -72,7 +77,7 @@ def render_text(diff: XrdfDiff, *, max_details: int = MAX_DETAILS) -> str:
                 lines.append(f"      … {len(c.details) - len(shown)} more")
     if diff.notes:
         lines.append("notes (not differences):")
-        lines.extend(f"  i {n.message}" for n in diff.notes)
+        lines.extend(f"  i {message}" for message in _note_lines(diff.notes))
     if diff.is_equal:
         lines.append(f"identical (tolerance {diff.tolerance:g})")
     else:
@@ -84,6 +89,32 @@ def render_text(diff: XrdfDiff, *, max_details: int = MAX_DETAILS) -> str:
             f"(tolerance {diff.tolerance:g})"
         )
     return "\n".join(lines) + "\n"
+
+
+def _note_lines(notes: tuple[Change, ...]) -> list[str]:
+    """The notes' messages; those on defaults written at their unset value are one line per
+    side (added, removed), where the first of them was, when there are more than
+    :data:`MAX_UNSET_NOTES` (JSON keeps each)."""
+    sides: dict[str, list[str]] = {"added": [], "removed": []}
+    for n in notes:
+        if n.kind == "default-as-unset":
+            sides[_unset_side(n)].append(n.subject)
+    out: list[str] = []
+    for n in notes:
+        joints = sides[_unset_side(n)] if n.kind == "default-as-unset" else []
+        if len(joints) <= MAX_UNSET_NOTES:
+            out.append(n.message)
+        elif n.subject == joints[0]:
+            out.append(
+                f"{len(joints)} default positions {_unset_side(n)} at the value each joint has "
+                f"unset (0 clamped to its limits), so they change nothing: "
+                f"{name_list(joints, 6)} (--format json lists each)"
+            )
+    return out
+
+
+def _unset_side(note: Change) -> str:
+    return "removed" if note.after is None else "added"
 
 
 def render_json(diff: XrdfDiff) -> str:

@@ -5,7 +5,9 @@ or ``--package-path NAME=DIR``), as yourdfpy's default handler strips the scheme
 ``NAME/…`` beside the URDF and in its parents (cuRobo's loader strips only ``package://``, so
 ``export curobo`` counts such meshes among those it cannot find). A relative or ``file://``
 path with ``%20`` and other escapes is read decoded, as ROS's resource retriever reads a
-``file://`` URI (a relative one that names a file as written is taken as written).
+``file://`` URI (a relative one that names a file as written is taken as written). An absolute
+``file://`` path that does not exist but lies in a ROS install's ``share/PKG/`` (a URDF expanded
+on another machine: ``/opt/ros/humble/share/PKG/…``) is read from package ``PKG`` as found here.
 
 Where a package is looked for, in order:
 1. explicit ``package_paths`` (``{"pkg": "/path/to/pkg"}``, from ``--package-path pkg=DIR``;
@@ -238,13 +240,34 @@ class PackageResolver:
                 hint = self._holder_hint(name, unquote(sub))
                 raise SourceError(e.message + hint + gazebo) from None
         if uri.startswith("file://"):
-            return Path(file_uri_path(uri))
+            path = Path(file_uri_path(uri))
+            return path if _anything_at(path) else self._installed(path)
         base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
         as_written = _local_path(base, uri)
         if unquote(uri) == uri or _is_file(as_written):
             return as_written
         decoded = _local_path(base, unquote(uri))  # mesh%20dir/arm.stl: mesh dir/arm.stl
         return decoded if _is_file(decoded) else as_written
+
+    def _installed(self, path: Path) -> Path:
+        """A ``file://`` path that does not exist, read from its package when it lies in a ROS
+        install's ``share/PKG/`` (where ``$(find PKG)`` pointed on the machine that expanded
+        the xacro: ``/opt/ros/humble/share/ur_description/…``,
+        ``…/install/arm_description/share/arm_description/…``): the same file of package PKG
+        as found here; ``path`` itself when it names no such folder. Raises
+        :class:`SourceError` naming ``--package-path PKG=DIR`` when PKG cannot be found."""
+        parts = path.parts
+        share = next((i for i in range(len(parts) - 3, 0, -1) if parts[i] == "share"), None)
+        if share is None:
+            return path
+        name, sub = parts[share + 1], "/".join(parts[share + 2 :])
+        try:
+            return self.package_folder(name, sub) / sub
+        except SourceError as e:
+            raise SourceError(
+                f"mesh file not found, nor in package '{name}' here (the path is in its install "
+                f"folder where the URDF was written): {e.message}"
+            ) from None
 
 
 def file_uri_path(uri: str) -> str:
