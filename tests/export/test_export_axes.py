@@ -120,6 +120,8 @@ def test_which_axes_are_rewritten_and_how() -> None:
     assert found["j3"].exact == (1.0, 0.0, 0.0)
     assert all(found[j].exact is None for j in ("j1", "j2", "j4", "finger_joint"))
     assert found["j1"].degrees == pytest.approx(math.degrees(math.acos(0.8)))
+    scaled = URDF.replace('<axis xyz="0.6 0 -0.8"/>', '<axis xyz="0 0 -2.5"/>')
+    assert axes_to_rewrite(parse_robot(scaled, "t.urdf"))[3].exact == (0.0, 0.0, -1.0)
 
 
 def test_every_moving_joint_gets_an_exact_axis_and_keeps_its_name() -> None:
@@ -291,3 +293,15 @@ def test_a_xacro_gets_one_urdf_expanded_and_rewritten(
     assert "export-expanded-urdf" in output and "export-joint-axes" in output
     robot = parse_robot((tmp_path / "x.urdf").read_text(), "x.urdf")
     assert robot.joints["j1"].child == "l1__axis_2"
+
+
+def test_an_axis_too_small_to_turn_onto_stops_before_anything_is_written(
+    runner: CliRunner, inputs: tuple[Path, Path], tmp_path: Path
+) -> None:
+    urdf, xrdf = inputs
+    urdf.write_text(URDF.replace("0.48 0.6 0.64", "1e-200 1e-200 0"))
+    out = tmp_path / "cfg" / "t.yml"
+    out.parent.mkdir()
+    code, output = export(runner, xrdf, urdf, "-o", str(out))
+    assert code == 2 and "'j2' has a zero or invalid axis" in output, output
+    assert list(out.parent.iterdir()) == []

@@ -55,14 +55,18 @@ class AxisRewrite:
 
 def axes_to_rewrite(robot: Robot) -> list[AxisRewrite]:
     """The moving joints of ``robot`` (mimic followers included), in URDF order, whose axis is
-    not exactly ±x, ±y or ±z. A zero or non-finite axis is left to the checks that refuse it."""
+    not exactly ±x, ±y or ±z; one whose direction is such an axis but for rounding (or a scaled
+    one, ``0 0 2``) is to be written as that axis. A zero or non-finite axis is left to the
+    checks that refuse it."""
     out = []
     for j in robot.joints.values():
         if not j.is_movable or is_coordinate_axis(j.axis):
             continue
-        if not all(math.isfinite(a) for a in j.axis) or not any(j.axis):
+        length = math.sqrt(sum(a * a for a in j.axis))
+        if not math.isfinite(length) or length == 0.0:
             continue
-        out.append(AxisRewrite(j.name, j.axis, coordinate_axis_near(j.axis)))
+        direction = (j.axis[0] / length, j.axis[1] / length, j.axis[2] / length)
+        out.append(AxisRewrite(j.name, j.axis, coordinate_axis_near(direction)))
     return out
 
 
