@@ -24,8 +24,8 @@ from xrdf_tools.xrdf.io import parse_xrdf
 runner = CliRunner()
 
 
-def _export(xrdf: str, urdf: str, out: Path) -> Result:
-    return runner.invoke(app, ["export", "curobo", xrdf, "--urdf", urdf, "-o", str(out)])
+def _export(xrdf: str, urdf: str, out: Path, *args: str) -> Result:
+    return runner.invoke(app, ["export", "curobo", xrdf, "--urdf", urdf, "-o", str(out), *args])
 
 
 def _broken_urdf(tmp_path: Path, old: str, new: str) -> Path:
@@ -39,22 +39,26 @@ def _broken_urdf(tmp_path: Path, old: str, new: str) -> Path:
     return urdf
 
 
+TILTED = ('<axis xyz="0 0 1"/>', '<axis xyz="0 0.6 0.8"/>')
+
+
 @pytest.mark.parametrize(
-    ("old", "new", "rule", "said"),
+    ("old", "new", "rule", "said", "args"),
     [
-        ('effort="330.0"', 'effort="0"', "curobo-zero-velocity", 'effort="0"'),
-        ('<axis xyz="0 0 1"/>', '<axis xyz="0 0.6 0.8"/>', "curobo-joint-axis", "0 0.6 0.8"),
+        ('effort="330.0"', 'effort="0"', "curobo-zero-velocity", 'effort="0"', ()),
+        (*TILTED, "curobo-joint-axis", "0 0.6 0.8", ("--keep-axes",)),
         (
             'lower="-6.283185307179586" upper="6.283185307179586"',
             'lower="0" upper="0"',
             "cspace-joint-held",
             "[0, 0]",
+            (),
         ),
     ],
-    ids=["effort-0", "tilted-axis", "held"],
+    ids=["effort-0", "tilted-axis-kept", "held"],
 )
 def test_export_stops_where_curobos_loader_raises(
-    tmp_path: Path, old: str, new: str, rule: str, said: str
+    tmp_path: Path, old: str, new: str, rule: str, said: str, args: tuple[str, ...]
 ) -> None:
     """KUKA iiwa 14's URDF writes effort="0" on every joint: `lint --target curobo` and
     `convert --target curobo` stopped on it, `export curobo` wrote a YAML cuRobo's loader
@@ -69,13 +73,28 @@ def test_export_stops_where_curobos_loader_raises(
         from_config(written, urdf)
 
     out = tmp_path / "robot.yml"
-    r = _export(str(UR10E_XRDF), str(urdf), out)
+    r = _export(str(UR10E_XRDF), str(urdf), out, *args)
     assert r.exit_code == 1, r.output
     assert not out.exists()
     line = next(ln for ln in r.stderr.splitlines() if f" error {rule} " in ln)
     assert re.match(rf"{re.escape(str(UR10E_XRDF))}:\d+:\d+: error {rule} ", line)
     assert "'shoulder_pan_joint' (line " in line and said in line
     assert r.stderr.strip().splitlines()[-1].startswith("error: cuRobo's loader would raise")
+
+
+def test_a_tilted_axis_is_rewritten_in_a_urdf_curobos_loader_takes(tmp_path: Path) -> None:
+    """The same tilted shoulder_pan_joint without --keep-axes: the export writes a URDF with
+    its axis rewritten beside the YAML, and the model of cuRobo's loader builds the robot the
+    XRDF describes from the pair (it rejected the YAML the export wrote with the URDF as is)."""
+    urdf = _broken_urdf(tmp_path, *TILTED)
+    out = tmp_path / "cfg" / "robot.yml"
+    out.parent.mkdir()
+    r = _export(str(UR10E_XRDF), str(urdf), out)
+    assert r.exit_code == 0, r.output
+    assert "shoulder_pan_joint (36.87° off)" in r.output
+    assert _export(str(UR10E_XRDF), str(UR10E_URDF), tmp_path / "as_is.yml").exit_code == 0
+    as_is = from_config(tmp_path / "as_is.yml", UR10E_URDF)
+    assert from_config(out, out.with_suffix(".urdf")) == as_is
 
 
 def test_a_xacro_urdf_that_stops_the_export_is_not_expanded_beside_it(tmp_path: Path) -> None:

@@ -93,13 +93,24 @@ class XmlDocument:
 
     @classmethod
     def parse(
-        cls, data: str | bytes, path: str, root_tag: str = "robot", what: str = "SRDF"
+        cls,
+        data: str | bytes,
+        path: str,
+        root_tag: str = "robot",
+        what: str = "SRDF",
+        *,
+        undeclared_prefixes: bool = False,
     ) -> XmlDocument:
         """Parse ``data``; :class:`SourceError` (one line) when it is not XML with
-        ``<root_tag>`` as root (``what`` names the format in messages)."""
+        ``<root_tag>`` as root (``what`` names the format in messages). With
+        ``undeclared_prefixes`` a prefix without its ``xmlns:`` declaration is read as part of
+        the name (as ROS reads a URDF's ``<sensor:camera>``), and every start tag is then
+        written the lxml way."""
         raw = utf8_xml_bytes(data)
         try:
-            root = parse_xml(raw, keep_cdata=True)
+            root = parse_xml(
+                raw, keep_cdata=True, undeclared_prefixes=[] if undeclared_prefixes else None
+            )
         except XmlSyntaxError as e:
             msg = f"malformed {what} XML: {e.verbatim}"
             raise SourceError(msg, path=path, line=e.line) from None

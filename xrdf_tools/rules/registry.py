@@ -129,6 +129,7 @@ _PRODUCERS: dict[str, tuple[tuple[str, Severity, str], ...]] = {
         ("export-dropped-joint", W, "A default position of a joint that is not actuated."),
         ("export-dropped-key", W, "Top-level keys that have no cuRobo equivalent."),
         ("export-expanded-urdf", I, "A xacro --urdf: the expanded URDF written beside the YAML."),
+        ("export-joint-axes", I, "Joint axes cuRobo cannot take, rewritten in the URDF written."),
         ("export-no-spheres", W, "No collision sphere to export: cuRobo checks no collision."),
         ("export-no-self-collision", I, "No self_collision: every sphere frame pair is ignored."),
         ("export-no-pair", E, "No sphere pair left to check: cuRobo's loader raises; not written."),

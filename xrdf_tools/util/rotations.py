@@ -32,6 +32,7 @@ __all__ = [
     "quat_from_rpy",
     "quat_xyzw_from_matrix",
     "quats_xyzw_from_matrices",
+    "rpy_from_matrix",
     "skew",
     "unit_quat",
 ]
@@ -85,6 +86,20 @@ def matrix_from_rpy(roll: float, pitch: float, yaw: float) -> Matrix3:
         (sw * cp, sw * sp * sr + cw * cr, sw * sp * cr - cw * sr),
         (-sp, cp * sr, cp * cr),
     )
+
+
+def rpy_from_matrix(m: Any) -> tuple[float, float, float]:
+    """Roll-pitch-yaw angles of a rotation matrix (the inverse of :func:`matrix_from_rpy`),
+    pitch in [-π/2, π/2]. Roll is read from what is left once yaw and pitch are undone, so the
+    angles give the matrix back to rounding also at pitch ±π/2 (where roll and yaw turn about
+    one axis and yaw alone is not defined)."""
+    r = [[float(m[i][j]) for j in range(3)] for i in range(3)]
+    pitch = math.atan2(-r[2][0], math.hypot(r[0][0], r[1][0]))
+    yaw = math.atan2(r[1][0], r[0][0])
+    cy, sy, cp, sp = math.cos(yaw), math.sin(yaw), math.cos(pitch), math.sin(pitch)
+    left_y = -sy * r[0][1] + cy * r[1][1]
+    left_z = sp * (cy * r[0][1] + sy * r[1][1]) + cp * r[2][1]
+    return math.atan2(left_z, left_y), pitch, yaw
 
 
 def quat_xyzw_from_matrix(rotation: Any) -> Quat:

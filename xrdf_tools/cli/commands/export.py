@@ -32,6 +32,7 @@ from .typer_common import (
 )
 
 if TYPE_CHECKING:
+    from ...export.curobo_axes import AxisRewrite
     from ...robot.core import Robot
 
 app = typer.Typer(
@@ -93,11 +94,20 @@ def curobo(
         Path | None,
         typer.Option(
             "--expanded-urdf",
-            help="With a xacro --urdf: where to write the expanded URDF that urdf_path names "
-            "(default: beside the output, named after it: cfg/ur3e.yml → cfg/ur3e.urdf).",
+            help="Where to write the URDF that urdf_path names when the export writes one (a "
+            "xacro --urdf, joint axes rewritten; default: beside the output, named after it: "
+            "cfg/ur3e.yml → cfg/ur3e.urdf).",
             show_default=False,
         ),
     ] = None,
+    keep_axes: Annotated[
+        bool,
+        typer.Option(
+            "--keep-axes",
+            help="Write no URDF with the joint axes cuRobo cannot take (not exactly x, y or z) "
+            "rewritten: such an axis on a chain cuRobo builds then stops the export.",
+        ),
+    ] = False,
     output: OutputOption = None,
     fmt: FormatOption = OutputFormat.text,
     quiet: QuietOption = False,
@@ -109,8 +119,10 @@ def curobo(
     directory when writing to stdout), so the pair can be committed and moved together;
     cuRobo joins a relative path to its own asset directory, so set
     robot_cfg.kinematics.external_asset_path to that directory when loading, or pass
-    --absolute-paths. cuRobo cannot load a xacro: with a xacro --urdf the expanded URDF is
-    written beside the output (or to --expanded-urdf) and urdf_path names it.
+    --absolute-paths. cuRobo cannot load a xacro, nor turn a joint about an axis other than
+    x, y or z: with a xacro --urdf, or joint axes tilted (or a rounding error off x, y or z),
+    a URDF is written beside the output (or to --expanded-urdf) and urdf_path names it; its
+    axes are rewritten so that every link frame stays where it was (--keep-axes: not).
 
     \b
     Examples:
@@ -120,6 +132,7 @@ def curobo(
     """
     from ...export.curobo import CUROBO_LAYOUTS, to_curobo
     from ...export.curobo_assets import with_plain_file_names
+    from ...export.curobo_axes import axes_to_rewrite
     from ...export.curobo_loader import loader_errors
     from ...xrdf.io import parse_xrdf
 
@@ -131,7 +144,8 @@ def curobo(
         source, label = read_xrdf_input(xrdf)
         x = parse_xrdf(source, label)
         robot = _load_robot(urdf, package_path, xacro_arg)
-        written = _expanded_target(robot, urdf, output, expanded_urdf, xrdf)
+        rewrites = [] if keep_axes else axes_to_rewrite(robot)
+        written = _urdf_target(robot, rewrites, urdf, output, expanded_urdf, xrdf)
         to_dir = None if absolute_paths else _output_dir(output)
         text, diags = to_curobo(
             x,
@@ -141,7 +155,9 @@ def curobo(
             relative_to=to_dir,
             plain_file_names=written is not None,
         )
-        diags = [*robot.warnings, *loader_errors(source, label, robot), *diags]
+        errors = loader_errors(source, label, robot, axes_written=not keep_axes)
+        diags = [*robot.warnings, *errors, *diags]
+        urdf_text = _urdf_text(robot, rewrites) if written is not None else ""
     except XrdfToolsError as e:
         fail(e)
     if any(d.severity is Severity.ERROR for d in diags):
@@ -153,11 +169,23 @@ def curobo(
             EXIT_FINDINGS,
         )
     if written is not None:
-        expanded, plain = with_plain_file_names(robot.text or "")
-        write_output(expanded, written)
-        diags.append(_expanded_note(urdf, written, plain))
+        urdf_text, plain = with_plain_file_names(urdf_text)
+        write_output(urdf_text, written)
+        if robot.expanded:
+            diags.append(_expanded_note(urdf, written, plain))
+        if rewrites:
+            diags.append(_axes_note(urdf, rewrites, written))
     echo_diagnostics(diags, fmt)
     write_output(text, output)
+
+
+def _urdf_text(robot: Robot, rewrites: list[AxisRewrite]) -> str:
+    """The URDF text the export writes for cuRobo: the robot's (a xacro's expansion), with
+    the joint axes of ``rewrites`` rewritten."""
+    from ...export.curobo_axes import straighten_axes
+
+    text = robot.text or ""
+    return straighten_axes(text, robot.path, rewrites) if rewrites else text
 
 
 def _output_dir(output: Path | None) -> Path:
@@ -167,22 +195,37 @@ def _output_dir(output: Path | None) -> Path:
     return output.parent
 
 
-def _expanded_target(
-    robot: Robot, urdf: Path, output: Path | None, explicit: Path | None, xrdf: Path
+def _urdf_target(
+    robot: Robot,
+    rewrites: list[AxisRewrite],
+    urdf: Path,
+    output: Path | None,
+    explicit: Path | None,
+    xrdf: Path,
 ) -> Path | None:
-    """Where the expanded URDF of a xacro ``--urdf`` goes (None for a plain URDF)."""
+    """Where the URDF the export writes goes (None: cuRobo reads ``urdf`` as it is): the
+    expansion of a xacro ``--urdf`` or a URDF with the joint axes of ``rewrites`` rewritten."""
     from ...export.curobo import expanded_urdf_path
 
-    if not robot.expanded:
+    if not robot.expanded and not rewrites:
         if explicit is not None:
-            fail(f"--expanded-urdf: {urdf} is not a xacro file (nothing to expand)")
+            fail(
+                f"--expanded-urdf: {urdf} is not a xacro file and every joint axis is x, y or z "
+                "(no URDF to write)"
+            )
         return None
     if explicit is not None:
         target = explicit
     elif output is None or is_stdio(output):
+        why = (
+            f"{urdf} is {_a_xacro(urdf)}, which cuRobo cannot load"
+            if robot.expanded
+            else f"{urdf} has {len(rewrites)} joint axis(es) cuRobo cannot take (not exactly "
+            "x, y or z), rewritten in a URDF written for it (--keep-axes: not)"
+        )
         fail(
-            f"{urdf} is {_a_xacro(urdf)}, which cuRobo cannot load: pass -o FILE (the expanded "
-            "URDF is written beside it, named after it) or --expanded-urdf PATH"
+            f"{why}: pass -o FILE (the URDF is written beside it, named after it) or "
+            "--expanded-urdf PATH"
         )
     else:
         target = expanded_urdf_path(output)
@@ -195,6 +238,14 @@ def _a_xacro(urdf: Path) -> str:
     if urdf.suffix == ".xacro":
         return "a xacro"
     return f"a xacro (the {urdf.suffix or 'file'} uses xacro: macros, includes or $(...))"
+
+
+def _axes_note(urdf: Path, rewrites: list[AxisRewrite], written: Path) -> Diagnostic:
+    """The note on the joint axes rewritten in the URDF written."""
+    from ...export.curobo_axes import axes_note
+
+    message = axes_note(rewrites, str(written))
+    return Diagnostic(str(urdf), None, None, "export-joint-axes", Severity.INFO, message, "")
 
 
 def _expanded_note(urdf: Path, written: Path, plain: int) -> Diagnostic:

@@ -5,11 +5,14 @@ parser reads a joint as such when one component of ``<axis xyz>`` is exactly 1 o
 loader raises on any other axis (``0 0.6 0.8``, or ``0 0 0.9999`` from a CAD export) of a
 joint on the chains it builds (from the base frame to the tool frames, the sphere frames and
 the added frames), a joint held outside the c-space included (the other arm of a two-arm
-robot planned one arm at a time). Rotate the joint's ``<origin>`` so that the axis is a
-coordinate axis (the child link's frame and its meshes, inertia and collision origins move with
-it), or write the axis as exact unit numbers: an axis a rounding error away from a coordinate
-axis (iCub's creo2urdf model writes ``1.0000000000000004``) is printed as written, not rounded
-to the ``1`` it is not, and the message gives the exact axis to write.
+robot planned one arm at a time). ``xrdf export curobo`` writes the URDF cuRobo needs itself
+(beside the config, the same robot: every link frame where it was): an axis a rounding error
+away from a coordinate axis (iCub's creo2urdf model writes ``1.0000000000000004``) written
+exactly, a tilted one turned onto z of a rotated joint origin, the child hanging from a new
+frame-only link. By hand: rotate the joint's ``<origin>`` so that the axis is a coordinate
+axis (the child link's frame and its meshes, inertia and collision origins move with it), or
+write the axis as exact unit numbers; the message prints such an axis as written, not rounded
+to the ``1`` it is not, and gives the exact axis to write.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from ...diagnostics import Severity
+from ...robot.axes import coordinate_axis_near
 from ...yaml.io import YMap, YNode
 from ..context import LintContext, Problem, Rule
 from ._curobo_tree import curobo_tree_joints, fixed_targets, joints_to_frames, sphere_targets
@@ -54,16 +58,20 @@ def _number(a: float) -> str:
 
 def _fix(axis: tuple[float, float, float]) -> str:
     """What to do: an axis a rounding error away from a coordinate axis (a CAD export's
-    ``1.0000000000000004``) is that axis written exactly; any other needs a rotated origin."""
-    near = [i for i, a in enumerate(axis) if abs(abs(a) - 1.0) < 1e-6]
-    if len(near) == 1 and all(abs(a) < 1e-6 for i, a in enumerate(axis) if i != near[0]):
-        k = near[0]
-        exact = " ".join(("-1" if axis[k] < 0 else "1") if i == k else "0" for i in range(3))
+    ``1.0000000000000004``) is that axis written exactly; any other needs a rotated origin,
+    which ``xrdf export curobo`` writes itself."""
+    near = coordinate_axis_near(axis)
+    if near is not None:
+        k = next(i for i, a in enumerate(near) if a)
+        exact = " ".join(f"{a:g}" for a in near)
         return (
             f'it is {"xyz"[k]} but for rounding: write it exactly, <axis xyz="{exact}"> '
             "(cuRobo's parser needs a component that is exactly 1 or -1)"
         )
-    return "rotate the joint's origin so that its axis is a coordinate axis"
+    return (
+        "rotate the joint's origin so that its axis is a coordinate axis (xrdf export curobo "
+        "writes such a URDF beside the config)"
+    )
 
 
 def _where(ctx: LintContext, j: JointInfo) -> tuple[YNode | None, str, str]:
