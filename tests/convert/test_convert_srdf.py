@@ -1387,3 +1387,23 @@ def test_a_chain_tip_taken_as_tool_frame_names_the_frames_fixed_to_it(
     )
     x, diags = convert(tree, ConvertOptions(srdf=srdf))
     assert not [d for d in diags if d.rule == "convert-chosen-tool-frame"]
+
+
+def test_an_end_effector_s_parent_link_names_the_tcp_fixed_below_it() -> None:
+    """PR2's right_eef sits on r_wrist_roll_link, with r_gripper_tool_frame fixed below it:
+    the SRDF's choice stays the tool frame, and a note names the TCP and the flag that takes
+    it (it was said nowhere)."""
+    from tests.robots import robot_urdf
+    from xrdf_tools.convert.core import convert
+    from xrdf_tools.robot.xacro_source import load_robot
+
+    urdf = robot_urdf("pr2")
+    srdf = urdf.parent.parent / "srdf" / "pr2.srdf"
+    x, diags = convert(load_robot(urdf), ConvertOptions(srdf=srdf, groups=("right_arm",)))
+    assert list(x.tool_frames or []) == ["r_wrist_roll_link"]
+    (note,) = [d for d in diags if d.rule == "convert-chosen-tool-frame"]
+    assert note.severity.value == "info" and note.path == str(srdf)
+    written = srdf.read_text().splitlines()[(note.line or 0) - 1]
+    assert "<end_effector" in written and 'name="right_eef"' in written  # located at it
+    assert "r_gripper_tool_frame" in note.message
+    assert "--tool-frame r_gripper_tool_frame" in note.message

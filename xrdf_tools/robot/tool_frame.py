@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from .names import TOOL_RANKS, name_words, says_gripper, says_sensor
 from .tree import RobotTree
 
-__all__ = ["ToolFrameGuess", "fixed_below", "guess_tool_frame"]
+__all__ = ["ToolFrameGuess", "fixed_below", "guess_tool_frame", "tool_named"]
 
 
 @dataclass(frozen=True)
@@ -57,6 +57,21 @@ def _single_fixed_tip(tree: RobotTree, link: str) -> str:
         link = tree.joints[kids[0]].child
 
 
+def tool_named(below: list[tuple[str, int]]) -> list[tuple[str, str]]:
+    """The frames of ``below`` (name, depth: :func:`fixed_below`) named like a tool frame, best
+    first, each with what its name says: ``tool0``, then by :data:`TOOL_RANKS` and depth
+    (never a sensor's or a camera's frame)."""
+    out = [(n, "tool0") for n, _ in below if n == "tool0"]
+    for rank, words in TOOL_RANKS:
+        hits = sorted(
+            (d, n)
+            for n, d in below
+            if n != "tool0" and set(name_words(n)) & words and not says_sensor(n)
+        )
+        out += [(n, rank) for _, n in hits if n not in {f for f, _ in out}]
+    return out
+
+
 def guess_tool_frame(
     tree: RobotTree, last_joint: str, collision_links: Collection[str] | None = None
 ) -> ToolFrameGuess:
@@ -68,17 +83,12 @@ def guess_tool_frame(
     start = tree.joints[last_joint].child
     below = fixed_below(tree, start)
     names = tuple(n for n, _ in below)
-    exact = [n for n, _ in below if n == "tool0"]
-    if exact:
-        return ToolFrameGuess("tool0", "named tool0", names, named=True)
-    for rank, words in TOOL_RANKS:
-        hits = [(d, n) for n, d in below if set(name_words(n)) & words]
-        hits = [(d, n) for d, n in hits if not says_sensor(n)]
-        if hits:
-            frame = min(hits)[1]
-            return ToolFrameGuess(
-                frame, f"named like {rank} frame, below '{last_joint}'", names, named=True
-            )
+    named = tool_named(below)
+    if named:
+        frame, rank = named[0]
+        why = f"named like {rank} frame, below '{last_joint}'"
+        why = "named tool0" if frame == "tool0" else why
+        return ToolFrameGuess(frame, why, names, named=True)
     if collision_links is not None:
         frames = [
             (not says_gripper(n), d, n)  # a gripper's frame first, then the shallowest

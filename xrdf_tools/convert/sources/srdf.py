@@ -24,6 +24,7 @@ from .srdf_groups import (
     choose_group,
     choose_state,
     cspace_of,
+    effector_tool_note,
     group_joints,
     group_named,
     group_sizes,
@@ -467,6 +468,9 @@ def _tool_frames(srdf: Srdf, tree: RobotTree, groups: list[str], rep: Reporter) 
                 ee.parent_link, tree.links, rep, "", f"end effector '{ee.name}'", at=srdf.at(ee)
             ):
                 effectors.append(ee.parent_link)
+                if note := effector_tool_note(tree, ee.name, ee.parent_link):
+                    info = Severity.INFO
+                    rep.report("convert-chosen-tool-frame", note, severity=info, at=srdf.at(ee))
         frames += effectors
         for gname in members:
             for _, tip in srdf.groups[gname].chains:

@@ -14,7 +14,7 @@ from collections.abc import Iterable, Sequence
 
 from ...robot.chains import is_leg, joint_roles
 from ...robot.names import ARM, name_role, name_words
-from ...robot.tool_frame import fixed_below
+from ...robot.tool_frame import fixed_below, tool_named
 from ...util.errors import SourceError, did_you_mean
 from ...util.graph import nodes_on_cycles, postorder, reachable, show_path
 from ...util.text import name_list
@@ -28,6 +28,7 @@ __all__ = [
     "choose_group",
     "choose_state",
     "cspace_of",
+    "effector_tool_note",
     "group_joints",
     "group_problems",
     "group_sizes",
@@ -479,4 +480,18 @@ def chain_tip_note(tree: RobotTree, group: str, tip: str) -> str:
     return (
         f"tool frame '{tip}', the tip of group '{group}''s chain (the SRDF puts no end effector "
         f"on it); also rigidly attached: {name_list(attached, 6)}; --tool-frame chooses another"
+    )
+
+
+def effector_tool_note(tree: RobotTree, effector: str, link: str) -> str:
+    """The note on an end effector's ``parent_link`` taken as a tool frame when a frame named
+    like a tool frame is fixed below it (PR2's ``r_gripper_tool_frame`` below
+    ``r_wrist_roll_link``), which ``--tool-frame`` could name instead; else ''."""
+    named = [n for n, _ in tool_named(fixed_below(tree, link)) if n != link]
+    if not named:
+        return ""
+    return (
+        f"tool frame '{link}', the parent link of end effector '{effector}' (where MoveIt "
+        f"plans it); fixed below it and named like a tool frame: {name_list(named, 4)}; "
+        f"--tool-frame {named[0]} plans for that point instead"
     )
