@@ -102,6 +102,17 @@ def test_drake_names_without_the_xmlns_declaration_are_read_as_drake_does(tmp_pa
     assert all("read as Drake's" in w.message for w in undeclared)
 
 
+def test_another_prefix_bound_to_drake_s_uri_is_not_drake_s(tmp_path: Path) -> None:
+    """Drake matches ``drake:`` as written: ``xmlns:d="http://drake.mit.edu"`` with
+    ``d:acceleration`` and ``<d:collision_filter_group>`` is nothing Drake reads, so no limit
+    and no ignored pair comes from it (they made pairs ignored that Drake checks)."""
+    text = _ARM.replace("xmlns:drake=", "xmlns:d=").replace("drake:", "d:")
+    limits, rules, x = _convert(tmp_path, text)
+    assert limits == {"j1": 10.0, "j2": 10.0, "j3": 10.0}  # the default fills them all
+    assert not x.self_collision or not x.self_collision.ignore_pairs()  # type: ignore[attr-defined]
+    assert "convert-drake-acceleration" not in rules and "convert-drake-filter-group" not in rules
+
+
 def test_a_joint_limits_file_comes_first_and_acceleration_fills_the_rest(tmp_path: Path) -> None:
     limits_file = tmp_path / "joint_limits.yaml"
     limits_file.write_text("joint_limits:\n  j1:\n    has_acceleration_limits: true\n"

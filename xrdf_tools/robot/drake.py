@@ -6,8 +6,11 @@ Drake's parser reads more than the URDF spec: a joint's ``<limit drake:accelerat
 attributes (``<drake:joint type="planar">``, ``<drake:declare_convex/>``, actuator dynamics).
 :func:`drake_extensions` collects them from the checked XML tree, each with the file and line
 it is written at; what they mean for an XRDF is :mod:`xrdf_tools.convert.sources.drake`'s to
-say. Drake matches the ``drake:`` prefix as written, so both the namespace Drake declares
-(``xmlns:drake="http://drake.mit.edu"``) and any other URI bound to ``drake`` count.
+say. Drake matches the ``drake:`` prefix as written, so any URI bound to ``drake`` counts (the
+namespace Drake declares, ``xmlns:drake="http://drake.mit.edu"``, or another), and so does an
+undeclared ``drake:`` (the loader moves it into :data:`UNDECLARED_DRAKE`); another prefix bound
+to Drake's URI (``xmlns:d="http://drake.mit.edu"``, ``<d:collision_filter_group>``) does not,
+as Drake reads ``d:collision_filter_group`` as no element of its own.
 """
 
 from __future__ import annotations
@@ -18,9 +21,18 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from .core import Robot
 
-__all__ = ["DRAKE_NS", "DrakeExtensions", "DrakeFrame", "FilterGroup", "drake_extensions"]
+__all__ = [
+    "DRAKE_NS",
+    "UNDECLARED_DRAKE",
+    "DrakeExtensions",
+    "DrakeFrame",
+    "FilterGroup",
+    "drake_extensions",
+]
 
 DRAKE_NS = "http://drake.mit.edu"
+#: Where the loader puts names written with an undeclared ``drake:`` prefix (no URI of a file).
+UNDECLARED_DRAKE = "urn:xrdf-tools:undeclared-drake-prefix"
 
 #: A file and a line (None: not known).
 Place = tuple[str, "int | None"]
@@ -82,7 +94,8 @@ def drake_extensions(robot: Robot) -> DrakeExtensions:
 
 
 def _read(robot: Robot, root: Any) -> DrakeExtensions:
-    uris = {DRAKE_NS, *(uri for p, uri in (root.nsmap or {}).items() if p == "drake")}
+    uris = {UNDECLARED_DRAKE}
+    uris.update(el.nsmap["drake"] for el in root.iter() if "drake" in (el.nsmap or {}))
     accelerations: list[tuple[str, str, Place]] = []
     groups: list[FilterGroup] = []
     others: dict[str, tuple[Place, int]] = {}

@@ -5,8 +5,8 @@ ROS reads past them: tinyxml knows no namespaces, and a prefixed name is not URD
 loader, with a located warning per name (``urdf-prefix-undeclared``), except for two prefixes:
 ``xacro:`` (a xacro file that does not declare xacro, which nothing can read: an error) and
 ``drake:`` (Drake's parser also matches the prefix as written, so Drake reads an undeclared
-``drake:acceleration`` or ``<drake:collision_filter_group>``: the loader moves them into
-Drake's namespace, where :mod:`xrdf_tools.robot.drake` reads them as Drake does).
+``drake:acceleration`` or ``<drake:collision_filter_group>``: the loader moves them into a
+namespace of their own, where :mod:`xrdf_tools.robot.drake` reads them as Drake does).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from typing import Any
 from ..diagnostics import Diagnostic, Severity
 from ..util.errors import UrdfError
 from ..util.safe_xml import XmlSyntaxError
-from .drake import DRAKE_NS
+from .drake import DRAKE_NS, UNDECLARED_DRAKE
 from .urdf_check import RULE_PREFIX_UNDECLARED, XACRO_NS
 
 __all__ = ["drop_prefixed_names", "undeclared_prefix_warning"]
@@ -52,11 +52,11 @@ def undeclared_prefix_warning(error: XmlSyntaxError, path: str) -> Diagnostic:
 def drop_prefixed_names(root: Any) -> None:
     """Remove the elements and attributes whose prefix was never declared (names that keep a
     ``prefix:``, which no lxml name API accepts): none of them is URDF. Drake's move into
-    Drake's namespace instead (see the module doc)."""
+    :data:`~xrdf_tools.robot.drake.UNDECLARED_DRAKE` instead (see the module doc)."""
     for el in list(root.iter()):
         if _undeclared(el.tag):
             if el.tag.startswith("drake:"):
-                el.tag = f"{{{DRAKE_NS}}}{el.tag[len('drake:') :]}"
+                el.tag = f"{{{UNDECLARED_DRAKE}}}{el.tag[len('drake:') :]}"
             else:
                 parent = el.getparent()
                 if parent is not None:
@@ -65,7 +65,7 @@ def drop_prefixed_names(root: Any) -> None:
         for key in [k for k in el.attrib if _undeclared(k)]:
             value = el.attrib.pop(key)
             if key.startswith("drake:"):
-                el.set(f"{{{DRAKE_NS}}}{key[len('drake:') :]}", value)
+                el.set(f"{{{UNDECLARED_DRAKE}}}{key[len('drake:') :]}", value)
 
 
 def _undeclared(name: Any) -> bool:
