@@ -10,7 +10,8 @@ import pytest
 from typer.testing import CliRunner
 
 from tests.cli_checks import CUROBO_CLASSIC, copy_replacing, run_cli
-from tests.paths import FIXTURES, UR10E_URDF
+from tests.paths import FIXTURES, UR10E_URDF, UR10E_XRDF
+from xrdf_tools.cli import app
 
 
 @pytest.mark.parametrize(
@@ -111,3 +112,31 @@ def test_a_spheres_file_that_is_no_file_says_what_it_is(
     line = CUROBO_CLASSIC.read_text().split("collision_spheres: spheres/")[0].count("\n") + 1
     assert code == 2 and f"{cfg}:{line}: collision_spheres file 'odd.yml'" in out, out
     assert said in out, out
+
+
+def test_convert_without_a_robot_takes_the_config_s_urdf_path(tmp_path: Path) -> None:
+    """``xrdf convert --curobo cfg.yml`` after ``export curobo``: the robot is the config's
+    ``urdf_path`` (beside the config), said, and the XRDF is the one given the robot (it
+    stopped on Typer's "Missing argument"). No robot and no config, or a config whose
+    ``urdf_path`` is no file beside it, is one located line, exit 2."""
+
+    runner = CliRunner()
+    cfg = tmp_path / "cfg" / "ur10e.yml"
+    r = runner.invoke(
+        app, ["export", "curobo", str(UR10E_XRDF), "--urdf", str(UR10E_URDF), "-o", str(cfg)]
+    )
+    assert r.exit_code == 0, r.output
+    given, taken = tmp_path / "given.xrdf", tmp_path / "taken.xrdf"
+    r = runner.invoke(app, ["convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(given)])
+    assert r.exit_code == 0, r.output
+    r = runner.invoke(app, ["convert", "--curobo", str(cfg), "-o", str(taken)])
+    assert r.exit_code == 0, r.output
+    assert "(the config's urdf_path)" in r.stderr and "ur10e.urdf" in r.stderr
+    assert taken.read_bytes() == given.read_bytes()
+    r = runner.invoke(app, ["convert", "-o", str(taken)])
+    assert r.exit_code == 2 and r.stderr.startswith("error: give the robot to convert")
+    moved = tmp_path / "cfg" / "moved.yml"  # its urdf_path names a file that is not there
+    moved.write_text(cfg.read_text().replace("ur10e.urdf", "gone.urdf"))
+    r = runner.invoke(app, ["convert", "--curobo", str(moved), "-o", str(taken)])
+    assert r.exit_code == 2 and len(r.stderr.strip().splitlines()) == 1
+    assert f"{moved}:" in r.stderr and "no file beside it" in r.stderr

@@ -23,6 +23,7 @@ from .plain import (
     Verbosity,
     detail,
     is_stdio,
+    note,
     pairs,
     progress_lines,
     timed,
@@ -71,14 +72,15 @@ _STAGES = {
 
 def command(
     robot: Annotated[
-        Path,
+        Path | None,
         typer.Argument(
             metavar="ROBOT.urdf|xacro",
             help="The robot: ROBOT.urdf, ROBOT.urdf.xacro or ROBOT.xacro (xacro is expanded "
-            "without ROS; it evaluates Python, so only convert files you trust).",
+            "without ROS; it evaluates Python, so only convert files you trust). With --curobo "
+            "it may be left out: the config's urdf_path, beside the config, is taken.",
             show_default=False,
         ),
-    ],
+    ] = None,
     srdf: Annotated[
         Path | None, typer.Option("--srdf", help="MoveIt SRDF (groups, states, ignore pairs).")
     ] = None,
@@ -243,6 +245,7 @@ def command(
     from .convert_outcome import check_against, report_findings, write_result
 
     _check_usage(format_version, check, output)
+    robot = _robot_or_config_urdf(robot, curobo)
     inputs = _input_files(robot, srdf, joint_limits, curobo)
     if output is not None and not check:
         refuse_input_overwrite(output, inputs)
@@ -300,6 +303,22 @@ def command(
         check_against(output, result.xrdf, result.robot.root_link())
         return
     write_result(result, output)
+
+
+def _robot_or_config_urdf(robot: Path | None, curobo: Path | None) -> Path:
+    """The robot given, else the one the --curobo config names (said); exit 2 without both."""
+    from ...convert.sources.curobo import config_urdf
+
+    if robot is not None:
+        return robot
+    if curobo is None:
+        fail("give the robot to convert: ROBOT.urdf|xacro (see xrdf convert --help)")
+    try:
+        urdf = config_urdf(curobo)
+    except XrdfToolsError as e:
+        fail(e)
+    note(f"robot: {urdf} (the config's urdf_path)")
+    return urdf
 
 
 def _check_usage(format_version: str | None, check: bool, output: Path | None) -> None:

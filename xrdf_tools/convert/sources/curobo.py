@@ -30,7 +30,7 @@ from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
 from .curobo_spheres import find_spheres_file, is_num, read_slots, read_sphere_map
 
-__all__ = ["detect_layout", "read_curobo", "referenced_files"]
+__all__ = ["config_urdf", "detect_layout", "read_curobo", "referenced_files"]
 
 SILENT_KEYS = {
     "mesh_link_names",
@@ -471,3 +471,28 @@ def referenced_files(path: str | os.PathLike[str]) -> list[Path]:
         return [find_spheres_file(value, Path(doc.path), rep, "collision_spheres")]
     except SourceError:
         return []
+
+
+def config_urdf(path: str | os.PathLike[str]) -> Path:
+    """The robot a cuRobo config names in ``urdf_path``, relative to the config's folder (as
+    ``export curobo`` writes it), for a convert given no robot; raises at the key saying what
+    to give instead when it names no file there."""
+    doc, rep = _load(path)
+    data = to_python(doc.root)
+    kin = _kinematics(data) if isinstance(data, Mapping) else None
+    value = kin.get("urdf_path") if kin is not None else None
+    urdf = Path(path).parent / value if isinstance(value, str) and value else None
+    if urdf is not None and urdf.is_file():
+        short = Path(os.path.normpath(urdf))  # without export's dir/.. when it is that file
+        return short if short.is_file() and os.path.samefile(short, urdf) else urdf
+    nested = isinstance(data, Mapping) and "robot_cfg" in data
+    line, col = rep.position(f"{'robot_cfg.' if nested else ''}kinematics.urdf_path")
+    what = "names none (kinematics.urdf_path)"
+    if urdf is not None:
+        what = f"names '{value}', no file beside it (cuRobo's own configs name one in its assets)"
+    raise SourceError(
+        f"no robot given, and the config {what}: give ROBOT.urdf|xacro before --curobo",
+        path=str(path),
+        line=line,
+        col=col,
+    )
