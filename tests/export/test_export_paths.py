@@ -335,3 +335,35 @@ def test_file_uri_meshes_are_plain_paths_in_the_expanded_urdf(
     r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)])
     (said,) = [ln for ln in r.output.splitlines() if "export-mesh-paths" in ln]
     assert "file://" in said and "cuRobo keeps a file:// name as written" in said, said
+
+
+def test_asset_root_path_is_the_parent_a_relative_mesh_was_found_in(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    """A relative mesh name found in a parent of the URDF's folder (IsaacGymEnvs'
+    ``assets/urdf/kuka_allegro_description/kuka_allegro.urdf`` names
+    ``kuka_allegro_description/meshes/…``, cuRobo's tm12 names ``meshes/…`` from ``urdf/``):
+    cuRobo joins the name to asset_root_path as written, so that parent is the root, not the
+    URDF's folder, where no such file is."""
+    import trimesh
+
+    assets = tmp_path / "assets"
+    pkg = assets / "arm_description"
+    (pkg / "meshes").mkdir(parents=True)
+    trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(pkg / "meshes" / "a.stl")
+    urdf = pkg / "arm.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="base"/><link name="arm"><collision><geometry>'
+        '<mesh filename="arm_description/meshes/a.stl"/></geometry></collision></link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    xrdf = tmp_path / "r.xrdf"
+    xrdf.write_text(convert_robot(urdf, ConvertOptions(), lint=False).text)
+    out = tmp_path / "cfg" / "r.yml"
+    out.parent.mkdir()
+    r = runner.invoke(app, ["export", "curobo", str(xrdf), "--urdf", str(urdf), "-o", str(out)])
+    assert r.exit_code == 0 and "export-mesh-paths" not in r.output, r.output
+    root = (out.parent / str(_kinematics(out)["asset_root_path"])).resolve()
+    assert root == assets.resolve()
+    assert (root / "arm_description/meshes/a.stl").is_file()

@@ -250,7 +250,26 @@ def _root_for(
             misnamed.setdefault(name, str(folder))
             return None
         return folder.parent
-    return None if uri.startswith(("file://", "model://")) else own
+    if uri.startswith(("file://", "model://")):
+        return None
+    return _folder_of_relative(uri, resolver, own)
+
+
+def _folder_of_relative(uri: str, resolver: PackageResolver, own: Path) -> Path:
+    """The directory a relative mesh name was found below: the URDF's own, or the parent of
+    it that holds the name (as the robot reader finds it, see ``robot.packages``), which
+    cuRobo needs as asset_root_path as it joins the name to it as written. ``own`` when the
+    file is nowhere (the mesh checks of the other commands say so)."""
+    found = resolver.resolve_uri(uri)
+    try:
+        if not found.is_file():
+            return own
+    except OSError:  # a name too long for the file system
+        return own
+    root = found
+    for _ in Path(uri).parts:  # lexical: "../meshes/a.stl" below own is own
+        root = root.parent
+    return root.resolve()
 
 
 def _mesh_names(robot: Robot) -> Iterator[str]:
