@@ -920,3 +920,31 @@ def test_a_kinematic_error_of_a_macro_made_joint_is_placed_at_the_macro(tmp_path
         build_kinematic_model(load_robot(top))
     assert "joint 'upper_joint' has a zero or invalid axis" in str(e.value)
     assert (e.value.path, e.value.line) == (str(top), 5), str(e.value)
+
+
+def test_a_link_a_macro_makes_in_another_macro_is_placed_at_the_inner_call(
+    tmp_path: Path,
+) -> None:
+    """A link made by a macro (``<link name="${name}">``) that another macro calls with a
+    name that is a template itself (the Omnid delta robot's
+    ``<xacro:cylinder_link name="robot_${prefix}/base_link"/>`` in its ``base_link`` macro):
+    placed at that inner call, where the name is written; it had no line."""
+    from xrdf_tools.robot.xacro_source import load_robot
+
+    top = tmp_path / "r.urdf.xacro"
+    top.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="cylinder_link" params="name">\n'
+        '    <link name="${name}"/>\n'
+        "  </xacro:macro>\n"
+        '  <xacro:macro name="base" params="prefix">\n'
+        '    <xacro:cylinder_link name="robot_${prefix}/base_link"/>\n'
+        "  </xacro:macro>\n"
+        '  <link name="world"/>\n'
+        '  <xacro:base prefix="1"/>\n'
+        '  <joint name="j" type="fixed"><parent link="world"/>\n'
+        '    <child link="robot_1/base_link"/></joint>\n'
+        "</robot>\n"
+    )
+    robot = load_robot(top)
+    assert robot.place("link", "robot_1/base_link") == (str(top), 6)

@@ -106,10 +106,12 @@ def included_places(
             templates[tag].append(template)
     for found in templates.values():  # the closest fit first; stable: file, then line order
         found.sort(key=lambda t: -t.literal)
-    made = _call_places(templates, texts)
+    made, made_in_macros = _call_places(templates, texts)
     out: dict[ElementKey, Place] = {}
     for key in wanted:
         fit = next((t for t in templates[key[0]] if t.literal and _fits(t, key)), None)
+        if fit is None:  # a call inside another macro: name="robot_${prefix}/base_link"
+            fit = next((t for t in made_in_macros[key[0]] if t.literal and _fits(t, key)), None)
         place = (fit.path, fit.line) if fit else made.get(key)
         if place is not None:
             out[key] = place
@@ -161,13 +163,17 @@ def _attributes(text: str) -> dict[str, str]:
 
 def _call_places(
     templates: Mapping[str, Sequence[_Template]], texts: Mapping[str, str]
-) -> dict[ElementKey, Place]:
+) -> tuple[dict[ElementKey, Place], dict[str, list[_Template]]]:
     """``key -> (file, line)`` of the macro calls that make an element from a template of
     expressions only: each ``${param}`` replaced by the call's argument, or the macro's
-    default, gives the element's values. The first template, then file, then call wins."""
+    default, gives the element's values. The first template, then file, then call wins.
+    Second, per tag, the calls whose arguments are templates themselves (a call inside
+    another macro: ``<xacro:cylinder_link name="robot_${prefix}/base_link"/>``), as templates
+    placed at the call, the one with the most literal text first."""
     macros = {path: _macros(text) for path, text in texts.items()}
     calls: dict[str, list[tuple[Place, dict[str, str]]]] = {}
     out: dict[ElementKey, Place] = {}
+    in_macros: dict[str, list[_Template]] = {tag: [] for tag in templates}
     for tag, found in templates.items():
         for t in found:
             if t.literal or not all(_PARAMETER.fullmatch(p) for v in t.values for p in _parts(v)):
@@ -179,9 +185,23 @@ def _call_places(
                 calls[macro[2]] = list(_calls(macro[2], texts))
             for place, given in calls[macro[2]]:
                 values = _made(t.values, {**macro[3], **given})
-                if values is not None:
+                if values is None:
+                    continue
+                if any("$" in v for v in values):
+                    in_macros[tag].append(_call_template(place, values))
+                else:
                     out.setdefault((tag, *values), place)
-    return out
+    for found in in_macros.values():
+        found.sort(key=lambda t: -t.literal)
+    return out, in_macros
+
+
+def _call_template(place: Place, values: tuple[str, ...]) -> _Template:
+    """A template of the element values a call inside a macro gives, placed at the call."""
+    pieces = [_EXPRESSION.split(v) for v in values]
+    patterns = tuple(re.compile(".*?".join(re.escape(p) for p in ps), re.S) for ps in pieces)
+    literal = sum(len(p) for ps in pieces for p in ps)
+    return _Template(literal, place[0], place[1], patterns, values, 0)
 
 
 def _calls(name: str, texts: Mapping[str, str]) -> Iterator[tuple[Place, dict[str, str]]]:
@@ -198,15 +218,15 @@ def _parts(value: str) -> list[str]:
 
 
 def _made(values: tuple[str, ...], given: Mapping[str, str]) -> tuple[str, ...] | None:
-    """``values`` with each ``${param}`` replaced by its literal argument (None when one has
-    none: an expression or no value)."""
+    """``values`` with each ``${param}`` replaced by its argument, which may hold
+    expressions itself (None when one has no value)."""
     out = []
     for value in values:
         made = value
         for expression in _parts(value):
             param = _PARAMETER.fullmatch(expression)
             arg = given.get(param.group(1)) if param else None
-            if arg is None or "$" in arg:
+            if arg is None:
                 return None
             made = made.replace(expression, arg, 1)
         out.append(made)
