@@ -22,6 +22,7 @@ from collections.abc import Mapping, Sequence
 
 from ..diagnostics import Diagnostic, Severity
 from ..robot.link_geometry import PartFailure
+from ..util.text import name_list
 
 __all__ = [
     "RULE_MOVING_UNFITTED",
@@ -32,6 +33,8 @@ __all__ = [
 
 RULE_UNFITTED = "spheres-link-not-covered"
 RULE_MOVING_UNFITTED = "convert-moving-link-without-spheres"
+#: Links said one by one in ``convert-moving-link-without-spheres``; the rest share a warning.
+SAID_ONE_BY_ONE = 3
 
 #: The fitting diagnostics that say a part or a link was dropped.
 _DROPPED_RULES = frozenset({"spheres-mesh-unreadable", "spheres-unsupported-geometry"})
@@ -96,11 +99,18 @@ def moving_links_without_spheres(
     lines: Mapping[str, int] | None = None,
 ) -> list[Diagnostic]:
     """One warning per link of ``visual_only`` (left without spheres) that a c-space joint
-    moves directly (``moved_by``: child link -> c-space joint), located at the link."""
-    return [
+    moves directly (``moved_by``: child link -> c-space joint), located at the link; past
+    :data:`SAID_ONE_BY_ONE` links, one more warning names the rest (a snake's 64 modules each
+    with a visual-only marker made 64 lines that said the same)."""
+    moving = [link for link in visual_only if link in moved_by]
+
+    def at(link: str) -> int | None:
+        return None if lines is None else lines.get(link)
+
+    out = [
         Diagnostic(
             path,
-            None if lines is None else lines.get(link),
+            at(link),
             None,
             RULE_MOVING_UNFITTED,
             Severity.WARNING,
@@ -109,6 +119,19 @@ def moving_links_without_spheres(
             "against the rest of the robot; --from auto fits spheres to its visual geometry "
             "(or give it <collision> in the URDF)",
         )
-        for link in visual_only
-        if link in moved_by
+        for link in moving[:SAID_ONE_BY_ONE]
     ]
+    rest = moving[SAID_ONE_BY_ONE:]
+    if rest:
+        out.append(
+            Diagnostic(
+                path,
+                at(rest[0]),
+                None,
+                RULE_MOVING_UNFITTED,
+                Severity.WARNING,
+                f"{len(rest)} more link(s) moved by c-space joints have visual geometry only "
+                f"and get no spheres, as above: {name_list(rest, 8)}",
+            )
+        )
+    return out
