@@ -788,3 +788,29 @@ def test_a_grippers_frame_wins_over_a_wrist_cameras_frame(tmp_path: Path) -> Non
     for camera in ("d405_link", "camera_d435i_link", "wrist_L515", "realsense_link"):
         x, _ = convert(urdf([camera]), ConvertOptions())
         assert x.tool_frames == ("gripper_link",), camera
+
+
+def test_joints_below_a_left_out_joint_are_counted_and_marked(tmp_path: Path) -> None:
+    """KUKA iiwa + Allegro: the fingers' first joints are left out as a gripper's and the
+    nine below them, named like nothing, were left out without a word ("left out: 7 gripper
+    joint(s)" for 16). They are counted in the choice and marked in inspect's tree."""
+    from typer.testing import CliRunner
+
+    from xrdf_tools.cli import app
+
+    joint = (
+        '<joint name="{0}" type="revolute"><parent link="{1}"/><child link="{2}"/>'
+        '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+    )
+    chain = [("shoulder", "base", "l1"), ("elbow", "l1", "l2"), ("wrist", "l2", "palm")]
+    chain += [("finger_base", "palm", "f1"), ("j_a", "f1", "f2"), ("j_b", "f2", "f3")]
+    links = "".join(f'<link name="{n}"/>' for n in ("base", "l1", "l2", "palm", "f1", "f2", "f3"))
+    urdf = tmp_path / "armhand.urdf"
+    urdf.write_text(f'<robot name="a">{links}{"".join(joint.format(*j) for j in chain)}</robot>')
+    chosen = default_cspace(as_robot(load_urdf(urdf)).tree)
+    assert chosen.joints == ("shoulder", "elbow", "wrist")
+    assert dict(chosen.left_out) == {"gripper": ("finger_base",), "below": ("j_a", "j_b")}
+    assert "2 joint(s) below those (j_a, j_b)" in chosen.describe()
+    r = CliRunner().invoke(app, ["inspect", str(urdf)])
+    assert r.exit_code == 0, r.output
+    assert "j_a (revolute [-1, 1], left out: below a left-out joint)" in r.stdout

@@ -15,7 +15,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
-from ..robot.chains import Chain, chain_flag, default_cspace, joint_roles, leaf_chains
+from ..robot.chains import (
+    BELOW_LEFT_OUT,
+    Chain,
+    chain_flag,
+    default_cspace,
+    joint_roles,
+    leaf_chains,
+)
 from ..robot.drake import DrakeFrame, drake_extensions
 
 if TYPE_CHECKING:
@@ -221,6 +228,8 @@ def inspect_robot(
     """
     tree = robot.tree
     roles = joint_roles(tree)
+    chosen = default_cspace(tree, collision_links=frozenset(robot.collision_counts))
+    below = dict.fromkeys(chosen.left_out.get(BELOW_LEFT_OUT, ()), "below a left-out joint")
     visuals = _visual_counts(robot)
     links = tuple(
         LinkView(
@@ -244,13 +253,12 @@ def inspect_robot(
             j.mimic_multiplier,
             j.mimic_offset,
             j.is_actuated,
-            roles.get(j.name),
+            roles.get(j.name, below.get(j.name)),
         )
         for j in robot.joints.values()
     )
     srdf_path = None if srdf is None else os.fspath(srdf)
     groups = _groups(srdf_path, robot) if srdf_path is not None else ()
-    chosen = default_cspace(tree, collision_links=frozenset(robot.collision_counts))
     return Inspection(
         name=robot.name,
         path=robot.path,

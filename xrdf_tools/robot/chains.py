@@ -54,6 +54,7 @@ from .tool_frame import ToolFrameGuess, guess_tool_frame
 from .tree import RobotTree
 
 __all__ = [
+    "BELOW_LEFT_OUT",
     "Chain",
     "DefaultCSpace",
     "JointRole",
@@ -265,6 +266,10 @@ def _chain(
     return Chain(tree.root, leaf, path, tuple(cspace))
 
 
+#: The key of :attr:`DefaultCSpace.left_out` for the joints below a left-out one.
+BELOW_LEFT_OUT = "below"
+
+
 @dataclass(frozen=True)
 class DefaultCSpace:
     """The c-space and tool frame :func:`default_cspace` picks, and everything it weighed."""
@@ -272,7 +277,8 @@ class DefaultCSpace:
     joints: tuple[str, ...]
     tool: ToolFrameGuess | None
     chain: Chain | None
-    #: Movable joints left out, by reason (``wheel``/``gripper``/``head``), in tree order.
+    #: Movable joints left out, by reason (``wheel``/``gripper``/``head``, and ``below`` for
+    #: the actuated joints below those), in tree order.
     left_out: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     #: Other chains with as many c-space joints and a different c-space (two arms), each
     #: with its tool frame.
@@ -289,10 +295,7 @@ class DefaultCSpace:
         if self.chain is None or not self.joints:
             if not self.left_out:
                 return "no serial chain of actuated joints"
-            out = [
-                f"{len(js)} {role} joint(s) ({name_list(js, 4)})"
-                for role, js in self.left_out.items()
-            ]
+            out = [_left_out_text(role, js) for role, js in self.left_out.items()]
             return "no serial chain of actuated joints besides " + ", ".join(out)
         tip = self.tool.frame if self.tool is not None else self.chain.leaf
         text = (
@@ -301,9 +304,7 @@ class DefaultCSpace:
         )
         if self.hand_alone:
             text = f"the robot is a hand alone (only finger joints): {text}, a finger"
-        out = [
-            f"{len(js)} {role} joint(s) ({name_list(js, 4)})" for role, js in self.left_out.items()
-        ]
+        out = [_left_out_text(role, js) for role, js in self.left_out.items()]
         if out:
             text += "; left out: " + ", ".join(out)
         if self.held:
@@ -346,6 +347,8 @@ def default_cspace(
         names = tuple(j for j in order if roles.get(j) == role)
         if names:
             left_out[role] = names
+    if below := _below_left_out(tree, roles, order):
+        left_out[BELOW_LEFT_OUT] = below
     hand = not any(c.cspace for c in chains) and "gripper" in left_out
     if hand:  # a hand alone (its root the palm): its longest finger, if it has joints
         fingers = leaf_chains(tree, {j: r for j, r in roles.items() if r != "gripper"}, passive)
@@ -379,6 +382,29 @@ def default_cspace(
     held = tuple(j for j in on_path if tree.joints[j].is_held)
     out = DefaultCSpace(pick, guesses[pick], chosen, left_out, ties, passed, held=held)
     return replace(out, left_out={}, hand_alone=True) if hand else out
+
+
+def _left_out_text(role: str, joints: Sequence[str]) -> str:
+    if role == BELOW_LEFT_OUT:
+        return f"{len(joints)} joint(s) below those ({name_list(joints, 4)})"
+    return f"{len(joints)} {role} joint(s) ({name_list(joints, 4)})"
+
+
+def _below_left_out(
+    tree: RobotTree, roles: Mapping[str, JointRole], order: Sequence[str]
+) -> tuple[str, ...]:
+    """The actuated joints without a role of their own below a left-out joint (an Allegro
+    finger's joints below its first): left out with it, as a chain ends there."""
+    out: list[str] = []
+    for jn in order:
+        if jn in roles or not tree.is_actuated(jn):
+            continue
+        link = tree.joints[jn].parent
+        while (up := tree.parent_joint.get(link)) is not None and up not in roles:
+            link = tree.joints[up].parent
+        if up is not None:
+            out.append(jn)
+    return tuple(out)
 
 
 def _distinct(chains: Sequence[Chain]) -> dict[tuple[str, ...], Chain]:
