@@ -256,7 +256,7 @@ class PackageResolver:
         ``…/install/arm_description/share/arm_description/…``): the same file of package PKG
         as found here; ``path`` itself when it names no such folder. Raises
         :class:`SourceError` naming ``--package-path PKG=DIR`` when PKG cannot be found."""
-        parts = path.parts
+        parts = _path_parts(str(path))
         share = next((i for i in range(len(parts) - 3, 0, -1) if parts[i] == "share"), None)
         if share is None:
             return path
@@ -268,6 +268,16 @@ class PackageResolver:
                 f"mesh file not found, nor in package '{name}' here (the path is in its install "
                 f"folder where the URDF was written): {e.message}"
             ) from None
+
+
+def _path_parts(path: str) -> tuple[str, ...]:
+    """The folders and file of ``path`` as the machine that wrote it meant them: ``..`` taken
+    against the folder before it (``share/robo/../arm/x.stl`` is in package ``arm``, and
+    ``share/robo/../../x`` in none: never a file above the package folder found here) and
+    ``\\`` a separator (``C:\\ros\\share\\robo\\x.stl``, written on Windows)."""
+    import posixpath
+
+    return Path(posixpath.normpath(path.replace("\\", "/"))).parts
 
 
 def file_uri_path(uri: str) -> str:
