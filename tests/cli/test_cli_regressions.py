@@ -225,3 +225,23 @@ def test_a_mesh_uri_decoding_to_a_nul_byte_is_a_mesh_not_found(
     assert code == 2 and "Traceback" not in out, out
     assert "a path with a NUL byte (%00), which no file name holds" in out
     assert not (tmp_path / "s.xrdf").exists()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["expand", "{long}"],  # it was a traceback (ENAMETOOLONG from Path.is_file)
+        ["lint", "{long}"],
+        ["convert", "{long}", "-o", "{out}"],
+        ["inspect", "{long}"],
+        ["export", "curobo", str(UR10E_XRDF), "--urdf", "{long}", "-o", "{out}"],
+    ],
+    ids=lambda a: a[0],
+)
+def test_a_file_name_too_long_to_look_at_is_one_line(
+    runner: CliRunner, tmp_path: Path, args: list[str]
+) -> None:
+    long = str(tmp_path / ("a" * 5000))
+    given = [a.format(long=long, out=tmp_path / "o") for a in args]
+    code, out = run_cli(runner, *given)
+    assert code == 2 and out.startswith("error: ") and len(out.strip().splitlines()) == 1, out

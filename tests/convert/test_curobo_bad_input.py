@@ -140,3 +140,50 @@ def test_convert_without_a_robot_takes_the_config_s_urdf_path(tmp_path: Path) ->
     r = runner.invoke(app, ["convert", "--curobo", str(moved), "-o", str(taken)])
     assert r.exit_code == 2 and len(r.stderr.strip().splitlines()) == 1
     assert f"{moved}:" in r.stderr and "no file beside it" in r.stderr
+
+
+@pytest.mark.parametrize(
+    ("value", "said"),
+    [
+        ("[a.urdf]", "has urdf_path a list, not a file name"),
+        ("42", "has urdf_path 42, not a file name"),
+        ("{a: 1}", "has urdf_path a mapping, not a file name"),
+        ('"."', "names '.', a directory beside it"),
+        ("a" * 5000, "no file beside it"),  # a name too long to look at: it was a traceback
+    ],
+)
+def test_an_urdf_path_that_names_no_robot_says_what_it_is(
+    tmp_path: Path, value: str, said: str
+) -> None:
+    cfg = tmp_path / "cfg.yml"
+    cfg.write_text(f"robot_cfg:\n  kinematics:\n    urdf_path: {value}\n")
+    code, out = run_cli(CliRunner(), "convert", "--curobo", str(cfg), "-o", str(tmp_path / "o"))
+    assert code == 2 and f"{cfg}:3:5: no robot given, and the config" in out, out
+    assert said in out and len(out.strip().splitlines()) == 1, out
+
+
+@pytest.mark.parametrize(
+    ("text", "said"),
+    [
+        ("- a\n- b\n", "is no cuRobo robot configuration"),
+        ("robot_cfg: {}\n", "is no cuRobo robot configuration"),
+        ((FIXTURES / "curobo_classic" / "ur10e_lula.yaml").read_text(), "is a Lula robot desc"),
+    ],
+)
+def test_a_file_that_is_no_curobo_config_names_no_robot(
+    tmp_path: Path, text: str, said: str
+) -> None:
+    cfg = tmp_path / "cfg.yml"
+    cfg.write_text(text)
+    code, out = run_cli(CliRunner(), "convert", "--curobo", str(cfg), "-o", str(tmp_path / "o"))
+    assert code == 2 and said in out and "give ROBOT.urdf|xacro" in out, out
+
+
+def test_a_spheres_file_name_too_long_to_look_at_is_not_found(tmp_path: Path) -> None:
+    name = "a" * 5000  # the system refuses to look it up (ENAMETOOLONG): it was a traceback
+    old = "collision_spheres: spheres/"
+    cfg = copy_replacing(CUROBO_CLASSIC, tmp_path / "c.yml", old, f"collision_spheres: {name}/")
+    code, out = run_cli(
+        CliRunner(), "convert", str(UR10E_URDF), "--curobo", str(cfg), "-o", str(tmp_path / "o")
+    )
+    assert code == 2 and f"{cfg}:" in out and "not found" in out, out

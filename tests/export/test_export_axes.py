@@ -305,3 +305,51 @@ def test_an_axis_too_small_to_turn_onto_stops_before_anything_is_written(
     code, output = export(runner, xrdf, urdf, "-o", str(out))
     assert code == 2 and "'j2' has a zero or invalid axis" in output, output
     assert list(out.parent.iterdir()) == []
+
+
+ADDS_L1_AXIS_2 = XRDF.replace(
+    "modifiers: []",
+    """modifiers:
+  - add_frame:
+      frame_name: l1__axis_2
+      parent_frame_name: l1
+      joint_name: j1__axis_2
+      joint_type: FIXED
+      fixed_transform:
+        position: [0.0, 0.0, 0.05]
+        orientation: {w: 1.0, xyz: [0.0, 0.0, 0.0]}""",
+).replace("tool_frames: [ee]", "tool_frames: [l1__axis_2]")
+
+
+def test_the_new_links_and_joints_are_named_unlike_the_frames_the_xrdf_adds(
+    runner: CliRunner, inputs: tuple[Path, Path], tmp_path: Path
+) -> None:
+    """cuRobo adds an add_frame to the URDF's links (extra_links): a new link of the same name
+    was two frames of one name, which lint of the XRDF against the written URDF refused."""
+    urdf, xrdf = inputs
+    xrdf.write_text(ADDS_L1_AXIS_2)
+    out = tmp_path / "t.yml"
+    code, output = export(runner, xrdf, urdf, "-o", str(out))
+    assert code == 0, output
+    robot = parse_robot(out.with_suffix(".urdf").read_text(), "t.urdf")
+    assert robot.joints["j1"].child == "l1__axis_3" and "j1__axis_3" in robot.joints
+    assert "l1__axis_2" not in robot.links and "j1__axis_2" not in robot.joints
+    lint = runner.invoke(app, ["lint", str(xrdf), "--urdf", str(out.with_suffix(".urdf"))])
+    assert lint.exit_code == 0, lint.output
+
+
+def test_the_urdf_for_curobo_is_never_standard_output_nor_the_config(
+    runner: CliRunner, inputs: tuple[Path, Path], tmp_path: Path
+) -> None:
+    """``--expanded-urdf -`` printed the URDF and wrote urdf_path: "../-"; ``-o t.urdf`` was
+    'refusing to overwrite an input file'."""
+    urdf, xrdf = inputs
+    out = tmp_path / "cfg" / "t.yml"
+    out.parent.mkdir()
+    code, output = export(runner, xrdf, urdf, "--expanded-urdf", "-", "-o", str(out))
+    assert code == 2 and "--expanded-urdf -: urdf_path must name" in output, output
+    code, output = export(runner, xrdf, urdf, "-o", str(out.with_suffix(".urdf")))
+    assert code == 2 and "is named after the output (t.urdf)" in output, output
+    code, output = export(runner, xrdf, urdf, "--expanded-urdf", str(out), "-o", str(out))
+    assert code == 2 and "given for both -o and --expanded-urdf" in output, output
+    assert list(out.parent.iterdir()) == []

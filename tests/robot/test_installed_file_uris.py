@@ -83,3 +83,27 @@ def test_spheres_fits_a_mesh_named_by_an_install_path(tmp_path: Path) -> None:
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
     assert "hand:" in out.read_text()
+
+
+def test_dot_dot_is_taken_as_on_the_machine_that_wrote_the_path(tmp_path: Path) -> None:
+    """``share/robo/../arm/…`` is package arm's file (it was read from robo's folder + '../arm'),
+    and ``share/robo/../../x/…`` names no package: never a file above robo's folder here."""
+    robo = _package(tmp_path / "src" / "robo", "robo")
+    arm = _package(tmp_path / "elsewhere" / "arm_description", "arm")
+    _box(tmp_path / "x" / "meshes" / "hand.stl")  # where robo/../../x/… lands on this machine
+    resolver = PackageResolver(tmp_path / "r.urdf", {"robo": str(robo), "arm": str(arm)})
+    gone = tmp_path / "gone" / "install" / "share"
+    got = resolver.resolve_uri(f"file://{gone}/robo/../arm/meshes/hand.stl")
+    assert got == arm / "meshes" / "hand.stl"
+    above = f"{gone}/robo/../../x/meshes/hand.stl"
+    assert resolver.resolve_uri(f"file://{above}") == Path(above)
+
+
+def test_a_windows_install_path_is_read_from_the_package(tmp_path: Path) -> None:
+    pkg = _package(tmp_path / "robo", "robo")
+    resolver = PackageResolver(tmp_path / "r.urdf", {"robo": str(pkg)})
+    for uri in (
+        "file:///C:/dev/ws/install/share/robo/meshes/hand.stl",
+        "file:///C:\\dev\\ws\\install\\share\\robo\\meshes\\hand.stl",
+    ):
+        assert resolver.resolve_uri(uri) == pkg / "meshes" / "hand.stl", uri

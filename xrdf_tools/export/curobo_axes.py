@@ -14,7 +14,9 @@ writes for cuRobo gives every moving joint such an axis and is the same robot:
   about ``a`` is ``R · (about z) · R⁻¹``, so each link's pose at every configuration is the
   one it had: meshes, spheres, tool frames, the c-space joint names and the XRDF stay valid.
 
-Names never collide: a name taken by a link (joint) of the robot gets ``_2``, ``_3``, ...
+Names never collide: a name taken by a link (joint) of the robot, or by a frame or joint the
+XRDF adds (``add_frame``, which cuRobo adds to the URDF's links as ``extra_links``), gets
+``_2``, ``_3``, ...
 """
 
 from __future__ import annotations
@@ -70,16 +72,20 @@ def axes_to_rewrite(robot: Robot) -> list[AxisRewrite]:
     return out
 
 
-def straighten_axes(text: str, path: str, rewrites: Sequence[AxisRewrite]) -> str:
+def straighten_axes(
+    text: str, path: str, rewrites: Sequence[AxisRewrite], reserved: Iterable[str] = ()
+) -> str:
     """The URDF ``text`` (of the file ``path``, for messages) with ``rewrites`` applied, the
-    rest of the document as it was. Raises :class:`~xrdf_tools.util.errors.SourceError`."""
+    rest of the document as it was; the new links and joints take none of the names
+    ``reserved`` (the frames and joints an XRDF adds). Raises
+    :class:`~xrdf_tools.util.errors.SourceError`."""
     from .srdf_xml import XmlDocument
 
     doc = XmlDocument.parse(text, path, "robot", "URDF", undeclared_prefixes=True)
     root = doc.root
     joints = {str(e.get("name")): e for e in root.iterchildren("joint")}
-    links = {str(e.get("name")) for e in root.iterchildren("link")}
-    joint_names = set(joints)
+    links = {str(e.get("name")) for e in root.iterchildren("link")} | set(reserved)
+    joint_names = set(joints) | set(reserved)
     for rw in rewrites:
         element = joints[rw.joint]
         if rw.exact is not None:

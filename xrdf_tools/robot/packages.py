@@ -42,7 +42,7 @@ from typing import TypeAlias
 from urllib.parse import unquote
 
 from ..util.errors import SourceError, XrdfToolsError
-from ..util.fileio import read_input_bytes
+from ..util.fileio import is_file, read_input_bytes
 from ..util.text import name_list
 
 #: The folder of a package, or the folders of one split over several, looked in in order.
@@ -119,7 +119,7 @@ class PackageResolver:
         roots = [*given, *self._roots()]
         for root in roots:
             cand = root / sub
-            if _is_file(cand) or _is_dir(cand):
+            if is_file(cand) or _is_dir(cand):
                 return cand
         raise SourceError(
             f"cannot find '{sub}' of a package:/// URI below any search directory (the "
@@ -168,15 +168,15 @@ class PackageResolver:
         nearest = self.find(name)
         if name in self._given:
             return self._given_folder(name, sub)
-        if not sub or _is_file(nearest / sub) or _is_dir(nearest / sub):
+        if not sub or is_file(nearest / sub) or _is_dir(nearest / sub):
             return nearest
-        return next((f for f in self._elsewhere(name) if _is_file(f / sub)), nearest)
+        return next((f for f in self._elsewhere(name) if is_file(f / sub)), nearest)
 
     def _given_folder(self, name: str, sub: str) -> Path:
         """The first ``package_paths`` folder of ``name`` holding the file ``sub`` (see
         :meth:`package_folder`)."""
         folders = self._given[name]
-        found = next((d for d in folders if _is_file(d / sub)), None)
+        found = next((d for d in folders if is_file(d / sub)), None)
         found = found or next((d for d in folders if _anything_at(d / sub)), None)
         if found is not None:
             return found
@@ -210,7 +210,7 @@ class PackageResolver:
             return ""
         for _, index in self._scanned:
             for other, folder in sorted(index.items()):
-                if other != name and _is_file(folder / sub):
+                if other != name and is_file(folder / sub):
                     return (
                         f"; package '{other}' at {folder} holds {sub}: "
                         f"--package-path {name}={folder}"
@@ -244,10 +244,10 @@ class PackageResolver:
             return path if _anything_at(path) else self._installed(path)
         base = relative_to or (self.start if _is_dir(self.start) else self.start.parent)
         as_written = _local_path(base, uri)
-        if unquote(uri) == uri or _is_file(as_written):
+        if unquote(uri) == uri or is_file(as_written):
             return as_written
         decoded = _local_path(base, unquote(uri))  # mesh%20dir/arm.stl: mesh dir/arm.stl
-        return decoded if _is_file(decoded) else as_written
+        return decoded if is_file(decoded) else as_written
 
     def _installed(self, path: Path) -> Path:
         """A ``file://`` path that does not exist, read from its package when it lies in a ROS
@@ -256,7 +256,7 @@ class PackageResolver:
         ``…/install/arm_description/share/arm_description/…``): the same file of package PKG
         as found here; ``path`` itself when it names no such folder. Raises
         :class:`SourceError` naming ``--package-path PKG=DIR`` when PKG cannot be found."""
-        parts = path.parts
+        parts = _path_parts(str(path))
         share = next((i for i in range(len(parts) - 3, 0, -1) if parts[i] == "share"), None)
         if share is None:
             return path
@@ -268,6 +268,16 @@ class PackageResolver:
                 f"mesh file not found, nor in package '{name}' here (the path is in its install "
                 f"folder where the URDF was written): {e.message}"
             ) from None
+
+
+def _path_parts(path: str) -> tuple[str, ...]:
+    """The folders and file of ``path`` as the machine that wrote it meant them: ``..`` taken
+    against the folder before it (``share/robo/../arm/x.stl`` is in package ``arm``, and
+    ``share/robo/../../x`` in none: never a file above the package folder found here) and
+    ``\\`` a separator (``C:\\ros\\share\\robo\\x.stl``, written on Windows)."""
+    import posixpath
+
+    return Path(posixpath.normpath(path.replace("\\", "/"))).parts
 
 
 def file_uri_path(uri: str) -> str:
@@ -324,10 +334,10 @@ def _relative_to_a_parent(base: Path, rel: Path) -> Path:
     ``robot/meshes/`` (cuRobo's tm12). The path below ``base`` when none holds it (the one an
     error names)."""
     first = base / rel
-    if _is_file(first):
+    if is_file(first):
         return first
     for parent in list(base.parents)[:_PARENT_LEVELS]:
-        if _is_file(parent / rel):
+        if is_file(parent / rel):
             return parent / rel
     return first
 
@@ -336,13 +346,6 @@ def _is_dir(path: Path) -> bool:
     """``path`` is a directory; False also when it cannot be looked at (a name too long)."""
     try:
         return path.is_dir()
-    except OSError:
-        return False
-
-
-def _is_file(path: Path) -> bool:
-    try:
-        return path.is_file()
     except OSError:
         return False
 
@@ -383,7 +386,7 @@ def _package_xmls(root: Path, depth: int) -> list[Path]:
         nxt: list[Path] = []
         for d in frontier:
             xml = d / "package.xml"
-            if _is_file(xml):
+            if is_file(xml):
                 out.append(xml)
             if level < depth:
                 try:

@@ -62,13 +62,15 @@ def tool_named(below: list[tuple[str, int]]) -> list[tuple[str, str]]:
     first, each with what its name says: ``tool0``, then by :data:`TOOL_RANKS` and depth
     (never a sensor's or a camera's frame)."""
     out = [(n, "tool0") for n, _ in below if n == "tool0"]
+    seen = {n for n, _ in out}
     for rank, words in TOOL_RANKS:
         hits = sorted(
             (d, n)
             for n, d in below
-            if n != "tool0" and set(name_words(n)) & words and not says_sensor(n)
+            if n not in seen and set(name_words(n)) & words and not says_sensor(n)
         )
-        out += [(n, rank) for _, n in hits if n not in {f for f, _ in out}]
+        out += [(n, rank) for _, n in hits]
+        seen.update(n for _, n in hits)
     return out
 
 

@@ -17,9 +17,9 @@ from pathlib import Path
 from typing import Any
 
 from ..util.errors import SourceError, UrdfError, XrdfToolsError
-from ..util.fileio import decode_utf8, read_input_bytes, reread_text
+from ..util.fileio import decode_utf8, is_file, read_input_bytes, reread_text
 from ..util.textpos import line_col
-from .packages import _is_dir, _is_file
+from .packages import _is_dir
 
 __all__ = [
     "file_arg_hint",
@@ -90,13 +90,13 @@ def _in_package(name: str, top: Path) -> list[str]:
     package.xml, else its own folder), at most three levels down, in sorted order: shown
     relative to the current directory when below it."""
     folder = top.resolve().parent
-    root = next((d for d in [folder, *folder.parents][:_UP] if _is_file(d / "package.xml")), folder)
+    root = next((d for d in [folder, *folder.parents][:_UP] if is_file(d / "package.xml")), folder)
     out: list[str] = []
     frontier = [root]
     for _ in range(_DEPTH + 1):
         nxt: list[Path] = []
         for d in frontier:
-            if _is_file(d / name):
+            if is_file(d / name):
                 out.append(shown_path(d / name))
             try:
                 nxt.extend(c for c in sorted(d.iterdir()) if _is_dir(c) and c.name[:1] != ".")

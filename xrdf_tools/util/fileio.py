@@ -38,6 +38,7 @@ __all__ = [
     "check_input_file",
     "check_output_path",
     "file_kind",
+    "is_file",
     "max_input_bytes",
     "mesh_bytes_limit",
     "mesh_triangle_limit",
@@ -222,6 +223,15 @@ def reread_text(path: str | os.PathLike[str], *, errors: str = "strict") -> str 
         return data.decode("utf-8", errors=errors)
     except UnicodeDecodeError:
         return None
+
+
+def is_file(path: str | os.PathLike[str]) -> bool:
+    """``path`` is a regular file (or a link to one); False, never an exception, for a name
+    the system cannot look at (too long, a NUL byte, a link loop on the way)."""
+    try:
+        return os.path.isfile(path)
+    except (OSError, ValueError):
+        return False
 
 
 def check_input_file(

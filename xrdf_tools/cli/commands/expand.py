@@ -60,11 +60,12 @@ def command(
     from ...robot.urdf_source import urdf_text
     from ...robot.xacro_child import XacroBoundError
     from ...robot.xacro_source import is_xacro
+    from ...util.fileio import is_file
     from .plain import check_robot_overwrite, load_robot_option
 
     if output is not None:
         refuse_input_overwrite(output, [robot])
-    if robot.is_file() and not is_xacro(robot):
+    if is_file(robot) and not is_xacro(robot):
         fail(f"{robot}: not a xacro file (nothing to expand)")
     try:
         with timed("expand"):

@@ -26,6 +26,7 @@ from .typer_common import (
     load_xrdf_input,
     read_xrdf_input,
     refuse_input_overwrite,
+    refuse_output_clash,
     refuse_two_stdin,
     typer_option,
     write_output,
@@ -34,6 +35,7 @@ from .typer_common import (
 if TYPE_CHECKING:
     from ...export.curobo_axes import AxisRewrite
     from ...robot.core import Robot
+    from ...xrdf.model import Xrdf
 
 app = typer.Typer(
     help="Export an XRDF to a cuRobo robot YAML, sync its ignore pairs into a MoveIt SRDF, or "
@@ -157,7 +159,7 @@ def curobo(
         )
         errors = loader_errors(source, label, robot, axes_written=not keep_axes)
         diags = [*robot.warnings, *errors, *diags]
-        urdf_text = _urdf_text(robot, rewrites) if written is not None else ""
+        urdf_text = _urdf_text(robot, rewrites, x) if written is not None else ""
     except XrdfToolsError as e:
         fail(e)
     if any(d.severity is Severity.ERROR for d in diags):
@@ -179,13 +181,17 @@ def curobo(
     write_output(text, output)
 
 
-def _urdf_text(robot: Robot, rewrites: list[AxisRewrite]) -> str:
+def _urdf_text(robot: Robot, rewrites: list[AxisRewrite], x: Xrdf) -> str:
     """The URDF text the export writes for cuRobo: the robot's (a xacro's expansion), with
-    the joint axes of ``rewrites`` rewritten."""
+    the joint axes of ``rewrites`` rewritten by links and joints named unlike the frames and
+    joints the XRDF ``x`` adds (cuRobo adds them to the URDF's)."""
     from ...export.curobo_axes import straighten_axes
 
     text = robot.text or ""
-    return straighten_axes(text, robot.path, rewrites) if rewrites else text
+    if not rewrites:
+        return text
+    added = [name for m in x.added_frames() for name in (m.frame_name, m.joint_name)]
+    return straighten_axes(text, robot.path, rewrites, added)
 
 
 def _output_dir(output: Path | None) -> Path:
@@ -214,6 +220,11 @@ def _urdf_target(
                 "(no URDF to write)"
             )
         return None
+    if explicit is not None and is_stdio(explicit):
+        fail(
+            "--expanded-urdf -: urdf_path must name the URDF written for cuRobo, a file; "
+            "give a file path"
+        )
     if explicit is not None:
         target = explicit
     elif output is None or is_stdio(output):
@@ -229,7 +240,13 @@ def _urdf_target(
         )
     else:
         target = expanded_urdf_path(output)
-    refuse_input_overwrite(target, [xrdf, urdf, *([output] if output is not None else [])])
+        if target == output:
+            fail(
+                f"-o {output}: the URDF written for cuRobo is named after the output "
+                f"({target.name}); name the output .yml or pass --expanded-urdf PATH"
+            )
+    refuse_output_clash({"-o": output, "--expanded-urdf": target})
+    refuse_input_overwrite(target, [xrdf, urdf])
     return target
 
 

@@ -19,6 +19,7 @@ from typing import Any
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError, XrdfToolsError
+from ...util.fileio import is_file
 from ...xrdf.model import SetBaseFrame
 from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
 from ...yaml.shape import check_shape
@@ -482,17 +483,31 @@ def config_urdf(path: str | os.PathLike[str]) -> Path:
     kin = _kinematics(data) if isinstance(data, Mapping) else None
     value = kin.get("urdf_path") if kin is not None else None
     urdf = Path(path).parent / value if isinstance(value, str) and value else None
-    if urdf is not None and urdf.is_file():
+    if urdf is not None and is_file(urdf):
         short = Path(os.path.normpath(urdf))  # without export's dir/.. when it is that file
-        return short if short.is_file() and os.path.samefile(short, urdf) else urdf
+        return short if is_file(short) and os.path.samefile(short, urdf) else urdf
     nested = isinstance(data, Mapping) and "robot_cfg" in data
     line, col = rep.position(f"{'robot_cfg.' if nested else ''}kinematics.urdf_path")
-    what = "names none (kinematics.urdf_path)"
-    if urdf is not None:
-        what = f"names '{value}', no file beside it (cuRobo's own configs name one in its assets)"
     raise SourceError(
-        f"no robot given, and the config {what}: give ROBOT.urdf|xacro before --curobo",
+        f"no robot given, and the config {_no_urdf(data, value, urdf)}: give ROBOT.urdf|xacro "
+        "before --curobo",
         path=str(path),
         line=line,
         col=col,
     )
+
+
+def _no_urdf(data: Any, value: Any, urdf: Path | None) -> str:
+    """Why the config's ``urdf_path`` ``value`` (``urdf``: beside the config) is no robot."""
+    if not isinstance(data, Mapping) or _kinematics(data) is None:
+        if isinstance(data, Mapping) and isinstance(data.get("cspace"), list):
+            return "is a Lula robot description, which names no URDF"
+        return "is no cuRobo robot configuration (no robot_cfg.kinematics to name the URDF)"
+    if urdf is None:
+        if value is None or value == "":
+            return "names none (kinematics.urdf_path)"
+        kind = "a list" if isinstance(value, list) else "a mapping"
+        shown = key_text(value) if not isinstance(value, (list, Mapping)) else kind
+        return f"has urdf_path {shown}, not a file name"
+    there = "a directory" if os.path.isdir(urdf) else "no file"
+    return f"names '{value}', {there} beside it (cuRobo's own configs name one in its assets)"

@@ -5,13 +5,14 @@ Shared by the cuRobo (:mod:`.curobo`) and Lula (:mod:`.curobo_lula`) readers.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeGuard
 
 from ...diagnostics import Severity
 from ...util.errors import SourceError
-from ...util.fileio import check_input_file
+from ...util.fileio import check_input_file, is_file
 from ...util.text import name_list
 from ...xrdf.model import Sphere
 from ...yaml.io import is_finite
@@ -38,10 +39,10 @@ def find_spheres_file(value: str, config_path: Path, rep: Reporter, where: str) 
     base = config_path.parent
     candidates = [base / value, base.parent / value, base / "spheres" / Path(value).name]
     for c in candidates:
-        if c.is_file():
+        if is_file(c):
             return c
     for c in candidates:
-        if c.exists():  # a directory, FIFO or device: say what it is, not "not found"
+        if os.path.exists(c):  # a directory, FIFO or device: say what it is, not "not found"
             try:
                 check_input_file(c, what="cuRobo spheres file", error=SourceError)
             except SourceError as e:
