@@ -307,7 +307,7 @@ def command(
 
 def _robot_or_config_urdf(robot: Path | None, curobo: Path | None) -> Path:
     """The robot given, else the one the --curobo config names (said); exit 2 without both."""
-    from ...convert.sources.curobo import config_urdf
+    from ...convert.sources.curobo_config import config_urdf
 
     if robot is not None:
         return robot
@@ -336,7 +336,7 @@ def _input_files(
     the joint limits, the cuRobo config and the spheres file it reads."""
     inputs: list[Path | None] = [robot, srdf, joint_limits, curobo]
     if curobo is not None:
-        from ...convert.sources.curobo import referenced_files
+        from ...convert.sources.curobo_config import referenced_files
 
         inputs += referenced_files(curobo)  # the spheres file the config reads
     return inputs

@@ -18,12 +18,12 @@ from pathlib import Path
 from typing import Any
 
 from ...diagnostics import Severity
-from ...util.errors import SourceError, XrdfToolsError
-from ...util.fileio import is_file
+from ...util.errors import SourceError
 from ...xrdf.model import SetBaseFrame
-from ...yaml.io import YamlDocument, parse_yaml, positions_of, read_text, to_python
+from ...yaml.io import to_python
 from ...yaml.shape import check_shape
 from . import Draft, Reporter, RobotTree, known_frame, not_a_joint
+from .curobo_config import kinematics_of, load_config
 from .curobo_extra_links import read_extra_links
 from .curobo_keys import changes_nothing, key_text, unknown_to_curobo
 from .curobo_kin import KinSection
@@ -31,7 +31,7 @@ from .curobo_lula import read_lula
 from .curobo_shape import CUROBO_FILE
 from .curobo_spheres import find_spheres_file, is_num, read_slots, read_sphere_map
 
-__all__ = ["config_urdf", "detect_layout", "read_curobo", "referenced_files"]
+__all__ = ["detect_layout", "read_curobo"]
 
 SILENT_KEYS = {
     "mesh_link_names",
@@ -79,7 +79,7 @@ CSPACE_KEYS = {
 def detect_layout(data: Any) -> str:
     """``"classic"``, ``"2.0"`` or ``"lula"`` for the plain data of a config file."""
     if isinstance(data, Mapping):
-        kin = _kinematics(data)
+        kin = kinematics_of(data)
         if kin is not None:
             fv = kin.get("format_version")
             if (
@@ -97,36 +97,10 @@ def detect_layout(data: Any) -> str:
     )
 
 
-def _kinematics(data: Mapping[str, Any]) -> Mapping[str, Any] | None:
-    rc = data.get("robot_cfg")
-    if isinstance(rc, Mapping) and isinstance(rc.get("kinematics"), Mapping):
-        return rc["kinematics"]  # type: ignore[no-any-return]
-    if isinstance(data.get("kinematics"), Mapping):
-        return data["kinematics"]  # type: ignore[no-any-return]
-    return None
-
-
-def _load(path: str | os.PathLike[str]) -> tuple[YamlDocument, Reporter]:
-    """Parse a cuRobo YAML file. A repeated key is a warning, not an error: cuRobo loads its
-    configs with PyYAML, which keeps the last value (its own ``franka.yml`` repeats
-    ``usd_flip_joints``), so the last value is used here too."""
-    doc = parse_yaml(read_text(path), str(path))
-    rep = Reporter(doc.path, positions_of(doc))
-    for dup in doc.duplicates:
-        rep.report(
-            "convert-duplicate-key",
-            f"key '{dup.key_path}' appears more than once (first on line {dup.first_line}); "
-            "cuRobo's YAML loader keeps the last value, and so does this conversion",
-            dup.key_path,
-            line=dup.line,
-        )
-    return doc, rep
-
-
 def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | None = None) -> Draft:
     """Map a cuRobo (or Lula) robot YAML onto a :class:`Draft`."""
     d = draft or Draft()
-    doc, rep = _load(path)
+    doc, rep = load_config(path)
     check_shape(doc.root, CUROBO_FILE, path=doc.path, error=SourceError)
     data = to_python(doc.root)
     try:
@@ -136,7 +110,7 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
     if layout == "lula":
         read_lula(data, tree, d, rep)
     else:
-        if _kinematics(data) is not data.get("kinematics"):
+        if kinematics_of(data) is not data.get("kinematics"):
             prefix = "robot_cfg.kinematics"
             for k in data["robot_cfg"]:
                 if k != "kinematics":
@@ -152,14 +126,14 @@ def read_curobo(path: str | os.PathLike[str], tree: RobotTree, draft: Draft | No
                 rep.report(
                     "convert-dropped-key", f"'{key_text(k)}' has no XRDF equivalent; dropped", k
                 )
-        kin = _kinematics(data)
+        kin = kinematics_of(data)
         assert kin is not None
-        _read_kinematics(kin, layout, tree, d, rep, prefix, Path(doc.path))
+        _readkinematics_of(kin, layout, tree, d, rep, prefix, Path(doc.path))
     d.diagnostics.extend(rep.diagnostics)
     return d
 
 
-def _read_kinematics(
+def _readkinematics_of(
     kin: Mapping[str, Any],
     layout: str,
     tree: RobotTree,
@@ -388,7 +362,7 @@ def _read_sphere_source(k: KinSection) -> None:
     srep, sprefix = k.rep, k.kp("collision_spheres")
     if isinstance(value, str):
         sphere_file = find_spheres_file(value, k.config_path, k.rep, sprefix)
-        sdoc, srep = _load(sphere_file)
+        sdoc, srep = load_config(sphere_file)
         sdata = to_python(sdoc.root)
         if not isinstance(sdata, Mapping) or not isinstance(
             sdata.get("collision_spheres"), Mapping
@@ -455,59 +429,3 @@ def _read_ignore(k: KinSection) -> None:
         for i, b in enumerate(others or []):
             if known_frame(str(b), k.frames, k.rep, f"{w}[{i}]", f"ignored with '{a}'"):
                 k.d.add_ignore(str(a), str(b))
-
-
-def referenced_files(path: str | os.PathLike[str]) -> list[Path]:
-    """Files a cuRobo config reads besides itself (its ``collision_spheres`` file), so that no
-    output overwrites them. Unreadable or odd configs name none (reading them reports why)."""
-    try:
-        doc, rep = _load(path)
-        kin = _kinematics(to_python(doc.root) or {})
-    except (XrdfToolsError, AttributeError, TypeError):
-        return []
-    value = kin.get("collision_spheres") if kin is not None else None
-    if not isinstance(value, str):
-        return []
-    try:
-        return [find_spheres_file(value, Path(doc.path), rep, "collision_spheres")]
-    except SourceError:
-        return []
-
-
-def config_urdf(path: str | os.PathLike[str]) -> Path:
-    """The robot a cuRobo config names in ``urdf_path``, relative to the config's folder (as
-    ``export curobo`` writes it), for a convert given no robot; raises at the key saying what
-    to give instead when it names no file there."""
-    doc, rep = _load(path)
-    data = to_python(doc.root)
-    kin = _kinematics(data) if isinstance(data, Mapping) else None
-    value = kin.get("urdf_path") if kin is not None else None
-    urdf = Path(path).parent / value if isinstance(value, str) and value else None
-    if urdf is not None and is_file(urdf):
-        short = Path(os.path.normpath(urdf))  # without export's dir/.. when it is that file
-        return short if is_file(short) and os.path.samefile(short, urdf) else urdf
-    nested = isinstance(data, Mapping) and "robot_cfg" in data
-    line, col = rep.position(f"{'robot_cfg.' if nested else ''}kinematics.urdf_path")
-    raise SourceError(
-        f"no robot given, and the config {_no_urdf(data, value, urdf)}: give ROBOT.urdf|xacro "
-        "before --curobo",
-        path=str(path),
-        line=line,
-        col=col,
-    )
-
-
-def _no_urdf(data: Any, value: Any, urdf: Path | None) -> str:
-    """Why the config's ``urdf_path`` ``value`` (``urdf``: beside the config) is no robot."""
-    if not isinstance(data, Mapping) or _kinematics(data) is None:
-        if isinstance(data, Mapping) and isinstance(data.get("cspace"), list):
-            return "is a Lula robot description, which names no URDF"
-        return "is no cuRobo robot configuration (no robot_cfg.kinematics to name the URDF)"
-    if urdf is None:
-        if value is None or value == "":
-            return "names none (kinematics.urdf_path)"
-        kind = "a list" if isinstance(value, list) else "a mapping"
-        shown = key_text(value) if not isinstance(value, (list, Mapping)) else kind
-        return f"has urdf_path {shown}, not a file name"
-    there = "a directory" if os.path.isdir(urdf) else "no file"
-    return f"names '{value}', {there} beside it (cuRobo's own configs name one in its assets)"
